@@ -1,0 +1,127 @@
+"""``rotarydryer flight``: unloading summary and pictures for one drum and flight."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from . import app
+
+
+@app.command("flight")
+def flight(
+    drum: str = typer.Option("invicta", help="Built-in drum (see --list-drums); explicit dimensions below override it."),
+    radius: Optional[float] = typer.Option(None, help="Drum radius R, m."),
+    n_flights: Optional[int] = typer.Option(None, help="Number of flights N_F."),
+    s1: Optional[float] = typer.Option(None, help="Flight base length, m."),
+    s2: Optional[float] = typer.Option(None, help="Flight tip length, m (0: straight flight)."),
+    alpha1: Optional[float] = typer.Option(None, help="Base-to-wall angle inside the pocket, deg (90 = radial)."),
+    alpha2: Optional[float] = typer.Option(None, help="Base-to-tip interior angle, deg."),
+    repose_angle: float = typer.Option(45.0, help="Dynamic angle of repose, deg."),
+    rpm: Optional[float] = typer.Option(None, help="Drum speed, rev/min (default: the drum's)."),
+    slope: Optional[float] = typer.Option(None, help="Drum slope, deg (default: the drum's)."),
+    loading_factor: float = typer.Option(1.0, help="Flight loading factor f_load in [0, 1]."),
+    fall_height: str = typer.Option("chord", help="Fall-height definition: chord | eq3.5 | ajayi2011."),
+    passive_branch: str = typer.Option("eq3.4", help="Passive-time branch: eq3.4 | lee2008_ch7."),
+    convention: str = typer.Option("root", help="First-unloading-flight convention: root | tip (at 90 deg)."),
+    bulk_density: Optional[float] = typer.Option(None, help="Bulk density, kg/m^3, for design loads in kg."),
+    length: Optional[float] = typer.Option(None, help="Drum length, m, for design loads in kg."),
+    angle: float = typer.Option(90.0, help="Root angle of the reference flight in the drawing, deg."),
+    out: Optional[Path] = typer.Option(None, help="Directory for the plots (flight_profile.png, cross_section.png)."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object instead of the table."),
+    list_drums: bool = typer.Option(False, "--list-drums", help="List the built-in drums and exit."),
+):
+    """Flight-unloading summary (Lee 2008 ch. 4) for a drum: geometry, transition angles,
+    mass-averaged cascade, cycle times and design loads; optionally save plots.
+
+    Example: rotarydryer flight --drum invicta --repose-angle 50 --out out/
+    """
+    from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight
+    from ..geometry.presets import drum_presets, preset_drum
+
+    if list_drums:
+        for name, e in drum_presets().items():
+            typer.echo(f"{name:14s} {e['description']}")
+        raise typer.Exit(0)
+    try:
+        base, entry = preset_drum(drum)
+        dims = dict(radius=radius, n_flights=n_flights, s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2)
+        if any(v is not None for v in dims.values()):
+            p = {k: (v if v is not None else entry[k]) for k, v in dims.items()}
+            d = FlightedDrum(p["radius"], p["n_flights"], TwoSectionFlight(p["s1"], p["s2"], p["alpha1"], p["alpha2"]))
+        else:
+            d = base
+        rpm_ = entry["rpm"] if rpm is None else rpm
+        slope_ = entry["slope"] if slope is None else slope
+        rho = entry["bulk_density"] if bulk_density is None else bulk_density
+        ell = entry["length"] if length is None else length
+        cs = d.cascade(repose_angle, loading_factor, rpm=rpm_, slope=slope_, fall_height=fall_height,
+                       passive_time_branch=passive_branch, convention=convention)
+        tr = d.transition_angles(repose_angle)
+        loads = {m: float(d.design_load_area(repose_angle, method=m, convention=convention)) for m in DESIGN_LOAD_METHODS}
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+    result = {
+        "drum": drum,
+        "radius_m": d.radius,
+        "n_flights": d.n_flights,
+        "tip_radius_m": d.tip_radius,
+        "tip_angle_deg": d.tip_angle,
+        "flight_spacing_deg": d.flight_spacing,
+        "full_flight_holdup_m2": d.full_holdup_area,
+        "repose_angle_deg": repose_angle,
+        "rpm": rpm_,
+        "slope_deg": slope_,
+        "loading_factor": loading_factor,
+        "transition_angles_deg": [float(a) for a in tr],
+        "discharge_start_angle_deg": float(cs.discharge_start_angle),
+        "mean_release_angle_deg": float(cs.mean_release_angle),
+        "mean_fall_height_m": float(cs.mean_fall_height),
+        "mean_fall_time_s": float(cs.mean_fall_time),
+        "passive_time_s": float(cs.passive_time),
+        "fall_height_definition": fall_height,
+        "passive_time_branch": passive_branch,
+        "design_convention": convention,
+        "bulk_density_kg_m3": rho,
+        "length_m": ell,
+        "design_load_area_m2": loads,
+        "design_load_kg": {m: a * rho * ell for m, a in loads.items()},
+    }
+    if out is not None:
+        from ..report.plots import draw_cross_section, plot_unloading_profile
+
+        out.mkdir(parents=True, exist_ok=True)
+        fig = plot_unloading_profile(d, repose_angle, rpm_, convention=convention)
+        fig.savefig(out / "flight_profile.png", dpi=120)
+        fig2 = draw_cross_section(d, repose_angle, angle=angle)
+        fig2.savefig(out / "cross_section.png", dpi=120)
+        result["plots"] = [str(out / "flight_profile.png"), str(out / "cross_section.png")]
+    if as_json:
+        typer.echo(json.dumps(result))
+        return
+    rows = [
+        ("drum", f"{drum}: R = {d.radius:g} m, {d.n_flights} flights"),
+        ("flight-tip radius R_F (Eq. 4.6)", f"{d.tip_radius:.5f} m"),
+        ("tip angle psi_ft (Eq. 4.7)", f"{d.tip_angle:.4f} deg"),
+        ("flight spacing psi_fl (Eq. 4.5)", f"{d.flight_spacing:.4f} deg"),
+        ("full-flight holdup (Eq. 4.8)", f"{d.full_holdup_area * 1e4:.2f} cm2 per m"),
+        ("transition angles psi1-5 (Eq. 4.9-4.13)", ", ".join(f"{float(a):.1f}" for a in tr) + " deg"),
+        ("discharge into curtain starts at", f"{float(cs.discharge_start_angle):.1f} deg"),
+        ("mean release angle psi_m (Eq. 3.3)", f"{float(cs.mean_release_angle):.1f} deg"),
+        (f"mean fall height h_m ({fall_height})", f"{float(cs.mean_fall_height):.3f} m"),
+        ("mean fall time = active time", f"{float(cs.mean_fall_time):.3f} s"),
+        (f"passive time ({passive_branch})", f"{float(cs.passive_time):.2f} s"),
+    ]
+    for m, a in loads.items():
+        rows.append((f"design load {m} ({convention})", f"{a:.4f} m2 = {a * rho * ell:,.0f} kg"))
+    w = max(len(k) for k, _ in rows)
+    typer.echo(f"Flight unloading, repose angle {repose_angle:g} deg, {rpm_:g} rpm, slope {slope_:g} deg, "
+               f"rho_b {rho:g} kg/m3, L {ell:g} m")
+    for k, v in rows:
+        typer.echo(f"  {k:<{w}}  {v}")
+    if out is not None:
+        typer.echo(f"plots: {', '.join(result['plots'])}")

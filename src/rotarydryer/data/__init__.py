@@ -1,0 +1,1 @@
+"""Published data sets (CSV, first line = source); read them with rotarydryer.published."""

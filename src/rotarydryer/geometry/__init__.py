@@ -1,0 +1,52 @@
+"""Flight geometry and unloading (Lee (2008) ch. 4).
+
+Public API::
+
+    from rotarydryer.geometry import TwoSectionFlight, FlightedDrum
+    flight = TwoSectionFlight(s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0)
+    drum = FlightedDrum(radius=2.5, n_flights=28, flight=flight)
+    drum.holdup_area(psi, repose_angle)     # m^2, vectorised
+    drum.transition_angles(repose_angle)    # (psi1, ..., psi5), deg
+    drum.cascade(repose_angle, loading_factor, rpm=3.0)   # CascadeSummary
+    drum.design_load_area(repose_angle, method="lee2008") # m^2 of drum cross-section
+    drum.loading_factor(dryer_loading, repose_angle)      # f_load, Eq. 4.22
+"""
+
+from .design_load import (
+    DESIGN_LOAD_METHODS,
+    LOADING_STATES,
+    design_load_mass,
+    design_load_area,
+    design_load_methods,
+    loading_factor,
+    loading_state,
+)
+from .drum import FlightedDrum, TransitionAngles
+from .flights import TwoSectionFlight
+from .unloading import (
+    FALL_HEIGHT_DEFINITIONS,
+    PASSIVE_TIME_BRANCHES,
+    CascadeSummary,
+    cascade,
+    fall_height,
+    first_unloading_angle,
+)
+
+__all__ = [
+    "CascadeSummary",
+    "DESIGN_LOAD_METHODS",
+    "FALL_HEIGHT_DEFINITIONS",
+    "FlightedDrum",
+    "LOADING_STATES",
+    "PASSIVE_TIME_BRANCHES",
+    "TransitionAngles",
+    "TwoSectionFlight",
+    "cascade",
+    "design_load_mass",
+    "design_load_area",
+    "design_load_methods",
+    "fall_height",
+    "first_unloading_angle",
+    "loading_factor",
+    "loading_state",
+]

@@ -1,0 +1,436 @@
+"""A flighted drum: exact geometric flight holdup versus rotation angle.
+
+Angle convention (Lee (2008) Fig. 4.4; drawn in ``docs/geometry_conventions.png``):
+``psi`` is the angular position of the flight **root** (its attachment to the drum
+wall), measured from the bottom of the drum in the direction of rotation, in
+degrees. ``psi = 90`` puts the root at the side of the drum where flights rise
+(the "9 o'clock" or "3 o'clock" position depending on the viewing side),
+``psi = 180`` at the top. In drawings and coordinates the drum is viewed so
+that it turns **anticlockwise**: the root is at ``(R sin psi, -R cos psi)``.
+
+The flight tip leads the root by the tip angle ``psi_ft`` (Lee (2008) Eq. 4.7),
+so the tip sits at ``psi + psi_ft`` on the flight-tip circle of radius ``R_F``.
+
+The material held by a flight is bounded by the flight, the drum wall, the next
+flight and a plane surface through the flight tip inclined at the dynamic angle
+of repose ``repose_angle`` to the horizontal (Lee (2008) section 4.2; free-flowing
+solids, surface flow, no flow over the tip).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from .._validation import check_range
+from .flights import TwoSectionFlight
+
+__all__ = ["FlightedDrum", "TransitionAngles"]
+
+_DEG = math.pi / 180.0
+
+
+class TransitionAngles(NamedTuple):
+    """The five transition angles of Lee (2008) Eq. 4.9-4.13, deg (flight-root position).
+
+    psi1: discharge starts (surface through both tips, Eq. 4.9);
+    psi2: surface reaches the next flight's bend (Eq. 4.10);
+    psi3: surface reaches the next flight's root (Eq. 4.11);
+    psi4: surface reaches this flight's root (Eq. 4.12);
+    psi5: the tip section itself is at the repose angle: flight empty (Eq. 4.13).
+    """
+
+    psi1: np.ndarray
+    psi2: np.ndarray
+    psi3: np.ndarray
+    psi4: np.ndarray
+    psi5: np.ndarray
+
+
+@dataclass(frozen=True)
+class _Consts:
+    """Fixed (repose-angle independent) geometry of one drum, SI units and degrees."""
+
+    R: float
+    RF: float
+    psi_fl: float
+    psi_ft: float
+    s1: float
+    s2: float
+    a1p: float
+    a2: float
+    s1p: float
+    s2p: float
+    a2p: float
+    full_area: float
+    s_ft: float
+    alpha_ft: float
+    s_a: float
+    alpha_a: float
+    off1: float
+    off2: float
+    off3: float
+    off4: float
+    off5: float
+    area_tri_ft: float  # triangle (tip, next tip, next bend)
+    area_const3: float  # the two constant triangles of Eq. 4.16
+
+
+class FlightedDrum:
+    """A drum of radius ``radius`` with ``n_flights`` identical, equally spaced flights.
+
+    Parameters
+    ----------
+    radius : float
+        Drum (inner shell) radius ``R``, m.
+    n_flights : int
+        Number of flights around the circumference ``N_F`` (>= 2).
+    flight : TwoSectionFlight
+        The flight shape.
+
+    Examples
+    --------
+    CSR Invicta Mill dryer No. 2 (Lee (2008) Table 4.1):
+
+    >>> from rotarydryer.geometry import TwoSectionFlight, FlightedDrum
+    >>> drum = FlightedDrum(2.5, 28, TwoSectionFlight(0.195, 0.183, 90.0, 117.0))
+    >>> round(drum.tip_radius, 5), round(drum.tip_angle, 4)
+    (2.22789, 4.1971)
+    >>> [round(float(a), 1) for a in drum.transition_angles(30.0)]
+    [19.4, 34.1, 58.7, 150.4, 183.0]
+    """
+
+    def __init__(self, radius: float, n_flights: int, flight: TwoSectionFlight):
+        R = float(check_range("radius", radius, 0.0, math.inf, unit="m"))
+        if isinstance(n_flights, bool) or int(n_flights) != n_flights or n_flights < 2:
+            raise ValueError(
+                f"n_flights = {n_flights!r} is not allowed; it must be an integer >= 2"
+            )
+        if not isinstance(flight, TwoSectionFlight):
+            raise ValueError(f"flight must be a TwoSectionFlight, got {type(flight).__name__}")
+        self.radius = R
+        self.n_flights = int(n_flights)
+        self.flight = flight
+        self._c = self._fixed_geometry()
+
+    # ------------------------------------------------------------------ fixed geometry
+    def _fixed_geometry(self) -> _Consts:
+        f = self.flight
+        R, N = self.radius, self.n_flights
+        s1, s2 = f.s1, f.effective_s2
+        a1p, a2 = f.equivalent_alpha1, f.effective_alpha2
+        s1p, s2p, a2p = f.equivalent_s1, f.equivalent_s2, f.equivalent_alpha2
+        if s1 >= R:
+            raise ValueError(
+                f"flight s1 = {s1:g} m does not fit the drum: it must be < radius = {R:g} m"
+            )
+        if s1p >= R:
+            raise ValueError(
+                f"flight does not fit the drum: its equivalent perpendicular base "
+                f"s1' = {s1p:g} m must be < radius = {R:g} m"
+            )
+        psi_fl = 360.0 / N  # Lee (2008) Eq. 4.5
+        sup = 180.0 - a2p  # alpha2'_sup: angle at the bend between base continued inward and tip
+        # Lee (2008) Eq. 4.6: flight-tip radius (law of cosines, triangle centre-bend'-tip)
+        x = R - s1p
+        RF2 = x * x + s2p * s2p - 2.0 * x * s2p * math.cos(sup * _DEG)
+        RF = math.sqrt(RF2)
+        if not 0.0 < RF < R:
+            raise ValueError(
+                f"flight tip is outside the drum or at its centre: tip radius {RF:g} m must be "
+                f"in (0, {R:g}) m (radius)"
+            )
+        # Lee (2008) Eq. 4.7 (atan2 form of the sine rule, valid for obtuse angles too)
+        psi_ft = math.degrees(math.atan2(s2p * math.sin(sup * _DEG), x - s2p * math.cos(sup * _DEG)))
+        if psi_ft >= psi_fl:
+            raise ValueError(
+                f"flights overlap their neighbours: the tip leads the root by {psi_ft:.3f} deg, "
+                f"which must be < the flight spacing 360/n_flights = {psi_fl:.3f} deg"
+            )
+        # Lee (2008) Eq. 4.8: holdup area of a full flight (sector minus tip-tip triangle)
+        full_area = math.pi * R * R * psi_fl / 360.0 - 0.5 * RF2 * math.sin(psi_fl * _DEG)
+        # auxiliary quantities of Eq. 4.9-4.11
+        s_ft = 2.0 * RF * math.sin(0.5 * psi_fl * _DEG)
+        alpha_ft = 90.0 + 0.5 * psi_fl - psi_ft - sup
+        s_a = math.sqrt(max(s2 * s2 + s_ft * s_ft - 2.0 * s2 * s_ft * math.cos(alpha_ft * _DEG), 0.0))
+        alpha_a = math.degrees(
+            math.atan2(s2 * math.sin(alpha_ft * _DEG), s_ft - s2 * math.cos(alpha_ft * _DEG))
+        )
+        th = (psi_fl - psi_ft) * _DEG
+        gam3 = math.degrees(math.atan2(RF * math.sin(th), R - RF * math.cos(th)))
+        root_tip = f.root_to_tip
+        gam4 = math.degrees(math.atan2(s2 * math.sin(a2 * _DEG), s1 - s2 * math.cos(a2 * _DEG)))
+        off1 = -0.5 * psi_fl - psi_ft  # Eq. 4.9
+        off2 = off1 + alpha_a  # Eq. 4.10
+        off3 = 90.0 - psi_fl - gam3  # Eq. 4.11
+        off4 = 90.0 + a1p + gam4  # Eq. 4.12
+        off5 = 90.0 + sup  # Eq. 4.13
+        offs = (off1, off2, off3, off4, off5)
+        if any(b < a - 1e-9 for a, b in zip(offs, offs[1:])):
+            raise ValueError(
+                "flight geometry not supported by Lee's four-phase unloading model: the "
+                f"transition points are out of order (offsets {', '.join(f'{o:.2f}' for o in offs)} "
+                "deg from the repose angle); check that the flights do not overlap and that "
+                "alpha2 bends the tip forward"
+            )
+        if root_tip <= 0.0:
+            raise ValueError("flight has zero length")
+        area_tri_ft = 0.5 * s_ft * s2 * math.sin(alpha_ft * _DEG)
+        area_const3 = 0.5 * (R - s1p) * s2p * math.sin(a2p * _DEG) + 0.5 * s1 * s1p * math.sin(
+            a1p * _DEG
+        )
+        return _Consts(
+            R=R, RF=RF, psi_fl=psi_fl, psi_ft=psi_ft, s1=s1, s2=s2, a1p=a1p, a2=a2, s1p=s1p,
+            s2p=s2p, a2p=a2p, full_area=full_area, s_ft=s_ft, alpha_ft=alpha_ft, s_a=s_a,
+            alpha_a=alpha_a, off1=off1, off2=off2, off3=off3, off4=off4, off5=off5,
+            area_tri_ft=area_tri_ft, area_const3=area_const3,
+        )
+
+    def __repr__(self) -> str:
+        f = self.flight
+        return (
+            f"FlightedDrum(radius={self.radius!r}, n_flights={self.n_flights!r}, "
+            f"flight=TwoSectionFlight(s1={f.s1!r}, s2={f.s2!r}, alpha1={f.alpha1!r}, "
+            f"alpha2={f.alpha2!r}))"
+        )
+
+    @property
+    def tip_radius(self) -> float:
+        """Flight-tip radius ``R_F``, m (Lee (2008) Eq. 4.6)."""
+        return self._c.RF
+
+    @property
+    def tip_angle(self) -> float:
+        """Angle ``psi_ft`` by which the tip leads the root, deg (Lee (2008) Eq. 4.7)."""
+        return self._c.psi_ft
+
+    @property
+    def flight_spacing(self) -> float:
+        """Angle between neighbouring flights ``psi_fl = 360/N_F``, deg (Lee (2008) Eq. 4.5)."""
+        return self._c.psi_fl
+
+    @property
+    def full_holdup_area(self) -> float:
+        """Cross-sectional area held by a full flight, m^2 (Lee (2008) Eq. 4.8).
+
+        Multiply by bulk density (kg/m^3) and flight length (m) for kg. This is the
+        most a flight ever holds (buried in the bed), not its design load.
+        """
+        return self._c.full_area
+
+    # ------------------------------------------------------------------ transition points
+    def transition_angles(self, repose_angle) -> TransitionAngles:
+        """Transition angles psi1..psi5 for a dynamic angle of repose (deg), Lee (2008) Eq. 4.9-4.13.
+
+        All five shift one-for-one with the repose angle. Returns arrays shaped like
+        ``repose_angle``.
+        """
+        phi = _check_repose(repose_angle)
+        c = self._c
+        return TransitionAngles(phi + c.off1, phi + c.off2, phi + c.off3, phi + c.off4, phi + c.off5)
+
+    # ------------------------------------------------------------------ holdup
+    def holdup_area(self, psi, repose_angle) -> np.ndarray:
+        """Cross-sectional area of solids held by one flight, m^2 (per m of flight length).
+
+        Parameters
+        ----------
+        psi : array_like
+            Flight-root position, deg from the drum bottom in the direction of
+            rotation; wrapped into [0, 360).
+        repose_angle : array_like
+            Dynamic angle of repose, deg, in (0, 90). Broadcasts with ``psi``.
+
+        Notes
+        -----
+        Full flight below psi1 (Lee (2008) Eq. 4.8); phases I-IV between the
+        transition points (Eq. 4.14-4.17, with the non-perpendicular correction of
+        Eq. 4.1-4.4 in phase III); empty from psi5 on (refilling at the bottom of
+        the drum is not part of Lee's model). Multiply by bulk density and length
+        for kg.
+        """
+        psi, phi = _prepare(psi, repose_angle)
+        return _holdup(self._c, psi, phi)
+
+    def holdup_slope(self, psi, repose_angle) -> np.ndarray:
+        """Analytic derivative dH/dpsi of :meth:`holdup_area`, m^2 per degree (<= 0)."""
+        psi, phi = _prepare(psi, repose_angle)
+        return _holdup_slope(self._c, psi, phi)
+
+    def discharge_rate(self, psi, repose_angle, rpm) -> np.ndarray:
+        """Flight discharge rate ``-omega dH/dpsi``, m^2/s per m of flight length (Lee (2008) l.4789).
+
+        ``rpm`` is the drum speed in revolutions per minute. Multiply by bulk density
+        (kg/m^3) and flight length (m) for kg/s. Discharge before the tip reaches
+        the horizontal rolls into the next flight rather than into the curtain.
+        """
+        rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rpm")
+        psi, phi = _prepare(psi, repose_angle)
+        return -_holdup_slope(self._c, psi, phi) * (6.0 * rpm)
+
+    # ------------------------------------------------------------------ unloading, design load
+    def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, fall_height="chord",
+                passive_time_branch="eq3.4", convention="root"):
+        """Mass-averaged cascade properties; see :func:`rotarydryer.geometry.unloading.cascade`."""
+        from .unloading import cascade
+
+        return cascade(self, repose_angle, loading_factor, rpm=rpm, slope=slope,
+                       fall_height=fall_height, passive_time_branch=passive_time_branch,
+                       convention=convention)
+
+    def design_load_area(self, repose_angle, *, method="lee2008", convention="root"):
+        """Design-load area of passive solids in the drum cross-section, m^2.
+
+        See :func:`rotarydryer.geometry.design_load.design_load_area`.
+        """
+        from .design_load import design_load_area
+
+        return design_load_area(self, repose_angle, method=method, convention=convention)
+
+    def loading_factor(self, dryer_loading, repose_angle, *, convention="root"):
+        """Flight loading factor from the dryer loading (Lee (2008) Eq. 4.22, solved exactly).
+
+        See :func:`rotarydryer.geometry.design_load.loading_factor`.
+        """
+        from .design_load import loading_factor
+
+        return loading_factor(self, dryer_loading, repose_angle, convention=convention)
+
+    # ------------------------------------------------------------------ coordinates
+    def flight_outline(self, psi: float) -> np.ndarray:
+        """Points (root, bend, tip) of the flight whose root is at ``psi`` deg, shape (3, 2), m.
+
+        Origin at the drum centre, y up, drum turning anticlockwise.
+        """
+        f = self.flight
+        p = math.radians(float(psi))
+        R = self.radius
+        root = np.array([R * math.sin(p), -R * math.cos(p)])
+        th1 = p + math.radians(f.alpha1)  # base direction: alpha1 from the forward tangent
+        bend = root + f.s1 * np.array([math.cos(th1), math.sin(th1)])
+        th2 = th1 + math.pi + math.radians(f.effective_alpha2)
+        tip = bend + f.effective_s2 * np.array([math.cos(th2), math.sin(th2)])
+        return np.vstack([root, bend, tip])
+
+    def pocket_polygon(self, psi: float, n_arc: int = 64) -> np.ndarray:
+        """Polygon (m) of the region a full flight at ``psi`` can hold: between this flight,
+        the next flight ahead, the drum wall and the chord through both tips (Lee Eq. 4.8)."""
+        here = self.flight_outline(psi)
+        nxt = self.flight_outline(psi + self.flight_spacing)
+        a = np.radians(np.linspace(psi + self.flight_spacing, psi, n_arc))[1:-1]
+        arc = np.column_stack([self.radius * np.sin(a), -self.radius * np.cos(a)])
+        return np.vstack([here, nxt[::-1], arc])
+
+    def held_polygon(self, psi: float, repose_angle: float, n_arc: int = 64) -> np.ndarray:
+        """Polygon (m) of the solids held by the flight at ``psi`` for a repose angle (deg).
+
+        The pocket polygon clipped by the half-plane below the material surface through
+        the tip. Used for drawings; :meth:`holdup_area` is the exact area.
+        """
+        _check_repose(repose_angle)
+        psi = float(psi) % 360.0
+        if psi >= float(self.transition_angles(repose_angle).psi5):
+            return np.empty((0, 2))
+        tip = self.flight_outline(psi)[2]
+        phi = math.radians(float(repose_angle))
+        normal = np.array([-math.sin(phi), math.cos(phi)])  # points above the surface
+        return _clip_halfplane(self.pocket_polygon(psi, n_arc), tip, normal)
+
+
+# ---------------------------------------------------------------------- internals
+def _check_repose(repose_angle) -> np.ndarray:
+    return check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
+
+
+def _prepare(psi, repose_angle):
+    psi = np.mod(np.asarray(psi, dtype=float), 360.0)
+    if not np.all(np.isfinite(psi)):
+        raise ValueError("psi must be finite")
+    phi = _check_repose(repose_angle)
+    return np.broadcast_arrays(psi, phi)
+
+
+def _phase_terms(c: _Consts, psi, phi):
+    d = _DEG
+    with np.errstate(all="ignore"):
+        # Phase I (Eq. 4.14): triangle between the surface and the tip chord
+        delta = (psi + c.psi_ft + 0.5 * c.psi_fl - phi) * d
+        aft = c.alpha_ft * d
+        s1_ = np.sin(aft + delta)
+        hI = c.full_area - 0.5 * c.s_ft**2 * math.sin(aft) * np.sin(delta) / s1_
+        dI = -0.5 * c.s_ft**2 * math.sin(aft) ** 2 / s1_**2
+        # Phase II (Eq. 4.15): surface meets the next flight's base
+        eps = (psi + c.psi_ft + 0.5 * c.psi_fl - c.alpha_a - phi) * d
+        zeta = (180.0 + c.alpha_ft + c.alpha_a - c.a2) * d
+        s2_ = np.sin(eps + zeta)
+        hII = c.full_area - c.area_tri_ft - 0.5 * c.s_a**2 * np.sin(eps) * math.sin(zeta) / s2_
+        dII = -0.5 * c.s_a**2 * math.sin(zeta) ** 2 / s2_**2
+        # Phase III (Eq. 4.16): surface meets the wall between the roots
+        k = c.RF / c.R
+        u = (psi + c.psi_ft + 90.0 - phi) * d
+        su = np.clip(k * np.sin(u), -1.0, 1.0)
+        beta = (90.0 + phi - psi - c.psi_ft) * d - np.arcsin(su)
+        hIII = (
+            0.5 * c.R**2 * (c.psi_ft * d + beta)
+            - 0.5 * c.R * c.RF * np.sin(beta)
+            - c.area_const3
+        )
+        dbeta = -1.0 - k * np.cos(u) / np.sqrt(1.0 - su**2)
+        dIII = (0.5 * c.R**2 - 0.5 * c.R * c.RF * np.cos(beta)) * dbeta
+        # Phase IV (Eq. 4.17): surface meets this flight's base
+        gam = (90.0 + phi + 180.0 - c.a2p - psi) * d
+        a2 = c.a2 * d
+        s4_ = np.sin(a2 + gam)
+        hIV = 0.5 * c.s2**2 * math.sin(a2) * np.sin(gam) / s4_
+        dIV = -0.5 * c.s2**2 * math.sin(a2) ** 2 / s4_**2
+    return (hI, hII, hIII, hIV), (dI * d, dII * d, dIII * d, dIV * d)
+
+
+def _phase_index(c: _Consts, psi, phi):
+    x = psi - phi
+    return (
+        (x >= c.off1).astype(np.int8)
+        + (x >= c.off2)
+        + (x >= c.off3)
+        + (x >= c.off4)
+        + (x >= c.off5)
+    )
+
+
+def _holdup(c: _Consts, psi, phi):
+    (hI, hII, hIII, hIV), _ = _phase_terms(c, psi, phi)
+    idx = _phase_index(c, psi, phi)
+    out = np.choose(
+        idx, [np.full_like(psi, c.full_area), hI, hII, hIII, hIV, np.zeros_like(psi)]
+    )
+    return np.clip(out, 0.0, c.full_area)
+
+
+def _holdup_slope(c: _Consts, psi, phi):
+    _, (dI, dII, dIII, dIV) = _phase_terms(c, psi, phi)
+    idx = _phase_index(c, psi, phi)
+    z = np.zeros_like(psi)
+    return np.minimum(np.choose(idx, [z, dI, dII, dIII, dIV, z]), 0.0)
+
+
+def _clip_halfplane(poly: np.ndarray, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Keep the part of polygon ``poly`` where ``(p - point) . normal <= 0``.
+
+    One step of Sutherland-Hodgman clipping against a single half-plane; exact for
+    any simple polygon as far as the area and the drawn outline are concerned.
+    """
+    dist = (poly - point) @ normal
+    out = []
+    n = len(poly)
+    for i in range(n):
+        p, q = poly[i], poly[(i + 1) % n]
+        dp, dq = dist[i], dist[(i + 1) % n]
+        if dp <= 0.0:
+            out.append(p)
+        if (dp < 0.0 < dq) or (dq < 0.0 < dp):
+            t = dp / (dp - dq)
+            out.append(p + t * (q - p))
+    return np.array(out) if out else np.empty((0, 2))

@@ -1,0 +1,1 @@
+"""Views: plots and drawings. Views never recompute physics beyond what they draw."""

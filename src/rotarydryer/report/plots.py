@@ -1,0 +1,114 @@
+"""Plots of the flight geometry: unloading profile and drum cross-section.
+
+Import cost: Matplotlib is imported inside the functions, with the non-interactive
+Agg backend when no backend has been chosen.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry import FlightedDrum
+
+__all__ = ["plot_unloading_profile", "draw_cross_section"]
+
+
+def _plt():
+    import matplotlib
+
+    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo") and not matplotlib.is_interactive():
+        matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_unloading_profile(drum: FlightedDrum, repose_angle: float, rpm: float, *, ax=None,
+                           convention: str = "root"):
+    """Holdup (m^2 per m of flight) and discharge rate versus root angle; returns the figure.
+
+    Shows the transition angles psi1..psi5 (Lee (2008) Eq. 4.9-4.13) and the first
+    unloading flight position.
+    """
+    from ..geometry import first_unloading_angle
+
+    plt = _plt()
+    psi = np.arange(0.0, 360.0, 0.1)
+    hold = drum.holdup_area(psi, repose_angle)
+    rate = drum.discharge_rate(psi, repose_angle, rpm)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(7.5, 4.2), constrained_layout=True)
+    else:
+        fig = ax.figure
+    ax.plot(psi, hold * 1e4, color="tab:blue", label="holdup")
+    ax.set_xlabel("flight root angle psi from drum bottom (deg)")
+    ax.set_ylabel("holdup per m of flight (cm$^2$)", color="tab:blue")
+    ax2 = ax.twinx()
+    ax2.plot(psi, rate * 1e4, color="tab:red", label="discharge rate")
+    ax2.set_ylabel("discharge rate per m of flight (cm$^2$/s)", color="tab:red")
+    for k, a in enumerate(drum.transition_angles(repose_angle), start=1):
+        ax.axvline(float(a), color="0.6", lw=0.8, ls=":")
+        ax.text(float(a), ax.get_ylim()[1] * 0.97, f"$\\psi_{k}$", ha="center", va="top", fontsize=8)
+    ax.axvline(first_unloading_angle(drum, convention), color="k", lw=0.8, ls="--")
+    ax.set_xlim(0, 360)
+    ax.set_title(f"Flight unloading, repose angle {repose_angle:g} deg, {rpm:g} rpm")
+    return fig
+
+
+def draw_cross_section(drum: FlightedDrum, repose_angle: float, *, angle: float = 90.0, ax=None,
+                       show_curtain: bool = True, annotate: bool = True):
+    """Drum cross-section drawn to scale: flights, held solids and curtains; returns the figure.
+
+    ``angle`` (deg) is the root angle of the reference flight; the others follow at the
+    flight spacing. The drum turns anticlockwise; psi is measured from the bottom.
+    Each flight is drawn with the most it can hold at its angle (Lee (2008) H_max(psi));
+    flights in the lower half are buried in the bed and full. Curtains fall vertically
+    from discharging tips (tip above the horizontal) to the flight-tip circle.
+    """
+    from matplotlib.patches import Circle, Polygon
+
+    plt = _plt()
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6, 6), constrained_layout=True)
+    else:
+        fig = ax.figure
+    R, RF = drum.radius, drum.tip_radius
+    ax.add_patch(Circle((0, 0), R, fill=False, lw=2, color="k"))
+    ax.add_patch(Circle((0, 0), RF, fill=False, lw=0.6, ls="--", color="0.5"))
+    psi5 = float(drum.transition_angles(repose_angle).psi5)
+    rates = []
+    for j in range(drum.n_flights):
+        psi = (angle + j * drum.flight_spacing) % 360.0
+        held = drum.held_polygon(psi, repose_angle)
+        if len(held) >= 3:
+            ax.add_patch(Polygon(held, closed=True, fc="#d9a441", ec="#8a6416", lw=0.4))
+        pts = drum.flight_outline(psi)
+        ax.plot(pts[:, 0], pts[:, 1], color="#333333", lw=1.6, solid_capstyle="round")
+        tip_angle = psi + drum.tip_angle
+        if show_curtain and 90.0 < tip_angle < 270.0 and psi < psi5:
+            rates.append((pts[2], float(drum.discharge_rate(psi, repose_angle, 1.0))))
+    if rates:
+        top = max(r for _, r in rates) or 1.0
+        for tip, r in rates:
+            if r <= 0:
+                continue
+            x = tip[0]
+            y_end = -np.sqrt(max(RF**2 - x**2, 0.0))
+            ax.plot([x, x], [tip[1], y_end], color="#b8862d", lw=0.5 + 3.0 * r / top, alpha=0.55)
+    if annotate:
+        ax.annotate("", xy=(R * 1.12 * np.cos(np.radians(-60)), R * 1.12 * np.sin(np.radians(-60))),
+                    xytext=(R * 1.12 * np.cos(np.radians(-100)), R * 1.12 * np.sin(np.radians(-100))),
+                    arrowprops=dict(arrowstyle="->", connectionstyle="arc3,rad=0.25", color="k"))
+        ax.text(0, -R * 1.22, "rotation (psi from the bottom)", ha="center", fontsize=8)
+        ref = drum.flight_outline(angle % 360.0)
+        ax.annotate(f"psi = {angle % 360:g} deg", xy=ref[0], xytext=(ref[0] * 1.08), fontsize=8,
+                    ha="left" if ref[0][0] >= 0 else "right")
+    lim = R * 1.3
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    ax.set_title(
+        f"R = {R:g} m, {drum.n_flights} flights, repose angle {repose_angle:g} deg", fontsize=10
+    )
+    return fig
