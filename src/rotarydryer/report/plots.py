@@ -10,7 +10,7 @@ import numpy as np
 
 from ..geometry import FlightedDrum
 
-__all__ = ["plot_unloading_profile", "draw_cross_section"]
+__all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions"]
 
 
 def _plt():
@@ -111,4 +111,60 @@ def draw_cross_section(drum: FlightedDrum, repose_angle: float, *, angle: float 
     ax.set_title(
         f"R = {R:g} m, {drum.n_flights} flights, repose angle {repose_angle:g} deg", fontsize=10
     )
+    return fig
+
+
+def draw_flight_conventions(drum: FlightedDrum, repose_angle: float = 45.0, *, psi: float = 120.0, ax=None):
+    """Close-up of one flight with the conventions of :mod:`rotarydryer.geometry` labelled.
+
+    Shows root, bend and tip, ``s1``, ``s2``, ``alpha1`` (inside the pocket), ``alpha2``,
+    the material surface at the repose angle through the tip and the held solids.
+    """
+    from matplotlib.patches import Polygon
+
+    plt = _plt()
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6, 5), constrained_layout=True)
+    else:
+        fig = ax.figure
+    R = drum.radius
+    held = drum.held_polygon(psi, repose_angle, 400)
+    if len(held) >= 3:
+        ax.add_patch(Polygon(held, fc="#d9a441", ec="#8a6416"))
+    for j in (-1, 0, 1):
+        pts = drum.flight_outline(psi + j * drum.flight_spacing)
+        ax.plot(pts[:, 0], pts[:, 1], "k-", lw=2)
+    a = np.radians(np.linspace(psi - 1.6 * drum.flight_spacing, psi + 2.0 * drum.flight_spacing, 200))
+    ax.plot(R * np.sin(a), -R * np.cos(a), "k-", lw=3)
+    ax.plot(drum.tip_radius * np.sin(a), -drum.tip_radius * np.cos(a), "--", color="0.5", lw=0.8)
+    root, bend, tip = drum.flight_outline(psi)
+    scale = max(np.linalg.norm(bend - root), 1e-9)
+    inward = -root / np.linalg.norm(root)
+    forward = np.array([np.cos(np.radians(psi)), np.sin(np.radians(psi))])
+    kw = dict(fontsize=9, ha="center", va="center")
+    ax.text(*(root - 0.45 * scale * inward), "root\n(angle psi)", **kw)
+    ax.text(*(bend + 0.35 * scale * inward - 0.35 * scale * forward), "bend", **kw)
+    ax.text(*(tip + 0.45 * scale * inward), "tip\n(psi + psi_ft)", **kw)
+    ax.text(*(0.5 * (root + bend) - 0.3 * scale * forward), "s1", color="b", **kw)
+    ax.text(*(0.5 * (bend + tip) + 0.25 * scale * inward - 0.1 * scale * forward), "s2", color="b", **kw)
+    ax.text(*(root + 0.25 * scale * inward + 0.45 * scale * forward), "alpha1", color="b", fontsize=8,
+            ha="left", va="center")
+    ax.text(*(bend + 0.25 * scale * forward + 0.05 * scale * inward), "alpha2", color="b", fontsize=8,
+            ha="left", va="center")
+    u = np.array([np.cos(np.radians(repose_angle)), np.sin(np.radians(repose_angle))])
+    seg = np.array([tip - 0.6 * scale * u, tip + 2.5 * scale * u])
+    ax.plot(seg[:, 0], seg[:, 1], "r--", lw=1)
+    ax.text(*(tip + 2.5 * scale * u), f" surface at the repose angle ({repose_angle:g} deg)", color="r",
+            fontsize=8, ha="left", va="bottom")
+    ax.annotate("", xy=root + 2.5 * scale * forward, xytext=root + 1.2 * scale * forward,
+                arrowprops=dict(arrowstyle="->", color="k"))
+    ax.text(*(root + 2.6 * scale * forward), "rotation", fontsize=8, ha="left")
+    span = 4.0 * scale
+    c = 0.5 * (root + tip)
+    ax.set_xlim(c[0] - span, c[0] + span)
+    ax.set_ylim(c[1] - span, c[1] + span)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    ax.set_title("psi: root angle from the drum bottom; the drum turns anticlockwise;\n"
+                 "the pocket faces the direction of rotation; dashed: flight-tip circle", fontsize=9)
     return fig
