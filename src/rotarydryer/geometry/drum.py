@@ -353,43 +353,57 @@ def _prepare(psi, repose_angle):
     return np.broadcast_arrays(psi, phi)
 
 
-def _phase_terms(c: _Consts, psi, phi):
+def _phase_I(c: _Consts, psi, phi, slope: bool):
+    """Lee (2008) Eq. 4.14: triangle between the surface and the tip chord removed."""
     d = _DEG
-    with np.errstate(all="ignore"):
-        # Phase I (Eq. 4.14): triangle between the surface and the tip chord
-        delta = (psi + c.psi_ft + 0.5 * c.psi_fl - phi) * d
-        aft = c.alpha_ft * d
-        s1_ = np.sin(aft + delta)
-        hI = c.full_area - 0.5 * c.s_ft**2 * math.sin(aft) * np.sin(delta) / s1_
-        dI = -0.5 * c.s_ft**2 * math.sin(aft) ** 2 / s1_**2
-        # Phase II (Eq. 4.15): surface meets the next flight's base
-        eps = (psi + c.psi_ft + 0.5 * c.psi_fl - c.alpha_a - phi) * d
-        zeta = (180.0 + c.alpha_ft + c.alpha_a - c.a2) * d
-        s2_ = np.sin(eps + zeta)
-        hII = c.full_area - c.area_tri_ft - 0.5 * c.s_a**2 * np.sin(eps) * math.sin(zeta) / s2_
-        dII = -0.5 * c.s_a**2 * math.sin(zeta) ** 2 / s2_**2
-        # Phase III (Eq. 4.16): surface meets the wall between the roots
-        k = c.RF / c.R
-        u = (psi + c.psi_ft + 90.0 - phi) * d
-        su = np.clip(k * np.sin(u), -1.0, 1.0)
-        beta = (90.0 + phi - psi - c.psi_ft) * d - np.arcsin(su)
-        hIII = (
-            0.5 * c.R**2 * (c.psi_ft * d + beta)
-            - 0.5 * c.R * c.RF * np.sin(beta)
-            - c.area_const3
-        )
+    aft = c.alpha_ft * d
+    delta = (psi + c.psi_ft + 0.5 * c.psi_fl - phi) * d
+    s = np.sin(aft + delta)
+    if slope:
+        return -0.5 * c.s_ft**2 * math.sin(aft) ** 2 / s**2 * d
+    return c.full_area - 0.5 * c.s_ft**2 * math.sin(aft) * np.sin(delta) / s
+
+
+def _phase_II(c: _Consts, psi, phi, slope: bool):
+    """Lee (2008) Eq. 4.15: the surface meets the next flight's base."""
+    d = _DEG
+    eps = (psi + c.psi_ft + 0.5 * c.psi_fl - c.alpha_a - phi) * d
+    zeta = (180.0 + c.alpha_ft + c.alpha_a - c.a2) * d
+    s = np.sin(eps + zeta)
+    if slope:
+        return -0.5 * c.s_a**2 * math.sin(zeta) ** 2 / s**2 * d
+    return c.full_area - c.area_tri_ft - 0.5 * c.s_a**2 * np.sin(eps) * math.sin(zeta) / s
+
+
+def _phase_III(c: _Consts, psi, phi, slope: bool):
+    """Lee (2008) Eq. 4.16: the surface meets the drum wall between the roots."""
+    d = _DEG
+    k = c.RF / c.R
+    u = (psi + c.psi_ft + 90.0 - phi) * d
+    su = np.clip(k * np.sin(u), -1.0, 1.0)
+    beta = (90.0 + phi - psi - c.psi_ft) * d - np.arcsin(su)
+    if slope:
         dbeta = -1.0 - k * np.cos(u) / np.sqrt(1.0 - su**2)
-        dIII = (0.5 * c.R**2 - 0.5 * c.R * c.RF * np.cos(beta)) * dbeta
-        # Phase IV (Eq. 4.17): surface meets this flight's base
-        gam = (90.0 + phi + 180.0 - c.a2p - psi) * d
-        a2 = c.a2 * d
-        s4_ = np.sin(a2 + gam)
-        hIV = 0.5 * c.s2**2 * math.sin(a2) * np.sin(gam) / s4_
-        dIV = -0.5 * c.s2**2 * math.sin(a2) ** 2 / s4_**2
-    return (hI, hII, hIII, hIV), (dI * d, dII * d, dIII * d, dIV * d)
+        return (0.5 * c.R**2 - 0.5 * c.R * c.RF * np.cos(beta)) * dbeta * d
+    return 0.5 * c.R**2 * (c.psi_ft * d + beta) - 0.5 * c.R * c.RF * np.sin(beta) - c.area_const3
+
+
+def _phase_IV(c: _Consts, psi, phi, slope: bool):
+    """Lee (2008) Eq. 4.17: the surface meets this flight's base."""
+    d = _DEG
+    gam = (90.0 + phi + 180.0 - c.a2p - psi) * d
+    a2 = c.a2 * d
+    s = np.sin(a2 + gam)
+    if slope:
+        return -0.5 * c.s2**2 * math.sin(a2) ** 2 / s**2 * d
+    return 0.5 * c.s2**2 * math.sin(a2) * np.sin(gam) / s
+
+
+_PHASES = (_phase_I, _phase_II, _phase_III, _phase_IV)
 
 
 def _phase_index(c: _Consts, psi, phi):
+    """0: full (before psi1), 1-4: phases I-IV, 5: empty (from psi5 on)."""
     x = psi - phi
     return (
         (x >= c.off1).astype(np.int8)
@@ -400,20 +414,29 @@ def _phase_index(c: _Consts, psi, phi):
     )
 
 
-def _holdup(c: _Consts, psi, phi):
-    (hI, hII, hIII, hIV), _ = _phase_terms(c, psi, phi)
+def _evaluate(c: _Consts, psi, phi, slope: bool):
+    """Piecewise holdup (or its slope, per degree): each point evaluates only its own phase."""
+    psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
     idx = _phase_index(c, psi, phi)
-    out = np.choose(
-        idx, [np.full_like(psi, c.full_area), hI, hII, hIII, hIV, np.zeros_like(psi)]
-    )
+    out = np.zeros(psi.shape)
+    if not slope:
+        out[idx == 0] = c.full_area
+    with np.errstate(all="ignore"):
+        for k, fn in enumerate(_PHASES, start=1):
+            m = idx == k
+            if m.any():
+                out[m] = fn(c, psi[m], phi[m], slope)
+    if slope:
+        return np.minimum(out, 0.0)
     return np.clip(out, 0.0, c.full_area)
 
 
+def _holdup(c: _Consts, psi, phi):
+    return _evaluate(c, psi, phi, slope=False)
+
+
 def _holdup_slope(c: _Consts, psi, phi):
-    _, (dI, dII, dIII, dIV) = _phase_terms(c, psi, phi)
-    idx = _phase_index(c, psi, phi)
-    z = np.zeros_like(psi)
-    return np.minimum(np.choose(idx, [z, dI, dII, dIII, dIV, z]), 0.0)
+    return _evaluate(c, psi, phi, slope=True)
 
 
 def _clip_halfplane(poly: np.ndarray, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
