@@ -1,0 +1,630 @@
+"""Parameter estimation: weighted least squares and maximum likelihood with uncertainty.
+
+The model is any callable ``model(values) -> predictions`` where ``values`` maps
+parameter names to floats and ``predictions`` maps data-set names to arrays shaped
+like the data (a bare array is accepted when there is one data set). The
+estimation layer knows nothing about dryers: :mod:`rotarydryer.estimation.cases`
+(when present) wraps case overrides into such a model.
+
+Estimators
+----------
+``method="wls"``
+    Weighted least squares: minimise ``sum ((y - f)/sigma)^2`` with the given
+    standard deviations ``sigma`` (1 when not given, the residual variance then
+    estimated from the fit as ``SSE/(n - p)``).
+``method="ml"``
+    Maximum likelihood with Gaussian errors whose variance is unknown and
+    estimated per data set (as gPROMS does): ``variance="constant"``
+    (``sigma_k``) or ``variance="power"`` (``sigma_k |f_i|^gamma``, heteroscedastic,
+    ``gamma`` given per data set). Solved by iteratively re-weighted least squares
+    (the generalised-least-squares estimator; the log-determinant term of the power
+    model is not differentiated through, which keeps it a least-squares problem).
+
+Uncertainty: covariance ``s^2 (J^T J)^{-1}`` from the Jacobian of the weighted
+residuals at the optimum (Gauss-Newton Fisher information), 95 % intervals from the
+t distribution (in log space, hence asymmetric, for log-transformed parameters),
+correlation matrix; :func:`profile_likelihood` and :func:`bootstrap` for the
+non-linear cases. Non-identifiability is reported, with the reason, from the
+singular values of the scaled Jacobian and from parameter correlations.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+from scipy import optimize, stats
+
+__all__ = [
+    "Parameter",
+    "Dataset",
+    "FitError",
+    "IdentifiabilityWarning",
+    "ParameterEstimate",
+    "StartResult",
+    "FitResult",
+    "fit",
+    "profile_likelihood",
+    "bootstrap",
+]
+
+
+class FitError(RuntimeError):
+    """The estimation could not produce a result (all starts failed, bad set-up)."""
+
+
+class IdentifiabilityWarning(UserWarning):
+    """The data cannot identify one or more parameters."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A parameter to estimate.
+
+    ``log=True`` estimates ``log(value)`` (requires ``lower >= 0`` and ``initial > 0``),
+    which suits positive parameters spanning decades (time constants, dispersion).
+    """
+
+    name: str
+    initial: float
+    lower: float = -math.inf
+    upper: float = math.inf
+    log: bool = False
+
+    def __post_init__(self):
+        for attr in ("initial", "lower", "upper"):
+            v = getattr(self, attr)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or math.isnan(v):
+                raise ValueError(f"parameter {self.name!r}: {attr} = {v!r} must be a number")
+        if not math.isfinite(self.initial):
+            raise ValueError(f"parameter {self.name!r}: initial = {self.initial!r} must be finite")
+        if not self.lower < self.upper:
+            raise ValueError(f"parameter {self.name!r}: lower = {self.lower!r} must be < upper = {self.upper!r}")
+        if not self.lower <= self.initial <= self.upper:
+            raise ValueError(
+                f"parameter {self.name!r}: the start {self.initial!r} lies outside its bounds "
+                f"[{self.lower!r}, {self.upper!r}]"
+            )
+        if self.log and not (self.initial > 0 and self.lower >= 0):
+            raise ValueError(
+                f"parameter {self.name!r}: log=True needs initial > 0 and lower >= 0 "
+                f"(got initial {self.initial!r}, lower {self.lower!r})"
+            )
+
+    # transformed (optimiser) space
+    def to_z(self, v):
+        return np.log(v) if self.log else np.asarray(v, dtype=float)
+
+    def from_z(self, z):
+        return np.exp(z) if self.log else np.asarray(z, dtype=float)
+
+    @property
+    def z_bounds(self) -> tuple[float, float]:
+        if self.log:
+            lo = math.log(self.lower) if self.lower > 0 else -math.inf
+            hi = math.log(self.upper) if math.isfinite(self.upper) else math.inf
+            return lo, hi
+        return self.lower, self.upper
+
+
+@dataclass(frozen=True)
+class Dataset:
+    """Observations ``y`` (any shape) with optional known standard deviations ``sigma``.
+
+    ``variance`` (for ``method="ml"``): ``"constant"`` or ``"power"`` with exponent
+    ``power`` (sigma proportional to |prediction|^power; 1 = constant relative error).
+    """
+
+    name: str
+    y: np.ndarray
+    sigma: np.ndarray | None = None
+    variance: str = "constant"
+    power: float = 1.0
+
+    def __post_init__(self):
+        y = np.asarray(self.y, dtype=float)
+        if y.size == 0:
+            raise ValueError(f"data set {self.name!r} is empty")
+        if not np.all(np.isfinite(y)):
+            raise ValueError(f"data set {self.name!r} contains NaN or infinite values")
+        object.__setattr__(self, "y", y)
+        if self.sigma is not None:
+            s = np.broadcast_to(np.asarray(self.sigma, dtype=float), y.shape)
+            if not np.all(np.isfinite(s) & (s > 0)):
+                raise ValueError(f"data set {self.name!r}: sigma must be finite and > 0")
+            object.__setattr__(self, "sigma", s)
+        if self.variance not in ("constant", "power"):
+            raise ValueError(f"data set {self.name!r}: variance = {self.variance!r} is not 'constant' or 'power'")
+
+
+@dataclass(frozen=True)
+class ParameterEstimate:
+    """Estimate with standard error and 95 % confidence interval."""
+
+    value: float
+    std_error: float
+    ci_low: float
+    ci_high: float
+    at_bound: bool = False
+
+    def to_dict(self) -> dict:
+        return {"value": self.value, "std_error": self.std_error, "ci_low": self.ci_low,
+                "ci_high": self.ci_high, "at_bound": self.at_bound}
+
+
+@dataclass(frozen=True)
+class StartResult:
+    """One start of the multi-start search."""
+
+    start: dict
+    objective: float
+    success: bool
+    n_evaluations: int
+    message: str
+
+
+@dataclass
+class FitResult:
+    """Result of :func:`fit`. ``objective`` is the weighted sum of squares (wls) or the
+    negative log-likelihood (ml) at the optimum."""
+
+    parameters: dict[str, ParameterEstimate]
+    covariance: np.ndarray
+    correlation: np.ndarray
+    names: list[str]
+    objective: float
+    r_squared: float
+    n_evaluations: int
+    n_data: int
+    dof: int
+    sigma: dict[str, float]
+    predictions: dict[str, np.ndarray]
+    residuals: dict[str, np.ndarray]
+    starts: list[StartResult]
+    method: str
+    warnings: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def values(self) -> dict[str, float]:
+        return {k: p.value for k, p in self.parameters.items()}
+
+    def to_dict(self) -> dict:
+        return {
+            "parameters": {k: p.to_dict() for k, p in self.parameters.items()},
+            "objective": self.objective,
+            "r_squared": self.r_squared,
+            "n_evaluations": self.n_evaluations,
+            "n_data": self.n_data,
+            "dof": self.dof,
+            "sigma": self.sigma,
+            "correlation": self.correlation.tolist(),
+            "names": self.names,
+            "method": self.method,
+            "starts": [dict(start=s.start, objective=s.objective, success=s.success,
+                            n_evaluations=s.n_evaluations) for s in self.starts],
+            "warnings": list(self.warnings),
+            "seconds": self.seconds,
+        }
+
+
+# ----------------------------------------------------------------------------- internals
+class _Problem:
+    def __init__(self, model, parameters, data, method, fixed=None):
+        self.model = model
+        self.params = list(parameters)
+        self.data = list(data)
+        self.method = method
+        self.fixed = dict(fixed or {})
+        self.n_eval = 0
+        self.weights = {d.name: 1.0 for d in self.data}  # 1/sigma_k for ml
+
+    def values(self, z) -> dict:
+        v = {p.name: float(p.from_z(zi)) for p, zi in zip(self.params, z)}
+        v.update(self.fixed)
+        return v
+
+    def predict(self, values: dict) -> dict:
+        self.n_eval += 1
+        out = self.model(values)
+        if not isinstance(out, Mapping):
+            if len(self.data) != 1:
+                raise FitError("the model returned one array but there are several data sets")
+            out = {self.data[0].name: out}
+        pred = {}
+        for d in self.data:
+            if d.name not in out:
+                raise FitError(f"the model returned no prediction for data set {d.name!r}")
+            f = np.asarray(out[d.name], dtype=float)
+            if f.shape != d.y.shape:
+                raise FitError(f"prediction for {d.name!r} has shape {f.shape}, data {d.y.shape}")
+            if not np.all(np.isfinite(f)):
+                raise FloatingPointError(f"the model returned non-finite values for {d.name!r} at {values}")
+            pred[d.name] = f
+        return pred
+
+    def scale(self, d: Dataset, f: np.ndarray, power_ref=None) -> np.ndarray:
+        s = d.sigma if (d.sigma is not None and self.method == "wls") else 1.0
+        if self.method == "ml" and d.variance == "power":
+            ref = np.abs(f if power_ref is None else power_ref)
+            floor = 1e-6 * max(np.max(ref), 1e-300)
+            s = np.maximum(ref, floor) ** d.power
+        return s
+
+    def residuals(self, z, power_ref=None) -> np.ndarray:
+        pred = self.predict(self.values(z))
+        parts = []
+        for d in self.data:
+            f = pred[d.name]
+            ref = None if power_ref is None else power_ref[d.name]
+            r = (d.y - f) / self.scale(d, f, ref) * self.weights[d.name]
+            parts.append(r.ravel())
+        return np.concatenate(parts)
+
+
+def _starts(problem: _Problem, n_starts: int, rng) -> list[np.ndarray]:
+    z0 = np.array([float(p.to_z(p.initial)) for p in problem.params])
+    starts = [z0]
+    if n_starts <= 1:
+        return starts
+    sampler = stats.qmc.LatinHypercube(d=len(z0), seed=rng)
+    u = sampler.random(n_starts - 1)
+    for row in u:
+        z = np.empty_like(z0)
+        for i, (p, ui) in enumerate(zip(problem.params, row)):
+            lo, hi = p.z_bounds
+            if math.isfinite(lo) and math.isfinite(hi):
+                z[i] = lo + ui * (hi - lo)
+            elif p.log:
+                z[i] = z0[i] + (ui - 0.5) * 2.0 * math.log(10.0)  # within a decade
+            else:
+                half = max(abs(p.initial), 1e-3)
+                z[i] = np.clip(p.initial + (ui - 0.5) * 2.0 * half, lo, hi)
+        starts.append(z)
+    return starts
+
+
+def _solve(problem: _Problem, z0, max_nfev, jac):
+    lo = np.array([p.z_bounds[0] for p in problem.params])
+    hi = np.array([p.z_bounds[1] for p in problem.params])
+    z0 = np.clip(z0, np.nextafter(lo, hi), np.nextafter(hi, lo))
+    kw = dict(bounds=(lo, hi), x_scale="jac", max_nfev=max_nfev, method="trf")
+    if jac is not None:
+        kw["jac"] = jac
+    if problem.method == "wls":
+        return optimize.least_squares(problem.residuals, z0, **kw)
+    # ml: iteratively re-weighted least squares with per-data-set variances
+    res = None
+    z = z0
+    for _ in range(6):
+        ref = problem.predict(problem.values(z))
+        res = optimize.least_squares(lambda zz: problem.residuals(zz, ref), z, **kw)
+        z = res.x
+        pred = problem.predict(problem.values(z))
+        changed = False
+        for d in problem.data:
+            r = (d.y - pred[d.name]) / problem.scale(d, pred[d.name], ref[d.name])
+            s2 = max(float(np.mean(r**2)), 1e-300)
+            w = 1.0 / math.sqrt(s2)
+            if abs(w - problem.weights[d.name]) > 1e-6 * w:
+                changed = True
+            problem.weights[d.name] = w
+        if not changed:
+            break
+    final_ref = problem.predict(problem.values(z))
+    res = optimize.least_squares(lambda zz: problem.residuals(zz, final_ref), z, **kw)
+    res.power_ref = final_ref
+    return res
+
+
+def _objective(problem: _Problem, res) -> float:
+    if problem.method == "wls":
+        return float(np.sum(res.fun**2))
+    pred = problem.predict(problem.values(res.x))
+    nll = 0.0
+    for d in problem.data:
+        f = pred[d.name]
+        scale = problem.scale(d, f)
+        r = (d.y - f) / scale
+        n = r.size
+        s2 = max(float(np.mean(r**2)), 1e-300)
+        nll += 0.5 * n * (math.log(2 * math.pi * s2) + 1.0) + float(np.sum(np.log(np.broadcast_to(scale, r.shape))))
+    return nll
+
+
+def fit(
+    model: Callable[[dict], object],
+    parameters: Sequence[Parameter],
+    data: Sequence[Dataset] | Dataset,
+    *,
+    method: str = "wls",
+    n_starts: int = 4,
+    seed: int = 0,
+    jac=None,
+    max_nfev: int | None = None,
+    fixed: Mapping[str, float] | None = None,
+    progress: Callable[[int, int, float], None] | None = None,
+) -> FitResult:
+    """Estimate ``parameters`` of ``model`` from ``data``; see the module docstring.
+
+    Parameters
+    ----------
+    model : callable
+        ``model(values: dict) -> dict[data set name, array]`` (or an array for one data set).
+    parameters : sequence of Parameter
+    data : Dataset or sequence of Dataset
+    method : {"wls", "ml"}
+    n_starts : int
+        Number of starts: the given initial values plus Latin-hypercube samples within the
+        bounds (in the transformed space). All are reported in ``FitResult.starts``.
+    seed : int
+        Seed of the start sampler (results are reproducible).
+    jac : callable, optional
+        Jacobian of the weighted residuals in the transformed space; default 2-point
+        finite differences.
+    fixed : mapping, optional
+        Extra model inputs held fixed.
+    progress : callable, optional
+        ``progress(start_index, n_starts, best_objective)`` after each start.
+
+    Raises
+    ------
+    FitError
+        When no start converges (the initial guess is never returned as a result).
+    ValueError
+        Bad set-up: no parameters, duplicate names, too few data points.
+    """
+    t0 = time.perf_counter()
+    if method not in ("wls", "ml"):
+        raise ValueError(f"method = {method!r} is not 'wls' or 'ml'")
+    params = list(parameters)
+    if not params:
+        raise ValueError("no parameters to estimate")
+    names = [p.name for p in params]
+    if len(set(names)) != len(names):
+        raise ValueError(f"duplicate parameter names in {names}")
+    data = [data] if isinstance(data, Dataset) else list(data)
+    if not data:
+        raise ValueError("no data sets")
+    n = sum(d.y.size for d in data)
+    if n <= len(params):
+        raise ValueError(f"too few data points: {n} observations for {len(params)} parameters (need more than {len(params)})")
+    if isinstance(n_starts, bool) or int(n_starts) != n_starts or n_starts < 1:
+        raise ValueError(f"n_starts = {n_starts!r} must be an integer >= 1")
+    rng = np.random.default_rng(seed)
+    problem = _Problem(model, params, data, method, fixed)
+    try:
+        problem.predict(problem.values(np.array([float(p.to_z(p.initial)) for p in params])))
+    except (FitError, ValueError, FloatingPointError) as exc:
+        raise FitError(f"the model cannot be evaluated at the initial values: {exc}") from exc
+    best, best_obj, best_weights = None, math.inf, None
+    starts: list[StartResult] = []
+    for k, z0 in enumerate(_starts(problem, int(n_starts), rng)):
+        problem.weights = {d.name: 1.0 for d in data}
+        before = problem.n_eval
+        start_vals = {p.name: float(p.from_z(zi)) for p, zi in zip(params, z0)}
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                res = _solve(problem, z0, max_nfev, jac)
+            obj = _objective(problem, res)
+            ok = bool(res.success) and math.isfinite(obj)
+            msg = res.message
+        except (FloatingPointError, ValueError, FitError) as exc:
+            res, obj, ok, msg = None, math.inf, False, f"model failed: {exc}"
+        starts.append(StartResult(start_vals, obj, ok, problem.n_eval - before, str(msg)))
+        if ok and obj < best_obj:
+            best, best_obj, best_weights = res, obj, dict(problem.weights)
+        if progress is not None:
+            progress(k + 1, int(n_starts), best_obj)
+    if best is None:
+        raise FitError("no start converged: " + "; ".join(f"start {i + 1}: {s.message}" for i, s in enumerate(starts)))
+    problem.weights = best_weights
+    return _summarise(problem, best, best_obj, starts, time.perf_counter() - t0)
+
+
+def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
+    params = problem.params
+    names = [p.name for p in params]
+    z = res.x
+    values = problem.values(z)
+    pred = problem.predict(values)
+    J = np.atleast_2d(res.jac)
+    n = J.shape[0]
+    p = len(params)
+    dof = n - p
+    sse_w = float(np.sum(res.fun**2))
+    known_sigma = problem.method == "wls" and all(d.sigma is not None for d in problem.data)
+    s2 = 1.0 if (known_sigma or problem.method == "ml") else sse_w / max(dof, 1)
+    notes: list[str] = []
+    # Fisher information in z space; pseudo-inverse guards singular cases
+    JtJ = J.T @ J
+    u, sv, vt = np.linalg.svd(J, full_matrices=False)
+    tol = sv.max() * 1e-7 if sv.size else 0.0
+    cov_z = s2 * np.linalg.pinv(JtJ, rcond=1e-12)
+    # identifiability: relative (scaled) sensitivities
+    if sv.size and (sv.min() <= tol):
+        worst = vt[-1]
+        culprits = [names[i] for i in np.argsort(-np.abs(worst))[:2] if abs(worst[i]) > 0.3]
+        notes.append(
+            "near-singular Fisher information (condition number "
+            f"{sv.max() / max(sv.min(), 1e-300):.2e}): the data cannot separate "
+            + (" and ".join(culprits) if culprits else "the parameters")
+        )
+    sd_z = np.sqrt(np.clip(np.diag(cov_z), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov_z / np.outer(sd_z, sd_z)
+    corr = np.where(np.isfinite(corr), corr, 0.0)
+    np.fill_diagonal(corr, 1.0)
+    for i in range(p):
+        for j in range(i + 1, p):
+            if abs(corr[i, j]) > 0.99:
+                notes.append(f"{names[i]} and {names[j]} are correlated {corr[i, j]:+.3f}: one may not be identifiable")
+    tq = float(stats.t.ppf(0.975, max(dof, 1)))
+    est = {}
+    lo_b = np.array([q.z_bounds[0] for q in params])
+    hi_b = np.array([q.z_bounds[1] for q in params])
+    for i, q in enumerate(params):
+        v = float(q.from_z(z[i]))
+        at_bound = bool(np.isclose(z[i], lo_b[i], rtol=1e-6, atol=1e-9) or np.isclose(z[i], hi_b[i], rtol=1e-6, atol=1e-9))
+        if at_bound:
+            notes.append(f"{q.name} = {v:.6g} is at a bound: its interval is not reliable")
+        if q.log:
+            se = v * sd_z[i]
+            lo, hi = float(np.exp(z[i] - tq * sd_z[i])), float(np.exp(z[i] + tq * sd_z[i]))
+        else:
+            se = float(sd_z[i])
+            lo, hi = v - tq * se, v + tq * se
+        if not np.isfinite(se) or se > 1e6 * max(abs(v), 1e-12):
+            notes.append(f"{q.name}: standard error {se:.3g} is huge relative to the estimate; flat objective")
+        est[q.name] = ParameterEstimate(v, float(se), float(lo), float(hi), at_bound)
+    # covariance in natural space
+    jac_t = np.array([float(q.from_z(z[i])) if q.log else 1.0 for i, q in enumerate(params)])
+    cov = cov_z * np.outer(jac_t, jac_t)
+    y_all = np.concatenate([d.y.ravel() for d in problem.data])
+    f_all = np.concatenate([pred[d.name].ravel() for d in problem.data])
+    sst = float(np.sum((y_all - y_all.mean()) ** 2))
+    r2 = 1.0 - float(np.sum((y_all - f_all) ** 2)) / sst if sst > 0 else float("nan")
+    sig = {}
+    for d in problem.data:
+        r = (d.y - pred[d.name]) / problem.scale(d, pred[d.name])
+        sig[d.name] = float(np.sqrt(np.mean(r**2))) if problem.method == "ml" else (
+            float(np.sqrt(s2)) if not known_sigma else 1.0)
+    for msg in notes:
+        warnings.warn(msg, IdentifiabilityWarning, stacklevel=3)
+    return FitResult(
+        parameters=est, covariance=cov, correlation=corr, names=names, objective=float(obj),
+        r_squared=r2, n_evaluations=problem.n_eval, n_data=n, dof=dof, sigma=sig,
+        predictions=pred, residuals={d.name: d.y - pred[d.name] for d in problem.data},
+        starts=starts, method=problem.method, warnings=notes, seconds=seconds,
+    )
+
+
+@dataclass(frozen=True)
+class ProfileResult:
+    """Profile of the objective along one parameter (others re-optimised).
+
+    ``delta`` is the increase of ``2 x`` negative log-likelihood (ml) or of the weighted
+    SSE divided by the residual variance (wls); the 95 % interval is where
+    ``delta < chi2(0.95, 1) = 3.84``. ``flat`` flags a profile that never reaches it.
+    """
+
+    name: str
+    values: np.ndarray
+    delta: np.ndarray
+    ci_low: float
+    ci_high: float
+    flat: bool
+
+
+def profile_likelihood(model, parameters, data, result: FitResult, name: str, *, n_points: int = 15,
+                       span: float = 4.0, method: str | None = None) -> ProfileResult:
+    """Profile likelihood of parameter ``name`` around the estimate in ``result``.
+
+    The grid spans ``+/- span`` standard errors (in the transformed space for log
+    parameters). Each point re-fits the other parameters from the optimum.
+    """
+    params = list(parameters)
+    idx = {p.name: i for i, p in enumerate(params)}
+    if name not in idx:
+        raise ValueError(f"no parameter named {name!r}; parameters are {list(idx)}")
+    method = method or result.method
+    target = params[idx[name]]
+    est = result.parameters[name]
+    zc = float(target.to_z(est.value))
+    sd_z = est.std_error / est.value if target.log else est.std_error
+    sd_z = sd_z if (np.isfinite(sd_z) and sd_z > 0) else 0.1 * max(abs(zc), 1.0)
+    lo_b, hi_b = target.z_bounds
+    grid_z = np.clip(zc + np.linspace(-span, span, n_points) * sd_z, lo_b, hi_b)
+    others = [
+        Parameter(p.name, float(np.clip(result.values[p.name], p.lower, p.upper)), p.lower, p.upper, p.log)
+        for p in params if p.name != name
+    ]
+    data = [data] if isinstance(data, Dataset) else list(data)
+    s2 = 1.0
+    if method == "wls" and not all(d.sigma is not None for d in data):
+        s2 = result.objective / max(result.dof, 1)
+    base = result.objective
+    deltas = []
+    for zg in grid_z:
+        v = float(target.from_z(zg))
+        if others:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                r = fit(model, others, data, method=method, n_starts=1, fixed={name: v})
+            obj = r.objective
+        else:
+            prob = _Problem(model, [], data, method, {name: v})
+            res = type("R", (), {})()
+            res.x = np.array([])
+            res.fun = prob.residuals(np.array([]))
+            obj = _objective(prob, res)
+        deltas.append(2.0 * (obj - base) if method == "ml" else (obj - base) / s2)
+    deltas = np.maximum(np.array(deltas), 0.0)
+    vals = np.array([float(target.from_z(z)) for z in grid_z])
+    crit = float(stats.chi2.ppf(0.95, 1))
+    flat = bool(deltas.max() < crit)
+    lo, hi = _crossings(grid_z, deltas, crit, zc)
+    lo, hi = float(target.from_z(lo)), float(target.from_z(hi))
+    if flat:
+        warnings.warn(f"profile of {name} is flat over +/-{span} standard errors: not identifiable from these data",
+                      IdentifiabilityWarning, stacklevel=2)
+    return ProfileResult(name, vals, deltas, lo, hi, flat)
+
+
+def _crossings(z, delta, crit, zc):
+    """Where the profile crosses ``crit`` on each side of the optimum (linear interpolation);
+    the grid end when it does not cross."""
+    left, right = z <= zc, z >= zc
+    zl, dl = z[left][::-1], delta[left][::-1]  # from the optimum outwards
+    zr, dr = z[right], delta[right]
+
+    def cross(zs, ds):
+        above = np.nonzero(ds >= crit)[0]
+        if above.size == 0 or above[0] == 0:
+            return zs[-1] if above.size == 0 else zs[0]
+        k = above[0]
+        return zs[k - 1] + (crit - ds[k - 1]) * (zs[k] - zs[k - 1]) / (ds[k] - ds[k - 1])
+
+    return cross(zl, dl), cross(zr, dr)
+
+
+@dataclass(frozen=True)
+class BootstrapResult:
+    samples: dict[str, np.ndarray]
+    ci_low: dict[str, float]
+    ci_high: dict[str, float]
+    n_failed: int
+
+
+def bootstrap(model, parameters, data, result: FitResult, *, n_boot: int = 100, seed: int = 0) -> BootstrapResult:
+    """Residual bootstrap: refit to ``prediction + resampled residuals``; percentile 95 % intervals."""
+    rng = np.random.default_rng(seed)
+    data = [data] if isinstance(data, Dataset) else list(data)
+    params = [Parameter(p.name, float(np.clip(result.values[p.name], p.lower, p.upper)), p.lower, p.upper, p.log)
+              for p in parameters]
+    samples = {p.name: [] for p in params}
+    failed = 0
+    for _ in range(int(n_boot)):
+        boot = []
+        for d in data:
+            r = result.residuals[d.name].ravel()
+            y = result.predictions[d.name] + rng.choice(r, size=r.size, replace=True).reshape(d.y.shape)
+            boot.append(Dataset(d.name, y, d.sigma, d.variance, d.power))
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                rb = fit(model, params, boot, method=result.method, n_starts=1)
+        except FitError:
+            failed += 1
+            continue
+        for k, v in rb.values.items():
+            samples[k].append(v)
+    arr = {k: np.array(v) for k, v in samples.items()}
+    lo = {k: float(np.percentile(v, 2.5)) if v.size else float("nan") for k, v in arr.items()}
+    hi = {k: float(np.percentile(v, 97.5)) if v.size else float("nan") for k, v in arr.items()}
+    return BootstrapResult(arr, lo, hi, failed)
