@@ -222,6 +222,12 @@ class _Problem:
         self.fixed = dict(fixed or {})
         self.n_eval = 0
         self.weights = {d.name: 1.0 for d in self.data}  # 1/sigma_k for ml
+        self.infeasible = 0
+        self.last_infeasible = ""
+        n = sum(d.y.size for d in self.data)
+        big = 1e3 * (1.0 + sum(float(np.sum((d.y / (d.sigma if d.sigma is not None else 1.0)) ** 2))
+                               for d in self.data))
+        self.penalty = np.full(n, math.sqrt(big / n))
 
     def values(self, z) -> dict:
         v = {p.name: float(p.from_z(zi)) for p, zi in zip(self.params, z)}
@@ -256,7 +262,18 @@ class _Problem:
         return s
 
     def residuals(self, z, power_ref=None) -> np.ndarray:
-        pred = self.predict(self.values(z))
+        try:
+            pred = self.predict(self.values(z))
+        except (ValueError, FloatingPointError) as exc:
+            # an infeasible parameter vector (the model refuses it, e.g. a coefficient
+            # leaving its physical range): a large constant residual makes the trust-region
+            # method reject the step and shrink, instead of aborting the fit
+            self.infeasible += 1
+            self.last_infeasible = str(exc)
+            return self.penalty
+        return self._weighted(pred, power_ref)
+
+    def _weighted(self, pred, power_ref=None) -> np.ndarray:
         parts = []
         for d in self.data:
             f = pred[d.name]
@@ -286,6 +303,53 @@ def _starts(problem: _Problem, n_starts: int, rng) -> list[np.ndarray]:
                 z[i] = np.clip(p.initial + (ui - 0.5) * 2.0 * half, lo, hi)
         starts.append(z)
     return starts
+
+
+def _feasible_starts(problem: _Problem, n_starts: int, rng, tries: int = 30) -> list[np.ndarray]:
+    """The given start plus sampled ones; a sampled start where the model refuses the
+    parameters (infeasible) is replaced by a new sample (up to ``tries`` times)."""
+    out = _starts(problem, n_starts, rng)
+    for i in range(1, len(out)):
+        for _ in range(tries):
+            before = problem.infeasible
+            problem.residuals(out[i])
+            if problem.infeasible == before:
+                break
+            out[i] = _starts(problem, 2, rng)[1]
+    return out
+
+
+def _feasible_jacobian(problem: _Problem, z, power_ref=None):
+    """Forward-difference Jacobian of the weighted residuals at ``z`` that steps into the
+    feasible side of any constraint the model enforces. Returns (J, names of parameters
+    with no feasible step in one direction)."""
+    r0 = problem.residuals(z, power_ref)
+    J = np.zeros((r0.size, z.size))
+    boundary = []
+    lo = np.array([q.z_bounds[0] for q in problem.params])
+    hi = np.array([q.z_bounds[1] for q in problem.params])
+    for i in range(z.size):
+        h = 1e-6 * max(1.0, abs(z[i]))
+        col = None
+        for sgn in (1.0, -1.0):
+            zz = z.copy()
+            zz[i] = z[i] + sgn * h
+            if not lo[i] <= zz[i] <= hi[i]:
+                continue
+            before = problem.infeasible
+            r = problem.residuals(zz, power_ref)
+            if problem.infeasible == before:
+                col = (r - r0) / (sgn * h)
+                break
+            boundary.append(problem.params[i].name)
+        if col is None:
+            raise FitError(
+                f"the model cannot be evaluated on either side of {problem.params[i].name} = "
+                f"{float(problem.params[i].from_z(z[i])):.6g} (last refusal: {problem.last_infeasible}); "
+                "no estimate is returned"
+            )
+        J[:, i] = col
+    return J, sorted(set(boundary))
 
 
 def _solve(problem: _Problem, z0, max_nfev, jac):
@@ -402,8 +466,9 @@ def fit(
     except (FitError, ValueError, FloatingPointError) as exc:
         raise FitError(f"the model cannot be evaluated at the initial values: {exc}") from exc
     best, best_obj, best_weights = None, math.inf, None
+    penalty_cost = float(np.sum(problem.penalty**2))
     starts: list[StartResult] = []
-    for k, z0 in enumerate(_starts(problem, int(n_starts), rng)):
+    for k, z0 in enumerate(_feasible_starts(problem, int(n_starts), rng)):
         problem.weights = {d.name: 1.0 for d in data}
         before = problem.n_eval
         start_vals = {p.name: float(p.from_z(zi)) for p, zi in zip(params, z0)}
@@ -412,7 +477,7 @@ def fit(
                 warnings.simplefilter("ignore", RuntimeWarning)
                 res = _solve(problem, z0, max_nfev, jac)
             obj = _objective(problem, res)
-            ok = bool(res.success) and math.isfinite(obj)
+            ok = bool(res.success) and math.isfinite(obj) and float(np.sum(res.fun**2)) < 0.5 * penalty_cost
             msg = res.message
         except (FloatingPointError, ValueError, FitError) as exc:
             res, obj, ok, msg = None, math.inf, False, f"model failed: {exc}"
@@ -433,7 +498,12 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     z = res.x
     values = problem.values(z)
     pred = problem.predict(values)
-    J = np.atleast_2d(res.jac)
+    J, on_constraint = _feasible_jacobian(problem, z, getattr(res, "power_ref", None))
+    if not J.any():
+        raise FitError(
+            "the model cannot be evaluated in any direction around the solution "
+            f"(last refusal: {problem.last_infeasible or 'none'}); no estimate is returned"
+        )
     n = J.shape[0]
     p = len(params)
     dof = n - p
@@ -441,6 +511,13 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     known_sigma = problem.method == "wls" and all(d.sigma is not None for d in problem.data)
     s2 = 1.0 if (known_sigma or problem.method == "ml") else sse_w / max(dof, 1)
     notes: list[str] = []
+    if on_constraint:
+        notes.append(
+            "the optimum lies on a constraint of the model (a step in "
+            + ", ".join(on_constraint)
+            + " makes it infeasible): intervals are from one-sided sensitivities and the true "
+            "interval is cut by the constraint"
+        )
     # Fisher information in z space; pseudo-inverse guards singular cases
     JtJ = J.T @ J
     u, sv, vt = np.linalg.svd(J, full_matrices=False)
@@ -494,8 +571,15 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
         r = (d.y - pred[d.name]) / problem.scale(d, pred[d.name])
         sig[d.name] = float(np.sqrt(np.mean(r**2))) if problem.method == "ml" else (
             float(np.sqrt(s2)) if not known_sigma else 1.0)
+    if problem.infeasible:
+        notes_info = (f"{problem.infeasible} model evaluations were infeasible and rejected "
+                      f"(last: {problem.last_infeasible})")
+    else:
+        notes_info = None
     for msg in notes:
         warnings.warn(msg, IdentifiabilityWarning, stacklevel=3)
+    if notes_info:
+        notes.append(notes_info)
     return FitResult(
         parameters=est, covariance=cov, correlation=corr, names=names, objective=float(obj),
         r_squared=r2, n_evaluations=problem.n_eval, n_data=n, dof=dof, sigma=sig,
