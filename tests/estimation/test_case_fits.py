@@ -47,3 +47,18 @@ def test_unknown_or_non_numeric_key_is_rejected():
 def test_start_outside_bounds_is_rejected():
     with pytest.raises(ValueError, match="outside its bounds"):
         case_parameter("lee2008_invicta", "transport.backmix", LEE_BASE, initial=1.5)
+
+
+@pytest.mark.slow
+def test_ajayi_test4_solids_velocity_and_dispersion():
+    """Ajayi (2011) test 4 (Appendix B curve, raw ppm: scale fitted): u_s and D consistent with
+    Table 5.2 (0.016 m/s, 4e-4 m^2/s) within their 95 % intervals or 15 %."""
+    data = rtd.load_tracer_dataset("ajayi2011_test4")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdentifiabilityWarning)
+        cf = fit_case_to_tracer("ajayi2011_mmg", data, ["transport.solids_velocity", "transport.dispersion"],
+                                base_overrides={"operating.test": 4}, n_starts=1, scale="fit")
+    for key, table in (("transport.solids_velocity", 0.016), ("transport.dispersion", 4e-4)):
+        p = cf.fit.parameters[key]
+        assert (p.ci_low <= table <= p.ci_high) or abs(p.value - table) <= 0.15 * table, (key, p)
+    assert cf.fit.r_squared > 0.9

@@ -44,7 +44,12 @@ DEFAULT_BOUNDS = {
 def _current_value(case, key: str) -> float:
     sec, fld = key.split(".", 1)
     value = getattr(getattr(case, sec), fld)
-    if value is None and sec == "transport":
+    if value is None and sec == "transport" and hasattr(case, "tests"):
+        # Ajayi (2011) case: defaults come from the selected test's Table 5.2 row
+        test = next((t for t in case.tests if t.test == case.operating.test), None)
+        alias = {"solids_velocity": "kiln_velocity"}.get(fld, fld)
+        value = getattr(test, alias, None) if test is not None else None
+    elif value is None and sec == "transport":
         from ..cases import lee_parameters
 
         try:

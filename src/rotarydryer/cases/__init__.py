@@ -1,0 +1,395 @@
+"""Packaged case files (TOML, with citations) and a minimal validated loader.
+
+>>> from rotarydryer.cases import load_case, build_model
+>>> case = load_case("lee2008_invicta", {"geometry.method": "lee2008_regressions"})
+>>> model = build_model(case)              # a rotarydryer.transport.TransportModel
+>>> round(model.steady_state().total_holdup)  # kg
+16398
+
+Overrides are flat ``"section.key": value`` pairs (the CLI's ``--set``); values may
+be strings and are converted by pydantic.  An unknown key raises ``ValueError``
+naming it and listing the valid keys; an invalid value raises ``ValueError`` naming
+the key, the value and the constraint.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Any, Literal, Optional
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+__all__ = ["list_cases", "load_case", "build_model", "measured_rtd", "measured_rtd_moments", "valid_override_keys", "LeeCase", "AjayiCase"]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", validate_assignment=False)
+
+
+class Meta(_Strict):
+    title: str = ""
+    citations: list[str] = []
+
+
+class Drum(_Strict):
+    radius: float = Field(gt=0, description="m")
+    length: float = Field(gt=0, description="m")
+    slope: float = Field(ge=0, lt=45, description="deg")
+    n_flights: int = Field(ge=2, description="-")
+
+
+class Flight(_Strict):
+    s1: float = Field(gt=0, description="m, flight base")
+    s2: float = Field(ge=0, description="m, flight tip")
+    alpha1: float = Field(gt=0, lt=180, description="deg")
+    alpha2: float = Field(gt=0, lt=180, description="deg")
+
+
+class LeeOperating(_Strict):
+    feed_rate: float = Field(gt=0, description="kg/s")
+    rpm: float = Field(gt=0, le=60, description="rev/min")
+    gas_flow: Literal["counter-current", "co-current"] = "counter-current"
+
+
+class LeeSolids(_Strict):
+    bulk_density: float = Field(gt=0, description="kg/m3")
+    moisture_inlet: float = Field(gt=0, lt=1, description="kg/kg")
+    moisture_outlet: float = Field(gt=0, lt=1, description="kg/kg")
+    repose_angle: Optional[float] = Field(default=None, gt=0, lt=90, description="deg, constant")
+
+
+class LeeTransport(_Strict):
+    model: Literal["lee2008", "sheehan2005_model2"] = "lee2008"
+    n_cells: int = Field(ge=1, le=100000)
+    kiln_time: Optional[float] = Field(default=None, gt=0, description="s")
+    backmix: Optional[float] = Field(default=None, ge=0, le=1, description="C_B, -")
+    drag_reduction: Optional[float] = Field(default=None, ge=0, description="C_F^G, -")
+    loading: Literal["fixed", "state"] = "fixed"
+    backmix_to: Literal["passive", "active"] = "passive"
+
+
+class LeeGeometry(_Strict):
+    method: Literal["exact", "lee2008_regressions"] = "exact"
+    passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+
+
+class Tracer(_Strict):
+    fraction: float = Field(gt=0, description="kg tracer per kg feed during the pulse")
+    duration: float = Field(ge=0, description="s")
+    t_end: float = Field(gt=0, description="s")
+    dt: float = Field(gt=0, description="s")
+    measured: Optional[str] = None
+    measured_offset: float = 0.0
+    dataset: Optional[str] = Field(default=None, description="rotarydryer.rtd dataset; {test} is replaced")
+    baseline: str = Field(default="none", description="baseline method for the measured moments")
+
+
+class LeeParameterSet(_Strict):
+    n_cells: int
+    kiln_time: float
+    backmix: float
+    drag_reduction: float
+    source: str = ""
+
+
+class LeeCase(_Strict):
+    kind: Literal["lee2008"]
+    meta: Meta = Meta()
+    drum: Drum
+    flight: Flight
+    operating: LeeOperating
+    solids: LeeSolids
+    transport: LeeTransport
+    geometry: LeeGeometry = LeeGeometry()
+    tracer: Tracer
+    parameter_sets: list[LeeParameterSet] = []
+
+
+# ---- Ajayi (2011) MMG Karumba --------------------------------------------------------
+class AjayiDrum(_Strict):
+    radius: float = Field(gt=0, description="m")
+    slope: float = Field(ge=0, lt=45, description="deg")
+
+
+class AjayiOperating(_Strict):
+    test: int = Field(ge=1, le=6)
+    feed_rate: Optional[float] = Field(default=None, gt=0, description="kg/s wet; default from the test")
+    rpm: Optional[float] = Field(default=None, gt=0, le=60, description="rev/min; default from the test")
+    gas_flow: Literal["co-current", "counter-current"] = "co-current"
+
+
+class AjayiSolids(_Strict):
+    moisture_scale: float = Field(default=1.0, gt=0, description="factor on the Eq. 3.1 moisture profile")
+
+
+class AjayiTransport(_Strict):
+    model: Literal["ajayi2011"] = "ajayi2011"
+    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, Ajayi's solids (kilning) velocity; default Table 5.2")
+    kiln_velocity: Optional[float] = Field(default=None, gt=0, description="alias of solids_velocity (m/s); solids_velocity wins when both are set")
+    dispersion: Optional[float] = Field(default=None, ge=0, description="axial dispersion, m2/s; default Table 5.2")
+    unflighted_inlet: Literal["ajayi", "danckwerts"] = "ajayi"
+    unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="FV cells per unflighted section; default auto")
+    design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor * m_Baker (Ajayi code)")
+
+
+class AjayiGeometry(_Strict):
+    method: Literal["exact", "ajayi2011_regressions"] = "ajayi2011_regressions"
+    passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+
+
+class AjayiSection(_Strict):
+    name: str
+    kind: Literal["flighted", "unflighted"]
+    length: float = Field(gt=0)
+    n_cells: Optional[int] = None
+    n_flights: Optional[int] = None
+    s1: Optional[float] = None
+    s2: Optional[float] = None
+    alpha1: Optional[float] = None
+    alpha2: Optional[float] = None
+    regression: Optional[dict[str, list[float]]] = None
+
+
+class AjayiTest(_Strict):
+    test: int
+    feed_rate: float = Field(gt=0, description="kg/s wet")
+    rpm: float
+    moisture_inlet: float
+    moisture_outlet: float
+    kiln_velocity: float
+    dispersion: float
+    mrt_model_min: Optional[float] = None
+    holdup_model_kg: Optional[float] = None
+    mrt_measured_min: Optional[float] = None
+    source: str = ""
+
+
+class AjayiCase(_Strict):
+    kind: Literal["ajayi2011"]
+    meta: Meta = Meta()
+    drum: AjayiDrum
+    operating: AjayiOperating
+    solids: AjayiSolids = AjayiSolids()
+    transport: AjayiTransport = AjayiTransport()
+    geometry: AjayiGeometry = AjayiGeometry()
+    tracer: Tracer
+    sections: list[AjayiSection]
+    tests: list[AjayiTest]
+
+
+_KINDS = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+_NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests"}
+
+
+def list_cases() -> list[str]:
+    """Names of the packaged cases."""
+    return sorted(p.name[:-5] for p in resources.files(__package__).iterdir() if p.name.endswith(".toml"))
+
+
+def valid_override_keys(case_cls) -> list[str]:
+    """Flat ``section.key`` names that may be overridden for a case class."""
+    keys = []
+    for sec, finfo in case_cls.model_fields.items():
+        if sec in _NOT_OVERRIDABLE:
+            continue
+        sub = finfo.annotation
+        if isinstance(sub, type) and issubclass(sub, BaseModel):
+            keys += [f"{sec}.{k}" for k in sub.model_fields]
+    return sorted(keys)
+
+
+def _read(name: str) -> dict:
+    p = Path(name)
+    if p.suffix == ".toml" and p.exists():
+        return tomllib.loads(p.read_text())
+    res = resources.files(__package__) / f"{name}.toml"
+    if not res.is_file():
+        raise ValueError(f"case = {name!r} is not a packaged case ({', '.join(list_cases())}) nor a .toml file")
+    return tomllib.loads(res.read_text())
+
+
+def _format_validation_error(exc: ValidationError, raw: dict) -> str:
+    msgs = []
+    for e in exc.errors():
+        loc = ".".join(str(x) for x in e["loc"])
+        msgs.append(f"{loc} = {e.get('input')!r}: {e['msg']}")
+    return "; ".join(msgs)
+
+
+def load_case(name: str, overrides: dict[str, Any] | None = None):
+    """Load a packaged case (or a TOML path), apply overrides, validate.
+
+    Parameters
+    ----------
+    name : str
+        ``"lee2008_invicta"``, ``"ajayi2011_mmg"`` or a path to a ``.toml`` file.
+    overrides : dict, optional
+        ``{"transport.n_cells": 33, "geometry.method": "lee2008_regressions"}``.
+
+    Returns
+    -------
+    LeeCase or AjayiCase (pydantic models, SI units).
+    """
+    raw = _read(name)
+    kind = raw.get("kind")
+    if kind not in _KINDS:
+        raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, _KINDS))}")
+    cls = _KINDS[kind]
+    valid = valid_override_keys(cls)
+    for key, value in (overrides or {}).items():
+        if key not in valid:
+            raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")
+        sec, fld = key.split(".", 1)
+        if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
+            value = None
+        raw.setdefault(sec, {})[fld] = value
+    try:
+        return cls.model_validate(raw)
+    except ValidationError as exc:
+        raise ValueError(f"invalid case {name!r}: {_format_validation_error(exc, raw)}") from None
+
+
+# ---- model construction ----------------------------------------------------------------
+def _exact_drum(radius, n_flights, s1, s2, alpha1, alpha2):
+    try:
+        from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
+    except ImportError as exc:  # pragma: no cover
+        raise ValueError("geometry.method = 'exact' needs rotarydryer.geometry.FlightedDrum") from exc
+    drum = FlightedDrum(radius=radius, n_flights=n_flights,
+                        flight=TwoSectionFlight(s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2))
+    for meth in ("cascade", "design_load_area", "loading_factor"):
+        if not hasattr(drum, meth):
+            raise ValueError(
+                f"geometry.method = 'exact' is not available in this build (FlightedDrum.{meth} missing); "
+                "use geometry.method = 'lee2008_regressions'"
+            )
+    return drum
+
+
+def lee_parameters(case: LeeCase) -> dict:
+    """(kiln_time, backmix, drag_reduction) for the case: explicit values, else the
+    Table 7.2 row for ``transport.n_cells``."""
+    t = case.transport
+    row = next((p for p in case.parameter_sets if p.n_cells == t.n_cells), None)
+    out = {}
+    for key in ("kiln_time", "backmix", "drag_reduction"):
+        v = getattr(t, key)
+        if v is None:
+            if row is None:
+                have = ", ".join(str(p.n_cells) for p in case.parameter_sets)
+                raise ValueError(
+                    f"transport.n_cells = {t.n_cells} has no Table 7.2 parameter set (available: {have}); "
+                    f"set transport.{key} (and the other transport coefficients) explicitly"
+                )
+            v = getattr(row, key)
+        out[key] = v
+    return out
+
+
+def build_model(case):
+    """Build the :class:`rotarydryer.transport.TransportModel` of a validated case."""
+    if isinstance(case, LeeCase):
+        return _build_lee(case)
+    if isinstance(case, AjayiCase):
+        from rotarydryer.transport.ajayi import build_ajayi2011
+
+        return build_ajayi2011(case)
+    raise ValueError(f"case of type {type(case).__name__} is not supported")
+
+
+def _build_lee(case: LeeCase):
+    from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
+    from rotarydryer.transport import TracerInput, lee2008, lee2008_repose_profile
+
+    d, fl = case.drum, case.flight
+    if case.geometry.method == "exact":
+        geometry = _exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2)
+    else:
+        geometry = Lee2008Regressions(tip_radius=invicta_tip_radius(d.radius, fl.s1, fl.s2, fl.alpha1, fl.alpha2))
+    p = lee_parameters(case)
+    N = case.transport.n_cells
+    s = case.solids
+    phi = s.repose_angle if s.repose_angle is not None else lee2008_repose_profile(N, s.moisture_inlet, s.moisture_outlet)
+    F = case.operating.feed_rate
+    tr = case.tracer
+    inp = TracerInput.pulse(tr.fraction * F * max(tr.duration, 1e-6), tr.duration)
+    kwargs = dict(
+        geometry=geometry, n_cells=N, feed_rate=F, length=d.length, rpm=case.operating.rpm, slope=d.slope,
+        bulk_density=s.bulk_density, repose_angle=phi, kiln_time=p["kiln_time"], backmix=p["backmix"],
+        drag_reduction=p["drag_reduction"], passive_time_branch=case.geometry.passive_time_branch,
+        loading=case.transport.loading, backmix_to=case.transport.backmix_to,
+        gas_flow=case.operating.gas_flow, tracer_input=inp, name=case.transport.model,
+    )
+    if case.transport.model == "sheehan2005_model2":
+        kwargs["backmix_to"] = "active"
+    return lee2008(**kwargs)
+
+
+def measured_rtd(case):
+    """Measured tracer curve of a case as (time s since injection start, signal), or None.
+
+    Uses the shipped dataset of :mod:`rotarydryer.rtd` (``tracer.dataset``; ``{test}`` is
+    replaced by ``operating.test``) when available, else the CSV named by
+    ``tracer.measured``.  The signal is E(t) in 1/s for a normalised curve (Lee), else
+    the raw concentration (Ajayi: ppm, no baseline subtraction); normalise by its
+    integral (see :func:`measured_rtd_moments`)."""
+    import numpy as np
+
+    tr = case.tracer
+    if tr.dataset is not None:
+        try:
+            from rotarydryer.rtd import load_tracer_dataset
+
+            name = tr.dataset.format(test=getattr(case.operating, "test", ""))
+            d = load_tracer_dataset(name)
+            t = np.asarray(d.time_s, float) - float(d.metadata.get("time_origin_s", 0.0) or 0.0)
+            y = np.asarray(d.signal, float)
+            if str(d.metadata.get("signal_unit", "")).strip() == "1/h":
+                y = y / 3600.0
+            keep = t >= 0
+            return t[keep], y[keep]
+        except ImportError:  # pragma: no cover - rtd package absent
+            pass
+    if tr.measured is None:
+        return None
+    import csv
+
+    text = (resources.files("rotarydryer") / "data" / tr.measured).read_text()
+    rows = [r for r in csv.reader(line for line in text.splitlines() if not line.startswith("#"))]
+    head, body = rows[0], rows[1:]
+    body = [r for r in body if r[0].strip() and r[1].strip()]
+    t = np.array([float(r[0]) for r in body])
+    if head[0].endswith("_min"):
+        t = t * 60.0
+    t = t - tr.measured_offset
+    y = np.array([float(r[1]) for r in body])
+    if head[1].endswith("per_h"):
+        y = y / 3600.0
+    keep = t >= 0
+    order = np.argsort(t[keep])
+    return t[keep][order], y[keep][order]
+
+
+def measured_rtd_moments(case):
+    """Mean and SD (s) of the case's measured RTD, with the case's baseline method
+    (``tracer.baseline``); uses :func:`rotarydryer.rtd.rtd_moments` when available.
+    Returns a dict or None."""
+    import numpy as np
+
+    data = measured_rtd(case)
+    if data is None:
+        return None
+    t, y = data
+    try:
+        from rotarydryer.rtd import rtd_moments
+
+        m = rtd_moments(t, y, baseline=case.tracer.baseline)
+        return {"mean_s": m.mean_s, "std_s": m.std_s, "baseline": m.baseline, "baseline_method": m.baseline_method,
+                "tail_truncated": m.tail_truncated}
+    except ImportError:  # pragma: no cover
+        m0 = np.trapezoid(y, t)
+        mean = np.trapezoid(t * y, t) / m0
+        return {"mean_s": float(mean), "std_s": float(np.sqrt(np.trapezoid((t - mean) ** 2 * y, t) / m0)),
+                "baseline": 0.0, "baseline_method": "none", "tail_truncated": None}

@@ -1,0 +1,363 @@
+r"""Ajayi (2011) Ch. 5: multi-section transport model of the MMG Karumba dryer.
+
+Sections in series (co-current, feed and gas enter at A; Ajayi (2011) Fig. 5.1):
+A (unflighted, chains) -> B, C, D (flighted, own flight geometry each) -> mixing
+cell -> E (unflighted) -> outlet.
+
+* **Flighted sections** (Ajayi (2011) Eq. 5.1-5.3, 5.17-5.19; notes
+  ajayi_transport.md Section 4.2): per cell a passive and an active tank;
+  discharge P -> A at k_2 min(m_p, m_load) (Eq. 5.17-5.18, design-load cap);
+  active outflow k_3 m_a split into forward C_F to the next passive tank and
+  return (1 - C_F) to the same passive tank, C_F = maf_h sin(theta)/dl (Ajayi's
+  code; no drag: particles 6-18 mm); kilning P_i -> P_{i+1} at k_4 m_p with
+  k_4 = u_s/dl on the *whole* passive mass (Eq. 5.19, "kilning velocity" u_s).
+  Coefficients depend on the cell's loading through the geometry model.
+* **Unflighted sections** (Eq. 5.4-5.14): axially dispersed plug flow
+  dm/dt = D m'' - u_s m' (m = kg/m), discretised conservatively by finite
+  volumes: face flux u_s m - D dm/dz with central differencing of advection when
+  the cell Peclet number u dz/D <= 2 (second order, non-negative coefficients) and
+  upwind otherwise; outlet face advective only (Ajayi's D m'' = 0 at z = L and
+  the Danckwerts dm/dz = 0 coincide here).  Inlet of the *first* section:
+
+  - ``"ajayi"`` (default; Eq. 5.11-5.13 as coded): Dirichlet m(0) = F/u_s,
+    x(0) = x_in; the half-cell dispersive flux 2D(m(0) - m_1)/dz is an open
+    boundary, so tracer can diffuse back out of the inlet (recovery < 1,
+    reported);
+  - ``"danckwerts"``: closed inlet, the whole feed enters the first volume
+    (flux condition u m - D m' = F), recovery exactly 1.
+
+  A section fed by an upstream section (E after the mixing cell) always uses
+  the flux inlet: with a Dirichlet value tied to an upstream flow the
+  transient balance would create or destroy solids.
+* **Mixing cell** (code l.5277-5335): no holdup; it joins the kilning outflow of
+  D's last passive tank and the forward flow of its last active tank and feeds E.
+
+Geometry per flighted section is injected (same interface as Lee's model):
+:class:`AjayiRegressions` (Ajayi's gPROMS regressions, per section) or the exact
+``rotarydryer.geometry.FlightedDrum``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .._validation import check_range
+from .models import NetworkBuilder, _CellCoefficients
+from .network import EdgeFamily, TracerInput
+from .results import TransportModel
+
+__all__ = ["AjayiRegressions", "mmg_moisture_profile", "unflighted_cells_auto", "build_ajayi2011",
+           "ajayi2011"]
+
+G = 9.81  # m/s^2, as in Ajayi's code (maf_h = 0.5*9.81*maft^2)
+
+
+def mmg_moisture_profile(position, scale=1.0):
+    r"""Solids moisture x_w (kg/kg wet) at axial position z (m), Ajayi (2011) Eq. 3.1:
+    x_w = (0.1006 z + 2.218)/(z + 13.51), times ``scale`` (Ajayi "scaled" it to each
+    test's inlet/outlet moisture by an unstated method; default 1 = unscaled)."""
+    z = check_range("position", position, 0.0, math.inf, low_inclusive=True, unit="m")
+    return scale * (0.1006 * z + 2.218) / (z + 13.51)
+
+
+def mmg_repose_angle(moisture):
+    """Dynamic angle of repose (deg) of zinc concentrate, Ajayi (2011) Eq. 3.2: 419.6 x_w - 7.801."""
+    return 419.6 * np.asarray(moisture, dtype=float) - 7.801
+
+
+def mmg_bulk_density(moisture):
+    """Consolidated bulk density (kg/m^3), Ajayi (2011) Eq. 3.4: 2043.8 - 3095.2 x_w (code 2043.81 - 3095.24 x)."""
+    return 2043.81 - 3095.24 * np.asarray(moisture, dtype=float)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Summary:
+    mean_release_angle: np.ndarray
+    mean_fall_height: np.ndarray
+    mean_fall_time: np.ndarray
+    passive_time: np.ndarray
+
+
+class AjayiRegressions:
+    r"""Ajayi (2011) per-section geometric regressions (Appendix F, gPROMS code).
+
+    Fitted by Ajayi to Lee's Excel unloading model for one MMG flight section:
+
+    * design load m_load = 1.24 rho_b dl A_s(phi) with the 6th-order Baker-area
+      polynomial A_s (m^2; code l.4972-4974 etc.) and Ajayi's CFD factor 1.24
+      (Ajayi (2011) Section 4.5, l.1498, 1667); :meth:`design_load_area` returns
+      ``design_load_factor * A_s``;
+    * mass-averaged fall time maft(phi, U) (s), U = 1 - load;
+    * fall height maf_h = g maft^2 / 2 (m);
+    * passive time t_pas = acos(1 - (maf_h cos(theta))^2/(2 R^2)) / omega (s), with
+      the *drum* radius R as coded (Eq. 4.22 of the thesis writes R_F; the code is
+      followed because it produced the published fits);
+    * loading: Ajayi's code uses the dryer loading directly, load = min(m_p/m_load, 1),
+      so :meth:`loading_factor` is min(d, 1).
+
+    Parameters
+    ----------
+    area_coefficients : 7 floats, p0..p6 (m^2, phi in deg)
+    fall_time_coefficients : 11 floats, q0..q10 (s)
+    radius : float, drum radius R (m)
+    design_load_factor : float, default 1.24
+    """
+
+    name = "ajayi2011_regressions"
+    default_passive_time_branch = None
+
+    def __init__(self, area_coefficients, fall_time_coefficients, radius, design_load_factor=1.24):
+        self.p = tuple(float(x) for x in area_coefficients)
+        self.q = tuple(float(x) for x in fall_time_coefficients)
+        if len(self.p) != 7 or len(self.q) != 11:
+            raise ValueError("AjayiRegressions needs 7 area (p0..p6) and 11 fall-time (q0..q10) coefficients")
+        self.radius = float(check_range("drum.radius", radius, 0.0, math.inf, unit="m"))
+        self.design_load_factor = float(check_range("transport.design_load_factor", design_load_factor, 0.0, math.inf))
+
+    def __repr__(self):
+        return f"AjayiRegressions(radius={self.radius:g}, design_load_factor={self.design_load_factor:g})"
+
+    def design_load_area(self, repose_angle):
+        """design_load_factor * A_s(phi), m^2 (phi in deg)."""
+        phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
+        return self.design_load_factor * sum(c * phi**i for i, c in enumerate(self.p))
+
+    def loading_factor(self, dryer_loading, repose_angle):
+        """Ajayi's load = min(d_load, 1) (-)."""
+        d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
+        return np.minimum(d, 1.0) + 0.0 * np.asarray(repose_angle, dtype=float)
+
+    def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, passive_time_branch=None):
+        """Cascade summary (deg, m, s, s); ``passive_time_branch`` is not used (Ajayi's acos form)."""
+        phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
+        f = check_range("loading_factor", loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+        rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rev/min")
+        th = math.radians(float(check_range("slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg")))
+        U = 1.0 - f
+        q = self.q
+        t = (q[0] + q[1] * phi + q[2] * phi**2 + q[3] * phi**3 + q[4] * U + q[5] * U**2 + q[6] * U**3
+             + q[7] * phi * U + q[8] * phi * U**2 + q[9] * phi**2 * U + q[10] * phi**2 * U**2)
+        h = 0.5 * G * t**2
+        arg = 1.0 - (h * math.cos(th)) ** 2 / (2.0 * self.radius**2)
+        if np.any(arg < -1):
+            raise ValueError("repose_angle: fall height exceeds the drum diameter (regression out of range)")
+        omega = rpm * 2.0 * math.pi / 60.0
+        ang = np.arccos(arg)
+        tp = ang / omega
+        psi = 90.0 + np.degrees(ang) / 2.0
+        psi, h, t, tp = np.broadcast_arrays(psi, h, t, tp)
+        return _Summary(np.array(psi, float), np.array(h, float), np.array(t, float), np.array(tp, float))
+
+
+def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
+    """Number of finite volumes so that the cell Peclet number u dz / D <= 1.9 (central scheme)."""
+    if dispersion <= 0:
+        return maximum
+    return int(min(max(math.ceil(velocity * length / (1.9 * dispersion)), minimum), maximum))
+
+
+def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispersion,
+              geometries, moisture_scale=1.0, inlet="ajayi", unflighted_cells=None,
+              tracer_input=None, gas_flow="co-current", name="ajayi2011"):
+    r"""Build the Ajayi (2011) multi-section model.
+
+    Parameters
+    ----------
+    sections : list of dict
+        In flow order; each ``name``, ``kind`` ("flighted"/"unflighted"), ``length``
+        (m) and for flighted ``n_cells``.
+    feed_rate : float, kg/s (wet solids)
+    rpm : float, rev/min; slope : float, deg; radius : float, drum radius m
+    kiln_velocity : float
+        u_s (m/s): unflighted-bed velocity and kilning velocity of the flighted
+        cells (Ajayi's code uses one value, Eq. 5.19).
+    dispersion : float
+        Axial dispersion coefficient of the unflighted sections, m^2/s (>= 0).
+    geometries : dict
+        Section name -> cell geometry model (cascade / design_load_area / loading_factor).
+    moisture_scale : float
+        Factor on Eq. 3.1.
+    inlet : {"ajayi", "danckwerts"}
+        Inlet condition of a first unflighted section (module docstring).
+    unflighted_cells : int, optional
+        Finite volumes per unflighted section; default :func:`unflighted_cells_auto`.
+    gas_flow : str
+        Recorded only: Ajayi's model has no gas drag on the solids.
+    """
+    F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
+    rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
+    theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
+    u = float(check_range("transport.kiln_velocity", kiln_velocity, 0.0, math.inf, unit="m/s"))
+    Dax = float(check_range("transport.dispersion", dispersion, 0.0, math.inf, low_inclusive=True, unit="m^2/s"))
+    if inlet not in ("ajayi", "danckwerts"):
+        raise ValueError(f"transport.unflighted_inlet = {inlet!r} is not one of 'ajayi', 'danckwerts'")
+    sin_t = math.sin(math.radians(theta))
+    b = NetworkBuilder()
+    built = []
+    x0 = 0.0
+    for k, s in enumerate(sections):
+        L = float(s["length"])
+        if s["kind"] == "unflighted":
+            n = int(unflighted_cells or unflighted_cells_auto(L, u, Dax))
+            dz = L / n
+            pos = x0 + (np.arange(n) + 0.5) * dz
+            idx = b.add_nodes(s["name"], "bed", np.arange(n), pos, guess=F / u * dz)
+            built.append(dict(s, n=n, dz=dz, nodes=idx, entry=idx[0]))
+        else:
+            N = int(s["n_cells"])
+            dl = L / N
+            pos = x0 + (np.arange(N) + 0.5) * dl
+            xw = mmg_moisture_profile(pos, moisture_scale)
+            phi = mmg_repose_angle(xw)
+            rho = mmg_bulk_density(xw)
+            geom = geometries[s["name"]]
+            des = rho * dl * np.asarray(geom.design_load_area(phi), dtype=float)
+            if np.any(~np.isfinite(des)) or np.any(des <= 0):
+                raise ValueError(f"section {s['name']}: non-positive design load from the geometry model")
+            c1 = geom.cascade(phi, np.ones(N), rpm=rpm, slope=theta)
+            P = np.empty(N, dtype=np.int64)
+            A = np.empty(N, dtype=np.int64)
+            for i in range(N):
+                P[i] = b.add_nodes(s["name"], "passive", i, pos[i], design_load=des[i], guess=0.8 * des[i])[0]
+                A[i] = b.add_nodes(s["name"], "active", i, pos[i],
+                                   guess=0.8 * des[i] * float(c1.mean_fall_time[i] / c1.passive_time[i]))[0]
+            built.append(dict(s, n=N, dl=dl, P=P, A=A, entry=P[0], phi=phi, rho=rho, des=des, geom=geom,
+                              moisture=xw))
+        x0 += L
+
+    first = built[0]
+    for k, s in enumerate(built):
+        nxt = built[k + 1]["entry"] if k + 1 < len(built) else -1
+        sec = s["name"]
+        if s["kind"] == "unflighted":
+            n, dz, idx = s["n"], s["dz"], s["nodes"]
+            if n > 1:
+                pe = u * dz / Dax if Dax > 0 else math.inf
+                if pe <= 2.0:
+                    fw, bw = Dax / dz**2 + u / (2 * dz), Dax / dz**2 - u / (2 * dz)
+                else:
+                    fw, bw = Dax / dz**2 + u / dz, Dax / dz**2
+                b.add(EdgeFamily("bed_forward", idx[:-1], idx[1:], "linear", rate=np.full(n - 1, fw), section=sec))
+                if bw > 0:
+                    b.add(EdgeFamily("bed_dispersion", idx[1:], idx[:-1], "linear", rate=np.full(n - 1, bw),
+                                     section=sec))
+            b.add(EdgeFamily("bed_outflow", idx[-1:], [nxt], "linear", rate=[u / dz], section=sec))
+        else:
+            N, dl, P, A = s["n"], s["dl"], s["P"], s["A"]
+            phi, des, geom = s["phi"], s["des"], s["geom"]
+            nxtP = np.r_[P[1:], nxt]
+
+            def fn(mp, phi=phi, des=des, geom=geom, dl=dl):
+                d = np.clip(mp / des, 1e-6, None)
+                f = np.asarray(geom.loading_factor(d, phi), dtype=float)
+                c = geom.cascade(phi, np.clip(f, 1e-6, 1.0), rpm=rpm, slope=theta)
+                CF = np.asarray(c.mean_fall_height, float) * sin_t / dl
+                k3 = 1.0 / np.asarray(c.mean_fall_time, float)
+                return dict(dis=1.0 / np.asarray(c.passive_time, float), fwd=CF * k3, ret=(1.0 - CF) * k3)
+
+            chk = fn(des * 1e-3)
+            chk1 = fn(des)
+            if np.any(chk["ret"] < 0) or np.any(chk1["ret"] < 0):
+                raise ValueError(
+                    f"section {sec}: n_cells = {N} makes the forward step maf_h sin(theta) longer than the cell "
+                    f"({dl:.3g} m); use fewer cells"
+                )
+            cc = _CellCoefficients(fn, P, des)
+            b.add(EdgeFamily("discharge", P, A, "capped", rate_fn=cc.rate_fn("dis"), ctrl=P, cap=des, section=sec))
+            b.add(EdgeFamily("forward", A, nxtP, "linear", rate_fn=cc.rate_fn("fwd"), ctrl=P, section=sec))
+            b.add(EdgeFamily("return", A, P, "linear", rate_fn=cc.rate_fn("ret"), ctrl=P, section=sec))
+            b.add(EdgeFamily("kiln", P, nxtP, "linear", rate=np.full(N, u / dl), section=sec))
+
+    inlet_vec = None
+    if first["kind"] == "unflighted" and inlet == "ajayi" and Dax > 0:
+        # Dirichlet m(0) = F/u: inflow F (1 + 2D/(u dz)) - (2D/dz^2) M_1 (open boundary)
+        dz = first["dz"]
+        beta = 2.0 * Dax / (u * dz)
+        b.feed[first["entry"]] = F * (1.0 + beta)
+        b.add(EdgeFamily("inlet_dispersion", [first["entry"]], [-2], "linear", rate=[2.0 * Dax / dz**2],
+                         section=first["name"]))
+        inlet_vec = np.zeros(b.n)
+        inlet_vec[first["entry"]] = 1.0 + beta
+    else:
+        b.feed[first["entry"]] = F
+    net = b.build()
+    if tracer_input is None:
+        tracer_input = TracerInput.pulse(1.255e-4 * F * 60.0, 60.0)
+    fl = [s for s in built if s["kind"] == "flighted"]
+    info = {
+        "repose_angle_deg": np.concatenate([s["phi"] for s in fl]) if fl else np.zeros(0),
+        "bulk_density_kg_m3": np.concatenate([s["rho"] for s in fl]) if fl else np.zeros(0),
+        "moisture_kg_kg": np.concatenate([s["moisture"] for s in fl]) if fl else np.zeros(0),
+    }
+    model = TransportModel(
+        name=name, network=net,
+        sections=[dict(name=s["name"], kind=s["kind"], length=float(s["length"]), n_cells=int(s["n"])) for s in built],
+        feed_rate=F, design_load=np.array(b.design_load), cell_info=info, tracer_input=tracer_input,
+        parameters=dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=u, dispersion=Dax,
+                        moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow,
+                        unflighted_cells={s["name"]: s["n"] for s in built if s["kind"] == "unflighted"},
+                        geometry={k: repr(v) for k, v in geometries.items()}),
+    )
+    model.tracer_inlet = inlet_vec
+    return model
+
+
+def build_ajayi2011(case):
+    """Model of a validated ``AjayiCase`` (see :mod:`rotarydryer.cases`)."""
+    test = next((t for t in case.tests if t.test == case.operating.test), None)
+    if test is None:
+        raise ValueError(f"operating.test = {case.operating.test} is not in the case's tests "
+                         f"({', '.join(str(t.test) for t in case.tests)})")
+    tr = case.transport
+    F = case.operating.feed_rate or test.feed_rate
+    rpm = case.operating.rpm or test.rpm
+    u = tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity
+    D = tr.dispersion if tr.dispersion is not None else test.dispersion
+    geoms = {}
+    for s in case.sections:
+        if s.kind != "flighted":
+            continue
+        if case.geometry.method == "ajayi2011_regressions":
+            reg = s.regression or {}
+            geoms[s.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius, tr.design_load_factor)
+        else:
+            from rotarydryer.cases import _exact_drum
+
+            drum = _exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2)
+            geoms[s.name] = _ExactAdapter(drum, case.geometry.passive_time_branch)
+    tracer = case.tracer
+    inp = TracerInput.pulse(tracer.fraction * F * max(tracer.duration, 1e-6), tracer.duration)
+    secs = [dict(name=s.name, kind=s.kind, length=s.length, n_cells=s.n_cells) for s in case.sections]
+    return ajayi2011(sections=secs, feed_rate=F, rpm=rpm, slope=case.drum.slope, radius=case.drum.radius,
+                     kiln_velocity=u, dispersion=D, geometries=geoms, moisture_scale=case.solids.moisture_scale,
+                     inlet=tr.unflighted_inlet, unflighted_cells=tr.unflighted_cells, tracer_input=inp,
+                     gas_flow=case.operating.gas_flow)
+
+
+class _ExactAdapter:
+    """Exact FlightedDrum with Ajayi's design-load method (``"ajayi2011"`` = 1.24 x Baker) when available."""
+
+    def __init__(self, drum, branch):
+        self.drum = drum
+        self.branch = branch
+
+    def __repr__(self):
+        return f"exact({self.drum!r})"
+
+    def design_load_area(self, phi):
+        try:
+            return self.drum.design_load_area(phi, method="ajayi2011")
+        except (TypeError, ValueError):
+            return self.drum.design_load_area(phi)
+
+    def loading_factor(self, d, phi):
+        return self.drum.loading_factor(d, phi)
+
+    def cascade(self, phi, f, *, rpm, slope=0.0):
+        kw = dict(rpm=rpm, slope=slope)
+        if self.branch is not None:
+            kw["passive_time_branch"] = self.branch
+        return self.drum.cascade(phi, f, **kw)

@@ -1,0 +1,393 @@
+r"""Compartment models of flighted rotary dryers built on the network engine.
+
+* :func:`lee2008` - Lee (2008) Ch. 3 slice model as coded in Appendix I: per cell a
+  passive and an active phase; flight discharge capped at the design load
+  (Eq. 3.2), active outflow split into forward / return / backmix (Eq. 3.7-3.8),
+  kilning of the excess over the design load (Eq. 3.9).  Per-cell coefficients
+  come from an injected *cell geometry model* (exact geometry
+  ``rotarydryer.geometry.FlightedDrum`` or the surrogates
+  :class:`rotarydryer.geometry.lee2008_regressions.Lee2008Regressions`).
+* :func:`sheehan2005_model2` - Sheehan et al. (2005) "Model 2" (pseudo-physical):
+  the same slice structure with backmix into the *previous active* phase.
+* :func:`sheehan2005_model1` - Sheehan et al. (2005) "Model 1" (empirical; Lee et
+  al.): global transport coefficients, axial transport through the passive phase.
+
+Conventions: SI units (kg, m, s); angles in degrees at the interface.  Errors
+name the case-file key of the offending input (e.g. ``transport.n_cells``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._validation import check_choice, check_range
+from .network import EdgeFamily, Network, TracerInput
+from .results import TransportModel
+
+__all__ = [
+    "lee2008",
+    "lee2008_repose_profile",
+    "sheehan2005_model1",
+    "sheehan2005_model2",
+    "NetworkBuilder",
+]
+
+GAS_FLOWS = ("counter-current", "co-current")
+
+
+def lee2008_repose_profile(n_cells, moisture_inlet=0.02, moisture_outlet=0.002):
+    r"""Dynamic angle of repose per cell (deg) for the Invicta sugar, Lee (2008) Eq. 7.2-7.3.
+
+    w_i = w_in exp[((i-1)/(N-1)) ln(w_out/w_in)] (Eq. 7.3, exponential moisture
+    profile, kg/kg dry) and phi_i = 1222.2 w_i + 34.5 (Eq. 7.2, Britton et al.).
+    Defaults are the code values (Appendix I l.12456, 0.02 -> 0.002 kg/kg, i.e.
+    58.94 -> 36.94 deg); the thesis text says "0.2 wt% to 0.02 wt%", a factor 10
+    lower - the code values are the ones that reproduce Ch. 7.
+    """
+    n = int(check_range("transport.n_cells", n_cells, 1, math.inf, low_inclusive=True))
+    wi = check_range("solids.moisture_inlet", moisture_inlet, 0.0, 1.0, unit="kg/kg")
+    wo = check_range("solids.moisture_outlet", moisture_outlet, 0.0, 1.0, unit="kg/kg")
+    frac = np.arange(n) / max(n - 1, 1)
+    w = wi * np.exp(frac * np.log(wo / wi))
+    return 1222.2 * w + 34.5
+
+
+class NetworkBuilder:
+    """Accumulates nodes (with section/phase/cell/position labels) and edge families."""
+
+    def __init__(self):
+        self.n = 0
+        self.families = []
+        self.labels = {"section": [], "phase": [], "cell": [], "position": []}
+        self.design_load = []
+        self.feed = []
+        self.guess = []
+
+    def add_nodes(self, section, phase, cells, positions, design_load=None, guess=None):
+        cells = np.atleast_1d(cells)
+        k = cells.size
+        idx = np.arange(self.n, self.n + k)
+        self.n += k
+        self.labels["section"] += [section] * k
+        self.labels["phase"] += [phase] * k
+        self.labels["cell"] += list(cells)
+        self.labels["position"] += list(np.broadcast_to(positions, (k,)))
+        self.design_load += list(np.broadcast_to(np.nan if design_load is None else design_load, (k,)))
+        self.feed += [0.0] * k
+        self.guess += list(np.broadcast_to(0.0 if guess is None else guess, (k,)))
+        return idx
+
+    def add(self, family: EdgeFamily):
+        self.families.append(family)
+
+    def build(self) -> Network:
+        return Network(self.n, self.families, np.array(self.feed), labels=self.labels,
+                       initial_guess=np.array(self.guess))
+
+
+class _CellCoefficients:
+    """State-dependent per-cell coefficients (loading factor from d_load), cached."""
+
+    def __init__(self, fn, ctrl, des):
+        self.fn = fn  # f_load array -> dict of arrays
+        self.ctrl = ctrl
+        self.des = des
+        self._key = None
+        self._val = None
+
+    def get(self, M):
+        mp = M[self.ctrl]
+        key = mp.tobytes()
+        if key != self._key:
+            # one-sided difference on the side of the current loading branch, so that the
+            # derivative never straddles the switch at M_P = M_des (where Eq. 4.28 jumps)
+            h = np.where(mp > self.des, 1.0, -1.0) * 1e-7 * self.des
+            v0 = self.fn(mp)
+            v1 = self.fn(mp + h)
+            self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in v0}
+            self._key = key
+        return self._val
+
+    def rate_fn(self, name):
+        return lambda M: self.get(M)[name]
+
+
+def _cascade(geometry, phi, f, rpm, slope, branch):
+    kw = dict(rpm=rpm, slope=slope)
+    if branch is not None:
+        kw["passive_time_branch"] = branch
+    return geometry.cascade(phi, f, **kw)
+
+
+def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.0, slope=2.8,
+            bulk_density=940.0, repose_angle=None, kiln_time=8.69, backmix=0.68, drag_reduction=0.48,
+            passive_time_branch=None, loading="fixed", backmix_to="passive", gas_flow="counter-current",
+            tracer_input=None, name="lee2008", section="dryer"):
+    r"""Lee (2008) compartment model of a flighted dryer (one flighted section).
+
+    Per cell i (length dL = L/N) a passive phase P_i (flights + drum floor +
+    kilning bed) and an active phase A_i (curtain), both well mixed.  Flows
+    (kg/s; Lee (2008) Ch. 3 and Appendix I code):
+
+    * flight discharge P_i -> A_i: M_P/tau_p if M_P <= M_des else M_des/tau_p (Eq. 3.2);
+    * kilning P_i -> P_{i+1}: (M_P - M_des)/tau_kiln if M_P > M_des (Eq. 3.9, the
+      code's excess form, not the prose's M_P/tau_kiln);
+    * active outflow F_a = M_A/tau_a split into forward C_F F_a (A_i -> P_{i+1}),
+      return C_R F_a (A_i -> P_i) and backmix C_B F_a (A_i -> P_{i-1};
+      A_1 -> P_1 as in the code), with C_F = C_F^G h_m sin(theta)/dL
+      (Eq. 3.7-3.8) and C_R = 1 - C_F - C_B;
+    * feed into P_1; outlet = forward flow of A_N + kilning of P_N.
+
+    tau_p, tau_a = t_m and h_m come from ``geometry.cascade`` (Eq. 3.3-3.6 exact,
+    or Eq. 4.24-4.26 regressions), M_des = rho_b dL A_des(phi) (Eq. 4.20-4.21 /
+    Eq. 4.27).
+
+    Parameters
+    ----------
+    geometry : cell geometry model
+        Object with ``cascade``, ``design_load_area`` and ``loading_factor``.
+    n_cells : int
+        N (-), >= 1.  Lee's nearest-neighbour structure needs C_R >= 0 in every
+        cell, i.e. the forward step may not exceed the cell (Invicta: N <= 35 with
+        the Table 7.2 parameters); violating it raises ``ValueError`` naming
+        ``transport.n_cells`` and the limit.
+    feed_rate : float
+        Solids feed, kg/s (Invicta 98 t/h = 27.22 kg/s).
+    length : float
+        Drum length L, m.
+    rpm : float
+        Drum speed, rev/min.
+    slope : float
+        Drum slope theta, deg.
+    bulk_density : float
+        rho_b, kg/m^3 (Lee's code uses 940).
+    repose_angle : float or array of n_cells
+        Dynamic angle of repose per cell, deg; default
+        :func:`lee2008_repose_profile` (Eq. 7.2-7.3).
+    kiln_time : float
+        tau_kiln, s (> 0; ``math.inf`` disables kilning, then an overloaded dryer
+        has no steady state).
+    backmix : float
+        C_B (-), 0-1; must be 0 for co-current gas.
+    drag_reduction : float
+        C_F^G (-), >= 0 (< 1 counter-current; may exceed 1 co-current).
+    passive_time_branch : str, optional
+        Passed to ``geometry.cascade`` ("eq3.4" or "lee2008_ch7"); default: the
+        geometry model's default.
+    loading : {"fixed", "state"}
+        "fixed": f_load = 1 in every cell, as in Lee's gPROMS runs (the clipping
+        broke his estimation); "state": f_load from the cell's d_load =
+        M_P/M_des via ``geometry.loading_factor`` (Eq. 4.22/4.28) at every
+        iteration.
+    backmix_to : {"passive", "active"}
+        Destination of backmixed solids: previous passive phase (Lee 2008) or
+        previous active phase (Sheehan et al. 2005 Model 2; Britton et al. 2006).
+    gas_flow : {"counter-current", "co-current"}
+    tracer_input : TracerInput, optional
+        Default injection for :meth:`SteadyState.rtd`.
+    """
+    check_choice("transport.loading", loading, ("fixed", "state"))
+    check_choice("transport.backmix_to", backmix_to, ("passive", "active"))
+    check_choice("operating.gas_flow", gas_flow, GAS_FLOWS)
+    N = int(check_range("transport.n_cells", n_cells, 1, 100000, low_inclusive=True, high_inclusive=True))
+    if N != n_cells:
+        raise ValueError(f"transport.n_cells = {n_cells!r} must be an integer >= 1")
+    F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
+    L = float(check_range("drum.length", length, 0.0, math.inf, unit="m"))
+    rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
+    theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
+    rho = float(check_range("solids.bulk_density", bulk_density, 0.0, math.inf, unit="kg/m^3"))
+    if not (isinstance(kiln_time, (int, float)) and kiln_time > 0 and not math.isnan(kiln_time)):
+        raise ValueError(f"transport.kiln_time = {kiln_time!r} s is outside the allowed range (0, inf]")
+    CB = float(check_range("transport.backmix", backmix, 0.0, 1.0, low_inclusive=True, high_inclusive=True))
+    CFG = float(check_range("transport.drag_reduction", drag_reduction, 0.0, math.inf, low_inclusive=True))
+    if gas_flow == "co-current" and CB > 0:
+        raise ValueError(
+            f"transport.backmix = {CB!r} must be 0 for co-current gas flow (Lee (2008) l.2766: "
+            "no backmixing, drag lengthens the forward step)"
+        )
+    if repose_angle is None:
+        phi = lee2008_repose_profile(N)
+    else:
+        phi = np.broadcast_to(check_range("solids.repose_angle", repose_angle, 0.0, 90.0, unit="deg"), (N,)).copy()
+
+    dL = L / N
+    sin_t = math.sin(math.radians(theta))
+    des = rho * dL * np.asarray(geometry.design_load_area(phi), dtype=float)
+    if np.any(~np.isfinite(des)) or np.any(des <= 0):
+        raise ValueError(f"solids.repose_angle gives a non-positive design load ({des.min():.4g} kg)")
+
+    def coeffs(f):
+        c = _cascade(geometry, phi, f, rpm, theta, passive_time_branch)
+        CF = CFG * np.asarray(c.mean_fall_height) * sin_t / dL
+        return dict(tp=np.asarray(c.passive_time, float), ta=np.asarray(c.mean_fall_time, float),
+                    h=np.asarray(c.mean_fall_height, float), CF=CF, CR=1.0 - CF - CB)
+
+    c1 = coeffs(np.ones(N))
+    f_check = [1.0] if loading == "fixed" else [0.0, 0.25, 0.5, 0.75, 1.0]
+    worst = min(float(np.min(coeffs(np.full(N, f))["CR"])) for f in f_check)
+    if worst < 0:
+        # largest N with C_R >= 0 for these parameters (h_m per cell kept)
+        cf_per_n = CFG * float(np.max(c1["h"])) * sin_t / L
+        n_max = int(math.floor((1.0 - CB) / cf_per_n)) if cf_per_n > 0 else 0
+        raise ValueError(
+            f"transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B negative "
+            f"(min {worst:.4g}): the forward step C_F^G h_m sin(theta) exceeds the cell length minus backmix; "
+            f"with transport.backmix = {CB:g} and transport.drag_reduction = {CFG:g} the limit is "
+            f"transport.n_cells <= {n_max} (Lee (2008) Ch. 7: N <= 35 for Invicta)"
+        )
+    if np.any(c1["tp"] <= 0) or np.any(c1["ta"] <= 0):
+        raise ValueError("geometry gives non-positive passive or fall time; check solids.repose_angle")
+
+    b = NetworkBuilder()
+    pos = (np.arange(N) + 0.5) * dL
+    P = np.empty(N, dtype=np.int64)
+    A = np.empty(N, dtype=np.int64)
+    for i in range(N):  # interleave P_i, A_i for a banded matrix
+        # start just above the design load: the over-loaded active set (well conditioned)
+        P[i] = b.add_nodes(section, "passive", i, pos[i], design_load=des[i], guess=des[i] * (1 + 1e-6))[0]
+        A[i] = b.add_nodes(section, "active", i, pos[i], guess=des[i] * c1["ta"][i] / c1["tp"][i])[0]
+    b.feed[P[0]] = F
+    nxtP = np.r_[P[1:], -1]
+    prevP = np.r_[P[0], P[:-1]]
+    prevA = np.r_[P[0], A[:-1]]  # first cell's backmix stays in its own passive phase
+
+    if loading == "fixed":
+        rates = dict(dis=1.0 / c1["tp"], fwd=c1["CF"] / c1["ta"], ret=c1["CR"] / c1["ta"],
+                     bmx=CB / c1["ta"])
+        mk = lambda key: dict(rate=rates[key])  # noqa: E731
+    else:
+        def fn(mp):
+            d = np.maximum(mp, 0.0) / des
+            f = np.asarray(geometry.loading_factor(d, phi), dtype=float)
+            c = coeffs(f)
+            return dict(dis=1.0 / c["tp"], fwd=c["CF"] / c["ta"], ret=c["CR"] / c["ta"], bmx=CB / c["ta"])
+
+        cc = _CellCoefficients(fn, P, des)
+        mk = lambda key: dict(rate_fn=cc.rate_fn(key), ctrl=P)  # noqa: E731
+
+    b.add(EdgeFamily("discharge", P, A, "capped", cap=des, section=section, **mk("dis")))
+    if math.isfinite(kiln_time):
+        b.add(EdgeFamily("kiln", P, nxtP, "excess", rate=np.full(N, 1.0 / kiln_time), cap=des, section=section))
+    b.add(EdgeFamily("forward", A, nxtP, "linear", section=section, **mk("fwd")))
+    b.add(EdgeFamily("return", A, P, "linear", section=section, **mk("ret")))
+    if CB > 0:
+        dst = prevP if backmix_to == "passive" else prevA
+        b.add(EdgeFamily("backmix", A, dst, "linear", section=section, **mk("bmx")))
+    net = b.build()
+    if loading == "state":
+        # start from the steady state with f_load = 1 (piecewise linear, solved exactly)
+        fixed = Network(net.n, [EdgeFamily(f.name, f.src, f.dst, f.kind, rate=(
+            {"discharge": 1.0 / c1["tp"], "forward": c1["CF"] / c1["ta"], "return": c1["CR"] / c1["ta"],
+             "backmix": CB / c1["ta"]}[f.name] if f.rate_fn is not None else f.rate), cap=f.cap)
+            for f in net.families], net.feed, initial_guess=net.initial_guess)
+        try:
+            net.initial_guess = fixed.steady_state()
+        except ValueError:
+            pass
+    info = {"repose_angle_deg": phi, "passive_time_s": c1["tp"], "fall_time_s": c1["ta"],
+            "fall_height_m": c1["h"], "C_F": c1["CF"], "C_R": c1["CR"]}
+    if tracer_input is None:
+        tracer_input = TracerInput.pulse(3.683e-4 * 39.6 * F, 39.6)
+    params = dict(n_cells=N, feed_rate=F, length=L, rpm=rpm, slope=theta, bulk_density=rho,
+                  kiln_time=kiln_time, backmix=CB, drag_reduction=CFG, loading=loading,
+                  backmix_to=backmix_to, gas_flow=gas_flow,
+                  passive_time_branch=passive_time_branch, geometry=repr(geometry))
+    return TransportModel(name=name, network=net,
+                          sections=[dict(name=section, kind="flighted", length=L, n_cells=N)],
+                          feed_rate=F, design_load=np.array(b.design_load), cell_info=info,
+                          tracer_input=tracer_input, parameters=params)
+
+
+def sheehan2005_model2(*, geometry, **kwargs):
+    r"""Sheehan, Britton & Schneider (2005) "Model 2" (pseudo-physical), as recovered.
+
+    Recovered (notes lee_models.md Section 4.3): twin tanks per slice with local,
+    moisture-dependent coefficients from flight geometry; forward step
+    A_i -> P_{i+1} with C_F = C_F^0 C_F^G (Lee Eq. 3.7-3.8, attributed to
+    Sheehan); return A_i -> P_i; **backmix A_i -> A_{i-1}** (previous *active*
+    tank); flight discharge capped at the design load; kilning proportional to
+    the excess over the design load.  Two fitted parameters, most likely C_F^G
+    and C_B.
+
+    Not recoverable from the stripped paper, and chosen here: the kilning
+    relation ("based on the rotational velocity of the drum and the size of the
+    bed") - a constant kilning time ``kiln_time`` (s) on the excess, as in Lee
+    (2008) Eq. 3.9; the first cell's backmix - returned to its own passive phase;
+    the residence-time sub-model - the injected ``geometry`` (as Lee).  Keyword
+    arguments are those of :func:`lee2008`.
+    """
+    kwargs.setdefault("name", "sheehan2005_model2")
+    return lee2008(geometry=geometry, backmix_to="active", **kwargs)
+
+
+def sheehan2005_model1(*, n_cells=30, feed_rate=98000 / 3600, length=12.0, passive_rate, exchange_rate,
+                       return_rate, kiln_rate, design_load, air_coefficient=0.0, gas_mass_flow=0.0,
+                       gas_flow="counter-current", tracer_input=None, section="dryer"):
+    r"""Sheehan et al. (2005) "Model 1" (empirical; Lee et al.), as recovered.
+
+    Twin tanks in series with *global* transport coefficients (1/s); every flow is
+    a coefficient times the source-tank mass (notes lee_models.md Section 4.2):
+
+    * passive -> next passive: k_PP M_P, with k_PP = k_PP,0 -/+ k_air G
+      (``passive_rate`` -/+ ``air_coefficient`` * ``gas_mass_flow``; minus for
+      counter-current).  The paper only says an "air flowrate constant" was added
+      so that the MRT follows Friedman and Marshall; the linear form and its sign
+      convention are **our reading** (not recoverable);
+    * passive -> active: k_PA min(M_P, M_des) (fixed at its kilning-point value);
+    * active -> passive (same cell): k_AP M_A;
+    * kilning passive -> next passive: k_K max(M_P - M_des, 0).
+
+    Parameters
+    ----------
+    passive_rate, exchange_rate, return_rate, kiln_rate : float
+        k_PP,0, k_PA, k_AP, k_K in 1/s (>= 0).  Lee (l.3371) quotes the fitted
+        k_AP = 25.4 1/h (every 142 s).
+    design_load : float
+        Passive design holdup of the whole dryer, kg (split evenly over cells).
+    air_coefficient : float
+        k_air, 1/kg (1/s per kg/s of gas); gas_mass_flow: G, kg/s.
+    """
+    check_choice("operating.gas_flow", gas_flow, GAS_FLOWS)
+    N = int(check_range("transport.n_cells", n_cells, 1, 100000, low_inclusive=True, high_inclusive=True))
+    F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
+    L = float(check_range("drum.length", length, 0.0, math.inf, unit="m"))
+    kpp0 = float(check_range("transport.passive_rate", passive_rate, 0.0, math.inf, low_inclusive=True, unit="1/s"))
+    kpa = float(check_range("transport.exchange_rate", exchange_rate, 0.0, math.inf, unit="1/s"))
+    kap = float(check_range("transport.return_rate", return_rate, 0.0, math.inf, unit="1/s"))
+    kk = float(check_range("transport.kiln_rate", kiln_rate, 0.0, math.inf, low_inclusive=True, unit="1/s"))
+    mdes = float(check_range("transport.design_load", design_load, 0.0, math.inf, unit="kg"))
+    kair = float(check_range("transport.air_coefficient", air_coefficient, 0.0, math.inf, low_inclusive=True))
+    G = float(check_range("operating.gas_mass_flow", gas_mass_flow, 0.0, math.inf, low_inclusive=True, unit="kg/s"))
+    kpp = kpp0 - kair * G if gas_flow == "counter-current" else kpp0 + kair * G
+    if kpp < 0:
+        raise ValueError(
+            f"transport.air_coefficient * operating.gas_mass_flow = {kair * G:.4g} 1/s exceeds "
+            f"transport.passive_rate = {kpp0:.4g} 1/s (negative passive transport)"
+        )
+    des = np.full(N, mdes / N)
+    dL = L / N
+    pos = (np.arange(N) + 0.5) * dL
+    b = NetworkBuilder()
+    P = np.empty(N, dtype=np.int64)
+    A = np.empty(N, dtype=np.int64)
+    for i in range(N):
+        P[i] = b.add_nodes(section, "passive", i, pos[i], design_load=des[i], guess=des[i])[0]
+        A[i] = b.add_nodes(section, "active", i, pos[i], guess=des[i] * kpa / kap)[0]
+    b.feed[P[0]] = F
+    nxtP = np.r_[P[1:], -1]
+    if kpp > 0:
+        b.add(EdgeFamily("passive_forward", P, nxtP, "linear", rate=np.full(N, kpp), section=section))
+    b.add(EdgeFamily("discharge", P, A, "capped", rate=np.full(N, kpa), cap=des, section=section))
+    b.add(EdgeFamily("return", A, P, "linear", rate=np.full(N, kap), section=section))
+    if kk > 0:
+        b.add(EdgeFamily("kiln", P, nxtP, "excess", rate=np.full(N, kk), cap=des, section=section))
+    net = b.build()
+    params = dict(n_cells=N, feed_rate=F, passive_rate=kpp0, exchange_rate=kpa, return_rate=kap,
+                  kiln_rate=kk, design_load=mdes, air_coefficient=kair, gas_mass_flow=G, gas_flow=gas_flow)
+    return TransportModel(name="sheehan2005_model1", network=net,
+                          sections=[dict(name=section, kind="flighted", length=L, n_cells=N)],
+                          feed_rate=F, design_load=np.array(b.design_load), cell_info={},
+                          tracer_input=tracer_input or TracerInput.pulse(1.0, 0.0), parameters=params)

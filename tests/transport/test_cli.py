@@ -1,0 +1,66 @@
+"""CLI ``simulate`` and ``rtd`` (typer CliRunner)."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+import rotarydryer.cli.simulate  # noqa: F401  (registers the commands)
+from rotarydryer.cli import app
+
+REG = ["--set", "geometry.method=lee2008_regressions"]
+KEYS = ["mean_residence_time_s", "rtd_std_s", "total_holdup_kg", "active_holdup_kg", "passive_holdup_kg",
+        "outlet_flow_kg_s"]
+
+
+@pytest.mark.parametrize("cmd", ["simulate", "rtd"])
+def test_json_output(cmd):
+    r = CliRunner().invoke(app, [cmd, "lee2008_invicta", *REG, "--set", "transport.n_cells=33", "--json"])
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.output)
+    for k in KEYS:
+        assert k in d
+    assert d["outlet_flow_kg_s"] == pytest.approx(98000 / 3600, rel=1e-9)
+    assert d["total_holdup_kg"] == pytest.approx(d["active_holdup_kg"] + d["passive_holdup_kg"], rel=1e-12)
+    if cmd == "rtd":
+        # Table 7.3, N = 33: 10.29 min, 2.27 min
+        assert d["tracer_mean_s"] / 60 == pytest.approx(10.29, rel=0.015)
+        assert d["tracer_std_s"] / 60 == pytest.approx(2.27, rel=0.03)
+        assert d["mean_residence_time_s"] == pytest.approx(d["total_holdup_kg"] / d["outlet_flow_kg_s"], rel=1e-9)
+        assert d["measured_mean_s"] / 60 == pytest.approx(11.08, abs=0.01)
+
+
+def test_plots_and_files(tmp_path):
+    r = CliRunner().invoke(app, ["rtd", "lee2008_invicta", *REG, "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    for f in ("rtd.csv", "rtd.json", "rtd.png"):
+        assert (tmp_path / f).stat().st_size > 0
+    r = CliRunner().invoke(app, ["simulate", "lee2008_invicta", *REG, "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "holdup_profile.png").stat().st_size > 0
+    cells = json.loads((tmp_path / "steady_state.json").read_text())["cells"]
+    assert len(cells) == 35 and {c["state"] for c in cells} == {"over"}
+
+
+@pytest.mark.parametrize("args, msg", [
+    (["--set", "transport.bogus=1"], "unknown override key 'transport.bogus'"),
+    (["--set", "transport.n_cells"], "expected KEY=VALUE"),
+    (["--set", "transport.n_cells=40", "--set", "transport.kiln_time=8.69", "--set", "transport.backmix=0.68",
+      "--set", "transport.drag_reduction=0.48"], "transport.n_cells = 40"),
+])
+def test_errors_exit_2_with_message(args, msg):
+    r = CliRunner().invoke(app, ["simulate", "lee2008_invicta", *REG, *args])
+    assert r.exit_code == 2
+    assert msg in r.output
+
+
+@pytest.mark.parametrize("method", ["ajayi2011_regressions", "exact"])
+def test_ajayi_rtd_cli(method, tmp_path):
+    r = CliRunner().invoke(app, ["rtd", "ajayi2011_mmg", "--set", f"geometry.method={method}", "--json",
+                                 "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.output)
+    for k in KEYS:
+        assert k in d
+    assert 10 * 60 < d["mean_residence_time_s"] < 20 * 60
+    assert (tmp_path / "rtd.png").stat().st_size > 0
