@@ -1,0 +1,169 @@
+"""``rotarydryer rtd-moments`` and ``rotarydryer rtd-fit``: measured tracer curves.
+
+DATA is a tracer CSV file (format in :mod:`rotarydryer.rtd.tracer_data`) or the
+name of a shipped data set (``lee2008_invicta``, ``ajayi2011_test1`` ... ``6``).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from . import app
+
+
+def _load(data: str):
+    from ..rtd import load_tracer_csv, load_tracer_dataset, tracer_datasets
+
+    if Path(data).is_file():
+        return load_tracer_csv(data)
+    if data in tracer_datasets():
+        return load_tracer_dataset(data)
+    raise ValueError(
+        f"DATA {data!r} is neither an existing file nor a shipped data set "
+        f"({', '.join(tracer_datasets())})"
+    )
+
+
+def _baseline(value: str):
+    try:
+        return float(value)
+    except ValueError:
+        return value
+
+
+@app.command("rtd-moments")
+def rtd_moments_cmd(
+    data: str = typer.Argument(..., help="Tracer CSV file or shipped data-set name."),
+    baseline: str = typer.Option("none", help="none | leading | trailing | linear | a number (signal unit)."),
+    tail: str = typer.Option("none", help="none (report only) | exponential | auto (extrapolate if truncated)."),
+    tail_points: int = typer.Option(5, help="Samples used for the exponential tail fit."),
+    time_origin_s: Optional[float] = typer.Option(None, help="Injection start, s (default: file metadata or 0)."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Moments of a measured tracer curve: mean, SD, skewness, recovery, tail report.
+
+    Example: rotarydryer rtd-moments lee2008_invicta --json
+    """
+    try:
+        d = _load(data)
+        kw = dict(baseline=_baseline(baseline), tail=tail, tail_points=tail_points)
+        if time_origin_s is not None:
+            kw["time_origin_s"] = time_origin_s
+        m = d.moments(**kw)
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2) from None
+    out = m.to_dict()
+    out.update(
+        data=str(data),
+        source=d.metadata.get("source"),
+        signal_unit=d.signal_unit,
+        mean_residence_time_s=m.mean_s,
+        rtd_std_s=m.std_s,
+    )
+    if as_json:
+        typer.echo(json.dumps(out))
+        return
+    typer.echo(f"{data}: {m.n_points} points, t = {m.first_time_s:g} .. {m.last_time_s:g} s after injection")
+    typer.echo(f"  mean residence time  {m.mean_s:10.1f} s  = {m.mean_min:8.3f} min")
+    typer.echo(f"  standard deviation   {m.std_s:10.1f} s  = {m.std_min:8.3f} min")
+    typer.echo(f"  skewness (m3/sd^3)   {m.skewness:10.3f}")
+    typer.echo(f"  area                 {m.area:10.4g} ({d.signal_unit or 'signal'} x s)")
+    if m.recovery is not None:
+        typer.echo(f"  recovery             {m.recovery:10.3f}")
+    typer.echo(f"  baseline             {m.baseline:10.4g} ({m.baseline_method})")
+    typer.echo(
+        f"  tail: last/peak = {m.tail_end_fraction_of_peak:.4f}, truncated = {m.tail_truncated}, "
+        f"extrapolated = {m.tail_extrapolated} ({100 * m.extrapolated_area_fraction:.2f} % of area)"
+    )
+
+
+@app.command("rtd-fit")
+def rtd_fit_cmd(
+    data: str = typer.Argument(..., help="Tracer CSV file or shipped data-set name."),
+    model: str = typer.Option("tanks_in_series", help="tanks_in_series | dispersion_closed | dispersion_open."),
+    delay: bool = typer.Option(False, "--delay", help="Fit a dead time (s)."),
+    scale: Optional[bool] = typer.Option(
+        None, "--scale/--no-scale", help="Fit an unknown scale (default: only for non-normalised signals)."
+    ),
+    pulse_s: Optional[float] = typer.Option(
+        None, help="Rectangular input duration, s (default: file metadata; 0 = Dirac)."
+    ),
+    baseline: str = typer.Option("none", help="Subtract a baseline first: none | leading | trailing | a number."),
+    n_starts: int = typer.Option(1, help="Number of starts (the best is kept)."),
+    out: Optional[Path] = typer.Option(None, help="Directory for rtd_fit.png (data, model, residuals)."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Fit a tanks-in-series or axial-dispersion RTD by least squares, with 95 % intervals.
+
+    Example: rotarydryer rtd-fit lee2008_invicta --model dispersion_open --delay --json
+    """
+    import numpy as np
+
+    from ..rtd import TracerData, fit_tracer_data, pulse_input, subtract_baseline
+    from ..rtd.fitting import _RATE_FACTOR
+
+    try:
+        d = _load(data)
+        if baseline != "none":
+            y, _ = subtract_baseline(d.time_s, d.signal, _baseline(baseline))
+            d = TracerData(d.time_s, y, d.metadata, d.time_column, d.extra_columns, d.path)
+        kw = dict(model=model, fit_delay=delay, n_starts=n_starts)
+        if scale is not None:
+            kw["fit_scale"] = scale
+        if pulse_s is not None:
+            kw["pulse"] = pulse_input("dirac") if pulse_s == 0 else pulse_input("rectangular", pulse_s)
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            f = fit_tracer_data(d, **kw)
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2) from None
+    res = f.to_dict()
+    res["data"] = str(data)
+    if out is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        out.mkdir(parents=True, exist_ok=True)
+        t0 = d.time_origin_s
+        tt = np.linspace(d.time_s[0], d.time_s[-1], 2000)
+        ydata = _RATE_FACTOR(d) * d.signal
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+        a1.plot((d.time_s - t0) / 60, ydata, "o", label="data")
+        a1.plot((tt - t0) / 60, f.predict(tt), "-", label=f"{model} fit")
+        a1.set_ylabel("signal (1/s)" if "scale" in f.fixed else "signal")
+        a1.legend()
+        a2.plot((d.time_s - t0) / 60, -f.residuals, "o")
+        a2.axhline(0, color="k", lw=0.5)
+        a2.set_xlabel("time since injection (min)")
+        a2.set_ylabel("data - model")
+        fig.tight_layout()
+        fig.savefig(out / "rtd_fit.png", dpi=120)
+        plt.close(fig)
+        res["plot"] = str(out / "rtd_fit.png")
+    if as_json:
+        typer.echo(json.dumps(res))
+        return
+    typer.echo(f"{model} fit to {data}: {f.n_points} points, {f.n_evaluations} model evaluations")
+    typer.echo(f"  objective (SSR) {f.objective:.6g}   R^2 {f.r_squared:.5f}")
+    typer.echo(f"  {'parameter':24s} {'value':>12s} {'std error':>12s} {'95 % CI':>28s}")
+    for k in f.parameter_names:
+        typer.echo(
+            f"  {k:24s} {f.values[k]:12.5g} {f.std_errors[k]:12.3g}   [{f.ci_low[k]:11.5g}, {f.ci_high[k]:11.5g}]"
+        )
+    typer.echo("  correlation matrix:")
+    for k, row in zip(f.parameter_names, np.asarray(f.correlation), strict=True):
+        typer.echo(f"  {k:24s} " + " ".join(f"{x:7.3f}" for x in row))
+    om = f.outlet_moments
+    typer.echo(f"  fitted outlet curve: mean {om.mean_s / 60:.3f} min, SD {om.std_s / 60:.3f} min")
+    for w in f.warnings:
+        typer.echo(f"  warning: {w}")

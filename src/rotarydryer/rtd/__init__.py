@@ -1,0 +1,67 @@
+"""Residence-time distributions: analysis of curves, tracer inputs, reference
+models (tanks in series, axial dispersion) and their fitting to tracer data.
+
+Units: time in s, E(t) in 1/s. See ``docs/rtd.md`` for a walk-through.
+
+Modules: :mod:`.analysis` (moments, E, F, baseline, tails),
+:mod:`.pulses` (tracer inputs, convolution), :mod:`.models` (TiS, ADM),
+:mod:`.fitting` (least squares with confidence intervals),
+:mod:`.tracer_data` (measured-data CSV format).
+"""
+
+from .analysis import BASELINE_METHODS, TAIL_METHODS, RTDMoments, exit_age_curve, rtd_moments, subtract_baseline
+from .fitting import RTD_MODELS, RTDFit, fit_rtd_model, fit_tracer_data
+from .models import (
+    DISPERSION_BOUNDARIES,
+    AnalyticMoments,
+    AxialDispersion,
+    TanksInSeries,
+    axial_dispersion_e,
+    axial_dispersion_moments,
+    tanks_in_series_e,
+    tanks_in_series_f,
+    tanks_in_series_moments,
+)
+from .pulses import PULSE_KINDS, TracerPulse, convolve_rtd, convolve_sampled_rtd, convolved_moments, pulse_input
+from .tracer_data import (
+    TracerData,
+    load_tracer_csv,
+    load_tracer_dataset,
+    parse_tracer_text,
+    tracer_datasets,
+    write_tracer_csv,
+)
+
+__all__ = [
+    "AnalyticMoments",
+    "AxialDispersion",
+    "BASELINE_METHODS",
+    "DISPERSION_BOUNDARIES",
+    "PULSE_KINDS",
+    "RTDFit",
+    "RTDMoments",
+    "RTD_MODELS",
+    "TAIL_METHODS",
+    "TanksInSeries",
+    "TracerData",
+    "TracerPulse",
+    "axial_dispersion_e",
+    "axial_dispersion_moments",
+    "convolve_rtd",
+    "convolve_sampled_rtd",
+    "convolved_moments",
+    "exit_age_curve",
+    "fit_rtd_model",
+    "fit_tracer_data",
+    "load_tracer_csv",
+    "load_tracer_dataset",
+    "parse_tracer_text",
+    "pulse_input",
+    "rtd_moments",
+    "subtract_baseline",
+    "tanks_in_series_e",
+    "tanks_in_series_f",
+    "tanks_in_series_moments",
+    "tracer_datasets",
+    "write_tracer_csv",
+]

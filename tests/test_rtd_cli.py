@@ -1,0 +1,63 @@
+"""CLI: rotarydryer rtd-moments / rtd-fit (module rotarydryer.cli.rtdfit)."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+import rotarydryer.cli.rtdfit  # noqa: F401  (registers the commands if cli/__init__ does not yet)
+from rotarydryer.cli import app
+from rotarydryer.published import read_published_csv
+
+runner = CliRunner()
+
+
+def test_rtd_moments_json_invicta():
+    row = next(r for r in read_published_csv("lee_rtd_moments.csv") if r["rtd"] == "Experiment")
+    res = runner.invoke(app, ["rtd-moments", "lee2008_invicta", "--json"])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["mean_s"] / 60 == pytest.approx(float(row["mean_residence_time_min"]), abs=0.01)
+    assert d["rtd_std_s"] / 60 == pytest.approx(float(row["standard_deviation_min"]), abs=0.01)
+    assert d["tail_truncated"] is False
+
+
+def test_rtd_moments_table_from_file(tmp_path):
+    p = tmp_path / "c.csv"
+    rows = "".join(f"{i},{max(0, 5 - abs(i - 5))}\n" for i in range(11))
+    p.write_text("# signal_unit: ppm\ntime_min,signal\n" + rows)
+    res = runner.invoke(app, ["rtd-moments", str(p), "--baseline", "0", "--tail", "auto"])
+    assert res.exit_code == 0, res.output
+    assert "mean residence time" in res.output and "5.000 min" in res.output
+
+
+def test_rtd_moments_bad_file(tmp_path):
+    p = tmp_path / "bad.csv"
+    p.write_text("time_s,signal\n0,1\n1,-1\n2,1\n3,1\n4,1\n")
+    res = runner.invoke(app, ["rtd-moments", str(p)])
+    assert res.exit_code == 2
+    assert "negative signal" in res.output
+    res = runner.invoke(app, ["rtd-moments", "no_such_data"])
+    assert res.exit_code == 2 and "neither an existing file" in res.output
+
+
+def test_rtd_fit_json_and_plot(tmp_path):
+    res = runner.invoke(app, ["rtd-fit", "lee2008_invicta", "--model", "tanks_in_series", "--delay", "--json",
+                              "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    p = d["parameters"]["n_tanks"]
+    assert p["ci_low"] < p["value"] < p["ci_high"]
+    assert d["r_squared"] > 0.99 and d["n_evaluations"] > 0 and d["objective"] > 0
+    assert (tmp_path / "rtd_fit.png").stat().st_size > 10_000
+
+
+def test_rtd_fit_table_raw_concentration():
+    res = runner.invoke(app, ["rtd-fit", "ajayi2011_test4", "--baseline", "leading", "--model", "dispersion_open"])
+    assert res.exit_code == 0, res.output
+    assert "scale" in res.output and "correlation matrix" in res.output
+
+
+def test_rtd_fit_bad_model():
+    res = runner.invoke(app, ["rtd-fit", "lee2008_invicta", "--model", "plug"])
+    assert res.exit_code == 2 and "model" in res.output
