@@ -1,0 +1,234 @@
+"""``rotarydryer lab``: laboratory data tools (flight-unloading rig, photographs, design-load fits)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from . import app
+
+lab_app = typer.Typer(
+    name="lab",
+    help="Laboratory data: flight-unloading rig runs (Lee 2008 ch. 5), drum photographs and "
+    "design-load break-point fits (Ajayi 2011 ch. 4).",
+    no_args_is_help=True,
+)
+app.add_typer(lab_app, name="lab")
+
+
+def _fail(exc: Exception):
+    typer.echo(f"error: {exc}", err=True)
+    raise typer.Exit(2)
+
+
+def _pair(text: str, name: str):
+    """'otsu', '168' or '168,177' -> 'otsu', 168.0 or (168.0, 177.0)."""
+    t = text.strip().lower()
+    if t == "otsu":
+        return "otsu"
+    try:
+        vals = [float(v) for v in t.split(",")]
+    except ValueError:
+        raise ValueError(f"{name} = {text!r} must be 'otsu', a number or 'upper,lower'") from None
+    if len(vals) not in (1, 2):
+        raise ValueError(f"{name} = {text!r} must be 'otsu', a number or 'upper,lower'")
+    return vals[0] if len(vals) == 1 else tuple(vals)
+
+
+@lab_app.command("rig")
+def rig(
+    run_csv: Path = typer.Argument(..., help="Load-cell CSV: time (s), then one or more load-cell columns (kg), summed."),
+    flight: str = typer.Option("alternative", help="Rig flight (Lee 2008 Table 5.1): alternative | half_scale | full_scale | lee_code."),
+    rpm: float = typer.Option(..., help="Rotation speed, rev/min."),
+    start_angle: float = typer.Option(..., help="Flight-root angle at the start of unloading, deg (from the images; 0 = base pointing down)."),
+    bulk_density: float = typer.Option(..., help="Bulk density, kg/m^3 (Lee used the consolidated value)."),
+    length: float = typer.Option(1.0, help="Flight section length, m."),
+    repose_angle: Optional[float] = typer.Option(None, help="Measured mean dynamic repose angle, deg, for the band (default: fitted)."),
+    repose_sd: float = typer.Option(0.0, help="SD of the measured repose angle, deg; band = mean +/- 2 SD (default without --repose-angle: the fit's standard error)."),
+    cutoff: float = typer.Option(1.5, help="FIR cut-off, Hz (1.5 = Lee's code fir1(200,0.03); 3 = his text)."),
+    phase: str = typer.Option("zero", help="Filter phase: zero (delay-corrected) | filtfilt | causal (Lee, uncorrected)."),
+    fit_bulk_density: bool = typer.Option(False, help="Also fit the bulk density."),
+    out: Optional[Path] = typer.Option(None, help="Directory for rig.png and rig_aligned.csv."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Analyse one flight-unloading rig run: filter, discharge rate, start of unloading, repose-angle
+    fit with its CI, and Lee's +/- 2 SD band comparison.
+
+    Example: rotarydryer lab rig run.csv --rpm 2 --start-angle 93.5 --bulk-density 1474 --repose-sd 1.7
+    """
+    from ..lab import flight_rig as fr
+
+    try:
+        run = fr.read_rig_csv(run_csv)
+        drum = fr.rig_drum(flight)
+        f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
+                                length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
+        rho = f.params["bulk_density"]
+        a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
+                           repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
+                           repose_sd=repose_sd if (repose_angle is not None or repose_sd > 0)
+                           else f.stderr["repose_angle"],
+                           cutoff=cutoff, phase=phase, fit=False)
+    except (ValueError, OSError) as exc:
+        _fail(exc)
+    res = {
+        "file": str(run_csv),
+        "samples": int(run.time.size),
+        "sample_rate_hz": run.sample_rate,
+        "filter": {"numtaps": fr.LEE_NUMTAPS, "cutoff_hz": cutoff, "phase": phase},
+        "unloading_start_s": a.start_time,
+        "repose_angle_deg": f.repose_angle,
+        "repose_angle_ci_deg": list(f.repose_angle_ci),
+        "confidence": f.confidence,
+        "params": f.params,
+        "stderr": f.stderr,
+        "residual_sd_kg": f.residual_sd,
+        "residual_ar1": f.ar1,
+        "band_repose_deg": [a.band.repose_low, a.band.repose_high],
+        "fraction_inside_band_mass": a.inside_mass,
+        "fraction_inside_band_rate": a.inside_rate,
+    }
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        fig = fr.plot_analysis(a)
+        fig.savefig(out / "rig.png", dpi=110)
+        with (out / "rig_aligned.csv").open("w") as fh:
+            fh.write(f"# rotarydryer lab rig {run_csv}: aligned at unloading start {a.start_time:.4f} s\n")
+            fh.write("time_s,mass_kg,rate_kg_s,model_mass_kg,band_low_kg,band_high_kg\n")
+            for row in zip(a.time, a.mass, a.rate, a.band.mass_mean, a.band.mass_low, a.band.mass_high):
+                fh.write(",".join(f"{v:.6g}" for v in row) + "\n")
+        res["outputs"] = [str(out / "rig.png"), str(out / "rig_aligned.csv")]
+    if as_json:
+        typer.echo(json.dumps(res))
+        return
+    lo, hi = f.repose_angle_ci
+    typer.echo(f"rig run {run_csv}: {run.time.size} samples at {run.sample_rate:g} Hz, flight {flight}, {rpm:g} rpm")
+    typer.echo(f"  FIR filter: {fr.LEE_NUMTAPS} taps, cut-off {cutoff:g} Hz, {phase} phase")
+    typer.echo(f"  start of unloading          {a.start_time:.3f} s")
+    typer.echo(f"  fitted repose angle         {f.repose_angle:.2f} deg  ({100 * f.confidence:g} % CI {lo:.2f} - {hi:.2f})")
+    if fit_bulk_density:
+        blo, bhi = f.ci["bulk_density"]
+        typer.echo(f"  fitted bulk density         {rho:.0f} kg/m3  (CI {blo:.0f} - {bhi:.0f})")
+    typer.echo(f"  residual SD                 {f.residual_sd:.4f} kg (lag-1 autocorrelation {f.ar1:.2f})")
+    typer.echo(f"  band (repose {a.band.repose_low:.1f}-{a.band.repose_high:.1f} deg): "
+               f"{100 * a.inside_mass:.1f} % of mass and {100 * a.inside_rate:.1f} % of rate samples inside")
+    if out is not None:
+        typer.echo(f"  outputs: {', '.join(res['outputs'])}")
+
+
+@lab_app.command("image")
+def image(
+    photo: Path = typer.Argument(..., help="Photograph of the drum cross-section (PNG, JPEG, TIFF)."),
+    drum: str = typer.Option("ajayi_pilot", help="Built-in drum (rotarydryer flight --list-drums)."),
+    centre: str = typer.Option(..., help="Drum centre in the image, 'column,row' px."),
+    px_per_m: Optional[float] = typer.Option(None, help="Pixel scale, px/m."),
+    known_length_px: Optional[float] = typer.Option(None, help="A known length in the image, px (e.g. the drum diameter)."),
+    known_length_m: Optional[float] = typer.Option(None, help="That length in m (e.g. 0.75 for Ajayi's drum)."),
+    reference_angle: float = typer.Option(90.0, help="Root angle of one flight (flight 0), deg from the drum bottom in the direction of rotation."),
+    mirror: bool = typer.Option(False, help="The drum turns clockwise in the picture (Ajayi's did)."),
+    channel: int = typer.Option(0, help="Colour channel to threshold (0 = red, as Ajayi's Appendix C)."),
+    threshold: str = typer.Option("168,177", help="Flight-borne solids threshold: 'upper,lower' half, a number, or 'otsu' (Ajayi: 168,177)."),
+    airborne_threshold: str = typer.Option("104,120", help="Airborne solids threshold (Ajayi: 104,120) or 'otsu'."),
+    smooth_sigma: float = typer.Option(0.0, help="Gaussian smoothing before thresholding, px."),
+    out: Optional[Path] = typer.Option(None, help="Annotated PNG to write."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Measure flight-borne (per flight, FUF, UHD, LHD, TP) and airborne solids areas in a photograph
+    (Ajayi 2011 section 4.3); optionally write an annotated image to check the segmentation.
+
+    Example: rotarydryer lab image photo.png --centre 970,970 --known-length-px 1900 --known-length-m 0.75 --mirror --out checked.png
+    """
+    from ..geometry.presets import preset_drum
+    from ..lab import images as im
+
+    try:
+        d, _ = preset_drum(drum)
+        c = [float(v) for v in centre.split(",")]
+        if len(c) != 2:
+            raise ValueError(f"centre = {centre!r} must be 'column,row'")
+        if px_per_m is None:
+            if known_length_px is None or known_length_m is None:
+                raise ValueError("give --px-per-m, or --known-length-px with --known-length-m")
+            cal = im.ImageCalibration.from_known_length(c, known_length_px, known_length_m, mirror=mirror)
+        else:
+            cal = im.ImageCalibration(c, px_per_m, mirror=mirror)
+        img = im.load_image(photo)
+        m = im.measure(img, d, cal, reference_angle=reference_angle, channel=channel,
+                       threshold=_pair(threshold, "threshold"),
+                       airborne_threshold=_pair(airborne_threshold, "airborne_threshold"),
+                       smooth_sigma=smooth_sigma)
+    except (ValueError, OSError) as exc:
+        _fail(exc)
+    res = {"file": str(photo), "drum": drum, **m.as_dict()}
+    if out is not None:
+        im.annotate(img, m, out)
+        res["annotated"] = str(out)
+    if as_json:
+        typer.echo(json.dumps(res))
+        return
+    typer.echo(f"photo {photo}: {img.shape[1]} x {img.shape[0]} px, {cal.px_per_m:.1f} px/m, drum {drum}")
+    typer.echo(f"  first unloading flight (#{m.fuf_index}, root {m.root_angles[m.fuf_index]:.1f} deg)  {res['FUF_cm2']:.2f} cm2")
+    typer.echo(f"  upper half UHD  {res['UHD_cm2']:.2f} cm2   lower half LHD  {res['LHD_cm2']:.2f} cm2   TP  {res['TP_cm2']:.2f} cm2")
+    typer.echo(f"  airborne        {res['airborne_cm2']:.2f} cm2 ({res['airborne_percent']:.2f} % of the airborne region)")
+    typer.echo("  per flight (cm2): " + " ".join(f"{a:.2f}" for a in res["flight_areas_cm2"]))
+    if out is not None:
+        typer.echo(f"  annotated image: {out}")
+
+
+@lab_app.command("design-load")
+def design_load(
+    table: Path = typer.Argument(..., help="CSV with one row per photograph: loading and FUF area columns."),
+    loading_column: str = typer.Option("loading_kg", help="Column with the drum loading, kg."),
+    area_column: str = typer.Option("FUF_area_cm2", help="Column with the first-unloading-flight area."),
+    group_column: Optional[str] = typer.Option(None, help="Column naming the condition; one fit per group."),
+    confidence: float = typer.Option(0.95, help="Confidence level."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Design load = break point of a linear-plateau fit of FUF area against loading (Ajayi 2011
+    Appendix D), with delta-method, profile-likelihood and corrected Appendix E intervals.
+
+    Example: rotarydryer lab design-load loading_series.csv --group-column condition
+    """
+    import csv
+
+    from ..lab import design_load_fit as dl
+
+    try:
+        lines = [ln for ln in table.read_text().splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+        rows = list(csv.DictReader(lines))
+        if not rows:
+            raise ValueError(f"{table}: no data rows")
+        for col in (loading_column, area_column) + ((group_column,) if group_column else ()):
+            if col not in rows[0]:
+                raise ValueError(f"{table}: no column {col!r}; columns are {', '.join(rows[0])}")
+        groups: dict = {}
+        for r in rows:
+            groups.setdefault(r[group_column] if group_column else "all", []).append(
+                (float(r[loading_column]), float(r[area_column])))
+        fits = {}
+        for g, pts in groups.items():
+            x, y = zip(*pts)
+            fits[g] = dl.fit_break_point(x, y, confidence=confidence)
+    except (ValueError, OSError) as exc:
+        _fail(exc)
+    res = {
+        g: {
+            "design_load": f.break_point, "slope": f.slope, "plateau": f.plateau, "plateau_ci": list(f.plateau_ci),
+            "n": f.n, "n_left": f.n_left, "n_right": f.n_right, "residual_sd": f.residual_sd,
+            "ci": {m: list(v) for m, v in f.ci.items()}, "stderr": f.stderr,
+            "profile_closed": list(f.profile_closed),
+        }
+        for g, f in fits.items()
+    }
+    if as_json:
+        typer.echo(json.dumps({"confidence": confidence, "fits": res}))
+        return
+    typer.echo(f"design load = break point of {area_column} vs {loading_column} (right slope 0), "
+               f"{100 * confidence:g} % intervals")
+    for g, f in fits.items():
+        typer.echo(f"  {g}: design load {f.break_point:.2f}  plateau {f.plateau:.3f}  slope {f.slope:.4f}  n {f.n}")
+        for m, (lo, hi) in f.ci.items():
+            typer.echo(f"      {m:16s} {lo:8.2f} - {hi:8.2f}  (+/- {(hi - lo) / 2:.2f})")

@@ -1,0 +1,82 @@
+"""``rotarydryer lab rig|image|design-load`` (the lead imports rotarydryer.cli.lab in cli/__init__)."""
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import rotarydryer.cli.lab  # noqa: F401  (registers the sub-app if cli/__init__ does not yet)
+from rotarydryer.cli import app
+from rotarydryer.geometry.presets import preset_drum
+from rotarydryer.lab import design_load_fit as dl
+from rotarydryer.lab import flight_rig as fr
+from rotarydryer.lab import images as im
+
+runner = CliRunner()
+
+
+def test_rig_command(tmp_path):
+    d = fr.rig_drum("alternative")
+    run = fr.synthetic_run(d, 39.6, rpm=2.0, start_angle=93.5, bulk_density=1474.0, seed=1)
+    p = tmp_path / "run.csv"
+    fr.write_rig_csv(p, run)
+    res = runner.invoke(app, ["lab", "rig", str(p), "--rpm", "2", "--start-angle", "93.5", "--bulk-density", "1474",
+                              "--repose-angle", "39.6", "--repose-sd", "1.7", "--json", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    lo, hi = out["repose_angle_ci_deg"]
+    assert lo <= 39.6 <= hi
+    assert out["unloading_start_s"] == pytest.approx(2.0, abs=0.02)
+    assert out["fraction_inside_band_mass"] > 0.95
+    assert (tmp_path / "o" / "rig.png").stat().st_size > 10_000
+    res = runner.invoke(app, ["lab", "rig", str(p), "--rpm", "2", "--start-angle", "93.5", "--bulk-density", "1474"])
+    assert res.exit_code == 0 and "fitted repose angle" in res.output
+
+
+def test_rig_bad_input(tmp_path):
+    p = tmp_path / "bad.csv"
+    p.write_text("t,m\n0,1\n1,2\n")
+    res = runner.invoke(app, ["lab", "rig", str(p), "--rpm", "2", "--start-angle", "90", "--bulk-density", "1000"])
+    assert res.exit_code == 2 and "at least 8 samples" in res.output
+
+
+def test_image_command(tmp_path):
+    from skimage import io
+
+    d = preset_drum("ajayi_pilot")[0]
+    s = im.render_cross_section(d, 46.7, reference_angle=91.0, px_per_m=1500.0, flight_thickness=0.002, mirror=True)
+    p = tmp_path / "photo.png"
+    io.imsave(p, s.image, check_contrast=False)
+    c = s.calibration.centre
+    res = runner.invoke(app, ["lab", "image", str(p), "--centre", f"{c[0]},{c[1]}", "--known-length-px",
+                              str(1500.0 * 0.75), "--known-length-m", "0.75", "--reference-angle", "91", "--mirror",
+                              "--json", "--out", str(tmp_path / "ann.png")])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    assert out["FUF_cm2"] == pytest.approx(s.flight_areas[out["fuf_index"]] * 1e4, rel=0.02)
+    assert (tmp_path / "ann.png").exists()
+    res = runner.invoke(app, ["lab", "image", str(p), "--centre", "1,2"])
+    assert res.exit_code == 2 and "px-per-m" in res.output
+
+
+def test_design_load_command(tmp_path):
+    r = dl.ajayi_table_4_11()[3]  # 3.5 rpm, 0.4 wt %: 31.8 +/- 3.7 kg
+    lines = ["# synthetic series mimicking Ajayi (2011) Table 4.11", "condition,loading_kg,FUF_area_cm2"]
+    for g, seed in (("a", 1), ("b", 2)):
+        x, y, _ = dl.mimic_ajayi_series(r["design_load_kg"], r["design_load_ci_kg"], r["FUF_area_cm2"],
+                                        r["FUF_area_ci_cm2"], seed=seed)
+        lines += [f"{g},{a:.3f},{b:.4f}" for a, b in zip(x, y)]
+    p = tmp_path / "series.csv"
+    p.write_text("\n".join(lines) + "\n")
+    res = runner.invoke(app, ["lab", "design-load", str(p), "--group-column", "condition", "--json"])
+    assert res.exit_code == 0, res.output
+    fits = json.loads(res.output)["fits"]
+    assert set(fits) == {"a", "b"}
+    for f in fits.values():
+        assert abs(f["design_load"] - 31.8) <= 3.7 * 2
+        assert set(f["ci"]) == set(dl.CI_METHODS)
+    res = runner.invoke(app, ["lab", "design-load", str(p)])
+    assert res.exit_code == 0 and "profile" in res.output
+    res = runner.invoke(app, ["lab", "design-load", str(p), "--area-column", "nope"])
+    assert res.exit_code == 2 and "nope" in res.output
