@@ -1,0 +1,38 @@
+"""Web app (Streamlit): flight geometry explorer, transport + RTD of a built-in case,
+tracer-curve fitting.
+
+Start it with ``rotarydryer app`` (or ``streamlit run`` on :func:`script_path`).  The
+page logic lives in :mod:`rotarydryer.app.logic` (plain functions, testable without
+Streamlit); :mod:`rotarydryer.app.streamlit_app` is the Streamlit script.
+
+Why Streamlit: its ``streamlit.testing.v1.AppTest`` harness runs the script headless in
+the test process (set widget values, read metrics, tables and images) with no browser
+and no server, which keeps the logic tests fast and deterministic; the app is a plain
+top-to-bottom script with no callbacks or JavaScript.  Its cost is install weight
+(Streamlit pulls pyarrow, pandas, altair, tornado...: about 300 MB installed), which is
+why it is an optional extra (``pip install rotarydryer[app]``) and imported only when
+the app runs.  Panel and NiceGUI are lighter to install but their headless harnesses are
+asynchronous or need a running server.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = ["script_path", "streamlit_command"]
+
+
+def script_path() -> Path:
+    """Path of the Streamlit script."""
+    return Path(__file__).with_name("streamlit_app.py")
+
+
+def streamlit_command(port: int = 8501, host: str = "127.0.0.1", headless: bool = True) -> list[str]:
+    """The command line that serves the app (``python -m streamlit run ...``)."""
+    import sys
+
+    return [sys.executable, "-m", "streamlit", "run", str(script_path()),
+            "--server.port", str(int(port)), "--server.address", host,
+            "--server.headless", "true" if headless else "false",
+            "--browser.gatherUsageStats", "false", "--server.fileWatcherType", "none",
+            "--global.developmentMode", "false", "--client.toolbarMode", "minimal"]

@@ -1,0 +1,182 @@
+"""``rotarydryer sweep``: run a case over a grid or list of overrides, one table out.
+
+Runs on the local cores (``concurrent.futures.ProcessPoolExecutor``) or, given
+``--scheduler tcp://host:8786``, on a Dask cluster (``dask.distributed`` is imported only
+then and is not a dependency of rotarydryer).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import itertools
+import json
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from . import app
+
+KEY_SCALARS = ("total_holdup_kg", "active_holdup_kg", "passive_holdup_kg", "kiln_bed_holdup_kg", "bed_holdup_kg",
+               "outlet_flow_kg_s", "mean_residence_time_s", "rtd_std_s", "mass_balance_error", "cells_over",
+               "cells_design", "cells_under")
+
+
+def parse_grid(items: Optional[List[str]]) -> list[dict]:
+    """``["operating.rpm=2,3", "drum.slope=2,4"]`` -> the cartesian product as override dicts."""
+    keys, values = [], []
+    for item in items or []:
+        if "=" not in item:
+            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,..., e.g. operating.rpm=2,3,4")
+        k, v = item.split("=", 1)
+        vals = [x.strip() for x in v.split(",") if x.strip()]
+        if not vals:
+            raise ValueError(f"--grid {item!r}: no values")
+        keys.append(k.strip())
+        values.append(vals)
+    return [dict(zip(keys, combo)) for combo in itertools.product(*values)] if keys else []
+
+
+def read_list(path: Path) -> list[dict]:
+    """Runs from a CSV file: header = override keys, one row per run ('#' lines ignored)."""
+    text = Path(path).read_text(encoding="utf-8")
+    rows = list(csv.DictReader(line for line in text.splitlines() if line.strip() and not line.startswith("#")))
+    if not rows:
+        raise ValueError(f"--list {str(path)!r}: no runs (need a header of override keys and one row per run)")
+    return [{k.strip(): v.strip() for k, v in r.items() if v is not None and v.strip() != ""} for r in rows]
+
+
+def run_point(case: str, overrides: dict, rtd: bool = True) -> dict:
+    """One sweep point -> a flat row (overrides + key scalars, units in the names); an
+    invalid point gives a row with ``error``.  Top-level so that it pickles for
+    process pools and Dask."""
+    from ..results import run_case
+
+    row = dict(overrides)
+    try:
+        res = run_case(case, overrides, rtd=rtd)
+    except ValueError as exc:
+        row["error"] = str(exc)
+        return row
+    for k in KEY_SCALARS:
+        if k in res.scalars:
+            row[k] = res.scalars[k]
+    if "tracer_mean_s" in res.scalars:
+        row["tracer_mean_s"] = res.scalars["tracer_mean_s"]
+    row["error"] = ""
+    return row
+
+
+def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Optional[str] = None,
+              rtd: bool = True, progress=None) -> list[dict]:
+    """Run all points; rows come back in the order of ``points``."""
+    rows: list = [None] * len(points)
+    tick = progress or (lambda n: None)
+    if scheduler:
+        try:
+            from dask.distributed import Client, as_completed
+        except ImportError as exc:
+            raise ImportError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from exc
+        with Client(scheduler) as client:
+            futs = {client.submit(run_point, case, p, rtd, pure=False): i for i, p in enumerate(points)}
+            for f in as_completed(futs):
+                rows[futs[f]] = f.result()
+                tick(1)
+        return rows
+    if workers <= 1 or len(points) == 1:
+        for i, p in enumerate(points):
+            rows[i] = run_point(case, p, rtd)
+            tick(1)
+        return rows
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    with ProcessPoolExecutor(max_workers=workers) as ex:
+        futs = {ex.submit(run_point, case, p, rtd): i for i, p in enumerate(points)}
+        for f in as_completed(futs):
+            rows[futs[f]] = f.result()
+            tick(1)
+    return rows
+
+
+def rows_to_csv(rows: list[dict]) -> str:
+    cols = list(dict.fromkeys(k for r in rows for k in r if k != "error")) + ["error"]
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
+    return buf.getvalue()
+
+
+@app.command("sweep")
+def sweep(
+    case: str = typer.Argument(..., help="Case name or .toml file."),
+    grid: Optional[List[str]] = typer.Option(None, "--grid", help="KEY=V1,V2,...; several --grid: all combinations."),
+    list_: Optional[Path] = typer.Option(None, "--list", help="CSV of runs: header = override keys, a row per run."),
+    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
+    workers: int = typer.Option(1, help="Local worker processes (0: one per core)."),
+    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler address, e.g. tcp://10.0.0.5:8786."),
+    rtd: bool = typer.Option(True, "--rtd/--no-rtd", help="Also simulate the tracer pulse (RTD SD, tracer mean)."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the table (CSV) here."),
+    as_json: bool = typer.Option(False, "--json", help="Print the rows as a JSON list."),
+):
+    """Run a case over a grid or list of overrides; one table (CSV) out.
+
+    Examples:
+      rotarydryer sweep lee2008_invicta --grid operating.rpm=2,3,4 --grid operating.feed_rate=20,27.2
+      rotarydryer sweep ajayi2011_mmg --grid operating.test=2,3,4,5,6 --workers 0 -o tests.csv
+      rotarydryer sweep lee2008_invicta --list runs.csv --scheduler tcp://cluster:8786
+    Exit codes: 0 all runs succeeded, 1 some runs failed (see the error column), 2 bad
+    input, 3 Dask requested but not installed.
+    """
+    import os
+    import sys
+
+    from .report import parse_sets
+
+    try:
+        base = parse_sets(set_)
+        points = parse_grid(grid)
+        if list_ is not None:
+            if points:
+                raise ValueError("give --grid or --list, not both")
+            points = read_list(list_)
+        if not points:
+            raise ValueError("nothing to run: give --grid KEY=V1,V2 or --list runs.csv")
+        if workers < 0:
+            raise ValueError(f"workers = {workers} is outside the allowed range [0, inf)")
+        n = workers if workers > 0 else (os.cpu_count() or 1)
+        points = [{**base, **p} for p in points]
+        from ..cases import load_case
+
+        load_case(case, points[0])  # fail fast on a bad case or key
+    except (ValueError, OSError) as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+    try:
+        if as_json or len(points) < 2:
+            rows = run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd)
+        else:
+            with typer.progressbar(length=len(points), label=f"{len(points)} runs", file=sys.stderr,
+                                   hidden=not sys.stderr.isatty()) as bar:
+                rows = run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, progress=bar.update)
+    except ImportError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(3)
+    text = rows_to_csv(rows)
+    if out is not None:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_name(f".{out.name}.tmp")
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, out)
+    if as_json:
+        typer.echo(json.dumps(rows))
+    elif out is None:
+        typer.echo(text, nl=False)
+    else:
+        typer.echo(f"table: {out} ({len(rows)} runs)")
+    failed = sum(1 for r in rows if r.get("error"))
+    if failed:
+        typer.echo(f"{failed} of {len(rows)} runs failed (see the error column)", err=True)
+        raise typer.Exit(1)

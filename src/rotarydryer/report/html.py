@@ -1,0 +1,331 @@
+"""Self-contained HTML report of a result, a case or a drum.
+
+>>> from rotarydryer.report.html import write_report
+>>> write_report("lee2008_invicta", "report.html")          # runs the case    # doctest: +SKIP
+>>> write_report("invicta.nc", "report.html")               # a saved Results  # doctest: +SKIP
+>>> write_report("invicta", "report.html", repose_angle=50)  # drum preset only # doctest: +SKIP
+
+One HTML file, no external resources: pictures are base64 PNG ``<img>`` elements, the
+style sheet is inline.  Sections (each when its data exist):
+
+* dryer drawn to scale (sections, flights, curtains);
+* flight cross-section and unloading profile of each flighted section (Lee (2008) ch. 4);
+* design-load table (Lee (2008) Eq. 4.19-4.21; Ajayi (2011) Eq. 2.2-2.4, 4.19) next to the
+  transport model's design load;
+* key results, holdup profile, RTD against data, loading state per cell and per section;
+* the inputs and model choices (JSON).
+
+A view only: geometry pictures are computed by the geometry package, everything else
+is read from the :class:`rotarydryer.results.Results`.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+
+__all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source"]
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:0;color:#222;background:#fafafa}
+header{background:#5b3a12;color:#fff;padding:18px 32px}
+header h1{margin:0;font-size:1.5em} header p{margin:4px 0 0;opacity:.85;font-size:.9em}
+main{max-width:1100px;margin:0 auto;padding:8px 32px 40px}
+section{background:#fff;border:1px solid #e3e3e3;border-radius:6px;padding:12px 20px;margin:18px 0}
+h2{font-size:1.15em;border-bottom:2px solid #d9a441;padding-bottom:4px}
+table{border-collapse:collapse;font-size:.88em;margin:8px 0}
+th,td{border:1px solid #ddd;padding:3px 9px;text-align:right} th{background:#f3ead9}
+td.l,th.l{text-align:left}
+img{max-width:100%;height:auto;display:block;margin:6px auto}
+.row{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start} .row>div{flex:1 1 420px}
+.note{color:#666;font-size:.85em} pre{font-size:.78em;background:#f6f6f6;padding:8px;overflow:auto}
+.state-over{color:#b52b27;font-weight:600} .state-under{color:#2468b4} .state-design{color:#2a7a3b}
+"""
+
+
+def figure_to_data_uri(fig, dpi: int = 96) -> str:
+    """PNG ``data:`` URI of a Matplotlib figure; closes the figure."""
+    import matplotlib.pyplot as plt
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _img(fig, alt: str) -> str:
+    if fig is None:
+        return ""
+    return f'<img alt="{html.escape(alt)}" src="{figure_to_data_uri(fig)}">'
+
+
+def _table(header, rows, left_cols=1, cls="") -> str:
+    h = "".join(f'<th class="{"l" if i < left_cols else ""}">{html.escape(str(c))}</th>' for i, c in enumerate(header))
+    body = []
+    for r in rows:
+        cells = []
+        for i, c in enumerate(r):
+            klass = "l" if i < left_cols else ""
+            text = c if isinstance(c, _Raw) else html.escape(str(c))
+            cells.append(f'<td class="{klass}">{text}</td>')
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    return f'<table class="{cls}"><thead><tr>{h}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+
+
+class _Raw(str):
+    """Trusted HTML fragment for a table cell."""
+
+
+def _fmt(v, digits=4) -> str:
+    if isinstance(v, float):
+        if not np.isfinite(v):
+            return str(v)
+        if abs(v) >= 1000:
+            return f"{v:,.0f}"
+        return f"{v:.{digits}g}"
+    return str(v)
+
+
+def _geometry_sections(drums, results) -> str:
+    from ..geometry import DESIGN_LOAD_METHODS
+    from .plots import draw_cross_section, plot_unloading_profile
+
+    parts = []
+    for d in drums:
+        drum, phi = d["drum"], float(d["repose_angle"])
+        fig1 = draw_cross_section(drum, phi, angle=90.0)
+        fig1.set_size_inches(5.0, 5.0)
+        fig2 = plot_unloading_profile(drum, phi, float(d["rpm"]))
+        tr = drum.transition_angles(phi)
+        cs = drum.cascade(phi, 1.0, rpm=float(d["rpm"]), slope=float(d["slope"]))
+        geo_rows = [
+            ("drum radius R", f"{drum.radius:g} m"),
+            ("flights N_F", f"{drum.n_flights}"),
+            ("flight s1 / s2", f"{drum.flight.s1:g} m / {drum.flight.s2:g} m"),
+            ("alpha1 / alpha2", f"{drum.flight.alpha1:g} / {drum.flight.alpha2:g} deg"),
+            ("flight-tip radius R_F (Lee (2008) Eq. 4.6)", f"{drum.tip_radius:.4f} m"),
+            ("full-flight holdup (Eq. 4.8)", f"{drum.full_holdup_area * 1e4:.1f} cm2 per m"),
+            ("repose angle used", f"{phi:.2f} deg"),
+            ("transition angles psi1-psi5 (Eq. 4.9-4.13)", ", ".join(f"{float(a):.1f}" for a in tr) + " deg"),
+            ("mean fall height (design loading)", f"{float(cs.mean_fall_height):.3f} m"),
+            ("passive / active time", f"{float(cs.passive_time):.2f} s / {float(cs.mean_fall_time):.3f} s"),
+        ]
+        rho, length = float(d["bulk_density"]), float(d["length"])
+        dl_rows = []
+        for m in DESIGN_LOAD_METHODS:
+            a = float(drum.design_load_area(phi, method=m))
+            dl_rows.append((m, f"{a:.4f}", f"{a * rho * length:,.0f}"))
+        model_des = ""
+        if results is not None and results.cells is not None:
+            sel = results.cells.section.values == d["name"]
+            if np.any(sel):
+                tot = float(np.nansum(results.cells.design_load.values[sel]))
+                model_des = (f'<p class="note">Transport model ({html.escape(str(results.model_choices.get("model")))})'
+                             f" design load in this section: <b>{tot:,.0f} kg</b> "
+                             f"(sum over {int(sel.sum())} cells, moisture-dependent repose angle).</p>")
+        parts.append(f"""
+<section id="flight-{html.escape(d['name'])}"><h2>Flights: section {html.escape(d['name'])}</h2>
+<div class="row"><div>{_img(fig1, 'flight cross-section')}</div>
+<div>{_table(('quantity', 'value'), geo_rows, left_cols=1)}
+<h3>Design load</h3>
+{_table(('method', 'area (m2)', f'mass (kg), rho_b {rho:g} kg/m3, L {length:g} m'), dl_rows)}
+<p class="note">Lee (2008) Eq. 4.20-4.21 (= Baker 1988), Porter 1963 (Lee Eq. 4.19), Kelly 1977 and Ajayi
+(2011) Eq. 4.19 (1.24 x Baker); first unloading flight root at 90 deg.</p>{model_des}</div></div>
+{_img(fig2, 'unloading profile')}
+</section>""")
+    return "".join(parts)
+
+
+def _transport_sections(results) -> str:
+    from .figures import draw_dryer_side_view, plot_holdup_profile, plot_loading_state, plot_rtd
+
+    s = results.scalars
+    key = [
+        ("feed rate", s.get("feed_rate_kg_s"), "kg/s"),
+        ("outlet flow", s.get("outlet_flow_kg_s"), "kg/s"),
+        ("total holdup", s.get("total_holdup_kg"), "kg"),
+        ("airborne (active) holdup", s.get("active_holdup_kg"), "kg"),
+        ("flight-borne (passive) holdup", s.get("passive_holdup_kg"), "kg"),
+        ("kilning bed", s.get("kiln_bed_holdup_kg"), "kg"),
+        ("unflighted bed", s.get("bed_holdup_kg"), "kg"),
+        ("mean residence time H/F", (s.get("mean_residence_time_s") or np.nan) / 60, "min"),
+        ("RTD standard deviation", (s.get("rtd_std_s") or np.nan) / 60, "min"),
+        ("mass balance error", s.get("mass_balance_error"), "-"),
+    ]
+    key_rows = [(k, _fmt(float(v)) if v is not None else "-", u) for k, v, u in key if v is not None]
+    parts = [f"""<section id="summary"><h2>Key results</h2>
+{_table(('quantity', 'value', 'unit'), key_rows)}</section>
+<section id="dryer"><h2>Dryer to scale</h2>{_img(draw_dryer_side_view(results), 'dryer to scale')}</section>"""]
+    parts.append(f'<section id="holdup"><h2>Holdup profile</h2>{_img(plot_holdup_profile(results), "holdup profile")}'
+                 "</section>")
+    if results.rtd is not None:
+        meas = "" if results.rtd_measured is None else " against the measured tracer curve"
+        parts.append(f'<section id="rtd"><h2>Residence-time distribution{meas}</h2>'
+                     f'{_img(plot_rtd(results), "RTD")}{_fit_table(results)}</section>')
+    if results.cells is not None:
+        c = results.cells
+        rows = []
+        for name in dict.fromkeys(c.section.values.tolist()):
+            sel = c.section.values == name
+            st = c.state.values[sel]
+            counts = {k: int(np.sum(st == k)) for k in ("under", "design", "over")}
+            dominant = max(counts, key=counts.get)
+            rows.append((name, int(sel.sum()), counts["under"], counts["design"], counts["over"],
+                         f"{float(np.min(c.dryer_loading.values[sel])):.3f} - {float(np.max(c.dryer_loading.values[sel])):.3f}",
+                         f"{float(np.sum(c.kiln_bed.values[sel])):,.0f}",
+                         _Raw(f'<span class="state-{dominant}">{dominant}-loaded</span>')))
+        sec = results.sections
+        hold_rows = [(str(n), k, f"{float(L):g}", int(nc), f"{float(a):,.0f}", f"{float(p):,.0f}", f"{float(b):,.0f}",
+                      f"{float(t):,.0f}")
+                     for n, k, L, nc, a, p, b, t in zip(sec.section.values, sec.kind.values, sec.length.values,
+                                                        sec.n_cells.values, sec.active_holdup.values,
+                                                        sec.passive_holdup.values, sec.bed_holdup.values,
+                                                        sec.total_holdup.values)]
+        parts.append(f"""<section id="loading"><h2>Loading state per section</h2>
+{_img(plot_loading_state(results), 'loading state')}
+{_table(('section', 'cells', 'under', 'design', 'over', 'dryer loading range (-)', 'kilning bed (kg)', 'state'), rows)}
+<h3>Holdup per section (kg)</h3>
+{_table(('section', 'kind', 'length (m)', 'cells', 'airborne', 'flight-borne', 'unflighted bed', 'total'), hold_rows, left_cols=2)}
+<p class="note">Dryer loading = passive holdup / design load (Lee (2008) Section 4.4.2): under &lt; 1,
+design = 1, over &gt; 1 (the surplus forms the kilning bed).</p></section>""")
+    return "".join(parts)
+
+
+def _fit_table(results) -> str:
+    f = results.datasets.get("rtd_fits")
+    if f is None:
+        return ""
+    rows = []
+    for i, m in enumerate(f.model.values):
+        for j, p in enumerate(f.parameter.values):
+            v = float(f.value.values[i, j])
+            if not np.isfinite(v):
+                continue
+            rows.append((str(m) if j == 0 else "", str(p), f"{v:.5g}", f"{float(f.std_error.values[i, j]):.3g}",
+                         f"{float(f.ci_low.values[i, j]):.5g} - {float(f.ci_high.values[i, j]):.5g}",
+                         f"{float(f.r_squared.values[i]):.4f}" if j == 0 else "",
+                         f"{float(f.outlet_mean.values[i]) / 60:.2f}" if j == 0 else ""))
+    return (f"<h3>Classical RTD models fitted to the measured curve</h3>"
+            + _table(("model", "parameter", "value", "std. error", "95 % interval", "R2", "outlet mean (min)"),
+                     rows, left_cols=2)
+            + f'<p class="note">rotarydryer.rtd.fit_rtd_model; tracer input {html.escape(str(f.attrs.get("pulse")))}, '
+              f'scale {html.escape(str(f.attrs.get("scale")))}; units: the suffix of the parameter name.</p>')
+
+
+def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "") -> str:
+    """HTML text of the report.
+
+    Parameters
+    ----------
+    results : rotarydryer.results.Results, optional
+        Transport results (their inputs also give the flight geometry).
+    drums : list of dict, optional
+        Flighted sections to draw (see :func:`rotarydryer.report.figures.case_drums`);
+        default: those of ``results.inputs``.
+    title, subtitle : str
+    """
+    from .figures import case_drums
+
+    if results is None and not drums:
+        raise ValueError("render_report needs results or drums")
+    if drums is None:
+        drums = case_drums(results.inputs, results)
+    if title is None:
+        title = (results.inputs.get("meta", {}).get("title") or results.case_name) if results is not None else "Flight geometry"
+    body = []
+    if results is not None:
+        body.append(_transport_sections(results))
+    body.append(_geometry_sections(drums, results))
+    if results is not None:
+        body.append(f"""<section id="inputs"><h2>Inputs and model choices</h2>
+<details><summary>model choices</summary><pre>{html.escape(json.dumps(results.model_choices, indent=1))}</pre></details>
+<details><summary>case (SI units, angles in deg)</summary><pre>{html.escape(json.dumps(results.inputs, indent=1))}</pre></details>
+</section>""")
+        cites = results.inputs.get("meta", {}).get("citations", [])
+        if cites:
+            body.append("<section id='sources'><h2>Sources</h2><ul>" +
+                        "".join(f"<li>{html.escape(c)}</li>" for c in cites) + "</ul></section>")
+    version = results.version if results is not None else __version__
+    created = results.created if results is not None else ""
+    sub = subtitle or (f"case {results.case_name}, model {results.model_choices.get('model')}" if results else "")
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
+<meta name="generator" content="rotarydryer {html.escape(version)}">
+<style>{_CSS}</style></head>
+<body><header><h1>{html.escape(title)}</h1>
+<p>{html.escape(sub)} &middot; rotarydryer {html.escape(version)} {html.escape(created)}</p></header>
+<main>{''.join(body)}</main></body></html>
+"""
+
+
+def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: float | None = None):
+    """``(results, drums, title)`` for a report source: a saved results file (``.nc``), a
+    case name or ``.toml`` file (run), or a built-in drum preset (geometry only, at
+    ``repose_angle`` deg, default 45)."""
+    from ..cases import list_cases
+    from ..geometry.presets import drum_presets, preset_drum
+    from ..results import Results, run_case
+
+    p = Path(source)
+    if p.suffix in (".nc", ".h5") and p.exists():
+        if overrides:
+            raise ValueError(f"--set cannot be applied to a saved result ({source})")
+        return Results.load(p), None, None
+    if source in list_cases() or (p.suffix == ".toml" and p.exists()):
+        return run_case(source, overrides, fit_rtd=True), None, None
+    if source in drum_presets():
+        drum, e = preset_drum(source)
+        phi = 45.0 if repose_angle is None else float(repose_angle)
+        d = dict(name=source, drum=drum, length=e["length"], slope=e["slope"], rpm=e["rpm"],
+                 bulk_density=e["bulk_density"], repose_angle=phi)
+        return None, [d], f"Flight geometry: {e['description']}"
+    raise ValueError(f"source = {source!r} is not a results file (.nc), a case ({', '.join(list_cases())}), "
+                     f"a .toml case file nor a drum preset ({', '.join(drum_presets())})")
+
+
+def build_report(source: str, overrides: dict | None = None, *, repose_angle: float | None = None) -> str:
+    """HTML text of the report of ``source`` (see :func:`resolve_source`)."""
+    results, drums, title = resolve_source(source, overrides, repose_angle=repose_angle)
+    if results is not None and repose_angle is not None:
+        from .figures import case_drums
+
+        drums = case_drums(results.inputs, results)
+        for d in drums:
+            d["repose_angle"] = float(repose_angle)
+    return render_report(results, drums=drums, title=title)
+
+
+def write_report(source, out, overrides: dict | None = None, *, repose_angle: float | None = None) -> Path:
+    """Write the report of ``source`` (results file, case, drum preset or a Results object)
+    to ``out`` atomically; returns the path."""
+    from ..results import Results
+
+    text = render_report(source) if isinstance(source, Results) else build_report(
+        str(source), overrides, repose_angle=repose_angle)
+    return write_html(text, out)
+
+
+def write_html(text: str, out) -> Path:
+    """Write ``text`` to ``out`` atomically (temporary file beside it + os.replace)."""
+    out = Path(out)
+    directory = out.parent if str(out.parent) else Path(".")
+    directory.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, out)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return out

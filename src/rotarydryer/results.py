@@ -1,0 +1,520 @@
+"""One results object for a simulation: inputs, model choices, version and outputs.
+
+>>> from rotarydryer.results import run_case, Results
+>>> res = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions"})
+>>> round(res.scalars["total_holdup_kg"])      # kg
+16398
+>>> res.cells                  # xarray.Dataset, one row per flighted cell   # doctest: +SKIP
+>>> res.to_frame("cells")      # pandas.DataFrame, columns "name [unit]"     # doctest: +SKIP
+>>> path = res.save("invicta.nc")                                            # doctest: +SKIP
+>>> Results.load(path) == res                                                # doctest: +SKIP
+True
+
+Contents
+--------
+``inputs``
+    The validated case as a JSON-ready dict (``case.model_dump(mode="json")``), SI units.
+``model_choices``
+    Model name and the parameters the transport model was built with (JSON-ready).
+``scalars``
+    Named numbers; the unit is the suffix of the name (``_kg``, ``_s``, ``_kg_s``, ``_min``,
+    ``_m``; no suffix = dimensionless).
+``datasets``
+    Named :class:`xarray.Dataset` objects; every variable carries ``attrs["units"]`` and
+    ``attrs["long_name"]``.  Built by :func:`from_transport`:
+
+    * ``nodes``: every network node (dim ``node``): phase, section, cell, position (m),
+      holdup (kg), design_load (kg, NaN where not defined);
+    * ``cells``: every flighted cell (dim ``cell``): passive/active holdup, design load,
+      kilning bed (kg), dryer loading (-), loading state, plus the model's per-cell
+      coefficients (repose angle deg, cycle times s, ...);
+    * ``sections``: holdups per section (dim ``section``);
+    * ``rtd``: simulated tracer response (dim ``time``): E(t) 1/s, F(t) -, outlet tracer
+      flow kg/s;
+    * ``rtd_measured``: the case's measured tracer curve (dim ``time``), when it has one;
+    * ``rtd_fits``: classical RTD models fitted to it (dims ``model``, ``parameter``), with
+      ``run_case(..., fit_rtd=True)``.
+
+Storage format (why netCDF)
+---------------------------
+One netCDF-4/HDF5 file written through xarray with the ``h5netcdf`` engine: the root
+group holds the metadata (inputs, model choices, scalars, version: one JSON string
+attribute ``rotarydryer_results``), each dataset is a netCDF group.  Chosen over Parquet +
+a JSON side file because (1) the dependency set is lighter: xarray + pandas + h5netcdf +
+h5py install to about 115 MB, pandas + pyarrow to about 255 MB (pyarrow alone 170 MB);
+(2) units and long names travel in variable attributes natively; (3) everything is one file, so a single
+``os.replace`` makes the write atomic (two files could not be replaced together).
+It is lossless for what the results hold: float64/int64/bool/str arrays bit for bit,
+NaN included; metadata is JSON (Python's ``json`` round-trips floats exactly; NaN and
+infinities are written as the non-standard ``NaN``/``Infinity`` tokens Python reads back).
+
+Writes are atomic: the file is written to a temporary file in the destination directory
+and moved over the target with :func:`os.replace`; if anything fails midway the
+temporary file is removed and an existing file at ``path`` is left untouched.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+
+__all__ = ["Results", "from_transport", "run_case", "fit_measured_rtd", "load_results", "FORMAT_VERSION",
+           "UNIT_SUFFIXES"]
+
+FORMAT_VERSION = 1
+_META_ATTR = "rotarydryer_results"
+
+#: Unit of a per-cell quantity from the suffix of its name (longest suffix first).
+UNIT_SUFFIXES = {
+    "_kg_m3": "kg/m3",
+    "_kg_kg": "kg/kg",
+    "_kg_s": "kg/s",
+    "_m2": "m2",
+    "_deg": "deg",
+    "_min": "min",
+    "_kg": "kg",
+    "_s": "s",
+    "_m": "m",
+}
+
+
+def split_unit(name: str) -> tuple[str, str]:
+    """``"repose_angle_deg"`` -> ``("repose_angle", "deg")``; no known suffix -> ``(name, "-")``."""
+    for suf in sorted(UNIT_SUFFIXES, key=len, reverse=True):
+        if name.endswith(suf) and len(name) > len(suf):
+            return name[: -len(suf)], UNIT_SUFFIXES[suf]
+    return name, "-"
+
+
+def _jsonable(obj: Any) -> Any:
+    """Convert to JSON-ready builtins (numpy scalars/arrays, tuples, objects -> repr)."""
+    if obj is None or isinstance(obj, (bool, str, int)):
+        return obj
+    if isinstance(obj, float):
+        return obj
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return [_jsonable(x) for x in obj.tolist()]
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(x) for x in obj]
+    if hasattr(obj, "model_dump"):
+        return _jsonable(obj.model_dump(mode="json"))
+    return repr(obj)
+
+
+def _utcnow() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+
+
+def _xr():
+    try:
+        import xarray as xr
+    except ImportError as exc:  # pragma: no cover - dependency documented in the report
+        raise ImportError("rotarydryer.results needs xarray (pip install xarray h5netcdf)") from exc
+    return xr
+
+
+@dataclass(eq=False)
+class Results:
+    """Inputs, model choices, version and outputs of one simulation.
+
+    Attributes
+    ----------
+    inputs : dict
+        The case (JSON-ready, SI units, angles in deg).
+    model_choices : dict
+        Model name and the parameters it was built with.
+    scalars : dict of str -> float
+        Unit in the name suffix (``total_holdup_kg``, ``mean_residence_time_s`` ...).
+    datasets : dict of str -> xarray.Dataset
+        Profiles and curves with ``units`` attributes (see the module docstring).
+    case_name : str
+        Name or path the case was loaded from.
+    version : str
+        ``rotarydryer.__version__`` that produced the results.
+    created : str
+        ISO 8601 UTC time stamp.
+    """
+
+    inputs: dict
+    model_choices: dict = field(default_factory=dict)
+    scalars: dict = field(default_factory=dict)
+    datasets: dict = field(default_factory=dict)
+    case_name: str = ""
+    version: str = __version__
+    created: str = field(default_factory=_utcnow)
+
+    # -- convenient views ---------------------------------------------------------------
+    @property
+    def nodes(self):
+        return self.datasets.get("nodes")
+
+    @property
+    def cells(self):
+        """Per flighted cell profile (xarray.Dataset, dim ``cell``), or None."""
+        return self.datasets.get("cells")
+
+    @property
+    def sections(self):
+        return self.datasets.get("sections")
+
+    @property
+    def rtd(self):
+        """Simulated tracer response (xarray.Dataset, dim ``time``), or None."""
+        return self.datasets.get("rtd")
+
+    @property
+    def rtd_measured(self):
+        return self.datasets.get("rtd_measured")
+
+    @property
+    def kind(self) -> str:
+        return str(self.inputs.get("kind", ""))
+
+    def to_frame(self, name: str):
+        """Dataset ``name`` as a pandas DataFrame, columns named ``"variable [unit]"``."""
+        if name not in self.datasets:
+            raise ValueError(f"name = {name!r} is not one of {', '.join(map(repr, self.datasets))}")
+        ds = self.datasets[name]
+        df = ds.to_dataframe()
+        df.columns = [f"{c} [{ds[c].attrs.get('units', '-')}]" for c in df.columns]
+        return df
+
+    def metadata(self) -> dict:
+        """Everything except the datasets, JSON-ready."""
+        return {
+            "format_version": FORMAT_VERSION,
+            "version": self.version,
+            "created": self.created,
+            "case_name": self.case_name,
+            "inputs": _jsonable(self.inputs),
+            "model_choices": _jsonable(self.model_choices),
+            "scalars": _jsonable(self.scalars),
+            "datasets": list(self.datasets),
+        }
+
+    # -- comparison ---------------------------------------------------------------------
+    def identical(self, other: "Results") -> bool:
+        """True when metadata and every dataset (values, dims, coords, attrs) are identical
+        (NaN equals NaN, floats compared exactly)."""
+        if not isinstance(other, Results):
+            return False
+        a, b = self.metadata(), other.metadata()
+        if json.dumps(a, sort_keys=True) != json.dumps(b, sort_keys=True):
+            return False
+        for k, ds in self.datasets.items():
+            o = other.datasets[k]
+            if not ds.identical(o):
+                return False
+            for v in ds.variables:
+                if ds[v].dtype.kind != o[v].dtype.kind:
+                    return False
+        return True
+
+    __eq__ = identical
+    __hash__ = None  # mutable
+
+    def summary(self) -> str:
+        """A short plain-text summary."""
+        lines = [f"rotarydryer {self.version} results: {self.case_name or self.kind} "
+                 f"({self.model_choices.get('model', '?')}), {self.created}"]
+        for k, v in self.scalars.items():
+            name, unit = split_unit(k)
+            lines.append(f"  {name:<28s} {v:.6g} {unit if unit != '-' else ''}".rstrip())
+        return "\n".join(lines)
+
+    # -- storage ------------------------------------------------------------------------
+    def save(self, path) -> Path:
+        """Write to a netCDF-4 file (``.nc``) atomically; returns the path.
+
+        The data go to a temporary file beside ``path`` that replaces ``path`` only when
+        complete; on any error the temporary file is deleted and ``path`` is unchanged.
+        """
+        path = Path(path)
+        directory = path.parent if str(path.parent) else Path(".")
+        if not directory.is_dir():
+            raise ValueError(f"path = {str(path)!r}: directory {str(directory)!r} does not exist")
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+        os.close(fd)
+        try:
+            _write(self, tmp)
+            with open(tmp, "rb") as fh:
+                os.fsync(fh.fileno())
+            os.replace(tmp, path)
+        except BaseException:
+            try:
+                os.unlink(tmp)
+            except FileNotFoundError:
+                pass
+            raise
+        return path
+
+    @classmethod
+    def load(cls, path) -> "Results":
+        """Read a file written by :meth:`save`."""
+        xr = _xr()
+        path = Path(path)
+        if not path.is_file():
+            raise ValueError(f"path = {str(path)!r} is not a file")
+        try:
+            with xr.open_dataset(path, engine="h5netcdf") as root:
+                meta_text = root.attrs.get(_META_ATTR)
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"path = {str(path)!r} is not a rotarydryer results file ({exc})") from None
+        if meta_text is None:
+            raise ValueError(f"path = {str(path)!r} is not a rotarydryer results file (no {_META_ATTR} attribute)")
+        meta = json.loads(meta_text)
+        if meta.get("format_version", 0) > FORMAT_VERSION:
+            raise ValueError(f"path = {str(path)!r} has format_version {meta['format_version']}; this "
+                             f"rotarydryer reads up to {FORMAT_VERSION}")
+        datasets = {}
+        for name in meta["datasets"]:
+            with xr.open_dataset(path, engine="h5netcdf", group=name) as ds:
+                ds = ds.load()
+            for v in ds.variables:
+                ds[v].encoding = {}
+            datasets[name] = ds
+        return cls(inputs=meta["inputs"], model_choices=meta["model_choices"], scalars=meta["scalars"],
+                   datasets=datasets, case_name=meta["case_name"], version=meta["version"],
+                   created=meta["created"])
+
+    # -- case round trip ----------------------------------------------------------------
+    def case(self):
+        """The validated case model (pydantic) rebuilt from :attr:`inputs`."""
+        from .cases import AjayiCase, LeeCase
+
+        kinds = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+        if self.kind not in kinds:
+            raise ValueError(f"inputs.kind = {self.kind!r} is not one of {', '.join(map(repr, kinds))}")
+        return kinds[self.kind].model_validate(self.inputs)
+
+
+def _write_group(path: str, name: str | None, ds) -> None:
+    """Write one group (``name`` None: the root group, creating the file)."""
+    if name is None:
+        ds.to_netcdf(path, mode="w", engine="h5netcdf")
+    else:
+        ds.to_netcdf(path, mode="a", engine="h5netcdf", group=name)
+
+
+def _check_nul(res: Results) -> None:
+    """HDF5 strings cannot hold NUL characters: refuse them with a clear message."""
+    for name, ds in res.datasets.items():
+        for v in ds.variables:
+            for k, a in ds[v].attrs.items():
+                if isinstance(a, str) and "\x00" in a:
+                    raise ValueError(f"datasets[{name!r}][{v!r}].attrs[{k!r}] = {a!r} contains a NUL character, "
+                                     "which netCDF/HDF5 strings cannot store")
+            if ds[v].dtype.kind in "UO" and any("\x00" in str(x) for x in np.ravel(ds[v].values)):
+                raise ValueError(f"datasets[{name!r}][{v!r}] contains a NUL character, which netCDF/HDF5 "
+                                 "strings cannot store")
+        for k, a in ds.attrs.items():
+            if isinstance(a, str) and "\x00" in a:
+                raise ValueError(f"datasets[{name!r}].attrs[{k!r}] = {a!r} contains a NUL character")
+
+
+def _write(res: Results, path: str) -> None:
+    xr = _xr()
+    _check_nul(res)
+    meta = json.dumps(res.metadata())  # JSON escapes NUL and any other character
+    title = res.case_name.replace("\x00", "")
+    root = xr.Dataset(attrs={_META_ATTR: meta, "title": f"rotarydryer results: {title}",
+                             "software": f"rotarydryer {res.version}"})
+    _write_group(path, None, root)
+    for name, ds in res.datasets.items():
+        _write_group(path, name, ds)
+
+
+def load_results(path) -> Results:
+    """Same as :meth:`Results.load`."""
+    return Results.load(path)
+
+
+# ---- construction from the transport engine -----------------------------------------------
+def _var(values, units: str, long_name: str, dims=None):
+    return (dims, np.asarray(values), {"units": units, "long_name": long_name})
+
+
+def from_transport(case, model, steady, rtd=None, measured=None, case_name: str = "") -> Results:
+    """Collect a transport simulation into a :class:`Results`.
+
+    Parameters
+    ----------
+    case : LeeCase or AjayiCase (pydantic) or dict
+    model : rotarydryer.transport.TransportModel
+    steady : rotarydryer.transport.SteadyState
+    rtd : rotarydryer.transport.RTDResult, optional
+    measured : (time s, signal) arrays, optional — the case's measured tracer curve
+        (``rotarydryer.cases.measured_rtd``); signal in 1/s or raw concentration.
+    """
+    xr = _xr()
+    inputs = _jsonable(case)
+    datasets = {}
+    n = steady.masses.size
+    design = np.asarray(model.design_load, dtype=float)
+    datasets["nodes"] = xr.Dataset(
+        {
+            "phase": _var(steady.phase.astype(str), "-", "phase (active, passive, bed)", "node"),
+            "section": _var(steady.section.astype(str), "-", "section name", "node"),
+            "cell": _var(steady.cell.astype(np.int64), "-", "cell index within the section", "node"),
+            "position": _var(steady.position, "m", "axial position of the cell centre from the feed end", "node"),
+            "holdup": _var(np.asarray(steady.masses, dtype=float), "kg", "solids holdup", "node"),
+            "design_load": _var(design, "kg", "design load (passive nodes; NaN elsewhere)", "node"),
+        },
+        coords={"node": ("node", np.arange(n, dtype=np.int64))},
+    )
+    rows = steady.cell_table()
+    if rows:
+        long = {"section": "section name", "cell": "cell index within the section",
+                "position_m": "axial position of the cell centre", "passive_kg": "flight- and drum-borne holdup",
+                "active_kg": "airborne (curtain) holdup", "design_load_kg": "design load",
+                "kiln_bed_kg": "kilning bed (holdup above the design load)",
+                "dryer_loading": "dryer loading M_P/M_P,des (Lee (2008) Section 4.4.2)",
+                "state": "loading state (under, design, over)"}
+        rename = {"passive_kg": "passive_holdup", "active_kg": "active_holdup", "cell": "cell_in_section"}
+        vars_ = {}
+        for key in rows[0]:
+            vals = [r[key] for r in rows]
+            if key in ("section", "state"):
+                arr, unit, nm = np.array(vals, dtype=str), "-", key
+            elif key == "cell":
+                arr, unit, nm = np.array(vals, dtype=np.int64), "-", "cell_in_section"
+            else:
+                nm, unit = split_unit(key)
+                nm = rename.get(key, nm)
+                arr = np.array(vals, dtype=float)
+            vars_[nm] = _var(arr, unit, long.get(key, key), "cell")
+        datasets["cells"] = xr.Dataset(vars_, coords={"cell": ("cell", np.arange(len(rows), dtype=np.int64))})
+    sec_h = steady.section_holdups()
+    secs = model.sections
+    datasets["sections"] = xr.Dataset(
+        {
+            "kind": _var(np.array([s["kind"] for s in secs], dtype=str), "-", "flighted or unflighted", "section"),
+            "length": _var(np.array([float(s["length"]) for s in secs]), "m", "section length", "section"),
+            "n_cells": _var(np.array([int(s["n_cells"]) for s in secs], dtype=np.int64), "-", "cells", "section"),
+            **{f"{p}_holdup": _var(np.array([sec_h[s["name"]][f"{p}_kg"] for s in secs]), "kg", f"{p} holdup",
+                                   "section") for p in ("active", "passive", "bed", "total")},
+        },
+        coords={"section": ("section", np.array([s["name"] for s in secs], dtype=str))},
+    )
+    ss = steady.to_dict()
+    scalars = {k: float(v) for k, v in ss.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    states = steady.loading_state
+    scalars.update({"cells_over": float(states.count("over")), "cells_design": float(states.count("design")),
+                    "cells_under": float(states.count("under"))})
+    if rtd is not None:
+        rd = rtd.to_dict()
+        for k, v in rd.items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                # a name the steady state already uses (mean_residence_time_s) gets an rtd_ prefix
+                scalars[f"rtd_{k}" if k in scalars else k] = float(v)
+        r = rtd.response
+        if r is not None:
+            datasets["rtd"] = xr.Dataset(
+                {
+                    "exit_age": _var(np.asarray(r.exit_age, float), "1/s", "E(t), exit-age distribution", "time"),
+                    "cumulative": _var(np.asarray(r.cumulative, float), "-", "F(t), cumulative RTD", "time"),
+                    "outlet_tracer_flow": _var(np.asarray(r.outlet_tracer_flow, float), "kg/s",
+                                               "tracer flow at the outlet", "time"),
+                },
+                coords={"time": ("time", np.asarray(r.time, float), {"units": "s", "long_name": "time since injection start"})},
+                attrs={"method": str(r.method), "injected_mass_kg": float(r.injected_mass)},
+            )
+    if measured is not None:
+        t, y = (np.asarray(a, dtype=float) for a in measured)
+        datasets["rtd_measured"] = xr.Dataset(
+            {"signal": _var(y, "1/s or raw concentration", "measured tracer signal (normalise by its integral)", "time")},
+            coords={"time": ("time", t, {"units": "s", "long_name": "time since injection start"})},
+        )
+    choices = {"model": model.name, "parameters": _jsonable(model.parameters)}
+    for sec in ("transport", "geometry"):
+        if isinstance(inputs, dict) and sec in inputs:
+            choices[sec] = inputs[sec]
+    return Results(inputs=inputs if isinstance(inputs, dict) else {}, model_choices=choices, scalars=scalars,
+                   datasets=datasets, case_name=case_name)
+
+
+def fit_measured_rtd(time_s, signal, pulse_duration: float, models=None):
+    """Fit the classical RTD models (``rotarydryer.rtd.fit_rtd_model``: tanks in series,
+    closed and open axial dispersion) to a measured tracer curve; returns an
+    ``xarray.Dataset`` with dims ``(model, parameter)``.
+
+    The tracer input is a rectangular pulse of ``pulse_duration`` s starting at t = 0.
+    A curve whose trapezoidal area is within 5 % of 1 is taken as a normalised E(t) in 1/s
+    (Lee's files) and fitted with a fixed unit scale; any other curve (raw ppm, Ajayi) gets
+    a fitted scale (its area).  Parameter units are the suffixes of their names
+    (``mean_residence_time_s``, ``space_time_s``; ``n_tanks``, ``peclet`` and ``scale``
+    dimensionless or in signal x s).
+    """
+    from .rtd import RTD_MODELS, fit_rtd_model, pulse_input
+
+    xr = _xr()
+    t = np.asarray(time_s, float)
+    y = np.asarray(signal, float)
+    normalised = abs(float(np.trapezoid(y, t)) - 1.0) < 0.05
+    pulse = pulse_input("rectangular", pulse_duration) if pulse_duration > 0 else pulse_input("dirac")
+    fits = {}
+    for m in models or RTD_MODELS:
+        fits[m] = fit_rtd_model(t, y, m, pulse=pulse, fit_scale=not normalised).to_dict()
+    params = list(dict.fromkeys(p for d in fits.values() for p in d["parameters"]))
+    models = list(fits)
+
+    def grid(key):
+        return np.array([[fits[m]["parameters"].get(p, {}).get(key, np.nan) for p in params] for m in models], float)
+
+    dims = ("model", "parameter")
+    return xr.Dataset(
+        {
+            "value": _var(grid("value"), "unit of the parameter name suffix", "fitted value", dims),
+            "std_error": _var(grid("std_error"), "unit of the parameter name suffix", "standard error", dims),
+            "ci_low": _var(grid("ci_low"), "unit of the parameter name suffix", "95 % confidence limit, low", dims),
+            "ci_high": _var(grid("ci_high"), "unit of the parameter name suffix", "95 % confidence limit, high", dims),
+            "r_squared": _var([fits[m]["r_squared"] for m in models], "-", "coefficient of determination", "model"),
+            "outlet_mean": _var([fits[m]["outlet_moments"]["mean_s"] for m in models], "s",
+                                "mean of the fitted outlet curve from the injection start", "model"),
+            "outlet_std": _var([fits[m]["outlet_moments"]["std_s"] for m in models], "s",
+                               "standard deviation of the fitted outlet curve", "model"),
+        },
+        coords={"model": ("model", np.array(models, dtype=str)), "parameter": ("parameter", np.array(params, dtype=str))},
+        attrs={"pulse": f"rectangular, {pulse_duration:g} s", "scale": "fixed 1 (normalised E)" if normalised else "fitted"},
+    )
+
+
+def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: str = "auto",
+             fit_rtd: bool = False) -> Results:
+    """Load a case (name, ``.toml`` path or validated case), solve the steady state and,
+    with ``rtd=True``, the tracer pulse of the case; with ``fit_rtd=True`` also fit the
+    classical RTD models to the case's measured curve (:func:`fit_measured_rtd`, stored as
+    ``datasets["rtd_fits"]``).  Returns the :class:`Results`."""
+    from .cases import build_model, load_case, measured_rtd
+
+    name = case if isinstance(case, (str, os.PathLike)) else getattr(getattr(case, "meta", None), "title", "")
+    c = load_case(str(case), overrides) if isinstance(case, (str, os.PathLike)) else case
+    model = build_model(c)
+    steady = model.steady_state()
+    r = meas = None
+    if rtd:
+        r = steady.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
+        meas = measured_rtd(c)
+    res = from_transport(c, model, steady, r, meas, case_name=str(name))
+    if fit_rtd and meas is not None:
+        res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
+    if overrides:
+        res.model_choices["overrides"] = _jsonable(overrides)
+    if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):
+        bad = [k for k, v in res.scalars.items() if not math.isfinite(v)]
+        raise ValueError(f"case {name!r}: non-finite results {', '.join(bad)}")
+    return res

@@ -1,0 +1,82 @@
+"""``rotarydryer sweep``: grids, lists, local processes, errors."""
+
+import csv
+import io
+import json
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+pytest.importorskip("xarray")
+
+from rotarydryer.cli import app as cli  # noqa: E402
+from rotarydryer.cli import sweep as sweep_mod  # noqa: E402
+from rotarydryer.results import run_case  # noqa: E402
+
+runner = CliRunner()
+REG = ["--set", "geometry.method=lee2008_regressions"]
+
+
+def test_grid_matches_single_runs_and_is_ordered(tmp_path):
+    out = tmp_path / "t.csv"
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3",
+                              "--grid", "operating.feed_rate=20,27.2", "--no-rtd", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    rows = list(csv.DictReader(io.StringIO(out.read_text())))
+    assert [(r["operating.rpm"], r["operating.feed_rate"]) for r in rows] == [
+        ("2", "20"), ("2", "27.2"), ("3", "20"), ("3", "27.2")]
+    single = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions", "operating.rpm": 3,
+                                          "operating.feed_rate": 27.2}, rtd=False)
+    assert float(rows[3]["total_holdup_kg"]) == single.scalars["total_holdup_kg"]  # exact (repr floats)
+    for r in rows:  # conservation in every run
+        assert float(r["mass_balance_error"]) < 1e-9
+    # more feed -> more holdup at each speed
+    assert float(rows[1]["total_holdup_kg"]) > float(rows[0]["total_holdup_kg"])
+
+
+def test_list_with_processes_and_failed_point(tmp_path):
+    runs = tmp_path / "runs.csv"
+    runs.write_text("# Ajayi tests\noperating.test\n2\n4\n7\n")
+    res = runner.invoke(cli, ["sweep", "ajayi2011_mmg", "--list", str(runs), "--workers", "2", "--json"])
+    assert res.exit_code == 1  # test 7 does not exist
+    rows = json.loads(res.stdout)
+    assert [r["operating.test"] for r in rows] == ["2", "4", "7"]
+    assert rows[0]["error"] == "" and rows[1]["error"] == ""
+    assert "operating.test" in rows[2]["error"]
+    assert rows[1]["total_holdup_kg"] == pytest.approx(run_case("ajayi2011_mmg", {"operating.test": 4}).scalars["total_holdup_kg"])
+
+
+@pytest.mark.parametrize("args, expect", [
+    ([], "nothing to run"),
+    (["--grid", "operating.rpm"], "KEY=V1"),
+    (["--grid", "operating.nope=1,2"], "operating.nope"),
+    (["--grid", "operating.rpm=1", "--workers", "-1"], "workers"),
+])
+def test_bad_input(args, expect):
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", *args])
+    assert res.exit_code == 2 and expect in res.output
+
+
+def test_dask_missing_gives_exit_3(monkeypatch):
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # import fails as when not installed
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3", "--no-rtd",
+                              "--scheduler", "tcp://127.0.0.1:1"])
+    assert res.exit_code == 3 and "dask" in res.output
+
+
+def test_parse_grid_product():
+    pts = sweep_mod.parse_grid(["a.b=1,2,3", "c.d=x,y"])
+    assert len(pts) == 6 and pts[0] == {"a.b": "1", "c.d": "x"} and pts[-1] == {"a.b": "3", "c.d": "y"}
+
+
+def test_dask_scheduler_gives_same_table():
+    """The Dask path (in-process LocalCluster) gives exactly the local table."""
+    distributed = pytest.importorskip("dask.distributed")
+    args = ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3,4", "--no-rtd", "--json"]
+    local = json.loads(runner.invoke(cli, args).stdout)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        res = runner.invoke(cli, [*args, "--scheduler", cluster.scheduler_address])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.stdout) == local

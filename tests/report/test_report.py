@@ -1,0 +1,108 @@
+"""HTML report: self-contained, correct numbers, CLI behaviour."""
+
+import csv
+import json
+import re
+from importlib import resources
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+pytest.importorskip("xarray")
+
+from rotarydryer.report.html import build_report, render_report, write_report  # noqa: E402
+from rotarydryer.results import Results  # noqa: E402
+
+runner = CliRunner()
+
+
+def _csv(name):
+    text = (resources.files("rotarydryer") / "data" / name).read_text()
+    return list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
+
+
+def _design_load_kg(html_text, method="lee2008"):
+    m = re.search(rf"<td class=\"l\">{method}</td><td class=\"\">[0-9.]+</td><td class=\"\">([0-9,]+)</td>", html_text)
+    assert m, f"no design-load row for {method}"
+    return float(m.group(1).replace(",", ""))
+
+
+def _assert_self_contained(text):
+    assert text.startswith("<!DOCTYPE html>")
+    assert not re.search(r"(src|href)\s*=\s*[\"'](https?:|//|file:)", text), "external resource"
+    assert "<script" not in text and "<link" not in text
+    imgs = re.findall(r'<img alt="[^"]*" src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
+    assert imgs and all(len(i) > 2000 for i in imgs)
+    return len(imgs)
+
+
+def test_drum_report_reproduces_lee_table_7_7_design_load(tmp_path):
+    """Lee (2008) Table 7.7: flighted mass (= design load) 6784 kg at a repose angle of 50 deg
+    (Invicta, 940 kg/m3, 12 m), read back from the report's design-load table."""
+    row = next(r for r in _csv("lee_response_angle_of_repose_holdups.csv") if r["dynamic_angle_of_repose_deg"] == "50")
+    out = write_report("invicta", tmp_path / "drum.html", repose_angle=50.0)
+    text = out.read_text()
+    assert _assert_self_contained(text) == 2  # cross-section + unloading profile
+    assert _design_load_kg(text) == pytest.approx(float(row["flighted_mass_kg"]), rel=3e-3)
+    assert "repose angle used</td><td class=\"\">50.00 deg" in text
+
+
+@settings(max_examples=4, deadline=None)
+@given(a=st.floats(25, 40), b=st.floats(45, 60))
+def test_design_load_in_report_grows_with_repose_angle(a, b):
+    low, high = (_design_load_kg(build_report("invicta", repose_angle=x)) for x in (a, b))
+    assert high > low
+
+
+def test_report_cli_case_save_and_reload_identical(cli, tmp_path):
+    out, nc = tmp_path / "r.html", tmp_path / "r.nc"
+    res = runner.invoke(cli, ["report", "lee2008_invicta", "--set", "geometry.method=lee2008_regressions",
+                              "--out", str(out), "--save", str(nc), "--json"])
+    assert res.exit_code == 0, res.output
+    info = json.loads(res.output)
+    assert info["report"] == str(out) and info["bytes"] == out.stat().st_size
+    text = out.read_text()
+    assert _assert_self_contained(text) >= 6
+    for sid in ('id="summary"', 'id="holdup"', 'id="rtd"', 'id="loading"', 'id="flight-dryer"', 'id="inputs"'):
+        assert sid in text
+    assert "against the measured tracer curve" in text and "over-loaded" in text
+    loaded = Results.load(nc)
+    # the report of the saved result is byte-identical to the one made from the live run
+    assert render_report(loaded) == text
+    res2 = runner.invoke(cli, ["report", str(nc), "--out", str(tmp_path / "r2.html")])
+    assert res2.exit_code == 0, res2.output
+    assert (tmp_path / "r2.html").read_text() == text
+    # key results in the report equal the stored scalars
+    total = loaded.scalars["total_holdup_kg"]
+    assert f"<td class=\"l\">total holdup</td><td class=\"\">{total:,.0f}</td>" in text
+
+
+def test_report_cli_ajayi_sections(cli, tmp_path):
+    out = tmp_path / "a.html"
+    res = runner.invoke(cli, ["report", "ajayi2011_mmg", "--set", "operating.test=4", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "report:" in res.output
+    text = out.read_text()
+    for s in ("B", "C", "D"):
+        assert f'id="flight-{s}"' in text
+    assert 'id="flight-A"' not in text  # unflighted
+    assert _assert_self_contained(text) == 2 * 3 + 4
+
+
+@pytest.mark.parametrize("args, expect", [
+    (["no_such_thing"], "not a results file"),
+    (["lee2008_invicta", "--set", "operating.nope=3"], "operating.nope"),
+    (["lee2008_invicta", "--set", "operating.rpm=-1"], "operating.rpm"),
+    (["lee2008_invicta", "--set", "rpm"], "KEY=VALUE"),
+    (["invicta", "--repose-angle", "95"], "repose_angle"),
+    (["invicta", "--save", "x.nc"], "--save"),
+])
+def test_report_cli_bad_input(cli, tmp_path, args, expect):
+    out = tmp_path / "bad.html"
+    res = runner.invoke(cli, ["report", *args, "--out", str(out)])
+    assert res.exit_code == 2
+    assert expect in res.output
+    assert "Traceback" not in res.output
+    assert not out.exists()
