@@ -200,22 +200,76 @@ def valid_override_keys(case_cls) -> list[str]:
     return sorted(keys)
 
 
-def _read(name: str) -> dict:
+def _source(name: str) -> tuple[str, str]:
+    """(TOML text, display name) of a packaged case or a .toml path."""
     p = Path(name)
     if p.suffix == ".toml" and p.exists():
-        return tomllib.loads(p.read_text())
+        return p.read_text(), str(p)
     res = resources.files(__package__) / f"{name}.toml"
     if not res.is_file():
         raise ValueError(f"case = {name!r} is not a packaged case ({', '.join(list_cases())}) nor a .toml file")
-    return tomllib.loads(res.read_text())
+    return res.read_text(), f"{name}.toml"
 
 
-def _format_validation_error(exc: ValidationError, raw: dict) -> str:
-    msgs = []
+def _read(name: str) -> dict:
+    text, shown = _source(name)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{shown}: not valid TOML: {exc}") from None
+
+
+def _toml_line(text: str, loc: tuple) -> int | None:
+    """Line (1-based) of the key at ``loc`` in a TOML text; the table header when the key is
+    absent; None when not found. Handles [table], [table.sub] and [[array]] headers."""
+    want = [str(x) for x in loc]
+    current: list[str] = []
+    counts: dict[str, int] = {}
+    best = None
+    for no, line in enumerate(text.splitlines(), start=1):
+        stripped = line.split("#", 1)[0].strip()
+        if not stripped:
+            continue
+        if stripped.startswith("[["):
+            name = stripped.strip("[] ")
+            counts[name] = counts.get(name, -1) + 1
+            current = name.split(".") + [str(counts[name])]
+        elif stripped.startswith("["):
+            current = stripped.strip("[] ").split(".")
+        elif "=" in stripped:
+            key = stripped.split("=", 1)[0].strip().strip('"')
+            if current + [key] == want[: len(current) + 1] and len(current) + 1 == len(want):
+                return no
+            continue
+        else:
+            continue
+        if want[: len(current)] == current:
+            best = no
+    return best
+
+
+def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", shown: str = "",
+                             overrides: dict | None = None) -> str:
+    """One line per problem: ``file:line: field = value: message (allowed ...)``."""
+    lines = []
     for e in exc.errors():
-        loc = ".".join(str(x) for x in e["loc"])
-        msgs.append(f"{loc} = {e.get('input')!r}: {e['msg']}")
-    return "; ".join(msgs)
+        loc = tuple(e["loc"])
+        dotted = ".".join(str(x) for x in loc)
+        where = shown
+        if overrides and dotted in overrides:
+            where = f"--set {dotted}"
+        elif text:
+            no = _toml_line(text, loc)
+            where = f"{shown}:{no}" if no else shown
+        kind = e.get("type", "")
+        if kind == "missing":
+            msg = f"{dotted} is missing (a required field or section)"
+        elif kind == "extra_forbidden":
+            msg = f"{dotted} is not a known field here"
+        else:
+            msg = f"{dotted} = {e.get('input')!r}: {e['msg']}"
+        lines.append(f"{where}: {msg}")
+    return "\n".join(lines)
 
 
 def load_case(name: str, overrides: dict[str, Any] | None = None):
@@ -232,6 +286,7 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     -------
     LeeCase or AjayiCase (pydantic models, SI units).
     """
+    text, shown = _source(name)
     raw = _read(name)
     kind = raw.get("kind")
     if kind not in _KINDS:
@@ -248,7 +303,9 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     try:
         return cls.model_validate(raw)
     except ValidationError as exc:
-        raise ValueError(f"invalid case {name!r}: {_format_validation_error(exc, raw)}") from None
+        n = len(exc.errors())
+        details = _format_validation_error(exc, raw, text, shown, overrides)
+        raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
 
 
 # ---- model construction ----------------------------------------------------------------
