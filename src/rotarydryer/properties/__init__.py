@@ -1,5 +1,7 @@
-"""Material properties: solids (repose angle, bulk density versus moisture)."""
+"""Material properties: solids (repose angle, bulk density versus moisture), humid air,
+water and steam, combustion gases."""
 
+from . import combustion, humid_air, water
 from .solids import (
     SOLIDS,
     bulk_density,
@@ -7,4 +9,4 @@ from .solids import (
     repose_angle,
 )
 
-__all__ = ["SOLIDS", "bulk_density", "lee2008_moisture_profile", "repose_angle"]
+__all__ = ["combustion", "humid_air", "water", "SOLIDS", "bulk_density", "lee2008_moisture_profile", "repose_angle"]

@@ -1,0 +1,391 @@
+r"""Humid-air properties for the drying gas, 0-600 °C, humidity 0-0.3 kg/kg dry air, vectorised.
+
+State variables: temperature ``temperature_c`` (°C), humidity ratio ``humidity``
+:math:`Y` (kg water vapour per kg **dry** air) and total pressure ``pressure`` (Pa,
+default 101325). Ajayi (2011) writes gas humidity as a mass fraction (kg water/kg
+wet gas, his ``H``/``y_w``): convert with :func:`humidity_from_mass_fraction`.
+
+Model: ideal mixture of dry air and water vapour (no enhancement factor).
+
+* Heat capacity, enthalpy: NASA polynomials (McBride et al. 2002) for N2, O2, Ar and
+  H2O; dry air = 78.12 % N2, 20.96 % O2, 0.92 % Ar (mole). Enthalpy per kg dry air
+  relative to dry air at 0 °C and liquid water at 0.01 °C (the ASHRAE/CoolProp
+  convention): :math:`h = h_a(T) + Y\,[\Delta h_v(0.01\,°C) + h_v(T) - h_v(0.01\,°C)]`
+  (ASHRAE Handbook Fundamentals 2017 ch. 1 Eq. 30 with exact property functions).
+* Density: ideal gas, :math:`\rho = P M_a (1+Y)/(R T (1 + Y M_a/M_w))`, per m³ of humid air.
+* Viscosity and conductivity: dry air by Lemmon & Jacobsen (2004) (dilute gas), water
+  vapour by IAPWS (2008, 2011) (dilute gas); Wilke (1950) / Wassiljewa-Mason-Saxena
+  mixing (Poling et al. 2001 Eqs. 9-5.13, 10-6.1).
+* Water-vapour diffusivity in air: Marrero & Mason (1972) fit as given by Mills (2001,
+  Heat Transfer, Table 3.1 note): :math:`D = 1.87\times10^{-10}T^{2.072}/P` (280-450 K),
+  :math:`2.75\times10^{-9}T^{1.632}/P` (450-1070 K), P in atm, D in m²/s. Below
+  280 K (down to 0 °C) the first branch is extrapolated (≈1 % uncertainty).
+* Saturation, relative humidity, dew point, wet bulb: Wagner-Pruss saturation
+  pressure (:mod:`.water`); the wet-bulb temperature is the adiabatic-saturation
+  (thermodynamic) wet bulb, ASHRAE (2017) ch. 1 Eq. 33, solved by bisection.
+
+Validation (tests/properties/test_humid_air.py): against CoolProp ``HAPropsSI`` (valid to
+350 °C) density and enthalpy (0.5 % with a 0.5 kJ/kg floor near h = 0) within 0.5 % over
+0-350 °C and Y = 0-0.3 (unsaturated states); heat capacity within 0.5 % for RH ≤ 0.2 and
+2 % closer to saturation (HAPropsSI is a real-gas model: 1.6 % at 80 °C, Y = 0.3).
+350-600 °C: air and water-vapour values against CoolProp ``PropsSI`` within 0.5 %.
+Transport: HAPropsSI evaluates the vapour viscosity/conductivity at saturation at the
+total pressure (valid near 100 °C only), so the mixture is checked against Wilke's rule on
+CoolProp pure-fluid values (0.5 %, 20-600 °C) and against HAPropsSI at 100 °C (0.5 %).
+Relative humidity and wet bulb against psychrolib (10-90 °C: 0.5 %, 0.1 K); wet bulb
+against CoolProp within 0.15 K (0-350 °C).
+
+Compatibility option ``method="ajayi2011"`` on :func:`density`, :func:`viscosity`
+and :func:`thermal_conductivity`: the dry-air polynomials of Ajayi (2011) Appendix F
+(L3825-L3829; fits to Incropera & DeWitt tables, T in °C), independent of humidity.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_choice, check_range
+from . import water
+from .combustion import (
+    DRY_AIR_COMPOSITION,
+    GAS_CONSTANT,
+    MOLAR_MASS,
+    iapws_vapour_conductivity_dilute,
+    iapws_vapour_viscosity_dilute,
+    lemmon_jacobsen_conductivity,
+    lemmon_jacobsen_viscosity,
+    species_enthalpy,
+    species_heat_capacity,
+)
+
+__all__ = [
+    "MOLAR_MASS_DRY_AIR",
+    "STANDARD_PRESSURE",
+    "humidity_from_mass_fraction",
+    "mass_fraction_from_humidity",
+    "water_mole_fraction",
+    "vapour_partial_pressure",
+    "humidity_from_vapour_pressure",
+    "gas_composition",
+    "dry_air_heat_capacity",
+    "humid_heat",
+    "heat_capacity",
+    "enthalpy",
+    "density",
+    "viscosity",
+    "thermal_conductivity",
+    "prandtl_number",
+    "water_vapour_diffusivity",
+    "schmidt_number",
+    "saturation_humidity",
+    "relative_humidity",
+    "humidity_from_relative_humidity",
+    "dew_point",
+    "wet_bulb_temperature",
+]
+
+STANDARD_PRESSURE = 101325.0
+_AIR_SPECIES = ("N2", "O2", "Ar")
+MOLAR_MASS_DRY_AIR = sum(DRY_AIR_COMPOSITION[s] * MOLAR_MASS[s] for s in _AIR_SPECIES)  # kg/mol
+_W_AIR = {s: DRY_AIR_COMPOSITION[s] * MOLAR_MASS[s] / MOLAR_MASS_DRY_AIR for s in _AIR_SPECIES}
+_RATIO = MOLAR_MASS["H2O"] / MOLAR_MASS_DRY_AIR  # 0.6220
+T_MAX_C = 600.0
+Y_MAX = 0.3
+
+
+def _temperature(temperature_c, name="temperature_c", high=T_MAX_C):
+    return check_range(name, temperature_c, 0.0, high, low_inclusive=True, high_inclusive=True, unit="degC")
+
+
+def _humidity(humidity):
+    return check_range("humidity", humidity, 0.0, Y_MAX, low_inclusive=True, high_inclusive=True,
+                       unit="kg/kg dry air")
+
+
+def _pressure(pressure):
+    return check_range("pressure", pressure, 5e4, 2e5, low_inclusive=True, high_inclusive=True, unit="Pa")
+
+
+def humidity_from_mass_fraction(mass_fraction):
+    """Humidity ratio Y, kg/kg dry air, from the water mass fraction y (kg/kg wet gas): Y = y/(1-y).
+
+    >>> round(float(humidity_from_mass_fraction(0.0193)), 5)    # Ajayi (2011) gas inlet, L3227
+    0.01968
+    """
+    y = check_range("mass_fraction", mass_fraction, 0.0, Y_MAX / (1 + Y_MAX), low_inclusive=True,
+                    high_inclusive=True, unit="kg/kg wet gas")
+    return y / (1.0 - y)
+
+
+def mass_fraction_from_humidity(humidity):
+    """Water mass fraction y, kg/kg wet gas, from the humidity ratio Y: y = Y/(1+Y)."""
+    y = _humidity(humidity)
+    return y / (1.0 + y)
+
+
+def water_mole_fraction(humidity):
+    """Mole fraction of water vapour in humid air, x = Y/(Y + M_w/M_a)."""
+    y = _humidity(humidity)
+    return y / (y + _RATIO)
+
+
+def vapour_partial_pressure(humidity, pressure=STANDARD_PRESSURE):
+    """Partial pressure of water vapour p_v = x P, Pa (ideal mixture).
+
+    >>> round(float(vapour_partial_pressure(0.01)), 1)
+    1603.0
+    """
+    return water_mole_fraction(humidity) * _pressure(pressure)
+
+
+def humidity_from_vapour_pressure(vapour_pressure, pressure=STANDARD_PRESSURE):
+    """Humidity ratio from the vapour partial pressure: Y = (M_w/M_a) p_v/(P - p_v), kg/kg dry air."""
+    p = _pressure(pressure)
+    pv = check_range("vapour_pressure", vapour_pressure, 0.0, np.max(p), low_inclusive=True, unit="Pa")
+    if np.any(pv >= p):
+        raise ValueError("vapour_pressure must be below the total pressure")
+    y = _RATIO * pv / (p - pv)
+    if np.any(y > Y_MAX):
+        raise ValueError(f"vapour_pressure gives humidity {np.max(y):.4g} kg/kg above the model range [0, {Y_MAX}]")
+    return y
+
+
+def gas_composition(humidity):
+    """Mole fractions of humid air as a dict for :mod:`rotarydryer.properties.combustion`."""
+    xw = water_mole_fraction(humidity)
+    comp = {s: DRY_AIR_COMPOSITION[s] * (1.0 - xw) for s in ("N2", "O2", "Ar", "CO2", "SO2")}
+    comp["H2O"] = xw
+    return comp
+
+
+def dry_air_heat_capacity(temperature_c):
+    """Ideal-gas heat capacity of dry air, J/(kg K).
+
+    >>> round(float(dry_air_heat_capacity(25.0)), 1)
+    1004.9
+    """
+    t = _temperature(temperature_c)
+    return sum(_W_AIR[s] * species_heat_capacity(s, t) for s in _AIR_SPECIES)
+
+
+def _dry_air_enthalpy(t):
+    return sum(_W_AIR[s] * species_enthalpy(s, t, 0.0) for s in _AIR_SPECIES)
+
+
+def humid_heat(temperature_c, humidity):
+    """Humid heat c_s = c_pa + Y c_pv, J/(K kg dry air)."""
+    y = _humidity(humidity)
+    return dry_air_heat_capacity(temperature_c) + y * species_heat_capacity("H2O", _temperature(temperature_c))
+
+
+def heat_capacity(temperature_c, humidity):
+    """Specific heat capacity of humid air, J/(kg humid air K): (c_pa + Y c_pv)/(1+Y).
+
+    >>> round(float(heat_capacity(100.0, 0.05)), 1)
+    1053.0
+    """
+    y = _humidity(humidity)
+    return humid_heat(temperature_c, y) / (1.0 + y)
+
+
+def _latent_ref():
+    return float(water.latent_heat(0.01))
+
+
+def enthalpy(temperature_c, humidity):
+    """Specific enthalpy of humid air, J/kg **dry air**; zero for dry air at 0 °C and liquid water at 0.01 °C.
+
+    >>> round(float(enthalpy(25.0, 0.01)) / 1e3, 2)
+    50.58
+    """
+    t = _temperature(temperature_c)
+    y = _humidity(humidity)
+    hv = species_enthalpy("H2O", t, 0.01)
+    return _dry_air_enthalpy(t) + y * (_latent_ref() + hv)
+
+
+def density(temperature_c, humidity, pressure=STANDARD_PRESSURE, method: str = "ideal_gas"):
+    """Density of humid air, kg of humid air per m³.
+
+    ``method="ajayi2011"``: Ajayi (2011) App. F L3827 quartic in T (°C) for air at
+    1 atm, independent of humidity and pressure (compatibility only).
+
+    >>> round(float(density(20.0, 0.0)), 4)
+    1.2038
+    """
+    check_choice("method", method, ("ideal_gas", "ajayi2011"))
+    t = _temperature(temperature_c)
+    y = _humidity(humidity)
+    if method == "ajayi2011":
+        return (6.417e-13 * t**4 - 2.673e-9 * t**3 + 4.129e-6 * t**2 - 3.037e-3 * t + 1.225) + 0.0 * y
+    p = _pressure(pressure)
+    return p * MOLAR_MASS_DRY_AIR * (1.0 + y) / (GAS_CONSTANT * (t + 273.15) * (1.0 + y / _RATIO))
+
+
+def _air_and_vapour(t):
+    tk = t + 273.15
+    return (lemmon_jacobsen_viscosity("air", tk), iapws_vapour_viscosity_dilute(tk),
+            lemmon_jacobsen_conductivity("air", tk), iapws_vapour_conductivity_dilute(tk))
+
+
+def _wilke_binary(x1, p1, p2, mu1, mu2, m1, m2):
+    x2 = 1.0 - x1
+    phi12 = (1.0 + np.sqrt(mu1 / mu2) * (m2 / m1) ** 0.25) ** 2 / np.sqrt(8.0 * (1.0 + m1 / m2))
+    phi21 = (1.0 + np.sqrt(mu2 / mu1) * (m1 / m2) ** 0.25) ** 2 / np.sqrt(8.0 * (1.0 + m2 / m1))
+    return x1 * p1 / (x1 + x2 * phi12) + x2 * p2 / (x2 + x1 * phi21)
+
+
+def viscosity(temperature_c, humidity, method: str = "wilke"):
+    """Dynamic viscosity of humid air, Pa s.
+
+    ``method="ajayi2011"``: L3829 quadratic for air, independent of humidity.
+
+    >>> round(float(viscosity(20.0, 0.0)) * 1e6, 3)
+    18.191
+    """
+    check_choice("method", method, ("wilke", "ajayi2011"))
+    t = _temperature(temperature_c)
+    y = _humidity(humidity)
+    if method == "ajayi2011":
+        return -7.479e-12 * t**2 + 3.746e-8 * t + 1.824e-5 + 0.0 * y
+    mu_a, mu_v, _, _ = _air_and_vapour(t)
+    xa = 1.0 - water_mole_fraction(y)
+    return _wilke_binary(xa, mu_a, mu_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"])
+
+
+def thermal_conductivity(temperature_c, humidity, method: str = "mason_saxena"):
+    """Thermal conductivity of humid air, W/(m K).
+
+    ``method="ajayi2011"``: L3825 quadratic for air, independent of humidity.
+
+    >>> round(float(thermal_conductivity(20.0, 0.0)) * 1e3, 2)
+    25.84
+    """
+    check_choice("method", method, ("mason_saxena", "ajayi2011"))
+    t = _temperature(temperature_c)
+    y = _humidity(humidity)
+    if method == "ajayi2011":
+        return -1.249e-8 * t**2 + 6.699e-5 * t + 2.541e-2 + 0.0 * y
+    mu_a, mu_v, k_a, k_v = _air_and_vapour(t)
+    xa = 1.0 - water_mole_fraction(y)
+    return _wilke_binary(xa, k_a, k_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"])
+
+
+def prandtl_number(temperature_c, humidity):
+    """Prandtl number c_p μ/k of humid air (Ajayi uses the constants 0.7 and 0.70752)."""
+    return heat_capacity(temperature_c, humidity) * viscosity(temperature_c, humidity) / thermal_conductivity(
+        temperature_c, humidity)
+
+
+def water_vapour_diffusivity(temperature_c, pressure=STANDARD_PRESSURE):
+    """Binary diffusion coefficient of water vapour in air, m²/s (Marrero & Mason 1972).
+
+    Ajayi (2011) uses the constant 2.65e-5 m²/s (L4008), this correlation's value at 33 °C.
+
+    >>> round(float(water_vapour_diffusivity(25.0)) * 1e5, 3)
+    2.505
+    """
+    t = _temperature(temperature_c) + 273.15
+    p_atm = _pressure(pressure) / STANDARD_PRESSURE
+    low = 1.87e-10 * t**2.072
+    high = 2.75e-9 * t**1.632
+    return np.where(t < 450.0, low, high) / p_atm
+
+
+def schmidt_number(temperature_c, humidity, pressure=STANDARD_PRESSURE):
+    """Schmidt number μ/(ρ D) of water vapour in humid air."""
+    return viscosity(temperature_c, humidity) / (
+        density(temperature_c, humidity, pressure) * water_vapour_diffusivity(temperature_c, pressure))
+
+
+def saturation_humidity(temperature_c, pressure=STANDARD_PRESSURE):
+    """Humidity of saturated air, kg/kg dry air; raises where p_s(T) ≥ P (no saturated humid air).
+
+    >>> round(float(saturation_humidity(30.0)), 5)
+    0.02722
+    """
+    t = _temperature(temperature_c, high=water.CRITICAL_TEMPERATURE - 273.15)
+    p = _pressure(pressure)
+    ps = water.saturation_pressure(t)
+    if np.any(ps >= p):
+        raise ValueError(f"temperature_c = {np.max(t):g} degC is at or above the boiling point at {np.max(p):g} Pa: "
+                         "saturated humid air does not exist")
+    return _RATIO * ps / (p - ps)
+
+
+def relative_humidity(temperature_c, humidity, pressure=STANDARD_PRESSURE):
+    """Relative humidity p_v/p_s(T), 0-1 (values above 1 mean supersaturation).
+
+    Above the critical temperature (373.946 °C) p_s is capped at the critical pressure
+    (vapour cannot condense there; the returned ratio is then only an indicator).
+
+    >>> round(float(relative_humidity(30.0, 0.0137)), 4)
+    0.5141
+    """
+    t = _temperature(temperature_c)
+    pv = vapour_partial_pressure(humidity, pressure)
+    tc = np.minimum(t, water.CRITICAL_TEMPERATURE - 273.15)
+    return pv / water.saturation_pressure(tc)
+
+
+def humidity_from_relative_humidity(temperature_c, relative_humidity, pressure=STANDARD_PRESSURE):
+    """Humidity ratio, kg/kg dry air, from relative humidity (0-1) and temperature (Ajayi 2011 Eqs. A3-A4).
+
+    >>> round(float(humidity_from_relative_humidity(26.0, 0.8)), 5)
+    0.01697
+    """
+    t = _temperature(temperature_c, high=water.CRITICAL_TEMPERATURE - 273.15)
+    rh = check_range("relative_humidity", relative_humidity, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+    pv = rh * water.saturation_pressure(t)
+    return humidity_from_vapour_pressure(pv, pressure)
+
+
+def dew_point(humidity, pressure=STANDARD_PRESSURE):
+    """Dew-point (frost-point below 0.01 °C) temperature, °C, of humid air.
+
+    >>> round(float(dew_point(0.01)), 3)
+    14.039
+    """
+    y = check_range("humidity", humidity, 0.0, Y_MAX, low_inclusive=False, high_inclusive=True,
+                    unit="kg/kg dry air (must be > 0 for a dew point)")
+    return water.saturation_temperature(vapour_partial_pressure(y, pressure))
+
+
+def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
+    r"""Thermodynamic (adiabatic-saturation) wet-bulb temperature, °C.
+
+    Solves :math:`h(T,Y) + (Y_s(T_{wb}) - Y)\,h_w(T_{wb}) = h(T_{wb}, Y_s(T_{wb}))`
+    (ASHRAE 2017 ch. 1 Eq. 33) by vectorised bisection to 1e-9 K; h_w is the liquid
+    enthalpy from the DIPPR heat capacity. Needs a wet bulb below 0 °C → raises (the
+    model range starts at 0 °C).
+
+    >>> round(float(wet_bulb_temperature(500.0, 0.0197)), 2)
+    66.24
+    """
+    t = _temperature(temperature_c)
+    y = _humidity(humidity)
+    p = _pressure(pressure)
+    t, y, p = np.broadcast_arrays(t, y, p)
+    h = enthalpy(t, y)
+    tb = water.saturation_temperature(p)
+    lo = np.zeros_like(t)
+    hi = np.minimum(t, tb - 1e-6)
+
+    def residual(tw):
+        ps = water.saturation_pressure(tw)
+        ys = _RATIO * ps / (p - ps)
+        hw = 4186.0 * (tw - 0.01)
+        return h + (ys - y) * hw - (_dry_air_enthalpy(tw) + ys * (_latent_ref() + species_enthalpy("H2O", tw, 0.01)))
+
+    f_lo = residual(lo)
+    if np.any(f_lo < 0):
+        raise ValueError("wet_bulb_temperature: the wet-bulb temperature is below 0 degC, outside the model range")
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        f_mid = residual(mid)
+        pos = f_mid > 0
+        lo = np.where(pos, mid, lo)
+        hi = np.where(pos, hi, mid)
+        if np.all(hi - lo < 1e-9):
+            break
+    return 0.5 * (lo + hi)

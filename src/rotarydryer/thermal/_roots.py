@@ -1,0 +1,47 @@
+"""Vectorised bracketed root finding (Illinois variant of regula falsi) for monotone residuals."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def illinois(func, lo, hi, f_lo=None, f_hi=None, xtol=1e-9, max_iter=100):
+    """Roots of ``func`` elementwise in the brackets [lo, hi] (f(lo), f(hi) of opposite sign or zero).
+
+    Illinois modification of regula falsi (Dowell & Jarratt 1971): superlinear, never leaves
+    the bracket. Falls back to bisection steps if the secant step stalls. Returns the root array.
+    """
+    lo = np.array(lo, dtype=float)
+    hi = np.array(hi, dtype=float)
+    lo, hi = np.broadcast_arrays(lo, hi)
+    lo = lo.copy()
+    hi = hi.copy()
+    f_lo = func(lo) if f_lo is None else np.array(np.broadcast_to(f_lo, lo.shape), dtype=float)
+    f_hi = func(hi) if f_hi is None else np.array(np.broadcast_to(f_hi, lo.shape), dtype=float)
+    x = np.where(f_lo == 0, lo, hi)
+    done = (f_lo == 0) | (f_hi == 0)
+    side = np.zeros(lo.shape, dtype=int)
+    for _ in range(max_iter):
+        denom = f_hi - f_lo
+        safe = np.where(denom != 0, denom, 1.0)
+        x_new = np.where(denom != 0, (lo * f_hi - hi * f_lo) / safe, 0.5 * (lo + hi))
+        bad = ~np.isfinite(x_new) | (x_new < np.minimum(lo, hi)) | (x_new > np.maximum(lo, hi))
+        x_new = np.where(bad, 0.5 * (lo + hi), x_new)
+        x_prev = x
+        x = np.where(done, x, x_new)
+        f_x = func(x)
+        same_as_lo = np.sign(f_x) == np.sign(f_lo)
+        # replace the endpoint with the same sign; halve the other one's value if it is retained twice
+        new_lo = np.where(same_as_lo, x, lo)
+        new_hi = np.where(same_as_lo, hi, x)
+        f_hi = np.where(same_as_lo & (side == 1), 0.5 * f_hi, f_hi)
+        f_lo = np.where(~same_as_lo & (side == -1), 0.5 * f_lo, f_lo)
+        f_lo = np.where(same_as_lo, f_x, f_lo)
+        f_hi = np.where(same_as_lo, f_hi, f_x)
+        side = np.where(same_as_lo, 1, -1)
+        lo = np.where(done, lo, new_lo)
+        hi = np.where(done, hi, new_hi)
+        done = done | (f_x == 0) | (np.abs(hi - lo) < xtol) | (np.abs(x - x_prev) < 0.1 * xtol)
+        if np.all(done):
+            break
+    return np.where(np.abs(hi - lo) < xtol, 0.5 * (lo + hi), x)
