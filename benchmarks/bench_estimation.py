@@ -24,6 +24,22 @@ def lee_fit():
         return fit_case_to_tracer("lee2008_invicta", data, params, base_overrides=LEE_BASE, n_starts=1)
 
 
+def ajayi_fit():
+    from rotarydryer.rtd import load_tracer_dataset
+
+    data = load_tracer_dataset("ajayi2011_test4")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fit_case_to_tracer("ajayi2011_mmg", data, ["transport.solids_velocity", "transport.dispersion"],
+                                  base_overrides={"operating.test": 4}, n_starts=1, scale="fit")
+
+
+def test_ajayi_test4_two_parameter_fit(benchmark):
+    pytest.importorskip("rotarydryer.rtd")
+    cf = benchmark.pedantic(ajayi_fit, rounds=2, iterations=1)
+    benchmark.extra_info["n_evaluations"] = cf.fit.n_evaluations
+
+
 def test_lee_invicta_three_parameter_fit(benchmark):
     pytest.importorskip("rotarydryer.rtd")
     cf = benchmark.pedantic(lee_fit, rounds=2, iterations=1)
@@ -32,8 +48,9 @@ def test_lee_invicta_three_parameter_fit(benchmark):
 
 
 if __name__ == "__main__":
-    t0 = time.perf_counter()
-    cf = lee_fit()
-    dt = time.perf_counter() - t0
-    print(f"Lee Invicta 3-parameter fit: {dt:.2f} s, {cf.fit.n_evaluations} evaluations, "
-          f"{1e3 * dt / cf.fit.n_evaluations:.1f} ms per evaluation, objective {cf.fit.objective:.4g}")
+    for name, fn in (("Lee Invicta 3-parameter fit", lee_fit), ("Ajayi test 4 2-parameter fit", ajayi_fit)):
+        t0 = time.perf_counter()
+        cf = fn()
+        dt = time.perf_counter() - t0
+        print(f"{name}: {dt:.2f} s, {cf.fit.n_evaluations} evaluations, "
+              f"{1e3 * dt / cf.fit.n_evaluations:.1f} ms per evaluation, objective {cf.fit.objective:.4g}")
