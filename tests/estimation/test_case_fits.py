@@ -62,3 +62,20 @@ def test_ajayi_test4_solids_velocity_and_dispersion():
         p = cf.fit.parameters[key]
         assert (p.ci_low <= table <= p.ci_high) or abs(p.value - table) <= 0.15 * table, (key, p)
     assert cf.fit.r_squared > 0.9
+
+
+@pytest.mark.slow
+def test_tracer_and_holdup_fitted_together():
+    """A measured holdup as a second data set (Ajayi Table 5.4 model holdup, 37 200 kg)."""
+    data = rtd.load_tracer_dataset("ajayi2011_test4")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdentifiabilityWarning)
+        cf = fit_case_to_tracer("ajayi2011_mmg", data, ["transport.solids_velocity", "transport.dispersion"],
+                                base_overrides={"operating.test": 4}, n_starts=1, scale="fit",
+                                holdup=(37200.0, 1500.0), tracer_sigma=0.15)
+    assert set(cf.fit.r_squared_by_dataset) == {"tracer", "holdup"}
+    assert cf.fit.r_squared == cf.fit.r_squared_by_dataset["tracer"] > 0.9
+    assert abs(cf.fit.predictions["holdup"][0] - 37200.0) < 3 * 1500.0
+    with pytest.raises(ValueError, match="tracer_sigma"):
+        fit_case_to_tracer("ajayi2011_mmg", data, ["transport.dispersion"], base_overrides={"operating.test": 4},
+                           scale="fit", holdup=(37200.0, 1500.0))

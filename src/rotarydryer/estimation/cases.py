@@ -97,8 +97,9 @@ def _relative_times(data):
 
 
 def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | None = None, scale: str = "known",
-                 observed: np.ndarray | None = None, dt: float | None = None):
-    """Model callable ``values -> E(t)`` at ``times`` (s since injection) for :func:`fit`."""
+                 observed: np.ndarray | None = None, dt: float | None = None, with_holdup: bool = False):
+    """Model callable ``values -> E(t)`` at ``times`` (s since injection) for :func:`fit`;
+    with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``."""
     from ..cases import build_model, load_case
 
     times = np.asarray(times, dtype=float)
@@ -108,7 +109,7 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
     step = dt if dt is not None else min(10.0, max(t_end / 200.0, 1.0))
     base = dict(base_overrides or {})
 
-    def model(values: dict) -> np.ndarray:
+    def model(values: dict):
         case = load_case(case_name, {**base, **values})
         ss = build_model(case).steady_state()
         resp = ss.rtd(t_end=t_end, dt=step).response
@@ -116,7 +117,9 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
         if scale == "fit":
             den = float(e @ e)
             c = float(observed @ e) / den if den > 0 else 0.0
-            return c * e
+            e = c * e
+        if with_holdup:
+            return {"tracer": e, "holdup": np.array([ss.total_holdup])}
         return e
 
     return model
@@ -151,7 +154,8 @@ def evaluate_objective(case_name: str, data, values: dict, *, base_overrides=Non
 def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Parameter], *,
                        base_overrides: dict | None = None, method: str = "wls", n_starts: int = 2,
                        seed: int = 0, scale: str = "known", progress=None,
-                       reference: dict | None = None) -> CaseFit:
+                       reference: dict | None = None, holdup: tuple[float, float] | None = None,
+                       tracer_sigma: float | None = None) -> CaseFit:
     """Fit override keys of a case to a measured tracer curve (:class:`rotarydryer.rtd.TracerData`).
 
     ``keys`` are override keys (start values and bounds from the case and
@@ -159,6 +163,11 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
     concentration of unknown scale or recovery. ``reference`` (values for the same keys,
     e.g. published estimates) is evaluated with the same model and weights and reported
     as ``reference_objective``.
+
+    ``holdup=(value_kg, sigma_kg)`` adds a measured total holdup as a second data set; the
+    tracer then needs its own standard deviation ``tracer_sigma`` (units of E, 1/s, or of
+    the raw signal with ``scale="fit"``) so that the two are weighted against each other
+    (``method="ml"`` estimates both variances instead).
     """
     if scale not in ("known", "fit"):
         raise ValueError(f"scale = {scale!r} is not 'known' or 'fit'")
@@ -166,9 +175,21 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
     t, y = _relative_times(data)
     if t.size <= len(params):
         raise ValueError(f"too few data points after the injection start: {t.size} for {len(params)} parameters")
-    model = tracer_model(case_name, t, base_overrides=base_overrides, scale=scale, observed=y)
-    res = fit(model, params, Dataset("tracer", y), method=method, n_starts=n_starts, seed=seed, progress=progress)
+    data_sets = [Dataset("tracer", y, None if tracer_sigma is None else np.full(y.shape, float(tracer_sigma)))]
+    if holdup is not None:
+        value, sigma = (float(v) for v in holdup)
+        if not (value > 0 and sigma > 0):
+            raise ValueError(f"holdup = {holdup!r} must be (value_kg > 0, sigma_kg > 0)")
+        if method == "wls" and tracer_sigma is None:
+            raise ValueError("fitting a tracer curve and a holdup together by wls needs tracer_sigma "
+                             "(or method='ml', which estimates each data set's variance)")
+        data_sets.append(Dataset("holdup", np.array([value]), np.array([sigma])))
+    model = tracer_model(case_name, t, base_overrides=base_overrides, scale=scale, observed=y,
+                         with_holdup=holdup is not None)
+    res = fit(model, params, data_sets, method=method, n_starts=n_starts, seed=seed, progress=progress)
     ref = None
     if reference is not None:
-        ref = float(np.sum((y - model(dict(reference))) ** 2))
+        pred = model(dict(reference))
+        pred = pred["tracer"] if isinstance(pred, dict) else pred
+        ref = float(np.sum((y - pred) ** 2))
     return CaseFit(case_name, [p.name for p in params], dict(base_overrides or {}), t, y, res, ref)

@@ -188,6 +188,7 @@ class FitResult:
     method: str
     warnings: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    r_squared_by_dataset: dict = field(default_factory=dict)
 
     @property
     def values(self) -> dict[str, float]:
@@ -198,6 +199,7 @@ class FitResult:
             "parameters": {k: p.to_dict() for k, p in self.parameters.items()},
             "objective": self.objective,
             "r_squared": self.r_squared,
+            "r_squared_by_dataset": self.r_squared_by_dataset,
             "n_evaluations": self.n_evaluations,
             "n_data": self.n_data,
             "dof": self.dof,
@@ -562,10 +564,13 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     # covariance in natural space
     jac_t = np.array([float(q.from_z(z[i])) if q.log else 1.0 for i, q in enumerate(params)])
     cov = cov_z * np.outer(jac_t, jac_t)
-    y_all = np.concatenate([d.y.ravel() for d in problem.data])
-    f_all = np.concatenate([pred[d.name].ravel() for d in problem.data])
-    sst = float(np.sum((y_all - y_all.mean()) ** 2))
-    r2 = 1.0 - float(np.sum((y_all - f_all) ** 2)) / sst if sst > 0 else float("nan")
+    # R^2 per data set (pooling data of different units would be meaningless); the headline
+    # value is that of the first data set
+    r2_by = {}
+    for d in problem.data:
+        sst = float(np.sum((d.y - d.y.mean()) ** 2))
+        r2_by[d.name] = 1.0 - float(np.sum((d.y - pred[d.name]) ** 2)) / sst if sst > 0 else float("nan")
+    r2 = r2_by[problem.data[0].name]
     sig = {}
     for d in problem.data:
         r = (d.y - pred[d.name]) / problem.scale(d, pred[d.name])
@@ -584,7 +589,7 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
         parameters=est, covariance=cov, correlation=corr, names=names, objective=float(obj),
         r_squared=r2, n_evaluations=problem.n_eval, n_data=n, dof=dof, sigma=sig,
         predictions=pred, residuals={d.name: d.y - pred[d.name] for d in problem.data},
-        starts=starts, method=problem.method, warnings=notes, seconds=seconds,
+        starts=starts, method=problem.method, warnings=notes, seconds=seconds, r_squared_by_dataset=r2_by,
     )
 
 
