@@ -27,6 +27,10 @@ pytest.importorskip("xarray")
 
 from playwright.sync_api import expect, sync_playwright  # noqa: E402
 
+# The app recomputes on every change: allow for a busy 2-core CI machine (Playwright's
+# assertions have their own 5 s default, independent of the page timeout).
+expect.set_options(timeout=90_000)
+
 from rotarydryer.app import streamlit_command  # noqa: E402
 
 SHOTS = os.environ.get("ROTARYDRYER_SCREENSHOTS") == "1"
