@@ -166,6 +166,22 @@ class AjayiTest(_Strict):
     source: str = ""
 
 
+class AjayiThermal(_Strict):
+    """Heat and mass transfer parameters (rotarydryer.thermal.dryer.ThermalSettings); SI, degC."""
+    mode: Literal["physical", "ajayi2011"] = "physical"
+    gas_flow: float = Field(default=16.25, gt=0, le=1000, description="kg/s wet gas into the dryer (physical mode)")
+    area_scale: float = Field(default=2.6, ge=0, le=100, description="multiplier on Ajayi's area factors (physical mode)")
+    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC; default the test's PI value")
+    gas_inlet_humidity: float = Field(default=0.0193, ge=0, lt=0.2, description="kg/kg wet gas (Ajayi l.3227)")
+    solids_inlet_temperature: float = Field(default=28.0, ge=0, lt=99, description="degC (Ajayi l.3241)")
+    ambient_temperature: float = Field(default=26.0, gt=-40, lt=60, description="degC (Ajayi l.3231)")
+    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale; default 0.8 for 'Scaled' tests")
+    scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, shell scale layer")
+    insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
+    loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (ajayi2011 mode only)")
+    leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet end")
+
+
 class AjayiCase(_Strict):
     kind: Literal["ajayi2011"]
     meta: Meta = Meta()
@@ -177,6 +193,7 @@ class AjayiCase(_Strict):
     tracer: Tracer
     sections: list[AjayiSection]
     tests: list[AjayiTest]
+    thermal: AjayiThermal = AjayiThermal()
 
 
 _KINDS = {"lee2008": LeeCase, "ajayi2011": AjayiCase}

@@ -37,7 +37,8 @@ def simulate(
     out: Optional[Path] = typer.Option(None, help="Directory for steady_state.json and holdup_profile.png."),
 ):
     """Steady-state solids transport: holdup per phase and section, loading state per
-    cell, flows.
+    cell, flows; for Ajayi (MMG) cases also heat and mass transfer (product moisture and
+    temperature, gas outlet temperature, fuel rate, shell loss, energy balance; [thermal]).
 
     Example: rotarydryer simulate lee2008_invicta --set geometry.method=lee2008_regressions
     """
@@ -49,6 +50,16 @@ def simulate(
         raise typer.Exit(2)
     result = ss.to_dict()
     result.update({"case": case, "rtd_std_s": tr["std"], "parameters": model.parameters})
+    thermal = None
+    if getattr(c, "kind", None) == "ajayi2011":
+        try:
+            from ..thermal.dryer import build_thermal_dryer
+
+            thermal = build_thermal_dryer(c).steady_state()
+        except ValueError as exc:
+            typer.echo(f"error: heat and mass transfer: {exc}", err=True)
+            raise typer.Exit(2)
+        result.update(thermal.summary())
     if out is not None:
         from ..transport.plots import plot_holdup_profile
 
@@ -56,6 +67,11 @@ def simulate(
         (out / "steady_state.json").write_text(json.dumps(result, indent=1))
         plot_holdup_profile(ss).savefig(out / "holdup_profile.png", dpi=120)
         result["files"] = [str(out / "steady_state.json"), str(out / "holdup_profile.png")]
+        if thermal is not None:
+            from ..thermal.studies import plot_profiles
+
+            plot_profiles(thermal).savefig(out / "thermal_profiles.png", dpi=120)
+            result["files"].append(str(out / "thermal_profiles.png"))
     if as_json:
         typer.echo(json.dumps(result))
         return
@@ -72,6 +88,16 @@ def simulate(
     ]
     for name, h in ss.section_holdups().items():
         rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
+    if thermal is not None:
+        rows += [
+            ("product moisture", f"{result['product_moisture']:.4f} kg/kg wet"),
+            ("product temperature", f"{result['product_temperature_C']:.1f} degC"),
+            ("gas outlet temperature", f"{result['gas_outlet_temperature_C']:.1f} degC"),
+            ("fuel rate", "n/a" if result.get("fuel_rate_kg_s") is None
+             else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"),
+            ("shell heat loss", f"{result['shell_heat_loss_W'] / 1e3:.0f} kW"),
+            ("energy balance error", f"{result['energy_balance_error']:.1e}"),
+        ]
     states = ss.loading_state
     rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
                                                 f"{states.count('under')}"))

@@ -1,0 +1,244 @@
+r"""Moisture and energy balances of the solids and the gas, per cell (issue 6).
+
+Pure, vectorised building blocks used by :mod:`rotarydryer.thermal.dryer`:
+
+* **Stream enthalpies** with two selectable accountings (``enthalpy=``):
+
+  ``"physical"`` (default)
+      gas: humid-air enthalpy per kg dry gas from :func:`rotarydryer.properties.humid_air.enthalpy`
+      (NASA-polynomial heat capacities, latent heat at 0.01 °C); vapour leaving wet
+      solids at T_s carries :math:`h_v(T_s) = \lambda_0 + \int_0^{T_s} c_{p,v}dT`, the
+      same function, so the gas and solids balances are mutually conservative.
+  ``"ajayi2011"``
+      Ajayi (2011) Eq. 6.7 exactly as coded (App. F L3729-L3760): per kg wet gas
+      :math:`h = (1-y)c_{p,g}100 + y c_{p,w}100 + y\lambda + (1-y)c_{p,g}(T-100) + y c_{p,v}(T-100)`
+      with c_p,g = 1070 J/(kg K), λ = 2257 kJ/kg and Ajayi's c_p,v polynomial **in kJ/(kg K)**
+      (the units error of notes ajayi_energy.md §1.11, kept for reproduction); the
+      evaporation source is :math:`R_w(\lambda + c_{p,w}T_s)` (Eqs. 6.4, 6.7).
+
+  Wet solids (both accountings): :math:`h_s = ((1-x)c_{p,s} + x c_{p,w})T` per kg wet
+  solid, i.e. per kg dry solid :math:`(c_{p,s} + X c_{p,w})T` (Ajayi (2011) Eq. 6.3,
+  reference 0 °C), c_p,s = 505, c_p,w = 4182 J/(kg K) (App. F L3181-L3182).
+
+* **Contact area** (drying only where the solids meet the gas):
+
+  - curtain (active phase of a flighted cell), Ajayi (2011) Eq. 6.62-6.63:
+    :math:`A_a = \theta_a m_a\,3/(d_p\rho_p)` (half of each particle surface exposed);
+  - active layer of a rolling bed (unflighted sections), Eq. 6.56-6.61:
+    bed segment area :math:`A_{kiln} = m/(\rho_b\Delta z) = R^2(\theta_k - \sin\theta_k)/2`,
+    chord :math:`L_c = 2R\sin(\theta_k/2)`, active-layer mass
+    :math:`M_{AL} = L_c d_p/A_{kiln}\cdot m`, area
+    :math:`A = \theta_{AL}M_{AL}\,3/(d_p\rho_p) = 3\theta_{AL}L_c\rho_b\Delta z/\rho_p`.
+    Ajayi evaluates θ_k once per section at the outlet holdup; here it is evaluated per
+    slice from the local holdup and local bulk density (the evident intent).
+
+  θ_a, θ_AL are the area correction factors (Ajayi (2011) l.2278: A 2.4, B 1.2, C 0.6,
+  D 0.42, E 1.4).
+
+* **Transfer rates** gas -> solids in one gas stage (:func:`stage_transfer`):
+  convection :math:`Q_c = h_cA(T_g - T_s)` with Ajayi's :math:`Nu = 0.33Re^{0.6}` (Eq. 6.41,
+  superficial gas velocity over the drum cross-section), radiation gas -> solids
+  (Eq. 6.42; ``"ajayi2011"``: ε_s σ A (T_g⁴ - T_s⁴); physical: grey exchange with the WSGG
+  gas emissivity), evaporation :math:`R_w = A\,f(X)\,N_w` with the kinetics of
+  :mod:`rotarydryer.thermal.drying` (Chilton-Colburn analogy, Eq. 6.45-6.49). Transfer is
+  evaluated at the stage (= outlet) gas temperature as in Ajayi's code (well-mixed stage).
+
+Temperatures in °C (enthalpy reference 0 °C), humidity Y in kg water/kg dry gas, moisture
+X in kg water/kg dry solid (Ajayi's x_w = X/(1+X) wet basis at the public API).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._validation import check_choice, check_range
+from ..properties import humid_air as ha
+from ..properties import water
+from ..properties.combustion import species_enthalpy
+from . import radiation as rad
+from .drying import DryingKinetics
+
+__all__ = ["ENTHALPY_METHODS", "AJAYI_CP_SOLIDS", "AJAYI_CP_WATER", "AJAYI_CP_GAS", "AJAYI_LATENT_HEAT",
+           "gas_enthalpy", "gas_heat_capacity", "vapour_source_enthalpy", "solids_enthalpy", "kilning_angle",
+           "active_layer_area", "curtain_area", "gas_solids_coefficient", "stage_transfer"]
+
+ENTHALPY_METHODS = ("physical", "ajayi2011")
+AJAYI_CP_SOLIDS = 505.0      # J/(kg K), zinc concentrate, App. F L3182
+AJAYI_CP_WATER = 4182.0      # J/(kg K), L3181
+AJAYI_CP_GAS = 1070.0        # J/(kg K), L3183
+AJAYI_LATENT_HEAT = 2257e3   # J/kg, L3184
+SIGMA = 5.67e-8              # W/(m2 K4)
+_T_LO, _T_HI = 0.0, 600.0    # property range of humid_air, degC
+
+
+def _tc(t):
+    return np.clip(np.asarray(t, dtype=float), _T_LO, _T_HI)
+
+
+def _ajayi_cpv(t):
+    """Ajayi's water-vapour c_p polynomial as coded (App. F L3833), numerically kJ/(kg K)."""
+    tk = t + 273.0
+    return -3.1759e-10 * tk**3 + 9.1451537e-7 * tk**2 - 1.4971847134e-4 * tk + 1.84044937134494
+
+
+def gas_enthalpy(temperature_c, humidity, method: str = "physical"):
+    r"""Specific enthalpy of the dryer gas, J per kg **dry** gas.
+
+    ``method="physical"``: :func:`rotarydryer.properties.humid_air.enthalpy` (reference dry
+    air at 0 °C, liquid water at 0.01 °C). ``"ajayi2011"``: Ajayi (2011) Eq. 6.7 as coded, per
+    kg wet gas times (1 + Y) (c_p,v in kJ/(kg K) as coded - see module docstring).
+    Outside the 0-600 °C property range (solver trial states) the enthalpy is continued linearly.
+
+    >>> round(float(gas_enthalpy(500.0, 0.0197, "ajayi2011")) / 1e3, 1)
+    587.7
+    """
+    check_choice("method", method, ENTHALPY_METHODS)
+    t_raw = np.asarray(temperature_c, dtype=float)
+    t = _tc(t_raw)
+    y = np.clip(np.asarray(humidity, dtype=float), 0.0, 0.3)
+    # outside 0-600 degC (solver trial states only) continue linearly, so the balance keeps a restoring slope
+    ext = (t_raw - t) * (1150.0 + 2200.0 * y)
+    if method == "physical":
+        return ha.enthalpy(t, y) + ext
+    yw = y / (1.0 + y)
+    cpg, cpw, lam = AJAYI_CP_GAS, AJAYI_CP_WATER, AJAYI_LATENT_HEAT
+    h = (1 - yw) * cpg * 100 + yw * cpw * 100 + yw * lam + (1 - yw) * cpg * (t - 100) + yw * _ajayi_cpv(t) * (t - 100)
+    return (1.0 + y) * h + ext
+
+
+def gas_heat_capacity(temperature_c, humidity, method: str = "physical"):
+    """∂h/∂T of :func:`gas_enthalpy` at constant Y, J/(kg dry gas K) (central difference, 0.05 K)."""
+    t = np.clip(np.asarray(temperature_c, dtype=float), _T_LO + 0.05, _T_HI - 0.05)
+    return (gas_enthalpy(t + 0.05, humidity, method) - gas_enthalpy(t - 0.05, humidity, method)) / 0.1
+
+
+def vapour_source_enthalpy(solids_temperature_c, method: str = "physical"):
+    r"""Enthalpy carried by 1 kg of water evaporated from solids at T_s into the gas, J/kg.
+
+    ``"physical"``: :math:`\lambda(0.01\,°C) + \Delta h_{vap}(0.01 \to T_s)` consistent with
+    :func:`gas_enthalpy`; ``"ajayi2011"``: :math:`\lambda + c_{p,w}T_s` (Ajayi (2011) Eq. 6.4, 6.7).
+    """
+    check_choice("method", method, ENTHALPY_METHODS)
+    t = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 600.0)
+    if method == "ajayi2011":
+        return AJAYI_LATENT_HEAT + AJAYI_CP_WATER * t
+    return float(water.latent_heat(0.01)) + species_enthalpy("H2O", t, 0.01)
+
+
+def solids_enthalpy(temperature_c, moisture_dry, cp_solids=AJAYI_CP_SOLIDS, cp_water=AJAYI_CP_WATER):
+    r"""Enthalpy of wet solids per kg **dry** solid, J/kg: :math:`(c_{p,s} + Xc_{p,w})T` (Ajayi (2011) Eq. 6.3).
+
+    >>> float(solids_enthalpy(10.0, 0.25))
+    15505.0
+    """
+    t = np.asarray(temperature_c, dtype=float)
+    x = np.asarray(moisture_dry, dtype=float)
+    return (cp_solids + x * cp_water) * t
+
+
+_THETA_GRID = np.linspace(0.0, 2 * math.pi, 4001)
+_SEG_GRID = (_THETA_GRID - np.sin(_THETA_GRID)) / (2 * math.pi)   # fill fraction of the circle
+
+
+def kilning_angle(fill_fraction):
+    r"""Central angle θ_k (rad) of a bed filling ``fill_fraction`` of the drum cross-section.
+
+    Inverts :math:`f = (\theta_k - \sin\theta_k)/(2\pi)` (Ajayi (2011) Eq. 6.56 divided by πR²),
+    by interpolation on a 4001-point table (error < 1e-6 rad away from f = 0).
+
+    >>> round(float(kilning_angle(0.5)), 6)
+    3.141593
+    """
+    f = check_range("fill_fraction", fill_fraction, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+    return np.interp(f, _SEG_GRID, _THETA_GRID)
+
+
+def active_layer_area(holdup, bulk_density, slice_length, radius, particle_diameter, area_factor,
+                      particle_density=2800.0):
+    r"""Gas-exposed area of the active layer of a rolling bed slice, m² (Ajayi (2011) Eq. 6.56-6.61).
+
+    Parameters: holdup kg per slice; bulk density kg/m³; slice length m; drum radius m;
+    particle diameter m; area factor θ_AL (-); particle density kg/m³ (2800, L3185).
+    :math:`A = 3\theta_{AL}L_c\rho_b\Delta z/\rho_p` with the chord L_c of the bed surface.
+
+    >>> round(float(active_layer_area(600.0, 1540.0, 0.105, 1.95, 0.02, 2.4)), 3)
+    1.546
+    """
+    m = np.maximum(np.asarray(holdup, dtype=float), 0.0)
+    rho = np.asarray(bulk_density, dtype=float)
+    fill = np.clip(m / (rho * slice_length * math.pi * radius**2), 0.0, 1.0)
+    theta = np.interp(fill, _SEG_GRID, _THETA_GRID)
+    chord = 2.0 * radius * np.sin(theta / 2.0)
+    return 3.0 * area_factor * chord * rho * slice_length / particle_density
+
+
+def curtain_area(active_holdup, particle_diameter, area_factor, particle_density=2800.0):
+    r"""Gas-exposed area of airborne (active) solids, m²: :math:`\theta_a m_a 3/(d_p\rho_p)` (Ajayi (2011) Eq. 6.63).
+
+    >>> round(float(curtain_area(100.0, 0.015, 1.2)), 3)
+    8.571
+    """
+    return area_factor * np.maximum(np.asarray(active_holdup, dtype=float), 0.0) * 3.0 / (
+        np.asarray(particle_diameter, dtype=float) * particle_density)
+
+
+def gas_solids_coefficient(gas_mass_flow, temperature_c, humidity, particle_diameter, radius,
+                           properties: str = "physical"):
+    r"""Convective gas-solids coefficient h_c, W/(m² K), and Re: Ajayi (2011) Eq. 6.41, Nu = 0.33 Re^0.6.
+
+    Re on the particle diameter with the superficial velocity :math:`v_g = F_g/(\rho_g\pi R^2)`;
+    properties from :mod:`rotarydryer.properties.humid_air` (``"physical"``) or Ajayi's air
+    polynomials (``"ajayi2011"``). Since ρ_g v_g = F_g/(πR²), Re does not depend on the density.
+    """
+    t = _tc(temperature_c)
+    y = np.clip(np.asarray(humidity, dtype=float), 0.0, 0.3)
+    method = "ajayi2011" if properties == "ajayi2011" else None
+    mu = ha.viscosity(t, y, method=method or "wilke")
+    k = ha.thermal_conductivity(t, y, method=method or "mason_saxena")
+    g = np.asarray(gas_mass_flow, dtype=float) / (math.pi * radius**2)
+    re = g * particle_diameter / mu
+    return 0.33 * re**0.6 * k / particle_diameter, re
+
+
+def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
+                   particle_diameter, radius, kinetics: DryingKinetics, *, mode: str = "physical",
+                   pressure=101325.0, co2_mole_fraction=0.011, solids_emissivity=0.9, dry_guard=2e-3):
+    r"""Gas -> solids transfer in a set of gas stages: (R_w kg/s, Q_conv W, Q_rad W), arrays.
+
+    * R_w: evaporation, ``kinetics.rate`` (:mod:`rotarydryer.thermal.drying`; Ajayi (2011)
+      Eq. 6.32-6.49) times a guard min(1, X/``dry_guard``) that stops evaporation of the
+      last traces of water (X in kg/kg dry; kinetics without a falling rate would otherwise
+      drive the moisture negative). Solids temperature is clipped to 0-99 °C for the
+      surface-evaporation model (boiling is outside its range).
+    * Q_conv = h_c A (T_g - T_s) (Eq. 6.40-6.41).
+    * Q_rad: ``mode="ajayi2011"`` ε_s σ A (T_g⁴ - T_s⁴) (Eq. 6.42 as coded); ``"physical"``
+      grey exchange with the WSGG emissivity of the H2O/CO2 gas over the mean beam length
+      0.95 D (:mod:`rotarydryer.thermal.radiation`).
+    """
+    tg = _tc(gas_temperature_c)
+    ts = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 99.0)
+    y = np.clip(np.asarray(humidity, dtype=float), 1e-6, 0.3)
+    a = np.asarray(area, dtype=float)
+    props = "ajayi2011" if mode == "ajayi2011" else "physical"
+    hc, _ = gas_solids_coefficient(gas_mass_flow, tg, y, particle_diameter, radius, props)
+    x = np.maximum(np.asarray(moisture_dry, dtype=float), 0.0)
+    overrides = {}
+    if mode == "ajayi2011":
+        rho = ha.density(tg, y, method="ajayi2011")
+        mu = ha.viscosity(tg, y, method="ajayi2011")
+        overrides = dict(gas_heat_capacity=AJAYI_CP_GAS, prandtl=0.7, schmidt=mu / (rho * 2.65e-5))
+    rw = kinetics.rate(a, x, hc, ts, tg, y, pressure=pressure, **overrides)
+    rw = rw * np.clip(x / dry_guard, 0.0, 1.0)
+    q_conv = hc * a * (tg - np.asarray(solids_temperature_c, dtype=float))
+    tgk = tg + 273.15
+    tsk = np.asarray(solids_temperature_c, dtype=float) + 273.15
+    if mode == "ajayi2011":
+        q_rad = solids_emissivity * SIGMA * a * (tgk**4 - tsk**4)
+    else:
+        p_h2o = ha.vapour_partial_pressure(y, pressure)
+        eg = rad.gas_emissivity(tg, p_h2o, co2_mole_fraction * pressure, rad.mean_beam_length(2 * radius))
+        eg = np.clip(eg, 1e-6, 1.0)
+        q_rad = SIGMA * a * (tgk**4 - tsk**4) / (1.0 / solids_emissivity + 1.0 / eg - 1.0)
+    return rw, q_conv, q_rad

@@ -1,0 +1,919 @@
+r"""The whole dryer: transport + moisture + energy of solids and gas, steady state and dynamics.
+
+Model (Ajayi (2011) Ch. 5-6, multi-section MMG Karumba layout; notes ajayi_energy.md §1):
+
+* **Solids tanks**: unflighted slices (rolling bed, sections A and E) and, per flighted
+  cell, a passive (flight/floor-borne) and an active (airborne curtain) tank. Each tank has
+  dry solids S (kg), water W (kg) and temperature T (°C) as states. The wet-solids flows are
+  those of the transport model (:mod:`rotarydryer.transport.ajayi`, Ajayi (2011)
+  Eq. 5.1-5.3, 5.17-5.19; bed: dispersed plug flow Eq. 5.9 by finite volumes, closed
+  (Danckwerts) inlet so that every balance closes) and carry the composition and enthalpy of
+  their source tank (Eq. 6.1-6.4, 6.8-6.11). Differences from the thesis, chosen for
+  conservation: dry solids and water are balanced separately (Ajayi's wet-mass balance
+  Eq. 5.1 does not subtract evaporation, notes §5.12 item 7); the design-load cap
+  min(m_p, m_des) is smoothed over 0.1 % of m_des (Newton needs a differentiable residual).
+* **Transport coupled to moisture**: repose angle φ = 419.6 x_p - 7.801 (Ajayi Eq. 3.2) and
+  bulk density ρ_b = 2043.81 - 3095.24 x_p (Eq. 3.4) of each flighted cell are evaluated from
+  the *computed* passive moisture x_p (wet basis), as in Ajayi's code (L3608-3618), and set the
+  design load and cascade coefficients. The regressions are valid for 0.08 ≤ x_p ≤ 0.19
+  (φ = 26-72°); outside, x_p is clipped for the transport properties only and the steady
+  state reports ``transport_moisture_clipped``. ``moisture_coupling=False`` uses the fixed
+  Eq. 3.1 profile instead (the transport-only model).
+* **Gas**: one well-mixed stage per bed slice / flighted cell, plug flow along the drum,
+  co- or counter-current; states T_g (°C) and Y (kg/kg dry gas); the dry-gas flow is
+  constant. Gas exchanges heat and water only with the active layer (bed slices) and the
+  curtain (active tanks), Ajayi (2011) §6.1; passive tanks exchange nothing (Ajayi's
+  assumption). Shell heat loss from the gas (Eq. 6.50-6.55). For dynamics the gas has a
+  small holdup (freeboard volume at 250 °C), i.e. it is quasi-steady as in Ajayi's
+  algebraic gas model but solved by the same stiff integrator.
+* **Modes** (the sources disagree, notes §2.2 and §8):
+
+  ``"physical"`` (default)
+      physical humid-air enthalpies, WSGG gas radiation, shell loss with the shell
+      temperature solved (:func:`rotarydryer.thermal.shell.shell_heat_loss`), Chilton-Colburn
+      on a concentration basis; the gas flow is a parameter (tuned on Test 4, see
+      ``cases/ajayi2011_mmg.toml`` [thermal]) and the fuel rate follows from the burner.
+  ``"ajayi2011"`` (compatibility)
+      Ajayi's enthalpies with c_p,v in kJ/(kg K) as coded, black-gas radiation,
+      Ajayi's h_m with the vapour partial pressure (Eq. 6.47) and Antoine P_sat, gas flow
+      112675.6688 kg/h, fixed shell temperatures with loss factor θ_loss = 15 (Eq. 6.50).
+      Its balances close in Ajayi's own enthalpy accounting; the steady state also reports
+      the energy balance re-evaluated with physical enthalpies
+      (``physical_energy_balance_error``), which does not close - the inconsistency of the
+      thesis.
+
+* **Solvers**: steady state by pseudo-transient continuation (implicit Euler on the dynamic
+  model with a growing time step, started from the transport steady state and a linear
+  temperature/moisture guess, ending in Newton steps) with a sparse finite-difference
+  Jacobian (column grouping) and sparse LU; dynamics by ``solve_ivp`` BDF with the Jacobian
+  sparsity pattern.
+
+Bad input raises :class:`DryerError` (a ``ValueError``) saying which and why; solver failures
+keep the last iterate on ``exc.state``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Optional
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize._numdiff import approx_derivative, group_columns
+from scipy.sparse.linalg import splu
+
+from .._validation import check_choice, check_range
+from ..properties import humid_air as ha
+from ..transport.ajayi import mmg_bulk_density, mmg_moisture_profile, mmg_repose_angle
+from . import balances as bal
+from .drying import MATERIAL_KINETICS, DryingKinetics
+from .shell import ajayi2011_heat_loss, shell_heat_loss
+
+__all__ = ["DryerError", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
+           "build_thermal_dryer", "AJAYI_GAS_FLOW", "TRANSPORT_MOISTURE_RANGE"]
+
+AJAYI_GAS_FLOW = 112675.6688 / 3600.0   # kg/s wet gas, App. F L3225
+TRANSPORT_MOISTURE_RANGE = (0.08, 0.19)  # kg/kg wet: phi = 26-72 deg, regressions positive (B, C, D)
+_AREA_FACTORS = {"A": 2.4, "B": 1.2, "C": 0.6, "D": 0.42, "E": 1.4}          # Ajayi l.2278
+_PARTICLE_D = {"A": 0.02, "B": 0.015, "C": 0.012, "D": 0.008, "E": 0.007}     # m, l.2255
+_SHELL_T = {"A": 145.0, "B": 105.0, "C": 100.0, "D": 100.0, "E": 65.0}        # degC, code (notes §1.9)
+_COMBUSTION_AIR_SHARE = 23698.0 / (23698.0 + 88050.0)                          # Table A1
+
+
+class DryerError(ValueError):
+    """Bad input or no steady state; ``reason`` is a short key, ``state`` the last converged/iterated state."""
+
+    def __init__(self, message, reason="input", state=None):
+        super().__init__(message)
+        self.reason = reason
+        self.state = state
+
+
+@dataclasses.dataclass
+class ThermalSettings:
+    """Thermal parameters of the dryer (SI; temperatures °C).
+
+    mode : "physical" | "ajayi2011" (see module docstring).
+    gas_flow : wet gas into the dryer, kg/s (Ajayi 31.30 kg/s = 112675.7 kg/h, L3225).
+    gas_inlet_temperature : °C (Ajayi 500). gas_inlet_humidity : kg/kg **wet** gas (Ajayi 0.0193, L3227).
+    solids_inlet_temperature : °C (28, L3241). ambient_temperature : °C (26, L3231).
+    area_factors : θ_AL / θ_a per section (Ajayi l.2278). area_scale : common multiplier on them (tuned).
+    particle_diameters : m per section (l.2255). particle_density : kg/m³ (2800).
+    cp_solids, cp_water : J/(kg K) (505, 4182). pressure : Pa.
+    loss_factor, shell_temperatures : compatibility mode only (θ_loss = 15; fixed shell T).
+    scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity : shell
+    network of the physical mode (m, W/(m K)).
+    fouling : fraction (0-0.95) of flight loading capacity lost to scale (Ajayi Ch. 5 Eq. 5.21,
+    Ch. 7 "scaling 0-80 %"; Test 3 was modelled with 80 %, l.1715): multiplies the design load by (1 - fouling).
+    leak_air_flow : ambient air leaking into the drum at the gas inlet end (seals, feed chute), kg/s
+    humid air at ambient temperature and ``ambient_humidity`` (kg/kg dry); mixed adiabatically
+    with the burner gas before the first stage. 0 = none (Ajayi's assumption).
+    kinetics : DryingKinetics (default: per mode, :data:`rotarydryer.thermal.drying.MATERIAL_KINETICS`).
+    unflighted_slices : finite volumes per unflighted section.
+    moisture_coupling : transport properties from the computed moisture (True) or Eq. 3.1 (False).
+    gas_direction : "co-current" | "counter-current".
+    """
+
+    mode: str = "physical"
+    gas_flow: float = 15.0
+    gas_inlet_temperature: float = 500.0
+    gas_inlet_humidity: float = 0.0193
+    solids_inlet_temperature: float = 28.0
+    ambient_temperature: float = 26.0
+    area_factors: dict = dataclasses.field(default_factory=lambda: dict(_AREA_FACTORS))
+    area_scale: float = 1.0
+    particle_diameters: dict = dataclasses.field(default_factory=lambda: dict(_PARTICLE_D))
+    particle_density: float = 2800.0
+    cp_solids: float = bal.AJAYI_CP_SOLIDS
+    cp_water: float = bal.AJAYI_CP_WATER
+    pressure: float = 101325.0
+    loss_factor: float = 15.0
+    shell_temperatures: dict = dataclasses.field(default_factory=lambda: dict(_SHELL_T))
+    scale_thickness: float = 0.0
+    scale_conductivity: float = 1.0
+    insulation_thickness: float = 0.0
+    insulation_conductivity: float = 0.07
+    co2_mole_fraction: float = 0.011
+    leak_air_flow: float = 0.0
+    ambient_humidity: float = 0.0193 / (1.0 - 0.0193)
+    fouling: float = 0.0
+    kinetics: Optional[DryingKinetics] = None
+    unflighted_slices: dict = dataclasses.field(default_factory=lambda: {"A": 12, "E": 24})
+    moisture_coupling: bool = True
+    gas_direction: str = "co-current"
+
+    @classmethod
+    def ajayi2011(cls, **kw):
+        """Compatibility settings reproducing the thesis (Ajayi (2011) App. F process entity)."""
+        base = dict(mode="ajayi2011", gas_flow=AJAYI_GAS_FLOW, pressure=101045.0, loss_factor=15.0)
+        base.update(kw)
+        return cls(**base)
+
+    def validate(self):
+        check_choice("thermal.mode", self.mode, ("physical", "ajayi2011"))
+        check_choice("thermal.gas_direction", self.gas_direction, ("co-current", "counter-current"))
+        check_range("thermal.gas_flow", self.gas_flow, 0.0, 1000.0, unit="kg/s")
+        check_range("thermal.gas_inlet_temperature", self.gas_inlet_temperature, 0.0, 600.0, high_inclusive=True,
+                    unit="degC")
+        check_range("thermal.gas_inlet_humidity", self.gas_inlet_humidity, 0.0, 0.2, low_inclusive=True,
+                    unit="kg/kg wet gas")
+        check_range("thermal.solids_inlet_temperature", self.solids_inlet_temperature, 0.0, 99.0,
+                    low_inclusive=True, unit="degC")
+        check_range("thermal.ambient_temperature", self.ambient_temperature, -40.0, 60.0, unit="degC")
+        check_range("thermal.area_scale", self.area_scale, 0.0, 100.0, low_inclusive=True)
+        check_range("thermal.fouling", self.fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
+        check_range("thermal.loss_factor", self.loss_factor, 0.0, 1000.0, low_inclusive=True)
+        check_range("thermal.leak_air_flow", self.leak_air_flow, 0.0, 1000.0, low_inclusive=True, unit="kg/s")
+        check_range("thermal.scale_thickness", self.scale_thickness, 0.0, 0.5, low_inclusive=True, unit="m")
+        check_range("thermal.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
+        if self.mode == "ajayi2011" and self.gas_inlet_humidity <= 0:
+            raise DryerError("thermal.gas_inlet_humidity = 0 with mode='ajayi2011': Ajayi's h_m divides by the gas "
+                             "vapour pressure (Eq. 6.47); use mode='physical' for dry gas")
+        return self
+
+
+def _smooth_min(a, b, eps):
+    return 0.5 * (a + b - np.sqrt((a - b) ** 2 + eps**2))
+
+
+class ThermalDryer:
+    """Coupled transport + heat + mass model of a multi-section flighted/unflighted dryer.
+
+    Parameters
+    ----------
+    sections : list of dict (``name``, ``kind``, ``length`` m, ``n_cells`` for flighted)
+    geometries : dict section -> geometry (``design_load_area``, ``loading_factor``, ``cascade``)
+    feed_rate : wet solids, kg/s. feed_moisture : kg/kg wet (≤ 0.19, the regressions' range).
+    rpm : rev/min. slope : deg. radius : drum radius m. kiln_velocity : u_s m/s.
+    dispersion : m²/s. settings : :class:`ThermalSettings`.
+    """
+
+    def __init__(self, *, sections, geometries, feed_rate, feed_moisture, rpm, slope, radius, kiln_velocity,
+                 dispersion, settings: ThermalSettings | None = None, design_load_factor=1.24):
+        self.settings = s = (settings or ThermalSettings()).validate()
+        self.feed_rate = float(check_range("operating.feed_rate", feed_rate, 0.0, 1000.0, unit="kg/s"))
+        fm = float(check_range("solids.feed_moisture", feed_moisture, 0.0, 1.0, low_inclusive=True, unit="kg/kg wet"))
+        if fm > TRANSPORT_MOISTURE_RANGE[1]:
+            raise DryerError(
+                f"feed too wet: solids.feed_moisture = {fm:g} kg/kg wet exceeds the model's range "
+                f"(<= {TRANSPORT_MOISTURE_RANGE[1]}): the repose-angle and bulk-density regressions (Ajayi Eq. 3.2, "
+                f"3.4) and the design-load polynomials are not valid above it", reason="feed_too_wet")
+        self.feed_moisture = fm
+        self.rpm = float(check_range("operating.rpm", rpm, 0.0, 60.0, unit="rev/min"))
+        self.slope = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
+        self.radius = float(check_range("drum.radius", radius, 0.0, 20.0, unit="m"))
+        self.kiln_velocity = float(check_range("transport.kiln_velocity", kiln_velocity, 0.0, 10.0, unit="m/s"))
+        self.dispersion = float(check_range("transport.dispersion", dispersion, 0.0, 1.0, low_inclusive=True,
+                                            unit="m^2/s"))
+        self.geometries = geometries
+        self.sections = [dict(x) for x in sections]
+        self._check_gas_can_dry()
+        if s.kinetics is None:
+            s.kinetics = MATERIAL_KINETICS["zinc_concentrate_ajayi2011_thesis" if s.mode == "ajayi2011"
+                                           else "zinc_concentrate_ajayi2011"]
+        self._layout()
+
+    # ------------------------------------------------------------------ layout
+    def _check_gas_can_dry(self):
+        s = self.settings
+        y = s.gas_inlet_humidity / (1.0 - s.gas_inlet_humidity)
+        if s.gas_inlet_temperature <= s.solids_inlet_temperature:
+            raise DryerError(
+                f"gas too cold to dry: thermal.gas_inlet_temperature = {s.gas_inlet_temperature:g} degC is not above "
+                f"the solids inlet temperature {s.solids_inlet_temperature:g} degC, so the gas cannot supply the "
+                f"latent heat", reason="gas_too_cold")
+        rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3)))
+        if rh >= 1.0:
+            raise DryerError(f"gas too cold to dry: the inlet gas is saturated (relative humidity {rh:.2f} at "
+                             f"{s.gas_inlet_temperature:g} degC)", reason="gas_too_cold")
+
+    def _layout(self):
+        s = self.settings
+        u, Dax = self.kiln_velocity, self.dispersion
+        kind, sec, pos, seglen = [], [], [], []
+        gas_tank, gas_len, gas_dp, gas_theta, gas_sec, gas_pos = [], [], [], [], [], []
+        lin_src, lin_dst, lin_rate = [], [], []
+        self.flighted = []
+        self.beds = []
+        x0 = 0.0
+        entries = []
+        for k, sd in enumerate(self.sections):
+            L = float(sd["length"])
+            name = sd["name"]
+            theta = float(s.area_factors.get(name, 1.0))
+            dp = float(s.particle_diameters.get(name, 0.01))
+            if sd["kind"] == "unflighted":
+                n = int(s.unflighted_slices.get(name, max(4, int(math.ceil(L / 0.3)))))
+                dz = L / n
+                idx = np.arange(len(kind), len(kind) + n)
+                for j in range(n):
+                    kind.append(0), sec.append(name), pos.append(x0 + (j + 0.5) * dz), seglen.append(dz)
+                    gas_tank.append(idx[j]), gas_len.append(dz), gas_dp.append(dp), gas_theta.append(theta)
+                    gas_sec.append(name), gas_pos.append(x0 + (j + 0.5) * dz)
+                pe = u * dz / Dax if Dax > 0 else math.inf
+                if pe <= 2.0:
+                    fw, bw = Dax / dz**2 + u / (2 * dz), Dax / dz**2 - u / (2 * dz)
+                else:
+                    fw, bw = Dax / dz**2 + u / dz, Dax / dz**2
+                lin_src += list(idx[:-1]); lin_dst += list(idx[1:]); lin_rate += [fw] * (n - 1)
+                if bw > 0:
+                    lin_src += list(idx[1:]); lin_dst += list(idx[:-1]); lin_rate += [bw] * (n - 1)
+                self.beds.append(dict(name=name, idx=idx, dz=dz, out_rate=u / dz, dp=dp, theta=theta))
+                entries.append(idx[0])
+            else:
+                N = int(sd["n_cells"])
+                dl = L / N
+                P = np.empty(N, dtype=int)
+                A = np.empty(N, dtype=int)
+                for i in range(N):
+                    P[i] = len(kind); kind.append(1); sec.append(name); pos.append(x0 + (i + 0.5) * dl); seglen.append(dl)
+                    A[i] = len(kind); kind.append(2); sec.append(name); pos.append(x0 + (i + 0.5) * dl); seglen.append(dl)
+                    gas_tank.append(A[i]), gas_len.append(dl), gas_dp.append(dp), gas_theta.append(theta)
+                    gas_sec.append(name), gas_pos.append(x0 + (i + 0.5) * dl)
+                xfix = mmg_moisture_profile(x0 + (np.arange(N) + 0.5) * dl)
+                self.flighted.append(dict(name=name, P=P, A=A, dl=dl, geom=self.geometries[name], x_fixed=xfix))
+                entries.append(P[0])
+            x0 += L
+        self.length = x0
+        self.n_tanks = len(kind)
+        self.kind = np.array(kind)
+        self.tank_section = np.array(sec)
+        self.position = np.array(pos)
+        self.seglen = np.array(seglen)
+        # routing to the next section's entry (-1 = outlet)
+        nexts = entries[1:] + [-1]
+        k_f = 0
+        k_b = 0
+        for k, sd in enumerate(self.sections):
+            if sd["kind"] == "unflighted":
+                self.beds[k_b]["next"] = nexts[k]; k_b += 1
+            else:
+                self.flighted[k_f]["next"] = nexts[k]; k_f += 1
+        self.lin_src = np.array(lin_src, dtype=int)
+        self.lin_dst = np.array(lin_dst, dtype=int)
+        self.lin_rate = np.array(lin_rate, dtype=float)
+        self.entry = entries[0]
+        self.gas_tank = np.array(gas_tank, dtype=int)
+        self.gas_len = np.array(gas_len)
+        self.gas_dp = np.array(gas_dp)
+        self.gas_theta = np.array(gas_theta)
+        self.gas_section = np.array(gas_sec)
+        self.gas_position = np.array(gas_pos)
+        self.n_gas = len(gas_tank)
+        self.is_bed_stage = self.kind[self.gas_tank] == 0
+        # gas holdup (kg dry gas) of each stage: freeboard at 250 degC
+        rho = float(ha.density(250.0, 0.05, self.settings.pressure)) / 1.05
+        self.gas_holdup = rho * math.pi * self.radius**2 * self.gas_len
+        self.shell_T = np.array([s.shell_temperatures.get(n, 100.0) for n in self.gas_section])
+        co = s.gas_direction == "co-current"
+        self.gas_order = np.arange(self.n_gas) if co else np.arange(self.n_gas)[::-1]
+        up = np.empty(self.n_gas, dtype=int)
+        up[self.gas_order[0]] = -1
+        up[self.gas_order[1:]] = self.gas_order[:-1]
+        self.gas_up = up
+        self.gas_outlet_stage = int(self.gas_order[-1])
+        self.n = 3 * self.n_tanks + 2 * self.n_gas
+        self._pattern = None
+        self._groups = None
+        self._shell_ua = None
+
+    # ------------------------------------------------------------------ state helpers
+    def split(self, z):
+        nt, ng = self.n_tanks, self.n_gas
+        return z[:nt], z[nt:2 * nt], z[2 * nt:3 * nt], z[3 * nt:3 * nt + ng], z[3 * nt + ng:]
+
+    @property
+    def hot_gas_Y(self):
+        """Humidity of the burner gas, kg/kg dry gas."""
+        s = self.settings
+        return s.gas_inlet_humidity / (1.0 - s.gas_inlet_humidity)
+
+    @property
+    def _flows_in(self):
+        s = self.settings
+        hot = s.gas_flow * (1.0 - s.gas_inlet_humidity)
+        leak = s.leak_air_flow / (1.0 + s.ambient_humidity)
+        return hot, leak
+
+    @property
+    def dry_gas_flow(self):
+        """Dry gas through the drum (burner gas + leak air), kg/s."""
+        hot, leak = self._flows_in
+        return hot + leak
+
+    @property
+    def gas_inlet_Y(self):
+        """Humidity of the gas entering the first stage (after mixing with leak air), kg/kg dry gas."""
+        hot, leak = self._flows_in
+        return (hot * self.hot_gas_Y + leak * self.settings.ambient_humidity) / (hot + leak)
+
+    def gas_inlet_enthalpy(self, method=None):
+        """Enthalpy of the entering gas (burner gas + leak air mixed adiabatically), J/kg dry gas."""
+        s = self.settings
+        method = method or s.mode
+        hot, leak = self._flows_in
+        h = hot * float(bal.gas_enthalpy(s.gas_inlet_temperature, self.hot_gas_Y, method))
+        if leak > 0:
+            h += leak * float(bal.gas_enthalpy(s.ambient_temperature, s.ambient_humidity, method))
+        return h / (hot + leak)
+
+    def flows(self, S, W, T):
+        """Wet-solids edge flows: (src, dst, flow kg/s) arrays incl. the outlet edge (dst = -1)."""
+        s = self.settings
+        m = S + W
+        src = [self.lin_src]
+        dst = [self.lin_dst]
+        fl = [self.lin_rate * m[self.lin_src]]
+        for b in self.beds:
+            i = b["idx"][-1]
+            src.append(np.array([i])); dst.append(np.array([b["next"]])); fl.append(np.array([b["out_rate"] * m[i]]))
+        sin_t = math.sin(math.radians(self.slope))
+        self._clipped = False
+        for f in self.flighted:
+            P, A, dl, geom = f["P"], f["A"], f["dl"], f["geom"]
+            if s.moisture_coupling:
+                xp = W[P] / np.maximum(m[P], 1e-12)
+                lo, hi = TRANSPORT_MOISTURE_RANGE
+                if np.any(xp < lo) or np.any(xp > hi):
+                    self._clipped = True
+                xp = np.clip(xp, lo, hi)
+            else:
+                xp = f["x_fixed"]
+            phi = mmg_repose_angle(xp)
+            rho = mmg_bulk_density(xp)
+            des = rho * dl * np.asarray(geom.design_load_area(phi), dtype=float) * (1.0 - s.fouling)
+            mp, ma = m[P], m[A]
+            load = np.clip(mp / des, 1e-6, None)
+            lf = np.clip(np.asarray(geom.loading_factor(load, phi), dtype=float), 1e-6, 1.0)
+            c = geom.cascade(phi, lf, rpm=self.rpm, slope=self.slope)
+            k2 = 1.0 / np.asarray(c.passive_time, float)
+            k3 = 1.0 / np.asarray(c.mean_fall_time, float)
+            CF = np.clip(np.asarray(c.mean_fall_height, float) * sin_t / dl, 0.0, 1.0)
+            nxt = np.r_[P[1:], f["next"]]
+            dis = k2 * _smooth_min(mp, des, 1e-3 * des)
+            src += [P, A, A, P]
+            dst += [A, nxt, P, nxt]
+            fl += [dis, CF * k3 * ma, (1 - CF) * k3 * ma, self.kiln_velocity / dl * mp]
+            f["_des"] = des
+        return np.concatenate(src), np.concatenate(dst), np.concatenate(fl)
+
+    def _transfer(self, S, W, T, Tg, Y):
+        s = self.settings
+        m = S + W
+        X = W / np.maximum(S, 1e-12)
+        area = np.empty(self.n_gas)
+        tk = self.gas_tank
+        bed = self.is_bed_stage
+        if np.any(bed):
+            xw = np.clip(W[tk[bed]] / np.maximum(m[tk[bed]], 1e-12), 0.0, 0.3)
+            area[bed] = bal.active_layer_area(m[tk[bed]], mmg_bulk_density(xw), self.gas_len[bed], self.radius,
+                                              self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
+                                              s.particle_density)
+        act = ~bed
+        area[act] = bal.curtain_area(m[tk[act]], self.gas_dp[act], s.area_scale * self.gas_theta[act],
+                                     s.particle_density)
+        fg = self.dry_gas_flow * (1.0 + Y)
+        rw, qc, qr = bal.stage_transfer(area, X[tk], T[tk], Tg, Y, fg, self.gas_dp, self.radius, s.kinetics,
+                                        mode=s.mode, pressure=s.pressure, co2_mole_fraction=s.co2_mole_fraction)
+        return area, rw, qc, qr
+
+    def _shell_loss(self, Tg, Y, Tg_up):
+        s = self.settings
+        if self._shell_ua is not None:   # lagged coefficient Q = UA (T_g - T_amb), refreshed by the solvers
+            return self._shell_ua * (Tg - s.ambient_temperature)
+        return self._shell_loss_exact(Tg, Y, Tg_up)
+
+    def _shell_loss_exact(self, Tg, Y, Tg_up):
+        s = self.settings
+        fg = self.dry_gas_flow * (1.0 + Y)
+        tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
+        if s.mode == "ajayi2011":
+            return ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
+                                       np.clip(Tg_up, 0.0, 600.0))
+        r = shell_heat_loss(tg, fg, self.gas_len, s.ambient_temperature, gas_humidity=np.clip(Y, 0, 0.3),
+                            co2_mole_fraction=s.co2_mole_fraction, scale_thickness=s.scale_thickness,
+                            scale_conductivity=s.scale_conductivity, insulation_thickness=s.insulation_thickness,
+                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure)
+        return r.heat_loss
+
+    def terms(self, z):
+        """All balance terms at state ``z`` (dict of arrays, W and kg/s)."""
+        s = self.settings
+        if not np.all(np.isfinite(z)):
+            raise DryerError("state became non-finite (solver diverged)", reason="diverged", state=z)
+        S, W, T, Tg, Y = self.split(z)
+        # trial states of the solvers may leave the physical domain: evaluate rates on the nearest
+        # physical state (conservation is unaffected at physical states)
+        S = np.maximum(S, 1e-9 * self.feed_rate)
+        W = np.maximum(W, 0.0)
+        T = np.clip(T, -20.0, 300.0)
+        m = S + W
+        src, dst, F = self.flows(S, W, T)
+        frac_s = S[src] / np.maximum(m[src], 1e-12)
+        frac_w = W[src] / np.maximum(m[src], 1e-12)
+        h_wet = (s.cp_solids * frac_s + s.cp_water * frac_w) * T[src]
+        nt = self.n_tanks
+        inner = dst >= 0
+        inS = np.bincount(dst[inner], F[inner] * frac_s[inner], nt)
+        inW = np.bincount(dst[inner], F[inner] * frac_w[inner], nt)
+        inH = np.bincount(dst[inner], F[inner] * h_wet[inner], nt)
+        outS = np.bincount(src, F * frac_s, nt)
+        outW = np.bincount(src, F * frac_w, nt)
+        outH = np.bincount(src, F * h_wet, nt)
+        fS, fW = self.feed_rate * (1 - self.feed_moisture), self.feed_rate * self.feed_moisture
+        inS[self.entry] += fS
+        inW[self.entry] += fW
+        inH[self.entry] += (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
+        area, rw, qc, qr = self._transfer(S, W, T, Tg, Y)
+        Ts_c = T[self.gas_tank]
+        hv = bal.vapour_source_enthalpy(Ts_c, s.mode)
+        up = self.gas_up
+        Tg_up = np.where(up >= 0, Tg[np.maximum(up, 0)], s.gas_inlet_temperature)
+        Y_up = np.where(up >= 0, Y[np.maximum(up, 0)], self.gas_inlet_Y)
+        qloss = self._shell_loss(Tg, Y, Tg_up)
+        out = ~inner
+        return dict(S=S, W=W, T=T, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW, outH=outH,
+                    area=area, rw=rw, qc=qc, qr=qr, hv=hv, qloss=qloss, Tg_up=Tg_up, Y_up=Y_up,
+                    product_S=float(np.sum((F * frac_s)[out])), product_W=float(np.sum((F * frac_w)[out])),
+                    product_H=float(np.sum((F * h_wet)[out])), src=src, dst=dst, F=F)
+
+    def freeze_shell(self, z):
+        """Evaluate the shell-loss network exactly at ``z`` and use it as a lagged UA coefficient
+        (W/K per stage) until :meth:`unfreeze_shell`; the physical network solves the shell
+        temperature iteratively, which would dominate every residual evaluation."""
+        self._shell_ua = None
+        S, W, T, Tg, Y = self.split(z)
+        up = self.gas_up
+        Tg_up = np.where(up >= 0, Tg[np.maximum(up, 0)], self.settings.gas_inlet_temperature)
+        dT = np.maximum(Tg - self.settings.ambient_temperature, 1e-6)
+        self._shell_ua = self._shell_loss_exact(Tg, Y, Tg_up) / dT
+
+    def unfreeze_shell(self):
+        self._shell_ua = None
+
+    def rhs(self, t, z):
+        """Time derivatives of the state (S, W kg/s; T, T_g K/s; Y 1/s)."""
+        s = self.settings
+        d = self.terms(z)
+        S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
+        nt = self.n_tanks
+        tk = self.gas_tank
+        rw_t = np.bincount(tk, d["rw"], nt)
+        qh_t = np.bincount(tk, d["qc"] + d["qr"] - d["rw"] * d["hv"], nt)
+        dS = d["inS"] - d["outS"]
+        dW = d["inW"] - d["outW"] - rw_t
+        dU = d["inH"] - d["outH"] + qh_t
+        C = np.maximum(S * s.cp_solids + W * s.cp_water, 1e-9)
+        dT = (dU - T * (s.cp_solids * dS + s.cp_water * dW)) / C
+        Fd = self.dry_gas_flow
+        Mg = self.gas_holdup
+        dYm = Fd * (d["Y_up"] - Y) + d["rw"]
+        h_up = bal.gas_enthalpy(d["Tg_up"], d["Y_up"], s.mode)
+        h_up[self.gas_order[0]] = self.gas_inlet_enthalpy()
+        h = bal.gas_enthalpy(Tg, Y, s.mode)
+        dH = Fd * (h_up - h) + d["rw"] * d["hv"] - d["qc"] - d["qr"] - d["qloss"]
+        cs = bal.gas_heat_capacity(Tg, Y, s.mode)
+        dhdY = (bal.gas_enthalpy(Tg, Y + 1e-4, s.mode) - h) / 1e-4
+        dY = dYm / Mg
+        dTg = (dH / Mg - dhdY * dY) / cs
+        return np.concatenate([dS, dW, dT, dTg, dY])
+
+    # ------------------------------------------------------------------ jacobian
+    def sparsity(self):
+        """Jacobian sparsity pattern (csr, n x n) from the network structure."""
+        if self._pattern is not None:
+            return self._pattern
+        nt, ng = self.n_tanks, self.n_gas
+        tv = lambda i: [i, nt + i, 2 * nt + i]  # noqa: E731
+        gv = lambda k: [3 * nt + k, 3 * nt + ng + k]  # noqa: E731
+        rows, cols = [], []
+
+        def link(a_vars, b_vars):
+            for r in a_vars:
+                for c in b_vars:
+                    rows.append(r), cols.append(c)
+        for i in range(nt):
+            link(tv(i), tv(i))
+        z0 = np.ones(self.n)
+        S, W, T, _, _ = self.split(z0)
+        src, dst, _ = self.flows(S, W, T)
+        edges = set(zip(src.tolist(), dst.tolist()))
+        for f in self.flighted:       # flows out of A depend on P of the same cell (loading, moisture)
+            nxt = np.r_[f["P"][1:], f["next"]]
+            for p, a, nx in zip(f["P"], f["A"], nxt):
+                edges.add((p, a)); edges.add((a, p))
+                if nx >= 0:
+                    edges.add((p, nx))
+        for a, b in edges:
+            if b >= 0:
+                link(tv(b), tv(a))
+                link(tv(a), tv(b))
+        for k in range(ng):
+            link(gv(k), gv(k))
+            link(gv(k), tv(self.gas_tank[k]))
+            link(tv(self.gas_tank[k]), gv(k))
+            if self.gas_up[k] >= 0:
+                link(gv(k), gv(self.gas_up[k]))
+        pat = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(self.n, self.n))
+        pat.data[:] = 1.0
+        self._pattern = pat
+        self._groups = group_columns(pat)
+        return pat
+
+    def jacobian(self, z, f0=None):
+        pat = self.sparsity()
+        step = np.maximum(np.abs(z) * 1e-7, self._scale() * 1e-8)
+        return sp.csc_matrix(approx_derivative(lambda x: self.rhs(0.0, x), z, method="2-point", abs_step=step,
+                                               f0=f0, sparsity=(pat, self._groups)))
+
+    def _scale(self):
+        nt, ng = self.n_tanks, self.n_gas
+        msc = np.maximum(self.feed_rate * 10.0, 1.0)
+        return np.concatenate([np.full(nt, msc), np.full(nt, msc * 0.2), np.full(nt, 100.0), np.full(ng, 100.0),
+                               np.full(ng, 0.05)])
+
+    # ------------------------------------------------------------------ initial guess
+    def initial_state(self):
+        """Transport-only steady holdups (Eq. 3.1 moisture), linear solids/gas temperature guesses."""
+        s = self.settings
+        F = self.feed_rate
+        m = np.zeros(self.n_tanks)
+        for b in self.beds:
+            m[b["idx"]] = F / self.kiln_velocity * b["dz"]
+        # flighted: march cell by cell, solving k4 mp + CF k2 min(mp,des) = F_in for mp
+        sin_t = math.sin(math.radians(self.slope))
+        for f in self.flighted:
+            xp = f["x_fixed"]
+            phi = mmg_repose_angle(xp)
+            des = mmg_bulk_density(xp) * f["dl"] * np.asarray(f["geom"].design_load_area(phi)) * (1 - s.fouling)
+            k4 = self.kiln_velocity / f["dl"]
+            for i in range(len(f["P"])):
+                def g(mp, i=i):
+                    lf = float(np.clip(f["geom"].loading_factor(max(mp / des[i], 1e-6), phi[i]), 1e-6, 1.0))
+                    c = f["geom"].cascade(phi[i], lf, rpm=self.rpm, slope=self.slope)
+                    k2 = 1 / float(c.passive_time)
+                    cf = float(c.mean_fall_height) * sin_t / f["dl"]
+                    return k4 * mp + cf * k2 * min(mp, des[i]) - F, k2, float(c.mean_fall_time)
+                lo, hi = 0.0, F / k4
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    if g(mid)[0] > 0:
+                        hi = mid
+                    else:
+                        lo = mid
+                mp = 0.5 * (lo + hi)
+                _, k2, tf = g(mp)
+                m[f["P"][i]] = mp
+                m[f["A"][i]] = k2 * min(mp, des[i]) * tf
+        x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04, 0.02)])
+        S = m * (1 - x)
+        W = m * x
+        T = np.interp(self.position, [0, 0.3 * self.length, self.length],
+                      [s.solids_inlet_temperature, 40.0, 45.0])
+        gp = self.gas_position if s.gas_direction == "co-current" else self.length - self.gas_position
+        Tout = max(s.solids_inlet_temperature + 20.0, 0.3 * s.gas_inlet_temperature)
+        Tg = np.interp(gp, [0, self.length], [s.gas_inlet_temperature, Tout])
+        Y = np.interp(gp, [0, self.length], [self.gas_inlet_Y, self.gas_inlet_Y + 0.05])
+        return np.concatenate([S, W, T, Tg, Y])
+
+    # ------------------------------------------------------------------ steady state
+    def steady_state(self, z0=None, max_iter=200, tol=1e-11, dt0=20.0, verbose=False):
+        """Coupled steady state by pseudo-transient continuation + Newton (module docstring).
+
+        Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
+        close; raises :class:`DryerError` (reason ``"no_steady_state"``) with ``state`` = last iterate.
+        """
+        t0 = time.perf_counter()
+        z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
+        sc = self._scale()
+        f = self.rhs(0.0, z)
+        norm = np.max(np.abs(f) / sc)
+        dt = dt0
+        it = 0
+        for it in range(1, max_iter + 1):
+            self.freeze_shell(z)
+            f = self.rhs(0.0, z)
+            J = self.jacobian(z, f)
+            A = sp.identity(self.n, format="csc") / dt - J
+            try:
+                dz = splu(A.tocsc()).solve(f)
+            except RuntimeError:
+                dt *= 0.2
+                continue
+            zn = z + dz
+            ok = self._admissible(zn)
+            fn, nn = None, np.inf
+            if ok:
+                try:
+                    fn = self.rhs(0.0, zn)
+                    nn = np.max(np.abs(fn) / sc)
+                except DryerError:
+                    ok = False
+            if not ok or not np.isfinite(nn) or (nn > 10 * norm and dt > dt0):
+                dt *= 0.25
+                if dt < 1e-6:
+                    break
+                continue
+            z, f = zn, fn
+            dt = min(dt * min(max(norm / max(nn, 1e-300), 0.5), 10.0) * 1.5, 1e12)
+            norm = nn
+            if verbose:
+                print(it, norm, dt)
+            if norm < tol:
+                self.unfreeze_shell()
+                f = self.rhs(0.0, z)
+                norm = np.max(np.abs(f) / sc)
+                if norm < tol:
+                    break
+        self.unfreeze_shell()
+        ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
+        if norm >= tol * 1e3 or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:
+            raise DryerError(f"no steady state reached: scaled residual {norm:.3g} after {it} iterations "
+                             f"(water balance error {ss.water_balance_error:.2g}, energy {ss.energy_balance_error:.2g})",
+                             reason="no_steady_state", state=ss)
+        return ss
+
+    def _admissible(self, z):
+        S, W, T, Tg, Y = self.split(z)
+        s = self.settings
+        return (np.all(S > 0) and np.all(W > -1e-9 * self.feed_rate) and np.all(T > -5) and np.all(T < 150)
+                and np.all(Tg > s.ambient_temperature - 5) and np.all(Tg < 650) and np.all(Y > -1e-6)
+                and np.all(Y < 0.3))
+
+    # ------------------------------------------------------------------ dynamics
+    def simulate(self, z0, t_end, t_eval=None, rtol=1e-5, atol=None, max_step=np.inf, shell_refresh=60.0):
+        """Integrate from state ``z0`` for ``t_end`` s with BDF and the sparse Jacobian pattern.
+
+        The shell-loss coefficient UA is lagged: re-evaluated exactly every ``shell_refresh`` s
+        of simulated time (the shell network's own dynamics are not modelled)."""
+        from scipy.integrate import solve_ivp
+
+        t0 = time.perf_counter()
+        if atol is None:
+            atol = self._scale() * 1e-7
+        z0 = np.asarray(z0, dtype=float)
+        self.freeze_shell(z0)
+        last = [0.0]
+
+        def fun(t, z):
+            if abs(t - last[0]) > shell_refresh:
+                self.freeze_shell(z)
+                last[0] = t
+            return self.rhs(t, z)
+        try:
+            sol = solve_ivp(fun, (0.0, float(t_end)), z0, method="BDF", t_eval=t_eval, rtol=rtol, atol=atol,
+                            jac_sparsity=self.sparsity(), max_step=max_step)
+        finally:
+            self.unfreeze_shell()
+        if not sol.success:
+            raise DryerError(f"dynamic integration failed: {sol.message}", reason="integration", state=z0)
+        return DynamicResult(self, sol.t, sol.y, time.perf_counter() - t0, sol.nfev)
+
+
+class ThermalSteadyState:
+    """A converged steady state: profiles, outlet values and balances (SI, °C)."""
+
+    def __init__(self, dryer: ThermalDryer, z, iterations=0, residual=0.0, seconds=0.0):
+        self.dryer = dryer
+        self.state = np.asarray(z, dtype=float)
+        self.iterations = iterations
+        self.residual = float(residual)
+        self.seconds = seconds
+        s = dryer.settings
+        d = dryer.terms(self.state)
+        self.terms = d
+        self.transport_moisture_clipped = bool(dryer._clipped)
+        S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
+        self.solids_temperature_c = T
+        self.moisture_wet = W / (S + W)
+        self.holdup = S + W
+        self.gas_temperature_c = Tg
+        self.gas_humidity = Y
+        Fd = dryer.dry_gas_flow
+        k = dryer.gas_outlet_stage
+        self.gas_outlet_temperature_c = float(Tg[k])
+        self.gas_outlet_humidity = float(Y[k])
+        pS, pW, pH = d["product_S"], d["product_W"], d["product_H"]
+        self.product_rate = pS + pW
+        self.product_moisture = pW / (pS + pW)
+        self.product_temperature_c = pH / (pS * s.cp_solids + pW * s.cp_water)
+        self.evaporation_rate = float(np.sum(d["rw"]))
+        self.shell_heat_loss_w = float(np.sum(d["qloss"]))
+        fS, fW = dryer.feed_rate * (1 - dryer.feed_moisture), dryer.feed_rate * dryer.feed_moisture
+        Yin = dryer.gas_inlet_Y
+        w_in = fW + Fd * Yin
+        w_out = pW + Fd * Y[k]
+        self.water_balance_error = abs(w_in - w_out) / w_in
+        self.solids_balance_error = abs(fS - pS) / fS
+        hs_in = (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
+        hg_in = Fd * dryer.gas_inlet_enthalpy()
+        hg_out = Fd * float(bal.gas_enthalpy(Tg[k], Y[k], s.mode))
+        e_in = hs_in + hg_in
+        e_out = pH + hg_out + self.shell_heat_loss_w
+        self.energy_in_w = e_in
+        self.energy_balance_error = abs(e_in - e_out) / e_in
+        # the same streams with physical enthalpies (closes only in the physical mode)
+        hg_in_p = Fd * dryer.gas_inlet_enthalpy("physical")
+        hg_out_p = Fd * float(bal.gas_enthalpy(Tg[k], Y[k], "physical"))
+        e_in_p = hs_in + hg_in_p
+        if s.mode == "physical":
+            self.physical_shell_loss_w = self.shell_heat_loss_w
+        else:   # the shell network (shell temperature solved) at the same gas temperatures
+            r = shell_heat_loss(np.clip(Tg, s.ambient_temperature + 1e-3, 600), Fd * (1 + Y), dryer.gas_len,
+                                s.ambient_temperature, gas_humidity=np.clip(Y, 0, 0.3))
+            self.physical_shell_loss_w = float(np.sum(r.heat_loss))
+        self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / e_in_p
+        self.physical_implied_shell_loss_w = e_in_p - pH - hg_out_p
+        self.gas_heat_duty_w = hg_in - hg_out
+
+    @property
+    def total_holdup(self):
+        return float(np.sum(self.holdup))
+
+    def fuel_rate(self, fuel_heat_loss_fraction=0.0):
+        """Fuel-oil rate (kg/s) that the Ajayi App. A burner needs to heat this gas flow to the inlet
+        temperature (combustion/dilution air split of Table A1, air at ambient, humidity of the gas).
+        Raises :class:`DryerError` if the burner cannot reach the set temperature."""
+        from .burner import fuel_rate_for_temperature
+
+        dr = self.dryer
+        s = dr.settings
+        air = s.gas_flow
+        try:
+            return float(fuel_rate_for_temperature(s.gas_inlet_temperature, air * _COMBUSTION_AIR_SHARE,
+                                                   air * (1 - _COMBUSTION_AIR_SHARE),
+                                                   air_temperature_c=s.ambient_temperature,
+                                                   air_humidity=dr.hot_gas_Y,
+                                                   heat_loss_fraction=fuel_heat_loss_fraction))
+        except ValueError as exc:
+            raise DryerError(f"burner cannot reach the set gas inlet temperature {s.gas_inlet_temperature:g} degC: "
+                             f"{exc}", reason="burner", state=self) from exc
+
+    def profiles(self):
+        """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per stage)."""
+        dr = self.dryer
+        return dict(position=dr.position, phase=np.array(["bed", "passive", "active"])[dr.kind],
+                    section=dr.tank_section, solids_temperature_c=self.solids_temperature_c,
+                    moisture_wet=self.moisture_wet, holdup_kg=self.holdup, gas_position=dr.gas_position,
+                    gas_temperature_c=self.gas_temperature_c, gas_humidity=self.gas_humidity,
+                    evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
+
+    def summary(self, with_fuel=True):
+        out = dict(
+            mode=self.dryer.settings.mode,
+            product_moisture=float(self.product_moisture),
+            product_temperature_C=float(self.product_temperature_c),
+            gas_outlet_temperature_C=self.gas_outlet_temperature_c,
+            gas_outlet_humidity=self.gas_outlet_humidity,
+            evaporation_kg_s=self.evaporation_rate,
+            shell_heat_loss_W=self.shell_heat_loss_w,
+            energy_balance_error=float(self.energy_balance_error),
+            water_balance_error=float(self.water_balance_error),
+            physical_energy_balance_error=float(self.physical_energy_balance_error),
+            physical_shell_loss_W=float(self.physical_shell_loss_w),
+            total_holdup_kg=self.total_holdup,
+            gas_flow_kg_s=self.dryer.settings.gas_flow,
+            transport_moisture_clipped=self.transport_moisture_clipped,
+            solver_iterations=self.iterations, solver_seconds=self.seconds,
+        )
+        if with_fuel:
+            try:
+                out["fuel_rate_kg_s"] = self.fuel_rate()
+            except DryerError as exc:
+                out["fuel_rate_kg_s"] = None
+                out["fuel_rate_error"] = str(exc)
+        return out
+
+
+class DynamicResult:
+    """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series."""
+
+    def __init__(self, dryer, t, y, seconds, nfev):
+        self.dryer, self.time, self.states, self.seconds, self.nfev = dryer, t, y, seconds, nfev
+        pm, pt, tg = [], [], []
+        last = [b for b in dryer.beds if b["next"] == -1]
+        for j in range(y.shape[1]):
+            S, W, T, Tg, Y = dryer.split(y[:, j])
+            if last:
+                i = last[0]["idx"][-1]
+                pm.append(W[i] / (S[i] + W[i])); pt.append(T[i])
+            else:
+                i = dryer.flighted[-1]["P"][-1]
+                pm.append(W[i] / (S[i] + W[i])); pt.append(T[i])
+            tg.append(Tg[dryer.gas_outlet_stage])
+        self.product_moisture = np.array(pm)
+        self.product_temperature_c = np.array(pt)
+        self.gas_outlet_temperature_c = np.array(tg)
+
+
+def build_thermal_dryer(case, settings: ThermalSettings | None = None, feed_moisture=None,
+                        **overrides) -> ThermalDryer:
+    """Thermal dryer of a validated ``AjayiCase``: transport from the case, thermal settings from
+    ``settings`` or the case's ``[thermal]`` section (:func:`settings_from_case`), per-test inputs
+    (feed, moisture, speed, u_s, ℘, gas inlet temperature) from the selected test; ``feed_moisture``
+    (kg/kg wet) overrides the test's inlet moisture, ``overrides`` set ThermalSettings fields."""
+    from ..transport.ajayi import AjayiRegressions, _ExactAdapter
+
+    test = next((t for t in case.tests if t.test == case.operating.test), None)
+    if test is None:
+        raise DryerError(f"operating.test = {case.operating.test} is not in the case's tests")
+    st = settings if settings is not None else settings_from_case(case)
+    for k, v in overrides.items():
+        setattr(st, k, v)
+    tr = case.transport
+    geoms = {}
+    for sct in case.sections:
+        if sct.kind != "flighted":
+            continue
+        if case.geometry.method == "ajayi2011_regressions":
+            reg = sct.regression or {}
+            geoms[sct.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius, tr.design_load_factor)
+        else:
+            from rotarydryer.cases import _exact_drum
+
+            geoms[sct.name] = _ExactAdapter(_exact_drum(case.drum.radius, sct.n_flights, sct.s1, sct.s2, sct.alpha1,
+                                                        sct.alpha2), case.geometry.passive_time_branch)
+    F = case.operating.feed_rate or test.feed_rate
+    rpm = case.operating.rpm or test.rpm
+    u = tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity
+    D = tr.dispersion if tr.dispersion is not None else test.dispersion
+    secs = [dict(name=x.name, kind=x.kind, length=x.length, n_cells=x.n_cells) for x in case.sections]
+    st.gas_direction = case.operating.gas_flow
+    return ThermalDryer(sections=secs, geometries=geoms, feed_rate=F, feed_moisture=test.moisture_inlet if feed_moisture is None else feed_moisture, rpm=rpm,
+                        slope=case.drum.slope, radius=case.drum.radius, kiln_velocity=u, dispersion=D, settings=st)
+
+
+def pi_operating_conditions(test_number):
+    """PI operating conditions of an Ajayi test (package data ``ajayi_pi_operating_conditions.csv``): dict."""
+    from importlib import resources
+
+    import csv
+    text = resources.files("rotarydryer.data").joinpath("ajayi_pi_operating_conditions.csv").read_text()
+    rows = [r for r in csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))]
+    for r in rows:
+        if int(r["test"]) == int(test_number):
+            return r
+    raise ValueError(f"test = {test_number} is not one of 1-6")
+
+
+def settings_from_case(case) -> ThermalSettings:
+    """ThermalSettings from the case's ``thermal`` section (if any) and the selected test's PI data
+    (gas inlet temperature; Test 3 'Scaled' -> fouling 0.8, Ajayi l.1715)."""
+    th = getattr(case, "thermal", None)
+    raw = th.model_dump() if th is not None else {}
+    mode = raw.pop("mode", "physical")
+    raw = {k: v for k, v in raw.items() if v is not None}
+    if mode == "ajayi2011":
+        raw.pop("gas_flow", None)
+        raw.pop("area_scale", None)
+        st = ThermalSettings.ajayi2011(**{k: v for k, v in raw.items() if k in ThermalSettings.__dataclass_fields__})
+    else:
+        st = ThermalSettings(**{k: v for k, v in raw.items() if k in ThermalSettings.__dataclass_fields__})
+    pi = pi_operating_conditions(case.operating.test)
+    if "gas_inlet_temperature" not in raw:
+        st.gas_inlet_temperature = float(pi["gas_inlet_T_C"])
+    if "fouling" not in raw and pi["internal_condition"].strip().lower() == "scaled":
+        st.fouling = 0.8
+    return st
