@@ -88,7 +88,7 @@ def test_report_cli_ajayi_sections(cli, tmp_path):
     for s in ("B", "C", "D"):
         assert f'id="flight-{s}"' in text
     assert 'id="flight-A"' not in text  # unflighted
-    assert _assert_self_contained(text) == 2 * 3 + 4
+    assert _assert_self_contained(text) == 2 * 3 + 4 + 2  # + energy waterfall and thermal profiles
 
 
 @pytest.mark.parametrize("args, expect", [

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..geometry import FlightedDrum
 
-__all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions"]
+__all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall"]
 
 
 def _plt():
@@ -167,4 +167,45 @@ def draw_flight_conventions(drum: FlightedDrum, repose_angle: float = 45.0, *, p
     ax.set_axis_off()
     ax.set_title("psi: root angle from the drum bottom; the drum turns anticlockwise;\n"
                  "the pocket faces the direction of rotation; dashed: flight-tip circle", fontsize=9)
+    return fig
+
+
+def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"):
+    """Waterfall of an energy balance, MW: inputs stacked up, outputs stepped down.
+
+    ``terms = {"in": {name: W}, "out": {name: W}}`` (e.g.
+    ``ThermalSteadyState.energy_terms_w``). The last bar is the closure (in - out), which is
+    zero when the balance closes.
+    """
+    plt = _plt()
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(7.5, 3.8), constrained_layout=True)
+    else:
+        fig = ax.figure
+    names, bottoms, heights, colours = [], [], [], []
+    level = 0.0
+    for name, w in terms["in"].items():
+        names.append(name)
+        bottoms.append(level)
+        heights.append(w / 1e6)
+        colours.append("#c0392b")
+        level += w / 1e6
+    for name, w in terms["out"].items():
+        level -= w / 1e6
+        names.append(name)
+        bottoms.append(level)
+        heights.append(w / 1e6)
+        colours.append("#2e86c1")
+    names.append("closure (in - out)")
+    bottoms.append(0.0)
+    heights.append(level)
+    colours.append("#7f8c8d")
+    x = np.arange(len(names))
+    ax.bar(x, heights, bottom=bottoms, color=colours, edgecolor="k", linewidth=0.5)
+    for xi, b, h in zip(x, bottoms, heights):
+        ax.text(xi, b + h + 0.01 * max(1e-9, max(bottoms) + max(heights)), f"{h:.2f}", ha="center", va="bottom",
+                fontsize=8)
+    ax.set_xticks(x, names, rotation=20, ha="right")
+    ax.set_ylabel("MW")
+    ax.set_title(title)
     return fig

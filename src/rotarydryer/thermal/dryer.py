@@ -754,6 +754,11 @@ class ThermalSteadyState:
         e_out = pH + hg_out + self.shell_heat_loss_w
         self.energy_in_w = e_in
         self.energy_balance_error = abs(e_in - e_out) / e_in
+        #: energy streams of the balance, W (enthalpies relative to the model's reference state)
+        self.energy_terms_w = {
+            "in": {"hot gas": float(hg_in), "wet feed": float(hs_in)},
+            "out": {"exhaust gas": float(hg_out), "product": float(pH), "shell loss": float(self.shell_heat_loss_w)},
+        }
         # the same streams with physical enthalpies (closes only in the physical mode)
         hg_in_p = Fd * dryer.gas_inlet_enthalpy("physical")
         hg_out_p = Fd * float(bal.gas_enthalpy(Tg[k], Y[k], "physical"))
