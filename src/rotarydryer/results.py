@@ -77,6 +77,8 @@ _META_ATTR = "rotarydryer_results"
 #: Unit of a per-cell quantity from the suffix of its name (longest suffix first).
 UNIT_SUFFIXES = {
     "_kg_m3": "kg/m3",
+    "_degC": "degC",
+    "_W": "W",
     "_kg_kg": "kg/kg",
     "_kg_s": "kg/s",
     "_m2": "m2",
@@ -493,12 +495,65 @@ def fit_measured_rtd(time_s, signal, pulse_duration: float, models=None):
     )
 
 
+def add_thermal(res: Results, steady) -> Results:
+    """Add a coupled heat and mass transfer steady state
+    (:class:`rotarydryer.thermal.dryer.ThermalSteadyState`) to ``res``: datasets
+    ``thermal_solids`` (per tank), ``thermal_gas`` (per gas stage), ``energy_balance``
+    (streams, W) and the key scalars (product moisture, temperatures, fuel, shell loss,
+    balance errors)."""
+    xr = _xr()
+    prof = steady.profiles()
+    res.datasets["thermal_solids"] = xr.Dataset(
+        {
+            "position": _var(np.asarray(prof["position"], float), "m", "axial position from the feed end", "tank"),
+            "phase": _var(np.asarray(prof["phase"]).astype(str), "-", "bed, passive or active", "tank"),
+            "section": _var(np.asarray(prof["section"]).astype(str), "-", "section name", "tank"),
+            "moisture": _var(np.asarray(prof["moisture_wet"], float), "kg/kg", "solids moisture, wet basis", "tank"),
+            "temperature": _var(np.asarray(prof["solids_temperature_c"], float), "degC", "solids temperature", "tank"),
+            "holdup": _var(np.asarray(prof["holdup_kg"], float), "kg", "wet solids holdup", "tank"),
+        },
+        coords={"tank": ("tank", np.arange(len(prof["position"]), dtype=np.int64))},
+    )
+    res.datasets["thermal_gas"] = xr.Dataset(
+        {
+            "position": _var(np.asarray(prof["gas_position"], float), "m", "axial position from the feed end", "stage"),
+            "temperature": _var(np.asarray(prof["gas_temperature_c"], float), "degC", "gas temperature", "stage"),
+            "humidity": _var(np.asarray(prof["gas_humidity"], float), "kg/kg", "gas humidity, dry basis", "stage"),
+        },
+        coords={"stage": ("stage", np.arange(len(prof["gas_position"]), dtype=np.int64))},
+    )
+    terms = steady.energy_terms_w
+    names = [*terms["in"], *terms["out"]]
+    res.datasets["energy_balance"] = xr.Dataset(
+        {
+            "direction": _var(np.array(["in"] * len(terms["in"]) + ["out"] * len(terms["out"])), "-",
+                              "into or out of the dryer", "stream"),
+            "power": _var(np.array([*terms["in"].values(), *terms["out"].values()], float), "W",
+                          "energy flow (enthalpy relative to the model reference state)", "stream"),
+        },
+        coords={"stream": ("stream", np.array(names))},
+    )
+    s = steady.summary()
+    for key, name in (("product_moisture", "product_moisture_kg_kg"),
+                      ("product_temperature_C", "product_temperature_degC"),
+                      ("gas_outlet_temperature_C", "gas_outlet_temperature_degC"),
+                      ("evaporation_kg_s", "evaporation_kg_s"), ("fuel_rate_kg_s", "fuel_rate_kg_s"),
+                      ("shell_heat_loss_W", "shell_heat_loss_W"), ("energy_balance_error", "energy_balance_error"),
+                      ("water_balance_error", "water_balance_error")):
+        if s.get(key) is not None:
+            res.scalars[name] = float(s[key])
+    res.model_choices["thermal_mode"] = s.get("mode")
+    return res
+
+
 def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: str = "auto",
-             fit_rtd: bool = False) -> Results:
+             fit_rtd: bool = False, thermal: bool | None = None) -> Results:
     """Load a case (name, ``.toml`` path or validated case), solve the steady state and,
     with ``rtd=True``, the tracer pulse of the case; with ``fit_rtd=True`` also fit the
     classical RTD models to the case's measured curve (:func:`fit_measured_rtd`, stored as
-    ``datasets["rtd_fits"]``).  Returns the :class:`Results`."""
+    ``datasets["rtd_fits"]``); ``thermal`` (default: when the case has a heat and mass transfer
+    model) adds the coupled thermal steady state (:func:`add_thermal`).  Returns the
+    :class:`Results`."""
     from .cases import build_model, load_case, measured_rtd
 
     name = case if isinstance(case, (str, os.PathLike)) else getattr(getattr(case, "meta", None), "title", "")
@@ -512,6 +567,12 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
     res = from_transport(c, model, steady, r, meas, case_name=str(name))
     if fit_rtd and meas is not None:
         res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
+    if thermal is None:
+        thermal = getattr(c, "thermal", None) is not None
+    if thermal:
+        from .thermal.dryer import build_thermal_dryer
+
+        add_thermal(res, build_thermal_dryer(c).steady_state())
     if overrides:
         res.model_choices["overrides"] = _jsonable(overrides)
     if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):

@@ -47,7 +47,7 @@ def report(
       rotarydryer report invicta --repose-angle 50
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
-    from ..report.html import render_report, resolve_source, thermal_for, write_html
+    from ..report.html import render_report, resolve_source, write_html
 
     t0 = time.perf_counter()
     try:
@@ -71,8 +71,7 @@ def report(
                 if results is None:
                     raise ValueError(f"--save needs a case or results source, got the drum {source!r}")
                 results.save(save)
-            html_text = render_report(results, drums=drums, title=title,
-                                      thermal=thermal_for(source, parse_sets(set_), results))
+            html_text = render_report(results, drums=drums, title=title)
             bar.update(1)
         write_html(html_text, out)
     except ValueError as exc:

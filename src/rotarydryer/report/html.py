@@ -221,41 +221,38 @@ def _fit_table(results) -> str:
               f'scale {html.escape(str(f.attrs.get("scale")))}; units: the suffix of the parameter name.</p>')
 
 
-def _thermal_section(thermal) -> str:
-    """Energy balance (waterfall), key thermal results and axial profiles of a
-    :class:`rotarydryer.thermal.dryer.ThermalSteadyState`, or the reason it is missing (a str)."""
-    if isinstance(thermal, str):
-        return (f'<section id="energy"><h2>Heat and mass transfer</h2><p class="note">No thermal steady '
-                f'state: {html.escape(thermal)}</p></section>')
-    from ..thermal.studies import plot_profiles
-    from .plots import plot_energy_waterfall
+def _thermal_section(results) -> str:
+    """Energy balance (waterfall), key thermal results and axial profiles from the thermal
+    datasets of a :class:`rotarydryer.results.Results` (cases with a heat and mass transfer
+    model; see :func:`rotarydryer.results.add_thermal`)."""
+    from .plots import plot_energy_waterfall, plot_thermal_profiles
 
-    s = thermal.summary()
-    rows = [
-        ("model", s.get("mode"), "-"),
-        ("product moisture", _fmt(s["product_moisture"]), "kg/kg wet"),
-        ("product temperature", _fmt(s["product_temperature_C"]), "degC"),
-        ("gas outlet temperature", _fmt(s["gas_outlet_temperature_C"]), "degC"),
-        ("evaporation", _fmt(s["evaporation_kg_s"]), "kg/s"),
-        ("fuel rate (burner, App. A)", _fmt(s["fuel_rate_kg_s"] * 3600) if s.get("fuel_rate_kg_s") else "-", "kg/h"),
-        ("shell heat loss", _fmt(s["shell_heat_loss_W"] / 1e3), "kW"),
-        ("energy balance error", _fmt(s["energy_balance_error"]), "-"),
-        ("water balance error", _fmt(s["water_balance_error"]), "-"),
-    ]
-    terms = thermal.energy_terms_w
-    t_rows = [(f"{name} (in)", f"{w / 1e6:.3f}") for name, w in terms["in"].items()]
-    t_rows += [(f"{name} (out)", f"{w / 1e6:.3f}") for name, w in terms["out"].items()]
+    sc = results.scalars
+    labels = (("product_moisture_kg_kg", "product moisture", "kg/kg wet", 1.0),
+              ("product_temperature_degC", "product temperature", "degC", 1.0),
+              ("gas_outlet_temperature_degC", "gas outlet temperature", "degC", 1.0),
+              ("evaporation_kg_s", "evaporation", "kg/s", 1.0),
+              ("fuel_rate_kg_s", "fuel rate (burner, App. A)", "kg/h", 3600.0),
+              ("shell_heat_loss_W", "shell heat loss", "kW", 1e-3),
+              ("energy_balance_error", "energy balance error", "-", 1.0),
+              ("water_balance_error", "water balance error", "-", 1.0))
+    rows = [("model", str(results.model_choices.get("thermal_mode", "")), "-")]
+    rows += [(label, _fmt(sc[key] * factor), unit) for key, label, unit, factor in labels if key in sc]
+    eb = results.datasets["energy_balance"]
+    terms = {"in": {}, "out": {}}
+    for name, direction, power in zip(eb.stream.values, eb.direction.values, eb.power.values):
+        terms[str(direction)][str(name)] = float(power)
+    t_rows = [(f"{name} ({d})", f"{w / 1e6:.3f}") for d in ("in", "out") for name, w in terms[d].items()]
     return (f'<section id="energy"><h2>Heat and mass transfer</h2>'
             f'{_table(("quantity", "value", "unit"), rows)}'
             f'<h3>Energy balance</h3>{_img(plot_energy_waterfall(terms), "energy balance waterfall")}'
             f'{_table(("stream", "MW"), t_rows)}'
             f'<p class="note">Enthalpies relative to the model reference state; the closure bar is in - out.</p>'
-            f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_profiles(thermal), "thermal profiles")}'
+            f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(results), "thermal profiles")}'
             f'</section>')
 
 
-def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "",
-                  thermal=None) -> str:
+def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "") -> str:
     """HTML text of the report.
 
     Parameters
@@ -278,8 +275,8 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
     body = []
     if results is not None:
         body.append(_transport_sections(results))
-    if thermal is not None:
-        body.append(_thermal_section(thermal))
+    if results is not None and "energy_balance" in results.datasets:
+        body.append(_thermal_section(results))
     body.append(_geometry_sections(drums, results))
     if results is not None:
         body.append(f"""<section id="inputs"><h2>Inputs and model choices</h2>
@@ -328,33 +325,16 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
                      f"a .toml case file nor a drum preset ({', '.join(drum_presets())})")
 
 
-def thermal_for(source, overrides, results):
-    """Thermal steady state of a case source with a heat and mass transfer model (Ajayi
-    cases), the reason it failed (str), or None (no thermal model, or a saved result)."""
-    if results is None or results.inputs.get("kind") != "ajayi2011" or results.inputs.get("thermal") is None:
-        return None
-    if str(source).endswith((".nc", ".h5")):
-        return None
-    from ..cases import load_case
-    from ..thermal.dryer import build_thermal_dryer
-
-    try:
-        return build_thermal_dryer(load_case(str(source), overrides)).steady_state()
-    except ValueError as exc:
-        return str(exc)
-
-
 def build_report(source: str, overrides: dict | None = None, *, repose_angle: float | None = None) -> str:
     """HTML text of the report of ``source`` (see :func:`resolve_source`)."""
     results, drums, title = resolve_source(source, overrides, repose_angle=repose_angle)
-    thermal = thermal_for(source, overrides, results)
     if results is not None and repose_angle is not None:
         from .figures import case_drums
 
         drums = case_drums(results.inputs, results)
         for d in drums:
             d["repose_angle"] = float(repose_angle)
-    return render_report(results, drums=drums, title=title, thermal=thermal)
+    return render_report(results, drums=drums, title=title)
 
 
 def write_report(source, out, overrides: dict | None = None, *, repose_angle: float | None = None) -> Path:

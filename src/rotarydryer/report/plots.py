@@ -10,7 +10,8 @@ import numpy as np
 
 from ..geometry import FlightedDrum
 
-__all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall"]
+__all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
+           "plot_thermal_profiles"]
 
 
 def _plt():
@@ -208,4 +209,24 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
     ax.set_xticks(x, names, rotation=20, ha="right")
     ax.set_ylabel("MW")
     ax.set_title(title)
+    return fig
+
+
+def plot_thermal_profiles(results, *, ax=None):
+    """Gas and solids temperature (top) and solids moisture (bottom) along the dryer from a
+    :class:`rotarydryer.results.Results` with thermal datasets; returns the figure."""
+    plt = _plt()
+    sol, gas = results.datasets["thermal_solids"], results.datasets["thermal_gas"]
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, constrained_layout=True)
+    a1.plot(gas.position.values, gas.temperature.values, "r-", label="gas")
+    phase = sol.phase.values
+    for ph, style in (("bed", "k."), ("passive", "b."), ("active", "c.")):
+        m = phase == ph
+        if m.any():
+            a1.plot(sol.position.values[m], sol.temperature.values[m], style, ms=3, label=f"solids ({ph})")
+            a2.plot(sol.position.values[m], sol.moisture.values[m], style, ms=3, label=ph)
+    a1.set_ylabel("temperature (degC)")
+    a1.legend(fontsize=8)
+    a2.set_ylabel("solids moisture (kg/kg wet)")
+    a2.set_xlabel("axial position from the feed end (m)")
     return fig
