@@ -132,6 +132,7 @@ class AjayiTransport(_Strict):
     unflighted_inlet: Literal["ajayi", "danckwerts"] = "ajayi"
     unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="FV cells per unflighted section; default auto")
     design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor * m_Baker (Ajayi code)")
+    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale (Ajayi Eq. 5.21); default 0.8 for tests marked scaled (l.1715), else 0")
 
 
 class AjayiGeometry(_Strict):
@@ -163,6 +164,7 @@ class AjayiTest(_Strict):
     mrt_model_min: Optional[float] = None
     holdup_model_kg: Optional[float] = None
     mrt_measured_min: Optional[float] = None
+    scaled: bool = False
     source: str = ""
 
 

@@ -919,6 +919,11 @@ def settings_from_case(case) -> ThermalSettings:
     pi = pi_operating_conditions(case.operating.test)
     if "gas_inlet_temperature" not in raw:
         st.gas_inlet_temperature = float(pi["gas_inlet_T_C"])
-    if "fouling" not in raw and pi["internal_condition"].strip().lower() == "scaled":
-        st.fouling = 0.8
+    if "fouling" not in raw:
+        # one physical quantity: the transport case's fouling when set, else 0.8 for 'Scaled' tests
+        tr_fouling = getattr(getattr(case, "transport", None), "fouling", None)
+        if tr_fouling is not None:
+            st.fouling = float(tr_fouling)
+        elif pi["internal_condition"].strip().lower() == "scaled":
+            st.fouling = 0.8
     return st

@@ -328,6 +328,9 @@ def build_ajayi2011(case):
 
             drum = _exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2)
             geoms[s.name] = _ExactAdapter(drum, case.geometry.passive_time_branch)
+    fouling = tr.fouling if tr.fouling is not None else (0.8 if test.scaled else 0.0)
+    if fouling > 0.0:
+        geoms = {k: _Fouled(g, fouling) for k, g in geoms.items()}
     tracer = case.tracer
     inp = TracerInput.pulse(tracer.fraction * F * max(tracer.duration, 1e-6), tracer.duration)
     secs = [dict(name=s.name, kind=s.kind, length=s.length, n_cells=s.n_cells) for s in case.sections]
@@ -335,6 +338,23 @@ def build_ajayi2011(case):
                      kiln_velocity=u, dispersion=D, geometries=geoms, moisture_scale=case.solids.moisture_scale,
                      inlet=tr.unflighted_inlet, unflighted_cells=tr.unflighted_cells, tracer_input=inp,
                      gas_flow=case.operating.gas_flow)
+
+
+class _Fouled:
+    """A cell geometry model whose flights lost ``fouling`` of their loading capacity to scale
+    (Ajayi (2011) Eq. 5.21, Test 3: -80 %, l.1715): the design load is scaled by (1 - fouling);
+    the cascade is unchanged."""
+
+    def __init__(self, geometry, fouling):
+        self.geometry = geometry
+        self.fouling = float(check_range("transport.fouling", fouling, 0.0, 0.95, low_inclusive=True,
+                                         high_inclusive=True))
+
+    def __getattr__(self, name):
+        return getattr(self.geometry, name)
+
+    def design_load_area(self, repose_angle):
+        return (1.0 - self.fouling) * self.geometry.design_load_area(repose_angle)
 
 
 class _ExactAdapter:
