@@ -115,3 +115,24 @@ def test_bad_cascade_input(invicta, kwargs, field):
 def test_bad_loading_factor(invicta):
     with pytest.raises(ValueError, match="loading_factor"):
         invicta.cascade(45.0, 1.5, rpm=3.0)
+
+
+def test_drag_option_limits_and_direction(invicta):
+    """Fall with drag (CascadeDrag): a heavy, large particle falls freely; without gas the
+    axial step is the free-fall h tan(slope) (Lee (2008) Eq. 3.7); counter-current gas
+    shortens the step, co-current lengthens it; drag lengthens the fall of fine sugar."""
+    from rotarydryer.geometry import CascadeDrag
+
+    free = invicta.cascade(45.0, rpm=3.0, slope=2.8)
+    heavy = invicta.cascade(45.0, rpm=3.0, slope=2.8, drag=CascadeDrag(0.02, 2800.0))
+    assert float(heavy.mean_fall_time) == pytest.approx(float(free.mean_fall_time), rel=0.03)
+    assert float(free.mean_axial_step) == pytest.approx(
+        float(free.mean_fall_height) * np.cos(np.radians(2.8)) * np.tan(np.radians(2.8)), rel=1e-9)
+    sugar = dict(particle_diameter=850e-6, particle_density=1588.0)
+    still = invicta.cascade(45.0, rpm=3.0, slope=2.8, drag=CascadeDrag(**sugar))
+    counter = invicta.cascade(45.0, rpm=3.0, slope=2.8, drag=CascadeDrag(**sugar, gas_velocity=1.0,
+                                                                         gas_flow="counter-current"))
+    co = invicta.cascade(45.0, rpm=3.0, slope=2.8, drag=CascadeDrag(**sugar, gas_velocity=1.0))
+    assert float(still.mean_axial_step) == pytest.approx(float(free.mean_axial_step), rel=1e-6)
+    assert float(counter.mean_axial_step) < float(still.mean_axial_step) < float(co.mean_axial_step)
+    assert float(still.mean_fall_time) > float(free.mean_fall_time)

@@ -26,6 +26,7 @@ from .flights import TwoSectionFlight
 from .unloading import (
     FALL_HEIGHT_DEFINITIONS,
     PASSIVE_TIME_BRANCHES,
+    CascadeDrag,
     CascadeSummary,
     cascade,
     fall_height,
@@ -33,6 +34,7 @@ from .unloading import (
 )
 
 __all__ = [
+    "CascadeDrag",
     "CascadeSummary",
     "DESIGN_LOAD_METHODS",
     "FALL_HEIGHT_DEFINITIONS",

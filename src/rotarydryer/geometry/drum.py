@@ -273,13 +273,13 @@ class FlightedDrum:
 
     # ------------------------------------------------------------------ unloading, design load
     def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, fall_height="chord",
-                passive_time_branch="eq3.4", convention="root"):
+                passive_time_branch="eq3.4", convention="root", drag=None):
         """Mass-averaged cascade properties; see :func:`rotarydryer.geometry.unloading.cascade`."""
         from .unloading import cascade
 
         return cascade(self, repose_angle, loading_factor, rpm=rpm, slope=slope,
                        fall_height=fall_height, passive_time_branch=passive_time_branch,
-                       convention=convention)
+                       convention=convention, drag=drag)
 
     def design_load_area(self, repose_angle, *, method="lee2008", convention="root"):
         """Design-load area of passive solids in the drum cross-section, m^2.

@@ -52,6 +52,7 @@ from .._validation import check_choice, check_range
 from .drum import FlightedDrum, _holdup, _holdup_slope
 
 __all__ = [
+    "CascadeDrag",
     "CascadeSummary",
     "GRAVITY",
     "FALL_HEIGHT_DEFINITIONS",
@@ -93,6 +94,11 @@ class CascadeSummary:
     initial_holdup_area : ndarray
         Holdup of the flight when it starts discharging into the curtain ``H0``, m^2
         per m of flight.
+    mean_axial_step : ndarray
+        Mass-averaged axial advance of a cascade towards the discharge, m: ``h tan(slope)``
+        for a free fall (Lee (2008) Eq. 3.7, d_0 = h_m sin(theta) with h_m vertical), or from
+        the particle trajectory through the gas with a :class:`CascadeDrag` (negative when a
+        counter-current gas blows the solids back).
     """
 
     mean_release_angle: np.ndarray
@@ -101,6 +107,7 @@ class CascadeSummary:
     passive_time: np.ndarray
     discharge_start_angle: np.ndarray
     initial_holdup_area: np.ndarray
+    mean_axial_step: np.ndarray | None = None
 
     @property
     def active_time(self) -> np.ndarray:
@@ -127,7 +134,33 @@ class CascadeSummary:
             "discharge_start_angle_deg": self.discharge_start_angle,
             "initial_holdup_area_m2": self.initial_holdup_area,
         }
+        if self.mean_axial_step is not None:
+            keys["mean_axial_step_m"] = self.mean_axial_step
         return {k: np.asarray(v).tolist() for k, v in keys.items()}
+
+
+@dataclass(frozen=True)
+class CascadeDrag:
+    """Particles and gas for a fall with drag (instead of free fall) in :func:`cascade`.
+
+    The fall of each released element is integrated through the axial gas stream by
+    :func:`rotarydryer.correlations.cascade_trajectory` (isolated-particle drag, Lee (2008)
+    ch. 6): fall time and axial displacement. Lee's CFD shows that particles inside a
+    curtain feel a reduced gas velocity, so ``gas_velocity`` is the velocity *in the
+    curtain* (an upper bound when the bulk velocity is used).
+
+    Attributes: particle_diameter (m), particle_density (kg/m^3), gas_density (kg/m^3),
+    gas_viscosity (Pa s), gas_velocity (m/s, >= 0), gas_flow ("co-current" or
+    "counter-current"), method (drag correlation name, default Schiller-Naumann).
+    """
+
+    particle_diameter: float
+    particle_density: float
+    gas_density: float = 1.2
+    gas_viscosity: float = 1.8e-5
+    gas_velocity: float = 0.0
+    gas_flow: str = "co-current"
+    method: str = "schiller_naumann_1933"
 
 
 def fall_height(drum: FlightedDrum, psi, *, definition: str = "chord", slope=0.0) -> np.ndarray:
@@ -201,6 +234,7 @@ def cascade(
     fall_height: str = "chord",
     passive_time_branch: str = "eq3.4",
     convention: str = "root",
+    drag: CascadeDrag | None = None,
 ) -> CascadeSummary:
     """Mass-averaged release angle, fall height, fall time and passive time of one flight.
 
@@ -218,6 +252,8 @@ def cascade(
         Drum inclination, deg.
     fall_height, passive_time_branch, convention : str
         See the module docstring.
+    drag : CascadeDrag, optional
+        Fall through the gas with drag; default free fall (zero initial velocity, no drag).
 
     Notes
     -----
@@ -240,7 +276,8 @@ def cascade(
     cuts = [phi + c.off2, phi + c.off3, phi + c.off4, np.full_like(phi, 270.0 - c.psi_ft)]
     edges = [start] + [np.clip(x, start, psi5) for x in cuts] + [psi5]
     edges = np.sort(np.stack(edges, axis=-1), axis=-1)
-    acc = {"w": 0.0, "psi": 0.0, "h": 0.0, "t": 0.0}
+    acc = {"w": 0.0, "psi": 0.0, "h": 0.0, "t": 0.0, "x": 0.0}
+    tan_s = np.tan(np.radians(slope))
     for k in range(edges.shape[-1] - 1):
         a, b = edges[..., k, None], edges[..., k + 1, None]
         if k == 0:  # psi = a + (b - a) u^2 removes the sqrt singularity at the start
@@ -256,17 +293,29 @@ def cascade(
         acc["w"] = acc["w"] + w.sum(-1)
         acc["psi"] = acc["psi"] + (w * psi).sum(-1)
         acc["h"] = acc["h"] + (w * h).sum(-1)
-        acc["t"] = acc["t"] + (w * np.sqrt(2.0 * h / GRAVITY)).sum(-1)
+        if drag is None:
+            acc["t"] = acc["t"] + (w * np.sqrt(2.0 * h / GRAVITY)).sum(-1)
+            acc["x"] = acc["x"] + (w * h * tan_s).sum(-1)
+        else:
+            t_d, x_d = _drag_fall(drag, h, slope)
+            acc["t"] = acc["t"] + (w * t_d).sum(-1)
+            acc["x"] = acc["x"] + (w * x_d).sum(-1)
     wsum = acc["w"]
     empty = wsum <= 1e-14 * c.full_area
     safe = np.where(empty, 1.0, wsum)
     h5 = _fall_height(c, np.radians(psi5 + c.psi_ft), fall_height)
     psi_m = np.where(empty, psi5, acc["psi"] / safe)
     h_m = np.where(empty, h5, acc["h"] / safe)
-    t_m = np.where(empty, np.sqrt(2.0 * h5 / GRAVITY), acc["t"] / safe)
     cos_s = np.cos(np.radians(slope))
+    if drag is None:
+        t5, x5 = np.sqrt(2.0 * h5 / GRAVITY), h5 * tan_s
+        t_scale = 1.0 / np.sqrt(cos_s)  # fall over the vertical height h / cos(slope)
+    else:
+        t5, x5 = _drag_fall(drag, h5, slope)
+        t_scale = 1.0  # the trajectory already falls through the inclined drum
+    t_m = np.where(empty, t5, acc["t"] / safe) * t_scale
+    x_m = np.where(empty, x5, acc["x"] / safe)
     h_m = h_m / cos_s
-    t_m = t_m / np.sqrt(cos_s)
     omega = 6.0 * rpm  # deg/s
     arc = 2.0 * psi_m - 180.0  # Lee (2008) Eq. 3.4
     t_p = arc / omega if passive_time_branch == "eq3.4" else (360.0 - arc) / omega
@@ -277,4 +326,18 @@ def cascade(
         passive_time=t_p,
         discharge_start_angle=start,
         initial_holdup_area=h0,
+        mean_axial_step=x_m,
     )
+
+
+def _drag_fall(drag: CascadeDrag, h, slope):
+    """Fall time (s) and axial displacement (m) through the gas for section fall heights ``h``."""
+    from ..correlations.trajectory import cascade_trajectory
+
+    h = np.asarray(h, dtype=float)
+    r = cascade_trajectory(np.maximum(h, 1e-6), drag.particle_diameter, drag.particle_density, drag.gas_density,
+                           drag.gas_viscosity, gas_velocity=drag.gas_velocity, gas_flow=drag.gas_flow,
+                           inclination=float(slope), method=drag.method)
+    t = np.where(h > 1e-6, np.asarray(r.fall_time).reshape(h.shape), 0.0)
+    x = np.where(h > 1e-6, np.asarray(r.axial_displacement).reshape(h.shape), 0.0)
+    return t, x
