@@ -111,3 +111,24 @@ def test_step_response_gas_temperature():
         "gas_outlet_temperature_c_fopdt"]
     assert fg["dead_time_s"] < fm["dead_time_s"]  # the gas responds first
     assert r["seconds"] < 20.0
+
+
+@pytest.mark.parametrize("input_name,change,moisture_gain_sign", [
+    ("solid_feed_rate", -0.20, +1),     # less feed -> drier product (moisture moves with the feed)
+    ("rotational_speed", -0.30, None),  # speed: sign depends on holdup vs curtain; check it settles
+])
+def test_step_response_other_inputs(input_name, change, moisture_gain_sign):
+    """Steps in feed rate and drum speed (issue 6 item 8): the product moisture settles to a new
+    steady state, after a transport dead time, and the end point matches the steady state of
+    the perturbed dryer."""
+    d = build_thermal_dryer(load_case("ajayi2011_mmg"))
+    ss = d.steady_state()
+    r = studies.step_response(d, ss, input_name, change, duration=7200.0, dt=60.0)
+    new = studies.perturbed(d, **{input_name: studies._get(d, input_name) * (1 + change)}).steady_state(z0=ss.state)
+    assert r["product_moisture"][-1] == pytest.approx(new.product_moisture, abs=5e-4)
+    if moisture_gain_sign is not None:
+        # the product moisture moves in the direction of the sign times the input change
+        assert (r["product_moisture"][-1] - r["product_moisture"][0]) * moisture_gain_sign * np.sign(change) > 0
+        fm = r["product_moisture_fopdt"]
+        assert fm is not None and fm["gain"] * moisture_gain_sign > 0 and fm["dead_time_s"] > 60.0
+    assert r["seconds"] < 20.0
