@@ -79,3 +79,14 @@ def test_tracer_and_holdup_fitted_together():
     with pytest.raises(ValueError, match="tracer_sigma"):
         fit_case_to_tracer("ajayi2011_mmg", data, ["transport.dispersion"], base_overrides={"operating.test": 4},
                            scale="fit", holdup=(37200.0, 1500.0))
+
+
+def test_raw_signal_needs_scale_fit():
+    """A ppm curve is not E(t): fitting it with a known scale is refused, naming the unit."""
+    data = rtd.load_tracer_dataset("ajayi2011_test4")
+    assert data.rate_factor is None
+    assert rtd.load_tracer_dataset("lee2008_invicta").rate_factor == pytest.approx(1 / 3600)
+    with pytest.raises(ValueError, match="signal_unit = 'ppm'.*scale='fit'"):
+        fit_case_to_tracer("ajayi2011_mmg", data, ["transport.dispersion"], base_overrides={"operating.test": 4})
+    with pytest.raises(ValueError, match="scale"):
+        fit_case_to_tracer("ajayi2011_mmg", data, ["transport.dispersion"], scale="bogus")

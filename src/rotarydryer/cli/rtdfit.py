@@ -105,7 +105,6 @@ def rtd_fit_cmd(
     import numpy as np
 
     from ..rtd import TracerData, fit_tracer_data, pulse_input, subtract_baseline
-    from ..rtd.fitting import _RATE_FACTOR
 
     try:
         d = _load(data)
@@ -136,7 +135,7 @@ def rtd_fit_cmd(
         out.mkdir(parents=True, exist_ok=True)
         t0 = d.time_origin_s
         tt = np.linspace(d.time_s[0], d.time_s[-1], 2000)
-        ydata = _RATE_FACTOR(d) * d.signal
+        ydata = (d.rate_factor or 1.0) * d.signal
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
         a1.plot((d.time_s - t0) / 60, ydata, "o", label="data")
         a1.plot((tt - t0) / 60, f.predict(tt), "-", label=f"{model} fit")

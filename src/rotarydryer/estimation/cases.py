@@ -26,6 +26,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .._validation import check_choice
 from .fit import Dataset, FitResult, Parameter, fit
 
 __all__ = ["DEFAULT_BOUNDS", "CaseFit", "case_parameter", "tracer_model", "fit_case_to_tracer", "evaluate_objective"]
@@ -84,15 +85,20 @@ def case_parameter(case_name: str, key: str, base_overrides: dict | None = None,
     return Parameter(key, value, lo, hi, lg)
 
 
-def _relative_times(data):
-    t = np.asarray(data.time_s, dtype=float) - float(getattr(data, "time_origin_s", 0.0) or 0.0)
+def _relative_times(data, scale: str = "known"):
+    """Times since the injection start (s) and the signal, as E(t) in 1/s when the file's
+    ``signal_unit`` is a normalised RTD; a raw concentration needs ``scale="fit"``."""
+    t = np.asarray(data.time_s, dtype=float) - data.time_origin_s
     y = np.asarray(data.signal, dtype=float)
     keep = t >= 0.0
-    unit = (getattr(data, "signal_unit", None) or "").strip()
-    if unit in ("1/h", "h-1", "1/hr"):
-        y = y / 3600.0
-    elif unit in ("1/min", "min-1"):
-        y = y / 60.0
+    rate = data.rate_factor
+    if rate is not None:
+        y = y * rate
+    elif scale == "known":
+        raise ValueError(
+            f"signal_unit = {data.signal_unit!r} is not a normalised RTD (1/s, 1/min, 1/h): fit a raw "
+            "concentration with scale='fit'"
+        )
     return t[keep], y[keep]
 
 
@@ -102,6 +108,9 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
     with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``."""
     from ..cases import build_model, load_case
 
+    check_choice("scale", scale, ("known", "fit"))
+    if scale == "fit" and observed is None:
+        raise ValueError("scale = 'fit' needs the observed signal (observed=...) to match the scale to")
     times = np.asarray(times, dtype=float)
     t_end = float(times.max()) * 1.02 + 1.0
     # 10 s steps: E(t) at the data times within 1e-3 of the peak for Lee's 39.6 s pulse,
@@ -146,7 +155,7 @@ class CaseFit:
 
 def evaluate_objective(case_name: str, data, values: dict, *, base_overrides=None, scale="known") -> float:
     """Weighted sum of squares (unit weights) of the case with ``values`` against ``data``."""
-    t, y = _relative_times(data)
+    t, y = _relative_times(data, scale)
     model = tracer_model(case_name, t, base_overrides=base_overrides, scale=scale, observed=y)
     return float(np.sum((y - model(values)) ** 2))
 
@@ -169,10 +178,9 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
     the raw signal with ``scale="fit"``) so that the two are weighted against each other
     (``method="ml"`` estimates both variances instead).
     """
-    if scale not in ("known", "fit"):
-        raise ValueError(f"scale = {scale!r} is not 'known' or 'fit'")
+    check_choice("scale", scale, ("known", "fit"))
     params = [k if isinstance(k, Parameter) else case_parameter(case_name, k, base_overrides) for k in keys]
-    t, y = _relative_times(data)
+    t, y = _relative_times(data, scale)
     if t.size <= len(params):
         raise ValueError(f"too few data points after the injection start: {t.size} for {len(params)} parameters")
     data_sets = [Dataset("tracer", y, None if tracer_sigma is None else np.full(y.shape, float(tracer_sigma)))]

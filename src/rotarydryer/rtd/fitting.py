@@ -416,13 +416,6 @@ def fit_rtd_model(
     )
 
 
-def _RATE_FACTOR(data) -> float:
-    """Factor converting ``data.signal`` to the scale fitted by :func:`fit_tracer_data`."""
-    from .tracer_data import _RATE_UNITS
-
-    return _RATE_UNITS.get(data.signal_unit, 1.0)
-
-
 def fit_tracer_data(data, model: str = "tanks_in_series", **kwargs) -> RTDFit:
     """Fit a :class:`~rotarydryer.rtd.TracerData` curve.
 
@@ -432,14 +425,13 @@ def fit_tracer_data(data, model: str = "tanks_in_series", **kwargs) -> RTDFit:
     unless ``fit_scale=True``; any other unit needs ``fit_scale=True``
     (default then) so that the area is estimated.
     """
-    from .tracer_data import _RATE_UNITS
-
     kwargs.setdefault("time_origin_s", data.time_origin_s)
     kwargs.setdefault("pulse", data.pulse())
     y = np.asarray(data.signal, float)
     unit = data.signal_unit
-    if unit in _RATE_UNITS:
-        y = y * _RATE_UNITS[unit]
+    rate = data.rate_factor
+    if rate is not None:
+        y = y * rate
         kwargs.setdefault("fit_scale", False)
     else:
         kwargs.setdefault("fit_scale", True)
@@ -447,6 +439,6 @@ def fit_tracer_data(data, model: str = "tanks_in_series", **kwargs) -> RTDFit:
             raise ValueError(
                 f"signal_unit {unit!r} is not a normalised RTD (1/s, 1/min, 1/h); fit with fit_scale=True"
             )
-    if "sigma" in kwargs and kwargs["sigma"] is not None and unit in _RATE_UNITS:
-        kwargs["sigma"] = np.asarray(kwargs["sigma"], float) * _RATE_UNITS[unit]
+    if "sigma" in kwargs and kwargs["sigma"] is not None and rate is not None:
+        kwargs["sigma"] = np.asarray(kwargs["sigma"], float) * rate
     return fit_rtd_model(data.time_s, y, model, **kwargs)

@@ -89,6 +89,12 @@ class TracerData:
     def signal_unit(self) -> str | None:
         return self.metadata.get("signal_unit")
 
+    @property
+    def rate_factor(self) -> float | None:
+        """Factor converting the signal to E(t) in 1/s when ``signal_unit`` is a normalised
+        RTD (1/s, 1/min, 1/h); None for any other unit (a raw concentration)."""
+        return _RATE_UNITS.get(self.signal_unit)
+
     def pulse(self):
         """The tracer input from metadata (``pulse_kind``, ``pulse_duration_s``); Dirac if absent."""
         from .pulses import pulse_input
@@ -110,8 +116,8 @@ class TracerData:
         Returns None when the metadata do not allow it.
         """
         u = self.signal_unit
-        if u in _RATE_UNITS:
-            return 1.0 / _RATE_UNITS[u]
+        if self.rate_factor is not None:
+            return 1.0 / self.rate_factor
         if u in _MASS_FRACTION_UNITS and "tracer_mass_kg" in self.metadata and "feed_rate_kg_s" in self.metadata:
             return float(self.metadata["tracer_mass_kg"]) / (
                 float(self.metadata["feed_rate_kg_s"]) * _MASS_FRACTION_UNITS[u]
