@@ -39,6 +39,8 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 from scipy import optimize, stats
 
+from .._validation import check_choice
+
 __all__ = [
     "Parameter",
     "Dataset",
@@ -135,7 +137,8 @@ class Dataset:
         if self.sigma is not None:
             s = np.broadcast_to(np.asarray(self.sigma, dtype=float), y.shape)
             if not np.all(np.isfinite(s) & (s > 0)):
-                raise ValueError(f"data set {self.name!r}: sigma must be finite and > 0")
+                bad = s[~(np.isfinite(s) & (s > 0))].flat[0]
+                raise ValueError(f"data set {self.name!r}: sigma = {bad!r} is not allowed; it must be finite and > 0")
             object.__setattr__(self, "sigma", s)
         if self.variance not in ("constant", "power"):
             raise ValueError(f"data set {self.name!r}: variance = {self.variance!r} is not 'constant' or 'power'")
@@ -226,6 +229,7 @@ class _Problem:
         self.weights = {d.name: 1.0 for d in self.data}  # 1/sigma_k for ml
         self.infeasible = 0
         self.last_infeasible = ""
+        self._last_key, self._last_pred = None, None
         n = sum(d.y.size for d in self.data)
         big = 1e3 * (1.0 + sum(float(np.sum((d.y / (d.sigma if d.sigma is not None else 1.0)) ** 2))
                                for d in self.data))
@@ -237,6 +241,16 @@ class _Problem:
         return v
 
     def predict(self, values: dict) -> dict:
+        # one-entry cache: the solver, the re-weighting loop, the objective and the final
+        # Jacobian often ask for the point just evaluated (a failed evaluation is not cached)
+        key = tuple(values.items())
+        if key == self._last_key:
+            return self._last_pred
+        pred = self._evaluate(values)
+        self._last_key, self._last_pred = key, pred
+        return pred
+
+    def _evaluate(self, values: dict) -> dict:
         self.n_eval += 1
         out = self.model(values)
         if not isinstance(out, Mapping):
@@ -445,8 +459,7 @@ def fit(
         Bad set-up: no parameters, duplicate names, too few data points.
     """
     t0 = time.perf_counter()
-    if method not in ("wls", "ml"):
-        raise ValueError(f"method = {method!r} is not 'wls' or 'ml'")
+    check_choice("method", method, ("wls", "ml"))
     params = list(parameters)
     if not params:
         raise ValueError("no parameters to estimate")
