@@ -287,3 +287,12 @@ def test_refit_reproduces_the_proposed_variant():
     for k in keys:  # all three identified: finite intervals
         p = res.parameters[k]
         assert 0 < p.ci_low < p.value < p.ci_high < 10 * p.value
+
+
+def test_fit_invicta_default_start_is_lee_table_7_2():
+    """Without ``start`` the fit starts from Lee's Table 7.2 values (it raised KeyError before)."""
+    from rotarydryer.transport.variants import fit_invicta
+
+    res, _ = fit_invicta(["kiln_time"], fixed={"backmix": 0.68, "drag_reduction": 0.48}, solver="bdf2")
+    assert res.starts[0].start["kiln_time"] == pytest.approx(8.69)  # Lee Table 7.2, N = 35
+    assert 1.0 < res.values["kiln_time"] < 100.0

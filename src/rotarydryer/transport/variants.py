@@ -500,7 +500,7 @@ def fit_invicta(keys, *, fixed: dict | None = None, start: dict | None = None, w
     for k in keys:
         check_choice("keys", k, _LEE_KEYS + _CORE_KEYS)
     fixed = dict(fixed or {})
-    st = {**INVICTA_FITS["lee2008"], "core_fraction": 0.1, "core_time": 1500.0, **(start or {})}
+    st = {**INVICTA_FITS["lee2008_table7_2"]["values"], "core_fraction": 0.1, "core_time": 1500.0, **(start or {})}
     t, y = invicta_data()
     params = []
     for k in keys:
