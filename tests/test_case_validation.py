@@ -53,3 +53,28 @@ def test_invalid_toml_syntax(tmp_path):
     path.write_text("kind = \n[drum")
     with pytest.raises(ValueError, match="not valid TOML"):
         load_case(str(path))
+
+
+def _mmg_variant(tmp_path, old, new):
+    from importlib import resources
+
+    text = (resources.files("rotarydryer.cases") / "ajayi2011_mmg.toml").read_text()
+    assert old in text
+    path = tmp_path / "mmg.toml"
+    path.write_text(text.replace(old, new, 1))
+    return str(path)
+
+
+def test_incomplete_flighted_section_named(tmp_path):
+    """A flighted Ajayi section without n_cells, regression coefficients or flight dimensions is
+    reported with its index and field (it used to fail later with a raw TypeError / KeyError)."""
+    path = _mmg_variant(tmp_path, "n_cells = 8\n", "")
+    with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.n_cells = None"):
+        load_case(path, {"operating.test": 4})
+    path = _mmg_variant(tmp_path, "regression.area = ", "regression.areas = ")
+    with pytest.raises(ValueError, match=r"regression\.area = None.*7 coefficients"):
+        load_case(path, {"operating.test": 4})
+    path = _mmg_variant(tmp_path, "s1 = 0.12\n", "")
+    load_case(path, {"operating.test": 4})  # the regressions do not need s1
+    with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.s1 is missing"):
+        load_case(path, {"operating.test": 4, "geometry.method": "exact"})

@@ -19,7 +19,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Literal, Optional
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 __all__ = ["list_cases", "load_case", "build_model", "measured_rtd", "measured_rtd_moments", "valid_override_keys", "LeeCase", "AjayiCase"]
 
@@ -196,6 +196,32 @@ class AjayiCase(_Strict):
     sections: list[AjayiSection]
     tests: list[AjayiTest]
     thermal: AjayiThermal = AjayiThermal()
+
+    @model_validator(mode="after")
+    def _flighted_sections_complete(self):
+        """A flighted section needs its cell count and what the chosen geometry method uses:
+        Ajayi's regression coefficients (7 area, 11 fall-time) or the flight dimensions."""
+        problems = []
+        for i, sec in enumerate(self.sections):
+            if sec.kind != "flighted":
+                continue
+            where = f"sections[{i}] ({sec.name})"
+            if sec.n_cells is None or sec.n_cells < 1:
+                problems.append(f"{where}.n_cells = {sec.n_cells!r}: a flighted section needs n_cells >= 1")
+            if self.geometry.method == "ajayi2011_regressions":
+                reg = sec.regression or {}
+                for key, n in (("area", 7), ("fall_time", 11)):
+                    got = reg.get(key)
+                    if got is None or len(got) != n:
+                        problems.append(f"{where}.regression.{key} = {got!r}: geometry.method = "
+                                        f"'ajayi2011_regressions' needs {n} coefficients")
+            else:
+                for key in ("n_flights", "s1", "s2", "alpha1", "alpha2"):
+                    if getattr(sec, key) is None:
+                        problems.append(f"{where}.{key} is missing: geometry.method = 'exact' needs the flight dimensions")
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
 
 
 _KINDS = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
