@@ -565,6 +565,12 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
         r = steady.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
         meas = measured_rtd(c)
     res = from_transport(c, model, steady, r, meas, case_name=str(name))
+    if meas is not None:
+        from .cases import measured_rtd_moments
+
+        mm = measured_rtd_moments(c)  # rotarydryer.rtd.rtd_moments with the case's baseline
+        res.scalars.update(measured_mean_s=float(mm["mean_s"]), measured_std_s=float(mm["std_s"]),
+                           measured_baseline=float(mm["baseline"]))
     if fit_rtd and meas is not None:
         res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
     if thermal is None:

@@ -24,3 +24,17 @@ def test_ajayi_report_has_energy_balance_section():
 def test_lee_report_has_no_energy_section():
     text = build_report("lee2008_invicta")
     assert 'id="energy"' not in text
+
+
+def test_measured_rtd_legend_uses_the_case_baseline():
+    """The report's measured-RTD moments are those of `rotarydryer rtd` (rtd_moments with the
+    case's baseline): Ajayi test 4 has a lithium background (SD 1.53 min, not 6.2)."""
+    from rotarydryer.cases import load_case, measured_rtd_moments
+    from rotarydryer.report.figures import plot_rtd
+    from rotarydryer.results import run_case
+
+    res = run_case("ajayi2011_mmg", {"operating.test": 4}, thermal=False)
+    mm = measured_rtd_moments(load_case("ajayi2011_mmg", {"operating.test": 4}))
+    assert res.scalars["measured_std_s"] == pytest.approx(mm["std_s"])
+    legend = [t.get_text() for t in plot_rtd(res).axes[0].get_legend().get_texts()]
+    assert f"SD {mm['std_s'] / 60:.2f} min" in legend[1] and mm["std_s"] / 60 < 3.0

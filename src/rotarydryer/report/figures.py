@@ -124,17 +124,13 @@ def plot_rtd(results, ax=None):
     fig, ax = (ax.figure, ax) if ax is not None else plt.subplots(figsize=(7, 3.6), constrained_layout=True)
     r, s = results.rtd, results.scalars
     mean = s.get("tracer_mean_s", s.get("simulated_mean_s", np.nan))
-    sd = s.get("rtd_std_s", np.nan)
+    sd = s.get("tracer_std_s", s.get("rtd_std_s", np.nan))
     ax.plot(r.time.values / 60, r.exit_age.values * 60, label=f"model: mean {mean / 60:.2f} min, SD {sd / 60:.2f} min")
     m = results.rtd_measured
     if m is not None:
-        t, y = m.time.values, m.signal.values
-        m0 = np.trapezoid(y, t)
-        if m0 > 0:
-            mu = np.trapezoid(t * y, t) / m0
-            sdm = np.sqrt(np.trapezoid((t - mu) ** 2 * y, t) / m0)
-            ax.plot(t / 60, y / m0 * 60, "o", ms=3.5, color="k",
-                    label=f"measured: mean {mu / 60:.2f} min, SD {sdm / 60:.2f} min")
+        from ..transport.plots import plot_measured_rtd
+
+        plot_measured_rtd(ax, m.time.values, m.signal.values, s.get("measured_baseline", 0.0), color="k", ms=3.5)
     ax.set_xlabel("time since injection start (min)")
     ax.set_ylabel("E(t) (1/min)")
     ax.set_title("Residence-time distribution", fontsize=10)

@@ -67,15 +67,23 @@ def plot_rtd(rtd, measured=None, ax=None, label="model", baseline=0.0):
     ax.plot(r.time / 60, r.exit_age * 60, label=f"{label}: mean {rtd.tracer_mean / 60:.2f} min, "
                                                f"SD {rtd.tracer_std / 60:.2f} min")
     if measured is not None:
-        t, E = measured
-        E = np.clip(np.asarray(E, float) - baseline, 0.0, None)
-        m0 = np.trapezoid(E, t)
-        mean = np.trapezoid(t * E, t) / m0
-        sd = np.sqrt(np.trapezoid((t - mean) ** 2 * E, t) / m0)
-        ax.plot(t / 60, E / m0 * 60, "o", ms=4, label=f"measured: mean {mean / 60:.2f} min, SD {sd / 60:.2f} min"
-                + (f" (baseline {baseline:.3g} removed)" if baseline else ""))
+        plot_measured_rtd(ax, measured[0], measured[1], baseline)
     ax.set_xlabel("time since injection start (min)")
     ax.set_ylabel("E(t) (1/min)")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def plot_measured_rtd(ax, time_s, signal, baseline=0.0, **style):
+    """Measured tracer points on ``ax`` as E(t) (1/min): ``baseline`` (signal units) removed,
+    normalised by the area; the legend gives the mean and SD from
+    :func:`rotarydryer.rtd.rtd_moments` (the same moments as ``rotarydryer rtd``)."""
+    from ..rtd import rtd_moments
+
+    t = np.asarray(time_s, float)
+    m = rtd_moments(t, signal, baseline=float(baseline))
+    e = np.clip(np.asarray(signal, float) - m.baseline, 0.0, None) / m.area
+    style.setdefault("ms", 4)
+    ax.plot(t / 60, e * 60, "o", label=f"measured: mean {m.mean_s / 60:.2f} min, SD {m.std_s / 60:.2f} min"
+            + (f" (baseline {m.baseline:.3g} removed)" if m.baseline else ""), **style)
