@@ -160,7 +160,7 @@ def fit_tracer(text: str | None = None, dataset: str | None = None, model: str =
     out = {"table": table, "moments": d["outlet_moments"], "r_squared": d["r_squared"], "model": model,
            "published_mean_min": data.metadata.get("published_mean_min")}
     if images:
-        from ..report.plots import _plt
+        from .._plotting import pyplot as _plt
 
         plt = _plt()
         fig, ax = plt.subplots(figsize=(7, 3.4), constrained_layout=True)

@@ -84,10 +84,9 @@ def fit_command(
         "warnings": r.warnings,
     }
     if out is not None:
-        import matplotlib
+        from .._plotting import pyplot
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         out.mkdir(parents=True, exist_ok=True)
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True,

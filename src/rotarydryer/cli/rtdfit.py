@@ -127,10 +127,9 @@ def rtd_fit_cmd(
     res = f.to_dict()
     res["data"] = str(data)
     if out is not None:
-        import matplotlib
+        from .._plotting import pyplot
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         out.mkdir(parents=True, exist_ok=True)
         t0 = d.time_origin_s

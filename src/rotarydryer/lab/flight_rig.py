@@ -802,10 +802,9 @@ def analyse_run(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle: flo
 def plot_analysis(analysis: RigAnalysis, title: str = ""):
     """Figure: filtered accumulated mass and discharge rate against aligned time with the
     model band (Lee (2008) Figs 5.20-5.21 style). Returns the Matplotlib figure."""
-    import matplotlib
+    from .._plotting import pyplot
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     a, b = analysis, analysis.band
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)

@@ -345,7 +345,6 @@ def segment(image, labels: np.ndarray, calibration: ImageCalibration, *, channel
         g = gaussian(g, sigma=float(smooth_sigma), preserve_range=True)
     rows = np.arange(g.shape[0])[:, None]
     upper = np.broadcast_to(rows < calibration.centre[1], g.shape)
-    inside = labels != _OUTSIDE
     for name, val in (("threshold", threshold), ("airborne_threshold", airborne_threshold)):
         if isinstance(val, str):
             check_choice(name, val, ("otsu",))
@@ -472,10 +471,9 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
     solids cyan, pocket boundaries thin white. Returns the Matplotlib figure; saves it
     as PNG to ``path`` if given.
     """
-    import matplotlib
+    from .._plotting import pyplot
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from skimage.segmentation import find_boundaries
 
     img = np.asarray(image)

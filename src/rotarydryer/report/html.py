@@ -214,7 +214,7 @@ def _fit_table(results) -> str:
                          f"{float(f.ci_low.values[i, j]):.5g} - {float(f.ci_high.values[i, j]):.5g}",
                          f"{float(f.r_squared.values[i]):.4f}" if j == 0 else "",
                          f"{float(f.outlet_mean.values[i]) / 60:.2f}" if j == 0 else ""))
-    return (f"<h3>Classical RTD models fitted to the measured curve</h3>"
+    return ("<h3>Classical RTD models fitted to the measured curve</h3>"
             + _table(("model", "parameter", "value", "std. error", "95 % interval", "R2", "outlet mean (min)"),
                      rows, left_cols=2)
             + f'<p class="note">rotarydryer.rtd.fit_rtd_model; tracer input {html.escape(str(f.attrs.get("pulse")))}, '

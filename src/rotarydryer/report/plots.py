@@ -8,20 +8,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._plotting import pyplot as _plt
 from ..geometry import FlightedDrum
 
 __all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
            "plot_thermal_profiles"]
 
 
-def _plt():
-    import matplotlib
-
-    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo") and not matplotlib.is_interactive():
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def plot_unloading_profile(drum: FlightedDrum, repose_angle: float, rpm: float, *, ax=None,

@@ -210,10 +210,9 @@ def step_response(dryer: ThermalDryer, steady: ThermalSteadyState, input_name: s
 
 def plot_profiles(steady: ThermalSteadyState, ax=None):
     """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along the dryer."""
-    import matplotlib
+    from .._plotting import pyplot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     p = steady.profiles()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)

@@ -8,17 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_holdup_profile", "plot_rtd"]
+from .._plotting import pyplot as _plt
 
-
-def _plt():
-    import matplotlib
-
-    if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "cairo") and not matplotlib.is_interactive():
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+__all__ = ["plot_holdup_profile", "plot_rtd", "plot_measured_rtd"]
 
 
 def plot_holdup_profile(steady, ax=None):
