@@ -9,25 +9,7 @@ from typing import List, Optional
 import typer
 
 from . import app
-
-
-def _parse_value(text: str):
-    for conv in (int, float):
-        try:
-            return conv(text)
-        except ValueError:
-            pass
-    return text
-
-
-def _parse_sets(sets):
-    out = {}
-    for item in sets or []:
-        if "=" not in item:
-            raise ValueError(f"--set {item!r} must look like KEY=VALUE")
-        k, v = item.split("=", 1)
-        out[k.strip()] = _parse_value(v.strip())
-    return out
+from ._common import load_tracer, parse_sets
 
 
 @app.command("fit")
@@ -52,12 +34,10 @@ def fit_command(
 
     from ..estimation import FitError
     from ..estimation.cases import fit_case_to_tracer
-    from ..rtd import load_tracer_csv, load_tracer_dataset
 
     try:
-        base = _parse_sets(set_)
-        path = Path(data)
-        tracer = load_tracer_csv(path) if path.suffix.lower() == ".csv" or path.exists() else load_tracer_dataset(data)
+        base = parse_sets(set_)
+        tracer = load_tracer(data)
 
         def progress(k, n, best):
             typer.echo(f"start {k}/{n} done, best objective {best:.6g}", err=True)

@@ -10,17 +10,7 @@ from typing import List, Optional
 import typer
 
 from . import app
-
-
-def parse_sets(sets: Optional[List[str]]) -> dict:
-    """``["operating.rpm=4", ...]`` -> ``{"operating.rpm": "4"}`` (values converted by the case model)."""
-    out = {}
-    for item in sets or []:
-        if "=" not in item:
-            raise ValueError(f"--set {item!r}: expected KEY=VALUE, e.g. operating.rpm=4")
-        k, v = item.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
+from ._common import parse_sets
 
 
 @app.command("report")

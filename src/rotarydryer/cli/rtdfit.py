@@ -13,19 +13,7 @@ from typing import Optional
 import typer
 
 from . import app
-
-
-def _load(data: str):
-    from ..rtd import load_tracer_csv, load_tracer_dataset, tracer_datasets
-
-    if Path(data).is_file():
-        return load_tracer_csv(data)
-    if data in tracer_datasets():
-        return load_tracer_dataset(data)
-    raise ValueError(
-        f"DATA {data!r} is neither an existing file nor a shipped data set "
-        f"({', '.join(tracer_datasets())})"
-    )
+from ._common import load_tracer
 
 
 def _baseline(value: str):
@@ -49,7 +37,7 @@ def rtd_moments_cmd(
     Example: rotarydryer rtd-moments lee2008_invicta --json
     """
     try:
-        d = _load(data)
+        d = load_tracer(data)
         kw = dict(baseline=_baseline(baseline), tail=tail, tail_points=tail_points)
         if time_origin_s is not None:
             kw["time_origin_s"] = time_origin_s
@@ -107,7 +95,7 @@ def rtd_fit_cmd(
     from ..rtd import TracerData, fit_tracer_data, pulse_input, subtract_baseline
 
     try:
-        d = _load(data)
+        d = load_tracer(data)
         if baseline != "none":
             y, _ = subtract_baseline(d.time_s, d.signal, _baseline(baseline))
             d = TracerData(d.time_s, y, d.metadata, d.time_column, d.extra_columns, d.path)

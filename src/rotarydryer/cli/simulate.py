@@ -9,22 +9,13 @@ from typing import List, Optional
 import typer
 
 from . import app
-
-
-def _overrides(sets: Optional[List[str]]) -> dict:
-    out = {}
-    for item in sets or []:
-        if "=" not in item:
-            raise ValueError(f"--set {item!r}: expected KEY=VALUE, e.g. transport.n_cells=35")
-        k, v = item.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
+from ._common import parse_sets
 
 
 def _steady(case_name, sets):
     from ..cases import build_model, load_case
 
-    case = load_case(case_name, _overrides(sets))
+    case = load_case(case_name, parse_sets(sets))
     model = build_model(case)
     return case, model, model.steady_state()
 

@@ -141,7 +141,7 @@ def sweep(
     import os
     import sys
 
-    from .report import parse_sets
+    from ._common import parse_sets
 
     try:
         base = parse_sets(set_)
