@@ -221,11 +221,16 @@ def _fit_table(results) -> str:
               f'scale {html.escape(str(f.attrs.get("scale")))}; units: the suffix of the parameter name.</p>')
 
 
+def _section_lengths(results):
+    sec = results.datasets.get("sections")
+    return [] if sec is None else list(zip(sec.section.values, sec.length.values))
+
+
 def _thermal_section(results) -> str:
     """Energy balance (waterfall), key thermal results and axial profiles from the thermal
     datasets of a :class:`rotarydryer.results.Results` (cases with a heat and mass transfer
     model; see :func:`rotarydryer.results.add_thermal`)."""
-    from .plots import plot_energy_waterfall, plot_thermal_profiles
+    from .plots import plot_energy_waterfall, plot_thermal_profiles, thermal_profiles_from_results
 
     sc = results.scalars
     labels = (("product_moisture_kg_kg", "product moisture", "kg/kg wet", 1.0),
@@ -248,7 +253,7 @@ def _thermal_section(results) -> str:
             f'<h3>Energy balance</h3>{_img(plot_energy_waterfall(terms), "energy balance waterfall")}'
             f'{_table(("stream", "MW"), t_rows)}'
             f'<p class="note">Enthalpies relative to the model reference state; the closure bar is in - out.</p>'
-            f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(results), "thermal profiles")}'
+            f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(thermal_profiles_from_results(results), sections=_section_lengths(results)), "thermal profiles")}'
             f'</section>')
 
 

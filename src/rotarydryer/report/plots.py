@@ -12,7 +12,7 @@ from .._plotting import pyplot as _plt
 from ..geometry import FlightedDrum
 
 __all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
-           "plot_thermal_profiles"]
+           "plot_thermal_profiles", "thermal_profiles_from_results"]
 
 
 
@@ -205,21 +205,62 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
     return fig
 
 
-def plot_thermal_profiles(results, *, ax=None):
-    """Gas and solids temperature (top) and solids moisture (bottom) along the dryer from a
-    :class:`rotarydryer.results.Results` with thermal datasets; returns the figure."""
+def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
+    """Gas and solids temperature (top), solids moisture and gas humidity (bottom) along the
+    dryer; returns the figure.
+
+    ``profiles``: arrays ``position``, ``phase`` (bed, passive, active), ``section``,
+    ``solids_temperature_c``, ``moisture_wet`` per tank and ``gas_position``,
+    ``gas_temperature_c``, ``gas_humidity`` per gas stage, as
+    :meth:`rotarydryer.thermal.dryer.ThermalSteadyState.profiles` gives them (or
+    :func:`thermal_profiles_from_results` from saved results). ``sections``: (name, length m)
+    pairs in order, drawn as boundaries.
+    """
     plt = _plt()
-    sol, gas = results.datasets["thermal_solids"], results.datasets["thermal_gas"]
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, constrained_layout=True)
-    a1.plot(gas.position.values, gas.temperature.values, "r-", label="gas")
-    phase = sol.phase.values
-    for ph, style in (("bed", "k."), ("passive", "b."), ("active", "c.")):
-        m = phase == ph
-        if m.any():
-            a1.plot(sol.position.values[m], sol.temperature.values[m], style, ms=3, label=f"solids ({ph})")
-            a2.plot(sol.position.values[m], sol.moisture.values[m], style, ms=3, label=ph)
-    a1.set_ylabel("temperature (degC)")
+    p = profiles
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    kinds = np.asarray(p["phase"])
+    sec_of = np.asarray(p["section"])
+    a1.plot(p["gas_position"], p["gas_temperature_c"], "r-", label="gas")
+    for ph, st in (("bed", "k-"), ("passive", "b-"), ("active", "c--")):
+        m = kinds == ph
+        if not np.any(m):
+            continue
+        if ph == "bed":  # one line per unflighted section
+            first = np.unique(sec_of[m])[0]
+            for sec in np.unique(sec_of[m]):
+                mm = m & (sec_of == sec)
+                label = "solids (unflighted bed)" if sec == first else None
+                a1.plot(p["position"][mm], p["solids_temperature_c"][mm], st, label=label)
+                a2.plot(p["position"][mm], p["moisture_wet"][mm], st, label=label)
+        else:
+            a1.plot(p["position"][m], p["solids_temperature_c"][m], st, label=f"solids ({ph})")
+            a2.plot(p["position"][m], p["moisture_wet"][m], st, label=f"solids ({ph})")
+    a1.set_ylabel("temperature (°C)")
+    if title:
+        a1.set_title(title)
     a1.legend(fontsize=8)
     a2.set_ylabel("solids moisture (kg/kg wet)")
-    a2.set_xlabel("axial position from the feed end (m)")
+    ax2 = a2.twinx()
+    ax2.plot(p["gas_position"], p["gas_humidity"], "r:", label="gas humidity")
+    ax2.set_ylabel("gas humidity (kg/kg dry gas)", color="r")
+    a2.set_xlabel("axial position (m)")
+    a2.legend(fontsize=8, loc="upper center")
+    x0 = 0.0
+    for name, length in sections:
+        for a in (a1, a2):
+            a.axvline(x0, color="0.8", lw=0.8)
+        a1.text(x0 + 0.1, a1.get_ylim()[1] * 0.95, str(name), fontsize=9)
+        x0 += float(length)
+    fig.tight_layout()
     return fig
+
+
+def thermal_profiles_from_results(results) -> dict:
+    """The ``profiles`` arrays of :func:`plot_thermal_profiles` from a
+    :class:`rotarydryer.results.Results` with thermal datasets."""
+    sol, gas = results.datasets["thermal_solids"], results.datasets["thermal_gas"]
+    return dict(position=sol.position.values, phase=sol.phase.values, section=sol.section.values,
+                solids_temperature_c=sol.temperature.values, moisture_wet=sol.moisture.values,
+                gas_position=gas.position.values, gas_temperature_c=gas.temperature.values,
+                gas_humidity=gas.humidity.values)

@@ -208,44 +208,12 @@ def step_response(dryer: ThermalDryer, steady: ThermalSteadyState, input_name: s
     return out
 
 
-def plot_profiles(steady: ThermalSteadyState, ax=None):
-    """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along the dryer."""
-    from .._plotting import pyplot
+def plot_profiles(steady: ThermalSteadyState):
+    """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along
+    the dryer (:func:`rotarydryer.report.plots.plot_thermal_profiles`)."""
+    from ..report.plots import plot_thermal_profiles
 
-    plt = pyplot()
-
-    p = steady.profiles()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
-    kinds = p["phase"]
-    a1.plot(p["gas_position"], p["gas_temperature_c"], "r-", label="gas")
-    for ph, st in (("bed", "k-"), ("passive", "b-"), ("active", "c--")):
-        m = kinds == ph
-        if np.any(m):
-            if ph == "bed":
-                for sec in np.unique(p["section"][m]):
-                    mm = m & (p["section"] == sec)
-                    a1.plot(p["position"][mm], p["solids_temperature_c"][mm], st,
-                            label="solids (unflighted bed)" if sec == np.unique(p["section"][m])[0] else None)
-                    a2.plot(p["position"][mm], p["moisture_wet"][mm], st,
-                            label="solids (unflighted bed)" if sec == np.unique(p["section"][m])[0] else None)
-            else:
-                a1.plot(p["position"][m], p["solids_temperature_c"][m], st, label=f"solids ({ph})")
-                a2.plot(p["position"][m], p["moisture_wet"][m], st, label=f"solids ({ph})")
-    a1.set_ylabel("temperature (°C)")
-    a1.set_title(f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
-                 f"{steady.product_temperature_c:.1f} °C; gas out {steady.gas_outlet_temperature_c:.0f} °C")
-    a1.legend(fontsize=8)
-    a2.set_ylabel("solids moisture (kg/kg wet)")
-    ax2 = a2.twinx()
-    ax2.plot(p["gas_position"], p["gas_humidity"], "r:", label="gas humidity")
-    ax2.set_ylabel("gas humidity (kg/kg dry gas)", color="r")
-    a2.set_xlabel("axial position (m)")
-    a2.legend(fontsize=8, loc="upper center")
-    x0 = 0.0
-    for sd in steady.dryer.sections:
-        for a in (a1, a2):
-            a.axvline(x0, color="0.8", lw=0.8)
-        a1.text(x0 + 0.1, a1.get_ylim()[1] * 0.95, sd["name"], fontsize=9)
-        x0 += sd["length"]
-    fig.tight_layout()
-    return fig
+    title = (f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
+             f"{steady.product_temperature_c:.1f} °C; gas out {steady.gas_outlet_temperature_c:.0f} °C")
+    return plot_thermal_profiles(steady.profiles(), title=title,
+                                 sections=[(sd["name"], sd["length"]) for sd in steady.dryer.sections])
