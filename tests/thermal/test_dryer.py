@@ -225,3 +225,15 @@ def test_moisture_profile_against_table_3_3(test4):
     xp = np.interp(z, d.position[m], test4.moisture_wet[m])
     assert np.sqrt(np.mean((xp - x) ** 2)) < 0.006
     assert np.all(np.diff(test4.moisture_wet[d.kind == 1]) < 0)
+
+
+def test_overrides_checked_and_caller_settings_untouched():
+    from rotarydryer.thermal.dryer import settings_from_case
+
+    case = load_case("ajayi2011_mmg", {"operating.test": 4})
+    st = settings_from_case(case)
+    before = st.gas_flow
+    d = build_thermal_dryer(case, settings=st, gas_flow=2 * before)
+    assert d.settings.gas_flow == 2 * before and st.gas_flow == before
+    with pytest.raises(ValueError, match="gas_flw"):
+        build_thermal_dryer(case, gas_flw=10.0)

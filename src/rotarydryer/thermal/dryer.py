@@ -859,31 +859,17 @@ def build_thermal_dryer(case, settings: ThermalSettings | None = None, feed_mois
     ``settings`` or the case's ``[thermal]`` section (:func:`settings_from_case`), per-test inputs
     (feed, moisture, speed, u_s, ℘, gas inlet temperature) from the selected test; ``feed_moisture``
     (kg/kg wet) overrides the test's inlet moisture, ``overrides`` set ThermalSettings fields."""
-    from ..transport.ajayi import AjayiRegressions, _ExactAdapter
+    from ..transport.ajayi import case_geometries, case_test_inputs
 
-    test = next((t for t in case.tests if t.test == case.operating.test), None)
-    if test is None:
-        raise DryerError(f"operating.test = {case.operating.test} is not in the case's tests")
+    inp = case_test_inputs(case)
+    test, F, rpm, u, D = (inp[k] for k in ("test", "feed_rate", "rpm", "kiln_velocity", "dispersion"))
     st = settings if settings is not None else settings_from_case(case)
-    for k, v in overrides.items():
-        setattr(st, k, v)
-    tr = case.transport
-    geoms = {}
-    for sct in case.sections:
-        if sct.kind != "flighted":
-            continue
-        if case.geometry.method == "ajayi2011_regressions":
-            reg = sct.regression or {}
-            geoms[sct.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius, tr.design_load_factor)
-        else:
-            from rotarydryer.cases import _exact_drum
-
-            geoms[sct.name] = _ExactAdapter(_exact_drum(case.drum.radius, sct.n_flights, sct.s1, sct.s2, sct.alpha1,
-                                                        sct.alpha2), case.geometry.passive_time_branch)
-    F = case.operating.feed_rate or test.feed_rate
-    rpm = case.operating.rpm or test.rpm
-    u = tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity
-    D = tr.dispersion if tr.dispersion is not None else test.dispersion
+    unknown = sorted(set(overrides) - {f.name for f in dataclasses.fields(ThermalSettings)})
+    if unknown:
+        raise ValueError(f"unknown ThermalSettings field(s) {', '.join(map(repr, unknown))}; valid: "
+                         f"{', '.join(f.name for f in dataclasses.fields(ThermalSettings))}")
+    st = dataclasses.replace(st, **overrides)  # a copy: the caller's settings stay as they were
+    geoms = case_geometries(case)
     secs = [dict(name=x.name, kind=x.kind, length=x.length, n_cells=x.n_cells) for x in case.sections]
     st.gas_direction = case.operating.gas_flow
     return ThermalDryer(sections=secs, geometries=geoms, feed_rate=F, feed_moisture=test.moisture_inlet if feed_moisture is None else feed_moisture, rpm=rpm,

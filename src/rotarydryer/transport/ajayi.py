@@ -305,29 +305,46 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     return model
 
 
-def build_ajayi2011(case):
-    """Model of a validated ``AjayiCase`` (see :mod:`rotarydryer.cases`)."""
+def case_test_inputs(case) -> dict:
+    """Per-test inputs of a validated ``AjayiCase``: the selected test row (``test``), feed
+    rate ``feed_rate`` (kg/s), ``rpm``, solids velocity ``kiln_velocity`` (m/s) and
+    ``dispersion`` (m^2/s): case overrides first, else the test's Table 5.2 values."""
     test = next((t for t in case.tests if t.test == case.operating.test), None)
     if test is None:
         raise ValueError(f"operating.test = {case.operating.test} is not in the case's tests "
                          f"({', '.join(str(t.test) for t in case.tests)})")
     tr = case.transport
-    F = case.operating.feed_rate or test.feed_rate
-    rpm = case.operating.rpm or test.rpm
-    u = tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity
-    D = tr.dispersion if tr.dispersion is not None else test.dispersion
+    return dict(test=test, feed_rate=case.operating.feed_rate or test.feed_rate,
+                rpm=case.operating.rpm or test.rpm,
+                kiln_velocity=tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity,
+                dispersion=tr.dispersion if tr.dispersion is not None else test.dispersion)
+
+
+def case_geometries(case) -> dict:
+    """Cell geometry model of each flighted section of an ``AjayiCase`` (Ajayi's regressions
+    or the exact flight geometry, per ``geometry.method``), without fouling."""
     geoms = {}
     for s in case.sections:
         if s.kind != "flighted":
             continue
         if case.geometry.method == "ajayi2011_regressions":
             reg = s.regression or {}
-            geoms[s.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius, tr.design_load_factor)
+            geoms[s.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius,
+                                             case.transport.design_load_factor)
         else:
             from rotarydryer.cases import _exact_drum
 
             drum = _exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2)
             geoms[s.name] = _ExactAdapter(drum, case.geometry.passive_time_branch)
+    return geoms
+
+
+def build_ajayi2011(case):
+    """Model of a validated ``AjayiCase`` (see :mod:`rotarydryer.cases`)."""
+    inp_ = case_test_inputs(case)
+    test, F, rpm, u, D = (inp_[k] for k in ("test", "feed_rate", "rpm", "kiln_velocity", "dispersion"))
+    tr = case.transport
+    geoms = case_geometries(case)
     fouling = tr.fouling if tr.fouling is not None else (0.8 if test.scaled else 0.0)
     if fouling > 0.0:
         geoms = {k: _Fouled(g, fouling) for k, g in geoms.items()}
