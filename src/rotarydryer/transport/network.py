@@ -225,14 +225,12 @@ class TracerResponse:
         return out
 
     def moments(self):
-        """Trapezoidal (recovery, mean s, std s, standardised skewness) of the curve."""
-        t, e = self.time, self.exit_age
-        m0 = np.trapezoid(e, t)
-        mean = np.trapezoid(t * e, t) / m0
-        var = np.trapezoid((t - mean) ** 2 * e, t) / m0
-        mu3 = np.trapezoid((t - mean) ** 3 * e, t) / m0
-        return dict(recovery=float(m0), mean=float(mean), std=float(math.sqrt(max(var, 0.0))),
-                    skewness=float(mu3 / var**1.5) if var > 0 else 0.0)
+        """Trapezoidal (recovery, mean s, std s, standardised skewness) of the curve, by
+        :func:`rotarydryer.rtd.rtd_moments` (the curve is already E(t), no baseline)."""
+        from ..rtd import rtd_moments
+
+        m = rtd_moments(self.time, self.exit_age, clip_negative=False)
+        return dict(recovery=float(m.area), mean=float(m.mean_s), std=float(m.std_s), skewness=float(m.skewness))
 
 
 class TracerSystem:
