@@ -441,19 +441,13 @@ def measured_rtd(case):
 
     tr = case.tracer
     if tr.dataset is not None:
-        try:
-            from rotarydryer.rtd import load_tracer_dataset
+        from rotarydryer.rtd import load_tracer_dataset
 
-            name = tr.dataset.format(test=getattr(case.operating, "test", ""))
-            d = load_tracer_dataset(name)
-            t = np.asarray(d.time_s, float) - float(d.metadata.get("time_origin_s", 0.0) or 0.0)
-            y = np.asarray(d.signal, float)
-            if str(d.metadata.get("signal_unit", "")).strip() == "1/h":
-                y = y / 3600.0
-            keep = t >= 0
-            return t[keep], y[keep]
-        except ImportError:  # pragma: no cover - rtd package absent
-            pass
+        d = load_tracer_dataset(tr.dataset.format(test=getattr(case.operating, "test", "")))
+        t = np.asarray(d.time_s, float) - d.time_origin_s
+        y = np.asarray(d.signal, float) * (d.rate_factor or 1.0)
+        keep = t >= 0
+        return t[keep], y[keep]
     if tr.measured is None:
         return None
     import csv
@@ -476,22 +470,13 @@ def measured_rtd(case):
 
 def measured_rtd_moments(case):
     """Mean and SD (s) of the case's measured RTD, with the case's baseline method
-    (``tracer.baseline``); uses :func:`rotarydryer.rtd.rtd_moments` when available.
-    Returns a dict or None."""
-    import numpy as np
-
+    (``tracer.baseline``), by :func:`rotarydryer.rtd.rtd_moments`. Returns a dict or None."""
     data = measured_rtd(case)
     if data is None:
         return None
-    t, y = data
-    try:
-        from rotarydryer.rtd import rtd_moments
+    from rotarydryer.rtd import rtd_moments
 
-        m = rtd_moments(t, y, baseline=case.tracer.baseline)
-        return {"mean_s": m.mean_s, "std_s": m.std_s, "baseline": m.baseline, "baseline_method": m.baseline_method,
-                "tail_truncated": m.tail_truncated}
-    except ImportError:  # pragma: no cover
-        m0 = np.trapezoid(y, t)
-        mean = np.trapezoid(t * y, t) / m0
-        return {"mean_s": float(mean), "std_s": float(np.sqrt(np.trapezoid((t - mean) ** 2 * y, t) / m0)),
-                "baseline": 0.0, "baseline_method": "none", "tail_truncated": None}
+    t, y = data
+    m = rtd_moments(t, y, baseline=case.tracer.baseline)
+    return {"mean_s": m.mean_s, "std_s": m.std_s, "baseline": m.baseline, "baseline_method": m.baseline_method,
+            "tail_truncated": m.tail_truncated}
