@@ -257,7 +257,10 @@ def _source(name: str) -> tuple[str, str]:
 
 
 def _read(name: str) -> dict:
-    text, shown = _source(name)
+    return _parse(*_source(name))
+
+
+def _parse(text: str, shown: str) -> dict:
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -332,7 +335,7 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     LeeCase or AjayiCase (pydantic models, SI units).
     """
     text, shown = _source(name)
-    raw = _read(name)
+    raw = _parse(text, shown)
     kind = raw.get("kind")
     if kind not in _KINDS:
         raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, _KINDS))}")

@@ -136,8 +136,8 @@ class FlightedDrum:
         sup = 180.0 - a2p  # alpha2'_sup: angle at the bend between base continued inward and tip
         # Lee (2008) Eq. 4.6: flight-tip radius (law of cosines, triangle centre-bend'-tip)
         x = R - s1p
-        RF2 = x * x + s2p * s2p - 2.0 * x * s2p * math.cos(sup * _DEG)
-        RF = math.sqrt(RF2)
+        RF = f.tip_radius(R)
+        RF2 = RF * RF
         if not 0.0 < RF < R:
             raise ValueError(
                 f"flight tip is outside the drum or at its centre: tip radius {RF:g} m must be "

@@ -130,6 +130,13 @@ class TwoSectionFlight:
         """Base-to-tip angle used in the geometry, deg (180 for a straight flight)."""
         return self._alpha2_effective  # type: ignore[attr-defined]
 
+    def tip_radius(self, radius: float) -> float:
+        """Flight-tip radius ``R_F`` in a drum of radius ``radius`` (m), Lee (2008) Eq. 4.6:
+        ``R_F^2 = (R - s1')^2 + s2'^2 - 2 (R - s1') s2' cos(180 - alpha2')``."""
+        x = float(check_range("radius", radius, 0.0, math.inf, unit="m")) - self.equivalent_s1
+        s2p = self.equivalent_s2
+        return math.sqrt(x * x + s2p * s2p - 2.0 * x * s2p * math.cos(math.radians(180.0 - self.equivalent_alpha2)))
+
     @property
     def root_to_tip(self) -> float:
         """Distance from the root to the tip, m (law of cosines in the triangle root, bend, tip)."""

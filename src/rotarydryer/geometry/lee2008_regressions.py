@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -36,32 +35,7 @@ __all__ = [
     "invicta_tip_radius",
 ]
 
-try:  # the lead's exact-geometry module defines the canonical summary type
-    from .unloading import CascadeSummary  # type: ignore[attr-defined]
-except Exception:  # pragma: no cover - stand-in until geometry.unloading exists
-
-    @dataclass(frozen=True)
-    class CascadeSummary:
-        """Mass-averaged cascade properties of a flighted drum cell (arrays).
-
-        Attributes
-        ----------
-        mean_release_angle : ndarray
-            psi_m, deg: mean flight-root angle at release, measured from the drum
-            bottom in the direction of rotation (Lee (2008) Eq. 3.3 / Eq. 4.26).
-        mean_fall_height : ndarray
-            h_m, m (Lee (2008) Eq. 3.5 / Eq. 4.24).
-        mean_fall_time : ndarray
-            t_m, s: mean time of flight of the curtain = active-phase residence
-            time (Lee (2008) Eq. 4.25).
-        passive_time : ndarray
-            tau_p, s: passive (flight-borne) cycle time (Lee (2008) Eq. 3.4).
-        """
-
-        mean_release_angle: np.ndarray
-        mean_fall_height: np.ndarray
-        mean_fall_time: np.ndarray
-        passive_time: np.ndarray
+from .unloading import CascadeSummary
 
 
 #: Names of the two readings of the passive (flight) time, see :meth:`Lee2008Regressions.cascade`.
@@ -97,24 +71,17 @@ _LOADING = (
     0.00618147656427936, -0.00605940458513032, -0.000141023308476207, 0.000121061698308722,
 )
 
-_INVICTA = dict(radius=2.5, s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0)
 _PHI_RANGE = (20.0, 70.0)
 
 
 def invicta_tip_radius(radius=2.5, s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0) -> float:
-    r"""Flight-tip radius R_F (m) of a two-section flight, Lee (2008) Eq. 4.1-4.6.
-
-    :math:`R_F^2 = (R - s_1')^2 + s_2'^2 - 2 (R - s_1') s_2' \cos(180^\circ - \alpha_2')`
-    with the perpendicular-equivalent flight alpha1' = 90 - alpha1,
-    alpha2' = alpha2 - alpha1', s1' = s1 sin(180 - alpha2)/sin(alpha2'),
-    s2' = s2 + s1 sin(alpha1')/sin(alpha2') (Eq. 4.1-4.4).  Lengths in m, angles
-    in deg.  Invicta (defaults) gives 2.22789 m.
+    r"""Flight-tip radius R_F (m) of a two-section flight, Lee (2008) Eq. 4.1-4.6, by
+    :meth:`rotarydryer.geometry.TwoSectionFlight.tip_radius` (the flight is validated there).
+    Lengths in m, angles in deg. Invicta (defaults) gives 2.22789 m.
     """
-    a1p = math.radians(90.0 - alpha1)
-    a2p = math.radians(alpha2) - a1p
-    s1p = s1 * math.sin(math.pi - math.radians(alpha2)) / math.sin(a2p)
-    s2p = s2 + s1 * math.sin(a1p) / math.sin(a2p)
-    return math.sqrt((radius - s1p) ** 2 + s2p**2 - 2 * (radius - s1p) * s2p * math.cos(math.pi - a2p))
+    from .flights import TwoSectionFlight
+
+    return TwoSectionFlight(s1, s2, alpha1, alpha2).tip_radius(radius)
 
 
 def _poly_phi_f(c, phi, f):
@@ -155,7 +122,7 @@ class Lee2008Regressions:
             if tip_radius is None:
                 raise ValueError("drum must have a tip_radius attribute (m) for Lee2008Regressions")
         if tip_radius is None:
-            tip_radius = invicta_tip_radius(**_INVICTA)
+            tip_radius = invicta_tip_radius()
         self.tip_radius = float(check_positive("tip_radius", tip_radius, unit="m"))
 
     def __repr__(self) -> str:

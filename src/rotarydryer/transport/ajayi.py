@@ -375,7 +375,7 @@ class _Fouled:
 
 
 class _ExactAdapter:
-    """Exact FlightedDrum with Ajayi's design-load method (``"ajayi2011"`` = 1.24 x Baker) when available."""
+    """Exact FlightedDrum with Ajayi's design-load method (``"ajayi2011"`` = 1.24 x Baker)."""
 
     def __init__(self, drum, branch):
         self.drum = drum
@@ -385,10 +385,7 @@ class _ExactAdapter:
         return f"exact({self.drum!r})"
 
     def design_load_area(self, phi):
-        try:
-            return self.drum.design_load_area(phi, method="ajayi2011")
-        except (TypeError, ValueError):
-            return self.drum.design_load_area(phi)
+        return self.drum.design_load_area(phi, method="ajayi2011")
 
     def loading_factor(self, d, phi):
         return self.drum.loading_factor(d, phi)
