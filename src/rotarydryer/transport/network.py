@@ -249,6 +249,7 @@ class TracerSystem:
         self.inlet = np.asarray(inlet, dtype=float)
         self.n = self.K.shape[0]
         self._lu = None
+        self._impulse = None  # raw impulse moments m0..m3, computed once
 
     def _solver(self):
         if self._lu is None:
@@ -277,7 +278,9 @@ class TracerSystem:
         skewness of the outlet tracer curve, for an impulse or a given injection
         (moments of a convolution: means, variances and third central moments add;
         times measured from t = 0)."""
-        m = self.impulse_moments(3)
+        if self._impulse is None:  # the sparse solves do not depend on the injection
+            self._impulse = self.impulse_moments(3)
+        m = self._impulse
         rec = m[0]
         mean = m[1] / rec
         var = m[2] / rec - mean**2
@@ -534,23 +537,12 @@ class Network:
         ok = np.max(np.abs(R)) <= tol * scale
         return M, bool(ok), float(np.max(np.abs(R)))
 
-    def outlet_flow(self, M):
-        """Total flow leaving through the outlet (dst = -1), kg/s."""
-        tot = 0.0
-        for f in self.families:
-            k, _ = f.coefficients(M)
-            b, _ = f.basis(M[f.src])
-            tot += float(np.sum((k * b)[f.dst == -1]))
-        return tot
-
-    def loss_flow(self, M):
-        """Flow leaving through open boundaries other than the outlet (dst = -2), kg/s."""
-        tot = 0.0
-        for f in self.families:
-            k, _ = f.coefficients(M)
-            b, _ = f.basis(M[f.src])
-            tot += float(np.sum((k * b)[f.dst == -2]))
-        return tot
+    def boundary_flow(self, M, dst: int = -1, flows=None):
+        """Total flow leaving through a boundary, kg/s: the outlet (``dst = -1``) or the
+        other open boundaries (``dst = -2``). ``flows`` (from :meth:`family_flows`) avoids
+        recomputing them."""
+        flows = self.family_flows(M) if flows is None else flows
+        return float(sum(np.sum(F[f.dst == dst]) for f, F in zip(self.families, flows)))
 
     # --- tracer ---------------------------------------------------------------------------
     def tracer_system(self, M, inlet=None) -> TracerSystem:

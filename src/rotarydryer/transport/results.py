@@ -140,14 +140,14 @@ class SteadyState:
     @property
     def outlet_flow(self) -> float:
         """Solids leaving through the outlet, kg/s."""
-        return self.model.network.outlet_flow(self.masses)
+        return self.model.network.boundary_flow(self.masses, -1, self.flows)
 
     @property
     def mass_balance_error(self) -> float:
         """|feed - outlet - boundary losses| / feed (-)."""
         net = self.model.network
         f = float(net.feed.sum())
-        return abs(f - self.outlet_flow - net.loss_flow(self.masses)) / f
+        return abs(f - self.outlet_flow - net.boundary_flow(self.masses, -2, self.flows)) / f
 
     @property
     def mean_residence_time(self) -> float:
@@ -174,6 +174,7 @@ class SteadyState:
         p = np.where(self.phase == "passive")[0]
         a_of = {(s, c): i for i, (s, c, ph) in enumerate(zip(self.section, self.cell, self.phase)) if ph == "active"}
         info = self.model.cell_info
+        kiln, loading, state = self.kiln_bed, self.dryer_loading, self.loading_state  # once, not per row
         rows = []
         for j, i in enumerate(p):
             key = (self.section[i], self.cell[i])
@@ -185,9 +186,9 @@ class SteadyState:
                 "passive_kg": float(self.masses[i]),
                 "active_kg": float(self.masses[ai]) if ai is not None else 0.0,
                 "design_load_kg": float(self.model.design_load[i]),
-                "kiln_bed_kg": float(self.kiln_bed[j]),
-                "dryer_loading": float(self.dryer_loading[j]),
-                "state": self.loading_state[j],
+                "kiln_bed_kg": float(kiln[j]),
+                "dryer_loading": float(loading[j]),
+                "state": state[j],
             }
             for k, v in info.items():
                 row[k] = float(np.asarray(v)[j])
