@@ -178,6 +178,9 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
         raise ValueError(f"phase = {phase!r} matches no node of model {model.name!r}")
     if beta == 0.0:
         return model
+    if beta / tc == 0.0:  # the exchange rate underflows: the core would never be entered or left
+        raise ValueError(f"core_fraction = {beta!r} is too small for core_time = {tc!r} s: the exchange rate "
+                         "core_fraction/core_time underflows to 0; use 0 (no core) or a normal number")
     check_choice("core_model", core_model, CORE_MODELS)
     nl = 1
     if core_model == "diffusive":
