@@ -30,3 +30,11 @@ def test_mrt_warning_and_error():
     assert out.exit_code == 0 and "warning" in out.output and "rpm" in out.output
     bad = CliRunner().invoke(app, ["mrt", "--length", "-1", "--diameter", "0.3", "--slope", "0.08", "--rpm", "5"])
     assert bad.exit_code == 1 and "length" in bad.output
+
+
+def test_mrt_cli_bad_option_exits_2():
+    """A wrong --gas-flow or --method is bad input for every method (it used to exit 0 or 1)."""
+    res = CliRunner().invoke(app, ARGS + ["--gas-flow", "sideways"])
+    assert res.exit_code == 2 and "gas_flow = 'sideways'" in res.output
+    res = CliRunner().invoke(app, ARGS + ["--method", "nope"])
+    assert res.exit_code == 2 and "method = 'nope'" in res.output

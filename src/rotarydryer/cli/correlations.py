@@ -31,8 +31,17 @@ def mrt(
     """
     import warnings
 
+    from .._validation import check_choice
     from ..correlations import mean_residence_time, mean_residence_time_methods
+    from ..correlations.residence_time import MEAN_RESIDENCE_TIME_METHODS
 
+    try:  # options shared by every method: a wrong one is bad input, not a per-method error
+        check_choice("gas_flow", gas_flow, ("co-current", "counter-current"))
+        if method:
+            check_choice("method", method, MEAN_RESIDENCE_TIME_METHODS)
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
     inputs = dict(length=length, diameter=diameter, slope=slope, rpm=rpm, particle_size=particle_size,
                   gas_mass_flux=gas_mass_flux, solids_mass_flux=solids_mass_flux, gas_flow=gas_flow,
                   repose_angle=repose_angle)
