@@ -103,3 +103,17 @@ def test_bad_inputs():
         dl.fit_break_point(np.arange(10.0), np.minimum(np.arange(10.0), 5), methods=("bootstrap",))
     with pytest.raises(ValueError, match="area"):
         dl.fit_break_point(np.arange(10.0), [np.inf] * 10)
+
+
+def test_too_few_points_for_ajayi_interval_warns():
+    """Ajayi's interval needs 3 points before the break: with 2 it is NaN and says why."""
+    import warnings
+
+    x = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0])
+    y = np.where(x < 2.5, 10 * x, 25.0) + np.array([0.1, -0.1, 0.05, -0.05, 0.02, 0.0, -0.02, 0.01])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        f = dl.fit_break_point(x, y)
+    assert f.n_left == 2 and np.isnan(f.ci["ajayi_corrected"][0])
+    assert any("n_left = 2" in str(w.message) for w in caught)
+    assert np.all(np.isfinite(f.ci["profile"]))

@@ -38,3 +38,12 @@ def test_measured_rtd_legend_uses_the_case_baseline():
     assert res.scalars["measured_std_s"] == pytest.approx(mm["std_s"])
     legend = [t.get_text() for t in plot_rtd(res).axes[0].get_legend().get_texts()]
     assert f"SD {mm['std_s'] / 60:.2f} min" in legend[1] and mm["std_s"] / 60 < 3.0
+
+
+def test_report_cli_unwritable_out_is_bad_input(tmp_path):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["report", "invicta", "--out", str(tmp_path)])  # a directory
+    assert res.exit_code == 2 and "cannot write" in res.output and "internal error" not in res.output

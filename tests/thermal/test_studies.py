@@ -107,8 +107,7 @@ def test_step_response_gas_temperature():
     fm = r["product_moisture_fopdt"]
     assert fm["gain"] < 0                       # hotter gas -> drier product
     assert 60.0 < fm["dead_time_s"] < 1800.0    # solids transport delay (residence ~15 min)
-    fg = r["gas_outlet_temperature_fopdt"] if "gas_outlet_temperature_fopdt" in r else r[
-        "gas_outlet_temperature_c_fopdt"]
+    fg = r["gas_outlet_temperature_c_fopdt"]
     assert fg["dead_time_s"] < fm["dead_time_s"]  # the gas responds first
     assert r["seconds"] < 20.0
 

@@ -67,6 +67,9 @@ def report(
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    except OSError as exc:  # e.g. --out in a missing or read-only directory: bad input
+        typer.echo(f"error: cannot write {out}: {exc}", err=True)
+        raise typer.Exit(2)
     except Exception as exc:  # a bug, not bad input: say so without a traceback
         typer.echo(f"internal error ({type(exc).__name__}): {exc}; please report it", err=True)
         raise typer.Exit(1)
