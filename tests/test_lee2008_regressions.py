@@ -1,8 +1,6 @@
 """Lee (2008) regression surrogates (Eq. 4.24-4.28) against Table 7.6 and properties."""
 
-import csv
 import math
-from importlib import resources
 
 import numpy as np
 import pytest
@@ -13,12 +11,9 @@ from rotarydryer.geometry.lee2008_regressions import (
     Lee2008Regressions,
     invicta_tip_radius,
 )
+from rotarydryer.published import read_published_csv as _csv
 
 
-def _csv(name):
-    text = (resources.files("rotarydryer") / "data" / name).read_text()
-    lines = [ln for ln in text.splitlines() if not ln.startswith("#")]
-    return list(csv.DictReader(lines))
 
 
 TABLE_7_6 = _csv("lee_response_angle_of_repose_cycle_times.csv")

@@ -1,15 +1,7 @@
-import csv
-from importlib import resources
-
 import pytest
 
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions
-
-
-def read_csv(name):
-    text = (resources.files("rotarydryer") / "data" / name).read_text()
-    lines = [ln for ln in text.splitlines() if not ln.startswith("#")]
-    return list(csv.DictReader(lines))
+from rotarydryer.published import read_published_csv as read_csv  # noqa: F401  (imported by the tests)
 
 
 @pytest.fixture(scope="session")

@@ -28,10 +28,8 @@ is quoted from general literature (notes/ajayi_transport.md §2.3, flagged there
 
 from __future__ import annotations
 
-import csv
 import math
 import warnings
-from importlib import resources
 
 import numpy as np
 
@@ -778,8 +776,9 @@ def song_2003_appendix_a() -> dict[str, np.ndarray]:
     >>> len(d["rpm"]), round(float(d["mean_residence_time"][0]), 1)
     (73, 354.6)
     """
-    text = resources.files("rotarydryer").joinpath("data", "song_appendixA_mrt.csv").read_text()
-    rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
+    from ..published import read_published_csv
+
+    rows = read_published_csv("song_appendixA_mrt.csv")
 
     def col(name, scale=1.0):
         return np.array([float(r[name]) for r in rows]) * scale

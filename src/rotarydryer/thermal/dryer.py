@@ -878,12 +878,9 @@ def build_thermal_dryer(case, settings: ThermalSettings | None = None, feed_mois
 
 def pi_operating_conditions(test_number):
     """PI operating conditions of an Ajayi test (package data ``ajayi_pi_operating_conditions.csv``): dict."""
-    from importlib import resources
+    from ..published import read_published_csv
 
-    import csv
-    text = resources.files("rotarydryer.data").joinpath("ajayi_pi_operating_conditions.csv").read_text()
-    rows = [r for r in csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))]
-    for r in rows:
+    for r in read_published_csv("ajayi_pi_operating_conditions.csv"):
         if int(r["test"]) == int(test_number):
             return r
     raise ValueError(f"test = {test_number} is not one of 1-6")
