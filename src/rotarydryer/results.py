@@ -296,9 +296,8 @@ class Results:
     # -- case round trip ----------------------------------------------------------------
     def case(self):
         """The validated case model (pydantic) rebuilt from :attr:`inputs`."""
-        from .cases import AjayiCase, LeeCase
+        from .cases import CASE_MODELS as kinds
 
-        kinds = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
         if self.kind not in kinds:
             raise ValueError(f"inputs.kind = {self.kind!r} is not one of {', '.join(map(repr, kinds))}")
         return kinds[self.kind].model_validate(self.inputs)

@@ -224,7 +224,9 @@ class AjayiCase(_Strict):
         return self
 
 
-_KINDS = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+#: case model of each ``kind``
+CASE_MODELS = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+_KINDS = CASE_MODELS
 _NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests"}
 
 

@@ -18,15 +18,13 @@ def case_schema(kind: Optional[str] = None) -> dict:
 
     from pydantic import Field, TypeAdapter
 
-    from ..cases import AjayiCase, LeeCase
-
-    kinds = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+    from ..cases import CASE_MODELS as kinds
     if kind is not None:
         if kind not in kinds:
             raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, kinds))}")
         schema = kinds[kind].model_json_schema()
     else:
-        schema = TypeAdapter(Annotated[Union[LeeCase, AjayiCase], Field(discriminator="kind")]).json_schema()
+        schema = TypeAdapter(Annotated[Union[tuple(kinds.values())], Field(discriminator="kind")]).json_schema()
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     schema.setdefault("title", "rotarydryer case file")
     schema["description"] = ("rotarydryer case file (TOML). Units: SI (m, kg, s, kg/s), angles in deg, "

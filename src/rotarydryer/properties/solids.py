@@ -120,9 +120,9 @@ def lee2008_moisture_profile(n_cells: int, inlet: float = 0.02, outlet: float = 
     Log-linear from ``inlet`` (cell 1) to ``outlet`` (cell N), Lee (2008) gPROMS Dryer
     model (Appendix I, l.12456): ``w_i = inlet * (outlet/inlet)^((i-1)/(N-1))``.
     """
-    if isinstance(n_cells, bool) or int(n_cells) != n_cells or n_cells < 2:
-        raise ValueError(f"n_cells = {n_cells!r} must be an integer >= 2")
+    if isinstance(n_cells, bool) or int(n_cells) != n_cells or n_cells < 1:
+        raise ValueError(f"n_cells = {n_cells!r} must be an integer >= 1")
     check_range("inlet", inlet, 0.0, 1.0, unit="kg/kg")
     check_range("outlet", outlet, 0.0, 1.0, unit="kg/kg")
     i = np.arange(int(n_cells))
-    return inlet * np.exp(np.log(outlet / inlet) * i / (n_cells - 1))
+    return inlet * np.exp(np.log(outlet / inlet) * i / max(n_cells - 1, 1))

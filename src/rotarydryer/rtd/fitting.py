@@ -47,6 +47,7 @@ from .models import (
     AnalyticMoments,
     AxialDispersion,
     TanksInSeries,
+    axial_dispersion_moments,
 )
 from .pulses import TracerPulse, convolve_rtd, convolved_moments, pulse_input
 
@@ -150,10 +151,12 @@ class RTDFit:
 
 def _pe_from_relative_variance(kind, rel_var):
     """Invert the analytic variance/mean² relation of the ADM for Pe (method of moments)."""
-    if kind == "dispersion_closed":
-        g = lambda pe: 2 / pe - 2 / pe**2 * (-math.expm1(-pe)) - rel_var  # noqa: E731
-    else:
-        g = lambda pe: (2 / pe + 8 / pe**2) / (1 + 2 / pe) ** 2 - rel_var  # noqa: E731
+    boundary = "closed" if kind == "dispersion_closed" else "open"
+
+    def g(pe):
+        m = axial_dispersion_moments(1.0, pe, boundary)
+        return m.variance_s2 / m.mean_s**2 - rel_var
+
     lo, hi = _SHAPE_BOUNDS["peclet"]
     if g(lo) < 0:
         return lo

@@ -46,12 +46,13 @@ def lee2008_repose_profile(n_cells, moisture_inlet=0.02, moisture_outlet=0.002):
     58.94 -> 36.94 deg); the thesis text says "0.2 wt% to 0.02 wt%", a factor 10
     lower - the code values are the ones that reproduce Ch. 7.
     """
+    from ..properties.solids import SOLIDS, lee2008_moisture_profile
+
     n = int(check_range("transport.n_cells", n_cells, 1, math.inf, low_inclusive=True))
-    wi = check_range("solids.moisture_inlet", moisture_inlet, 0.0, 1.0, unit="kg/kg")
-    wo = check_range("solids.moisture_outlet", moisture_outlet, 0.0, 1.0, unit="kg/kg")
-    frac = np.arange(n) / max(n - 1, 1)
-    w = wi * np.exp(frac * np.log(wo / wi))
-    return 1222.2 * w + 34.5
+    wi = float(check_range("solids.moisture_inlet", moisture_inlet, 0.0, 1.0, unit="kg/kg"))
+    wo = float(check_range("solids.moisture_outlet", moisture_outlet, 0.0, 1.0, unit="kg/kg"))
+    slope, intercept = SOLIDS["raw_sugar_lee2008"]["repose"]  # Eq. 7.2, unchecked: the case checks its inputs
+    return slope * lee2008_moisture_profile(n, wi, wo) + intercept
 
 
 class NetworkBuilder:
