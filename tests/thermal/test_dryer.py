@@ -237,3 +237,12 @@ def test_overrides_checked_and_caller_settings_untouched():
     assert d.settings.gas_flow == 2 * before and st.gas_flow == before
     with pytest.raises(ValueError, match="gas_flw"):
         build_thermal_dryer(case, gas_flw=10.0)
+
+
+def test_compatibility_mode_physical_shell_loss_sees_insulation():
+    """The physical re-evaluation of the compatibility mode uses the same shell network as the
+    physical mode, including insulation (it ignored insulation and scale before)."""
+    bare = _dryer(4, "ajayi2011").steady_state()
+    lagged = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 4, "thermal.mode": "ajayi2011"}),
+                                 insulation_thickness=0.1).steady_state()
+    assert lagged.physical_shell_loss_w < 0.3 * bare.physical_shell_loss_w

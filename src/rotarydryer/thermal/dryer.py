@@ -432,9 +432,17 @@ class ThermalDryer:
         if s.mode == "ajayi2011":
             return ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
                                        np.clip(Tg_up, 0.0, 600.0))
-        r = shell_heat_loss(tg, fg, self.gas_len, s.ambient_temperature, gas_humidity=np.clip(Y, 0, 0.3),
-                            co2_mole_fraction=s.co2_mole_fraction, scale_thickness=s.scale_thickness,
-                            scale_conductivity=s.scale_conductivity, insulation_thickness=s.insulation_thickness,
+        return self.physical_shell_loss(Tg, Y)
+
+    def physical_shell_loss(self, Tg, Y):
+        """Shell heat loss per gas stage (W) of the solved shell network (shell temperature solved,
+        scale and insulation layers) at gas temperatures ``Tg`` and humidities ``Y``."""
+        s = self.settings
+        tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
+        r = shell_heat_loss(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
+                            gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
+                            scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
+                            insulation_thickness=s.insulation_thickness,
                             insulation_conductivity=s.insulation_conductivity, pressure=s.pressure)
         return r.heat_loss
 
@@ -766,9 +774,7 @@ class ThermalSteadyState:
         if s.mode == "physical":
             self.physical_shell_loss_w = self.shell_heat_loss_w
         else:   # the shell network (shell temperature solved) at the same gas temperatures
-            r = shell_heat_loss(np.clip(Tg, s.ambient_temperature + 1e-3, 600), Fd * (1 + Y), dryer.gas_len,
-                                s.ambient_temperature, gas_humidity=np.clip(Y, 0, 0.3))
-            self.physical_shell_loss_w = float(np.sum(r.heat_loss))
+            self.physical_shell_loss_w = float(np.sum(dryer.physical_shell_loss(Tg, Y)))
         self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / e_in_p
         self.physical_implied_shell_loss_w = e_in_p - pH - hg_out_p
         self.gas_heat_duty_w = hg_in - hg_out
