@@ -113,7 +113,7 @@ def transport_view(case: str, feed_rate: float, rpm: float, slope: float, images
     """Steady state + tracer RTD of a built-in case at a changed operating point.
 
     Returns ``{"results": Results, "metrics": {...}, "holdup": png, "rtd": png,
-    "loading": png, "report_html": str (only with images)}``."""
+    "loading": png}`` (the PNGs only with ``images``)."""
     from ..report.figures import plot_holdup_profile, plot_loading_state, plot_rtd
     from ..results import run_case
 

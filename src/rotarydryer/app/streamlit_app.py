@@ -22,13 +22,14 @@ def _geometry(*args):
 @st.cache_data(show_spinner=False, max_entries=16)
 def _transport(case, feed, rpm, slope):
     out = logic.transport_view(case, feed, rpm, slope)
-    res = out.pop("results")
+    out["scalars"] = dict(out["results"].scalars)
+    return out  # the report and the netCDF file are built only when downloaded
+
+
+def _report_html(res):
     from rotarydryer.report.html import render_report
 
-    out["report_html"] = render_report(res)
-    out["scalars"] = dict(res.scalars)
-    out["netcdf"] = _netcdf_bytes(res)
-    return out
+    return render_report(res)
 
 
 def _netcdf_bytes(res):
@@ -128,10 +129,11 @@ else:
     right.image(r["rtd"], caption="RTD against the measured tracer curve")
     st.image(r["loading"], caption="Loading state per cell")
     d1, d2 = st.columns(2)
-    d1.download_button("Download results (netCDF)", r["netcdf"], file_name=f"{case}.nc",
+    res = r["results"]
+    d1.download_button("Download results (netCDF)", lambda: _netcdf_bytes(res), file_name=f"{case}.nc",
                        mime="application/x-netcdf", key="dl_nc")
-    d2.download_button("Download HTML report", r["report_html"], file_name=f"{case}.html", mime="text/html",
-                       key="dl_html")
+    d2.download_button("Download HTML report", lambda: _report_html(res), file_name=f"{case}.html",
+                       mime="text/html", key="dl_html")
 
     st.header("Fit a tracer curve")
     from rotarydryer.rtd import RTD_MODELS
