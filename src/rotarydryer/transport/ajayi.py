@@ -39,12 +39,13 @@ Geometry per flighted section is injected (same interface as Lee's model):
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
 
 from .._validation import check_range
+from ..geometry.lee2008_regressions import _poly_phi_f
+from ..geometry.unloading import CascadeSummary
 from .models import NetworkBuilder, _CellCoefficients
 from .network import EdgeFamily, TracerInput
 from .results import TransportModel
@@ -71,14 +72,6 @@ def mmg_repose_angle(moisture):
 def mmg_bulk_density(moisture):
     """Consolidated bulk density (kg/m^3), Ajayi (2011) Eq. 3.4: 2043.8 - 3095.2 x_w (code 2043.81 - 3095.24 x)."""
     return 2043.81 - 3095.24 * np.asarray(moisture, dtype=float)
-
-
-@dataclasses.dataclass(frozen=True)
-class _Summary:
-    mean_release_angle: np.ndarray
-    mean_fall_height: np.ndarray
-    mean_fall_time: np.ndarray
-    passive_time: np.ndarray
 
 
 class AjayiRegressions:
@@ -137,9 +130,7 @@ class AjayiRegressions:
         rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rev/min")
         th = math.radians(float(check_range("slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg")))
         U = 1.0 - f
-        q = self.q
-        t = (q[0] + q[1] * phi + q[2] * phi**2 + q[3] * phi**3 + q[4] * U + q[5] * U**2 + q[6] * U**3
-             + q[7] * phi * U + q[8] * phi * U**2 + q[9] * phi**2 * U + q[10] * phi**2 * U**2)
+        t = _poly_phi_f(self.q, phi, U)  # same 11-term (phi, U) form as Lee's Eq. 4.24-4.25
         h = 0.5 * G * t**2
         arg = 1.0 - (h * math.cos(th)) ** 2 / (2.0 * self.radius**2)
         if np.any(arg < -1):
@@ -148,8 +139,10 @@ class AjayiRegressions:
         ang = np.arccos(arg)
         tp = ang / omega
         psi = 90.0 + np.degrees(ang) / 2.0
-        psi, h, t, tp = np.broadcast_arrays(psi, h, t, tp)
-        return _Summary(np.array(psi, float), np.array(h, float), np.array(t, float), np.array(tp, float))
+        psi, h, t, tp = (np.array(a, float) for a in np.broadcast_arrays(psi, h, t, tp))
+        nan = np.full(psi.shape, np.nan)  # not given by the regressions (as Lee2008Regressions)
+        return CascadeSummary(mean_release_angle=psi, mean_fall_height=h, mean_fall_time=t, passive_time=tp,
+                              discharge_start_angle=nan, initial_holdup_area=nan)
 
 
 def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
