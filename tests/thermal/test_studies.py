@@ -131,3 +131,11 @@ def test_step_response_other_inputs(input_name, change, moisture_gain_sign):
         fm = r["product_moisture_fopdt"]
         assert fm is not None and fm["gain"] * moisture_gain_sign > 0 and fm["dead_time_s"] > 60.0
     assert r["seconds"] < 20.0
+
+
+def test_perturbed_inputs_are_checked_like_the_dryer():
+    d = build_thermal_dryer(load_case("ajayi2011_mmg"))
+    with pytest.raises(ValueError, match="operating.rpm = 0"):
+        studies.perturbed(d, rotational_speed=0.0)
+    with pytest.raises(ValueError, match="operating.feed_rate = -1"):
+        studies.perturbed(d, solid_feed_rate=-1.0)

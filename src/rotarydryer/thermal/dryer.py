@@ -193,15 +193,8 @@ class ThermalDryer:
     def __init__(self, *, sections, geometries, feed_rate, feed_moisture, rpm, slope, radius, kiln_velocity,
                  dispersion, settings: ThermalSettings | None = None, design_load_factor=1.24):
         self.settings = s = (settings or ThermalSettings()).validate()
-        self.feed_rate = float(check_range("operating.feed_rate", feed_rate, 0.0, 1000.0, unit="kg/s"))
-        fm = float(check_range("solids.feed_moisture", feed_moisture, 0.0, 1.0, low_inclusive=True, unit="kg/kg wet"))
-        if fm > TRANSPORT_MOISTURE_RANGE[1]:
-            raise DryerError(
-                f"feed too wet: solids.feed_moisture = {fm:g} kg/kg wet exceeds the model's range "
-                f"(<= {TRANSPORT_MOISTURE_RANGE[1]}): the repose-angle and bulk-density regressions (Ajayi Eq. 3.2, "
-                f"3.4) and the design-load polynomials are not valid above it", reason="feed_too_wet")
-        self.feed_moisture = fm
-        self.rpm = float(check_range("operating.rpm", rpm, 0.0, 60.0, unit="rev/min"))
+        self.feed_rate, self.feed_moisture, self.rpm = feed_rate, feed_moisture, rpm
+        self._check_operating_inputs()
         self.slope = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
         self.radius = float(check_range("drum.radius", radius, 0.0, 20.0, unit="m"))
         self.kiln_velocity = float(check_range("transport.kiln_velocity", kiln_velocity, 0.0, 10.0, unit="m/s"))
@@ -214,6 +207,19 @@ class ThermalDryer:
             s.kinetics = MATERIAL_KINETICS["zinc_concentrate_ajayi2011_thesis" if s.mode == "ajayi2011"
                                            else "zinc_concentrate_ajayi2011"]
         self._layout()
+
+    def _check_operating_inputs(self):
+        """Check (and convert) the inputs a study may change: feed rate, feed moisture, speed."""
+        self.feed_rate = float(check_range("operating.feed_rate", self.feed_rate, 0.0, 1000.0, unit="kg/s"))
+        fm = float(check_range("solids.feed_moisture", self.feed_moisture, 0.0, 1.0, low_inclusive=True,
+                               unit="kg/kg wet"))
+        if fm > TRANSPORT_MOISTURE_RANGE[1]:
+            raise DryerError(
+                f"feed too wet: solids.feed_moisture = {fm:g} kg/kg wet exceeds the model's range "
+                f"(<= {TRANSPORT_MOISTURE_RANGE[1]}): the repose-angle and bulk-density regressions (Ajayi Eq. 3.2, "
+                f"3.4) and the design-load polynomials are not valid above it", reason="feed_too_wet")
+        self.feed_moisture = fm
+        self.rpm = float(check_range("operating.rpm", self.rpm, 0.0, 60.0, unit="rev/min"))
 
     # ------------------------------------------------------------------ layout
     def _check_gas_can_dry(self):

@@ -23,7 +23,7 @@ import copy
 import numpy as np
 
 from .._validation import check_choice, check_range
-from .dryer import DryerError, ThermalDryer, ThermalSteadyState
+from .dryer import ThermalDryer, ThermalSteadyState
 
 __all__ = ["relative_index", "INPUTS", "perturbed", "sensitivity_table", "fouling_study", "insulation_study",
            "step_response", "fopdt_fit", "plot_profiles"]
@@ -71,8 +71,7 @@ def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
         else:
             raise ValueError(f"unknown input {k!r}; use one of {', '.join(INPUTS)} or a ThermalSettings field")
     d.settings.validate()
-    if d.feed_moisture > 0.19:
-        raise DryerError("feed too wet for the model's range", reason="feed_too_wet")
+    d._check_operating_inputs()  # the same checks as when the dryer was built
     d._shell_ua = None
     d._check_gas_can_dry()
     return d
