@@ -61,9 +61,9 @@ from typing import Optional
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.optimize._numdiff import approx_derivative, group_columns
 from scipy.sparse.linalg import splu
 
+from .._sparse_fd import column_groups, sparse_fd_jacobian
 from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from ..transport.ajayi import mmg_bulk_density, mmg_moisture_profile, mmg_repose_angle
@@ -573,14 +573,13 @@ class ThermalDryer:
         pat = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(self.n, self.n))
         pat.data[:] = 1.0
         self._pattern = pat
-        self._groups = group_columns(pat)
+        self._groups = column_groups(pat)
         return pat
 
     def jacobian(self, z, f0=None):
         pat = self.sparsity()
         step = np.maximum(np.abs(z) * 1e-7, self._scale() * 1e-8)
-        return sp.csc_matrix(approx_derivative(lambda x: self.rhs(0.0, x), z, method="2-point", abs_step=step,
-                                               f0=f0, sparsity=(pat, self._groups)))
+        return sparse_fd_jacobian(lambda x: self.rhs(0.0, x), z, pat, self._groups, step=step, f0=f0)
 
     def _scale(self):
         nt, ng = self.n_tanks, self.n_gas
