@@ -15,9 +15,13 @@ drying
 streams
     Enthalpy of gas and solids streams (physical, Ajayi's, Ajayi's as coded) and the
     overall energy balance on outlet data (implied shell loss).
+consistency
+    Is a plant test energetically consistent? Gas flow implied by measured inlets and
+    outlets, the gas outlet temperature a given gas flow allows, and the bound any
+    energy-conserving model obeys (applied to Ajayi's PI tests).
 radiation
     H2O/CO2 gas emissivity (weighted sum of grey gases, Smith et al. 1982), mean beam
     length, gas-wall and gas-solids radiative exchange.
 
-The dryer-level balances and solvers are built on these elsewhere.
+The dryer-level balances and solvers: ``dryer``; studies: ``studies``.
 """
