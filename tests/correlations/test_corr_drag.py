@@ -137,3 +137,41 @@ def test_drag_monotonicity(re, factor, phi):
     # less spherical particles have more drag at the same Re (Re <= 900). Only up to phi = 0.9:
     # the fitted Haider-Levenspiel polynomials are not monotonic in phi above about 0.92.
     assert haider_levenspiel_1989(re, phi) > haider_levenspiel_1989(re, min(phi + 0.05, 1.0))
+
+
+@pytest.mark.parametrize("method, kwargs", [
+    ("schiller_naumann_1933", {}),
+    ("stokes", {}),
+    ("lee_2008", {"prefactor": 60.0}),
+    ("haider_levenspiel_1989", {"sphericity": 0.6, "coefficient": "lee_2008_print"}),
+])
+def test_iteration_kernel_is_the_public_formula(method, kwargs):
+    """The unchecked kernel used inside iterations (terminal velocity, trajectory) gives the
+    public drag_coefficient bit for bit, and rejects the same bad parameters."""
+    from rotarydryer.correlations.drag import _drag_kernel
+
+    import warnings
+
+    re = np.geomspace(1e-3, 1e5, 97)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CorrelationRangeWarning)
+        expected = drag_coefficient(re, method, **kwargs)
+    assert np.array_equal(_drag_kernel(method, **kwargs)(re, None), expected)
+    with pytest.raises(TypeError, match=f"{method}\\(\\) got an unexpected keyword argument 'foo'"):
+        _drag_kernel(method, **kwargs, foo=1.0)
+
+
+def test_iteration_kernel_indexes_array_sphericity_and_checks_it():
+    from rotarydryer.correlations.drag import _drag_kernel
+
+    phi = np.array([0.3, 0.6, 0.9, 1.0])
+    re = np.array([50.0, 80.0])
+    idx = np.array([1, 3])
+    cd = _drag_kernel("haider_levenspiel_1989", phi)(re, idx)
+    assert np.array_equal(cd, haider_levenspiel_1989(re, phi[idx]))
+    with pytest.raises(ValueError, match="needs sphericity"):
+        _drag_kernel("haider_levenspiel_1989")
+    with pytest.raises(ValueError, match="sphericity"):
+        _drag_kernel("haider_levenspiel_1989", np.array([0.5, 1.5]))
+    with pytest.raises(ValueError, match="prefactor"):
+        _drag_kernel("lee_2008", prefactor=0.0)

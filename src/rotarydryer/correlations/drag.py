@@ -57,6 +57,43 @@ def reynolds_number(velocity, diameter, density, viscosity):
     return as_result(rho * np.abs(v) * d / mu)
 
 
+# Unchecked C_D kernels: each formula exists only here. The public functions below check
+# their inputs and warn outside the fitted ranges, then call these; iterations call them
+# through _drag_kernel (inputs checked once, no per-step checks or warnings).
+
+
+def _cd_stokes(re):
+    return 24.0 / re
+
+
+def _cd_schiller_naumann(re):
+    return np.where(re <= 1000.0, 24.0 / re * (1.0 + 0.15 * re**0.687), 0.44)
+
+
+def _cd_haider_levenspiel(re, phi, c):
+    a = np.exp(2.3288 - 6.4581 * phi + 2.4486 * phi**2)
+    b = 0.0964 + 0.5565 * phi
+    cc = np.exp(4.905 - 13.8944 * phi + 18.4222 * phi**2 - 10.2599 * phi**3)
+    d = np.exp(1.4681 + c * phi - 20.7322 * phi**2 + 15.8855 * phi**3)
+    return 24.0 / re * (1.0 + a * re**b) + cc * re / (re + d)
+
+
+def _cd_lee_2008(re, a):
+    return a / re * (1.0 + 0.004 * re**0.9968)
+
+
+def _haider_levenspiel_params(sphericity, coefficient="published"):
+    """Checked (phi, c) of :func:`haider_levenspiel_1989`."""
+    phi = check_range("sphericity", sphericity, 0.0, 1.0, high_inclusive=True)
+    check_choice("coefficient", coefficient, ("published", "lee_2008_print"))
+    return phi, (12.5584 if coefficient == "published" else 12.5284)
+
+
+def _lee_2008_params(prefactor=24.0):
+    """Checked numerator a of :func:`lee_2008`."""
+    return check_positive("prefactor", prefactor)
+
+
 def stokes_drag(reynolds):
     r"""Stokes drag coefficient of a sphere, :math:`C_D = 24/Re` (creeping flow, Re < 0.1).
 
@@ -67,7 +104,7 @@ def stokes_drag(reynolds):
     """
     re = _re(reynolds)
     warn_outside("reynolds", re, 0.0, 0.1, source="Stokes' law (creeping flow)")
-    return as_result(24.0 / re)
+    return as_result(_cd_stokes(re))
 
 
 def schiller_naumann_1933(reynolds):
@@ -98,8 +135,7 @@ def schiller_naumann_1933(reynolds):
     """
     re = _re(reynolds)
     warn_outside("reynolds", re, 0.0, 2.0e5, source="Schiller & Naumann (1933)")
-    cd = np.where(re <= 1000.0, 24.0 / re * (1.0 + 0.15 * re**0.687), 0.44)
-    return as_result(cd)
+    return as_result(_cd_schiller_naumann(re))
 
 
 def haider_levenspiel_1989(reynolds, sphericity, coefficient="published"):
@@ -146,16 +182,10 @@ def haider_levenspiel_1989(reynolds, sphericity, coefficient="published"):
     1.1671
     """
     re = _re(reynolds)
-    phi = check_range("sphericity", sphericity, 0.0, 1.0, high_inclusive=True)
-    check_choice("coefficient", coefficient, ("published", "lee_2008_print"))
-    c = 12.5584 if coefficient == "published" else 12.5284
+    phi, c = _haider_levenspiel_params(sphericity, coefficient)
     warn_outside("reynolds", re, 0.0, 2.6e5, source="Haider & Levenspiel (1989)")
     warn_outside("sphericity", phi, 0.026, 1.0, source="Haider & Levenspiel (1989)")
-    a = np.exp(2.3288 - 6.4581 * phi + 2.4486 * phi**2)
-    b = 0.0964 + 0.5565 * phi
-    cc = np.exp(4.905 - 13.8944 * phi + 18.4222 * phi**2 - 10.2599 * phi**3)
-    d = np.exp(1.4681 + c * phi - 20.7322 * phi**2 + 15.8855 * phi**3)
-    return as_result(24.0 / re * (1.0 + a * re**b) + cc * re / (re + d))
+    return as_result(_cd_haider_levenspiel(re, phi, c))
 
 
 def modified_schiller_naumann(reynolds, a, b, n):
@@ -223,9 +253,9 @@ def lee_2008(reynolds, prefactor=24.0):
     0.3346
     """
     re = _re(reynolds)
-    a = check_positive("prefactor", prefactor)
+    a = _lee_2008_params(prefactor)
     warn_outside("reynolds", re, 70.0, 300.0, source="Lee (2008) Eq. 6.6 (sugar crystals)")
-    return as_result(a / re * (1.0 + 0.004 * re**0.9968))
+    return as_result(_cd_lee_2008(re, a))
 
 
 _DRAG_METHODS = {
@@ -290,15 +320,38 @@ def drag_coefficient(reynolds, method: str = "schiller_naumann_1933", sphericity
     return func(reynolds, **kwargs)
 
 
-def _cd_silent(re, method, sphericity, kwargs):
-    """C_D without range warnings (used inside iterations)."""
-    import warnings
+def _drag_kernel(method, sphericity=None, **kwargs):
+    """Check a drag correlation and its parameters once, as :func:`drag_coefficient` does
+    (same errors), and return ``cd(re, index)``: C_D of the float array ``re`` from the
+    unchecked kernel, without input checks or range warnings, for use inside iterations.
 
-    from . import CorrelationRangeWarning
+    ``re`` must be > 0 (the caller's business). ``sphericity`` (Haider-Levenspiel) is a
+    scalar or a flat array; ``index`` selects the elements of a flat array that ``re``
+    belongs to (ignored otherwise).
+    """
+    check_choice("method", method, _DRAG_METHODS)
+    if method == "haider_levenspiel_1989":
+        if sphericity is None:
+            raise ValueError("drag_coefficient(method='haider_levenspiel_1989') needs sphericity")
+        _no_other_kwargs(method, kwargs, ("coefficient",))
+        phi, c = _haider_levenspiel_params(sphericity, **kwargs)
+        if phi.ndim == 0:
+            return lambda re, index=None: _cd_haider_levenspiel(re, phi, c)
+        return lambda re, index: _cd_haider_levenspiel(re, phi[index], c)
+    if method == "lee_2008":
+        _no_other_kwargs(method, kwargs, ("prefactor",))
+        a = _lee_2008_params(**kwargs)
+        return lambda re, index=None: _cd_lee_2008(re, a)
+    _no_other_kwargs(method, kwargs, ())
+    kernel = _cd_stokes if method == "stokes" else _cd_schiller_naumann
+    return lambda re, index=None: kernel(re)
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CorrelationRangeWarning)
-        return np.asarray(drag_coefficient(re, method, sphericity=sphericity, **kwargs), float)
+
+def _no_other_kwargs(method, kwargs, allowed):
+    """TypeError for a keyword argument the correlation does not take (as calling it would)."""
+    for k in kwargs:
+        if k not in allowed:
+            raise TypeError(f"{method}() got an unexpected keyword argument {k!r}")
 
 
 def terminal_velocity(particle_diameter, particle_density, gas_density, gas_viscosity,
@@ -364,17 +417,17 @@ def terminal_velocity(particle_diameter, particle_density, gas_density, gas_visc
     hi = np.log(np.maximum(ar / 18.0, np.sqrt(4.0 / 3.0 * ar / 0.01))) + 1.0
     x, lo, hi, target = (np.array(a, dtype=float).ravel() for a in np.broadcast_arrays(x, lo, hi, target))
     sph_all = None if sphericity is None else np.broadcast_to(np.asarray(sphericity, float), d.shape).ravel()
+    cd = _drag_kernel(method, sph_all, **kwargs)
     active = np.arange(x.size)
     f_prev = np.full(x.size, np.inf)
     for _ in range(300):  # hard iteration budget: never hangs
-        sph = None if sph_all is None else sph_all[active]
         xa, la, ha, ta = x[active], lo[active], hi[active], target[active]
-        f = np.log(_cd_silent(np.exp(xa), method, sph, kwargs)) + 2.0 * xa - ta
+        f = np.log(cd(np.exp(xa), active)) + 2.0 * xa - ta
         la = np.where(f < 0, xa, la)
         ha = np.where(f > 0, xa, ha)
         done = (np.abs(f) < 1e-10) | (ha - la < 1e-10)
         h = 1e-6
-        fp = (np.log(_cd_silent(np.exp(xa + h), method, sph, kwargs)) + 2.0 * (xa + h) - ta - f) / h
+        fp = (np.log(cd(np.exp(xa + h), active)) + 2.0 * (xa + h) - ta - f) / h
         xn = xa - f / np.where(fp > 0.1, fp, 0.1)
         # bisect when Newton leaves the bracket or stops halving the residual (this guarantees
         # convergence where the drag law has a jump and Newton would oscillate across it)

@@ -36,7 +36,7 @@ import numpy as np
 
 from .._validation import check_choice, check_positive, check_range
 from ._common import STANDARD_GRAVITY, as_result
-from .drag import _DRAG_METHODS, _cd_silent, terminal_velocity
+from .drag import _DRAG_METHODS, _drag_kernel, terminal_velocity
 
 __all__ = [
     "CascadeTrajectory",
@@ -171,6 +171,7 @@ def cascade_trajectory(fall_height, particle_diameter, particle_density, gas_den
     h, d, rho_p, rho_g, mu, ug, theta, vx0, vy0 = (np.array(a, dtype=float, copy=True).ravel() for a in arrays)
     shape = arrays[0].shape
     sph_flat = None if sphericity is None else np.broadcast_to(np.asarray(sphericity, float), shape).ravel()
+    cd_of = _drag_kernel(method, sph_flat, **drag_kwargs)  # checked once here; unchecked in the time loop
     u = ug if gas_flow == "co-current" else -ug
     buoy = 1.0 - rho_g / rho_p
     gx = g * np.sin(theta) * buoy
@@ -190,8 +191,7 @@ def cascade_trajectory(fall_height, particle_diameter, particle_density, gas_den
     def relax_time(i, wx_, wy_):
         speed = np.hypot(wx_, wy_)
         re = np.maximum(rho_g[i] * speed * d[i] / mu[i], 1e-12)
-        sph = None if sph_flat is None else sph_flat[i]
-        cd = _cd_silent(re, method, sph, drag_kwargs)
+        cd = cd_of(re, i)
         # tau_r = 4 rho_p d / (3 rho_g C_D |w|) = 4 rho_p d^2 / (3 mu C_D Re)
         return 4.0 * rho_p[i] * d[i] ** 2 / (3.0 * mu[i] * cd * re)
 
