@@ -106,3 +106,26 @@ def test_report_cli_bad_input(cli, tmp_path, args, expect):
     assert expect in res.output
     assert "Traceback" not in res.output
     assert not out.exists()
+
+
+def test_repose_angle_checked_before_the_case_runs_and_applied_to_every_section(monkeypatch):
+    """--repose-angle is handled in one place (resolve_source), for the CLI and build_report."""
+    import rotarydryer.results as results_module
+    from rotarydryer.report.html import resolve_source
+
+    def _no_run(*args, **kwargs):
+        raise AssertionError("the case ran before repose_angle was checked")
+
+    with monkeypatch.context() as m:
+        m.setattr(results_module, "run_case", _no_run)
+        for bad in (0.0, 90.0, float("nan")):
+            with pytest.raises(ValueError, match="repose_angle"):
+                build_report("ajayi2011_mmg", repose_angle=bad)
+    fake = type("FakeResults", (), {"inputs": {}})()
+    seen = []
+    monkeypatch.setattr(results_module, "run_case", lambda *a, **k: fake)
+    monkeypatch.setattr("rotarydryer.report.figures.case_drums",
+                        lambda inputs, res: seen.append(res) or [dict(name="B", repose_angle=41.0)])
+    res, drums, _ = resolve_source("ajayi2011_mmg", repose_angle=52)
+    assert res is fake and seen == [fake] and drums == [dict(name="B", repose_angle=52.0)]
+    assert resolve_source("ajayi2011_mmg")[1] is None  # default: the case's own angles (render_report)

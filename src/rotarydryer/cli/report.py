@@ -41,22 +41,12 @@ def report(
 
     t0 = time.perf_counter()
     try:
-        if repose_angle is not None:
-            from .._validation import check_range
-
-            check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
         import sys
 
         with typer.progressbar(length=2, label="report", file=sys.stderr,
                                hidden=as_json or not sys.stderr.isatty()) as bar:
             results, drums, title = resolve_source(source, parse_sets(set_), repose_angle=repose_angle)
             bar.update(1)
-            if results is not None and repose_angle is not None:
-                from ..report.figures import case_drums
-
-                drums = case_drums(results.inputs, results)
-                for d in drums:
-                    d["repose_angle"] = repose_angle
             if save is not None:
                 if results is None:
                     raise ValueError(f"--save needs a case or results source, got the drum {source!r}")

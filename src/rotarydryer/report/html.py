@@ -307,22 +307,31 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
 
 def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: float | None = None):
     """``(results, drums, title)`` for a report source: a saved results file (``.nc``), a
-    case name or ``.toml`` file (run), or a built-in drum preset (geometry only, at
-    ``repose_angle`` deg, default 45)."""
+    case name or ``.toml`` file (run), or a built-in drum preset (geometry only).
+
+    ``repose_angle`` (deg, in (0, 90); checked before a case is run) is the repose angle of
+    the flight pictures of every section; default: the case's mean per section
+    (``drums`` is then None, see :func:`render_report`), 45 deg for a drum preset.
+    """
+    from .._validation import check_range
     from ..cases import list_cases
     from ..geometry.presets import drum_presets, preset_drum
     from ..results import Results, run_case
 
+    if repose_angle is not None:
+        repose_angle = float(check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg"))
     p = Path(source)
     if p.suffix in (".nc", ".h5") and p.exists():
         if overrides:
             raise ValueError(f"--set cannot be applied to a saved result ({source})")
-        return Results.load(p), None, None
+        results = Results.load(p)
+        return results, _case_drums_at(results, repose_angle), None
     if source in list_cases() or (p.suffix == ".toml" and p.exists()):
-        return run_case(source, overrides, fit_rtd=True), None, None
+        results = run_case(source, overrides, fit_rtd=True)
+        return results, _case_drums_at(results, repose_angle), None
     if source in drum_presets():
         drum, e = preset_drum(source)
-        phi = 45.0 if repose_angle is None else float(repose_angle)
+        phi = 45.0 if repose_angle is None else repose_angle
         d = dict(name=source, drum=drum, length=e["length"], slope=e["slope"], rpm=e["rpm"],
                  bulk_density=e["bulk_density"], repose_angle=phi)
         return None, [d], f"Flight geometry: {e['description']}"
@@ -330,15 +339,22 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
                      f"a .toml case file nor a drum preset ({', '.join(drum_presets())})")
 
 
+def _case_drums_at(results, repose_angle):
+    """The flighted sections of ``results`` drawn at ``repose_angle`` deg (None: None, i.e.
+    the default of :func:`render_report`)."""
+    if repose_angle is None:
+        return None
+    from .figures import case_drums
+
+    drums = case_drums(results.inputs, results)
+    for d in drums:
+        d["repose_angle"] = repose_angle
+    return drums
+
+
 def build_report(source: str, overrides: dict | None = None, *, repose_angle: float | None = None) -> str:
     """HTML text of the report of ``source`` (see :func:`resolve_source`)."""
     results, drums, title = resolve_source(source, overrides, repose_angle=repose_angle)
-    if results is not None and repose_angle is not None:
-        from .figures import case_drums
-
-        drums = case_drums(results.inputs, results)
-        for d in drums:
-            d["repose_angle"] = float(repose_angle)
     return render_report(results, drums=drums, title=title)
 
 
