@@ -36,6 +36,6 @@ def main(
 
 
 # Command modules (each registers its commands on ``app`` at import time).
-from . import correlations, fit, flight, lab, report, rtdfit, schema, simulate, sweep, webapp  # noqa: E402,F401
+from . import balance, correlations, fit, flight, lab, report, rtdfit, schema, simulate, sweep, webapp  # noqa: E402,F401
 
 __all__ = ["app"]

@@ -1,0 +1,86 @@
+"""``rotarydryer balance``: overall energy balance of a plant test (gas flow implied by the data)."""
+
+from __future__ import annotations
+
+import json
+from typing import Optional
+
+import typer
+
+from . import app
+
+
+@app.command("balance")
+def balance(
+    ajayi_test: Optional[int] = typer.Option(None, "--ajayi-test",
+                                             help="Take the measured values of Ajayi's PI test 1-6 (MMG Karumba); "
+                                                  "options given explicitly override them."),
+    gas_in: Optional[float] = typer.Option(None, help="Gas inlet temperature, degC."),
+    gas_out: Optional[float] = typer.Option(None, help="Gas outlet temperature, degC (measured)."),
+    feed: Optional[float] = typer.Option(None, help="Wet feed rate, kg/s."),
+    moisture_in: Optional[float] = typer.Option(None, help="Feed moisture, kg/kg wet basis."),
+    moisture_out: Optional[float] = typer.Option(None, help="Product moisture, kg/kg wet basis."),
+    product_temperature: Optional[float] = typer.Option(None, help="Product temperature, degC."),
+    feed_temperature: float = typer.Option(28.0, help="Feed temperature, degC (Ajayi l.3241)."),
+    gas_humidity: float = typer.Option(0.0193 / (1 - 0.0193), help="Inlet gas humidity, kg/kg dry gas (Ajayi l.3227)."),
+    shell_loss: float = typer.Option(0.0, help="Shell heat loss, W (the physical MMG model: ~0.4e6)."),
+    gas_flow: Optional[float] = typer.Option(None, help="If given: solve the gas OUTLET temperature that this gas "
+                                                        "flow (kg/s wet) allows, instead of the gas flow."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Gas flow (kg/s) that closes a test's energy balance on its measured inlets and outlets, the
+    exhaust humidity and dew point; or, with --gas-flow, the gas outlet temperature it allows.
+
+    Any energy-conserving dryer model obeys this balance (rotarydryer.thermal.consistency).
+
+    Examples: rotarydryer balance --ajayi-test 6 --shell-loss 0.38e6
+
+    rotarydryer balance --ajayi-test 6 --gas-flow 16.25 --shell-loss 0.38e6
+    """
+    from ..properties import humid_air as ha
+    from ..thermal.consistency import balance_gas_outlet_temperature, implied_gas_flow, pi_test_conditions
+    from ..thermal.streams import evaporation_rate
+
+    try:
+        base = pi_test_conditions(ajayi_test) if ajayi_test is not None else {}
+        vals = {"gas_in": gas_in if gas_in is not None else base.get("gas_in_c"),
+                "gas_out": gas_out if gas_out is not None else base.get("gas_out_c"),
+                "feed": feed if feed is not None else base.get("feed_rate"),
+                "moisture_in": moisture_in if moisture_in is not None else base.get("moisture_in"),
+                "moisture_out": moisture_out if moisture_out is not None else base.get("moisture_out"),
+                "product_temperature": (product_temperature if product_temperature is not None
+                                        else base.get("product_c"))}
+        need = [k for k, v in vals.items() if v is None and not (k == "gas_out" and gas_flow is not None)]
+        if need:
+            raise ValueError("missing " + ", ".join("--" + k.replace("_", "-") for k in need)
+                             + " (or give --ajayi-test N)")
+        kw = dict(gas_in_c=vals["gas_in"], gas_humidity_in=gas_humidity, feed_rate=vals["feed"],
+                  moisture_in=vals["moisture_in"], moisture_out=vals["moisture_out"], solids_in_c=feed_temperature,
+                  solids_out_c=vals["product_temperature"], heat_loss=shell_loss)
+        evap = float(evaporation_rate(vals["feed"], vals["moisture_in"], vals["moisture_out"]))
+        if gas_flow is None:
+            g = implied_gas_flow(gas_out_c=vals["gas_out"], **kw)
+            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_C": vals["gas_out"]}
+        else:
+            g = gas_flow
+            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_C": balance_gas_outlet_temperature(gas_flow, **kw)}
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+    y_out = gas_humidity + evap * (1 + gas_humidity) / g
+    dew = float(ha.dew_point(min(y_out, 0.3)))
+    out.update({"evaporation_kg_s": evap, "exhaust_humidity": y_out, "exhaust_dew_point_C": dew,
+                "product_temperature_C": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
+                "product_below_dew_point": bool(vals["product_temperature"] < dew)})
+    if as_json:
+        typer.echo(json.dumps(out, indent=2))
+        return
+    solved = "gas flow" if gas_flow is None else "gas outlet temperature"
+    typer.echo(f"solved for: {solved}")
+    typer.echo(f"gas flow                 {out['gas_flow_kg_s']:10.3f} kg/s (wet)")
+    typer.echo(f"gas outlet temperature   {out['gas_outlet_temperature_C']:10.1f} degC")
+    typer.echo(f"evaporation              {evap:10.3f} kg/s")
+    typer.echo(f"exhaust humidity         {y_out:10.4f} kg/kg dry gas (dew point {dew:.1f} degC)")
+    if out["product_below_dew_point"]:
+        typer.echo(f"warning: the product ({vals['product_temperature']:.1f} degC) is colder than the exhaust dew "
+                   f"point: it would condense water, not dry (measured after discharge? air leaking in?)")
