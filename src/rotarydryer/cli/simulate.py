@@ -20,6 +20,26 @@ def _steady(case_name, sets):
     return case, model, model.steady_state()
 
 
+def _save_last_thermal_state(exc, out):
+    """Write the last iterate of a failed thermal steady state (``DryerError.state``) to
+    ``thermal_last_state.json`` in ``out`` (or the working directory); returns the path or None."""
+    import numpy as np
+
+    state = getattr(exc, "state", None)
+    if state is None or not hasattr(state, "profiles"):
+        return None
+    record = {"error": str(exc), "reason": exc.reason, "summary": state.summary(with_fuel=False),
+              "profiles": {k: np.asarray(v).tolist() for k, v in state.profiles().items()},
+              "state_vector": np.asarray(state.state).tolist()}
+    folder = Path(out) if out is not None else Path.cwd()
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "thermal_last_state.json"
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(record, indent=1, default=float))
+    tmp.replace(path)           # atomic: an older file is never left half-written
+    return path
+
+
 @app.command("simulate")
 def simulate(
     case: str = typer.Argument(..., help="Case name (lee2008_invicta, ajayi2011_mmg) or a .toml file."),
@@ -49,7 +69,11 @@ def simulate(
             thermal = build_thermal_dryer(c).steady_state()
         except ValueError as exc:
             typer.echo(f"error: heat and mass transfer: {exc}", err=True)
-            raise typer.Exit(2)
+            saved = _save_last_thermal_state(exc, out)
+            if saved is not None:
+                typer.echo(f"last solver state saved to {saved}", err=True)
+            solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
+            raise typer.Exit(1 if solver_failed else 2)
         result.update(thermal.summary())
     if out is not None:
         from ..transport.plots import plot_holdup_profile
