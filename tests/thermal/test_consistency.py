@@ -92,3 +92,16 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match="cannot carry"):
         balance_gas_outlet_temperature(1.0, 500.0, Y_IN, 40.0, 0.163, 0.12, 28.0, 46.0)
     assert np.isfinite(implied_gas_flow(moisture_out=0.124, **kw))
+
+
+def test_test6_with_its_balance_implied_gas_flow(model):
+    """Given the gas flow its own measured balance implies (a consistency check, not a validation: the
+    flow uses the measured outlets), the Test-4-tuned model predicts Test 6 within Ajayi's accuracy."""
+    ss6 = model[6]
+    g6 = measured_balances((6,), heat_loss=ss6.shell_heat_loss_w,
+                           product_c=ss6.product_temperature_c)[0].gas_flow_at_product_c
+    ss = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 6, "thermal.gas_flow": g6})).steady_state()
+    c = pi_test_conditions(6)
+    assert abs(ss.product_moisture - c["moisture_out"]) <= 0.007
+    assert abs(ss.gas_outlet_temperature_c - c["gas_out_c"]) <= 20.0
+    assert ss.gas_outlet_temperature_c > ss6.gas_outlet_temperature_c + 5.0
