@@ -48,6 +48,7 @@ SOLIDS = {
         "repose": (419.6, -7.801),  # Ajayi (2011) Eq. 3.2, deg = a x + b
         "repose_range": (0.120, 0.166),  # Table 3.3
         "density": (2043.8, -3095.2),  # Ajayi (2011) Eq. 3.4, kg/m^3 = a + b x
+        "density_code": (2043.81, -3095.24),  # the same in Ajayi's gPROMS code (L3608-3618), used by the models
         "density_range": (0.120, 0.166),
     },
     "raw_sugar_lee2008": {

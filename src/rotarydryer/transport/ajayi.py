@@ -46,6 +46,7 @@ import numpy as np
 from .._validation import check_range
 from ..geometry.lee2008_regressions import _poly_phi_f
 from ..geometry.unloading import CascadeSummary
+from ..properties.solids import SOLIDS
 from .models import NetworkBuilder, _CellCoefficients
 from .network import EdgeFamily, TracerInput
 from .results import TransportModel
@@ -64,14 +65,23 @@ def mmg_moisture_profile(position, scale=1.0):
     return scale * (0.1006 * z + 2.218) / (z + 13.51)
 
 
+_ZINC = SOLIDS["zinc_concentrate_ajayi2011"]
+
+
 def mmg_repose_angle(moisture):
-    """Dynamic angle of repose (deg) of zinc concentrate, Ajayi (2011) Eq. 3.2: 419.6 x_w - 7.801."""
-    return 419.6 * np.asarray(moisture, dtype=float) - 7.801
+    """Dynamic angle of repose (deg) of zinc concentrate, Ajayi (2011) Eq. 3.2: 419.6 x_w - 7.801.
+
+    Unchecked (inner loops of the solvers); the checked, range-warning version is
+    :func:`rotarydryer.properties.solids.repose_angle`, from whose table the coefficients come."""
+    a, b = _ZINC["repose"]
+    return a * np.asarray(moisture, dtype=float) + b
 
 
 def mmg_bulk_density(moisture):
-    """Consolidated bulk density (kg/m^3), Ajayi (2011) Eq. 3.4: 2043.8 - 3095.2 x_w (code 2043.81 - 3095.24 x)."""
-    return 2043.81 - 3095.24 * np.asarray(moisture, dtype=float)
+    """Consolidated bulk density (kg/m^3), Ajayi (2011) Eq. 3.4 with the code's coefficients
+    2043.81 - 3095.24 x_w (text: 2043.8 - 3095.2). Unchecked, as :func:`mmg_repose_angle`."""
+    a, b = _ZINC["density_code"]
+    return a + b * np.asarray(moisture, dtype=float)
 
 
 class AjayiRegressions:
