@@ -40,6 +40,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from .._validation import check_choice
+from .uncertainty import linearised_uncertainty
 
 __all__ = [
     "Parameter",
@@ -520,11 +521,14 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             f"(last refusal: {problem.last_infeasible or 'none'}); no estimate is returned"
         )
     n = J.shape[0]
-    p = len(params)
-    dof = n - p
-    sse_w = float(np.sum(res.fun**2))
+    dof = n - len(params)
     known_sigma = problem.method == "wls" and all(d.sigma is not None for d in problem.data)
-    s2 = 1.0 if (known_sigma or problem.method == "ml") else sse_w / max(dof, 1)
+    # Fisher information in z space (s^2 = 1 when sigma is known or estimated per data set by
+    # ml); the pseudo-inverse guards singular cases
+    unc = linearised_uncertainty(J, res.fun, dof, sigma_known=known_sigma or problem.method == "ml",
+                                 estimates=z, inverse="pinv", rcond=1e-12, singular_rtol=1e-7,
+                                 correlation_threshold=0.99)
+    s2 = unc.residual_variance
     notes: list[str] = []
     if on_constraint:
         notes.append(
@@ -533,30 +537,17 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             + " makes it infeasible): intervals are from one-sided sensitivities and the true "
             "interval is cut by the constraint"
         )
-    # Fisher information in z space; pseudo-inverse guards singular cases
-    JtJ = J.T @ J
-    u, sv, vt = np.linalg.svd(J, full_matrices=False)
-    tol = sv.max() * 1e-7 if sv.size else 0.0
-    cov_z = s2 * np.linalg.pinv(JtJ, rcond=1e-12)
+    cov_z, sd_z, corr = unc.covariance, unc.std_errors, unc.correlation
     # identifiability: relative (scaled) sensitivities
-    if sv.size and (sv.min() <= tol):
-        worst = vt[-1]
+    if unc.singular:
+        worst = unc.null_direction
         culprits = [names[i] for i in np.argsort(-np.abs(worst))[:2] if abs(worst[i]) > 0.3]
         notes.append(
-            "near-singular Fisher information (condition number "
-            f"{sv.max() / max(sv.min(), 1e-300):.2e}): the data cannot separate "
-            + (" and ".join(culprits) if culprits else "the parameters")
+            f"near-singular Fisher information (condition number {unc.jacobian_condition:.2e}): "
+            "the data cannot separate " + (" and ".join(culprits) if culprits else "the parameters")
         )
-    sd_z = np.sqrt(np.clip(np.diag(cov_z), 0.0, None))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov_z / np.outer(sd_z, sd_z)
-    corr = np.where(np.isfinite(corr), corr, 0.0)
-    np.fill_diagonal(corr, 1.0)
-    for i in range(p):
-        for j in range(i + 1, p):
-            if abs(corr[i, j]) > 0.99:
-                notes.append(f"{names[i]} and {names[j]} are correlated {corr[i, j]:+.3f}: one may not be identifiable")
-    tq = float(stats.t.ppf(0.975, max(dof, 1)))
+    for i, j, r in unc.correlated_pairs:
+        notes.append(f"{names[i]} and {names[j]} are correlated {r:+.3f}: one may not be identifiable")
     est = {}
     lo_b = np.array([q.z_bounds[0] for q in params])
     hi_b = np.array([q.z_bounds[1] for q in params])
@@ -567,10 +558,10 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             notes.append(f"{q.name} = {v:.6g} is at a bound: its interval is not reliable")
         if q.log:
             se = v * sd_z[i]
-            lo, hi = float(np.exp(z[i] - tq * sd_z[i])), float(np.exp(z[i] + tq * sd_z[i]))
+            lo, hi = float(np.exp(unc.ci_low[i])), float(np.exp(unc.ci_high[i]))
         else:
             se = float(sd_z[i])
-            lo, hi = v - tq * se, v + tq * se
+            lo, hi = float(unc.ci_low[i]), float(unc.ci_high[i])
         if not np.isfinite(se) or se > 1e6 * max(abs(v), 1e-12):
             notes.append(f"{q.name}: standard error {se:.3g} is huge relative to the estimate; flat objective")
         est[q.name] = ParameterEstimate(v, float(se), float(lo), float(hi), at_bound)
