@@ -39,9 +39,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
 
 from .._validation import check_choice, check_finite, check_range
+from ..estimation.uncertainty import linearised_uncertainty
 from .analysis import rtd_moments
 from .models import (
     AnalyticMoments,
@@ -349,32 +350,21 @@ def fit_rtd_model(
             dm = dict(est)
             dm[k] = est[k] - h
             J[:, j] = (resid_nat(dp) - resid_nat(dm)) / (2 * h)
-    dof = y.size - p
     ssr = float(r0 @ r0)
-    s2 = ssr / dof
-    jtj = J.T @ J
-    cond = np.linalg.cond(jtj)
-    if not np.isfinite(cond) or cond > 1e12:
+    # s^2 = SSR/(n - p); inverse unless cond(J^T J) >= 1e12, then the pseudo-inverse
+    unc = linearised_uncertainty(J, r0, estimates=[est[k] for k in names], inverse="inv",
+                                 singular_rtol=1e-6, correlation_threshold=0.999)
+    cov, se, corr = unc.covariance, unc.std_errors, unc.correlation
+    if unc.singular:
         warn.append(
-            f"J^T J is near-singular (condition number {cond:.3g}): the parameters are not all identifiable "
-            "from these data; standard errors are unreliable"
+            f"J^T J is near-singular (condition number {unc.condition_number:.3g}): the parameters are not all "
+            "identifiable from these data; standard errors are unreliable"
         )
-        cov = s2 * np.linalg.pinv(jtj)
-    else:
-        cov = s2 * np.linalg.inv(jtj)
-    se = np.sqrt(np.clip(np.diag(cov), 0, None))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov / np.outer(se, se)
-    corr = np.where(np.isfinite(corr), corr, 0.0)
-    np.fill_diagonal(corr, 1.0)
-    for i in range(p):
-        for j in range(i + 1, p):
-            if abs(corr[i, j]) > 0.999:
-                warn.append(
-                    f"{names[i]} and {names[j]} are strongly correlated (r = {corr[i, j]:.3f}): the data "
-                    "barely separate them; consider fixing one"
-                )
-    tq = float(stats.t.ppf(0.975, dof))
+    for i, j, r in unc.correlated_pairs:
+        warn.append(
+            f"{names[i]} and {names[j]} are strongly correlated (r = {r:.3f}): the data "
+            "barely separate them; consider fixing one"
+        )
     for k in names:
         if k in ("n_tanks",) and abs(est[k] - lo_s) < 1e-6 * lo_s:
             warn.append(f"{k} is at its lower bound {lo_s}; the interval is not meaningful")
@@ -400,8 +390,8 @@ def fit_rtd_model(
         parameter_names=tuple(names),
         values={k: float(est[k]) for k in names},
         std_errors={k: float(se[j]) for j, k in enumerate(names)},
-        ci_low={k: float(est[k] - tq * se[j]) for j, k in enumerate(names)},
-        ci_high={k: float(est[k] + tq * se[j]) for j, k in enumerate(names)},
+        ci_low={k: float(unc.ci_low[j]) for j, k in enumerate(names)},
+        ci_high={k: float(unc.ci_high[j]) for j, k in enumerate(names)},
         covariance=cov,
         correlation=corr,
         objective=ssr,
