@@ -74,6 +74,7 @@ from typing import Optional
 import numpy as np
 
 from .._validation import check_choice, check_finite, check_positive, check_range
+from ..estimation.uncertainty import linearised_uncertainty
 from ..geometry import FlightedDrum, TwoSectionFlight
 
 __all__ = [
@@ -551,7 +552,6 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
     (intervals then rely on the AR(1) correction and are approximate).
     """
     from scipy.optimize import brentq, least_squares
-    from scipy.stats import t as student_t
 
     if not isinstance(run, RigRun):
         raise ValueError(f"run must be a RigRun, got {type(run).__name__}")
@@ -658,29 +658,23 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
     sol = least_squares(resid, x0, jac=jac, bounds=(lb, ub), x_scale=scale, method="trf")
     r = sol.fun
     n, p = t.size, len(names)
-    dof = max(n - p, 1)
-    s2 = float(r @ r) / dof
-    J = jac(sol.x)
-    try:
-        cov = np.linalg.inv(J.T @ J) * s2
-    except np.linalg.LinAlgError:
-        cov = np.linalg.pinv(J.T @ J) * s2
     rc = r - r.mean()
     ar1 = float((rc[1:] @ rc[:-1]) / (rc @ rc)) if rc @ rc > 0 else 0.0
     infl = 1.0
     if ci_method == "ar1":
         r1 = min(max(ar1, 0.0), 0.99)
         infl = (1.0 + r1) / (1.0 - r1)
-    cov = cov * infl
-    tq = float(student_t.ppf(0.5 + conf / 2.0, dof))
-    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    # s^2 (J^T J)^-1 x AR(1) inflation; the pseudo-inverse only for an exactly singular J^T J
+    unc = linearised_uncertainty(jac(sol.x), r, max(n - p, 1), estimates=sol.x, confidence=conf,
+                                 variance_inflation=infl, inverse="inv", singular_rtol=0.0)
+    cov, se, s2 = unc.covariance, unc.std_errors, unc.residual_variance
     params = {k: float(sol.x[i]) for k, i in idx.items()}
     if not fit_start_time:
         params["start_time"] = float(start_time)
     if not fit_bulk_density:
         params["bulk_density"] = rho0
     stderr = {k: float(se[i]) for k, i in idx.items()}
-    ci = {k: (float(sol.x[i] - tq * se[i]), float(sol.x[i] + tq * se[i])) for k, i in idx.items()}
+    ci = {k: (float(unc.ci_low[i]), float(unc.ci_high[i])) for k, i in idx.items()}
     model = {"time": t, "mass": resid(sol.x) + y, "data": y}
     return RigFit(params=params, stderr=stderr, ci=ci, covariance=cov, names=tuple(names),
                   residual_sd=math.sqrt(s2), ar1=ar1, inflation=infl, confidence=conf, n=n,
