@@ -53,6 +53,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validation import check_choice, check_finite, check_positive, check_range
+from ..estimation.uncertainty import linearised_uncertainty
 
 __all__ = ["CI_METHODS", "BreakPointFit", "hinge", "fit_break_point", "synthetic_loading_series",
            "mimic_ajayi_series", "ajayi_table_4_11"]
@@ -141,7 +142,6 @@ def fit_break_point(loading, area, *, confidence: float = 0.95, methods=CI_METHO
     from scipy.optimize import brentq, minimize_scalar
     from scipy.stats import f as f_dist
     from scipy.stats import norm
-    from scipy.stats import t as student_t
 
     x = check_finite("loading", loading).ravel()
     y = check_finite("area", area).ravel()
@@ -181,21 +181,18 @@ def fit_break_point(loading, area, *, confidence: float = 0.95, methods=CI_METHO
     if dof < 1:
         raise ValueError("at least 4 points are needed for three parameters and a residual variance")
     s2 = rss_min / dof
-    tq = float(student_t.ppf(0.5 + conf / 2.0, dof))
+    unc = linearised_uncertainty(_hinge_jacobian(x, B, a), dof=dof, residual_variance=s2, confidence=conf)
+    cov, tq = unc.covariance, unc.t_quantile
     zq = float(norm.ppf(0.5 + conf / 2.0))
-    # Jacobian of c + a min(x, B) w.r.t. (c, a, B)
-    J = np.column_stack([np.ones(n), np.minimum(x, B), np.where(x > B, a, 0.0)])
-    cov = s2 * np.linalg.pinv(J.T @ J)
     plateau = c + a * B
-    g = np.array([1.0, B, a])
-    se_plateau = math.sqrt(max(g @ cov @ g, 0.0))
+    se_plateau = unc.delta_se([1.0, B, a])
     ci, se = {}, {}
     closed = (True, True)
     left = x <= B
     right = ~left
     for m in methods:
         if m == "delta":
-            seB = math.sqrt(max(cov[2, 2], 0.0))
+            seB = float(unc.std_errors[2])
             ci[m] = (B - tq * seB, B + tq * seB)
             se[m] = seB
         elif m == "profile":
@@ -220,9 +217,8 @@ def fit_break_point(loading, area, *, confidence: float = 0.95, methods=CI_METHO
                 continue
             X = np.column_stack([np.ones(left.sum()), x[left]])
             coef, *_ = np.linalg.lstsq(X, y[left], rcond=None)
-            rl = y[left] - X @ coef
-            s2l = float(rl @ rl) / max(left.sum() - 2, 1)
-            covl = s2l * np.linalg.inv(X.T @ X)
+            covl = linearised_uncertainty(X, y[left] - X @ coef, max(left.sum() - 2, 1), inverse="inv",
+                                          singular_rtol=0.0).covariance
             Cb, Ab = float(coef[0]), float(coef[1])
             yr = y[right]
             Ca = float(yr.mean())
@@ -268,12 +264,15 @@ def synthetic_loading_series(design_load: float, plateau_area: float, *, slope: 
     return x, y
 
 
+def _hinge_jacobian(x, B, a):
+    """Jacobian of ``c + a min(x, B)`` with respect to (c, a, B), shape (n, 3)."""
+    return np.column_stack([np.ones(x.size), np.minimum(x, B), np.where(x > B, a, 0.0)])
+
+
 def _design_matrix_se(x, B, a):
     """Delta-method SE of B and of the plateau for unit residual SD."""
-    J = np.column_stack([np.ones(x.size), np.minimum(x, B), np.where(x > B, a, 0.0)])
-    cov = np.linalg.pinv(J.T @ J)
-    g = np.array([1.0, B, a])
-    return math.sqrt(cov[2, 2]), math.sqrt(g @ cov @ g)
+    unc = linearised_uncertainty(_hinge_jacobian(x, B, a), sigma_known=True)
+    return float(unc.std_errors[2]), unc.delta_se([1.0, B, a])
 
 
 def mimic_ajayi_series(design_load: float, design_load_ci: float, plateau_area: float, plateau_ci: float, *,
