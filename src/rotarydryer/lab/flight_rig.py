@@ -69,7 +69,7 @@ import csv
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -390,6 +390,33 @@ def _check_model_args(drum, rpm, bulk_density, length):
             float(check_positive("length", length, "m")))
 
 
+class _Kinematics(NamedTuple):
+    """Checked model inputs and the flight's root angle, broadcast against the repose angle."""
+
+    time: np.ndarray  # s
+    start_time: float  # s
+    psi0: float  # root angle at the start of unloading, deg
+    psi: np.ndarray  # root angle psi(t), deg, broadcast with phi
+    phi: np.ndarray  # repose angle, deg, broadcast with psi
+    psi5: np.ndarray  # root angle at which the flight is empty, deg
+    rpm: float
+    rho: np.ndarray  # bulk density, kg/m^3
+    length: float  # m
+
+
+def _kinematics(time, drum, repose_angle, rpm, start_angle, bulk_density, length, start_time) -> _Kinematics:
+    """Validate the model inputs and turn the flight: ``psi(t) = start_angle + 6 rpm max(t - start_time, 0)``."""
+    rpm, rho, L = _check_model_args(drum, rpm, bulk_density, length)
+    t = check_finite("time", time)
+    psi0 = float(check_finite("start_angle", start_angle))
+    t0 = float(check_finite("start_time", start_time))
+    phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
+    psi = psi0 + 6.0 * rpm * np.maximum(t - t0, 0.0)
+    psi_b, phi_b = np.broadcast_arrays(psi, phi)
+    psi5 = np.asarray(drum.transition_angles(phi_b).psi5)
+    return _Kinematics(t, t0, psi0, psi_b, phi_b, psi5, rpm, rho, L)
+
+
 def accumulated_mass(time, drum: FlightedDrum, repose_angle, *, rpm: float, start_angle: float,
                      bulk_density, length: float = 1.0, start_time: float = 0.0, mass_offset: float = 0.0,
                      initial_holdup: Optional[float] = None) -> np.ndarray:
@@ -402,22 +429,15 @@ def accumulated_mass(time, drum: FlightedDrum, repose_angle, *, rpm: float, star
     (m^2 per m) for a measured fill. Broadcasts ``time`` (s) against ``repose_angle``
     (deg) and ``bulk_density`` (kg/m^3).
     """
-    rpm, rho, L = _check_model_args(drum, rpm, bulk_density, length)
-    t = check_finite("time", time)
-    psi0 = float(check_finite("start_angle", start_angle))
-    t0 = float(check_finite("start_time", start_time))
+    k = _kinematics(time, drum, repose_angle, rpm, start_angle, bulk_density, length, start_time)
     moff = float(check_finite("mass_offset", mass_offset))
-    phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
-    psi = psi0 + 6.0 * rpm * np.maximum(t - t0, 0.0)
-    psi_b, phi_b = np.broadcast_arrays(psi, phi)
     # no wrap-around: once past psi5 the flight stays empty (single unloading)
-    psi5 = np.asarray(drum.transition_angles(phi_b).psi5)
-    h = np.where(psi_b >= psi5, 0.0, drum.holdup_area(np.minimum(psi_b, psi5), phi_b))
+    h = np.where(k.psi >= k.psi5, 0.0, drum.holdup_area(np.minimum(k.psi, k.psi5), k.phi))
     if initial_holdup is None:
-        h0 = drum.holdup_area(np.full_like(psi_b, psi0), phi_b)
+        h0 = drum.holdup_area(np.full_like(k.psi, k.psi0), k.phi)
     else:
         h0 = float(check_range("initial_holdup", initial_holdup, 0.0, math.inf, low_inclusive=True, unit="m^2"))
-    return moff + rho * L * (h0 - np.minimum(h0, h))
+    return moff + k.rho * k.length * (h0 - np.minimum(h0, h))
 
 
 def model_discharge_rate(time, drum: FlightedDrum, repose_angle, *, rpm: float, start_angle: float,
@@ -425,19 +445,12 @@ def model_discharge_rate(time, drum: FlightedDrum, repose_angle, *, rpm: float, 
                          initial_holdup: Optional[float] = None) -> np.ndarray:
     """Geometric-model discharge rate, kg/s: ``rho_b L omega |dH/dpsi|`` while unloading
     (Lee (2008) l.4789), zero before ``start_time`` and after the flight is empty."""
-    rpm, rho, L = _check_model_args(drum, rpm, bulk_density, length)
-    t = check_finite("time", time)
-    psi0 = float(check_finite("start_angle", start_angle))
-    t0 = float(check_finite("start_time", start_time))
-    phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
-    psi = psi0 + 6.0 * rpm * np.maximum(t - t0, 0.0)
-    psi_b, phi_b = np.broadcast_arrays(psi, phi)
-    psi5 = np.asarray(drum.transition_angles(phi_b).psi5)
-    rate = drum.discharge_rate(np.minimum(psi_b, psi5), phi_b, rpm)
-    active = (np.broadcast_to(t, psi_b.shape) > t0) & (psi_b < psi5)
+    k = _kinematics(time, drum, repose_angle, rpm, start_angle, bulk_density, length, start_time)
+    rate = drum.discharge_rate(np.minimum(k.psi, k.psi5), k.phi, k.rpm)
+    active = (np.broadcast_to(k.time, k.psi.shape) > k.start_time) & (k.psi < k.psi5)
     if initial_holdup is not None:
-        active &= drum.holdup_area(np.minimum(psi_b, psi5), phi_b) < initial_holdup
-    return np.where(active, rho * L * rate, 0.0)
+        active &= drum.holdup_area(np.minimum(k.psi, k.psi5), k.phi) < initial_holdup
+    return np.where(active, k.rho * k.length * rate, 0.0)
 
 
 def synthetic_run(drum: FlightedDrum, repose_angle: float, *, rpm: float, start_angle: float,
