@@ -129,3 +129,39 @@ def test_repose_angle_checked_before_the_case_runs_and_applied_to_every_section(
     res, drums, _ = resolve_source("ajayi2011_mmg", repose_angle=52)
     assert res is fake and seen == [fake] and drums == [dict(name="B", repose_angle=52.0)]
     assert resolve_source("ajayi2011_mmg")[1] is None  # default: the case's own angles (render_report)
+
+
+def test_live_and_saved_result_figures_are_one_drawing():
+    """transport.plots (live steady state / RTD, the simulate and rtd CLI pictures) and
+    report.figures (a Results) draw the holdup profile and the RTD with the same code:
+    the same lines, labels and titles."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from rotarydryer.cases import build_model, load_case, measured_rtd, measured_rtd_moments
+    from rotarydryer.report import figures as rf
+    from rotarydryer.results import from_transport
+    from rotarydryer.transport import plots as tp
+
+    case = load_case("lee2008_invicta", {"geometry.method": "lee2008_regressions"})
+    model = build_model(case)
+    ss = model.steady_state()
+    rtd = ss.rtd(model.tracer_input, t_end=case.tracer.t_end, dt=case.tracer.dt)
+    meas = measured_rtd(case)
+    res = from_transport(case, model, ss, rtd, meas)
+    baseline = float(measured_rtd_moments(case)["baseline"])
+    res.scalars["measured_baseline"] = baseline
+
+    def _content(fig):
+        ax = fig.axes[0]
+        lines = [(line.get_label(), np.asarray(line.get_xdata(), float).tolist(),
+                  np.asarray(line.get_ydata(), float).tolist()) for line in ax.get_lines()]
+        legend = [t.get_text() for t in ax.get_legend().get_texts()]
+        plt.close(fig)
+        return lines, legend, ax.get_title(), ax.get_xlabel(), ax.get_ylabel(), tuple(fig.get_size_inches())
+
+    live, saved = _content(tp.plot_holdup_profile(ss)), _content(rf.plot_holdup_profile(res))
+    assert live[0] == saved[0] and live[1] == saved[1] and live[3:] == saved[3:]
+    assert live[2].split(":", 1)[1] == saved[2].split(":", 1)[1]  # title: model name vs "Holdup profile"
+    assert "airborne (curtain)" in live[1] and "H/F" in live[2]
+    assert _content(tp.plot_rtd(rtd, meas, baseline=baseline)) == _content(rf.plot_rtd(res))

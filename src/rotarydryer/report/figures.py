@@ -74,68 +74,30 @@ def _axial_sections(results):
 
 def plot_holdup_profile(results, ax=None):
     """Holdup per metre (kg/m) along the dryer from a Results: airborne, flight-borne (up to
-    the design load), kilning bed, unflighted bed.  Returns the figure."""
-    plt = _plt()
-    fig, ax = (ax.figure, ax) if ax is not None else plt.subplots(figsize=(8, 3.6), constrained_layout=True)
-    nodes, secs = results.nodes, results.sections
-    dz = {str(s): float(L) / int(n) for s, L, n in zip(secs.section.values, secs.length.values, secs.n_cells.values)}
-    labelled = set()
-    for name, kind, x0, x1 in _axial_sections(results):
-        sel = nodes.section.values == name
-        step = dz[name]
+    the design load), kilning bed, unflighted bed.  Returns the figure (drawn by
+    :func:`rotarydryer.transport.plots.holdup_profile_figure`)."""
+    from ..transport.plots import holdup_profile_figure
 
-        def _line(mask, values, colour, label, style="step"):
-            x = nodes.position.values[mask]
-            order = np.argsort(x)
-            lab = label if label not in labelled else None
-            labelled.add(label)
-            if style == "step":
-                ax.step(x[order], values[order] / step, where="mid", color=colour, label=lab)
-            else:
-                ax.plot(x[order], values[order] / step, color=colour, label=lab)
-
-        if kind == "flighted":
-            p = sel & (nodes.phase.values == "passive")
-            a = sel & (nodes.phase.values == "active")
-            m, des = nodes.holdup.values[p], nodes.design_load.values[p]
-            _line(p, np.minimum(m, des), "C0", "flight-borne")
-            _line(p, np.maximum(m - des, 0.0), "C3", "kilning bed")
-            _line(a, nodes.holdup.values[a], "C1", "airborne (curtain)")
-        else:
-            b = sel & (nodes.phase.values == "bed")
-            _line(b, nodes.holdup.values[b], "C2", "unflighted bed", style="line")
-        ax.axvline(x0, color="0.85", lw=0.8)
-        ax.text(0.5 * (x0 + x1), 1.0, name, transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=8)
-    ax.legend(fontsize=8, loc="best")
-    ax.set_xlabel("axial position from the feed end (m)")
-    ax.set_ylabel("holdup (kg/m)")
-    s = results.scalars
-    ax.set_title(f"Holdup profile: total {s['total_holdup_kg']:,.0f} kg, H/F "
-                 f"{s['mean_residence_time_s'] / 60:.2f} min", fontsize=10, pad=14)
-    return fig
+    nodes, secs, s = results.nodes, results.sections, results.scalars
+    sections = list(zip(secs.section.values, secs.kind.values, secs.length.values, secs.n_cells.values))
+    return holdup_profile_figure(sections, nodes.position.values, nodes.phase.values, nodes.section.values,
+                                 nodes.holdup.values, nodes.design_load.values, total_kg=s["total_holdup_kg"],
+                                 holdup_over_flow_s=s["mean_residence_time_s"], ax=ax)
 
 
 def plot_rtd(results, ax=None):
     """Simulated E(t) (1/min) against time (min) with the measured curve, normalised by its
-    trapezoidal integral, when the Results hold one.  Returns the figure (or None without RTD)."""
+    trapezoidal integral, when the Results hold one.  Returns the figure (or None without RTD;
+    drawn by :func:`rotarydryer.transport.plots.rtd_figure`)."""
     if results.rtd is None:
         return None
-    plt = _plt()
-    fig, ax = (ax.figure, ax) if ax is not None else plt.subplots(figsize=(7, 3.6), constrained_layout=True)
-    r, s = results.rtd, results.scalars
-    mean = s.get("tracer_mean_s", s.get("simulated_mean_s", np.nan))
-    sd = s.get("tracer_std_s", s.get("rtd_std_s", np.nan))
-    ax.plot(r.time.values / 60, r.exit_age.values * 60, label=f"model: mean {mean / 60:.2f} min, SD {sd / 60:.2f} min")
-    m = results.rtd_measured
-    if m is not None:
-        from ..transport.plots import plot_measured_rtd
+    from ..transport.plots import rtd_figure
 
-        plot_measured_rtd(ax, m.time.values, m.signal.values, s.get("measured_baseline", 0.0), color="k", ms=3.5)
-    ax.set_xlabel("time since injection start (min)")
-    ax.set_ylabel("E(t) (1/min)")
-    ax.set_title("Residence-time distribution", fontsize=10)
-    ax.legend(fontsize=8)
-    return fig
+    r, s, m = results.rtd, results.scalars, results.rtd_measured
+    return rtd_figure(r.time.values, r.exit_age.values, s.get("tracer_mean_s", s.get("simulated_mean_s", np.nan)),
+                      s.get("tracer_std_s", s.get("rtd_std_s", np.nan)),
+                      measured=None if m is None else (m.time.values, m.signal.values),
+                      baseline=s.get("measured_baseline", 0.0), ax=ax)
 
 
 def plot_loading_state(results, ax=None):
