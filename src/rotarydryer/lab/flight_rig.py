@@ -67,7 +67,8 @@ from __future__ import annotations
 
 import csv
 import math
-from dataclasses import dataclass, field
+import warnings
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import NamedTuple, Optional
 
@@ -679,8 +680,15 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
         infl = (1.0 + r1) / (1.0 - r1)
     # s^2 (J^T J)^-1 x AR(1) inflation; the pseudo-inverse only for an exactly singular J^T J
     unc = linearised_uncertainty(jac(sol.x), r, max(n - p, 1), estimates=sol.x, confidence=conf,
-                                 variance_inflation=infl, inverse="inv", singular_rtol=0.0)
+                                 variance_inflation=infl, inverse="inv", singular_rtol=1e-10)
     cov, se, s2 = unc.covariance, unc.std_errors, unc.residual_variance
+    if unc.singular:
+        # a pseudo-inverse would report a standard error of 0 for what the data cannot determine
+        combo = " + ".join(f"{c:.2g} {names[i]}" for i, c in enumerate(unc.null_direction) if abs(c) > 1e-3)
+        warnings.warn(f"the rig signal does not determine the fitted parameters separately (direction {combo}); "
+                      "their standard errors and intervals are set to inf", RuntimeWarning, stacklevel=2)
+        se = np.full_like(se, np.inf)
+        unc = replace(unc, std_errors=se, ci_low=np.full_like(se, -np.inf), ci_high=np.full_like(se, np.inf))
     params = {k: float(sol.x[i]) for k, i in idx.items()}
     if not fit_start_time:
         params["start_time"] = float(start_time)
