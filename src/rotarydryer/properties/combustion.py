@@ -37,6 +37,8 @@ whose last axis follows :data:`SPECIES`.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._validation import check_positive, check_range
@@ -146,8 +148,13 @@ def species_heat_capacity(species: str, temperature_c):
     """
     if species not in MOLAR_MASS:
         raise ValueError(f"species = {species!r} is not one of {', '.join(SPECIES)}")
-    t = _t_kelvin("temperature_c", temperature_c)
-    return _cp_molar_k(species, t) / MOLAR_MASS[species]
+    _t_kelvin("temperature_c", temperature_c)
+    return _species_heat_capacity(species, temperature_c)
+
+
+def _species_heat_capacity(species, t_c):
+    """Unchecked kernel of :func:`species_heat_capacity` (``t_c`` °C, already validated)."""
+    return _cp_molar_k(species, np.asarray(t_c, dtype=float) + 273.15) / MOLAR_MASS[species]
 
 
 def species_enthalpy(species: str, temperature_c, reference_c: float = 0.0):
@@ -158,9 +165,27 @@ def species_enthalpy(species: str, temperature_c, reference_c: float = 0.0):
     """
     if species not in MOLAR_MASS:
         raise ValueError(f"species = {species!r} is not one of {', '.join(SPECIES)}")
-    t = _t_kelvin("temperature_c", temperature_c)
-    t0 = _t_kelvin("reference_c", reference_c)
-    return (_h_molar_k(species, t) - _h_molar_k(species, t0)) / MOLAR_MASS[species]
+    _t_kelvin("temperature_c", temperature_c)
+    _t_kelvin("reference_c", reference_c)
+    return _species_enthalpy(species, temperature_c, reference_c)
+
+
+def _species_enthalpy(species, t_c, reference_c=0.0):
+    """Unchecked kernel of :func:`species_enthalpy` (``t_c``, ``reference_c`` °C, already validated)."""
+    t = np.asarray(t_c, dtype=float) + 273.15
+    return (_h_molar_k(species, t) - _h_reference(species, reference_c)) / MOLAR_MASS[species]
+
+
+@functools.lru_cache(maxsize=64)
+def _h_reference_scalar(species, reference_c):
+    return _h_molar_k(species, np.float64(reference_c) + 273.15)
+
+
+def _h_reference(species, reference_c):
+    """_h_molar_k at the reference temperature (°C); scalar references are cached."""
+    if np.ndim(reference_c) == 0:
+        return _h_reference_scalar(species, float(reference_c))
+    return _h_molar_k(species, np.asarray(reference_c, dtype=float) + 273.15)
 
 
 def composition_array(composition) -> np.ndarray:

@@ -50,12 +50,12 @@ from .combustion import (
     DRY_AIR_COMPOSITION,
     GAS_CONSTANT,
     MOLAR_MASS,
+    _species_enthalpy,
+    _species_heat_capacity,
     iapws_vapour_conductivity_dilute,
     iapws_vapour_viscosity_dilute,
     lemmon_jacobsen_conductivity,
     lemmon_jacobsen_viscosity,
-    species_enthalpy,
-    species_heat_capacity,
 )
 
 __all__ = [
@@ -125,7 +125,10 @@ def mass_fraction_from_humidity(humidity):
 
 def water_mole_fraction(humidity):
     """Mole fraction of water vapour in humid air, x = Y/(Y + M_w/M_a)."""
-    y = _humidity(humidity)
+    return _water_mole_fraction(_humidity(humidity))
+
+
+def _water_mole_fraction(y):
     return y / (y + _RATIO)
 
 
@@ -135,7 +138,11 @@ def vapour_partial_pressure(humidity, pressure=STANDARD_PRESSURE):
     >>> round(float(vapour_partial_pressure(0.01)), 1)
     1603.0
     """
-    return water_mole_fraction(humidity) * _pressure(pressure)
+    return _vapour_partial_pressure(_humidity(humidity), _pressure(pressure))
+
+
+def _vapour_partial_pressure(y, p):
+    return _water_mole_fraction(y) * p
 
 
 def humidity_from_vapour_pressure(vapour_pressure, pressure=STANDARD_PRESSURE):
@@ -164,18 +171,25 @@ def dry_air_heat_capacity(temperature_c):
     >>> round(float(dry_air_heat_capacity(25.0)), 1)
     1004.9
     """
-    t = _temperature(temperature_c)
-    return sum(_W_AIR[s] * species_heat_capacity(s, t) for s in _AIR_SPECIES)
+    return _dry_air_heat_capacity(_temperature(temperature_c))
+
+
+def _dry_air_heat_capacity(t):
+    return sum(_W_AIR[s] * _species_heat_capacity(s, t) for s in _AIR_SPECIES)
 
 
 def _dry_air_enthalpy(t):
-    return sum(_W_AIR[s] * species_enthalpy(s, t, 0.0) for s in _AIR_SPECIES)
+    return sum(_W_AIR[s] * _species_enthalpy(s, t, 0.0) for s in _AIR_SPECIES)
 
 
 def humid_heat(temperature_c, humidity):
-    """Humid heat c_s = c_pa + Y c_pv, J/(K kg dry air)."""
+    """Humid heat c_s = c_pa + Y c_pv, J/(K kg dry air) (= ∂h/∂T of :func:`enthalpy` at constant Y)."""
     y = _humidity(humidity)
-    return dry_air_heat_capacity(temperature_c) + y * species_heat_capacity("H2O", _temperature(temperature_c))
+    return _humid_heat(_temperature(temperature_c), y)
+
+
+def _humid_heat(t, y):
+    return _dry_air_heat_capacity(t) + y * _species_heat_capacity("H2O", t)
 
 
 def heat_capacity(temperature_c, humidity):
@@ -185,11 +199,20 @@ def heat_capacity(temperature_c, humidity):
     1053.0
     """
     y = _humidity(humidity)
-    return humid_heat(temperature_c, y) / (1.0 + y)
+    return _heat_capacity(_temperature(temperature_c), y)
 
 
-def _latent_ref():
-    return float(water.latent_heat(0.01))
+def _heat_capacity(t, y):
+    return _humid_heat(t, y) / (1.0 + y)
+
+
+#: latent heat of water at 0.01 degC, J/kg (reference state of the enthalpies)
+_LATENT_REF = float(water.latent_heat(0.01))
+
+
+def _vapour_enthalpy(t):
+    """Enthalpy of water vapour at t °C relative to liquid water at 0.01 °C, J/kg (= ∂h/∂Y of :func:`enthalpy`)."""
+    return _LATENT_REF + _species_enthalpy("H2O", t, 0.01)
 
 
 def enthalpy(temperature_c, humidity):
@@ -198,10 +221,12 @@ def enthalpy(temperature_c, humidity):
     >>> round(float(enthalpy(25.0, 0.01)) / 1e3, 2)
     50.58
     """
-    t = _temperature(temperature_c)
-    y = _humidity(humidity)
-    hv = species_enthalpy("H2O", t, 0.01)
-    return _dry_air_enthalpy(t) + y * (_latent_ref() + hv)
+    return _enthalpy(_temperature(temperature_c), _humidity(humidity))
+
+
+def _enthalpy(t, y):
+    """Unchecked kernel of :func:`enthalpy` (t °C in 0-600, y in 0-0.3)."""
+    return _dry_air_enthalpy(t) + y * _vapour_enthalpy(t)
 
 
 def density(temperature_c, humidity, pressure=STANDARD_PRESSURE, method: str = "ideal_gas"):
@@ -217,8 +242,13 @@ def density(temperature_c, humidity, pressure=STANDARD_PRESSURE, method: str = "
     t = _temperature(temperature_c)
     y = _humidity(humidity)
     if method == "ajayi2011":
+        return _density(t, y, None, method)
+    return _density(t, y, _pressure(pressure), method)
+
+
+def _density(t, y, p, method="ideal_gas"):
+    if method == "ajayi2011":
         return (6.417e-13 * t**4 - 2.673e-9 * t**3 + 4.129e-6 * t**2 - 3.037e-3 * t + 1.225) + 0.0 * y
-    p = _pressure(pressure)
     return p * MOLAR_MASS_DRY_AIR * (1.0 + y) / (GAS_CONSTANT * (t + 273.15) * (1.0 + y / _RATIO))
 
 
@@ -244,13 +274,21 @@ def viscosity(temperature_c, humidity, method: str = "wilke"):
     18.191
     """
     check_choice("method", method, ("wilke", "ajayi2011"))
-    t = _temperature(temperature_c)
-    y = _humidity(humidity)
-    if method == "ajayi2011":
+    return _viscosity(_temperature(temperature_c), _humidity(humidity), method == "ajayi2011")
+
+
+def _viscosity(t, y, ajayi2011=False):
+    if ajayi2011:
         return -7.479e-12 * t**2 + 3.746e-8 * t + 1.824e-5 + 0.0 * y
-    mu_a, mu_v, _, _ = _air_and_vapour(t)
-    xa = 1.0 - water_mole_fraction(y)
-    return _wilke_binary(xa, mu_a, mu_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"])
+    return _transport(t, y)[0]
+
+
+def _transport(t, y):
+    """Viscosity (Wilke) and thermal conductivity (Mason-Saxena) of humid air, unchecked: (mu, k)."""
+    mu_a, mu_v, k_a, k_v = _air_and_vapour(t)
+    xa = 1.0 - _water_mole_fraction(y)
+    return (_wilke_binary(xa, mu_a, mu_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"]),
+            _wilke_binary(xa, k_a, k_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"]))
 
 
 def thermal_conductivity(temperature_c, humidity, method: str = "mason_saxena"):
@@ -262,19 +300,24 @@ def thermal_conductivity(temperature_c, humidity, method: str = "mason_saxena"):
     25.84
     """
     check_choice("method", method, ("mason_saxena", "ajayi2011"))
-    t = _temperature(temperature_c)
-    y = _humidity(humidity)
-    if method == "ajayi2011":
+    return _thermal_conductivity(_temperature(temperature_c), _humidity(humidity), method == "ajayi2011")
+
+
+def _thermal_conductivity(t, y, ajayi2011=False):
+    if ajayi2011:
         return -1.249e-8 * t**2 + 6.699e-5 * t + 2.541e-2 + 0.0 * y
-    mu_a, mu_v, k_a, k_v = _air_and_vapour(t)
-    xa = 1.0 - water_mole_fraction(y)
-    return _wilke_binary(xa, k_a, k_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"])
+    return _transport(t, y)[1]
 
 
 def prandtl_number(temperature_c, humidity):
     """Prandtl number c_p μ/k of humid air (Ajayi uses the constants 0.7 and 0.70752)."""
-    return heat_capacity(temperature_c, humidity) * viscosity(temperature_c, humidity) / thermal_conductivity(
-        temperature_c, humidity)
+    y = _humidity(humidity)   # checked first, as heat_capacity does
+    return _prandtl_number(_temperature(temperature_c), y)
+
+
+def _prandtl_number(t, y):
+    mu, k = _transport(t, y)
+    return _heat_capacity(t, y) * mu / k
 
 
 def water_vapour_diffusivity(temperature_c, pressure=STANDARD_PRESSURE):
@@ -285,8 +328,12 @@ def water_vapour_diffusivity(temperature_c, pressure=STANDARD_PRESSURE):
     >>> round(float(water_vapour_diffusivity(25.0)) * 1e5, 3)
     2.505
     """
-    t = _temperature(temperature_c) + 273.15
-    p_atm = _pressure(pressure) / STANDARD_PRESSURE
+    return _water_vapour_diffusivity(_temperature(temperature_c), _pressure(pressure))
+
+
+def _water_vapour_diffusivity(t_c, p):
+    t = t_c + 273.15
+    p_atm = p / STANDARD_PRESSURE
     low = 1.87e-10 * t**2.072
     high = 2.75e-9 * t**1.632
     return np.where(t < 450.0, low, high) / p_atm
@@ -294,8 +341,11 @@ def water_vapour_diffusivity(temperature_c, pressure=STANDARD_PRESSURE):
 
 def schmidt_number(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     """Schmidt number μ/(ρ D) of water vapour in humid air."""
-    return viscosity(temperature_c, humidity) / (
-        density(temperature_c, humidity, pressure) * water_vapour_diffusivity(temperature_c, pressure))
+    return _schmidt_number(_temperature(temperature_c), _humidity(humidity), _pressure(pressure))
+
+
+def _schmidt_number(t, y, p):
+    return _viscosity(t, y) / (_density(t, y, p) * _water_vapour_diffusivity(t, p))
 
 
 def saturation_humidity(temperature_c, pressure=STANDARD_PRESSURE):
@@ -375,7 +425,7 @@ def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
         ps = water.saturation_pressure(tw)
         ys = _RATIO * ps / (p - ps)
         hw = 4186.0 * (tw - 0.01)
-        return h + (ys - y) * hw - (_dry_air_enthalpy(tw) + ys * (_latent_ref() + species_enthalpy("H2O", tw, 0.01)))
+        return h + (ys - y) * hw - _enthalpy(tw, ys)
 
     f_lo = residual(lo)
     if np.any(f_lo < 0):

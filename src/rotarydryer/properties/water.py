@@ -114,12 +114,20 @@ def saturation_pressure(temperature_c, method: str = "wagner_pruss"):
     """
     check_choice("method", method, SATURATION_METHODS)
     if method == "antoine_ajayi2011":
-        t = check_range("temperature_c", temperature_c, -50.0, 250.0, low_inclusive=True, high_inclusive=True,
-                        unit="degC")
+        check_range("temperature_c", temperature_c, -50.0, 250.0, low_inclusive=True, high_inclusive=True,
+                    unit="degC")
+    else:
+        check_range("temperature_c", temperature_c, -100.0, CRITICAL_TEMPERATURE - 273.15, low_inclusive=True,
+                    high_inclusive=True, unit="degC")
+    return _saturation_pressure(temperature_c, method)
+
+
+def _saturation_pressure(temperature_c, method="wagner_pruss"):
+    """Unchecked kernel of :func:`saturation_pressure` (inputs already validated)."""
+    if method == "antoine_ajayi2011":
         a, b, c = _ANTOINE_AJAYI
-        return np.exp(a - b / (t + c))
-    t = check_range("temperature_c", temperature_c, -100.0, CRITICAL_TEMPERATURE - 273.15, low_inclusive=True,
-                    high_inclusive=True, unit="degC") + 273.15
+        return np.exp(a - b / (np.asarray(temperature_c, dtype=float) + c))
+    t = np.asarray(temperature_c, dtype=float) + 273.15
     liquid = t >= TRIPLE_TEMPERATURE
     return np.where(liquid, _psat_liquid_k(np.maximum(t, TRIPLE_TEMPERATURE)),
                     _psat_ice_k(np.minimum(t, TRIPLE_TEMPERATURE)))
