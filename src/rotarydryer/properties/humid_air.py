@@ -211,7 +211,7 @@ _LATENT_REF = float(water.latent_heat(0.01))
 
 
 def _vapour_enthalpy(t):
-    """Enthalpy of water vapour at t °C relative to liquid water at 0.01 °C, J/kg (= ∂h/∂Y of :func:`enthalpy`)."""
+    """Water vapour at t °C relative to liquid water at 0.01 °C, J/kg (= ∂h/∂Y of :func:`enthalpy`)."""
     return _LATENT_REF + _species_enthalpy("H2O", t, 0.01)
 
 

@@ -53,10 +53,8 @@ import math
 
 import numpy as np
 
-from .._validation import check_choice, check_range
+from .._validation import check_choice, check_finite, check_range
 from ..properties import humid_air as ha
-from ..properties import water
-from ..properties.combustion import species_enthalpy
 from . import radiation as rad
 from .drying import DryingKinetics
 
@@ -77,6 +75,18 @@ def _tc(t):
     return np.clip(np.asarray(t, dtype=float), _T_LO, _T_HI)
 
 
+def _yc(y, low=0.0):
+    return np.clip(np.asarray(y, dtype=float), low, 0.3)
+
+
+def _check_gas_state(temperature_c, humidity, method):
+    """Checks of the gas-enthalpy functions: the method, and (physical) the clipped state is finite."""
+    check_choice("method", method, ENTHALPY_METHODS)
+    if method == "physical":
+        ha._temperature(_tc(temperature_c))
+        ha._humidity(_yc(humidity))
+
+
 def _ajayi_cpv(t):
     """Ajayi's water-vapour c_p polynomial as coded (App. F L3833), numerically kJ/(kg K)."""
     tk = t + 273.0
@@ -94,14 +104,19 @@ def gas_enthalpy(temperature_c, humidity, method: str = "physical"):
     >>> round(float(gas_enthalpy(500.0, 0.0197, "ajayi2011")) / 1e3, 1)
     587.7
     """
-    check_choice("method", method, ENTHALPY_METHODS)
+    _check_gas_state(temperature_c, humidity, method)
+    return _gas_enthalpy(temperature_c, humidity, method)
+
+
+def _gas_enthalpy(temperature_c, humidity, method):
+    """Unchecked kernel of :func:`gas_enthalpy`."""
     t_raw = np.asarray(temperature_c, dtype=float)
     t = _tc(t_raw)
-    y = np.clip(np.asarray(humidity, dtype=float), 0.0, 0.3)
+    y = _yc(humidity)
     # outside 0-600 degC (solver trial states only) continue linearly, so the balance keeps a restoring slope
     ext = (t_raw - t) * (1150.0 + 2200.0 * y)
     if method == "physical":
-        return ha.enthalpy(t, y) + ext
+        return ha._enthalpy(t, y) + ext
     yw = y / (1.0 + y)
     cpg, cpw, lam = AJAYI_CP_GAS, AJAYI_CP_WATER, AJAYI_LATENT_HEAT
     h = (1 - yw) * cpg * 100 + yw * cpw * 100 + yw * lam + (1 - yw) * cpg * (t - 100) + yw * _ajayi_cpv(t) * (t - 100)
@@ -109,9 +124,20 @@ def gas_enthalpy(temperature_c, humidity, method: str = "physical"):
 
 
 def gas_heat_capacity(temperature_c, humidity, method: str = "physical"):
-    """∂h/∂T of :func:`gas_enthalpy` at constant Y, J/(kg dry gas K) (central difference, 0.05 K)."""
+    """∂h/∂T of :func:`gas_enthalpy` at constant Y within 0-600 °C, J/(kg dry gas K).
+
+    ``"physical"``: exact, the humid heat :func:`rotarydryer.properties.humid_air.humid_heat`;
+    ``"ajayi2011"``: central difference over ±0.05 K."""
+    _check_gas_state(temperature_c, humidity, method)
+    return _gas_heat_capacity(temperature_c, humidity, method)
+
+
+def _gas_heat_capacity(temperature_c, humidity, method):
+    """Unchecked kernel of :func:`gas_heat_capacity`."""
+    if method == "physical":
+        return ha._humid_heat(_tc(temperature_c), _yc(humidity))
     t = np.clip(np.asarray(temperature_c, dtype=float), _T_LO + 0.05, _T_HI - 0.05)
-    return (gas_enthalpy(t + 0.05, humidity, method) - gas_enthalpy(t - 0.05, humidity, method)) / 0.1
+    return (_gas_enthalpy(t + 0.05, humidity, method) - _gas_enthalpy(t - 0.05, humidity, method)) / 0.1
 
 
 def vapour_source_enthalpy(solids_temperature_c, method: str = "physical"):
@@ -121,10 +147,17 @@ def vapour_source_enthalpy(solids_temperature_c, method: str = "physical"):
     :func:`gas_enthalpy`; ``"ajayi2011"``: :math:`\lambda + c_{p,w}T_s` (Ajayi (2011) Eq. 6.4, 6.7).
     """
     check_choice("method", method, ENTHALPY_METHODS)
-    t = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 600.0)
+    if method == "physical":
+        check_finite("temperature_c", _tc(solids_temperature_c))
+    return _vapour_source_enthalpy(solids_temperature_c, method)
+
+
+def _vapour_source_enthalpy(solids_temperature_c, method):
+    """Unchecked kernel of :func:`vapour_source_enthalpy`."""
+    t = _tc(solids_temperature_c)
     if method == "ajayi2011":
         return AJAYI_LATENT_HEAT + AJAYI_CP_WATER * t
-    return float(water.latent_heat(0.01)) + species_enthalpy("H2O", t, 0.01)
+    return ha._vapour_enthalpy(t)
 
 
 def solids_enthalpy(temperature_c, moisture_dry, cp_solids=AJAYI_CP_SOLIDS, cp_water=AJAYI_CP_WATER):
@@ -193,10 +226,18 @@ def gas_solids_coefficient(gas_mass_flow, temperature_c, humidity, particle_diam
     polynomials (``"ajayi2011"``). Since ρ_g v_g = F_g/(πR²), Re does not depend on the density.
     """
     t = _tc(temperature_c)
-    y = np.clip(np.asarray(humidity, dtype=float), 0.0, 0.3)
-    method = "ajayi2011" if properties == "ajayi2011" else None
-    mu = ha.viscosity(t, y, method=method or "wilke")
-    k = ha.thermal_conductivity(t, y, method=method or "mason_saxena")
+    y = _yc(humidity)
+    ha._temperature(t)     # only NaN can fail (clipped): the checks of the humid-air properties
+    ha._humidity(y)
+    return _gas_solids_coefficient(gas_mass_flow, t, y, particle_diameter, radius, properties)
+
+
+def _gas_solids_coefficient(gas_mass_flow, t, y, particle_diameter, radius, properties):
+    """Unchecked kernel of :func:`gas_solids_coefficient` (t, y clipped to the property range)."""
+    if properties == "ajayi2011":
+        mu, k = ha._viscosity(t, y, True), ha._thermal_conductivity(t, y, True)
+    else:
+        mu, k = ha._transport(t, y)
     g = np.asarray(gas_mass_flow, dtype=float) / (math.pi * radius**2)
     re = g * particle_diameter / mu
     return 0.33 * re**0.6 * k / particle_diameter, re
@@ -216,20 +257,46 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
     * Q_rad: ``mode="ajayi2011"`` ε_s σ A (T_g⁴ - T_s⁴) (Eq. 6.42 as coded); ``"physical"``
       grey exchange with the WSGG emissivity of the H2O/CO2 gas over the mean beam length
       0.95 D (:mod:`rotarydryer.thermal.radiation`).
+
+    Checks: clipped gas temperature, humidity and solids temperature finite; area >= 0;
+    gas_mass_flow >= 0; particle_diameter, radius > 0; pressure 5e4-2e5 Pa; CO2 partial
+    pressure 0-1e6 Pa and radius < 50 m (mean beam length) in the physical mode.
     """
     tg = _tc(gas_temperature_c)
+    ha._temperature(tg)     # clipped: only NaN can fail
+    ha._humidity(_yc(humidity, 1e-6))
+    check_range("gas_mass_flow", gas_mass_flow, 0.0, np.inf, low_inclusive=True, unit="kg/s")
+    check_range("particle_diameter", particle_diameter, 0.0, np.inf, unit="m")
+    check_range("radius", radius, 0.0, np.inf, unit="m")
+    a = check_range("area", np.asarray(area, dtype=float), 0.0, np.inf, low_inclusive=True, unit="m2")
+    check_finite("solids_temperature_c", np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 99.0))
+    p = check_range("pressure", pressure, 5e4, 2e5, low_inclusive=True, high_inclusive=True, unit="Pa")
+    beam = None
+    if mode != "ajayi2011":
+        check_range("co2_partial_pressure", co2_mole_fraction * p, 0.0, 1e6, low_inclusive=True, unit="Pa")
+        beam = rad.mean_beam_length(2 * radius)
+    return _stage_transfer(a, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
+                           particle_diameter, radius, kinetics, mode, p, co2_mole_fraction, solids_emissivity,
+                           dry_guard, beam)
+
+
+def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
+                    particle_diameter, radius, kinetics, mode, pressure, co2_mole_fraction, solids_emissivity,
+                    dry_guard, beam_length):
+    """Unchecked kernel of :func:`stage_transfer` (``beam_length`` = mean beam length, m, physical mode)."""
+    tg = _tc(gas_temperature_c)
     ts = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 99.0)
-    y = np.clip(np.asarray(humidity, dtype=float), 1e-6, 0.3)
+    y = _yc(humidity, 1e-6)
     a = np.asarray(area, dtype=float)
     props = "ajayi2011" if mode == "ajayi2011" else "physical"
-    hc, _ = gas_solids_coefficient(gas_mass_flow, tg, y, particle_diameter, radius, props)
+    hc, _ = _gas_solids_coefficient(gas_mass_flow, tg, y, particle_diameter, radius, props)
     x = np.maximum(np.asarray(moisture_dry, dtype=float), 0.0)
-    overrides = {}
+    cp = pr = sc = None
     if mode == "ajayi2011":
-        rho = ha.density(tg, y, method="ajayi2011")
-        mu = ha.viscosity(tg, y, method="ajayi2011")
-        overrides = dict(gas_heat_capacity=AJAYI_CP_GAS, prandtl=0.7, schmidt=mu / (rho * 2.65e-5))
-    rw = kinetics.rate(a, x, hc, ts, tg, y, pressure=pressure, **overrides)
+        rho = ha._density(tg, y, None, "ajayi2011")
+        mu = ha._viscosity(tg, y, True)
+        cp, pr, sc = AJAYI_CP_GAS, 0.7, mu / (rho * 2.65e-5)
+    rw = kinetics._rate(a, x, hc, ts, tg, y, pressure, cp, pr, sc)
     rw = rw * np.clip(x / dry_guard, 0.0, 1.0)
     q_conv = hc * a * (tg - np.asarray(solids_temperature_c, dtype=float))
     tgk = tg + 273.15
@@ -237,8 +304,8 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
     if mode == "ajayi2011":
         q_rad = solids_emissivity * SIGMA * a * (tgk**4 - tsk**4)
     else:
-        p_h2o = ha.vapour_partial_pressure(y, pressure)
-        eg = rad.gas_emissivity(tg, p_h2o, co2_mole_fraction * pressure, rad.mean_beam_length(2 * radius))
+        p_h2o = ha._vapour_partial_pressure(y, pressure)
+        eg = rad._emissivity(tg + 273.15, p_h2o, co2_mole_fraction * pressure, beam_length)
         eg = np.clip(eg, 1e-6, 1.0)
         q_rad = SIGMA * a * (tgk**4 - tsk**4) / (1.0 / solids_emissivity + 1.0 / eg - 1.0)
     return rw, q_conv, q_rad

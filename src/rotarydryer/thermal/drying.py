@@ -140,6 +140,16 @@ def mass_transfer_coefficient(heat_transfer_coefficient, gas_temperature_c, gas_
     >>> round(float(mass_transfer_coefficient(60.0, 300.0, 0.05)) * 1e8, 4)
     41.0345
     """
+    hc, tg, y, ts, p, cp, pr, sc = _mass_transfer_inputs(heat_transfer_coefficient, gas_temperature_c, gas_humidity,
+                                                         solids_temperature_c, pressure, basis, gas_heat_capacity,
+                                                         prandtl, schmidt)
+    return _mass_transfer_coefficient(hc, tg, y, ts, p, cp, pr, sc, basis)
+
+
+def _mass_transfer_inputs(heat_transfer_coefficient, gas_temperature_c, gas_humidity, solids_temperature_c,
+                          pressure, basis, gas_heat_capacity=None, prandtl=None, schmidt=None):
+    """Checks of :func:`mass_transfer_coefficient`; returns (hc, tg, y, ts, p, cp, pr, sc) as arrays
+    (ts, cp, pr, sc None when not given)."""
     check_choice("basis", basis, BASES)
     hc = check_range("heat_transfer_coefficient", heat_transfer_coefficient, 0.0, np.inf, low_inclusive=True,
                      unit="W/(m2 K)")
@@ -147,16 +157,23 @@ def mass_transfer_coefficient(heat_transfer_coefficient, gas_temperature_c, gas_
                      unit="degC")
     y = check_range("gas_humidity", gas_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
     p = check_range("pressure", pressure, 5e4, 2e5, low_inclusive=True, high_inclusive=True, unit="Pa")
-    ts = tg if solids_temperature_c is None else check_range("solids_temperature_c", solids_temperature_c, 0.0,
-                                                             600.0, low_inclusive=True, unit="degC")
-    film = 0.5 * (tg + ts)
-    cp = ha.heat_capacity(film, y) if gas_heat_capacity is None else check_positive("gas_heat_capacity",
-                                                                                     gas_heat_capacity)
-    pr = ha.prandtl_number(film, y) if prandtl is None else check_positive("prandtl", prandtl)
-    sc = ha.schmidt_number(film, y, p) if schmidt is None else check_positive("schmidt", schmidt)
+    ts = None if solids_temperature_c is None else check_range("solids_temperature_c", solids_temperature_c, 0.0,
+                                                               600.0, low_inclusive=True, unit="degC")
+    cp = None if gas_heat_capacity is None else check_positive("gas_heat_capacity", gas_heat_capacity)
+    pr = None if prandtl is None else check_positive("prandtl", prandtl)
+    sc = None if schmidt is None else check_positive("schmidt", schmidt)
+    return hc, tg, y, ts, p, cp, pr, sc
+
+
+def _mass_transfer_coefficient(hc, tg, y, ts, p, cp, pr, sc, basis):
+    """Unchecked kernel of :func:`mass_transfer_coefficient` (arguments as returned by its checks)."""
+    film = 0.5 * (tg + (tg if ts is None else ts))
+    cp = ha._heat_capacity(film, y) if cp is None else cp
+    pr = ha._prandtl_number(film, y) if pr is None else pr
+    sc = ha._schmidt_number(film, y, p) if sc is None else sc
     lewis_term = (pr / sc) ** (2.0 / 3.0)
     if basis == "ajayi2011":
-        pv = ha.vapour_partial_pressure(y, p)
+        pv = ha._vapour_partial_pressure(y, p)
         if np.any(pv <= 0):
             raise ValueError("basis='ajayi2011' divides by the gas vapour pressure (Ajayi Eq. 6.47): gas_humidity "
                              "must be > 0; use basis='concentration' for dry gas")
@@ -164,7 +181,7 @@ def mass_transfer_coefficient(heat_transfer_coefficient, gas_temperature_c, gas_
     elif basis == "total_pressure":
         p_ref = p
     else:
-        xw = ha.water_mole_fraction(y)
+        xw = ha._water_mole_fraction(y)
         m_g = (1 - xw) * ha.MOLAR_MASS_DRY_AIR + xw * water.MOLAR_MASS_WATER
         p_ref = p * m_g / water.MOLAR_MASS_WATER
     return hc / cp * lewis_term / p_ref
@@ -182,14 +199,28 @@ def unhindered_drying_flux(heat_transfer_coefficient, solids_temperature_c, gas_
     >>> round(float(unhindered_drying_flux(60.0, 50.0, 300.0, 0.05)) * 1e3, 4)
     2.2776
     """
+    args = _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c, gas_humidity,
+                               pressure, basis, saturation_method, condensation, **property_overrides)
+    return _unhindered_drying_flux(*args, basis, saturation_method, high_flux, condensation)
+
+
+def _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c, gas_humidity, pressure,
+                        basis, saturation_method, condensation, gas_heat_capacity=None, prandtl=None, schmidt=None):
+    """Checks of :func:`unhindered_drying_flux`; returns (hc, ts, tg, y, p, cp, pr, sc) for the kernel."""
     check_choice("condensation", condensation, ("allow", "zero", "raise"))
     ts = check_range("solids_temperature_c", solids_temperature_c, 0.0, 150.0, low_inclusive=True,
                      high_inclusive=True, unit="degC")
-    hm = mass_transfer_coefficient(heat_transfer_coefficient, gas_temperature_c, gas_humidity, ts, pressure, basis,
-                                   **property_overrides)
-    p = np.asarray(pressure, float)
-    pw = water.saturation_pressure(ts, method=saturation_method)
-    pv = ha.vapour_partial_pressure(gas_humidity, pressure)
+    hc, tg, y, _, p, cp, pr, sc = _mass_transfer_inputs(heat_transfer_coefficient, gas_temperature_c, gas_humidity,
+                                                        ts, pressure, basis, gas_heat_capacity, prandtl, schmidt)
+    check_choice("method", saturation_method, water.SATURATION_METHODS)
+    return hc, ts, tg, y, p, cp, pr, sc
+
+
+def _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, basis, saturation_method, high_flux, condensation):
+    """Unchecked kernel of :func:`unhindered_drying_flux` (arguments as returned by its checks)."""
+    hm = _mass_transfer_coefficient(hc, tg, y, ts, p, cp, pr, sc, basis)
+    pw = water._saturation_pressure(ts, saturation_method)
+    pv = ha._vapour_partial_pressure(y, p)
     drive = pw - pv
     if basis == "concentration" and high_flux:
         if np.any(pw >= p):
@@ -271,11 +302,16 @@ class DryingKinetics:
              gas_humidity, pressure=101325.0, condensation="allow", **property_overrides):
         """Evaporation rate, kg/s, from ``area`` m² of solids at dry-basis ``moisture``."""
         a = check_range("area", area, 0.0, np.inf, low_inclusive=True, unit="m2")
-        flux = unhindered_drying_flux(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c,
-                                      gas_humidity, pressure, self.basis, self.saturation_method,
-                                      condensation=condensation, **property_overrides)
+        args = _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c, gas_humidity,
+                                   pressure, self.basis, self.saturation_method, condensation, **property_overrides)
+        return self._rate(a, moisture, *args, condensation=condensation)
+
+    def _rate(self, area, moisture, hc, ts, tg, y, p, cp=None, pr=None, sc=None, condensation="allow"):
+        """Unchecked kernel of :meth:`rate` (area, hc, ts, tg, y, p validated arrays; ts 0-150 °C)."""
+        flux = _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, self.basis, self.saturation_method, True,
+                                       condensation)
         f = self.factor(moisture)
-        return a * np.where(flux > 0, f * flux, flux)
+        return area * np.where(flux > 0, f * flux, flux)
 
 
 #: Kinetics per material. Ajayi's zinc concentrate: thesis form (no falling rate);

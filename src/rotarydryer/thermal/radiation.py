@@ -153,7 +153,12 @@ def gas_wall_radiation_flux(gas_temperature_c, wall_temperature_c, gas_emissivit
     ag = eg if gas_absorptivity_value is None else check_range("gas_absorptivity_value", gas_absorptivity_value,
                                                                0.0, 1.0, low_inclusive=True, high_inclusive=True)
     ew = check_range("wall_emissivity", wall_emissivity, 0.0, 1.0, high_inclusive=True)
-    return STEFAN_BOLTZMANN * 0.5 * (ew + 1.0) * (eg * tg**4 - ag * tw**4)
+    return _gas_wall_flux(tg, tw, eg, ag, ew)
+
+
+def _gas_wall_flux(tg_k, tw_k, eg, ag, ew):
+    """Unchecked kernel of :func:`gas_wall_radiation_flux` (temperatures in K)."""
+    return STEFAN_BOLTZMANN * 0.5 * (ew + 1.0) * (eg * tg_k**4 - ag * tw_k**4)
 
 
 def gas_solids_radiation_flux(gas_temperature_c, solids_temperature_c, gas_emissivity_value=1.0,

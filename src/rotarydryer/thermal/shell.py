@@ -180,40 +180,46 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
     d_exp = 2 * r_exp
     d_out = 2 * r_out
 
-    # inside gas properties (humid air + CO2 neglected in properties)
-    rho = ha.density(tg, y, pressure)
-    mu = ha.viscosity(tg, y)
-    k_g = ha.thermal_conductivity(tg, y)
-    pr = ha.prandtl_number(tg, y)
-    velocity = mg / (rho * math.pi * r_exp**2)
-    re_in = velocity * d_exp * rho / mu
-    p_h2o = ha.vapour_partial_pressure(y, pressure)
-    if gas_emissivity is None:
-        beam = rad.mean_beam_length(d_exp)
-        eg = rad.gas_emissivity(tg, p_h2o, xc * pressure, beam)
-    else:
-        beam = rad.mean_beam_length(d_exp)
+    # checks the humid-air property functions did (the loop below calls their unchecked kernels)
+    p = ha._pressure(pressure)
+    beam = rad.mean_beam_length(d_exp)
+    if gas_emissivity is not None:
         eg = np.broadcast_to(check_range("gas_emissivity", gas_emissivity, 0.0, 1.0, low_inclusive=True,
                                          high_inclusive=True), tg.shape)
+    lo = np.array(ta, dtype=float) + np.zeros(tg.shape)
+    film_lo = ha._temperature(0.5 * (lo + ta))   # outside film at T_o = T_amb (below 0 degC: out of range)
+    ha._humidity(np.full_like(film_lo, ambient_humidity))
+
+    # inside gas properties (humid air + CO2 neglected in properties)
+    rho = ha._density(tg, y, p)
+    mu, k_g = ha._transport(tg, y)
+    pr = ha._prandtl_number(tg, y)
+    velocity = mg / (rho * math.pi * r_exp**2)
+    re_in = velocity * d_exp * rho / mu
+    p_h2o = ha._vapour_partial_pressure(y, p)
+    tg_k = tg + 273.15
+    if gas_emissivity is None:
+        eg = rad._emissivity(tg_k, p_h2o, xc * pressure, beam)
 
     def inside_flux(twi):
         """W/m2 of exposed inner surface, and its convective coefficient."""
         twi_c = np.clip(twi, 0.0, 600.0)
-        mu_s = ha.viscosity(twi_c, y)
+        mu_s = ha._viscosity(twi_c, y)
         h_c = sieder_tate_nusselt(re_in, pr, mu / mu_s) * k_g / d_exp
         if gas_emissivity is None:
-            ag = rad.gas_absorptivity(tg, twi_c, p_h2o, xc * pressure, beam)
+            ag = rad._emissivity(twi_c + 273.15, p_h2o, xc * pressure, beam)
         else:
             ag = eg
-        q_r = rad.gas_wall_radiation_flux(tg, twi, eg, ei, ag)
+        q_r = rad._gas_wall_flux(tg_k, twi + 273.15, eg, ag, ei)
         return h_c * (tg - twi) + q_r, h_c, q_r
 
     def outside_flux(to):
         film = 0.5 * (to + ta)
         yy = np.full_like(film, ambient_humidity)
-        nu_air = ha.viscosity(film, yy) / ha.density(film, yy, pressure)
-        k_air = ha.thermal_conductivity(film, yy)
-        alpha = k_air / (ha.density(film, yy, pressure) * ha.heat_capacity(film, yy))
+        rho_air = ha._density(film, yy, p)
+        mu_air, k_air = ha._transport(film, yy)
+        nu_air = mu_air / rho_air
+        alpha = k_air / (rho_air * ha._heat_capacity(film, yy))
         pr_air = nu_air / alpha
         beta = 1.0 / (film + 273.15)
         ra = G * beta * np.maximum(to - ta, 0.0) * d_out**3 / (nu_air * alpha)
@@ -250,7 +256,6 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         # continuous extension: once T_wi would exceed T_g the inside flux is negative
         return q_in * 2 * math.pi * r_exp - qp_out
 
-    lo = np.array(ta, dtype=float) + np.zeros(tg.shape)
     hi = np.array(tg, dtype=float) + np.zeros(tg.shape)
     to = illinois(residual, lo, hi, xtol=1e-9)
     twi, qp_out, rc = inner_from_outer(to)
