@@ -68,6 +68,7 @@ from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from ..transport.ajayi import mmg_bulk_density, mmg_moisture_profile, mmg_repose_angle
 from . import balances as bal
+from . import radiation as rad
 from .drying import MATERIAL_KINETICS, DryingKinetics
 from .shell import ajayi2011_heat_loss, shell_heat_loss
 
@@ -321,6 +322,7 @@ class ThermalDryer:
         self.gas_up = up
         self.gas_outlet_stage = int(self.gas_order[-1])
         self.n = 3 * self.n_tanks + 2 * self.n_gas
+        self._beam_length = rad.mean_beam_length(2 * self.radius)   # gas radiation to the solids
         self._pattern = None
         self._groups = None
         self._shell_ua = None
@@ -358,11 +360,11 @@ class ThermalDryer:
     def gas_inlet_enthalpy(self, method=None):
         """Enthalpy of the entering gas (burner gas + leak air mixed adiabatically), J/kg dry gas."""
         s = self.settings
-        method = method or s.mode
-        hot, leak = self._flows_in
-        h = hot * float(bal.gas_enthalpy(s.gas_inlet_temperature, self.hot_gas_Y, method))
+        method = check_choice("method", method or s.mode, bal.ENTHALPY_METHODS)
+        hot, leak = self._flows_in      # temperatures and humidities were checked with the settings
+        h = hot * float(bal._gas_enthalpy(s.gas_inlet_temperature, self.hot_gas_Y, method))
         if leak > 0:
-            h += leak * float(bal.gas_enthalpy(s.ambient_temperature, s.ambient_humidity, method))
+            h += leak * float(bal._gas_enthalpy(s.ambient_temperature, s.ambient_humidity, method))
         return h / (hot + leak)
 
     def flows(self, S, W, T):
@@ -421,8 +423,9 @@ class ThermalDryer:
         area[act] = bal.curtain_area(m[tk[act]], self.gas_dp[act], s.area_scale * self.gas_theta[act],
                                      s.particle_density)
         fg = self.dry_gas_flow * (1.0 + Y)
-        rw, qc, qr = bal.stage_transfer(area, X[tk], T[tk], Tg, Y, fg, self.gas_dp, self.radius, s.kinetics,
-                                        mode=s.mode, pressure=s.pressure, co2_mole_fraction=s.co2_mole_fraction)
+        # unchecked kernel of bal.stage_transfer: the inputs are clipped there, the parameters checked at construction
+        rw, qc, qr = bal._stage_transfer(area, X[tk], T[tk], Tg, Y, fg, self.gas_dp, self.radius, s.kinetics,
+                                         s.mode, s.pressure, s.co2_mole_fraction, 0.9, 2e-3, self._beam_length)
         return area, rw, qc, qr
 
     def _shell_loss(self, Tg, Y, Tg_up):
@@ -482,7 +485,7 @@ class ThermalDryer:
         inH[self.entry] += (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
         area, rw, qc, qr = self._transfer(S, W, T, Tg, Y)
         Ts_c = T[self.gas_tank]
-        hv = bal.vapour_source_enthalpy(Ts_c, s.mode)
+        hv = bal._vapour_source_enthalpy(Ts_c, s.mode)
         up = self.gas_up
         Tg_up = np.where(up >= 0, Tg[np.maximum(up, 0)], s.gas_inlet_temperature)
         Y_up = np.where(up >= 0, Y[np.maximum(up, 0)], self.gas_inlet_Y)
@@ -524,12 +527,12 @@ class ThermalDryer:
         Fd = self.dry_gas_flow
         Mg = self.gas_holdup
         dYm = Fd * (d["Y_up"] - Y) + d["rw"]
-        h_up = bal.gas_enthalpy(d["Tg_up"], d["Y_up"], s.mode)
+        h = bal._gas_enthalpy(Tg, Y, s.mode)
+        h_up = h[np.maximum(self.gas_up, 0)]       # the upstream stage's enthalpy (elementwise identical)
         h_up[self.gas_order[0]] = self.gas_inlet_enthalpy()
-        h = bal.gas_enthalpy(Tg, Y, s.mode)
         dH = Fd * (h_up - h) + d["rw"] * d["hv"] - d["qc"] - d["qr"] - d["qloss"]
-        cs = bal.gas_heat_capacity(Tg, Y, s.mode)
-        dhdY = (bal.gas_enthalpy(Tg, Y + 1e-4, s.mode) - h) / 1e-4
+        cs = bal._gas_heat_capacity(Tg, Y, s.mode)
+        dhdY = (bal._gas_enthalpy(Tg, Y + 1e-4, s.mode) - h) / 1e-4
         dY = dYm / Mg
         dTg = (dH / Mg - dhdY * dY) / cs
         return np.concatenate([dS, dW, dT, dTg, dY])
@@ -595,31 +598,32 @@ class ThermalDryer:
         m = np.zeros(self.n_tanks)
         for b in self.beds:
             m[b["idx"]] = F / self.kiln_velocity * b["dz"]
-        # flighted: march cell by cell, solving k4 mp + CF k2 min(mp,des) = F_in for mp
+        # flighted: every cell passes F, solve k4 mp + CF k2 min(mp,des) = F for mp (bisection, all cells of a
+        # section at once)
         sin_t = math.sin(math.radians(self.slope))
         for f in self.flighted:
             xp = f["x_fixed"]
+            geom, dl = f["geom"], f["dl"]
             phi = mmg_repose_angle(xp)
-            des = mmg_bulk_density(xp) * f["dl"] * np.asarray(f["geom"].design_load_area(phi)) * (1 - s.fouling)
-            k4 = self.kiln_velocity / f["dl"]
-            for i in range(len(f["P"])):
-                def g(mp, i=i):
-                    lf = float(np.clip(f["geom"].loading_factor(max(mp / des[i], 1e-6), phi[i]), 1e-6, 1.0))
-                    c = f["geom"].cascade(phi[i], lf, rpm=self.rpm, slope=self.slope)
-                    k2 = 1 / float(c.passive_time)
-                    cf = float(c.mean_fall_height) * sin_t / f["dl"]
-                    return k4 * mp + cf * k2 * min(mp, des[i]) - F, k2, float(c.mean_fall_time)
-                lo, hi = 0.0, F / k4
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    if g(mid)[0] > 0:
-                        hi = mid
-                    else:
-                        lo = mid
-                mp = 0.5 * (lo + hi)
-                _, k2, tf = g(mp)
-                m[f["P"][i]] = mp
-                m[f["A"][i]] = k2 * min(mp, des[i]) * tf
+            des = mmg_bulk_density(xp) * dl * np.asarray(geom.design_load_area(phi)) * (1 - s.fouling)
+            k4 = self.kiln_velocity / dl
+
+            def g(mp):
+                lf = np.clip(np.asarray(geom.loading_factor(np.maximum(mp / des, 1e-6), phi), float), 1e-6, 1.0)
+                c = geom.cascade(phi, lf, rpm=self.rpm, slope=self.slope)
+                k2 = 1 / np.asarray(c.passive_time, float)
+                cf = np.asarray(c.mean_fall_height, float) * sin_t / dl
+                return k4 * mp + cf * k2 * np.minimum(mp, des) - F, k2, np.asarray(c.mean_fall_time, float)
+            lo, hi = np.zeros(len(des)), np.full(len(des), F / k4)
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                up = g(mid)[0] > 0
+                hi = np.where(up, mid, hi)
+                lo = np.where(up, lo, mid)
+            mp = 0.5 * (lo + hi)
+            _, k2, tf = g(mp)
+            m[f["P"]] = mp
+            m[f["A"]] = k2 * np.minimum(mp, des) * tf
         x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04, 0.02)])
         S = m * (1 - x)
         W = m * x
