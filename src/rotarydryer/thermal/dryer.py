@@ -326,6 +326,7 @@ class ThermalDryer:
         self._pattern = None
         self._groups = None
         self._shell_ua = None
+        self._inlet_h = None
 
     # ------------------------------------------------------------------ state helpers
     def split(self, z):
@@ -360,12 +361,21 @@ class ThermalDryer:
     def gas_inlet_enthalpy(self, method=None):
         """Enthalpy of the entering gas (burner gas + leak air mixed adiabatically), J/kg dry gas."""
         s = self.settings
-        method = check_choice("method", method or s.mode, bal.ENTHALPY_METHODS)
-        hot, leak = self._flows_in      # temperatures and humidities were checked with the settings
-        h = hot * float(bal._gas_enthalpy(s.gas_inlet_temperature, self.hot_gas_Y, method))
+        method = method or s.mode
+        hot, leak = self._flows_in
+        h = hot * float(bal.gas_enthalpy(s.gas_inlet_temperature, self.hot_gas_Y, method))
         if leak > 0:
-            h += leak * float(bal._gas_enthalpy(s.ambient_temperature, s.ambient_humidity, method))
+            h += leak * float(bal.gas_enthalpy(s.ambient_temperature, s.ambient_humidity, method))
         return h / (hot + leak)
+
+    def _inlet_enthalpy(self):
+        """:meth:`gas_inlet_enthalpy` of the current settings, re-evaluated only when they change."""
+        s = self.settings
+        key = (s.mode, s.gas_flow, s.gas_inlet_temperature, s.gas_inlet_humidity, s.leak_air_flow,
+               s.ambient_temperature, s.ambient_humidity)
+        if self._inlet_h is None or self._inlet_h[0] != key:
+            self._inlet_h = (key, self.gas_inlet_enthalpy())
+        return self._inlet_h[1]
 
     def flows(self, S, W, T):
         """Wet-solids edge flows: (src, dst, flow kg/s) arrays incl. the outlet edge (dst = -1)."""
@@ -529,7 +539,7 @@ class ThermalDryer:
         dYm = Fd * (d["Y_up"] - Y) + d["rw"]
         h = bal._gas_enthalpy(Tg, Y, s.mode)
         h_up = h[np.maximum(self.gas_up, 0)]       # the upstream stage's enthalpy (elementwise identical)
-        h_up[self.gas_order[0]] = self.gas_inlet_enthalpy()
+        h_up[self.gas_order[0]] = self._inlet_enthalpy()
         dH = Fd * (h_up - h) + d["rw"] * d["hv"] - d["qc"] - d["qr"] - d["qloss"]
         cs = bal._gas_heat_capacity(Tg, Y, s.mode)
         dhdY = (bal._gas_enthalpy(Tg, Y + 1e-4, s.mode) - h) / 1e-4
