@@ -105,3 +105,16 @@ def test_test6_with_its_balance_implied_gas_flow(model):
     assert abs(ss.product_moisture - c["moisture_out"]) <= 0.007
     assert abs(ss.gas_outlet_temperature_c - c["gas_out_c"]) <= 20.0
     assert ss.gas_outlet_temperature_c > ss6.gas_outlet_temperature_c + 5.0
+
+
+def test_a_tests_own_gas_flow_replaces_the_default(tmp_path):
+    """[[tests]] gas_flow (kg/s) is used for that test in the physical mode; others keep thermal.gas_flow."""
+    from importlib import resources
+    text = (resources.files("rotarydryer.cases") / "ajayi2011_mmg.toml").read_text()
+    text = text.replace("test = 6\n", "test = 6\ngas_flow = 19.5\n", 1)
+    path = tmp_path / "mmg_with_flow.toml"
+    path.write_text(text)
+    assert build_thermal_dryer(load_case(str(path), {"operating.test": 6})).settings.gas_flow == 19.5
+    assert build_thermal_dryer(load_case(str(path), {"operating.test": 4})).settings.gas_flow == 16.25
+    compat = build_thermal_dryer(load_case(str(path), {"operating.test": 6, "thermal.mode": "ajayi2011"}))
+    assert compat.settings.gas_flow == pytest.approx(112675.6688 / 3600)

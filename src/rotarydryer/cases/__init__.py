@@ -165,6 +165,9 @@ class AjayiTest(_Strict):
     holdup_model_kg: Optional[float] = None
     mrt_measured_min: Optional[float] = None
     scaled: bool = False
+    gas_flow: Optional[float] = Field(default=None, gt=0, le=1000,
+                                      description="kg/s wet gas in this test, where known (fan openings, a "
+                                                  "balance); replaces thermal.gas_flow in the physical mode")
     source: str = ""
 
 

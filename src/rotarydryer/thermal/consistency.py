@@ -34,7 +34,6 @@ from scipy.optimize import brentq
 
 from .._validation import check_range
 from ..properties import humid_air as ha
-from ..published import read_published_csv
 from .streams import evaporation_rate, implied_heat_loss
 
 __all__ = ["implied_gas_flow", "balance_gas_outlet_temperature", "max_gas_outlet_temperature",
@@ -160,10 +159,9 @@ def pi_test_conditions(test: int) -> dict:
     Keys: feed_rate (kg/s wet), moisture_in, moisture_out (kg/kg wet), gas_in_c, gas_out_c,
     product_c (°C), rpm, scaled (bool); standard deviations with a ``_sd`` suffix where published.
     """
-    rows = {int(r["test"]): r for r in read_published_csv("ajayi_pi_operating_conditions.csv")}
-    if test not in rows:
-        raise ValueError(f"test = {test!r} is not one of Ajayi's PI tests {sorted(rows)}")
-    r = rows[test]
+    from .dryer import pi_operating_conditions
+
+    r = pi_operating_conditions(test)
 
     def num(key, scale=1.0):
         return float(r[key]) * scale if r.get(key, "").strip() else float("nan")

@@ -167,6 +167,8 @@ class ThermalSettings:
         check_range("thermal.fouling", self.fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
         check_range("thermal.loss_factor", self.loss_factor, 0.0, 1000.0, low_inclusive=True)
         check_range("thermal.leak_air_flow", self.leak_air_flow, 0.0, 1000.0, low_inclusive=True, unit="kg/s")
+        check_range("thermal.ambient_humidity", self.ambient_humidity, 0.0, 0.3, low_inclusive=True,
+                    high_inclusive=True, unit="kg/kg dry air")
         check_range("thermal.scale_thickness", self.scale_thickness, 0.0, 0.5, low_inclusive=True, unit="m")
         check_range("thermal.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
         if self.mode == "ajayi2011" and self.gas_inlet_humidity <= 0:
@@ -913,7 +915,8 @@ def pi_operating_conditions(test_number):
 
 def settings_from_case(case) -> ThermalSettings:
     """ThermalSettings from the case's ``thermal`` section (if any) and the selected test's PI data
-    (gas inlet temperature; Test 3 'Scaled' -> fouling 0.8, Ajayi l.1715)."""
+    (gas inlet temperature; Test 3 'Scaled' -> fouling 0.8, Ajayi l.1715). A test's own ``gas_flow``
+    ([[tests]], kg/s wet) replaces ``thermal.gas_flow`` in the physical mode."""
     th = getattr(case, "thermal", None)
     raw = th.model_dump() if th is not None else {}
     mode = raw.pop("mode", "physical")
@@ -925,6 +928,9 @@ def settings_from_case(case) -> ThermalSettings:
     else:
         st = ThermalSettings(**{k: v for k, v in raw.items() if k in ThermalSettings.__dataclass_fields__})
     pi = pi_operating_conditions(case.operating.test)
+    test = next((t for t in getattr(case, "tests", []) if t.test == case.operating.test), None)
+    if mode != "ajayi2011" and getattr(test, "gas_flow", None) is not None:
+        st.gas_flow = float(test.gas_flow)      # the test's own gas flow, when the case knows it
     if "gas_inlet_temperature" not in raw:
         st.gas_inlet_temperature = float(pi["gas_inlet_T_C"])
     if "fouling" not in raw:
