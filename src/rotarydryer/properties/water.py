@@ -234,6 +234,10 @@ def vapour_heat_capacity(temperature_c, method: str = "nasa"):
         return species_heat_capacity("H2O", temperature_c)
     t = check_range("temperature_c", temperature_c, -73.15, 726.85, low_inclusive=True, high_inclusive=True,
                     unit="degC")
-    tk = t + 273.0  # Ajayi uses T + 273
-    kj = -3.1759e-10 * tk**3 + 9.1451537e-07 * tk**2 - 1.4971847134e-04 * tk + 1.84044937134494
-    return kj * (1000.0 if method == "ajayi2011" else 1.0)
+    return _ajayi_vapour_cp_kj(t) * (1000.0 if method == "ajayi2011" else 1.0)
+
+
+def _ajayi_vapour_cp_kj(temperature_c):
+    """Ajayi's (2011) water-vapour c_p cubic as coded (App. F L3833), numerically kJ/(kg K); unchecked."""
+    tk = temperature_c + 273.0  # Ajayi uses T + 273
+    return -3.1759e-10 * tk**3 + 9.1451537e-07 * tk**2 - 1.4971847134e-04 * tk + 1.84044937134494

@@ -55,6 +55,7 @@ import numpy as np
 
 from .._validation import check_choice, check_finite, check_range
 from ..properties import humid_air as ha
+from ..properties import water
 from . import radiation as rad
 from .drying import DryingKinetics
 
@@ -87,10 +88,7 @@ def _check_gas_state(temperature_c, humidity, method):
         ha._humidity(_yc(humidity))
 
 
-def _ajayi_cpv(t):
-    """Ajayi's water-vapour c_p polynomial as coded (App. F L3833), numerically kJ/(kg K)."""
-    tk = t + 273.0
-    return -3.1759e-10 * tk**3 + 9.1451537e-7 * tk**2 - 1.4971847134e-4 * tk + 1.84044937134494
+_ajayi_cpv = water._ajayi_vapour_cp_kj   # Ajayi's vapour c_p cubic as coded (L3833), numerically kJ/(kg K)
 
 
 def gas_enthalpy(temperature_c, humidity, method: str = "physical"):
