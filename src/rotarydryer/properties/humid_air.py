@@ -246,9 +246,18 @@ def density(temperature_c, humidity, pressure=STANDARD_PRESSURE, method: str = "
     return _density(t, y, _pressure(pressure), method)
 
 
+def _ajayi_air(t):
+    """Ajayi's (2011) air-property polynomials in °C as coded (App. F L3825-L3829), unchecked:
+    density kg/m³ (quartic), viscosity Pa s, thermal conductivity W/(m K) (quadratics)."""
+    rho = 6.417e-13 * t**4 - 2.673e-9 * t**3 + 4.129e-6 * t**2 - 3.037e-3 * t + 1.225
+    mu = -7.479e-12 * t**2 + 3.746e-8 * t + 1.824e-5
+    k = -1.249e-8 * t**2 + 6.699e-5 * t + 2.541e-2
+    return rho, mu, k
+
+
 def _density(t, y, p, method="ideal_gas"):
     if method == "ajayi2011":
-        return (6.417e-13 * t**4 - 2.673e-9 * t**3 + 4.129e-6 * t**2 - 3.037e-3 * t + 1.225) + 0.0 * y
+        return _ajayi_air(t)[0] + 0.0 * y
     return p * MOLAR_MASS_DRY_AIR * (1.0 + y) / (GAS_CONSTANT * (t + 273.15) * (1.0 + y / _RATIO))
 
 
@@ -279,7 +288,7 @@ def viscosity(temperature_c, humidity, method: str = "wilke"):
 
 def _viscosity(t, y, ajayi2011=False):
     if ajayi2011:
-        return -7.479e-12 * t**2 + 3.746e-8 * t + 1.824e-5 + 0.0 * y
+        return _ajayi_air(t)[1] + 0.0 * y
     return _transport(t, y)[0]
 
 
@@ -305,7 +314,7 @@ def thermal_conductivity(temperature_c, humidity, method: str = "mason_saxena"):
 
 def _thermal_conductivity(t, y, ajayi2011=False):
     if ajayi2011:
-        return -1.249e-8 * t**2 + 6.699e-5 * t + 2.541e-2 + 0.0 * y
+        return _ajayi_air(t)[2] + 0.0 * y
     return _transport(t, y)[1]
 
 

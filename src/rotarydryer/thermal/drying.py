@@ -338,16 +338,6 @@ def drying_rate(area, moisture, heat_transfer_coefficient, solids_temperature_c,
                          gas_humidity, **kwargs)
 
 
-def _ajayi_air(temperature_c):
-    """Ajayi's (2011) air-property polynomials in °C as coded (App. F L3729-L3760, L3886-L3898):
-    density kg/m³, viscosity Pa s, thermal conductivity W/(m K). Unchecked."""
-    t = temperature_c
-    rho = 6.417e-13 * t**4 - 2.673e-9 * t**3 + 4.129e-6 * t**2 - 3.037e-3 * t + 1.225
-    mu = -7.479e-12 * t**2 + 3.746e-8 * t + 1.824e-5
-    k = -1.249e-8 * t**2 + 6.699e-5 * t + 2.541e-2
-    return rho, mu, k
-
-
 def ajayi2011_drying_rate_as_coded(area, heat_transfer_coefficient, solids_temperature_c, gas_temperature_c,
                                    gas_mass_fraction, pressure=AJAYI_PRESSURE):
     r"""Evaporation rate, kg/s, exactly as Ajayi's gPROMS ``Active_Phase`` model (App. F L3911-L4010).
@@ -369,7 +359,7 @@ def ajayi2011_drying_rate_as_coded(area, heat_transfer_coefficient, solids_tempe
     h = check_range("gas_mass_fraction", gas_mass_fraction, 0.0, 0.5, unit="kg/kg wet gas (must be > 0: Ajayi's "
                     "h_m divides by the vapour pressure)")
     p = check_positive("pressure", pressure, unit="Pa")
-    rho, mu, _ = _ajayi_air(tg)
+    rho, mu, _ = ha._ajayi_air(tg)
     sc = mu / (rho * 2.65e-5)
     pw_air = h * p * (26.0 / 18.0)
     hm = hc / 1070.0 * (0.7 / sc) ** (2.0 / 3.0) / pw_air

@@ -55,7 +55,6 @@ from .._validation import check_positive, check_range
 from ..properties import humid_air as ha
 from . import radiation as rad
 from ._roots import illinois
-from .drying import _ajayi_air
 
 __all__ = ["ShellHeatLoss", "shell_heat_loss", "ajayi2011_heat_loss", "ajayi2011_outside_air_properties", "steel_conductivity_ajayi2011",
            "churchill_chu_nusselt", "sieder_tate_nusselt", "AJAYI_SHELL_TEMPERATURES"]
@@ -286,7 +285,7 @@ def ajayi2011_outside_air_properties(shell_temperature_c):
     tk = ts + 273
     return {"thermal_diffusivity": 5.776e-11 * tk**2 + 1.345e-7 * tk - 2.466e-5,
             "kinematic_viscosity": 7.451e-11 * tk**2 + 5.671e-8 * tk - 8.152e-6,
-            "thermal_conductivity": _ajayi_air(ts)[2]}
+            "thermal_conductivity": ha._ajayi_air(ts)[2]}
 
 
 def ajayi2011_heat_loss(gas_temperature_c, gas_mass_flow, shell_temperature_c, length=1.0,
@@ -315,8 +314,8 @@ def ajayi2011_heat_loss(gas_temperature_c, gas_mass_flow, shell_temperature_c, l
     pr = 0.70752
     r_in, r_out = 1.90, 1.95
     d_in, d_out = 2 * r_in, 2 * r_out
-    rho, mu_g, k_air = _ajayi_air(tg)
-    mu_s = _ajayi_air(ts)[1]
+    rho, mu_g, k_air = ha._ajayi_air(tg)
+    mu_s = ha._ajayi_air(ts)[1]
     v_g = mg / (rho * 3.142 * 1.95**2)
     e, sigma = 0.79, 5.67e-8
     h_rad = e * sigma * ((ts + 273) + (tamb + 273)) * ((ts + 273) ** 2 + (tamb + 273) ** 2)
