@@ -25,6 +25,8 @@ def _save_last_thermal_state(exc, out):
     ``thermal_last_state.json`` in ``out`` (or the working directory); returns the path or None."""
     import numpy as np
 
+    from .._io import write_text_atomic
+
     state = getattr(exc, "state", None)
     if state is None or not hasattr(state, "profiles"):
         return None
@@ -32,12 +34,7 @@ def _save_last_thermal_state(exc, out):
               "profiles": {k: np.asarray(v).tolist() for k, v in state.profiles().items()},
               "state_vector": np.asarray(state.state).tolist()}
     folder = Path(out) if out is not None else Path.cwd()
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / "thermal_last_state.json"
-    tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(record, indent=1, default=float))
-    tmp.replace(path)           # atomic: an older file is never left half-written
-    return path
+    return write_text_atomic(folder / "thermal_last_state.json", json.dumps(record, indent=1, default=float))
 
 
 @app.command("simulate")

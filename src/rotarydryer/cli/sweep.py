@@ -141,6 +141,7 @@ def sweep(
     import os
     import sys
 
+    from .._io import write_text_atomic
     from ._common import parse_sets
 
     try:
@@ -174,10 +175,7 @@ def sweep(
         raise typer.Exit(3)
     text = rows_to_csv(rows)
     if out is not None:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = out.with_name(f".{out.name}.tmp")
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, out)
+        write_text_atomic(out, text)
     if as_json:
         typer.echo(json.dumps(rows))
     elif out is None:

@@ -74,6 +74,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .._io import write_text_atomic
 from .._validation import check_choice, check_finite, check_positive, check_range
 from ..estimation.uncertainty import linearised_uncertainty
 from ..geometry import FlightedDrum, TwoSectionFlight
@@ -203,15 +204,9 @@ def read_rig_csv(path, *, time_column: int = 0) -> RigRun:
 
 def write_rig_csv(path, run: RigRun, comment: str = "") -> None:
     """Write ``run`` as ``time_s,mass_kg`` CSV (optional ``#`` comment first line)."""
-    path = Path(path)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    with tmp.open("w", newline="") as fh:
-        if comment:
-            fh.write(f"# {comment}\n")
-        fh.write("time_s,mass_kg\n")
-        for t, m in zip(run.time, run.mass):
-            fh.write(f"{t:.6f},{m:.6f}\n")
-    tmp.replace(path)
+    lines = ([f"# {comment}"] if comment else []) + ["time_s,mass_kg"]
+    lines += [f"{t:.6f},{m:.6f}" for t, m in zip(run.time, run.mass)]
+    write_text_atomic(path, "\n".join(lines) + "\n", newline="")
 
 
 # ---------------------------------------------------------------------------- filtering

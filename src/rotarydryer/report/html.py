@@ -25,13 +25,12 @@ import base64
 import html
 import io
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from .. import __version__
+from .._io import write_text_atomic
 
 __all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source"]
 
@@ -370,16 +369,4 @@ def write_report(source, out, overrides: dict | None = None, *, repose_angle: fl
 
 def write_html(text: str, out) -> Path:
     """Write ``text`` to ``out`` atomically (temporary file beside it + os.replace)."""
-    out = Path(out)
-    directory = out.parent if str(out.parent) else Path(".")
-    directory.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, out)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return out
+    return write_text_atomic(out, text)

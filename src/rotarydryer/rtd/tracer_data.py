@@ -240,8 +240,7 @@ def write_tracer_csv(path, time_s, signal, metadata: dict | None = None, time_un
 
     ``time_s`` in s is written in ``time_unit`` (``s``, ``min`` or ``h``).
     """
-    import os
-    import tempfile
+    from .._io import write_text_atomic
 
     col = f"time_{time_unit}"
     if col not in TIME_COLUMNS:
@@ -258,11 +257,7 @@ def write_tracer_csv(path, time_s, signal, metadata: dict | None = None, time_un
     out.write(f"{col},signal\n")
     for a, b in zip(t, c, strict=True):
         out.write(f"{float(a)!r},{float(b)!r}\n")
-    p = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=p.name, suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(out.getvalue())
-    os.replace(tmp, p)
+    write_text_atomic(path, out.getvalue())
 
 
 _DATASET_PREFIX = "tracer_"
