@@ -39,7 +39,7 @@ def balance(
     """
     from ..properties import humid_air as ha
     from ..thermal.consistency import balance_gas_outlet_temperature, implied_gas_flow, pi_test_conditions
-    from ..thermal.streams import evaporation_rate
+    from ..thermal.streams import evaporation_rate, exhaust_humidity
 
     try:
         base = pi_test_conditions(ajayi_test) if ajayi_test is not None else {}
@@ -67,7 +67,7 @@ def balance(
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
-    y_out = gas_humidity + evap * (1 + gas_humidity) / g
+    y_out = exhaust_humidity(g, gas_humidity, evap)
     dew = float(ha.dew_point(min(y_out, 0.3)))
     out.update({"evaporation_kg_s": evap, "exhaust_humidity": y_out, "exhaust_dew_point_C": dew,
                 "product_temperature_C": vals["product_temperature"], "shell_heat_loss_W": shell_loss,

@@ -34,7 +34,7 @@ from scipy.optimize import brentq
 
 from .._validation import check_range
 from ..properties import humid_air as ha
-from .streams import evaporation_rate, implied_heat_loss
+from .streams import evaporation_rate, exhaust_humidity, implied_heat_loss
 
 __all__ = ["implied_gas_flow", "balance_gas_outlet_temperature", "max_gas_outlet_temperature",
            "TestBalance", "measured_balances", "pi_test_conditions"]
@@ -114,7 +114,7 @@ def balance_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rat
     g = float(check_range("gas_flow", gas_flow, 0.0, np.inf, unit="kg/s"))
     y_in = float(gas_humidity_in)
     evap = float(evaporation_rate(feed_rate, moisture_in, moisture_out))
-    if y_in + evap * (1.0 + y_in) / g > _Y_MAX:
+    if exhaust_humidity(g, y_in, evap) > _Y_MAX:
         raise ValueError(f"gas_flow = {g} kg/s cannot carry the {evap:.3g} kg/s evaporated: the exhaust would hold "
                          f"more than {_Y_MAX} kg/kg")
 
@@ -146,7 +146,7 @@ def max_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rate, m
     g = float(check_range("gas_flow", gas_flow, 0.0, np.inf, unit="kg/s"))
     y_in = float(gas_humidity_in)
     evap = float(evaporation_rate(feed_rate, moisture_in, max_moisture_out))
-    y_out = y_in + evap * (1.0 + y_in) / g
+    y_out = exhaust_humidity(g, y_in, evap)
     t_dew = float(ha.dew_point(min(y_out, _Y_MAX)))
     t_out = balance_gas_outlet_temperature(g, gas_in_c, y_in, feed_rate, moisture_in, max_moisture_out, solids_in_c,
                                            t_dew, heat_loss=heat_loss, method=method)
@@ -218,9 +218,9 @@ def measured_balances(tests: Sequence[int] = (1, 2, 3, 4, 5, 6), heat_loss=0.0, 
                       solids_in_c=solids_in_c, heat_loss=float(losses[i]), method=method)
         g = implied_gas_flow(solids_out_c=c["product_c"], **common)
         tp = c["product_c"] if product_c is None else float(np.broadcast_to(product_c, (n,))[i])
-        g2 = implied_gas_flow(solids_out_c=tp, **common)
+        g2 = g if product_c is None else implied_gas_flow(solids_out_c=tp, **common)
         evap = float(evaporation_rate(c["feed_rate"], c["moisture_in"], c["moisture_out"]))
-        y_out = gas_humidity_in + evap * (1.0 + gas_humidity_in) / g
+        y_out = exhaust_humidity(g, gas_humidity_in, evap)
         out.append(TestBalance(test=int(t), evaporation=evap, heat_loss=float(losses[i]), gas_flow=g,
                                gas_flow_at_product_c=g2, product_c_assumed=tp, exhaust_humidity=y_out,
                                exhaust_dew_point_c=float(ha.dew_point(y_out)), product_c=c["product_c"]))

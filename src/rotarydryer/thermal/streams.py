@@ -36,7 +36,7 @@ from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from ..properties import water
 
-__all__ = ["gas_stream_enthalpy", "solids_stream_enthalpy", "evaporation_rate", "implied_heat_loss",
+__all__ = ["gas_stream_enthalpy", "solids_stream_enthalpy", "evaporation_rate", "exhaust_humidity", "implied_heat_loss",
            "AJAYI_ZINC_HEAT_CAPACITY", "AJAYI_WATER_HEAT_CAPACITY"]
 
 AJAYI_ZINC_HEAT_CAPACITY = 505.0  # J/(kg K), L3182
@@ -98,6 +98,15 @@ def evaporation_rate(feed_rate, moisture_in, moisture_out):
     return f - f * (1 - xi) / (1 - xo)
 
 
+def exhaust_humidity(gas_flow, gas_humidity_in, evaporation):
+    """Humidity of the gas leaving, kg/kg dry gas: the inlet's plus the water evaporated into it.
+
+    ``gas_flow`` kg/s wet gas in, ``gas_humidity_in`` kg/kg dry gas, ``evaporation`` kg/s; the
+    dry-gas flow gas_flow / (1 + Y_in) is conserved.
+    """
+    return gas_humidity_in + evaporation * (1.0 + gas_humidity_in) / gas_flow
+
+
 def implied_heat_loss(gas_flow_in, gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_in, moisture_out,
                       solids_in_c, solids_out_c, method: str = "physical", **solids_kwargs):
     """Overall dryer energy balance on outlet data: heat that must be lost, W, and its parts.
@@ -114,8 +123,7 @@ def implied_heat_loss(gas_flow_in, gas_in_c, gas_humidity_in, gas_out_c, feed_ra
     evap = evaporation_rate(feed_rate, moisture_in, moisture_out)
     g_in = float(np.asarray(gas_flow_in))
     y_in = np.asarray(gas_humidity_in, float)
-    dry_gas = g_in / (1.0 + y_in)
-    y_out = y_in + evap / dry_gas
+    y_out = exhaust_humidity(g_in, y_in, evap)
     gas_in = gas_stream_enthalpy(g_in, gas_in_c, y_in, method)
     gas_out = gas_stream_enthalpy(g_in + evap, gas_out_c, y_out, method)
     s_in = solids_stream_enthalpy(feed_rate, moisture_in, solids_in_c, **solids_kwargs)
