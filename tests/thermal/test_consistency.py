@@ -89,6 +89,8 @@ def test_bad_input_is_named():
         implied_gas_flow(moisture_out=0.12, heat_loss=1e9, **kw)
     with pytest.raises(ValueError, match="test"):
         pi_test_conditions(9)
+    with pytest.raises(ValueError, match="gas_humidity_in"):
+        max_gas_outlet_temperature(16.0, 500.0, -0.01, 40.0, 0.163, 0.13, 28.0)
     with pytest.raises(ValueError, match="cannot carry"):
         balance_gas_outlet_temperature(1.0, 500.0, Y_IN, 40.0, 0.163, 0.12, 28.0, 46.0)
     assert np.isfinite(implied_gas_flow(moisture_out=0.124, **kw))

@@ -48,6 +48,11 @@ def _loss_at(gas_flow, gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture
                              solids_in_c, solids_out_c, method=method)["heat_loss"]
 
 
+def _humidity_in(gas_humidity_in) -> float:
+    return float(check_range("gas_humidity_in", gas_humidity_in, 0.0, _Y_MAX, low_inclusive=True,
+                             unit="kg/kg dry gas"))
+
+
 def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_in, moisture_out, solids_in_c,
                      solids_out_c, heat_loss=0.0, method: str = "physical", max_gas_flow=1000.0) -> float:
     """Wet gas flow into the dryer, kg/s, that closes the overall energy balance of measured data.
@@ -81,8 +86,7 @@ def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_i
     if evap <= 0.0:
         raise ValueError(f"moisture_out = {moisture_out} must be below moisture_in = {moisture_in}: "
                          "the balance implies a gas flow only for a test that dries")
-    y_in = float(check_range("gas_humidity_in", gas_humidity_in, 0.0, _Y_MAX, low_inclusive=True,
-                             unit="kg/kg dry gas"))
+    y_in = _humidity_in(gas_humidity_in)
     g_lo = evap / (_Y_MAX - y_in) * (1.0 + y_in) * (1.0 + 1e-9)   # exhaust at the property range's top
     args = (t_in, y_in, t_out, feed_rate, moisture_in, moisture_out, solids_in_c, solids_out_c, method)
 
@@ -112,7 +116,7 @@ def balance_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rat
     supply the heat the solids take, or the water it must carry exceeds 0.3 kg/kg).
     """
     g = float(check_range("gas_flow", gas_flow, 0.0, np.inf, unit="kg/s"))
-    y_in = float(gas_humidity_in)
+    y_in = _humidity_in(gas_humidity_in)
     evap = float(evaporation_rate(feed_rate, moisture_in, moisture_out))
     if exhaust_humidity(g, y_in, evap) > _Y_MAX:
         raise ValueError(f"gas_flow = {g} kg/s cannot carry the {evap:.3g} kg/s evaporated: the exhaust would hold "
@@ -144,7 +148,7 @@ def max_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rate, m
     ``exhaust_humidity`` (kg/kg dry gas) and ``evaporation`` (kg/s).
     """
     g = float(check_range("gas_flow", gas_flow, 0.0, np.inf, unit="kg/s"))
-    y_in = float(gas_humidity_in)
+    y_in = _humidity_in(gas_humidity_in)
     evap = float(evaporation_rate(feed_rate, moisture_in, max_moisture_out))
     y_out = exhaust_humidity(g, y_in, evap)
     t_dew = float(ha.dew_point(min(y_out, _Y_MAX)))
