@@ -7,7 +7,7 @@ Results: benchmarks/results_variants.md.
 import numpy as np
 import pytest
 
-from rotarydryer.transport.variants import INVICTA_FITS, _response, invicta_data, invicta_model
+from rotarydryer.studies.invicta_rtd_spread import INVICTA_FITS, _response, invicta_data, invicta_model
 
 T, _ = invicta_data()
 

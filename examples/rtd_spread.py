@@ -2,7 +2,7 @@
 
 Prints the variance budget of the candidate mechanisms and the comparison of Lee's
 model with the stagnant-core variants (fitted parameters from
-rotarydryer.transport.variants.INVICTA_FITS, produced by ``fit_invicta``); writes
+rotarydryer.studies.invicta_rtd_spread.INVICTA_FITS, produced by ``fit_invicta``); writes
 rtd_spread.png and rtd_spread.json into OUTDIR. See docs/rtd_spread.md.
 
 Run: python examples/rtd_spread.py OUTDIR
@@ -20,7 +20,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from rotarydryer.rtd import fit_rtd_model, pulse_input  # noqa: E402
-from rotarydryer.transport.variants import (  # noqa: E402
+from rotarydryer.studies.invicta_rtd_spread import (  # noqa: E402
     INVICTA_FITS,
     LOG_FLOOR,
     _response,

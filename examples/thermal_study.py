@@ -17,6 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from rotarydryer.cases import load_case  # noqa: E402
+from rotarydryer.report.plots import plot_thermal_steady_state  # noqa: E402
 from rotarydryer.thermal import studies  # noqa: E402
 from rotarydryer.thermal.dryer import build_thermal_dryer  # noqa: E402
 
@@ -34,8 +35,8 @@ for mode in ("physical", "ajayi2011"):
         print(f"{test:4d}  {mode:10s}  {s['product_moisture']:9.4f}  {s['product_temperature_C']:9.1f}  "
               f"{s['gas_outlet_temperature_C']:8.1f}  {s['energy_balance_error']:10.1e}  {s['fuel_rate_kg_s'] * 3600:8.0f}")
         if test == 4:
-            studies.plot_profiles(ss).savefig(out / ("thermal_profiles.png" if mode == "physical"
-                                                     else "thermal_profiles_ajayi2011.png"), dpi=110)
+            plot_thermal_steady_state(ss).savefig(out / ("thermal_profiles.png" if mode == "physical"
+                                                         else "thermal_profiles_ajayi2011.png"), dpi=110)
             plt.close("all")
             if mode == "ajayi2011":
                 print(f"      ajayi2011: shell loss {s['shell_heat_loss_W'] / 1e6:.2f} MW (loss factor 15); with physical "

@@ -24,4 +24,5 @@ def test_thermal_outputs_saved_and_loaded(tmp_path):
 def test_transport_only_when_asked():
     res = run_case("ajayi2011_mmg", {"operating.test": 4}, rtd=False, thermal=False)
     assert "energy_balance" not in res.datasets
-    assert "energy_balance" not in run_case("lee2008_invicta", rtd=False).datasets
+    assert "energy_balance" not in run_case("lee2008_invicta", rtd=False, thermal=False).datasets
+    assert "energy_balance" in run_case("lee2008_invicta", rtd=False).datasets    # issue 12: Invicta dries

@@ -5,3 +5,13 @@ angles are in degrees at the public API.
 """
 
 __version__ = "0.1.0"
+
+__all__ = ["Simulation", "__version__"]
+
+
+def __getattr__(name):   # lazy: importing rotarydryer stays cheap
+    if name == "Simulation":
+        from .simulation import Simulation
+
+        return Simulation
+    raise AttributeError(f"module 'rotarydryer' has no attribute {name!r}")

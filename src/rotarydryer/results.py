@@ -572,12 +572,13 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
                            measured_baseline=float(mm["baseline"]))
     if fit_rtd and meas is not None:
         res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
-    if thermal is None:
-        thermal = getattr(c, "thermal", None) is not None
-    if thermal:
-        from .thermal.dryer import build_thermal_dryer
+    from .simulation import Simulation
 
-        add_thermal(res, build_thermal_dryer(c).steady_state())
+    sim = Simulation(c)
+    if thermal is None:
+        thermal = sim.thermal_enabled
+    if thermal:
+        add_thermal(res, sim.thermal_dryer().steady_state())
     if overrides:
         res.model_choices["overrides"] = _jsonable(overrides)
     if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):

@@ -48,7 +48,7 @@ def test_cases_lists_builtins():
     assert res.exit_code == 0
     rows = json.loads(res.output)
     assert [r["name"] for r in rows] == list_cases()
-    assert all(r["kind"] in ("lee2008", "ajayi2011") and r["title"] for r in rows)
+    assert all(r["kind"] in ("dryer", "lee2008", "ajayi2011") and r["title"] for r in rows)
     res = runner.invoke(cli, ["cases"])
     assert "lee2008_invicta" in res.output and "ajayi2011_mmg" in res.output
 

@@ -187,10 +187,10 @@ def test_cli_simulate_adds_thermal_outputs(tmp_path):
                                  "--out", str(tmp_path)])
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
-    for k in ("product_moisture", "product_temperature_C", "gas_outlet_temperature_C", "fuel_rate_kg_s",
+    for k in ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC", "fuel_rate_kg_s",
               "shell_heat_loss_W", "energy_balance_error"):
         assert k in d
-    assert abs(d["product_moisture"] - 0.12) < 0.007 and d["energy_balance_error"] < 1e-6
+    assert abs(d["product_moisture_kg_kg"] - 0.12) < 0.007 and d["energy_balance_error"] < 1e-6
     assert (tmp_path / "thermal_profiles.png").stat().st_size > 10000
 
 

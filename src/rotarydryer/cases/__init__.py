@@ -21,7 +21,8 @@ from typing import Any, Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-__all__ = ["list_cases", "load_case", "build_model", "measured_rtd", "measured_rtd_moments", "valid_override_keys", "LeeCase", "AjayiCase"]
+__all__ = ["list_cases", "load_case", "build_model", "measured_rtd", "measured_rtd_moments", "valid_override_keys", "DryerCase",
+           "LeeCase", "AjayiCase"]
 
 
 class _Strict(BaseModel):
@@ -86,6 +87,54 @@ class Tracer(_Strict):
     baseline: str = Field(default="none", description="baseline method for the measured moments")
 
 
+# ---- blocks shared by every case kind: material, gas, shell, thermal ---------------------
+class Gas(_Strict):
+    """Drying gas (humid air or combustion gas)."""
+    direction: Literal["co-current", "counter-current"] = "co-current"
+    flow: float = Field(gt=0, le=1000, description="kg/s wet gas into the dryer")
+    inlet_temperature: float = Field(gt=0, le=600, description="degC")
+    inlet_humidity: float = Field(default=0.01, ge=0, lt=0.2, description="kg/kg wet gas")
+    leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet")
+    feed_temperature: Optional[float] = Field(default=None, ge=0, lt=99, description="degC of the wet feed (plant cases without [operating] feed_temperature)")
+
+
+class Shell(_Strict):
+    """Drum shell and surroundings."""
+    ambient_temperature: float = Field(default=25.0, gt=-40, lt=60, description="degC")
+    ambient_humidity: float = Field(default=0.01, ge=0, le=0.3, description="kg/kg dry air")
+    scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, scale layer inside the shell")
+    insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
+    loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (thermal.mode = ajayi2011 only)")
+
+
+class ThermalModel(_Strict):
+    """Heat and mass transfer model choices (rotarydryer.thermal.dryer)."""
+    enabled: bool = Field(default=True, description="solve heat and mass transfer (false: solids transport only)")
+    mode: Literal["physical", "ajayi2011"] = "physical"
+    area_scale: float = Field(default=1.0, ge=0, le=100, description="multiplier on the sections' area factors")
+    moisture_coupling: bool = Field(default=True, description="repose angle and bulk density from the computed moisture")
+    design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+
+
+class Material(_Strict):
+    """A material of the library (rotarydryer.properties.materials) by name, with optional
+    field overrides, or a complete inline definition."""
+    model_config = ConfigDict(extra="allow")
+    name: str = Field(description="library name or a label for an inline material")
+
+
+def _material_of(case):
+    """The :class:`rotarydryer.properties.materials.Material` of a case."""
+    from rotarydryer.properties.materials import load_material
+
+    spec = case.material
+    if spec is None:
+        raise ValueError("material is missing: name one from the materials library "
+                         "(rotarydryer.properties.materials.list_materials()) in [material]")
+    d = spec.model_dump()
+    return load_material(d["name"] if set(d) == {"name"} else d)
+
+
 class LeeParameterSet(_Strict):
     n_cells: int
     kiln_time: float
@@ -105,6 +154,10 @@ class LeeCase(_Strict):
     geometry: LeeGeometry = LeeGeometry()
     tracer: Tracer
     parameter_sets: list[LeeParameterSet] = []
+    material: Optional[Material] = None
+    gas: Optional[Gas] = None
+    shell: Shell = Shell()
+    thermal: ThermalModel = ThermalModel(enabled=False)
 
 
 # ---- Ajayi (2011) MMG Karumba --------------------------------------------------------
@@ -151,6 +204,9 @@ class AjayiSection(_Strict):
     alpha1: Optional[float] = None
     alpha2: Optional[float] = None
     regression: Optional[dict[str, list[float]]] = None
+    area_factor: float = Field(default=1.0, ge=0, description="theta_AL / theta_a, exposed-area factor")
+    particle_diameter: Optional[float] = Field(default=None, gt=0, description="m; default the material's")
+    shell_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC, fixed shell temperature (thermal.mode = ajayi2011)")
 
 
 class AjayiTest(_Strict):
@@ -185,6 +241,10 @@ class AjayiThermal(_Strict):
     insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
     loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (ajayi2011 mode only)")
     leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet end")
+    unflighted_cells: dict[str, int] = Field(default={}, description="finite volumes per unflighted section of the thermal model; default one per 0.3 m (at least 4)")
+    design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+    moisture_coupling: bool = True
+    enabled: bool = True
 
 
 class AjayiCase(_Strict):
@@ -199,6 +259,7 @@ class AjayiCase(_Strict):
     sections: list[AjayiSection]
     tests: list[AjayiTest]
     thermal: AjayiThermal = AjayiThermal()
+    material: Material = Material(name="zinc_concentrate_ajayi2011")
 
     @model_validator(mode="after")
     def _flighted_sections_complete(self):
@@ -227,8 +288,108 @@ class AjayiCase(_Strict):
         return self
 
 
+# ---- the general schema: any flighted dryer ----------------------------------------------
+class DryerDrum(_Strict):
+    radius: float = Field(gt=0, le=20, description="m")
+    slope: float = Field(ge=0, lt=45, description="deg")
+    n_flights: Optional[int] = Field(default=None, ge=2, description="flights per flighted section (default)")
+
+
+class DryerOperating(_Strict):
+    feed_rate: float = Field(gt=0, le=1000, description="kg/s wet solids")
+    rpm: float = Field(gt=0, le=60, description="rev/min")
+    feed_moisture: float = Field(ge=0, lt=1, description="kg/kg wet")
+    feed_temperature: float = Field(default=20.0, ge=0, lt=99, description="degC")
+
+
+class DryerTransport(_Strict):
+    """Defaults for the sections (a section's own value wins)."""
+    model: Literal["lee2008", "sheehan2005_model2", "ajayi2011"] = "lee2008"
+    n_cells: Optional[int] = Field(default=None, ge=1, le=100000, description="cells per flighted section (default)")
+    kiln_time: float = Field(default=10.0, gt=0, description="s, kilning time of the excess over the design load (lee2008)")
+    backmix: float = Field(default=0.0, ge=0, le=1, description="C_B, -")
+    drag_reduction: float = Field(default=1.0, ge=0, description="C_F^G, -")
+    loading: Literal["fixed", "state"] = "state"
+    solids_velocity: float = Field(default=0.01, gt=0, description="u_s, m/s: rolling-bed velocity (unflighted) and kilning velocity (ajayi2011)")
+    dispersion: float = Field(default=1e-3, ge=0, description="m2/s, axial dispersion of unflighted sections")
+    unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="finite volumes per unflighted section; default auto")
+    fouling: float = Field(default=0.0, ge=0, le=0.95, description="fraction of flight capacity lost to scale")
+    product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, assumed outlet moisture of the transport-only profile (default: the feed moisture)")
+
+
+class DryerGeometry(_Strict):
+    method: Literal["exact"] = "exact"
+    passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+    design_load_method: Literal["lee2008", "ajayi2011"] = "lee2008"
+
+
+class DryerSection(_Strict):
+    name: str = Field(min_length=1)
+    kind: Literal["flighted", "unflighted"]
+    length: float = Field(gt=0, le=200, description="m")
+    n_cells: Optional[int] = Field(default=None, ge=1, le=100000)
+    model: Optional[Literal["lee2008", "sheehan2005_model2", "ajayi2011"]] = None
+    n_flights: Optional[int] = Field(default=None, ge=2)
+    s1: Optional[float] = Field(default=None, gt=0, description="m, flight base")
+    s2: Optional[float] = Field(default=None, ge=0, description="m, flight tip")
+    alpha1: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
+    alpha2: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
+    area_factor: float = Field(default=1.0, ge=0, description="exposed-area factor of the heat/mass transfer")
+    particle_diameter: Optional[float] = Field(default=None, gt=0, description="m; default the material's")
+    shell_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC (thermal.mode = ajayi2011)")
+
+
+class DryerTracer(_Strict):
+    fraction: float = Field(default=1e-4, gt=0, description="kg tracer per kg feed during the pulse")
+    duration: float = Field(default=60.0, ge=0, description="s")
+    t_end: float = Field(default=7200.0, gt=0, description="s")
+    dt: float = Field(default=10.0, gt=0, description="s")
+
+
+class DryerCase(_Strict):
+    """One schema for any flighted rotary dryer (``kind = "dryer"``)."""
+    kind: Literal["dryer"]
+    meta: Meta = Meta()
+    drum: DryerDrum
+    flight: Optional[Flight] = None
+    operating: DryerOperating
+    material: Material
+    transport: DryerTransport = DryerTransport()
+    geometry: DryerGeometry = DryerGeometry()
+    sections: list[DryerSection]
+    gas: Optional[Gas] = None
+    shell: Shell = Shell()
+    thermal: ThermalModel = ThermalModel()
+    tracer: DryerTracer = DryerTracer()
+
+    @model_validator(mode="after")
+    def _complete(self):
+        problems = []
+        if not self.sections:
+            problems.append("sections = []: a dryer needs at least one [[sections]] entry")
+        names = [sec.name for sec in self.sections]
+        if len(set(names)) != len(names):
+            problems.append(f"sections: names {names} are not unique")
+        for i, sec in enumerate(self.sections):
+            where = f"sections[{i}] ({sec.name})"
+            if sec.kind != "flighted":
+                continue
+            if sec.n_cells is None and self.transport.n_cells is None:
+                problems.append(f"{where}.n_cells is missing (and no transport.n_cells default)")
+            if (sec.n_flights or self.drum.n_flights) is None:
+                problems.append(f"{where}.n_flights is missing (and no drum.n_flights default)")
+            for key in ("s1", "s2", "alpha1", "alpha2"):
+                if getattr(sec, key) is None and (self.flight is None or getattr(self.flight, key, None) is None):
+                    problems.append(f"{where}.{key} is missing (and no [flight] default)")
+        if self.thermal.enabled and self.gas is None:
+            problems.append("gas is missing: [gas] (flow, inlet_temperature) is needed when thermal.enabled = true")
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
+
+
 #: case model of each ``kind``
-CASE_MODELS = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+CASE_MODELS = {"dryer": DryerCase, "lee2008": LeeCase, "ajayi2011": AjayiCase}
 _KINDS = CASE_MODELS
 _NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests"}
 
@@ -240,11 +401,15 @@ def list_cases() -> list[str]:
 
 def valid_override_keys(case_cls) -> list[str]:
     """Flat ``section.key`` names that may be overridden for a case class."""
+    import typing
+
     keys = []
     for sec, finfo in case_cls.model_fields.items():
         if sec in _NOT_OVERRIDABLE:
             continue
         sub = finfo.annotation
+        if typing.get_origin(sub) is not None:      # Optional[Block]
+            sub = next((a for a in typing.get_args(sub) if isinstance(a, type) and issubclass(a, BaseModel)), None)
         if isinstance(sub, type) and issubclass(sub, BaseModel):
             keys += [f"{sec}.{k}" for k in sub.model_fields]
     return sorted(keys)
@@ -345,9 +510,11 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     if kind not in _KINDS:
         raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, _KINDS))}")
     cls = _KINDS[kind]
+    if isinstance(raw.get("material"), str):
+        raw["material"] = {"name": raw["material"]}
     valid = valid_override_keys(cls)
     for key, value in (overrides or {}).items():
-        if key not in valid:
+        if key not in valid and not key.startswith("material."):
             raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")
         sec, fld = key.split(".", 1)
         if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
@@ -406,6 +573,10 @@ def build_model(case):
         from rotarydryer.transport.ajayi import build_ajayi2011
 
         return build_ajayi2011(case)
+    if isinstance(case, DryerCase):
+        from rotarydryer.simulation import Simulation
+
+        return Simulation(case).transport_model()
     raise ValueError(f"case of type {type(case).__name__} is not supported")
 
 

@@ -34,7 +34,7 @@ def case_schema(kind: Optional[str] = None) -> dict:
 
 @app.command("schema")
 def schema(
-    kind: Optional[str] = typer.Option(None, help="Only this case kind: lee2008 | ajayi2011 (default: all)."),
+    kind: Optional[str] = typer.Option(None, help="Only this case kind: dryer | lee2008 | ajayi2011 (default: all)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write to this file instead of stdout."),
 ):
     """Print the JSON Schema of case files (for editors and validators).
@@ -81,7 +81,7 @@ def cases(as_json: bool = typer.Option(False, "--json", help="Print a JSON list.
 @app.command("new")
 def new(
     case_name: str = typer.Argument(..., help="Name of the new case (file CASE_NAME.toml)."),
-    base: str = typer.Option("lee2008_invicta", "--from", help="Built-in case to start from (see `rotarydryer cases`)."),
+    base: str = typer.Option("template", "--from", help="'template' (a commented general dryer) or a built-in case (see `rotarydryer cases`)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="File to write (default ./CASE_NAME.toml)."),
     force: bool = typer.Option(False, help="Overwrite an existing file."),
 ):
@@ -90,7 +90,7 @@ def new(
     The template is a copy of a built-in case with its unit comments and citations.
 
     Examples:
-      rotarydryer new mydryer                       # from lee2008_invicta
+      rotarydryer new mydryer                       # the commented general template
       rotarydryer new plant2 --from ajayi2011_mmg
       rotarydryer simulate mydryer.toml --set operating.rpm=4
     Exit codes: 0 written, 1 file exists (use --force), 2 bad name or base.
@@ -103,22 +103,30 @@ def new(
     if not re.fullmatch(r"[A-Za-z0-9_.\-]+", case_name):
         typer.echo(f"error: case_name = {case_name!r} may only contain letters, digits, '_', '-', '.'", err=True)
         raise typer.Exit(2)
-    if base not in list_cases():
-        typer.echo(f"error: --from {base!r} is not a built-in case ({', '.join(list_cases())})", err=True)
+    if base != "template" and base not in list_cases():
+        typer.echo(f"error: --from {base!r} is not 'template' nor a built-in case ({', '.join(list_cases())})",
+                   err=True)
         raise typer.Exit(2)
     path = out if out is not None else Path(f"{case_name}.toml")
     if path.exists() and not force:
         typer.echo(f"error: {path} exists (use --force to overwrite)", err=True)
         raise typer.Exit(1)
-    text = (resources.files("rotarydryer.cases") / f"{base}.toml").read_text()
+    src = ("templates/dryer.toml" if base == "template" else f"{base}.toml")
+    text = (resources.files("rotarydryer.cases") / src).read_text()
     header = (f"# Case {case_name!r}: template written by `rotarydryer new` from the built-in case {base!r}.\n"
               "# Edit the values below (units in the comments; SI, angles in deg, speed in rev/min).\n"
               "# Validate and run:  rotarydryer simulate " + str(path) + "\n"
               "# Every field, its unit and allowed range:  rotarydryer schema\n"
               "# The [meta] citations refer to the base case: replace them with your sources.\n\n")
     text = re.sub(r'(?m)^title = ".*"$', f'title = "{case_name} (from {base})"', text, count=1)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(header + text, encoding="utf-8")
+    from .._io import write_text_atomic
+
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_text_atomic(path, header + text)
+    except OSError as exc:
+        typer.echo(f"error: cannot write {path}: {exc.strerror or exc}", err=True)
+        raise typer.Exit(2)
     try:
         load_case(str(path))
     except ValueError as exc:  # pragma: no cover - the packaged cases are valid

@@ -50,28 +50,47 @@ def simulate(
 
     Example: rotarydryer simulate lee2008_invicta --set geometry.method=lee2008_regressions
     """
+    from ..simulation import Simulation
+
     try:
-        c, model, ss = _steady(case, set_)
-        tr = ss.tracer_system().moments()
+        sim = Simulation(case, parse_sets(set_))
+        model = sim.transport_model()
+        c = sim.case
+        thermal_on = sim.thermal_enabled
+        ss = sim.transport_steady_state()
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
     result = ss.to_dict()
-    result.update({"case": case, "rtd_std_s": tr["std"], "parameters": model.parameters})
+    result.update({"case": case, "parameters": model.parameters})
     thermal = None
-    if getattr(c, "kind", None) == "ajayi2011":
-        try:
-            from ..thermal.dryer import build_thermal_dryer
-
-            thermal = build_thermal_dryer(c).steady_state()
-        except ValueError as exc:
-            typer.echo(f"error: heat and mass transfer: {exc}", err=True)
-            saved = _save_last_thermal_state(exc, out)
-            if saved is not None:
-                typer.echo(f"last solver state saved to {saved}", err=True)
-            solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
-            raise typer.Exit(1 if solver_failed else 2)
-        result.update(thermal.summary())
+    try:
+        steady = sim.steady_state()
+        thermal = steady.thermal
+    except ValueError as exc:
+        typer.echo(f"error: heat and mass transfer: {exc}", err=True)
+        saved = _save_last_thermal_state(exc, out)
+        if saved is not None:
+            typer.echo(f"last solver state saved to {saved}", err=True)
+        solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
+        raise typer.Exit(1 if solver_failed else 2)
+    summary = steady.summary()
+    if thermal is not None:
+        # one total holdup per run: the coupled state's (its flows also give the tracer moments)
+        for key in ("active_holdup_kg", "passive_holdup_kg", "kiln_bed_holdup_kg", "design_load_kg",
+                    "mass_balance_error"):
+            result.pop(key, None)
+        result["transport_only_total_holdup_kg"] = result.pop("total_holdup_kg", None)
+        result["fuel_rate_kg_s"] = None
+        if c.kind == "ajayi2011":
+            try:
+                result["fuel_rate_kg_s"] = thermal.fuel_rate()
+            except ValueError as exc:
+                result["fuel_rate_error"] = str(exc)
+    result.update(summary)
+    result["outlet_flow_kg_s"] = result["product_rate_kg_s"]
+    result["rtd_std_s"] = result["tracer_std_s"]
+    thermal_on = thermal is not None
     if out is not None:
         from ..transport.plots import plot_holdup_profile
 
@@ -80,38 +99,43 @@ def simulate(
         plot_holdup_profile(ss).savefig(out / "holdup_profile.png", dpi=120)
         result["files"] = [str(out / "steady_state.json"), str(out / "holdup_profile.png")]
         if thermal is not None:
-            from ..thermal.studies import plot_profiles
+            from ..report.plots import plot_thermal_steady_state as plot_profiles
 
             plot_profiles(thermal).savefig(out / "thermal_profiles.png", dpi=120)
             result["files"].append(str(out / "thermal_profiles.png"))
     if as_json:
         typer.echo(json.dumps(result))
         return
-    typer.echo(f"{case}: {model.name}, feed {result['feed_rate_kg_s']:.3f} kg/s")
+    typer.echo(f"{case}: {model.name}, feed {result['feed_rate_kg_s']:.3f} kg/s"
+               + (" (transport, heat and mass)" if thermal_on else " (solids transport only)"))
     rows = [
-        ("total holdup", f"{ss.total_holdup:,.0f} kg"),
-        ("  active (curtain)", f"{ss.active_holdup:,.0f} kg"),
-        ("  passive (flights + floor)", f"{ss.passive_holdup:,.0f} kg (kilning bed {ss.kiln_bed_holdup:,.0f} kg)"),
-        ("  unflighted bed", f"{ss.bed_holdup:,.0f} kg"),
-        ("outlet flow", f"{ss.outlet_flow:.4f} kg/s"),
-        ("mean residence time H/F", f"{ss.mean_residence_time / 60:.2f} min"),
-        ("RTD standard deviation (impulse)", f"{tr['std'] / 60:.2f} min"),
-        ("mass balance error", f"{ss.mass_balance_error:.1e}"),
+        ("total holdup", f"{result['total_holdup_kg']:,.0f} kg"),
+        ("  active (curtain)", f"{result['active_holdup_kg']:,.0f} kg"),
+        ("  passive (flights + floor)", f"{result['passive_holdup_kg']:,.0f} kg"),
+        ("  unflighted bed", f"{result['bed_holdup_kg']:,.0f} kg"),
+        ("product flow", f"{result['product_rate_kg_s']:.4f} kg/s"),
+        ("mean residence time H/F", f"{result['mean_residence_time_s'] / 60:.2f} min"),
+        ("tracer mean / SD", f"{result['tracer_mean_s'] / 60:.2f} / {result['tracer_std_s'] / 60:.2f} min"),
     ]
-    for name, h in ss.section_holdups().items():
-        rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
+    if not thermal_on:
+        rows.append(("mass balance error", f"{ss.mass_balance_error:.1e}"))
+        for name, h in ss.section_holdups().items():
+            rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
     if thermal is not None:
         rows += [
-            ("product moisture", f"{result['product_moisture']:.4f} kg/kg wet"),
-            ("product temperature", f"{result['product_temperature_C']:.1f} degC"),
-            ("gas outlet temperature", f"{result['gas_outlet_temperature_C']:.1f} degC"),
+            ("product moisture", f"{result['product_moisture_kg_kg']:.4f} kg/kg wet"),
+            ("product temperature", f"{result['product_temperature_degC']:.1f} degC"),
+            ("gas outlet temperature", f"{result['gas_outlet_temperature_degC']:.1f} degC"),
+            ("evaporation", f"{result['evaporation_kg_s']:.4g} kg/s"),
             ("fuel rate", "n/a" if result.get("fuel_rate_kg_s") is None
              else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"),
             ("shell heat loss", f"{result['shell_heat_loss_W'] / 1e3:.0f} kW"),
-            ("energy balance error", f"{result['energy_balance_error']:.1e}"),
+            ("energy / water balance error", f"{result['energy_balance_error']:.1e} / "
+                                              f"{result['water_balance_error']:.1e}"),
         ]
-    states = ss.loading_state
-    rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
+    states = ss.loading_state if not thermal_on else []
+    if not thermal_on:
+        rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
                                                 f"{states.count('under')}"))
     w = max(len(k) for k, _ in rows)
     for k, v in rows:

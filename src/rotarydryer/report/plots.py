@@ -12,7 +12,7 @@ from .._plotting import pyplot as _plt
 from ..geometry import FlightedDrum
 
 __all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
-           "plot_thermal_profiles", "thermal_profiles_from_results"]
+           "plot_thermal_profiles", "thermal_profiles_from_results", "plot_thermal_steady_state"]
 
 
 
@@ -264,3 +264,14 @@ def thermal_profiles_from_results(results) -> dict:
                 solids_temperature_c=sol.temperature.values, moisture_wet=sol.moisture.values,
                 gas_position=gas.position.values, gas_temperature_c=gas.temperature.values,
                 gas_humidity=gas.humidity.values)
+
+
+def plot_thermal_steady_state(steady):
+    """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along
+    the dryer for a :class:`rotarydryer.thermal.dryer.ThermalSteadyState`
+    (:func:`plot_thermal_profiles` of ``steady.profiles()``, titled with the product state and
+    with the section boundaries). Moved from ``rotarydryer.thermal.studies.plot_profiles``."""
+    title = (f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
+             f"{steady.product_temperature_c:.1f} °C; gas out {steady.gas_outlet_temperature_c:.0f} °C")
+    return plot_thermal_profiles(steady.profiles(), title=title,
+                                 sections=[(sd["name"], sd["length"]) for sd in steady.dryer.model.sections])

@@ -1,8 +1,8 @@
 r"""The whole dryer: transport + moisture + energy of solids and gas, steady state and dynamics.
 
-Model (Ajayi (2011) Ch. 5-6, multi-section MMG Karumba layout; notes ajayi_energy.md §1):
+Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajayi_energy.md §1):
 
-* **Solids tanks**: unflighted slices (rolling bed, sections A and E) and, per flighted
+* **Solids tanks**: unflighted slices (rolling-bed finite volumes) and, per flighted
   cell, a passive (flight/floor-borne) and an active (airborne curtain) tank. Each tank has
   dry solids S (kg), water W (kg) and temperature T (°C) as states. The wet-solids flows are
   those of the transport model (:mod:`rotarydryer.transport.ajayi`, Ajayi (2011)
@@ -11,14 +11,16 @@ Model (Ajayi (2011) Ch. 5-6, multi-section MMG Karumba layout; notes ajayi_energ
   their source tank (Eq. 6.1-6.4, 6.8-6.11). Differences from the thesis, chosen for
   conservation: dry solids and water are balanced separately (Ajayi's wet-mass balance
   Eq. 5.1 does not subtract evaporation, notes §5.12 item 7); the design-load cap
-  min(m_p, m_des) is smoothed over 0.1 % of m_des (Newton needs a differentiable residual).
-* **Transport coupled to moisture**: repose angle φ = 419.6 x_p - 7.801 (Ajayi Eq. 3.2) and
-  bulk density ρ_b = 2043.81 - 3095.24 x_p (Eq. 3.4) of each flighted cell are evaluated from
-  the *computed* passive moisture x_p (wet basis), as in Ajayi's code (L3608-3618), and set the
-  design load and cascade coefficients. The regressions are valid for 0.08 ≤ x_p ≤ 0.19
-  (φ = 26-72°); outside, x_p is clipped for the transport properties only and the steady
-  state reports ``transport_moisture_clipped``. ``moisture_coupling=False`` uses the fixed
-  Eq. 3.1 profile instead (the transport-only model).
+  min(m_p, m_des) may be smoothed (``design_load_smoothing``, 0.1 % of m_des in the MMG case).
+* **Transport coupled to moisture**: the solids states ride on the nodes of the dryer's
+  transport network (:func:`rotarydryer.transport.sections.build_sections`: any sequence of
+  flighted and unflighted sections), whose edge families give the flows. A family of a
+  flighted section re-evaluates its coefficient and design load through the section law at
+  the *computed* passive moisture: repose angle and bulk density come from the material
+  (:mod:`rotarydryer.properties.materials`), as in Ajayi's code (L3608-3618). Outside the
+  material's moisture range the moisture is clipped for the transport properties only and
+  the steady state reports ``transport_moisture_clipped``. ``moisture_coupling=False`` uses
+  the transport model's assumed profile instead (the transport-only model).
 * **Gas**: one well-mixed stage per bed slice / flighted cell, plug flow along the drum,
   co- or counter-current; states T_g (°C) and Y (kg/kg dry gas); the dry-gas flow is
   constant. Gas exchanges heat and water only with the active layer (bed slices) and the
@@ -66,20 +68,15 @@ from scipy.sparse.linalg import splu
 from .._sparse_fd import column_groups, sparse_fd_jacobian
 from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
-from ..transport.ajayi import mmg_bulk_density, mmg_moisture_profile, mmg_repose_angle
 from . import balances as bal
 from . import radiation as rad
-from .drying import MATERIAL_KINETICS, DryingKinetics
+from .drying import DryingKinetics
 from .shell import ajayi2011_heat_loss, shell_heat_loss
 
-__all__ = ["DryerError", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
-           "build_thermal_dryer", "AJAYI_GAS_FLOW", "TRANSPORT_MOISTURE_RANGE"]
+__all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
+           "build_thermal_dryer", "AJAYI_GAS_FLOW"]
 
 AJAYI_GAS_FLOW = 112675.6688 / 3600.0   # kg/s wet gas, App. F L3225
-TRANSPORT_MOISTURE_RANGE = (0.08, 0.19)  # kg/kg wet: phi = 26-72 deg, regressions positive (B, C, D)
-_AREA_FACTORS = {"A": 2.4, "B": 1.2, "C": 0.6, "D": 0.42, "E": 1.4}          # Ajayi l.2278
-_PARTICLE_D = {"A": 0.02, "B": 0.015, "C": 0.012, "D": 0.008, "E": 0.007}     # m, l.2255
-_SHELL_T = {"A": 145.0, "B": 105.0, "C": 100.0, "D": 100.0, "E": 65.0}        # degC, code (notes §1.9)
 _COMBUSTION_AIR_SHARE = 23698.0 / (23698.0 + 88050.0)                          # Table A1
 
 
@@ -93,6 +90,20 @@ class DryerError(ValueError):
 
 
 @dataclasses.dataclass
+class SectionThermal:
+    """Heat-transfer data of one section (case data, not code).
+
+    area_factor : θ_AL (bed) or θ_a (curtain), multiplier on the geometric exposed area (Ajayi
+    (2011) l.2278). particle_diameter : m (None = the material's). shell_temperature : °C, fixed
+    shell temperature of the ``ajayi2011`` mode (Ajayi's code; None = 100 °C).
+    """
+
+    area_factor: float = 1.0
+    particle_diameter: Optional[float] = None
+    shell_temperature: Optional[float] = None
+
+
+@dataclasses.dataclass
 class ThermalSettings:
     """Thermal parameters of the dryer (SI; temperatures °C).
 
@@ -100,10 +111,10 @@ class ThermalSettings:
     gas_flow : wet gas into the dryer, kg/s (Ajayi 31.30 kg/s = 112675.7 kg/h, L3225).
     gas_inlet_temperature : °C (Ajayi 500). gas_inlet_humidity : kg/kg **wet** gas (Ajayi 0.0193, L3227).
     solids_inlet_temperature : °C (28, L3241). ambient_temperature : °C (26, L3231).
-    area_factors : θ_AL / θ_a per section (Ajayi l.2278). area_scale : common multiplier on them (tuned).
-    particle_diameters : m per section (l.2255). particle_density : kg/m³ (2800).
-    cp_solids, cp_water : J/(kg K) (505, 4182). pressure : Pa.
-    loss_factor, shell_temperatures : compatibility mode only (θ_loss = 15; fixed shell T).
+    area_scale : common multiplier on the sections' area factors (tuned).
+    cp_solids, cp_water : J/(kg K) (None = the material's). particle_density : kg/m³ (None = the
+    material's). pressure : Pa.
+    loss_factor : compatibility mode only (θ_loss = 15; the fixed shell temperatures are section data).
     scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity : shell
     network of the physical mode (m, W/(m K)).
     fouling : fraction (0-0.95) of flight loading capacity lost to scale (Ajayi Ch. 5 Eq. 5.21,
@@ -111,10 +122,13 @@ class ThermalSettings:
     leak_air_flow : ambient air leaking into the drum at the gas inlet end (seals, feed chute), kg/s
     humid air at ambient temperature and ``ambient_humidity`` (kg/kg dry); mixed adiabatically
     with the burner gas before the first stage. 0 = none (Ajayi's assumption).
-    kinetics : DryingKinetics (default: per mode, :data:`rotarydryer.thermal.drying.MATERIAL_KINETICS`).
-    unflighted_slices : finite volumes per unflighted section.
-    moisture_coupling : transport properties from the computed moisture (True) or Eq. 3.1 (False).
+    kinetics : DryingKinetics (default: the material's; in the ajayi2011 mode with Ajayi's
+    mass-transfer basis and Antoine saturation pressure).
+    moisture_coupling : transport properties from the computed moisture (True) or the assumed
+    transport profile (False, the transport-only model).
     gas_direction : "co-current" | "counter-current".
+    design_load_smoothing : width of the smoothed design-load switch min(M_P, M_des), relative
+    to M_des (0 = exact, as the transport network; 1e-3 in the MMG case, as before).
     """
 
     mode: str = "physical"
@@ -123,15 +137,12 @@ class ThermalSettings:
     gas_inlet_humidity: float = 0.0193
     solids_inlet_temperature: float = 28.0
     ambient_temperature: float = 26.0
-    area_factors: dict = dataclasses.field(default_factory=lambda: dict(_AREA_FACTORS))
     area_scale: float = 1.0
-    particle_diameters: dict = dataclasses.field(default_factory=lambda: dict(_PARTICLE_D))
-    particle_density: float = 2800.0
-    cp_solids: float = bal.AJAYI_CP_SOLIDS
+    particle_density: Optional[float] = None
+    cp_solids: Optional[float] = None
     cp_water: float = bal.AJAYI_CP_WATER
     pressure: float = 101325.0
     loss_factor: float = 15.0
-    shell_temperatures: dict = dataclasses.field(default_factory=lambda: dict(_SHELL_T))
     scale_thickness: float = 0.0
     scale_conductivity: float = 1.0
     insulation_thickness: float = 0.0
@@ -141,9 +152,9 @@ class ThermalSettings:
     ambient_humidity: float = 0.0193 / (1.0 - 0.0193)
     fouling: float = 0.0
     kinetics: Optional[DryingKinetics] = None
-    unflighted_slices: dict = dataclasses.field(default_factory=lambda: {"A": 12, "E": 24})
     moisture_coupling: bool = True
     gas_direction: str = "co-current"
+    design_load_smoothing: float = 0.0
 
     @classmethod
     def ajayi2011(cls, **kw):
@@ -154,73 +165,90 @@ class ThermalSettings:
 
     def validate(self):
         check_choice("thermal.mode", self.mode, ("physical", "ajayi2011"))
-        check_choice("thermal.gas_direction", self.gas_direction, ("co-current", "counter-current"))
-        check_range("thermal.gas_flow", self.gas_flow, 0.0, 1000.0, unit="kg/s")
-        check_range("thermal.gas_inlet_temperature", self.gas_inlet_temperature, 0.0, 600.0, high_inclusive=True,
+        check_choice("gas.direction", self.gas_direction, ("co-current", "counter-current"))
+        check_range("gas.flow", self.gas_flow, 0.0, 1000.0, unit="kg/s")
+        check_range("gas.inlet_temperature", self.gas_inlet_temperature, 0.0, 600.0, high_inclusive=True,
                     unit="degC")
-        check_range("thermal.gas_inlet_humidity", self.gas_inlet_humidity, 0.0, 0.2, low_inclusive=True,
+        check_range("gas.inlet_humidity", self.gas_inlet_humidity, 0.0, 0.2, low_inclusive=True,
                     unit="kg/kg wet gas")
-        check_range("thermal.solids_inlet_temperature", self.solids_inlet_temperature, 0.0, 99.0,
+        check_range("operating.feed_temperature", self.solids_inlet_temperature, 0.0, 99.0,
                     low_inclusive=True, unit="degC")
-        check_range("thermal.ambient_temperature", self.ambient_temperature, -40.0, 60.0, unit="degC")
+        check_range("shell.ambient_temperature", self.ambient_temperature, -40.0, 60.0, unit="degC")
         check_range("thermal.area_scale", self.area_scale, 0.0, 100.0, low_inclusive=True)
         check_range("thermal.fouling", self.fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
-        check_range("thermal.loss_factor", self.loss_factor, 0.0, 1000.0, low_inclusive=True)
-        check_range("thermal.leak_air_flow", self.leak_air_flow, 0.0, 1000.0, low_inclusive=True, unit="kg/s")
-        check_range("thermal.ambient_humidity", self.ambient_humidity, 0.0, 0.3, low_inclusive=True,
+        check_range("shell.loss_factor", self.loss_factor, 0.0, 1000.0, low_inclusive=True)
+        check_range("gas.leak_air_flow", self.leak_air_flow, 0.0, 1000.0, low_inclusive=True, unit="kg/s")
+        check_range("shell.ambient_humidity", self.ambient_humidity, 0.0, 0.3, low_inclusive=True,
                     high_inclusive=True, unit="kg/kg dry air")
-        check_range("thermal.scale_thickness", self.scale_thickness, 0.0, 0.5, low_inclusive=True, unit="m")
-        check_range("thermal.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
+        check_range("shell.scale_thickness", self.scale_thickness, 0.0, 0.5, low_inclusive=True, unit="m")
+        check_range("shell.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
+        check_range("thermal.design_load_smoothing", self.design_load_smoothing, 0.0, 0.1, low_inclusive=True,
+                    high_inclusive=True)
         if self.mode == "ajayi2011" and self.gas_inlet_humidity <= 0:
-            raise DryerError("thermal.gas_inlet_humidity = 0 with mode='ajayi2011': Ajayi's h_m divides by the gas "
+            raise DryerError("gas.inlet_humidity = 0 with thermal.mode='ajayi2011': Ajayi's h_m divides by the gas "
                              "vapour pressure (Eq. 6.47); use mode='physical' for dry gas")
         return self
 
 
 def _smooth_min(a, b, eps):
+    """min(a, b), smoothed over ``eps`` (exact for eps = 0)."""
+    if np.all(eps == 0):
+        return np.minimum(a, b)
     return 0.5 * (a + b - np.sqrt((a - b) ** 2 + eps**2))
 
 
 class ThermalDryer:
-    """Coupled transport + heat + mass model of a multi-section flighted/unflighted dryer.
+    """Heat and mass transfer on the nodes of a dryer's transport network.
 
     Parameters
     ----------
-    sections : list of dict (``name``, ``kind``, ``length`` m, ``n_cells`` for flighted)
-    geometries : dict section -> geometry (``design_load_area``, ``loading_factor``, ``cascade``)
-    feed_rate : wet solids, kg/s. feed_moisture : kg/kg wet (≤ 0.19, the regressions' range).
-    rpm : rev/min. slope : deg. radius : drum radius m. kiln_velocity : u_s m/s.
-    dispersion : m²/s. settings : :class:`ThermalSettings`.
+    model : TransportModel
+        Built by :func:`rotarydryer.transport.sections.build_sections` (any sequence of
+        flighted and unflighted sections; closed inlet). Its nodes carry the solids states,
+        its edge families the flows; the families of flighted sections re-evaluate their
+        coefficients and design loads at the computed moisture through their section law.
+    material : Material
+        Repose angle, bulk density, heat capacity, particle density and size, drying kinetics,
+        and the moisture range where they hold (:mod:`rotarydryer.properties.materials`).
+    feed_rate : wet solids, kg/s. feed_moisture : kg/kg wet (inside the material's range).
+    rpm : rev/min. radius : drum radius, m.
+    sections : dict section name -> :class:`SectionThermal` (missing: defaults).
+    settings : :class:`ThermalSettings`.
     """
 
-    def __init__(self, *, sections, geometries, feed_rate, feed_moisture, rpm, slope, radius, kiln_velocity,
-                 dispersion, settings: ThermalSettings | None = None, design_load_factor=1.24):
+    def __init__(self, model, *, material, feed_rate, feed_moisture, rpm, radius, sections=None,
+                 settings: ThermalSettings | None = None):
         self.settings = s = (settings or ThermalSettings()).validate()
+        self.model = model
+        self.material = material
         self.feed_rate, self.feed_moisture, self.rpm = feed_rate, feed_moisture, rpm
         self._check_operating_inputs()
-        self.slope = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
         self.radius = float(check_range("drum.radius", radius, 0.0, 20.0, unit="m"))
-        self.kiln_velocity = float(check_range("transport.kiln_velocity", kiln_velocity, 0.0, 10.0, unit="m/s"))
-        self.dispersion = float(check_range("transport.dispersion", dispersion, 0.0, 1.0, low_inclusive=True,
-                                            unit="m^2/s"))
-        self.geometries = geometries
-        self.sections = [dict(x) for x in sections]
+        self.section_thermal = {k: (v if isinstance(v, SectionThermal) else SectionThermal(**v))
+                                for k, v in (sections or {}).items()}
         self._check_gas_can_dry()
         if s.kinetics is None:
-            s.kinetics = MATERIAL_KINETICS["zinc_concentrate_ajayi2011_thesis" if s.mode == "ajayi2011"
-                                           else "zinc_concentrate_ajayi2011"]
+            kin = material.kinetics
+            if s.mode == "ajayi2011":
+                kin = dataclasses.replace(kin, basis="ajayi2011", saturation_method="antoine_ajayi2011")
+            s.kinetics = kin
+        if s.cp_solids is None:
+            s.cp_solids = float(material.heat_capacity)
+        if s.particle_density is None:
+            s.particle_density = float(material.particle_density)
         self._layout()
 
     def _check_operating_inputs(self):
         """Check (and convert) the inputs a study may change: feed rate, feed moisture, speed."""
         self.feed_rate = float(check_range("operating.feed_rate", self.feed_rate, 0.0, 1000.0, unit="kg/s"))
-        fm = float(check_range("solids.feed_moisture", self.feed_moisture, 0.0, 1.0, low_inclusive=True,
+        fm = float(check_range("operating.feed_moisture", self.feed_moisture, 0.0, 1.0, low_inclusive=True,
                                unit="kg/kg wet"))
-        if fm > TRANSPORT_MOISTURE_RANGE[1]:
+        lo, hi = self.material.wet_range()
+        if fm > hi:
             raise DryerError(
-                f"feed too wet: solids.feed_moisture = {fm:g} kg/kg wet exceeds the model's range "
-                f"(<= {TRANSPORT_MOISTURE_RANGE[1]}): the repose-angle and bulk-density regressions (Ajayi Eq. 3.2, "
-                f"3.4) and the design-load polynomials are not valid above it", reason="feed_too_wet")
+                f"feed too wet: operating.feed_moisture = {fm:g} kg/kg wet exceeds the range of material "
+                f"'{self.material.name}' (<= {hi:.4g} kg/kg wet): its repose-angle and bulk-density laws and the "
+                f"design-load model are not valid above it", reason="feed_too_wet")
         self.feed_moisture = fm
         self.rpm = float(check_range("operating.rpm", self.rpm, 0.0, 60.0, unit="rev/min"))
 
@@ -230,7 +258,7 @@ class ThermalDryer:
         y = s.gas_inlet_humidity / (1.0 - s.gas_inlet_humidity)
         if s.gas_inlet_temperature <= s.solids_inlet_temperature:
             raise DryerError(
-                f"gas too cold to dry: thermal.gas_inlet_temperature = {s.gas_inlet_temperature:g} degC is not above "
+                f"gas too cold to dry: gas.inlet_temperature = {s.gas_inlet_temperature:g} degC is not above "
                 f"the solids inlet temperature {s.solids_inlet_temperature:g} degC, so the gas cannot supply the "
                 f"latent heat", reason="gas_too_cold")
         rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3)))
@@ -239,83 +267,51 @@ class ThermalDryer:
                              f"{s.gas_inlet_temperature:g} degC)", reason="gas_too_cold")
 
     def _layout(self):
+        """Nodes, families and gas stages from the transport model (no layout of its own)."""
         s = self.settings
-        u, Dax = self.kiln_velocity, self.dispersion
-        kind, sec, pos, seglen = [], [], [], []
-        gas_tank, gas_len, gas_dp, gas_theta, gas_sec, gas_pos = [], [], [], [], [], []
-        lin_src, lin_dst, lin_rate = [], [], []
-        self.flighted = []
-        self.beds = []
-        x0 = 0.0
-        entries = []
-        for k, sd in enumerate(self.sections):
-            L = float(sd["length"])
-            name = sd["name"]
-            theta = float(s.area_factors.get(name, 1.0))
-            dp = float(s.particle_diameters.get(name, 0.01))
-            if sd["kind"] == "unflighted":
-                n = int(s.unflighted_slices.get(name, max(4, int(math.ceil(L / 0.3)))))
-                dz = L / n
-                idx = np.arange(len(kind), len(kind) + n)
-                for j in range(n):
-                    kind.append(0), sec.append(name), pos.append(x0 + (j + 0.5) * dz), seglen.append(dz)
-                    gas_tank.append(idx[j]), gas_len.append(dz), gas_dp.append(dp), gas_theta.append(theta)
-                    gas_sec.append(name), gas_pos.append(x0 + (j + 0.5) * dz)
-                pe = u * dz / Dax if Dax > 0 else math.inf
-                if pe <= 2.0:
-                    fw, bw = Dax / dz**2 + u / (2 * dz), Dax / dz**2 - u / (2 * dz)
-                else:
-                    fw, bw = Dax / dz**2 + u / dz, Dax / dz**2
-                lin_src += list(idx[:-1]); lin_dst += list(idx[1:]); lin_rate += [fw] * (n - 1)
-                if bw > 0:
-                    lin_src += list(idx[1:]); lin_dst += list(idx[:-1]); lin_rate += [bw] * (n - 1)
-                self.beds.append(dict(name=name, idx=idx, dz=dz, out_rate=u / dz, dp=dp, theta=theta))
-                entries.append(idx[0])
+        net = self.model.network
+        lab = net.labels
+        phase = np.asarray(lab["phase"])
+        self.n_tanks = net.n
+        self.kind = np.select([phase == "bed", phase == "passive"], [0, 1], 2)
+        self.tank_section = np.asarray(lab["section"])
+        self.position = np.asarray(lab["position"], dtype=float)
+        feed_nodes = np.flatnonzero(net.feed > 0)
+        if feed_nodes.size != 1 or any(f.name == "inlet_dispersion" for f in net.families):
+            raise DryerError("the heat-and-mass model needs a closed solids inlet (one feed node)")
+        self.entry = int(feed_nodes[0])
+        self.families = net.families
+        self.laws = []
+        for f in self.families:
+            law = getattr(f, "law", None)
+            if law is not None and all(law is not x for x in self.laws):
+                self.laws.append(law)
+        self.length = float(sum(sec["length"] for sec in self.model.sections))
+        # gas stages: one per bed finite volume and per flighted cell (coupled to its curtain), in axial order
+        gas_tank = np.flatnonzero(self.kind != 1)
+        gas_tank = gas_tank[np.argsort(self.position[gas_tank], kind="stable")]
+        self.gas_tank = gas_tank
+        self.n_gas = gas_tank.size
+        seglen = np.empty(self.n_tanks)
+        for sec in self.model.layout:
+            if sec["kind"] == "unflighted":
+                seglen[sec["nodes"]] = sec["dz"]
             else:
-                N = int(sd["n_cells"])
-                dl = L / N
-                P = np.empty(N, dtype=int)
-                A = np.empty(N, dtype=int)
-                for i in range(N):
-                    P[i] = len(kind); kind.append(1); sec.append(name); pos.append(x0 + (i + 0.5) * dl); seglen.append(dl)
-                    A[i] = len(kind); kind.append(2); sec.append(name); pos.append(x0 + (i + 0.5) * dl); seglen.append(dl)
-                    gas_tank.append(A[i]), gas_len.append(dl), gas_dp.append(dp), gas_theta.append(theta)
-                    gas_sec.append(name), gas_pos.append(x0 + (i + 0.5) * dl)
-                xfix = mmg_moisture_profile(x0 + (np.arange(N) + 0.5) * dl)
-                self.flighted.append(dict(name=name, P=P, A=A, dl=dl, geom=self.geometries[name], x_fixed=xfix))
-                entries.append(P[0])
-            x0 += L
-        self.length = x0
-        self.n_tanks = len(kind)
-        self.kind = np.array(kind)
-        self.tank_section = np.array(sec)
-        self.position = np.array(pos)
-        self.seglen = np.array(seglen)
-        # routing to the next section's entry (-1 = outlet)
-        nexts = entries[1:] + [-1]
-        k_f = 0
-        k_b = 0
-        for k, sd in enumerate(self.sections):
-            if sd["kind"] == "unflighted":
-                self.beds[k_b]["next"] = nexts[k]; k_b += 1
-            else:
-                self.flighted[k_f]["next"] = nexts[k]; k_f += 1
-        self.lin_src = np.array(lin_src, dtype=int)
-        self.lin_dst = np.array(lin_dst, dtype=int)
-        self.lin_rate = np.array(lin_rate, dtype=float)
-        self.entry = entries[0]
-        self.gas_tank = np.array(gas_tank, dtype=int)
-        self.gas_len = np.array(gas_len)
-        self.gas_dp = np.array(gas_dp)
-        self.gas_theta = np.array(gas_theta)
-        self.gas_section = np.array(gas_sec)
-        self.gas_position = np.array(gas_pos)
-        self.n_gas = len(gas_tank)
-        self.is_bed_stage = self.kind[self.gas_tank] == 0
+                seglen[sec["P"]] = sec["dl"]
+                seglen[sec["A"]] = sec["dl"]
+        self.seglen = seglen
+        self.gas_len = seglen[gas_tank]
+        self.gas_section = self.tank_section[gas_tank]
+        self.gas_position = self.position[gas_tank]
+        st = [self.section_thermal.get(name, SectionThermal()) for name in self.gas_section]
+        self.gas_theta = np.array([x.area_factor for x in st], dtype=float)
+        self.gas_dp = np.array([x.particle_diameter if x.particle_diameter is not None
+                                else self.material.particle_diameter for x in st], dtype=float)
+        self.shell_T = np.array([x.shell_temperature if x.shell_temperature is not None else 100.0 for x in st])
+        self.is_bed_stage = self.kind[gas_tank] == 0
         # gas holdup (kg dry gas) of each stage: freeboard at 250 degC
-        rho = float(ha.density(250.0, 0.05, self.settings.pressure)) / 1.05
+        rho = float(ha.density(250.0, 0.05, s.pressure)) / 1.05
         self.gas_holdup = rho * math.pi * self.radius**2 * self.gas_len
-        self.shell_T = np.array([s.shell_temperatures.get(n, 100.0) for n in self.gas_section])
         co = s.gas_direction == "co-current"
         self.gas_order = np.arange(self.n_gas) if co else np.arange(self.n_gas)[::-1]
         up = np.empty(self.n_gas, dtype=int)
@@ -329,6 +325,7 @@ class ThermalDryer:
         self._groups = None
         self._shell_ua = None
         self._inlet_h = None
+        self._clipped = False
 
     # ------------------------------------------------------------------ state helpers
     def split(self, z):
@@ -380,44 +377,58 @@ class ThermalDryer:
         return self._inlet_h[1]
 
     def flows(self, S, W, T):
-        """Wet-solids edge flows: (src, dst, flow kg/s) arrays incl. the outlet edge (dst = -1)."""
+        """Wet-solids edge flows: (src, dst, flow kg/s) arrays incl. the outlet edges (dst = -1).
+
+        The network's families with their flow rules; a family of a flighted section takes its
+        coefficient and design load from the section law at the passive moisture (computed, or
+        the assumed transport profile when ``moisture_coupling`` is off)."""
         s = self.settings
         m = S + W
-        src = [self.lin_src]
-        dst = [self.lin_dst]
-        fl = [self.lin_rate * m[self.lin_src]]
-        for b in self.beds:
-            i = b["idx"][-1]
-            src.append(np.array([i])); dst.append(np.array([b["next"]])); fl.append(np.array([b["out_rate"] * m[i]]))
-        sin_t = math.sin(math.radians(self.slope))
+        lo, hi = self.material.wet_range()
         self._clipped = False
-        for f in self.flighted:
-            P, A, dl, geom = f["P"], f["A"], f["dl"], f["geom"]
+        coef = {}
+        for law in self.laws:
+            P = law.P
             if s.moisture_coupling:
                 xp = W[P] / np.maximum(m[P], 1e-12)
-                lo, hi = TRANSPORT_MOISTURE_RANGE
                 if np.any(xp < lo) or np.any(xp > hi):
                     self._clipped = True
                 xp = np.clip(xp, lo, hi)
             else:
-                xp = f["x_fixed"]
-            phi = mmg_repose_angle(xp)
-            rho = mmg_bulk_density(xp)
-            des = rho * dl * np.asarray(geom.design_load_area(phi), dtype=float) * (1.0 - s.fouling)
-            mp, ma = m[P], m[A]
-            load = np.clip(mp / des, 1e-6, None)
-            lf = np.clip(np.asarray(geom.loading_factor(load, phi), dtype=float), 1e-6, 1.0)
-            c = geom.cascade(phi, lf, rpm=self.rpm, slope=self.slope)
-            k2 = 1.0 / np.asarray(c.passive_time, float)
-            k3 = 1.0 / np.asarray(c.mean_fall_time, float)
-            CF = np.clip(np.asarray(c.mean_fall_height, float) * sin_t / dl, 0.0, 1.0)
-            nxt = np.r_[P[1:], f["next"]]
-            dis = k2 * _smooth_min(mp, des, 1e-3 * des)
-            src += [P, A, A, P]
-            dst += [A, nxt, P, nxt]
-            fl += [dis, CF * k3 * ma, (1 - CF) * k3 * ma, self.kiln_velocity / dl * mp]
-            f["_des"] = des
+                xp = law.assumed_moisture
+            c = law.evaluate(m[P], xp, rpm=self.rpm, fouling=s.fouling)
+            coef[id(law)] = c
+        src, dst, fl = [], [], []
+        eps = s.design_load_smoothing
+        for f in self.families:
+            law = getattr(f, "law", None)
+            ms = m[f.src]
+            if law is None:
+                k, cap = f.rate, f.cap
+            else:
+                c = coef[id(law)]
+                k, cap = c[f.name], (c["design_load"] if f.kind != "linear" else None)
+            if f.kind == "linear":
+                b = ms
+            elif f.kind == "capped":
+                b = _smooth_min(ms, cap, eps * cap)
+            else:
+                b = ms - _smooth_min(ms, cap, eps * cap)
+            src.append(f.src)
+            dst.append(f.dst)
+            fl.append(k * b)
         return np.concatenate(src), np.concatenate(dst), np.concatenate(fl)
+
+    def design_loads(self, z):
+        """Design load (kg) of every passive node at state ``z`` (NaN elsewhere)."""
+        S, W, T, _, _ = self.split(z)
+        m = S + W
+        out = np.full(self.n_tanks, np.nan)
+        for law in self.laws:
+            xp = (np.clip(W[law.P] / np.maximum(m[law.P], 1e-12), *self.material.wet_range())
+                  if self.settings.moisture_coupling else law.assumed_moisture)
+            out[law.P] = law.evaluate(m[law.P], xp, rpm=self.rpm, fouling=self.settings.fouling)["design_load"]
+        return out
 
     def _transfer(self, S, W, T, Tg, Y):
         s = self.settings
@@ -428,7 +439,7 @@ class ThermalDryer:
         bed = self.is_bed_stage
         if np.any(bed):
             xw = np.clip(W[tk[bed]] / np.maximum(m[tk[bed]], 1e-12), 0.0, 0.3)
-            area[bed] = bal.active_layer_area(m[tk[bed]], mmg_bulk_density(xw), self.gas_len[bed], self.radius,
+            area[bed] = bal.active_layer_area(m[tk[bed]], self.material.bulk_density(xw), self.gas_len[bed], self.radius,
                                               self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
                                               s.particle_density)
         act = ~bed
@@ -551,41 +562,44 @@ class ThermalDryer:
 
     # ------------------------------------------------------------------ jacobian
     def sparsity(self):
-        """Jacobian sparsity pattern (csr, n x n) from the network structure."""
+        """Jacobian sparsity pattern (csr, n x n) from the network's edge families and gas stages."""
         if self._pattern is not None:
             return self._pattern
         nt, ng = self.n_tanks, self.n_gas
-        tv = lambda i: [i, nt + i, 2 * nt + i]  # noqa: E731
-        gv = lambda k: [3 * nt + k, 3 * nt + ng + k]  # noqa: E731
+        a_list, b_list = [np.arange(nt)], [np.arange(nt)]
+        for f in self.families:
+            inside = f.dst >= 0
+            a_list += [f.src[inside], f.dst[inside]]
+            b_list += [f.dst[inside], f.src[inside]]
+            law = getattr(f, "law", None)
+            if law is not None:      # the coefficient depends on the control (passive) node's mass and moisture
+                ctrl = np.broadcast_to(law.P, f.src.shape)
+                for node in (f.src, f.dst):
+                    ok = node >= 0
+                    a_list += [node[ok], ctrl[ok]]
+                    b_list += [ctrl[ok], node[ok]]
+        ta, tb = np.concatenate(a_list), np.concatenate(b_list)
         rows, cols = [], []
-
-        def link(a_vars, b_vars):
-            for r in a_vars:
-                for c in b_vars:
-                    rows.append(r), cols.append(c)
-        for i in range(nt):
-            link(tv(i), tv(i))
-        z0 = np.ones(self.n)
-        S, W, T, _, _ = self.split(z0)
-        src, dst, _ = self.flows(S, W, T)
-        edges = set(zip(src.tolist(), dst.tolist()))
-        for f in self.flighted:       # flows out of A depend on P of the same cell (loading, moisture)
-            nxt = np.r_[f["P"][1:], f["next"]]
-            for p, a, nx in zip(f["P"], f["A"], nxt):
-                edges.add((p, a)); edges.add((a, p))
-                if nx >= 0:
-                    edges.add((p, nx))
-        for a, b in edges:
-            if b >= 0:
-                link(tv(b), tv(a))
-                link(tv(a), tv(b))
-        for k in range(ng):
-            link(gv(k), gv(k))
-            link(gv(k), tv(self.gas_tank[k]))
-            link(tv(self.gas_tank[k]), gv(k))
-            if self.gas_up[k] >= 0:
-                link(gv(k), gv(self.gas_up[k]))
-        pat = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(self.n, self.n))
+        for i in range(3):            # S, W, T of a node depend on S, W, T of the linked node
+            for j in range(3):
+                rows.append(i * nt + ta)
+                cols.append(j * nt + tb)
+        k = np.arange(ng)
+        tk = self.gas_tank
+        gvars = [3 * nt + k, 3 * nt + ng + k]
+        tvars = [tk, nt + tk, 2 * nt + tk]
+        for g in gvars:
+            for h in gvars:
+                rows.append(g), cols.append(h)
+            for t in tvars:
+                rows += [g, t]
+                cols += [t, g]
+        has_up = self.gas_up >= 0
+        for g in gvars:
+            for h in (3 * nt + self.gas_up[has_up], 3 * nt + ng + self.gas_up[has_up]):
+                rows.append(g[has_up]), cols.append(h)
+        r, c = np.concatenate(rows), np.concatenate(cols)
+        pat = sp.csr_matrix((np.ones(r.size), (r, c)), shape=(self.n, self.n))
         pat.data[:] = 1.0
         self._pattern = pat
         self._groups = column_groups(pat)
@@ -604,40 +618,16 @@ class ThermalDryer:
 
     # ------------------------------------------------------------------ initial guess
     def initial_state(self):
-        """Transport-only steady holdups (Eq. 3.1 moisture), linear solids/gas temperature guesses."""
+        """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
         s = self.settings
-        F = self.feed_rate
-        m = np.zeros(self.n_tanks)
-        for b in self.beds:
-            m[b["idx"]] = F / self.kiln_velocity * b["dz"]
-        # flighted: every cell passes F, solve k4 mp + CF k2 min(mp,des) = F for mp (bisection, all cells of a
-        # section at once)
-        sin_t = math.sin(math.radians(self.slope))
-        for f in self.flighted:
-            xp = f["x_fixed"]
-            geom, dl = f["geom"], f["dl"]
-            phi = mmg_repose_angle(xp)
-            des = mmg_bulk_density(xp) * dl * np.asarray(geom.design_load_area(phi)) * (1 - s.fouling)
-            k4 = self.kiln_velocity / dl
-
-            def g(mp):
-                lf = np.clip(np.asarray(geom.loading_factor(np.maximum(mp / des, 1e-6), phi), float), 1e-6, 1.0)
-                c = geom.cascade(phi, lf, rpm=self.rpm, slope=self.slope)
-                k2 = 1 / np.asarray(c.passive_time, float)
-                cf = np.asarray(c.mean_fall_height, float) * sin_t / dl
-                return k4 * mp + cf * k2 * np.minimum(mp, des) - F, k2, np.asarray(c.mean_fall_time, float)
-            lo, hi = np.zeros(len(des)), np.full(len(des), F / k4)
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                up = g(mid)[0] > 0
-                hi = np.where(up, mid, hi)
-                lo = np.where(up, lo, mid)
-            mp = 0.5 * (lo + hi)
-            _, k2, tf = g(mp)
-            m[f["P"]] = mp
-            m[f["A"]] = k2 * np.minimum(mp, des) * tf
-        x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04, 0.02)])
-        S = m * (1 - x)
+        try:
+            m = self.model.network.steady_state()
+        except ValueError as exc:
+            raise DryerError(f"no transport steady state for the start: {exc}", reason="no_steady_state") from exc
+        m = m * (self.feed_rate / max(self.model.feed_rate, 1e-300))
+        x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04,
+                                                                               0.5 * self.feed_moisture)])
+        S = np.maximum(m * (1 - x), 1e-6 * self.feed_rate)
         W = m * x
         T = np.interp(self.position, [0, 0.3 * self.length, self.length],
                       [s.solids_inlet_temperature, 40.0, 45.0])
@@ -707,7 +697,8 @@ class ThermalDryer:
     def _admissible(self, z):
         S, W, T, Tg, Y = self.split(z)
         s = self.settings
-        return (np.all(S > 0) and np.all(W > -1e-9 * self.feed_rate) and np.all(T > -5) and np.all(T < 150)
+        return (np.all(S > 0) and np.all(W > -1e-9 * self.feed_rate) and np.all(T > -5)
+                and np.all(T < max(150.0, s.gas_inlet_temperature + 5.0))
                 and np.all(Tg > s.ambient_temperature - 5) and np.all(Tg < 650) and np.all(Y > -1e-6)
                 and np.all(Y < 0.3))
 
@@ -804,6 +795,26 @@ class ThermalSteadyState:
     def total_holdup(self):
         return float(np.sum(self.holdup))
 
+    def tracer_system(self):
+        """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
+        so RTD moments agree with the holdups of this state."""
+        from ..transport.network import TracerSystem
+
+        d = self.terms
+        m = d["S"] + d["W"]
+        src, dst, F = d["src"], d["dst"], d["F"]
+        n = m.size
+        q = np.where(m[src] > 0, F / np.maximum(m[src], 1e-300), 0.0)
+        inside = dst >= 0
+        rows = np.concatenate([src, dst[inside]])
+        cols = np.concatenate([src, src[inside]])
+        vals = np.concatenate([-q, q[inside]])
+        K = sp.coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
+        outlet = np.bincount(src[dst == -1], q[dst == -1], n)
+        inlet = np.zeros(n)
+        inlet[self.dryer.entry] = 1.0
+        return TracerSystem(K, outlet, inlet)
+
     def fuel_rate(self, fuel_heat_loss_fraction=0.0):
         """Fuel-oil rate (kg/s) that the Ajayi App. A burner needs to heat this gas flow to the inlet
         temperature (combustion/dilution air split of Table A1, air at ambient, humidity of the gas).
@@ -865,16 +876,13 @@ class DynamicResult:
     def __init__(self, dryer, t, y, seconds, nfev):
         self.dryer, self.time, self.states, self.seconds, self.nfev = dryer, t, y, seconds, nfev
         pm, pt, tg = [], [], []
-        last = [b for b in dryer.beds if b["next"] == -1]
+        s = dryer.settings
         for j in range(y.shape[1]):
-            S, W, T, Tg, Y = dryer.split(y[:, j])
-            if last:
-                i = last[0]["idx"][-1]
-                pm.append(W[i] / (S[i] + W[i])); pt.append(T[i])
-            else:
-                i = dryer.flighted[-1]["P"][-1]
-                pm.append(W[i] / (S[i] + W[i])); pt.append(T[i])
-            tg.append(Tg[dryer.gas_outlet_stage])
+            d = dryer.terms(y[:, j])
+            pS, pW, pH = d["product_S"], d["product_W"], d["product_H"]
+            pm.append(pW / (pS + pW))
+            pt.append(pH / (pS * s.cp_solids + pW * s.cp_water))
+            tg.append(d["Tg"][dryer.gas_outlet_stage])
         self.product_moisture = np.array(pm)
         self.product_temperature_c = np.array(pt)
         self.gas_outlet_temperature_c = np.array(tg)
@@ -882,25 +890,12 @@ class DynamicResult:
 
 def build_thermal_dryer(case, settings: ThermalSettings | None = None, feed_moisture=None,
                         **overrides) -> ThermalDryer:
-    """Thermal dryer of a validated ``AjayiCase``: transport from the case, thermal settings from
-    ``settings`` or the case's ``[thermal]`` section (:func:`settings_from_case`), per-test inputs
-    (feed, moisture, speed, u_s, ℘, gas inlet temperature) from the selected test; ``feed_moisture``
-    (kg/kg wet) overrides the test's inlet moisture, ``overrides`` set ThermalSettings fields."""
-    from ..transport.ajayi import case_geometries, case_test_inputs
+    """Thermal dryer of a validated case (:class:`rotarydryer.Simulation` does this for every case;
+    kept for the studies and tests that call it directly). ``feed_moisture`` (kg/kg wet) overrides
+    the case's, ``overrides`` set ThermalSettings fields."""
+    from ..simulation import Simulation
 
-    inp = case_test_inputs(case)
-    test, F, rpm, u, D = (inp[k] for k in ("test", "feed_rate", "rpm", "kiln_velocity", "dispersion"))
-    st = settings if settings is not None else settings_from_case(case)
-    unknown = sorted(set(overrides) - {f.name for f in dataclasses.fields(ThermalSettings)})
-    if unknown:
-        raise ValueError(f"unknown ThermalSettings field(s) {', '.join(map(repr, unknown))}; valid: "
-                         f"{', '.join(f.name for f in dataclasses.fields(ThermalSettings))}")
-    st = dataclasses.replace(st, **overrides)  # a copy: the caller's settings stay as they were
-    geoms = case_geometries(case)
-    secs = [dict(name=x.name, kind=x.kind, length=x.length, n_cells=x.n_cells) for x in case.sections]
-    st.gas_direction = case.operating.gas_flow
-    return ThermalDryer(sections=secs, geometries=geoms, feed_rate=F, feed_moisture=test.moisture_inlet if feed_moisture is None else feed_moisture, rpm=rpm,
-                        slope=case.drum.slope, radius=case.drum.radius, kiln_velocity=u, dispersion=D, settings=st)
+    return Simulation(case).thermal_dryer(settings=settings, feed_moisture=feed_moisture, **overrides)
 
 
 def pi_operating_conditions(test_number):

@@ -26,7 +26,7 @@ from .._validation import check_choice, check_range
 from .dryer import ThermalDryer, ThermalSteadyState
 
 __all__ = ["relative_index", "INPUTS", "perturbed", "sensitivity_table", "fouling_study", "insulation_study",
-           "step_response", "fopdt_fit", "plot_profiles"]
+           "step_response", "fopdt_fit"]
 
 #: input name -> (attribute holder, attribute, relative change of Ajayi l.2364-2366)
 INPUTS = {
@@ -205,14 +205,3 @@ def step_response(dryer: ThermalDryer, steady: ThermalSteadyState, input_name: s
         except ValueError:
             out[key + "_fopdt"] = None
     return out
-
-
-def plot_profiles(steady: ThermalSteadyState):
-    """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along
-    the dryer (:func:`rotarydryer.report.plots.plot_thermal_profiles`)."""
-    from ..report.plots import plot_thermal_profiles
-
-    title = (f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
-             f"{steady.product_temperature_c:.1f} °C; gas out {steady.gas_outlet_temperature_c:.0f} °C")
-    return plot_thermal_profiles(steady.profiles(), title=title,
-                                 sections=[(sd["name"], sd["length"]) for sd in steady.dryer.sections])

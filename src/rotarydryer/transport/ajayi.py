@@ -47,9 +47,8 @@ from .._validation import check_range
 from ..geometry.lee2008_regressions import _poly_phi_f
 from ..geometry.unloading import CascadeSummary
 from ..properties.solids import SOLIDS
-from .models import NetworkBuilder, _CellCoefficients
-from .network import EdgeFamily, TracerInput
-from .results import TransportModel
+from .network import TracerInput
+from .sections import unflighted_cells_auto
 
 __all__ = ["AjayiRegressions", "mmg_moisture_profile", "unflighted_cells_auto", "build_ajayi2011",
            "ajayi2011"]
@@ -155,13 +154,6 @@ class AjayiRegressions:
                               discharge_start_angle=nan, initial_holdup_area=nan)
 
 
-def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
-    """Number of finite volumes so that the cell Peclet number u dz / D <= 1.9 (central scheme)."""
-    if dispersion <= 0:
-        return maximum
-    return int(min(max(math.ceil(velocity * length / (1.9 * dispersion)), minimum), maximum))
-
-
 def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispersion,
               geometries, moisture_scale=1.0, inlet="ajayi", unflighted_cells=None,
               tracer_input=None, gas_flow="co-current", name="ajayi2011"):
@@ -190,6 +182,8 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     gas_flow : str
         Recorded only: Ajayi's model has no gas drag on the solids.
     """
+    from .sections import SectionSpec, build_sections
+
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
     theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
@@ -197,115 +191,43 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     Dax = float(check_range("transport.dispersion", dispersion, 0.0, math.inf, low_inclusive=True, unit="m^2/s"))
     if inlet not in ("ajayi", "danckwerts"):
         raise ValueError(f"transport.unflighted_inlet = {inlet!r} is not one of 'ajayi', 'danckwerts'")
-    sin_t = math.sin(math.radians(theta))
-    b = NetworkBuilder()
-    built = []
+    specs = []
     x0 = 0.0
-    for k, s in enumerate(sections):
+    for s in sections:
         L = float(s["length"])
         if s["kind"] == "unflighted":
-            n = int(unflighted_cells or unflighted_cells_auto(L, u, Dax))
-            dz = L / n
-            pos = x0 + (np.arange(n) + 0.5) * dz
-            idx = b.add_nodes(s["name"], "bed", np.arange(n), pos, guess=F / u * dz)
-            built.append(dict(s, n=n, dz=dz, nodes=idx, entry=idx[0]))
+            specs.append(SectionSpec(name=s["name"], kind="unflighted", length=L, n_cells=unflighted_cells,
+                                     velocity=u, dispersion=Dax))
         else:
             N = int(s["n_cells"])
-            dl = L / N
-            pos = x0 + (np.arange(N) + 0.5) * dl
-            xw = mmg_moisture_profile(pos, moisture_scale)
-            phi = mmg_repose_angle(xw)
-            rho = mmg_bulk_density(xw)
-            geom = geometries[s["name"]]
-            des = rho * dl * np.asarray(geom.design_load_area(phi), dtype=float)
-            if np.any(~np.isfinite(des)) or np.any(des <= 0):
-                raise ValueError(f"section {s['name']}: non-positive design load from the geometry model")
-            c1 = geom.cascade(phi, np.ones(N), rpm=rpm, slope=theta)
-            P = np.empty(N, dtype=np.int64)
-            A = np.empty(N, dtype=np.int64)
-            for i in range(N):
-                P[i] = b.add_nodes(s["name"], "passive", i, pos[i], design_load=des[i], guess=0.8 * des[i])[0]
-                A[i] = b.add_nodes(s["name"], "active", i, pos[i],
-                                   guess=0.8 * des[i] * float(c1.mean_fall_time[i] / c1.passive_time[i]))[0]
-            built.append(dict(s, n=N, dl=dl, P=P, A=A, entry=P[0], phi=phi, rho=rho, des=des, geom=geom,
-                              moisture=xw))
+            pos = x0 + (np.arange(N) + 0.5) * L / N
+            specs.append(SectionSpec(name=s["name"], kind="flighted", length=L, n_cells=N,
+                                     geometry=geometries[s["name"]], kilning="velocity", kiln_velocity=u,
+                                     drag_reduction=1.0, backmix=0.0, loading="state",
+                                     moisture=mmg_moisture_profile(pos, moisture_scale)))
         x0 += L
-
-    first = built[0]
-    for k, s in enumerate(built):
-        nxt = built[k + 1]["entry"] if k + 1 < len(built) else -1
-        sec = s["name"]
-        if s["kind"] == "unflighted":
-            n, dz, idx = s["n"], s["dz"], s["nodes"]
-            if n > 1:
-                pe = u * dz / Dax if Dax > 0 else math.inf
-                if pe <= 2.0:
-                    fw, bw = Dax / dz**2 + u / (2 * dz), Dax / dz**2 - u / (2 * dz)
-                else:
-                    fw, bw = Dax / dz**2 + u / dz, Dax / dz**2
-                b.add(EdgeFamily("bed_forward", idx[:-1], idx[1:], "linear", rate=np.full(n - 1, fw), section=sec))
-                if bw > 0:
-                    b.add(EdgeFamily("bed_dispersion", idx[1:], idx[:-1], "linear", rate=np.full(n - 1, bw),
-                                     section=sec))
-            b.add(EdgeFamily("bed_outflow", idx[-1:], [nxt], "linear", rate=[u / dz], section=sec))
-        else:
-            N, dl, P, A = s["n"], s["dl"], s["P"], s["A"]
-            phi, des, geom = s["phi"], s["des"], s["geom"]
-            nxtP = np.r_[P[1:], nxt]
-
-            def fn(mp, phi=phi, des=des, geom=geom, dl=dl):
-                d = np.clip(mp / des, 1e-6, None)
-                f = np.asarray(geom.loading_factor(d, phi), dtype=float)
-                c = geom.cascade(phi, np.clip(f, 1e-6, 1.0), rpm=rpm, slope=theta)
-                CF = np.asarray(c.mean_fall_height, float) * sin_t / dl
-                k3 = 1.0 / np.asarray(c.mean_fall_time, float)
-                return dict(dis=1.0 / np.asarray(c.passive_time, float), fwd=CF * k3, ret=(1.0 - CF) * k3)
-
-            chk = fn(des * 1e-3)
-            chk1 = fn(des)
-            if np.any(chk["ret"] < 0) or np.any(chk1["ret"] < 0):
-                raise ValueError(
-                    f"section {sec}: n_cells = {N} makes the forward step maf_h sin(theta) longer than the cell "
-                    f"({dl:.3g} m); use fewer cells"
-                )
-            cc = _CellCoefficients(fn, P, des)
-            b.add(EdgeFamily("discharge", P, A, "capped", rate_fn=cc.rate_fn("dis"), ctrl=P, cap=des, section=sec))
-            b.add(EdgeFamily("forward", A, nxtP, "linear", rate_fn=cc.rate_fn("fwd"), ctrl=P, section=sec))
-            b.add(EdgeFamily("return", A, P, "linear", rate_fn=cc.rate_fn("ret"), ctrl=P, section=sec))
-            b.add(EdgeFamily("kiln", P, nxtP, "linear", rate=np.full(N, u / dl), section=sec))
-
-    inlet_vec = None
-    if first["kind"] == "unflighted" and inlet == "ajayi" and Dax > 0:
-        # Dirichlet m(0) = F/u: inflow F (1 + 2D/(u dz)) - (2D/dz^2) M_1 (open boundary)
-        dz = first["dz"]
-        beta = 2.0 * Dax / (u * dz)
-        b.feed[first["entry"]] = F * (1.0 + beta)
-        b.add(EdgeFamily("inlet_dispersion", [first["entry"]], [-2], "linear", rate=[2.0 * Dax / dz**2],
-                         section=first["name"]))
-        inlet_vec = np.zeros(b.n)
-        inlet_vec[first["entry"]] = 1.0 + beta
-    else:
-        b.feed[first["entry"]] = F
-    net = b.build()
     if tracer_input is None:
         tracer_input = TracerInput.pulse(1.255e-4 * F * 60.0, 60.0)
-    fl = [s for s in built if s["kind"] == "flighted"]
-    info = {
-        "repose_angle_deg": np.concatenate([s["phi"] for s in fl]) if fl else np.zeros(0),
-        "bulk_density_kg_m3": np.concatenate([s["rho"] for s in fl]) if fl else np.zeros(0),
-        "moisture_kg_kg": np.concatenate([s["moisture"] for s in fl]) if fl else np.zeros(0),
-    }
-    model = TransportModel(
-        name=name, network=net,
-        sections=[dict(name=s["name"], kind=s["kind"], length=float(s["length"]), n_cells=int(s["n"])) for s in built],
-        feed_rate=F, design_load=np.array(b.design_load), cell_info=info, tracer_input=tracer_input,
-        parameters=dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=u, dispersion=Dax,
-                        moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow,
-                        unflighted_cells={s["name"]: s["n"] for s in built if s["kind"] == "unflighted"},
-                        geometry={k: repr(v) for k, v in geometries.items()}),
-    )
-    model.tracer_inlet = inlet_vec
+    params = dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=u, dispersion=Dax,
+                  moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow,
+                  geometry={k: repr(v) for k, v in geometries.items()})
+    model = build_sections(specs, material=_MMG_LAWS, feed_rate=F, rpm=rpm, slope=theta, inlet=inlet,
+                           tracer_input=tracer_input, name=name, parameters=params)
+    model.parameters["unflighted_cells"] = {s["name"]: s["n_cells"] for s in model.sections
+                                            if s["kind"] == "unflighted"}
+    ci = model.cell_info
+    model.cell_info = {k: ci[k] for k in ("repose_angle_deg", "bulk_density_kg_m3", "moisture_kg_kg")}
     return model
+
+
+class _MMGLaws:
+    """Zinc-concentrate repose angle and bulk density (Ajayi (2011) Eq. 3.2, 3.4), wet basis."""
+
+    repose_angle = staticmethod(lambda x: mmg_repose_angle(x))
+    bulk_density = staticmethod(lambda x: mmg_bulk_density(x))
+
+
+_MMG_LAWS = _MMGLaws()
 
 
 def case_test_inputs(case) -> dict:

@@ -189,6 +189,8 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
     tracer_input : TracerInput, optional
         Default injection for :meth:`SteadyState.rtd`.
     """
+    from .sections import SectionSpec, build_sections
+
     check_choice("transport.loading", loading, ("fixed", "state"))
     check_choice("transport.backmix_to", backmix_to, ("passive", "active"))
     check_choice("operating.gas_flow", gas_flow, GAS_FLOWS)
@@ -213,93 +215,22 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
         phi = lee2008_repose_profile(N)
     else:
         phi = np.broadcast_to(check_range("solids.repose_angle", repose_angle, 0.0, 90.0, unit="deg"), (N,)).copy()
-
-    dL = L / N
-    sin_t = math.sin(math.radians(theta))
-    des = rho * dL * np.asarray(geometry.design_load_area(phi), dtype=float)
-    if np.any(~np.isfinite(des)) or np.any(des <= 0):
-        raise ValueError(f"solids.repose_angle gives a non-positive design load ({des.min():.4g} kg)")
-
-    def coeffs(f):
-        c = _cascade(geometry, phi, f, rpm, theta, passive_time_branch)
-        CF = CFG * np.asarray(c.mean_fall_height) * sin_t / dL
-        return dict(tp=np.asarray(c.passive_time, float), ta=np.asarray(c.mean_fall_time, float),
-                    h=np.asarray(c.mean_fall_height, float), CF=CF, CR=1.0 - CF - CB)
-
-    c1 = coeffs(np.ones(N))
-    f_check = [1.0] if loading == "fixed" else [0.0, 0.25, 0.5, 0.75, 1.0]
-    worst = min(float(np.min(coeffs(np.full(N, f))["CR"])) for f in f_check)
-    if worst < 0:
-        # largest N with C_R >= 0 for these parameters (h_m per cell kept)
-        cf_per_n = CFG * float(np.max(c1["h"])) * sin_t / L
-        n_max = int(math.floor((1.0 - CB) / cf_per_n)) if cf_per_n > 0 else 0
-        raise ValueError(
-            f"transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B negative "
-            f"(min {worst:.4g}): the forward step C_F^G h_m sin(theta) exceeds the cell length minus backmix; "
-            f"with transport.backmix = {CB:g} and transport.drag_reduction = {CFG:g} the limit is "
-            f"transport.n_cells <= {n_max} (Lee (2008) Ch. 7: N <= 35 for Invicta)"
-        )
-    if np.any(c1["tp"] <= 0) or np.any(c1["ta"] <= 0):
-        raise ValueError("geometry gives non-positive passive or fall time; check solids.repose_angle")
-
-    b = NetworkBuilder()
-    pos = (np.arange(N) + 0.5) * dL
-    P = np.empty(N, dtype=np.int64)
-    A = np.empty(N, dtype=np.int64)
-    for i in range(N):  # interleave P_i, A_i for a banded matrix
-        # start just above the design load: the over-loaded active set (well conditioned)
-        P[i] = b.add_nodes(section, "passive", i, pos[i], design_load=des[i], guess=des[i] * (1 + 1e-6))[0]
-        A[i] = b.add_nodes(section, "active", i, pos[i], guess=des[i] * c1["ta"][i] / c1["tp"][i])[0]
-    b.feed[P[0]] = F
-    nxtP = np.r_[P[1:], -1]
-    prevP = np.r_[P[0], P[:-1]]
-    prevA = np.r_[P[0], A[:-1]]  # first cell's backmix stays in its own passive phase
-
-    if loading == "fixed":
-        rates = dict(dis=1.0 / c1["tp"], fwd=c1["CF"] / c1["ta"], ret=c1["CR"] / c1["ta"],
-                     bmx=CB / c1["ta"])
-        mk = lambda key: dict(rate=rates[key])  # noqa: E731
-    else:
-        def fn(mp):
-            d = np.maximum(mp, 0.0) / des
-            f = np.asarray(geometry.loading_factor(d, phi), dtype=float)
-            c = coeffs(f)
-            return dict(dis=1.0 / c["tp"], fwd=c["CF"] / c["ta"], ret=c["CR"] / c["ta"], bmx=CB / c["ta"])
-
-        cc = _CellCoefficients(fn, P, des)
-        mk = lambda key: dict(rate_fn=cc.rate_fn(key), ctrl=P)  # noqa: E731
-
-    b.add(EdgeFamily("discharge", P, A, "capped", cap=des, section=section, **mk("dis")))
-    if math.isfinite(kiln_time):
-        b.add(EdgeFamily("kiln", P, nxtP, "excess", rate=np.full(N, 1.0 / kiln_time), cap=des, section=section))
-    b.add(EdgeFamily("forward", A, nxtP, "linear", section=section, **mk("fwd")))
-    b.add(EdgeFamily("return", A, P, "linear", section=section, **mk("ret")))
-    if CB > 0:
-        dst = prevP if backmix_to == "passive" else prevA
-        b.add(EdgeFamily("backmix", A, dst, "linear", section=section, **mk("bmx")))
-    net = b.build()
-    if loading == "state":
-        # start from the steady state with f_load = 1 (piecewise linear, solved exactly)
-        fixed = Network(net.n, [EdgeFamily(f.name, f.src, f.dst, f.kind, rate=(
-            {"discharge": 1.0 / c1["tp"], "forward": c1["CF"] / c1["ta"], "return": c1["CR"] / c1["ta"],
-             "backmix": CB / c1["ta"]}[f.name] if f.rate_fn is not None else f.rate), cap=f.cap)
-            for f in net.families], net.feed, initial_guess=net.initial_guess)
-        try:
-            net.initial_guess = fixed.steady_state()
-        except ValueError:
-            pass
-    info = {"repose_angle_deg": phi, "passive_time_s": c1["tp"], "fall_time_s": c1["ta"],
-            "fall_height_m": c1["h"], "C_F": c1["CF"], "C_R": c1["CR"]}
+    spec = SectionSpec(name=section, kind="flighted", length=L, n_cells=N, geometry=geometry, kilning="excess",
+                       kiln_time=float(kiln_time), drag_reduction=CFG, backmix=CB, backmix_to=backmix_to,
+                       loading=loading, passive_time_branch=passive_time_branch, repose_angle=phi,
+                       bulk_density=rho)
     if tracer_input is None:
         tracer_input = TracerInput.pulse(3.683e-4 * 39.6 * F, 39.6)
     params = dict(n_cells=N, feed_rate=F, length=L, rpm=rpm, slope=theta, bulk_density=rho,
                   kiln_time=kiln_time, backmix=CB, drag_reduction=CFG, loading=loading,
                   backmix_to=backmix_to, gas_flow=gas_flow,
                   passive_time_branch=passive_time_branch, geometry=repr(geometry))
-    return TransportModel(name=name, network=net,
-                          sections=[dict(name=section, kind="flighted", length=L, n_cells=N)],
-                          feed_rate=F, design_load=np.array(b.design_load), cell_info=info,
-                          tracer_input=tracer_input, parameters=params)
+    model = build_sections([spec], material=None, feed_rate=F, rpm=rpm, slope=theta, tracer_input=tracer_input,
+                           name=name, parameters=params)
+    ci = model.cell_info
+    model.cell_info = {k: ci[k] for k in ("repose_angle_deg", "passive_time_s", "fall_time_s", "fall_height_m",
+                                          "C_F", "C_R")}
+    return model
 
 
 def sheehan2005_model2(*, geometry, **kwargs):

@@ -1,5 +1,6 @@
-"""Tests of rotarydryer.transport.variants: the stagnant-core variant of Lee's model and
-the RTD-spread diagnostics (docs/rtd_spread.md)."""
+"""Tests of the Invicta RTD-spread study (rotarydryer.studies.invicta_rtd_spread) and of the
+stagnant-core variant of Lee's model it uses (rotarydryer.transport.core_variants):
+the RTD-spread diagnostics and fits of docs/rtd_spread.md."""
 
 import math
 
@@ -8,20 +9,22 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from rotarydryer.transport import EdgeFamily, Network, TransportModel
-from rotarydryer.transport.variants import (
+from rotarydryer.studies.invicta_rtd_spread import (
     INVICTA_FITS,
-    add_stagnant_core,
-    core_layer_widths,
-    diffusive_core_equivalent_time,
     invicta_data,
     invicta_model,
     invicta_window_moments,
-    stagnant_core_moments,
     tail_decay_time,
     tail_power_exponent,
     tail_share,
     truncated_moments,
+)
+from rotarydryer.transport import EdgeFamily, Network, TransportModel
+from rotarydryer.transport.core_variants import (
+    add_stagnant_core,
+    core_layer_widths,
+    diffusive_core_equivalent_time,
+    stagnant_core_moments,
 )
 
 MEASURED_MEAN_MIN = 11.08  # Lee (2008) Table 7.3
@@ -207,11 +210,11 @@ def test_diffusive_core_variant_reproduces_the_measured_spread():
 
 @pytest.mark.slow
 def test_variant_fits_better_than_lee_with_the_same_weights():
-    from rotarydryer.transport.variants import LOG_FLOOR
+    from rotarydryer.studies.invicta_rtd_spread import LOG_FLOOR
 
     t, y = invicta_data()
     eps = LOG_FLOOR * y.max()
-    from rotarydryer.transport.variants import _response
+    from rotarydryer.studies.invicta_rtd_spread import _response
 
     def scores(key):
         f = INVICTA_FITS[key]
@@ -229,7 +232,7 @@ def test_variant_fits_better_than_lee_with_the_same_weights():
 @pytest.mark.slow
 def test_refit_reproduces_the_stored_first_order_core_fit():
     """fit_invicta from a perturbed start returns the stored INVICTA_FITS values (BDF2 solver)."""
-    from rotarydryer.transport.variants import fit_invicta
+    from rotarydryer.studies.invicta_rtd_spread import fit_invicta
 
     stored = INVICTA_FITS["first_order_core"]["values"]
     keys = ["kiln_time", "core_fraction", "core_time"]
@@ -243,7 +246,7 @@ def test_refit_reproduces_the_stored_first_order_core_fit():
 
 
 def test_fit_and_model_inputs_are_validated():
-    from rotarydryer.transport.variants import fit_invicta
+    from rotarydryer.studies.invicta_rtd_spread import fit_invicta
 
     with pytest.raises(ValueError, match="unknown parameter"):
         invicta_model({"kiln_speed": 1.0})
@@ -257,7 +260,7 @@ def test_fit_and_model_inputs_are_validated():
 
 def test_slowest_time_constant_and_builder():
     from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions
-    from rotarydryer.transport.variants import lee2008_stagnant_core, slowest_time_constant
+    from rotarydryer.transport.core_variants import lee2008_stagnant_core, slowest_time_constant
 
     tank = _single_tank(tau=300.0)
     assert slowest_time_constant(tank.steady_state()) == pytest.approx(300.0, rel=1e-9)
@@ -273,7 +276,7 @@ def test_slowest_time_constant_and_builder():
 @pytest.mark.slow
 def test_refit_reproduces_the_proposed_variant():
     """The proposed variant (N = 24, diffusive core, relative weights) from a perturbed start."""
-    from rotarydryer.transport.variants import fit_invicta
+    from rotarydryer.studies.invicta_rtd_spread import fit_invicta
 
     fit = INVICTA_FITS["diffusive_core"]
     keys = ["kiln_time", "core_fraction", "core_time"]
@@ -291,7 +294,7 @@ def test_refit_reproduces_the_proposed_variant():
 
 def test_fit_invicta_default_start_is_lee_table_7_2():
     """Without ``start`` the fit starts from Lee's Table 7.2 values (it raised KeyError before)."""
-    from rotarydryer.transport.variants import fit_invicta
+    from rotarydryer.studies.invicta_rtd_spread import fit_invicta
 
     res, _ = fit_invicta(["kiln_time"], fixed={"backmix": 0.68, "drag_reduction": 0.48}, solver="bdf2")
     assert res.starts[0].start["kiln_time"] == pytest.approx(8.69)  # Lee Table 7.2, N = 35

@@ -1,0 +1,430 @@
+r"""One builder for any sequence of dryer sections on the sparse transport network.
+
+A dryer is a list of sections in solids-flow order. Each section adds its nodes to one
+:class:`~rotarydryer.transport.network.Network` and joins the next section's entry node:
+
+* **flighted** sections: per cell a passive node P (flights, floor, kilning bed) and an
+  active node A (curtain). Flows (Lee (2008) Ch. 3; Ajayi (2011) Eq. 5.17-5.19):
+
+  - discharge P -> A at M_des-capped k_dis min(M_P, M_des) (Lee (2008) Eq. 3.2);
+  - active outflow split into forward C_F (A_i -> P_{i+1}), return C_R = 1 - C_F - C_B
+    (A_i -> P_i) and backmix C_B (A_i -> P_{i-1}, or A_{i-1} for Sheehan et al. (2005)
+    Model 2); C_F = C_F^G h_m sin(theta)/dL (Lee (2008) Eq. 3.7-3.8; C_F^G = 1 and C_B = 0
+    in Ajayi's model);
+  - kilning P_i -> P_{i+1}: on the excess over the design load, (M_P - M_des)/t_kiln (Lee
+    (2008) Eq. 3.9, ``kilning="excess"``), or on the whole passive mass at the kilning
+    velocity u_s/dL (Ajayi (2011) Eq. 5.19, ``kilning="velocity"``);
+  - Sheehan et al. (2005) Model 1: constant global coefficients (``kilning="model1"``).
+
+  The repose angle and bulk density of each cell come from the **material** at a moisture
+  (:class:`FlightedSectionLaw`); the transport-only network uses an assumed moisture
+  profile, the heat-and-mass model (:mod:`rotarydryer.thermal.dryer`) the computed one,
+  through the same law.
+* **unflighted** sections (rolling bed): axially dispersed plug flow by conservative
+  finite volumes (Ajayi (2011) Eq. 5.4-5.14; central differencing where the cell Peclet
+  number u dz/D <= 2, upwind otherwise). The first section may have Ajayi's Dirichlet inlet
+  (open boundary) or a closed (Danckwerts) inlet.
+
+Every family of a flighted section carries ``family.law`` (the section law) so that a model
+that moves the moisture re-evaluates its coefficient and design load; families without a law
+have constant coefficients.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._validation import check_choice, check_range
+from .network import EdgeFamily, Network, TracerInput
+from .results import TransportModel
+
+__all__ = ["FlightedSectionLaw", "SectionSpec", "build_sections", "unflighted_cells_auto"]
+
+
+def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
+    """Number of finite volumes so that the cell Peclet number u dz / D <= 1.9 (central scheme)."""
+    if dispersion <= 0:
+        return maximum
+    return int(min(max(math.ceil(velocity * length / (1.9 * dispersion)), minimum), maximum))
+
+
+@dataclass
+class SectionSpec:
+    """One section of a dryer (SI, degrees).
+
+    kind : "flighted" | "unflighted". n_cells : cells (flighted) or finite volumes
+    (unflighted; None = :func:`unflighted_cells_auto`). geometry : cell geometry model
+    (``cascade``, ``design_load_area``, ``loading_factor``). kilning : "excess" (Lee),
+    "velocity" (Ajayi) or "model1" (Sheehan Model 1, ``model1`` = dict of rates).
+    repose_angle / bulk_density : fixed per-cell values that replace the material laws
+    (transport-only studies). moisture : assumed wet-basis moisture per cell (transport-only
+    network). fouling : fraction of the design load lost to scale (Ajayi (2011) Eq. 5.21).
+    """
+
+    name: str
+    kind: str
+    length: float
+    n_cells: int | None = None
+    geometry: object = None
+    kilning: str = "excess"
+    kiln_time: float = math.inf
+    kiln_velocity: float = 0.0
+    drag_reduction: float = 1.0
+    backmix: float = 0.0
+    backmix_to: str = "passive"
+    loading: str = "state"
+    passive_time_branch: str | None = None
+    fouling: float = 0.0
+    repose_angle: object = None
+    bulk_density: object = None
+    moisture: object = None
+    model1: dict = field(default_factory=dict)
+    dispersion: float = 0.0
+    velocity: float = 0.0
+
+
+class FlightedSectionLaw:
+    """Per-cell coefficients of one flighted section at a given passive mass and moisture.
+
+    :meth:`evaluate` returns, for every flow family of the section, the coefficient k (1/s)
+    and the design load M_des (kg) at wet passive masses ``mp`` and wet-basis moistures ``x``
+    of the passive nodes. Repose angle and bulk density follow the material (or the fixed
+    values of the spec); M_des = rho_b dL A_des(phi) (1 - fouling) (Lee (2008) Eq. 4.20-4.21;
+    Ajayi (2011) Eq. 5.18, 5.21).
+    """
+
+    def __init__(self, spec: SectionSpec, material, rpm, slope, P, A, nxt, prev_p, prev_a):
+        self.spec, self.material = spec, material
+        self.rpm, self.slope = float(rpm), float(slope)
+        self.P, self.A, self.nxt = P, A, nxt
+        self.prev_p, self.prev_a = prev_p, prev_a
+        self.n = P.size
+        self.dl = spec.length / self.n
+        self.sin_t = math.sin(math.radians(self.slope))
+        self._fixed_phi = None if spec.repose_angle is None else np.broadcast_to(
+            np.asarray(spec.repose_angle, float), (self.n,)).copy()
+        self._fixed_rho = None if spec.bulk_density is None else np.broadcast_to(
+            np.asarray(spec.bulk_density, float), (self.n,)).copy()
+
+    @property
+    def ctrl(self):
+        return self.P
+
+    def properties(self, x):
+        """(repose angle deg, bulk density kg/m^3) per cell at wet-basis moisture ``x``."""
+        phi = self._fixed_phi if self._fixed_phi is not None else self.material.repose_angle(x)
+        rho = self._fixed_rho if self._fixed_rho is not None else self.material.bulk_density(x)
+        return np.asarray(phi, float) * np.ones(self.n), np.asarray(rho, float) * np.ones(self.n)
+
+    def design_load(self, phi, rho, fouling=None):
+        s = self.spec
+        if s.kilning == "model1":
+            return np.full(self.n, s.model1["design_load"] / self.n)
+        fouling = s.fouling if fouling is None else fouling
+        return rho * self.dl * np.asarray(s.geometry.design_load_area(phi), dtype=float) * (1.0 - fouling)
+
+    def cascade(self, phi, f, rpm=None):
+        kw = dict(rpm=self.rpm if rpm is None else rpm, slope=self.slope)
+        if self.spec.passive_time_branch is not None:
+            kw["passive_time_branch"] = self.spec.passive_time_branch
+        c = self.spec.geometry.cascade(phi, f, **kw)
+        s = self.spec
+        tp = np.asarray(c.passive_time, float)
+        ta = np.asarray(c.mean_fall_time, float)
+        h = np.asarray(c.mean_fall_height, float)
+        CF = s.drag_reduction * h * self.sin_t / self.dl
+        return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix)
+
+    def loading_factor(self, mp, des, phi):
+        if self.spec.loading == "fixed":
+            return np.ones(self.n)
+        d = np.clip(mp / des, 1e-6, None)
+        return np.clip(np.asarray(self.spec.geometry.loading_factor(d, phi), dtype=float), 1e-6, 1.0)
+
+    def rates(self, phi, f, rpm=None):
+        """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
+        s = self.spec
+        if s.kilning == "model1":
+            m = s.model1
+            return dict(passive_forward=np.full(self.n, m["passive_rate"]), discharge=np.full(self.n, m["exchange_rate"]),
+                        **{"return": np.full(self.n, m["return_rate"])}, kiln=np.full(self.n, m["kiln_rate"]))
+        c = self.cascade(phi, f, rpm)
+        out = dict(discharge=1.0 / c["tp"], forward=c["CF"] / c["ta"], backmix=s.backmix / c["ta"])
+        out["return"] = c["CR"] / c["ta"]
+        out["kiln"] = (np.full(self.n, 1.0 / s.kiln_time) if s.kilning == "excess"
+                       else np.full(self.n, s.kiln_velocity / self.dl))
+        return out
+
+    def evaluate(self, mp, x, rpm=None, fouling=None):
+        """dict family name -> coefficient (1/s), plus ``"design_load"`` (kg) and the properties,
+        at wet passive masses ``mp`` (kg) and wet-basis moisture ``x``; ``rpm`` and ``fouling``
+        replace the section's values (studies that change them)."""
+        phi, rho = self.properties(x)
+        des = self.design_load(phi, rho, fouling)
+        f = self.loading_factor(mp, des, phi)
+        out = self.rates(phi, f, rpm)
+        out.update(design_load=des, repose_angle=phi, bulk_density=rho)
+        return out
+
+
+class _Coefficients:
+    """Transport-only coefficients at the assumed moisture: cached per passive state, with a
+    one-sided difference on the side of the current loading branch (the derivative never
+    straddles the switch at M_P = M_des)."""
+
+    def __init__(self, law: FlightedSectionLaw, x, des):
+        self.law, self.x, self.des = law, x, des
+        self._key = None
+        self._val = None
+
+    def get(self, M):
+        mp = M[self.law.P]
+        key = mp.tobytes()
+        if key != self._key:
+            h = np.where(mp > self.des, 1.0, -1.0) * 1e-7 * self.des
+            v0 = self.law.evaluate(mp, self.x)
+            v1 = self.law.evaluate(mp + h, self.x)
+            self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in _RATE_NAMES if k in v0}
+            self._key = key
+        return self._val
+
+    def rate_fn(self, name):
+        return lambda M: self.get(M)[name]
+
+
+_RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln", "passive_forward")
+
+
+class _Builder:
+    def __init__(self):
+        self.n = 0
+        self.families = []
+        self.labels = {"section": [], "phase": [], "cell": [], "position": []}
+        self.design_load = []
+        self.guess = []
+
+    def add_nodes(self, section, phase, cells, positions, design_load=None, guess=None):
+        cells = np.atleast_1d(cells)
+        k = cells.size
+        idx = np.arange(self.n, self.n + k)
+        self.n += k
+        self.labels["section"] += [section] * k
+        self.labels["phase"] += [phase] * k
+        self.labels["cell"] += list(cells)
+        self.labels["position"] += list(np.broadcast_to(positions, (k,)))
+        self.design_load += list(np.broadcast_to(np.nan if design_load is None else design_load, (k,)))
+        self.guess += list(np.broadcast_to(0.0 if guess is None else guess, (k,)))
+        return idx
+
+
+def _check_flighted(spec: SectionSpec, where: str):
+    check_choice(f"{where}.kilning", spec.kilning, ("excess", "velocity", "model1"))
+    check_choice(f"{where}.loading", spec.loading, ("fixed", "state"))
+    check_choice(f"{where}.backmix_to", spec.backmix_to, ("passive", "active"))
+    if spec.kilning == "excess" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
+        raise ValueError(f"transport.kiln_time = {spec.kiln_time!r} s is outside the allowed range (0, inf]")
+    if spec.kilning == "velocity":
+        check_range("transport.kiln_velocity", spec.kiln_velocity, 0.0, math.inf, unit="m/s")
+
+
+def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwerts", tracer_input=None,
+                   name="dryer", parameters=None) -> TransportModel:
+    """Transport model of a dryer made of ``sections`` (list of :class:`SectionSpec`, flow order).
+
+    ``material`` gives repose angle and bulk density versus moisture (used where a section has
+    no fixed values). ``inlet`` is the inlet condition of a first unflighted section
+    ("ajayi": Dirichlet m(0) = F/u_s with an open dispersive boundary, Ajayi (2011) Eq.
+    5.11-5.13; "danckwerts": closed). The model carries ``layout``: one record per section with
+    its node indices and, for flighted sections, its :class:`FlightedSectionLaw`.
+    """
+    if not sections:
+        raise ValueError("sections = [] is empty: a dryer needs at least one section")
+    F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
+    rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
+    theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
+    check_choice("transport.unflighted_inlet", inlet, ("ajayi", "danckwerts"))
+    b = _Builder()
+    built = []
+    x0 = 0.0
+    for k, s in enumerate(sections):
+        where = f"sections[{k}] ({s.name})"
+        L = float(check_range(f"{where}.length", s.length, 0.0, math.inf, unit="m"))
+        if s.kind == "unflighted":
+            u = float(check_range(f"{where}: transport.solids_velocity", s.velocity, 0.0, math.inf, unit="m/s"))
+            D = float(check_range(f"{where}: transport.dispersion", s.dispersion, 0.0, math.inf, low_inclusive=True,
+                                  unit="m^2/s"))
+            n = int(s.n_cells or unflighted_cells_auto(L, u, D))
+            dz = L / n
+            pos = x0 + (np.arange(n) + 0.5) * dz
+            idx = b.add_nodes(s.name, "bed", np.arange(n), pos, guess=F / u * dz)
+            built.append(dict(spec=s, kind="unflighted", n=n, dz=dz, nodes=idx, entry=idx[0], start=x0))
+        elif s.kind == "flighted":
+            _check_flighted(s, where)
+            N = s.n_cells
+            if N is None or int(N) != N or N < 1:
+                raise ValueError(f"{where}.n_cells = {N!r}: a flighted section needs an integer n_cells >= 1")
+            N = int(N)
+            dl = L / N
+            pos = x0 + (np.arange(N) + 0.5) * dl
+            P = b.n + 2 * np.arange(N)          # interleaved P_i, A_i: a banded matrix
+            A = P + 1
+            built.append(dict(spec=s, kind="flighted", n=N, dl=dl, P=P, A=A, entry=P[0], start=x0, pos=pos))
+            b.n += 2 * N
+            b.labels["section"] += [s.name] * (2 * N)
+            b.labels["phase"] += ["passive", "active"] * N
+            b.labels["cell"] += list(np.repeat(np.arange(N), 2))
+            b.labels["position"] += list(np.repeat(pos, 2))
+            b.design_load += [np.nan] * (2 * N)
+            b.guess += [0.0] * (2 * N)
+        else:
+            raise ValueError(f"{where}.kind = {s.kind!r} is not one of 'flighted', 'unflighted'")
+        x0 += L
+    feed = np.zeros(b.n)
+    guess = np.array(b.guess)
+    design_load = np.array(b.design_load)
+    info_keys = ("moisture_kg_kg", "repose_angle_deg", "bulk_density_kg_m3", "passive_time_s", "fall_time_s",
+                 "fall_height_m", "C_F", "C_R")
+    info = {k: [] for k in info_keys}
+    families = []
+    layout = []
+    fix_families = {}
+    for k, rec in enumerate(built):
+        s = rec["spec"]
+        nxt = built[k + 1]["entry"] if k + 1 < len(built) else -1
+        sec = s.name
+        if rec["kind"] == "unflighted":
+            n, dz, idx = rec["n"], rec["dz"], rec["nodes"]
+            u, D = float(s.velocity), float(s.dispersion)
+            if n > 1:
+                pe = u * dz / D if D > 0 else math.inf
+                if pe <= 2.0:
+                    fw, bw = D / dz**2 + u / (2 * dz), D / dz**2 - u / (2 * dz)
+                else:
+                    fw, bw = D / dz**2 + u / dz, D / dz**2
+                families.append(EdgeFamily("bed_forward", idx[:-1], idx[1:], "linear", rate=np.full(n - 1, fw),
+                                           section=sec))
+                if bw > 0:
+                    families.append(EdgeFamily("bed_dispersion", idx[1:], idx[:-1], "linear",
+                                               rate=np.full(n - 1, bw), section=sec))
+            families.append(EdgeFamily("bed_outflow", idx[-1:], [nxt], "linear", rate=[u / dz], section=sec))
+            layout.append(dict(name=sec, kind="unflighted", nodes=idx, dz=dz, start=rec["start"], next=nxt,
+                               length=float(s.length)))
+            continue
+        N, P, A = rec["n"], rec["P"], rec["A"]
+        nxtP = np.r_[P[1:], nxt]
+        prevP = np.r_[P[0], P[:-1]]
+        prevA = np.r_[P[0], A[:-1]]        # the first cell's backmix stays in its own passive phase
+        law = FlightedSectionLaw(s, material, rpm, theta, P, A, nxtP, prevP, prevA)
+        x = (np.zeros(N) if s.moisture is None else np.broadcast_to(np.asarray(s.moisture, float), (N,)).copy())
+        law.assumed_moisture = x
+        phi, rho = law.properties(x)
+        des = law.design_load(phi, rho)
+        if np.any(~np.isfinite(des)) or np.any(des <= 0):
+            raise ValueError(f"section {sec}: the geometry model gives a non-positive design load "
+                             f"({np.nanmin(des):.4g} kg); check the repose angle / material")
+        design_load[P] = des
+        if s.kilning == "model1":
+            r1 = law.rates(phi, np.ones(N))
+            c1 = None
+        else:
+            c1 = law.cascade(phi, np.ones(N))
+            f_check = [1.0] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75, 1.0]
+            worst = min(float(np.min(law.cascade(phi, np.full(N, f))["CR"])) for f in f_check)
+            if worst < 0:
+                cf_per_n = s.drag_reduction * float(np.max(c1["h"])) * law.sin_t / s.length
+                n_max = int(math.floor((1.0 - s.backmix) / cf_per_n)) if cf_per_n > 0 else 0
+                raise ValueError(
+                    f"section {sec}: transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B "
+                    f"negative (min {worst:.4g}): the forward step C_F^G h_m sin(theta) exceeds the cell length "
+                    f"minus backmix; with backmix = {s.backmix:g} and drag_reduction = {s.drag_reduction:g} the "
+                    f"limit is transport.n_cells <= {n_max} (Lee (2008) Ch. 7: N <= 35 for Invicta)")
+            if np.any(c1["tp"] <= 0) or np.any(c1["ta"] <= 0):
+                raise ValueError(f"section {sec}: geometry gives a non-positive passive or fall time; check the "
+                                 "repose angle")
+            r1 = law.rates(phi, np.ones(N))
+        # Newton start: just above the design load where the excess kilns (over-loaded active set),
+        # below it where the whole passive mass moves on
+        if s.kilning == "excess":
+            guess[P] = des * (1 + 1e-6)
+            guess[A] = des * c1["ta"] / c1["tp"]
+        elif s.kilning == "velocity":
+            guess[P] = 0.8 * des
+            guess[A] = 0.8 * des * c1["ta"] / c1["tp"]
+        else:
+            guess[P] = des
+            guess[A] = des * s.model1["exchange_rate"] / max(s.model1["return_rate"], 1e-300)
+        if s.loading == "fixed" or s.kilning == "model1":
+            mk = lambda key, r1=r1: dict(rate=r1[key])  # noqa: E731
+        else:
+            cc = _Coefficients(law, x, des)
+            mk = lambda key, cc=cc: dict(rate_fn=cc.rate_fn(key), ctrl=P)  # noqa: E731
+        fams = []
+        if s.kilning == "model1":
+            if s.model1["passive_rate"] > 0:
+                fams.append(EdgeFamily("passive_forward", P, nxtP, "linear", section=sec, **mk("passive_forward")))
+            fams.append(EdgeFamily("discharge", P, A, "capped", cap=des, section=sec, **mk("discharge")))
+            fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
+            if s.model1["kiln_rate"] > 0:
+                fams.append(EdgeFamily("kiln", P, nxtP, "excess", cap=des, section=sec, **mk("kiln")))
+        else:
+            fams.append(EdgeFamily("discharge", P, A, "capped", cap=des, section=sec, **mk("discharge")))
+            if s.kilning == "excess" and math.isfinite(s.kiln_time):
+                fams.append(EdgeFamily("kiln", P, nxtP, "excess", rate=r1["kiln"], cap=des, section=sec))
+            fams.append(EdgeFamily("forward", A, nxtP, "linear", section=sec, **mk("forward")))
+            fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
+            if s.backmix > 0:
+                dst = prevP if s.backmix_to == "passive" else prevA
+                fams.append(EdgeFamily("backmix", A, dst, "linear", section=sec, **mk("backmix")))
+            if s.kilning == "velocity":
+                fams.append(EdgeFamily("kiln", P, nxtP, "linear", rate=r1["kiln"], section=sec))
+        for f in fams:
+            f.law = law
+            if f.rate_fn is not None:
+                fix_families[id(f)] = r1[f.name]
+        families += fams
+        layout.append(dict(name=sec, kind="flighted", P=P, A=A, dl=rec["dl"], start=rec["start"], next=nxt,
+                           law=law, moisture=x, length=float(s.length), position=rec["pos"]))
+        info["moisture_kg_kg"].append(x)
+        info["repose_angle_deg"].append(phi)
+        info["bulk_density_kg_m3"].append(rho)
+        for key, ck in (("passive_time_s", "tp"), ("fall_time_s", "ta"), ("fall_height_m", "h"), ("C_F", "CF"),
+                        ("C_R", "CR")):
+            info[key].append(np.full(N, np.nan) if c1 is None else c1[ck])
+    first = built[0]
+    inlet_vec = None
+    if first["kind"] == "unflighted" and inlet == "ajayi" and first["spec"].dispersion > 0:
+        # Dirichlet m(0) = F/u: inflow F (1 + 2D/(u dz)) - (2D/dz^2) M_1 (open boundary)
+        dz, u, D = first["dz"], float(first["spec"].velocity), float(first["spec"].dispersion)
+        beta = 2.0 * D / (u * dz)
+        feed[first["entry"]] = F * (1.0 + beta)
+        families.append(EdgeFamily("inlet_dispersion", [first["entry"]], [-2], "linear", rate=[2.0 * D / dz**2],
+                                   section=first["spec"].name))
+        inlet_vec = np.zeros(b.n)
+        inlet_vec[first["entry"]] = 1.0 + beta
+    else:
+        feed[first["entry"]] = F
+    net = Network(b.n, families, feed, labels=b.labels, initial_guess=guess)
+    if fix_families and any(r["kind"] == "flighted" and r["spec"].kilning == "excess" for r in built):
+        # start from the steady state with f_load = 1 (piecewise linear, solved exactly)
+        fixed = Network(net.n, [EdgeFamily(f.name, f.src, f.dst, f.kind, rate=fix_families.get(id(f), f.rate),
+                                           cap=f.cap) for f in net.families], net.feed, initial_guess=guess)
+        try:
+            net.initial_guess = fixed.steady_state()
+        except ValueError:
+            pass
+    info = {k: np.concatenate(v) if v else np.zeros(0) for k, v in info.items()}
+    if tracer_input is None:
+        tracer_input = TracerInput.pulse(1e-4 * F * 60.0, 60.0)
+    model = TransportModel(
+        name=name, network=net,
+        sections=[dict(name=r["spec"].name, kind=r["kind"], length=float(r["spec"].length), n_cells=int(r["n"]))
+                  for r in built],
+        feed_rate=F, design_load=design_load, cell_info=info, tracer_input=tracer_input,
+        parameters=dict(parameters or {}))
+    model.tracer_inlet = inlet_vec
+    model.layout = layout
+    model.material = material
+    return model
