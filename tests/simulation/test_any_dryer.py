@@ -8,8 +8,6 @@ from importlib import resources
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from rotarydryer import Simulation
@@ -145,16 +143,13 @@ def test_without_evaporation_thermal_holdups_equal_transport(name, ov):
     assert np.max(np.abs(ss.holdup - M)) <= 1e-9 * np.max(M)
 
 
-@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(feed=st.floats(1.0, 4.0), moisture=st.floats(0.0, 0.15), gas_t=st.floats(120.0, 400.0),
-       direction=st.sampled_from(["co-current", "counter-current"]))
-def test_balances_close_on_random_operating_points(feed, moisture, gas_t, direction):
-    ov = {"operating.feed_rate": feed, "operating.feed_moisture": moisture, "gas.inlet_temperature": gas_t,
-          "gas.direction": direction}
+@pytest.mark.parametrize("ov", [{"operating.feed_rate": 2.0, "operating.feed_moisture": 0.08},
+                                {"gas.inlet_temperature": 180.0, "operating.feed_moisture": 0.03}])
+def test_balances_close_on_other_operating_points(ov):
     out = Simulation_from_template(ov).steady_state().summary()
     assert out["energy_balance_error"] < 1e-9
     assert out["water_balance_error"] < 1e-9
-    assert out["product_moisture_kg_kg"] <= moisture + 1e-12
+    assert out["product_moisture_kg_kg"] <= ov["operating.feed_moisture"] + 1e-12
 
 
 def Simulation_from_template(ov):

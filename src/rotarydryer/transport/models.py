@@ -88,40 +88,6 @@ class NetworkBuilder:
                        initial_guess=np.array(self.guess))
 
 
-class _CellCoefficients:
-    """State-dependent per-cell coefficients (loading factor from d_load), cached."""
-
-    def __init__(self, fn, ctrl, des):
-        self.fn = fn  # f_load array -> dict of arrays
-        self.ctrl = ctrl
-        self.des = des
-        self._key = None
-        self._val = None
-
-    def get(self, M):
-        mp = M[self.ctrl]
-        key = mp.tobytes()
-        if key != self._key:
-            # one-sided difference on the side of the current loading branch, so that the
-            # derivative never straddles the switch at M_P = M_des (where Eq. 4.28 jumps)
-            h = np.where(mp > self.des, 1.0, -1.0) * 1e-7 * self.des
-            v0 = self.fn(mp)
-            v1 = self.fn(mp + h)
-            self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in v0}
-            self._key = key
-        return self._val
-
-    def rate_fn(self, name):
-        return lambda M: self.get(M)[name]
-
-
-def _cascade(geometry, phi, f, rpm, slope, branch):
-    kw = dict(rpm=rpm, slope=slope)
-    if branch is not None:
-        kw["passive_time_branch"] = branch
-    return geometry.cascade(phi, f, **kw)
-
-
 def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.0, slope=2.8,
             bulk_density=940.0, repose_angle=None, kiln_time=8.69, backmix=0.68, drag_reduction=0.48,
             passive_time_branch=None, loading="fixed", backmix_to="passive", gas_flow="counter-current",

@@ -198,28 +198,6 @@ class _Coefficients:
 _RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln", "passive_forward")
 
 
-class _Builder:
-    def __init__(self):
-        self.n = 0
-        self.families = []
-        self.labels = {"section": [], "phase": [], "cell": [], "position": []}
-        self.design_load = []
-        self.guess = []
-
-    def add_nodes(self, section, phase, cells, positions, design_load=None, guess=None):
-        cells = np.atleast_1d(cells)
-        k = cells.size
-        idx = np.arange(self.n, self.n + k)
-        self.n += k
-        self.labels["section"] += [section] * k
-        self.labels["phase"] += [phase] * k
-        self.labels["cell"] += list(cells)
-        self.labels["position"] += list(np.broadcast_to(positions, (k,)))
-        self.design_load += list(np.broadcast_to(np.nan if design_load is None else design_load, (k,)))
-        self.guess += list(np.broadcast_to(0.0 if guess is None else guess, (k,)))
-        return idx
-
-
 def _check_flighted(spec: SectionSpec, where: str):
     check_choice(f"{where}.kilning", spec.kilning, ("excess", "velocity", "model1"))
     check_choice(f"{where}.loading", spec.loading, ("fixed", "state"))
@@ -246,7 +224,9 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
     theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
     check_choice("transport.unflighted_inlet", inlet, ("ajayi", "danckwerts"))
-    b = _Builder()
+    from .models import NetworkBuilder
+
+    b = NetworkBuilder()
     built = []
     x0 = 0.0
     for k, s in enumerate(sections):
