@@ -4,27 +4,27 @@ Run: ``python -m pytest benchmarks/bench_thermal_dryer.py --benchmark-only``
 Targets (issue 6): MMG coupled steady state < 2 s; 2 h of dynamics after a step < 20 s.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from rotarydryer.cases import load_case
+from rotarydryer import Simulation
 from rotarydryer.thermal import studies
-from rotarydryer.thermal.dryer import ThermalDryer, build_thermal_dryer
+from rotarydryer.thermal.dryer import ThermalDryer
+from rotarydryer.transport.sections import build_sections
 
 
 def _dryer(mode="physical", factor=1.0):
-    base = build_thermal_dryer(load_case("ajayi2011_mmg", {"thermal.mode": mode}))
+    sim = Simulation("ajayi2011_mmg", {"thermal.mode": mode})
+    base = sim.thermal_dryer()
     if factor == 1.0:
         return base
-    secs = [dict(s) for s in base.sections]
-    for s in secs:
-        if s["kind"] == "flighted":
-            s["n_cells"] = max(2, int(round(s["n_cells"] * factor)))
-    st = base.settings
-    st.unflighted_slices = {k: max(2, int(round(v * factor))) for k, v in st.unflighted_slices.items()}
-    return ThermalDryer(sections=secs, geometries=base.geometries, feed_rate=base.feed_rate,
-                        feed_moisture=base.feed_moisture, rpm=base.rpm, slope=base.slope, radius=base.radius,
-                        kiln_velocity=base.kiln_velocity, dispersion=base.dispersion, settings=st)
+    specs = [dataclasses.replace(sp, n_cells=max(2, int(round(sp.n_cells * factor)))) for sp in base.model.specs]
+    model = build_sections(specs, material=base.material, feed_rate=base.feed_rate, rpm=base.rpm,
+                           slope=sim.transport_model().parameters["slope"], inlet="danckwerts")
+    return ThermalDryer(model, material=base.material, feed_rate=base.feed_rate, feed_moisture=base.feed_moisture,
+                        rpm=base.rpm, radius=base.radius, sections=base.section_thermal, settings=base.settings)
 
 
 @pytest.mark.parametrize("mode", ["physical", "ajayi2011"])

@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from rotarydryer.cases import load_case  # noqa: E402
 from rotarydryer.report.plots import plot_thermal_steady_state  # noqa: E402
 from rotarydryer.thermal import studies  # noqa: E402
-from rotarydryer.thermal.dryer import build_thermal_dryer  # noqa: E402
+from rotarydryer.simulation import build_thermal_dryer  # noqa: E402
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 out.mkdir(parents=True, exist_ok=True)
@@ -32,8 +32,8 @@ for mode in ("physical", "ajayi2011"):
         ss = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": test, "thermal.mode": mode})).steady_state()
         s = ss.summary()
         report[f"{mode}_test{test}"] = s
-        print(f"{test:4d}  {mode:10s}  {s['product_moisture']:9.4f}  {s['product_temperature_C']:9.1f}  "
-              f"{s['gas_outlet_temperature_C']:8.1f}  {s['energy_balance_error']:10.1e}  {s['fuel_rate_kg_s'] * 3600:8.0f}")
+        print(f"{test:4d}  {mode:10s}  {s['product_moisture_kg_kg']:9.4f}  {s['product_temperature_degC']:9.1f}  "
+              f"{s['gas_outlet_temperature_degC']:8.1f}  {s['energy_balance_error']:10.1e}  {s['fuel_rate_kg_s'] * 3600:8.0f}")
         if test == 4:
             plot_thermal_steady_state(ss).savefig(out / ("thermal_profiles.png" if mode == "physical"
                                                          else "thermal_profiles_ajayi2011.png"), dpi=110)
@@ -49,13 +49,13 @@ ins = studies.insulation_study(dryer, insulation_thickness=0.1)
 report["insulation"] = ins
 print(f"insulation 0.1 m: shell loss {ins['reference']['shell_heat_loss_W'] / 1e3:.0f} -> "
       f"{ins['insulated_same_inlet']['shell_heat_loss_W'] / 1e3:.0f} kW; same product moisture at "
-      f"{ins['insulated_matched']['gas_inlet_temperature_C']:.0f} degC inlet; fuel saved "
+      f"{ins['insulated_matched']['gas_inlet_temperature_degC']:.0f} degC inlet; fuel saved "
       f"{ins['fuel_saved_kg_h']:.0f} kg/h ({ins['fuel_saved_pct']:.1f} %)")
 
 # 3. Fouling 0-80 %
 for r in studies.fouling_study(dryer, (0.0, 0.4, 0.8)):
-    print(f"fouling {r['fouling_pct']:3.0f} %: product {r['product_moisture']:.4f} kg/kg, gas out "
-          f"{r['gas_outlet_temperature_C']:.0f} degC, curtain {r['active_holdup_kg']:.0f} kg")
+    print(f"fouling {r['fouling_pct']:3.0f} %: product {r['product_moisture_kg_kg']:.4f} kg/kg, gas out "
+          f"{r['gas_outlet_temperature_degC']:.0f} degC, curtain {r['active_holdup_kg']:.0f} kg")
 
 # 4. Step response: gas inlet temperature +10 % for 2 h
 ss = dryer.steady_state()

@@ -1,7 +1,8 @@
 """The layers go one way: inputs -> coefficients -> equations -> solver -> results -> views.
 
 The model packages (transport, thermal, geometry, properties, correlations) never import the
-layers built on them: cases, estimation, cli, report, app, studies. Every import statement is
+layers built on them: cases, estimation, cli, report, app, studies, and the orchestrator
+``rotarydryer.simulation``. Every import statement is
 checked (``import rotarydryer.X``, ``from rotarydryer.X import ...``, ``from ..X import ...``,
 ``from .. import X``), at module level and inside functions (found with ``ast``, nothing is
 imported here).
@@ -15,16 +16,7 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src"
 PACKAGE = "rotarydryer"
 MODEL_PACKAGES = ("transport", "thermal", "geometry", "properties", "correlations")
-UPPER_LAYERS = frozenset({"cases", "estimation", "cli", "report", "app", "studies"})
-
-#: (module file relative to src/rotarydryer, imported module) pairs tolerated for now.
-#: issue 12: being removed. Do not add to this set: move the code instead (a model needs
-#: inputs passed in; plots go to report, analyses that load cases or fit go to studies).
-KNOWN_VIOLATIONS = {
-    # issue 12: being removed (``from rotarydryer.cases import _exact_drum`` in the exact-geometry branch)
-    ("transport/ajayi.py", "rotarydryer.cases"),
-}
-
+UPPER_LAYERS = frozenset({"cases", "estimation", "cli", "report", "app", "studies", "simulation"})
 
 def _module_name(path: Path, root: Path) -> str:
     parts = list(path.relative_to(root).with_suffix("").parts)
@@ -105,13 +97,8 @@ def test_same_layer_imports_are_not_flagged(tmp_path):
 
 
 def test_models_do_not_import_upper_layers():
+    """No exceptions: move the code instead (a model needs inputs passed in; plots go to report,
+    analyses that load cases or fit go to studies, case readers to rotarydryer.cases.build)."""
     found = _violations()
-    new = {k: v for k, v in found.items() if k not in KNOWN_VIOLATIONS}
-    assert not new, "model modules import upper layers (cases/estimation/cli/report/app/studies):\n" + "\n".join(
-        f"  src/{PACKAGE}/{rel}:{line} imports {mod}" for (rel, mod), line in sorted(new.items()))
-
-
-def test_known_violations_are_still_present():
-    """Ratchet: when a known violation is removed, drop it from KNOWN_VIOLATIONS too."""
-    gone = KNOWN_VIOLATIONS - set(_violations())
-    assert not gone, f"fixed, remove from KNOWN_VIOLATIONS in tests/test_layering.py: {sorted(gone)}"
+    assert not found, "model modules import upper layers (" + "/".join(sorted(UPPER_LAYERS)) + "):\n" + "\n".join(
+        f"  src/{PACKAGE}/{rel}:{line} imports {mod}" for (rel, mod), line in sorted(found.items()))

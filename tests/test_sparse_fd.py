@@ -59,7 +59,7 @@ def test_banded_nonlinear_matches_analytic_and_uses_few_groups():
 def test_dryer_jacobian_matches_dense_differences():
     """The MMG dryer's grouped Jacobian equals the column-by-column one."""
     from rotarydryer.cases import load_case
-    from rotarydryer.thermal.dryer import build_thermal_dryer
+    from rotarydryer.simulation import build_thermal_dryer
     d = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 4}))
     z = d.initial_state()
     jac = d.jacobian(z).toarray()

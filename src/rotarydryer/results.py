@@ -412,7 +412,7 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
         coords={"section": ("section", np.array([s["name"] for s in secs], dtype=str))},
     )
     ss = steady.to_dict()
-    scalars = {k: float(v) for k, v in ss.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    scalars = _numbers(ss)
     states = steady.loading_state
     scalars.update({"cells_over": float(states.count("over")), "cells_design": float(states.count("design")),
                     "cells_under": float(states.count("under"))})
@@ -494,6 +494,11 @@ def fit_measured_rtd(time_s, signal, pulse_duration: float, models=None):
     )
 
 
+def _numbers(d: dict) -> dict:
+    """The numeric (not bool, not None) entries of ``d`` as floats."""
+    return {k: float(v) for k, v in d.items() if isinstance(v, (int, float, np.floating)) and not isinstance(v, bool)}
+
+
 def add_thermal(res: Results, steady) -> Results:
     """Add a coupled heat and mass transfer steady state
     (:class:`rotarydryer.thermal.dryer.ThermalSteadyState`) to ``res``: datasets
@@ -532,16 +537,9 @@ def add_thermal(res: Results, steady) -> Results:
         },
         coords={"stream": ("stream", np.array(names))},
     )
-    s = steady.summary()
-    for key, name in (("product_moisture", "product_moisture_kg_kg"),
-                      ("product_temperature_C", "product_temperature_degC"),
-                      ("gas_outlet_temperature_C", "gas_outlet_temperature_degC"),
-                      ("evaporation_kg_s", "evaporation_kg_s"), ("fuel_rate_kg_s", "fuel_rate_kg_s"),
-                      ("shell_heat_loss_W", "shell_heat_loss_W"), ("energy_balance_error", "energy_balance_error"),
-                      ("water_balance_error", "water_balance_error")):
-        if s.get(key) is not None:
-            res.scalars[name] = float(s[key])
-    res.model_choices["thermal_mode"] = s.get("mode")
+    s = steady.summary(with_fuel=False)
+    res.scalars.update(_numbers(s))
+    res.model_choices["thermal_mode"] = s["thermal_mode"]
     return res
 
 
@@ -572,13 +570,18 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
                            measured_baseline=float(mm["baseline"]))
     if fit_rtd and meas is not None:
         res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
-    from .simulation import Simulation
+    from .simulation import Simulation, SteadyResult
 
     sim = Simulation(c)
     if thermal is None:
         thermal = sim.thermal_enabled
     if thermal:
-        add_thermal(res, sim.thermal_dryer().steady_state())
+        # the coupled state's outputs under the names of ``simulate --json`` (one total holdup per
+        # run); the nodes/cells/sections/rtd datasets stay those of the transport-only model
+        coupled = sim.thermal_dryer().steady_state()
+        add_thermal(res, coupled)
+        res.scalars = _numbers(SteadyResult(sim, None, coupled).merged(res.scalars))
+        res.model_choices["transport_datasets"] = "transport-only model (assumed moisture profile)"
     if overrides:
         res.model_choices["overrides"] = _jsonable(overrides)
     if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):

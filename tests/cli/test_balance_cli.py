@@ -12,15 +12,15 @@ def test_balance_of_ajayi_test6_implies_gas_flow_and_flags_product_below_dew_poi
     assert res.exit_code == 0, res.output
     out = json.loads(res.output)
     assert 17.0 < out["gas_flow_kg_s"] < 20.0           # Test 4's tuned flow is 16.25 kg/s
-    assert out["gas_outlet_temperature_C"] == 150.0
-    assert out["product_below_dew_point"] and out["exhaust_dew_point_C"] > 55.0
+    assert out["gas_outlet_temperature_degC"] == 150.0
+    assert out["product_below_dew_point"] and out["exhaust_dew_point_degC"] > 55.0
 
 
 def test_balance_with_given_gas_flow_solves_the_outlet_and_round_trips():
     first = json.loads(runner.invoke(app, ["balance", "--ajayi-test", "4", "--json"]).output)
     res = runner.invoke(app, ["balance", "--ajayi-test", "4", "--gas-flow", str(first["gas_flow_kg_s"]), "--json"])
     assert res.exit_code == 0, res.output
-    assert abs(json.loads(res.output)["gas_outlet_temperature_C"] - 131.0) < 1e-6
+    assert abs(json.loads(res.output)["gas_outlet_temperature_degC"] - 131.0) < 1e-6
     table = runner.invoke(app, ["balance", "--ajayi-test", "4", "--product-temperature", "65"])
     assert table.exit_code == 0 and "gas flow" in table.output and "warning" not in table.output
 

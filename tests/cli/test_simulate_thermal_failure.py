@@ -22,7 +22,7 @@ def test_unreached_steady_state_saves_last_iterate(tmp_path, monkeypatch):
     assert "no steady state reached" in res.output and "thermal_last_state.json" in res.output
     saved = json.loads((tmp_path / "thermal_last_state.json").read_text())
     assert saved["reason"] == "no_steady_state"
-    assert set(saved["summary"]) >= {"product_moisture", "gas_outlet_temperature_C", "energy_balance_error"}
+    assert set(saved["summary"]) >= {"product_moisture_kg_kg", "gas_outlet_temperature_degC", "energy_balance_error"}
     assert len(saved["state_vector"]) > 100 and len(saved["profiles"]["gas_temperature_c"]) > 10
 
 

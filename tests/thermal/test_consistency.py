@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from rotarydryer.cases import load_case
 from rotarydryer.thermal.consistency import (balance_gas_outlet_temperature, implied_gas_flow,
                                              max_gas_outlet_temperature, measured_balances, pi_test_conditions)
-from rotarydryer.thermal.dryer import build_thermal_dryer
+from rotarydryer.simulation import build_thermal_dryer
 
 Y_IN = 0.0193 / (1 - 0.0193)          # Ajayi l.3227
 

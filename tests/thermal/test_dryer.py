@@ -7,7 +7,8 @@ from hypothesis import strategies as st
 
 from rotarydryer.cases import load_case
 from rotarydryer.published import read_published_csv
-from rotarydryer.thermal.dryer import DryerError, ThermalSettings, build_thermal_dryer
+from rotarydryer.simulation import build_thermal_dryer
+from rotarydryer.thermal.dryer import DryerError, ThermalSettings
 
 VALIDATION = {(int(r["test"]), r["variable"]): r for r in read_published_csv("ajayi_energy_validation_tables6_2to6_4.csv")}
 PI = {int(r["test"]): r for r in read_published_csv("ajayi_pi_operating_conditions.csv")}
@@ -230,7 +231,7 @@ def test_moisture_profile_against_table_3_3(test4):
 
 
 def test_overrides_checked_and_caller_settings_untouched():
-    from rotarydryer.thermal.dryer import settings_from_case
+    from rotarydryer.cases.build import settings_from_case
 
     case = load_case("ajayi2011_mmg", {"operating.test": 4})
     st = settings_from_case(case)

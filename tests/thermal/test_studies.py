@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from rotarydryer.cases import load_case
 from rotarydryer.published import read_published_csv
 from rotarydryer.thermal import studies
-from rotarydryer.thermal.dryer import build_thermal_dryer
+from rotarydryer.simulation import build_thermal_dryer
 
 PUB = read_published_csv("ajayi_relative_indices_ch7.csv")
 
@@ -69,8 +69,8 @@ def test_fouling_reduces_curtain_and_drying():
     d = build_thermal_dryer(load_case("ajayi2011_mmg"))
     rows = studies.fouling_study(d, foulings=(0.0, 0.8))
     assert rows[1]["active_holdup_kg"] < 0.6 * rows[0]["active_holdup_kg"]
-    assert rows[1]["product_moisture"] > rows[0]["product_moisture"]
-    assert rows[1]["gas_outlet_temperature_C"] > rows[0]["gas_outlet_temperature_C"]
+    assert rows[1]["product_moisture_kg_kg"] > rows[0]["product_moisture_kg_kg"]
+    assert rows[1]["gas_outlet_temperature_degC"] > rows[0]["gas_outlet_temperature_degC"]
     for r in rows:
         assert r["energy_balance_error"] < 1e-6 and r["water_balance_error"] < 1e-6
 
@@ -81,12 +81,12 @@ def test_insulation_saves_fuel():
     d = build_thermal_dryer(load_case("ajayi2011_mmg"))
     r = studies.insulation_study(d)
     assert r["insulated_same_inlet"]["shell_heat_loss_W"] < 0.2 * r["reference"]["shell_heat_loss_W"]
-    assert r["insulated_same_inlet"]["product_moisture"] < r["reference"]["product_moisture"]
-    assert r["insulated_matched"]["product_moisture"] == pytest.approx(r["reference"]["product_moisture"], abs=1e-5)
-    assert r["insulated_matched"]["gas_inlet_temperature_C"] < 500.0
+    assert r["insulated_same_inlet"]["product_moisture_kg_kg"] < r["reference"]["product_moisture_kg_kg"]
+    assert r["insulated_matched"]["product_moisture_kg_kg"] == pytest.approx(r["reference"]["product_moisture_kg_kg"], abs=1e-5)
+    assert r["insulated_matched"]["gas_inlet_temperature_degC"] < 500.0
     assert 0.5 < r["fuel_saved_pct"] < 20.0
     # Ajayi's 350 degC scenario saves far more fuel but misses the product specification in this model
-    assert r["insulated_reduced_inlet"]["product_moisture"] > r["reference"]["product_moisture"]
+    assert r["insulated_reduced_inlet"]["product_moisture_kg_kg"] > r["reference"]["product_moisture_kg_kg"]
 
 
 def test_fopdt_fit_recovers_known_parameters():

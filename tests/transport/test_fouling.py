@@ -1,7 +1,7 @@
 """Fouling of the MMG flights (Ajayi (2011) Eq. 5.21; test 3 'Scaled': -80 % flight capacity)."""
 
 from rotarydryer.cases import build_model, load_case
-from rotarydryer.thermal.dryer import settings_from_case
+from rotarydryer.cases.build import settings_from_case
 
 
 def _steady(overrides):

@@ -123,18 +123,6 @@ class Material(_Strict):
     name: str = Field(description="library name or a label for an inline material")
 
 
-def _material_of(case):
-    """The :class:`rotarydryer.properties.materials.Material` of a case."""
-    from rotarydryer.properties.materials import load_material
-
-    spec = case.material
-    if spec is None:
-        raise ValueError("material is missing: name one from the materials library "
-                         "(rotarydryer.properties.materials.list_materials()) in [material]")
-    d = spec.model_dump()
-    return load_material(d["name"] if set(d) == {"name"} else d)
-
-
 class LeeParameterSet(_Strict):
     n_cells: int
     kiln_time: float
@@ -528,86 +516,6 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
         raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
 
 
-# ---- model construction ----------------------------------------------------------------
-def _exact_drum(radius, n_flights, s1, s2, alpha1, alpha2):
-    try:
-        from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
-    except ImportError as exc:  # pragma: no cover
-        raise ValueError("geometry.method = 'exact' needs rotarydryer.geometry.FlightedDrum") from exc
-    drum = FlightedDrum(radius=radius, n_flights=n_flights,
-                        flight=TwoSectionFlight(s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2))
-    for meth in ("cascade", "design_load_area", "loading_factor"):
-        if not hasattr(drum, meth):
-            raise ValueError(
-                f"geometry.method = 'exact' is not available in this build (FlightedDrum.{meth} missing); "
-                "use geometry.method = 'lee2008_regressions'"
-            )
-    return drum
-
-
-def lee_parameters(case: LeeCase) -> dict:
-    """(kiln_time, backmix, drag_reduction) for the case: explicit values, else the
-    Table 7.2 row for ``transport.n_cells``."""
-    t = case.transport
-    row = next((p for p in case.parameter_sets if p.n_cells == t.n_cells), None)
-    out = {}
-    for key in ("kiln_time", "backmix", "drag_reduction"):
-        v = getattr(t, key)
-        if v is None:
-            if row is None:
-                have = ", ".join(str(p.n_cells) for p in case.parameter_sets)
-                raise ValueError(
-                    f"transport.n_cells = {t.n_cells} has no Table 7.2 parameter set (available: {have}); "
-                    f"set transport.{key} (and the other transport coefficients) explicitly"
-                )
-            v = getattr(row, key)
-        out[key] = v
-    return out
-
-
-def build_model(case):
-    """Build the :class:`rotarydryer.transport.TransportModel` of a validated case."""
-    if isinstance(case, LeeCase):
-        return _build_lee(case)
-    if isinstance(case, AjayiCase):
-        from rotarydryer.transport.ajayi import build_ajayi2011
-
-        return build_ajayi2011(case)
-    if isinstance(case, DryerCase):
-        from rotarydryer.simulation import Simulation
-
-        return Simulation(case).transport_model()
-    raise ValueError(f"case of type {type(case).__name__} is not supported")
-
-
-def _build_lee(case: LeeCase):
-    from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
-    from rotarydryer.transport import TracerInput, lee2008, lee2008_repose_profile
-
-    d, fl = case.drum, case.flight
-    if case.geometry.method == "exact":
-        geometry = _exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2)
-    else:
-        geometry = Lee2008Regressions(tip_radius=invicta_tip_radius(d.radius, fl.s1, fl.s2, fl.alpha1, fl.alpha2))
-    p = lee_parameters(case)
-    N = case.transport.n_cells
-    s = case.solids
-    phi = s.repose_angle if s.repose_angle is not None else lee2008_repose_profile(N, s.moisture_inlet, s.moisture_outlet)
-    F = case.operating.feed_rate
-    tr = case.tracer
-    inp = TracerInput.pulse(tr.fraction * F * max(tr.duration, 1e-6), tr.duration)
-    kwargs = dict(
-        geometry=geometry, n_cells=N, feed_rate=F, length=d.length, rpm=case.operating.rpm, slope=d.slope,
-        bulk_density=s.bulk_density, repose_angle=phi, kiln_time=p["kiln_time"], backmix=p["backmix"],
-        drag_reduction=p["drag_reduction"], passive_time_branch=case.geometry.passive_time_branch,
-        loading=case.transport.loading, backmix_to=case.transport.backmix_to,
-        gas_flow=case.operating.gas_flow, tracer_input=inp, name=case.transport.model,
-    )
-    if case.transport.model == "sheehan2005_model2":
-        kwargs["backmix_to"] = "active"
-    return lee2008(**kwargs)
-
-
 def measured_rtd(case):
     """Measured tracer curve of a case as (time s since injection start, signal), or None.
 
@@ -659,3 +567,6 @@ def measured_rtd_moments(case):
     m = rtd_moments(t, y, baseline=case.tracer.baseline)
     return {"mean_s": m.mean_s, "std_s": m.std_s, "baseline": m.baseline, "baseline_method": m.baseline_method,
             "tail_truncated": m.tail_truncated}
+
+
+from .build import build_model, lee_parameters  # noqa: E402  (the builders read the classes above)

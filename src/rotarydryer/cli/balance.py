@@ -60,17 +60,17 @@ def balance(
         evap = float(evaporation_rate(vals["feed"], vals["moisture_in"], vals["moisture_out"]))
         if gas_flow is None:
             g = implied_gas_flow(gas_out_c=vals["gas_out"], **kw)
-            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_C": vals["gas_out"]}
+            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_degC": vals["gas_out"]}
         else:
             g = gas_flow
-            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_C": balance_gas_outlet_temperature(gas_flow, **kw)}
+            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_degC": balance_gas_outlet_temperature(gas_flow, **kw)}
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
     y_out = exhaust_humidity(g, gas_humidity, evap)
     dew = float(ha.dew_point(min(y_out, 0.3)))
-    out.update({"evaporation_kg_s": evap, "exhaust_humidity": y_out, "exhaust_dew_point_C": dew,
-                "product_temperature_C": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
+    out.update({"evaporation_kg_s": evap, "exhaust_humidity_kg_kg": y_out, "exhaust_dew_point_degC": dew,
+                "product_temperature_degC": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
                 "product_below_dew_point": bool(vals["product_temperature"] < dew)})
     if as_json:
         typer.echo(json.dumps(out, indent=2))
@@ -78,7 +78,7 @@ def balance(
     solved = "gas flow" if gas_flow is None else "gas outlet temperature"
     typer.echo(f"solved for: {solved}")
     typer.echo(f"gas flow                 {out['gas_flow_kg_s']:10.3f} kg/s (wet)")
-    typer.echo(f"gas outlet temperature   {out['gas_outlet_temperature_C']:10.1f} degC")
+    typer.echo(f"gas outlet temperature   {out['gas_outlet_temperature_degC']:10.1f} degC")
     typer.echo(f"evaporation              {evap:10.3f} kg/s")
     typer.echo(f"exhaust humidity         {y_out:10.4f} kg/kg dry gas (dew point {dew:.1f} degC)")
     if out["product_below_dew_point"]:

@@ -44,9 +44,10 @@ def simulate(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for steady_state.json and holdup_profile.png."),
 ):
-    """Steady-state solids transport: holdup per phase and section, loading state per
-    cell, flows; for Ajayi (MMG) cases also heat and mass transfer (product moisture and
-    temperature, gas outlet temperature, fuel rate, shell loss, energy balance; [thermal]).
+    """Steady state of a dryer: solids transport (holdup per phase and section, loading state
+    per cell, flows, tracer moments) and, for every case with a [gas] block, heat and mass
+    transfer (product moisture and temperature, gas outlet, evaporation, shell loss, balances;
+    fuel rate where the case has a burner). Outputs are named with their unit.
 
     Example: rotarydryer simulate lee2008_invicta --set geometry.method=lee2008_regressions
     """
@@ -55,8 +56,6 @@ def simulate(
     try:
         sim = Simulation(case, parse_sets(set_))
         model = sim.transport_model()
-        c = sim.case
-        thermal_on = sim.thermal_enabled
         ss = sim.transport_steady_state()
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
@@ -74,35 +73,24 @@ def simulate(
             typer.echo(f"last solver state saved to {saved}", err=True)
         solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
         raise typer.Exit(1 if solver_failed else 2)
-    summary = steady.summary()
-    if thermal is not None:
-        # one total holdup per run: the coupled state's (its flows also give the tracer moments)
-        for key in ("active_holdup_kg", "passive_holdup_kg", "kiln_bed_holdup_kg", "design_load_kg",
-                    "mass_balance_error"):
-            result.pop(key, None)
-        result["transport_only_total_holdup_kg"] = result.pop("total_holdup_kg", None)
-        result["fuel_rate_kg_s"] = None
-        if c.kind == "ajayi2011":
-            try:
-                result["fuel_rate_kg_s"] = thermal.fuel_rate()
-            except ValueError as exc:
-                result["fuel_rate_error"] = str(exc)
-    result.update(summary)
-    result["outlet_flow_kg_s"] = result["product_rate_kg_s"]
-    result["rtd_std_s"] = result["tracer_std_s"]
+    result = steady.merged(result)
     thermal_on = thermal is not None
     if out is not None:
+        from .._io import write_text_atomic
+        from ..report.plots import plot_thermal_steady_state
         from ..transport.plots import plot_holdup_profile
 
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "steady_state.json").write_text(json.dumps(result, indent=1))
-        plot_holdup_profile(ss).savefig(out / "holdup_profile.png", dpi=120)
-        result["files"] = [str(out / "steady_state.json"), str(out / "holdup_profile.png")]
-        if thermal is not None:
-            from ..report.plots import plot_thermal_steady_state as plot_profiles
-
-            plot_profiles(thermal).savefig(out / "thermal_profiles.png", dpi=120)
-            result["files"].append(str(out / "thermal_profiles.png"))
+        files = [out / "steady_state.json", out / "holdup_profile.png"]
+        try:
+            write_text_atomic(files[0], json.dumps(result, indent=1))
+            plot_holdup_profile(ss).savefig(files[1], dpi=120)
+            if thermal is not None:
+                files.append(out / "thermal_profiles.png")
+                plot_thermal_steady_state(thermal).savefig(files[2], dpi=120)
+        except OSError as exc:
+            typer.echo(f"error: --out {out}: cannot write ({exc.strerror or exc})", err=True)
+            raise typer.Exit(2)
+        result["files"] = [str(f) for f in files]
     if as_json:
         typer.echo(json.dumps(result))
         return
@@ -113,7 +101,7 @@ def simulate(
         ("  active (curtain)", f"{result['active_holdup_kg']:,.0f} kg"),
         ("  passive (flights + floor)", f"{result['passive_holdup_kg']:,.0f} kg"),
         ("  unflighted bed", f"{result['bed_holdup_kg']:,.0f} kg"),
-        ("product flow", f"{result['product_rate_kg_s']:.4f} kg/s"),
+        ("outlet flow", f"{result['outlet_flow_kg_s']:.4f} kg/s"),
         ("mean residence time H/F", f"{result['mean_residence_time_s'] / 60:.2f} min"),
         ("tracer mean / SD", f"{result['tracer_mean_s'] / 60:.2f} / {result['tracer_std_s'] / 60:.2f} min"),
     ]

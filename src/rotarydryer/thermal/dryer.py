@@ -74,7 +74,7 @@ from .drying import DryingKinetics
 from .shell import ajayi2011_heat_loss, shell_heat_loss
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
-           "build_thermal_dryer", "AJAYI_GAS_FLOW"]
+           "AJAYI_GAS_FLOW", "pi_operating_conditions"]
 
 AJAYI_GAS_FLOW = 112675.6688 / 3600.0   # kg/s wet gas, App. F L3225
 _COMBUSTION_AIR_SHARE = 23698.0 / (23698.0 + 88050.0)                          # Table A1
@@ -283,24 +283,16 @@ class ThermalDryer:
         self.families = net.families
         self.laws = []
         for f in self.families:
-            law = getattr(f, "law", None)
-            if law is not None and all(law is not x for x in self.laws):
-                self.laws.append(law)
+            if f.law is not None and all(f.law is not x for x in self.laws):
+                self.laws.append(f.law)
         self.length = float(sum(sec["length"] for sec in self.model.sections))
         # gas stages: one per bed finite volume and per flighted cell (coupled to its curtain), in axial order
         gas_tank = np.flatnonzero(self.kind != 1)
         gas_tank = gas_tank[np.argsort(self.position[gas_tank], kind="stable")]
         self.gas_tank = gas_tank
         self.n_gas = gas_tank.size
-        seglen = np.empty(self.n_tanks)
-        for sec in self.model.layout:
-            if sec["kind"] == "unflighted":
-                seglen[sec["nodes"]] = sec["dz"]
-            else:
-                seglen[sec["P"]] = sec["dl"]
-                seglen[sec["A"]] = sec["dl"]
-        self.seglen = seglen
-        self.gas_len = seglen[gas_tank]
+        self.seglen = self.model.cell_length
+        self.gas_len = self.seglen[gas_tank]
         self.gas_section = self.tank_section[gas_tank]
         self.gas_position = self.position[gas_tank]
         st = [self.section_thermal.get(name, SectionThermal()) for name in self.gas_section]
@@ -401,7 +393,7 @@ class ThermalDryer:
         src, dst, fl = [], [], []
         eps = s.design_load_smoothing
         for f in self.families:
-            law = getattr(f, "law", None)
+            law = f.law
             ms = m[f.src]
             if law is None:
                 k, cap = f.rate, f.cap
@@ -418,17 +410,6 @@ class ThermalDryer:
             dst.append(f.dst)
             fl.append(k * b)
         return np.concatenate(src), np.concatenate(dst), np.concatenate(fl)
-
-    def design_loads(self, z):
-        """Design load (kg) of every passive node at state ``z`` (NaN elsewhere)."""
-        S, W, T, _, _ = self.split(z)
-        m = S + W
-        out = np.full(self.n_tanks, np.nan)
-        for law in self.laws:
-            xp = (np.clip(W[law.P] / np.maximum(m[law.P], 1e-12), *self.material.wet_range())
-                  if self.settings.moisture_coupling else law.assumed_moisture)
-            out[law.P] = law.evaluate(m[law.P], xp, rpm=self.rpm, fouling=self.settings.fouling)["design_load"]
-        return out
 
     def _transfer(self, S, W, T, Tg, Y):
         s = self.settings
@@ -571,7 +552,7 @@ class ThermalDryer:
             inside = f.dst >= 0
             a_list += [f.src[inside], f.dst[inside]]
             b_list += [f.dst[inside], f.src[inside]]
-            law = getattr(f, "law", None)
+            law = f.law
             if law is not None:      # the coefficient depends on the control (passive) node's mass and moisture
                 ctrl = np.broadcast_to(law.P, f.src.shape)
                 for node in (f.src, f.dst):
@@ -798,22 +779,12 @@ class ThermalSteadyState:
     def tracer_system(self):
         """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
         so RTD moments agree with the holdups of this state."""
-        from ..transport.network import TracerSystem
+        from ..transport.network import tracer_system_from_flows
 
         d = self.terms
-        m = d["S"] + d["W"]
-        src, dst, F = d["src"], d["dst"], d["F"]
-        n = m.size
-        q = np.where(m[src] > 0, F / np.maximum(m[src], 1e-300), 0.0)
-        inside = dst >= 0
-        rows = np.concatenate([src, dst[inside]])
-        cols = np.concatenate([src, src[inside]])
-        vals = np.concatenate([-q, q[inside]])
-        K = sp.coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
-        outlet = np.bincount(src[dst == -1], q[dst == -1], n)
-        inlet = np.zeros(n)
+        inlet = np.zeros(d["S"].size)
         inlet[self.dryer.entry] = 1.0
-        return TracerSystem(K, outlet, inlet)
+        return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
 
     def fuel_rate(self, fuel_heat_loss_fraction=0.0):
         """Fuel-oil rate (kg/s) that the Ajayi App. A burner needs to heat this gas flow to the inlet
@@ -844,22 +815,32 @@ class ThermalSteadyState:
                     evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
 
     def summary(self, with_fuel=True):
+        """Outputs of the state, named with their unit (the names of ``simulate --json``, sweeps,
+        Results and the report). Balance errors are relative; ``thermal_mode`` the model mode."""
+        kind, hold = self.dryer.kind, self.holdup
         out = dict(
-            mode=self.dryer.settings.mode,
-            product_moisture=float(self.product_moisture),
-            product_temperature_C=float(self.product_temperature_c),
-            gas_outlet_temperature_C=self.gas_outlet_temperature_c,
-            gas_outlet_humidity=self.gas_outlet_humidity,
+            thermal_mode=self.dryer.settings.mode,
+            total_holdup_kg=self.total_holdup, active_holdup_kg=float(np.sum(hold[kind == 2])),
+            passive_holdup_kg=float(np.sum(hold[kind == 1])), bed_holdup_kg=float(np.sum(hold[kind == 0])),
+            feed_rate_kg_s=self.dryer.feed_rate, outlet_flow_kg_s=float(self.product_rate),
+            mean_residence_time_s=self.total_holdup / float(self.product_rate),
+            product_moisture_kg_kg=float(self.product_moisture),
+            product_temperature_degC=float(self.product_temperature_c),
+            gas_outlet_temperature_degC=self.gas_outlet_temperature_c,
+            gas_outlet_humidity_kg_kg=self.gas_outlet_humidity,
             evaporation_kg_s=self.evaporation_rate,
             shell_heat_loss_W=self.shell_heat_loss_w,
+            gas_flow_kg_s=self.dryer.settings.gas_flow,
             energy_balance_error=float(self.energy_balance_error),
             water_balance_error=float(self.water_balance_error),
+            solids_balance_error=float(self.solids_balance_error),
+            # wet solids: feed = product + evaporation (the transport model's mass balance, with drying)
+            mass_balance_error=abs(self.dryer.feed_rate - float(self.product_rate) - self.evaporation_rate)
+            / self.dryer.feed_rate,
             physical_energy_balance_error=float(self.physical_energy_balance_error),
             physical_shell_loss_W=float(self.physical_shell_loss_w),
-            total_holdup_kg=self.total_holdup,
-            gas_flow_kg_s=self.dryer.settings.gas_flow,
             transport_moisture_clipped=self.transport_moisture_clipped,
-            solver_iterations=self.iterations, solver_seconds=self.seconds,
+            solver_iterations=self.iterations, solver_time_s=self.seconds,
         )
         if with_fuel:
             try:
@@ -888,16 +869,6 @@ class DynamicResult:
         self.gas_outlet_temperature_c = np.array(tg)
 
 
-def build_thermal_dryer(case, settings: ThermalSettings | None = None, feed_moisture=None,
-                        **overrides) -> ThermalDryer:
-    """Thermal dryer of a validated case (:class:`rotarydryer.Simulation` does this for every case;
-    kept for the studies and tests that call it directly). ``feed_moisture`` (kg/kg wet) overrides
-    the case's, ``overrides`` set ThermalSettings fields."""
-    from ..simulation import Simulation
-
-    return Simulation(case).thermal_dryer(settings=settings, feed_moisture=feed_moisture, **overrides)
-
-
 def pi_operating_conditions(test_number):
     """PI operating conditions of an Ajayi test (package data ``ajayi_pi_operating_conditions.csv``): dict."""
     from ..published import read_published_csv
@@ -906,33 +877,3 @@ def pi_operating_conditions(test_number):
         if int(r["test"]) == int(test_number):
             return r
     raise ValueError(f"test = {test_number} is not one of 1-6")
-
-
-def settings_from_case(case) -> ThermalSettings:
-    """ThermalSettings from the case's ``thermal`` section (if any) and the selected test's PI data
-    (gas inlet temperature; Test 3 'Scaled' -> fouling 0.8, Ajayi l.1715). A test's own ``gas_flow``
-    ([[tests]], kg/s wet) replaces ``thermal.gas_flow`` in the physical mode."""
-    th = getattr(case, "thermal", None)
-    raw = th.model_dump() if th is not None else {}
-    mode = raw.pop("mode", "physical")
-    raw = {k: v for k, v in raw.items() if v is not None}
-    if mode == "ajayi2011":
-        raw.pop("gas_flow", None)
-        raw.pop("area_scale", None)
-        st = ThermalSettings.ajayi2011(**{k: v for k, v in raw.items() if k in ThermalSettings.__dataclass_fields__})
-    else:
-        st = ThermalSettings(**{k: v for k, v in raw.items() if k in ThermalSettings.__dataclass_fields__})
-    pi = pi_operating_conditions(case.operating.test)
-    test = next((t for t in getattr(case, "tests", []) if t.test == case.operating.test), None)
-    if mode != "ajayi2011" and getattr(test, "gas_flow", None) is not None:
-        st.gas_flow = float(test.gas_flow)      # the test's own gas flow, when the case knows it
-    if "gas_inlet_temperature" not in raw:
-        st.gas_inlet_temperature = float(pi["gas_inlet_T_C"])
-    if "fouling" not in raw:
-        # one physical quantity: the transport case's fouling when set, else 0.8 for 'Scaled' tests
-        tr_fouling = getattr(getattr(case, "transport", None), "fouling", None)
-        if tr_fouling is not None:
-            st.fouling = float(tr_fouling)
-        elif pi["internal_condition"].strip().lower() == "scaled":
-            st.fouling = 0.8
-    return st

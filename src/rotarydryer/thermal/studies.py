@@ -114,8 +114,7 @@ def fouling_study(dryer: ThermalDryer, foulings=(0.0, 0.2, 0.4, 0.6, 0.8)):
         check_range("fouling", f, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
         ss = perturbed(dryer, fouling=f).steady_state(z0=z)
         z = ss.state
-        act = float(np.sum(ss.holdup[ss.dryer.kind == 2]))
-        out.append(dict(fouling_pct=100 * f, **ss.summary(), active_holdup_kg=act))
+        out.append(dict(fouling_pct=100 * f, **ss.summary()))
     return out
 
 
@@ -151,8 +150,8 @@ def insulation_study(dryer: ThermalDryer, insulation_thickness=0.1, insulation_c
     fuel_ref = ref.fuel_rate()
     fuel_match = ss1.fuel_rate()
     return dict(reference=ref.summary(), insulated_same_inlet=same.summary(),
-                insulated_reduced_inlet=dict(gas_inlet_temperature_C=reduced_inlet_temperature, **low.summary()),
-                insulated_matched=dict(gas_inlet_temperature_C=t1, **ss1.summary()),
+                insulated_reduced_inlet=dict(gas_inlet_temperature_degC=reduced_inlet_temperature, **low.summary()),
+                insulated_matched=dict(gas_inlet_temperature_degC=t1, **ss1.summary()),
                 fuel_saved_kg_h=3600 * (fuel_ref - fuel_match),
                 fuel_saved_pct=100 * (fuel_ref - fuel_match) / fuel_ref,
                 fuel_saved_reduced_inlet_kg_h=3600 * (fuel_ref - low.fuel_rate()))

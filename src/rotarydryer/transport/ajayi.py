@@ -50,8 +50,7 @@ from ..properties.solids import SOLIDS
 from .network import TracerInput
 from .sections import unflighted_cells_auto
 
-__all__ = ["AjayiRegressions", "mmg_moisture_profile", "unflighted_cells_auto", "build_ajayi2011",
-           "ajayi2011"]
+__all__ = ["AjayiRegressions", "mmg_moisture_profile", "unflighted_cells_auto", "ajayi2011"]
 
 G = 9.81  # m/s^2, as in Ajayi's code (maf_h = 0.5*9.81*maft^2)
 
@@ -156,7 +155,7 @@ class AjayiRegressions:
 
 def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispersion,
               geometries, moisture_scale=1.0, inlet="ajayi", unflighted_cells=None,
-              tracer_input=None, gas_flow="co-current", name="ajayi2011"):
+              tracer_input=None, gas_flow="co-current", name="ajayi2011", fouling=0.0, material=None):
     r"""Build the Ajayi (2011) multi-section model.
 
     Parameters
@@ -181,6 +180,12 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
         Finite volumes per unflighted section; default :func:`unflighted_cells_auto`.
     gas_flow : str
         Recorded only: Ajayi's model has no gas drag on the solids.
+    fouling : float
+        Fraction of the flights' loading capacity lost to scale (Ajayi (2011) Eq. 5.21; Test 3:
+        0.8, l.1715): the design load is multiplied by (1 - fouling).
+    material : Material, optional
+        Repose angle and bulk density versus moisture; default the library's
+        ``zinc_concentrate_ajayi2011`` (Ajayi (2011) Eq. 3.2, 3.4).
     """
     from .sections import SectionSpec, build_sections
 
@@ -203,120 +208,23 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
             pos = x0 + (np.arange(N) + 0.5) * L / N
             specs.append(SectionSpec(name=s["name"], kind="flighted", length=L, n_cells=N,
                                      geometry=geometries[s["name"]], kilning="velocity", kiln_velocity=u,
-                                     drag_reduction=1.0, backmix=0.0, loading="state",
+                                     drag_reduction=1.0, backmix=0.0, loading="state", fouling=fouling,
                                      moisture=mmg_moisture_profile(pos, moisture_scale)))
         x0 += L
     if tracer_input is None:
         tracer_input = TracerInput.pulse(1.255e-4 * F * 60.0, 60.0)
     params = dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=u, dispersion=Dax,
-                  moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow,
+                  moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow, fouling=fouling,
                   geometry={k: repr(v) for k, v in geometries.items()})
-    model = build_sections(specs, material=_MMG_LAWS, feed_rate=F, rpm=rpm, slope=theta, inlet=inlet,
+    if material is None:
+        from ..properties.materials import load_material
+
+        material = load_material("zinc_concentrate_ajayi2011")
+    check_range("transport.fouling", fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
+    model = build_sections(specs, material=material, feed_rate=F, rpm=rpm, slope=theta, inlet=inlet,
                            tracer_input=tracer_input, name=name, parameters=params)
     model.parameters["unflighted_cells"] = {s["name"]: s["n_cells"] for s in model.sections
                                             if s["kind"] == "unflighted"}
     ci = model.cell_info
     model.cell_info = {k: ci[k] for k in ("repose_angle_deg", "bulk_density_kg_m3", "moisture_kg_kg")}
     return model
-
-
-class _MMGLaws:
-    """Zinc-concentrate repose angle and bulk density (Ajayi (2011) Eq. 3.2, 3.4), wet basis."""
-
-    repose_angle = staticmethod(lambda x: mmg_repose_angle(x))
-    bulk_density = staticmethod(lambda x: mmg_bulk_density(x))
-
-
-_MMG_LAWS = _MMGLaws()
-
-
-def case_test_inputs(case) -> dict:
-    """Per-test inputs of a validated ``AjayiCase``: the selected test row (``test``), feed
-    rate ``feed_rate`` (kg/s), ``rpm``, solids velocity ``kiln_velocity`` (m/s) and
-    ``dispersion`` (m^2/s): case overrides first, else the test's Table 5.2 values."""
-    test = next((t for t in case.tests if t.test == case.operating.test), None)
-    if test is None:
-        raise ValueError(f"operating.test = {case.operating.test} is not in the case's tests "
-                         f"({', '.join(str(t.test) for t in case.tests)})")
-    tr = case.transport
-    return dict(test=test, feed_rate=case.operating.feed_rate or test.feed_rate,
-                rpm=case.operating.rpm or test.rpm,
-                kiln_velocity=tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity,
-                dispersion=tr.dispersion if tr.dispersion is not None else test.dispersion)
-
-
-def case_geometries(case) -> dict:
-    """Cell geometry model of each flighted section of an ``AjayiCase`` (Ajayi's regressions
-    or the exact flight geometry, per ``geometry.method``), without fouling."""
-    geoms = {}
-    for s in case.sections:
-        if s.kind != "flighted":
-            continue
-        if case.geometry.method == "ajayi2011_regressions":
-            reg = s.regression or {}
-            geoms[s.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius,
-                                             case.transport.design_load_factor)
-        else:
-            from rotarydryer.cases import _exact_drum
-
-            drum = _exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2)
-            geoms[s.name] = _ExactAdapter(drum, case.geometry.passive_time_branch)
-    return geoms
-
-
-def build_ajayi2011(case):
-    """Model of a validated ``AjayiCase`` (see :mod:`rotarydryer.cases`)."""
-    inp_ = case_test_inputs(case)
-    test, F, rpm, u, D = (inp_[k] for k in ("test", "feed_rate", "rpm", "kiln_velocity", "dispersion"))
-    tr = case.transport
-    geoms = case_geometries(case)
-    fouling = tr.fouling if tr.fouling is not None else (0.8 if test.scaled else 0.0)
-    if fouling > 0.0:
-        geoms = {k: _Fouled(g, fouling) for k, g in geoms.items()}
-    tracer = case.tracer
-    inp = TracerInput.pulse(tracer.fraction * F * max(tracer.duration, 1e-6), tracer.duration)
-    secs = [dict(name=s.name, kind=s.kind, length=s.length, n_cells=s.n_cells) for s in case.sections]
-    return ajayi2011(sections=secs, feed_rate=F, rpm=rpm, slope=case.drum.slope, radius=case.drum.radius,
-                     kiln_velocity=u, dispersion=D, geometries=geoms, moisture_scale=case.solids.moisture_scale,
-                     inlet=tr.unflighted_inlet, unflighted_cells=tr.unflighted_cells, tracer_input=inp,
-                     gas_flow=case.operating.gas_flow)
-
-
-class _Fouled:
-    """A cell geometry model whose flights lost ``fouling`` of their loading capacity to scale
-    (Ajayi (2011) Eq. 5.21, Test 3: -80 %, l.1715): the design load is scaled by (1 - fouling);
-    the cascade is unchanged."""
-
-    def __init__(self, geometry, fouling):
-        self.geometry = geometry
-        self.fouling = float(check_range("transport.fouling", fouling, 0.0, 0.95, low_inclusive=True,
-                                         high_inclusive=True))
-
-    def __getattr__(self, name):
-        return getattr(self.geometry, name)
-
-    def design_load_area(self, repose_angle):
-        return (1.0 - self.fouling) * self.geometry.design_load_area(repose_angle)
-
-
-class _ExactAdapter:
-    """Exact FlightedDrum with Ajayi's design-load method (``"ajayi2011"`` = 1.24 x Baker)."""
-
-    def __init__(self, drum, branch):
-        self.drum = drum
-        self.branch = branch
-
-    def __repr__(self):
-        return f"exact({self.drum!r})"
-
-    def design_load_area(self, phi):
-        return self.drum.design_load_area(phi, method="ajayi2011")
-
-    def loading_factor(self, d, phi):
-        return self.drum.loading_factor(d, phi)
-
-    def cascade(self, phi, f, *, rpm, slope=0.0):
-        kw = dict(rpm=rpm, slope=slope)
-        if self.branch is not None:
-            kw["passive_time_branch"] = self.branch
-        return self.drum.cascade(phi, f, **kw)

@@ -52,6 +52,7 @@ __all__ = [
     "TracerInput",
     "TracerResponse",
     "NoSteadyStateError",
+    "tracer_system_from_flows",
 ]
 
 _KINDS = ("linear", "capped", "excess")
@@ -86,6 +87,9 @@ class EdgeFamily:
         Design load M_des of the source node, kg (for "capped"/"excess").
     section : str
         Name of the dryer section the edges belong to (for reporting).
+    law : object, optional
+        The section law whose coefficient and design load this family takes at any moisture
+        (:class:`rotarydryer.transport.sections.FlightedSectionLaw`); None = constant.
     """
 
     name: str
@@ -97,6 +101,7 @@ class EdgeFamily:
     ctrl: np.ndarray | None = None
     cap: np.ndarray | None = None
     section: str = ""
+    law: object = None
 
     def __post_init__(self):
         self.src = np.asarray(self.src, dtype=np.int64).ravel()
@@ -403,6 +408,27 @@ class TracerSystem:
         return y
 
 
+def tracer_system_from_flows(M, src, dst, F, inlet) -> TracerSystem:
+    """Linear tracer system of well-mixed nodes with masses ``M`` (kg) and edge flows ``F`` (kg/s)
+    from ``src`` to ``dst`` (-1 = outlet, -2 = open boundary): a node's tracer leaves with each
+    outflow in proportion F/M. ``inlet`` (n,) distributes the injected tracer."""
+    n = M.size
+    Ms = M[src]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(Ms > 0, F / np.where(Ms > 0, Ms, 1.0), 0.0)
+    inside = dst >= 0
+    rows, cols, vals = [src, dst[inside]], [src, src[inside]], [-q, q[inside]]
+    # nodes without mass get a unit sink so that the matrix stays regular (they carry no tracer)
+    empty = np.where(M <= 0)[0]
+    if empty.size:
+        rows.append(empty)
+        cols.append(empty)
+        vals.append(-np.ones(empty.size))
+    K = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)).tocsc()
+    outlet = np.bincount(src[dst == -1], q[dst == -1], n)
+    return TracerSystem(K, outlet, inlet)
+
+
 class Network:
     """A dryer as one sparse network of well-mixed nodes.
 
@@ -551,31 +577,12 @@ class Network:
         A node's tracer leaves with each outflow in proportion F/M (well mixed).
         ``inlet`` (n,) distributes the injected tracer; default: the feed nodes in
         proportion to their feed."""
-        rows, cols, vals = [], [], []
-        outlet = np.zeros(self.n)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            for f in self.families:
-                k, _ = f.coefficients(M)
-                b, _ = f.basis(M[f.src])
-                F = k * b
-                Ms = M[f.src]
-                q = np.where(Ms > 0, F / np.where(Ms > 0, Ms, 1.0), 0.0)
-                inside = f.dst >= 0
-                rows += [f.src, f.dst[inside]]
-                cols += [f.src, f.src[inside]]
-                vals += [-q, q[inside]]
-                np.add.at(outlet, f.src[f.dst == -1], q[f.dst == -1])
-        # nodes without mass get a unit sink so that the matrix stays regular (they carry no tracer)
-        empty = np.where(M <= 0)[0]
-        if empty.size:
-            rows.append(empty)
-            cols.append(empty)
-            vals.append(-np.ones(empty.size))
-        K = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(self.n, self.n)).tocsc()
+        flows = self.family_flows(M)
+        src = np.concatenate([f.src for f in self.families])
+        dst = np.concatenate([f.dst for f in self.families])
         if inlet is None:
             inlet = self.feed / self.feed.sum()
-        return TracerSystem(K, outlet, inlet)
+        return tracer_system_from_flows(M, src, dst, np.concatenate(flows), inlet)
 
     # --- dynamics -----------------------------------------------------------------------
     def simulate_masses(self, M0, t_span, t_eval=None, feed_fn=None, rtol=1e-6, atol=1e-6):

@@ -14,7 +14,6 @@ A dryer is a list of sections in solids-flow order. Each section adds its nodes 
   - kilning P_i -> P_{i+1}: on the excess over the design load, (M_P - M_des)/t_kiln (Lee
     (2008) Eq. 3.9, ``kilning="excess"``), or on the whole passive mass at the kilning
     velocity u_s/dL (Ajayi (2011) Eq. 5.19, ``kilning="velocity"``);
-  - Sheehan et al. (2005) Model 1: constant global coefficients (``kilning="model1"``).
 
   The repose angle and bulk density of each cell come from the **material** at a moisture
   (:class:`FlightedSectionLaw`); the transport-only network uses an assumed moisture
@@ -33,7 +32,7 @@ have constant coefficients.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -41,7 +40,7 @@ from .._validation import check_choice, check_range
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
 
-__all__ = ["FlightedSectionLaw", "SectionSpec", "build_sections", "unflighted_cells_auto"]
+__all__ = ["ExactGeometry", "FlightedSectionLaw", "SectionSpec", "build_sections", "unflighted_cells_auto"]
 
 
 def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
@@ -57,8 +56,8 @@ class SectionSpec:
 
     kind : "flighted" | "unflighted". n_cells : cells (flighted) or finite volumes
     (unflighted; None = :func:`unflighted_cells_auto`). geometry : cell geometry model
-    (``cascade``, ``design_load_area``, ``loading_factor``). kilning : "excess" (Lee),
-    "velocity" (Ajayi) or "model1" (Sheehan Model 1, ``model1`` = dict of rates).
+    (``cascade``, ``design_load_area``, ``loading_factor``). kilning : "excess" (Lee) or
+    "velocity" (Ajayi).
     repose_angle / bulk_density : fixed per-cell values that replace the material laws
     (transport-only studies). moisture : assumed wet-basis moisture per cell (transport-only
     network). fouling : fraction of the design load lost to scale (Ajayi (2011) Eq. 5.21).
@@ -81,9 +80,36 @@ class SectionSpec:
     repose_angle: object = None
     bulk_density: object = None
     moisture: object = None
-    model1: dict = field(default_factory=dict)
     dispersion: float = 0.0
     velocity: float = 0.0
+
+
+class ExactGeometry:
+    """Cell geometry of the exact flight model (:class:`rotarydryer.geometry.FlightedDrum`) with a
+    chosen design-load method: ``"lee2008"`` (Lee (2008) Eq. 4.20-4.21) or ``"ajayi2011"`` (1.24 x
+    Baker, Ajayi (2011) Section 4.5); ``passive_time_branch`` as in ``FlightedDrum.cascade``."""
+
+    def __init__(self, drum, passive_time_branch=None, design_load_method="lee2008"):
+        check_choice("geometry.design_load_method", design_load_method, ("lee2008", "ajayi2011"))
+        self.drum, self.branch, self.design_load_method = drum, passive_time_branch, design_load_method
+
+    def __repr__(self):
+        return f"exact({self.drum!r})"
+
+    def design_load_area(self, phi):
+        if self.design_load_method == "lee2008":
+            return self.drum.design_load_area(phi)
+        return self.drum.design_load_area(phi, method=self.design_load_method)
+
+    def loading_factor(self, d, phi):
+        return self.drum.loading_factor(d, phi)
+
+    def cascade(self, phi, f, *, rpm, slope=0.0, passive_time_branch=None):
+        kw = dict(rpm=rpm, slope=slope)
+        branch = passive_time_branch or self.branch
+        if branch is not None:
+            kw["passive_time_branch"] = branch
+        return self.drum.cascade(phi, f, **kw)
 
 
 class FlightedSectionLaw:
@@ -96,11 +122,11 @@ class FlightedSectionLaw:
     Ajayi (2011) Eq. 5.18, 5.21).
     """
 
-    def __init__(self, spec: SectionSpec, material, rpm, slope, P, A, nxt, prev_p, prev_a):
+    def __init__(self, spec: SectionSpec, material, rpm, slope, P, assumed_moisture):
         self.spec, self.material = spec, material
         self.rpm, self.slope = float(rpm), float(slope)
-        self.P, self.A, self.nxt = P, A, nxt
-        self.prev_p, self.prev_a = prev_p, prev_a
+        self.P = P
+        self.assumed_moisture = assumed_moisture
         self.n = P.size
         self.dl = spec.length / self.n
         self.sin_t = math.sin(math.radians(self.slope))
@@ -108,10 +134,6 @@ class FlightedSectionLaw:
             np.asarray(spec.repose_angle, float), (self.n,)).copy()
         self._fixed_rho = None if spec.bulk_density is None else np.broadcast_to(
             np.asarray(spec.bulk_density, float), (self.n,)).copy()
-
-    @property
-    def ctrl(self):
-        return self.P
 
     def properties(self, x):
         """(repose angle deg, bulk density kg/m^3) per cell at wet-basis moisture ``x``."""
@@ -121,8 +143,6 @@ class FlightedSectionLaw:
 
     def design_load(self, phi, rho, fouling=None):
         s = self.spec
-        if s.kilning == "model1":
-            return np.full(self.n, s.model1["design_load"] / self.n)
         fouling = s.fouling if fouling is None else fouling
         return rho * self.dl * np.asarray(s.geometry.design_load_area(phi), dtype=float) * (1.0 - fouling)
 
@@ -146,12 +166,11 @@ class FlightedSectionLaw:
 
     def rates(self, phi, f, rpm=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
+        return self.rates_of(self.cascade(phi, f, rpm))
+
+    def rates_of(self, c):
+        """Coefficients (1/s) of each family from a :meth:`cascade` result."""
         s = self.spec
-        if s.kilning == "model1":
-            m = s.model1
-            return dict(passive_forward=np.full(self.n, m["passive_rate"]), discharge=np.full(self.n, m["exchange_rate"]),
-                        **{"return": np.full(self.n, m["return_rate"])}, kiln=np.full(self.n, m["kiln_rate"]))
-        c = self.cascade(phi, f, rpm)
         out = dict(discharge=1.0 / c["tp"], forward=c["CF"] / c["ta"], backmix=s.backmix / c["ta"])
         out["return"] = c["CR"] / c["ta"]
         out["kiln"] = (np.full(self.n, 1.0 / s.kiln_time) if s.kilning == "excess"
@@ -195,11 +214,11 @@ class _Coefficients:
         return lambda M: self.get(M)[name]
 
 
-_RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln", "passive_forward")
+_RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln")
 
 
 def _check_flighted(spec: SectionSpec, where: str):
-    check_choice(f"{where}.kilning", spec.kilning, ("excess", "velocity", "model1"))
+    check_choice(f"{where}.kilning", spec.kilning, ("excess", "velocity"))
     check_choice(f"{where}.loading", spec.loading, ("fixed", "state"))
     check_choice(f"{where}.backmix_to", spec.backmix_to, ("passive", "active"))
     if spec.kilning == "excess" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
@@ -215,8 +234,9 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
     ``material`` gives repose angle and bulk density versus moisture (used where a section has
     no fixed values). ``inlet`` is the inlet condition of a first unflighted section
     ("ajayi": Dirichlet m(0) = F/u_s with an open dispersive boundary, Ajayi (2011) Eq.
-    5.11-5.13; "danckwerts": closed). The model carries ``layout``: one record per section with
-    its node indices and, for flighted sections, its :class:`FlightedSectionLaw`.
+    5.11-5.13; "danckwerts": closed). The model also carries ``specs`` (the sections it was built
+    from) and ``cell_length`` (axial extent of each node, m); the families of flighted sections
+    carry their :class:`FlightedSectionLaw` (``family.law``).
     """
     if not sections:
         raise ValueError("sections = [] is empty: a dryer needs at least one section")
@@ -240,7 +260,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             dz = L / n
             pos = x0 + (np.arange(n) + 0.5) * dz
             idx = b.add_nodes(s.name, "bed", np.arange(n), pos, guess=F / u * dz)
-            built.append(dict(spec=s, kind="unflighted", n=n, dz=dz, nodes=idx, entry=idx[0], start=x0))
+            built.append(dict(spec=s, kind="unflighted", n=n, dz=dz, nodes=idx, entry=idx[0]))
         elif s.kind == "flighted":
             _check_flighted(s, where)
             N = s.n_cells
@@ -249,16 +269,12 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             N = int(N)
             dl = L / N
             pos = x0 + (np.arange(N) + 0.5) * dl
-            P = b.n + 2 * np.arange(N)          # interleaved P_i, A_i: a banded matrix
-            A = P + 1
-            built.append(dict(spec=s, kind="flighted", n=N, dl=dl, P=P, A=A, entry=P[0], start=x0, pos=pos))
-            b.n += 2 * N
-            b.labels["section"] += [s.name] * (2 * N)
-            b.labels["phase"] += ["passive", "active"] * N
-            b.labels["cell"] += list(np.repeat(np.arange(N), 2))
-            b.labels["position"] += list(np.repeat(pos, 2))
-            b.design_load += [np.nan] * (2 * N)
-            b.guess += [0.0] * (2 * N)
+            P = np.empty(N, dtype=np.int64)
+            A = np.empty(N, dtype=np.int64)
+            for i in range(N):                  # interleaved P_i, A_i: a banded matrix
+                P[i] = b.add_nodes(s.name, "passive", i, pos[i])[0]
+                A[i] = b.add_nodes(s.name, "active", i, pos[i])[0]
+            built.append(dict(spec=s, kind="flighted", n=N, dl=dl, P=P, A=A, entry=P[0]))
         else:
             raise ValueError(f"{where}.kind = {s.kind!r} is not one of 'flighted', 'unflighted'")
         x0 += L
@@ -269,7 +285,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
                  "fall_height_m", "C_F", "C_R")
     info = {k: [] for k in info_keys}
     families = []
-    layout = []
+    cell_length = np.zeros(b.n)
     fix_families = {}
     for k, rec in enumerate(built):
         s = rec["spec"]
@@ -290,89 +306,71 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
                     families.append(EdgeFamily("bed_dispersion", idx[1:], idx[:-1], "linear",
                                                rate=np.full(n - 1, bw), section=sec))
             families.append(EdgeFamily("bed_outflow", idx[-1:], [nxt], "linear", rate=[u / dz], section=sec))
-            layout.append(dict(name=sec, kind="unflighted", nodes=idx, dz=dz, start=rec["start"], next=nxt,
-                               length=float(s.length)))
+            cell_length[idx] = dz
             continue
         N, P, A = rec["n"], rec["P"], rec["A"]
         nxtP = np.r_[P[1:], nxt]
         prevP = np.r_[P[0], P[:-1]]
         prevA = np.r_[P[0], A[:-1]]        # the first cell's backmix stays in its own passive phase
-        law = FlightedSectionLaw(s, material, rpm, theta, P, A, nxtP, prevP, prevA)
         x = (np.zeros(N) if s.moisture is None else np.broadcast_to(np.asarray(s.moisture, float), (N,)).copy())
-        law.assumed_moisture = x
+        law = FlightedSectionLaw(s, material, rpm, theta, P, x)
         phi, rho = law.properties(x)
         des = law.design_load(phi, rho)
         if np.any(~np.isfinite(des)) or np.any(des <= 0):
             raise ValueError(f"section {sec}: the geometry model gives a non-positive design load "
                              f"({np.nanmin(des):.4g} kg); check the repose angle / material")
         design_load[P] = des
-        if s.kilning == "model1":
-            r1 = law.rates(phi, np.ones(N))
-            c1 = None
-        else:
-            c1 = law.cascade(phi, np.ones(N))
-            f_check = [1.0] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75, 1.0]
-            worst = min(float(np.min(law.cascade(phi, np.full(N, f))["CR"])) for f in f_check)
-            if worst < 0:
-                cf_per_n = s.drag_reduction * float(np.max(c1["h"])) * law.sin_t / s.length
-                n_max = int(math.floor((1.0 - s.backmix) / cf_per_n)) if cf_per_n > 0 else 0
-                raise ValueError(
-                    f"section {sec}: transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B "
-                    f"negative (min {worst:.4g}): the forward step C_F^G h_m sin(theta) exceeds the cell length "
-                    f"minus backmix; with backmix = {s.backmix:g} and drag_reduction = {s.drag_reduction:g} the "
-                    f"limit is transport.n_cells <= {n_max} (Lee (2008) Ch. 7: N <= 35 for Invicta)")
-            if np.any(c1["tp"] <= 0) or np.any(c1["ta"] <= 0):
-                raise ValueError(f"section {sec}: geometry gives a non-positive passive or fall time; check the "
-                                 "repose angle")
-            r1 = law.rates(phi, np.ones(N))
+        c1 = law.cascade(phi, np.ones(N))
+        f_check = [] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75]
+        worst = min([float(np.min(c1["CR"]))] + [float(np.min(law.cascade(phi, np.full(N, f))["CR"]))
+                                                 for f in f_check])
+        if worst < 0:
+            cf_per_n = s.drag_reduction * float(np.max(c1["h"])) * law.sin_t / s.length
+            n_max = int(math.floor((1.0 - s.backmix) / cf_per_n)) if cf_per_n > 0 else 0
+            raise ValueError(
+                f"section {sec}: transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B "
+                f"negative (min {worst:.4g}): the forward step C_F^G h_m sin(theta) exceeds the cell length "
+                f"minus backmix; with backmix = {s.backmix:g} and drag_reduction = {s.drag_reduction:g} the "
+                f"limit is transport.n_cells <= {n_max} (Lee (2008) Ch. 7: N <= 35 for Invicta)")
+        if np.any(c1["tp"] <= 0) or np.any(c1["ta"] <= 0):
+            raise ValueError(f"section {sec}: geometry gives a non-positive passive or fall time; check the "
+                             "repose angle")
+        r1 = law.rates_of(c1)
         # Newton start: just above the design load where the excess kilns (over-loaded active set),
         # below it where the whole passive mass moves on
         if s.kilning == "excess":
             guess[P] = des * (1 + 1e-6)
             guess[A] = des * c1["ta"] / c1["tp"]
-        elif s.kilning == "velocity":
+        else:
             guess[P] = 0.8 * des
             guess[A] = 0.8 * des * c1["ta"] / c1["tp"]
-        else:
-            guess[P] = des
-            guess[A] = des * s.model1["exchange_rate"] / max(s.model1["return_rate"], 1e-300)
-        if s.loading == "fixed" or s.kilning == "model1":
+        if s.loading == "fixed":
             mk = lambda key, r1=r1: dict(rate=r1[key])  # noqa: E731
         else:
             cc = _Coefficients(law, x, des)
             mk = lambda key, cc=cc: dict(rate_fn=cc.rate_fn(key), ctrl=P)  # noqa: E731
-        fams = []
-        if s.kilning == "model1":
-            if s.model1["passive_rate"] > 0:
-                fams.append(EdgeFamily("passive_forward", P, nxtP, "linear", section=sec, **mk("passive_forward")))
-            fams.append(EdgeFamily("discharge", P, A, "capped", cap=des, section=sec, **mk("discharge")))
-            fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
-            if s.model1["kiln_rate"] > 0:
-                fams.append(EdgeFamily("kiln", P, nxtP, "excess", cap=des, section=sec, **mk("kiln")))
-        else:
-            fams.append(EdgeFamily("discharge", P, A, "capped", cap=des, section=sec, **mk("discharge")))
-            if s.kilning == "excess" and math.isfinite(s.kiln_time):
-                fams.append(EdgeFamily("kiln", P, nxtP, "excess", rate=r1["kiln"], cap=des, section=sec))
-            fams.append(EdgeFamily("forward", A, nxtP, "linear", section=sec, **mk("forward")))
-            fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
-            if s.backmix > 0:
-                dst = prevP if s.backmix_to == "passive" else prevA
-                fams.append(EdgeFamily("backmix", A, dst, "linear", section=sec, **mk("backmix")))
-            if s.kilning == "velocity":
-                fams.append(EdgeFamily("kiln", P, nxtP, "linear", rate=r1["kiln"], section=sec))
+        fams = [EdgeFamily("discharge", P, A, "capped", cap=des, section=sec, **mk("discharge"))]
+        if s.kilning == "excess" and math.isfinite(s.kiln_time):
+            fams.append(EdgeFamily("kiln", P, nxtP, "excess", rate=r1["kiln"], cap=des, section=sec))
+        fams.append(EdgeFamily("forward", A, nxtP, "linear", section=sec, **mk("forward")))
+        fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
+        if s.backmix > 0:
+            dst = prevP if s.backmix_to == "passive" else prevA
+            fams.append(EdgeFamily("backmix", A, dst, "linear", section=sec, **mk("backmix")))
+        if s.kilning == "velocity":
+            fams.append(EdgeFamily("kiln", P, nxtP, "linear", rate=r1["kiln"], section=sec))
         for f in fams:
             f.law = law
             if f.rate_fn is not None:
                 fix_families[id(f)] = r1[f.name]
         families += fams
-        layout.append(dict(name=sec, kind="flighted", P=P, A=A, dl=rec["dl"], start=rec["start"], next=nxt,
-                           law=law, moisture=x, length=float(s.length), position=rec["pos"]))
+        cell_length[P] = cell_length[A] = rec["dl"]
         info["moisture_kg_kg"].append(x)
         info["repose_angle_deg"].append(phi)
         info["bulk_density_kg_m3"].append(rho)
         for key, ck in (("passive_time_s", "tp"), ("fall_time_s", "ta"), ("fall_height_m", "h"), ("C_F", "CF"),
                         ("C_R", "CR")):
-            info[key].append(np.full(N, np.nan) if c1 is None else c1[ck])
+            info[key].append(c1[ck])
     first = built[0]
     inlet_vec = None
     if first["kind"] == "unflighted" and inlet == "ajayi" and first["spec"].dispersion > 0:
@@ -405,6 +403,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         feed_rate=F, design_load=design_load, cell_info=info, tracer_input=tracer_input,
         parameters=dict(parameters or {}))
     model.tracer_inlet = inlet_vec
-    model.layout = layout
+    model.cell_length = cell_length
+    model.specs = list(sections)
     model.material = material
     return model
