@@ -25,6 +25,7 @@ def test_lee_report_has_an_energy_section():
     """Issue 12: the Invicta dryer gets heat and mass transfer (counter-current raw sugar)."""
     text = build_report("lee2008_invicta")
     assert 'id="energy"' in text
+    assert "coupled transport, heat and mass steady state" in text   # which model the key results are
 
 
 def test_measured_rtd_legend_uses_the_case_baseline():

@@ -8,6 +8,8 @@ from importlib import resources
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from rotarydryer import Simulation
@@ -178,6 +180,29 @@ def test_balances_close_on_other_operating_points(ov):
     assert out["product_moisture_kg_kg"] <= ov["operating.feed_moisture"] + 1e-12
 
 
+@pytest.mark.xfail(strict=True, raises=ValueError, reason=(
+    "known solver failure (issue 12 note): pseudo-transient continuation stalls with one gas stage's humidity "
+    "at the admissibility bound 0.3 kg/kg, where the clipped transfer kernel no longer responds; found by a "
+    "hypothesis search over the template's operating range"))
+def test_template_hot_gas_point_converges():
+    ov = {"operating.feed_rate": 3.0, "operating.feed_moisture": 0.03125, "gas.inlet_temperature": 351.0,
+          "gas.direction": "co-current"}
+    out = Simulation_from_template(ov).steady_state().summary()
+    assert out["energy_balance_error"] < 1e-9
+
+
+def test_song_pilot_holdup_without_gas():
+    """Song (2003) Table 4.1 run 2 (L1325): dry building sand, 5.37 kg/min, 5 rpm, slope 0.083 m/m, no
+    gas flow: measured holdup 29.93 kg, mean residence time 5.57 min (App. A L1503). The lifter profile
+    is not published (the case's L-shaped lifter is a choice) and kiln_time is Lee's order of magnitude,
+    so this is a prediction, not a fit: the model holds 16 % more (34.9 kg); tolerance 20 %."""
+    sim = Simulation("song2003_ottawa", {"thermal.enabled": False, "operating.feed_rate": 5.37 / 60,
+                                         "operating.feed_moisture": 0.0})
+    out = sim.steady_state().summary()
+    assert out["total_holdup_kg"] == pytest.approx(29.93, rel=0.20)
+    assert out["mean_residence_time_s"] / 60 == pytest.approx(5.57, rel=0.20)
+
+
 def Simulation_from_template(ov):
     import tempfile
     from pathlib import Path
@@ -190,10 +215,15 @@ def Simulation_from_template(ov):
 
 # ---- bad input --------------------------------------------------------------------------------
 def _cli_error(args):
-    r = runner.invoke(app, args)
+    """Exit 2, an ``error:`` line, no traceback, and nothing written to --out."""
+    import tempfile
+    from pathlib import Path
+
+    out = Path(tempfile.mkdtemp()) / "out"
+    r = runner.invoke(app, [*args, "--out", str(out)])
     assert r.exit_code == 2, r.output
-    msg = r.output.strip().splitlines()
-    assert "Traceback" not in r.output
+    assert r.output.startswith("error: ") and "Traceback" not in r.output
+    assert not out.exists() or not any(out.iterdir())
     return r.output
 
 
@@ -201,6 +231,11 @@ def test_material_outside_its_moisture_range(tmp_path):
     p = _write(tmp_path, "wet", _template_text())
     out = _cli_error(["simulate", p, "--set", "operating.feed_moisture=0.5"])
     assert "operating.feed_moisture = 0.5" in out and "ottawa_sand_song2003" in out and "0.2" in out
+
+
+def test_lee_moisture_outside_the_sugar_range_names_the_dry_basis_key():
+    out = _cli_error(["simulate", "lee2008_invicta", "--set", "solids.moisture_inlet=0.5"])
+    assert "solids.moisture_inlet = 0.5 kg/kg dry" in out and "raw_sugar_lee2008" in out and "0.04" in out
 
 
 def test_unknown_material(tmp_path):
@@ -231,3 +266,63 @@ def test_no_plant_numbers_in_the_thermal_model():
         assert pattern not in src, pattern
     data = tomllib.loads((resources.files("rotarydryer.cases") / "ajayi2011_mmg.toml").read_text())
     assert data["thermal"]["unflighted_cells"] == {"A": 12, "E": 24}
+
+
+# ---- property: any sequence of sections conserves solids and recovers the tracer ---------------
+_SECTION = st.tuples(st.sampled_from(["flighted", "unflighted"]), st.floats(0.5, 6.0), st.integers(2, 8),
+                     st.sampled_from(["excess", "velocity"]))
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(sections=st.lists(_SECTION, min_size=1, max_size=4), feed=st.floats(0.5, 5.0),
+       moisture=st.floats(0.0, 0.15))
+def test_any_section_sequence_conserves(sections, feed, moisture):
+    from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
+    from rotarydryer.properties.materials import load_material
+    from rotarydryer.transport.sections import ExactGeometry, SectionSpec
+
+    drum = FlightedDrum(radius=1.0, n_flights=18, flight=TwoSectionFlight(s1=0.15, s2=0.10, alpha1=90.0,
+                                                                          alpha2=120.0))
+    specs = []
+    for i, (kind, length, n, kilning) in enumerate(sections):
+        n = max(1, min(n, int(length / 0.5)))    # cells of >= 0.5 m: the forward step fits (C_R >= 0)
+        if kind == "unflighted":
+            specs.append(SectionSpec(name=f"s{i}", kind=kind, length=length, n_cells=n, velocity=0.02,
+                                     dispersion=1e-3))
+        else:
+            specs.append(SectionSpec(name=f"s{i}", kind=kind, length=length, n_cells=n,
+                                     geometry=ExactGeometry(drum), kilning=kilning, kiln_time=10.0,
+                                     kiln_velocity=0.02, moisture=moisture))
+    model = build_sections(specs, material=load_material("ottawa_sand_song2003"), feed_rate=feed, rpm=4.0,
+                           slope=3.0)
+    ss = model.steady_state()
+    assert ss.outlet_flow == pytest.approx(feed, rel=1e-9)
+    assert ss.total_holdup > 0 and np.all(ss.masses >= 0)
+    m = ss.tracer_system().moments()
+    assert m["recovery"] == pytest.approx(1.0, abs=1e-9)
+    assert m["mean"] == pytest.approx(ss.total_holdup / feed, rel=1e-8)     # closed vessel: mean = H/F
+    # every node knows its axial extent: passive and active nodes share their cell's length
+    expected = sum(s.length * (2 if s.kind == "flighted" else 1) for s in specs)
+    assert model.cell_length.sum() == pytest.approx(expected, rel=1e-12)
+
+
+def test_too_many_cells_names_the_largest_that_fits():
+    """The C_R < 0 error gives a cell count that does build (the limit at the worst loading)."""
+    from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
+    from rotarydryer.properties.materials import load_material
+    from rotarydryer.transport.sections import ExactGeometry, SectionSpec
+
+    drum = FlightedDrum(radius=1.0, n_flights=18, flight=TwoSectionFlight(s1=0.15, s2=0.10, alpha1=90.0,
+                                                                          alpha2=120.0))
+
+    def build(n):
+        spec = SectionSpec(name="s", kind="flighted", length=0.5, n_cells=n, geometry=ExactGeometry(drum),
+                           kilning="excess", kiln_time=10.0, moisture=0.0)
+        return build_sections([spec], material=load_material("ottawa_sand_song2003"), feed_rate=1.0, rpm=4.0,
+                              slope=3.0)
+
+    with pytest.raises(ValueError, match=r"transport.n_cells <= (\d+)") as err:
+        build(7)
+    n_max = int(re.search(r"transport.n_cells <= (\d+)", str(err.value)).group(1))
+    assert 1 <= n_max < 7
+    assert build(n_max).steady_state().outlet_flow == pytest.approx(1.0, rel=1e-9)

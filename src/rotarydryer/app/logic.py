@@ -110,14 +110,16 @@ def case_defaults(case: str) -> dict:
 
 
 def transport_view(case: str, feed_rate: float, rpm: float, slope: float, images: bool = True) -> dict:
-    """Steady state + tracer RTD of a built-in case at a changed operating point.
+    """Solids-transport steady state + tracer RTD of a built-in case at a changed operating point
+    (heat and mass transfer off: the page's plots and numbers come from one model run).
 
     Returns ``{"results": Results, "metrics": {...}, "holdup": png, "rtd": png,
     "loading": png}`` (the PNGs only with ``images``)."""
     from ..report.figures import plot_holdup_profile, plot_loading_state, plot_rtd
     from ..results import run_case
 
-    res = run_case(case, {"operating.feed_rate": feed_rate, "operating.rpm": rpm, "drum.slope": slope})
+    res = run_case(case, {"operating.feed_rate": feed_rate, "operating.rpm": rpm, "drum.slope": slope},
+                   thermal=False)
     s = res.scalars
     out = {
         "results": res,

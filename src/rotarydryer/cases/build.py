@@ -83,10 +83,20 @@ def lee_parameters(case: LeeCase) -> dict:
     return out
 
 
+def _check_lee_moisture(case: LeeCase):
+    """Lee's moistures w (kg water per kg dry solids, Eq. 7.3; Appendix I l.12456) inside the range
+    of the case's material, when it names one."""
+    if case.material is not None:
+        mat = material_of(case)
+        for key in ("moisture_inlet", "moisture_outlet"):
+            mat.check_moisture(f"solids.{key}", getattr(case.solids, key), basis="dry")
+
+
 def _build_lee(case: LeeCase):
     from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
     from rotarydryer.transport import lee2008, lee2008_repose_profile
 
+    _check_lee_moisture(case)
     d, fl = case.drum, case.flight
     if case.geometry.method == "exact":
         geometry = exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2)
@@ -213,9 +223,9 @@ def operating_point(case):
         inp = ajayi_test_inputs(case)
         return inp["feed_rate"], inp["rpm"], inp["test"].moisture_inlet, case.thermal.solids_inlet_temperature
     if isinstance(case, LeeCase):
-        mat = material_of(case)
+        _check_lee_moisture(case)
         w_in = case.solids.moisture_inlet
-        x_in = w_in / (1 + w_in) if mat.moisture_basis == "dry" else w_in
+        x_in = w_in / (1 + w_in)
         t_in = getattr(case.gas, "feed_temperature", None)
         return case.operating.feed_rate, case.operating.rpm, x_in, 20.0 if t_in is None else t_in
     o = case.operating
@@ -326,8 +336,7 @@ def thermal_inputs(case) -> dict:
         # case fixes it; the Eq. 7.3 exponential profile is the start and the transport-only moisture
         s, N = case.solids, case.transport.n_cells
         w = _exponential_profile(s.moisture_inlet, s.moisture_outlet, np.arange(N) / max(N - 1, 1))
-        changes["dryer"] = dict(repose_angle=s.repose_angle,
-                                moisture=w / (1 + w) if material.moisture_basis == "dry" else w)
+        changes["dryer"] = dict(repose_angle=s.repose_angle, moisture=w / (1 + w))
     else:
         for s in case.sections:
             sec_th[s.name] = SectionThermal(area_factor=s.area_factor, particle_diameter=s.particle_diameter,

@@ -104,10 +104,15 @@ class Material:
         lo, hi = self.moisture_range
         return (lo, hi) if self.moisture_basis == "wet" else (lo / (1.0 + lo), hi / (1.0 + hi))
 
-    def check_moisture(self, key: str, x_wet) -> None:
+    def check_moisture(self, key: str, x_wet, basis: str = "wet") -> None:
         """Raise ``ValueError`` (one line naming ``key``, the worst value and the range) if any
-        wet-basis moisture lies outside :meth:`wet_range`."""
+        moisture lies outside the material's range; ``basis`` ("wet" or "dry") is the basis of the
+        values given and of the message."""
+        if basis not in ("wet", "dry"):
+            raise ValueError(f"basis = {basis!r} is not one of 'wet', 'dry'")
         lo, hi = self.wet_range()
+        if basis == "dry":
+            lo, hi = lo / (1.0 - lo), hi / (1.0 - hi)
         x = np.ravel(np.asarray(x_wet, dtype=float))
         off = np.where(np.isnan(x), np.inf, np.maximum(lo - x, x - hi))
         if not np.any(off > _TOL):
@@ -115,8 +120,8 @@ class Material:
         value = float(x[int(np.argmax(off))])
         srcs = dict.fromkeys(s for s in (self.repose_angle_source, self.bulk_density_source) if s)
         cite = "; ".join(srcs) or (self.citations[0] if self.citations else "source")
-        raise ValueError(f"{key} = {value:g} kg/kg wet is outside the moisture range of material '{self.name}' "
-                         f"([{lo:g}, {hi:g}] kg/kg wet; the repose-angle and bulk-density laws ({cite}) hold "
+        raise ValueError(f"{key} = {value:g} kg/kg {basis} is outside the moisture range of material '{self.name}' "
+                         f"([{lo:g}, {hi:g}] kg/kg {basis}; the repose-angle and bulk-density laws ({cite}) hold "
                          "there only)")
 
 

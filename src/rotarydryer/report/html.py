@@ -161,8 +161,14 @@ def _transport_sections(results) -> str:
         ("mass balance error", s.get("mass_balance_error"), "-"),
     ]
     key_rows = [(k, _fmt(float(v)) if v is not None else "-", u) for k, v, u in key if v is not None]
+    note = ""
+    if results.model_choices.get("transport_datasets"):
+        note = ('<p class="note">Key results are those of the coupled transport, heat and mass steady state '
+                '(the names and values of <code>rotarydryer simulate --json</code>); the holdup profile, RTD and '
+                'loading-state figures and tables below show the solids-transport model with its assumed '
+                'moisture profile.</p>')
     parts = [f"""<section id="summary"><h2>Key results</h2>
-{_table(('quantity', 'value', 'unit'), key_rows)}</section>
+{_table(('quantity', 'value', 'unit'), key_rows)}{note}</section>
 <section id="dryer"><h2>Dryer to scale</h2>{_img(draw_dryer_side_view(results), 'dryer to scale')}</section>"""]
     parts.append(f'<section id="holdup"><h2>Holdup profile</h2>{_img(plot_holdup_profile(results), "holdup profile")}'
                  "</section>")

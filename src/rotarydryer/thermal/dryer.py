@@ -281,6 +281,7 @@ class ThermalDryer:
             raise DryerError("the heat-and-mass model needs a closed solids inlet (one feed node)")
         self.entry = int(feed_nodes[0])
         self.families = net.families
+        self._outlet_families = [f for f in self.families if np.any(f.dst < 0)]
         self.laws = []
         for f in self.families:
             if f.law is not None and all(f.law is not x for x in self.laws):
@@ -368,31 +369,35 @@ class ThermalDryer:
             self._inlet_h = (key, self.gas_inlet_enthalpy())
         return self._inlet_h[1]
 
-    def flows(self, S, W, T):
+    def flows(self, S, W, T, families=None):
         """Wet-solids edge flows: (src, dst, flow kg/s) arrays incl. the outlet edges (dst = -1).
 
         The network's families with their flow rules; a family of a flighted section takes its
         coefficient and design load from the section law at the passive moisture (computed, or
-        the assumed transport profile when ``moisture_coupling`` is off)."""
+        the assumed transport profile when ``moisture_coupling`` is off). ``families``: only these
+        (default all)."""
+        everything = families is None
+        families = self.families if everything else families
         s = self.settings
         m = S + W
         lo, hi = self.material.wet_range()
-        self._clipped = False
+        clipped = False
         coef = {}
-        for law in self.laws:
+        laws = self.laws if everything else {id(f.law): f.law for f in families if f.law is not None}.values()
+        for law in laws:
             P = law.P
             if s.moisture_coupling:
                 xp = W[P] / np.maximum(m[P], 1e-12)
-                if np.any(xp < lo) or np.any(xp > hi):
-                    self._clipped = True
+                clipped = clipped or bool(np.any(xp < lo) or np.any(xp > hi))
                 xp = np.clip(xp, lo, hi)
             else:
                 xp = law.assumed_moisture
-            c = law.evaluate(m[P], xp, rpm=self.rpm, fouling=s.fouling)
-            coef[id(law)] = c
+            coef[id(law)] = law.evaluate(m[P], xp, rpm=self.rpm, fouling=s.fouling)
+        if everything:
+            self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
         src, dst, fl = [], [], []
         eps = s.design_load_smoothing
-        for f in self.families:
+        for f in families:
             law = f.law
             ms = m[f.src]
             if law is None:
@@ -459,22 +464,35 @@ class ThermalDryer:
                             insulation_conductivity=s.insulation_conductivity, pressure=s.pressure)
         return r.heat_loss
 
-    def terms(self, z):
-        """All balance terms at state ``z`` (dict of arrays, W and kg/s)."""
-        s = self.settings
+    def _solids_streams(self, z, families=None):
+        """(S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet): the state on the nearest physical
+        state (trial states of the solvers may leave the physical domain; conservation is
+        unaffected at physical states), the edge flows and what each flow carries."""
         if not np.all(np.isfinite(z)):
             raise DryerError("state became non-finite (solver diverged)", reason="diverged", state=z)
+        s = self.settings
         S, W, T, Tg, Y = self.split(z)
-        # trial states of the solvers may leave the physical domain: evaluate rates on the nearest
-        # physical state (conservation is unaffected at physical states)
         S = np.maximum(S, 1e-9 * self.feed_rate)
         W = np.maximum(W, 0.0)
         T = np.clip(T, -20.0, 300.0)
         m = S + W
-        src, dst, F = self.flows(S, W, T)
+        src, dst, F = self.flows(S, W, T, families)
         frac_s = S[src] / np.maximum(m[src], 1e-12)
         frac_w = W[src] / np.maximum(m[src], 1e-12)
         h_wet = (s.cp_solids * frac_s + s.cp_water * frac_w) * T[src]
+        return S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet
+
+    def product_stream(self, z):
+        """Dry solids (kg/s), water (kg/s) and enthalpy (W) leaving with the product at state ``z``
+        (solids flows only: no heat-transfer or shell terms)."""
+        *_, dst, F, frac_s, frac_w, h_wet = self._solids_streams(z, self._outlet_families)
+        out = dst < 0
+        return float(np.sum((F * frac_s)[out])), float(np.sum((F * frac_w)[out])), float(np.sum((F * h_wet)[out]))
+
+    def terms(self, z):
+        """All balance terms at state ``z`` (dict of arrays, W and kg/s)."""
+        s = self.settings
+        S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet = self._solids_streams(z)
         nt = self.n_tanks
         inner = dst >= 0
         inS = np.bincount(dst[inner], F[inner] * frac_s[inner], nt)
@@ -859,11 +877,10 @@ class DynamicResult:
         pm, pt, tg = [], [], []
         s = dryer.settings
         for j in range(y.shape[1]):
-            d = dryer.terms(y[:, j])
-            pS, pW, pH = d["product_S"], d["product_W"], d["product_H"]
+            pS, pW, pH = dryer.product_stream(y[:, j])
             pm.append(pW / (pS + pW))
             pt.append(pH / (pS * s.cp_solids + pW * s.cp_water))
-            tg.append(d["Tg"][dryer.gas_outlet_stage])
+            tg.append(dryer.split(y[:, j])[3][dryer.gas_outlet_stage])
         self.product_moisture = np.array(pm)
         self.product_temperature_c = np.array(pt)
         self.gas_outlet_temperature_c = np.array(tg)

@@ -147,6 +147,8 @@ class FlightedSectionLaw:
         return rho * self.dl * np.asarray(s.geometry.design_load_area(phi), dtype=float) * (1.0 - fouling)
 
     def cascade(self, phi, f, rpm=None):
+        """Cycle times, fall height and the forward/return split C_F, C_R per cell (Lee (2008)
+        Eq. 3.3-3.8)."""
         kw = dict(rpm=self.rpm if rpm is None else rpm, slope=self.slope)
         if self.spec.passive_time_branch is not None:
             kw["passive_time_branch"] = self.spec.passive_time_branch
@@ -322,10 +324,11 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         design_load[P] = des
         c1 = law.cascade(phi, np.ones(N))
         f_check = [] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75]
-        worst = min([float(np.min(c1["CR"]))] + [float(np.min(law.cascade(phi, np.full(N, f))["CR"]))
-                                                 for f in f_check])
+        cw = min([c1] + [law.cascade(phi, np.full(N, f)) for f in f_check], key=lambda c: float(np.min(c["CR"])))
+        worst = float(np.min(cw["CR"]))
         if worst < 0:
-            cf_per_n = s.drag_reduction * float(np.max(c1["h"])) * law.sin_t / s.length
+            # the largest N whose forward step fits in the cell at the worst loading
+            cf_per_n = s.drag_reduction * float(np.max(cw["h"])) * law.sin_t / s.length
             n_max = int(math.floor((1.0 - s.backmix) / cf_per_n)) if cf_per_n > 0 else 0
             raise ValueError(
                 f"section {sec}: transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B "
