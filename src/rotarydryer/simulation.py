@@ -7,10 +7,11 @@
 ['product_moisture_kg_kg', 'product_temperature_degC']
 
 The case (any kind: the general ``kind = "dryer"`` schema, or Lee's and Ajayi's plant cases)
-becomes a list of :class:`~rotarydryer.transport.sections.SectionSpec`; the transport network
-is built once by :func:`~rotarydryer.transport.sections.build_sections`; the heat-and-mass
-model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`) rides on the same network's nodes and
-edge families. Output names carry their unit (``_kg``, ``_kg_s``, ``_s``, ``_degC``, ``_kg_kg``,
+becomes a list of :class:`~rotarydryer.transport.sections.SectionSpec` (:mod:`rotarydryer.cases.build`),
+from which :func:`~rotarydryer.transport.sections.build_sections` builds the transport network;
+the heat-and-mass model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`) rides on the nodes and
+edge families of a network built from the same specs with the case's thermal changes (closed
+inlet, its own bed discretisation, properties from the computed moisture). Output names carry their unit (``_kg``, ``_kg_s``, ``_s``, ``_degC``, ``_kg_kg``,
 ``_W``); balances are relative errors.
 """
 

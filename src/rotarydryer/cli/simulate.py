@@ -115,12 +115,13 @@ def simulate(
             ("product temperature", f"{result['product_temperature_degC']:.1f} degC"),
             ("gas outlet temperature", f"{result['gas_outlet_temperature_degC']:.1f} degC"),
             ("evaporation", f"{result['evaporation_kg_s']:.4g} kg/s"),
-            ("fuel rate", "n/a" if result.get("fuel_rate_kg_s") is None
-             else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"),
             ("shell heat loss", f"{result['shell_heat_loss_W'] / 1e3:.0f} kW"),
             ("energy / water balance error", f"{result['energy_balance_error']:.1e} / "
                                               f"{result['water_balance_error']:.1e}"),
         ]
+        if "fuel_rate_kg_s" in result:      # cases with a burner
+            rows.append(("fuel rate", "n/a" if result["fuel_rate_kg_s"] is None
+                         else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"))
     states = ss.loading_state if not thermal_on else []
     if not thermal_on:
         rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
