@@ -270,7 +270,7 @@ def test_no_plant_numbers_in_the_thermal_model():
 
 # ---- property: any sequence of sections conserves solids and recovers the tracer ---------------
 _SECTION = st.tuples(st.sampled_from(["flighted", "unflighted"]), st.floats(0.5, 6.0), st.integers(2, 8),
-                     st.sampled_from(["excess", "velocity"]))
+                     st.sampled_from(["excess", "velocity", "empirical"]))
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -292,7 +292,9 @@ def test_any_section_sequence_conserves(sections, feed, moisture):
         else:
             specs.append(SectionSpec(name=f"s{i}", kind=kind, length=length, n_cells=n,
                                      geometry=ExactGeometry(drum), kilning=kilning, kiln_time=10.0,
-                                     kiln_velocity=0.02, moisture=moisture))
+                                     kiln_velocity=0.02, moisture=moisture,
+                                     rates=dict(passive_rate=0.002, exchange_rate=0.2, return_rate=1.0,
+                                                kiln_rate=0.05)))
     model = build_sections(specs, material=load_material("ottawa_sand_song2003"), feed_rate=feed, rpm=4.0,
                            slope=3.0)
     ss = model.steady_state()

@@ -88,6 +88,16 @@ class Tracer(_Strict):
 
 
 # ---- blocks shared by every case kind: material, gas, shell, thermal ---------------------
+class Burner(_Strict):
+    """Direct-fired burner making the drying gas (rotarydryer.thermal.burner, Ajayi (2011) App. A)."""
+    combustion_air_share: float = Field(gt=0, lt=1, description="fraction of the air (combustion + dilution) fed through the burner")
+    heat_loss_fraction: float = Field(default=0.0, ge=0, le=0.5, description="fraction of the fuel's heat lost by the chamber")
+    fuel_water_fraction: float = Field(default=0.0035, ge=0, le=0.5, description="kg/kg fuel (default Ajayi (2011) Table A2 fuel oil)")
+    fuel_sulphur_fraction: float = Field(default=0.0095, ge=0, le=0.1, description="kg/kg fuel")
+    fuel_carbon_hydrogen_ratio: float = Field(default=7.6, gt=0, le=100, description="C:H mass ratio of the fuel")
+    fuel_lower_heating_value: Optional[float] = Field(default=None, ge=1e6, le=1e8, description="J/kg; default from the composition (Channiwala & Parikh 2002)")
+
+
 class Gas(_Strict):
     """Drying gas (humid air or combustion gas)."""
     direction: Literal["co-current", "counter-current"] = "co-current"
@@ -96,6 +106,7 @@ class Gas(_Strict):
     inlet_humidity: float = Field(default=0.01, ge=0, lt=0.2, description="kg/kg wet gas")
     leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet")
     feed_temperature: Optional[float] = Field(default=None, ge=0, lt=99, description="degC of the wet feed (plant cases without [operating] feed_temperature)")
+    burner: Optional[Burner] = Field(default=None, description="burner making the gas; gives the fuel rate (none: the gas is heated elsewhere)")
 
 
 class Shell(_Strict):
@@ -233,6 +244,7 @@ class AjayiThermal(_Strict):
     design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
     moisture_coupling: bool = True
     enabled: bool = True
+    burner: Optional[Burner] = Field(default=None, description="the combustion chamber (Ajayi (2011) App. A); gives the fuel rate")
 
 
 class AjayiCase(_Strict):
@@ -292,8 +304,12 @@ class DryerOperating(_Strict):
 
 class DryerTransport(_Strict):
     """Defaults for the sections (a section's own value wins)."""
-    model: Literal["lee2008", "sheehan2005_model2", "ajayi2011"] = "lee2008"
+    model: Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"] = "lee2008"
     n_cells: Optional[int] = Field(default=None, ge=1, le=100000, description="cells per flighted section (default)")
+    passive_rate: Optional[float] = Field(default=None, ge=0, description="k_PP, 1/s (sheehan2005_model1)")
+    exchange_rate: Optional[float] = Field(default=None, gt=0, description="k_PA, 1/s (sheehan2005_model1)")
+    return_rate: Optional[float] = Field(default=None, gt=0, description="k_AP, 1/s (sheehan2005_model1)")
+    kiln_rate: Optional[float] = Field(default=None, ge=0, description="k_K, 1/s (sheehan2005_model1)")
     kiln_time: float = Field(default=10.0, gt=0, description="s, kilning time of the excess over the design load (lee2008)")
     backmix: float = Field(default=0.0, ge=0, le=1, description="C_B, -")
     drag_reduction: float = Field(default=1.0, ge=0, description="C_F^G, -")
@@ -316,7 +332,7 @@ class DryerSection(_Strict):
     kind: Literal["flighted", "unflighted"]
     length: float = Field(gt=0, le=200, description="m")
     n_cells: Optional[int] = Field(default=None, ge=1, le=100000)
-    model: Optional[Literal["lee2008", "sheehan2005_model2", "ajayi2011"]] = None
+    model: Optional[Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"]] = None
     n_flights: Optional[int] = Field(default=None, ge=2)
     s1: Optional[float] = Field(default=None, gt=0, description="m, flight base")
     s2: Optional[float] = Field(default=None, ge=0, description="m, flight tip")
@@ -391,15 +407,26 @@ def valid_override_keys(case_cls) -> list[str]:
     """Flat ``section.key`` names that may be overridden for a case class."""
     import typing
 
+    def block(annotation):
+        if typing.get_origin(annotation) is not None:      # Optional[Block]
+            annotation = next((a for a in typing.get_args(annotation)
+                               if isinstance(a, type) and issubclass(a, BaseModel)), None)
+        return annotation if isinstance(annotation, type) and issubclass(annotation, BaseModel) else None
+
+    def fields(cls, prefix):
+        out = []
+        for k, finfo in cls.model_fields.items():
+            out.append(f"{prefix}.{k}")
+            sub = block(finfo.annotation)
+            if sub is not None:                            # a nested block: gas.burner.combustion_air_share
+                out += fields(sub, f"{prefix}.{k}")
+        return out
+
     keys = []
     for sec, finfo in case_cls.model_fields.items():
-        if sec in _NOT_OVERRIDABLE:
-            continue
-        sub = finfo.annotation
-        if typing.get_origin(sub) is not None:      # Optional[Block]
-            sub = next((a for a in typing.get_args(sub) if isinstance(a, type) and issubclass(a, BaseModel)), None)
-        if isinstance(sub, type) and issubclass(sub, BaseModel):
-            keys += [f"{sec}.{k}" for k in sub.model_fields]
+        sub = block(finfo.annotation)
+        if sec not in _NOT_OVERRIDABLE and sub is not None:
+            keys += fields(sub, sec)
     return sorted(keys)
 
 
@@ -504,10 +531,16 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     for key, value in (overrides or {}).items():
         if key not in valid and not key.startswith("material."):
             raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")
-        sec, fld = key.split(".", 1)
+        *path, fld = key.split(".")
         if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
             value = None
-        raw.setdefault(sec, {})[fld] = value
+        node = raw
+        for part in path:
+            nxt = node.get(part)
+            if not isinstance(nxt, dict):
+                nxt = node[part] = {}
+            node = nxt
+        node[fld] = value
     try:
         return cls.model_validate(raw)
     except ValidationError as exc:

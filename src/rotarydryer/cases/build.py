@@ -20,7 +20,7 @@ import numpy as np
 from . import AjayiCase, DryerCase, LeeCase
 
 __all__ = ["build_model", "exact_drum", "lee_parameters", "ajayi_test_inputs", "ajayi_geometries",
-           "settings_from_case", "thermal_inputs", "thermal_enabled", "has_burner", "material_of",
+           "settings_from_case", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of",
            "operating_point"]
 
 
@@ -192,6 +192,7 @@ def settings_from_case(case: AjayiCase):
 
     raw = case.thermal.model_dump()
     mode = raw.pop("mode", "physical")
+    raw.pop("burner", None)          # built by burner_of (thermal_inputs)
     raw = {k: v for k, v in raw.items() if v is not None}
     fields = {k: v for k, v in raw.items() if k in ThermalSettings.__dataclass_fields__}
     if mode == "ajayi2011":
@@ -261,6 +262,13 @@ def _dryer_specs(case: DryerCase, material):
                           moisture=_exponential_profile(x_in, x_out, pos / length))
             if model == "ajayi2011":
                 specs.append(SectionSpec(kilning="velocity", kiln_velocity=tr.solids_velocity, **common))
+            elif model == "sheehan2005_model1":
+                rates = {k: getattr(tr, k) for k in ("passive_rate", "exchange_rate", "return_rate", "kiln_rate")}
+                missing = [k for k, v in rates.items() if v is None]
+                if missing:
+                    raise ValueError(f"sections {s.name!r}: model = 'sheehan2005_model1' needs "
+                                     f"{', '.join('transport.' + k for k in missing)} (1/s)")
+                specs.append(SectionSpec(kilning="empirical", rates=rates, **common))
             else:
                 specs.append(SectionSpec(kilning="excess", kiln_time=tr.kiln_time, drag_reduction=tr.drag_reduction,
                                          backmix=tr.backmix,
@@ -288,10 +296,29 @@ def thermal_enabled(case) -> bool:
     return bool(case.thermal.enabled)
 
 
+def _burner_block(case):
+    """The case's burner block, or None."""
+    if isinstance(case, AjayiCase):
+        return case.thermal.burner
+    return getattr(case.gas, "burner", None) if case.gas is not None else None
+
+
 def has_burner(case) -> bool:
-    """Does the case's gas come from a burner whose fuel rate the model can give? (Ajayi's
-    combustion chamber, Appendix A; the general schema has no burner block yet.)"""
-    return isinstance(case, AjayiCase)
+    """Does the case's gas come from a burner ([gas.burner], or the MMG case's [thermal.burner]:
+    Ajayi's combustion chamber, App. A) whose fuel rate the model can give?"""
+    return _burner_block(case) is not None
+
+
+def burner_of(case):
+    """:class:`~rotarydryer.thermal.burner.Burner` of the case, or None."""
+    from rotarydryer.thermal.burner import Burner, FuelOil
+
+    b = _burner_block(case)
+    if b is None:
+        return None
+    fuel = FuelOil(water_mass_fraction=b.fuel_water_fraction, sulphur_mass_fraction=b.fuel_sulphur_fraction,
+                   carbon_hydrogen_ratio=b.fuel_carbon_hydrogen_ratio, lower_heating_value=b.fuel_lower_heating_value)
+    return Burner(combustion_air_share=b.combustion_air_share, heat_loss_fraction=b.heat_loss_fraction, fuel=fuel)
 
 
 def _general_settings(case):
@@ -331,6 +358,7 @@ def thermal_inputs(case) -> dict:
                     s.name, max(4, int(math.ceil(s.length / 0.3)))))
     else:
         settings = _general_settings(case)
+    settings.burner = burner_of(case)
     if isinstance(case, LeeCase):
         # repose angle from the computed moisture (Lee (2008) Eq. 7.2 through the material) unless the
         # case fixes it; the Eq. 7.3 exponential profile is the start and the transport-only moisture

@@ -44,7 +44,9 @@ DEFAULT_BOUNDS = {
 
 def _current_value(case, key: str) -> float:
     sec, fld = key.split(".", 1)
-    value = getattr(getattr(case, sec), fld)
+    value = case
+    for part in key.split("."):
+        value = getattr(value, part, None)
     if value is None and sec == "transport" and hasattr(case, "tests"):
         # Ajayi (2011) case: defaults come from the selected test's Table 5.2 row
         test = next((t for t in case.tests if t.test == case.operating.test), None)

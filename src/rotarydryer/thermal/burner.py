@@ -142,6 +142,25 @@ class FuelOil:
 AJAYI_FUEL_OIL = FuelOil()
 
 
+@dataclass(frozen=True)
+class Burner:
+    """A direct-fired burner that makes the drying gas (case data: ``[gas.burner]``).
+
+    combustion_air_share : fraction of the air (combustion + dilution) that goes through the burner
+    (Ajayi (2011) Table A1: 23 698 of 111 748 kg/h at Karumba). heat_loss_fraction : share of the
+    fuel's heat lost by the combustion chamber. fuel : :class:`FuelOil`.
+    The fuel rate is what heats the case's gas flow (air at ambient) to the gas inlet temperature.
+    """
+
+    combustion_air_share: float
+    heat_loss_fraction: float = 0.0
+    fuel: FuelOil = AJAYI_FUEL_OIL
+
+    def __post_init__(self):
+        check_range("gas.burner.combustion_air_share", self.combustion_air_share, 0.0, 1.0)
+        check_range("gas.burner.heat_loss_fraction", self.heat_loss_fraction, 0.0, 0.5, low_inclusive=True)
+
+
 def fan_flow(opening_pct, fan: str = "dilution", curve: str = "as_labelled"):
     """Air flow from the fan opening, Nm³/h, Ajayi (2011) Eqs. A1-A2.
 

@@ -70,6 +70,7 @@ from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from . import balances as bal
 from . import radiation as rad
+from .burner import Burner
 from .drying import DryingKinetics
 from .shell import ajayi2011_heat_loss, shell_heat_loss
 
@@ -77,7 +78,6 @@ __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "T
            "AJAYI_GAS_FLOW", "pi_operating_conditions"]
 
 AJAYI_GAS_FLOW = 112675.6688 / 3600.0   # kg/s wet gas, App. F L3225
-_COMBUSTION_AIR_SHARE = 23698.0 / (23698.0 + 88050.0)                          # Table A1
 
 
 class DryerError(ValueError):
@@ -129,6 +129,8 @@ class ThermalSettings:
     gas_direction : "co-current" | "counter-current".
     design_load_smoothing : width of the smoothed design-load switch min(M_P, M_des), relative
     to M_des (0 = exact, as the transport network; 1e-3 in the MMG case, as before).
+    burner : :class:`~rotarydryer.thermal.burner.Burner` that makes the gas (None = the gas comes
+    from elsewhere, e.g. steam-heated air; no fuel rate).
     """
 
     mode: str = "physical"
@@ -155,6 +157,7 @@ class ThermalSettings:
     moisture_coupling: bool = True
     gas_direction: str = "co-current"
     design_load_smoothing: float = 0.0
+    burner: Optional["Burner"] = None
 
     @classmethod
     def ajayi2011(cls, **kw):
@@ -804,21 +807,27 @@ class ThermalSteadyState:
         inlet[self.dryer.entry] = 1.0
         return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
 
-    def fuel_rate(self, fuel_heat_loss_fraction=0.0):
-        """Fuel-oil rate (kg/s) that the Ajayi App. A burner needs to heat this gas flow to the inlet
-        temperature (combustion/dilution air split of Table A1, air at ambient, humidity of the gas).
-        Raises :class:`DryerError` if the burner cannot reach the set temperature."""
+    def fuel_rate(self, fuel_heat_loss_fraction=None):
+        """Fuel rate (kg/s) that the case's burner (``ThermalSettings.burner``, Ajayi (2011) App. A
+        combustion chamber) needs to heat this gas flow to the inlet temperature (air at ambient,
+        humidity of the gas). ``fuel_heat_loss_fraction`` replaces the burner's. Raises
+        :class:`DryerError` if the case has no burner or it cannot reach the set temperature."""
         from .burner import fuel_rate_for_temperature
 
         dr = self.dryer
         s = dr.settings
+        b = s.burner
+        if b is None:
+            raise DryerError("the case has no burner ([gas.burner] combustion_air_share, fuel): no fuel rate",
+                             reason="no_burner", state=self)
+        loss = b.heat_loss_fraction if fuel_heat_loss_fraction is None else fuel_heat_loss_fraction
         air = s.gas_flow
         try:
-            return float(fuel_rate_for_temperature(s.gas_inlet_temperature, air * _COMBUSTION_AIR_SHARE,
-                                                   air * (1 - _COMBUSTION_AIR_SHARE),
+            return float(fuel_rate_for_temperature(s.gas_inlet_temperature, air * b.combustion_air_share,
+                                                   air * (1 - b.combustion_air_share),
                                                    air_temperature_c=s.ambient_temperature,
-                                                   air_humidity=dr.hot_gas_Y,
-                                                   heat_loss_fraction=fuel_heat_loss_fraction))
+                                                   air_humidity=dr.hot_gas_Y, fuel=b.fuel,
+                                                   heat_loss_fraction=loss))
         except ValueError as exc:
             raise DryerError(f"burner cannot reach the set gas inlet temperature {s.gas_inlet_temperature:g} degC: "
                              f"{exc}", reason="burner", state=self) from exc

@@ -19,6 +19,10 @@ A dryer is a list of sections in solids-flow order. Each section adds its nodes 
   (:class:`FlightedSectionLaw`); the transport-only network uses an assumed moisture
   profile, the heat-and-mass model (:mod:`rotarydryer.thermal.dryer`) the computed one,
   through the same law.
+  - or Sheehan et al. (2005) "Model 1" (``kilning="empirical"``): global coefficients (1/s)
+    passive -> next passive k_PP M_P, passive -> active k_PA min(M_P, M_des), active -> passive
+    k_AP M_A and kilning k_K max(M_P - M_des, 0) (notes lee_models.md Section 4.2), with
+    M_des from the geometry and the material as above (:class:`EmpiricalSectionLaw`);
 * **unflighted** sections (rolling bed): axially dispersed plug flow by conservative
   finite volumes (Ajayi (2011) Eq. 5.4-5.14; central differencing where the cell Peclet
   number u dz/D <= 2, upwind otherwise). The first section may have Ajayi's Dirichlet inlet
@@ -40,7 +44,7 @@ from .._validation import check_choice, check_range
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
 
-__all__ = ["ExactGeometry", "FlightedSectionLaw", "SectionSpec", "build_sections", "unflighted_cells_auto"]
+__all__ = ["EmpiricalSectionLaw", "ExactGeometry", "FlightedSectionLaw", "SectionSpec", "build_sections", "unflighted_cells_auto"]
 
 
 def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
@@ -56,8 +60,9 @@ class SectionSpec:
 
     kind : "flighted" | "unflighted". n_cells : cells (flighted) or finite volumes
     (unflighted; None = :func:`unflighted_cells_auto`). geometry : cell geometry model
-    (``cascade``, ``design_load_area``, ``loading_factor``). kilning : "excess" (Lee) or
-    "velocity" (Ajayi).
+    (``cascade``, ``design_load_area``, ``loading_factor``). kilning : "excess" (Lee),
+    "velocity" (Ajayi) or "empirical" (Sheehan et al. (2005) Model 1 with the ``rates``
+    ``passive_rate``, ``exchange_rate``, ``return_rate``, ``kiln_rate``, 1/s).
     repose_angle / bulk_density : fixed per-cell values that replace the material laws
     (transport-only studies). moisture : assumed wet-basis moisture per cell (transport-only
     network). fouling : fraction of the design load lost to scale (Ajayi (2011) Eq. 5.21).
@@ -82,6 +87,7 @@ class SectionSpec:
     moisture: object = None
     dispersion: float = 0.0
     velocity: float = 0.0
+    rates: dict | None = None
 
 
 class ExactGeometry:
@@ -191,6 +197,42 @@ class FlightedSectionLaw:
         return out
 
 
+class EmpiricalSectionLaw(FlightedSectionLaw):
+    """Sheehan et al. (2005) "Model 1" coefficients of a section: constant k_PP, k_PA, k_AP, k_K
+    (1/s, the spec's ``rates``) and the design load from the geometry and the material at the
+    moisture (so that a heat-and-mass model moves it with the computed moisture)."""
+
+    NAMES = {"passive_forward": "passive_rate", "discharge": "exchange_rate", "return": "return_rate",
+             "kiln": "kiln_rate"}
+
+    def rates(self, phi, f, rpm=None):
+        r = self.spec.rates
+        return {fam: np.full(self.n, float(r[key])) for fam, key in self.NAMES.items()}
+
+    def evaluate(self, mp, x, rpm=None, fouling=None):
+        phi, rho = self.properties(x)
+        out = self.rates(phi, None, rpm)
+        out.update(design_load=self.design_load(phi, rho, fouling), repose_angle=phi, bulk_density=rho)
+        return out
+
+
+def _check_rates(spec, where):
+    r = dict(spec.rates or {})
+    need = tuple(EmpiricalSectionLaw.NAMES.values())
+    unknown = sorted(set(r) - set(need))
+    if unknown:
+        raise ValueError(f"{where}: unknown Model 1 rate(s) {', '.join(map(repr, unknown))}; valid: {', '.join(need)}")
+    for key in need:
+        if key not in r:
+            raise ValueError(f"{where}: transport.{key} is missing (1/s); sheehan2005_model1 needs "
+                             f"{', '.join('transport.' + k for k in need)}")
+        lo_incl = key in ("passive_rate", "kiln_rate")
+        check_range(f"transport.{key}", r[key], 0.0, math.inf, low_inclusive=lo_incl, unit="1/s")
+    if r["passive_rate"] == 0 and r["kiln_rate"] == 0:
+        raise ValueError(f"{where}: transport.passive_rate = 0 and transport.kiln_rate = 0: no solids leave "
+                         "the cells (give one of them > 0)")
+
+
 class _Coefficients:
     """Transport-only coefficients at the assumed moisture: cached per passive state, with a
     one-sided difference on the side of the current loading branch (the derivative never
@@ -220,7 +262,10 @@ _RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln")
 
 
 def _check_flighted(spec: SectionSpec, where: str):
-    check_choice(f"{where}.kilning", spec.kilning, ("excess", "velocity"))
+    check_choice(f"{where}.kilning", spec.kilning, ("excess", "velocity", "empirical"))
+    if spec.kilning == "empirical":
+        _check_rates(spec, where)
+        return
     check_choice(f"{where}.loading", spec.loading, ("fixed", "state"))
     check_choice(f"{where}.backmix_to", spec.backmix_to, ("passive", "active"))
     if spec.kilning == "excess" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
@@ -315,13 +360,34 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         prevP = np.r_[P[0], P[:-1]]
         prevA = np.r_[P[0], A[:-1]]        # the first cell's backmix stays in its own passive phase
         x = (np.zeros(N) if s.moisture is None else np.broadcast_to(np.asarray(s.moisture, float), (N,)).copy())
-        law = FlightedSectionLaw(s, material, rpm, theta, P, x)
+        law = (EmpiricalSectionLaw if s.kilning == "empirical" else FlightedSectionLaw)(s, material, rpm, theta, P, x)
         phi, rho = law.properties(x)
         des = law.design_load(phi, rho)
         if np.any(~np.isfinite(des)) or np.any(des <= 0):
             raise ValueError(f"section {sec}: the geometry model gives a non-positive design load "
                              f"({np.nanmin(des):.4g} kg); check the repose angle / material")
         design_load[P] = des
+        if s.kilning == "empirical":
+            # Sheehan et al. (2005) Model 1: constant coefficients, capped discharge and kilning excess
+            r1 = law.rates(phi, None)
+            guess[P] = des
+            guess[A] = des * r1["discharge"] / r1["return"]
+            fams = [EdgeFamily("discharge", P, A, "capped", rate=r1["discharge"], cap=des, section=sec),
+                    EdgeFamily("return", A, P, "linear", rate=r1["return"], section=sec)]
+            if s.rates["passive_rate"] > 0:
+                fams.append(EdgeFamily("passive_forward", P, nxtP, "linear", rate=r1["passive_forward"], section=sec))
+            if s.rates["kiln_rate"] > 0:
+                fams.append(EdgeFamily("kiln", P, nxtP, "excess", rate=r1["kiln"], cap=des, section=sec))
+            for f in fams:
+                f.law = law
+            families += fams
+            cell_length[P] = cell_length[A] = rec["dl"]
+            info["moisture_kg_kg"].append(x)
+            info["repose_angle_deg"].append(phi)
+            info["bulk_density_kg_m3"].append(rho)
+            for key in ("passive_time_s", "fall_time_s", "fall_height_m", "C_F", "C_R"):
+                info[key].append(np.full(N, np.nan))
+            continue
         c1 = law.cascade(phi, np.ones(N))
         f_check = [] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75]
         cw = min([c1] + [law.cascade(phi, np.full(N, f)) for f in f_check], key=lambda c: float(np.min(c["CR"])))
