@@ -10,8 +10,8 @@ Example::
                                              "geometry.method": "lee2008_regressions"})
     res.fit.parameters["transport.backmix"].ci_low
 
-The model of a parameter vector is: load the case with the overrides, build the
-transport model, solve the steady state, simulate the tracer response to the case's
+The model of a parameter vector is: the case with the overrides as a
+:class:`rotarydryer.Simulation`, its transport steady state, simulate the tracer response to the case's
 tracer input, and interpolate E(t) (1/s) at the measured times (measured from the
 start of injection). A signal in 1/h is converted to 1/s; a raw concentration
 (``scale="fit"``) is matched by the best scale factor for each parameter vector
@@ -108,7 +108,7 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
                  observed: np.ndarray | None = None, dt: float | None = None, with_holdup: bool = False):
     """Model callable ``values -> E(t)`` at ``times`` (s since injection) for :func:`fit`;
     with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``."""
-    from ..cases import build_model, load_case
+    from ..simulation import Simulation
 
     check_choice("scale", scale, ("known", "fit"))
     if scale == "fit" and observed is None:
@@ -121,8 +121,7 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
     base = dict(base_overrides or {})
 
     def model(values: dict):
-        case = load_case(case_name, {**base, **values})
-        ss = build_model(case).steady_state()
+        ss = Simulation(case_name, {**base, **values}).transport_steady_state()
         resp = ss.rtd(t_end=t_end, dt=step).response
         e = np.interp(times, resp.time, resp.exit_age)
         if scale == "fit":
