@@ -167,7 +167,8 @@ def test_burner_cannot_reach_set_temperature(test4):
     import copy
     ss = copy.copy(test4)
     ss.dryer = copy.copy(test4.dryer)
-    ss.dryer.settings = ThermalSettings(gas_flow=16.25, gas_inlet_temperature=1500.0)
+    ss.dryer.settings = ThermalSettings(gas_flow=16.25, gas_inlet_temperature=1500.0,
+                                        burner=test4.dryer.settings.burner)
     with pytest.raises(DryerError, match="burner cannot reach") as e:
         ss.fuel_rate()
     assert e.value.reason == "burner"
