@@ -59,7 +59,6 @@ import datetime as _dt
 import json
 import math
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -245,23 +244,19 @@ class Results:
         The data go to a temporary file beside ``path`` that replaces ``path`` only when
         complete; on any error the temporary file is deleted and ``path`` is unchanged.
         """
+        from ._io import atomic_output, check_free_space, check_output_target
+
         path = Path(path)
         directory = path.parent if str(path.parent) else Path(".")
         if not directory.is_dir():
             raise ValueError(f"path = {str(path)!r}: directory {str(directory)!r} does not exist")
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-        os.close(fd)
-        try:
+        check_output_target(path)
+        # HDF5 does not fail cleanly on a full disk (it may crash the process): refuse beforehand
+        # when the folder has clearly too little room (data + 25 % + 1 MiB for the HDF5 structure)
+        size = sum(int(v.nbytes) for ds in self.datasets.values() for v in ds.variables.values())
+        check_free_space(directory, int(1.25 * size) + 200_000, what=f"the results file {str(path)!r}")
+        with atomic_output(path) as tmp:
             _write(self, tmp)
-            with open(tmp, "rb") as fh:
-                os.fsync(fh.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            try:
-                os.unlink(tmp)
-            except FileNotFoundError:
-                pass
-            raise
         return path
 
     @classmethod
@@ -578,7 +573,7 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
     if thermal:
         # the coupled state's outputs under the names of ``simulate --json`` (one total holdup per
         # run); the nodes/cells/sections/rtd datasets stay those of the transport-only model
-        coupled = sim.thermal_dryer().steady_state()
+        coupled = sim.thermal_steady_state()
         add_thermal(res, coupled)
         res.scalars = _numbers(SteadyResult(sim, None, coupled).merged(res.scalars))
         res.model_choices["transport_datasets"] = "transport-only model (assumed moisture profile)"

@@ -67,6 +67,10 @@ class Simulation:
         return self._transport
 
     def transport_steady_state(self):
+        """Steady state of the solids transport; refused (``ValueError`` naming the keys) when the
+        case is physically impossible: speed at or above the critical speed, solids filling more
+        than :data:`rotarydryer.cases.build.FILL_LIMIT` of the drum (see
+        :func:`rotarydryer.cases.build.check_feasible`)."""
         if self._transport_ss is None:
             self._transport_ss = self.transport_model().steady_state()
         return self._transport_ss
@@ -106,10 +110,36 @@ class Simulation:
 
     # ------------------------------------------------------------------ runs
     def steady_state(self):
-        """Steady state of the whole dryer: transport, and heat and mass where the case has a gas."""
+        """Steady state of the whole dryer: transport, and heat and mass where the case has a gas.
+
+        The transport steady state is solved (and checked for feasibility) first in either case."""
+        transport = self.transport_steady_state()
         if self.thermal_enabled:
-            return SteadyResult(self, None, self.thermal_dryer().steady_state())
-        return SteadyResult(self, self.transport_steady_state(), None)
+            return SteadyResult(self, None, self.thermal_steady_state())
+        return SteadyResult(self, transport, None)
+
+    #: width of the smoothed design-load switch of the start model when the coupled Newton chatters
+    START_SMOOTHING = 1e-3
+
+    def thermal_steady_state(self):
+        """Coupled steady state of the case's heat-and-mass model. When its Newton iteration
+        chatters on the unsmoothed design-load switch min(M_P, M_des) (a cell at its design load,
+        e.g. small feeds), it is restarted from the steady state of the same model with the switch
+        smoothed over :attr:`START_SMOOTHING` of M_des; the state returned is always that of the
+        case's own (unsmoothed) model, accepted by its own convergence test."""
+        from .thermal.dryer import DryerError
+
+        d = self.thermal_dryer()
+        try:
+            return d.steady_state()
+        except DryerError as exc:
+            if exc.reason != "no_steady_state" or d.settings.design_load_smoothing > 0:
+                raise
+            try:
+                start = self.thermal_dryer(design_load_smoothing=self.START_SMOOTHING).steady_state()
+                return d.steady_state(z0=start.state)
+            except DryerError:
+                raise exc from None
 
     def dynamics(self, t_end=7200.0, dt=60.0, **changes):
         """Response from the steady state to new inputs ``changes`` (names of

@@ -64,7 +64,7 @@ def test_new_writes_a_loadable_template(tmp_path, base):
     assert case.meta.title == f"mine (from {base})"
     assert case.model_dump(exclude={"meta"}) == load_case(base).model_dump(exclude={"meta"})
     res = runner.invoke(cli, ["new", "mine", "-o", str(p)])
-    assert res.exit_code == 1 and "exists" in res.output
+    assert res.exit_code == 2 and "exists" in res.output
     assert runner.invoke(cli, ["new", "mine", "-o", str(p), "--force"]).exit_code == 0
 
 

@@ -31,4 +31,4 @@ def test_balance_bad_input_exits_2_naming_the_problem():
     res = runner.invoke(app, ["balance", "--ajayi-test", "9"])
     assert res.exit_code == 2 and "test = 9" in res.output
     res = runner.invoke(app, ["balance", "--ajayi-test", "4", "--moisture-out", "0.2"])
-    assert res.exit_code == 2 and "moisture_out" in res.output
+    assert res.exit_code == 2 and "--moisture-out = 0.2" in res.output

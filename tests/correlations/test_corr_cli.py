@@ -29,7 +29,7 @@ def test_mrt_warning_and_error():
     out = CliRunner().invoke(app, ARGS[:8] + ["12"] + ARGS[9:] + ["--method", "song_2003"])
     assert out.exit_code == 0 and "warning" in out.output and "rpm" in out.output
     bad = CliRunner().invoke(app, ["mrt", "--length", "-1", "--diameter", "0.3", "--slope", "0.08", "--rpm", "5"])
-    assert bad.exit_code == 1 and "length" in bad.output
+    assert bad.exit_code == 2 and "length" in bad.output
 
 
 def test_mrt_cli_bad_option_exits_2():

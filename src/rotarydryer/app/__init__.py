@@ -28,11 +28,19 @@ def script_path() -> Path:
 
 
 def streamlit_command(port: int = 8501, host: str = "127.0.0.1", headless: bool = True) -> list[str]:
-    """The command line that serves the app (``python -m streamlit run ...``)."""
+    """The command line that serves the app (``python -m streamlit run ...``).
+
+    Hardening (docs/app_threat_model.md): ``client.showErrorDetails = none`` (no exception
+    text or traceback in the browser), ``server.maxUploadSize = 1`` MB (uploads; the page
+    checks tighter byte limits), no file watcher, no run-on-save."""
     import sys
+
+    from .logic import MAX_UPLOAD_MB
 
     return [sys.executable, "-m", "streamlit", "run", str(script_path()),
             "--server.port", str(int(port)), "--server.address", host,
             "--server.headless", "true" if headless else "false",
             "--browser.gatherUsageStats", "false", "--server.fileWatcherType", "none",
-            "--global.developmentMode", "false", "--client.toolbarMode", "minimal"]
+            "--global.developmentMode", "false", "--client.toolbarMode", "minimal",
+            "--client.showErrorDetails", "none", "--server.maxUploadSize", str(MAX_UPLOAD_MB),
+            "--server.runOnSave", "false"]

@@ -2,17 +2,54 @@
 
 No Streamlit here, so everything is testable directly and cacheable by the page.
 Units: SI, angles in deg, speed in rev/min, as in the rest of the package.
+
+What a visitor may send and what the server may touch: docs/app_threat_model.md.  An
+uploaded case file is kept in memory only (:func:`stage_case_file`; never written to disk)
+and validated by :func:`rotarydryer.cases.load_case_text`: it may name shipped data sets
+only, never a path.
 """
 
 from __future__ import annotations
 
+import hashlib
 import io
 import math
+import threading
+from collections import OrderedDict
 
 import numpy as np
 
 __all__ = ["presets", "geometry_view", "stage_case_file", "case_defaults", "transport_view", "tracer_sources", "fit_tracer",
-           "png"]
+           "png", "visitor_message", "MAX_CASE_UPLOAD_BYTES", "MAX_TRACER_UPLOAD_BYTES", "MAX_TRACER_ROWS",
+           "MAX_UPLOAD_MB", "MAX_STAGED_CASES"]
+
+#: ``server.maxUploadSize`` and the uploaders' ``max_upload_size`` (MB; Streamlit's minimum is 1)
+MAX_UPLOAD_MB = 1
+#: bytes of an uploaded case file (the shipped cases are < 10 kB)
+MAX_CASE_UPLOAD_BYTES = 200_000
+#: bytes of an uploaded tracer CSV
+MAX_TRACER_UPLOAD_BYTES = 1_000_000
+#: data rows of an uploaded tracer CSV
+MAX_TRACER_ROWS = 20_000
+#: uploaded case files kept in memory (all sessions; least recently used dropped first)
+MAX_STAGED_CASES = 32
+#: characters of an error message shown to a visitor
+MAX_MESSAGE_CHARS = 1500
+
+_UPLOAD_PREFIX = "uploaded_case_"
+_staged: OrderedDict[str, str] = OrderedDict()
+_staged_lock = threading.Lock()
+
+
+def visitor_message(exc: BaseException) -> str:
+    """The text of an error shown on the page: the message of a ``ValueError`` (the package's
+    input errors name the key, the value and what is allowed; they contain the visitor's own
+    input only), cut to :data:`MAX_MESSAGE_CHARS`; for any other exception only a generic
+    sentence with its type (the details go to the server log, never to the visitor)."""
+    if isinstance(exc, ValueError) and not isinstance(exc, UnicodeError):
+        msg = str(exc)
+        return msg if len(msg) <= MAX_MESSAGE_CHARS else msg[:MAX_MESSAGE_CHARS] + " ..."
+    return f"internal error ({type(exc).__name__}); the details are in the server log"
 
 
 def png(fig, dpi: int = 90) -> bytes:
@@ -42,8 +79,10 @@ def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: f
     (naming the argument) on impossible geometry.
     """
     from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight
+    from ..geometry.drum import check_speed
 
     drum = FlightedDrum(radius, int(n_flights), TwoSectionFlight(s1, s2, alpha1, alpha2))
+    check_speed("rpm", rpm, radius, radius_key="radius", warn=False)     # refuse at/above critical speed
     cs = drum.cascade(repose_angle, 1.0, rpm=rpm, slope=slope)
     tr = drum.transition_angles(repose_angle)
     loads = [(m, float(drum.design_load_area(repose_angle, method=m))) for m in DESIGN_LOAD_METHODS]
@@ -74,32 +113,67 @@ def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: f
 
 
 def stage_case_file(content: bytes) -> str:
-    """Save an uploaded case file (TOML bytes) under a content-addressed name in the
-    temporary directory and return its path (so results cache by content); raises
-    ``ValueError`` when it is not UTF-8 TOML."""
-    import hashlib
-    import tempfile
+    """Keep an uploaded case file (TOML bytes) in memory and return its content-addressed
+    name ``uploaded_case_<sha256 prefix>`` (so results cache by content), which
+    :func:`case_defaults` and :func:`transport_view` accept in place of a built-in case.
+    Nothing is written to disk; at most :data:`MAX_STAGED_CASES` files are kept.  Raises
+    ``ValueError`` when the file is larger than :data:`MAX_CASE_UPLOAD_BYTES`, not UTF-8 or
+    not TOML."""
     import tomllib
-    from pathlib import Path
 
+    content = bytes(content)
+    if len(content) > MAX_CASE_UPLOAD_BYTES:
+        raise ValueError(f"the case file has {len(content)} bytes; the limit is {MAX_CASE_UPLOAD_BYTES} bytes")
     try:
         text = content.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"not a valid UTF-8 TOML file: byte 0x{content[exc.start]:02x} at offset {exc.start} "
+                         "is not UTF-8") from None
+    try:
         tomllib.loads(text)
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+    except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"not a valid UTF-8 TOML file: {exc}") from None
-    d = Path(tempfile.gettempdir()) / "rotarydryer_app_cases"
-    d.mkdir(exist_ok=True)
-    p = d / f"case_{hashlib.sha256(content).hexdigest()[:16]}.toml"
-    if not p.exists():
-        p.write_text(text, encoding="utf-8")
-    return str(p)
+    except RecursionError:
+        raise ValueError("not a valid UTF-8 TOML file: nested too deeply") from None
+    key = _UPLOAD_PREFIX + hashlib.sha256(content).hexdigest()[:16]
+    with _staged_lock:
+        _staged[key] = text
+        _staged.move_to_end(key)
+        while len(_staged) > MAX_STAGED_CASES:
+            _staged.popitem(last=False)
+    return key
+
+
+def _is_upload(case: str) -> bool:
+    return isinstance(case, str) and case.startswith(_UPLOAD_PREFIX)
+
+
+def _load(case: str, overrides: dict | None = None):
+    """The validated case of a built-in name or of a staged upload (never a path)."""
+    from ..cases import load_case, load_case_text
+
+    if _is_upload(case):
+        with _staged_lock:
+            text = _staged.get(case)
+        if text is None:
+            raise ValueError("the uploaded case file is no longer held by the server; upload it again")
+        return load_case_text(text, "uploaded case", overrides)
+    _check_builtin(case)
+    return load_case(case, overrides)
+
+
+def _check_builtin(case) -> None:
+    from ..cases import list_cases
+
+    if case not in list_cases():
+        raise ValueError(f"case = {case!r} is not a built-in case ({', '.join(list_cases())}) "
+                         "nor an uploaded case file")
 
 
 def case_defaults(case: str) -> dict:
-    """Feed rate (kg/s), speed (rev/min) and slope (deg) of a built-in case, as used."""
-    from ..cases import load_case
-
-    c = load_case(case)
+    """Feed rate (kg/s), speed (rev/min) and slope (deg) of a built-in case (or of an
+    uploaded one, see :func:`stage_case_file`), as used."""
+    c = _load(case)
     op = c.operating
     feed, rpm = op.feed_rate, op.rpm
     if hasattr(c, "tests"):  # Ajayi: defaults from the chosen test
@@ -118,8 +192,12 @@ def transport_view(case: str, feed_rate: float, rpm: float, slope: float, images
     from ..report.figures import plot_holdup_profile, plot_loading_state, plot_rtd
     from ..results import run_case
 
-    res = run_case(case, {"operating.feed_rate": feed_rate, "operating.rpm": rpm, "drum.slope": slope},
-                   thermal=False)
+    overrides = {"operating.feed_rate": feed_rate, "operating.rpm": rpm, "drum.slope": slope}
+    if _is_upload(case):
+        res = run_case(_load(case, overrides), overrides, thermal=False)
+    else:
+        _check_builtin(case)  # a built-in name, never a path
+        res = run_case(case, overrides, thermal=False)
     s = res.scalars
     out = {
         "results": res,
@@ -155,6 +233,13 @@ def fit_tracer(text: str | None = None, dataset: str | None = None, model: str =
 
     if (text is None) == (dataset is None):
         raise ValueError("give exactly one of text (an uploaded CSV) and dataset (a shipped curve)")
+    if text is not None:
+        size = len(text.encode("utf-8", "replace"))
+        if size > MAX_TRACER_UPLOAD_BYTES:
+            raise ValueError(f"the tracer CSV has {size} bytes; the limit is {MAX_TRACER_UPLOAD_BYTES} bytes")
+        rows = sum(1 for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))
+        if rows - 1 > MAX_TRACER_ROWS:
+            raise ValueError(f"the tracer CSV has {rows - 1} data rows; the limit is {MAX_TRACER_ROWS}")
     data = parse_tracer_text(text, "uploaded CSV") if text is not None else load_tracer_dataset(dataset)
     fit = fit_tracer_data(data, model)
     d = fit.to_dict()

@@ -5,13 +5,38 @@ summary table, design loads, cross-section and unloading profile.
 Page 2, "Transport and RTD": a built-in case at a changed feed rate, speed and slope ->
 holdups, RTD against data, loading state; download the results (netCDF) and the HTML
 report; fit a classical RTD model to a shipped or uploaded tracer CSV.
+
+Visitors' input (docs/app_threat_model.md): uploads are size-limited and kept in memory
+only; an uploaded case may name shipped data sets only; every error is caught here and shown
+as its message (input errors) or as a generic sentence (anything else; the traceback goes
+to the server log), never with a traceback or a file's content.
 """
+
+import logging
+import re
 
 import streamlit as st
 
 from rotarydryer.app import logic
 
+# no exception types, messages or tracebacks in the browser, even for an error this script
+# does not catch (also set on the command line of ``rotarydryer app``)
+st.set_option("client.showErrorDetails", "none")
 st.set_page_config(page_title="rotarydryer", page_icon=":material/autorenew:", layout="wide")
+_log = logging.getLogger("rotarydryer.app")
+
+
+def _plain(text: str) -> str:
+    """Markdown-escaped text (shown literally; one line per line)."""
+    return re.sub(r"([\\`*\[\]<>$~#|])", r"\\\1", str(text)).replace("\n", "  \n")
+
+
+def _refuse(what: str, exc: BaseException):
+    """Show why ``what`` failed (a one-line-per-problem message, no traceback) and stop."""
+    if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
+        _log.error("%s", what, exc_info=exc)
+    st.error(f"{_plain(what)}: {_plain(logic.visitor_message(exc))}")
+    st.stop()
 
 
 @st.cache_data(show_spinner=False, max_entries=64)
@@ -69,9 +94,8 @@ if page == "Flight geometry":
         length = st.number_input("Length (m)", 0.1, 100.0, float(e["length"]), 0.1, key=f"length__{name}")
     try:
         g = _geometry(radius, int(n_flights), s1, s2, alpha1, alpha2, repose, rpm, slope, rho, length)
-    except ValueError as exc:
-        st.error(f"Invalid input: {exc}")
-        st.stop()
+    except Exception as exc:
+        _refuse("Invalid input", exc)
     m = g["metrics"]
     c1, c2, c3, c4 = st.columns(4)
     c1.metric("Design load (Lee 2008)", f"{m['design_load_kg']:,.0f} kg")
@@ -95,29 +119,29 @@ else:
 
     st.title("Solids transport and residence time")
     case = st.sidebar.selectbox("Built-in case", list_cases(), index=list_cases().index("lee2008_invicta"), key="case")
-    upload = st.sidebar.file_uploader("... or upload a case file (TOML; `rotarydryer new NAME` writes a template)",
-                                      type=["toml"], key="case_file")
+    upload = st.sidebar.file_uploader("... or upload a case file (TOML; `rotarydryer new NAME` writes a template; "
+                                      "it may name shipped data sets only)", type=["toml"], key="case_file",
+                                      max_upload_size=logic.MAX_UPLOAD_MB)
+    shown = case
     if upload is not None:
+        shown = upload.name
         try:
             case = logic.stage_case_file(upload.getvalue())
-        except ValueError as exc:
-            st.error(f"Case file {upload.name}: {exc}")
-            st.stop()
-        st.caption(f"Case file: {upload.name}")
+        except Exception as exc:
+            _refuse(f"Case file {shown} refused", exc)
+        st.caption(f"Case file: {_plain(shown)}")
     try:
         d = logic.case_defaults(case)
-    except ValueError as exc:
-        st.error(f"Case {upload.name if upload is not None else case}: {exc}")
-        st.stop()
+    except Exception as exc:
+        _refuse(f"Case {shown} refused", exc)
     feed = st.sidebar.number_input("Feed rate (kg/s)", 0.1, 500.0, d["feed_rate"], 0.5, key=f"feed__{case}")
     rpm = st.sidebar.number_input("Speed (rev/min)", 0.2, 20.0, d["rpm"], 0.1, key=f"trpm__{case}")
     slope = st.sidebar.number_input("Slope (deg)", 0.0, 10.0, d["slope"], 0.1, key=f"tslope__{case}")
     try:
         with st.spinner("Solving the steady state and the tracer pulse ..."):
             r = _transport(case, feed, rpm, slope)
-    except ValueError as exc:
-        st.error(f"Invalid input: {exc}")
-        st.stop()
+    except Exception as exc:
+        _refuse("Invalid input", exc)
     m = r["metrics"]
     c1, c2, c3, c4 = st.columns(4)
     c1.metric("Total holdup", f"{m['total_holdup_kg']:,.0f} kg")
@@ -130,9 +154,10 @@ else:
     st.image(r["loading"], caption="Loading state per cell")
     d1, d2 = st.columns(2)
     res = r["results"]
-    d1.download_button("Download results (netCDF)", lambda: _netcdf_bytes(res), file_name=f"{case}.nc",
+    stem = "uploaded_case" if upload is not None else case
+    d1.download_button("Download results (netCDF)", lambda: _netcdf_bytes(res), file_name=f"{stem}.nc",
                        mime="application/x-netcdf", key="dl_nc")
-    d2.download_button("Download HTML report", lambda: _report_html(res), file_name=f"{case}.html",
+    d2.download_button("Download HTML report", lambda: _report_html(res), file_name=f"{stem}.html",
                        mime="text/html", key="dl_html")
 
     st.header("Fit a tracer curve")
@@ -145,14 +170,13 @@ else:
     model = model_col.selectbox("RTD model", list(RTD_MODELS), key="rtd_model")
     up = st.file_uploader("... or upload your tracer CSV (columns time_s or time_min, signal; '#' metadata "
                           "lines, see docs/app.md); an uploaded file is fitted instead of the published curve",
-                          type=["csv", "txt"], key="tracer_file")
+                          type=["csv", "txt"], key="tracer_file", max_upload_size=logic.MAX_UPLOAD_MB)
     text = up.getvalue().decode("utf-8", errors="replace") if up is not None else None
-    st.caption(f"Fitting: {'uploaded file ' + up.name if up is not None else 'published curve ' + source}")
+    st.caption(_plain(f"Fitting: {'uploaded file ' + up.name if up is not None else 'published curve ' + source}"))
     try:
         f = _fit(text, None if text is not None else source, model)
-    except ValueError as exc:
-        st.error(f"Cannot fit: {exc}")
-        st.stop()
+    except Exception as exc:
+        _refuse("Cannot fit", exc)
     fc1, fc2 = st.columns([1, 1])
     fc1.metric("Fitted outlet mean", f"{f['moments']['mean_s'] / 60:.2f} min",
                help="outlet-curve mean of the fitted model, from the injection start")

@@ -14,19 +14,109 @@ the key, the value and the constraint.
 
 from __future__ import annotations
 
+import re
 import tomllib
 from importlib import resources
 from pathlib import Path
 from typing import Any, Literal, Optional
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from functools import lru_cache
+from typing import Annotated
 
-__all__ = ["list_cases", "load_case", "build_model", "measured_rtd", "measured_rtd_moments", "valid_override_keys", "DryerCase",
-           "LeeCase", "AjayiCase"]
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+__all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
+           "valid_override_keys", "measured_files", "resolve_dataset", "DryerCase", "LeeCase", "AjayiCase",
+           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES"]
+
+# ---- ceilings of the model size (docs/app_threat_model.md) -------------------------------
+#: cells + finite volumes of one case, all sections together (transport model)
+MAX_CELLS = 100_000
+#: tracer time steps t_end / dt of one RTD simulation
+MAX_TIME_STEPS = 200_000
+#: bytes of a case file (TOML)
+MAX_CASE_BYTES = 1_000_000
+#: flights per drum or section
+MAX_FLIGHTS = 1000
+#: entries of a list of a case file (sections, tests, parameter_sets)
+MAX_ENTRIES = 1000
+#: cells of the auto-discretised unflighted section (rotarydryer.transport.sections.unflighted_cells_auto)
+_AUTO_UNFLIGHTED_CELLS = 2000
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", validate_assignment=False)
+    # allow_inf_nan=False: TOML's nan/inf are refused everywhere ("Input should be a finite number")
+    model_config = ConfigDict(extra="forbid", validate_assignment=False, allow_inf_nan=False)
+
+
+# ---- shipped data sets a case may name (never a path) ------------------------------------
+_TIME_HEADERS = ("time_s,", "time_min,")
+
+
+@lru_cache(maxsize=1)
+def measured_files() -> tuple[str, ...]:
+    """File names allowed in ``tracer.measured``: the CSVs shipped in ``rotarydryer/data`` whose
+    header starts with a time column (``time_s`` or ``time_min``), i.e. the measured tracer
+    curves.  A case names one of these by its bare file name; no path is ever accepted."""
+    root = resources.files("rotarydryer.data")
+    out = []
+    for p in root.iterdir():
+        if not (p.name.endswith(".csv") and p.is_file()):
+            continue
+        head = next((ln for ln in p.read_text("utf-8").splitlines() if ln.strip() and not ln.startswith("#")), "")
+        if head.startswith(_TIME_HEADERS):
+            out.append(p.name)
+    return tuple(sorted(out))
+
+
+def _dataset_names() -> list[str]:
+    from rotarydryer.rtd import tracer_datasets
+
+    return tracer_datasets()
+
+
+_DATASET_CHARS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-")
+
+
+def _check_measured(value):
+    if value is None:
+        return value
+    allowed = measured_files()
+    if value in allowed:
+        return value
+    pathlike = any(c in value for c in "/\\:\x00") or ".." in value or value.startswith("~")
+    why = "paths are refused; give" if pathlike else "give"
+    raise ValueError(f"is not a shipped data set ({why} the bare file name of a tracer CSV shipped in "
+                     f"rotarydryer/data); allowed: {', '.join(allowed)}")
+
+
+def _check_dataset(value):
+    if value is None:
+        return value
+    rest = value.replace("{test}", "")
+    if not rest or not set(rest) <= _DATASET_CHARS:
+        raise ValueError(f"is not a shipped data set name (letters, digits, '_' and '-'; the only placeholder "
+                         f"is {{test}}, replaced by operating.test); allowed: {', '.join(_dataset_names())}")
+    return value
+
+
+def resolve_dataset(template: str, test="") -> str:
+    """``tracer.dataset`` with ``{test}`` replaced by ``test`` (plain text replacement, never
+    ``str.format``)."""
+    return template.replace("{test}", str(test))
+
+
+def _dataset_problem(case) -> str | None:
+    tr = case.tracer
+    if getattr(tr, "dataset", None) is None:
+        return None
+    test = getattr(case.operating, "test", "")
+    name = resolve_dataset(tr.dataset, test)
+    names = _dataset_names()
+    if name in names:
+        return None
+    shown = f"{tr.dataset!r}" + (f" (with operating.test = {test}: {name!r})" if "{test}" in tr.dataset else "")
+    return f"tracer.dataset = {shown} is not a shipped data set; allowed: {', '.join(names)}"
 
 
 class Meta(_Strict):
@@ -35,10 +125,10 @@ class Meta(_Strict):
 
 
 class Drum(_Strict):
-    radius: float = Field(gt=0, description="m")
-    length: float = Field(gt=0, description="m")
+    radius: float = Field(gt=0, le=20, description="m")
+    length: float = Field(gt=0, le=200, description="m")
     slope: float = Field(ge=0, lt=45, description="deg")
-    n_flights: int = Field(ge=2, description="-")
+    n_flights: int = Field(ge=2, le=MAX_FLIGHTS, description="-")
 
 
 class Flight(_Strict):
@@ -81,10 +171,37 @@ class Tracer(_Strict):
     duration: float = Field(ge=0, description="s")
     t_end: float = Field(gt=0, description="s")
     dt: float = Field(gt=0, description="s")
-    measured: Optional[str] = None
+    measured: Optional[str] = Field(default=None, max_length=200,
+                                    description="bare file name of a shipped tracer CSV (measured_files())")
     measured_offset: float = 0.0
-    dataset: Optional[str] = Field(default=None, description="rotarydryer.rtd dataset; {test} is replaced")
-    baseline: str = Field(default="none", description="baseline method for the measured moments")
+    dataset: Optional[str] = Field(default=None, max_length=200,
+                                   description="rotarydryer.rtd dataset; {test} is replaced (plain text)")
+    baseline: str = Field(default="none", max_length=50, description="baseline method for the measured moments")
+
+    @field_validator("measured")
+    @classmethod
+    def _measured_shipped(cls, v):
+        return _check_measured(v)
+
+    @field_validator("dataset")
+    @classmethod
+    def _dataset_shipped(cls, v):
+        return _check_dataset(v)
+
+    @model_validator(mode="after")
+    def _time_grid(self):
+        _check_time_grid(self)
+        return self
+
+
+def _check_time_grid(tr):
+    """t_end / dt within (1, MAX_TIME_STEPS] (the RTD simulation stores every step)."""
+    steps = tr.t_end / tr.dt
+    if tr.t_end <= tr.dt:
+        raise ValueError(f"tracer.t_end = {tr.t_end!r} s must be larger than tracer.dt = {tr.dt!r} s")
+    if steps > MAX_TIME_STEPS:
+        raise ValueError(f"tracer.t_end = {tr.t_end!r} s and tracer.dt = {tr.dt!r} s give {steps:.6g} time steps; "
+                         f"the limit is {MAX_TIME_STEPS} (raise tracer.dt or lower tracer.t_end)")
 
 
 # ---- blocks shared by every case kind: material, gas, shell, thermal ---------------------
@@ -129,13 +246,26 @@ class ThermalModel(_Strict):
 
 class Material(_Strict):
     """A material of the library (rotarydryer.properties.materials) by name, with optional
-    field overrides, or a complete inline definition."""
+    field overrides, or a complete inline definition. A case names a library material, never
+    a file: ``material = "path/to/x.toml"`` is refused (the library function
+    ``load_material`` still reads a path given by a program)."""
     model_config = ConfigDict(extra="allow")
-    name: str = Field(description="library name or a label for an inline material")
+    name: str = Field(min_length=1, max_length=200, description="library name or a label for an inline material")
+
+    @model_validator(mode="after")
+    def _library_name(self):
+        if not self.model_extra:    # a bare name: must be a library material
+            from rotarydryer.properties.materials import list_materials
+
+            names = list_materials()
+            if self.name not in names:
+                raise ValueError(f"material.name = {self.name!r} is not a material of the library; allowed: "
+                                 f"{', '.join(names)} (or an inline definition with its fields)")
+        return self
 
 
 class LeeParameterSet(_Strict):
-    n_cells: int
+    n_cells: int = Field(ge=1, le=100000)
     kiln_time: float
     backmix: float
     drag_reduction: float
@@ -152,16 +282,23 @@ class LeeCase(_Strict):
     transport: LeeTransport
     geometry: LeeGeometry = LeeGeometry()
     tracer: Tracer
-    parameter_sets: list[LeeParameterSet] = []
+    parameter_sets: list[LeeParameterSet] = Field(default=[], max_length=MAX_ENTRIES)
     material: Optional[Material] = None
     gas: Optional[Gas] = None
     shell: Shell = Shell()
     thermal: ThermalModel = ThermalModel(enabled=False)
 
+    @model_validator(mode="after")
+    def _shipped_dataset(self):
+        problem = _dataset_problem(self)
+        if problem:
+            raise ValueError(problem)
+        return self
+
 
 # ---- Ajayi (2011) MMG Karumba --------------------------------------------------------
 class AjayiDrum(_Strict):
-    radius: float = Field(gt=0, description="m")
+    radius: float = Field(gt=0, le=20, description="m")
     slope: float = Field(ge=0, lt=45, description="deg")
 
 
@@ -195,9 +332,9 @@ class AjayiGeometry(_Strict):
 class AjayiSection(_Strict):
     name: str
     kind: Literal["flighted", "unflighted"]
-    length: float = Field(gt=0)
-    n_cells: Optional[int] = None
-    n_flights: Optional[int] = None
+    length: float = Field(gt=0, le=200, description="m")
+    n_cells: Optional[int] = Field(default=None, le=100000)
+    n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS)
     s1: Optional[float] = None
     s2: Optional[float] = None
     alpha1: Optional[float] = None
@@ -240,7 +377,7 @@ class AjayiThermal(_Strict):
     insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
     loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (ajayi2011 mode only)")
     leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet end")
-    unflighted_cells: dict[str, int] = Field(default={}, description="finite volumes per unflighted section of the thermal model; default one per 0.3 m (at least 4)")
+    unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the thermal model; default one per 0.3 m (at least 4)")
     design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
     moisture_coupling: bool = True
     enabled: bool = True
@@ -256,8 +393,8 @@ class AjayiCase(_Strict):
     transport: AjayiTransport = AjayiTransport()
     geometry: AjayiGeometry = AjayiGeometry()
     tracer: Tracer
-    sections: list[AjayiSection]
-    tests: list[AjayiTest]
+    sections: list[AjayiSection] = Field(max_length=MAX_ENTRIES)
+    tests: list[AjayiTest] = Field(max_length=MAX_ENTRIES)
     thermal: AjayiThermal = AjayiThermal()
     material: Material = Material(name="zinc_concentrate_ajayi2011")
 
@@ -283,6 +420,7 @@ class AjayiCase(_Strict):
                 for key in ("n_flights", "s1", "s2", "alpha1", "alpha2"):
                     if getattr(sec, key) is None:
                         problems.append(f"{where}.{key} is missing: geometry.method = 'exact' needs the flight dimensions")
+        problems += filter(None, [_cells_problem(self), _dataset_problem(self)])
         if problems:
             raise ValueError("; ".join(problems))
         return self
@@ -292,7 +430,7 @@ class AjayiCase(_Strict):
 class DryerDrum(_Strict):
     radius: float = Field(gt=0, le=20, description="m")
     slope: float = Field(ge=0, lt=45, description="deg")
-    n_flights: Optional[int] = Field(default=None, ge=2, description="flights per flighted section (default)")
+    n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS, description="flights per flighted section (default)")
 
 
 class DryerOperating(_Strict):
@@ -333,7 +471,7 @@ class DryerSection(_Strict):
     length: float = Field(gt=0, le=200, description="m")
     n_cells: Optional[int] = Field(default=None, ge=1, le=100000)
     model: Optional[Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"]] = None
-    n_flights: Optional[int] = Field(default=None, ge=2)
+    n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS)
     s1: Optional[float] = Field(default=None, gt=0, description="m, flight base")
     s2: Optional[float] = Field(default=None, ge=0, description="m, flight tip")
     alpha1: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
@@ -349,6 +487,11 @@ class DryerTracer(_Strict):
     t_end: float = Field(default=7200.0, gt=0, description="s")
     dt: float = Field(default=10.0, gt=0, description="s")
 
+    @model_validator(mode="after")
+    def _time_grid(self):
+        _check_time_grid(self)
+        return self
+
 
 class DryerCase(_Strict):
     """One schema for any flighted rotary dryer (``kind = "dryer"``)."""
@@ -360,7 +503,7 @@ class DryerCase(_Strict):
     material: Material
     transport: DryerTransport = DryerTransport()
     geometry: DryerGeometry = DryerGeometry()
-    sections: list[DryerSection]
+    sections: list[DryerSection] = Field(max_length=MAX_ENTRIES)
     gas: Optional[Gas] = None
     shell: Shell = Shell()
     thermal: ThermalModel = ThermalModel()
@@ -387,9 +530,34 @@ class DryerCase(_Strict):
                     problems.append(f"{where}.{key} is missing (and no [flight] default)")
         if self.thermal.enabled and self.gas is None:
             problems.append("gas is missing: [gas] (flow, inlet_temperature) is needed when thermal.enabled = true")
+        problem = _cells_problem(self)
+        if problem:
+            problems.append(problem)
         if problems:
             raise ValueError("; ".join(problems))
         return self
+
+
+def _cells_problem(case) -> str | None:
+    """The total number of cells and finite volumes of a sectioned case (an auto-discretised
+    unflighted section counts with its maximum) against :data:`MAX_CELLS`."""
+    total = thermal = 0
+    tr = case.transport
+    th_cells = getattr(case.thermal, "unflighted_cells", None)   # Ajayi: the thermal model's own volumes
+    for sec in case.sections:
+        if sec.kind == "flighted":
+            n = (sec.n_cells if sec.n_cells is not None else getattr(tr, "n_cells", None)) or 0
+            total, thermal = total + n, thermal + n
+        else:
+            own = sec.n_cells if isinstance(case, DryerCase) else None
+            total += own or tr.unflighted_cells or _AUTO_UNFLIGHTED_CELLS
+            if isinstance(th_cells, dict):
+                thermal += th_cells.get(sec.name, max(4, int(-(-sec.length // 0.3))))
+    if max(total, thermal) > MAX_CELLS:
+        return (f"sections: {max(total, thermal)} cells in all (n_cells of the flighted sections plus the finite "
+                f"volumes of the unflighted ones, {_AUTO_UNFLIGHTED_CELLS} when automatic"
+                f"{', thermal.unflighted_cells' if thermal > total else ''}); the limit is {MAX_CELLS}")
+    return None
 
 
 #: case model of each ``kind``
@@ -430,15 +598,29 @@ def valid_override_keys(case_cls) -> list[str]:
     return sorted(keys)
 
 
+def _decode(content: bytes, shown: str) -> str:
+    """UTF-8 text of a case file of at most :data:`MAX_CASE_BYTES` bytes, else ``ValueError``."""
+    if len(content) > MAX_CASE_BYTES:
+        raise ValueError(f"{shown}: the case file is larger than the limit of {MAX_CASE_BYTES} bytes")
+    try:
+        return content.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{shown}: not UTF-8 text (byte 0x{content[exc.start]:02x} at offset {exc.start})") from None
+
+
 def _source(name: str) -> tuple[str, str]:
-    """(TOML text, display name) of a packaged case or a .toml path."""
+    """(TOML text, display name) of a packaged case or a .toml path (a regular file of at most
+    :data:`MAX_CASE_BYTES` bytes)."""
     p = Path(name)
     if p.suffix == ".toml" and p.exists():
-        return p.read_text(), str(p)
-    res = resources.files(__package__) / f"{name}.toml"
-    if not res.is_file():
-        raise ValueError(f"case = {name!r} is not a packaged case ({', '.join(list_cases())}) nor a .toml file")
-    return res.read_text(), f"{name}.toml"
+        if not p.is_file():
+            raise ValueError(f"case = {name!r} is not a regular file")
+        with open(p, "rb") as fh:
+            content = fh.read(MAX_CASE_BYTES + 1)
+        return _decode(content, str(p)), str(p)
+    if name in list_cases():
+        return (resources.files(__package__) / f"{name}.toml").read_text("utf-8"), f"{name}.toml"
+    raise ValueError(f"case = {name!r} is not a packaged case ({', '.join(list_cases())}) nor a .toml file")
 
 
 def _read(name: str) -> dict:
@@ -450,6 +632,14 @@ def _parse(text: str, shown: str) -> dict:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{shown}: not valid TOML: {exc}") from None
+    except RecursionError:   # deeply nested arrays/tables
+        raise ValueError(f"{shown}: not valid TOML: nested too deeply") from None
+
+
+def _shown_value(value, limit: int = 120) -> str:
+    """``repr`` of an input value for a message, cut to ``limit`` characters."""
+    r = repr(value)
+    return r if len(r) <= limit else r[:limit] + " ..."
 
 
 def _toml_line(text: str, loc: tuple) -> int | None:
@@ -488,21 +678,41 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
     for e in exc.errors():
         loc = tuple(e["loc"])
         dotted = ".".join(str(x) for x in loc)
+        kind = e.get("type", "")
+        text_msg = e["msg"].removeprefix("Value error, ")
+        if not loc:   # a check of the whole case: locate the key its message starts with
+            m = re.match(r"([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)+) = ", text_msg)
+            loc = tuple(m.group(1).split(".")) if m else loc
         where = shown
-        if overrides and dotted in overrides:
-            where = f"--set {dotted}"
-        elif text:
+        below = [k for k in overrides or {} if k == dotted or (dotted and k.startswith(dotted + "."))]
+        if below:
+            where = "--set " + ", --set ".join(below)
+        elif text and loc:
             no = _toml_line(text, loc)
             where = f"{shown}:{no}" if no else shown
-        kind = e.get("type", "")
         if kind == "missing":
             msg = f"{dotted} is missing (a required field or section)"
         elif kind == "extra_forbidden":
             msg = f"{dotted} is not a known field here"
+        elif kind == "value_error" and (not loc or isinstance(e.get("input"), dict)):
+            msg = text_msg  # a check of a whole block or case: its message names the keys
+        elif kind == "value_error":
+            msg = f"{dotted} = {_shown_value(e.get('input'))} {text_msg}"
         else:
-            msg = f"{dotted} = {e.get('input')!r}: {e['msg']}"
+            msg = f"{dotted} = {_shown_value(e.get('input'))}: {e['msg']}"
         lines.append(f"{where}: {msg}")
     return "\n".join(lines)
+
+
+def load_case_text(text: str | bytes, name: str = "uploaded case", overrides: dict[str, Any] | None = None):
+    """Validate a case given as TOML text (or UTF-8 bytes), e.g. a case file uploaded to the
+    web app: nothing is written to or read from disk except the shipped data the case names.
+    ``name`` is the display name in messages. Same checks and result as :func:`load_case`."""
+    if isinstance(text, (bytes, bytearray)):
+        text = _decode(bytes(text), name)
+    elif len(text.encode("utf-8", "surrogatepass")) > MAX_CASE_BYTES:
+        raise ValueError(f"{name}: the case file is larger than the limit of {MAX_CASE_BYTES} bytes")
+    return _validate(text, name, name, overrides)
 
 
 def load_case(name: str, overrides: dict[str, Any] | None = None):
@@ -520,10 +730,14 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     LeeCase or AjayiCase (pydantic models, SI units).
     """
     text, shown = _source(name)
+    return _validate(text, shown, name, overrides)
+
+
+def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None):
     raw = _parse(text, shown)
     kind = raw.get("kind")
-    if kind not in _KINDS:
-        raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, _KINDS))}")
+    if not isinstance(kind, str) or kind not in _KINDS:
+        raise ValueError(f"{shown}: kind = {_shown_value(kind)} is not one of {', '.join(map(repr, _KINDS))}")
     cls = _KINDS[kind]
     if isinstance(raw.get("material"), str):
         raw["material"] = {"name": raw["material"]}
@@ -560,19 +774,21 @@ def measured_rtd(case):
     import numpy as np
 
     tr = case.tracer
-    if tr.dataset is not None:
+    if getattr(tr, "dataset", None) is not None:
         from rotarydryer.rtd import load_tracer_dataset
 
-        d = load_tracer_dataset(tr.dataset.format(test=getattr(case.operating, "test", "")))
+        # plain text replacement: a case's string is never a format string
+        d = load_tracer_dataset(resolve_dataset(tr.dataset, getattr(case.operating, "test", "")))
         t = np.asarray(d.time_s, float) - d.time_origin_s
         y = np.asarray(d.signal, float) * (d.rate_factor or 1.0)
         keep = t >= 0
         return t[keep], y[keep]
-    if tr.measured is None:
+    if getattr(tr, "measured", None) is None:
         return None
     import csv
 
-    text = (resources.files("rotarydryer") / "data" / tr.measured).read_text()
+    _check_measured(tr.measured)  # a bare name of a shipped CSV (also when the case was built in code)
+    text = resources.files("rotarydryer.data").joinpath(tr.measured).read_text("utf-8")
     rows = [r for r in csv.reader(line for line in text.splitlines() if not line.startswith("#"))]
     head, body = rows[0], rows[1:]
     body = [r for r in body if r[0].strip() and r[1].strip()]

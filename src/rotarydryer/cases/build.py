@@ -5,7 +5,14 @@
   and the model keeps its section specs (``model.specs``);
 * :func:`thermal_inputs` - what the heat-and-mass model adds to those sections: thermal
   settings, per-section heat-transfer data, the material, feed moisture and the changes to the
-  transport sections (thermal discretisation, moisture-dependent properties).
+  transport sections (thermal discretisation, moisture-dependent properties);
+* :func:`check_inputs` and :func:`check_feasible` - physical feasibility of a case, with
+  messages that name the case key, its value, the limit and the unit: drum dimensions finite
+  and positive, flights that fit the drum, a bulk density of a granular solid, the drum speed
+  below the critical speed 42.3/sqrt(D) rev/min (:func:`rotarydryer.geometry.check_speed`; a
+  :class:`~rotarydryer.geometry.CriticalSpeedWarning` above half of it) and, at the steady
+  state, a solids fill of at most :data:`FILL_LIMIT` of the drum volume (whole drum and every
+  section). :func:`build_model` runs both (the fill check on every steady state of the model).
 
 Models (``transport``, ``thermal``) never import this module; :class:`rotarydryer.Simulation`
 and the other entry points do.
@@ -13,23 +20,42 @@ and the other entry points do.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
+from .._validation import check_range, fmt_number
 from . import AjayiCase, DryerCase, LeeCase
 
-__all__ = ["build_model", "exact_drum", "lee_parameters", "ajayi_test_inputs", "ajayi_geometries",
+#: largest solids fill of the drum volume (whole drum and each section) of a feasible steady state:
+#: loaded flighted dryers run at 10-15 %; every shipped case is below 16 % (Invicta 8.9 %, MMG tests
+#: 2-6 up to 15.6 % in the unflighted section A, Song 9.3 %)
+FILL_LIMIT = 0.30
+#: bulk densities a granular solid can have, kg/m^3: above air (1.2) and below osmium (22 590)
+BULK_DENSITY_RANGE = (1.0, 23000.0)
+
+__all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
+           "exact_drum", "lee_parameters", "ajayi_test_inputs", "ajayi_geometries",
            "settings_from_case", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of",
            "operating_point"]
 
 
-def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2):
-    """Exact flight geometry (:class:`rotarydryer.geometry.FlightedDrum`) of a two-section flight."""
+def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):
+    """Exact flight geometry (:class:`rotarydryer.geometry.FlightedDrum`) of a two-section flight.
+
+    A geometry that cannot be built raises ``ValueError`` naming the case keys (``drum.radius``,
+    ``n_flights_key``, ``<where>.s1`` ...) with their values."""
     from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
 
-    return FlightedDrum(radius=radius, n_flights=n_flights,
-                        flight=TwoSectionFlight(s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2))
+    try:
+        return FlightedDrum(radius=radius, n_flights=n_flights,
+                            flight=TwoSectionFlight(s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2))
+    except ValueError as exc:
+        keys = (f"drum.radius = {fmt_number(radius)} m, {n_flights_key} = {fmt_number(n_flights)}, "
+                f"{where}.s1 = {fmt_number(s1)} m, {where}.s2 = {fmt_number(s2)} m, "
+                f"{where}.alpha1 = {fmt_number(alpha1)} deg, {where}.alpha2 = {fmt_number(alpha2)} deg")
+        raise ValueError(f"flight geometry ({keys}): {exc}") from None
 
 
 def material_of(case):
@@ -52,14 +78,135 @@ def _tracer_pulse(case, feed_rate):
 
 
 def build_model(case):
-    """The :class:`rotarydryer.transport.TransportModel` of a validated case (any kind)."""
+    """The :class:`rotarydryer.transport.TransportModel` of a validated case (any kind).
+
+    The case is checked first (:func:`check_inputs`) and every steady state of the model is
+    checked for its fill of the drum (:func:`check_feasible`)."""
+    if not isinstance(case, (LeeCase, AjayiCase, DryerCase)):
+        raise ValueError(f"case of type {type(case).__name__} is not supported")
+    check_inputs(case)
     if isinstance(case, LeeCase):
-        return _build_lee(case)
+        model = _build_lee(case)
+    elif isinstance(case, AjayiCase):
+        model = _build_ajayi(case)
+    else:
+        model = _build_dryer(case)
+    model.checks.append(functools.partial(check_feasible, case))     # picklable, unlike a lambda
+    return model
+
+
+# ---- feasibility ---------------------------------------------------------------------------
+def _section_lengths(case):
+    """[(key prefix, name, length m)] of the case's sections (Lee: one drum)."""
+    if isinstance(case, LeeCase):
+        return [("drum", "dryer", case.drum.length)]
+    return [(f"sections[{k}] ({s.name})", s.name, s.length) for k, s in enumerate(case.sections)]
+
+
+def _speed_key(case) -> str:
+    if isinstance(case, AjayiCase) and case.operating.rpm is None:
+        return f"operating.rpm (test {case.operating.test})"
+    return "operating.rpm"
+
+
+def _feed_text(case, F) -> str:
+    """``operating.feed_rate = F kg/s`` (with the test whose value it is, for Ajayi's cases)."""
+    if isinstance(case, AjayiCase) and case.operating.feed_rate is None:
+        return f"operating.feed_rate = {fmt_number(F)} kg/s (the value of test {case.operating.test})"
+    return f"operating.feed_rate = {fmt_number(F)} kg/s"
+
+
+def check_inputs(case) -> None:
+    """Physical checks of a case before any model is built; ``ValueError`` names the key, its
+    value, the allowed range and the unit.
+
+    * ``drum.radius``, ``drum.length`` / section lengths finite and > 0, ``drum.slope`` in [0, 45) deg;
+    * the feed rate finite and > 0; the drum speed below the critical speed N_c = 42.3/sqrt(D)
+      rev/min (:func:`rotarydryer.geometry.check_speed`; a warning above half of it);
+    * Lee's ``solids.bulk_density`` in :data:`BULK_DENSITY_RANGE`; ``solids.repose_angle`` in (0, 90);
+    * each flight fits the drum: its base shorter than the radius.
+    """
+    from rotarydryer.geometry import check_speed
+
+    d = case.drum
+    R = float(check_range("drum.radius", d.radius, 0.0, math.inf, unit="m"))
+    check_range("drum.slope", d.slope, 0.0, 45.0, low_inclusive=True, unit="deg")
+    for prefix, _, L in _section_lengths(case):
+        check_range(f"{prefix}.length", L, 0.0, math.inf, unit="m")
+    F, rpm, _, _ = operating_point(case)
+    check_range("operating.feed_rate", F, 0.0, math.inf, unit="kg/s")
+    check_speed(_speed_key(case), rpm, R, radius_key="drum.radius")
+    flights = []
+    if isinstance(case, LeeCase):
+        lo, hi = BULK_DENSITY_RANGE
+        check_range("solids.bulk_density", case.solids.bulk_density, lo, hi, low_inclusive=True,
+                    high_inclusive=True, unit="kg/m^3")
+        if case.solids.repose_angle is not None:
+            check_range("solids.repose_angle", case.solids.repose_angle, 0.0, 90.0, unit="deg")
+        flights.append(("flight", case.flight.s1))
+    elif isinstance(case, AjayiCase):
+        flights += [(f"sections[{k}] ({s.name})", s.s1) for k, s in enumerate(case.sections)
+                    if s.kind == "flighted" and s.s1 is not None]
+    else:
+        for k, s in enumerate(case.sections):
+            if s.kind == "flighted":
+                own = getattr(s, "s1", None)
+                flights.append((f"sections[{k}] ({s.name})" if own is not None else "flight",
+                                own if own is not None else case.flight.s1))
+    for where, s1 in flights:
+        s1 = float(check_range(f"{where}.s1", s1, 0.0, math.inf, unit="m"))
+        if s1 >= R:
+            raise ValueError(f"{where}.s1 = {fmt_number(s1)} m does not fit drum.radius = {fmt_number(R)} m: "
+                             "the flight base must be shorter than the drum radius")
+
+
+def _bed_density(case):
+    """Bulk density (kg/m^3) for unflighted sections when the dryer has no flighted one (then the
+    material's at the feed moisture); None: the nearest flighted cell's."""
+    if isinstance(case, LeeCase) or any(s.kind == "flighted" for s in case.sections):
+        return None
+    _, _, x_in, _ = operating_point(case)
+    return float(np.asarray(material_of(case).bulk_density(x_in)))
+
+
+def _holdup_hint(case) -> str:
+    if isinstance(case, LeeCase):
+        t = case.transport
+        kiln = t.kiln_time if t.kiln_time is not None else lee_parameters(case)["kiln_time"]
+        return (f" (or check solids.bulk_density = {fmt_number(case.solids.bulk_density)} kg/m^3, "
+                f"transport.kiln_time = {fmt_number(kiln)} s, drum.radius and drum.length)")
     if isinstance(case, AjayiCase):
-        return _build_ajayi(case)
-    if isinstance(case, DryerCase):
-        return _build_dryer(case)
-    raise ValueError(f"case of type {type(case).__name__} is not supported")
+        u = ajayi_test_inputs(case)["kiln_velocity"]
+        return (f" (or raise transport.kiln_velocity = {fmt_number(u)} m/s; check drum.radius and the "
+                "section lengths)")
+    return " (or check transport.kiln_time, transport.solids_velocity, drum.radius and the section lengths)"
+
+
+def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
+    """Refuse a steady state whose solids fill more than ``limit`` (:data:`FILL_LIMIT`) of the drum
+    volume pi R^2 L, over the whole drum or in any section (bulk volume = holdup / bulk density of
+    each cell). The ``ValueError`` names the fill (%), the limit and the keys to change. Returns the
+    fill fractions (:meth:`rotarydryer.transport.results.SteadyState.fill_fractions`)."""
+    fills = steady_state.fill_fractions(case.drum.radius, _bed_density(case))
+    items = [("total", fills["total"])]
+    if len(fills["sections"]) > 1:
+        items += list(fills["sections"].items())
+    items = [(k, v) for k, v in items if not math.isnan(v)]     # NaN: no bulk density known for a node
+    if not items:
+        return fills
+    name, worst = max(items, key=lambda kv: kv[1])
+    if worst <= limit:
+        return fills
+    det = fills["detail"][name]
+    where = ("the drum volume" if name == "total"
+             else f"the drum volume of section {name} ({det['length_m']:g} m long)")
+    rho = det["holdup_kg"] / det["volume_m3"] if det["volume_m3"] > 0 else float("nan")
+    F, _, _, _ = operating_point(case)
+    raise ValueError(
+        f"solids fill {100 * worst:.3g} % of {where} ({det['holdup_kg']:,.0f} kg of solids at "
+        f"{rho:.4g} kg/m^3 take {det['volume_m3']:.3g} m^3 of {det['drum_volume_m3']:.3g} m^3); the limit is "
+        f"{100 * limit:.0f} % (loaded dryers run at 10-15 %): reduce {_feed_text(case, F)}"
+        + _holdup_hint(case))
 
 
 # ---- Lee (2008) Invicta ------------------------------------------------------------------
@@ -99,7 +246,7 @@ def _build_lee(case: LeeCase):
     _check_lee_moisture(case)
     d, fl = case.drum, case.flight
     if case.geometry.method == "exact":
-        geometry = exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2)
+        geometry = exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2, where="flight")
     else:
         geometry = Lee2008Regressions(tip_radius=invicta_tip_radius(d.radius, fl.s1, fl.s2, fl.alpha1, fl.alpha2))
     p = lee_parameters(case)
@@ -158,7 +305,9 @@ def ajayi_geometries(case: AjayiCase) -> dict:
             geoms[s.name] = AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius,
                                              case.transport.design_load_factor)
         else:
-            drum = exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2)
+            where = f"sections[{case.sections.index(s)}] ({s.name})"
+            drum = exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2, where=where,
+                              n_flights_key=f"{where}.n_flights")
             geoms[s.name] = ExactGeometry(drum, case.geometry.passive_time_branch, design_load_method="ajayi2011")
     return geoms
 
@@ -251,7 +400,10 @@ def _dryer_specs(case: DryerCase, material):
         else:
             g = {k: getattr(s, k) if getattr(s, k) is not None else getattr(case.flight, k)
                  for k in ("s1", "s2", "alpha1", "alpha2")}
-            drum = exact_drum(case.drum.radius, s.n_flights or case.drum.n_flights, **g)
+            where = f"sections[{case.sections.index(s)}] ({s.name})"
+            drum = exact_drum(case.drum.radius, s.n_flights or case.drum.n_flights, **g,
+                              where=where if s.s1 is not None else "flight",
+                              n_flights_key=f"{where}.n_flights" if s.n_flights else "drum.n_flights")
             geometry = ExactGeometry(drum, case.geometry.passive_time_branch,
                                      design_load_method=case.geometry.design_load_method)
             model = s.model or tr.model

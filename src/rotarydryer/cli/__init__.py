@@ -8,6 +8,11 @@ Heavy libraries (SciPy, Matplotlib) are imported inside the commands so that
 
 from __future__ import annotations
 
+import functools
+import os
+import warnings
+
+import click
 import typer
 
 app = typer.Typer(
@@ -15,6 +20,10 @@ app = typer.Typer(
     help="Flighted rotary dryer simulator: flight geometry, solids transport, drying.",
     no_args_is_help=True,
     add_completion=False,
+    # plain click messages: a usage error is "Error: Invalid value for '--feed': ..." on one line
+    # (no box drawing that wraps the option name across lines)
+    rich_markup_mode=None,
+    pretty_exceptions_enable=False,
 )
 
 
@@ -27,15 +36,87 @@ def _version(value: bool):
         raise typer.Exit()
 
 
+#: ``--debug``: let exceptions through with their traceback (developers)
+DEBUG = {"on": bool(os.environ.get("ROTARYDRYER_DEBUG"))}
+
+
 @app.callback()
 def main(
     version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                  help="Print the version and exit."),
+    debug: bool = typer.Option(False, "--debug", help="Show Python tracebacks (for developers)."),
 ):
     """Flighted rotary dryer simulator (rotarydryer)."""
+    DEBUG["on"] = bool(debug) or bool(os.environ.get("ROTARYDRYER_DEBUG"))
+
+
+def error_message(exc: BaseException) -> str:
+    """One line (or a short block) for the user: what failed, naming the path or key."""
+    if isinstance(exc, MemoryError):
+        return ("not enough memory for this run: reduce the model size (cells, time grid, sweep points, "
+                "image or file size)")
+    if isinstance(exc, OSError) and not isinstance(exc, ValueError):
+        where = exc.filename if getattr(exc, "filename", None) else None
+        reason = exc.strerror or str(exc) or type(exc).__name__
+        return f"{where!s}: {reason}" if where else reason
+    text = str(exc).strip()
+    if isinstance(exc, KeyError):
+        text = f"missing key or column {text}"
+    if not text:
+        text = type(exc).__name__
+    return text
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Warnings reach the user as one ``warning: ...`` line on stderr (no source location)."""
+    typer.echo(f"warning: {' '.join(str(message).split())}", err=True)
+
+
+def _guard(func):
+    """The CLI failure boundary around a command: the project's errors (ValueError and its
+    subclasses), OSError, MemoryError and any other exception become ``error: ...`` on stderr
+    and exit code 2; no traceback reaches a user unless ``--debug``."""
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        try:
+            with warnings.catch_warnings():
+                if not DEBUG["on"]:
+                    warnings.showwarning = _show_warning
+                return func(*args, **kwargs)
+        except (typer.Exit, typer.Abort, click.exceptions.ClickException, click.exceptions.Exit,
+                click.exceptions.Abort, SystemExit):
+            raise
+        except KeyboardInterrupt:
+            typer.echo("error: interrupted", err=True)
+            raise typer.Exit(130)
+        except BaseException as exc:  # noqa: BLE001 - the boundary
+            if DEBUG["on"]:
+                raise
+            if isinstance(exc, (ValueError, OSError, MemoryError, KeyError, OverflowError)):
+                msg = error_message(exc)
+            else:
+                msg = (f"internal error ({type(exc).__name__}: {error_message(exc)}); please report it "
+                       "with the command line (rerun with --debug for the traceback)")
+            typer.echo(f"error: {msg}", err=True)
+            raise typer.Exit(2)
+
+    return wrapper
+
+
+def _guard_all(typer_app):
+    for info in typer_app.registered_commands:
+        if info.callback is not None and not getattr(info.callback, "_guarded", False):
+            info.callback = _guard(info.callback)
+            info.callback._guarded = True
+    for group in typer_app.registered_groups:
+        if group.typer_instance is not None:
+            _guard_all(group.typer_instance)
 
 
 # Command modules (each registers its commands on ``app`` at import time).
 from . import balance, correlations, fit, flight, lab, report, rtdfit, schema, simulate, sweep, webapp  # noqa: E402,F401
 
-__all__ = ["app"]
+_guard_all(app)
+
+__all__ = ["app", "error_message"]

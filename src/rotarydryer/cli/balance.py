@@ -7,6 +7,7 @@ from typing import Optional
 
 import typer
 
+from .._io import json_text
 from . import app
 
 
@@ -37,6 +38,9 @@ def balance(
 
     rotarydryer balance --ajayi-test 6 --gas-flow 16.25 --shell-loss 0.38e6
     """
+    import math
+
+    from .._validation import check_range
     from ..properties import humid_air as ha
     from ..thermal.consistency import balance_gas_outlet_temperature, implied_gas_flow, pi_test_conditions
     from ..thermal.streams import evaporation_rate, exhaust_humidity
@@ -54,6 +58,25 @@ def balance(
         if need:
             raise ValueError("missing " + ", ".join("--" + k.replace("_", "-") for k in need)
                              + " (or give --ajayi-test N)")
+        # every value checked under the option the user set (plain numbers, ranges, units)
+        for opt, v, lo, hi, lo_in, unit in (
+                ("--gas-in", vals["gas_in"], 0.0, 600.0, True, "degC"),
+                ("--gas-out", vals["gas_out"], 0.0, 600.0, True, "degC"),
+                ("--feed", vals["feed"], 0.0, math.inf, False, "kg/s"),
+                ("--moisture-in", vals["moisture_in"], 0.0, 1.0, True, "kg/kg wet"),
+                ("--moisture-out", vals["moisture_out"], 0.0, 1.0, True, "kg/kg wet"),
+                ("--product-temperature", vals["product_temperature"], -20.0, 300.0, False, "degC"),
+                ("--feed-temperature", feed_temperature, -20.0, 300.0, False, "degC"),
+                ("--gas-humidity", gas_humidity, 0.0, 0.3, True, "kg/kg dry gas"),
+                ("--shell-loss", shell_loss, 0.0, math.inf, True, "W"),
+                ("--gas-flow", gas_flow, 0.0, math.inf, False, "kg/s")):
+            if v is not None:
+                check_range(opt, v, lo, hi, low_inclusive=lo_in, unit=unit)
+        if vals["moisture_out"] >= vals["moisture_in"]:
+            raise ValueError(f"--moisture-out = {vals['moisture_out']:g} must be below --moisture-in = "
+                             f"{vals['moisture_in']:g} kg/kg wet: the balance needs a test that dries")
+        if vals["gas_out"] is not None and gas_flow is None and vals["gas_out"] >= vals["gas_in"]:
+            raise ValueError(f"--gas-out = {vals['gas_out']:g} degC must be below --gas-in = {vals['gas_in']:g} degC")
         kw = dict(gas_in_c=vals["gas_in"], gas_humidity_in=gas_humidity, feed_rate=vals["feed"],
                   moisture_in=vals["moisture_in"], moisture_out=vals["moisture_out"], solids_in_c=feed_temperature,
                   solids_out_c=vals["product_temperature"], heat_loss=shell_loss)
@@ -73,7 +96,7 @@ def balance(
                 "product_temperature_degC": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
                 "product_below_dew_point": bool(vals["product_temperature"] < dew)})
     if as_json:
-        typer.echo(json.dumps(out, indent=2))
+        typer.echo(json_text(out, indent=2))
         return
     solved = "gas flow" if gas_flow is None else "gas outlet temperature"
     typer.echo(f"solved for: {solved}")

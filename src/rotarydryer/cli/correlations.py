@@ -7,6 +7,7 @@ from typing import Optional
 
 import typer
 
+from .._io import json_text
 from . import app
 
 
@@ -57,7 +58,7 @@ def mrt(
             except ValueError as exc:
                 results[m] = {"error": str(exc)}
     if as_json:
-        typer.echo(json.dumps(results, indent=2))
+        typer.echo(json_text(results, indent=2))
     else:
         for m, r in results.items():
             if "error" in r:
@@ -67,4 +68,4 @@ def mrt(
             for w in r["warnings"]:
                 typer.echo(f"    warning: {w}")
     if results and all("error" in r for r in results.values()):
-        raise typer.Exit(1)
+        raise typer.Exit(2)     # every correlation refused the input: bad input

@@ -68,7 +68,6 @@ def fit_command(
 
         plt = pyplot()
 
-        out.mkdir(parents=True, exist_ok=True)
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True,
                                      gridspec_kw={"height_ratios": [3, 1]})
         t = cf.times / 60.0
@@ -81,11 +80,19 @@ def fit_command(
         a2.axhline(0, color="0.5", lw=0.8)
         a2.set_ylabel("residual")
         a2.set_xlabel("time since injection (min)")
-        fig.savefig(out / "fit.png", dpi=110)
-        (out / "fit.json").write_text(json.dumps(result, indent=2))
+        from .._io import json_text, save_figure, write_text_atomic
+
+        try:
+            save_figure(fig, out / "fit.png", dpi=110)
+            write_text_atomic(out / "fit.json", json_text(result, indent=2))
+        except OSError as exc:
+            typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
+            raise typer.Exit(2)
         result["plots"] = [str(out / "fit.png")]
     if as_json:
-        typer.echo(json.dumps(result))
+        from .._io import json_text
+
+        typer.echo(json_text(result))
         return
     typer.echo(f"fit of {case} to {data}: objective {r.objective:.6g}, R^2 {r.r_squared:.4f}, "
                f"{r.n_evaluations} model evaluations, {r.seconds:.1f} s")

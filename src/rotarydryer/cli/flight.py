@@ -10,6 +10,43 @@ import typer
 
 from . import app
 
+#: bulk densities a granular solid can have, kg/m^3 (as rotarydryer.cases.build.BULK_DENSITY_RANGE)
+_BULK_DENSITY_RANGE = (1.0, 23000.0)
+
+
+def _opt(param: str) -> str:
+    """How messages name an option: ``--repose-angle (repose_angle)``, the option and the parameter
+    it sets (the name of the library argument and, with a unit suffix, of the --json field)."""
+    return f"--{param.replace('_', '-')} ({param})"
+
+
+def _check_options(dims, *, repose_angle, rpm, slope, loading_factor, bulk_density, length, angle):
+    """Every number option finite and in its range; the message names the option, its value,
+    the allowed range and the unit."""
+    from .._validation import check_range
+
+    inf = float("inf")
+    ranges = dict(radius=(0.0, inf, False, False, "m"), s1=(0.0, inf, False, False, "m"),
+                  s2=(0.0, inf, True, False, "m"), alpha1=(0.0, 180.0, False, False, "deg"),
+                  alpha2=(0.0, 180.0, False, True, "deg"))
+    for key, (lo, hi, li, hi_in, unit) in ranges.items():
+        if dims[key] is not None:
+            check_range(_opt(key), dims[key], lo, hi, low_inclusive=li, high_inclusive=hi_in, unit=unit)
+    if dims["n_flights"] is not None and dims["n_flights"] < 2:
+        raise ValueError(f"{_opt('n_flights')} = {dims['n_flights']} is outside the allowed range: an integer >= 2")
+    check_range(_opt("repose_angle"), repose_angle, 0.0, 90.0, unit="deg")
+    if rpm is not None:
+        check_range(_opt("rpm"), rpm, 0.0, inf, unit="rev/min")
+    if slope is not None:
+        check_range(_opt("slope"), slope, 0.0, 45.0, low_inclusive=True, unit="deg")
+    check_range(_opt("loading_factor"), loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+    if bulk_density is not None:
+        lo, hi = _BULK_DENSITY_RANGE
+        check_range(_opt("bulk_density"), bulk_density, lo, hi, low_inclusive=True, high_inclusive=True, unit="kg/m^3")
+    if length is not None:
+        check_range(_opt("length"), length, 0.0, inf, unit="m")
+    check_range(_opt("angle"), angle, unit="deg")
+
 
 @app.command("flight")
 def flight(
@@ -39,7 +76,8 @@ def flight(
 
     Example: rotarydryer flight --drum invicta --repose-angle 50 --out out/
     """
-    from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight
+    from .._validation import fmt_number
+    from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight, check_speed
     from ..geometry.presets import drum_presets, preset_drum
 
     if list_drums:
@@ -49,15 +87,25 @@ def flight(
     try:
         base, entry = preset_drum(drum)
         dims = dict(radius=radius, n_flights=n_flights, s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2)
+        _check_options(dims, repose_angle=repose_angle, rpm=rpm, slope=slope, loading_factor=loading_factor,
+                       bulk_density=bulk_density, length=length, angle=angle)
         if any(v is not None for v in dims.values()):
             p = {k: (v if v is not None else entry[k]) for k, v in dims.items()}
-            d = FlightedDrum(p["radius"], p["n_flights"], TwoSectionFlight(p["s1"], p["s2"], p["alpha1"], p["alpha2"]))
+            try:
+                d = FlightedDrum(p["radius"], p["n_flights"],
+                                 TwoSectionFlight(p["s1"], p["s2"], p["alpha1"], p["alpha2"]))
+            except ValueError as exc:
+                given = ", ".join(f"--{k.replace('_', '-')} {fmt_number(v)}"
+                                  for k, v in dims.items() if v is not None)
+                raise ValueError(f"{given} (with the {drum!r} drum's other dimensions): {exc}") from None
         else:
             d = base
         rpm_ = entry["rpm"] if rpm is None else rpm
         slope_ = entry["slope"] if slope is None else slope
         rho = entry["bulk_density"] if bulk_density is None else bulk_density
         ell = entry["length"] if length is None else length
+        check_speed(_opt("rpm") if rpm is not None else f"the {drum!r} drum's speed", rpm_, d.radius,
+                    radius_key=_opt("radius") if radius is not None else f"the {drum!r} drum's radius")
         cs = d.cascade(repose_angle, loading_factor, rpm=rpm_, slope=slope_, fall_height=fall_height,
                        passive_time_branch=passive_branch, convention=convention)
         tr = d.transition_angles(repose_angle)
@@ -92,14 +140,17 @@ def flight(
         "design_load_kg": {m: a * rho * ell for m, a in loads.items()},
     }
     if out is not None:
+        from .._io import check_output_target, save_figure
         from ..report.plots import draw_cross_section, plot_unloading_profile
 
-        out.mkdir(parents=True, exist_ok=True)
+        files = [out / "flight_profile.png", out / "cross_section.png"]
+        for f in files:                     # refuse a bad --out before drawing anything
+            check_output_target(f)
         fig = plot_unloading_profile(d, repose_angle, rpm_, convention=convention)
-        fig.savefig(out / "flight_profile.png", dpi=120)
         fig2 = draw_cross_section(d, repose_angle, angle=angle)
-        fig2.savefig(out / "cross_section.png", dpi=120)
-        result["plots"] = [str(out / "flight_profile.png"), str(out / "cross_section.png")]
+        save_figure(fig, files[0], dpi=120)
+        save_figure(fig2, files[1], dpi=120)
+        result["plots"] = [str(f) for f in files]
     if as_json:
         typer.echo(json.dumps(result))
         return

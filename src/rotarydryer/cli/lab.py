@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Optional
 
 import typer
 
 from . import app
+from ._common import check_option, check_out_dir, check_out_file
 
 lab_app = typer.Typer(
     name="lab",
@@ -25,17 +27,41 @@ def _fail(exc: Exception):
 
 
 def _pair(text: str, name: str):
-    """'otsu', '168' or '168,177' -> 'otsu', 168.0 or (168.0, 177.0)."""
+    """'otsu', '168' or '168,177' -> 'otsu', 168.0 or (168.0, 177.0) grey levels in [0, 255]."""
     t = text.strip().lower()
     if t == "otsu":
         return "otsu"
     try:
         vals = [float(v) for v in t.split(",")]
     except ValueError:
-        raise ValueError(f"{name} = {text!r} must be 'otsu', a number or 'upper,lower'") from None
+        raise ValueError(f"{name} = {text!r} must be 'otsu', a grey level or 'upper,lower' (0 .. 255)") from None
     if len(vals) not in (1, 2):
-        raise ValueError(f"{name} = {text!r} must be 'otsu', a number or 'upper,lower'")
+        raise ValueError(f"{name} = {text!r} must be 'otsu', a grey level or 'upper,lower' (0 .. 255)")
+    for v in vals:
+        check_option(name, v, 0, 255, low_inclusive=True, high_inclusive=True, unit="(grey level)")
     return vals[0] if len(vals) == 1 else tuple(vals)
+
+
+def _choice(option: str, value: str, choices) -> str:
+    if value not in choices:
+        raise ValueError(f"{option} = {value!r} is not one of {', '.join(choices)}")
+    return value
+
+
+def _centre(text: str):
+    """``--centre 'column,row'`` (px) -> (column, row) floats."""
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ValueError(f"--centre = {text!r} must be 'column,row' in px (two numbers, e.g. 970,970)")
+    out = []
+    for part, what in zip(parts, ("column", "row")):
+        try:
+            v = float(part)
+        except ValueError:
+            raise ValueError(f"--centre = {text!r}: the {what} {part.strip()!r} is not a number "
+                             "(expected 'column,row' in px, e.g. 970,970)") from None
+        out.append(check_option(f"--centre {what}", v, unit="px"))
+    return tuple(out)
 
 
 @lab_app.command("rig")
@@ -62,16 +88,42 @@ def rig(
     from ..lab import flight_rig as fr
 
     try:
+        _choice("--flight", flight, tuple(fr.RIG_FLIGHTS))
+        _choice("--phase", phase, fr.FILTER_PHASES)
+        check_option("--rpm", rpm, 0, 100, high_inclusive=True, unit="rev/min")
+        check_option("--start-angle", start_angle, 0, 360, low_inclusive=True, unit="deg")
+        check_option("--bulk-density", bulk_density, 0, 20000, high_inclusive=True, unit="kg/m^3")
+        check_option("--length", length, 0, 100, high_inclusive=True, unit="m")
+        if repose_angle is not None:
+            check_option("--repose-angle", repose_angle, 0, 90, unit="deg")
+        check_option("--repose-sd", repose_sd, 0, 45, low_inclusive=True, high_inclusive=True, unit="deg")
+        check_option("--cutoff", cutoff, 0, unit="Hz")
+        check_out_dir("--out", out)
         run = fr.read_rig_csv(run_csv)
+        if cutoff >= run.sample_rate / 2:
+            raise ValueError(f"--cutoff = {cutoff:g} Hz must be below half the sampling rate of {run_csv} "
+                             f"({run.sample_rate / 2:g} Hz)")
         drum = fr.rig_drum(flight)
-        f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
-                                length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
-        rho = f.params["bulk_density"]
-        a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
-                           repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
-                           repose_sd=repose_sd if (repose_angle is not None or repose_sd > 0)
-                           else f.stderr["repose_angle"],
-                           cutoff=cutoff, phase=phase, fit=False)
+        phi_hi = repose_angle if repose_angle is not None else 89.5
+        psi5 = float(drum.transition_angles(phi_hi).psi5)
+        if start_angle >= psi5:
+            raise ValueError(
+                f"--start-angle = {start_angle:g} deg is past the end of unloading of the {flight} flight "
+                f"({psi5:.1f} deg at a repose angle of {phi_hi:g} deg): the flight holds no solids there"
+            )
+        try:
+            f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
+                                    length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
+            rho = f.params["bulk_density"]
+            sd = repose_sd if (repose_angle is not None or repose_sd > 0) else f.stderr["repose_angle"]
+            if not math.isfinite(sd):
+                raise ValueError("the record does not determine the repose angle (its standard error is infinite); "
+                                 "check --start-angle and the record, or give --repose-angle and --repose-sd")
+            a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
+                               repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
+                               repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)
+        except ValueError as exc:
+            raise ValueError(f"{run_csv}: {exc}") from None
     except (ValueError, OSError) as exc:
         _fail(exc)
     res = {
@@ -92,15 +144,7 @@ def rig(
         "fraction_inside_band_rate": a.inside_rate,
     }
     if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-        fig = fr.plot_analysis(a)
-        fig.savefig(out / "rig.png", dpi=110)
-        with (out / "rig_aligned.csv").open("w") as fh:
-            fh.write(f"# rotarydryer lab rig {run_csv}: aligned at unloading start {a.start_time:.4f} s\n")
-            fh.write("time_s,mass_kg,rate_kg_s,model_mass_kg,band_low_kg,band_high_kg\n")
-            for row in zip(a.time, a.mass, a.rate, a.band.mass_mean, a.band.mass_low, a.band.mass_high):
-                fh.write(",".join(f"{v:.6g}" for v in row) + "\n")
-        res["outputs"] = [str(out / "rig.png"), str(out / "rig_aligned.csv")]
+        res["outputs"] = _write_rig_outputs(fr, a, run_csv, out)
     if as_json:
         typer.echo(json.dumps(res))
         return
@@ -117,6 +161,36 @@ def rig(
                f"{100 * a.inside_mass:.1f} % of mass and {100 * a.inside_rate:.1f} % of rate samples inside")
     if out is not None:
         typer.echo(f"  outputs: {', '.join(res['outputs'])}")
+
+
+def _write_rig_outputs(fr, a, run_csv, out: Path) -> list:
+    """rig.png and rig_aligned.csv in ``out``, each written atomically; both are rendered in
+    memory first, and if the second write fails a rig.png created by this run is removed."""
+    import io
+
+    from .._io import write_bytes_atomic, write_text_atomic
+    from .._plotting import pyplot
+
+    fig = fr.plot_analysis(a)
+    buf = io.BytesIO()
+    try:
+        fig.savefig(buf, format="png", dpi=110)
+    finally:
+        pyplot().close(fig)
+    lines = [f"# rotarydryer lab rig {run_csv}: aligned at unloading start {a.start_time:.4f} s",
+             "time_s,mass_kg,rate_kg_s,model_mass_kg,band_low_kg,band_high_kg"]
+    lines += [",".join(f"{v:.6g}" for v in row)
+              for row in zip(a.time, a.mass, a.rate, a.band.mass_mean, a.band.mass_low, a.band.mass_high)]
+    png, csv_path = out / "rig.png", out / "rig_aligned.csv"
+    existed = png.exists()
+    write_bytes_atomic(png, buf.getvalue())
+    try:
+        write_text_atomic(csv_path, "\n".join(lines) + "\n")
+    except BaseException:
+        if not existed:
+            png.unlink(missing_ok=True)
+        raise
+    return [str(png), str(csv_path)]
 
 
 @lab_app.command("image")
@@ -145,26 +219,47 @@ def image(
     from ..lab import images as im
 
     try:
-        d, _ = preset_drum(drum)
-        c = [float(v) for v in centre.split(",")]
-        if len(c) != 2:
-            raise ValueError(f"centre = {centre!r} must be 'column,row'")
+        c = _centre(centre)
+        try:
+            d, _ = preset_drum(drum)
+        except ValueError as exc:
+            raise ValueError(f"--drum: {exc}") from None
         if px_per_m is None:
             if known_length_px is None or known_length_m is None:
                 raise ValueError("give --px-per-m, or --known-length-px with --known-length-m")
+            check_option("--known-length-px", known_length_px, 0, 1e6, high_inclusive=True, unit="px")
+            check_option("--known-length-m", known_length_m, 0, 100, high_inclusive=True, unit="m")
+            scale_name = "--known-length-px/--known-length-m"
             cal = im.ImageCalibration.from_known_length(c, known_length_px, known_length_m, mirror=mirror)
         else:
+            check_option("--px-per-m", px_per_m, 0, 1e7, high_inclusive=True, unit="px/m")
+            scale_name = "--px-per-m"
             cal = im.ImageCalibration(c, px_per_m, mirror=mirror)
+        check_option("--reference-angle", reference_angle, -360, 360, low_inclusive=True, high_inclusive=True,
+                     unit="deg")
+        check_option("--channel", channel, 0, 3, low_inclusive=True, high_inclusive=True)
+        thr = _pair(threshold, "--threshold")
+        athr = _pair(airborne_threshold, "--airborne-threshold")
+        check_option("--smooth-sigma", smooth_sigma, 0, 100, low_inclusive=True, high_inclusive=True, unit="px")
+        check_out_file("--out", out, ("png", "jpg", "jpeg", "tif", "tiff", "pdf", "svg"))
+        if out is not None and out.exists() and photo.exists() and out.resolve() == photo.resolve():
+            raise ValueError(f"--out {str(out)!r} is the photograph itself; give another file name")
         img = im.load_image(photo)
+        nch = 1 if img.ndim == 2 else img.shape[2]
+        if channel >= nch:
+            raise ValueError(f"--channel = {channel} is not a channel of {photo} ({nch} channel"
+                             f"{'s' if nch > 1 else ''}: 0 .. {nch - 1})")
+        im.check_drum_in_image(img.shape, d, cal, image_name=str(photo), centre_name="--centre",
+                               scale_name=scale_name)
         m = im.measure(img, d, cal, reference_angle=reference_angle, channel=channel,
-                       threshold=_pair(threshold, "threshold"),
-                       airborne_threshold=_pair(airborne_threshold, "airborne_threshold"),
-                       smooth_sigma=smooth_sigma)
+                       threshold=thr, airborne_threshold=athr, smooth_sigma=smooth_sigma)
     except (ValueError, OSError) as exc:
         _fail(exc)
     res = {"file": str(photo), "drum": drum, **m.as_dict()}
     if out is not None:
-        im.annotate(img, m, out)
+        from .._plotting import pyplot
+
+        pyplot().close(im.annotate(img, m, out))  # written atomically
         res["annotated"] = str(out)
     if as_json:
         typer.echo(json.dumps(res))
@@ -192,26 +287,19 @@ def design_load(
 
     Example: rotarydryer lab design-load loading_series.csv --group-column condition
     """
-    import csv
-
     from ..lab import design_load_fit as dl
 
     try:
-        lines = [ln for ln in table.read_text().splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-        rows = list(csv.DictReader(lines))
-        if not rows:
-            raise ValueError(f"{table}: no data rows")
-        for col in (loading_column, area_column) + ((group_column,) if group_column else ()):
-            if col not in rows[0]:
-                raise ValueError(f"{table}: no column {col!r}; columns are {', '.join(rows[0])}")
-        groups: dict = {}
-        for r in rows:
-            groups.setdefault(r[group_column] if group_column else "all", []).append(
-                (float(r[loading_column]), float(r[area_column])))
+        check_option("--confidence", confidence, 0, 1)
+        groups = _read_design_table(table, loading_column, area_column, group_column)
         fits = {}
         for g, pts in groups.items():
             x, y = zip(*pts)
-            fits[g] = dl.fit_break_point(x, y, confidence=confidence)
+            try:
+                fits[g] = dl.fit_break_point(x, y, confidence=confidence)
+            except ValueError as exc:
+                where = f"group {g!r} of {table}" if group_column else str(table)
+                raise ValueError(f"{where}: {exc}") from None
     except (ValueError, OSError) as exc:
         _fail(exc)
     res = {
@@ -232,3 +320,41 @@ def design_load(
         typer.echo(f"  {g}: design load {f.break_point:.2f}  plateau {f.plateau:.3f}  slope {f.slope:.4f}  n {f.n}")
         for m, (lo, hi) in f.ci.items():
             typer.echo(f"      {m:16s} {lo:8.2f} - {hi:8.2f}  (+/- {(hi - lo) / 2:.2f})")
+
+
+def _read_design_table(table: Path, loading_column: str, area_column: str, group_column) -> dict:
+    """{group: [(loading, area), ...]} from a design-load CSV, read line by line (UTF-8, at most
+    200 000 rows); errors name the file, the line and the column."""
+    from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, data_lines, fmt, parse_number, too_many_rows
+
+    name = str(table)
+    header = None
+    groups: dict = {}
+    n = 0
+    for k, row in csv_rows(data_lines(table, "design-load table"), name):
+        if header is None:
+            header = [h.strip() for h in row]
+            for opt, col in (("--loading-column", loading_column), ("--area-column", area_column),
+                             ("--group-column", group_column)):
+                if col is not None and col not in header:
+                    raise ValueError(f"{name} line {k}: no column {col!r} ({opt}); columns are {', '.join(header)}")
+            il, ia = header.index(loading_column), header.index(area_column)
+            ig = header.index(group_column) if group_column else None
+            continue
+        if len(row) != len(header):
+            raise ValueError(f"{name} line {k}: {len(row)} columns, expected {len(header)} ({', '.join(header)})")
+        n += 1
+        if n > MAX_DATA_ROWS:
+            raise too_many_rows(name, k, MAX_DATA_ROWS)
+        x = parse_number(row[il], name, k, loading_column)
+        y = parse_number(row[ia], name, k, area_column)
+        if x < 0:
+            raise ValueError(f"{name} line {k}: {loading_column} = {fmt(x)} is negative; a drum loading is >= 0")
+        if y < 0:
+            raise ValueError(f"{name} line {k}: {area_column} = {fmt(y)} is negative; an area is >= 0")
+        groups.setdefault(row[ig].strip() if ig is not None else "all", []).append((x, y))
+    if header is None:
+        raise ValueError(f"{name}: empty file; expected a header line with {loading_column} and {area_column}")
+    if not groups:
+        raise ValueError(f"{name}: no data rows after the header")
+    return groups

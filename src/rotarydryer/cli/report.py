@@ -58,10 +58,10 @@ def report(
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
     except OSError as exc:  # e.g. --out in a missing or read-only directory: bad input
-        typer.echo(f"error: cannot write {out}: {exc}", err=True)
+        typer.echo(f"error: {exc}" if "cannot write" in str(exc) else f"error: cannot write {out}: {exc}", err=True)
         raise typer.Exit(2)
     except Exception as exc:  # a bug, not bad input: say so without a traceback
-        typer.echo(f"internal error ({type(exc).__name__}): {exc}; please report it", err=True)
+        typer.echo(f"error: internal error ({type(exc).__name__}): {exc}; please report it", err=True)
         raise typer.Exit(1)
     dt = time.perf_counter() - t0
     info = {"report": str(out), "bytes": out.stat().st_size, "seconds": round(dt, 3), "source": source}

@@ -13,14 +13,41 @@ from typing import Optional
 import typer
 
 from . import app
-from ._common import load_tracer
+from ._common import check_option, check_out_dir, load_tracer
+
+_BASELINES = ("none", "leading", "trailing", "linear")
+_TAILS = ("none", "exponential", "auto")
+_MODELS = ("tanks_in_series", "dispersion_closed", "dispersion_open")
 
 
 def _baseline(value: str):
+    """``--baseline``: a method name or a finite number (signal unit)."""
+    v = value.strip().lower()
+    if v in _BASELINES:
+        return v
     try:
-        return float(value)
+        float(v)
     except ValueError:
-        return value
+        raise ValueError(f"--baseline = {value!r} is not one of {', '.join(_BASELINES)} or a number "
+                         "(signal unit)") from None
+    return check_option("--baseline", v)
+
+
+def _named(data: str, func, *args, **kwargs):
+    """``func(*args, **kwargs)``; a ValueError gets the data file or data-set name in front."""
+    try:
+        return func(*args, **kwargs)
+    except ValueError as exc:
+        text = str(exc)
+        if text.startswith(str(data)):
+            raise
+        raise ValueError(f"{data}: {text}") from None
+
+
+def _choice(option: str, value: str, choices) -> str:
+    if value not in choices:
+        raise ValueError(f"{option} = {value!r} is not one of {', '.join(choices)}")
+    return value
 
 
 @app.command("rtd-moments")
@@ -36,12 +63,24 @@ def rtd_moments_cmd(
 
     Example: rotarydryer rtd-moments lee2008_invicta --json
     """
+    from ..rtd._datafile import fmt
+
     try:
-        d = load_tracer(data)
-        kw = dict(baseline=_baseline(baseline), tail=tail, tail_points=tail_points)
+        b = _baseline(baseline)
+        _choice("--tail", tail, _TAILS)
+        check_option("--tail-points", tail_points, 2, 10_000, low_inclusive=True, high_inclusive=True)
         if time_origin_s is not None:
+            check_option("--time-origin-s", time_origin_s, unit="s")
+        d = load_tracer(data)
+        kw = dict(baseline=b, tail=tail, tail_points=tail_points)
+        if time_origin_s is not None:
+            if time_origin_s >= d.time_s[-1]:
+                raise ValueError(
+                    f"--time-origin-s = {fmt(time_origin_s)} s is at or after the last sample of {data} "
+                    f"({fmt(d.time_s[-1])} s); the tracer injection must start before the data end"
+                )
             kw["time_origin_s"] = time_origin_s
-        m = d.moments(**kw)
+        m = _named(data, d.moments, **kw)
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2) from None
@@ -93,11 +132,23 @@ def rtd_fit_cmd(
     import numpy as np
 
     from ..rtd import TracerData, fit_tracer_data, pulse_input, subtract_baseline
+    from ..rtd._datafile import fmt
 
     try:
+        _choice("--model", model, _MODELS)
+        b = _baseline(baseline)
+        check_option("--n-starts", n_starts, 1, 1000, low_inclusive=True, high_inclusive=True)
+        if pulse_s is not None:
+            check_option("--pulse-s", pulse_s, 0.0, low_inclusive=True, unit="s")
+        check_out_dir("--out", out)
         d = load_tracer(data)
-        if baseline != "none":
-            y, _ = subtract_baseline(d.time_s, d.signal, _baseline(baseline))
+        if pulse_s is not None and pulse_s >= d.time_s[-1] - d.time_origin_s:
+            raise ValueError(
+                f"--pulse-s = {fmt(pulse_s)} s is not shorter than the record of {data} "
+                f"({fmt(d.time_s[-1] - d.time_origin_s)} s after the injection start)"
+            )
+        if b != "none":
+            y, _ = _named(data, subtract_baseline, d.time_s, d.signal, b)
             d = TracerData(d.time_s, y, d.metadata, d.time_column, d.extra_columns, d.path)
         kw = dict(model=model, fit_delay=delay, n_starts=n_starts)
         if scale is not None:
@@ -108,18 +159,18 @@ def rtd_fit_cmd(
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            f = fit_tracer_data(d, **kw)
+            f = _named(data, fit_tracer_data, d, **kw)
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2) from None
     res = f.to_dict()
     res["data"] = str(data)
     if out is not None:
+        from .._io import save_figure
         from .._plotting import pyplot
 
         plt = pyplot()
 
-        out.mkdir(parents=True, exist_ok=True)
         t0 = d.time_origin_s
         tt = np.linspace(d.time_s[0], d.time_s[-1], 2000)
         ydata = (d.rate_factor or 1.0) * d.signal
@@ -133,8 +184,7 @@ def rtd_fit_cmd(
         a2.set_xlabel("time since injection (min)")
         a2.set_ylabel("data - model")
         fig.tight_layout()
-        fig.savefig(out / "rtd_fit.png", dpi=120)
-        plt.close(fig)
+        save_figure(fig, out / "rtd_fit.png", dpi=120)  # atomic; closes the figure
         res["plot"] = str(out / "rtd_fit.png")
     if as_json:
         typer.echo(json.dumps(res))

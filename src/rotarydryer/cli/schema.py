@@ -51,7 +51,13 @@ def schema(
     if out is None:
         typer.echo(text)
     else:
-        out.write_text(text + "\n", encoding="utf-8")
+        from .._io import write_text_atomic
+
+        try:
+            write_text_atomic(out, text + "\n")
+        except OSError as exc:
+            typer.echo(f"error: --out {exc}", err=True)
+            raise typer.Exit(2)
         typer.echo(f"schema: {out}")
 
 
@@ -110,7 +116,7 @@ def new(
     path = out if out is not None else Path(f"{case_name}.toml")
     if path.exists() and not force:
         typer.echo(f"error: {path} exists (use --force to overwrite)", err=True)
-        raise typer.Exit(1)
+        raise typer.Exit(2)
     src = ("templates/dryer.toml" if base == "template" else f"{base}.toml")
     text = (resources.files("rotarydryer.cases") / src).read_text()
     header = (f"# Case {case_name!r}: template written by `rotarydryer new` from the built-in case {base!r}.\n"
@@ -122,10 +128,9 @@ def new(
     from .._io import write_text_atomic
 
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
         write_text_atomic(path, header + text)
     except OSError as exc:
-        typer.echo(f"error: cannot write {path}: {exc.strerror or exc}", err=True)
+        typer.echo(f"error: --out: {exc}", err=True)
         raise typer.Exit(2)
     try:
         load_case(str(path))

@@ -8,6 +8,7 @@ from typing import List, Optional
 
 import typer
 
+from .._io import json_text
 from . import app
 from ._common import parse_sets
 
@@ -34,7 +35,10 @@ def _save_last_thermal_state(exc, out):
               "profiles": {k: np.asarray(v).tolist() for k, v in state.profiles().items()},
               "state_vector": np.asarray(state.state).tolist()}
     folder = Path(out) if out is not None else Path.cwd()
-    return write_text_atomic(folder / "thermal_last_state.json", json.dumps(record, indent=1, default=float))
+    try:
+        return write_text_atomic(folder / "thermal_last_state.json", json_text(record, indent=1, default=float))
+    except OSError:
+        return None
 
 
 @app.command("simulate")
@@ -80,19 +84,21 @@ def simulate(
         from ..report.plots import plot_thermal_steady_state
         from ..transport.plots import plot_holdup_profile
 
+        from .._io import save_figure
+
         files = [out / "steady_state.json", out / "holdup_profile.png"]
         try:
-            write_text_atomic(files[0], json.dumps(result, indent=1))
-            plot_holdup_profile(ss).savefig(files[1], dpi=120)
+            write_text_atomic(files[0], json_text(result, indent=1))
+            save_figure(plot_holdup_profile(ss), files[1], dpi=120)
             if thermal is not None:
                 files.append(out / "thermal_profiles.png")
-                plot_thermal_steady_state(thermal).savefig(files[2], dpi=120)
+                save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
         except OSError as exc:
-            typer.echo(f"error: --out {out}: cannot write ({exc.strerror or exc})", err=True)
+            typer.echo(f"error: --out {out}: {exc}", err=True)
             raise typer.Exit(2)
         result["files"] = [str(f) for f in files]
     if as_json:
-        typer.echo(json.dumps(result))
+        typer.echo(json_text(result))
         return
     typer.echo(f"{case}: {model.name}, feed {result['feed_rate_kg_s']:.3f} kg/s"
                + (" (transport, heat and mass)" if thermal_on else " (solids transport only)"))
@@ -179,15 +185,24 @@ def rtd(
 
         from ..transport.plots import plot_rtd
 
-        out.mkdir(parents=True, exist_ok=True)
+        import io
+
+        from .._io import save_figure, write_text_atomic
+
         r = res.response
-        np.savetxt(out / "rtd.csv", np.c_[r.time, r.exit_age, r.cumulative], delimiter=",",
-                   header="time_s,E_per_s,F", comments="")
-        (out / "rtd.json").write_text(json.dumps(result, indent=1))
-        plot_rtd(res, meas, baseline=result.get("measured_baseline", 0.0)).savefig(out / "rtd.png", dpi=120)
+        buf = io.StringIO()
+        np.savetxt(buf, np.c_[r.time, r.exit_age, r.cumulative], delimiter=",", header="time_s,E_per_s,F",
+                   comments="")
+        try:
+            write_text_atomic(out / "rtd.csv", buf.getvalue())
+            write_text_atomic(out / "rtd.json", json_text(result, indent=1))
+            save_figure(plot_rtd(res, meas, baseline=result.get("measured_baseline", 0.0)), out / "rtd.png", dpi=120)
+        except OSError as exc:
+            typer.echo(f"error: --out {out}: {exc}", err=True)
+            raise typer.Exit(2)
         result["files"] = [str(out / f) for f in ("rtd.csv", "rtd.json", "rtd.png")]
     if as_json:
-        typer.echo(json.dumps(result))
+        typer.echo(json_text(result))
         return
     typer.echo(f"{case}: {model.name} tracer RTD ({res.response.method}, dt {c.tracer.dt:g} s)")
     typer.echo(f"  mean residence time  {result['mean_residence_time_s'] / 60:.2f} min (RTD = holdup/flow), "

@@ -23,8 +23,19 @@ KEY_SCALARS = ("total_holdup_kg", "active_holdup_kg", "passive_holdup_kg", "kiln
                "cells_design", "cells_under")
 
 
+#: most runs one sweep may ask for (a grid or list above it is refused before anything runs)
+MAX_POINTS = 10000
+
+
+def _check_points(n: int, what: str):
+    if n > MAX_POINTS:
+        raise ValueError(f"{what} has {n} runs; the limit is {MAX_POINTS} per sweep (split it, or run "
+                         "a global sensitivity study with fewer points)")
+
+
 def parse_grid(items: Optional[List[str]]) -> list[dict]:
-    """``["operating.rpm=2,3", "drum.slope=2,4"]`` -> the cartesian product as override dicts."""
+    """``["operating.rpm=2,3", "drum.slope=2,4"]`` -> the cartesian product as override dicts
+    (at most :data:`MAX_POINTS`)."""
     keys, values = [], []
     for item in items or []:
         if "=" not in item:
@@ -35,13 +46,26 @@ def parse_grid(items: Optional[List[str]]) -> list[dict]:
             raise ValueError(f"--grid {item!r}: no values")
         keys.append(k.strip())
         values.append(vals)
+        n = 1
+        for v in values:
+            n *= len(v)
+        _check_points(n, "--grid")
     return [dict(zip(keys, combo)) for combo in itertools.product(*values)] if keys else []
 
 
 def read_list(path: Path) -> list[dict]:
     """Runs from a CSV file: header = override keys, one row per run ('#' lines ignored)."""
-    text = Path(path).read_text(encoding="utf-8")
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"--list {str(path)!r}: not a file")
+    if path.stat().st_size > 20_000_000:
+        raise ValueError(f"--list {str(path)!r}: {path.stat().st_size / 1e6:.3g} MB; the limit is 20 MB")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"--list {str(path)!r}: not UTF-8 text (byte {exc.start})") from None
     rows = list(csv.DictReader(line for line in text.splitlines() if line.strip() and not line.startswith("#")))
+    _check_points(len(rows), f"--list {str(path)!r}")
     if not rows:
         raise ValueError(f"--list {str(path)!r}: no runs (need a header of override keys and one row per run)")
     return [{k.strip(): v.strip() for k, v in r.items() if v is not None and v.strip() != ""} for r in rows]
@@ -56,8 +80,8 @@ def run_point(case: str, overrides: dict, rtd: bool = True) -> dict:
     row = dict(overrides)
     try:
         res = run_case(case, overrides, rtd=rtd)
-    except ValueError as exc:
-        row["error"] = str(exc)
+    except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
+        row["error"] = " ".join(str(exc).split()) or type(exc).__name__
         return row
     for k in KEY_SCALARS:
         if k in res.scalars:
@@ -77,9 +101,12 @@ THERMAL_SCALARS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_ou
 
 
 def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Optional[str] = None,
-              rtd: bool = True, progress=None) -> list[dict]:
-    """Run all points; rows come back in the order of ``points``."""
-    rows: list = [None] * len(points)
+              rtd: bool = True, progress=None, rows: Optional[list] = None) -> list[dict]:
+    """Run all points; rows come back in the order of ``points``. ``rows`` (a list of
+    ``len(points)`` None) is filled as runs finish, so a caller keeps what was computed if the
+    sweep is interrupted."""
+    if rows is None:
+        rows = [None] * len(points)
     tick = progress or (lambda n: None)
     if scheduler:
         try:
@@ -141,7 +168,7 @@ def sweep(
     import os
     import sys
 
-    from .._io import write_text_atomic
+    from .._io import check_output_target, write_text_atomic
     from ._common import parse_sets
 
     try:
@@ -160,24 +187,50 @@ def sweep(
         from ..cases import load_case
 
         load_case(case, points[0])  # fail fast on a bad case or key
+        if out is not None:            # fail fast on an output that cannot be written
+            target = check_output_target(out)
+            folder = target.parent if str(target.parent) else Path(".")
+            existing = next((p for p in [folder, *folder.parents] if p.exists()), Path("."))
+            if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
+                raise ValueError(f"--out {str(out)!r}: cannot write in {str(existing)!r} (not a writable folder)")
     except (ValueError, OSError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    rows: list = [None] * len(points)
+    interrupted = False
     try:
         if as_json or len(points) < 2:
-            rows = run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd)
+            run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, rows=rows)
         else:
             with typer.progressbar(length=len(points), label=f"{len(points)} runs", file=sys.stderr,
                                    hidden=not sys.stderr.isatty()) as bar:
-                rows = run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, progress=bar.update)
+                run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, progress=bar.update, rows=rows)
     except ImportError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(3)
+    except KeyboardInterrupt:
+        interrupted = True
+    rows = [r if r is not None else {**p, "error": "not run (sweep interrupted)"} for r, p in zip(rows, points)]
     text = rows_to_csv(rows)
     if out is not None:
-        write_text_atomic(out, text)
+        try:
+            write_text_atomic(out, text)
+        except OSError as exc:
+            # the computed rows are not thrown away: they go to stdout
+            typer.echo(text, nl=False)
+            typer.echo(f"error: --out {str(out)!r}: {exc}; the table of {len(rows)} runs was printed to "
+                       "stdout instead", err=True)
+            raise typer.Exit(2)
+    if interrupted:
+        if out is None:
+            typer.echo(text, nl=False)
+        typer.echo(f"error: interrupted; {sum(1 for r in rows if r.get('error') != 'not run (sweep interrupted)')}"
+                   f" of {len(rows)} runs finished" + (f", saved to {out}" if out is not None else ""), err=True)
+        raise typer.Exit(130)
     if as_json:
-        typer.echo(json.dumps(rows))
+        from .._io import json_text
+
+        typer.echo(json_text(rows))
     elif out is None:
         typer.echo(text, nl=False)
     else:

@@ -21,7 +21,14 @@ from .design_load import (
     loading_factor,
     loading_state,
 )
-from .drum import FlightedDrum, TransitionAngles
+from .drum import (
+    CRITICAL_SPEED_WARN_FRACTION,
+    CriticalSpeedWarning,
+    FlightedDrum,
+    TransitionAngles,
+    check_speed,
+    critical_speed,
+)
 from .flights import TwoSectionFlight
 from .unloading import (
     FALL_HEIGHT_DEFINITIONS,
@@ -34,6 +41,10 @@ from .unloading import (
 )
 
 __all__ = [
+    "CRITICAL_SPEED_WARN_FRACTION",
+    "CriticalSpeedWarning",
+    "check_speed",
+    "critical_speed",
     "CascadeDrag",
     "CascadeSummary",
     "DESIGN_LOAD_METHODS",

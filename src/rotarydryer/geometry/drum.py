@@ -25,12 +25,61 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validation import check_range
+from .._validation import check_range, fmt_number
 from .flights import TwoSectionFlight
 
-__all__ = ["FlightedDrum", "TransitionAngles"]
+__all__ = ["FlightedDrum", "TransitionAngles", "CriticalSpeedWarning", "critical_speed", "check_speed",
+           "CRITICAL_SPEED_WARN_FRACTION"]
 
 _DEG = math.pi / 180.0
+
+#: above this fraction of the critical speed (Froude number omega^2 R / g = 0.25) :func:`check_speed`
+#: warns: the gravity-only unloading model (Lee (2008) Ch. 4) neglects the centrifugal force
+CRITICAL_SPEED_WARN_FRACTION = 0.5
+
+
+class CriticalSpeedWarning(UserWarning):
+    """The drum turns at more than half its critical speed: centrifugal forces (neglected by the
+    gravity-only flight-unloading model) are no longer small."""
+
+
+def critical_speed(radius) -> float:
+    """Critical speed of a drum, rev/min: N_c = 42.3 / sqrt(D) with D = 2 ``radius`` in m (the
+    speed at which the centrifugal acceleration omega^2 R equals g and the solids ride round with
+    the wall instead of cascading)."""
+    R = float(check_range("radius", radius, 0.0, math.inf, unit="m"))
+    return 42.3 / math.sqrt(2.0 * R)
+
+
+def check_speed(key: str, rpm, radius, *, radius_key: str = "drum.radius", warn: bool = True,
+                refuse: bool = True) -> float:
+    """Check a drum speed (rev/min) against the critical speed of a drum of ``radius`` (m).
+
+    At or above the critical speed ``N_c`` it raises ``ValueError`` naming ``key``, the speed and
+    the critical speed (with ``refuse=False`` it only warns, :class:`CriticalSpeedWarning`); between
+    :data:`CRITICAL_SPEED_WARN_FRACTION` of it and ``N_c`` it warns when ``warn``. Returns the
+    largest speed as a float."""
+    import warnings
+
+    n = float(np.max(check_range(key, rpm, 0.0, math.inf, unit="rev/min")))
+    R = float(check_range(radius_key, radius, 0.0, math.inf, unit="m"))
+    nc = critical_speed(R)
+    if n >= nc:
+        msg = (f"{key} = {fmt_number(n)} rev/min is at or above the critical speed of the drum, "
+               f"N_c = 42.3/sqrt(D) = {nc:.3g} rev/min for D = 2 x {radius_key} = {2 * R:g} m: the solids would "
+               f"ride round with the wall instead of cascading; the allowed range is (0, {nc:.3g}) rev/min "
+               f"(flighted dryers run at 1-5 rev/min, below {CRITICAL_SPEED_WARN_FRACTION:.0%} of N_c)")
+        if refuse:
+            raise ValueError(msg)
+        warnings.warn(msg, CriticalSpeedWarning, stacklevel=2)
+        return n
+    if warn and n > CRITICAL_SPEED_WARN_FRACTION * nc:
+        warnings.warn(
+            f"{key} = {fmt_number(n)} rev/min is {n / nc:.0%} of the critical speed N_c = {nc:.3g} rev/min "
+            f"of the drum (D = {2 * R:g} m): above {CRITICAL_SPEED_WARN_FRACTION:.0%} the centrifugal force, "
+            "neglected by the flight-unloading model (Lee (2008) Ch. 4), is no longer small",
+            CriticalSpeedWarning, stacklevel=2)
+    return n
 
 
 class TransitionAngles(NamedTuple):
@@ -107,7 +156,8 @@ class FlightedDrum:
         R = float(check_range("radius", radius, 0.0, math.inf, unit="m"))
         if isinstance(n_flights, bool) or int(n_flights) != n_flights or n_flights < 2:
             raise ValueError(
-                f"n_flights = {n_flights!r} is not allowed; it must be an integer >= 2"
+                f"n_flights = {fmt_number(n_flights) if isinstance(n_flights, (int, float)) else repr(n_flights)} "
+                "is not allowed; it must be an integer >= 2"
             )
         if not isinstance(flight, TwoSectionFlight):
             raise ValueError(f"flight must be a TwoSectionFlight, got {type(flight).__name__}")
@@ -196,6 +246,11 @@ class FlightedDrum:
             f"flight=TwoSectionFlight(s1={f.s1!r}, s2={f.s2!r}, alpha1={f.alpha1!r}, "
             f"alpha2={f.alpha2!r}))"
         )
+
+    @property
+    def critical_speed(self) -> float:
+        """Critical speed N_c = 42.3/sqrt(D) of the drum, rev/min (:func:`critical_speed`)."""
+        return critical_speed(self.radius)
 
     @property
     def tip_radius(self) -> float:

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .._validation import check_range
+from .._validation import check_range, fmt_number
 
 __all__ = ["TwoSectionFlight"]
 
@@ -98,7 +98,7 @@ class TwoSectionFlight:
         a2p = a2 - a1p  # Lee (2008) Eq. 4.2
         if not 0.0 < a2p <= 180.0:
             raise ValueError(
-                f"alpha2 = {self.alpha2!r} deg with alpha1 = {a1!r} deg gives an "
+                f"alpha2 = {fmt_number(self.alpha2)} deg with alpha1 = {fmt_number(a1)} deg gives an "
                 f"equivalent tip angle alpha2' = {a2p:g} deg; the allowed range is (0, 180]: "
                 "the tip would point back into the wall"
             )
@@ -111,7 +111,7 @@ class TwoSectionFlight:
             s2p = s2 + s1 * math.sin(math.radians(a1p)) / sin_a2p
         if s1p < 0.0 or s2p < 0.0:
             raise ValueError(
-                f"alpha1 = {a1!r} deg and alpha2 = {a2!r} deg give a flight whose tip "
+                f"alpha1 = {fmt_number(a1)} deg and alpha2 = {fmt_number(a2)} deg give a flight whose tip "
                 "section, extended backwards, does not meet the radial line through the "
                 "root inside the drum; use alpha1 closer to 90 deg"
             )

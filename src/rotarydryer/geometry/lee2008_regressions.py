@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from .._validation import check_choice, check_positive, check_range
+from .._validation import check_choice, check_positive, check_range, describe
 
 __all__ = [
     "Lee2008Regressions",
@@ -192,7 +192,7 @@ class Lee2008Regressions:
         ratio = h / (2.0 * self.tip_radius)
         if np.any(ratio > 1.0):
             raise ValueError(
-                f"repose_angle = {np.asarray(repose_angle)!r}: Eq. 4.24 fall height {np.max(h):.4g} m exceeds "
+                f"repose_angle = {describe(repose_angle, 'deg')}: Eq. 4.24 fall height {np.max(h):.4g} m exceeds "
                 f"the tip-circle diameter 2*tip_radius = {2 * self.tip_radius:.4g} m; Eq. 4.26 is undefined "
                 "(regression used outside its range)"
             )

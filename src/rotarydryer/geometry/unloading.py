@@ -267,6 +267,9 @@ def cascade(
     check_choice("fall_height", fall_height, FALL_HEIGHT_DEFINITIONS)
     check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
     rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rpm")
+    from .drum import check_speed
+
+    check_speed("rpm", rpm, drum.radius, radius_key="radius", warn=False, refuse=False)
     slope = check_range("slope", slope, -45.0, 45.0, unit="deg")
     c = drum._c
     start, h0 = discharge_start_angle(drum, repose_angle, loading_factor, convention=convention)

@@ -65,9 +65,9 @@ Eq. 4.14-4.17; for the single rig flight only phases III and IV matter, the
 
 from __future__ import annotations
 
-import csv
 import math
 import warnings
+from array import array
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import NamedTuple, Optional
@@ -84,6 +84,7 @@ __all__ = [
     "LEE_CUTOFF_TEXT",
     "LEE_NUMTAPS",
     "LEE_SAMPLE_RATE",
+    "MAX_RIG_ROWS",
     "FILTER_PHASES",
     "ONSET_METHODS",
     "RIG_FLIGHTS",
@@ -130,6 +131,9 @@ RIG_FLIGHTS = {
     "lee_code": dict(s1=0.100, s2=0.110, alpha1=90.0, alpha2=120.0, curvature=2.5, length=1.0),
 }
 
+MAX_RIG_ROWS = 200_000
+"""Most samples read from one rig file (33 min at 100 Hz); the reader stops with an error beyond."""
+
 _FLAT_RADIUS = 50.0  # m: radius standing in for a flat flight back ("No Curve")
 
 
@@ -170,36 +174,89 @@ class RigRun:
         return 1.0 / self.sample_interval
 
 
-def read_rig_csv(path, *, time_column: int = 0) -> RigRun:
+def read_rig_csv(path, *, time_column: int = 0, max_rows: Optional[int] = None) -> RigRun:
     """Read a load-cell CSV: a time column (s) and one or more load-cell columns (kg).
 
-    Lines starting with ``#`` are skipped; a header row (non-numeric) is allowed. All
-    columns other than ``time_column`` are summed (Lee (2008) section 5.4.2 step 1:
-    sum of the four load cells), as in Lee's Matlab input (column 1 time, column 2
-    summed mass).
+    Lines starting with ``#`` are skipped; a header row (non-numeric) is allowed before the
+    data. All columns other than ``time_column`` are summed (Lee (2008) section 5.4.2 step 1:
+    sum of the four load cells), as in Lee's Matlab input (column 1 time, column 2 summed mass).
+
+    The file is read line by line (UTF-8, at most 64 MB) and refused beyond ``max_rows``
+    (default :data:`MAX_RIG_ROWS`, 200 000 samples = 33 min at 100 Hz). Errors name the file,
+    the line and the column: ``rig.csv line 17: 'abc' is not a number in column time_s``;
+    times must be finite, strictly increasing and uniformly sampled.
     """
+    from ..rtd._datafile import csv_rows, data_lines, parse_number, too_many_rows
+
+    limit = MAX_RIG_ROWS if max_rows is None else int(max_rows)
     path = Path(path)
-    rows = []
-    with path.open(newline="") as fh:
-        for row in csv.reader(fh):
-            if not row or row[0].lstrip().startswith("#"):
-                continue
+    name = str(path)
+    header: Optional[list] = None
+    ncol = None
+    first_line = None
+    cols: list = []
+    lines = []
+    for k, row in csv_rows(data_lines(path, "rig data file"), name):
+        if ncol is None:
             try:
-                rows.append([float(v) for v in row])
+                [float(v) for v in row]
             except ValueError:
-                if rows:
-                    raise ValueError(f"{path}: non-numeric value in data row {row!r}") from None
+                if header is not None:
+                    raise ValueError(f"{name} line {k}: a second header row before the data: "
+                                     f"{', '.join(c.strip() for c in row)}") from None
+                header = [c.strip() or f"column {j + 1}" for j, c in enumerate(row)]
                 continue  # header
-    if not rows:
-        raise ValueError(f"{path}: no numeric rows")
-    ncol = {len(r) for r in rows}
-    if len(ncol) != 1 or min(ncol) < 2:
-        raise ValueError(f"{path}: every row needs the same number (>= 2) of columns, got {sorted(ncol)}")
-    a = np.array(rows)
-    check_range("time_column", time_column, 0, a.shape[1], low_inclusive=True)
-    t = a[:, time_column]
-    m = np.delete(a, time_column, axis=1).sum(axis=1)
-    return RigRun(t, m, source=str(path))
+            ncol = len(row)
+            first_line = k
+            if header is not None and len(header) != ncol:
+                raise ValueError(f"{name} line {k}: {ncol} columns, but the header has {len(header)} "
+                                 f"({', '.join(header)})")
+            if ncol < 2:
+                raise ValueError(f"{name} line {k}: 1 column; a rig record needs a time column and at least one "
+                                 "load-cell column")
+            names = header or [f"column {j + 1}" for j in range(ncol)]
+            cols = [array("d") for _ in range(ncol)]
+        if len(row) != ncol:
+            raise ValueError(f"{name} line {k}: {len(row)} columns, expected {ncol} as on line {first_line}")
+        if len(lines) >= limit:
+            raise too_many_rows(name, k, limit)
+        for j, v in enumerate(row):
+            cols[j].append(parse_number(v, name, k, names[j]))
+        lines.append(k)
+    if ncol is None:
+        raise ValueError(f"{name}: no numeric data rows (expected a time column (s) and load-cell columns (kg))")
+    if isinstance(time_column, bool) or int(time_column) != time_column or not 0 <= time_column < ncol:
+        raise ValueError(f"time_column = {time_column} is not a column of {name} (0 .. {ncol - 1})")
+    tc = int(time_column)
+    t = np.frombuffer(cols[tc], dtype=float)
+    m = np.zeros_like(t)
+    for j in range(ncol):
+        if j != tc:
+            m += np.frombuffer(cols[j], dtype=float)
+    tname = names[tc]
+    if t.size < 8:
+        raise ValueError(f"{name}: a rig run needs at least 8 samples, got {t.size}")
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise ValueError(f"{name} line {lines[i]}: {tname} = {_fmt(t[i])} s is not after {_fmt(t[i - 1])} s "
+                         f"(line {lines[i - 1]}); times must be strictly increasing")
+    mean_dt = (t[-1] - t[0]) / (t.size - 1)
+    dev = np.abs(dt - mean_dt)
+    if np.ptp(dt) > 1e-6 * max(abs(dt.mean()), 1e-12) + 1e-9:  # the criterion of RigRun
+        i = int(np.argmax(dev)) + 1
+        raise ValueError(
+            f"{name} line {lines[i]}: the time step {_fmt(dt[i - 1])} s from line {lines[i - 1]} differs from "
+            f"the mean step {_fmt(mean_dt)} s; the record must be uniformly sampled (time in column {tname}, s)"
+        )
+    return RigRun(t.copy(), m, source=name)
+
+
+def _fmt(x) -> str:
+    from ..rtd._datafile import fmt
+
+    return fmt(x)
 
 
 def write_rig_csv(path, run: RigRun, comment: str = "") -> None:
@@ -476,7 +533,7 @@ def synthetic_run(drum: FlightedDrum, repose_angle: float, *, rpm: float, start_
     psi5 = float(drum.transition_angles(phi).psi5)
     if psi5 <= start_angle:
         raise ValueError(
-            f"start_angle = {start_angle!r} deg is past the end of unloading ({psi5:.1f} deg at "
+            f"start_angle = {_fmt(start_angle)} deg is past the end of unloading ({psi5:.1f} deg at "
             f"repose_angle {phi:g} deg): nothing to unload"
         )
     duration = t0 + (psi5 - start_angle) / (6.0 * rpm_) + tail
@@ -570,6 +627,12 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
     check_choice("ci_method", ci_method, ("ar1", "ols"))
     check_choice("signal", signal, ("raw", "filtered"))
     psi0 = float(check_finite("start_angle", start_angle))
+    psi5_max = float(drum.transition_angles(89.5).psi5)
+    if psi0 >= psi5_max:
+        raise ValueError(
+            f"start_angle = {_fmt(psi0)} deg is past the end of unloading of this flight ({psi5_max:.1f} deg even "
+            "at a repose angle of 89.5 deg): the flight holds no solids there"
+        )
     if initial_holdup is not None and fit_start_time:
         raise ValueError(
             "fit_start_time=True with a given initial_holdup: the start time and the repose angle are "

@@ -58,6 +58,8 @@ __all__ = [
     "first_unloading_flight",
     "annotate",
     "load_image",
+    "check_drum_in_image",
+    "MAX_IMAGE_PIXELS",
 ]
 
 AJAYI_THRESHOLDS = {"flight_borne": (168, 177), "airborne": (104, 120)}
@@ -152,9 +154,10 @@ def region_labels(drum: FlightedDrum, calibration: ImageCalibration, shape, refe
         raise ValueError(f"drum must be a FlightedDrum, got {type(drum).__name__}")
     h, w = int(shape[0]), int(shape[1])
     lab = np.full((h, w), _OUTSIDE, dtype=np.int32)
-    rows, cols = np.mgrid[0:h, 0:w]
-    r_px = np.hypot(cols - calibration.centre[0], rows - calibration.centre[1])
-    lab[r_px < drum.radius * calibration.px_per_m] = _AIRBORNE
+    rows, cols = np.ogrid[0:h, 0:w]
+    r2 = (cols - calibration.centre[0]) ** 2 + (rows - calibration.centre[1]) ** 2
+    lab[r2 < (drum.radius * calibration.px_per_m) ** 2] = _AIRBORNE
+    del r2
     for k, psi in enumerate(_root_angles(drum, reference_angle)):
         _fill((h, w), calibration.to_pixels(drum.pocket_polygon(psi, n_arc)), k + 1, lab)
     return lab
@@ -286,18 +289,138 @@ def render_cross_section(drum: FlightedDrum, repose_angle: float, *, reference_a
     return SyntheticImage(rgb, cal, float(reference_angle), areas, model, float(curtain_vis.area), roots)
 
 
-# ---------------------------------------------------------------------------- segmentation
-def load_image(path) -> np.ndarray:
-    """Read an image file (PNG, JPEG, TIFF) as a uint8 array (rows x columns [x channels])."""
-    from skimage import io
-    from skimage.util import img_as_ubyte
+# ---------------------------------------------------------------------------- loading and checks
+MAX_IMAGE_PIXELS = 40_000_000
+"""Largest photograph read, pixels (40 megapixels, e.g. 7300 x 5500; Ajayi's were about 4 MP).
+Checked from the file header before the image is decoded; measuring and annotating an image of
+this size takes about 2.5 GB of memory and half a minute."""
+MAX_IMAGE_FILE_BYTES = 512_000_000
+"""Largest image file read, bytes (512 MB)."""
+MIN_DRUM_RADIUS_PX = 20.0
+"""Smallest drum radius in the image, px: below it the flight pockets are a few pixels wide."""
+ANNOTATE_MAX_PIXELS = 12_000_000
+"""Largest annotated picture drawn by :func:`annotate`, pixels; a larger photograph is drawn at a
+reduced resolution (every k-th pixel)."""
+DRUM_EDGE_TOLERANCE = 0.05
+"""The drum circle may extend beyond the image edge by this fraction of its radius (a photo
+cropped at the shell); beyond that the centre or the scale is wrong."""
 
-    img = io.imread(str(path))
-    if img.dtype != np.uint8:
-        img = img_as_ubyte(img)
+
+def _fmt(x) -> str:
+    from ..rtd._datafile import fmt
+
+    return fmt(x)
+
+
+def load_image(path, *, max_pixels: Optional[int] = None) -> np.ndarray:
+    """Read an image file (PNG, JPEG, TIFF, ...) as a uint8 array (rows x columns [x channels]).
+
+    The pixel count is read from the file header and checked against ``max_pixels`` (default
+    :data:`MAX_IMAGE_PIXELS`) *before* the image is decoded. Only the first frame of a multi-frame
+    file is read. 16-bit images are scaled to 8 bits; palette, bilevel and CMYK images are
+    converted to grey or RGB. Errors are ``ValueError`` naming the file.
+    """
+    import warnings
+
+    from PIL import Image, UnidentifiedImageError
+
+    from ..rtd._datafile import check_input_file
+
+    limit = MAX_IMAGE_PIXELS if max_pixels is None else int(max_pixels)
+    p = check_input_file(path, "image file", MAX_IMAGE_FILE_BYTES)
+    name = str(p)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            pil = Image.open(p)  # lazy: reads the header only
+    except Image.DecompressionBombError as exc:
+        import re
+
+        m = re.search(r"\((\d+) pixels\)", str(exc))
+        size = f"{int(m.group(1)) / 1e6:.0f} megapixels" if m else "too many pixels"
+        raise ValueError(f"{name}: the image declares {size}; the limit is {limit / 1e6:g} megapixels "
+                         "(reduce the resolution)") from None
+    except UnidentifiedImageError:
+        raise ValueError(f"{name}: not a readable image file (PNG, JPEG, TIFF, BMP...)") from None
+    except OSError as exc:
+        raise ValueError(f"cannot read image file {name!r}: {exc.strerror or exc}") from None
+    with pil:
+        w, h = pil.size
+        if w <= 0 or h <= 0:
+            raise ValueError(f"{name}: the image header declares {w} x {h} pixels")
+        if w * h > limit:
+            raise ValueError(f"{name}: the image is {w} x {h} pixels ({w * h / 1e6:.1f} megapixels); the limit is "
+                             f"{limit / 1e6:g} megapixels (reduce the resolution or crop to the drum)")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                pil.seek(0)
+                pil.load()
+        except MemoryError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - PIL raises OSError, SyntaxError, ValueError, zlib.error...
+            raise ValueError(f"{name}: cannot decode the image ({str(exc) or type(exc).__name__}); the file may be "
+                             "truncated or corrupt") from None
+        try:
+            img = _to_uint8(pil)
+        except ValueError as exc:
+            raise ValueError(f"{name}: {exc}") from None
+    if img.shape[0] != h or img.shape[1] != w:
+        raise ValueError(f"{name}: the decoded image is {img.shape[1]} x {img.shape[0]} px, the header says {w} x {h}")
     return img
 
 
+def _to_uint8(pil) -> np.ndarray:
+    """A decoded PIL image as uint8 (rows x columns [x 3 or 4])."""
+    mode = pil.mode
+    if mode in ("L", "RGB", "RGBA"):
+        return np.array(pil, dtype=np.uint8)
+    if mode == "1":
+        return np.array(pil.convert("L"), dtype=np.uint8)
+    if mode in ("LA", "La"):
+        return np.array(pil.convert("L"), dtype=np.uint8)
+    if mode in ("P", "PA"):
+        return np.array(pil.convert("RGBA" if "transparency" in pil.info or mode == "PA" else "RGB"), dtype=np.uint8)
+    if mode.startswith("I;16") or mode == "I":
+        a = np.array(pil)
+        if a.size and (a.min() < 0 or a.max() > 65535):
+            raise ValueError(f"32-bit integer pixels ({int(a.min())} .. {int(a.max())}) are not supported")
+        return (a.astype(np.uint32) >> 8).astype(np.uint8)  # 16 -> 8 bits, as skimage's img_as_ubyte
+    if mode == "F":
+        raise ValueError("32-bit floating-point images are not supported; save it as 8- or 16-bit")
+    return np.array(pil.convert("RGB"), dtype=np.uint8)
+
+
+def check_drum_in_image(shape, drum: FlightedDrum, calibration: "ImageCalibration", *, image_name: str = "the image",
+                        centre_name: str = "centre", scale_name: str = "px_per_m") -> None:
+    """Raise ``ValueError`` unless the drum (centre and radius, px) lies in an image of ``shape``.
+
+    The centre must be a pixel of the image; the drum circle must fit within the image up to
+    :data:`DRUM_EDGE_TOLERANCE` of its radius, and its radius must be at least
+    :data:`MIN_DRUM_RADIUS_PX`. ``centre_name``/``scale_name`` name what the user set (the
+    command-line options) in the messages.
+    """
+    h, w = int(shape[0]), int(shape[1])
+    cx, cy = calibration.centre
+    r = float(drum.radius) * calibration.px_per_m
+    size = f"{image_name} ({w} x {h} px: columns 0 .. {w - 1}, rows 0 .. {h - 1})"
+    if not (0 <= cx <= w - 1 and 0 <= cy <= h - 1):
+        raise ValueError(f"{centre_name} = {_fmt(cx)},{_fmt(cy)} px (column,row) is outside {size}")
+    how = (f"the drum radius {_fmt(drum.radius)} m x {_fmt(calibration.px_per_m)} px/m = {_fmt(round(r, 1))} px")
+    if r < MIN_DRUM_RADIUS_PX:
+        raise ValueError(f"{how} is below {_fmt(MIN_DRUM_RADIUS_PX)} px, too small to measure; check {scale_name}")
+    if 2 * r > (1 + DRUM_EDGE_TOLERANCE) * max(w, h) + 2:
+        raise ValueError(f"{how}: the drum ({_fmt(round(2 * r))} px across) is larger than {size}; check {scale_name}")
+    tol = DRUM_EDGE_TOLERANCE * r + 1.0
+    if cx - r < -tol or cy - r < -tol or cx + r > w - 1 + tol or cy + r > h - 1 + tol:
+        raise ValueError(
+            f"the drum circle around {centre_name} = {_fmt(cx)},{_fmt(cy)} px with {how} spans columns "
+            f"{_fmt(round(cx - r))} .. {_fmt(round(cx + r))} and rows {_fmt(round(cy - r))} .. {_fmt(round(cy + r))}, "
+            f"beyond {size}; check {centre_name} and {scale_name}"
+        )
+
+
+# ---------------------------------------------------------------------------- segmentation
 def _channel(image, channel: int) -> np.ndarray:
     img = np.asarray(image)
     if img.ndim == 2:
@@ -343,8 +466,6 @@ def segment(image, labels: np.ndarray, calibration: ImageCalibration, *, channel
     check_range("smooth_sigma", smooth_sigma, 0.0, 100.0, low_inclusive=True, unit="px")
     if smooth_sigma > 0:
         g = gaussian(g, sigma=float(smooth_sigma), preserve_range=True)
-    rows = np.arange(g.shape[0])[:, None]
-    upper = np.broadcast_to(rows < calibration.centre[1], g.shape)
     for name, val in (("threshold", threshold), ("airborne_threshold", airborne_threshold)):
         if isinstance(val, str):
             check_choice(name, val, ("otsu",))
@@ -360,8 +481,9 @@ def segment(image, labels: np.ndarray, calibration: ImageCalibration, *, channel
         ta = (t, t)
     else:
         ta = _halves(airborne_threshold)
-    thr_f = np.where(upper, tf[0], tf[1])
-    thr_a = np.where(upper, ta[0], ta[1])
+    upper_rows = np.arange(g.shape[0])[:, None] < calibration.centre[1]  # (rows, 1): no full-size arrays
+    thr_f = np.where(upper_rows, tf[0], tf[1])
+    thr_a = np.where(upper_rows, ta[0], ta[1])
     fb = (labels > 0) & (g > thr_f)
     ab = (labels == _AIRBORNE) & (g > thr_a)
     if min_size and min_size > 1:
@@ -446,6 +568,10 @@ def measure(image, drum: FlightedDrum, calibration: ImageCalibration, *, referen
     img = np.asarray(image)
     if img.ndim not in (2, 3):
         raise ValueError(f"image must be 2-D or 3-D, got shape {img.shape}")
+    if not isinstance(drum, FlightedDrum):
+        raise ValueError(f"drum must be a FlightedDrum, got {type(drum).__name__}")
+    check_drum_in_image(img.shape, drum, calibration, centre_name="calibration.centre",
+                        scale_name="calibration.px_per_m")
     labels = region_labels(drum, calibration, img.shape[:2], reference_angle)
     fb, ab = segment(img, labels, calibration, channel=channel, threshold=threshold,
                      airborne_threshold=airborne_threshold, smooth_sigma=smooth_sigma, min_size=min_size)
@@ -469,7 +595,8 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
 
     Flight-borne solids are tinted orange (the first unloading flight red), airborne
     solids cyan, pocket boundaries thin white. Returns the Matplotlib figure; saves it
-    as PNG to ``path`` if given.
+    to ``path`` if given (atomically; the format from the suffix, PNG by default). A photograph
+    larger than :data:`ANNOTATE_MAX_PIXELS` is drawn at a reduced resolution.
     """
     from .._plotting import pyplot
 
@@ -478,7 +605,7 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
 
     img = np.asarray(image)
     base = img if img.ndim == 3 else np.stack([img] * 3, axis=-1)
-    base = base[..., :3].astype(float) / 255.0
+    base = base[..., :3].astype(np.float32) / np.float32(255.0)  # float32: half the memory of a 40 MP photo
     over = base.copy()
     m = measurement
     fuf = m.labels == m.fuf_index + 1
@@ -488,15 +615,27 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
     over[m.airborne_mask] = 0.45 * over[m.airborne_mask] + 0.55 * np.array([0.0, 0.9, 1.0])
     bnd = find_boundaries(m.labels, mode="inner")
     over[bnd] = 0.6 * over[bnd] + 0.4
+    del base, fuf, bnd
+    over8 = np.clip(np.rint(over * 255.0), 0, 255).astype(np.uint8)  # uint8 RGB: Matplotlib keeps it compact
+    del over
     h, w = img.shape[:2]
-    fig, ax = plt.subplots(figsize=(w / dpi, h / dpi), dpi=dpi)
-    ax.imshow(over, interpolation="nearest")
+    # above ANNOTATE_MAX_PIXELS the picture is shown every k-th pixel (rendering a 40 MP image
+    # in Matplotlib takes several GB); the areas are those measured at full resolution
+    k = max(1, int(math.ceil(math.sqrt(h * w / ANNOTATE_MAX_PIXELS))))
+    shown = over8[::k, ::k]
+    hs, ws = shown.shape[:2]
+    fig, ax = plt.subplots(figsize=(ws / dpi, hs / dpi), dpi=dpi)
+    ax.imshow(shown, interpolation="nearest", extent=(-0.5, w - 0.5, h - 0.5, -0.5))
     ax.set_axis_off()
-    for k in range(m.flight_areas.size):
-        rr, cc = np.nonzero(m.labels == k + 1)
-        if rr.size == 0:
-            continue
-        ax.text(cc.mean(), rr.mean(), f"{m.flight_areas[k] * 1e4:.1f}", color="red" if k == m.fuf_index else "white",
+    h = hs  # font sizes follow the drawn size
+    from scipy import ndimage
+
+    n = m.flight_areas.size
+    counts = np.bincount(np.clip(m.labels, 0, None).ravel(), minlength=n + 1)
+    present = [k for k in range(n) if counts[k + 1] > 0]
+    centres = ndimage.center_of_mass(m.labels > 0, m.labels, [k + 1 for k in present]) if present else []
+    for k, (rc, cc) in zip(present, centres):
+        ax.text(cc, rc, f"{m.flight_areas[k] * 1e4:.1f}", color="red" if k == m.fuf_index else "white",
                 fontsize=max(6, int(h / 120)), ha="center", va="center")
     d = m.as_dict()
     ax.set_title(title or (f"FUF {d['FUF_cm2']:.2f} cm2  UHD {d['UHD_cm2']:.1f}  LHD {d['LHD_cm2']:.1f}  "
@@ -504,5 +643,15 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
                  fontsize=max(7, int(h / 90)))
     fig.tight_layout()
     if path is not None:
-        fig.savefig(str(path), dpi=dpi)
+        from pathlib import Path
+
+        from .._io import atomic_output
+
+        fmt = Path(path).suffix.lstrip(".").lower() or "png"
+        try:
+            with atomic_output(path) as tmp:  # a failed or interrupted write leaves no partial file
+                fig.savefig(tmp, dpi=dpi, format=fmt)
+        except BaseException:
+            plt.close(fig)
+            raise
     return fig

@@ -54,6 +54,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from .._validation import check_choice, check_finite, check_range
+from ._datafile import fmt
 
 __all__ = ["RTDMoments", "rtd_moments", "exit_age_curve", "subtract_baseline", "BASELINE_METHODS", "TAIL_METHODS"]
 
@@ -135,8 +136,8 @@ def _validate_curve(time_s, signal, min_points=3):
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
         raise ValueError(
-            f"time_s must be strictly increasing; time_s[{i + 1}] = {t[i + 1]!r} "
-            f"follows time_s[{i}] = {t[i]!r}"
+            f"time_s must be strictly increasing; time_s[{i + 1}] = {fmt(t[i + 1])} s "
+            f"follows time_s[{i}] = {fmt(t[i])} s"
         )
     return t, c
 
@@ -153,7 +154,7 @@ def _baseline(t, c, method, window, breakthrough_fraction):
     level = lo + breakthrough_fraction * (np.max(c) - lo)
     above = np.nonzero(c > level)[0]
     if above.size == 0:
-        raise ValueError(f"baseline={method!r}: the signal is constant ({lo!r}); there is no tracer peak")
+        raise ValueError(f"baseline={method!r}: the signal is constant ({fmt(lo)}); there is no tracer peak")
 
     def window_mask(which):
         if window is not None:
@@ -205,7 +206,7 @@ def _fit_tail(t, y, tail_points):
     if not (k > 0 and np.isfinite(k)):
         raise ValueError(
             f"tail extrapolation: the last {n} tail samples do not decay "
-            f"(fitted rate {k!r} 1/s); the curve cannot be extrapolated exponentially"
+            f"(fitted rate {fmt(k)} 1/s); the curve cannot be extrapolated exponentially"
         )
     c_end = float(np.exp(intercept + slope * t[-1]))
     return float(k), c_end
@@ -214,6 +215,11 @@ def _fit_tail(t, y, tail_points):
 def _prepare(time_s, signal, time_origin_s, baseline, baseline_window_s, breakthrough_fraction, clip_negative):
     t, c = _validate_curve(time_s, signal)
     t0 = float(check_finite("time_origin_s", time_origin_s))
+    if t0 >= t[-1]:
+        raise ValueError(
+            f"time_origin_s = {fmt(t0)} s is at or after the last sample ({fmt(t[-1])} s); the tracer "
+            "injection must start before the data end"
+        )
     check_range("breakthrough_fraction", breakthrough_fraction, 0.0, 1.0)
     line, bval = _baseline(t, c, baseline, baseline_window_s, breakthrough_fraction)
     y = c - line
@@ -306,8 +312,13 @@ def rtd_moments(
     span = float(ts[-1] - ts[0])
     if not var > 1e-12 * span**2:
         raise ValueError(
-            f"the RTD curve has a negligible variance ({var!r} s^2 over a {span!r} s record): "
+            f"the RTD curve has a negligible variance ({fmt(var)} s^2 over a {fmt(span)} s record): "
             "the peak is not resolved by the samples (fewer than two non-zero samples?)"
+        )
+    if not mean > 0:
+        raise ValueError(
+            f"the mean residence time is {fmt(mean)} s (not > 0): the time origin {fmt(t0)} s is after most "
+            "of the tracer signal; check time_origin_s (the start of the injection)"
         )
     std = math.sqrt(var)
     recovery = None

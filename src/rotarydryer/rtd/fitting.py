@@ -43,6 +43,7 @@ from scipy import optimize
 
 from .._validation import check_choice, check_finite, check_range
 from ..estimation.uncertainty import linearised_uncertainty
+from ._datafile import fmt
 from .analysis import rtd_moments
 from .models import (
     AnalyticMoments,
@@ -237,6 +238,13 @@ def fit_rtd_model(
     if not isinstance(pulse, TracerPulse):
         raise ValueError(f"pulse must be a TracerPulse from pulse_input(), got {type(pulse).__name__}")
     t0 = float(check_finite("time_origin_s", time_origin_s))
+    if t.size and t0 >= t[-1]:
+        raise ValueError(
+            f"time_origin_s = {fmt(t0)} s is at or after the last sample ({fmt(t[-1])} s); the tracer "
+            "injection must start before the data end"
+        )
+    if t.size and not np.any(y[t > t0] > 0):
+        raise ValueError(f"time_origin_s = {fmt(t0)} s is after all the positive signal: nothing to fit")
     n_starts = int(check_range("n_starts", n_starts, 1, 1000, low_inclusive=True, high_inclusive=True))
     w = np.ones_like(y) if sigma is None else np.broadcast_to(check_range("sigma", sigma, 0.0, math.inf), y.shape)
     names = [_TAU_NAME[model], _SHAPE_NAME[model]]
@@ -302,14 +310,14 @@ def fit_rtd_model(
 
     for k in names:
         if k != "delay_s" and not start[k] > 0:
-            raise ValueError(f"starting value {k} = {start[k]!r} must be > 0")
+            raise ValueError(f"starting value {k} = {fmt(start[k])} must be > 0")
     if initial:
         xi = to_x(start)
         for j, k in enumerate(names):
             if k in initial and not (lb[j] <= xi[j] <= ub[j]):
                 lo_n = math.exp(lb[j]) if k != "delay_s" else lb[j]
                 hi_n = math.exp(ub[j]) if k != "delay_s" else ub[j]
-                raise ValueError(f"initial {k} = {initial[k]!r} is outside the fitting bounds [{lo_n:g}, {hi_n:g}]")
+                raise ValueError(f"initial {k} = {fmt(initial[k])} is outside the fitting bounds [{lo_n:g}, {hi_n:g}]")
     x0 = np.clip(to_x(start), np.array(lb) + 1e-12, np.array(ub) - 1e-12)
     rng = np.random.default_rng(seed)
     starts = [x0]

@@ -130,9 +130,9 @@ def pulse_input(kind="rectangular", duration_s: float | None = None, values=None
         if np.any(np.diff(t) <= 0):
             raise ValueError("pulse times_s must be strictly increasing")
         if t[0] < 0:
-            raise ValueError(f"pulse times_s must start at >= 0 s, got {t[0]!r}")
+            raise ValueError(f"pulse times_s must start at >= 0 s, got {float(t[0]):.6g}")
         if np.any(v < 0):
-            raise ValueError(f"pulse values must be >= 0, got min {v.min()!r}")
+            raise ValueError(f"pulse values must be >= 0, got min {float(v.min()):.6g}")
         a = float(trapezoid(v, t))  # exact for the piecewise-linear input
         if not a > 0:
             raise ValueError("pulse values have zero area")

@@ -27,7 +27,11 @@ input, see :func:`rotarydryer.rtd.pulse_input`).
 
 Validation (``ValueError`` naming the file, the line and the problem): missing
 or unknown time column, missing signal column, non-numeric or NaN values,
-negative signal, unsorted or duplicate times, fewer than 5 points.
+negative time or signal, unsorted or duplicate times, fewer than 5 points, a
+signal that is 0 everywhere, non-numeric or out-of-range numeric metadata, an
+unknown ``pulse_kind``, a ``time_origin_s`` at or after the last sample (or after
+all the non-zero signal). Limits: a file is read line by line, must be UTF-8
+text, at most 64 MB and :data:`MAX_TRACER_ROWS` (200 000) data rows.
 """
 
 from __future__ import annotations
@@ -42,6 +46,8 @@ from typing import Any
 
 import numpy as np
 
+from ._datafile import MAX_DATA_ROWS, csv_rows, data_lines, fmt, parse_number, text_lines, too_many_rows
+
 __all__ = [
     "TracerData",
     "load_tracer_csv",
@@ -50,10 +56,13 @@ __all__ = [
     "load_tracer_dataset",
     "TIME_COLUMNS",
     "MIN_POINTS",
+    "MAX_TRACER_ROWS",
 ]
 
 TIME_COLUMNS = {"time_s": 1.0, "time_min": 60.0, "time_h": 3600.0}
 MIN_POINTS = 5
+MAX_TRACER_ROWS = MAX_DATA_ROWS
+"""Most data rows in one tracer file (200 000; read line by line, the file is refused beyond)."""
 _MASS_FRACTION_UNITS = {"kg/kg": 1.0, "ppm": 1e-6, "mg/kg": 1e-6, "ppb": 1e-9}
 _RATE_UNITS = {"1/s": 1.0, "1/min": 1 / 60.0, "1/h": 1 / 3600.0}
 _KEY = re.compile(r"^\s*#\s*([A-Za-z][A-Za-z0-9_.\-]*)\s*:\s*(.*?)\s*$")
@@ -142,96 +151,153 @@ def _convert(value: str):
     return x if math.isfinite(x) else value
 
 
-def parse_tracer_text(text: str, name: str = "<string>") -> TracerData:
+# numeric metadata keys: (exclusive lower bound, unit)
+_NUMERIC_METADATA = {
+    "time_origin_s": (-math.inf, "s"),
+    "tracer_mass_kg": (0.0, "kg"),
+    "feed_rate_kg_s": (0.0, "kg/s"),
+    "pulse_duration_s": (0.0, "s"),
+}
+
+
+def _check_metadata(metadata: dict, meta_lines: dict, name: str) -> None:
+    """Numeric metadata must be finite numbers in range; ``pulse_kind`` a known kind."""
+    from .pulses import PULSE_KINDS
+
+    for key, (low, unit) in _NUMERIC_METADATA.items():
+        if key not in metadata:
+            continue
+        v = metadata[key]
+        where = f"{name} line {meta_lines[key]}"
+        if not isinstance(v, float):
+            raise ValueError(f"{where}: {key} = {v!r} is not a finite number ({unit})")
+        if not v > low:
+            raise ValueError(f"{where}: {key} = {fmt(v)} {unit} must be > {fmt(low)} {unit}")
+    if "pulse_kind" in metadata:
+        kind = metadata["pulse_kind"]
+        if kind not in PULSE_KINDS:
+            raise ValueError(f"{name} line {meta_lines['pulse_kind']}: pulse_kind = {kind!r} is not one of "
+                             f"{', '.join(PULSE_KINDS)}")
+        if kind != "dirac" and "pulse_duration_s" not in metadata:
+            raise ValueError(f"{name} line {meta_lines['pulse_kind']}: pulse_kind = {kind!r} needs a "
+                             "'# pulse_duration_s:' line (s)")
+
+
+def parse_tracer_text(text: str, name: str = "<string>", *, max_rows: int | None = None) -> TracerData:
     """Parse tracer-CSV text (see module docstring); ``name`` is used in errors."""
+    return _parse_tracer_lines(text_lines(text), name, max_rows=max_rows)
+
+
+def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> TracerData:
+    """Parse ``(line number, text)`` pairs (see :func:`parse_tracer_text`); stops with an error
+    after ``max_rows`` (default :data:`MAX_TRACER_ROWS`) data rows."""
+    limit = MAX_TRACER_ROWS if max_rows is None else int(max_rows)
     metadata: dict[str, Any] = {}
+    meta_lines: dict[str, int] = {}
     comments: list[str] = []
-    lines = text.splitlines()
-    i = 0
-    while i < len(lines) and (lines[i].lstrip().startswith("#") or not lines[i].strip()):
-        line = lines[i]
-        if line.strip():
-            m = _KEY.match(line)
-            if m:
-                metadata[m.group(1)] = _convert(m.group(2))
-            else:
-                comments.append(line.lstrip()[1:].strip())
-        i += 1
+    lines = iter(lines)
+    header_line, header_text = None, None
+    for k, line in lines:
+        if line.lstrip().startswith("#") or not line.strip():
+            if line.strip():
+                m = _KEY.match(line)
+                if m:
+                    metadata[m.group(1)] = _convert(m.group(2))
+                    meta_lines[m.group(1)] = k
+                else:
+                    comments.append(line.lstrip()[1:].strip())
+            continue
+        header_line, header_text = k, line
+        break
     if comments:
         metadata["comment"] = "\n".join(comments)
-    if i >= len(lines):
+    if header_line is None:
         raise ValueError(f"{name}: no header line found (expected e.g. 'time_s,signal')")
-    header_line = i + 1
-    rows = list(csv.reader(io.StringIO("\n".join(lines[i:]))))
-    header = [h.strip() for h in rows[0]]
+    try:
+        header = [h.strip() for h in next(csv.reader([header_text]))]
+    except csv.Error as exc:
+        raise ValueError(f"{name} line {header_line}: unreadable header ({exc})") from None
     tcols = [h for h in header if h in TIME_COLUMNS]
     if not tcols:
         other = [h for h in header if h.lower().startswith("time")]
         hint = f" (found {other[0]!r}, which is not a known unit)" if other else ""
         raise ValueError(
             f"{name} line {header_line}: missing time column{hint}; expected one of "
-            f"{', '.join(TIME_COLUMNS)} in header {header}"
+            f"{', '.join(TIME_COLUMNS)} in header {', '.join(header)}"
         )
     if len(tcols) > 1:
-        raise ValueError(f"{name} line {header_line}: more than one time column {tcols}; keep exactly one")
+        raise ValueError(f"{name} line {header_line}: more than one time column ({', '.join(tcols)}); "
+                         "keep exactly one")
     if "signal" not in header:
-        raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {header}")
+        raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {', '.join(header)}")
+    _check_metadata(metadata, meta_lines, name)
     it, isg = header.index(tcols[0]), header.index("signal")
     times, sig, lineno = [], [], []
     extras = {h: [] for k, h in enumerate(header) if k not in (it, isg)}
-    for k, row in enumerate(rows[1:], start=header_line + 1):
-        if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
-            continue
+    for k, row in csv_rows(lines, name):
+        if len(times) >= limit:
+            raise too_many_rows(name, k, limit)
         if len(row) < len(header):
-            raise ValueError(f"{name} line {k}: expected {len(header)} columns, got {len(row)}")
-        for col, store in ((it, times), (isg, sig)):
-            raw = row[col].strip()
-            try:
-                x = float(raw)
-            except ValueError:
-                raise ValueError(f"{name} line {k}: {header[col]} = {raw!r} is not a number") from None
-            if not math.isfinite(x):
-                raise ValueError(f"{name} line {k}: {header[col]} = {raw!r} is NaN or infinite")
-            store.append(x)
+            raise ValueError(f"{name} line {k}: expected {len(header)} columns ({', '.join(header)}), "
+                             f"got {len(row)}")
+        t_k = parse_number(row[it], name, k, header[it])
+        s_k = parse_number(row[isg], name, k, header[isg])
+        if t_k < 0:
+            raise ValueError(f"{name} line {k}: {header[it]} = {fmt(t_k)} is negative; times are read on a "
+                             "clock that starts at 0 (give the injection time in '# time_origin_s:')")
+        if s_k < 0:
+            raise ValueError(f"{name} line {k}: negative signal {fmt(s_k)}; signals must be >= 0")
+        if times and t_k <= times[-1]:
+            what = "duplicate" if t_k == times[-1] else "unsorted"
+            raise ValueError(
+                f"{name} line {k}: {what} time {fmt(t_k)} after {fmt(times[-1])} (line {lineno[-1]}, "
+                f"{tcols[0]}); times must be strictly increasing"
+            )
+        times.append(t_k)
+        sig.append(s_k)
         for c, h in enumerate(header):
             if h in extras:
                 extras[h].append(row[c].strip())
         lineno.append(k)
-    t = np.asarray(times) * TIME_COLUMNS[tcols[0]]
-    c = np.asarray(sig)
+    t = np.asarray(times, dtype=float) * TIME_COLUMNS[tcols[0]]
+    c = np.asarray(sig, dtype=float)
+    if t.size == 0:
+        raise ValueError(f"{name}: no data rows after the header (line {header_line}); "
+                         f"a tracer curve needs at least {MIN_POINTS} points")
     if t.size < MIN_POINTS:
         raise ValueError(f"{name}: too few points ({t.size}); a tracer curve needs at least {MIN_POINTS}")
-    neg = np.nonzero(c < 0)[0]
-    if neg.size:
-        j = neg[0]
-        raise ValueError(f"{name} line {lineno[j]}: negative signal {c[j]!r}; signals must be >= 0")
-    dt = np.diff(t)
-    bad = np.nonzero(dt <= 0)[0]
-    if bad.size:
-        j = bad[0] + 1
-        what = "duplicate" if dt[j - 1] == 0 else "unsorted"
-        raise ValueError(
-            f"{name} line {lineno[j]}: {what} time {times[j]!r} after {times[j - 1]!r} "
-            f"({tcols[0]}); times must be strictly increasing"
-        )
+    if not np.any(c > 0):
+        raise ValueError(f"{name}: the signal is 0 on every line; there is no tracer curve")
+    if "time_origin_s" in metadata:
+        t0 = float(metadata["time_origin_s"])
+        where = f"{name} line {meta_lines['time_origin_s']}"
+        if t0 >= t[-1]:
+            raise ValueError(
+                f"{where}: time_origin_s = {fmt(t0)} s is at or after the last sample ({fmt(t[-1])} s, "
+                f"line {lineno[-1]}); the tracer injection must start before the data end"
+            )
+        if not np.any(c[t > t0] > 0):
+            raise ValueError(
+                f"{where}: time_origin_s = {fmt(t0)} s is after all the tracer signal (last non-zero sample "
+                f"at {fmt(t[np.flatnonzero(c > 0)[-1]])} s); the injection must precede the response"
+            )
     return TracerData(t, c, metadata, tcols[0], extras, None)
 
 
-def load_tracer_csv(path) -> TracerData:
+def load_tracer_csv(path, *, max_rows: int | None = None) -> TracerData:
     """Load a tracer curve in the rotarydryer tracer-CSV format (see module docstring).
 
     Parameters
     ----------
-    path : str or Path of the CSV file.
+    path : str or Path of the CSV file (UTF-8; at most :data:`MAX_TRACER_ROWS` data rows and
+        64 MB, read line by line).
 
     Returns
     -------
     TracerData (time in s on the file's clock, signal, metadata dict).
     """
     p = Path(path)
-    if not p.is_file():
-        raise ValueError(f"tracer data file {str(p)!r} does not exist")
-    d = parse_tracer_text(p.read_text(encoding="utf-8"), name=str(p))
+    d = _parse_tracer_lines(data_lines(p, "tracer data file"), str(p), max_rows=max_rows)
     return TracerData(d.time_s, d.signal, d.metadata, d.time_column, d.extra_columns, str(p))
 
 

@@ -20,7 +20,7 @@ from .models import (
     sheehan2005_model2,
 )
 from .network import EdgeFamily, Network, NoSteadyStateError, TracerInput, TracerResponse, TracerSystem
-from .results import RTDResult, SteadyState, TransportModel
+from .results import RTDResult, RTDWindowWarning, SteadyState, TransportModel
 
 __all__ = [
     "EdgeFamily",
@@ -28,6 +28,7 @@ __all__ = [
     "NetworkBuilder",
     "NoSteadyStateError",
     "RTDResult",
+    "RTDWindowWarning",
     "SteadyState",
     "TracerInput",
     "TracerResponse",

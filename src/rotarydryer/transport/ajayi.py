@@ -43,7 +43,7 @@ import math
 
 import numpy as np
 
-from .._validation import check_range
+from .._validation import check_range, fmt_number
 from ..geometry.lee2008_regressions import _poly_phi_f
 from ..geometry.unloading import CascadeSummary
 from ..properties.solids import SOLIDS
@@ -142,7 +142,10 @@ class AjayiRegressions:
         h = 0.5 * G * t**2
         arg = 1.0 - (h * math.cos(th)) ** 2 / (2.0 * self.radius**2)
         if np.any(arg < -1):
-            raise ValueError("repose_angle: fall height exceeds the drum diameter (regression out of range)")
+            raise ValueError(
+                f"drum.radius = {fmt_number(self.radius)} m is too small for the Ajayi (2011) regressions: their "
+                f"fall height {float(np.max(h)):.3g} m exceeds the drum diameter {2 * self.radius:.3g} m (they were "
+                "fitted to the MMG drum, radius 1.95 m); use geometry.method = 'exact' for another drum")
         omega = rpm * 2.0 * math.pi / 60.0
         ang = np.arccos(arg)
         tp = ang / omega
@@ -151,6 +154,39 @@ class AjayiRegressions:
         nan = np.full(psi.shape, np.nan)  # not given by the regressions (as Lee2008Regressions)
         return CascadeSummary(mean_release_angle=psi, mean_fall_height=h, mean_fall_time=t, passive_time=tp,
                               discharge_start_angle=nan, initial_holdup_area=nan)
+
+
+def _flighted_positions(sections):
+    """Axial positions (m) of the flighted cells' centres of ``sections`` (dicts, flow order)."""
+    pos, x0 = [], 0.0
+    for s in sections:
+        L = float(s["length"])
+        if s["kind"] != "unflighted":
+            N = int(s["n_cells"])
+            pos.append(x0 + (np.arange(N) + 0.5) * L / N)
+        x0 += L
+    return np.concatenate(pos) if pos else np.zeros(0)
+
+
+def _check_moisture_scale(scale, sections, material):
+    """``solids.moisture_scale`` must keep the Eq. 3.1 profile inside the material's moisture range
+    (where its repose-angle and bulk-density laws hold): the message names the key, its value and
+    the allowed range of the scale for this dryer."""
+    s = float(check_range("solids.moisture_scale", scale, 0.0, math.inf))
+    pos = _flighted_positions(sections)
+    if pos.size == 0 or material is None:
+        return
+    base = mmg_moisture_profile(pos, 1.0)
+    lo, hi = material.wet_range()
+    pmin, pmax = float(np.min(base)), float(np.max(base))
+    if s * pmin >= lo - 1e-12 and s * pmax <= hi + 1e-12:
+        return
+    raise ValueError(
+        f"solids.moisture_scale = {fmt_number(s)} puts the solids moisture (Ajayi (2011) Eq. 3.1 x "
+        f"{fmt_number(s)}) at {s * pmin:.3g} to {s * pmax:.3g} kg/kg wet, outside the moisture range "
+        f"[{lo:g}, {hi:g}] kg/kg wet of material '{material.name}' (its repose-angle and bulk-density laws "
+        f"hold there only); the allowed range of solids.moisture_scale for this dryer is "
+        f"[{lo / pmin:.3g}, {hi / pmax:.3g}]")
 
 
 def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispersion,
@@ -196,6 +232,11 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     Dax = float(check_range("transport.dispersion", dispersion, 0.0, math.inf, low_inclusive=True, unit="m^2/s"))
     if inlet not in ("ajayi", "danckwerts"):
         raise ValueError(f"transport.unflighted_inlet = {inlet!r} is not one of 'ajayi', 'danckwerts'")
+    if material is None:
+        from ..properties.materials import load_material
+
+        material = load_material("zinc_concentrate_ajayi2011")
+    _check_moisture_scale(moisture_scale, sections, material)
     specs = []
     x0 = 0.0
     for s in sections:
@@ -216,10 +257,6 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     params = dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=u, dispersion=Dax,
                   moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow, fouling=fouling,
                   geometry={k: repr(v) for k, v in geometries.items()})
-    if material is None:
-        from ..properties.materials import load_material
-
-        material = load_material("zinc_concentrate_ajayi2011")
     check_range("transport.fouling", fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
     model = build_sections(specs, material=material, feed_rate=F, rpm=rpm, slope=theta, inlet=inlet,
                            tracer_input=tracer_input, name=name, parameters=params)

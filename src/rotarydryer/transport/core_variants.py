@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from .._validation import check_choice, check_range
+from .._validation import check_choice, check_range, fmt_number
 from .network import EdgeFamily, Network
 from .results import TransportModel
 
@@ -53,10 +53,11 @@ def core_layer_widths(n_layers: int, layer_ratio: float = 1.0) -> np.ndarray:
     that the fast exchange near the surface is resolved. The surface layer must be
     at least 1e-4 of the depth.
 
-    Note: when the surface exchange flow 2 beta M_P / (t_D w_0) exceeds about 1e3 times
-    the feed, the engine's steady-state tolerance (1e-13 of the feed) is below the
-    rounding of those flows and ``steady_state`` raises ``NoSteadyStateError``; such a
-    core is in equilibrium with its cell anyway (t_D far below the residence time)."""
+    Note: when the surface exchange flow 2 beta M_P / (t_D w_0) exceeds the feed by many
+    decades, the engine's steady-state tolerance is set by the rounding of those flows (its
+    floor, :attr:`Network.FLOW_ROUNDING` times the gross flow through a node) rather than by
+    1e-13 of the feed; such a core is in equilibrium with its cell anyway (t_D far below the
+    residence time)."""
     n = int(check_range("n_layers", n_layers, 1, 200, low_inclusive=True, high_inclusive=True))
     r = float(check_range("layer_ratio", layer_ratio, 1.0, 3.0, low_inclusive=True, high_inclusive=True))
     w = r ** np.arange(n)
@@ -154,14 +155,15 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     if beta == 0.0:
         return model
     if beta / tc == 0.0:  # the exchange rate underflows: the core would never be entered or left
-        raise ValueError(f"core_fraction = {beta!r} is too small for core_time = {tc!r} s: the exchange rate "
+        raise ValueError(f"core_fraction = {fmt_number(beta)} is too small for core_time = {fmt_number(tc)} s: "
+                         "the exchange rate "
                          "core_fraction/core_time underflows to 0; use 0 (no core) or a normal number")
     check_choice("core_model", core_model, CORE_MODELS)
     nl = 1
     if core_model == "diffusive":
         nl = int(check_range("n_layers", n_layers, 1, 200, low_inclusive=True, high_inclusive=True))
         if nl != n_layers:
-            raise ValueError(f"n_layers = {n_layers!r} must be an integer in [1, 200]")
+            raise ValueError(f"n_layers = {fmt_number(n_layers)} must be an integer in [1, 200]")
         check_range("layer_ratio", layer_ratio, 1.0, 3.0, low_inclusive=True, high_inclusive=True)
     n0 = net.n
     m = P.size

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from .._validation import check_choice, check_range
+from .._validation import check_choice, check_range, fmt_number
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
 
@@ -162,19 +162,19 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
     check_choice("operating.gas_flow", gas_flow, GAS_FLOWS)
     N = int(check_range("transport.n_cells", n_cells, 1, 100000, low_inclusive=True, high_inclusive=True))
     if N != n_cells:
-        raise ValueError(f"transport.n_cells = {n_cells!r} must be an integer >= 1")
+        raise ValueError(f"transport.n_cells = {fmt_number(n_cells)} must be an integer >= 1")
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     L = float(check_range("drum.length", length, 0.0, math.inf, unit="m"))
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
     theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
     rho = float(check_range("solids.bulk_density", bulk_density, 0.0, math.inf, unit="kg/m^3"))
     if not (isinstance(kiln_time, (int, float)) and kiln_time > 0 and not math.isnan(kiln_time)):
-        raise ValueError(f"transport.kiln_time = {kiln_time!r} s is outside the allowed range (0, inf]")
+        raise ValueError(f"transport.kiln_time = {fmt_number(kiln_time)} s is outside the allowed range (0, inf]")
     CB = float(check_range("transport.backmix", backmix, 0.0, 1.0, low_inclusive=True, high_inclusive=True))
     CFG = float(check_range("transport.drag_reduction", drag_reduction, 0.0, math.inf, low_inclusive=True))
     if gas_flow == "co-current" and CB > 0:
         raise ValueError(
-            f"transport.backmix = {CB!r} must be 0 for co-current gas flow (Lee (2008) l.2766: "
+            f"transport.backmix = {fmt_number(CB)} must be 0 for co-current gas flow (Lee (2008) l.2766: "
             "no backmixing, drag lengthens the forward step)"
         )
     if repose_angle is None:

@@ -45,6 +45,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from .._validation import fmt_number
+
 __all__ = [
     "EdgeFamily",
     "Network",
@@ -117,7 +119,8 @@ class EdgeFamily:
             if np.any(~np.isfinite(self.rate)) or np.any(self.rate < 0):
                 bad = self.rate[~np.isfinite(self.rate) | (self.rate < 0)]
                 raise ValueError(
-                    f"transport coefficient of {self.name!r} flow = {bad[0]!r} 1/s is outside the allowed range [0, inf)"
+                    f"transport coefficient of {self.name!r} flow = {fmt_number(bad[0])} 1/s is outside the allowed "
+                    "range [0, inf)"
                 )
         if self.rate_fn is not None:
             if self.ctrl is None:
@@ -171,11 +174,11 @@ class TracerInput:
         ``duration = 0`` gives an ideal impulse (handled analytically by the moment
         calculation and as a 1e-6 s pulse by the simulators)."""
         if not (mass > 0 and math.isfinite(mass)):
-            raise ValueError(f"tracer mass = {mass!r} kg is outside the allowed range (0, inf)")
+            raise ValueError(f"tracer mass = {fmt_number(mass)} kg is outside the allowed range (0, inf)")
         if not (duration >= 0 and math.isfinite(duration)):
-            raise ValueError(f"tracer pulse duration = {duration!r} s is outside the allowed range [0, inf)")
+            raise ValueError(f"tracer pulse duration = {fmt_number(duration)} s is outside the allowed range [0, inf)")
         if not (start >= 0 and math.isfinite(start)):
-            raise ValueError(f"tracer pulse start = {start!r} s is outside the allowed range [0, inf)")
+            raise ValueError(f"tracer pulse start = {fmt_number(start)} s is outside the allowed range [0, inf)")
         d = duration if duration > 0 else 1e-6
         return cls((start, start + d), (mass / d,))
 
@@ -308,9 +311,9 @@ class TracerSystem:
         ``"auto"`` (expm for n <= 200 nodes, else bdf2 with two internal steps per
         output step)."""
         if not (dt > 0 and math.isfinite(dt)):
-            raise ValueError(f"dt = {dt!r} s is outside the allowed range (0, inf)")
+            raise ValueError(f"dt = {fmt_number(dt)} s is outside the allowed range (0, inf)")
         if not (t_end > dt and math.isfinite(t_end)):
-            raise ValueError(f"t_end = {t_end!r} s is outside the allowed range ({dt:g}, inf)")
+            raise ValueError(f"t_end = {fmt_number(t_end)} s is outside the allowed range ({dt:g}, inf)")
         sub = 1
         if method == "auto":
             method, sub = ("expm", 1) if self.n <= 200 else ("bdf2", 2)
@@ -448,7 +451,7 @@ class Network:
         if self.feed.shape != (self.n,):
             raise ValueError("feed must have one entry per node")
         if np.any(self.feed < 0) or not np.all(np.isfinite(self.feed)):
-            raise ValueError(f"feed_rate = {self.feed.sum()!r} kg/s must be finite and >= 0 at every node")
+            raise ValueError(f"feed_rate = {fmt_number(self.feed.sum())} kg/s must be finite and >= 0 at every node")
         self.labels = dict(labels or {})
         self.initial_guess = initial_guess
         for f in self.families:
@@ -498,8 +501,40 @@ class Network:
         return J.tocsc()
 
     # --- steady state -------------------------------------------------------------------
+    #: floor of the steady-state tolerance, relative to the gross flow through each node: the
+    #: rounding of dM/dt = feed + inflows - outflows is about eps times those flows, so a node
+    #: whose solids circulate far faster than the feed (flights discharging into the curtain and
+    #: back) cannot be balanced to 1e-13 of a small feed (64 eps = 1.4e-14)
+    FLOW_ROUNDING = 64 * float(np.finfo(float).eps)
+    #: largest relative mass-balance error (feed - outlet - losses) / feed of an accepted steady state
+    BALANCE_LIMIT = 1e-6
+
+    def residual_and_gross(self, M):
+        """(dM/dt, gross flow) per node, kg/s: the gross flow is feed + inflows + outflows, the
+        scale of the rounding error of dM/dt."""
+        R = self.feed.copy()
+        G = np.abs(self.feed)
+        for f in self.families:
+            k, _ = f.coefficients(M)
+            b, _ = f.basis(M[f.src])
+            F = k * b
+            np.subtract.at(R, f.src, F)
+            np.add.at(G, f.src, np.abs(F))
+            inside = f.dst >= 0
+            np.add.at(R, f.dst[inside], F[inside])
+            np.add.at(G, f.dst[inside], np.abs(F[inside]))
+        return R, G
+
+    def tolerance(self, M, tol: float = 1e-13):
+        """Per-node steady-state tolerance on |dM/dt| (kg/s) at masses M: ``tol`` times the total
+        feed, with the floor :attr:`FLOW_ROUNDING` times the node's gross flow (so that small
+        feeds through dryers with a large internal circulation converge)."""
+        _, G = self.residual_and_gross(M)
+        return np.maximum(tol * float(self.feed.sum()), self.FLOW_ROUNDING * G)
+
     def steady_state(self, tol: float = 1e-13, max_iter: int = 100):
-        """Steady masses M (kg) with |dM/dt| <= tol * total feed at every node.
+        """Steady masses M (kg) with |dM/dt| <= max(tol * total feed, 64 eps * gross flow of the
+        node) at every node (:meth:`tolerance`).
 
         Semismooth Newton with backtracking line search (see module docstring).  If
         Newton stalls (state-dependent coefficients with kinks far from the start),
@@ -512,6 +547,16 @@ class Network:
         M0 = np.zeros(self.n) if self.initial_guess is None else np.array(self.initial_guess, dtype=float)
         M, ok, res = self._newton(M0, tol, scale, max_iter)
         if not ok:
+            # full (undamped) semismooth Newton steps: with the design-load switch the residual norm
+            # may rise while the active set is corrected cell by cell (small feeds, where the last
+            # cells fall below their design load), which stalls the line search
+            try:
+                M1, ok1, _ = self._newton(M0, tol, scale, max_iter, damped=False)
+            except NoSteadyStateError:      # a singular step on the undamped path: not conclusive
+                ok1 = False
+            if ok1 and not np.any(M1 < -1e-9 * max(1.0, float(np.max(np.abs(M1))))):
+                M, ok = M1, True
+        if not ok:
             t_end = 1e4
             Mc = M0
             while t_end <= 1e8:
@@ -523,18 +568,29 @@ class Network:
                 t_end *= 10
         if not ok:
             raise NoSteadyStateError(
-                f"feed_rate = {scale:.6g} kg/s: the steady-state iteration did not converge "
-                f"(max |dM/dt| = {res:.3g} kg/s); the dryer may not carry this feed"
+                f"feed_rate = {fmt_number(scale)} kg/s: the steady-state iteration did not converge "
+                f"(max |dM/dt| = {res:.3g} kg/s above the tolerance); the dryer may not carry this feed"
             )
         if np.any(M < -1e-9 * max(1.0, np.max(np.abs(M)))):
-            raise NoSteadyStateError(f"feed_rate = {scale:.6g} kg/s: steady state has negative holdup")
+            raise NoSteadyStateError(f"feed_rate = {fmt_number(scale)} kg/s: steady state has negative holdup")
+        R, G = self.residual_and_gross(M)
+        lost = abs(float(np.sum(R)))       # feed - outlet - open-boundary losses
+        if lost > self.BALANCE_LIMIT * scale:
+            raise NoSteadyStateError(
+                f"feed_rate = {fmt_number(scale)} kg/s is too small for this dryer to resolve: the solids "
+                f"circulating inside it ({float(np.max(G)) / 2:.3g} kg/s through one compartment) exceed the feed "
+                f"{float(np.max(G)) / 2 / scale:.2g} times, beyond double precision (mass balance error "
+                f"{lost / scale:.2g}); give a feed of at least {lost / self.BALANCE_LIMIT:.2g} kg/s")
         return np.maximum(M, 0.0)
 
-    def _newton(self, M, tol, scale, max_iter):
-        R = self.residual(M)
+    def _converged(self, R, G, tol, scale):
+        return bool(np.all(np.abs(R) <= np.maximum(tol * scale, self.FLOW_ROUNDING * G)))
+
+    def _newton(self, M, tol, scale, max_iter, damped=True):
+        R, G = self.residual_and_gross(M)
         nrm = np.linalg.norm(R)
         for _ in range(max_iter):
-            if np.max(np.abs(R)) <= tol * scale:
+            if self._converged(R, G, tol, scale):
                 return M, True, 0.0
             J = self.jacobian(M)
             try:
@@ -543,25 +599,31 @@ class Network:
                     step = splu(J).solve(-R)
             except (RuntimeError, Warning) as exc:
                 raise NoSteadyStateError(
-                    f"feed_rate = {scale:.6g} kg/s: no steady state - the dryer cannot carry this feed "
+                    f"feed_rate = {fmt_number(scale)} kg/s: no steady state - the dryer cannot carry this feed "
                     "(an overloaded compartment has no outflow for its excess: give a finite kiln time / "
                     "kilning velocity or reduce the feed)"
                 ) from exc
             if not np.all(np.isfinite(step)):
-                raise NoSteadyStateError(f"feed_rate = {scale:.6g} kg/s: no steady state (singular system)")
+                raise NoSteadyStateError(f"feed_rate = {fmt_number(scale)} kg/s: no steady state (singular system)")
+            if not damped:
+                M = M + step
+                R, G = self.residual_and_gross(M)
+                if not np.all(np.isfinite(R)):
+                    return M, False, math.inf
+                continue
             lam = 1.0
             while True:
                 Mt = M + lam * step
-                Rt = self.residual(Mt)
+                Rt, Gt = self.residual_and_gross(Mt)
                 nt = np.linalg.norm(Rt)
                 if nt <= (1 - 1e-4 * lam) * nrm:
                     break
                 if lam < 1e-6:
                     return M, False, float(np.max(np.abs(R)))
                 lam *= 0.5
-            M, R, nrm = Mt, Rt, nt
-        ok = np.max(np.abs(R)) <= tol * scale
-        return M, bool(ok), float(np.max(np.abs(R)))
+            M, R, G, nrm = Mt, Rt, Gt, nt
+        ok = self._converged(R, G, tol, scale)
+        return M, ok, float(np.max(np.abs(R)))
 
     def boundary_flow(self, M, dst: int = -1, flows=None):
         """Total flow leaving through a boundary, kg/s: the outlet (``dst = -1``) or the

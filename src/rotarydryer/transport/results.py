@@ -5,13 +5,25 @@ Units: kg, s, kg/s; residence times are also given in min where the name says so
 
 from __future__ import annotations
 
+import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._validation import fmt_number
 from .network import Network, TracerInput, TracerResponse, TracerSystem
 
-__all__ = ["TransportModel", "SteadyState", "RTDResult"]
+__all__ = ["TransportModel", "SteadyState", "RTDResult", "RTDWindowWarning", "RECOVERY_TOLERANCE"]
+
+#: a simulated tracer curve that recovers less than (analytic recovery - this) is truncated
+RECOVERY_TOLERANCE = 1e-6
+
+
+class RTDWindowWarning(UserWarning):
+    """The simulated tracer curve does not represent the RTD: its time window (``t_end``, a case's
+    ``tracer.t_end``) ends before the tracer has left the dryer, or its step (``dt``,
+    ``tracer.dt``) is too coarse, so its recovery or mean is off the analytic one."""
 
 
 @dataclass
@@ -49,11 +61,45 @@ class TransportModel:
     tracer_input: TracerInput | None = None
     parameters: dict = field(default_factory=dict)
     tracer_inlet: np.ndarray | None = None
+    #: feasibility checks ``check(steady_state)`` run on every steady state (raise ``ValueError``);
+    #: :func:`rotarydryer.cases.build.build_model` adds the fill-fraction check of the case
+    checks: list = field(default_factory=list)
 
     def steady_state(self) -> "SteadyState":
-        """Solve the steady state (see :meth:`Network.steady_state`)."""
+        """Solve the steady state (see :meth:`Network.steady_state`) and run :attr:`checks`."""
         M = self.network.steady_state()
-        return SteadyState(self, M)
+        ss = SteadyState(self, M)
+        for check in self.checks:
+            check(ss)
+        return ss
+
+    def node_bulk_density(self, bed_density=None) -> np.ndarray:
+        """Bulk density (kg/m^3) of every node: the cell's (the section law at the assumed
+        moisture, or the fixed value) for flighted sections; ``bed_density`` (kg/m^3) for the
+        nodes of unflighted sections, default the nearest flighted cell's."""
+        net = self.network
+        lab = net.labels
+        sec, cell = np.asarray(lab["section"]), np.asarray(lab["cell"])
+        pos = np.asarray(lab["position"], dtype=float)
+        rho = np.full(net.n, np.nan)
+        seen = set()
+        for f in net.families:
+            law = getattr(f, "law", None)
+            if law is None or id(law) in seen:
+                continue
+            seen.add(id(law))
+            _, r = law.properties(law.assumed_moisture)
+            for P, rr in zip(law.P, np.asarray(r, dtype=float)):
+                rho[(sec == sec[P]) & (cell == cell[P])] = rr
+        bed = np.isnan(rho)
+        if bed.any():
+            if bed_density is not None:
+                rho[bed] = float(bed_density)
+            elif (~bed).any():
+                known = np.where(~bed)[0]
+                near = known[np.argmin(np.abs(pos[bed][:, None] - pos[known][None, :]), axis=1)]
+                rho[bed] = rho[near]
+        return rho
 
 
 class SteadyState:
@@ -154,20 +200,54 @@ class SteadyState:
         """Holdup / throughput, s (Lee (2008) Eq. 2.2)."""
         return self.total_holdup / self.outlet_flow
 
+    # -- volume ------------------------------------------------------------------------
+    def solids_volume(self, bed_density=None) -> np.ndarray:
+        """Bulk volume of the solids of every node, m^3 (mass / bulk density,
+        :meth:`TransportModel.node_bulk_density`)."""
+        return self.masses / self.model.node_bulk_density(bed_density)
+
+    def fill_fractions(self, radius: float, bed_density=None) -> dict:
+        """Fraction of the drum volume (pi R^2 L, ``radius`` R in m) the solids fill: ``"total"``
+        (whole drum) and ``"sections"`` ({name: fraction}); with the volumes (m^3), holdups (kg)
+        and lengths (m) behind them (``"detail"``: name -> dict)."""
+        V = self.solids_volume(bed_density)
+        area = math.pi * float(radius) ** 2
+        out, detail = {}, {}
+        Ltot = Vtot = 0.0
+        for s in self.model.sections:
+            m = self.section == s["name"]
+            L = float(s["length"])
+            v = float(np.sum(V[m]))
+            out[s["name"]] = v / (area * L)
+            detail[s["name"]] = dict(volume_m3=v, drum_volume_m3=area * L, holdup_kg=self._sum(m), length_m=L)
+            Ltot += L
+            Vtot += v
+        detail["total"] = dict(volume_m3=Vtot, drum_volume_m3=area * Ltot, holdup_kg=self.total_holdup,
+                               length_m=Ltot)
+        return {"total": Vtot / (area * Ltot), "sections": out, "detail": detail}
+
     # -- tracer ------------------------------------------------------------------------
     def tracer_system(self) -> TracerSystem:
         """Linear tracer system at these flows (inlet: the model's, default the feed nodes)."""
         return self.model.network.tracer_system(self.masses, inlet=self.model.tracer_inlet)
 
     def rtd(self, tracer_input: TracerInput | None = None, t_end: float = 3600.0, dt: float = 10.0,
-            method: str = "auto", simulate: bool = True) -> "RTDResult":
-        """Tracer RTD at this steady state: analytic moments and (optionally) the simulated curve."""
+            method: str = "auto", simulate: bool = True, check_window: bool = True) -> "RTDResult":
+        """Tracer RTD at this steady state: analytic moments and (optionally) the simulated curve.
+
+        With ``check_window`` an :class:`RTDWindowWarning` says when the simulated curve does not
+        represent the RTD (window ``t_end`` too short: recovery below the analytic one by more than
+        :data:`RECOVERY_TOLERANCE`; or ``dt`` too coarse: mean off the analytic one); callers that
+        want a truncated curve on purpose (fits on the data's time span) pass False."""
         inp = tracer_input or self.model.tracer_input or TracerInput.pulse(1.0, 0.0)
         ts = self.tracer_system()
         mom = ts.moments(inp)
         imp = ts.moments()
         resp = ts.simulate(inp, t_end, dt, method) if simulate else None
-        return RTDResult(moments=mom, response=resp, tracer_input=inp, impulse_moments=imp)
+        res = RTDResult(moments=mom, response=resp, tracer_input=inp, impulse_moments=imp)
+        if resp is not None and check_window:
+            res.check_window(stacklevel=3)
+        return res
 
     def cell_table(self) -> list:
         """One dict per cell of flighted sections: position, masses, design load, state, repose angle."""
@@ -254,6 +334,44 @@ class RTDResult:
     def tracer_std(self) -> float:
         """Standard deviation of the outlet tracer curve, s."""
         return self.moments["std"]
+
+    def window_problem(self) -> str | None:
+        """Why the simulated curve misrepresents the analytic RTD, or None: its recovery is below
+        the analytic one by more than :data:`RECOVERY_TOLERANCE` (the window ``t_end`` ends before
+        the tracer has left), or its mean is off the analytic mean by more than 1 % of the SD and
+        0.1 % of the mean (the step ``dt`` is too coarse)."""
+        if self.response is None:
+            return None
+        sm = self.response.moments()
+        an_rec, an_mean, an_std = self.moments["recovery"], self.moments["mean"], self.moments["std"]
+        t_end = float(self.response.time[-1])
+        dt = float(self.response.time[1] - self.response.time[0]) if self.response.time.size > 1 else t_end
+        imp = self.impulse_moments or self.moments
+        short = not (sm["recovery"] >= an_rec - RECOVERY_TOLERANCE)
+        off = abs(sm["mean"] - an_mean) if np.isfinite(sm["mean"]) else math.inf
+        mean_off = not (off <= max(1e-2 * an_std, 1e-3 * an_mean))
+        if not (short or mean_off):
+            return None
+        need = an_mean + 10.0 * an_std
+        head = (f"the simulated tracer curve (t_end = {fmt_number(t_end)} s, dt = {fmt_number(dt)} s; "
+                f"tracer.t_end and tracer.dt in a case) recovers {sm['recovery']:.3g} of the injected tracer "
+                f"(analytic {an_rec:.6g}) with mean {sm['mean']:.4g} s (analytic {an_mean:.4g} s)")
+        if short:
+            return (f"{head}: the window ends before the tracer has left the dryer (mean residence time "
+                    f"{imp['mean']:.4g} s, SD {imp['std']:.3g} s); its moments are not the RTD's. Simulate to "
+                    f"t_end >= about {math.ceil(need / 60.0) * 60:.0f} s (tracer mean + 10 SD), or use the analytic "
+                    "moments")
+        return (f"{head}: the step is too coarse for this RTD (SD {an_std:.3g} s); use dt <= about "
+                f"{max(an_std / 10.0, 1e-3):.3g} s (a tenth of the SD), or the analytic moments")
+
+    def check_window(self, stacklevel: int = 2) -> bool:
+        """Warn (:class:`RTDWindowWarning`) when :meth:`window_problem` finds one; returns True if
+        the curve is fine."""
+        msg = self.window_problem()
+        if msg is not None:
+            warnings.warn(msg, RTDWindowWarning, stacklevel=stacklevel + 1)
+            return False
+        return True
 
     def to_dict(self) -> dict:
         """JSON-ready summary.  ``mean_residence_time_s``/``rtd_std_s`` describe the RTD

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_choice, check_range
+from .._validation import check_choice, check_range, fmt_number
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
 
@@ -269,7 +269,7 @@ def _check_flighted(spec: SectionSpec, where: str):
     check_choice(f"{where}.loading", spec.loading, ("fixed", "state"))
     check_choice(f"{where}.backmix_to", spec.backmix_to, ("passive", "active"))
     if spec.kilning == "excess" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
-        raise ValueError(f"transport.kiln_time = {spec.kiln_time!r} s is outside the allowed range (0, inf]")
+        raise ValueError(f"transport.kiln_time = {fmt_number(spec.kiln_time)} s is outside the allowed range (0, inf]")
     if spec.kilning == "velocity":
         check_range("transport.kiln_velocity", spec.kiln_velocity, 0.0, math.inf, unit="m/s")
 
@@ -312,7 +312,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             _check_flighted(s, where)
             N = s.n_cells
             if N is None or int(N) != N or N < 1:
-                raise ValueError(f"{where}.n_cells = {N!r}: a flighted section needs an integer n_cells >= 1")
+                raise ValueError(f"{where}.n_cells = {fmt_number(N)}: a flighted section needs an integer n_cells >= 1")
             N = int(N)
             dl = L / N
             pos = x0 + (np.arange(N) + 0.5) * dl
