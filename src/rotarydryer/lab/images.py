@@ -121,6 +121,13 @@ class ImageCalibration:
         return np.stack([x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)], axis=-1)
 
 
+
+def _require_lab(module, package):
+    """Image analysis needs the ``lab`` extra (scikit-image, shapely)."""
+    from .._extras import require
+
+    require(module, "lab", "flight-loading image analysis (lab image)", package)
+
 def _root_angles(drum: FlightedDrum, reference_angle: float) -> np.ndarray:
     ref = float(check_finite("reference_angle", reference_angle))
     return np.mod(ref + drum.flight_spacing * np.arange(drum.n_flights), 360.0)
@@ -209,6 +216,7 @@ def render_cross_section(drum: FlightedDrum, repose_angle: float, *, reference_a
     noise_sd, blur_sigma : float
         Gaussian grey-level noise (levels) and Gaussian blur (px); seeded by ``seed``.
     """
+    _require_lab("shapely", "shapely")
     from shapely.geometry import LineString, Polygon, box
     from shapely.ops import unary_union
 
@@ -279,6 +287,7 @@ def render_cross_section(drum: FlightedDrum, repose_angle: float, *, reference_a
     fill_geom(plates, lv["flight"])
     rng = np.random.default_rng(seed)
     if blur_sigma > 0:
+        _require_lab("skimage", "scikit-image")
         from skimage.filters import gaussian
 
         img = gaussian(img, sigma=float(blur_sigma), preserve_range=True)
@@ -458,6 +467,7 @@ def segment(image, labels: np.ndarray, calibration: ImageCalibration, *, channel
     levels, which Otsu's method approximates. ``smooth_sigma`` (px): Gaussian
     smoothing first. Connected specks smaller than ``min_size`` pixels are dropped.
     """
+    _require_lab("skimage", "scikit-image")
     from skimage.filters import gaussian, threshold_otsu
     g = _channel(image, channel)
     labels = np.asarray(labels)
@@ -494,6 +504,7 @@ def segment(image, labels: np.ndarray, calibration: ImageCalibration, *, channel
 
 def _drop_specks(mask: np.ndarray, min_size: int) -> np.ndarray:
     """Remove connected objects with fewer than ``min_size`` pixels (any scikit-image version)."""
+    _require_lab("skimage", "scikit-image")
     from skimage.morphology import remove_small_objects
 
     try:  # scikit-image >= 0.26: max_size removes objects <= max_size
@@ -601,6 +612,7 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
     from .._plotting import pyplot
 
     plt = pyplot()
+    _require_lab("skimage", "scikit-image")
     from skimage.segmentation import find_boundaries
 
     img = np.asarray(image)

@@ -286,6 +286,7 @@ class ThermalDryer:
         self.families = net.families
         self._outlet_families = [f for f in self.families if np.any(f.dst < 0)]
         self.laws = []
+        self._law_cache = {}
         for f in self.families:
             if f.law is not None and all(f.law is not x for x in self.laws):
                 self.laws.append(f.law)
@@ -395,7 +396,7 @@ class ThermalDryer:
                 xp = np.clip(xp, lo, hi)
             else:
                 xp = law.assumed_moisture
-            coef[id(law)] = law.evaluate(m[P], xp, rpm=self.rpm, fouling=s.fouling)
+            coef[id(law)] = self._law_values(law, m[P], xp, s.fouling)
         if everything:
             self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
         src, dst, fl = [], [], []
@@ -418,6 +419,22 @@ class ThermalDryer:
             dst.append(f.dst)
             fl.append(k * b)
         return np.concatenate(src), np.concatenate(dst), np.concatenate(fl)
+
+    def _law_values(self, law, mp, xp, fouling):
+        """``law.evaluate`` at (mp, xp), remembered for the last two distinct inputs of each law.
+
+        The finite-difference Jacobian perturbs groups of unknowns; most groups leave a given
+        section's passive masses and moisture unchanged (temperatures, gas, other sections), so
+        its coefficients are those of the base state: exact reuse, the same numbers."""
+        key = (mp.tobytes(), xp.tobytes() if isinstance(xp, np.ndarray) else repr(xp), self.rpm, fouling)
+        cache = self._law_cache.setdefault(id(law), [])
+        for k, v in cache:
+            if k == key:
+                return v
+        v = law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling)
+        cache.insert(0, (key, v))
+        del cache[2:]
+        return v
 
     def _transfer(self, S, W, T, Tg, Y):
         s = self.settings
@@ -460,11 +477,15 @@ class ThermalDryer:
         scale and insulation layers) at gas temperatures ``Tg`` and humidities ``Y``."""
         s = self.settings
         tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
+        guess = self._shell_outer if getattr(self, "_shell_outer", None) is not None and \
+            self._shell_outer.shape == tg.shape else None
         r = shell_heat_loss(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
                             gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
                             scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                             insulation_thickness=s.insulation_thickness,
-                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure)
+                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
+                            outer_guess=guess)
+        self._shell_outer = np.array(r.outer_surface_temperature_c, dtype=float)   # warm start of the next solve
         return r.heat_loss
 
     def _solids_streams(self, z, families=None):

@@ -113,7 +113,7 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
                     scale_thickness=0.0, scale_conductivity=1.0, insulation_thickness=0.0,
                     insulation_conductivity=0.07, inner_emissivity=0.79, outer_emissivity=0.79,
                     gas_emissivity=None, wind_speed=0.0, ambient_humidity=0.015, pressure=101325.0,
-                    steel_conductivity=steel_conductivity_ajayi2011) -> ShellHeatLoss:
+                    steel_conductivity=steel_conductivity_ajayi2011, outer_guess=None) -> ShellHeatLoss:
     """Heat lost from the gas through the drum shell, with the shell temperatures solved.
 
     Parameters
@@ -146,6 +146,10 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         Ambient air humidity, kg/kg dry air.
     steel_conductivity : callable
         k(T °C) in W/(m K).
+    outer_guess : array_like, optional
+        Outer surface temperatures (°C) of a nearby solve (e.g. the previous solver step): the
+        root is bracketed within 2 K of them where possible, which saves most iterations; the
+        root and its tolerance are the same.
 
     Examples
     --------
@@ -257,7 +261,15 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         return q_in * 2 * math.pi * r_exp - qp_out
 
     hi = np.array(tg, dtype=float) + np.zeros(tg.shape)
-    to = illinois(residual, lo, hi, xtol=1e-9)
+    f_lo = f_hi = None
+    if outer_guess is not None:
+        g = np.broadcast_to(np.asarray(outer_guess, dtype=float), tg.shape)
+        a, b = np.clip(g - 2.0, lo, hi), np.clip(g + 2.0, lo, hi)
+        fa, fb = residual(a), residual(b)
+        ok = np.isfinite(fa) & np.isfinite(fb) & (np.sign(fa) != np.sign(fb))
+        if np.all(ok):                     # every stage bracketed near the guess
+            lo, hi, f_lo, f_hi = a, b, fa, fb
+    to = illinois(residual, lo, hi, f_lo=f_lo, f_hi=f_hi, xtol=1e-9)
     twi, qp_out, rc = inner_from_outer(to)
     q_in, h_c, q_r = inside_flux(twi)
     qp_in = q_in * 2 * math.pi * r_exp

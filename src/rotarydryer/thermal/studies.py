@@ -73,6 +73,7 @@ def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
     d.settings.validate()
     d._check_operating_inputs()  # the same checks as when the dryer was built
     d._shell_ua = None
+    d._law_cache = {}
     d._check_gas_can_dry()
     return d
 
