@@ -228,6 +228,31 @@ class Results:
     __eq__ = identical
     __hash__ = None  # mutable
 
+    def __repr__(self) -> str:
+        from ._display import short_repr
+
+        keys = ("total_holdup_kg", "mean_residence_time_s", "product_moisture_kg_kg", "gas_outlet_temperature_degC")
+        return short_repr("Results", self.case_name or self.kind,
+                          [(k, self.scalars[k]) for k in keys if k in self.scalars]
+                          + [("datasets", ", ".join(self.datasets) or "none")])
+
+    def _repr_html_(self) -> str:
+        from ._display import html_table
+
+        return html_table(self.scalars, caption=f"rotarydryer {self.version} results: {self.case_name or self.kind}")
+
+    def to_dataframe(self):
+        """The scalar outputs as a pandas DataFrame (value, unit)."""
+        from ._display import outputs_dataframe
+
+        return outputs_dataframe(self.scalars)
+
+    def to_xarray(self, name: str = "nodes"):
+        """One of the datasets (``nodes``, ``cells``, ``sections``, ``rtd``, ...) as an xarray.Dataset."""
+        if name not in self.datasets:
+            raise ValueError(f"dataset = {name!r} is not one of {', '.join(self.datasets) or 'none'}")
+        return self.datasets[name]
+
     def summary(self) -> str:
         """A short plain-text summary."""
         lines = [f"rotarydryer {self.version} results: {self.case_name or self.kind} "

@@ -51,6 +51,9 @@ class Simulation:
         self._transport = None
         self._transport_ss = None
 
+    def __repr__(self):
+        return f"<Simulation {self.case_name} (kind {self.kind!r}, heat and mass {'on' if self.thermal_enabled else 'off'})>"
+
     @property
     def thermal_enabled(self) -> bool:
         from .cases.build import thermal_enabled
@@ -161,13 +164,22 @@ class Simulation:
         """:class:`rotarydryer.results.Results` of the case (transport, RTD, heat and mass)."""
         from .results import run_case
 
-        return run_case(self.case, name=self.case_name)
+        res = run_case(self.case)
+        res.case_name = self.case_name
+        return res
 
     def fit(self, dataset, parameters, **kwargs):
-        """Fit ``parameters`` (override keys) to a dataset (:func:`rotarydryer.estimation.fit_case`)."""
-        from .estimation.cases import fit_case
+        """Fit ``parameters`` (override keys, e.g. ``["transport.backmix"]``) to a measured tracer
+        curve: a :class:`rotarydryer.rtd.TracerData` or a shipped dataset name
+        (``"lee2008_invicta"``); keyword arguments as
+        :func:`rotarydryer.estimation.cases.fit_case_to_tracer`. Returns its ``CaseFit``."""
+        from .estimation.cases import fit_case_to_tracer
 
-        return fit_case(self.case_name, dataset, parameters, **kwargs)
+        if isinstance(dataset, str):
+            from .rtd import load_tracer_dataset
+
+            dataset = load_tracer_dataset(dataset)
+        return fit_case_to_tracer(self.case_name, dataset, list(parameters), **kwargs)
 
     def sweep(self, grid, outputs=None):
         """Steady state over a grid of overrides: list of dicts (``grid``: list of override dicts)."""
@@ -196,6 +208,24 @@ class SteadyResult:
 
     def __init__(self, sim, transport, thermal):
         self.simulation, self.transport, self.thermal = sim, transport, thermal
+
+    def __repr__(self):
+        from ._display import short_repr
+
+        out = self.summary()
+        keys = ("total_holdup_kg", "mean_residence_time_s", "product_moisture_kg_kg", "gas_outlet_temperature_degC")
+        return short_repr("SteadyResult", self.simulation.case_name, [(k, out[k]) for k in keys if k in out])
+
+    def _repr_html_(self):
+        from ._display import html_table
+
+        return html_table(self.summary(), caption=f"steady state of {self.simulation.case_name}")
+
+    def to_dataframe(self):
+        """:meth:`summary` as a pandas DataFrame (value, unit)."""
+        from ._display import outputs_dataframe
+
+        return outputs_dataframe(self.summary())
 
     def tracer_system(self):
         """Linear tracer system at this state's flows (the coupled one with heat and mass)."""

@@ -862,6 +862,26 @@ class ThermalSteadyState:
                     gas_temperature_c=self.gas_temperature_c, gas_humidity=self.gas_humidity,
                     evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
 
+    def __repr__(self):
+        from .._display import short_repr
+
+        return short_repr("ThermalSteadyState", self.dryer.model.name, [
+            ("product moisture kg/kg", float(self.product_moisture)),
+            ("product degC", float(self.product_temperature_c)),
+            ("gas out degC", self.gas_outlet_temperature_c), ("holdup kg", self.total_holdup),
+            ("energy balance error", float(self.energy_balance_error))])
+
+    def _repr_html_(self):
+        from .._display import html_table
+
+        return html_table(self.summary(with_fuel=False), caption=f"heat-and-mass steady state ({self.dryer.model.name})")
+
+    def to_dataframe(self):
+        """Named outputs (:meth:`summary`) as a pandas DataFrame (value, unit)."""
+        from .._display import outputs_dataframe
+
+        return outputs_dataframe(self.summary(with_fuel=False))
+
     def summary(self, with_fuel=True):
         """Outputs of the state, named with their unit (the names of ``simulate --json``, sweeps,
         Results and the report). Balance errors are relative; ``thermal_mode`` the model mode."""
@@ -901,6 +921,22 @@ class ThermalSteadyState:
 
 class DynamicResult:
     """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series."""
+
+    def __repr__(self):
+        from .._display import short_repr
+
+        return short_repr("DynamicResult", "", [("t_end s", float(self.time[-1])), ("points", self.time.size),
+                                                ("final product moisture kg/kg", float(self.product_moisture[-1])),
+                                                ("solve s", self.seconds)])
+
+    def to_dataframe(self):
+        """Outlet series versus time (s) as a pandas DataFrame."""
+        import pandas as pd
+
+        return pd.DataFrame({"product_moisture_kg_kg": self.product_moisture,
+                             "product_temperature_degC": self.product_temperature_c,
+                             "gas_outlet_temperature_degC": self.gas_outlet_temperature_c},
+                            index=pd.Index(self.time, name="time_s"))
 
     def __init__(self, dryer, t, y, seconds, nfev):
         self.dryer, self.time, self.states, self.seconds, self.nfev = dryer, t, y, seconds, nfev

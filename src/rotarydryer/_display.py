@@ -1,0 +1,68 @@
+"""Short text and HTML views of results objects (notebooks, the REPL).
+
+Every results object has a one-line ``__repr__`` naming what it is and its key numbers, and a
+``_repr_html_`` table for Jupyter; ``to_dataframe()`` gives the named outputs as a pandas table
+(pandas comes with xarray).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+
+__all__ = ["fmt", "short_repr", "html_table", "outputs_dataframe"]
+
+
+def fmt(v) -> str:
+    """A number as people write it (4 significant digits, thousands separated), else str."""
+    if isinstance(v, bool) or v is None:
+        return str(v)
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    if not math.isfinite(x):
+        return str(x)
+    if x != 0 and (abs(x) >= 1e6 or abs(x) < 1e-3):
+        return f"{x:.4g}"
+    if abs(x) >= 1000:
+        return f"{x:,.0f}"
+    return f"{x:.4g}"
+
+
+def short_repr(kind: str, title: str, pairs) -> str:
+    """``<kind title: name value, ...>`` (at most ~200 characters)."""
+    body = ", ".join(f"{k} {fmt(v)}" for k, v in pairs)
+    text = f"<{kind}{' ' + title if title else ''}: {body}>"
+    return text if len(text) <= 240 else text[:236] + "...>"
+
+
+def _split_unit(name: str):
+    for suffix, unit in (("_kg_kg", "kg/kg"), ("_kg_s", "kg/s"), ("_degC", "degC"), ("_kg", "kg"),
+                         ("_s", "s"), ("_W", "W"), ("_m", "m")):
+        if name.endswith(suffix):
+            return name[: -len(suffix)].replace("_", " "), unit
+    return name.replace("_", " "), ""
+
+
+def html_table(outputs: dict, caption: str = "", limit: int = 40) -> str:
+    """An HTML table (quantity, value, unit) of named outputs; non-numbers are skipped."""
+    rows = []
+    for k, v in outputs.items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            name, unit = _split_unit(k)
+            rows.append(f"<tr><td>{html.escape(name)}</td><td style='text-align:right'>{html.escape(fmt(v))}</td>"
+                        f"<td>{html.escape(unit)}</td></tr>")
+        if len(rows) >= limit:
+            break
+    cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
+    return f"<table>{cap}<tr><th>quantity</th><th>value</th><th>unit</th></tr>{''.join(rows)}</table>"
+
+
+def outputs_dataframe(outputs: dict):
+    """pandas DataFrame (index: output name; columns value, unit) of the numeric outputs."""
+    import pandas as pd
+
+    rows = {k: (float(v), _split_unit(k)[1]) for k, v in outputs.items()
+            if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    return pd.DataFrame.from_dict(rows, orient="index", columns=["value", "unit"])

@@ -1,0 +1,48 @@
+"""Notebook-friendly objects (issue 18 part 4) and the Simulation entry points that the views use."""
+
+import pytest
+
+from rotarydryer import Simulation
+
+
+@pytest.fixture(scope="module")
+def song():
+    sim = Simulation("song2003_ottawa")
+    return sim, sim.steady_state()
+
+
+def test_short_reprs_and_html(song):
+    sim, st = song
+    for obj in (sim, st, st.thermal):
+        r = repr(obj)
+        assert len(r) < 250 and "object at 0x" not in r, r
+    assert "product_moisture_kg_kg" in repr(st)
+    html = st._repr_html_()
+    assert html.startswith("<table>") and "product moisture" in html and "kg/kg" in html
+
+
+def test_results_repr_dataframe_and_xarray(song):
+    sim, _ = song
+    res = sim.results()
+    assert res.case_name == "song2003_ottawa"
+    assert len(repr(res)) < 250 and "total_holdup_kg" in repr(res)
+    df = res.to_dataframe()
+    assert df.loc["total_holdup_kg", "unit"] == "kg" and df.loc["total_holdup_kg", "value"] > 0
+    assert "holdup" in res.to_xarray("nodes")
+    with pytest.raises(ValueError, match="dataset = 'nope'"):
+        res.to_xarray("nope")
+    assert "<table>" in res._repr_html_()
+
+
+def test_steady_dataframe_matches_summary(song):
+    _, st = song
+    df = st.to_dataframe()
+    assert df.loc["mean_residence_time_s", "value"] == pytest.approx(st.summary()["mean_residence_time_s"])
+    assert df.loc["gas_outlet_temperature_degC", "unit"] == "degC"
+
+
+def test_simulation_fit_by_dataset_name():
+    fit = Simulation("lee2008_invicta", {"geometry.method": "lee2008_regressions"}).fit(
+        "lee2008_invicta", ["transport.backmix"], n_starts=1)
+    p = fit.fit.parameters["transport.backmix"]
+    assert 0.0 <= p.value <= 0.95 and p.ci_low <= p.value <= p.ci_high
