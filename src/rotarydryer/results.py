@@ -1,8 +1,8 @@
 """One results object for a simulation: inputs, model choices, version and outputs.
 
 >>> from rotarydryer.results import run_case, Results
->>> res = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions"})
->>> round(res.scalars["total_holdup_kg"])      # kg
+>>> res = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions"}, thermal=False)
+>>> round(res.scalars["total_holdup_kg"])      # kg, solids transport only (thermal=True: the coupled state)
 16398
 >>> res.cells                  # xarray.Dataset, one row per flighted cell   # doctest: +SKIP
 >>> res.to_frame("cells")      # pandas.DataFrame, columns "name [unit]"     # doctest: +SKIP

@@ -21,6 +21,8 @@ import dataclasses
 
 import numpy as np
 
+from ._threads import single_threaded
+
 __all__ = ["Simulation", "SteadyResult", "build_thermal_dryer"]
 
 
@@ -112,6 +114,7 @@ class Simulation:
                             rpm=p["rpm"], radius=self.case.drum.radius, sections=inp["sections"], settings=st)
 
     # ------------------------------------------------------------------ runs
+    @single_threaded()
     def steady_state(self):
         """Steady state of the whole dryer: transport, and heat and mass where the case has a gas.
 

@@ -20,6 +20,7 @@ from collections import OrderedDict
 import numpy as np
 
 __all__ = ["presets", "geometry_view", "stage_case_file", "case_defaults", "transport_view", "tracer_sources", "fit_tracer",
+           "tracer_models", "TRACER_BASELINES",
            "png", "visitor_message", "MAX_CASE_UPLOAD_BYTES", "MAX_TRACER_UPLOAD_BYTES", "MAX_TRACER_ROWS",
            "MAX_UPLOAD_MB", "MAX_STAGED_CASES"]
 
@@ -223,14 +224,31 @@ def tracer_sources() -> list[str]:
     return tracer_datasets()
 
 
+#: ``baseline`` choices of :func:`fit_tracer`: none, or a constant background fitted with the model
+TRACER_BASELINES = ("none", "fit")
+
+
+def tracer_models() -> tuple:
+    """Models the tracer-fit page offers (``rotarydryer.rtd.RTD_FIT_MODELS``): tanks in series,
+    axial dispersion and Song's (2003) Eq. 2.10-2.16 cells (interactive mixers, with dead zones)."""
+    from ..rtd import RTD_FIT_MODELS
+
+    return tuple(RTD_FIT_MODELS)
+
+
 def fit_tracer(text: str | None = None, dataset: str | None = None, model: str = "tanks_in_series",
-               images: bool = True) -> dict:
-    """Fit a classical RTD model (``rotarydryer.rtd.fit_tracer_data``) to a tracer CSV
-    (text in the tracer-CSV format of :mod:`rotarydryer.rtd.tracer_data`) or to a shipped
-    dataset.  Returns ``{"table": [(parameter, value, std_error, ci_low, ci_high)],
-    "moments": {...}, "r_squared": float, "plot": png}``."""
+               images: bool = True, baseline: str = "none") -> dict:
+    """Fit a reference RTD model (``rotarydryer.rtd.fit_tracer_data``; one of :func:`tracer_models`)
+    to a tracer CSV (text in the tracer-CSV format of :mod:`rotarydryer.rtd.tracer_data`) or to a
+    shipped dataset; ``baseline="fit"`` adds a fitted constant background (signal unit, e.g. the
+    lithium background of Ajayi's raw ppm).  Returns ``{"table": [(parameter, value, std_error,
+    ci_low, ci_high)], "moments": {...}, "r_squared": float, "n_cells": N or None, "plot": png}``."""
     from ..rtd import fit_tracer_data, load_tracer_dataset, parse_tracer_text
 
+    if model not in tracer_models():
+        raise ValueError(f"model = {model!r} is not one of {', '.join(tracer_models())}")
+    if baseline not in TRACER_BASELINES:
+        raise ValueError(f"baseline = {baseline!r} is not one of {', '.join(TRACER_BASELINES)}")
     if (text is None) == (dataset is None):
         raise ValueError("give exactly one of text (an uploaded CSV) and dataset (a shipped curve)")
     if text is not None:
@@ -241,11 +259,16 @@ def fit_tracer(text: str | None = None, dataset: str | None = None, model: str =
         if rows - 1 > MAX_TRACER_ROWS:
             raise ValueError(f"the tracer CSV has {rows - 1} data rows; the limit is {MAX_TRACER_ROWS}")
     data = parse_tracer_text(text, "uploaded CSV") if text is not None else load_tracer_dataset(dataset)
-    fit = fit_tracer_data(data, model)
+    import warnings
+
+    with warnings.catch_warnings():        # identifiability notes are in the result ("warnings")
+        warnings.simplefilter("ignore", RuntimeWarning)
+        fit = fit_tracer_data(data, model, fit_baseline=baseline == "fit")
     d = fit.to_dict()
     table = [(k, v["value"], v["std_error"], v["ci_low"], v["ci_high"]) for k, v in d["parameters"].items()]
     out = {"table": table, "moments": d["outlet_moments"], "r_squared": d["r_squared"], "model": model,
-           "published_mean_min": data.metadata.get("published_mean_min")}
+           "published_mean_min": data.metadata.get("published_mean_min"), "n_cells": d["fixed"].get("n_cells"),
+           "baseline": baseline, "warnings": d["warnings"]}
     if images:
         from .._plotting import pyplot as _plt
 

@@ -4,7 +4,8 @@ Page 1, "Flight geometry": drum presets, repose angle, speed, flight dimensions 
 summary table, design loads, cross-section and unloading profile.
 Page 2, "Transport and RTD": a built-in case at a changed feed rate, speed and slope ->
 holdups, RTD against data, loading state; download the results (netCDF) and the HTML
-report; fit a classical RTD model to a shipped or uploaded tracer CSV.
+report; fit a reference RTD model (tanks in series, axial dispersion, Song's (2003) cells with
+dead zones), optionally with a fitted constant background, to a shipped or uploaded tracer CSV.
 
 Visitors' input (docs/app_threat_model.md): uploads are size-limited and kept in memory
 only; an uploaded case may name shipped data sets only; every error is caught here and shown
@@ -66,8 +67,8 @@ def _netcdf_bytes(res):
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
-def _fit(text, dataset, model):
-    return logic.fit_tracer(text=text, dataset=dataset, model=model)
+def _fit(text, dataset, model, baseline="none"):
+    return logic.fit_tracer(text=text, dataset=dataset, model=model, baseline=baseline)
 
 
 page = st.sidebar.radio("Page", ["Flight geometry", "Transport and RTD"], key="page")
@@ -161,26 +162,32 @@ else:
                        mime="text/html", key="dl_html")
 
     st.header("Fit a tracer curve")
-    from rotarydryer.rtd import RTD_MODELS
 
     src_col, model_col = st.columns(2)
     sources = logic.tracer_sources()
     source = src_col.selectbox("Published tracer curve", sources, index=sources.index("ajayi2011_test4"),
                                key="tracer_source")
-    model = model_col.selectbox("RTD model", list(RTD_MODELS), key="rtd_model")
+    model = model_col.selectbox("RTD model", list(logic.tracer_models()), key="rtd_model",
+                                help="tanks in series, axial dispersion, or Song (2003) Eq. 2.10-2.16 cells: "
+                                     "interactive mixers, with dead zones (cholette_cloutier); N scanned")
+    fit_background = model_col.checkbox("Fit a constant background (baseline)", value=False, key="rtd_baseline",
+                                        help="adds a constant signal b to the model curve, fitted with it "
+                                             "(e.g. the lithium background of Ajayi's raw ppm)")
     up = st.file_uploader("... or upload your tracer CSV (columns time_s or time_min, signal; '#' metadata "
                           "lines, see docs/app.md); an uploaded file is fitted instead of the published curve",
                           type=["csv", "txt"], key="tracer_file", max_upload_size=logic.MAX_UPLOAD_MB)
     text = up.getvalue().decode("utf-8", errors="replace") if up is not None else None
     st.caption(_plain(f"Fitting: {'uploaded file ' + up.name if up is not None else 'published curve ' + source}"))
     try:
-        f = _fit(text, None if text is not None else source, model)
+        f = _fit(text, None if text is not None else source, model, "fit" if fit_background else "none")
     except Exception as exc:
         _refuse("Cannot fit", exc)
     fc1, fc2 = st.columns([1, 1])
     fc1.metric("Fitted outlet mean", f"{f['moments']['mean_s'] / 60:.2f} min",
                help="outlet-curve mean of the fitted model, from the injection start")
     fc1.metric("R squared", f"{f['r_squared']:.4f}")
+    if f.get("n_cells") is not None:
+        fc1.metric("Number of cells N", f"{f['n_cells']}", help="integer, from a scan of N (Song (2003) l.743)")
     fc1.table({"parameter": [t[0] for t in f["table"]], "value": [f"{t[1]:.5g}" for t in f["table"]],
                "std. error": [f"{t[2]:.3g}" for t in f["table"]],
                "95% CI": [f"{t[3]:.5g} - {t[4]:.5g}" for t in f["table"]]})

@@ -151,8 +151,67 @@ class LeeSolids(_Strict):
     repose_angle: Optional[float] = Field(default=None, gt=0, lt=90, description="deg, constant")
 
 
-class LeeTransport(_Strict):
-    model: Literal["lee2008", "sheehan2005_model2"] = "lee2008"
+#: stagnant-core variants of ``transport.core`` (rotarydryer.transport.core_variants, docs/rtd_spread.md)
+CORE_CHOICES = ("none", "first_order", "diffusive")
+
+
+def _core_problem(tr) -> str | None:
+    """``transport.core`` needs both ``core_fraction`` and ``core_time``; they need a core."""
+    given = [k for k in ("core_fraction", "core_time") if getattr(tr, k) is not None]
+    if tr.core != "none":
+        missing = [f"transport.{k}" for k in ("core_fraction", "core_time") if getattr(tr, k) is None]
+        if missing:
+            return (f"transport.core = {tr.core!r} needs {' and '.join(missing)} (core_fraction: core mass / "
+                    "mobile passive mass, -, in [0, 10]; core_time: s, in (0, 1e6])")
+    elif given:
+        return (f"{' and '.join('transport.' + k for k in given)} set but transport.core = 'none': choose "
+                f"transport.core = 'first_order' or 'diffusive' (or remove them)")
+    return None
+
+
+_MODEL1_RATES = ("passive_rate", "exchange_rate", "return_rate", "kiln_rate")
+
+
+class _TransportVariants(_Strict):
+    """Transport options shared by the Lee and the general case: Sheehan et al. (2005) Model 1
+    rates, the near-stagnant core and the forward-step source."""
+    passive_rate: Optional[float] = Field(default=None, ge=0, description="k_PP, 1/s (sheehan2005_model1)")
+    exchange_rate: Optional[float] = Field(default=None, gt=0, description="k_PA, 1/s (sheehan2005_model1)")
+    return_rate: Optional[float] = Field(default=None, gt=0, description="k_AP, 1/s (sheehan2005_model1)")
+    kiln_rate: Optional[float] = Field(default=None, ge=0, description="k_K, 1/s (sheehan2005_model1)")
+    core: Literal["none", "first_order", "diffusive"] = Field(
+        default="none", description="near-stagnant core of the passive phase of every cell "
+        "(rotarydryer.transport.core_variants.add_stagnant_core; docs/rtd_spread.md)")
+    core_fraction: Optional[float] = Field(default=None, ge=0, le=10, description="beta, core mass / mobile "
+                                           "passive mass (-), with transport.core only")
+    core_time: Optional[float] = Field(default=None, gt=0, le=1e6, description="s: t_c, mean stay in the core "
+                                       "(first_order), or t_D = d^2/D_core, diffusion time across it (diffusive)")
+    forward_step: Literal["fitted", "trajectory"] = Field(default="fitted", description="C_F from the fitted drag_reduction (Lee Eq. 3.7-3.8) or from particle trajectories through [gas] (docs/transport.md)")
+    curtain_velocity_ratio: Optional[float] = Field(default=None, ge=0, le=1, description="U_c/U_g in the curtains (trajectory step); default Sherritt, Lee Eq. 2.14")
+
+
+class LeeTransport(_TransportVariants):
+    model: Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2"] = "lee2008"
+
+    @model_validator(mode="after")
+    def _variants(self):
+        problems = [p for p in (_core_problem(self),) if p]
+        if self.model == "sheehan2005_model1":
+            missing = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self, k) is None]
+            if missing:
+                problems.append(f"transport.model = 'sheehan2005_model1' needs {', '.join(missing)} (1/s; "
+                                "Sheehan et al. (2005) Model 1, notes lee_models.md Section 4.2)")
+            elif self.passive_rate == 0 and self.kiln_rate == 0:
+                problems.append("transport.passive_rate = 0 and transport.kiln_rate = 0: no solids leave the "
+                                "cells (give one of them > 0)")
+        else:
+            given = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self, k) is not None]
+            if given:
+                problems.append(f"{', '.join(given)} set but transport.model = {self.model!r}: the rates are "
+                                "those of transport.model = 'sheehan2005_model1'")
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
     n_cells: int = Field(ge=1, le=100000)
     kiln_time: Optional[float] = Field(default=None, gt=0, description="s")
     backmix: Optional[float] = Field(default=None, ge=0, le=1, description="C_B, -")
@@ -218,7 +277,7 @@ class Burner(_Strict):
 class Gas(_Strict):
     """Drying gas (humid air or combustion gas)."""
     direction: Literal["co-current", "counter-current"] = "co-current"
-    flow: float = Field(gt=0, le=1000, description="kg/s wet gas into the dryer")
+    flow: float = Field(ge=0, le=1000, description="kg/s wet gas into the dryer (0: no gas, e.g. Song's no-air runs; heat and mass transfer needs > 0, so use thermal.enabled = false)")
     inlet_temperature: float = Field(gt=0, le=600, description="degC")
     inlet_humidity: float = Field(default=0.01, ge=0, lt=0.2, description="kg/kg wet gas")
     leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet")
@@ -322,6 +381,10 @@ class AjayiTransport(_Strict):
     unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="FV cells per unflighted section; default auto")
     design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor * m_Baker (Ajayi code)")
     fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale (Ajayi Eq. 5.21); default 0.8 for tests marked scaled (l.1715), else 0")
+    parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="per_test: u_s and D of the test (Ajayi Table 5.2); predictive: from the operating point (rotarydryer.transport.ajayi_predictive, docs/mmg_cross_test.md)")
+    velocity_law: Literal["friedman_marshall", "kramers"] = Field(default="friedman_marshall", description="predictive kiln velocity: Sullivan/Friedman-Marshall (Song 2003 Eq. 1-2) or Kramers-Croockewit bed (comparison)")
+    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law; the case file holds the calibration")
+    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p; the case file holds the calibration")
 
 
 class AjayiGeometry(_Strict):
@@ -351,8 +414,8 @@ class AjayiTest(_Strict):
     rpm: float
     moisture_inlet: float
     moisture_outlet: float
-    kiln_velocity: float
-    dispersion: float
+    kiln_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, Ajayi Table 5.2 (none for test 1, not modelled by Ajayi)")
+    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, Ajayi Table 5.2 (none for test 1)")
     mrt_model_min: Optional[float] = None
     holdup_model_kg: Optional[float] = None
     mrt_measured_min: Optional[float] = None
@@ -440,14 +503,18 @@ class DryerOperating(_Strict):
     feed_temperature: float = Field(default=20.0, ge=0, lt=99, description="degC")
 
 
-class DryerTransport(_Strict):
+class DryerTransport(_TransportVariants):
     """Defaults for the sections (a section's own value wins)."""
+
+    @model_validator(mode="after")
+    def _core_complete(self):
+        problem = _core_problem(self)
+        if problem:
+            raise ValueError(problem)
+        return self
+
     model: Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"] = "lee2008"
     n_cells: Optional[int] = Field(default=None, ge=1, le=100000, description="cells per flighted section (default)")
-    passive_rate: Optional[float] = Field(default=None, ge=0, description="k_PP, 1/s (sheehan2005_model1)")
-    exchange_rate: Optional[float] = Field(default=None, gt=0, description="k_PA, 1/s (sheehan2005_model1)")
-    return_rate: Optional[float] = Field(default=None, gt=0, description="k_AP, 1/s (sheehan2005_model1)")
-    kiln_rate: Optional[float] = Field(default=None, ge=0, description="k_K, 1/s (sheehan2005_model1)")
     kiln_time: float = Field(default=10.0, gt=0, description="s, kilning time of the excess over the design load (lee2008)")
     backmix: float = Field(default=0.0, ge=0, le=1, description="C_B, -")
     drag_reduction: float = Field(default=1.0, ge=0, description="C_F^G, -")
@@ -463,6 +530,9 @@ class DryerGeometry(_Strict):
     method: Literal["exact"] = "exact"
     passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
     design_load_method: Literal["lee2008", "ajayi2011"] = "lee2008"
+    finite_particle: bool = Field(default=False, description="finite-particle correction of the flight holdup "
+                                  "(surface layer of 1.51 particle diameters, calibrated on DEM: docs/dem.md) with the "
+                                  "section's or the material's particle diameter")
 
 
 class DryerSection(_Strict):
@@ -748,6 +818,8 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
         *path, fld = key.split(".")
         if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
             value = None
+        elif isinstance(value, str) and key.startswith("material.") and key != "material.name":
+            value = _toml_value(value)      # material fields are free-form: read "0.0006" as TOML would
         node = raw
         for part in path:
             nxt = node.get(part)
@@ -761,6 +833,14 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
         n = len(exc.errors())
         details = _format_validation_error(exc, raw, text, shown, overrides)
         raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
+
+
+def _toml_value(text: str):
+    """A --set value as its TOML literal (number, boolean, array, quoted string), else the text."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except (tomllib.TOMLDecodeError, ValueError):
+        return text
 
 
 def measured_rtd(case):

@@ -38,7 +38,7 @@ BULK_DENSITY_RANGE = (1.0, 23000.0)
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "lee_parameters", "ajayi_test_inputs", "ajayi_geometries",
            "settings_from_case", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of",
-           "operating_point"]
+           "operating_point", "curtain_gas"]
 
 
 def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):
@@ -91,6 +91,7 @@ def build_model(case):
         model = _build_ajayi(case)
     else:
         model = _build_dryer(case)
+    model = _with_core(case, model)
     model.checks.append(functools.partial(check_feasible, case))     # picklable, unlike a lambda
     return model
 
@@ -170,6 +171,11 @@ def _bed_density(case):
 
 
 def _holdup_hint(case) -> str:
+    if isinstance(case, LeeCase) and case.transport.model == "sheehan2005_model1":
+        t = case.transport
+        return (f" (or check solids.bulk_density = {fmt_number(case.solids.bulk_density)} kg/m^3, "
+                f"transport.passive_rate = {fmt_number(t.passive_rate)} 1/s, transport.kiln_rate = "
+                f"{fmt_number(t.kiln_rate)} 1/s, drum.radius and drum.length)")
     if isinstance(case, LeeCase):
         t = case.transport
         kiln = t.kiln_time if t.kiln_time is not None else lee_parameters(case)["kiln_time"]
@@ -177,6 +183,9 @@ def _holdup_hint(case) -> str:
                 f"transport.kiln_time = {fmt_number(kiln)} s, drum.radius and drum.length)")
     if isinstance(case, AjayiCase):
         u = ajayi_test_inputs(case)["kiln_velocity"]
+        if isinstance(u, dict):     # parameter_source = "predictive": one velocity per section
+            return (f" (or raise transport.velocity_coefficient = {fmt_number(case.transport.velocity_coefficient)}; "
+                    "check drum.radius and the section lengths)")
         return (f" (or raise transport.kiln_velocity = {fmt_number(u)} m/s; check drum.radius and the "
                 "section lengths)")
     return " (or check transport.kiln_time, transport.solids_velocity, drum.radius and the section lengths)"
@@ -218,6 +227,8 @@ def lee_parameters(case: LeeCase) -> dict:
     out = {}
     for key in ("kiln_time", "backmix", "drag_reduction"):
         v = getattr(t, key)
+        if v is None and row is None and key == "drag_reduction" and t.forward_step == "trajectory":
+            v = 1.0     # unused: the trajectory forward step replaces C_F^G
         if v is None:
             if row is None:
                 have = ", ".join(str(p.n_cells) for p in case.parameter_sets)
@@ -239,6 +250,24 @@ def _check_lee_moisture(case: LeeCase):
             mat.check_moisture(f"solids.{key}", getattr(case.solids, key), basis="dry")
 
 
+def curtain_gas(case, particle_diameter=None):
+    """The :class:`~rotarydryer.transport.forward_step.CurtainGas` of a Lee or general case for the
+    trajectory forward step: the gas inlet flow, temperature and humidity ([gas]) over the drum
+    cross-section, the material's particle size and density, ``transport.curtain_velocity_ratio``."""
+    from rotarydryer.transport.forward_step import CurtainGas
+
+    if case.gas is None:
+        raise ValueError("transport.forward_step = 'trajectory' needs [gas] (flow, inlet_temperature): the "
+                         "forward step is computed from the fall through the gas")
+    mat = material_of(case)
+    direction = case.operating.gas_flow if isinstance(case, LeeCase) else case.gas.direction
+    return CurtainGas.at_conditions(gas_mass_flow=case.gas.flow, temperature_degC=case.gas.inlet_temperature,
+                                    humidity=case.gas.inlet_humidity, radius=case.drum.radius, gas_flow=direction,
+                                    particle_diameter=particle_diameter or mat.particle_diameter,
+                                    particle_density=mat.particle_density,
+                                    velocity_ratio=case.transport.curtain_velocity_ratio)
+
+
 def _build_lee(case: LeeCase):
     from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
     from rotarydryer.transport import lee2008, lee2008_repose_profile
@@ -249,6 +278,8 @@ def _build_lee(case: LeeCase):
         geometry = exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2, where="flight")
     else:
         geometry = Lee2008Regressions(tip_radius=invicta_tip_radius(d.radius, fl.s1, fl.s2, fl.alpha1, fl.alpha2))
+    if case.transport.model == "sheehan2005_model1":
+        return _build_lee_model1(case, geometry)
     p = lee_parameters(case)
     N = case.transport.n_cells
     s = case.solids
@@ -261,9 +292,52 @@ def _build_lee(case: LeeCase):
         loading=case.transport.loading, backmix_to=case.transport.backmix_to,
         gas_flow=case.operating.gas_flow, tracer_input=_tracer_pulse(case, F), name=case.transport.model,
     )
+    if case.transport.forward_step == "trajectory":
+        kwargs.update(forward_step="trajectory", gas=curtain_gas(case))
     if case.transport.model == "sheehan2005_model2":
         kwargs["backmix_to"] = "active"
     return lee2008(**kwargs)
+
+
+def _build_lee_model1(case: LeeCase, geometry):
+    """Sheehan et al. (2005) Model 1 (notes lee_models.md Section 4.2) on Lee's drum: one flighted
+    section of ``transport.n_cells`` cells with the case's global rates ``transport.passive_rate``,
+    ``exchange_rate``, ``return_rate``, ``kiln_rate`` (1/s) and the design load of the case's geometry
+    and repose-angle profile (``SectionSpec(kilning="empirical")`` of rotarydryer.transport.sections)."""
+    from rotarydryer.transport import lee2008_repose_profile
+    from rotarydryer.transport.sections import SectionSpec, build_sections
+
+    d, t, s = case.drum, case.transport, case.solids
+    N, F, rpm = t.n_cells, case.operating.feed_rate, case.operating.rpm
+    phi = s.repose_angle if s.repose_angle is not None else lee2008_repose_profile(N, s.moisture_inlet, s.moisture_outlet)
+    rates = {k: float(getattr(t, k)) for k in ("passive_rate", "exchange_rate", "return_rate", "kiln_rate")}
+    spec = SectionSpec(name="dryer", kind="flighted", length=d.length, n_cells=N, geometry=geometry,
+                       kilning="empirical", rates=rates, loading=t.loading,
+                       passive_time_branch=case.geometry.passive_time_branch,
+                       repose_angle=np.broadcast_to(np.asarray(phi, float), (N,)).copy(),
+                       bulk_density=s.bulk_density)
+    params = dict(n_cells=N, feed_rate=F, length=d.length, rpm=rpm, slope=d.slope, bulk_density=s.bulk_density,
+                  gas_flow=case.operating.gas_flow, geometry=repr(geometry), **rates)
+    return build_sections([spec], material=None, feed_rate=F, rpm=rpm, slope=d.slope,
+                          tracer_input=_tracer_pulse(case, F), name="sheehan2005_model1", parameters=params)
+
+
+def _with_core(case, model):
+    """The model with the case's near-stagnant core of the passive phase of every cell
+    (``transport.core`` = "first_order" or "diffusive", ``core_fraction``, ``core_time``; Lee and
+    general cases): :func:`rotarydryer.transport.core_variants.add_stagnant_core` (docs/rtd_spread.md)."""
+    tr = case.transport
+    core = getattr(tr, "core", "none")
+    if core == "none":
+        return model
+    from rotarydryer.transport.core_variants import add_stagnant_core
+
+    try:
+        return add_stagnant_core(model, tr.core_fraction, tr.core_time, core_model=core,
+                                 name=f"{model.name}+{core}_core")
+    except ValueError as exc:
+        raise ValueError(f"transport.core = {core!r} (transport.core_fraction = {fmt_number(tr.core_fraction)}, "
+                         f"transport.core_time = {fmt_number(tr.core_time)} s): {exc}") from None
 
 
 def _exponential_profile(x_in, x_out, frac):
@@ -278,16 +352,54 @@ def _exponential_profile(x_in, x_out, frac):
 def ajayi_test_inputs(case: AjayiCase) -> dict:
     """Per-test inputs of an ``AjayiCase``: the selected test row (``test``), feed rate
     ``feed_rate`` (kg/s), ``rpm``, solids velocity ``kiln_velocity`` (m/s) and ``dispersion``
-    (m^2/s): case overrides first, else the test's Table 5.2 values."""
+    (m^2/s): case overrides first, else the test's Table 5.2 values
+    (``transport.parameter_source = "per_test"``) or, with ``"predictive"``, per-section dicts from
+    :func:`rotarydryer.transport.ajayi_predictive.predictive_transport` at the test's feed, speed and
+    moisture (then also ``predictive`` and ``moisture_ends``, the test's inlet/product moisture)."""
     test = next((t for t in case.tests if t.test == case.operating.test), None)
     if test is None:
         raise ValueError(f"operating.test = {case.operating.test} is not in the case's tests "
                          f"({', '.join(str(t.test) for t in case.tests)})")
     tr = case.transport
-    return dict(test=test, feed_rate=case.operating.feed_rate or test.feed_rate,
-                rpm=case.operating.rpm or test.rpm,
-                kiln_velocity=tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity,
-                dispersion=tr.dispersion if tr.dispersion is not None else test.dispersion)
+    out = dict(test=test, feed_rate=case.operating.feed_rate or test.feed_rate,
+               rpm=case.operating.rpm or test.rpm,
+               kiln_velocity=tr.solids_velocity or tr.kiln_velocity or test.kiln_velocity,
+               dispersion=tr.dispersion if tr.dispersion is not None else test.dispersion)
+    if tr.parameter_source == "predictive":
+        pred = _ajayi_predictive(case, test, out["feed_rate"], out["rpm"])
+        out.update(predictive=pred, moisture_ends=(test.moisture_inlet, test.moisture_outlet))
+        if not (tr.solids_velocity or tr.kiln_velocity):
+            out["kiln_velocity"] = pred.kiln_velocity_m_s
+        if tr.dispersion is None:
+            out["dispersion"] = pred.dispersion_m2_s
+    elif out["kiln_velocity"] is None or out["dispersion"] is None:
+        fitted = ", ".join(str(t.test) for t in case.tests if t.kiln_velocity is not None and t.dispersion is not None)
+        raise ValueError(f"operating.test = {test.test} has no fitted solids velocity and dispersion (Ajayi (2011) "
+                         f"Table 5.2 fits tests {fitted}): set transport.parameter_source = 'predictive', or give "
+                         "transport.solids_velocity (m/s) and transport.dispersion (m^2/s)")
+    return out
+
+
+def _ajayi_predictive(case: AjayiCase, test, feed_rate, rpm):
+    """:class:`~rotarydryer.transport.ajayi_predictive.PredictiveTransport` of the selected test."""
+    from rotarydryer.transport.ajayi_predictive import predictive_transport
+
+    tr = case.transport
+    missing = [f"transport.{k}" for k in ("velocity_coefficient", "dispersion_coefficient") if getattr(tr, k) is None]
+    if missing:
+        raise ValueError(f"transport.parameter_source = 'predictive' needs {' and '.join(missing)} (the calibrated "
+                         "values are in the packaged ajayi2011_mmg.toml; docs/mmg_cross_test.md)")
+    material = material_of(case)
+    for key in ("moisture_inlet", "moisture_outlet"):
+        material.check_moisture(f"tests (test {test.test}).{key}", getattr(test, key))
+    secs = [dict(name=s.name, kind=s.kind, length=s.length, particle_diameter=s.particle_diameter)
+            for s in case.sections]
+    return predictive_transport(sections=secs, feed_rate=feed_rate, rpm=rpm, slope=case.drum.slope,
+                                radius=case.drum.radius, moisture_inlet=test.moisture_inlet,
+                                moisture_outlet=test.moisture_outlet, material=material,
+                                velocity_coefficient=tr.velocity_coefficient,
+                                dispersion_coefficient=tr.dispersion_coefficient, law=tr.velocity_law,
+                                moisture_scale=case.solids.moisture_scale)
 
 
 def ajayi_geometries(case: AjayiCase) -> dict:
@@ -325,12 +437,16 @@ def _build_ajayi(case: AjayiCase):
     F = inp["feed_rate"]
     tr = case.transport
     secs = [dict(name=s.name, kind=s.kind, length=s.length, n_cells=s.n_cells) for s in case.sections]
-    return ajayi2011(sections=secs, feed_rate=F, rpm=inp["rpm"], slope=case.drum.slope, radius=case.drum.radius,
-                     kiln_velocity=inp["kiln_velocity"], dispersion=inp["dispersion"],
-                     geometries=ajayi_geometries(case), fouling=_ajayi_fouling(case, inp["test"]),
-                     moisture_scale=case.solids.moisture_scale, inlet=tr.unflighted_inlet,
-                     unflighted_cells=tr.unflighted_cells, tracer_input=_tracer_pulse(case, F),
-                     gas_flow=case.operating.gas_flow, material=material_of(case))
+    model = ajayi2011(sections=secs, feed_rate=F, rpm=inp["rpm"], slope=case.drum.slope, radius=case.drum.radius,
+                      kiln_velocity=inp["kiln_velocity"], dispersion=inp["dispersion"],
+                      geometries=ajayi_geometries(case), fouling=_ajayi_fouling(case, inp["test"]),
+                      moisture_scale=case.solids.moisture_scale, inlet=tr.unflighted_inlet,
+                      unflighted_cells=tr.unflighted_cells, tracer_input=_tracer_pulse(case, F),
+                      gas_flow=case.operating.gas_flow, material=material_of(case),
+                      moisture_ends=inp.get("moisture_ends"))
+    if "predictive" in inp:     # parameter_source = "predictive": what the velocities came from
+        model.parameters["predictive"] = inp["predictive"].to_dict()
+    return model
 
 
 def settings_from_case(case: AjayiCase):
@@ -404,14 +520,30 @@ def _dryer_specs(case: DryerCase, material):
             drum = exact_drum(case.drum.radius, s.n_flights or case.drum.n_flights, **g,
                               where=where if s.s1 is not None else "flight",
                               n_flights_key=f"{where}.n_flights" if s.n_flights else "drum.n_flights")
+            dp = None
+            if case.geometry.finite_particle:
+                if tr.loading != "fixed":
+                    raise ValueError("geometry.finite_particle = true needs transport.loading = 'fixed' for now: with "
+                                     "the corrected holdup the state-dependent loading factor is not smooth enough "
+                                     "for the steady-state Newton solver (docs/dem.md)")
+                dp = s.particle_diameter or getattr(material, "particle_diameter", None)
+                if dp is None:
+                    raise ValueError(f"geometry.finite_particle = true needs a particle diameter: give "
+                                     f"{where}.particle_diameter or material.particle_diameter (m)")
+                if dp > 0.25 * drum.flight.s1:
+                    raise ValueError(f"geometry.finite_particle: particle diameter {dp:g} m is larger than a quarter "
+                                     f"of the flight base s1 = {drum.flight.s1:g} m ({where}); the correction holds "
+                                     "for d/s1 <= 0.25 (docs/dem.md)")
             geometry = ExactGeometry(drum, case.geometry.passive_time_branch,
-                                     design_load_method=case.geometry.design_load_method)
+                                     design_load_method=case.geometry.design_load_method, particle_diameter=dp)
             model = s.model or tr.model
             N = s.n_cells or tr.n_cells
             pos = x0 + (np.arange(N) + 0.5) * s.length / N
             common = dict(name=s.name, kind="flighted", length=s.length, n_cells=N, geometry=geometry,
                           loading=tr.loading, fouling=tr.fouling,
                           moisture=_exponential_profile(x_in, x_out, pos / length))
+            if tr.forward_step == "trajectory" and model != "sheehan2005_model1":   # Model 1 has no forward step
+                common.update(forward_step="trajectory", gas=curtain_gas(case, s.particle_diameter))
             if model == "ajayi2011":
                 specs.append(SectionSpec(kilning="velocity", kiln_velocity=tr.solids_velocity, **common))
             elif model == "sheehan2005_model1":
@@ -498,6 +630,11 @@ def thermal_inputs(case) -> dict:
     (name -> SectionSpec fields that differ from the transport model's sections)."""
     from rotarydryer.thermal.dryer import SectionThermal
 
+    core = getattr(case.transport, "core", "none")
+    if core != "none":
+        raise ValueError(f"transport.core = {core!r} is a transport-only variant (the heat-and-mass model has no "
+                         "stagnant core): set thermal.enabled = false for this case (rotarydryer rtd and the "
+                         "transport outputs use the core)")
     material = material_of(case)
     _, _, x_in, _ = operating_point(case)
     changes = {}

@@ -115,7 +115,7 @@ def _guard_all(typer_app):
 
 
 # Command modules (each registers its commands on ``app`` at import time).
-from . import balance, correlations, fit, flight, lab, report, rtdfit, schema, simulate, sweep, webapp  # noqa: E402,F401
+from . import balance, control, correlations, design, fmu, dem, fit, flight, lab, report, rtdfit, schema, sensitivity, simulate, sweep, webapp  # noqa: E402,F401,E501
 
 _guard_all(app)
 

@@ -358,3 +358,129 @@ def _read_design_table(table: Path, loading_column: str, area_column: str, group
     if not groups:
         raise ValueError(f"{name}: no data rows after the header")
     return groups
+
+
+def _step_times(text: str, factor: float):
+    """``--steps '0,37'`` (in the record's time unit) -> step times in s."""
+    out = []
+    for part in text.split(","):
+        try:
+            v = float(part)
+        except ValueError:
+            raise ValueError(f"--steps = {text!r}: {part.strip()!r} is not a number (give the step times in the "
+                             "unit of the record's time column, separated by commas, e.g. 0,37)") from None
+        if not math.isfinite(v):
+            raise ValueError(f"--steps = {text!r}: {part.strip()!r} is not a finite number")
+        out.append(v * factor)
+    return out
+
+
+@lab_app.command("steps")
+def steps(
+    data: Path = typer.Argument(..., help="CSV record: time_s|time_min|time_h, feed_kg_s|feed_kg_min|feed_kg_h|fed_kg, discharge_kg_s|discharge_kg_min|discharge_kg_h|discharged_kg."),
+    step_times: Optional[str] = typer.Option(None, "--steps", help="Step times, comma-separated, in the unit of the time column (default: detected from the feed; give them for speed or gas steps)."),
+    threshold: float = typer.Option(0.1, help="Step detection: smallest feed change, fraction of the largest feed (0-1)."),
+    plateau: float = typer.Option(0.2, help="Fraction of each interval, at its end, averaged for the plateau discharge (0-1]."),
+    tolerance: float = typer.Option(0.05, help="An interval is steady when its plateau discharge differs from its feed by less than this fraction of the largest feed (0-1)."),
+    initial_holdup: float = typer.Option(0.0, help="Holdup at the start of the record, kg (Song: 0, an empty dryer)."),
+    out: Optional[Path] = typer.Option(None, help="Directory for steps.csv (one row per interval) and steps.png."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Song's (2003) dynamic step method: holdup after each feed step from the area between the feed
+    and discharge records, mean residence time tau = H/F (Eq. 4.1), up/down agreement H1 = H2 and the
+    closure of a record that starts and ends empty (Table 4.2), reconciled.
+
+    Example: rotarydryer lab steps run.csv --out results
+    """
+    from ..lab import steps as sm
+
+    try:
+        check_option("--threshold", threshold, 0, 1, unit="(fraction of the largest feed)")
+        check_option("--plateau", plateau, 0, 1, high_inclusive=True, unit="(fraction of an interval)")
+        check_option("--tolerance", tolerance, 0, 1, unit="(fraction of the largest feed)")
+        check_option("--initial-holdup", initial_holdup, 0, 1e7, low_inclusive=True, high_inclusive=True, unit="kg")
+        check_out_dir("--out", out)
+        rec = sm.read_step_csv(data)
+        factor = sm.TIME_COLUMNS[rec.columns["time"]]
+        times = None
+        if step_times is not None:
+            times = _step_times(step_times, factor)
+            unit = rec.columns["time"].split("_", 1)[1]
+            shown = ", ".join(f"{x / factor:g}" for x in times)
+            if any(b <= a for a, b in zip(times, times[1:])):
+                raise ValueError(f"--steps = {shown} {unit} must increase")
+            t0, t1 = float(rec.time[0]), float(rec.time[-1])
+            if times[0] < t0 or times[-1] >= t1:
+                raise ValueError(f"--steps = {shown} {unit} must lie inside the record of {data} "
+                                 f"[{t0 / factor:g}, {t1 / factor:g}) {unit}")
+        a = sm.analyse_steps(rec, times, threshold=threshold, plateau=plateau, tolerance=tolerance,
+                             initial_holdup=initial_holdup)
+        outputs = _write_steps_outputs(sm, rec, a, out) if out is not None else None
+    except (ValueError, OSError) as exc:
+        _fail(exc)
+    res = {"columns": rec.columns, "samples": int(rec.time.size), **a.as_dict()}
+    if outputs is not None:
+        res["outputs"] = outputs
+    if as_json:
+        from .._io import json_text
+
+        typer.echo(json_text(res))
+        return
+    t_unit = rec.columns["time"].split("_", 1)[1]
+    typer.echo(f"step record {data}: {rec.time.size} samples over {(rec.time[-1] - rec.time[0]) / 60:.2f} min "
+               f"({', '.join(rec.columns.values())})")
+    how = "given" if step_times is not None else f"detected: feed changes > {threshold:g} of the largest feed"
+    typer.echo(f"  steps at {', '.join(f'{s / factor:g}' for s in a.steps_s)} {t_unit} ({how})")
+    typer.echo("  #   from - to (min)     feed   plateau (kg/min)   area dH (kg)   H (kg)   H rec. (kg)   tau (min)  steady")
+    for k, sg in enumerate(a.segments, start=1):
+        hr = "" if sg["holdup_reconciled_kg"] is None else f"{sg['holdup_reconciled_kg']:.2f}"
+        tau = "-" if sg["tau_s"] is None else f"{sg['tau_s'] / 60:.2f}"
+        typer.echo(f"  {k:<3d} {sg['start_s'] / 60:7.2f} - {sg['end_s'] / 60:<8.2f} {sg['feed_end_kg_s'] * 60:7.3f} "
+                   f"{sg['plateau_kg_s'] * 60:8.3f}        {sg['area_kg']:10.3f}   {sg['holdup_kg']:7.2f}   {hr:>10s}"
+                   f"   {tau:>9s}  {'yes' if sg['steady'] else 'NO'}")
+    if a.h_up_kg is not None or a.h_down_kg is not None:
+        parts = []
+        if a.h_up_kg is not None:
+            parts.append(f"up-step H1 = {a.h_up_kg:.2f} kg")
+        if a.h_down_kg is not None:
+            parts.append(f"down-step H2 = {a.h_down_kg:.2f} kg")
+        if a.up_down_pct is not None:
+            parts.append(f"H1 - H2 = {a.up_down_pct:+.2f} % of their mean (Song: < 3 %)")
+        typer.echo("  " + ", ".join(parts))
+    c = a.closure
+    if c["applies"]:
+        typer.echo(f"  closure: residual {c['residual_kg']:+.3f} kg = {c['residual_pct']:.2f} % of the areas "
+                   "(Song Table 4.2: 0.8-4.9 %), removed in proportion to each area (H rec.)")
+    else:
+        typer.echo(f"  closure not applicable: {c['why']}")
+    if not all(sg["steady"] for sg in a.segments if sg["feed_end_kg_s"] > 0):
+        typer.echo("  warning: an interval marked NO did not reach a steady discharge; its holdup is not the "
+                   "steady-state holdup (lengthen the step)")
+    if outputs is not None:
+        typer.echo(f"  outputs: {', '.join(outputs)}")
+
+
+def _write_steps_outputs(sm, rec, a, out: Path) -> list:
+    """steps.png and steps.csv in ``out``, rendered in memory first and each written atomically; if
+    the second write fails a steps.png created by this run is removed."""
+    import io
+
+    from .._io import write_bytes_atomic, write_text_atomic
+    from .._plotting import pyplot
+
+    fig = sm.plot_steps(rec, a)
+    buf = io.BytesIO()
+    try:
+        fig.savefig(buf, format="png", dpi=110)
+    finally:
+        pyplot().close(fig)
+    png, csv_path = out / "steps.png", out / "steps.csv"
+    existed = png.exists()
+    write_bytes_atomic(png, buf.getvalue())
+    try:
+        write_text_atomic(csv_path, sm.segment_table(a))
+    except BaseException:
+        if not existed:
+            png.unlink(missing_ok=True)
+        raise
+    return [str(png), str(csv_path)]

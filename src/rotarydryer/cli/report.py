@@ -23,6 +23,8 @@ def report(
                                                            "(default: the case's mean per section; 45 for a drum)."),
     save: Optional[Path] = typer.Option(None, help="Also save the results (netCDF, .nc) when SOURCE is a case."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (path, size, seconds)."),
+    sensitivity: Optional[Path] = typer.Option(None, "--sensitivity", help="Include a saved sensitivity study "
+                                               "(DIR/sensitivity.json of rotarydryer sensitivity)."),
 ):
     """Write a self-contained HTML report (pictures embedded).
 
@@ -37,12 +39,13 @@ def report(
       rotarydryer report invicta --repose-angle 50
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
-    from ..report.html import render_report, resolve_source, write_html
+    from ..report.html import load_sensitivity, render_report, resolve_source, write_html
 
     t0 = time.perf_counter()
     try:
         import sys
 
+        sens = load_sensitivity(sensitivity) if sensitivity is not None else None
         with typer.progressbar(length=2, label="report", file=sys.stderr,
                                hidden=as_json or not sys.stderr.isatty()) as bar:
             results, drums, title = resolve_source(source, parse_sets(set_), repose_angle=repose_angle)
@@ -51,7 +54,7 @@ def report(
                 if results is None:
                     raise ValueError(f"--save needs a case or results source, got the drum {source!r}")
                 results.save(save)
-            html_text = render_report(results, drums=drums, title=title)
+            html_text = render_report(results, drums=drums, title=title, sensitivity=sens)
             bar.update(1)
         write_html(html_text, out)
     except ValueError as exc:

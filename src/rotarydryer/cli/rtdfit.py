@@ -17,18 +17,28 @@ from ._common import check_option, check_out_dir, load_tracer
 
 _BASELINES = ("none", "leading", "trailing", "linear")
 _TAILS = ("none", "exponential", "auto")
-_MODELS = ("tanks_in_series", "dispersion_closed", "dispersion_open")
+#: rotarydryer.rtd.RTD_FIT_MODELS (kept literal: the command modules import light; a test checks it)
+_MODELS = ("tanks_in_series", "dispersion_closed", "dispersion_open", "interactive_mixers", "cholette_cloutier")
+_CELL_MODELS = ("interactive_mixers", "cholette_cloutier")
+_MAX_CELLS = 5000   # rotarydryer.rtd.fitting.MAX_SCAN_CELLS
 
 
-def _baseline(value: str):
-    """``--baseline``: a method name or a finite number (signal unit)."""
+def _baseline(value: str, allow_fit: bool = False):
+    """``--baseline``: a method name or a finite number (signal unit); ``fit`` (rtd-fit only):
+    a constant background fitted with the model."""
     v = value.strip().lower()
+    if v == "fit":
+        if not allow_fit:
+            raise ValueError(f"--baseline = {value!r}: a fitted background is an option of rtd-fit (and fit); "
+                             f"rtd-moments takes one of {', '.join(_BASELINES)} or a number (signal unit)")
+        return v
     if v in _BASELINES:
         return v
     try:
         float(v)
     except ValueError:
-        raise ValueError(f"--baseline = {value!r} is not one of {', '.join(_BASELINES)} or a number "
+        choices = ", ".join(_BASELINES + (("fit",) if allow_fit else ()))
+        raise ValueError(f"--baseline = {value!r} is not one of {choices} or a number "
                          "(signal unit)") from None
     return check_option("--baseline", v)
 
@@ -112,7 +122,8 @@ def rtd_moments_cmd(
 @app.command("rtd-fit")
 def rtd_fit_cmd(
     data: str = typer.Argument(..., help="Tracer CSV file or shipped data-set name."),
-    model: str = typer.Option("tanks_in_series", help="tanks_in_series | dispersion_closed | dispersion_open."),
+    model: str = typer.Option("tanks_in_series", help="tanks_in_series | dispersion_closed | dispersion_open | "
+                              "interactive_mixers | cholette_cloutier (Song (2003) Eq. 2.10-2.16)."),
     delay: bool = typer.Option(False, "--delay", help="Fit a dead time (s)."),
     scale: Optional[bool] = typer.Option(
         None, "--scale/--no-scale", help="Fit an unknown scale (default: only for non-normalised signals)."
@@ -120,14 +131,20 @@ def rtd_fit_cmd(
     pulse_s: Optional[float] = typer.Option(
         None, help="Rectangular input duration, s (default: file metadata; 0 = Dirac)."
     ),
-    baseline: str = typer.Option("none", help="Subtract a baseline first: none | leading | trailing | a number."),
+    baseline: str = typer.Option("none", help="Subtract a baseline first: none | leading | trailing | a number; "
+                                 "or 'fit': fit a constant background (signal unit) with the model."),
+    n_cells: Optional[int] = typer.Option(None, help="Cell models: number of cells N (integer; default: scanned)."),
     n_starts: int = typer.Option(1, help="Number of starts (the best is kept)."),
     out: Optional[Path] = typer.Option(None, help="Directory for rtd_fit.png (data, model, residuals)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ):
-    """Fit a tanks-in-series or axial-dispersion RTD by least squares, with 95 % intervals.
+    """Fit a reference RTD model by least squares, with 95 % intervals: tanks in series, axial
+    dispersion, or Song's (2003) Eq. 2.10-2.16 cells (interactive mixers; with dead zones,
+    cholette_cloutier); optionally with a fitted constant background (--baseline fit).
 
     Example: rotarydryer rtd-fit lee2008_invicta --model dispersion_open --delay --json
+
+    Example: rotarydryer rtd-fit ajayi2011_test4 --model interactive_mixers --baseline fit
     """
     import numpy as np
 
@@ -136,7 +153,12 @@ def rtd_fit_cmd(
 
     try:
         _choice("--model", model, _MODELS)
-        b = _baseline(baseline)
+        b = _baseline(baseline, allow_fit=True)
+        if n_cells is not None:
+            if model not in _CELL_MODELS:
+                raise ValueError(f"--n-cells = {n_cells} applies only to --model {' or '.join(_CELL_MODELS)} "
+                                 f"(got --model {model})")
+            check_option("--n-cells", n_cells, 1, _MAX_CELLS, low_inclusive=True, high_inclusive=True)
         check_option("--n-starts", n_starts, 1, 1000, low_inclusive=True, high_inclusive=True)
         if pulse_s is not None:
             check_option("--pulse-s", pulse_s, 0.0, low_inclusive=True, unit="s")
@@ -147,10 +169,10 @@ def rtd_fit_cmd(
                 f"--pulse-s = {fmt(pulse_s)} s is not shorter than the record of {data} "
                 f"({fmt(d.time_s[-1] - d.time_origin_s)} s after the injection start)"
             )
-        if b != "none":
+        if b not in ("none", "fit"):
             y, _ = _named(data, subtract_baseline, d.time_s, d.signal, b)
             d = TracerData(d.time_s, y, d.metadata, d.time_column, d.extra_columns, d.path)
-        kw = dict(model=model, fit_delay=delay, n_starts=n_starts)
+        kw = dict(model=model, fit_delay=delay, n_starts=n_starts, fit_baseline=b == "fit", n_cells=n_cells)
         if scale is not None:
             kw["fit_scale"] = scale
         if pulse_s is not None:
@@ -190,6 +212,10 @@ def rtd_fit_cmd(
         typer.echo(json.dumps(res))
         return
     typer.echo(f"{model} fit to {data}: {f.n_points} points, {f.n_evaluations} model evaluations")
+    if "n_cells" in f.fixed:
+        how = ("given (--n-cells)" if n_cells is not None
+               else f"integer scan, {len(f.n_cells_scan)} values of N fitted")
+        typer.echo(f"  number of cells N = {f.fixed['n_cells']} ({how})")
     typer.echo(f"  objective (SSR) {f.objective:.6g}   R^2 {f.r_squared:.5f}")
     typer.echo(f"  {'parameter':24s} {'value':>12s} {'std error':>12s} {'95 % CI':>28s}")
     for k in f.parameter_names:

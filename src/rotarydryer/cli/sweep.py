@@ -75,11 +75,13 @@ def run_point(case: str, overrides: dict, rtd: bool = True) -> dict:
     """One sweep point -> a flat row (overrides + key scalars, units in the names); an
     invalid point gives a row with ``error``.  Top-level so that it pickles for
     process pools and Dask."""
+    from .._threads import single_threaded
     from ..results import run_case
 
     row = dict(overrides)
     try:
-        res = run_case(case, overrides, rtd=rtd)
+        with single_threaded():      # one BLAS/OpenMP thread per run (no oversubscription, issue 16)
+            res = run_case(case, overrides, rtd=rtd)
     except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
         row["error"] = " ".join(str(exc).split()) or type(exc).__name__
         return row
@@ -126,7 +128,9 @@ def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Opt
         return rows
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    with ProcessPoolExecutor(max_workers=workers) as ex:
+    from .._threads import limit_worker_threads
+
+    with ProcessPoolExecutor(max_workers=workers, initializer=limit_worker_threads) as ex:
         futs = {ex.submit(run_point, case, p, rtd): i for i, p in enumerate(points)}
         for f in as_completed(futs):
             rows[futs[f]] = f.result()

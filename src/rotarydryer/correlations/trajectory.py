@@ -344,8 +344,10 @@ def sherritt_curtain_velocity_ratio(fall_height, solids_rate, length):
     minus signs are assigned to the first two exponents by their position, and
     the meanings of h_f (read as the fall height), F (read as the solids release
     rate) and L (read as a length) and their units are **not** defined in Lee.
-    Unverified: no number is printed to check it against. Use it only to scale
-    ``gas_velocity`` of :func:`cascade_trajectory` for sensitivity studies.
+    Unverified: no number is printed to check it against. The trajectory forward step
+    of the transport models (:mod:`rotarydryer.transport.forward_step`) reads F as the
+    release rate of a curtain L metres long and, a drum's curtain being continuous along
+    the axis, evaluates it per metre of drum (F = q x 1 m, L = 1 m; docs/transport.md).
 
     Parameters
     ----------

@@ -21,15 +21,22 @@ start of injection). A signal in 1/h is converted to 1/s; a raw concentration
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
 
+from .._threads import single_threaded
 from .._validation import check_choice
 from .fit import Dataset, FitResult, Parameter, fit
 
-__all__ = ["DEFAULT_BOUNDS", "CaseFit", "case_parameter", "tracer_model", "fit_case_to_tracer", "evaluate_objective"]
+__all__ = ["DEFAULT_BOUNDS", "BASELINE", "BASELINE_CHOICES", "CaseFit", "case_parameter", "tracer_model",
+           "fit_case_to_tracer", "evaluate_objective", "baseline_parameter", "profile_case_fit"]
+
+#: name of the fitted constant tracer background (signal unit; not a case key)
+BASELINE = "baseline"
+#: ``baseline`` choices of :func:`fit_case_to_tracer` (and ``rotarydryer fit --baseline``)
+BASELINE_CHOICES = ("none", "fit")
 
 #: Default (lower, upper, log) of well-known keys; any other numeric key gets (0, inf, log)
 #: when positive, else unbounded.
@@ -39,6 +46,12 @@ DEFAULT_BOUNDS = {
     "transport.drag_reduction": (0.0, 3.0, False),  # -, Lee (2008) C_F^G
     "transport.solids_velocity": (1e-4, 0.5, True),  # m/s, Ajayi (2011) Table 5.2
     "transport.dispersion": (1e-7, 1e-1, True),  # m^2/s, Ajayi (2011) Table 5.2
+    "transport.core_fraction": (1e-4, 10.0, True),  # -, beta of transport.core (docs/rtd_spread.md)
+    "transport.core_time": (1.0, 1e6, True),  # s, t_c or t_D of transport.core
+    "transport.passive_rate": (1e-6, 10.0, True),  # 1/s, Sheehan et al. (2005) Model 1
+    "transport.exchange_rate": (1e-6, 100.0, True),
+    "transport.return_rate": (1e-6, 100.0, True),
+    "transport.kiln_rate": (1e-6, 100.0, True),
 }
 
 
@@ -107,7 +120,9 @@ def _relative_times(data, scale: str = "known"):
 def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | None = None, scale: str = "known",
                  observed: np.ndarray | None = None, dt: float | None = None, with_holdup: bool = False):
     """Model callable ``values -> E(t)`` at ``times`` (s since injection) for :func:`fit`;
-    with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``."""
+    with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``. A value
+    :data:`BASELINE` in ``values`` (a fitted constant background, signal unit) is added to the
+    curve (with ``scale="fit"`` the scale is matched to the observed signal minus it)."""
     from ..simulation import Simulation
 
     check_choice("scale", scale, ("known", "fit"))
@@ -121,13 +136,16 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
     base = dict(base_overrides or {})
 
     def model(values: dict):
+        values = dict(values)
+        b = float(values.pop(BASELINE, 0.0))
         ss = Simulation(case_name, {**base, **values}).transport_steady_state()
         resp = ss.rtd(t_end=t_end, dt=step).response
         e = np.interp(times, resp.time, resp.exit_age)
         if scale == "fit":
             den = float(e @ e)
-            c = float(observed @ e) / den if den > 0 else 0.0
+            c = float((observed - b) @ e) / den if den > 0 else 0.0
             e = c * e
+        e = e + b
         if with_holdup:
             return {"tracer": e, "holdup": np.array([ss.total_holdup])}
         return e
@@ -146,6 +164,10 @@ class CaseFit:
     observed: np.ndarray
     fit: FitResult
     reference_objective: float | None = None
+    #: what :func:`profile_case_fit` re-fits: the model callable, its parameters and data sets
+    model: object = field(default=None, repr=False)
+    parameters: list = field(default_factory=list, repr=False)
+    datasets: list = field(default_factory=list, repr=False)
 
     def to_dict(self) -> dict:
         d = self.fit.to_dict()
@@ -161,11 +183,12 @@ def evaluate_objective(case_name: str, data, values: dict, *, base_overrides=Non
     return float(np.sum((y - model(values)) ** 2))
 
 
+@single_threaded()
 def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Parameter], *,
                        base_overrides: dict | None = None, method: str = "wls", n_starts: int = 2,
                        seed: int = 0, scale: str = "known", progress=None,
                        reference: dict | None = None, holdup: tuple[float, float] | None = None,
-                       tracer_sigma: float | None = None) -> CaseFit:
+                       tracer_sigma: float | None = None, baseline: str = "none") -> CaseFit:
     """Fit override keys of a case to a measured tracer curve (:class:`rotarydryer.rtd.TracerData`).
 
     ``keys`` are override keys (start values and bounds from the case and
@@ -178,10 +201,19 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
     tracer then needs its own standard deviation ``tracer_sigma`` (units of E, 1/s, or of
     the raw signal with ``scale="fit"``) so that the two are weighted against each other
     (``method="ml"`` estimates both variances instead).
+
+    ``baseline="fit"`` adds a constant background of the signal (:data:`BASELINE`, signal unit:
+    1/s for E(t), ppm for Ajayi's raw lithium) as one more fitted parameter
+    (:func:`baseline_parameter`): y = A E(t) + b.
     """
     check_choice("scale", scale, ("known", "fit"))
+    check_choice("baseline", baseline, BASELINE_CHOICES)
     params = [k if isinstance(k, Parameter) else case_parameter(case_name, k, base_overrides) for k in keys]
     t, y = _relative_times(data, scale)
+    if baseline == "fit":
+        if BASELINE in [p.name for p in params]:
+            raise ValueError(f"parameter {BASELINE!r} is given twice (it is added by baseline = 'fit')")
+        params.append(baseline_parameter(y))
     if t.size <= len(params):
         raise ValueError(f"too few data points after the injection start: {t.size} for {len(params)} parameters")
     data_sets = [Dataset("tracer", y, None if tracer_sigma is None else np.full(y.shape, float(tracer_sigma)))]
@@ -201,4 +233,45 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
         pred = model(dict(reference))
         pred = pred["tracer"] if isinstance(pred, dict) else pred
         ref = float(np.sum((y - pred) ** 2))
-    return CaseFit(case_name, [p.name for p in params], dict(base_overrides or {}), t, y, res, ref)
+    return CaseFit(case_name, [p.name for p in params], dict(base_overrides or {}), t, y, res, ref,
+                   model=model, parameters=params, datasets=data_sets)
+
+
+def baseline_parameter(observed) -> Parameter:
+    """The fitted constant background :data:`BASELINE` (signal unit) for an observed tracer
+    signal: start at the median of the lowest quarter of the samples (the background before the
+    tracer arrives and after it has left), bounds +/- the largest |signal|."""
+    y = np.asarray(observed, dtype=float)
+    top = float(np.max(np.abs(y))) if y.size else 0.0
+    if not top > 0:
+        raise ValueError("baseline = 'fit' needs a signal with a non-zero value")
+    low = np.sort(y)[: max(1, y.size // 4)]
+    return Parameter(BASELINE, float(np.clip(np.median(low), -top, top)), -top, top, False)
+
+
+def profile_case_fit(case_fit: CaseFit, names: Sequence[str] | None = None, *, n_points: int = 11,
+                     span: float = 4.0, progress=None) -> dict:
+    """Profile likelihood (:func:`rotarydryer.estimation.profile_likelihood`) of the parameters
+    ``names`` (default all) of a :class:`CaseFit`: {name: ProfileResult}. Each profile point
+    re-fits the other parameters with the parameter held fixed, on a grid of ``n_points``
+    values within +/- ``span`` Wald standard errors; the 95 % interval is where the objective
+    rises by less than chi2(0.95, 1) = 3.84 (in units of the residual variance for wls).
+    ``progress(name, k, n)`` after each parameter."""
+    from .fit import profile_likelihood
+
+    if case_fit.model is None:
+        raise ValueError("this CaseFit carries no model (fit it with fit_case_to_tracer)")
+    n = int(n_points)
+    if n != n_points or not 3 <= n <= 101:
+        raise ValueError(f"n_points = {n_points!r} must be an integer in [3, 101]")
+    all_names = [p.name for p in case_fit.parameters]
+    names = list(all_names if names is None else names)
+    for k in names:
+        check_choice("profile parameter", k, all_names)
+    out = {}
+    for i, k in enumerate(names):
+        out[k] = profile_likelihood(case_fit.model, case_fit.parameters, case_fit.datasets, case_fit.fit, k,
+                                    n_points=n, span=span)
+        if progress is not None:
+            progress(k, i + 1, len(names))
+    return out

@@ -603,7 +603,8 @@ class ProfileResult:
 
     ``delta`` is the increase of ``2 x`` negative log-likelihood (ml) or of the weighted
     SSE divided by the residual variance (wls); the 95 % interval is where
-    ``delta < chi2(0.95, 1) = 3.84``. ``flat`` flags a profile that never reaches it.
+    ``delta < chi2(0.95, 1) = 3.84``. ``flat`` flags a profile that never reaches it. A grid
+    point where the other parameters could not be re-fitted has ``delta = inf``.
     """
 
     name: str
@@ -612,14 +613,20 @@ class ProfileResult:
     ci_low: float
     ci_high: float
     flat: bool
+    #: the profile stays below the threshold on that side (the interval ends at the grid, open)
+    open_low: bool = False
+    open_high: bool = False
 
 
 def profile_likelihood(model, parameters, data, result: FitResult, name: str, *, n_points: int = 15,
-                       span: float = 4.0, method: str | None = None) -> ProfileResult:
+                       span: float = 4.0, method: str | None = None, extend: int = 4) -> ProfileResult:
     """Profile likelihood of parameter ``name`` around the estimate in ``result``.
 
     The grid spans ``+/- span`` standard errors (in the transformed space for log
-    parameters). Each point re-fits the other parameters from the optimum.
+    parameters). Each point re-fits the other parameters from the optimum. A side where the
+    profile stays below the 95 % threshold is extended, up to ``extend`` times, by
+    ``n_points // 2`` points reaching 1.5 times further each time (within the parameter's
+    bounds): the profile may be much flatter than the Wald (linearised) curvature says.
     """
     params = list(parameters)
     idx = {p.name: i for i, p in enumerate(params)}
@@ -632,7 +639,6 @@ def profile_likelihood(model, parameters, data, result: FitResult, name: str, *,
     sd_z = est.std_error / est.value if target.log else est.std_error
     sd_z = sd_z if (np.isfinite(sd_z) and sd_z > 0) else 0.1 * max(abs(zc), 1.0)
     lo_b, hi_b = target.z_bounds
-    grid_z = np.clip(zc + np.linspace(-span, span, n_points) * sd_z, lo_b, hi_b)
     others = [
         Parameter(p.name, float(np.clip(result.values[p.name], p.lower, p.upper)), p.lower, p.upper, p.log)
         for p in params if p.name != name
@@ -642,31 +648,58 @@ def profile_likelihood(model, parameters, data, result: FitResult, name: str, *,
     if method == "wls" and not all(d.sigma is not None for d in data):
         s2 = result.objective / max(result.dof, 1)
     base = result.objective
-    deltas = []
-    for zg in grid_z:
+    crit = float(stats.chi2.ppf(0.95, 1))
+    points: dict[float, float] = {}
+
+    def delta(zg):
+        zg = float(zg)
+        if zg in points:
+            return points[zg]
         v = float(target.from_z(zg))
         if others:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                r = fit(model, others, data, method=method, n_starts=1, fixed={name: v})
-            obj = r.objective
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    r = fit(model, others, data, method=method, n_starts=1, fixed={name: v})
+                obj = r.objective
+            except FitError:
+                # the model cannot be fitted with the parameter held here (e.g. infeasible): the point
+                # counts as outside the interval, which then ends at the last point that could be fitted
+                obj = math.inf
         else:
             prob = _Problem(model, [], data, method, {name: v})
             res = type("R", (), {})()
             res.x = np.array([])
             res.fun = prob.residuals(np.array([]))
             obj = _objective(prob, res)
-        deltas.append(2.0 * (obj - base) if method == "ml" else (obj - base) / s2)
-    deltas = np.maximum(np.array(deltas), 0.0)
+        points[zg] = max(2.0 * (obj - base) if method == "ml" else (obj - base) / s2, 0.0)
+        return points[zg]
+
+    for zg in np.clip(zc + np.linspace(-span, span, n_points) * sd_z, lo_b, hi_b):
+        delta(zg)
+    for sign, bound in ((-1.0, lo_b), (1.0, hi_b)):
+        reach = span
+        for _ in range(int(extend)):
+            side = [d for z, d in points.items() if sign * (z - zc) > 0]
+            end = zc + sign * reach * sd_z
+            if (side and max(side) >= crit) or not (lo_b < end < hi_b):
+                break
+            new = reach * 1.5
+            for f in np.linspace(reach, new, max(n_points // 2, 2) + 1)[1:]:
+                delta(float(np.clip(zc + sign * f * sd_z, lo_b, hi_b)))
+            reach = new
+    grid_z = np.array(sorted(points))
+    deltas = np.array([points[z] for z in grid_z])
     vals = np.array([float(target.from_z(z)) for z in grid_z])
-    crit = float(stats.chi2.ppf(0.95, 1))
     flat = bool(deltas.max() < crit)
     lo, hi = _crossings(grid_z, deltas, crit, zc)
+    open_low = not bool(np.any(deltas[grid_z < zc] >= crit))
+    open_high = not bool(np.any(deltas[grid_z > zc] >= crit))
     lo, hi = float(target.from_z(lo)), float(target.from_z(hi))
     if flat:
-        warnings.warn(f"profile of {name} is flat over +/-{span} standard errors: not identifiable from these data",
-                      IdentifiabilityWarning, stacklevel=2)
-    return ProfileResult(name, vals, deltas, lo, hi, flat)
+        warnings.warn(f"profile of {name} is flat over the grid ({vals.min():.4g} to {vals.max():.4g}): not "
+                      "identifiable from these data", IdentifiabilityWarning, stacklevel=2)
+    return ProfileResult(name, vals, deltas, lo, hi, flat, open_low, open_high)
 
 
 def _crossings(z, delta, crit, zc):

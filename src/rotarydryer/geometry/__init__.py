@@ -6,6 +6,7 @@ Public API::
     flight = TwoSectionFlight(s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0)
     drum = FlightedDrum(radius=2.5, n_flights=28, flight=flight)
     drum.holdup_area(psi, repose_angle)     # m^2, vectorised
+    drum.holdup_area(psi, repose_angle, particle_diameter=0.01)  # with the finite-particle correction
     drum.transition_angles(repose_angle)    # (psi1, ..., psi5), deg
     drum.cascade(repose_angle, loading_factor, rpm=3.0)   # CascadeSummary
     drum.design_load_area(repose_angle, method="lee2008") # m^2 of drum cross-section
@@ -23,11 +24,13 @@ from .design_load import (
 )
 from .drum import (
     CRITICAL_SPEED_WARN_FRACTION,
+    SURFACE_LAYER as SURFACE_LAYER_DEFAULT,
     CriticalSpeedWarning,
     FlightedDrum,
     TransitionAngles,
     check_speed,
     critical_speed,
+    finite_particle_correction,
 )
 from .flights import TwoSectionFlight
 from .unloading import (
@@ -51,6 +54,8 @@ __all__ = [
     "FALL_HEIGHT_DEFINITIONS",
     "FlightedDrum",
     "LOADING_STATES",
+    "SURFACE_LAYER_DEFAULT",
+    "finite_particle_correction",
     "PASSIVE_TIME_BRANCHES",
     "TransitionAngles",
     "TwoSectionFlight",

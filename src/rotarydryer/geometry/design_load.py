@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from .._validation import check_choice, check_range
-from .drum import FlightedDrum, _holdup
+from .drum import FlightedDrum, _H
 from .unloading import first_unloading_angle
 
 __all__ = [
@@ -59,24 +59,31 @@ def design_load_methods() -> tuple[str, ...]:
     return DESIGN_LOAD_METHODS
 
 
-def _upper_flight_holdups(drum: FlightedDrum, phi, convention):
-    """H0 (FUF) and holdups of the upper-half flights at design, m^2. Shapes (...), (..., n)."""
+def _upper_flight_holdups(drum: FlightedDrum, phi, convention, particle_diameter=None):
+    """H0 (FUF) and holdups of the upper-half flights at design, m^2. Shapes (...), (..., n).
+
+    With a ``particle_diameter`` (m) the holdups carry the finite-particle correction
+    (:func:`rotarydryer.geometry.drum.finite_particle_correction`)."""
     c = drum._c
+    delta = None if particle_diameter is None else drum._layer(particle_diameter)
     psi0 = first_unloading_angle(drum, convention)
     n = math.ceil(drum.n_flights / 2) - 1
     phi = np.asarray(phi, dtype=float)
     psi = psi0 + c.psi_fl * np.arange(1, n + 1)
     ph = phi[..., None]
-    hi = _holdup(c, np.broadcast_to(psi, ph.shape[:-1] + (n,)), np.broadcast_to(ph, ph.shape[:-1] + (n,)))
-    h0 = _holdup(c, np.full_like(phi, psi0), phi)
+    hi = _H(c, np.broadcast_to(psi, ph.shape[:-1] + (n,)), np.broadcast_to(ph, ph.shape[:-1] + (n,)), delta)
+    h0 = _H(c, np.full_like(phi, psi0), phi, delta)
     return h0, hi
 
 
-def design_load_area(drum: FlightedDrum, repose_angle, *, method: str = "lee2008", convention: str = "root"):
+def design_load_area(drum: FlightedDrum, repose_angle, *, method: str = "lee2008", convention: str = "root",
+                     particle_diameter=None):
     """Design-load cross-sectional area of passive solids in the whole drum, m^2.
 
     See the module docstring for the methods and conventions. Vectorised over
-    ``repose_angle`` (deg, in (0, 90)).
+    ``repose_angle`` (deg, in (0, 90)). ``particle_diameter`` (m, optional) applies the
+    finite-particle correction to every flight holdup (``docs/dem.md``); ``None`` is the
+    continuum model.
 
     Examples
     --------
@@ -87,7 +94,7 @@ def design_load_area(drum: FlightedDrum, repose_angle, *, method: str = "lee2008
     """
     check_choice("method", method, DESIGN_LOAD_METHODS)
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
-    h0, hi = _upper_flight_holdups(drum, phi, convention)
+    h0, hi = _upper_flight_holdups(drum, phi, convention, particle_diameter)
     if method == "porter1963":
         return drum.n_flights * h0 / 2.0
     if method == "kelly1977":
@@ -98,14 +105,15 @@ def design_load_area(drum: FlightedDrum, repose_angle, *, method: str = "lee2008
     return baker
 
 
-def design_load_mass(drum: FlightedDrum, repose_angle, bulk_density, length, **kwargs):
+def design_load_mass(drum: FlightedDrum, repose_angle, bulk_density, length, **kwargs):  # noqa: D417
     """Design load in kg: :func:`design_load_area` x bulk density (kg/m^3) x length (m)."""
     rho = check_range("bulk_density", bulk_density, 0.0, math.inf, unit="kg/m^3")
     ell = check_range("length", length, 0.0, math.inf, unit="m")
     return design_load_area(drum, repose_angle, **kwargs) * rho * ell
 
 
-def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, convention: str = "root"):
+def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, convention: str = "root",
+                   particle_diameter=None):
     """Flight loading factor ``f_load`` from the dryer loading ``d_load = M_p / M_p,des``.
 
     Solves Lee (2008) Eq. 4.22 exactly,
@@ -113,12 +121,13 @@ def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, conventio
     the right-hand side is piecewise linear and strictly increasing in ``f``, so the
     inverse is found segment by segment (no iteration). ``f = 1`` for ``d >= 1``
     (a flight never holds more than its design load; the excess kilns).
-    Vectorised over both arguments. ``dryer_loading`` must be >= 0.
+    Vectorised over both arguments. ``dryer_loading`` must be >= 0. ``particle_diameter`` (m,
+    optional): finite-particle correction of the holdups (``docs/dem.md``).
     """
     d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
     d, phi = np.broadcast_arrays(d, phi)
-    h0, hi = _upper_flight_holdups(drum, phi, convention)
+    h0, hi = _upper_flight_holdups(drum, phi, convention, particle_diameter)
     r = np.sort(np.clip(hi / h0[..., None], 0.0, 1.0), axis=-1)  # breakpoints in f
     n = r.shape[-1]
     # g(f) = f + 2 sum_i min(f, r_i); g(1) = M_des/H0

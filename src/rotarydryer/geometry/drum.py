@@ -29,7 +29,7 @@ from .._validation import check_range, fmt_number
 from .flights import TwoSectionFlight
 
 __all__ = ["FlightedDrum", "TransitionAngles", "CriticalSpeedWarning", "critical_speed", "check_speed",
-           "CRITICAL_SPEED_WARN_FRACTION"]
+           "CRITICAL_SPEED_WARN_FRACTION", "SURFACE_LAYER", "finite_particle_correction", "surface_layer_thickness"]
 
 _DEG = math.pi / 180.0
 
@@ -288,7 +288,7 @@ class FlightedDrum:
         return TransitionAngles(phi + c.off1, phi + c.off2, phi + c.off3, phi + c.off4, phi + c.off5)
 
     # ------------------------------------------------------------------ holdup
-    def holdup_area(self, psi, repose_angle) -> np.ndarray:
+    def holdup_area(self, psi, repose_angle, particle_diameter=None, *, surface_layer=None) -> np.ndarray:
         """Cross-sectional area of solids held by one flight, m^2 (per m of flight length).
 
         Parameters
@@ -298,6 +298,11 @@ class FlightedDrum:
             rotation; wrapped into [0, 360).
         repose_angle : array_like
             Dynamic angle of repose, deg, in (0, 90). Broadcasts with ``psi``.
+        particle_diameter : float, optional
+            Particle diameter ``d``, m: adds the finite-particle correction
+            (:func:`finite_particle_correction`; ``docs/dem.md``), a surface layer of
+            ``surface_layer`` diameters (default :data:`SURFACE_LAYER`, calibrated on DEM).
+            ``None`` (default) is Lee's continuum model, unchanged.
 
         Notes
         -----
@@ -308,14 +313,19 @@ class FlightedDrum:
         for kg.
         """
         psi, phi = _prepare(psi, repose_angle)
-        return _holdup(self._c, psi, phi)
+        if particle_diameter is None:
+            return _holdup(self._c, psi, phi)
+        return _holdup_fp(self._c, psi, phi, self._layer(particle_diameter, surface_layer))
 
-    def holdup_slope(self, psi, repose_angle) -> np.ndarray:
-        """Analytic derivative dH/dpsi of :meth:`holdup_area`, m^2 per degree (<= 0)."""
+    def holdup_slope(self, psi, repose_angle, particle_diameter=None, *, surface_layer=None) -> np.ndarray:
+        """Derivative dH/dpsi of :meth:`holdup_area`, m^2 per degree (<= 0): analytic for the
+        continuum model, a central difference (1e-4 deg) with a ``particle_diameter``."""
         psi, phi = _prepare(psi, repose_angle)
-        return _holdup_slope(self._c, psi, phi)
+        if particle_diameter is None:
+            return _holdup_slope(self._c, psi, phi)
+        return _holdup_slope_fp(self._c, psi, phi, self._layer(particle_diameter, surface_layer))
 
-    def discharge_rate(self, psi, repose_angle, rpm) -> np.ndarray:
+    def discharge_rate(self, psi, repose_angle, rpm, particle_diameter=None, *, surface_layer=None) -> np.ndarray:
         """Flight discharge rate ``-omega dH/dpsi``, m^2/s per m of flight length (Lee (2008) l.4789).
 
         ``rpm`` is the drum speed in revolutions per minute. Multiply by bulk density
@@ -323,36 +333,46 @@ class FlightedDrum:
         the horizontal rolls into the next flight rather than into the curtain.
         """
         rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rpm")
-        psi, phi = _prepare(psi, repose_angle)
-        return -_holdup_slope(self._c, psi, phi) * (6.0 * rpm)
+        return -self.holdup_slope(psi, repose_angle, particle_diameter, surface_layer=surface_layer) * (6.0 * rpm)
+
+    def surface_layer_thickness(self, particle_diameter, surface_layer=None) -> float:
+        """Thickness ``delta = k d`` of the finite-particle surface layer, m (``docs/dem.md``).
+
+        Raises ``ValueError`` for particles larger than a quarter of the flight base."""
+        return self._layer(particle_diameter, surface_layer)
+
+    def _layer(self, particle_diameter, surface_layer=None) -> float:
+        return surface_layer_thickness(self.flight.s1, particle_diameter, surface_layer)
 
     # ------------------------------------------------------------------ unloading, design load
     def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, fall_height="chord",
-                passive_time_branch="eq3.4", convention="root", drag=None):
+                passive_time_branch="eq3.4", convention="root", drag=None, particle_diameter=None):
         """Mass-averaged cascade properties; see :func:`rotarydryer.geometry.unloading.cascade`."""
         from .unloading import cascade
 
         return cascade(self, repose_angle, loading_factor, rpm=rpm, slope=slope,
                        fall_height=fall_height, passive_time_branch=passive_time_branch,
-                       convention=convention, drag=drag)
+                       convention=convention, drag=drag, particle_diameter=particle_diameter)
 
-    def design_load_area(self, repose_angle, *, method="lee2008", convention="root"):
+    def design_load_area(self, repose_angle, *, method="lee2008", convention="root", particle_diameter=None):
         """Design-load area of passive solids in the drum cross-section, m^2.
 
         See :func:`rotarydryer.geometry.design_load.design_load_area`.
         """
         from .design_load import design_load_area
 
-        return design_load_area(self, repose_angle, method=method, convention=convention)
+        return design_load_area(self, repose_angle, method=method, convention=convention,
+                                particle_diameter=particle_diameter)
 
-    def loading_factor(self, dryer_loading, repose_angle, *, convention="root"):
+    def loading_factor(self, dryer_loading, repose_angle, *, convention="root", particle_diameter=None):
         """Flight loading factor from the dryer loading (Lee (2008) Eq. 4.22, solved exactly).
 
         See :func:`rotarydryer.geometry.design_load.loading_factor`.
         """
         from .design_load import loading_factor
 
-        return loading_factor(self, dryer_loading, repose_angle, convention=convention)
+        return loading_factor(self, dryer_loading, repose_angle, convention=convention,
+                              particle_diameter=particle_diameter)
 
     # ------------------------------------------------------------------ coordinates
     def flight_outline(self, psi: float) -> np.ndarray:
@@ -488,6 +508,225 @@ def _evaluate(c: _Consts, psi, phi, slope: bool):
 
 def _holdup(c: _Consts, psi, phi):
     return _evaluate(c, psi, phi, slope=False)
+
+
+# ---------------------------------------------------------------------- finite-particle correction
+#: Thickness of the finite-particle surface layer in particle diameters, ``k`` in ``delta = k d``:
+#: least squares over the project's DEM runs marked "fit" (``src/rotarydryer/data/dem/``, fitted by
+#: ``rotarydryer.dem.fit.fit_report``: k = 1.514 on the five fit runs; docs/dem.md); the seven
+#: held-out runs validate it (pooled RMS 3.7 % of a full flight against 5.7 % without).
+SURFACE_LAYER = 1.51
+#: particles larger than this fraction of the flight base s1 are refused
+MAX_PARTICLE_FRACTION = 0.25
+
+
+def surface_layer_thickness(s1: float, particle_diameter, surface_layer=None) -> float:
+    """``delta = k d`` (m) for particles of ``particle_diameter`` (m) on flights of base ``s1`` (m)."""
+    try:
+        d = float(particle_diameter)
+        ok = math.isfinite(d) and d >= 0.0
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        d = float(check_range("particle_diameter", particle_diameter, 0.0, math.inf, low_inclusive=True, unit="m"))
+    if d > MAX_PARTICLE_FRACTION * s1:
+        raise ValueError(
+            f"particle_diameter = {fmt_number(d)} m is larger than a quarter of the flight base s1 = {fmt_number(s1)} m "
+            f"(d/s1 = {d / s1:.3g}); the allowed range is [0, {fmt_number(MAX_PARTICLE_FRACTION * s1)}] m: the "
+            "flight would hold a handful of particles and no continuum model applies")
+    k = SURFACE_LAYER if surface_layer is None else float(
+        check_range("surface_layer", surface_layer, 0.0, 20.0, low_inclusive=True, high_inclusive=True))
+    return k * d
+
+
+def _both_I(c: _Consts, psi, phi):
+    """Lee (2008) Eq. 4.14 and its slope (m^2, m^2/deg) sharing the trigonometry."""
+    aft = c.alpha_ft * _DEG
+    delta = (psi + c.psi_ft + 0.5 * c.psi_fl - phi) * _DEG
+    s = np.sin(aft + delta)
+    k = 0.5 * c.s_ft**2 * math.sin(aft)
+    return c.full_area - k * np.sin(delta) / s, -k * math.sin(aft) / (s * s) * _DEG
+
+
+def _both_II(c: _Consts, psi, phi):
+    """Lee (2008) Eq. 4.15 and its slope."""
+    eps = (psi + c.psi_ft + 0.5 * c.psi_fl - c.alpha_a - phi) * _DEG
+    zeta = (180.0 + c.alpha_ft + c.alpha_a - c.a2) * _DEG
+    s = np.sin(eps + zeta)
+    k = 0.5 * c.s_a**2 * math.sin(zeta)
+    return c.full_area - c.area_tri_ft - k * np.sin(eps) / s, -k * math.sin(zeta) / (s * s) * _DEG
+
+
+def _both_III(c: _Consts, psi, phi):
+    """Lee (2008) Eq. 4.16 and its slope."""
+    k = c.RF / c.R
+    u = (psi + c.psi_ft + 90.0 - phi) * _DEG
+    su = np.clip(k * np.sin(u), -1.0, 1.0)
+    beta = (90.0 + phi - psi - c.psi_ft) * _DEG - np.arcsin(su)
+    dbeta = -1.0 - k * np.cos(u) / np.sqrt(1.0 - su * su)
+    h = 0.5 * c.R**2 * (c.psi_ft * _DEG + beta) - 0.5 * c.R * c.RF * np.sin(beta) - c.area_const3
+    return h, (0.5 * c.R**2 - 0.5 * c.R * c.RF * np.cos(beta)) * dbeta * _DEG
+
+
+def _both_IV(c: _Consts, psi, phi):
+    """Lee (2008) Eq. 4.17 and its slope."""
+    gam = (90.0 + phi + 180.0 - c.a2p - psi) * _DEG
+    a2 = c.a2 * _DEG
+    s = np.sin(a2 + gam)
+    k = 0.5 * c.s2**2 * math.sin(a2)
+    return k * np.sin(gam) / s, -k * math.sin(a2) / (s * s) * _DEG
+
+
+_BOTH = (_both_I, _both_II, _both_III, _both_IV)
+
+
+# Holdup and surface chord length L (tip to where the surface meets the pocket boundary), m^2 and m.
+# L^2 / 2 = -dH/dpsi (per radian): L = s_ft sin(alpha_ft) / |sin(alpha_ft + delta)| in phase I, the
+# same with s_a, zeta in II and s2, alpha2 in IV (Eq. 4.14, 4.15, 4.17: triangles with the surface
+# as a side); phase III: the chord of the shell circle through the tip, L = R cos(asin(k sin u)) +
+# R_F cos u (Eq. 4.16 geometry).
+def _hL_I(c: _Consts, psi, phi):
+    aft = c.alpha_ft * _DEG
+    delta = (psi + c.psi_ft + 0.5 * c.psi_fl - phi) * _DEG
+    s = np.sin(aft + delta)
+    return c.full_area - 0.5 * c.s_ft**2 * math.sin(aft) * np.sin(delta) / s, c.s_ft * math.sin(aft) / np.abs(s)
+
+
+def _hL_II(c: _Consts, psi, phi):
+    eps = (psi + c.psi_ft + 0.5 * c.psi_fl - c.alpha_a - phi) * _DEG
+    zeta = (180.0 + c.alpha_ft + c.alpha_a - c.a2) * _DEG
+    s = np.sin(eps + zeta)
+    k = 0.5 * c.s_a**2 * math.sin(zeta)
+    return c.full_area - c.area_tri_ft - k * np.sin(eps) / s, c.s_a * abs(math.sin(zeta)) / np.abs(s)
+
+
+def _hL_III(c: _Consts, psi, phi):
+    k = c.RF / c.R
+    u = (psi + c.psi_ft + 90.0 - phi) * _DEG
+    su = np.clip(k * np.sin(u), -1.0, 1.0)
+    asu = np.arcsin(su)
+    beta = (90.0 + phi - psi - c.psi_ft) * _DEG - asu
+    h = 0.5 * c.R**2 * (c.psi_ft * _DEG + beta) - 0.5 * c.R * c.RF * np.sin(beta) - c.area_const3
+    return h, c.R * np.cos(asu) + c.RF * np.cos(u)
+
+
+def _hL_IV(c: _Consts, psi, phi):
+    gam = (90.0 + phi + 180.0 - c.a2p - psi) * _DEG
+    a2 = c.a2 * _DEG
+    s = np.sin(a2 + gam)
+    return 0.5 * c.s2**2 * math.sin(a2) * np.sin(gam) / s, c.s2 * abs(math.sin(a2)) / np.abs(s)
+
+
+_HL = (_hL_I, _hL_II, _hL_III, _hL_IV)
+
+
+def _holdup_and_slope(c: _Consts, psi, phi):
+    """Holdup (m^2), its slope (m^2/deg) and the phase index in one pass over the phases."""
+    psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
+    idx = _phase_index(c, psi, phi)
+    h = np.zeros(psi.shape)
+    sl = np.zeros(psi.shape)
+    h[idx == 0] = c.full_area
+    with np.errstate(all="ignore"):
+        for k, fn in enumerate(_BOTH, start=1):
+            m = idx == k
+            if m.any():
+                h[m], sl[m] = fn(c, psi[m], phi[m])
+    return np.clip(h, 0.0, c.full_area), np.minimum(sl, 0.0), idx
+
+
+def _strip_area(c: _Consts, w, h, L, delta):
+    """The correction dA for wedge angles ``w`` (rad), holdups ``h`` (m^2) and surface chords ``L`` (m)."""
+    with np.errstate(all="ignore"):
+        de = np.fmin(delta, h / L)
+        cot = np.maximum(1.0 / np.tan(np.minimum(w, math.pi)), 0.0)  # 0 for w >= 90 deg
+        cut = de * cot
+        da = np.where(cut < L, de * (L - 0.5 * cut), 0.5 * L * L / cot)
+    return np.fmin(np.fmax(da, 0.0), c.full_area - h)
+
+
+def finite_particle_correction(drum: "FlightedDrum", psi, repose_angle, particle_diameter, surface_layer=None):
+    """Extra holdup of a flight of particles over the continuum model, m^2 (``docs/dem.md``).
+
+    The free surface of a bed of particles of diameter d stands a layer ``delta = k d`` above the
+    continuum surface through the tip (the last particles rest on the thin tip and on each other,
+    their centres and the envelope of the top layer lie above the plane through the tip). The
+    extra solids are the strip of width ``delta`` over the surface chord, cut where the strip
+    leaves the pocket at the chord through the tips (it curves down onto the tip):
+
+    * surface chord length ``L = sqrt(2 |dH/dpsi|)`` (dH/dpsi per radian): rotating the plane
+      surface by dpsi about the tip sweeps ``L^2/2 dpsi`` (exact for every phase of Lee (2008)
+      Eq. 4.14-4.17, the area depending on psi - phi only);
+    * wedge angle between the tip chord and the surface ``w = psi - psi1`` (Lee (2008) Eq. 4.9);
+    * layer limited by the mean depth of the held solids ``H/L`` (a layer cannot stand on less);
+    * ``dA = delta_e L - delta_e^2 cot(w)/2`` while the strip is longer than its cut-off
+      (``delta_e cot w < L``), else ``L^2 tan(w) / 2``; ``cot w`` taken as 0 for ``w >= 90 deg``;
+      and ``H + dA <= H_full`` (Lee (2008) Eq. 4.8).
+
+    ``dA -> 0`` as ``d/s1 -> 0`` (``dA/H_full ~ k d/s1``). Vectorised over ``psi`` and ``repose_angle``."""
+    psi, phi = _prepare(psi, repose_angle)
+    c = drum._c
+    h, sl, idx = _holdup_and_slope(c, psi, phi)
+    return _fp_from(c, psi, phi, drum._layer(particle_diameter, surface_layer), h, sl, idx)
+
+
+def _fp_from(c, psi, phi, delta, h, sl, idx):
+    w = (np.asarray(psi, dtype=float) - phi - c.off1) * _DEG
+    act = (idx > 0) & (idx < 5)
+    da = np.zeros(h.shape)
+    da[act] = _strip_area(c, w[act], h[act], np.sqrt(sl[act] * (-2.0 / _DEG)), delta)
+    return da
+
+
+def _holdup_fp(c: _Consts, psi, phi, delta):
+    """Holdup with the finite-particle correction, m^2 (:func:`finite_particle_correction`)."""
+    if delta == 0.0:
+        return _holdup(c, psi, phi)
+    psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
+    x = psi - phi
+    idx = _phase_index(c, psi, phi)
+    out = np.where(idx == 0, c.full_area, 0.0)
+    act = (idx > 0) & (idx < 5)
+    if not act.any():
+        return out
+    pa, fa, ia = psi[act], phi[act], idx[act]
+    h = np.empty(pa.shape)
+    L = np.empty(pa.shape)
+    with np.errstate(all="ignore"):
+        for k, fn in enumerate(_HL, start=1):
+            m = ia == k
+            if m.any():
+                h[m], L[m] = fn(c, pa[m], fa[m])
+    np.clip(h, 0.0, c.full_area, out=h)
+    out[act] = h + _strip_area(c, (x[act] - c.off1) * _DEG, h, L, delta)
+    return out
+
+
+_FD_STEP = 1e-4  # deg
+
+
+def _holdup_slope_fp(c: _Consts, psi, phi, delta):
+    """Slope of :func:`_holdup_fp`, m^2/deg (central difference, <= 0)."""
+    if delta == 0.0:
+        return _holdup_slope(c, psi, phi)
+    psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
+    hp = _holdup_fp(c, psi + _FD_STEP, phi, delta)
+    hm = _holdup_fp(c, psi - _FD_STEP, phi, delta)
+    return np.minimum((hp - hm) / (2.0 * _FD_STEP), 0.0)
+
+
+def _H(c: _Consts, psi, phi, delta=None):
+    """Holdup for the internal callers: the continuum model for ``delta is None``."""
+    if delta is None:
+        return _holdup(c, psi, phi)
+    return _holdup_fp(c, psi, phi, delta)
+
+
+def _S(c: _Consts, psi, phi, delta=None):
+    """Holdup slope for the internal callers: the continuum model for ``delta is None``."""
+    if delta is None:
+        return _holdup_slope(c, psi, phi)
+    return _holdup_slope_fp(c, psi, phi, delta)
 
 
 def _holdup_slope(c: _Consts, psi, phi):

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_choice, check_range
-from .drum import FlightedDrum, _holdup, _holdup_slope
+from .drum import FlightedDrum, _H, _S
 
 __all__ = [
     "CascadeDrag",
@@ -198,18 +198,21 @@ def first_unloading_angle(drum: FlightedDrum, convention: str = "root") -> float
     return 90.0 if convention == "root" else 90.0 - drum.tip_angle
 
 
-def discharge_start_angle(drum: FlightedDrum, repose_angle, loading_factor=1.0, *, convention="root"):
+def discharge_start_angle(drum: FlightedDrum, repose_angle, loading_factor=1.0, *, convention="root",
+                          particle_diameter=None):
     """Root angle (deg) where a flight with loading factor ``f`` starts discharging into the curtain.
 
     Solves ``H_max(psi) = f H_max(psi_FUF)`` for the first ``psi >= psi_FUF`` by
     bisection (H_max is non-increasing). Returns ``(angle, H0)`` with ``H0 = f H0_des``.
+    ``particle_diameter`` (m, optional): finite-particle correction (``docs/dem.md``).
     """
     f = check_range("loading_factor", loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
     f, phi = np.broadcast_arrays(f, phi)
     c = drum._c
+    delta = None if particle_diameter is None else drum._layer(particle_diameter)
     psi0 = first_unloading_angle(drum, convention)
-    h_des = _holdup(c, np.full_like(phi, psi0), phi)
+    h_des = _H(c, np.full_like(phi, psi0), phi, delta)
     target = f * h_des
     lo = np.full_like(phi, psi0)
     hi = phi + c.off5
@@ -217,7 +220,7 @@ def discharge_start_angle(drum: FlightedDrum, repose_angle, loading_factor=1.0, 
     full = f >= 1.0
     for _ in range(0 if np.all(full) else 48):  # interval <= 360 deg -> 1e-12 deg
         mid = 0.5 * (lo + hi)
-        above = _holdup(c, mid, phi) > target
+        above = _H(c, mid, phi, delta) > target
         lo = np.where(above, mid, lo)
         hi = np.where(above, hi, mid)
     start = np.where(full, psi0, hi)
@@ -235,6 +238,7 @@ def cascade(
     passive_time_branch: str = "eq3.4",
     convention: str = "root",
     drag: CascadeDrag | None = None,
+    particle_diameter=None,
 ) -> CascadeSummary:
     """Mass-averaged release angle, fall height, fall time and passive time of one flight.
 
@@ -254,6 +258,9 @@ def cascade(
         See the module docstring.
     drag : CascadeDrag, optional
         Fall through the gas with drag; default free fall (zero initial velocity, no drag).
+    particle_diameter : float, optional
+        Particle diameter, m: the flight holdup carries the finite-particle correction
+        (``docs/dem.md``); ``None`` (default) is Lee's continuum model.
 
     Notes
     -----
@@ -272,7 +279,9 @@ def cascade(
     check_speed("rpm", rpm, drum.radius, radius_key="radius", warn=False, refuse=False)
     slope = check_range("slope", slope, -45.0, 45.0, unit="deg")
     c = drum._c
-    start, h0 = discharge_start_angle(drum, repose_angle, loading_factor, convention=convention)
+    delta = None if particle_diameter is None else drum._layer(particle_diameter)
+    start, h0 = discharge_start_angle(drum, repose_angle, loading_factor, convention=convention,
+                                      particle_diameter=particle_diameter)
     phi = np.broadcast_to(check_range("repose_angle", repose_angle, 0.0, 90.0), start.shape)
     psi5 = phi + c.off5
     # integration breakpoints: phase boundaries and the chord kink at tip angle 270
@@ -291,7 +300,7 @@ def cascade(
             psi = 0.5 * (a + b) + 0.5 * (b - a) * _GL_X
             jac = 0.5 * (b - a) * _GL_W
         ph = np.broadcast_to(phi[..., None], psi.shape)
-        w = -_holdup_slope(c, psi, ph) * jac  # dH >= 0, m^2
+        w = -_S(c, psi, ph, delta) * jac  # dH >= 0, m^2
         h = _fall_height(c, np.radians(psi + c.psi_ft), fall_height)
         acc["w"] = acc["w"] + w.sum(-1)
         acc["psi"] = acc["psi"] + (w * psi).sum(-1)

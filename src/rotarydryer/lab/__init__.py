@@ -10,6 +10,8 @@
   regression of the first-unloading-flight area against drum loading: break point =
   design load, with delta-method and profile-likelihood confidence intervals
   (Appendix E's propagation corrected).
+* :mod:`rotarydryer.lab.steps` - Song (2003) ch. 4 dynamic step method: holdup from feed and
+  discharge records of step tests, with the closure reconciliation (Eq. 4.1).
 
 Submodules are imported lazily so that ``import rotarydryer.lab`` stays cheap.
 """
@@ -18,7 +20,7 @@ from __future__ import annotations
 
 import importlib
 
-__all__ = ["flight_rig", "images", "design_load_fit"]
+__all__ = ["flight_rig", "images", "design_load_fit", "steps"]
 
 
 def __getattr__(name):

@@ -32,7 +32,8 @@ import numpy as np
 from .. import __version__
 from .._io import write_text_atomic
 
-__all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source"]
+__all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source",
+           "sensitivity_section", "load_sensitivity"]
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:0;color:#222;background:#fafafa}
@@ -262,7 +263,44 @@ def _thermal_section(results) -> str:
             f'</section>')
 
 
-def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "") -> str:
+def load_sensitivity(path) -> dict:
+    """A saved sensitivity study (``rotarydryer sensitivity --out DIR``: DIR/sensitivity.json)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ValueError(f"--sensitivity {str(p)!r}: not a file (give DIR/sensitivity.json of rotarydryer sensitivity)")
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"--sensitivity {str(p)!r}: not a JSON file ({exc})") from None
+    if not isinstance(data, dict) or data.get("kind") != "sobol_sensitivity" or not isinstance(data.get("indices"), dict):
+        raise ValueError(f"--sensitivity {str(p)!r}: not a sensitivity result (no kind = sobol_sensitivity)")
+    return data
+
+
+def sensitivity_section(data: dict) -> str:
+    """HTML section of a sensitivity study (``SensitivityResult.to_dict()``): indices table with
+    confidence intervals, output distributions, the figure, failed runs and notes."""
+    from ..studies.sensitivity import plot_sensitivity
+
+    rows = [[o, p, _fmt(v.get("S1")), _fmt(v.get("S1_conf")), _fmt(v.get("ST")), _fmt(v.get("ST_conf"))]
+            for o, per in data.get("indices", {}).items() for p, v in per.items()]
+    keys = ["n", "mean", "sd", "p5", "p50", "p95"]
+    drows = [[o] + [_fmt(d.get(k)) for k in keys] for o, d in data.get("distributions", {}).items()]
+    ranges = ", ".join(f"{k} in [{_fmt(float(a))}, {_fmt(float(b))}]" for k, (a, b) in data.get("params", {}).items())
+    notes = "".join(f"<li>{html.escape(str(n))}</li>" for n in data.get("notes", []))
+    conf = 100 * float(data.get("conf_level") or 0.95)
+    return (f'<section id="sensitivity"><h2>Global sensitivity (Sobol) and uncertainty</h2>'
+            f'<p class="note">Case {html.escape(str(data.get("case", "")))}; uniform inputs {html.escape(ranges)}; '
+            f'{data.get("samples")} base samples, {data.get("n_runs")} runs, {data.get("n_failed")} failed '
+            f'(blocks with a failed run left out). &plusmn;: half-width of the {conf:.0f} % bootstrap interval.</p>'
+            + _table(["output", "input", "S1", "\u00b1", "ST", "\u00b1"], rows, left_cols=2)
+            + _table(["output"] + keys, drows)
+            + _img(plot_sensitivity(data), "Sobol indices and output distributions")
+            + (f"<ul class='note'>{notes}</ul>" if notes else "") + "</section>")
+
+
+def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "",
+                  sensitivity: dict | None = None) -> str:
     """HTML text of the report.
 
     Parameters
@@ -288,6 +326,8 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
     if results is not None and "energy_balance" in results.datasets:
         body.append(_thermal_section(results))
     body.append(_geometry_sections(drums, results))
+    if sensitivity is not None:
+        body.append(sensitivity_section(sensitivity))
     if results is not None:
         body.append(f"""<section id="inputs"><h2>Inputs and model choices</h2>
 <details><summary>model choices</summary><pre>{html.escape(json.dumps(results.model_choices, indent=1))}</pre></details>

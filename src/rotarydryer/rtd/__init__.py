@@ -1,23 +1,27 @@
 """Residence-time distributions: analysis of curves, tracer inputs, reference
-models (tanks in series, axial dispersion) and their fitting to tracer data.
+models (tanks in series, axial dispersion, Song's (2003) interactive mixers with dead zones)
+and their fitting to tracer data.
 
 Units: time in s, E(t) in 1/s. See ``docs/rtd.md`` for a walk-through.
 
 Modules: :mod:`.analysis` (moments, E, F, baseline, tails),
-:mod:`.pulses` (tracer inputs, convolution), :mod:`.models` (TiS, ADM),
+:mod:`.pulses` (tracer inputs, convolution), :mod:`.models` (TiS, ADM, cells),
 :mod:`.fitting` (least squares with confidence intervals),
 :mod:`.tracer_data` (measured-data CSV format).
 """
 
 from .analysis import BASELINE_METHODS, TAIL_METHODS, RTDMoments, exit_age_curve, rtd_moments, subtract_baseline
-from .fitting import RTD_MODELS, RTDFit, fit_rtd_model, fit_tracer_data
+from .fitting import CELL_MODELS, RTD_FIT_MODELS, RTD_MODELS, RTDFit, fit_rtd_model, fit_tracer_data
 from .models import (
     DISPERSION_BOUNDARIES,
     AnalyticMoments,
     AxialDispersion,
+    CholetteCloutier,
     TanksInSeries,
     axial_dispersion_e,
     axial_dispersion_moments,
+    cholette_cloutier_e,
+    cholette_cloutier_moments,
     tanks_in_series_e,
     tanks_in_series_f,
     tanks_in_series_moments,
@@ -36,10 +40,13 @@ __all__ = [
     "AnalyticMoments",
     "AxialDispersion",
     "BASELINE_METHODS",
+    "CELL_MODELS",
+    "CholetteCloutier",
     "DISPERSION_BOUNDARIES",
     "PULSE_KINDS",
     "RTDFit",
     "RTDMoments",
+    "RTD_FIT_MODELS",
     "RTD_MODELS",
     "TAIL_METHODS",
     "TanksInSeries",
@@ -47,6 +54,8 @@ __all__ = [
     "TracerPulse",
     "axial_dispersion_e",
     "axial_dispersion_moments",
+    "cholette_cloutier_e",
+    "cholette_cloutier_moments",
     "convolve_rtd",
     "convolve_sampled_rtd",
     "convolved_moments",

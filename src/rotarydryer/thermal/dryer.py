@@ -169,6 +169,9 @@ class ThermalSettings:
     def validate(self):
         check_choice("thermal.mode", self.mode, ("physical", "ajayi2011"))
         check_choice("gas.direction", self.gas_direction, ("co-current", "counter-current"))
+        if self.gas_flow == 0:
+            raise ValueError("gas.flow = 0 kg/s: heat and mass transfer needs a gas flow in (0, 1000] kg/s; "
+                             "for a run without gas set thermal.enabled = false (solids transport only)")
         check_range("gas.flow", self.gas_flow, 0.0, 1000.0, unit="kg/s")
         check_range("gas.inlet_temperature", self.gas_inlet_temperature, 0.0, 600.0, high_inclusive=True,
                     unit="degC")
@@ -477,15 +480,11 @@ class ThermalDryer:
         scale and insulation layers) at gas temperatures ``Tg`` and humidities ``Y``."""
         s = self.settings
         tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
-        guess = self._shell_outer if getattr(self, "_shell_outer", None) is not None and \
-            self._shell_outer.shape == tg.shape else None
         r = shell_heat_loss(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
                             gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
                             scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                             insulation_thickness=s.insulation_thickness,
-                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
-                            outer_guess=guess)
-        self._shell_outer = np.array(r.outer_surface_temperature_c, dtype=float)   # warm start of the next solve
+                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure)
         return r.heat_loss
 
     def _solids_streams(self, z, families=None):

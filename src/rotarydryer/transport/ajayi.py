@@ -50,7 +50,8 @@ from ..properties.solids import SOLIDS
 from .network import TracerInput
 from .sections import unflighted_cells_auto
 
-__all__ = ["AjayiRegressions", "mmg_moisture_profile", "unflighted_cells_auto", "ajayi2011"]
+__all__ = ["AjayiRegressions", "mmg_moisture_profile", "mmg_test_moisture_profile", "unflighted_cells_auto",
+           "ajayi2011"]
 
 G = 9.81  # m/s^2, as in Ajayi's code (maf_h = 0.5*9.81*maft^2)
 
@@ -61,6 +62,22 @@ def mmg_moisture_profile(position, scale=1.0):
     test's inlet/outlet moisture by an unstated method; default 1 = unscaled)."""
     z = check_range("position", position, 0.0, math.inf, low_inclusive=True, unit="m")
     return scale * (0.1006 * z + 2.218) / (z + 13.51)
+
+
+def mmg_test_moisture_profile(position, moisture_inlet, moisture_outlet, length=22.2):
+    r"""Solids moisture x_w (kg/kg wet) at z (m) for one test: Ajayi (2011) Eq. 3.1 mapped affinely
+    onto the test's inlet and product moisture (Tables 3.5-3.11),
+
+    x_w(z) = x_out + (x_in - x_out) (p(z) - p(L)) / (p(0) - p(L)),  p = Eq. 3.1,
+
+    so x_w(0) = x_in and x_w(L) = x_out with the measured shape in between (Ajayi "scaled" Eq. 3.1 to
+    each test's inlet/outlet moisture, l.1669, by a method he does not give; this is one such map)."""
+    z = check_range("position", position, 0.0, math.inf, low_inclusive=True, unit="m")
+    L = float(check_range("length", length, 0.0, math.inf, unit="m"))
+    x_in = check_range("moisture_inlet", moisture_inlet, 0.0, 1.0, unit="kg/kg wet")
+    x_out = check_range("moisture_outlet", moisture_outlet, 0.0, 1.0, unit="kg/kg wet")
+    p0, pL = mmg_moisture_profile(0.0), mmg_moisture_profile(L)
+    return x_out + (x_in - x_out) * (mmg_moisture_profile(z) - pL) / (p0 - pL)
 
 
 _ZINC = SOLIDS["zinc_concentrate_ajayi2011"]
@@ -168,7 +185,15 @@ def _flighted_positions(sections):
     return np.concatenate(pos) if pos else np.zeros(0)
 
 
-def _check_moisture_scale(scale, sections, material):
+def _base_moisture(pos, sections, moisture_ends):
+    """Unscaled moisture (kg/kg wet) at ``pos``: Eq. 3.1, or its map onto (x_in, x_out)."""
+    if moisture_ends is None:
+        return mmg_moisture_profile(pos, 1.0)
+    length = sum(float(s["length"]) for s in sections)
+    return mmg_test_moisture_profile(pos, moisture_ends[0], moisture_ends[1], length)
+
+
+def _check_moisture_scale(scale, sections, material, moisture_ends=None):
     """``solids.moisture_scale`` must keep the Eq. 3.1 profile inside the material's moisture range
     (where its repose-angle and bulk-density laws hold): the message names the key, its value and
     the allowed range of the scale for this dryer."""
@@ -176,22 +201,46 @@ def _check_moisture_scale(scale, sections, material):
     pos = _flighted_positions(sections)
     if pos.size == 0 or material is None:
         return
-    base = mmg_moisture_profile(pos, 1.0)
+    base = _base_moisture(pos, sections, moisture_ends)
     lo, hi = material.wet_range()
     pmin, pmax = float(np.min(base)), float(np.max(base))
     if s * pmin >= lo - 1e-12 and s * pmax <= hi + 1e-12:
         return
     raise ValueError(
-        f"solids.moisture_scale = {fmt_number(s)} puts the solids moisture (Ajayi (2011) Eq. 3.1 x "
+        f"solids.moisture_scale = {fmt_number(s)} puts the solids moisture (Ajayi (2011) Eq. 3.1"
+        f"{'' if moisture_ends is None else ' mapped onto the test inlet/product moisture'} x "
         f"{fmt_number(s)}) at {s * pmin:.3g} to {s * pmax:.3g} kg/kg wet, outside the moisture range "
         f"[{lo:g}, {hi:g}] kg/kg wet of material '{material.name}' (its repose-angle and bulk-density laws "
         f"hold there only); the allowed range of solids.moisture_scale for this dryer is "
         f"[{lo / pmin:.3g}, {hi / pmax:.3g}]")
 
 
+def _per_section(key, value, names, need, *, low_inclusive, unit):
+    """``value`` (one number, or a dict section name -> number) as a dict over ``need`` (checked
+    >= 0 or > 0; a dict must name every section of ``need`` and no unknown one)."""
+    if isinstance(value, dict):
+        unknown = sorted(set(value) - set(names))
+        missing = [n for n in need if n not in value]
+        if unknown or missing:
+            raise ValueError(f"{key} = {value!r}: " + "; ".join(
+                ([f"unknown section(s) {', '.join(map(repr, unknown))}"] if unknown else [])
+                + ([f"missing section(s) {', '.join(map(repr, missing))}"] if missing else []))
+                + f" (sections: {', '.join(names)})")
+        return {n: float(check_range(f"{key} (section {n})", value[n], 0.0, math.inf, low_inclusive=low_inclusive,
+                                     unit=unit)) for n in need}
+    v = float(check_range(key, value, 0.0, math.inf, low_inclusive=low_inclusive, unit=unit))
+    return {n: v for n in need}
+
+
+def _recorded(value):
+    """A model parameter as recorded in ``model.parameters``: the number, or a copy of the dict."""
+    return {k: float(v) for k, v in value.items()} if isinstance(value, dict) else float(value)
+
+
 def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispersion,
               geometries, moisture_scale=1.0, inlet="ajayi", unflighted_cells=None,
-              tracer_input=None, gas_flow="co-current", name="ajayi2011", fouling=0.0, material=None):
+              tracer_input=None, gas_flow="co-current", name="ajayi2011", fouling=0.0, material=None,
+              moisture_ends=None):
     r"""Build the Ajayi (2011) multi-section model.
 
     Parameters
@@ -201,15 +250,21 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
         (m) and for flighted ``n_cells``.
     feed_rate : float, kg/s (wet solids)
     rpm : float, rev/min; slope : float, deg; radius : float, drum radius m
-    kiln_velocity : float
+    kiln_velocity : float or dict
         u_s (m/s): unflighted-bed velocity and kilning velocity of the flighted
-        cells (Ajayi's code uses one value, Eq. 5.19).
-    dispersion : float
-        Axial dispersion coefficient of the unflighted sections, m^2/s (>= 0).
+        cells (Ajayi's code uses one value, Eq. 5.19); or a dict section name -> u_s
+        (the predictive parameterisation, :mod:`rotarydryer.transport.ajayi_predictive`,
+        gives each section its own).
+    dispersion : float or dict
+        Axial dispersion coefficient of the unflighted sections, m^2/s (>= 0); or a dict
+        section name -> value (unflighted sections only).
     geometries : dict
         Section name -> cell geometry model (cascade / design_load_area / loading_factor).
     moisture_scale : float
-        Factor on Eq. 3.1.
+        Factor on Eq. 3.1 (or on the test profile of ``moisture_ends``).
+    moisture_ends : (float, float), optional
+        Inlet and product moisture (kg/kg wet) of the test: the flighted cells' moisture is then
+        :func:`mmg_test_moisture_profile` (times ``moisture_scale``) instead of Eq. 3.1.
     inlet : {"ajayi", "danckwerts"}
         Inlet condition of a first unflighted section (module docstring).
     unflighted_cells : int, optional
@@ -228,35 +283,42 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
     theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
-    u = float(check_range("transport.kiln_velocity", kiln_velocity, 0.0, math.inf, unit="m/s"))
-    Dax = float(check_range("transport.dispersion", dispersion, 0.0, math.inf, low_inclusive=True, unit="m^2/s"))
+    names = [s["name"] for s in sections]
+    u_of = _per_section("transport.kiln_velocity", kiln_velocity, names, names, low_inclusive=False, unit="m/s")
+    D_of = _per_section("transport.dispersion", dispersion, names,
+                        [s["name"] for s in sections if s["kind"] == "unflighted"], low_inclusive=True,
+                        unit="m^2/s")
     if inlet not in ("ajayi", "danckwerts"):
         raise ValueError(f"transport.unflighted_inlet = {inlet!r} is not one of 'ajayi', 'danckwerts'")
     if material is None:
         from ..properties.materials import load_material
 
         material = load_material("zinc_concentrate_ajayi2011")
-    _check_moisture_scale(moisture_scale, sections, material)
+    _check_moisture_scale(moisture_scale, sections, material, moisture_ends)
     specs = []
     x0 = 0.0
     for s in sections:
         L = float(s["length"])
+        u = u_of[s["name"]]
         if s["kind"] == "unflighted":
             specs.append(SectionSpec(name=s["name"], kind="unflighted", length=L, n_cells=unflighted_cells,
-                                     velocity=u, dispersion=Dax))
+                                     velocity=u, dispersion=D_of[s["name"]]))
         else:
             N = int(s["n_cells"])
             pos = x0 + (np.arange(N) + 0.5) * L / N
             specs.append(SectionSpec(name=s["name"], kind="flighted", length=L, n_cells=N,
                                      geometry=geometries[s["name"]], kilning="velocity", kiln_velocity=u,
                                      drag_reduction=1.0, backmix=0.0, loading="state", fouling=fouling,
-                                     moisture=mmg_moisture_profile(pos, moisture_scale)))
+                                     moisture=moisture_scale * _base_moisture(pos, sections, moisture_ends)))
         x0 += L
     if tracer_input is None:
         tracer_input = TracerInput.pulse(1.255e-4 * F * 60.0, 60.0)
-    params = dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=u, dispersion=Dax,
+    params = dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=_recorded(kiln_velocity),
+                  dispersion=_recorded(dispersion),
                   moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow, fouling=fouling,
                   geometry={k: repr(v) for k, v in geometries.items()})
+    if moisture_ends is not None:
+        params["moisture_ends"] = [float(x) for x in moisture_ends]
     check_range("transport.fouling", fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
     model = build_sections(specs, material=material, feed_rate=F, rpm=rpm, slope=theta, inlet=inlet,
                            tracer_input=tracer_input, name=name, parameters=params)

@@ -195,9 +195,19 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     info = dict(model.cell_info)
     params = dict(model.parameters, core_fraction=beta, core_time=tc, core_model=core_model,
                   n_layers=nl, layer_ratio=float(layer_ratio), core_phase=phase)
-    return TransportModel(name=name or f"{model.name}+core", network=new, sections=model.sections,
-                          feed_rate=model.feed_rate, design_load=np.r_[model.design_load, np.full(nl * m, np.nan)],
-                          cell_info=info, tracer_input=model.tracer_input, parameters=params, tracer_inlet=inlet)
+    out = TransportModel(name=name or f"{model.name}+core", network=new, sections=model.sections,
+                         feed_rate=model.feed_rate, design_load=np.r_[model.design_load, np.full(nl * m, np.nan)],
+                         cell_info=info, tracer_input=model.tracer_input, parameters=params, tracer_inlet=inlet,
+                         checks=list(model.checks))
+    # what the section builder attaches (rotarydryer.transport.sections.build_sections): the core nodes
+    # lie in their cell (its axial extent); the section specs and material are the mobile model's
+    for attr in ("specs", "material"):
+        if hasattr(model, attr):
+            setattr(out, attr, getattr(model, attr))
+    if getattr(model, "cell_length", None) is not None:
+        cl = np.asarray(model.cell_length, dtype=float)
+        out.cell_length = np.r_[cl, np.tile(cl[P], nl)]
+    return out
 
 
 def lee2008_stagnant_core(*, geometry, core_fraction, core_time, **lee_kwargs) -> TransportModel:

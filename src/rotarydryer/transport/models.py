@@ -91,7 +91,7 @@ class NetworkBuilder:
 def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.0, slope=2.8,
             bulk_density=940.0, repose_angle=None, kiln_time=8.69, backmix=0.68, drag_reduction=0.48,
             passive_time_branch=None, loading="fixed", backmix_to="passive", gas_flow="counter-current",
-            tracer_input=None, name="lee2008", section="dryer"):
+            tracer_input=None, name="lee2008", section="dryer", forward_step="fitted", gas=None):
     r"""Lee (2008) compartment model of a flighted dryer (one flighted section).
 
     Per cell i (length dL = L/N) a passive phase P_i (flights + drum floor +
@@ -154,8 +154,16 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
     gas_flow : {"counter-current", "co-current"}
     tracer_input : TracerInput, optional
         Default injection for :meth:`SteadyState.rtd`.
+    forward_step : {"fitted", "trajectory"}
+        "fitted": C_F = C_F^G h_m sin(theta)/dL with the fitted ``drag_reduction`` (Lee (2008)
+        Eq. 3.7-3.8); "trajectory": C_F = d/dL with d the mean axial advance of a particle
+        falling h_m through the gas ``gas`` (:mod:`rotarydryer.transport.forward_step`;
+        ``drag_reduction`` unused, a negative d goes to the backmix edge).
+    gas : CurtainGas, optional
+        Gas stream and particles; required by ``forward_step = "trajectory"``, its direction
+        must be ``gas_flow``.
     """
-    from .sections import SectionSpec, build_sections
+    from .sections import TRAJECTORY_INFO, SectionSpec, build_sections
 
     check_choice("transport.loading", loading, ("fixed", "state"))
     check_choice("transport.backmix_to", backmix_to, ("passive", "active"))
@@ -177,6 +185,15 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
             f"transport.backmix = {fmt_number(CB)} must be 0 for co-current gas flow (Lee (2008) l.2766: "
             "no backmixing, drag lengthens the forward step)"
         )
+    check_choice("transport.forward_step", forward_step, ("fitted", "trajectory"))
+    if forward_step == "trajectory":
+        from .forward_step import CurtainGas
+
+        if not isinstance(gas, CurtainGas):
+            raise ValueError("transport.forward_step = 'trajectory' needs the gas stream and the particles "
+                             "(give [gas] flow and inlet_temperature, and a [material])")
+        if gas.gas_flow != gas_flow:
+            raise ValueError(f"gas direction {gas.gas_flow!r} differs from operating.gas_flow = {gas_flow!r}")
     if repose_angle is None:
         phi = lee2008_repose_profile(N)
     else:
@@ -184,18 +201,21 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
     spec = SectionSpec(name=section, kind="flighted", length=L, n_cells=N, geometry=geometry, kilning="excess",
                        kiln_time=float(kiln_time), drag_reduction=CFG, backmix=CB, backmix_to=backmix_to,
                        loading=loading, passive_time_branch=passive_time_branch, repose_angle=phi,
-                       bulk_density=rho)
+                       bulk_density=rho, forward_step=forward_step, gas=gas if forward_step == "trajectory" else None)
     if tracer_input is None:
         tracer_input = TracerInput.pulse(3.683e-4 * 39.6 * F, 39.6)
     params = dict(n_cells=N, feed_rate=F, length=L, rpm=rpm, slope=theta, bulk_density=rho,
                   kiln_time=kiln_time, backmix=CB, drag_reduction=CFG, loading=loading,
                   backmix_to=backmix_to, gas_flow=gas_flow,
                   passive_time_branch=passive_time_branch, geometry=repr(geometry))
+    if forward_step == "trajectory":
+        params.update(forward_step=forward_step, gas_velocity_m_s=gas.gas_velocity,
+                      curtain_velocity_ratio=gas.velocity_ratio)
     model = build_sections([spec], material=None, feed_rate=F, rpm=rpm, slope=theta, tracer_input=tracer_input,
                            name=name, parameters=params)
     ci = model.cell_info
-    model.cell_info = {k: ci[k] for k in ("repose_angle_deg", "passive_time_s", "fall_time_s", "fall_height_m",
-                                          "C_F", "C_R")}
+    keys = ("repose_angle_deg", "passive_time_s", "fall_time_s", "fall_height_m", "C_F", "C_R")
+    model.cell_info = {k: ci[k] for k in keys + tuple(k for k in TRAJECTORY_INFO if k in ci)}
     return model
 
 

@@ -10,7 +10,9 @@ A dryer is a list of sections in solids-flow order. Each section adds its nodes 
   - active outflow split into forward C_F (A_i -> P_{i+1}), return C_R = 1 - C_F - C_B
     (A_i -> P_i) and backmix C_B (A_i -> P_{i-1}, or A_{i-1} for Sheehan et al. (2005)
     Model 2); C_F = C_F^G h_m sin(theta)/dL (Lee (2008) Eq. 3.7-3.8; C_F^G = 1 and C_B = 0
-    in Ajayi's model);
+    in Ajayi's model), or, with ``forward_step = "trajectory"``, C_F = d/dL with d the mean
+    axial advance of a particle falling h_m through the gas (:mod:`.forward_step`; a negative
+    d adds -d/dL to the backmix);
   - kilning P_i -> P_{i+1}: on the excess over the design load, (M_P - M_des)/t_kiln (Lee
     (2008) Eq. 3.9, ``kilning="excess"``), or on the whole passive mass at the kilning
     velocity u_s/dL (Ajayi (2011) Eq. 5.19, ``kilning="velocity"``);
@@ -66,6 +68,9 @@ class SectionSpec:
     repose_angle / bulk_density : fixed per-cell values that replace the material laws
     (transport-only studies). moisture : assumed wet-basis moisture per cell (transport-only
     network). fouling : fraction of the design load lost to scale (Ajayi (2011) Eq. 5.21).
+    forward_step : "fitted" (C_F = drag_reduction h_m sin(theta)/dL, Lee (2008) Eq. 3.7-3.8) or
+    "trajectory" (C_F from the fall through ``gas``, a
+    :class:`~rotarydryer.transport.forward_step.CurtainGas`; ``drag_reduction`` is then unused).
     """
 
     name: str
@@ -88,6 +93,8 @@ class SectionSpec:
     dispersion: float = 0.0
     velocity: float = 0.0
     rates: dict | None = None
+    forward_step: str = "fitted"
+    gas: object = None
 
 
 class ExactGeometry:
@@ -95,23 +102,26 @@ class ExactGeometry:
     chosen design-load method: ``"lee2008"`` (Lee (2008) Eq. 4.20-4.21) or ``"ajayi2011"`` (1.24 x
     Baker, Ajayi (2011) Section 4.5); ``passive_time_branch`` as in ``FlightedDrum.cascade``."""
 
-    def __init__(self, drum, passive_time_branch=None, design_load_method="lee2008"):
+    def __init__(self, drum, passive_time_branch=None, design_load_method="lee2008", particle_diameter=None):
         check_choice("geometry.design_load_method", design_load_method, ("lee2008", "ajayi2011"))
         self.drum, self.branch, self.design_load_method = drum, passive_time_branch, design_load_method
+        #: m; with a diameter the holdup has the finite-particle correction (docs/dem.md), None = Lee's continuum
+        self.particle_diameter = particle_diameter
+        self._kw = {} if particle_diameter is None else {"particle_diameter": float(particle_diameter)}
 
     def __repr__(self):
         return f"exact({self.drum!r})"
 
     def design_load_area(self, phi):
         if self.design_load_method == "lee2008":
-            return self.drum.design_load_area(phi)
-        return self.drum.design_load_area(phi, method=self.design_load_method)
+            return self.drum.design_load_area(phi, **self._kw)
+        return self.drum.design_load_area(phi, method=self.design_load_method, **self._kw)
 
     def loading_factor(self, d, phi):
-        return self.drum.loading_factor(d, phi)
+        return self.drum.loading_factor(d, phi, **self._kw)
 
     def cascade(self, phi, f, *, rpm, slope=0.0, passive_time_branch=None):
-        kw = dict(rpm=rpm, slope=slope)
+        kw = dict(rpm=rpm, slope=slope, **self._kw)
         branch = passive_time_branch or self.branch
         if branch is not None:
             kw["passive_time_branch"] = branch
@@ -152,9 +162,20 @@ class FlightedSectionLaw:
         fouling = s.fouling if fouling is None else fouling
         return rho * self.dl * np.asarray(s.geometry.design_load_area(phi), dtype=float) * (1.0 - fouling)
 
-    def cascade(self, phi, f, rpm=None):
-        """Cycle times, fall height and the forward/return split C_F, C_R per cell (Lee (2008)
-        Eq. 3.3-3.8)."""
+    @property
+    def trajectory(self) -> bool:
+        """Is the forward step computed from particle trajectories (``forward_step = "trajectory"``)?"""
+        return self.spec.forward_step == "trajectory"
+
+    @property
+    def release_dependent(self) -> bool:
+        """Do the coefficients depend on the flight discharge (Sherritt's curtain velocity ratio)?"""
+        return self.trajectory and self.spec.gas.velocity_ratio is None
+
+    def cascade(self, phi, f, rpm=None, flight_mass=None):
+        """Cycle times, fall height and the forward/return/backmix split C_F, C_R, C_B per cell (Lee
+        (2008) Eq. 3.3-3.8). ``flight_mass`` (kg per cell, default f x the design load at the assumed
+        moisture) is the mass the flights discharge, used by the trajectory forward step only."""
         kw = dict(rpm=self.rpm if rpm is None else rpm, slope=self.slope)
         if self.spec.passive_time_branch is not None:
             kw["passive_time_branch"] = self.spec.passive_time_branch
@@ -163,8 +184,34 @@ class FlightedSectionLaw:
         tp = np.asarray(c.passive_time, float)
         ta = np.asarray(c.mean_fall_time, float)
         h = np.asarray(c.mean_fall_height, float)
-        CF = s.drag_reduction * h * self.sin_t / self.dl
-        return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix)
+        if not self.trajectory:
+            CF = s.drag_reduction * h * self.sin_t / self.dl
+            return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(self.n, float(s.backmix)))
+        from .forward_step import trajectory_forward_step
+
+        if flight_mass is None:
+            flight_mass = np.asarray(f, float) * self._reference_design_load()
+        q = np.asarray(flight_mass, float) / tp / self.dl          # release per metre of drum, kg/(s m)
+        step = trajectory_forward_step(s.gas, self.slope, h, q)
+        free = step["step_m"]
+        # a step longer than the cell minus backmix is capped there (C_R >= 0): the nearest-neighbour
+        # structure (Lee (2008) Fig. 3.4) cannot carry solids further. build_sections refuses a
+        # discretisation whose step at the design load does not fit; the cap acts only at lower
+        # loadings (sparse curtains of nearly empty flights feel the whole gas velocity)
+        reach = (1.0 - s.backmix) * self.dl
+        d = np.clip(free, -reach, reach)
+        CF = np.maximum(d, 0.0) / self.dl
+        CB = s.backmix + np.maximum(-d, 0.0) / self.dl
+        zero = h * self.sin_t
+        cfg = np.divide(d, zero, out=np.full(self.n, np.nan), where=zero > 0)
+        return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - CB, CB=CB, step=d, step_free=free, CFG=cfg,
+                    cv=step["curtain_velocity_ratio"])
+
+    def _reference_design_load(self):
+        """Design load (kg per cell) at the assumed moisture, cached."""
+        if getattr(self, "_des_ref", None) is None:
+            self._des_ref = self.design_load(*self.properties(self.assumed_moisture))
+        return self._des_ref
 
     def loading_factor(self, mp, des, phi):
         if self.spec.loading == "fixed":
@@ -172,14 +219,14 @@ class FlightedSectionLaw:
         d = np.clip(mp / des, 1e-6, None)
         return np.clip(np.asarray(self.spec.geometry.loading_factor(d, phi), dtype=float), 1e-6, 1.0)
 
-    def rates(self, phi, f, rpm=None):
+    def rates(self, phi, f, rpm=None, flight_mass=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
-        return self.rates_of(self.cascade(phi, f, rpm))
+        return self.rates_of(self.cascade(phi, f, rpm, flight_mass))
 
     def rates_of(self, c):
         """Coefficients (1/s) of each family from a :meth:`cascade` result."""
         s = self.spec
-        out = dict(discharge=1.0 / c["tp"], forward=c["CF"] / c["ta"], backmix=s.backmix / c["ta"])
+        out = dict(discharge=1.0 / c["tp"], forward=c["CF"] / c["ta"], backmix=c["CB"] / c["ta"])
         out["return"] = c["CR"] / c["ta"]
         out["kiln"] = (np.full(self.n, 1.0 / s.kiln_time) if s.kilning == "excess"
                        else np.full(self.n, s.kiln_velocity / self.dl))
@@ -192,7 +239,7 @@ class FlightedSectionLaw:
         phi, rho = self.properties(x)
         des = self.design_load(phi, rho, fouling)
         f = self.loading_factor(mp, des, phi)
-        out = self.rates(phi, f, rpm)
+        out = self.rates(phi, f, rpm, np.minimum(mp, des) if self.trajectory else None)
         out.update(design_load=des, repose_angle=phi, bulk_density=rho)
         return out
 
@@ -259,6 +306,8 @@ class _Coefficients:
 
 
 _RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln")
+#: cell_info keys of the trajectory forward step (at the design load, transport-only moisture)
+TRAJECTORY_INFO = ("C_B", "forward_step_m", "C_F_G", "curtain_velocity_ratio")
 
 
 def _check_flighted(spec: SectionSpec, where: str):
@@ -268,6 +317,13 @@ def _check_flighted(spec: SectionSpec, where: str):
         return
     check_choice(f"{where}.loading", spec.loading, ("fixed", "state"))
     check_choice(f"{where}.backmix_to", spec.backmix_to, ("passive", "active"))
+    check_choice("transport.forward_step", spec.forward_step, ("fitted", "trajectory"))
+    if spec.forward_step == "trajectory":
+        from .forward_step import CurtainGas
+
+        if not isinstance(spec.gas, CurtainGas):
+            raise ValueError(f"{where}: transport.forward_step = 'trajectory' needs the gas stream and the "
+                             "particles (give [gas] flow and inlet_temperature, and a [material])")
     if spec.kilning == "excess" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
         raise ValueError(f"transport.kiln_time = {fmt_number(spec.kiln_time)} s is outside the allowed range (0, inf]")
     if spec.kilning == "velocity":
@@ -330,6 +386,9 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
     design_load = np.array(b.design_load)
     info_keys = ("moisture_kg_kg", "repose_angle_deg", "bulk_density_kg_m3", "passive_time_s", "fall_time_s",
                  "fall_height_m", "C_F", "C_R")
+    any_trajectory = any(r["kind"] == "flighted" and r["spec"].forward_step == "trajectory" for r in built)
+    if any_trajectory:      # the trajectory forward step per cell (NaN in cells with the fitted one)
+        info_keys += TRAJECTORY_INFO
     info = {k: [] for k in info_keys}
     families = []
     cell_length = np.zeros(b.n)
@@ -385,22 +444,34 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             info["moisture_kg_kg"].append(x)
             info["repose_angle_deg"].append(phi)
             info["bulk_density_kg_m3"].append(rho)
-            for key in ("passive_time_s", "fall_time_s", "fall_height_m", "C_F", "C_R"):
+            for key in ("passive_time_s", "fall_time_s", "fall_height_m", "C_F", "C_R") + (
+                    TRAJECTORY_INFO if any_trajectory else ()):
                 info[key].append(np.full(N, np.nan))
             continue
         c1 = law.cascade(phi, np.ones(N))
-        f_check = [] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75]
-        cw = min([c1] + [law.cascade(phi, np.full(N, f)) for f in f_check], key=lambda c: float(np.min(c["CR"])))
-        worst = float(np.min(cw["CR"]))
+        if law.trajectory:      # the step at the design load must fit (lower loadings are capped, see cascade)
+            cw = c1
+            worst = float(np.min(1.0 - s.backmix - np.abs(c1["step_free"]) / rec["dl"]))
+        else:
+            f_check = [] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75]
+            cw = min([c1] + [law.cascade(phi, np.full(N, f)) for f in f_check], key=lambda c: float(np.min(c["CR"])))
+            worst = float(np.min(cw["CR"]))
         if worst < 0:
             # the largest N whose forward step fits in the cell at the worst loading
-            cf_per_n = s.drag_reduction * float(np.max(cw["h"])) * law.sin_t / s.length
-            n_max = int(math.floor((1.0 - s.backmix) / cf_per_n)) if cf_per_n > 0 else 0
+            if law.trajectory:
+                step = float(np.max(np.abs(cw["step_free"])))     # m, the trajectory advance
+                what = (f"the trajectory step |d| = {step:.4g} m at the design load (transport.forward_step = "
+                        f"'trajectory') exceeds the cell length {rec['dl']:.4g} m minus backmix; with backmix = "
+                        f"{s.backmix:g} the")
+            else:
+                step = s.drag_reduction * float(np.max(cw["h"])) * law.sin_t
+                what = ("the forward step C_F^G h_m sin(theta) exceeds the cell length minus backmix; with "
+                        f"backmix = {s.backmix:g} and drag_reduction = {s.drag_reduction:g} the")
+            n_max = int(math.floor((1.0 - s.backmix) * s.length / step)) if step > 0 else 0
             raise ValueError(
                 f"section {sec}: transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B "
-                f"negative (min {worst:.4g}): the forward step C_F^G h_m sin(theta) exceeds the cell length "
-                f"minus backmix; with backmix = {s.backmix:g} and drag_reduction = {s.drag_reduction:g} the "
-                f"limit is transport.n_cells <= {n_max} (Lee (2008) Ch. 7: N <= 35 for Invicta)")
+                f"negative (min {worst:.4g}): {what} limit is transport.n_cells <= {n_max} (Lee (2008) Ch. 7: "
+                "N <= 35 for Invicta)")
         if np.any(c1["tp"] <= 0) or np.any(c1["ta"] <= 0):
             raise ValueError(f"section {sec}: geometry gives a non-positive passive or fall time; check the "
                              "repose angle")
@@ -413,7 +484,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         else:
             guess[P] = 0.8 * des
             guess[A] = 0.8 * des * c1["ta"] / c1["tp"]
-        if s.loading == "fixed":
+        if s.loading == "fixed" and not law.release_dependent:
             mk = lambda key, r1=r1: dict(rate=r1[key])  # noqa: E731
         else:
             cc = _Coefficients(law, x, des)
@@ -423,7 +494,8 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             fams.append(EdgeFamily("kiln", P, nxtP, "excess", rate=r1["kiln"], cap=des, section=sec))
         fams.append(EdgeFamily("forward", A, nxtP, "linear", section=sec, **mk("forward")))
         fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
-        if s.backmix > 0:
+        # a counter-current trajectory step may turn negative at some state: keep the backmix edge
+        if s.backmix > 0 or (law.trajectory and s.gas.gas_flow == "counter-current"):
             dst = prevP if s.backmix_to == "passive" else prevA
             fams.append(EdgeFamily("backmix", A, dst, "linear", section=sec, **mk("backmix")))
         if s.kilning == "velocity":
@@ -438,8 +510,9 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         info["repose_angle_deg"].append(phi)
         info["bulk_density_kg_m3"].append(rho)
         for key, ck in (("passive_time_s", "tp"), ("fall_time_s", "ta"), ("fall_height_m", "h"), ("C_F", "CF"),
-                        ("C_R", "CR")):
-            info[key].append(c1[ck])
+                        ("C_R", "CR")) + tuple(zip(TRAJECTORY_INFO, ("CB", "step", "CFG", "cv"))
+                                               if any_trajectory else ()):
+            info[key].append(c1[ck] if ck in c1 else np.full(N, np.nan))
     first = built[0]
     inlet_vec = None
     if first["kind"] == "unflighted" and inlet == "ajayi" and first["spec"].dispersion > 0:

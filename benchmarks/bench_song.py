@@ -1,0 +1,80 @@
+"""Song's Ottawa pilot dryer (issue 14 parts 4-5): the 73-run prediction (target < 10 s), the
+two-coefficient fit of one cross-validation half, and a simulated step test.
+
+Run: python benchmarks/bench_song.py          (prints a Markdown table)
+     pytest benchmarks/bench_song.py --benchmark-only
+"""
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import time  # noqa: E402
+
+from rotarydryer.studies import song_pilot as sp  # noqa: E402
+
+BEST = sp.Coefficients(*sp.SONG_PILOT_FITS["all"])
+
+
+def predict_73_cold():
+    """From nothing: 73 Simulation case loads and networks, the fixed point of every gas run, the
+    steady states (what a user pays for the 73 predictions)."""
+    return sp.PilotModel().predict(BEST)
+
+
+def predict_73_via_simulation():
+    """The same, the final steady states through Simulation(case, overrides).transport_steady_state()."""
+    return sp.PilotModel().predict(BEST, via_simulation=True)
+
+
+def predict_73_warm(model):
+    """Prediction with the networks built and the drag factors of a nearby call (as inside a fit)."""
+    return model.predict(sp.Coefficients(BEST.step_factor * 1.001, BEST.curtain_coefficient))
+
+
+def fit_half(model):
+    idx = sp.split_halves(model.runs)["odd"]
+    return sp.fit_coefficients(model, idx, start=sp.SONG_PILOT_FITS["odd"])
+
+
+def step_test(model):
+    i = int((model.runs.src_line == 1572).nonzero()[0][0])
+    return sp.step_test(model, i, BEST)
+
+
+def test_predict_73_cold(benchmark):
+    benchmark.pedantic(predict_73_cold, rounds=3, iterations=1)
+
+
+def test_predict_73_warm(benchmark):
+    m = sp.PilotModel()
+    m.predict(BEST)
+    benchmark(predict_73_warm, m)
+
+
+def test_step_test(benchmark):
+    m = sp.PilotModel()
+    benchmark.pedantic(step_test, args=(m,), rounds=3, iterations=1)
+
+
+def best(fn, *args, repeat=3):
+    out = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn(*args)
+        out.append(time.perf_counter() - t)
+    return min(out)
+
+
+if __name__ == "__main__":
+    m = sp.PilotModel()
+    m.predict(BEST)
+    rows = [("73-run prediction from nothing (73 case loads, fixed points, steady states)", best(predict_73_cold)),
+            ("the same, final steady states through rotarydryer.Simulation", best(predict_73_via_simulation)),
+            ("73-run prediction, networks built, warm drag factors (one fit evaluation)", best(predict_73_warm, m)),
+            ("fit of the 2 coefficients on one half (37 runs), from SONG_PILOT_FITS", best(fit_half, m, repeat=1)),
+            ("simulated up/down step test (Table 4.1 run 5) + lab analysis", best(step_test, m))]
+    print("| benchmark | time (s) |")
+    print("|---|---|")
+    for name, t in rows:
+        print(f"| {name} | {t:.3f} |")

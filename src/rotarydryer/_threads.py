@@ -1,0 +1,89 @@
+"""One BLAS/OpenMP thread for the project's own solves, fits and parallel runs (issue 16).
+
+The coupled steady states and fits work on small dense and sparse matrices (a few hundred
+unknowns): a multithreaded BLAS spends more on waking and synchronising its threads than on
+the arithmetic, and a process pool or a Dask worker with one BLAS pool per process oversubscribes
+the cores. Measured on a 2-core machine, fits ran 4.6x slower with the default OpenBLAS threading
+than with one thread (``benchmarks/bench_threads.py``).
+
+>>> from rotarydryer._threads import single_threaded
+>>> with single_threaded():          # BLAS/OpenMP pools limited to 1 thread inside
+...     pass
+>>> @single_threaded()
+... def solve():                     # or as a decorator
+...     pass
+
+The limits are process-wide while active (threadpoolctl changes the pools of the loaded native
+libraries) and the previous limits come back on exit. ``threadpoolctl`` is a dependency; if it
+cannot be imported, :func:`single_threaded` does nothing (the results are the same, only slower).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import threading
+
+__all__ = ["single_threaded", "limit_worker_threads", "THREAD_ENV_VARS"]
+
+#: environment variables read by BLAS/OpenMP libraries when they load (set for worker processes)
+THREAD_ENV_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+                   "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
+
+_state = threading.local()
+_worker_limits = None   # the process-wide limits of limit_worker_threads (kept alive on purpose)
+
+
+def _depth() -> int:
+    return getattr(_state, "depth", 0)
+
+
+class single_threaded(contextlib.ContextDecorator):
+    """Context manager and decorator: BLAS/OpenMP thread pools limited to ``limits`` (1) threads.
+
+    Re-entrant and cheap when nested: only the outermost level calls threadpoolctl (which
+    inspects the loaded libraries, about a millisecond); inner levels are no-ops.
+    """
+
+    def __init__(self, limits: int = 1):
+        if isinstance(limits, bool) or not isinstance(limits, int) or limits < 1:
+            raise ValueError(f"limits = {limits!r} is outside the allowed range: an integer >= 1")
+        self.limits = limits
+        self._ctx = None
+        self._outer = False
+
+    def _recreate_cm(self):              # a fresh instance per decorated call (recursion, threads)
+        return type(self)(self.limits)
+
+    def __enter__(self):
+        self._outer = _depth() == 0
+        _state.depth = _depth() + 1
+        if self._outer:
+            try:
+                from threadpoolctl import threadpool_limits
+            except ImportError:          # pragma: no cover - a declared dependency
+                self._ctx = None
+            else:
+                self._ctx = threadpool_limits(limits=self.limits)
+        return self
+
+    def __exit__(self, *exc):
+        _state.depth = max(_depth() - 1, 0)
+        if self._outer and self._ctx is not None:
+            self._ctx.restore_original_limits()
+            self._ctx = None
+        return False
+
+
+def limit_worker_threads(limits: int = 1) -> None:
+    """For the start of a worker process (process-pool initializer, Dask worker): limit the
+    BLAS/OpenMP pools to ``limits`` threads for the rest of the process, both in the libraries
+    already loaded (threadpoolctl) and, through the environment, in those loaded later."""
+    global _worker_limits
+    for var in THREAD_ENV_VARS:
+        os.environ[var] = str(limits)
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:                  # pragma: no cover - a declared dependency
+        return
+    _worker_limits = threadpool_limits(limits=limits)

@@ -1,0 +1,135 @@
+"""``rotarydryer sensitivity``: Sobol indices and output distributions of a case (issue 16)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+import sys
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from . import app
+
+#: output names a study may ask for (``--output``)
+KNOWN_OUTPUTS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
+                 "gas_outlet_humidity_kg_kg", "evaporation_kg_s", "fuel_rate_kg_s", "shell_heat_loss_W",
+                 "mean_residence_time_s", "total_holdup_kg", "active_holdup_kg", "passive_holdup_kg",
+                 "bed_holdup_kg", "outlet_flow_kg_s", "tracer_mean_s", "tracer_std_s", "rtd_std_s",
+                 "rtd_mean_residence_time_s")
+
+
+def _csv(rows: list[dict]) -> str:
+    cols = list(dict.fromkeys(k for r in rows for k in r))
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: ("" if v is None else repr(v) if isinstance(v, float) else v) for k, v in r.items()})
+    return buf.getvalue()
+
+
+def _text_table(res) -> str:
+    lines = [f"Sobol indices ({res.n_runs} runs, {res.n_failed} failed; +- {100 * 0.95:.0f} % CI half-width)",
+             f"{'output':<30} {'parameter':<32} {'S1':>8} {'+-':>7} {'ST':>8} {'+-':>7}"]
+    for r in res.table():
+        lines.append(f"{r['output']:<30} {r['parameter']:<32} {r['S1']:8.3f} {r['S1_conf']:7.3f} "
+                     f"{r['ST']:8.3f} {r['ST_conf']:7.3f}")
+    lines += ["", f"{'output':<30} {'n':>6} {'mean':>11} {'sd':>11} {'p5':>11} {'p50':>11} {'p95':>11}"]
+    for d in res.distribution_table():
+        if d.get("n"):
+            lines.append(f"{d['output']:<30} {d['n']:6d} {d['mean']:11.5g} {d['sd']:11.5g} {d['p5']:11.5g} "
+                         f"{d['p50']:11.5g} {d['p95']:11.5g}")
+    return "\n".join(lines) + "\n"
+
+
+@app.command("sensitivity")
+def sensitivity(
+    case: str = typer.Argument(..., help="Case name or .toml file."),
+    param: Optional[List[str]] = typer.Option(None, "--param", help="Uncertain input KEY=LOW,HIGH (uniform); repeat."),
+    samples: str = typer.Option("64", "--samples", "-n", help="Base samples N (runs: N x (inputs + 2)); a power of 2."),
+    output: Optional[List[str]] = typer.Option(None, "--output", help="Output name (repeat); default: product "
+                                               "moisture, gas outlet temperature, fuel rate, mean residence time."),
+    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
+    workers: int = typer.Option(1, help="Local worker processes (0: one per core)."),
+    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler address, e.g. tcp://10.0.0.5:8786."),
+    seed: int = typer.Option(0, help="Seed of the scrambled Sobol' sequence and the bootstrap."),
+    warm_start: bool = typer.Option(True, "--warm-start/--cold-start",
+                                    help="Start each coupled steady state from the nearest converged run."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Folder for sensitivity.json, the CSV tables "
+                                                                "and sensitivity.png."),
+    as_json: bool = typer.Option(False, "--json", help="Print the result as one JSON object."),
+):
+    """Global sensitivity (Sobol first- and total-order indices with 95 % confidence intervals)
+    and Monte Carlo output distributions of a case.
+
+    Examples:
+      rotarydryer sensitivity lee2008_invicta --set thermal.enabled=false \\
+          --param operating.rpm=2,4 --param operating.feed_rate=20,30 --samples 64
+      rotarydryer sensitivity ajayi2011_mmg --param operating.feed_rate=3,4 \\
+          --param transport.kiln_time=5,10 --samples 256 --workers 0 --out study/
+      rotarydryer report ajayi2011_mmg --sensitivity study/sensitivity.json
+    Failed runs (infeasible points) are recorded and left out of the indices block-wise.
+    Exit codes: 0 done, 1 every run failed, 2 bad input, 3 SALib or Dask not installed.
+    """
+    from .._io import json_text, save_figure, write_text_atomic
+    from ..studies import sensitivity as sens
+    from ._common import check_out_dir, parse_sets
+
+    try:
+        sens.require_salib()
+    except ImportError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(3)
+    try:
+        base = parse_sets(set_)
+        params = sens.check_params([sens.parse_param(p) for p in (param or [])])
+        n_samples = sens.check_samples(samples, len(params))
+        outputs = list(dict.fromkeys(output)) if output else list(sens.OUTPUTS)
+        for o in outputs:
+            if o not in KNOWN_OUTPUTS:
+                raise ValueError(f"--output {o!r} is not a known output; choose from {', '.join(KNOWN_OUTPUTS)}")
+        if workers < 0:
+            raise ValueError(f"--workers = {workers} is outside the allowed range [0, inf)")
+        n_workers = workers if workers > 0 else (os.cpu_count() or 1)
+        check_out_dir("--out", out)
+        sens._check_case(case, base, params)          # unknown case or key, a range the schema refuses
+    except (ValueError, OSError) as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+    n_runs = n_samples * (len(params) + 2)
+    try:
+        with typer.progressbar(length=n_runs, label=f"{n_runs} runs", file=sys.stderr,
+                               hidden=as_json or not sys.stderr.isatty()) as bar:
+            res = sens.sobol_study(case, params, n_samples, outputs, workers=n_workers, scheduler=scheduler,
+                                   base_overrides=base, seed=seed, warm_start=warm_start, progress=bar.update)
+    except ImportError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(3)
+    data = res.to_dict()
+    if out is not None:
+        out = Path(out)
+        try:
+            write_text_atomic(out / "sensitivity.json", json_text(data, indent=1))
+            write_text_atomic(out / "sensitivity_indices.csv", _csv(res.table()))
+            write_text_atomic(out / "sensitivity_distributions.csv", _csv(res.distribution_table()))
+            write_text_atomic(out / "sensitivity_runs.csv", _csv(res.runs_table()))
+            save_figure(sens.plot_sensitivity(data), out / "sensitivity.png", dpi=110)
+        except (ValueError, OSError) as exc:
+            typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
+            raise typer.Exit(2)
+    if as_json:
+        typer.echo(json_text(data))
+    else:
+        typer.echo(_text_table(res), nl=False)
+        if out is not None:
+            typer.echo(f"results: {out}/sensitivity.json, sensitivity_indices.csv, sensitivity_distributions.csv, "
+                       f"sensitivity_runs.csv, sensitivity.png ({res.seconds:.1f} s, {res.runs_per_second:.1f} runs/s)")
+    for note in res.notes:
+        typer.echo(f"note: {note}", err=True)
+    if res.n_failed == res.n_runs:
+        typer.echo(f"error: all {res.n_runs} runs failed; first: {res.failures[0]['error'] if res.failures else ''}",
+                   err=True)
+        raise typer.Exit(1)

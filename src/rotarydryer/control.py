@@ -1,0 +1,615 @@
+r"""Closed-loop control of the dynamic coupled dryer model (PI feedback + feed-forward).
+
+The plant is :class:`~rotarydryer.thermal.dryer.ThermalDryer`: it is integrated over one sample
+interval at a time (``dryer.simulate(z, dt_sample)``) and its inputs are changed between
+intervals (:func:`~rotarydryer.thermal.studies.perturbed`), keeping the state, so the controller
+sees a sampled, dead-time-delayed measurement of the nonlinear model.
+
+Structure (Ajayi (2011) Ch. 7 targets: product moisture at most 12 % wet basis, product
+temperature 45-50 degC; the plant's DCS uses a *feed-forward* on the water to remove):
+
+* **Controlled variable** (measured, sampled every ``sample_time_s``, delayed by
+  ``measurement_dead_time_s``): ``product_moisture`` (kg/kg wet) or ``exhaust_temperature``
+  (degC).
+* **Manipulated variables** in split range: first the gas inlet temperature (burner; the fuel
+  rate of the case's burner is reported at every sample), then - when it saturates and
+  ``feed_backup`` is on - the solids feed rate is *reduced* (Ajayi (2011) l.2420: "reducing the
+  solids feed" as the manipulated variable of scaled or overloaded dryers). The PI output ``v``
+  is in units of the controlled variable ("y-equivalent"): each range is normalised by its
+  identified steady-state gain, so the loop gain is 1 in either range (gain scheduling).
+* **PI** in velocity form (Seborg et al. 2011 Ch. 8, incremental form):
+  :math:`\Delta v_k = K_c\,[(e_k-e_{k-1}) + (T_s/\tau_I)\,e_k]`, output clipped to the
+  ranges, which is its anti-windup (the stored output never leaves the limits).
+* **Feed-forward** from the measured feed moisture (dry basis) and feed rate (Ajayi's DCS logic:
+  the water to remove sets the heat demand). ``"model"`` (default): the static feed-forward
+  :math:`v_{ff}` that the steady state of the model itself needs to hold the setpoint at the
+  measured disturbance (secant iteration on steady states, cached); ``"linear"``:
+  :math:`v_{ff} = -(K_{d,x}\,\Delta X_{feed} + K_{d,F}\,\Delta F_{feed})` from the FOPDT gains
+  (Seborg et al. 2011 Ch. 15, static design). Dynamic compensation (Seborg et al. 2011 Ch. 15: lead-lag and delay)
+  is replaced by one delay that matches the times to half response, :math:`\theta+\tau\ln 2`,
+  of the disturbance path and of the slowest manipulated path (a lead-lag kicks the
+  saturating split range too hard).
+* **Tuning**: FOPDT models (gain K, dead time θ, time constant τ) from step responses of the
+  dynamic model (as :func:`rotarydryer.thermal.studies.step_response`, with the feed moisture
+  and the exhaust temperature added; two-point fit :func:`~rotarydryer.thermal.studies.fopdt_fit`)
+  and the SIMC rules of Skogestad (2003),
+  "Simple analytic rules for model reduction and PID controller tuning", J. Process Control 13,
+  291-309, SIMC PI rule: :math:`K_c = \tau / (K(\tau_c+\theta))`,
+  :math:`\tau_I = \min(\tau, 4(\tau_c+\theta))`, with :math:`\tau_c = \theta` (the "tight but
+  robust" choice). Sampling and the measurement dead time are added to θ (half the sample
+  time for the zero-order hold, Skogestad 2003 Sec. 3.2).
+* **Stability check**: the ultimate loop gain of a FOPDT + PI loop (phase crossover of
+  :math:`K_cK(1+1/(j\omega\tau_I))e^{-j\omega\theta}/(1+j\omega\tau)`); settings with
+  :math:`K_cK` beyond it, or of the wrong sign, raise a :class:`ControlWarning`.
+
+Disturbance scenarios: ``feed_moisture_step`` (relative step of the feed moisture, dry basis
+by default: +20 % of 0.163 wet = 0.195 would leave the zinc concentrate's validated range),
+``feed_rate_step`` (relative), ``fouling_ramp`` (flight loading capacity lost, Ajayi Ch. 7
+"scaling", from 0 to ``magnitude`` over the run), ``none``.
+
+Performance figures (after the disturbance): IAE (∫|e| dt), maximum deviation, overshoot
+(largest excursion beyond the setpoint on the side opposite to the first peak, % of that peak),
+settling time (last time |e| exceeds the tolerance), whether the product moisture stays within
+the tolerance band, and the fraction of time within Ajayi's product targets.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import time
+import warnings
+from typing import Optional
+
+import numpy as np
+
+from ._validation import check_choice, check_range
+
+__all__ = ["ControlWarning", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
+           "ControlConfig", "identify", "check_scenario", "closed_loop", "ClosedLoopResult", "SCENARIOS",
+           "AJAYI_TARGETS",
+           "performance"]
+
+#: Ajayi (2011) Ch. 7 (l.2362): transportable product moisture limit and MMG product temperature policy
+AJAYI_TARGETS = {"product_moisture_max_kg_kg": 0.12, "product_temperature_band_degC": (45.0, 50.0)}
+SCENARIOS = ("feed_moisture_step", "feed_rate_step", "fouling_ramp", "none")
+MEASURED = ("product_moisture", "exhaust_temperature")
+#: default tolerance band of the controlled variable (0.5 percentage point; 2 K)
+TOLERANCE = {"product_moisture": 0.005, "exhaust_temperature": 2.0}
+
+
+class ControlWarning(UserWarning):
+    """Controller settings that make the loop unstable (or act in the wrong direction)."""
+
+
+@dataclasses.dataclass
+class FOPDT:
+    """First-order-plus-dead-time model: gain (output per input unit), dead time and time constant, s."""
+
+    gain: float
+    dead_time_s: float
+    time_constant_s: float
+
+    @classmethod
+    def from_fit(cls, fit):
+        return cls(float(fit["gain"]), max(float(fit["dead_time_s"]), 0.0), max(float(fit["time_constant_s"]), 1.0))
+
+
+def simc_pi(model: FOPDT, tau_c_s: Optional[float] = None, extra_dead_time_s: float = 0.0):
+    """SIMC PI settings, Skogestad (2003): Kc = τ/(K(τc+θ)), τI = min(τ, 4(τc+θ)).
+
+    ``tau_c_s`` (closed-loop time constant) defaults to θ (Skogestad's recommendation for tight,
+    robust control); ``extra_dead_time_s`` (measurement dead time + half the sample time) is
+    added to θ. Returns dict(kc, tau_i_s, tau_c_s, theta_s).
+
+    >>> s = simc_pi(FOPDT(2.0, 10.0, 100.0))
+    >>> round(s["kc"], 3), s["tau_i_s"]
+    (2.5, 80.0)
+    """
+    if model.gain == 0 or not math.isfinite(model.gain):
+        raise ValueError(f"FOPDT gain = {model.gain!r}: the manipulated variable does not move the output")
+    theta = max(model.dead_time_s + extra_dead_time_s, 1e-6)
+    tc = theta if tau_c_s is None else float(check_range("tau_c_s", tau_c_s, 0.0, math.inf, unit="s"))
+    kc = model.time_constant_s / (model.gain * (tc + theta))
+    return dict(kc=float(kc), tau_i_s=float(min(model.time_constant_s, 4.0 * (tc + theta))), tau_c_s=float(tc),
+                theta_s=float(theta))
+
+
+def pi_ultimate_gain(model: FOPDT, tau_i_s: float, extra_dead_time_s: float = 0.0) -> float:
+    r"""Largest loop gain Kc*K (same sign as K) for which the FOPDT + PI loop is stable.
+
+    Phase of :math:`(1+1/(j\omega\tau_I))e^{-j\omega\theta}/(1+j\omega\tau)` reaches -180° at
+    ω180; the limit is 1/|L(jω180)/(K_cK)| (Nyquist; the loop is open-loop stable)."""
+    from scipy.optimize import brentq
+
+    th, tau, ti = model.dead_time_s + extra_dead_time_s, model.time_constant_s, float(tau_i_s)
+    if th <= 0:
+        return math.inf   # a first-order lag + PI never reaches -180 degrees
+
+    def phase(w):
+        return -th * w - math.atan(w * tau) - (math.pi / 2 - math.atan(w * ti)) + math.pi
+    lo, hi = 1e-9, 1.0
+    while phase(hi) > 0:
+        hi *= 2
+        if hi > 1e9:
+            return math.inf
+    w = brentq(phase, lo, hi)
+    mag = math.sqrt(1 + 1 / (w * ti) ** 2) / math.sqrt(1 + (w * tau) ** 2)
+    return 1.0 / mag
+
+
+def check_pi_stability(model: FOPDT, kc: float, tau_i_s: float, extra_dead_time_s: float = 0.0, name="PI"):
+    """Gain margin of the loop; warns (:class:`ControlWarning`) when Kc*K is of the wrong sign
+    (positive feedback) or beyond the ultimate gain (:func:`pi_ultimate_gain`). Returns the gain margin."""
+    loop = kc * model.gain
+    if loop <= 0:
+        warnings.warn(f"{name}: Kc*K = {loop:.3g} <= 0: the controller acts in the wrong direction (positive "
+                      f"feedback; Kc must have the sign of the process gain K = {model.gain:.3g})",
+                      ControlWarning, stacklevel=2)
+        return 0.0
+    ku = pi_ultimate_gain(model, tau_i_s, extra_dead_time_s)
+    gm = ku / loop
+    if gm <= 1.0:
+        warnings.warn(f"{name}: unstable loop: Kc*K = {loop:.3g} exceeds the stability limit {ku:.3g} of the "
+                      f"FOPDT+PI loop (K = {model.gain:.3g}, theta = {model.dead_time_s + extra_dead_time_s:.0f} s, "
+                      f"tau = {model.time_constant_s:.0f} s, tau_I = {tau_i_s:.0f} s; gain margin {gm:.2f} < 1)",
+                      ControlWarning, stacklevel=2)
+    return float(gm)
+
+
+class PIController:
+    """PI controller in velocity form with output limits (clipping = anti-windup), Seborg et al. 2011 Ch. 8.
+
+    ``step(setpoint, measurement, lo, hi)`` returns the new output; ``lo``/``hi`` may move
+    between calls (the room that the feed-forward leaves)."""
+
+    def __init__(self, kc, tau_i_s, sample_time_s, u0=0.0, u_min=-math.inf, u_max=math.inf):
+        self.kc = float(kc)
+        self.tau_i_s = float(check_range("tau_i_s", tau_i_s, 0.0, math.inf, unit="s"))
+        self.ts = float(sample_time_s)
+        self.u = float(u0)
+        self.u_min, self.u_max = u_min, u_max
+        self._e = None
+
+    def step(self, setpoint, measurement, lo=None, hi=None):
+        e = float(setpoint) - float(measurement)
+        e_prev = e if self._e is None else self._e
+        du = self.kc * ((e - e_prev) + self.ts / self.tau_i_s * e)
+        lo = self.u_min if lo is None else max(lo, self.u_min)
+        hi = self.u_max if hi is None else min(hi, self.u_max)
+        self.u = float(np.clip(self.u + du, lo, hi))
+        self._e = e
+        return self.u
+
+
+@dataclasses.dataclass
+class ControlConfig:
+    """Settings of a closed-loop run (SI, degC). ``None`` = from the identification (SIMC)."""
+
+    measured: str = "product_moisture"
+    setpoint: Optional[float] = None          # None: the steady state of the case
+    sample_time_s: float = 60.0
+    measurement_dead_time_s: float = 120.0
+    kc: Optional[float] = None                # in y-units per y-unit (normalised split range)
+    tau_i_s: Optional[float] = None
+    tau_c_s: Optional[float] = None
+    feedforward: str = "model"               # "model" (steady-state), "linear" (FOPDT gains) or "off"
+    feedback: bool = True
+    feed_backup: bool = True                  # reduce the feed when the gas temperature saturates
+    gas_temperature_min: Optional[float] = None
+    gas_temperature_max: float = 600.0
+    feed_min_fraction: float = 0.5
+    tolerance: Optional[float] = None
+
+    def validate(self):
+        check_choice("measured", self.measured, MEASURED)
+        check_choice("feedforward", self.feedforward, ("model", "linear", "off"))
+        check_range("sample_time_s", self.sample_time_s, 1.0, 3600.0, low_inclusive=True, high_inclusive=True,
+                    unit="s")
+        check_range("measurement_dead_time_s", self.measurement_dead_time_s, 0.0, 7200.0, low_inclusive=True,
+                    high_inclusive=True, unit="s")
+        check_range("gas_temperature_max", self.gas_temperature_max, 0.0, 600.0, high_inclusive=True, unit="degC")
+        if self.gas_temperature_min is not None:
+            check_range("gas_temperature_min", self.gas_temperature_min, 0.0, self.gas_temperature_max, unit="degC")
+        check_range("feed_min_fraction", self.feed_min_fraction, 0.0, 1.0, high_inclusive=True)
+        if self.tau_i_s is not None:
+            check_range("tau_i_s", self.tau_i_s, 0.0, math.inf, unit="s")
+        if self.tau_c_s is not None:
+            check_range("tau_c_s", self.tau_c_s, 0.0, math.inf, unit="s")
+        if self.kc is not None:
+            check_range("kc", self.kc, -1e6, 1e6)
+        if self.setpoint is not None:
+            if self.measured == "product_moisture":
+                check_range("setpoint", self.setpoint, 0.0, 1.0, unit="kg/kg wet")
+            else:
+                check_range("setpoint", self.setpoint, 0.0, 600.0, unit="degC")
+        return self
+
+
+# ---------------------------------------------------------------------------------------------- plant helpers
+def _dry_basis(x):
+    return x / (1.0 - x)
+
+
+def _wet_basis(X):
+    return X / (1.0 + X)
+
+
+def plant(dryer, *, gas_inlet_temperature=None, feed_rate=None, feed_moisture=None, fouling=None, **settings):
+    """A copy of ``dryer`` with new inputs (gas inlet temperature degC, feed rate kg/s wet, feed
+    moisture kg/kg wet, fouling 0-0.95, or other ThermalSettings fields); the checks of
+    :func:`~rotarydryer.thermal.studies.perturbed` apply."""
+    from .thermal.studies import perturbed
+
+    ch = dict(settings)
+    if gas_inlet_temperature is not None:
+        ch["gas_inlet_temperature"] = gas_inlet_temperature
+    if feed_rate is not None:
+        ch["solid_feed_rate"] = feed_rate
+    if fouling is not None:
+        ch["fouling"] = float(fouling)
+    d = perturbed(dryer, **ch)
+    if feed_moisture is not None:
+        d.feed_moisture = float(feed_moisture)
+        d._check_operating_inputs()
+    return d
+
+
+def outputs_of(dryer, z):
+    """Measured outputs of state ``z``: product moisture (kg/kg wet) and temperature (degC),
+    exhaust temperature (degC) and humidity (kg/kg dry gas), total holdup (kg)."""
+    s = dryer.settings
+    pS, pW, pH = dryer.product_stream(z)
+    S, W, T, Tg, Y = dryer.split(z)
+    k = dryer.gas_outlet_stage
+    return dict(product_moisture=float(pW / (pS + pW)),
+                product_temperature=float(pH / (pS * s.cp_solids + pW * s.cp_water)),
+                exhaust_temperature=float(Tg[k]), exhaust_humidity=float(Y[k]),
+                holdup=float(np.sum(S + W)))
+
+
+def _fuel(dryer):
+    """Fuel rate (kg/s) of the case's burner for the dryer's gas inlet temperature (None without a burner)."""
+    from .thermal.burner import fuel_rate_for_temperature
+
+    s = dryer.settings
+    b = s.burner
+    if b is None:
+        return None
+    try:
+        return float(fuel_rate_for_temperature(s.gas_inlet_temperature, s.gas_flow * b.combustion_air_share,
+                                               s.gas_flow * (1 - b.combustion_air_share),
+                                               air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y,
+                                               fuel=b.fuel, heat_loss_fraction=b.heat_loss_fraction))
+    except ValueError:
+        return None
+
+
+# ---------------------------------------------------------------------------------------------- identification
+def _step(dryer, z0, duration, dt, **change):
+    d2 = plant(dryer, **change)
+    t_eval = np.arange(0.0, duration + dt / 2, dt)
+    res = d2.simulate(z0, duration, t_eval=t_eval)
+    ys = {k: [] for k in MEASURED}
+    for j in range(res.states.shape[1]):
+        o = outputs_of(d2, res.states[:, j])
+        for k in MEASURED:
+            ys[k].append(o[k])
+    return res.time, {k: np.asarray(v) for k, v in ys.items()}
+
+
+def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, feed_step_fraction=-0.1,
+             moisture_step_fraction=0.1, progress=None):
+    """FOPDT models (per measured output) of the gas inlet temperature, the feed rate and the
+    feed moisture (dry basis, kg/kg dry), from step responses of the dynamic model around ``steady``.
+
+    Returns dict input -> output -> :class:`FOPDT` (input names: ``gas_inlet_temperature`` (per K),
+    ``feed_rate`` (per kg/s), ``feed_moisture_dry`` (per kg/kg dry))."""
+    from .thermal.studies import fopdt_fit
+
+    z0 = steady.state
+    s = dryer.settings
+    T0, F0, x0 = s.gas_inlet_temperature, dryer.feed_rate, dryer.feed_moisture
+    dT = gas_step_degC if T0 + gas_step_degC <= 600.0 else -gas_step_degC
+    X0 = _dry_basis(x0)
+    Xs = X0 * (1 + moisture_step_fraction)
+    lo, hi = dryer.material.wet_range()
+    if _wet_basis(Xs) > hi:
+        Xs = X0 * (1 - moisture_step_fraction)
+    steps = {"gas_inlet_temperature": (dict(gas_inlet_temperature=T0 + dT), dT),
+             "feed_rate": (dict(feed_rate=F0 * (1 + feed_step_fraction)), F0 * feed_step_fraction),
+             "feed_moisture_dry": (dict(feed_moisture=_wet_basis(Xs)), Xs - X0)}
+    y0 = outputs_of(dryer, z0)
+    out = {}
+    for name, (change, du) in steps.items():
+        if progress:
+            progress(f"identification: step of {name}")
+        t, ys = _step(dryer, z0, duration_s, dt_s, **change)
+        out[name] = {k: FOPDT.from_fit(fopdt_fit(t, ys[k], du, y0=y0[k])) for k in MEASURED}
+    return out
+
+
+# ---------------------------------------------------------------------------------------------- closed loop
+@dataclasses.dataclass
+class ClosedLoopResult:
+    """Sampled trajectories (arrays over ``time_s``), the settings used and the performance figures."""
+
+    time_s: np.ndarray
+    series: dict
+    setpoint: float
+    measured: str
+    tuning: dict
+    performance: dict
+    scenario: dict
+    seconds: float
+
+    def summary(self):
+        return dict(measured=self.measured, setpoint=self.setpoint, scenario=self.scenario, tuning=self.tuning,
+                    performance=self.performance, wall_time_s=self.seconds)
+
+    def table(self):
+        """Rows (dicts) of the sampled series, named with their units."""
+        keys = list(self.series)
+        return [dict(time_s=float(t), **{k: self.series[k][i] for k in keys}) for i, t in enumerate(self.time_s)]
+
+
+def _disturbance(scenario, magnitude, t, t_step, t_end, base):
+    """Feed moisture (wet), feed rate (kg/s) and fouling at time t of a scenario."""
+    x, F, f = base["feed_moisture"], base["feed_rate"], base["fouling"]
+    if scenario == "feed_moisture_step" and t >= t_step:
+        x = _wet_basis(_dry_basis(x) * (1 + magnitude))
+    elif scenario == "feed_rate_step" and t >= t_step:
+        F = F * (1 + magnitude)
+    elif scenario == "fouling_ramp" and t >= t_step:
+        f = f + (magnitude - f) * min(1.0, (t - t_step) / max(t_end - t_step, 1.0))
+    return x, F, f
+
+
+def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, product_temperature=None):
+    """IAE (∫|e|dt from the disturbance), maximum |e|, overshoot (%), settling time (s after the
+    disturbance, None if |e| ends above the tolerance), within-band flag, and the fraction of
+    time meeting Ajayi's targets (moisture <= 12 %, temperature 45-50 degC)."""
+    t = np.asarray(time_s, float)
+    e = np.asarray(y, float) - setpoint
+    m = t >= t_step
+    tt, ee = t[m], e[m]
+    iae = float(np.trapezoid(np.abs(ee), tt)) if tt.size > 1 else 0.0
+    i_pk = int(np.argmax(np.abs(ee))) if ee.size else 0
+    peak = float(ee[i_pk]) if ee.size else 0.0
+    after = ee[i_pk:]
+    opposite = after[np.sign(after) == -np.sign(peak)] if peak != 0 else np.array([])
+    overshoot = float(100 * np.max(np.abs(opposite)) / abs(peak)) if opposite.size and peak != 0 else 0.0
+    outside = np.nonzero(np.abs(ee) > tolerance)[0]
+    if outside.size == 0:
+        settling = 0.0
+    elif outside[-1] == ee.size - 1:
+        settling = None
+    else:
+        settling = float(tt[outside[-1] + 1] - t_step)
+    out = dict(iae=iae, max_abs_deviation=float(np.max(np.abs(ee))) if ee.size else 0.0, peak_deviation=peak,
+               overshoot_pct=overshoot, settling_time_s=settling, tolerance=tolerance,
+               within_tolerance=bool(outside.size == 0), final_deviation=float(e[-1]))
+    if product_moisture is not None:
+        pm = np.asarray(product_moisture)[m]
+        out["fraction_moisture_at_most_12pct"] = float(np.mean(pm <= AJAYI_TARGETS["product_moisture_max_kg_kg"]
+                                                                + 1e-9))
+    if product_temperature is not None:
+        lo, hi = AJAYI_TARGETS["product_temperature_band_degC"]
+        pt = np.asarray(product_temperature)[m]
+        out["fraction_temperature_45_50degC"] = float(np.mean((pt >= lo) & (pt <= hi)))
+    return out
+
+
+def check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s=0.0):
+    """Refuse (``ValueError`` naming the key) a disturbance that takes the plant outside its valid
+    inputs (e.g. a feed wetter than the material's range) before any long run."""
+    check_choice("scenario", scenario, SCENARIOS)
+    base = dict(feed_moisture=dryer.feed_moisture, feed_rate=dryer.feed_rate, fouling=dryer.settings.fouling)
+    x, F, f = _disturbance(scenario, magnitude, t_end_s, t_step_s, t_end_s, base)
+    plant(dryer, feed_moisture=x, feed_rate=F, fouling=f)
+
+
+def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=0.2, t_end_s=10800.0,
+                t_step_s=600.0, config: ControlConfig | None = None, models=None, controlled=True,
+                progress=None):
+    """Closed-loop (``controlled=True``) or open-loop run of ``dryer`` from ``steady`` (default:
+    its steady state) under a disturbance ``scenario`` (:data:`SCENARIOS`; ``magnitude`` relative:
+    +0.2 = +20 %; for ``fouling_ramp`` the final fouling fraction).
+
+    ``models``: the result of :func:`identify` (computed when None and needed). Returns a
+    :class:`ClosedLoopResult`; warns :class:`ControlWarning` for unstable settings."""
+    cfg = (config or ControlConfig()).validate()
+    check_choice("scenario", scenario, SCENARIOS)
+    check_range("t_end_s", t_end_s, 0.0, 30 * 86400.0, unit="s")
+    check_range("t_step_s", t_step_s, 0.0, t_end_s, low_inclusive=True, high_inclusive=True, unit="s")
+    if scenario == "fouling_ramp":
+        check_range("magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,
+                    unit="(final fouling fraction)")
+    else:
+        check_range("magnitude", magnitude, -0.9, 2.0, unit="(relative change)")
+    t0 = time.perf_counter()
+    if steady is None:
+        steady = dryer.steady_state()
+    s = dryer.settings
+    base = dict(feed_moisture=dryer.feed_moisture, feed_rate=dryer.feed_rate, fouling=s.fouling)
+    check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s)
+    y_ss = outputs_of(dryer, steady.state)
+    cv = cfg.measured
+    sp = y_ss[cv] if cfg.setpoint is None else float(cfg.setpoint)
+    ts = cfg.sample_time_s
+    T0, F0 = s.gas_inlet_temperature, dryer.feed_rate
+    Tmin = cfg.gas_temperature_min if cfg.gas_temperature_min is not None else max(s.solids_inlet_temperature + 50.0,
+                                                                                    T0 - 200.0)
+    Tmax = cfg.gas_temperature_max
+    if not Tmin <= T0 <= Tmax:
+        raise ValueError(f"gas_temperature_min..gas_temperature_max = {Tmin:g}..{Tmax:g} degC must contain the "
+                         f"case's gas inlet temperature {T0:g} degC")
+    tuning = {}
+    if controlled:
+        if models is None:
+            models = identify(dryer, steady, progress=progress)
+        mT, mF, mX = (models["gas_inlet_temperature"][cv], models["feed_rate"][cv], models["feed_moisture_dry"][cv])
+        extra = cfg.measurement_dead_time_s + ts / 2
+        # normalised ranges: v = K * du (y-units); the slower range sets the tuning (robust)
+        norm_T = FOPDT(1.0, mT.dead_time_s, mT.time_constant_s)
+        norm_F = FOPDT(1.0, mF.dead_time_s, mF.time_constant_s)
+        cands = [simc_pi(norm_T, cfg.tau_c_s, extra)] + ([simc_pi(norm_F, cfg.tau_c_s, extra)]
+                                                         if cfg.feed_backup else [])
+        simc = min(cands, key=lambda c: c["kc"])
+        kc = simc["kc"] if cfg.kc is None else cfg.kc
+        ti = simc["tau_i_s"] if cfg.tau_i_s is None else cfg.tau_i_s
+        gms = [check_pi_stability(norm_T, kc, ti, extra, name="PI on the gas inlet temperature range")]
+        if cfg.feed_backup:
+            gms.append(check_pi_stability(norm_F, kc, ti, extra, name="PI on the feed rate range"))
+        tuning = dict(rule="SIMC, Skogestad (2003) (tau_c = theta)", kc=kc, tau_i_s=ti,
+                      simc_kc=simc["kc"], simc_tau_i_s=simc["tau_i_s"], theta_loop_s=simc["theta_s"],
+                      gain_margin=min(gms),
+                      fopdt={name: dataclasses.asdict(m) for name, m in
+                             (("gas_inlet_temperature", mT), ("feed_rate", mF), ("feed_moisture_dry", mX))},
+                      gas_temperature_range_degC=[Tmin, Tmax], feed_min_kg_s=cfg.feed_min_fraction * F0)
+        # y-equivalent ranges of each actuator
+        vT = sorted([mT.gain * (Tmin - T0), mT.gain * (Tmax - T0)])
+        pi = PIController(kc, ti, ts) if cfg.feedback else None
+        # dynamic feed-forward, Seborg et al. (2011) Ch. 15:
+        # Gf = -(Kd/Ku) (tau_u s+1)/(tau_d s+1) exp(-(theta_d-theta_u) s); the lead-lag and dead time are
+        # replaced by one delay that matches the times to half response, theta + ln2 tau, of the disturbance
+        # path and of the slowest manipulated path (a lead-lag kicks the saturating split range too hard)
+        mu = max([mT] + ([mF] if cfg.feed_backup else []),
+                 key=lambda m: m.dead_time_s + math.log(2) * m.time_constant_s)
+        ff_delay = max(0.0, (mX.dead_time_s + math.log(2) * mX.time_constant_s)
+                       - (mu.dead_time_s + math.log(2) * mu.time_constant_s))
+        tuning["feedforward_delay_s"] = ff_delay
+        tuning["feedforward"] = cfg.feedforward
+        ff_cache = {}
+
+        def split(v, Fd):
+            vF = sorted([mF.gain * (cfg.feed_min_fraction * F0 - Fd), 0.0]) if cfg.feed_backup else [0.0, 0.0]
+            v_T = float(np.clip(v, vT[0], vT[1]))
+            F_in = Fd + float(np.clip(v - v_T, vF[0], vF[1])) / mF.gain if cfg.feed_backup else Fd
+            return T0 + v_T / mT.gain, F_in, vF
+
+        def ff_value(x, Fd, f):
+            """Feed-forward v for measured feed moisture x and feed rate Fd."""
+            dX = _dry_basis(x) - _dry_basis(base["feed_moisture"])
+            v_lin = -(mX.gain * dX + mF.gain * (Fd - F0))
+            if cfg.feedforward != "model" or (abs(dX) < 1e-9 and abs(Fd - F0) < 1e-9 * F0):
+                return v_lin
+            key = (round(x, 9), round(Fd, 9))
+            if key not in ff_cache:   # steady-state (model-based) feed-forward: secant on v for the setpoint
+                if progress:
+                    progress(f"feed-forward: steady state for feed moisture {x:.4g}, feed rate {Fd:.4g} kg/s")
+                zs = steady.state
+
+                def g(v):
+                    nonlocal zs
+                    T_in, F_in, _ = split(v, Fd)
+                    st = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x,
+                               fouling=base["fouling"]).steady_state(z0=zs)
+                    zs = st.state
+                    return outputs_of(st.dryer, st.state)[cv] - sp
+                try:
+                    v0, v1 = v_lin, 1.1 * v_lin if v_lin else 1e-3
+                    g0, g1 = g(v0), g(v1)
+                    for _ in range(8):
+                        if abs(g1) < 0.05 * (cfg.tolerance or TOLERANCE[cv]) or g1 == g0:
+                            break
+                        v0, g0, v1 = v1, g1, v1 - g1 * (v1 - v0) / (g1 - g0)
+                        g1 = g(v1)
+                    ff_cache[key] = v1
+                except ValueError:   # no steady state at these inputs: fall back to the linear feed-forward
+                    ff_cache[key] = v_lin
+            return ff_cache[key]
+    n = int(round(t_end_s / ts))
+    delay_n = int(round(cfg.measurement_dead_time_s / ts))
+    meas_buf, ff_buf = [], []
+    z = np.asarray(steady.state, float)
+    rec = {k: [] for k in ("product_moisture_kg_kg", "product_temperature_degC", "exhaust_temperature_degC",
+                           "exhaust_humidity_kg_kg", "holdup_kg", "measured", "gas_inlet_temperature_degC",
+                           "feed_rate_kg_s", "feed_moisture_kg_kg", "fouling", "fuel_rate_kg_s", "controller_output")}
+    times = []
+    d_cur = dryer
+    v_fb = 0.0
+    for k in range(n + 1):
+        t = k * ts
+        x, Fd, f = _disturbance(scenario, magnitude, t, t_step_s, t_end_s, base)
+        y = outputs_of(d_cur, z)
+        meas_buf.append(y[cv])
+        ym = meas_buf[max(0, len(meas_buf) - 1 - delay_n)]
+        T_in, F_in, v = T0, Fd, 0.0
+        if controlled:
+            v_ff = 0.0
+            if cfg.feedforward != "off":
+                ff_buf.append((x, Fd))
+                v_ff = ff_value(*ff_buf[max(0, len(ff_buf) - 1 - int(round(ff_delay / ts)))], f)
+            vF = split(0.0, Fd)[2]
+            lo, hi = vT[0] + vF[0], vT[1] + vF[1]
+            if pi is not None:
+                v_fb = pi.step(sp, ym, lo - v_ff, hi - v_ff)
+            v = float(np.clip(v_fb + v_ff, lo, hi))
+            # split range: the gas temperature first, the rest by the feed rate
+            T_in, F_in, _ = split(v, Fd)
+        d_cur = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x, fouling=f)
+        times.append(t)
+        for key, val in (("product_moisture_kg_kg", y["product_moisture"]),
+                         ("product_temperature_degC", y["product_temperature"]),
+                         ("exhaust_temperature_degC", y["exhaust_temperature"]),
+                         ("exhaust_humidity_kg_kg", y["exhaust_humidity"]), ("holdup_kg", y["holdup"]),
+                         ("measured", ym), ("gas_inlet_temperature_degC", T_in), ("feed_rate_kg_s", F_in),
+                         ("feed_moisture_kg_kg", x), ("fouling", f), ("fuel_rate_kg_s", _fuel(d_cur)),
+                         ("controller_output", v)):
+            rec[key].append(val)
+        if k == n:
+            break
+        if progress and k % 10 == 0:
+            progress(f"{'closed' if controlled else 'open'} loop: t = {t:.0f} / {t_end_s:.0f} s, "
+                     f"{cv} = {y[cv]:.4g}")
+        z = d_cur.simulate(z, ts).states[:, -1]
+    series = {k: np.asarray(v, dtype=float if k != "fuel_rate_kg_s" else object) for k, v in rec.items()}
+    tol = cfg.tolerance if cfg.tolerance is not None else TOLERANCE[cv]
+    yk = "product_moisture_kg_kg" if cv == "product_moisture" else "exhaust_temperature_degC"
+    perf = performance(times, series[yk], sp, t_step_s, tol, series["product_moisture_kg_kg"],
+                       series["product_temperature_degC"])
+    return ClosedLoopResult(np.asarray(times), series, sp, cv, tuning, perf,
+                            dict(name=scenario, magnitude=magnitude, t_step_s=t_step_s, t_end_s=t_end_s,
+                                 controlled=controlled), time.perf_counter() - t0)
+
+
+def plot(closed: ClosedLoopResult, open_: ClosedLoopResult | None = None):
+    """Figure: controlled variable (with setpoint and tolerance band), product temperature, and
+    the manipulated variables (gas inlet temperature, feed rate), closed vs open loop."""
+    from ._plotting import pyplot
+
+    plt = pyplot()
+
+    fig, ax = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
+    h = closed.time_s / 3600
+    yk = "product_moisture_kg_kg" if closed.measured == "product_moisture" else "exhaust_temperature_degC"
+    scale = 100 if closed.measured == "product_moisture" else 1
+    unit = "product moisture, % wet" if scale == 100 else "exhaust temperature, degC"
+    ax[0].plot(h, scale * closed.series[yk], label="closed loop")
+    if open_ is not None:
+        ax[0].plot(open_.time_s / 3600, scale * open_.series[yk], "--", label="open loop")
+    sp, tol = closed.setpoint, closed.performance["tolerance"]
+    ax[0].axhline(scale * sp, color="k", lw=0.8, label="setpoint")
+    ax[0].axhspan(scale * (sp - tol), scale * (sp + tol), color="g", alpha=0.1, label="tolerance")
+    ax[0].set_ylabel(unit)
+    ax[0].legend(fontsize=8)
+    ax[1].plot(h, closed.series["product_temperature_degC"], label="closed loop")
+    if open_ is not None:
+        ax[1].plot(open_.time_s / 3600, open_.series["product_temperature_degC"], "--", label="open loop")
+    ax[1].axhspan(*AJAYI_TARGETS["product_temperature_band_degC"], color="orange", alpha=0.1,
+                  label="Ajayi 45-50 degC")
+    ax[1].set_ylabel("product T, degC")
+    ax[1].legend(fontsize=8)
+    ax[2].step(h, closed.series["gas_inlet_temperature_degC"], where="post")
+    ax[2].set_ylabel("gas inlet T, degC")
+    ax[3].step(h, closed.series["feed_rate_kg_s"], where="post", label="manipulated feed")
+    ax[3].set_ylabel("feed rate, kg/s")
+    ax[3].set_xlabel("time, h")
+    fig.tight_layout()
+    return fig
+
+
+def stderr_progress(msg):
+    print(msg, file=sys.stderr, flush=True)

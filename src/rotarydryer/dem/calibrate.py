@@ -1,0 +1,130 @@
+"""The project's DEM calibration and validation campaign (issue 15) and its regeneration.
+
+Twelve periodic slices (4 particle diameters thick) of small flighted drums filled with 10 mm soft
+spheres span d/s1 = 0.0625-0.2, two flight shapes (``A``: a Lee-rig-like flight, s2 = s1, 90/120
+deg; ``B``: an MMG-like flight with a long tip, s2 = 1.5 s1, 90/135 deg), under- and over-loaded
+drums (loading 0.6-2.0 of the geometric design load at 35 deg) and two Froude numbers (0.01
+and 0.025, the range of Ajayi's pilot drum to the Invicta and MMG dryers). The drum radius is
+a few flight bases (s1/R = 0.20-0.40) so that a few thousand particles fill it. Runs ``fit`` are
+used to calibrate the finite-particle correction, the others are held out.
+
+Regenerate (needs LIGGGHTS; about an hour on two cores)::
+
+    python -m rotarydryer.dem.calibrate --work dem_work --np 1 --jobs 2
+    python examples/dem_calibration.py dem_work --run          (the same)
+
+This exports every deck into ``dem_work/<run>/``, runs it, reduces the dumps to
+``src/rotarydryer/data/dem/<run>.csv`` (``--data`` to write elsewhere) and prints the fit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["CampaignRun", "RUNS", "campaign_deck", "main"]
+
+D = 0.01  # m, particle diameter of the campaign
+FROUDE = {"low": 0.01, "high": 0.025}
+SHAPES = {"A": (1.0, 90.0, 120.0), "B": (1.5, 90.0, 135.0)}  # s2/s1, alpha1, alpha2
+
+
+@dataclass(frozen=True)
+class CampaignRun:
+    name: str
+    s1_in_d: float
+    s1_over_R: float
+    n_flights: int
+    shape: str
+    loading: float
+    froude: str
+    role: str  # "fit" or "held-out"
+    spinup_revolutions: float = 1.0
+    record_revolutions: float = 0.5
+
+
+RUNS = (
+    CampaignRun("c1_A_d020_over_lowFr", 5, 0.25, 10, "A", 1.3, "low", "fit"),
+    CampaignRun("c2_B_d0125_under_highFr", 8, 0.25, 8, "B", 0.7, "high", "held-out"),
+    CampaignRun("c3_B_d0167_over_highFr", 6, 0.25, 10, "B", 1.3, "high", "fit"),
+    CampaignRun("c4_A_d0083_under_highFr", 12, 0.35, 10, "A", 0.7, "high", "held-out"),
+    CampaignRun("c5_A_d010_over_lowFr", 10, 0.35, 10, "A", 1.2, "low", "fit"),
+    CampaignRun("c6_A_d0071_under_highFr", 14, 0.40, 8, "A", 0.6, "high", "held-out"),
+    CampaignRun("c7_A_d0125_over2_highFr", 8, 0.30, 10, "A", 2.0, "high", "held-out"),
+    CampaignRun("c8_B_d0111_over_lowFr", 9, 0.25, 8, "B", 1.6, "low", "fit"),
+    CampaignRun("c9_A_d00625_design_highFr", 16, 0.30, 8, "A", 1.0, "high", "held-out"),
+    CampaignRun("c10_A_d0167_over_highFr_wide", 6, 0.22, 8, "A", 1.5, "high", "fit"),
+    CampaignRun("c11_B_d0143_over_highFr_wide", 7, 0.22, 8, "B", 1.4, "high", "held-out"),
+    CampaignRun("c12_A_d0167_over_lowFr_wide", 6, 0.20, 8, "A", 1.2, "low", "held-out"),
+)
+
+
+def campaign_deck(run: CampaignRun):
+    """The :class:`~rotarydryer.dem.deck.SliceDeck` of a campaign run."""
+    from ..geometry import FlightedDrum, TwoSectionFlight
+    from .deck import Particles, build_slice
+
+    s1 = run.s1_in_d * D
+    R = s1 / run.s1_over_R
+    k2, a1, a2 = SHAPES[run.shape]
+    drum = FlightedDrum(R, run.n_flights, TwoSectionFlight(s1, k2 * s1, a1, a2))
+    fr = FROUDE[run.froude]
+    rpm = math.sqrt(fr * 9.81 / R) * 60.0 / (2.0 * math.pi)
+    return build_slice(drum, Particles(diameter=D), rpm=rpm, loading=run.loading, settle_time=0.6,
+                       spinup_revolutions=run.spinup_revolutions, record_revolutions=run.record_revolutions, dump_every_deg=1.0,
+                       timestep_fraction=0.2, source=f"campaign {run.name} ({run.role})")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--work", default="dem_work", help="folder for the decks and dumps")
+    ap.add_argument("--data", default=None, help="folder for the reduced CSVs (default: the package data)")
+    ap.add_argument("--np", type=int, default=1, help="MPI ranks per run")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at the same time")
+    ap.add_argument("--only", nargs="*", default=None, help="run names (default all)")
+    ap.add_argument("--reduce-only", action="store_true", help="do not run LIGGGHTS, reduce existing dumps")
+    ap.add_argument("--export-only", action="store_true", help="only write the decks")
+    ap.add_argument("--plots", default=None, help="folder for one comparison plot per run (PNG)")
+    a = ap.parse_args(argv)
+    from concurrent.futures import ThreadPoolExecutor
+
+    from .deck import export_deck
+    from .holdup import analyse_run, write_reduced_csv
+    from .run import run_deck
+
+    work = Path(a.work)
+    data = Path(a.data) if a.data else Path(__file__).resolve().parents[1] / "data" / "dem"
+    runs = [r for r in RUNS if not a.only or r.name in a.only]
+    for r in runs:
+        if not a.reduce_only:
+            export_deck(campaign_deck(r), work / r.name)
+    if a.export_only:
+        return 0
+    if not a.reduce_only:
+        with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+            list(ex.map(lambda r: run_deck(work / r.name, np=a.np, progress=True, label=r.name), runs))
+    for r in runs:
+        try:
+            res = analyse_run(work / r.name)
+        except ValueError as exc:
+            print(f"{r.name}: skipped ({exc})")
+            continue
+        write_reduced_csv(res, data / f"{r.name}.csv", role=r.role)
+        print(f"{r.name}: {res.summary_line()}")
+    if a.plots:
+        from .fit import load_campaign
+        from .holdup import plot_comparison
+
+        for name, res in load_campaign(data).items():
+            plot_comparison(res, Path(a.plots) / f"dem_{name.split('_')[0]}.png",
+                            title=f"{name} ({res.extra.get('role', '')})")
+    from .fit import fit_report
+
+    print(fit_report(data))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

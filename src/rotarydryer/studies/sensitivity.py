@@ -1,0 +1,502 @@
+"""Global sensitivity and uncertainty of a case (issue 16 part 4): Sobol indices and Monte Carlo.
+
+>>> from rotarydryer.studies.sensitivity import sobol_study
+>>> res = sobol_study("song2003_ottawa", {"operating.rpm": (3.0, 5.0), "operating.feed_rate": (0.05, 0.08)},
+...                   samples=64, base_overrides={"thermal.enabled": "false"})     # doctest: +SKIP
+>>> res.table()[0]                # output, parameter, S1, S1_conf, ST, ST_conf  # doctest: +SKIP
+
+The inputs (override keys of the case) are uniform on ``[LOW, HIGH]``. The design is Saltelli's
+extension of a scrambled Sobol' sequence (SALib ``sample.sobol``, first and total order only):
+``samples`` base points give ``samples * (D + 2)`` model runs for D inputs. Each run is
+``Simulation(case, overrides).steady_state().summary()``; the indices and their bootstrap
+confidence intervals (95 %) are SALib's ``analyze.sobol``, and the output distributions (mean,
+standard deviation, percentiles, histogram) are taken over every successful run (each row of the
+design is uniform on the box).
+
+Failed runs (a ``ValueError`` of an infeasible point: critical speed, overfilled drum, no coupled
+steady state ...) do not end the study: they are recorded with their message, and every Saltelli
+block (the D + 2 runs built on one base point) with a failed run is left out of the indices of
+every output, so that the A, B and AB matrices stay aligned; the result says how many runs
+failed and how many blocks were used. An output a case does not compute (the fuel rate without
+a burner, the product moisture with heat and mass transfer off) is skipped with a note.
+
+Runs are distributed like ``rotarydryer sweep``: in contiguous chunks of whole blocks, on a local
+process pool (``workers``) or a Dask cluster (``scheduler``), one BLAS thread per process. Within
+a chunk each coupled steady state starts from the converged state of the nearest run already
+done (``warm_start``); a start that does not converge falls back to the cold start.
+
+SALib is an optional dependency: ``pip install 'rotarydryer[sensitivity]'``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Callable, Mapping, Optional, Sequence
+
+import numpy as np
+
+__all__ = ["OUTPUTS", "MAX_PARAMS", "MAX_SAMPLES", "MAX_RUNS", "SensitivityResult", "sobol_study",
+           "parse_param", "check_params", "check_samples", "require_salib", "saltelli_design",
+           "plot_sensitivity"]
+
+#: outputs studied by default (names of ``SteadyResult.summary()``)
+OUTPUTS = ("product_moisture_kg_kg", "gas_outlet_temperature_degC", "fuel_rate_kg_s", "mean_residence_time_s")
+#: most uncertain inputs of one study
+MAX_PARAMS = 20
+#: most base samples (the design has samples * (D + 2) runs)
+MAX_SAMPLES = 65536
+#: most model runs of one study
+MAX_RUNS = 1_000_000
+#: confidence level of the bootstrap intervals
+CONF_LEVEL = 0.95
+#: pseudo-time step of a warm start (the start is near the solution: Newton almost at once)
+WARM_DT0 = 1e3
+#: states remembered per chunk for warm starts
+WARM_MEMORY = 64
+
+INSTALL_HINT = "pip install 'rotarydryer[sensitivity]' (or pip install SALib)"
+
+
+def require_salib():
+    """Import SALib or raise ImportError naming the extra that installs it."""
+    try:
+        import SALib  # noqa: F401
+        from SALib.analyze import sobol as _a  # noqa: F401
+    except ImportError as exc:
+        raise ImportError(f"the sensitivity study needs SALib, in the 'sensitivity' extra: {INSTALL_HINT}") from exc
+
+
+# ---------------------------------------------------------------------------------- input checks
+def parse_param(item: str) -> tuple[str, tuple[float, float]]:
+    """``"operating.rpm=2,4"`` -> ``("operating.rpm", (2.0, 4.0))`` (ValueError naming --param)."""
+    if "=" not in item:
+        raise ValueError(f"--param {item!r}: expected KEY=LOW,HIGH, e.g. operating.rpm=2,4")
+    key, rng = item.split("=", 1)
+    key = key.strip()
+    parts = [p.strip() for p in rng.split(",")]
+    if not key:
+        raise ValueError(f"--param {item!r}: no key before '='")
+    if len(parts) != 2 or not all(parts):
+        raise ValueError(f"--param {item!r}: expected two numbers LOW,HIGH after '=', got {rng!r}")
+    vals = []
+    for name, p in zip(("LOW", "HIGH"), parts):
+        try:
+            v = float(p)
+        except ValueError:
+            raise ValueError(f"--param {key}: {name} = {p!r} is not a number") from None
+        vals.append(v)
+    return key, (vals[0], vals[1])
+
+
+def check_params(params) -> dict[str, tuple[float, float]]:
+    """``{key: (low, high)}`` checked: 1 to :data:`MAX_PARAMS` keys, finite numbers, low < high."""
+    if isinstance(params, Mapping):
+        items = list(params.items())
+    else:
+        items = list(params or [])
+    if not items:
+        raise ValueError("no uncertain inputs: give at least one --param KEY=LOW,HIGH")
+    if len(items) > MAX_PARAMS:
+        raise ValueError(f"{len(items)} uncertain inputs (--param); the limit is {MAX_PARAMS} per study")
+    out: dict[str, tuple[float, float]] = {}
+    for key, rng in items:
+        key = str(key).strip()
+        if key in out:
+            raise ValueError(f"--param {key} is given twice; give each key once")
+        try:
+            low, high = (float(rng[0]), float(rng[1]))
+            if len(rng) != 2:
+                raise TypeError
+        except (TypeError, ValueError, IndexError):
+            raise ValueError(f"--param {key} = {rng!r}: expected two numbers (LOW, HIGH)") from None
+        for name, v in (("LOW", low), ("HIGH", high)):
+            if not math.isfinite(v):
+                raise ValueError(f"--param {key}: {name} = {v} is not a finite number")
+        if not low < high:
+            raise ValueError(f"--param {key}: LOW = {low:g} must be below HIGH = {high:g}")
+        out[key] = (low, high)
+    return out
+
+
+def check_samples(samples, n_params: int) -> int:
+    """Base sample count: an integer in [1, :data:`MAX_SAMPLES`] whose design has at most
+    :data:`MAX_RUNS` runs."""
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
+        try:
+            f = float(samples)
+        except (TypeError, ValueError):
+            raise ValueError(f"--samples = {samples!r} is not an integer") from None
+        if not f.is_integer():
+            raise ValueError(f"--samples = {samples!r} is not an integer")
+        samples = int(f)
+    samples = int(samples)
+    if not 1 <= samples <= MAX_SAMPLES:
+        raise ValueError(f"--samples = {samples} is outside the allowed range [1, {MAX_SAMPLES}]")
+    runs = samples * (n_params + 2)
+    if runs > MAX_RUNS:
+        raise ValueError(f"--samples = {samples} with {n_params} inputs gives {runs} runs; the limit is "
+                         f"{MAX_RUNS} per study")
+    return samples
+
+
+def _problem(params: dict) -> dict:
+    return {"num_vars": len(params), "names": list(params), "bounds": [list(v) for v in params.values()]}
+
+
+def saltelli_design(params: dict, samples: int, seed: int = 0) -> np.ndarray:
+    """The ``samples * (D + 2)`` x D design (rows in SALib's block order: A, AB_1..AB_D, B)."""
+    import warnings
+
+    require_salib()
+    problem = _problem(params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # "N should be a power of 2" and similar advice
+        try:
+            from SALib.sample import sobol as sampler
+
+            return sampler.sample(problem, samples, calc_second_order=False, scramble=True, seed=seed)
+        except (ImportError, TypeError):     # SALib < 1.4.6
+            from SALib.sample import saltelli
+
+            return saltelli.sample(problem, samples, calc_second_order=False)
+
+
+# ---------------------------------------------------------------------------------- model runs
+def _check_case(case, base: dict, params: dict) -> None:
+    """Fail fast (ValueError naming the key) on an unknown case or key, or a range the case
+    schema refuses at either end."""
+    from ..cases import load_case
+
+    load_case(case, dict(base))
+    for key, (low, high) in params.items():
+        for v in (low, high):
+            load_case(case, {**base, key: v})
+
+
+def _steady_summary(case, overrides: dict, warm_state=None):
+    """``(summary dict, coupled state or None)`` of one run; warm start from ``warm_state``
+    when it fits (cold start otherwise or when the warm start does not converge)."""
+    from ..simulation import Simulation, SteadyResult
+
+    sim = Simulation(case, overrides)
+    if warm_state is not None and sim.thermal_enabled:
+        sim.transport_steady_state()            # feasibility checks, as steady_state() does
+        d = sim.thermal_dryer()
+        if np.shape(warm_state) == (d.n,):
+            try:
+                th = d.steady_state(z0=warm_state, dt0=WARM_DT0)
+            except ValueError:                 # DryerError: try the case's own cold start
+                th = None
+            if th is not None:
+                return SteadyResult(sim, None, th).summary(), th.state
+    res = sim.steady_state()
+    return res.summary(), (res.thermal.state if res.thermal is not None else None)
+
+
+def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Sequence[str],
+               warm_start: bool = True):
+    """Run the rows of ``X`` (one chunk, in order); returns ``(Y, errors)``: Y (rows x outputs,
+    NaN where an output is missing or the run failed), errors (message or '' per row).
+    Top-level so that it pickles for process pools and Dask; one BLAS thread."""
+    from .._threads import single_threaded
+
+    X = np.asarray(X, dtype=float)
+    Y = np.full((len(X), len(outputs)), np.nan)
+    errors = [""] * len(X)
+    memory: list[tuple[np.ndarray, np.ndarray]] = []     # (normalised point, state)
+    span = np.ptp(X, axis=0) if len(X) else np.ones(len(keys))
+    span = np.where(span > 0, span, 1.0)
+    with single_threaded():
+        for i, x in enumerate(X):
+            point = {k: float(v) for k, v in zip(keys, x)}
+            try:
+                if callable(case):
+                    out, state = case(point), None
+                else:
+                    warm = None
+                    if warm_start and memory:
+                        u = x / span
+                        j = int(np.argmin([np.sum((u - m[0]) ** 2) for m in memory]))
+                        warm = memory[j][1]
+                    out, state = _steady_summary(case, {**base, **point}, warm)
+                    if state is not None and warm_start:
+                        memory.append((x / span, state))
+                        if len(memory) > WARM_MEMORY:
+                            memory.pop(0)
+            except (ValueError, ArithmeticError, MemoryError) as exc:   # one bad point never ends the study
+                errors[i] = " ".join(str(exc).split()) or type(exc).__name__
+                continue
+            for j, name in enumerate(outputs):
+                v = out.get(name)
+                if v is not None:
+                    try:
+                        Y[i, j] = float(v)
+                    except (TypeError, ValueError):
+                        pass
+    return Y, errors
+
+
+def _chunks(n_rows: int, block: int, workers: int, target_rows: int = 64):
+    """Contiguous slices of whole blocks: about ``target_rows`` rows each, at least 2 per worker."""
+    n_blocks = n_rows // block
+    per = max(1, min(max(1, target_rows // block), math.ceil(n_blocks / max(2 * workers, 1))))
+    return [slice(b * block, min(n_blocks, b + per) * block) for b in range(0, n_blocks, per)]
+
+
+def _evaluate(case, base, keys, X, outputs, *, block, workers=1, scheduler=None, warm_start=True,
+              progress=None):
+    tick = progress or (lambda n: None)
+    Y = np.full((len(X), len(outputs)), np.nan)
+    errors = [""] * len(X)
+    chunks = _chunks(len(X), block, workers)
+
+    def store(sl, res):
+        Y[sl], errors[sl] = res[0], res[1]
+        tick(sl.stop - sl.start)
+
+    if scheduler:
+        try:
+            from dask.distributed import Client, as_completed
+        except ImportError as exc:
+            raise ImportError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from exc
+        with Client(scheduler) as client:
+            futs = {client.submit(_run_chunk, case, base, keys, X[sl], outputs, warm_start, pure=False): sl
+                    for sl in chunks}
+            for f in as_completed(futs):
+                store(futs[f], f.result())
+    elif workers <= 1 or len(chunks) == 1:
+        for sl in chunks:
+            store(sl, _run_chunk(case, base, keys, X[sl], outputs, warm_start))
+    else:
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        from .._threads import limit_worker_threads
+
+        with ProcessPoolExecutor(max_workers=workers, initializer=limit_worker_threads) as ex:
+            futs = {ex.submit(_run_chunk, case, base, keys, X[sl], outputs, warm_start): sl for sl in chunks}
+            for f in as_completed(futs):
+                store(futs[f], f.result())
+    return Y, errors
+
+
+# ---------------------------------------------------------------------------------- analysis
+def _distribution(y: np.ndarray, bins: int = 30) -> dict:
+    y = y[np.isfinite(y)]
+    if y.size == 0:
+        return {"n": 0}
+    q = np.percentile(y, [5, 25, 50, 75, 95])
+    lo, hi = float(y.min()), float(y.max())
+    counts, edges = np.histogram(y, bins=bins, range=(lo, hi) if hi > lo else (lo - 0.5, hi + 0.5))
+    return {"n": int(y.size), "mean": float(y.mean()), "sd": float(y.std(ddof=1)) if y.size > 1 else 0.0,
+            "min": lo, "p5": float(q[0]), "p25": float(q[1]), "p50": float(q[2]), "p75": float(q[3]),
+            "p95": float(q[4]), "max": hi, "histogram": {"counts": counts.tolist(), "edges": edges.tolist()}}
+
+
+def _sobol_indices(params: dict, Y: np.ndarray, block: int, seed: int, num_resamples: int) -> tuple[dict, int]:
+    """Indices of one output from the complete blocks (no NaN): ``({param: {...}}, blocks used)``."""
+    import warnings
+
+    from SALib.analyze import sobol as analyzer
+
+    blocks = Y.reshape(-1, block)
+    ok = np.all(np.isfinite(blocks), axis=1)
+    n = int(ok.sum())
+    keys = list(params)
+    empty = {k: {"S1": float("nan"), "S1_conf": float("nan"), "ST": float("nan"), "ST_conf": float("nan")}
+             for k in keys}
+    if n < 2 or np.ptp(blocks[ok]) == 0:
+        return empty, n
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        si = analyzer.analyze(_problem(params), blocks[ok].ravel(), calc_second_order=False,
+                              num_resamples=num_resamples, conf_level=CONF_LEVEL, seed=seed,
+                              print_to_console=False)
+    return {k: {"S1": float(si["S1"][i]), "S1_conf": float(si["S1_conf"][i]),
+                "ST": float(si["ST"][i]), "ST_conf": float(si["ST_conf"][i])} for i, k in enumerate(keys)}, n
+
+
+@dataclasses.dataclass
+class SensitivityResult:
+    """A Sobol study: indices per output and input, output distributions, failed runs.
+
+    ``indices[output][param]`` = {S1, S1_conf, ST, ST_conf} (conf: half-width of the 95 %
+    bootstrap interval); ``distributions[output]`` = {n, mean, sd, min, p5 ... p95, max,
+    histogram}; ``X`` (runs x inputs) and ``Y`` (runs x outputs, NaN = failed/missing) the runs.
+    """
+
+    case: str
+    params: dict
+    samples: int
+    outputs: list
+    indices: dict
+    distributions: dict
+    n_runs: int
+    n_failed: int
+    blocks_used: dict
+    failures: list
+    notes: list
+    seconds: float
+    base_overrides: dict = dataclasses.field(default_factory=dict)
+    X: Optional[np.ndarray] = None
+    Y: Optional[np.ndarray] = None
+    errors: Optional[list] = None
+
+    @property
+    def runs_per_second(self) -> float:
+        return self.n_runs / self.seconds if self.seconds > 0 else float("nan")
+
+    def table(self) -> list[dict]:
+        """One row per (output, input): output, parameter, S1, S1_conf, ST, ST_conf."""
+        return [{"output": o, "parameter": p, **v} for o, per in self.indices.items() for p, v in per.items()]
+
+    def distribution_table(self) -> list[dict]:
+        """One row per output: n, mean, sd, min, p5, p25, p50, p75, p95, max."""
+        return [{"output": o, **{k: v for k, v in d.items() if k != "histogram"}}
+                for o, d in self.distributions.items()]
+
+    def runs_table(self) -> list[dict]:
+        """One row per model run: inputs, outputs (None if missing), error."""
+        rows = []
+        if self.X is None:
+            return rows
+        for i in range(len(self.X)):
+            r = {k: float(v) for k, v in zip(self.params, self.X[i])}
+            r.update({o: (float(v) if np.isfinite(v) else None) for o, v in zip(self.outputs, self.Y[i])})
+            r["error"] = self.errors[i] if self.errors else ""
+            rows.append(r)
+        return rows
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (no per-run arrays): what ``rotarydryer report --sensitivity`` reads."""
+        return {"kind": "sobol_sensitivity", "case": self.case, "base_overrides": dict(self.base_overrides),
+                "params": {k: list(v) for k, v in self.params.items()}, "samples": self.samples,
+                "outputs": list(self.outputs), "conf_level": CONF_LEVEL, "n_runs": self.n_runs,
+                "n_failed": self.n_failed, "blocks_used": dict(self.blocks_used), "seconds": self.seconds,
+                "runs_per_second": self.runs_per_second, "indices": self.indices,
+                "distributions": self.distributions, "failures": self.failures, "notes": self.notes}
+
+
+def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *, workers: int = 1,
+                scheduler: Optional[str] = None, base_overrides: Optional[dict] = None, seed: int = 0,
+                warm_start: bool = True, num_resamples: int = 200,
+                progress: Optional[Callable[[int], None]] = None) -> SensitivityResult:
+    """Sobol first- and total-order indices and output distributions of ``case``.
+
+    Parameters
+    ----------
+    case : str, path or callable
+        Case name or ``.toml`` file; or a function ``f(point: dict) -> dict of outputs``
+        (analytic test models; ``workers=1`` unless it pickles).
+    params : {key: (low, high)}
+        Uniform uncertain inputs (override keys).
+    samples : int
+        Base samples N; the design has ``N * (D + 2)`` runs (a power of 2 is best).
+    outputs : names of the outputs (default :data:`OUTPUTS`).
+    workers, scheduler : local processes, or a Dask scheduler address.
+    base_overrides : overrides applied to every run (``--set``).
+    progress : called with the number of runs finished.
+    """
+    require_salib()
+    t0 = time.perf_counter()
+    params = check_params(params)
+    samples = check_samples(samples, len(params))
+    outputs = list(outputs)
+    if not outputs:
+        raise ValueError("outputs: give at least one output name")
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers = {workers!r} is outside the allowed range: an integer >= 1")
+    base = dict(base_overrides or {})
+    name = case.__name__ if callable(case) else str(case)
+    if not callable(case):
+        _check_case(case, base, params)
+    keys = list(params)
+    block = len(keys) + 2
+    X = saltelli_design(params, samples, seed)
+    Y, errors = _evaluate(case, base, keys, X, outputs, block=block, workers=workers, scheduler=scheduler,
+                          warm_start=warm_start, progress=progress)
+    failed = np.array([bool(e) for e in errors])
+    n_failed = int(failed.sum())
+    notes = []
+    # a failed run removes its block from every output's indices (consistent exclusion)
+    blocks_failed = failed.reshape(-1, block).any(axis=1)
+    Yc = Y.copy()
+    Yc[np.repeat(blocks_failed, block)] = np.nan
+    indices, used, dists, kept = {}, {}, {}, []
+    for j, o in enumerate(outputs):
+        ok_runs = ~failed
+        if ok_runs.any() and not np.isfinite(Y[ok_runs, j]).any():
+            notes.append(f"{o}: not computed by this case (e.g. no burner, or heat and mass transfer off); skipped")
+            continue
+        if not ok_runs.any():
+            notes.append(f"{o}: every run failed; skipped")
+            continue
+        missing = int(np.sum(ok_runs & ~np.isfinite(Y[:, j])))
+        if missing:
+            notes.append(f"{o}: missing in {missing} successful runs; their blocks are left out of its indices")
+        indices[o], used[o] = _sobol_indices(params, Yc[:, j], block, seed, num_resamples)
+        dists[o] = _distribution(Y[ok_runs, j])
+        kept.append(o)
+        if used[o] < 2:
+            notes.append(f"{o}: fewer than 2 complete blocks of runs; no indices")
+    if n_failed:
+        notes.append(f"{n_failed} of {len(X)} runs failed ({int(blocks_failed.sum())} of {len(blocks_failed)} "
+                     "blocks left out of the indices)")
+    counts: dict[str, int] = {}
+    for e in errors:
+        if e:
+            counts[e] = counts.get(e, 0) + 1
+    failures = [{"error": e, "runs": c} for e, c in sorted(counts.items(), key=lambda kv: -kv[1])[:20]]
+    return SensitivityResult(case=name, params=params, samples=samples, outputs=kept, indices=indices,
+                             distributions=dists, n_runs=len(X), n_failed=n_failed, blocks_used=used,
+                             failures=failures, notes=notes, seconds=time.perf_counter() - t0,
+                             base_overrides=base, X=X, Y=Y[:, [outputs.index(o) for o in kept]], errors=errors)
+
+
+# ---------------------------------------------------------------------------------- plot
+def plot_sensitivity(data: dict):
+    """Figure of a study (``SensitivityResult.to_dict()``): per output, the S1/ST bars with
+    their confidence intervals (top row) and the histogram of the output (bottom row)."""
+    from .._plotting import pyplot
+
+    plt = pyplot()
+    outs = [o for o in data.get("outputs", []) if o in data.get("indices", {})]
+    n = max(len(outs), 1)
+    fig, axes = plt.subplots(2, n, figsize=(3.6 * n + 0.8, 6.4), squeeze=False)
+    names = list(data.get("params", {}))
+    for j, o in enumerate(outs):
+        ax = axes[0, j]
+        x = np.arange(len(names))
+        idx = data["indices"][o]
+
+        def col(k):
+            return np.array([np.nan if idx[p][k] is None else idx[p][k] for p in names], dtype=float)
+
+        ax.bar(x - 0.2, col("S1"), 0.4, yerr=np.nan_to_num(col("S1_conf")), label="first order S1", capsize=2)
+        ax.bar(x + 0.2, col("ST"), 0.4, yerr=np.nan_to_num(col("ST_conf")), label="total order ST", capsize=2)
+        ax.set_xticks(x)
+        ax.set_xticklabels([p.split(".")[-1] for p in names], rotation=45, ha="right", fontsize=8)
+        ax.set_title(o, fontsize=9)
+        ax.axhline(0, color="k", lw=0.5)
+        if j == 0:
+            ax.set_ylabel("Sobol index")
+            ax.legend(fontsize=7)
+        d = data.get("distributions", {}).get(o, {})
+        ax = axes[1, j]
+        h = d.get("histogram")
+        if h:
+            e = np.asarray(h["edges"], dtype=float)
+            ax.bar(e[:-1], h["counts"], np.diff(e), align="edge", color="#d9a441", edgecolor="#5b3a12", lw=0.3)
+            for k, ls in (("p5", ":"), ("p50", "-"), ("p95", ":")):
+                if d.get(k) is not None:
+                    ax.axvline(d[k], color="#5b3a12", ls=ls, lw=1)
+        ax.set_xlabel(o, fontsize=8)
+        if j == 0:
+            ax.set_ylabel("runs")
+    if not outs:
+        axes[0, 0].text(0.5, 0.5, "no outputs", ha="center")
+    fig.suptitle(f"Sobol sensitivity: {data.get('case', '')}, {data.get('n_runs', 0)} runs "
+                 f"({data.get('n_failed', 0)} failed)", fontsize=10)
+    fig.tight_layout()
+    return fig

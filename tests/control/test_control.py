@@ -1,0 +1,118 @@
+"""Closed-loop control of the dynamic dryer (issue 17, part 2)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from rotarydryer import control as C
+
+
+def test_simc_rules_skogestad_2003():
+    s = C.simc_pi(C.FOPDT(2.0, 10.0, 100.0))          # tau_c = theta: Kc = tau/(K 2 theta), tau_I = min(tau, 8 theta)
+    assert s["kc"] == pytest.approx(100 / (2 * 20))
+    assert s["tau_i_s"] == pytest.approx(80.0)
+    s = C.simc_pi(C.FOPDT(-0.5, 10.0, 30.0), tau_c_s=20.0, extra_dead_time_s=5.0)
+    assert s["kc"] == pytest.approx(30 / (-0.5 * 35)) and s["tau_i_s"] == pytest.approx(30.0)
+    with pytest.raises(ValueError, match="gain"):
+        C.simc_pi(C.FOPDT(0.0, 1.0, 1.0))
+
+
+def test_ultimate_gain_and_unstable_warning():
+    m = C.FOPDT(1.0, 60.0, 300.0)
+    ku = C.pi_ultimate_gain(m, 300.0)
+    # tau_I = tau: L = Kc K e^{-theta s}/(tau s) -> phase -180 at w = pi/(2 theta), |L| = KcK/(tau w)
+    assert ku == pytest.approx(300.0 * math.pi / (2 * 60.0), rel=1e-6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert C.check_pi_stability(m, 0.5 * ku, 300.0) == pytest.approx(2.0)
+    with pytest.warns(C.ControlWarning, match="unstable"):
+        C.check_pi_stability(m, 1.2 * ku, 300.0)
+    with pytest.warns(C.ControlWarning, match="wrong direction"):
+        C.check_pi_stability(m, -1.0, 300.0)
+
+
+def test_pi_velocity_form_antiwindup():
+    pi = C.PIController(kc=2.0, tau_i_s=10.0, sample_time_s=1.0, u0=0.0, u_min=-1.0, u_max=1.0)
+    for _ in range(50):
+        u = pi.step(1.0, 0.0)            # large persistent error: output saturates, no wind-up
+    assert u == 1.0
+    u = pi.step(1.0, 2.0)                # error reverses: the output leaves the limit at once
+    assert u < 1.0
+
+
+def test_performance_figures():
+    t = np.arange(0, 1000.0, 10.0)
+    y = np.where(t < 100, 0.0, 0.01 * np.exp(-(t - 100) / 100.0))
+    p = C.performance(t, y, 0.0, 100.0, 0.005)
+    assert p["max_abs_deviation"] == pytest.approx(0.01)
+    assert p["settling_time_s"] == pytest.approx(70.0)        # exp(-x/100) < 0.5 after 69.3 s -> next sample
+    assert p["iae"] == pytest.approx(1.0, rel=0.02) and p["overshoot_pct"] == 0.0
+    assert not p["within_tolerance"]
+
+
+@pytest.fixture(scope="module")
+def mmg():
+    from rotarydryer import Simulation
+
+    d = Simulation("ajayi2011_mmg", {"operating.test": 4}).thermal_dryer()
+    return d, d.steady_state()
+
+
+@pytest.mark.slow
+def test_acceptance_feed_moisture_step_closed_vs_open(mmg):
+    """+20 % feed moisture (dry basis) on MMG test 4: the controlled product moisture stays within
+    +-0.5 percentage points of its target, the uncontrolled does not."""
+    d, ss = mmg
+    models = C.identify(d, ss)
+    kw = dict(scenario="feed_moisture_step", magnitude=0.2, t_end_s=5400.0, t_step_s=600.0, models=models)
+    cl = C.closed_loop(d, ss, **kw)
+    ol = C.closed_loop(d, ss, controlled=False, **kw)
+    assert cl.performance["max_abs_deviation"] < 0.005, cl.performance
+    assert ol.performance["max_abs_deviation"] > 0.005, ol.performance
+    assert ol.performance["max_abs_deviation"] > 4 * cl.performance["max_abs_deviation"]
+    assert cl.tuning["gain_margin"] > 1.5
+    assert max(cl.series["gas_inlet_temperature_degC"]) <= 600.0
+
+
+def test_closed_loop_short_run_and_warning(mmg):
+    """A short run with a hand-set gain beyond the FOPDT+PI stability limit warns; the limits hold."""
+    d, ss = mmg
+    models = {"gas_inlet_temperature": {k: C.FOPDT(g, 400.0, 300.0) for k, g in
+                                        (("product_moisture", -1.2e-4), ("exhaust_temperature", 0.13))},
+              "feed_rate": {k: C.FOPDT(g, 400.0, 400.0) for k, g in
+                            (("product_moisture", 1.1e-3), ("exhaust_temperature", -2.0))},
+              "feed_moisture_dry": {k: C.FOPDT(g, 700.0, 200.0) for k, g in
+                                    (("product_moisture", 0.76), ("exhaust_temperature", 110.0))}}
+    cfg = C.ControlConfig(kc=50.0, feedforward="linear", sample_time_s=120.0)
+    with pytest.warns(C.ControlWarning, match="unstable"):
+        r = C.closed_loop(d, ss, scenario="feed_rate_step", magnitude=0.1, t_end_s=600.0, t_step_s=0.0,
+                          models=models, config=cfg)
+    s = r.series
+    assert len(r.time_s) == 6
+    assert np.all(s["gas_inlet_temperature_degC"] <= 600.0) and np.all(s["feed_rate_kg_s"] >= 0.5 * d.feed_rate - 1e-9)
+    assert r.performance["tolerance"] == 0.005
+    with pytest.raises(ValueError, match="scenario"):
+        C.closed_loop(d, ss, scenario="earthquake", models=models)
+    with pytest.raises(ValueError, match="feed too wet"):   # +60 % wet basis leaves the material's range
+        C.closed_loop(d, ss, scenario="feed_moisture_step", magnitude=0.6, models=models, t_end_s=600.0,
+                      t_step_s=0.0)
+
+
+def test_control_cli(tmp_path):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["control", "ajayi2011_mmg", "--set", "operating.test=4", "--duration", "600",
+                                   "--step-time", "0", "--sample-time", "120", "--no-open-loop",
+                                   "--out", str(tmp_path), "--json"])
+    assert res.exit_code == 0, res.output
+    import json
+
+    out = json.loads(res.stdout.strip().splitlines()[-1])
+    assert out["closed_loop"]["tuning"]["rule"].startswith("SIMC")
+    assert {p.name for p in tmp_path.iterdir()} == {"control.json", "control.csv", "control.png"}

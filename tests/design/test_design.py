@@ -1,0 +1,63 @@
+"""Dryer design for a duty (issue 17, part 1)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from rotarydryer import design as D
+from rotarydryer.geometry.drum import critical_speed
+
+
+@pytest.fixture(scope="module")
+def sugar():
+    return D.design(D.raw_sugar_duty())
+
+
+def test_raw_sugar_design_feasible_and_binding(sugar):
+    b = sugar.best
+    assert b.feasible and len(sugar.designs) >= 3
+    assert [d.objective for d in sugar.designs] == sorted(d.objective for d in sugar.designs)
+    v = b.values
+    assert b.rpm <= 0.5 * critical_speed(b.diameter_m / 2) + 1e-9
+    assert v["gas_velocity_m_s"] <= v["terminal_velocity_m_s"] * (1 + 1e-9)
+    assert v["fill_fraction"] <= 0.15 + 1e-9 and abs(v["holdup_over_design_load"] - 1) <= 0.15 + 1e-9
+    assert 4.0 - 1e-9 <= b.length_m / b.diameter_m <= 10.0 + 1e-9
+    assert b.length_m >= v["length_required_m"] * (1 - 1e-9)
+    assert "gas entrainment" in b.binding()          # a light sugar at 22 kg/s air: entrainment sizes the drum
+    assert sugar.seconds < 60
+
+
+def test_infeasible_duty_names_constraint():
+    with pytest.raises(D.InfeasibleDuty, match="gas entrainment") as exc:
+        D.design(D.raw_sugar_duty(), D.Limits(diameter_range=(0.5, 1.5)), maxiter=15)
+    assert exc.value.constraint == "gas entrainment"
+
+
+def test_objectives_differ():
+    duty = D.raw_sugar_duty()
+    fuel = D.design(duty, objective="fuel", maxiter=20).best
+    assert fuel.objective == pytest.approx(fuel.values["heat_input_per_kg_water_J"] / 1e6)
+
+
+def test_check_plant_mmg():
+    r = D.check_plant("ajayi2011_mmg", maxiter=25)
+    assert r["feasible_calibrated"] and r["objective_ratio"] >= 1.0
+    assert r["ua_factor_implied"] >= 1.0 and r["why"]
+    assert "drying length" in r["violated_at_limits"]     # McCormick's Ua is conservative for MMG
+
+
+def test_design_cli(tmp_path):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["design", "--duty", "raw_sugar", "--no-verify", "--out", str(tmp_path),
+                                   "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout.strip().splitlines()[-1])
+    assert out["binding_constraints"] and out["table"][0]["rank"] == 1
+    assert out["wall_time_s"] < 60
+    assert {p.name for p in tmp_path.iterdir()} == {"design.json", "design_report.md", "design_cross_section.png"}

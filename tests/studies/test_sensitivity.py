@@ -1,0 +1,144 @@
+"""Global sensitivity study (issue 16 part 4): Sobol indices through the project's runner."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("SALib")
+
+from rotarydryer.studies.sensitivity import (OUTPUTS, plot_sensitivity, require_salib,  # noqa: E402
+                                             saltelli_design, sobol_study)
+
+PI = np.pi
+ISHIGAMI = {"x1": (-PI, PI), "x2": (-PI, PI), "x3": (-PI, PI)}
+# analytic indices of the Ishigami function (a = 7, b = 0.1), as in SALib's tests
+S1_TRUE = {"x1": 0.3139, "x2": 0.4424, "x3": 0.0}
+ST_TRUE = {"x1": 0.5576, "x2": 0.4424, "x3": 0.2437}
+
+
+def ishigami(p):
+    from SALib.test_functions import Ishigami
+
+    x = np.array([[p["x1"], p["x2"], p["x3"]]])
+    return {"y": float(Ishigami.evaluate(x)[0])}
+
+
+def test_ishigami_indices_within_confidence():
+    res = sobol_study(ishigami, ISHIGAMI, 1024, outputs=["y"], seed=1)
+    assert res.n_runs == 1024 * 5 and res.n_failed == 0
+    for k in ISHIGAMI:
+        v = res.indices["y"][k]
+        assert abs(v["S1"] - S1_TRUE[k]) <= 1.5 * v["S1_conf"] + 0.01, (k, v)
+        assert abs(v["ST"] - ST_TRUE[k]) <= 1.5 * v["ST_conf"] + 0.01, (k, v)
+    d = res.distributions["y"]
+    assert d["n"] == res.n_runs and abs(d["mean"] - 3.5) < 0.1      # E[y] = a/2 = 3.5
+    assert d["p5"] < d["p50"] < d["p95"] and sum(d["histogram"]["counts"]) == d["n"]
+    rows = res.table()
+    assert {r["parameter"] for r in rows} == set(ISHIGAMI) and set(rows[0]) >= {"S1", "S1_conf", "ST", "ST_conf"}
+    json.dumps(res.to_dict())
+
+
+def test_failed_runs_are_recorded_and_excluded_by_block():
+    def model(p):
+        if p["x1"] > 2.5:
+            raise ValueError("infeasible point: x1 > 2.5")
+        return ishigami(p)
+
+    res = sobol_study(model, ISHIGAMI, 256, outputs=["y"])
+    X = saltelli_design(ISHIGAMI, 256)
+    expected = int(np.sum(X[:, 0] > 2.5))
+    assert res.n_failed == expected > 0
+    bad_blocks = (X[:, 0] > 2.5).reshape(-1, 5).any(axis=1)
+    assert res.blocks_used["y"] == int((~bad_blocks).sum())
+    assert all(np.isfinite(v["S1"]) and np.isfinite(v["ST"]) for v in res.indices["y"].values())
+    assert any("runs failed" in n for n in res.notes)
+    assert res.failures == [{"error": "infeasible point: x1 > 2.5", "runs": expected}]
+    assert res.distributions["y"]["n"] == res.n_runs - expected
+    assert sum(1 for r in res.runs_table() if r["error"]) == expected
+
+
+def test_missing_output_is_skipped_with_a_note():
+    res = sobol_study(ishigami, ISHIGAMI, 8, outputs=["y", "fuel_rate_kg_s"])
+    assert res.outputs == ["y"] and "fuel_rate_kg_s" not in res.indices
+    assert any(n.startswith("fuel_rate_kg_s") for n in res.notes)
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="LOW = 2 must be below HIGH = 1"):
+        sobol_study(ishigami, {"x1": (2, 1)}, 8)
+    with pytest.raises(ValueError, match=r"samples = 0 is outside"):
+        sobol_study(ishigami, ISHIGAMI, 0)
+    with pytest.raises(ValueError, match="workers"):
+        sobol_study(ishigami, ISHIGAMI, 8, workers=0)
+
+
+def test_small_real_study_transport_only():
+    params = {"operating.rpm": (3.0, 5.0), "operating.feed_rate": (0.05, 0.08)}
+    res = sobol_study("song2003_ottawa", params, 4, base_overrides={"thermal.enabled": "false"})
+    assert res.seconds < 30 and res.n_runs == 16 and res.n_failed == 0
+    assert res.outputs == ["mean_residence_time_s"]
+    assert len([n for n in res.notes if "not computed" in n]) == 3
+    assert np.all(np.isfinite(res.Y))
+    fig = plot_sensitivity(res.to_dict())
+    assert fig is not None
+
+
+def test_warm_start_gives_the_cold_results():
+    """Warm starts from the nearest converged state change the path, not the answer."""
+    params = {"operating.feed_rate": (39.0, 42.0)}
+    warm = sobol_study("ajayi2011_mmg", params, 2, warm_start=True)
+    cold = sobol_study("ajayi2011_mmg", params, 2, warm_start=False)
+    assert warm.outputs == cold.outputs == list(OUTPUTS)
+    np.testing.assert_allclose(warm.Y, cold.Y, rtol=1e-7)
+
+
+def test_process_pool_matches_serial():
+    params = {"operating.rpm": (3.0, 5.0), "operating.feed_rate": (0.05, 0.08)}
+    base = {"thermal.enabled": "false"}
+    a = sobol_study("song2003_ottawa", params, 4, base_overrides=base, workers=1)
+    b = sobol_study("song2003_ottawa", params, 4, base_overrides=base, workers=2)
+    np.testing.assert_array_equal(a.Y, b.Y)
+
+
+def test_salib_missing_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "SALib", None)
+    with pytest.raises(ImportError, match=r"rotarydryer\[sensitivity\]"):
+        require_salib()
+
+
+def test_cli_writes_its_files_and_the_report_section(tmp_path):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    r = CliRunner().invoke(app, ["sensitivity", "song2003_ottawa", "--set", "thermal.enabled=false",
+                                 "--param", "operating.rpm=3,5", "--param", "operating.feed_rate=0.05,0.08",
+                                 "--samples", "4", "--out", str(tmp_path / "study")])
+    assert r.exit_code == 0, r.output
+    files = sorted(p.name for p in (tmp_path / "study").iterdir())
+    assert files == ["sensitivity.json", "sensitivity.png", "sensitivity_distributions.csv",
+                     "sensitivity_indices.csv", "sensitivity_runs.csv"]       # no temporary files left
+    data = json.loads((tmp_path / "study" / "sensitivity.json").read_text())
+    assert data["kind"] == "sobol_sensitivity" and data["n_runs"] == 16
+    assert (tmp_path / "study" / "sensitivity_indices.csv").read_text().startswith(
+        "output,parameter,S1,S1_conf,ST,ST_conf\n")
+    assert "mean_residence_time_s" in r.output and "note: product_moisture_kg_kg" in r.output
+    r = CliRunner().invoke(app, ["report", "invicta", "--sensitivity", str(tmp_path / "study" / "sensitivity.json"),
+                                 "-o", str(tmp_path / "r.html")])
+    assert r.exit_code == 0, r.output
+    text = (tmp_path / "r.html").read_text()
+    assert 'id="sensitivity"' in text and "operating.feed_rate" in text
+
+
+def test_cli_without_salib_exit_3(monkeypatch):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    monkeypatch.setitem(sys.modules, "SALib", None)
+    r = CliRunner().invoke(app, ["sensitivity", "song2003_ottawa", "--param", "operating.rpm=3,5"])
+    assert r.exit_code == 3 and "rotarydryer[sensitivity]" in r.output
