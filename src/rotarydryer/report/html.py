@@ -245,6 +245,9 @@ def _thermal_section(results) -> str:
               ("evaporation_kg_s", "evaporation", "kg/s", 1.0),
               ("fuel_rate_kg_s", "fuel rate (burner, App. A)", "kg/h", 3600.0),
               ("shell_heat_loss_W", "shell heat loss", "kW", 1e-3),
+              ("heat_input_W", "heat put into the gas", "kW", 1e-3),
+              ("specific_energy_kJ_kg_water", "specific energy", "kJ per kg water evaporated", 1.0),
+              ("thermal_efficiency", "thermal efficiency (evaporation heat / heat input)", "-", 1.0),
               ("energy_balance_error", "energy balance error", "-", 1.0),
               ("water_balance_error", "water balance error", "-", 1.0))
     rows = [("model", str(results.model_choices.get("thermal_mode", "")), "-")]
@@ -299,6 +302,44 @@ def sensitivity_section(data: dict) -> str:
             + (f"<ul class='note'>{notes}</ul>" if notes else "") + "</section>")
 
 
+def _executive_summary(results) -> str:
+    """What was run and what the key numbers mean, in sentences (the report's first section)."""
+    s, inp = results.scalars, results.inputs
+    op = inp.get("operating", {}) or {}
+    gas = inp.get("gas") or {}
+    facts = []
+    feed = s.get("feed_rate_kg_s", op.get("feed_rate"))
+    if feed is not None:
+        facts.append(f"feed {_fmt(float(feed))} kg/s of wet solids")
+    if op.get("rpm") is not None:
+        facts.append(f"{_fmt(float(op['rpm']))} rev/min")
+    if gas.get("inlet_temperature") is not None:
+        facts.append(f"{gas.get('direction', '')} gas at {_fmt(float(gas['inlet_temperature']))} degC"
+                     + (f", {_fmt(float(gas['flow']))} kg/s" if gas.get("flow") is not None else ""))
+    lines = [f"<p>Case <b>{html.escape(results.case_name or results.kind)}</b> ({html.escape(str(results.kind))}, "
+             f"model {html.escape(str(results.model_choices.get('model', '')))}), operating point: "
+             f"{html.escape(', '.join(facts) or 'as in the case file')}.</p><ul>"]
+    if "mean_residence_time_s" in s:
+        lines.append(f"<li>The solids stay <b>{_fmt(s['mean_residence_time_s'] / 60)} min</b> on average; the drum "
+                     f"holds {_fmt(s.get('total_holdup_kg', float('nan')))} kg.</li>")
+    if "measured_mean_s" in s and "tracer_mean_s" in s and s["measured_mean_s"]:
+        err = 100 * (s["tracer_mean_s"] / s["measured_mean_s"] - 1)
+        lines.append(f"<li>Model against the measured tracer curve: mean {_fmt(s['tracer_mean_s'] / 60)} against "
+                     f"{_fmt(s['measured_mean_s'] / 60)} min ({err:+.1f} %).</li>")
+    if "product_moisture_kg_kg" in s:
+        lines.append(f"<li>Product moisture <b>{_fmt(100 * s['product_moisture_kg_kg'])} %</b> (wet basis) at "
+                     f"{_fmt(s.get('product_temperature_degC', float('nan')))} degC; exhaust gas "
+                     f"{_fmt(s.get('gas_outlet_temperature_degC', float('nan')))} degC.</li>")
+    if "specific_energy_kJ_kg_water" in s:
+        lines.append(f"<li>Each kg of water evaporated costs <b>{_fmt(s['specific_energy_kJ_kg_water'])} kJ</b> of heat "
+                     f"in the gas (thermal efficiency {_fmt(100 * s.get('thermal_efficiency', float('nan')))} %; "
+                     "direct dryers typically run at 3 000-6 000 kJ/kg).</li>")
+    if s.get("fuel_rate_kg_s") is not None:
+        lines.append(f"<li>The burner needs {_fmt(3600 * s['fuel_rate_kg_s'])} kg/h of fuel.</li>")
+    lines.append("</ul>")
+    return f'<section id="executive-summary"><h2>Summary</h2>{"".join(lines)}</section>'
+
+
 def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "",
                   sensitivity: dict | None = None) -> str:
     """HTML text of the report.
@@ -322,6 +363,7 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
         title = (results.inputs.get("meta", {}).get("title") or results.case_name) if results is not None else "Flight geometry"
     body = []
     if results is not None:
+        body.append(_executive_summary(results))
         body.append(_transport_sections(results))
     if results is not None and "energy_balance" in results.datasets:
         body.append(_thermal_section(results))

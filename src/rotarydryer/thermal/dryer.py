@@ -881,6 +881,31 @@ class ThermalSteadyState:
 
         return outputs_dataframe(self.summary(with_fuel=False))
 
+    @property
+    def heat_input_w(self):
+        """Heat put into the drying gas (W): the entering gas's enthalpy above that of the same gas
+        at ambient temperature (what a burner or heater supplies to it), mode-consistent."""
+        dr = self.dryer
+        s = dr.settings
+        hot, leak = dr._flows_in
+        mode = s.mode
+        dh = float(bal.gas_enthalpy(s.gas_inlet_temperature, dr.hot_gas_Y, mode)) - float(
+            bal.gas_enthalpy(s.ambient_temperature, dr.hot_gas_Y, mode))
+        return hot * dh
+
+    @property
+    def thermal_efficiency(self):
+        """Heat that evaporated water (evaporation x latent heat at the product temperature, Watson/
+        Clapeyron) over :attr:`heat_input_w` (-); the usual dryer efficiency (Kemp, Handbook of
+        Industrial Drying, 'energy efficiency')."""
+        from ..properties.water import latent_heat
+
+        q = self.heat_input_w
+        if q <= 0:
+            return float("nan")
+        t = float(np.clip(self.product_temperature_c, 0.0, 99.0))
+        return self.evaporation_rate * float(latent_heat(t)) / q
+
     def summary(self, with_fuel=True):
         """Outputs of the state, named with their unit (the names of ``simulate --json``, sweeps,
         Results and the report). Balance errors are relative; ``thermal_mode`` the model mode."""
@@ -896,6 +921,10 @@ class ThermalSteadyState:
             gas_outlet_temperature_degC=self.gas_outlet_temperature_c,
             gas_outlet_humidity_kg_kg=self.gas_outlet_humidity,
             evaporation_kg_s=self.evaporation_rate,
+            heat_input_W=self.heat_input_w,
+            specific_energy_kJ_kg_water=(self.heat_input_w / self.evaporation_rate / 1e3
+                                         if self.evaporation_rate > 1e-12 else float("nan")),
+            thermal_efficiency=self.thermal_efficiency,
             shell_heat_loss_W=self.shell_heat_loss_w,
             gas_flow_kg_s=self.dryer.settings.gas_flow,
             energy_balance_error=float(self.energy_balance_error),
