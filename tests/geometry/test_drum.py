@@ -130,6 +130,8 @@ def test_polygon_clipping_agrees(p, phi):
     big = 10 * drum.radius
     for psi in np.linspace(max(float(tr.psi1), 0.0) + 1e-6, float(tr.psi5) - 1e-6, 23):
         pocket = Polygon(drum.pocket_polygon(psi, n_arc=3000))
+        if not pocket.is_valid:      # a vanishing tip (s2 ~ 1e-17 m) repeats a vertex: repair the reference
+            pocket = pocket.buffer(0)
         tip = drum.flight_outline(psi)[2]
         below = Polygon([tip - big * along, tip + big * along, tip + big * along - big * normal,
                          tip - big * along - big * normal])
