@@ -33,3 +33,16 @@ def test_report_opens_with_an_executive_summary():
     i = text.index('id="executive-summary"')
     assert i < text.index('id="summary"') and i < text.index('id="energy"')
     assert "kJ" in text[i:i + 3000] and "Product moisture" in text[i:i + 3000]
+
+
+def test_figures_are_numbered_with_captions_in_reading_order():
+    import re
+
+    from rotarydryer.report.html import render_report
+    from rotarydryer.results import run_case
+
+    text = render_report(run_case("song2003_ottawa"))
+    numbers = [int(n) for n in re.findall(r"<figcaption><b>Figure (\d+)\.</b>", text)]
+    assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) >= 4
+    assert "@@FIGURE" not in text
+    assert text.count("<figure>") == text.count("<img ") == len(numbers)

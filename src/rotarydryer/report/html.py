@@ -39,6 +39,7 @@ _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:0;color:#222;background:#fafafa}
 header{background:#5b3a12;color:#fff;padding:18px 32px}
 header h1{margin:0;font-size:1.5em} header p{margin:4px 0 0;opacity:.85;font-size:.9em}
+figure{margin:12px 0} figcaption{font-size:.9em;color:#444;margin-top:4px}
 main{max-width:1100px;margin:0 auto;padding:8px 32px 40px}
 section{background:#fff;border:1px solid #e3e3e3;border-radius:6px;padding:12px 20px;margin:18px 0}
 h2{font-size:1.15em;border-bottom:2px solid #d9a441;padding-bottom:4px}
@@ -62,10 +63,23 @@ def figure_to_data_uri(fig, dpi: int = 96) -> str:
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
+_FIG_MARK = "@@FIGURE-NUMBER@@"
+
+
 def _img(fig, alt: str) -> str:
+    """A figure with a numbered caption (numbers are assigned in reading order by
+    :func:`_number_figures` once the report is assembled)."""
     if fig is None:
         return ""
-    return f'<img alt="{html.escape(alt)}" src="{figure_to_data_uri(fig)}">'
+    caption = html.escape(alt[:1].upper() + alt[1:])
+    return (f'<figure><img alt="{html.escape(alt)}" src="{figure_to_data_uri(fig)}">'
+            f'<figcaption><b>Figure {_FIG_MARK}.</b> {caption}.</figcaption></figure>')
+
+
+def _number_figures(text: str) -> str:
+    """Replace the figure-number marks by 1, 2, ... in reading order."""
+    parts = text.split(_FIG_MARK)
+    return "".join(p + (str(i + 1) if i < len(parts) - 1 else "") for i, p in enumerate(parts))
 
 
 def _table(header, rows, left_cols=1, cls="") -> str:
@@ -388,7 +402,7 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
 <style>{_CSS}</style></head>
 <body><header><h1>{html.escape(title)}</h1>
 <p>{html.escape(sub)} &middot; rotarydryer {html.escape(version)} {html.escape(created)}</p></header>
-<main>{''.join(body)}</main></body></html>
+<main>{_number_figures(''.join(body))}</main></body></html>
 """
 
 
