@@ -1,23 +1,15 @@
 """Coupled steady state and 2 h dynamics of every shipped dryer through rotarydryer.Simulation
 (issue 12). Run: python benchmarks/bench_any_dryer.py  (prints a Markdown table)."""
 
-import time
 
 import numpy as np
 
 from rotarydryer import Simulation
 
+from _timing import best  # noqa: E402
+
 CASES = [("ajayi2011_mmg", {"operating.test": 4}), ("ajayi2011_mmg", {"operating.test": 4, "thermal.mode": "ajayi2011"}),
          ("lee2008_invicta", {}), ("song2003_ottawa", {})]
-
-
-def best(fn, repeat=3):
-    out = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return min(out)
 
 
 if __name__ == "__main__":

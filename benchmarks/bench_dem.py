@@ -4,7 +4,6 @@
 
 import math
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -13,14 +12,7 @@ from rotarydryer.dem.deck import Particles, build_slice, export_deck
 from rotarydryer.dem.dumps import read_dump
 from rotarydryer.geometry.presets import preset_drum
 
-
-def best(fn, repeat=5):
-    out = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return min(out)
+from _timing import best  # noqa: E402
 
 
 def profile_ratio(rounds=15, n=20):
@@ -29,15 +21,15 @@ def profile_ratio(rounds=15, n=20):
     psi = np.arange(0.0, 360.0, 0.1)
     plain, corr = [], []
     for _ in range(rounds):
-        plain.append(best(lambda: [drum.holdup_area(psi, 40.0) for _ in range(n)], 1) / n)
-        corr.append(best(lambda: [drum.holdup_area(psi, 40.0, particle_diameter=0.012) for _ in range(n)], 1) / n)
+        plain.append(best(lambda: [drum.holdup_area(psi, 40.0) for _ in range(n)], repeat=1) / n)
+        corr.append(best(lambda: [drum.holdup_area(psi, 40.0, particle_diameter=0.012) for _ in range(n)], repeat=1) / n)
     return min(plain), min(corr)
 
 
 def export_time(folder):
     drum, _ = preset_drum("ajayi_pilot")
     s = build_slice(drum, Particles(diameter=0.002), rpm=3.5, loading=1.0)
-    return best(lambda: export_deck(s, folder / "deck"), 3), s.n_particles
+    return best(lambda: export_deck(s, folder / "deck"), repeat=3), s.n_particles
 
 
 def reduce_time(tmp):
@@ -52,7 +44,7 @@ def reduce_time(tmp):
     (files.folder / "post").mkdir()
     write_dump(files.folder / "post" / "particles.dump", half=s.radius * 1.02 + 0.02, lz=s.length, radius=0.19,
                step0=st["rotation_start"] + 1000, dstep=st["dump_every"], r_particle=0.005)
-    return best(lambda: analyse_run(files.folder), 1)
+    return best(lambda: analyse_run(files.folder), repeat=1)
 
 
 def write_dump(path, n=5000, frames=200, half=0.25, lz=0.04, radius=0.2, step0=1000, dstep=10, r_particle=0.005):
@@ -77,7 +69,7 @@ if __name__ == "__main__":
         dump = tmp / "particles.dump"
         write_dump(dump)
         size = dump.stat().st_size
-        t_read = best(lambda: read_dump(dump), 3)
+        t_read = best(lambda: read_dump(dump), repeat=3)
         t_reduce = reduce_time(tmp)
     print("| benchmark | result | target |")
     print("|---|---|---|")

@@ -9,9 +9,10 @@ import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import time  # noqa: E402
 
 from rotarydryer.studies import song_pilot as sp  # noqa: E402
+
+from _timing import best  # noqa: E402
 
 BEST = sp.Coefficients(*sp.SONG_PILOT_FITS["all"])
 
@@ -55,15 +56,6 @@ def test_predict_73_warm(benchmark):
 def test_step_test(benchmark):
     m = sp.PilotModel()
     benchmark.pedantic(step_test, args=(m,), rounds=3, iterations=1)
-
-
-def best(fn, *args, repeat=3):
-    out = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn(*args)
-        out.append(time.perf_counter() - t)
-    return min(out)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,8 @@ from rotarydryer.cases import build_model, load_case
 from rotarydryer.correlations import cascade_trajectory
 from rotarydryer.transport.forward_step import forward_step_table, trajectory_forward_step
 
+from _timing import best  # noqa: E402
+
 warnings.simplefilter("ignore")
 # N = 35 with the trajectory step needs C_B = 0 (with Lee's 0.68 the step does not fit the cell)
 CASE = {"thermal.enabled": False, "transport.n_cells": 35, "transport.backmix": 0.0}
@@ -34,15 +36,6 @@ def steady(case):
     return m.steady_state()
 
 
-def best(fn, n=7):
-    out = []
-    for _ in range(n):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return min(out)
-
-
 def main():
     rows = []
     for method in ("lee2008_regressions", "exact"):
@@ -52,7 +45,7 @@ def main():
         t = time.perf_counter()
         steady(traj)
         cold = time.perf_counter() - t
-        rows.append((method, best(lambda: steady(fitted)), cold, best(lambda: steady(traj))))
+        rows.append((method, best(lambda: steady(fitted), repeat=7), cold, best(lambda: steady(traj), repeat=7)))
     print("Invicta N = 35, build + steady state (s):")
     print("geometry              fitted    trajectory cold  trajectory warm")
     for method, f, c, w in rows:
@@ -61,12 +54,12 @@ def main():
     gas, ci = m.specs[0].gas, m.cell_info
     h, q = ci["fall_height_m"], np.full(35, 90.0)
     forward_step_table.cache_clear()
-    t_table = best(lambda: (forward_step_table.cache_clear(), forward_step_table(gas, 2.8)), 3)
-    t_eval = best(lambda: trajectory_forward_step(gas, 2.8, h, q), 50)
+    t_table = best(lambda: (forward_step_table.cache_clear(), forward_step_table(gas, 2.8)), repeat=3)
+    t_eval = best(lambda: trajectory_forward_step(gas, 2.8, h, q), repeat=50)
     u = ci["curtain_velocity_ratio"] * gas.gas_velocity
     t_direct = best(lambda: cascade_trajectory(h * np.cos(np.radians(2.8)), gas.particle_diameter,
                                                gas.particle_density, gas.gas_density, gas.gas_viscosity,
-                                               gas_velocity=u, gas_flow=gas.gas_flow, inclination=2.8), 3)
+                                               gas_velocity=u, gas_flow=gas.gas_flow, inclination=2.8), repeat=3)
     print(f"table (33 x 17 trajectories): {t_table * 1e3:.1f} ms; step of 35 cells from the table: "
           f"{t_eval * 1e6:.0f} us; 35 trajectories integrated directly (400 steps): {t_direct * 1e3:.1f} ms")
 

@@ -603,13 +603,16 @@ class CholetteCloutier:
 
     def cdf(self, time_s):
         """F(t) (-), the fraction of a Dirac injection out by ``time_s`` (s): inverse of G(s)/s."""
-        t = check_finite("time_s", time_s)
-        shape = t.shape
+        return self._curve(check_finite("time_s", time_s), cumulative=True)
+
+    def _curve(self, t, **kw):
+        """:func:`_cells_curve` of this model's parameters at the times ``t`` (same shape; a float for
+        a scalar)."""
         flat = np.ravel(t).astype(float)
         par = [np.full(flat.shape, float(v)) for v in (self.n_cells, self.conductance_per_s,
                                                        self.active_fraction, self.exchange_ratio)]
-        f = _cells_curve(flat, *par, cumulative=True).reshape(shape)
-        return f if f.ndim else float(f)
+        y = _cells_curve(flat, *par, **kw).reshape(np.shape(t))
+        return y if y.ndim else float(y)
 
     def outlet(self, time_s, pulse):
         """Outlet response (1/s) at ``time_s`` (s after the input start) to a normalised input
@@ -632,9 +635,4 @@ class CholetteCloutier:
             z = s * d
             return np.log(-np.expm1(-z) / z)
 
-        shape = t.shape
-        flat = np.ravel(t).astype(float)
-        par = [np.full(flat.shape, float(v)) for v in (self.n_cells, self.conductance_per_s,
-                                                       self.active_fraction, self.exchange_ratio)]
-        y = _cells_curve(flat, *par, log_input=log_input).reshape(shape)
-        return y if y.ndim else float(y)
+        return self._curve(t, log_input=log_input)
