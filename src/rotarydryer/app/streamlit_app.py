@@ -13,32 +13,16 @@ as its message (input errors) or as a generic sentence (anything else; the trace
 to the server log), never with a traceback or a file's content.
 """
 
-import logging
-import re
-
 import streamlit as st
 
 from rotarydryer.app import logic
+from rotarydryer.app._ui import plain as _plain
+from rotarydryer.app._ui import refuse as _refuse
 
 # no exception types, messages or tracebacks in the browser, even for an error this script
 # does not catch (also set on the command line of ``rotarydryer app``)
 st.set_option("client.showErrorDetails", "none")
 st.set_page_config(page_title="rotarydryer", page_icon=":material/autorenew:", layout="wide")
-_log = logging.getLogger("rotarydryer.app")
-
-
-def _plain(text: str) -> str:
-    """Markdown-escaped text (shown literally; one line per line)."""
-    return re.sub(r"([\\`*\[\]<>$~#|])", r"\\\1", str(text)).replace("\n", "  \n")
-
-
-def _refuse(what: str, exc: BaseException):
-    """Show why ``what`` failed (a one-line-per-problem message, no traceback) and stop."""
-    if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
-        _log.error("%s", what, exc_info=exc)
-    st.error(f"{_plain(what)}: {_plain(logic.visitor_message(exc))}")
-    st.stop()
-
 
 @st.cache_data(show_spinner=False, max_entries=64)
 def _geometry(*args):
@@ -71,10 +55,19 @@ def _fit(text, dataset, model, baseline="none"):
     return logic.fit_tracer(text=text, dataset=dataset, model=model, baseline=baseline)
 
 
-page = st.sidebar.radio("Page", ["Flight geometry", "Transport and RTD"], key="page")
+#: page title -> module of :mod:`rotarydryer.app` with a ``render()`` (None: drawn below)
+PAGES = {"Flight geometry": None, "Transport and RTD": None, "Whole dryer": "page_dryer",
+         "Studies and sensitivity": "page_studies", "Design": "page_design", "Control": "page_control",
+         "Lab data": "page_lab"}
+page = st.sidebar.radio("Page", list(PAGES), key="page")
 st.sidebar.caption("rotarydryer: flighted rotary dryer simulator. Units: SI, angles in deg.")
 
-if page == "Flight geometry":
+if PAGES[page] is not None:
+    import importlib
+
+    importlib.import_module(f"rotarydryer.app.{PAGES[page]}").render()
+
+elif page == "Flight geometry":
     st.title("Flight geometry explorer")
     presets = logic.presets()
     name = st.sidebar.selectbox("Drum preset", list(presets), key="preset")
@@ -115,7 +108,7 @@ if page == "Flight geometry":
                   "mass (kg)": [f"{r[2]:,.0f}" for r in g["design_loads"]]})
     st.image(g["profile"], caption="Holdup and discharge rate against flight angle")
 
-else:
+elif page == "Transport and RTD":
     from rotarydryer.cases import list_cases
 
     st.title("Solids transport and residence time")

@@ -1,0 +1,56 @@
+"""Streamlit helpers shared by the pages of the web app (imported only inside the app).
+
+Visitors' input (docs/app_threat_model.md): every error is shown as its message (input
+errors, the same one-line messages as the CLI) or a generic sentence (anything else; the
+traceback goes to the server log), never with a traceback or a file's content.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+
+import streamlit as st
+
+from . import logic
+
+log = logging.getLogger("rotarydryer.app")
+
+
+def plain(text: str) -> str:
+    """Markdown-escaped text (shown literally; one line per line)."""
+    return re.sub(r"([\\`*\[\]<>$~#|])", r"\\\1", str(text)).replace("\n", "  \n")
+
+
+def refuse(what: str, exc: BaseException):
+    """Show why ``what`` failed (a one-line-per-problem message, no traceback) and stop."""
+    if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
+        log.error("%s", what, exc_info=exc)
+    st.error(f"{plain(what)}: {plain(logic.visitor_message(exc))}")
+    st.stop()
+
+
+def case_picker(prefix: str, default: str = "ajayi2011_mmg", cases: list[str] | None = None,
+                help_text: str | None = None) -> tuple[str, str]:
+    """Sidebar choice of a built-in case or an uploaded case file (kept in memory only).
+
+    ``prefix`` makes the widget keys unique per page (``f"{prefix}_case"``,
+    ``f"{prefix}_case_file"``).  Returns ``(case, shown)``: the name to pass to the logic
+    functions (a built-in name or the staged key of an upload) and the name to show."""
+    from rotarydryer.cases import list_cases
+
+    names = list(cases) if cases is not None else list_cases()
+    case = st.sidebar.selectbox("Built-in case", names, index=names.index(default) if default in names else 0,
+                                key=f"{prefix}_case", help=help_text)
+    upload = st.sidebar.file_uploader("... or upload a case file (TOML; `rotarydryer new NAME` writes a template; "
+                                      "it may name shipped data sets only)", type=["toml"], key=f"{prefix}_case_file",
+                                      max_upload_size=logic.MAX_UPLOAD_MB)
+    shown = case
+    if upload is not None:
+        shown = upload.name
+        try:
+            case = logic.stage_case_file(upload.getvalue())
+        except Exception as exc:
+            refuse(f"Case file {shown} refused", exc)
+        st.caption(f"Case file: {plain(shown)}")
+    return case, shown

@@ -1,0 +1,8 @@
+"""Web-app page (placeholder until built): see streamlit_app.PAGES."""
+
+import streamlit as st
+
+
+def render():
+    st.title("lab")
+    st.info("This page is being built.")
