@@ -31,6 +31,8 @@ TEMPLATE = str(resources.files("rotarydryer.cases") / "templates" / "dryer.toml"
 def steady(case="lee2008_invicta", **ov):
     if case != "ajayi2011_mmg":
         ov.setdefault("thermal.enabled", False)
+    else:   # Ajayi's thesis model (regression geometry), whose feed independence the table states
+        ov.setdefault("geometry.method", "ajayi2011_regressions")
     return Simulation(case, ov).transport_steady_state()
 
 

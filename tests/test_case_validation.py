@@ -71,10 +71,12 @@ def test_incomplete_flighted_section_named(tmp_path):
     path = _mmg_variant(tmp_path, "n_cells = 8\n", "")
     with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.n_cells = None"):
         load_case(path, {"operating.test": 4})
+    thesis = {"operating.test": 4, "geometry.method": "ajayi2011_regressions"}
     path = _mmg_variant(tmp_path, "regression.area = ", "regression.areas = ")
+    load_case(path, {"operating.test": 4})  # the exact geometry (default) does not need the regressions
     with pytest.raises(ValueError, match=r"regression\.area = None.*7 coefficients"):
-        load_case(path, {"operating.test": 4})
+        load_case(path, thesis)
     path = _mmg_variant(tmp_path, "s1 = 0.12\n", "")
-    load_case(path, {"operating.test": 4})  # the regressions do not need s1
+    load_case(path, thesis)  # the regressions do not need s1
     with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.s1 is missing"):
-        load_case(path, {"operating.test": 4, "geometry.method": "exact"})
+        load_case(path, {"operating.test": 4})

@@ -496,7 +496,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             if cfg.feedforward != "model" or (abs(dX) < 1e-9 and abs(Fd - F0) < 1e-9 * F0):
                 return v_lin
             key = (round(x, 9), round(Fd, 9))
-            if key not in ff_cache:   # steady-state (model-based) feed-forward: secant on v for the setpoint
+            if key not in ff_cache:   # steady-state (model-based) feed-forward: Brent on v for the setpoint
                 if progress:
                     progress(f"feed-forward: steady state for feed moisture {x:.4g}, feed rate {Fd:.4g} kg/s")
                 zs = steady.state
@@ -508,15 +508,30 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                                fouling=base["fouling"]).steady_state(z0=zs)
                     zs = st.state
                     return outputs_of(st.dryer, st.state)[cv] - sp
+                tol = 0.05 * (cfg.tolerance or TOLERANCE[cv])
+                vF_d = split(0.0, Fd)[2]
+                lo_all, hi_all = vT[0] + vF_d[0], vT[1] + vF_d[1]
                 try:
-                    v0, v1 = v_lin, 1.1 * v_lin if v_lin else 1e-3
-                    g0, g1 = g(v0), g(v1)
-                    for _ in range(8):
-                        if abs(g1) < 0.05 * (cfg.tolerance or TOLERANCE[cv]) or g1 == g0:
-                            break
-                        v0, g0, v1 = v1, g1, v1 - g1 * (v1 - v0) / (g1 - g0)
-                        g1 = g(v1)
-                    ff_cache[key] = v1
+                    # bracket the root between no action (v = 0) and the linear estimate, widened up to
+                    # the actuators' range; then Brent's method (the map saturates where the split range
+                    # does, so a secant can run off a flat stretch)
+                    g_lin = g(v_lin)
+                    if abs(g_lin) < tol:
+                        ff_cache[key] = v_lin
+                    else:
+                        g_0 = g(0.0)
+                        a, ga, b, gb = 0.0, g_0, v_lin, g_lin
+                        limit = (hi_all if v_lin > 0 else lo_all)
+                        while ga * gb > 0.0 and abs(b) < abs(limit):
+                            a, ga, b = b, gb, float(np.clip(2.0 * b, min(limit, 0.0), max(limit, 0.0)))
+                            gb = g(b)
+                        if ga * gb > 0.0:   # out of range: the actuators' limit
+                            ff_cache[key] = b
+                        else:
+                            from scipy.optimize import brentq
+
+                            ff_cache[key] = brentq(g, min(a, b), max(a, b), xtol=1e-3 * abs(v_lin) + 1e-12,
+                                                   maxiter=30)
                 except ValueError:   # no steady state at these inputs: fall back to the linear feed-forward
                     ff_cache[key] = v_lin
             return ff_cache[key]

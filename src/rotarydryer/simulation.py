@@ -129,20 +129,22 @@ class Simulation:
 
     def thermal_steady_state(self):
         """Coupled steady state of the case's heat-and-mass model. When its Newton iteration
-        chatters on the unsmoothed design-load switch min(M_P, M_des) (a cell at its design load,
-        e.g. small feeds), it is restarted from the steady state of the same model with the switch
-        smoothed over :attr:`START_SMOOTHING` of M_des; the state returned is always that of the
-        case's own (unsmoothed) model, accepted by its own convergence test."""
+        chatters on the design-load switch min(M_P, M_des) or a kink of the exact loading factor
+        (a cell at its design load or where a flight fills, e.g. small feeds), it is restarted from
+        the steady state of the same model with the switch smoothed over ten times the case's
+        width (at least :attr:`START_SMOOTHING` of M_des); the state returned is always that of the
+        case's own model, accepted by its own convergence test."""
         from .thermal.dryer import DryerError
 
         d = self.thermal_dryer()
         try:
             return d.steady_state()
         except DryerError as exc:
-            if exc.reason != "no_steady_state" or d.settings.design_load_smoothing > 0:
+            w = d.settings.design_load_smoothing
+            if exc.reason != "no_steady_state" or w >= 0.01:
                 raise
-            try:
-                start = self.thermal_dryer(design_load_smoothing=self.START_SMOOTHING).steady_state()
+            try:   # continuation in the width: from a 10x wider switch (at least START_SMOOTHING)
+                start = self.thermal_dryer(design_load_smoothing=max(self.START_SMOOTHING, 10.0 * w)).steady_state()
                 return d.steady_state(z0=start.state)
             except DryerError:
                 raise exc from None

@@ -58,7 +58,7 @@ def test_performance_figures():
 def mmg():
     from rotarydryer import Simulation
 
-    d = Simulation("ajayi2011_mmg", {"operating.test": 4}).thermal_dryer()
+    d = Simulation("ajayi2011_mmg", {"operating.test": 4, "geometry.method": "ajayi2011_regressions"}).thermal_dryer()  # the thesis model
     return d, d.steady_state()
 
 

@@ -17,7 +17,7 @@ from rotarydryer.estimation import Dataset, Parameter, fit, profile_likelihood
 from rotarydryer.estimation.cases import BASELINE, baseline_parameter, fit_case_to_tracer, profile_case_fit
 
 runner = CliRunner()
-AJAYI4 = {"operating.test": 4}
+AJAYI4 = {"operating.test": 4, "geometry.method": "ajayi2011_regressions"}
 
 
 def _line_data(n=400, seed=1):
@@ -134,7 +134,8 @@ def test_profile_case_fit(ajayi4_fits):
 
 def test_fit_cli_baseline_and_profile(tmp_path):
     res = runner.invoke(app, ["fit", "ajayi2011_mmg", "ajayi2011_test4", "-p", "transport.dispersion",
-                              "--set", "operating.test=4", "--scale", "fit", "--starts", "1", "--baseline", "fit",
+                              "--set", "operating.test=4", "--set", "geometry.method=ajayi2011_regressions",
+                              "--scale", "fit", "--starts", "1", "--baseline", "fit",
                               "--profile", "--profile-points", "5", "--json", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
     d = json.loads(res.stdout.strip().splitlines()[-1])

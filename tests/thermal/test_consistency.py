@@ -15,7 +15,7 @@ Y_IN = 0.0193 / (1 - 0.0193)          # Ajayi l.3227
 
 @pytest.fixture(scope="module")
 def model():
-    return {t: build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": t})).steady_state() for t in (4, 6)}
+    return {t: build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": t, "geometry.method": "ajayi2011_regressions"})).steady_state() for t in (4, 6)}
 
 
 @given(g=st.floats(12.0, 60.0), t_in=st.floats(300.0, 600.0), x_out=st.floats(0.10, 0.15),
@@ -102,7 +102,7 @@ def test_test6_with_its_balance_implied_gas_flow(model):
     ss6 = model[6]
     g6 = measured_balances((6,), heat_loss=ss6.shell_heat_loss_w,
                            product_c=ss6.product_temperature_c)[0].gas_flow_at_product_c
-    ss = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 6, "thermal.gas_flow": g6})).steady_state()
+    ss = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 6, "thermal.gas_flow": g6, "geometry.method": "ajayi2011_regressions"})).steady_state()
     c = pi_test_conditions(6)
     assert abs(ss.product_moisture - c["moisture_out"]) <= 0.007
     assert abs(ss.gas_outlet_temperature_c - c["gas_out_c"]) <= 20.0

@@ -14,8 +14,12 @@ VALIDATION = {(int(r["test"]), r["variable"]): r for r in read_published_csv("aj
 PI = {int(r["test"]): r for r in read_published_csv("ajayi_pi_operating_conditions.csv")}
 
 
+#: the thermal model was tuned on Test 4 with Ajayi's regression geometry (his thesis model)
+THESIS = {"geometry.method": "ajayi2011_regressions"}
+
+
 def _dryer(test=4, mode="physical", **over):
-    c = load_case("ajayi2011_mmg", {"operating.test": test, "thermal.mode": mode, **over})
+    c = load_case("ajayi2011_mmg", {"operating.test": test, "thermal.mode": mode, **THESIS, **over})
     return build_thermal_dryer(c)
 
 

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from rotarydryer.published import read_published_csv
@@ -104,6 +104,9 @@ def test_loss_and_shell_temperature_increase_with_gas_temperature(tg, dt):
 
 @settings(max_examples=20, deadline=None)
 @given(t1=st.floats(0.0, 0.2), dt=st.floats(0.005, 0.1))
+# found by hypothesis: a trial inner-wall temperature above the gas took the steel conductivity fit
+# below zero, and the root finder stopped on the resulting jump (10.2 kW instead of 1.18 kW)
+@example(t1=0.19503200017143213, dt=0.08406)
 def test_thicker_insulation_loses_less(t1, dt):
     assert float(sh.shell_heat_loss(400.0, GAS_FLOW, insulation_thickness=t1 + dt).heat_loss) < float(
         sh.shell_heat_loss(400.0, GAS_FLOW, insulation_thickness=t1).heat_loss)

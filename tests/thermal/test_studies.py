@@ -38,7 +38,7 @@ def test_relative_index_of_power_law_is_exponent_for_small_steps(a, u0, n):
 
 @pytest.fixture(scope="module")
 def ajayi_table():
-    d = build_thermal_dryer(load_case("ajayi2011_mmg", {"thermal.mode": "ajayi2011"}))
+    d = build_thermal_dryer(load_case("ajayi2011_mmg", {"thermal.mode": "ajayi2011", "geometry.method": "ajayi2011_regressions"}))
     return studies.sensitivity_table(d, inputs=["gas_inlet_temperature", "gas_inlet_humidity"])
 
 

@@ -29,7 +29,8 @@ from rotarydryer.transport.ajayi_predictive import (
 from .conftest import read_csv
 
 SUMMARY = {int(r["test"]): r for r in read_csv("ajayi_rtd_tests_summary.csv")}
-PRED = {"transport.parameter_source": "predictive"}
+#: the predictive coefficients of the case were calibrated with Ajayi's regression geometry (his thesis model)
+PRED = {"transport.parameter_source": "predictive", "geometry.method": "ajayi2011_regressions"}
 runner = CliRunner()
 
 
@@ -199,7 +200,8 @@ def test_test_4_calibration_is_the_case_files():
     assert c.r_squared >= 0.9
     # the calibrated prediction of Test 4 is what the CLI reports
     p = study.predict(4, tr.velocity_coefficient, tr.dispersion_coefficient)
-    res = runner.invoke(app, ["rtd", "ajayi2011_mmg", "--set", "transport.parameter_source=predictive", "--json"])
+    res = runner.invoke(app, ["rtd", "ajayi2011_mmg", "--set", "transport.parameter_source=predictive", "--set",
+                              "geometry.method=ajayi2011_regressions", "--json"])
     assert json.loads(res.output)["tracer_mean_s"] == pytest.approx(p.tracer_mean_s, rel=1e-9)
 
 

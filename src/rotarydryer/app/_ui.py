@@ -22,12 +22,14 @@ def plain(text: str) -> str:
     return re.sub(r"([\\`*\[\]<>$~#|])", r"\\\1", str(text)).replace("\n", "  \n")
 
 
-def refuse(what: str, exc: BaseException):
-    """Show why ``what`` failed (a one-line-per-problem message, no traceback) and stop."""
+def refuse(what: str, exc: BaseException, stop: bool = True):
+    """Show why ``what`` failed (a one-line-per-problem message, no traceback) and stop
+    (``stop=False``: carry on with the rest of the page)."""
     if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
         log.error("%s", what, exc_info=exc)
     st.error(f"{plain(what)}: {plain(logic.visitor_message(exc))}")
-    st.stop()
+    if stop:
+        st.stop()
 
 
 def case_picker(prefix: str, default: str = "ajayi2011_mmg", cases: list[str] | None = None,

@@ -1,8 +1,135 @@
-"""Web-app page (placeholder until built): see streamlit_app.PAGES."""
+"""Web-app page "Control": PI + feed-forward on a case's dynamic model (``rotarydryer control``).
+
+Sidebar: a case with the heat-and-mass model (built-in or uploaded), the disturbance and the
+controller settings; the runs (identification, closed loop, open loop) start with the button.
+Shown: controlled and manipulated variables closed vs open loop, IAE, maximum deviation,
+settling time, the SIMC tuning.  Bad input gives the CLI's messages
+(:mod:`rotarydryer.app.logic_control`).
+"""
 
 import streamlit as st
 
+from . import logic_control as L
+from ._ui import case_picker, plain, refuse
+
+
+@st.cache_data(show_spinner=False, max_entries=8)
+def _control(case, overrides, kwargs):
+    return L.control_view(case, dict(overrides) or None, **dict(kwargs))
+
+
+@st.cache_data(show_spinner=False, max_entries=16)
+def _defaults(case):
+    return L.control_defaults(case)
+
+
+def _opt(side, label, default, key, lo, hi, step, help_text):
+    """A number input that may be left to the default (None): a checkbox turns it on."""
+    on = side.checkbox(label, value=False, key=f"{key}_on", help=help_text)
+    return side.number_input(f"{label} value", lo, hi, default, step, key=key) if on else None
+
+
+def _inputs():
+    side = st.sidebar
+    try:
+        cases = L.thermal_cases()
+    except Exception as exc:
+        refuse("Cases unavailable", exc)
+    case, shown = case_picker("control", "ajayi2011_mmg", cases=cases,
+                              help_text="cases with the heat-and-mass model ([gas] block)")
+    try:
+        d = _defaults(case)
+    except Exception as exc:
+        refuse(f"Case {shown} refused", exc)
+    overrides = {}
+    if d["tests"]:
+        test = side.selectbox("Ajayi test (operating.test)", d["tests"], index=d["tests"].index(d["test"])
+                              if d["test"] in d["tests"] else 0, key=f"control_test__{case}")
+        overrides["operating.test"] = int(test)
+    with side.expander("Disturbance", expanded=True):
+        scenarios = list(L.SCENARIO_LABELS)
+        scenario = st.selectbox("Scenario", scenarios, key="control_scenario",
+                                help="; ".join(f"{k}: {v}" for k, v in L.SCENARIO_LABELS.items()))
+        magnitude = st.number_input("Magnitude", -0.9, 2.0, 0.2, 0.05, key="control_magnitude",
+                                    help=L.SCENARIO_LABELS[scenario])
+        duration = st.number_input("Simulated time (s)", 60.0, 86400.0, 7200.0, 600.0, key="control_duration",
+                                   help="the run takes about 1 s of computing per simulated 4 min")
+        step_time = st.number_input("Disturbance at (s)", 0.0, 86400.0, 600.0, 60.0, key="control_step_time")
+    with side.expander("Controller", expanded=True):
+        measured = st.selectbox("Controlled variable", ["product_moisture", "exhaust_temperature"],
+                                key="control_measured")
+        feedforward = st.selectbox("Feed-forward", ["model", "linear", "off"], key="control_feedforward",
+                                   help="model: steady state that holds the setpoint; linear: FOPDT gains")
+        feedback = st.checkbox("PI feedback", value=True, key="control_feedback")
+        feed_backup = st.checkbox("Reduce the feed when the gas temperature saturates", value=True,
+                                  key="control_feed_backup")
+        c1, c2 = st.columns(2)
+        sample_time = c1.number_input("Sample time (s)", 1.0, 3600.0, 60.0, 10.0, key="control_sample_time")
+        dead_time = c2.number_input("Dead time (s)", 0.0, 7200.0, 120.0, 10.0, key="control_dead_time")
+        gas_t_max = st.number_input("Highest gas inlet temperature (degC)", 1.0, 600.0, 600.0, 10.0,
+                                    key="control_gas_t_max")
+        feed_min = st.number_input("Lowest feed (fraction of the case's)", 0.01, 1.0, 0.5, 0.05,
+                                   key="control_feed_min")
+    with side.expander("Tuning (default: SIMC, Skogestad 2003)"):
+        kc = _opt(st, "Controller gain Kc", 0.25, "control_kc", -1e6, 1e6, 0.05,
+                  "normalised split range, y per y; default SIMC")
+        tau_i = _opt(st, "Integral time tau_I (s)", 300.0, "control_tau_i", 0.001, 1e6, 30.0, "default SIMC")
+        tau_c = _opt(st, "SIMC closed-loop time constant tau_c (s)", 120.0, "control_tau_c", 0.001, 1e6, 30.0,
+                     "default: the dead time")
+    open_loop = side.checkbox("Also run the uncontrolled plant", value=True, key="control_open_loop")
+    kwargs = dict(scenario=scenario, magnitude=magnitude, duration=duration, step_time=step_time,
+                  sample_time=sample_time, dead_time=dead_time, measured=measured, kc=kc, tau_i=tau_i, tau_c=tau_c,
+                  feedforward=feedforward, feedback=feedback, feed_backup=feed_backup, gas_t_max=gas_t_max,
+                  feed_min_fraction=feed_min, open_loop=open_loop)
+    return case, shown, tuple(sorted(overrides.items())), tuple(sorted(kwargs.items()))
+
 
 def render():
-    st.title("control")
-    st.info("This page is being built.")
+    st.title("Control: closed loop on the dynamic model")
+    st.caption("PI feedback (velocity form, anti-windup, SIMC tuning from identified step responses) and "
+               "feed-forward from the measured feed, manipulating the gas inlet temperature and, in split range, "
+               "the feed rate; as `rotarydryer control` (docs/design_control.md).")
+    case, shown, overrides, kwargs = _inputs()
+    if st.button("Run closed and open loop", type="primary", key="control_run"):
+        st.session_state["control_args"] = (case, shown, overrides, kwargs)
+    if "control_args" not in st.session_state:
+        st.info("Choose the case, the disturbance and the controller in the sidebar, then press "
+                "**Run closed and open loop** (a 2 h run takes about half a minute).")
+        return
+    args = st.session_state["control_args"]
+    if args != (case, shown, overrides, kwargs):
+        st.caption("The inputs changed: press **Run closed and open loop** to run again. Shown: the last run.")
+    try:
+        with st.spinner("Identifying step responses, then running the closed and the open loop ..."):
+            r = _control(args[0], args[2], args[3])
+    except Exception as exc:
+        refuse("Cannot run", exc)
+    p, o, t = r["performance"], r["open"], r["tuning"]
+    scale, unit = (100.0, "pp") if r["measured"] == "product_moisture" else (1.0, "K")
+
+    def settle(x):
+        return "never" if x["settling_time_s"] is None else f"{x['settling_time_s'] / 60:.0f}"
+    st.caption(plain(f"{args[1]}: setpoint {r['setpoint']:.4g}, disturbance at {r['step_time_s']:g} s; "
+                     f"tolerance +-{scale * p['tolerance']:g} {unit}"))
+    c = st.columns(5)
+    c[0].metric(f"Peak error, closed ({unit})", f"{scale * p['max_abs_deviation']:.3g}",
+                help="largest |measured - setpoint| after the disturbance")
+    c[1].metric(f"Peak error, open ({unit})", "-" if o is None else f"{scale * o['max_abs_deviation']:.3g}")
+    c[2].metric("Settling, closed (min)", settle(p),
+                help="time after the disturbance until the deviation stays within the tolerance")
+    c[3].metric("Settling, open (min)", "-" if o is None else settle(o))
+    c[4].metric("Controller gain Kc", f"{t['kc']:.3g}", help=f"{t['rule']}; tau_I = {t['tau_i_s']:.0f} s, "
+                                                            f"gain margin {t['gain_margin']:.2f}")
+    iae = f"IAE closed loop {p['iae']:.4g}" + ("" if o is None else f", open loop {o['iae']:.4g}") + ". "
+    st.markdown(plain(iae + f"Tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, gain margin "
+                      f"{t['gain_margin']:.2f}, feed-forward {t['feedforward']} (delay "
+                      f"{t['feedforward_delay_s']:.0f} s). Manipulated: gas inlet "
+                      f"{r['ranges']['gas_inlet_temperature_degC'][0]:.0f}-"
+                      f"{r['ranges']['gas_inlet_temperature_degC'][1]:.0f} degC, feed "
+                      f"{r['ranges']['feed_rate_kg_s'][0]:.2f}-{r['ranges']['feed_rate_kg_s'][1]:.2f} kg/s."))
+    for w in r["warnings"]:
+        st.warning(plain(w))
+    st.image(r["plot"], caption="Controlled variable, product temperature and manipulated variables "
+                                "(closed loop solid, open loop dashed)")
+    st.download_button("Download the closed-loop series (CSV)", r["csv"], file_name="control.csv",
+                       mime="text/csv", key="control_dl")

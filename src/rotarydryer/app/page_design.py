@@ -1,8 +1,147 @@
-"""Web-app page (placeholder until built): see streamlit_app.PAGES."""
+"""Web-app page "Design": size a flighted rotary dryer for a drying duty (``rotarydryer design``).
+
+Sidebar: a preset duty and its fields, the constraints and the search effort; the search runs
+when the button is pressed (a few seconds; "full" is the CLI's search).  Shown: diameter,
+length, flights, speed, the binding constraints, every constraint with its slack, the ranked
+designs, the drawn cross-section and (optionally) the coupled-model check.  Bad input and an
+infeasible duty give the CLI's messages (:mod:`rotarydryer.app.logic_design`).
+"""
 
 import streamlit as st
 
+from . import logic_design as L
+from ._ui import plain, refuse
+
+
+@st.cache_data(show_spinner=False, max_entries=16)
+def _design(preset, kwargs):
+    return L.design_view(preset, **dict(kwargs))
+
+
+def _inputs():
+    side = st.sidebar
+    preset = side.selectbox("Preset duty", list(L.DESIGN_PRESETS), key="design_preset",
+                            help="raw_sugar: 20 kg/s, 1.0 -> 0.1 %, air 100 degC, 22 kg/s; mmg: Ajayi (2011) Test 4. "
+                                 "The fields below override it (rotarydryer design --duty ...)")
+    d = L.duty_defaults(preset)
+    k = f"__{preset}"
+    mats = L.design_materials()
+    with side.expander("Duty", expanded=True):
+        material = st.selectbox("Material", mats, index=mats.index(d["material"]) if d["material"] in mats else 0,
+                                key=f"design_material{k}")
+        feed = st.number_input("Wet feed rate (kg/s)", 0.01, 1000.0, float(d["feed"]), 1.0, key=f"design_feed{k}")
+        c1, c2 = st.columns(2)
+        moisture_in = c1.number_input("Feed moisture (kg/kg wet)", 0.0, 0.95, float(d["moisture_in"]), 0.001,
+                                      format="%.4f", key=f"design_min{k}")
+        moisture_out = c2.number_input("Target moisture (kg/kg wet)", 0.0, 0.95, float(d["moisture_out"]), 0.001,
+                                       format="%.4f", key=f"design_mout{k}")
+        gas_in = st.number_input("Gas inlet temperature (degC)", 0.0, 1000.0, float(d["gas_in"]), 10.0,
+                                 key=f"design_gas_in{k}")
+        gas_mode = st.radio("Gas flow", ["given", "from NTU"], horizontal=True, key=f"design_gas_mode{k}",
+                            help="from NTU: the exhaust temperature from the number of transfer units, the gas "
+                                 "flow from the energy balance (--ntu)")
+        if gas_mode == "given":
+            gas_flow = st.number_input("Gas flow (kg/s wet)", 0.01, 1000.0, float(d["gas_flow"] or 20.0), 1.0,
+                                       key=f"design_gas_flow{k}")
+            ntu = None
+        else:
+            gas_flow = None
+            ntu = st.number_input("Transfer units NTU (Perry: 1.5-2.5)", 0.1, 6.0, float(d["ntu"]), 0.1,
+                                  key=f"design_ntu{k}")
+        dirs = ["counter-current", "co-current"]
+        direction = st.radio("Direction", dirs, index=dirs.index(d["direction"]), horizontal=True,
+                             key=f"design_direction{k}")
+        feed_t = st.number_input("Feed temperature (degC)", -20.0, 99.0, float(d["feed_temperature"]), 1.0,
+                                 key=f"design_feed_t{k}")
+        burner = st.checkbox("Limit the burner (fuel oil)", value=False, key=f"design_burner{k}")
+        max_fuel = (st.number_input("Burner capacity (kg/s fuel oil)", 0.001, 100.0, 0.5, 0.05,
+                                    key=f"design_max_fuel{k}") if burner else None)
+    with side.expander("Constraints and objective"):
+        objective = st.selectbox("Objective", ["volume", "fuel", "cost"], key="design_objective",
+                                 help="drum volume; heat input per kg of water; cost proxy (shell surface^0.6)")
+        speed_fraction = st.number_input("Largest speed / critical speed", 0.01, 0.99, 0.5, 0.05,
+                                         key="design_speed_fraction")
+        entrainment = st.number_input("Largest gas velocity / terminal velocity", 0.01, 2.0, 1.0, 0.05,
+                                      key="design_entrainment")
+        u_max = st.number_input("Largest gas velocity (m/s)", 0.1, 100.0, 5.0, 0.5, key="design_u_max")
+        fill_max = st.number_input("Largest fill (holdup / drum volume)", 0.01, 0.5, 0.15, 0.01,
+                                   key="design_fill_max")
+        dl_tol = st.number_input("Design-load tolerance |H/DL - 1|", 0.01, 10.0, 0.15, 0.05, key="design_dl_tol")
+        c1, c2 = st.columns(2)
+        ld_min = c1.number_input("L/D min", 0.5, 50.0, 4.0, 0.5, key="design_ld_min")
+        ld_max = c2.number_input("L/D max", 0.5, 50.0, 10.0, 0.5, key="design_ld_max")
+        d_min = c1.number_input("D min (m)", 0.05, 20.0, 0.5, 0.1, key="design_d_min")
+        d_max = c2.number_input("D max (m)", 0.05, 20.0, 6.0, 0.1, key="design_d_max")
+        ua = st.number_input("Ua factor (on McCormick's Ua)", 0.01, 100.0, 1.0, 0.1, key="design_ua")
+    effort = side.radio("Search", list(L.SEARCH_EFFORT), horizontal=True, key="design_effort",
+                        help="quick: 20 generations x population 8 (~1-5 s); full: the CLI's 60 x 12")
+    verify = side.checkbox("Check the best design with the coupled model", value=False, key="design_verify",
+                           help="runs the heat-and-mass model on the best design; while it misses the target, the "
+                                "Ua factor is lowered and the search repeated (--verify, 3 rounds)")
+    kwargs = dict(material=material, feed=feed, moisture_in=moisture_in, moisture_out=moisture_out, gas_in=gas_in,
+                  gas_flow=gas_flow, ntu=ntu, direction=direction, feed_temperature=feed_t, max_fuel=max_fuel,
+                  objective=objective, speed_fraction=speed_fraction, entrainment_fraction=entrainment,
+                  gas_velocity_max=u_max, fill_max=fill_max, design_load_tolerance=dl_tol, ld_min=ld_min,
+                  ld_max=ld_max, d_min=d_min, d_max=d_max, ua_factor=ua, effort=effort, verify=verify)
+    return preset, tuple(sorted(kwargs.items()))
+
 
 def render():
-    st.title("design")
-    st.info("This page is being built.")
+    st.title("Size a dryer for a duty")
+    st.caption("Differential-evolution search of drum diameter, length, slope, speed and flights under "
+               "screening rules (McCormick's Ua, Perry & Green's residence time, exact design load); "
+               "as `rotarydryer design` (docs/design_control.md). Screening numbers: verify a chosen design.")
+    preset, args = _inputs()
+    run = st.button("Size the dryer", type="primary", key="design_run")
+    if run:
+        st.session_state["design_args"] = (preset, args)
+    if "design_args" not in st.session_state:
+        st.info("Set the duty and the constraints in the sidebar, then press **Size the dryer**.")
+        return
+    shown_preset, shown_args = st.session_state["design_args"]
+    if (shown_preset, shown_args) != (preset, args):
+        st.caption("The inputs changed: press **Size the dryer** to search again. Shown: the last search.")
+    try:
+        with st.spinner("Searching (differential evolution) ..."):
+            r = _design(shown_preset, shown_args)
+    except Exception as exc:
+        refuse("No design", exc)
+    b = r["best"]
+    c = st.columns(5)
+    c[0].metric("Diameter D", f"{b['diameter_m']:.2f} m")
+    c[1].metric("Length L", f"{b['length_m']:.2f} m", help=f"L/D {b['length_m'] / b['diameter_m']:.1f}")
+    c[2].metric("Flights", f"{b['n_flights']}", help=f"s1 {b['s1_m']:.3f} m, s2 {b['s2_m']:.3f} m, "
+                                                     f"alpha2 {b['alpha2_deg']:.0f} deg, alpha1 90 deg")
+    c[3].metric("Speed", f"{b['rpm']:.2f} rpm", help=f"{b['speed_over_critical']:.0%} of the critical speed")
+    c[4].metric("Drum volume", f"{b['volume_m3']:.1f} m3")
+    st.markdown(f"**Binding constraints** (slack under 3 %): {plain(', '.join(r['binding']) or 'none')}. "
+                f"Slope {b['slope_deg']:.2f} deg; fuel {b['fuel_per_kg_water_MJ']:.2f} MJ/kg water; gas "
+                f"{b['gas_flow_kg_s']:.2f} kg/s, exhaust {b['gas_outlet_temperature_degC']:.1f} degC; "
+                f"{r['evaluations']} evaluations in {r['seconds']:.1f} s.")
+    ver = r.get("verification")
+    if ver is not None:
+        if "error" in ver:
+            st.warning(f"Coupled-model check failed: {plain(ver['error'])}")
+        else:
+            msg = (f"Coupled model (Lee 2008 transport): product moisture {ver['product_moisture_kg_kg']:.4g} kg/kg "
+                   f"wet, target {r['duty']['moisture_out']:g}: {'met' if ver['target_met'] else 'NOT met'}; "
+                   f"exhaust {ver['gas_outlet_temperature_degC']:.1f} degC, holdup {ver['total_holdup_kg']:.0f} kg.")
+            (st.success if ver["target_met"] else st.warning)(msg)
+            if "next_round_infeasible" in ver:
+                st.caption(plain("With the Ua lowered to what the coupled model achieves: "
+                                 + ver["next_round_infeasible"]))
+    left, right = st.columns([1, 1])
+    left.image(r["cross_section"], caption="Best design: flights at the material's repose angle, to scale")
+    with right:
+        st.subheader("Constraints of the best design")
+        st.dataframe({"constraint": [x[0] for x in r["constraints"]],
+                      "value": [f"{x[1]:.4g}" for x in r["constraints"]],
+                      "limit": [f"{x[2]} {x[3]:.4g}" for x in r["constraints"]],
+                      "slack": [f"{x[4]:.1%}" for x in r["constraints"]]},
+                     hide_index=True)
+    st.subheader("Ranked feasible designs")
+    cols = ["rank", "diameter_m", "length_m", "slope_deg", "rpm", "n_flights", "s1_m", "s2_m", "alpha2_deg",
+            "volume_m3", "fuel_per_kg_water_MJ", "gas_velocity_m_s", "fill_fraction", "holdup_over_design_load",
+            "binding"]
+    st.dataframe({k: [row[k] if isinstance(row[k], (int, str)) else round(float(row[k]), 3) for row in r["table"]]
+                  for k in cols}, hide_index=True)

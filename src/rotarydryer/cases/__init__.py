@@ -223,6 +223,8 @@ class LeeTransport(_TransportVariants):
 class LeeGeometry(_Strict):
     method: Literal["exact", "lee2008_regressions"] = "exact"
     passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+    tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
+                            "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
 
 
 class Tracer(_Strict):
@@ -388,8 +390,10 @@ class AjayiTransport(_Strict):
 
 
 class AjayiGeometry(_Strict):
-    method: Literal["exact", "ajayi2011_regressions"] = "ajayi2011_regressions"
+    method: Literal["exact", "ajayi2011_regressions"] = "exact"
     passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+    tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
+                            "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
 
 
 class AjayiSection(_Strict):
@@ -529,6 +533,8 @@ class DryerTransport(_TransportVariants):
 class DryerGeometry(_Strict):
     method: Literal["exact"] = "exact"
     passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+    tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
+                            "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
     design_load_method: Literal["lee2008", "ajayi2011"] = "lee2008"
     finite_particle: bool = Field(default=False, description="finite-particle correction of the flight holdup "
                                   "(surface layer of 1.51 particle diameters, calibrated on DEM: docs/dem.md) with the "

@@ -275,7 +275,10 @@ def _build_lee(case: LeeCase):
     _check_lee_moisture(case)
     d, fl = case.drum, case.flight
     if case.geometry.method == "exact":
-        geometry = exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2, where="flight")
+        from rotarydryer.transport.sections import ExactGeometry
+
+        geometry = ExactGeometry(exact_drum(d.radius, d.n_flights, fl.s1, fl.s2, fl.alpha1, fl.alpha2, where="flight"),
+                                 tabulated=case.geometry.tabulated)
     else:
         geometry = Lee2008Regressions(tip_radius=invicta_tip_radius(d.radius, fl.s1, fl.s2, fl.alpha1, fl.alpha2))
     if case.transport.model == "sheehan2005_model1":
@@ -420,7 +423,8 @@ def ajayi_geometries(case: AjayiCase) -> dict:
             where = f"sections[{case.sections.index(s)}] ({s.name})"
             drum = exact_drum(case.drum.radius, s.n_flights, s.s1, s.s2, s.alpha1, s.alpha2, where=where,
                               n_flights_key=f"{where}.n_flights")
-            geoms[s.name] = ExactGeometry(drum, case.geometry.passive_time_branch, design_load_method="ajayi2011")
+            geoms[s.name] = ExactGeometry(drum, case.geometry.passive_time_branch, design_load_method="ajayi2011",
+                                          tabulated=case.geometry.tabulated)
     return geoms
 
 
@@ -535,7 +539,8 @@ def _dryer_specs(case: DryerCase, material):
                                      f"of the flight base s1 = {drum.flight.s1:g} m ({where}); the correction holds "
                                      "for d/s1 <= 0.25 (docs/dem.md)")
             geometry = ExactGeometry(drum, case.geometry.passive_time_branch,
-                                     design_load_method=case.geometry.design_load_method, particle_diameter=dp)
+                                     design_load_method=case.geometry.design_load_method, particle_diameter=dp,
+                                     tabulated=case.geometry.tabulated)
             model = s.model or tr.model
             N = s.n_cells or tr.n_cells
             pos = x0 + (np.arange(N) + 0.5) * s.length / N

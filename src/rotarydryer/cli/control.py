@@ -54,38 +54,9 @@ def control(
     from .. import control as C
     from ..simulation import Simulation
 
-    for opt, v, lo, hi in (("--duration", duration, 0.0, 30 * 86400.0), ("--sample-time", sample_time, 1.0, 3600.0),
-                           ("--dead-time", dead_time, 0.0, 7200.0)):
-        check_option(opt, v, lo, hi, unit="s", low_inclusive=opt != "--duration", high_inclusive=True)
-    if step_time is None:
-        step_time = min(600.0, duration)
-    check_option("--step-time", step_time, 0.0, duration, unit="s", low_inclusive=True, high_inclusive=True)
-    if sample_time > duration:
-        raise ValueError(f"--sample-time = {sample_time:g} s is longer than --duration = {duration:g} s")
-    check_option("--gas-t-max", gas_t_max, 0.0, 600.0, unit="degC", high_inclusive=True)
-    if gas_t_min is not None:
-        check_option("--gas-t-min", gas_t_min, 0.0, gas_t_max, unit="degC")
-    check_option("--feed-min-fraction", feed_min_fraction, 0.0, 1.0, high_inclusive=True)
-    for opt, v, allowed in (("--scenario", scenario, C.SCENARIOS), ("--measured", measured, C.MEASURED),
-                            ("--feedforward", feedforward, ("model", "linear", "off"))):
-        if v not in allowed:
-            raise ValueError(f"{opt} = {v!r} is not one of {', '.join(allowed)}")
-    if scenario == "fouling_ramp":
-        check_option("--magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,
-                     unit="(final fouling fraction)")
-    else:
-        check_option("--magnitude", magnitude, -0.9, 2.0, unit="(relative change)")
-    if setpoint is not None:
-        if measured == "product_moisture":
-            check_option("--setpoint", setpoint, 0.0, 1.0, unit="kg/kg wet")
-        else:
-            check_option("--setpoint", setpoint, 0.0, 600.0, unit="degC")
-    if tau_i is not None:
-        check_option("--tau-i", tau_i, 0.0, float("inf"), unit="s")
-    if tau_c is not None:
-        check_option("--tau-c", tau_c, 0.0, float("inf"), unit="s")
-    if kc is not None:
-        check_option("--kc", kc, -1e6, 1e6)
+    step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,
+                                      setpoint, kc, tau_i, tau_c, feedforward, gas_t_max, gas_t_min,
+                                      feed_min_fraction)
     check_out_dir("--out", out)
 
     sim = Simulation(case, parse_sets(set_))
@@ -144,3 +115,46 @@ def control(
                f"{max(s['feed_rate_kg_s']):.2f} kg/s")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")
+
+
+def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration=10800.0, step_time=None,
+                          sample_time=60.0, dead_time=120.0, measured="product_moisture", setpoint=None, kc=None,
+                          tau_i=None, tau_c=None, feedforward="model", gas_t_max=600.0, gas_t_min=None,
+                          feed_min_fraction=0.5):
+    """Check the options of ``rotarydryer control`` (``ValueError`` naming the option; the web app
+    calls this too, for the same messages); returns the step time (default 600 s or the duration)."""
+    from .. import control as C
+
+    for opt, v, lo, hi in (("--duration", duration, 0.0, 30 * 86400.0), ("--sample-time", sample_time, 1.0, 3600.0),
+                           ("--dead-time", dead_time, 0.0, 7200.0)):
+        check_option(opt, v, lo, hi, unit="s", low_inclusive=opt != "--duration", high_inclusive=True)
+    if step_time is None:
+        step_time = min(600.0, duration)
+    check_option("--step-time", step_time, 0.0, duration, unit="s", low_inclusive=True, high_inclusive=True)
+    if sample_time > duration:
+        raise ValueError(f"--sample-time = {sample_time:g} s is longer than --duration = {duration:g} s")
+    check_option("--gas-t-max", gas_t_max, 0.0, 600.0, unit="degC", high_inclusive=True)
+    if gas_t_min is not None:
+        check_option("--gas-t-min", gas_t_min, 0.0, gas_t_max, unit="degC")
+    check_option("--feed-min-fraction", feed_min_fraction, 0.0, 1.0, high_inclusive=True)
+    for opt, v, allowed in (("--scenario", scenario, C.SCENARIOS), ("--measured", measured, C.MEASURED),
+                            ("--feedforward", feedforward, ("model", "linear", "off"))):
+        if v not in allowed:
+            raise ValueError(f"{opt} = {v!r} is not one of {', '.join(allowed)}")
+    if scenario == "fouling_ramp":
+        check_option("--magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,
+                     unit="(final fouling fraction)")
+    else:
+        check_option("--magnitude", magnitude, -0.9, 2.0, unit="(relative change)")
+    if setpoint is not None:
+        if measured == "product_moisture":
+            check_option("--setpoint", setpoint, 0.0, 1.0, unit="kg/kg wet")
+        else:
+            check_option("--setpoint", setpoint, 0.0, 600.0, unit="degC")
+    if tau_i is not None:
+        check_option("--tau-i", tau_i, 0.0, float("inf"), unit="s")
+    if tau_c is not None:
+        check_option("--tau-c", tau_c, 0.0, float("inf"), unit="s")
+    if kc is not None:
+        check_option("--kc", kc, -1e6, 1e6)
+    return step_time

@@ -88,42 +88,12 @@ def rig(
     from ..lab import flight_rig as fr
 
     try:
-        _choice("--flight", flight, tuple(fr.RIG_FLIGHTS))
-        _choice("--phase", phase, fr.FILTER_PHASES)
-        check_option("--rpm", rpm, 0, 100, high_inclusive=True, unit="rev/min")
-        check_option("--start-angle", start_angle, 0, 360, low_inclusive=True, unit="deg")
-        check_option("--bulk-density", bulk_density, 0, 20000, high_inclusive=True, unit="kg/m^3")
-        check_option("--length", length, 0, 100, high_inclusive=True, unit="m")
-        if repose_angle is not None:
-            check_option("--repose-angle", repose_angle, 0, 90, unit="deg")
-        check_option("--repose-sd", repose_sd, 0, 45, low_inclusive=True, high_inclusive=True, unit="deg")
-        check_option("--cutoff", cutoff, 0, unit="Hz")
+        check_rig_options(flight, rpm, start_angle, bulk_density, length, repose_angle, repose_sd, cutoff, phase)
         check_out_dir("--out", out)
         run = fr.read_rig_csv(run_csv)
-        if cutoff >= run.sample_rate / 2:
-            raise ValueError(f"--cutoff = {cutoff:g} Hz must be below half the sampling rate of {run_csv} "
-                             f"({run.sample_rate / 2:g} Hz)")
-        drum = fr.rig_drum(flight)
-        phi_hi = repose_angle if repose_angle is not None else 89.5
-        psi5 = float(drum.transition_angles(phi_hi).psi5)
-        if start_angle >= psi5:
-            raise ValueError(
-                f"--start-angle = {start_angle:g} deg is past the end of unloading of the {flight} flight "
-                f"({psi5:.1f} deg at a repose angle of {phi_hi:g} deg): the flight holds no solids there"
-            )
-        try:
-            f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
-                                    length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
-            rho = f.params["bulk_density"]
-            sd = repose_sd if (repose_angle is not None or repose_sd > 0) else f.stderr["repose_angle"]
-            if not math.isfinite(sd):
-                raise ValueError("the record does not determine the repose angle (its standard error is infinite); "
-                                 "check --start-angle and the record, or give --repose-angle and --repose-sd")
-            a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
-                               repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
-                               repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)
-        except ValueError as exc:
-            raise ValueError(f"{run_csv}: {exc}") from None
+        f, a = rig_analysis(run, str(run_csv), flight, rpm, start_angle, bulk_density, length, repose_angle,
+                            repose_sd, cutoff, phase, fit_bulk_density)
+        rho = f.params["bulk_density"]
     except (ValueError, OSError) as exc:
         _fail(exc)
     res = {
@@ -161,6 +131,57 @@ def rig(
                f"{100 * a.inside_mass:.1f} % of mass and {100 * a.inside_rate:.1f} % of rate samples inside")
     if out is not None:
         typer.echo(f"  outputs: {', '.join(res['outputs'])}")
+
+
+def check_rig_options(flight="alternative", rpm=2.0, start_angle=90.0, bulk_density=1474.0, length=1.0,
+                      repose_angle=None, repose_sd=0.0, cutoff=1.5, phase="zero"):
+    """Check the options of ``rotarydryer lab rig`` (``ValueError`` naming the option; the web app
+    calls this too, for the same messages)."""
+    from ..lab import flight_rig as fr
+
+    _choice("--flight", flight, tuple(fr.RIG_FLIGHTS))
+    _choice("--phase", phase, fr.FILTER_PHASES)
+    check_option("--rpm", rpm, 0, 100, high_inclusive=True, unit="rev/min")
+    check_option("--start-angle", start_angle, 0, 360, low_inclusive=True, unit="deg")
+    check_option("--bulk-density", bulk_density, 0, 20000, high_inclusive=True, unit="kg/m^3")
+    check_option("--length", length, 0, 100, high_inclusive=True, unit="m")
+    if repose_angle is not None:
+        check_option("--repose-angle", repose_angle, 0, 90, unit="deg")
+    check_option("--repose-sd", repose_sd, 0, 45, low_inclusive=True, high_inclusive=True, unit="deg")
+    check_option("--cutoff", cutoff, 0, unit="Hz")
+
+
+def rig_analysis(run, name, flight="alternative", rpm=2.0, start_angle=90.0, bulk_density=1474.0, length=1.0,
+                 repose_angle=None, repose_sd=0.0, cutoff=1.5, phase="zero", fit_bulk_density=False):
+    """Repose-angle fit and band analysis of a rig run as ``rotarydryer lab rig`` does them
+    (``name`` names the record in the messages): returns ``(RigFit, RigAnalysis)``."""
+    from ..lab import flight_rig as fr
+
+    if cutoff >= run.sample_rate / 2:
+        raise ValueError(f"--cutoff = {cutoff:g} Hz must be below half the sampling rate of {name} "
+                         f"({run.sample_rate / 2:g} Hz)")
+    drum = fr.rig_drum(flight)
+    phi_hi = repose_angle if repose_angle is not None else 89.5
+    psi5 = float(drum.transition_angles(phi_hi).psi5)
+    if start_angle >= psi5:
+        raise ValueError(
+            f"--start-angle = {start_angle:g} deg is past the end of unloading of the {flight} flight "
+            f"({psi5:.1f} deg at a repose angle of {phi_hi:g} deg): the flight holds no solids there"
+        )
+    try:
+        f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
+                                length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
+        rho = f.params["bulk_density"]
+        sd = repose_sd if (repose_angle is not None or repose_sd > 0) else f.stderr["repose_angle"]
+        if not math.isfinite(sd):
+            raise ValueError("the record does not determine the repose angle (its standard error is infinite); "
+                             "check --start-angle and the record, or give --repose-angle and --repose-sd")
+        a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
+                           repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
+                           repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from None
+    return f, a
 
 
 def _write_rig_outputs(fr, a, run_csv, out: Path) -> list:
@@ -215,44 +236,17 @@ def image(
 
     Example: rotarydryer lab image photo.png --centre 970,970 --known-length-px 1900 --known-length-m 0.75 --mirror --out checked.png
     """
-    from ..geometry.presets import preset_drum
     from ..lab import images as im
 
     try:
-        c = _centre(centre)
-        try:
-            d, _ = preset_drum(drum)
-        except ValueError as exc:
-            raise ValueError(f"--drum: {exc}") from None
-        if px_per_m is None:
-            if known_length_px is None or known_length_m is None:
-                raise ValueError("give --px-per-m, or --known-length-px with --known-length-m")
-            check_option("--known-length-px", known_length_px, 0, 1e6, high_inclusive=True, unit="px")
-            check_option("--known-length-m", known_length_m, 0, 100, high_inclusive=True, unit="m")
-            scale_name = "--known-length-px/--known-length-m"
-            cal = im.ImageCalibration.from_known_length(c, known_length_px, known_length_m, mirror=mirror)
-        else:
-            check_option("--px-per-m", px_per_m, 0, 1e7, high_inclusive=True, unit="px/m")
-            scale_name = "--px-per-m"
-            cal = im.ImageCalibration(c, px_per_m, mirror=mirror)
-        check_option("--reference-angle", reference_angle, -360, 360, low_inclusive=True, high_inclusive=True,
-                     unit="deg")
-        check_option("--channel", channel, 0, 3, low_inclusive=True, high_inclusive=True)
-        thr = _pair(threshold, "--threshold")
-        athr = _pair(airborne_threshold, "--airborne-threshold")
-        check_option("--smooth-sigma", smooth_sigma, 0, 100, low_inclusive=True, high_inclusive=True, unit="px")
+        d, cal, scale_name, thr, athr = image_options(centre, drum, px_per_m, known_length_px, known_length_m,
+                                                      mirror, reference_angle, channel, threshold,
+                                                      airborne_threshold, smooth_sigma)
         check_out_file("--out", out, ("png", "jpg", "jpeg", "tif", "tiff", "pdf", "svg"))
         if out is not None and out.exists() and photo.exists() and out.resolve() == photo.resolve():
             raise ValueError(f"--out {str(out)!r} is the photograph itself; give another file name")
         img = im.load_image(photo)
-        nch = 1 if img.ndim == 2 else img.shape[2]
-        if channel >= nch:
-            raise ValueError(f"--channel = {channel} is not a channel of {photo} ({nch} channel"
-                             f"{'s' if nch > 1 else ''}: 0 .. {nch - 1})")
-        im.check_drum_in_image(img.shape, d, cal, image_name=str(photo), centre_name="--centre",
-                               scale_name=scale_name)
-        m = im.measure(img, d, cal, reference_angle=reference_angle, channel=channel,
-                       threshold=thr, airborne_threshold=athr, smooth_sigma=smooth_sigma)
+        m = measure_image(img, str(photo), d, cal, scale_name, reference_angle, channel, thr, athr, smooth_sigma)
     except (ValueError, OSError) as exc:
         _fail(exc)
     res = {"file": str(photo), "drum": drum, **m.as_dict()}
@@ -273,6 +267,55 @@ def image(
         typer.echo(f"  annotated image: {out}")
 
 
+def image_options(centre, drum="ajayi_pilot", px_per_m=None, known_length_px=None, known_length_m=None, mirror=False,
+                  reference_angle=90.0, channel=0, threshold="168,177", airborne_threshold="104,120",
+                  smooth_sigma=0.0):
+    """Check the options of ``rotarydryer lab image`` (``ValueError`` naming the option; the web app
+    calls this too, for the same messages): returns ``(drum, calibration, scale option name,
+    threshold, airborne threshold)``."""
+    from ..geometry.presets import preset_drum
+    from ..lab import images as im
+
+    c = _centre(centre)
+    try:
+        d, _ = preset_drum(drum)
+    except ValueError as exc:
+        raise ValueError(f"--drum: {exc}") from None
+    if px_per_m is None:
+        if known_length_px is None or known_length_m is None:
+            raise ValueError("give --px-per-m, or --known-length-px with --known-length-m")
+        check_option("--known-length-px", known_length_px, 0, 1e6, high_inclusive=True, unit="px")
+        check_option("--known-length-m", known_length_m, 0, 100, high_inclusive=True, unit="m")
+        scale_name = "--known-length-px/--known-length-m"
+        cal = im.ImageCalibration.from_known_length(c, known_length_px, known_length_m, mirror=mirror)
+    else:
+        check_option("--px-per-m", px_per_m, 0, 1e7, high_inclusive=True, unit="px/m")
+        scale_name = "--px-per-m"
+        cal = im.ImageCalibration(c, px_per_m, mirror=mirror)
+    check_option("--reference-angle", reference_angle, -360, 360, low_inclusive=True, high_inclusive=True,
+                 unit="deg")
+    check_option("--channel", channel, 0, 3, low_inclusive=True, high_inclusive=True)
+    thr = _pair(threshold, "--threshold")
+    athr = _pair(airborne_threshold, "--airborne-threshold")
+    check_option("--smooth-sigma", smooth_sigma, 0, 100, low_inclusive=True, high_inclusive=True, unit="px")
+    return d, cal, scale_name, thr, athr
+
+
+def measure_image(img, name, d, cal, scale_name, reference_angle=90.0, channel=0, threshold="168,177",
+                  airborne_threshold="104,120", smooth_sigma=0.0):
+    """Measure a photograph (an array from :func:`rotarydryer.lab.images.load_image`) as
+    ``rotarydryer lab image`` does, after :func:`image_options` (``name`` names it in messages)."""
+    from ..lab import images as im
+
+    nch = 1 if img.ndim == 2 else img.shape[2]
+    if channel >= nch:
+        raise ValueError(f"--channel = {channel} is not a channel of {name} ({nch} channel"
+                         f"{'s' if nch > 1 else ''}: 0 .. {nch - 1})")
+    im.check_drum_in_image(img.shape, d, cal, image_name=name, centre_name="--centre", scale_name=scale_name)
+    return im.measure(img, d, cal, reference_angle=reference_angle, channel=channel,
+                      threshold=threshold, airborne_threshold=airborne_threshold, smooth_sigma=smooth_sigma)
+
+
 @lab_app.command("design-load")
 def design_load(
     table: Path = typer.Argument(..., help="CSV with one row per photograph: loading and FUF area columns."),
@@ -287,19 +330,10 @@ def design_load(
 
     Example: rotarydryer lab design-load loading_series.csv --group-column condition
     """
-    from ..lab import design_load_fit as dl
-
     try:
         check_option("--confidence", confidence, 0, 1)
         groups = _read_design_table(table, loading_column, area_column, group_column)
-        fits = {}
-        for g, pts in groups.items():
-            x, y = zip(*pts)
-            try:
-                fits[g] = dl.fit_break_point(x, y, confidence=confidence)
-            except ValueError as exc:
-                where = f"group {g!r} of {table}" if group_column else str(table)
-                raise ValueError(f"{where}: {exc}") from None
+        fits = design_load_fits(groups, str(table), group_column is not None, confidence)
     except (ValueError, OSError) as exc:
         _fail(exc)
     res = {
@@ -322,42 +356,32 @@ def design_load(
             typer.echo(f"      {m:16s} {lo:8.2f} - {hi:8.2f}  (+/- {(hi - lo) / 2:.2f})")
 
 
+def design_load_fits(groups: dict, name: str, grouped: bool, confidence: float = 0.95) -> dict:
+    """Break-point fits per group of a design-load table as ``rotarydryer lab design-load`` does
+    them (``name`` names the table in the messages; the web app calls this too)."""
+    from ..lab import design_load_fit as dl
+
+    check_option("--confidence", confidence, 0, 1)
+    fits = {}
+    for g, pts in groups.items():
+        x, y = zip(*pts)
+        try:
+            fits[g] = dl.fit_break_point(x, y, confidence=confidence)
+        except ValueError as exc:
+            where = f"group {g!r} of {name}" if grouped else name
+            raise ValueError(f"{where}: {exc}") from None
+    return fits
+
+
 def _read_design_table(table: Path, loading_column: str, area_column: str, group_column) -> dict:
     """{group: [(loading, area), ...]} from a design-load CSV, read line by line (UTF-8, at most
-    200 000 rows); errors name the file, the line and the column."""
-    from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, data_lines, fmt, parse_number, too_many_rows
+    200 000 rows); errors name the file, the line and the column
+    (:func:`rotarydryer.lab.design_load_fit.read_design_rows`)."""
+    from ..lab.design_load_fit import read_design_rows
+    from ..rtd._datafile import data_lines
 
-    name = str(table)
-    header = None
-    groups: dict = {}
-    n = 0
-    for k, row in csv_rows(data_lines(table, "design-load table"), name):
-        if header is None:
-            header = [h.strip() for h in row]
-            for opt, col in (("--loading-column", loading_column), ("--area-column", area_column),
-                             ("--group-column", group_column)):
-                if col is not None and col not in header:
-                    raise ValueError(f"{name} line {k}: no column {col!r} ({opt}); columns are {', '.join(header)}")
-            il, ia = header.index(loading_column), header.index(area_column)
-            ig = header.index(group_column) if group_column else None
-            continue
-        if len(row) != len(header):
-            raise ValueError(f"{name} line {k}: {len(row)} columns, expected {len(header)} ({', '.join(header)})")
-        n += 1
-        if n > MAX_DATA_ROWS:
-            raise too_many_rows(name, k, MAX_DATA_ROWS)
-        x = parse_number(row[il], name, k, loading_column)
-        y = parse_number(row[ia], name, k, area_column)
-        if x < 0:
-            raise ValueError(f"{name} line {k}: {loading_column} = {fmt(x)} is negative; a drum loading is >= 0")
-        if y < 0:
-            raise ValueError(f"{name} line {k}: {area_column} = {fmt(y)} is negative; an area is >= 0")
-        groups.setdefault(row[ig].strip() if ig is not None else "all", []).append((x, y))
-    if header is None:
-        raise ValueError(f"{name}: empty file; expected a header line with {loading_column} and {area_column}")
-    if not groups:
-        raise ValueError(f"{name}: no data rows after the header")
-    return groups
+    return read_design_rows(data_lines(table, "design-load table"), str(table), loading_column, area_column,
+                            group_column)
 
 
 def _step_times(text: str, factor: float):
@@ -395,26 +419,10 @@ def steps(
     from ..lab import steps as sm
 
     try:
-        check_option("--threshold", threshold, 0, 1, unit="(fraction of the largest feed)")
-        check_option("--plateau", plateau, 0, 1, high_inclusive=True, unit="(fraction of an interval)")
-        check_option("--tolerance", tolerance, 0, 1, unit="(fraction of the largest feed)")
-        check_option("--initial-holdup", initial_holdup, 0, 1e7, low_inclusive=True, high_inclusive=True, unit="kg")
+        check_steps_options(threshold, plateau, tolerance, initial_holdup)
         check_out_dir("--out", out)
         rec = sm.read_step_csv(data)
-        factor = sm.TIME_COLUMNS[rec.columns["time"]]
-        times = None
-        if step_times is not None:
-            times = _step_times(step_times, factor)
-            unit = rec.columns["time"].split("_", 1)[1]
-            shown = ", ".join(f"{x / factor:g}" for x in times)
-            if any(b <= a for a, b in zip(times, times[1:])):
-                raise ValueError(f"--steps = {shown} {unit} must increase")
-            t0, t1 = float(rec.time[0]), float(rec.time[-1])
-            if times[0] < t0 or times[-1] >= t1:
-                raise ValueError(f"--steps = {shown} {unit} must lie inside the record of {data} "
-                                 f"[{t0 / factor:g}, {t1 / factor:g}) {unit}")
-        a = sm.analyse_steps(rec, times, threshold=threshold, plateau=plateau, tolerance=tolerance,
-                             initial_holdup=initial_holdup)
+        a = steps_analysis(rec, str(data), step_times, threshold, plateau, tolerance, initial_holdup)
         outputs = _write_steps_outputs(sm, rec, a, out) if out is not None else None
     except (ValueError, OSError) as exc:
         _fail(exc)
@@ -427,6 +435,7 @@ def steps(
         typer.echo(json_text(res))
         return
     t_unit = rec.columns["time"].split("_", 1)[1]
+    factor = sm.TIME_COLUMNS[rec.columns["time"]]
     typer.echo(f"step record {data}: {rec.time.size} samples over {(rec.time[-1] - rec.time[0]) / 60:.2f} min "
                f"({', '.join(rec.columns.values())})")
     how = "given" if step_times is not None else f"detected: feed changes > {threshold:g} of the largest feed"
@@ -458,6 +467,37 @@ def steps(
                    "steady-state holdup (lengthen the step)")
     if outputs is not None:
         typer.echo(f"  outputs: {', '.join(outputs)}")
+
+
+def check_steps_options(threshold=0.1, plateau=0.2, tolerance=0.05, initial_holdup=0.0):
+    """Check the options of ``rotarydryer lab steps`` (``ValueError`` naming the option; the web app
+    calls this too, for the same messages)."""
+    check_option("--threshold", threshold, 0, 1, unit="(fraction of the largest feed)")
+    check_option("--plateau", plateau, 0, 1, high_inclusive=True, unit="(fraction of an interval)")
+    check_option("--tolerance", tolerance, 0, 1, unit="(fraction of the largest feed)")
+    check_option("--initial-holdup", initial_holdup, 0, 1e7, low_inclusive=True, high_inclusive=True, unit="kg")
+
+
+def steps_analysis(rec, name, step_times=None, threshold=0.1, plateau=0.2, tolerance=0.05, initial_holdup=0.0):
+    """Song's step method on a record as ``rotarydryer lab steps`` applies it (``step_times``: the
+    ``--steps`` text, in the unit of the time column; ``name`` names the record in messages)."""
+    from ..lab import steps as sm
+
+    factor = sm.TIME_COLUMNS[rec.columns["time"]]
+    times = None
+    if step_times is not None:
+        times = _step_times(step_times, factor)
+        unit = rec.columns["time"].split("_", 1)[1]
+        shown = ", ".join(f"{x / factor:g}" for x in times)
+        if any(b <= a for a, b in zip(times, times[1:])):
+            raise ValueError(f"--steps = {shown} {unit} must increase")
+        t0, t1 = float(rec.time[0]), float(rec.time[-1])
+        if times[0] < t0 or times[-1] >= t1:
+            raise ValueError(f"--steps = {shown} {unit} must lie inside the record of {name} "
+                             f"[{t0 / factor:g}, {t1 / factor:g}) {unit}")
+    a = sm.analyse_steps(rec, times, threshold=threshold, plateau=plateau, tolerance=tolerance,
+                         initial_holdup=initial_holdup)
+    return a
 
 
 def _write_steps_outputs(sm, rec, a, out: Path) -> list:

@@ -128,6 +128,17 @@ def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, conventio
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
     d, phi = np.broadcast_arrays(d, phi)
     h0, hi = _upper_flight_holdups(drum, phi, convention, particle_diameter)
+    return _invert_eq_4_22(d, h0, hi)
+
+
+def _invert_eq_4_22(d, h0, hi, smoothing=0.0):
+    """``f`` from the dryer loading ``d`` and the design holdups ``H0`` (...) and ``H_i`` (..., n):
+    Lee (2008) Eq. 4.22 inverted segment by segment (see :func:`loading_factor`).
+
+    ``smoothing`` > 0 rounds every kink of the piecewise-linear ``f(d)`` (where a flight fills, and
+    ``f = 1`` from ``d = 1``) over that width of ``d``: ``max(0, x)`` becomes
+    ``(x + sqrt(x^2 + w^2)) / 2``, so Newton sees a smooth map (as the thermal model's smoothed
+    design-load switch ``design_load_smoothing``, of the same width)."""
     r = np.sort(np.clip(hi / h0[..., None], 0.0, 1.0), axis=-1)  # breakpoints in f
     n = r.shape[-1]
     # g(f) = f + 2 sum_i min(f, r_i); g(1) = M_des/H0
@@ -143,9 +154,30 @@ def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, conventio
     g1 = np.take_along_axis(g, seg[..., None] + 1, -1)[..., 0]
     b0 = np.take_along_axis(bp, seg[..., None], -1)[..., 0]
     b1 = np.take_along_axis(bp, seg[..., None] + 1, -1)[..., 0]
+    if smoothing > 0.0:
+        return _smoothed_inverse(d, bp, g / g[..., -1:], float(smoothing))
     with np.errstate(invalid="ignore", divide="ignore"):
         f = np.where(g1 > g0, b0 + (target - g0) * (b1 - b0) / (g1 - g0), b0)
     return np.where(d >= 1.0, 1.0, np.clip(f, 0.0, 1.0))
+
+
+def _smoothed_inverse(d, f_knots, d_knots, w):
+    """The piecewise-linear ``f(d)`` through ``(d_k, f_k)`` (then flat at 1) as a sum of ramps
+    ``f = s_0 d + sum_k (s_k - s_{k-1}) max(0, d - d_k)``, each ramp's kink rounded over ``w``."""
+    dd = np.diff(d_knots, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = np.where(dd > 1e-15, np.diff(f_knots, axis=-1) / np.where(dd > 1e-15, dd, 1.0), np.nan)
+    # a degenerate segment (two equal knots) has no slope of its own: the previous one continues
+    s = np.concatenate([s, np.zeros(s.shape[:-1] + (1,))], axis=-1)   # flat beyond d = 1
+    idx = np.where(np.isnan(s), 0, np.arange(s.shape[-1]))
+    idx = np.maximum.accumulate(idx, axis=-1)
+    s = np.take_along_axis(np.nan_to_num(s, nan=0.0), idx, -1)
+    jumps = np.diff(s, axis=-1)                                        # at d_knots[1:]
+    x = d[..., None] - d_knots[..., 1:]
+    ramp = 0.5 * (x + np.sqrt(x * x + w * w))
+    x0 = d - d_knots[..., 0]
+    f = s[..., 0] * 0.5 * (x0 + np.sqrt(x0 * x0 + w * w)) + (jumps * ramp).sum(-1)
+    return np.clip(f, 0.0, 1.0)
 
 
 def loading_state(dryer_loading, tolerance: float = 0.02):

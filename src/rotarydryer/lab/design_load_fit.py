@@ -49,13 +49,14 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
 from .._validation import check_choice, check_finite, check_positive, check_range
 from ..estimation.uncertainty import linearised_uncertainty
 
-__all__ = ["CI_METHODS", "BreakPointFit", "hinge", "fit_break_point", "synthetic_loading_series",
+__all__ = ["CI_METHODS", "BreakPointFit", "hinge", "fit_break_point", "read_design_rows", "synthetic_loading_series",
            "mimic_ajayi_series", "ajayi_table_4_11"]
 
 CI_METHODS = ("delta", "profile", "ajayi_corrected", "appendix_e")
@@ -312,3 +313,43 @@ def ajayi_table_4_11() -> list[dict]:
     keys = ("rpm", "fluid_wt_pct", "dyn_angle_of_repose_deg", "angle_ci", "design_load_kg",
             "design_load_ci_kg", "FUF_area_cm2", "FUF_area_ci_cm2")
     return [{k: float(r[k]) for k in keys} for r in read_published_csv("ajayi_design_load_pilot.csv")]
+
+
+def read_design_rows(numbered_lines, name: str, loading_column: str = "loading_kg",
+                     area_column: str = "FUF_area_cm2", group_column: Optional[str] = None) -> dict:
+    """{group: [(loading, area), ...]} from the numbered lines of a design-load CSV (one row per
+    photograph; ``rotarydryer lab design-load``): from :func:`rotarydryer.rtd._datafile.data_lines`
+    (a file) or :func:`~rotarydryer.rtd._datafile.text_lines` (text in memory). At most
+    200 000 rows; errors name ``name``, the line and the column (and the command-line option)."""
+    from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, fmt, parse_number, too_many_rows
+
+    header = None
+    groups: dict = {}
+    n = 0
+    for k, row in csv_rows(numbered_lines, name):
+        if header is None:
+            header = [h.strip() for h in row]
+            for opt, col in (("--loading-column", loading_column), ("--area-column", area_column),
+                             ("--group-column", group_column)):
+                if col is not None and col not in header:
+                    raise ValueError(f"{name} line {k}: no column {col!r} ({opt}); columns are {', '.join(header)}")
+            il, ia = header.index(loading_column), header.index(area_column)
+            ig = header.index(group_column) if group_column else None
+            continue
+        if len(row) != len(header):
+            raise ValueError(f"{name} line {k}: {len(row)} columns, expected {len(header)} ({', '.join(header)})")
+        n += 1
+        if n > MAX_DATA_ROWS:
+            raise too_many_rows(name, k, MAX_DATA_ROWS)
+        x = parse_number(row[il], name, k, loading_column)
+        y = parse_number(row[ia], name, k, area_column)
+        if x < 0:
+            raise ValueError(f"{name} line {k}: {loading_column} = {fmt(x)} is negative; a drum loading is >= 0")
+        if y < 0:
+            raise ValueError(f"{name} line {k}: {area_column} = {fmt(y)} is negative; an area is >= 0")
+        groups.setdefault(row[ig].strip() if ig is not None else "all", []).append((x, y))
+    if header is None:
+        raise ValueError(f"{name}: empty file; expected a header line with {loading_column} and {area_column}")
+    if not groups:
+        raise ValueError(f"{name}: no data rows after the header")
+    return groups

@@ -93,6 +93,7 @@ __all__ = [
     "ReposeBand",
     "RigAnalysis",
     "read_rig_csv",
+    "parse_rig_text",
     "write_rig_csv",
     "design_lowpass",
     "lowpass",
@@ -186,17 +187,31 @@ def read_rig_csv(path, *, time_column: int = 0, max_rows: Optional[int] = None) 
     the line and the column: ``rig.csv line 17: 'abc' is not a number in column time_s``;
     times must be finite, strictly increasing and uniformly sampled.
     """
-    from ..rtd._datafile import csv_rows, data_lines, parse_number, too_many_rows
+    from ..rtd._datafile import data_lines
+
+    path = Path(path)
+    return _read_rig_lines(data_lines(path, "rig data file"), str(path), time_column=time_column, max_rows=max_rows)
+
+
+def parse_rig_text(text: str, name: str = "<string>", *, time_column: int = 0,
+                   max_rows: Optional[int] = None) -> RigRun:
+    """:func:`read_rig_csv` of the text of a load-cell CSV held in memory (e.g. an upload to the
+    web app; nothing is written to disk); messages name ``name`` as they name the file."""
+    from ..rtd._datafile import text_lines
+
+    return _read_rig_lines(text_lines(text), name, time_column=time_column, max_rows=max_rows)
+
+
+def _read_rig_lines(numbered_lines, name: str, *, time_column: int = 0, max_rows: Optional[int] = None) -> RigRun:
+    from ..rtd._datafile import csv_rows, parse_number, too_many_rows
 
     limit = MAX_RIG_ROWS if max_rows is None else int(max_rows)
-    path = Path(path)
-    name = str(path)
     header: Optional[list] = None
     ncol = None
     first_line = None
     cols: list = []
     lines = []
-    for k, row in csv_rows(data_lines(path, "rig data file"), name):
+    for k, row in csv_rows(numbered_lines, name):
         if ncol is None:
             try:
                 [float(v) for v in row]

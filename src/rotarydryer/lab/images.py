@@ -58,6 +58,7 @@ __all__ = [
     "first_unloading_flight",
     "annotate",
     "load_image",
+    "load_image_bytes",
     "check_drum_in_image",
     "MAX_IMAGE_PIXELS",
 ]
@@ -329,19 +330,35 @@ def load_image(path, *, max_pixels: Optional[int] = None) -> np.ndarray:
     file is read. 16-bit images are scaled to 8 bits; palette, bilevel and CMYK images are
     converted to grey or RGB. Errors are ``ValueError`` naming the file.
     """
-    import warnings
-
-    from PIL import Image, UnidentifiedImageError
-
     from ..rtd._datafile import check_input_file
 
     limit = MAX_IMAGE_PIXELS if max_pixels is None else int(max_pixels)
     p = check_input_file(path, "image file", MAX_IMAGE_FILE_BYTES)
-    name = str(p)
+    return _decode_image(p, str(p), limit)
+
+
+def load_image_bytes(data: bytes, name: str = "<image>", *, max_pixels: Optional[int] = None) -> np.ndarray:
+    """:func:`load_image` of the bytes of an image file held in memory (e.g. an upload to the web
+    app; nothing is written to disk), with the same checks (pixel count from the header before
+    decoding); messages name ``name`` as they name the file."""
+    import io
+
+    limit = MAX_IMAGE_PIXELS if max_pixels is None else int(max_pixels)
+    data = bytes(data)
+    if len(data) > MAX_IMAGE_FILE_BYTES:
+        raise ValueError(f"{name}: {len(data) / 1e6:.1f} MB; the limit is {MAX_IMAGE_FILE_BYTES / 1e6:.0f} MB")
+    return _decode_image(io.BytesIO(data), name, limit)
+
+
+def _decode_image(source, name: str, limit: int) -> np.ndarray:
+    import warnings
+
+    from PIL import Image, UnidentifiedImageError
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-            pil = Image.open(p)  # lazy: reads the header only
+            pil = Image.open(source)  # lazy: reads the header only
     except Image.DecompressionBombError as exc:
         import re
 

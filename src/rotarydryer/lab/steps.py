@@ -48,7 +48,7 @@ import numpy as np
 
 from .._validation import check_range, fmt_number
 
-__all__ = ["StepRecord", "StepAnalysis", "read_step_csv", "step_record", "detect_steps", "analyse_steps",
+__all__ = ["StepRecord", "StepAnalysis", "read_step_csv", "parse_step_text", "step_record", "detect_steps", "analyse_steps",
            "reconcile", "TIME_COLUMNS", "FEED_COLUMNS", "DISCHARGE_COLUMNS", "MIN_ROWS"]
 
 #: time columns and their factor to s
@@ -170,15 +170,28 @@ def read_step_csv(path) -> StepRecord:
     line (:mod:`rotarydryer.rtd._datafile`: UTF-8, at most 64 MB and 200 000 rows); lines
     starting with ``#`` are skipped; the first other line is the header. Errors name the file,
     the line and the column."""
-    from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, data_lines, parse_number, too_many_rows
+    from ..rtd._datafile import data_lines
 
     p = Path(path)
-    name = str(p)
+    return _read_step_lines(data_lines(p, "step record"), str(p))
+
+
+def parse_step_text(text: str, name: str = "<string>") -> StepRecord:
+    """:func:`read_step_csv` of the text of a record held in memory (e.g. an upload to the web
+    app; nothing is written to disk); messages name ``name`` as they name the file."""
+    from ..rtd._datafile import text_lines
+
+    return _read_step_lines(text_lines(text), name)
+
+
+def _read_step_lines(numbered_lines, name: str) -> StepRecord:
+    from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, parse_number, too_many_rows
+
     header = None
     cols = {}
     lines = []
     data: list = []
-    for k, row in csv_rows(data_lines(p, "step record"), name):
+    for k, row in csv_rows(numbered_lines, name):
         if header is None:
             header = [c.strip().lower() for c in row]
             cols = _pick_columns(header, name, k)

@@ -8,12 +8,17 @@
 One HTML file, no external resources: pictures are base64 PNG ``<img>`` elements, the
 style sheet is inline.  Sections (each when its data exist):
 
+* summary in sentences, then the operating conditions with an SVG drawing of the dryer
+  (:mod:`rotarydryer.report.drawing`; gas direction, burner);
+* model against measured with the error wherever data exist (:mod:`rotarydryer.report.manager`),
+  in captions that state each figure's key numbers;
 * dryer drawn to scale (sections, flights, curtains);
 * flight cross-section and unloading profile of each flighted section (Lee (2008) ch. 4);
 * design-load table (Lee (2008) Eq. 4.19-4.21; Ajayi (2011) Eq. 2.2-2.4, 4.19) next to the
   transport model's design load;
 * key results, holdup profile, RTD against data, loading state per cell and per section;
-* the inputs and model choices (JSON).
+* the inputs and model choices (JSON), the case's data sources and the full references
+  (:mod:`rotarydryer.report.references`).
 
 A view only: geometry pictures are computed by the geometry package, everything else
 is read from the :class:`rotarydryer.results.Results`.
@@ -49,6 +54,9 @@ td.l,th.l{text-align:left}
 img{max-width:100%;height:auto;display:block;margin:6px auto}
 .row{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start} .row>div{flex:1 1 420px}
 .note{color:#666;font-size:.85em} pre{font-size:.78em;background:#f6f6f6;padding:8px;overflow:auto}
+.mvm{background:#f4f8fb;border-left:3px solid #2468b4;padding:4px 10px;font-size:.9em}
+figure.drawing svg{max-width:100%;height:auto;display:block;margin:6px auto}
+ol.refs li{margin:3px 0;font-size:.9em}
 .state-over{color:#b52b27;font-weight:600} .state-under{color:#2468b4} .state-design{color:#2a7a3b}
 """
 
@@ -66,14 +74,23 @@ def figure_to_data_uri(fig, dpi: int = 96) -> str:
 _FIG_MARK = "@@FIGURE-NUMBER@@"
 
 
-def _img(fig, alt: str) -> str:
+def _img(fig, alt: str, caption: str | None = None) -> str:
     """A figure with a numbered caption (numbers are assigned in reading order by
-    :func:`_number_figures` once the report is assembled)."""
+    :func:`_number_figures` once the report is assembled).  ``caption``: plain text stating
+    what the figure shows and its key numbers (default: ``alt``)."""
     if fig is None:
         return ""
-    caption = html.escape(alt[:1].upper() + alt[1:])
+    text = caption or alt
+    text = html.escape(text[:1].upper() + text[1:]).rstrip(".")
     return (f'<figure><img alt="{html.escape(alt)}" src="{figure_to_data_uri(fig)}">'
-            f'<figcaption><b>Figure {_FIG_MARK}.</b> {caption}.</figcaption></figure>')
+            f'<figcaption><b>Figure {_FIG_MARK}.</b> {text}.</figcaption></figure>')
+
+
+def _svg_figure(svg: str, caption: str) -> str:
+    """An inline SVG drawing as a numbered figure."""
+    text = html.escape(caption[:1].upper() + caption[1:]).rstrip(".")
+    return (f'<figure class="drawing">{svg}'
+            f'<figcaption><b>Figure {_FIG_MARK}.</b> {text}.</figcaption></figure>')
 
 
 def _number_figures(text: str) -> str:
@@ -134,6 +151,13 @@ def _geometry_sections(drums, results) -> str:
             ("passive / active time", f"{float(cs.passive_time):.2f} s / {float(cs.mean_fall_time):.3f} s"),
         ]
         rho, length = float(d["bulk_density"]), float(d["length"])
+        where = "the dryer" if d["name"] == "dryer" else f"section {d['name']}"
+        cap1 = (f"flight cross-section of {where}: {drum.n_flights} flights in a drum of radius "
+                f"{drum.radius:g} m, solids at a repose angle of {phi:.1f} deg; a full flight holds "
+                f"{drum.full_holdup_area * 1e4:.0f} cm2 per m of flight")
+        cap2 = (f"unloading profile of {where} at {float(d['rpm']):g} rev/min: the flights empty "
+                f"with transition angles psi1-psi5 at {', '.join(f'{float(a):.0f}' for a in tr)} deg; mean fall height "
+                f"{float(cs.mean_fall_height):.2f} m")
         dl_rows = []
         for m in DESIGN_LOAD_METHODS:
             a = float(drum.design_load_area(phi, method=m))
@@ -148,13 +172,14 @@ def _geometry_sections(drums, results) -> str:
                              f"(sum over {int(sel.sum())} cells, moisture-dependent repose angle).</p>")
         parts.append(f"""
 <section id="flight-{html.escape(d['name'])}"><h2>Flights: section {html.escape(d['name'])}</h2>
-<div class="row"><div>{_img(fig1, 'flight cross-section')}</div>
+<div class="row"><div>{_img(fig1, 'flight cross-section', cap1)}</div>
 <div>{_table(('quantity', 'value'), geo_rows, left_cols=1)}
 <h3>Design load</h3>
 {_table(('method', 'area (m2)', f'mass (kg), rho_b {rho:g} kg/m3, L {length:g} m'), dl_rows)}
-<p class="note">Lee (2008) Eq. 4.20-4.21 (= Baker 1988), Porter 1963 (Lee Eq. 4.19), Kelly 1977 and Ajayi
-(2011) Eq. 4.19 (1.24 x Baker); first unloading flight root at 90 deg.</p>{model_des}</div></div>
-{_img(fig2, 'unloading profile')}
+<p class="note">Lee (2008) Eq. 4.20-4.21 (= Baker (1988)), Porter (1963) (Lee (2008) Eq. 4.19), Kelly &amp;
+O'Donnell (1977) and Ajayi (2011) Eq. 4.19 (1.24 x Baker); first unloading flight root at 90 deg.
+No measured design load for this section is in the case data.</p>{model_des}</div></div>
+{_img(fig2, 'unloading profile', cap2)}
 </section>""")
     return "".join(parts)
 
@@ -182,15 +207,54 @@ def _transport_sections(results) -> str:
                 '(the names and values of <code>rotarydryer simulate --json</code>); the holdup profile, RTD and '
                 'loading-state figures and tables below show the solids-transport model with its assumed '
                 'moisture profile.</p>')
+    from .drawing import dryer_layout
+    from .manager import holdup_comparison, rtd_comparison
+
+    lay = dryer_layout(results.inputs)
+    n_fl = sum(1 for sec in lay["sections"] if sec[1] == "flighted")
+    cap_dryer = (f"dryer drawn to scale: L = {lay['length']:g} m, D = {lay['diameter']:g} m, slope {lay['slope']:g} deg, "
+                 f"{n_fl} flighted and {len(lay['sections']) - n_fl} unflighted section(s); flights and curtains "
+                 "schematic")
+    tot, mrt = s.get("total_holdup_kg", np.nan), s.get("mean_residence_time_s", np.nan) / 60
+    cap_hold = (f"holdup along the dryer: {_fmt(tot)} kg in total (airborne {_fmt(s.get('active_holdup_kg', np.nan))} kg, "
+                f"flight-borne {_fmt(s.get('passive_holdup_kg', np.nan))} kg), mean residence time H/F {mrt:.1f} min")
+    hc = holdup_comparison(results)
+    if hc is not None:
+        cap_hold += (f"; measured {_fmt(hc['measured_kg'])} kg in Test {hc['test']} (error {hc['error_kg']:+,.0f} kg, "
+                     f"{hc['error_pct']:+.1f} %)")
+        hold_mvm = (f'<p class="mvm"><b>Model against measured:</b> total holdup {_fmt(hc["model_kg"])} kg against '
+                    f'{_fmt(hc["measured_kg"])} kg measured in Test {hc["test"]} (feed x measured mean residence time, '
+                    f'Ajayi (2011) Table 3.14): error {hc["error_kg"]:+,.0f} kg ({hc["error_pct"]:+.1f} %).</p>')
+    else:
+        hold_mvm = ('<p class="mvm">No measured holdup is available for this run, so the holdup profile is a model '
+                    'prediction only.</p>')
     parts = [f"""<section id="summary"><h2>Key results</h2>
 {_table(('quantity', 'value', 'unit'), key_rows)}{note}</section>
-<section id="dryer"><h2>Dryer to scale</h2>{_img(draw_dryer_side_view(results), 'dryer to scale')}</section>"""]
-    parts.append(f'<section id="holdup"><h2>Holdup profile</h2>{_img(plot_holdup_profile(results), "holdup profile")}'
-                 "</section>")
+<section id="dryer"><h2>Dryer to scale</h2>{_img(draw_dryer_side_view(results), 'dryer to scale', cap_dryer)}</section>"""]
+    parts.append(f'<section id="holdup"><h2>Holdup profile</h2>'
+                 f'{_img(plot_holdup_profile(results), "holdup profile", cap_hold)}{hold_mvm}</section>')
     if results.rtd is not None:
         meas = "" if results.rtd_measured is None else " against the measured tracer curve"
+        rc = rtd_comparison(results)
+        m_mean = s.get("tracer_mean_s", s.get("simulated_mean_s", np.nan)) / 60
+        m_std = s.get("tracer_std_s", s.get("simulated_std_s", np.nan)) / 60
+        if rc is not None:
+            d_mean, d_std = (rc["model_mean_s"] - rc["measured_mean_s"]) / 60, (rc["model_std_s"] - rc["measured_std_s"]) / 60
+            cap_rtd = (f"residence-time distribution: model mean {m_mean:.2f} min, SD {m_std:.2f} min against "
+                       f"measured {rc['measured_mean_s'] / 60:.2f} min, SD {rc['measured_std_s'] / 60:.2f} min "
+                       f"(mean error {d_mean:+.2f} min, R2 {rc['r_squared']:.2f})")
+            rtd_mvm = (f'<p class="mvm"><b>Model against measured:</b> mean residence time {m_mean:.2f} min against '
+                       f'{rc["measured_mean_s"] / 60:.2f} min measured, error {d_mean:+.2f} min '
+                       f'({100 * d_mean * 60 / rc["measured_mean_s"]:+.1f} %); spread (standard deviation) '
+                       f'{m_std:.2f} against {rc["measured_std_s"] / 60:.2f} min, error {d_std:+.2f} min '
+                       f'({100 * d_std * 60 / rc["measured_std_s"]:+.1f} %); R2 of the model E(t) against the '
+                       f'{rc["n_points"]} measured points {rc["r_squared"]:.3f}.</p>')
+        else:
+            cap_rtd = f"residence-time distribution of the model: mean {m_mean:.2f} min, SD {m_std:.2f} min"
+            rtd_mvm = ('<p class="mvm">No measured tracer curve is available for this run, so the RTD is a model '
+                       'prediction only.</p>')
         parts.append(f'<section id="rtd"><h2>Residence-time distribution{meas}</h2>'
-                     f'{_img(plot_rtd(results), "RTD")}{_fit_table(results)}</section>')
+                     f'{_img(plot_rtd(results), "RTD", cap_rtd)}{rtd_mvm}{_fit_table(results)}</section>')
     if results.cells is not None:
         c = results.cells
         rows = []
@@ -210,13 +274,19 @@ def _transport_sections(results) -> str:
                                                         sec.n_cells.values, sec.active_holdup.values,
                                                         sec.passive_holdup.values, sec.bed_holdup.values,
                                                         sec.total_holdup.values)]
+        n_state = {k: int(np.sum(c.state.values == k)) for k in ("under", "design", "over")}
+        dl = c.dryer_loading.values
+        cap_load = (f"loading state per cell: {n_state['under']} under-, {n_state['design']} design- and "
+                    f"{n_state['over']} over-loaded of {dl.size} flighted cells; dryer loading "
+                    f"{float(np.min(dl)):.2f} to {float(np.max(dl)):.2f} (1 = design load)")
         parts.append(f"""<section id="loading"><h2>Loading state per section</h2>
-{_img(plot_loading_state(results), 'loading state')}
+{_img(plot_loading_state(results), 'loading state', cap_load)}
 {_table(('section', 'cells', 'under', 'design', 'over', 'dryer loading range (-)', 'kilning bed (kg)', 'state'), rows)}
 <h3>Holdup per section (kg)</h3>
 {_table(('section', 'kind', 'length (m)', 'cells', 'airborne', 'flight-borne', 'unflighted bed', 'total'), hold_rows, left_cols=2)}
 <p class="note">Dryer loading = passive holdup / design load (Lee (2008) Section 4.4.2): under &lt; 1,
-design = 1, over &gt; 1 (the surplus forms the kilning bed).</p></section>""")
+design = 1, over &gt; 1 (the surplus forms the kilning bed).</p>
+<p class="mvm">The loading state is not measured in the plant; these figures are model predictions only.</p></section>""")
     return "".join(parts)
 
 
@@ -271,13 +341,66 @@ def _thermal_section(results) -> str:
     for name, direction, power in zip(eb.stream.values, eb.direction.values, eb.power.values):
         terms[str(direction)][str(name)] = float(power)
     t_rows = [(f"{name} ({d})", f"{w / 1e6:.3f}") for d in ("in", "out") for name, w in terms[d].items()]
+    total_in = sum(terms["in"].values())
+    cap_e = f"energy balance: {total_in / 1e6:.2f} MW in"
+    if "heat_input_W" in sc:
+        cap_e += f"; heat put into the gas {sc['heat_input_W'] / 1e6:.2f} MW"
+    if "specific_energy_kJ_kg_water" in sc:
+        cap_e += (f", {_fmt(sc['specific_energy_kJ_kg_water'])} kJ per kg of water evaporated, thermal efficiency "
+                  f"{100 * sc.get('thermal_efficiency', np.nan):.1f} %")
+    if "shell_heat_loss_W" in sc:
+        cap_e += f"; shell loss {sc['shell_heat_loss_W'] / 1e3:,.0f} kW"
+    e_mvm = ('<p class="mvm">The heat input, the fuel rate and the shell loss were not measured; the energy balance is '
+             'a model result only.</p>')
+    cap_t, t_mvm = _thermal_comparison_html(results)
     return (f'<section id="energy"><h2>Heat and mass transfer</h2>'
             f'{_table(("quantity", "value", "unit"), rows)}'
-            f'<h3>Energy balance</h3>{_img(plot_energy_waterfall(terms), "energy balance waterfall")}'
+            f'<h3>Energy balance</h3>{_img(plot_energy_waterfall(terms), "energy balance waterfall", cap_e)}'
             f'{_table(("stream", "MW"), t_rows)}'
-            f'<p class="note">Enthalpies relative to the model reference state; the closure bar is in - out.</p>'
-            f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(thermal_profiles_from_results(results), sections=_section_lengths(results)), "thermal profiles")}'
-            f'</section>')
+            f'<p class="note">Enthalpies relative to the model reference state; the closure bar is in - out.</p>{e_mvm}'
+            f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(thermal_profiles_from_results(results), sections=_section_lengths(results)), "thermal profiles", cap_t)}'
+            f'{t_mvm}</section>')
+
+
+def _thermal_comparison_html(results) -> tuple[str, str]:
+    """Caption of the thermal-profile figure and the model-versus-measured statement (with a
+    table of the measured points) from :func:`rotarydryer.report.manager.thermal_comparison`."""
+    from .manager import thermal_comparison
+
+    sc = results.scalars
+    cap = (f"temperature and moisture along the dryer: product {100 * sc.get('product_moisture_kg_kg', np.nan):.2f} % "
+           f"moisture (wet basis) at {sc.get('product_temperature_degC', np.nan):.1f} degC, exhaust gas "
+           f"{sc.get('gas_outlet_temperature_degC', np.nan):.1f} degC")
+    tc = thermal_comparison(results)
+    if not tc["points"]:
+        return cap + "; no measured values for this run", f'<p class="mvm">{html.escape(tc["reason"])}</p>'
+    pts = {p["quantity"]: p for p in tc["points"]}
+    if "product moisture" in pts:
+        p = pts["product moisture"]
+        cap += (f"; measured product moisture {p['measured']:.2f} % (error {p['error']:+.2f} points)")
+    if "gas outlet temperature" in pts:
+        p = pts["gas outlet temperature"]
+        cap += f", measured exhaust {p['measured']:.0f} degC (error {p['error']:+.1f} degC)"
+    sentences = []
+    for unit, word in (("degC", "temperatures"), ("% points", "moistures")):
+        m = tc["summary"].get(unit)
+        if m:
+            u = "degC" if unit == "degC" else "percentage points"
+            sentences.append(f"{word} at {m['n']} measured point(s): mean absolute error {m['mae']:.2f} {u}, "
+                             f"maximum error {m['max']:.2f} {u} ({m['max_at']})")
+    note = ""
+    if tc.get("tuned"):
+        note = (f" Test {tc['test']} is the test the case's gas flow and heat-transfer area were tuned on (case file), "
+                "so its product moisture and exhaust temperature are fitted, not predicted.")
+    rows = [(p["quantity"], p["where"], f"{p['measured']:.2f}", f"{p['model']:.2f}", f"{p['error']:+.2f}",
+             p["unit"], p["source"]) for p in tc["points"]]
+    if any("Table 3.3" in p["source"] for p in tc["points"]):
+        note += (" The axial moistures were sampled along the dryer before a shutdown (Ajayi (2011) Table 3.3), "
+                 "not during the test.")
+    text = (f'<p class="mvm"><b>Model against measured:</b> {"; ".join(sentences)}.{note}</p>'
+            + _table(("quantity", "where", "measured", "model", "error (model - measured)", "unit", "source"), rows,
+                     left_cols=2))
+    return cap, text
 
 
 def load_sensitivity(path) -> dict:
@@ -312,7 +435,9 @@ def sensitivity_section(data: dict) -> str:
             f'(blocks with a failed run left out). &plusmn;: half-width of the {conf:.0f} % bootstrap interval.</p>'
             + _table(["output", "input", "S1", "\u00b1", "ST", "\u00b1"], rows, left_cols=2)
             + _table(["output"] + keys, drows)
-            + _img(plot_sensitivity(data), "Sobol indices and output distributions")
+            + _img(plot_sensitivity(data), "Sobol indices and output distributions",
+                   f"Sobol indices and output distributions of {data.get('n_runs')} runs "
+                   f"({data.get('samples')} base samples, {data.get('n_failed')} failed)")
             + (f"<ul class='note'>{notes}</ul>" if notes else "") + "</section>")
 
 
@@ -330,8 +455,14 @@ def _executive_summary(results) -> str:
     if gas.get("inlet_temperature") is not None:
         facts.append(f"{gas.get('direction', '')} gas at {_fmt(float(gas['inlet_temperature']))} degC"
                      + (f", {_fmt(float(gas['flow']))} kg/s" if gas.get("flow") is not None else ""))
+    from .manager import MODEL_SOURCES
+
+    model = str(results.model_choices.get("model", ""))
+    src = MODEL_SOURCES.get(model)
+    thermal = (", heat and mass transfer after Ajayi (2011) ch. 6" if "energy_balance" in results.datasets else "")
     lines = [f"<p>Case <b>{html.escape(results.case_name or results.kind)}</b> ({html.escape(str(results.kind))}, "
-             f"model {html.escape(str(results.model_choices.get('model', '')))}), operating point: "
+             f"solids transport model {html.escape(model)}{' after ' + html.escape(src) if src else ''}"
+             f"{thermal}), operating point: "
              f"{html.escape(', '.join(facts) or 'as in the case file')}.</p><ul>"]
     if "mean_residence_time_s" in s:
         lines.append(f"<li>The solids stay <b>{_fmt(s['mean_residence_time_s'] / 60)} min</b> on average; the drum "
@@ -352,6 +483,35 @@ def _executive_summary(results) -> str:
         lines.append(f"<li>The burner needs {_fmt(3600 * s['fuel_rate_kg_s'])} kg/h of fuel.</li>")
     lines.append("</ul>")
     return f'<section id="executive-summary"><h2>Summary</h2>{"".join(lines)}</section>'
+
+
+def _operating_section(results) -> str:
+    """Operating conditions of the run (table) and the drawing of the dryer (inline SVG)."""
+    from .drawing import dryer_layout, dryer_svg
+    from .manager import operating_conditions
+
+    rows = operating_conditions(results)
+    lay = dryer_layout(results.inputs)
+    where = {"co-current": "enters at the feed end", "counter-current": "enters at the product end"}
+    cap = (f"the dryer: {lay['length']:g} m long, {lay['diameter']:g} m diameter, slope {lay['slope']:g} deg, "
+           f"{len(lay['sections'])} section(s); the gas ({lay['direction'] or 'none'}) "
+           f"{where.get(lay['direction'], 'is not modelled')}"
+           + ("; burner / combustion chamber at the gas inlet end" if lay["burner"] else ""))
+    return (f'<section id="operating"><h2>Operating conditions</h2>'
+            f'{_svg_figure(dryer_svg(results.inputs), cap)}'
+            f'{_table(("condition", "value", "unit / source"), rows, left_cols=3)}</section>')
+
+
+def _references_section(body: str) -> str:
+    """Full references of every source cited (author-year) in ``body`` (HTML), from the
+    project's bibliography (:mod:`rotarydryer.report.references`)."""
+    from .references import cited_keys, format_reference
+
+    keys = cited_keys(html.unescape(body))
+    if not keys:
+        return ""
+    items = "".join(f'<li id="ref-{k}">{format_reference(k)}</li>' for k in keys)
+    return f'<section id="references"><h2>References</h2><ol class="refs">{items}</ol></section>'
 
 
 def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "",
@@ -378,6 +538,7 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
     body = []
     if results is not None:
         body.append(_executive_summary(results))
+        body.append(_operating_section(results))
         body.append(_transport_sections(results))
     if results is not None and "energy_balance" in results.datasets:
         body.append(_thermal_section(results))
@@ -389,10 +550,13 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
 <details><summary>model choices</summary><pre>{html.escape(json.dumps(results.model_choices, indent=1))}</pre></details>
 <details><summary>case (SI units, angles in deg)</summary><pre>{html.escape(json.dumps(results.inputs, indent=1))}</pre></details>
 </section>""")
+        from .references import strip_line_numbers
+
         cites = results.inputs.get("meta", {}).get("citations", [])
         if cites:
-            body.append("<section id='sources'><h2>Sources</h2><ul>" +
-                        "".join(f"<li>{html.escape(c)}</li>" for c in cites) + "</ul></section>")
+            body.append('<section id="sources"><h2>Where the case data come from</h2><ul>' +
+                        "".join(f"<li>{html.escape(strip_line_numbers(c))}</li>" for c in cites) + "</ul></section>")
+    body.append(_references_section("".join(body)))
     version = results.version if results is not None else __version__
     created = results.created if results is not None else ""
     sub = subtitle or (f"case {results.case_name}, model {results.model_choices.get('model')}" if results else "")

@@ -264,7 +264,8 @@ class ThermalDryer:
         y = s.gas_inlet_humidity / (1.0 - s.gas_inlet_humidity)
         if s.gas_inlet_temperature <= s.solids_inlet_temperature:
             raise DryerError(
-                f"gas too cold to dry: gas.inlet_temperature = {s.gas_inlet_temperature:g} degC is not above "
+                f"gas too cold to dry: gas.inlet_temperature (thermal.gas_inlet_temperature in the MMG case) = "
+                f"{s.gas_inlet_temperature:g} degC is not above "
                 f"the solids inlet temperature {s.solids_inlet_temperature:g} degC, so the gas cannot supply the "
                 f"latent heat", reason="gas_too_cold")
         rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3)))
@@ -434,7 +435,7 @@ class ThermalDryer:
         for k, v in cache:
             if k == key:
                 return v
-        v = law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling)
+        v = law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=self.settings.design_load_smoothing)
         cache.insert(0, (key, v))
         del cache[2:]
         return v

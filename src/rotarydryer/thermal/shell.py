@@ -250,7 +250,9 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         qp = q_out * 2 * math.pi * r_out
         twi = to
         for _ in range(3):  # steel conductivity at the mean steel temperature
-            rc = conduction_resistance(0.5 * (twi + to))
+            # (the steel lies between the outer surface and the gas: a trial T_wi above the gas
+            # temperature would take the conductivity fit out of its range, even below zero)
+            rc = conduction_resistance(0.5 * (np.clip(twi, to, np.maximum(tg, to)) + to))
             twi = to + qp * rc
         return twi, qp, rc
 

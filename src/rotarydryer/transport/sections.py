@@ -100,32 +100,63 @@ class SectionSpec:
 class ExactGeometry:
     """Cell geometry of the exact flight model (:class:`rotarydryer.geometry.FlightedDrum`) with a
     chosen design-load method: ``"lee2008"`` (Lee (2008) Eq. 4.20-4.21) or ``"ajayi2011"`` (1.24 x
-    Baker, Ajayi (2011) Section 4.5); ``passive_time_branch`` as in ``FlightedDrum.cascade``."""
+    Baker, Ajayi (2011) Section 4.5); ``passive_time_branch`` as in ``FlightedDrum.cascade``.
 
-    def __init__(self, drum, passive_time_branch=None, design_load_method="lee2008", particle_diameter=None):
+    ``tabulated=True`` (default) evaluates the geometry from the drum's cached
+    :class:`rotarydryer.geometry.tabulated.GeometryTable` (within 1e-7 of the direct evaluation,
+    at the cost of Lee's regressions); ``False`` computes it directly every call."""
+
+    def __init__(self, drum, passive_time_branch=None, design_load_method="lee2008", particle_diameter=None,
+                 tabulated=True):
         check_choice("geometry.design_load_method", design_load_method, ("lee2008", "ajayi2011"))
         self.drum, self.branch, self.design_load_method = drum, passive_time_branch, design_load_method
         #: m; with a diameter the holdup has the finite-particle correction (docs/dem.md), None = Lee's continuum
         self.particle_diameter = particle_diameter
         self._kw = {} if particle_diameter is None else {"particle_diameter": float(particle_diameter)}
+        # the tables hold the continuum model: with a particle diameter the geometry is evaluated directly
+        self.tabulated = bool(tabulated) and particle_diameter is None
+        self._table = None
 
     def __repr__(self):
         return f"exact({self.drum!r})"
 
+    @property
+    def table(self):
+        """The drum's :class:`~rotarydryer.geometry.tabulated.GeometryTable` (built on first use, cached)."""
+        if self._table is None:
+            from ..geometry.tabulated import geometry_table
+
+            self._table = geometry_table(self.drum)
+        return self._table
+
     def design_load_area(self, phi):
+        if self.tabulated:
+            return self.table.design_load_area(phi, method=self.design_load_method)
         if self.design_load_method == "lee2008":
             return self.drum.design_load_area(phi, **self._kw)
         return self.drum.design_load_area(phi, method=self.design_load_method, **self._kw)
 
-    def loading_factor(self, d, phi):
+    def loading_factor(self, d, phi, smoothing=0.0):
+        """Flight loading factor (Lee (2008) Eq. 4.22 inverted); ``smoothing`` > 0 rounds its kinks
+        over that width of the dryer loading (see ``geometry.design_load._invert_eq_4_22``)."""
+        if self.tabulated:
+            return self.table.loading_factor(d, phi, smoothing)
+        if smoothing > 0.0:
+            from ..geometry.design_load import _invert_eq_4_22, _upper_flight_holdups
+
+            d, phi = np.broadcast_arrays(np.asarray(d, float), np.asarray(phi, float))
+            h0, hi = _upper_flight_holdups(self.drum, phi, "root", self.particle_diameter)
+            return _invert_eq_4_22(d, h0, hi, smoothing)
         return self.drum.loading_factor(d, phi, **self._kw)
 
     def cascade(self, phi, f, *, rpm, slope=0.0, passive_time_branch=None):
-        kw = dict(rpm=rpm, slope=slope, **self._kw)
+        kw = dict(rpm=rpm, slope=slope)
         branch = passive_time_branch or self.branch
         if branch is not None:
             kw["passive_time_branch"] = branch
-        return self.drum.cascade(phi, f, **kw)
+        if self.tabulated:
+            return self.table.cascade(phi, f, **kw)
+        return self.drum.cascade(phi, f, **kw, **self._kw)
 
 
 class FlightedSectionLaw:
@@ -213,11 +244,16 @@ class FlightedSectionLaw:
             self._des_ref = self.design_load(*self.properties(self.assumed_moisture))
         return self._des_ref
 
-    def loading_factor(self, mp, des, phi):
+    def loading_factor(self, mp, des, phi, smoothing=0.0):
+        """Flight loading factor at passive mass ``mp`` and design load ``des``; ``smoothing`` (> 0,
+        the thermal model's ``design_load_smoothing``) rounds the kinks of the exact geometry's."""
         if self.spec.loading == "fixed":
             return np.ones(self.n)
         d = np.clip(mp / des, 1e-6, None)
-        return np.clip(np.asarray(self.spec.geometry.loading_factor(d, phi), dtype=float), 1e-6, 1.0)
+        g = self.spec.geometry
+        f = g.loading_factor(d, phi, smoothing=smoothing) if smoothing > 0 and isinstance(g, ExactGeometry) \
+            else g.loading_factor(d, phi)
+        return np.clip(np.asarray(f, dtype=float), 1e-6, 1.0)
 
     def rates(self, phi, f, rpm=None, flight_mass=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
@@ -232,13 +268,14 @@ class FlightedSectionLaw:
                        else np.full(self.n, s.kiln_velocity / self.dl))
         return out
 
-    def evaluate(self, mp, x, rpm=None, fouling=None):
+    def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0):
         """dict family name -> coefficient (1/s), plus ``"design_load"`` (kg) and the properties,
         at wet passive masses ``mp`` (kg) and wet-basis moisture ``x``; ``rpm`` and ``fouling``
-        replace the section's values (studies that change them)."""
+        replace the section's values (studies that change them); ``smoothing``: see
+        :meth:`loading_factor`."""
         phi, rho = self.properties(x)
         des = self.design_load(phi, rho, fouling)
-        f = self.loading_factor(mp, des, phi)
+        f = self.loading_factor(mp, des, phi, smoothing)
         out = self.rates(phi, f, rpm, np.minimum(mp, des) if self.trajectory else None)
         out.update(design_load=des, repose_angle=phi, bulk_density=rho)
         return out
@@ -256,7 +293,7 @@ class EmpiricalSectionLaw(FlightedSectionLaw):
         r = self.spec.rates
         return {fam: np.full(self.n, float(r[key])) for fam, key in self.NAMES.items()}
 
-    def evaluate(self, mp, x, rpm=None, fouling=None):
+    def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0):
         phi, rho = self.properties(x)
         out = self.rates(phi, None, rpm)
         out.update(design_load=self.design_load(phi, rho, fouling), repose_angle=phi, bulk_density=rho)

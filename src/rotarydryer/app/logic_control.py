@@ -1,0 +1,110 @@
+"""Logic of the web app's "Control" page: closed loop on the dynamic model (``rotarydryer control``).
+
+Plain functions (no Streamlit): the options are checked by the same function as the command line
+(:func:`rotarydryer.cli.control.check_control_options`), so a bad value gives the CLI's message;
+the runs are :func:`rotarydryer.control.identify` and :func:`rotarydryer.control.closed_loop`
+(closed loop, and the uncontrolled plant for comparison).  A case is a built-in name or an
+uploaded case file staged in memory (:func:`rotarydryer.app.logic.stage_case_file`).
+"""
+
+from __future__ import annotations
+
+from .logic import _load, png
+
+__all__ = ["thermal_cases", "control_defaults", "control_view", "SCENARIO_LABELS"]
+
+#: scenario -> what ``magnitude`` means (shown on the page)
+SCENARIO_LABELS = {
+    "feed_moisture_step": "relative step of the feed moisture (dry basis; +0.2 = +20 %)",
+    "feed_rate_step": "relative step of the feed rate (+0.2 = +20 %)",
+    "fouling_ramp": "final fouling fraction of the flights' loading capacity (ramp from the step time)",
+    "none": "no disturbance (magnitude unused)",
+}
+
+
+def thermal_cases() -> list[str]:
+    """Built-in cases with the heat-and-mass model (control needs it)."""
+    from ..cases import list_cases
+    from ..simulation import Simulation
+
+    return [c for c in list_cases() if Simulation(c).thermal_enabled]
+
+
+def control_defaults(case: str, overrides: dict | None = None) -> dict:
+    """The case's operating point as used (feed rate kg/s, feed moisture kg/kg wet), its Ajayi
+    tests (list, empty for other cases) and the chosen test."""
+    c = _load(case, overrides)
+    tests = [int(t.test) for t in getattr(c, "tests", [])]
+    return {"tests": tests, "test": getattr(c.operating, "test", None)}
+
+
+def _simulation(case, overrides):
+    from ..simulation import Simulation
+
+    sim = Simulation(_load(case, overrides))
+    if not sim.thermal_enabled:
+        raise ValueError(f"case {case!r} has no [gas] block: control needs the heat-and-mass model")
+    return sim
+
+
+def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, scenario="feed_moisture_step",
+                 magnitude=0.2, duration=7200.0, step_time=None, sample_time=60.0, dead_time=120.0,
+                 measured="product_moisture", setpoint=None, kc=None, tau_i=None, tau_c=None, feedforward="model",
+                 feedback=True, feed_backup=True, gas_t_max=600.0, gas_t_min=None, feed_min_fraction=0.5,
+                 open_loop=True, images=True) -> dict:
+    """Closed-loop run of a case's dynamic model under a disturbance, as ``rotarydryer control``.
+
+    Returns ``{"closed": summary dict, "open": performance dict or None, "tuning": {...},
+    "series": {...}, "time_s": [...], "ranges": {...}, "csv": text, "plot": png}``."""
+    from .. import control as C
+    from ..cli.control import check_control_options
+
+    step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,
+                                      setpoint, kc, tau_i, tau_c, feedforward, gas_t_max, gas_t_min,
+                                      feed_min_fraction)
+    sim = _simulation(case, overrides)
+    sim.transport_steady_state()   # feasibility (critical speed, fill) first
+    steady = sim.thermal_steady_state()
+    dryer = steady.dryer
+    cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
+                          measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
+                          feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
+                          gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
+                          feed_min_fraction=feed_min_fraction).validate()
+    kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg)
+    C.check_scenario(dryer, scenario, magnitude, duration, step_time)
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", C.ControlWarning)
+        models = C.identify(dryer, steady)
+        closed = C.closed_loop(dryer, steady, models=models, **kw)
+        opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
+    s = closed.series
+    rows = closed.table()
+    keys = list(rows[0])
+    lines = [",".join(keys)] + [",".join("" if r[k] is None else f"{float(r[k]):.10g}" for k in keys) for r in rows]
+    out = {
+        "closed": closed.summary(),
+        "performance": closed.performance,
+        "open": opened.performance if opened is not None else None,
+        "tuning": closed.tuning,
+        "setpoint": closed.setpoint,
+        "measured": measured,
+        "step_time_s": step_time,
+        "time_s": [float(t) for t in closed.time_s],
+        "series": {k: [float(v) for v in s[k]] for k in ("product_moisture_kg_kg", "product_temperature_degC",
+                                                        "exhaust_temperature_degC", "gas_inlet_temperature_degC",
+                                                        "feed_rate_kg_s")},
+        "ranges": {"gas_inlet_temperature_degC": (float(min(s["gas_inlet_temperature_degC"])),
+                                                  float(max(s["gas_inlet_temperature_degC"]))),
+                   "feed_rate_kg_s": (float(min(s["feed_rate_kg_s"])), float(max(s["feed_rate_kg_s"])))},
+        "warnings": sorted({str(w.message) for w in caught if issubclass(w.category, C.ControlWarning)}),
+        "csv": "\n".join(lines) + "\n",
+    }
+    if images:
+        fig = C.plot(closed, opened)
+        fig.set_size_inches(10.5, 7.5)   # readable on a laptop screen (the CLI's figure is 8 x 10 in)
+        fig.tight_layout()
+        out["plot"] = png(fig)
+    return out

@@ -1,0 +1,275 @@
+"""Logic of the "Whole dryer" page: plain functions returning numbers, tables and PNG bytes.
+
+No Streamlit here (testable directly, cached by the page) and no physics: every number comes
+from :class:`rotarydryer.simulation.Simulation` (the coupled heat-and-mass steady state,
+``ThermalSteadyState``) and every figure from :mod:`rotarydryer.report.plots`. Inputs go to the
+model as the case's own override keys (``--set`` of the CLI), so bad values are refused with
+the CLI's messages (the case schema and the model's checks). A case is a built-in name or an
+uploaded file staged by :func:`rotarydryer.app.logic.stage_case_file` (never a path).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+
+from .logic import _load, png
+
+__all__ = ["NoThermalModel", "operating_inputs", "study_inputs", "plant_tests", "dryer_view", "results_of",
+           "report_html", "netcdf_bytes", "energy_table"]
+
+
+class NoThermalModel(ValueError):
+    """The case has no heat-and-mass model (``thermal.enabled = false`` or no gas)."""
+
+
+def _spec(key, label, unit, value, lo, hi, step, fmt="%.3f", integer=False):
+    """One input: the case's override key, a label with its unit, the case's value and the
+    widget bounds (the schema's inclusive bounds; an excluded end such as 0 stays enterable so
+    that the model refuses it with the CLI's message)."""
+    return {"key": key, "label": f"{label} ({unit})" if unit else label, "unit": unit,
+            "value": None if value is None else (int(value) if integer else float(value)),
+            "min": lo, "max": hi, "step": step, "format": "%d" if integer else fmt, "integer": integer}
+
+
+def _kind_keys(case) -> dict:
+    """Override keys of the main operating variables for the case's schema (``kind``)."""
+    kind = case.kind
+    if kind == "ajayi2011":
+        return {"gas_inlet_temperature": "thermal.gas_inlet_temperature", "gas_flow": "thermal.gas_flow",
+                "feed_temperature": "thermal.solids_inlet_temperature", "area_scale": "thermal.area_scale",
+                "gas_inlet_humidity": "thermal.gas_inlet_humidity",
+                "insulation_thickness": "thermal.insulation_thickness", "feed_moisture": None}
+    lee = kind == "lee2008"
+    return {"gas_inlet_temperature": "gas.inlet_temperature", "gas_flow": "gas.flow",
+            "feed_temperature": "gas.feed_temperature" if lee else "operating.feed_temperature",
+            "area_scale": "thermal.area_scale", "gas_inlet_humidity": "gas.inlet_humidity",
+            "insulation_thickness": "shell.insulation_thickness",
+            "feed_moisture": "solids.moisture_inlet" if lee else "operating.feed_moisture"}
+
+
+def _has_thermal(c) -> bool:
+    from ..simulation import Simulation
+
+    try:
+        return Simulation(c).thermal_enabled and (c.kind == "ajayi2011" or getattr(c, "gas", None) is not None)
+    except ValueError:
+        return False
+
+
+def _check_thermal(c, shown: str = "the case"):
+    if not _has_thermal(c):
+        raise NoThermalModel(f"{shown} has no heat and mass transfer model (thermal.enabled = false, or no [gas] "
+                             "block with flow and inlet_temperature): this page needs one; the Transport and RTD "
+                             "page shows its solids transport")
+
+
+def plant_tests(case: str) -> list[int]:
+    """Plant tests a case can run (Ajayi's MMG tests with fitted transport parameters, or every
+    test with ``transport.parameter_source = 'predictive'``); [] for other kinds."""
+    c = _load(case)
+    if c.kind != "ajayi2011":
+        return []
+    predictive = c.transport.parameter_source == "predictive"
+    return [t.test for t in c.tests if predictive or t.kiln_velocity is not None]
+
+
+def operating_inputs(case: str, test: int | None = None) -> list[dict]:
+    """The main operating variables of a case (feed rate, speed, feed moisture, feed temperature,
+    gas inlet temperature, gas flow) as input specs: ``key`` (override key of the case's schema),
+    ``label``, ``value`` (the case's, at plant test ``test`` for Ajayi's MMG case), widget bounds
+    ``min``/``max``/``step``. Raises :class:`NoThermalModel` for a case without heat and mass
+    transfer. Ajayi's feed moisture is the test's (no override key): change the test."""
+    from ..cases.build import operating_point
+
+    c = _load(case, {"operating.test": test} if test is not None else None)
+    _check_thermal(c, "this case")
+    from ..simulation import Simulation
+
+    st = Simulation(c).thermal_settings()
+    feed, rpm, x_in, t_feed = operating_point(c)
+    k = _kind_keys(c)
+    out = [_spec("operating.feed_rate", "Feed rate", "kg/s wet", feed, 0.0, 1000.0, 0.5),
+           _spec("operating.rpm", "Speed", "rev/min", rpm, 0.0, 60.0, 0.1, "%.2f")]
+    if k["feed_moisture"] == "solids.moisture_inlet":       # Lee's schema: dry basis
+        out.append(_spec("solids.moisture_inlet", "Feed moisture", "kg/kg dry basis", c.solids.moisture_inlet,
+                         0.0, 1.0, 0.005, "%.4f"))
+    elif k["feed_moisture"] is not None:
+        out.append(_spec("operating.feed_moisture", "Feed moisture", "kg/kg wet", x_in, 0.0, 1.0, 0.005, "%.4f"))
+    out += [_spec(k["feed_temperature"], "Feed temperature", "degC", t_feed, 0.0, 99.0, 1.0, "%.1f"),
+            _spec(k["gas_inlet_temperature"], "Gas inlet temperature", "degC", st.gas_inlet_temperature, 0.0, 600.0,
+                  5.0, "%.1f"),
+            _spec(k["gas_flow"], "Gas flow", "kg/s wet", st.gas_flow, 0.0, 1000.0, 0.5, "%.3f")]
+    return out
+
+
+def study_inputs(case: str) -> list[dict]:
+    """Inputs a study may vary on a case: :func:`operating_inputs` plus model parameters (drum
+    slope, area scale, gas inlet humidity, insulation thickness), each with a default study
+    range ``low``/``high`` around the case's value (within the widget bounds)."""
+    c = _load(case)
+    specs = operating_inputs(case)
+    k = _kind_keys(c)
+    st = _settings(c)
+    specs += [_spec("drum.slope", "Drum slope", "deg", c.drum.slope, 0.0, 45.0, 0.1, "%.2f"),
+              _spec(k["area_scale"], "Area scale (transfer area multiplier)", "-", st.area_scale, 0.0, 100.0, 0.1,
+                    "%.3f"),
+              _spec(k["gas_inlet_humidity"], "Gas inlet humidity", "kg/kg wet gas", st.gas_inlet_humidity, 0.0, 0.2,
+                    0.001, "%.4f"),
+              _spec(k["insulation_thickness"], "Shell insulation thickness", "m", st.insulation_thickness, 0.0, 2.0,
+                    0.01, "%.3f")]
+    for s in specs:
+        v = s["value"]
+        if v is None or v == 0:
+            lo, hi = 0.0, {"m": 0.1}.get(s["unit"], 1.0)
+        else:
+            rel = 0.1 if s["unit"] == "degC" else 0.15
+            lo, hi = v * (1 - rel), v * (1 + rel)
+        lo, hi = max(lo, s["min"]), min(hi, s["max"])
+        s["low"], s["high"] = float(f"{lo:.4g}"), float(f"{hi:.4g}")
+    return specs
+
+
+def _settings(c):
+    from ..simulation import Simulation
+
+    return Simulation(c).thermal_settings()
+
+
+def _steady(case: str, overrides: dict):
+    """``(validated case, Simulation, SteadyResult)`` at ``overrides`` (the schema's, then the
+    model's checks: ValueErrors with the CLI's messages)."""
+    from ..simulation import Simulation
+
+    c = _load(case, overrides)
+    _check_thermal(c, "this case")
+    sim = Simulation(c)
+    return c, sim, sim.steady_state()
+
+
+def energy_table(terms: dict) -> list[tuple[str, str, float]]:
+    """``[(stream, "in"/"out", kW)]`` of ``ThermalSteadyState.energy_terms_w`` and the closure."""
+    rows = [(name, d, w / 1e3) for d in ("in", "out") for name, w in terms[d].items()]
+    closure = sum(terms["in"].values()) - sum(terms["out"].values())
+    return rows + [("closure (in - out)", "-", closure / 1e3)]
+
+
+def _measured(c) -> dict | None:
+    """Measured plant values of the case's operating point (Ajayi's MMG tests, Tables 3.5-3.11)."""
+    if c.kind != "ajayi2011":
+        return None
+    from ..thermal.consistency import pi_test_conditions
+
+    m = pi_test_conditions(c.operating.test)
+    return {"test": int(c.operating.test), **{k: v for k, v in m.items() if isinstance(v, float)}}
+
+
+def _profiles_figure(th, measured):
+    from ..report.plots import plot_thermal_steady_state
+
+    fig = plot_thermal_steady_state(th)
+    if not measured:
+        return fig
+    a1, a2 = fig.axes[0], fig.axes[1]
+    p = th.profiles()
+    x0, x1 = float(np.min(p["position"])), float(np.max(p["position"]))
+    co = th.dryer.settings.gas_direction == "co-current"
+    g_in, g_out = (x0, x1) if co else (x1, x0)
+    lab = f"measured (test {measured['test']})"
+    pts = [(a1, g_in, measured.get("gas_in_c"), "rs"), (a1, g_out, measured.get("gas_out_c"), "rs"),
+           (a1, x1, measured.get("product_c"), "ks"), (a2, x0, measured.get("moisture_in"), "ks"),
+           (a2, x1, measured.get("moisture_out"), "ks")]
+    for ax, x, y, style in pts:
+        if y is not None and math.isfinite(y):
+            ax.plot([x], [y], style, ms=7, mfc="none", mew=1.5, label=lab if ax is a1 and style == "ks" else None)
+    a1.legend(fontsize=8)
+    a2.legend(fontsize=8, loc="upper center")
+    return fig
+
+
+def _profiles_csv(th) -> str:
+    p = th.profiles()
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["position_m", "phase", "section", "solids_temperature_degC", "moisture_kg_kg_wet", "holdup_kg",
+                "evaporation_kg_s"])
+    for row in zip(p["position"], p["phase"], p["section"], p["solids_temperature_c"], p["moisture_wet"],
+                   p["holdup_kg"], p["evaporation_kg_s"]):
+        w.writerow([repr(float(row[0])), row[1], row[2], *(repr(float(v)) for v in row[3:])])
+    w.writerow([])
+    w.writerow(["gas_position_m", "gas_temperature_degC", "gas_humidity_kg_kg_dry"])
+    for row in zip(p["gas_position"], p["gas_temperature_c"], p["gas_humidity"]):
+        w.writerow([repr(float(v)) for v in row])
+    return buf.getvalue()
+
+
+def dryer_view(case: str, overrides: dict | None = None, images: bool = True) -> dict:
+    """Coupled steady state of the whole dryer at ``overrides`` (override keys, e.g. those of
+    :func:`operating_inputs`).
+
+    Returns ``{"summary": SteadyResult.summary(), "metrics": {...}, "energy_terms_w": {...},
+    "energy_table": [...], "measured": {...} or None, "has_burner": bool, "profiles_csv": str,
+    "profiles": png, "waterfall": png}``. Raises ``ValueError`` with the CLI's message on a bad
+    value and :class:`NoThermalModel` for a case without heat and mass transfer."""
+    from ..cases.build import has_burner
+    from ..report.plots import plot_energy_waterfall
+
+    overrides = dict(overrides or {})
+    c, sim, steady = _steady(case, overrides)
+    th = steady.thermal
+    s = steady.summary()
+    burner = has_burner(c)
+    fuel = s.get("fuel_rate_kg_s")
+    metrics = {
+        "product_moisture_kg_kg": s["product_moisture_kg_kg"],
+        "product_temperature_degC": s["product_temperature_degC"],
+        "gas_outlet_temperature_degC": s["gas_outlet_temperature_degC"],
+        "specific_energy_kJ_kg_water": s["specific_energy_kJ_kg_water"],
+        "thermal_efficiency": s["thermal_efficiency"],
+        "mean_residence_time_min": s["mean_residence_time_s"] / 60.0,
+        "evaporation_kg_s": s["evaporation_kg_s"],
+        "heat_input_kW": s["heat_input_W"] / 1e3,
+        "fuel_rate_kg_h": None if fuel is None else fuel * 3600.0,
+    }
+    out = {"summary": s, "metrics": metrics, "energy_terms_w": th.energy_terms_w,
+           "energy_table": energy_table(th.energy_terms_w), "measured": _measured(c), "has_burner": burner,
+           "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),
+           "title": getattr(c.meta, "title", "") or ""}
+    if images:
+        # drawn at about the width of the page's main area on a laptop (900 px): shown unscaled
+        out["profiles"] = png(_profiles_figure(th, out["measured"]), dpi=100)
+        out["waterfall"] = png(plot_energy_waterfall(th.energy_terms_w, title="Energy balance (MW)"), dpi=110)
+    return out
+
+
+def results_of(case: str, overrides: dict | None = None):
+    """:class:`rotarydryer.results.Results` of the case at ``overrides`` (transport, tracer RTD
+    and the coupled heat and mass steady state): what the downloads hold."""
+    from ..results import run_case
+
+    c = _load(case, dict(overrides or {}))
+    _check_thermal(c, "this case")
+    res = run_case(c, dict(overrides or {}) or None)
+    if not str(case).startswith("uploaded_case_"):
+        res.case_name = case
+    return res
+
+
+def report_html(case: str, overrides: dict | None = None) -> str:
+    """The HTML report (``rotarydryer report``) of the case at ``overrides``."""
+    from ..report.html import render_report
+
+    return render_report(results_of(case, overrides))
+
+
+def netcdf_bytes(case: str, overrides: dict | None = None) -> bytes:
+    """The results of the case at ``overrides`` as a netCDF file (bytes)."""
+    import tempfile
+    from pathlib import Path
+
+    res = results_of(case, overrides)
+    with tempfile.TemporaryDirectory() as d:
+        return res.save(Path(d) / "results.nc").read_bytes()

@@ -1,0 +1,339 @@
+"""Exact flight geometry at surrogate cost: per-drum tables of what the transport models need.
+
+The exact flight model (:class:`~rotarydryer.geometry.FlightedDrum`, Lee (2008) ch. 4) costs
+about 20 us per (repose angle, loading) pair: a bisection for the discharge start angle
+(Lee (2008) Eq. 4.22) and Gauss-Legendre quadrature of the mass averages (Lee (2008)
+Eq. 3.3-3.6) phase by phase. Lee's regressions (Lee (2008) Eq. 4.24-4.28) and Ajayi's
+(Ajayi (2011) Eq. 4.25-4.28) exist because gPROMS could not call that geometry. Here the
+geometry is instead computed once per drum on a grid and interpolated:
+
+- the cascade (mass-averaged release angle, vertical fall height and free-fall time against
+  repose angle ``phi`` and flight loading factor ``f``) as tensor-product cubic splines
+  (interpolating, not-a-knot) on a uniform (phi, f) grid; rpm and slope enter analytically
+  (passive time Lee (2008) Eq. 3.4 from the release angle; fall height over ``cos(slope)``,
+  fall time over ``sqrt(cos(slope))`` and axial step ``h tan(slope)``, as in
+  :func:`rotarydryer.geometry.unloading.cascade`);
+- the holdups behind the design load and the loading factor (the first-unloading-flight holdup
+  ``H0`` and the upper-half flight holdups ``H_i``, Lee (2008) Eq. 4.20-4.22) against
+  ``phi`` as cubic splines split at every phase boundary of every flight, so each piece is
+  smooth; the design load (Baker / Lee, Ajayi's 1.24 x Baker, Porter, Kelly) and the exact
+  piecewise-linear inverse of Eq. 4.22 are then evaluated from them without iteration.
+
+The tables hold Lee's continuum model; the finite-particle correction (``docs/dem.md``) moves the
+phase boundaries with the particle size, so a drum with a particle diameter is evaluated directly.
+
+Errors against the exact geometry, checked by ``tests/geometry/test_tabulated.py`` on random
+points and on every shipped drum: below 1e-6 of the largest value of each quantity
+(a full flight for holdups). Repose angles outside the table (default 10-80 deg) are computed
+exactly, so the table never extrapolates. Tables are cached per drum (geometry, convention and
+fall-height definition), so every cell and every solver iteration of
+a dryer shares one.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import OrderedDict
+
+import numpy as np
+
+from .._validation import check_choice, check_range
+from .design_load import AJAYI_BAKER_FACTOR, DESIGN_LOAD_METHODS, _upper_flight_holdups
+from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary
+
+__all__ = ["GeometryTable", "geometry_table"]
+
+#: default table range of the repose angle, deg (outside: exact evaluation)
+PHI_RANGE = (10.0, 80.0)
+#: grid of the cascade table: intervals in phi per deg and in f over [0, 1]
+N_PHI_PER_DEG = 2
+N_F = 256
+#: points per phase-boundary piece of the holdup splines (at least), and per deg
+N_HOLDUP_PER_DEG = 10
+
+
+def _cell_polynomials(spline, x, y):
+    """Power-basis coefficients ``c[i, j, a, b]`` of the bicubic ``spline`` on each grid cell:
+    ``spline(x_i + u, y_j + v) = sum_ab c_ab u^a v^b`` (the spline is one cubic per cell; the
+    coefficients follow exactly from its values at 4 x 4 points of the closed cell)."""
+    nx, ny = x.size - 1, y.size - 1
+    vals = spline(np.linspace(x[0], x[-1], 3 * nx + 1), np.linspace(y[0], y[-1], 3 * ny + 1), grid=True)
+    ix = 3 * np.arange(nx)[:, None] + np.arange(4)
+    iy = 3 * np.arange(ny)[:, None] + np.arange(4)
+    w = vals[ix[:, None, :, None], iy[None, :, None, :]]  # (nx, ny, 4, 4)
+    ax = np.linalg.inv(np.vander((x[1] - x[0]) * np.arange(4) / 3.0, 4, increasing=True))
+    ay = np.linalg.inv(np.vander((y[1] - y[0]) * np.arange(4) / 3.0, 4, increasing=True))
+    return np.einsum("ai,xyij,bj->xyab", ax, w, ay)
+
+
+def _powers(t):
+    """``[1, t, t^2, t^3]`` per point, shape (n, 4)."""
+    p = np.empty((t.size, 4))
+    p[:, 0] = 1.0
+    p[:, 1] = t
+    np.multiply(t, t, out=p[:, 2])
+    np.multiply(p[:, 2], t, out=p[:, 3])
+    return p
+
+
+class _PiecewiseTensorSpline:
+    """Interpolating bicubic tensor-product splines of several quantities, one per piece of x
+    between ``edges``, each on its own uniform grid ``xs[k]`` times the common uniform ``y``
+    (not-a-knot, :class:`scipy.interpolate.RectBivariateSpline`). Stored as one cubic per grid
+    cell in the power basis, all quantities of a cell side by side, so a point costs one
+    contiguous gather of 16 q coefficients and two Horner passes (no Python loop over pieces)."""
+
+    def __init__(self, edges, xs, y, values):
+        from scipy.interpolate import RectBivariateSpline
+
+        self.edges = np.asarray(edges, dtype=float)
+        blocks, cell_off, gx = [], [], []
+        n = 0
+        for x, vals in zip(xs, values):
+            c = np.stack([_cell_polynomials(RectBivariateSpline(x, y, v, kx=3, ky=3, s=0), x, y) for v in vals],
+                         axis=-1)  # (nx, ny, a, b, q)
+            blocks.append(np.moveaxis(c, 3, 2).reshape(c.shape[0] * c.shape[1], -1))  # rows (b, a, q)
+            cell_off.append(n)
+            gx.append((float(x[0]), float(x[1] - x[0]), x.size - 1))
+            n += blocks[-1].shape[0]
+        self.q = len(values[0])
+        self.blocks = np.ascontiguousarray(np.concatenate(blocks))  # (cells, q * 16)
+        self.cell_off = np.array(cell_off)
+        self.x0, self.hx, self.nx = (np.array(v) for v in zip(*gx))
+        self.y0, self.hy, self.ny = float(y[0]), float(y[1] - y[0]), y.size - 1
+
+    def __call__(self, x, y):
+        if self.cell_off.size == 1:
+            i = np.clip(((x - self.x0[0]) * (1.0 / self.hx[0])).astype(np.intp), 0, self.nx[0] - 1)
+            u = x - (self.x0[0] + i * self.hx[0])
+            cell = i * self.ny
+        else:
+            k = (x[:, None] >= self.edges[None, 1:-1]).sum(1)
+            x0, hx = self.x0[k], self.hx[k]
+            i = np.clip(((x - x0) / hx).astype(np.intp), 0, self.nx[k] - 1)
+            u = x - (x0 + i * hx)
+            cell = self.cell_off[k] + i * self.ny
+        j = np.clip(((y - self.y0) * (1.0 / self.hy)).astype(np.intp), 0, self.ny - 1)
+        v = y - (self.y0 + j * self.hy)
+        blk = self.blocks.take(cell + j, axis=0).reshape(x.size, 4, -1)  # (n, b, a q)
+        # sum_b v^b c_b, then sum_a u^a r_a: two batched row-times-matrix products
+        r = np.matmul(_powers(v)[:, None, :], blk).reshape(x.size, 4, self.q)
+        return np.matmul(_powers(u)[:, None, :], r)[:, 0, :]
+
+
+class _Breaks:
+    """Interval lookup on sorted breakpoints without a binary search: a uniform table of bins
+    gives each point the interval of its bin's start, then a vectorised step forward covers the
+    (rare) bins that hold a breakpoint."""
+
+    def __init__(self, x, n_bins=16384):
+        self.x = np.asarray(x, dtype=float)
+        self.lo, self.w = self.x[0], (self.x[-1] - self.x[0]) / n_bins
+        starts = self.lo + self.w * np.arange(n_bins + 1)
+        self.lut = np.clip(np.searchsorted(self.x, starts, side="right") - 1, 0, self.x.size - 2)
+        self.last = self.x.size - 2
+
+    def __call__(self, x):
+        b = np.clip(((x - self.lo) * (1.0 / self.w)).astype(np.intp), 0, self.lut.size - 1)
+        i = self.lut[b]
+        while True:
+            step = (i < self.last) & (x >= self.x[np.minimum(i + 1, self.last + 1)])
+            if not step.any():
+                return i
+            i = i + step
+
+
+def _ppoly(p, breaks, x):
+    """``p(x)`` of a cubic :class:`scipy.interpolate.PPoly` with vector values (Horner, one gather
+    of the interval's coefficients, kept contiguous in ``p.rows``)."""
+    i = breaks(x)
+    c = p.rows.take(i, axis=0).reshape(x.size, 4, -1)  # highest power first
+    return np.matmul(_powers(x - p.x[i])[:, None, ::-1], c)[:, 0, :]
+
+
+def _holdup_breaks(drum, lo, hi, convention):
+    """Repose angles in (lo, hi) where a holdup behind the design load changes phase
+    (psi - phi crosses a phase boundary of Lee (2008) Fig. 4.6-4.9)."""
+    from .unloading import first_unloading_angle
+
+    c = drum._c
+    psi0 = first_unloading_angle(drum, convention)
+    n = math.ceil(drum.n_flights / 2) - 1
+    psi = psi0 + c.psi_fl * np.arange(0, n + 1)
+    offs = np.array([0.0, c.off2, c.off3, c.off4, c.off5])
+    b = (psi[:, None] - offs[None, :]).ravel()
+    b = np.unique(np.round(b, 12))
+    return b[(b > lo) & (b < hi)]
+
+
+class GeometryTable:
+    """Tabulated exact geometry of one drum; see the module docstring.
+
+    Parameters
+    ----------
+    drum : FlightedDrum
+    convention, fall_height : str
+        As in :func:`rotarydryer.geometry.unloading.cascade`.
+    phi_range : (float, float)
+        Repose angles (deg) covered by the tables; outside, the exact geometry is computed.
+    """
+
+    def __init__(self, drum, *, convention="root", fall_height="chord", phi_range=PHI_RANGE):
+        from scipy.interpolate import CubicSpline, PPoly
+
+        self.drum = drum
+        self.convention, self.fall_height = convention, fall_height
+        lo, hi = (float(v) for v in phi_range)
+        self.phi_range = (lo, hi)
+        # cascade: (phi, f) grids, rpm = 1 and slope = 0 (both analytic), one per phi piece between the
+        # repose angles where the first unloading flight's holdup changes phase (kinks in phi)
+        from .unloading import first_unloading_angle
+
+        c = drum._c
+        psi0 = first_unloading_angle(drum, convention)
+        kinks = [psi0 - o for o in (c.off2, c.off3, c.off4, c.off5)]
+        self._phi_edges = np.array([lo] + sorted(k for k in kinks if lo < k < hi) + [hi])
+        root_f = np.linspace(0.0, 1.0, N_F + 1)  # the table's second axis is sqrt(f): smooth as f -> 0
+        f = root_f**2
+        xs, vals = [], []
+        for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
+            phi = np.linspace(a, b, max(8, int(math.ceil((b - a) * N_PHI_PER_DEG))) + 1)
+            pp, ff = np.meshgrid(phi, f, indexing="ij")
+            cs = drum.cascade(pp, ff, rpm=1.0, slope=0.0, fall_height=fall_height, convention=convention)
+            xs.append(phi)
+            vals.append([cs.mean_release_angle, cs.mean_fall_height, cs.mean_fall_time])
+        self._cascade = _PiecewiseTensorSpline(self._phi_edges, xs, root_f, vals)
+        # holdups H0 and H_i against phi, split at the phase boundaries
+        edges = np.concatenate([[lo], _holdup_breaks(drum, lo, hi, convention), [hi]])
+        xs, cs_ = [], []
+        for a, b in zip(edges[:-1], edges[1:]):
+            m = max(8, int(math.ceil((b - a) * N_HOLDUP_PER_DEG)))
+            x = np.linspace(a, b, m + 1)
+            h0, hi_ = _upper_flight_holdups(drum, x, convention)
+            y = np.concatenate([h0[:, None], hi_], axis=1)
+            p = CubicSpline(x, y, axis=0, bc_type="not-a-knot")
+            xs.append(p.x[:-1])
+            cs_.append(p.c)
+        coef, brk = np.concatenate(cs_, axis=1), np.concatenate(xs + [[hi]])
+        self._holdups = PPoly(coef, brk, extrapolate=True)
+        self.n_upper = coef.shape[-1] - 1
+        # (H0, H0 + 2 sum H_i): what the design-load methods need (Lee (2008) Eq. 4.20)
+        self._design = PPoly(np.stack([coef[..., 0], coef[..., 0] + 2.0 * coef[..., 1:].sum(-1)], axis=-1), brk,
+                             extrapolate=True)
+        self._breaks = _Breaks(brk)
+        for p in (self._holdups, self._design):
+            p.rows = np.ascontiguousarray(np.moveaxis(p.c, 1, 0).reshape(p.c.shape[1], -1))
+
+    def __repr__(self):
+        return f"GeometryTable({self.drum!r}, phi {self.phi_range[0]:g}-{self.phi_range[1]:g} deg)"
+
+    def _inside(self, phi):
+        return (phi >= self.phi_range[0]) & (phi <= self.phi_range[1])
+
+    # ----------------------------------------------------------------- holdups, design load
+    def upper_flight_holdups(self, phi):
+        """``(H0, H_i)`` at design (m^2), as :func:`rotarydryer.geometry.design_load._upper_flight_holdups`."""
+        phi = np.asarray(phi, dtype=float)
+        flat = phi.ravel()
+        y = np.empty((flat.size, self.n_upper + 1))
+        ins = self._inside(flat)
+        if ins.all():
+            y[:] = _ppoly(self._holdups, self._breaks, flat)
+        else:
+            if ins.any():
+                y[ins] = _ppoly(self._holdups, self._breaks, flat[ins])
+            if (~ins).any():
+                h0, hi = _upper_flight_holdups(self.drum, flat[~ins], self.convention)
+                y[~ins] = np.concatenate([h0[:, None], hi], axis=1)
+        y = y.reshape(phi.shape + (self.n_upper + 1,))
+        return y[..., 0], y[..., 1:]
+
+    def design_load_area(self, repose_angle, *, method="lee2008"):
+        """Design-load area, m^2 (:func:`rotarydryer.geometry.design_load.design_load_area`)."""
+        check_choice("method", method, DESIGN_LOAD_METHODS)
+        phi = np.asarray(repose_angle, dtype=float)
+        flat = phi.ravel()
+        ins = self._inside(flat)
+        if ins.all():
+            y = _ppoly(self._design, self._breaks, flat)
+        else:
+            h0, hi = self.upper_flight_holdups(flat)
+            y = np.stack([h0, h0 + 2.0 * hi.sum(-1)], axis=-1)
+        h0, baker = y[:, 0].reshape(phi.shape), y[:, 1].reshape(phi.shape)  # Lee (2008) Eq. 4.20 = Baker (1988)
+        if method == "porter1963":
+            return self.drum.n_flights * h0 / 2.0
+        if method == "kelly1977":
+            return (self.drum.n_flights + 1) * h0 / 2.0
+        return AJAYI_BAKER_FACTOR * baker if method == "ajayi2011" else baker
+
+    def loading_factor(self, dryer_loading, repose_angle, smoothing=0.0):
+        """Flight loading factor (Lee (2008) Eq. 4.22 inverted exactly, as
+        :func:`rotarydryer.geometry.design_load.loading_factor`) from tabulated holdups."""
+        from .design_load import _invert_eq_4_22
+
+        d, phi = np.broadcast_arrays(np.asarray(dryer_loading, float), np.asarray(repose_angle, float))
+        if not np.all(d >= 0.0):
+            check_range("dryer_loading", d, 0.0, math.inf, low_inclusive=True)
+        h0, hi = self.upper_flight_holdups(phi)
+        return _invert_eq_4_22(d, h0, hi, smoothing)
+
+    # ----------------------------------------------------------------- cascade
+    def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, passive_time_branch="eq3.4"):
+        """Mass-averaged cascade properties (free fall), as :func:`rotarydryer.geometry.unloading.cascade`;
+        the discharge start angle and initial holdup are not tabulated (NaN, as in Lee's regressions)."""
+        check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
+        rpm = float(check_range("rpm", rpm, 0.0, math.inf, unit="rpm"))
+        slope = float(check_range("slope", slope, -45.0, 45.0, unit="deg"))
+        phi, f = np.broadcast_arrays(np.asarray(repose_angle, float), np.asarray(loading_factor, float))
+        shape = phi.shape
+        phi, f = phi.ravel(), f.ravel()
+        if not np.all((f >= 0.0) & (f <= 1.0)):
+            check_range("loading_factor", f, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+        ins = self._inside(phi)
+        out = np.empty((phi.size, 3))
+        if ins.all():
+            out[:] = self._cascade(phi, np.sqrt(f))
+        else:
+            if ins.any():
+                out[ins] = self._cascade(phi[ins], np.sqrt(f[ins]))
+            if (~ins).any():
+                ex = self.drum.cascade(phi[~ins], f[~ins], rpm=1.0, slope=0.0, fall_height=self.fall_height,
+                                       convention=self.convention)
+                out[~ins] = np.stack([ex.mean_release_angle, ex.mean_fall_height, ex.mean_fall_time], axis=-1)
+        psi_m, h, t = (out[:, k].reshape(shape) for k in range(3))
+        s = math.radians(float(slope))
+        cos_s = math.cos(s)
+        arc = 2.0 * psi_m - 180.0  # Lee (2008) Eq. 3.4
+        omega = 6.0 * float(rpm)
+        t_p = arc / omega if passive_time_branch == "eq3.4" else (360.0 - arc) / omega
+        start = np.full(shape, np.nan)
+        return CascadeSummary(mean_release_angle=psi_m, mean_fall_height=h / cos_s,
+                              mean_fall_time=t / math.sqrt(cos_s), passive_time=t_p,
+                              discharge_start_angle=start, initial_holdup_area=start.copy(),
+                              mean_axial_step=h * math.tan(s))
+
+
+_cache: OrderedDict = OrderedDict()
+_lock = threading.Lock()
+#: drums whose tables are kept (least recently used dropped first)
+MAX_TABLES = 32
+
+
+def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryTable:
+    """The :class:`GeometryTable` of ``drum``, built once and cached (keyed by the drum's
+    dimensions, the convention and the fall-height definition)."""
+    fl = drum.flight
+    key = (float(drum.radius), int(drum.n_flights), float(fl.s1), float(fl.s2), float(fl.alpha1),
+           float(fl.alpha2), convention, fall_height)
+    with _lock:
+        table = _cache.get(key)
+        if table is not None:
+            _cache.move_to_end(key)
+            return table
+    table = GeometryTable(drum, convention=convention, fall_height=fall_height)
+    with _lock:
+        _cache[key] = table
+        while len(_cache) > MAX_TABLES:
+            _cache.popitem(last=False)
+    return table

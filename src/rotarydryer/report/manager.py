@@ -1,0 +1,240 @@
+"""Numbers for the plant manager's report, read from a :class:`rotarydryer.results.Results`:
+the operating conditions of the run and the model-versus-measured comparisons (RTD, holdup,
+outlet and axial temperatures and moistures), each with its error.
+
+Nothing is recomputed by a model here: the model side is what the Results hold, the measured
+side is the case's data (measured tracer curve) or, for the MMG dryer, Ajayi (2011)'s plant
+data of the case's test (Tables 3.3 and 3.5-3.14).
+"""
+
+from __future__ import annotations
+
+import csv
+from importlib import resources
+
+import numpy as np
+
+__all__ = ["operating_conditions", "rtd_comparison", "thermal_comparison", "holdup_comparison", "MODEL_SOURCES"]
+
+MODEL_SOURCES = {
+    "lee2008": "Lee (2008) ch. 3",
+    "ajayi2011": "Ajayi (2011) ch. 5",
+    "sheehan2005_model1": "Sheehan et al. (2005), Model 1",
+    "sheehan2005_model2": "Sheehan et al. (2005), Model 2",
+}
+
+
+def _test_row(inputs: dict) -> dict | None:
+    op = inputs.get("operating") or {}
+    return next((t for t in inputs.get("tests", []) if t.get("test") == op.get("test")), None)
+
+
+def _fmt(v: float) -> str:
+    return f"{v:,.0f}" if abs(v) >= 1000 else f"{v:.4g}"
+
+
+def operating_conditions(results) -> list[tuple[str, str, str]]:
+    """``[(quantity, value, unit)]`` of the run: feed, moisture, speed, slope, gas, burner, drum and
+    flights, from the case inputs and the stored scalars (what the model was actually run with)."""
+    inp, s = results.inputs, results.scalars
+    params = results.model_choices.get("parameters", {}) or {}
+    kind = inp.get("kind")
+    drum = inp.get("drum", {}) or {}
+    op = inp.get("operating", {}) or {}
+    gas = inp.get("gas") or {}
+    th = inp.get("thermal") or {}
+    solids = inp.get("solids") or {}
+    test = _test_row(inp) if kind == "ajayi2011" else None
+    rows: list[tuple[str, str, str]] = []
+    if test is not None:
+        rows.append(("plant test", f"Test {test['test']}", "Ajayi (2011) Tables 3.5-3.11"))
+    feed = s.get("feed_rate_kg_s", params.get("feed_rate", op.get("feed_rate")))
+    if feed is not None:
+        rows.append(("wet feed rate", f"{float(feed):.4g} ({3.6 * float(feed):.4g} t/h)", "kg/s"))
+    x_in = solids.get("moisture_inlet", op.get("feed_moisture"))
+    if x_in is None and test is not None:
+        x_in = float(test["moisture_inlet"]) * float(solids.get("moisture_scale", 1.0) or 1.0)
+    if x_in is not None:
+        rows.append(("feed moisture", f"{100 * float(x_in):.3g}", "% wet basis"))
+    t_feed = gas.get("feed_temperature", op.get("feed_temperature", th.get("solids_inlet_temperature")))
+    if t_feed is not None:
+        rows.append(("feed temperature", f"{float(t_feed):.3g}", "degC"))
+    rpm = params.get("rpm", op.get("rpm"))
+    if rpm is not None:
+        rows.append(("drum speed", f"{float(rpm):g}", "rev/min"))
+    if drum.get("slope") is not None:
+        rows.append(("drum slope", f"{float(drum['slope']):g}", "deg"))
+    direction = gas.get("direction") or op.get("gas_flow")
+    if direction:
+        rows.append(("gas direction", str(direction), "relative to the solids"))
+    g_flow = s.get("gas_flow_kg_s", gas.get("flow", th.get("gas_flow")))
+    if g_flow is not None:
+        rows.append(("gas flow", f"{float(g_flow):.4g}", "kg/s wet gas"))
+    t_gas = gas.get("inlet_temperature", th.get("gas_inlet_temperature"))
+    if t_gas is None and kind == "ajayi2011" and th:
+        from ..thermal.consistency import pi_test_conditions
+
+        t_gas = pi_test_conditions(int(op["test"]))["gas_in_c"]      # as the case builder does
+    if t_gas is not None:
+        rows.append(("gas inlet temperature", f"{float(t_gas):.4g}", "degC"))
+    y_gas = gas.get("inlet_humidity", th.get("gas_inlet_humidity"))
+    if y_gas is not None:
+        rows.append(("gas inlet humidity", f"{float(y_gas):.3g}", "kg/kg"))
+    burner = gas.get("burner") if gas.get("burner") is not None else th.get("burner")
+    if burner is not None:
+        fuel = f"fuel oil (C/H {float(burner.get('fuel_carbon_hydrogen_ratio', float('nan'))):g}, " \
+               f"S {100 * float(burner.get('fuel_sulphur_fraction', float('nan'))):g} %), Ajayi (2011) App. A"
+        rows.append(("burner fuel", fuel, ""))
+        if s.get("fuel_rate_kg_s") is not None:
+            rows.append(("fuel rate (model)", f"{3600 * s['fuel_rate_kg_s']:.4g}", "kg/h"))
+    elif direction:
+        rows.append(("burner", "none in the case (hot gas supplied)", ""))
+    from .drawing import dryer_layout
+
+    lay = dryer_layout(inp)
+    rows.append(("drum D x L", f"{lay['diameter']:g} x {lay['length']:g}", "m"))
+    secs = lay["sections"]
+    if kind == "lee2008" or len(secs) == 1:
+        f = inp.get("flight") or {}
+        nf = drum.get("n_flights")
+        desc = f"{nf} two-section flights" if nf else "flighted"
+        if f.get("s1") is not None:
+            desc += f", s1 {f['s1']:g} m / s2 {f['s2']:g} m, {f['alpha1']:g} / {f['alpha2']:g} deg"
+        rows.append(("flights", desc, ""))
+    else:
+        for sec in inp.get("sections", []):
+            if sec["kind"] == "flighted":
+                d = (f"section {sec['name']} ({sec['length']:g} m): {sec['n_flights']} flights, s1 {sec['s1']:g} m / "
+                     f"s2 {sec['s2']:g} m, {sec['alpha1']:g} / {sec['alpha2']:g} deg")
+            else:
+                d = f"section {sec['name']} ({sec['length']:g} m): unflighted"
+            rows.append(("flights" if sec is inp["sections"][0] else "", d, ""))
+    mat = (inp.get("material") or {}).get("name")
+    if mat:
+        rows.append(("material", str(mat), ""))
+    return rows
+
+
+def rtd_comparison(results) -> dict | None:
+    """Model against the measured tracer curve: means and standard deviations (s) as stored
+    (``tracer_*`` = model with the case's tracer input, ``measured_*``) and R^2 of the model
+    E(t), interpolated at the measured times, against the measured E(t) (baseline removed,
+    normalised by its area).  None without a measured curve."""
+    s = results.scalars
+    if results.rtd is None or results.rtd_measured is None or not s.get("measured_mean_s"):
+        return None
+    from ..rtd import rtd_moments
+
+    m = results.rtd_measured
+    t, sig = np.asarray(m.time.values, float), np.asarray(m.signal.values, float)
+    mom = rtd_moments(t, sig, baseline=float(s.get("measured_baseline", 0.0)))
+    e_meas = np.clip(sig - mom.baseline, 0.0, None) / mom.area
+    e_mod = np.interp(t, results.rtd.time.values, results.rtd.exit_age.values, left=0.0, right=0.0)
+    r2 = 1.0 - float(np.sum((e_meas - e_mod) ** 2)) / float(np.sum((e_meas - e_meas.mean()) ** 2))
+    mod_mean = s.get("tracer_mean_s", s.get("simulated_mean_s"))
+    mod_std = s.get("tracer_std_s", s.get("simulated_std_s"))
+    return dict(model_mean_s=float(mod_mean), measured_mean_s=float(s["measured_mean_s"]),
+                model_std_s=float(mod_std), measured_std_s=float(s["measured_std_s"]), r_squared=r2,
+                n_points=int(t.size))
+
+
+def _pi(inputs: dict) -> tuple[dict | None, str]:
+    """Ajayi's measured means of the case's test, or None and the reason."""
+    if inputs.get("kind") != "ajayi2011":
+        return None, ""
+    op, th, solids = inputs.get("operating") or {}, inputs.get("thermal") or {}, inputs.get("solids") or {}
+    test = op.get("test")
+    changed = [k for k, v in (("operating.feed_rate", op.get("feed_rate")), ("operating.rpm", op.get("rpm")),
+                              ("thermal.gas_inlet_temperature", th.get("gas_inlet_temperature"))) if v is not None]
+    if float(solids.get("moisture_scale", 1.0) or 1.0) != 1.0:
+        changed.append("solids.moisture_scale")
+    if changed:
+        return None, (f"The run departs from the conditions of Test {test} ({', '.join(changed)} set), so it is not "
+                      "compared with that test's plant data.")
+    from ..thermal.consistency import pi_test_conditions
+    from ..thermal.dryer import pi_operating_conditions
+
+    d = dict(pi_test_conditions(int(test)))
+    raw = pi_operating_conditions(int(test))
+    d["holdup_kg"] = float(raw["holdup_exp_kg"]) if raw.get("holdup_exp_kg", "").strip() else float("nan")
+    d["test"] = int(test)
+    return d, ""
+
+
+def holdup_comparison(results) -> dict | None:
+    """Model total holdup against the measured one (Ajayi (2011) Table 3.14, from the tracer
+    test: holdup = feed x measured mean residence time), or None."""
+    pi, _ = _pi(results.inputs)
+    if pi is None or not np.isfinite(pi["holdup_kg"]):
+        return None
+    model = float(results.scalars["total_holdup_kg"])
+    return dict(model_kg=model, measured_kg=pi["holdup_kg"], error_kg=model - pi["holdup_kg"],
+                error_pct=100 * (model / pi["holdup_kg"] - 1), test=pi["test"])
+
+
+def _axial_moisture_points():
+    text = (resources.files("rotarydryer") / "data" / "ajayi_moisture_profile_table3_3.csv").read_text()
+    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    return [(float(r["position_m"]), float(r["moisture_kg_per_kg_wet"])) for r in rows]
+
+
+def _solids_profile(results):
+    """(positions m, moisture kg/kg wet) of the solids, the mean over the phases at one position."""
+    ts = results.datasets["thermal_solids"]
+    x, w = np.asarray(ts.position.values, float), np.asarray(ts.moisture.values, float)
+    ux = np.unique(x)
+    return ux, np.array([w[x == u].mean() for u in ux])
+
+
+def thermal_comparison(results) -> dict:
+    """Model against measured temperatures and moistures: ``points`` (list of dicts: quantity,
+    where, position_m, measured, model, error, unit, source) and per unit (degC, % points) the
+    mean absolute and maximum absolute errors; ``reason`` when there are no points."""
+    inp, s = results.inputs, results.scalars
+    if "thermal_solids" not in results.datasets:
+        return dict(points=[], summary={}, reason="The run has no heat and mass transfer results.")
+    pi, reason = _pi(inp)
+    if pi is None:
+        return dict(points=[], summary={}, reason=reason or (
+            "No temperatures or moistures were measured on this dryer in the case's source, so the heat and mass "
+            "transfer results are predictions that cannot be checked here."))
+    lay_len = sum(float(sec["length"]) for sec in inp.get("sections", []))
+    direction = (inp.get("operating") or {}).get("gas_flow", "co-current")
+    gas_out_at = lay_len if direction == "co-current" else 0.0
+    src = f"Ajayi (2011) Tables 3.5-3.11, Test {pi['test']}"
+    pts = []
+
+    def add(q, where, x, meas, model, unit, source):
+        if np.isfinite(meas) and model is not None:
+            pts.append(dict(quantity=q, where=where, position_m=x, measured=float(meas), model=float(model),
+                            error=float(model) - float(meas), unit=unit, source=source))
+
+    add("product moisture", "product outlet", lay_len, 100 * pi["moisture_out"],
+        100 * s["product_moisture_kg_kg"] if "product_moisture_kg_kg" in s else None, "% points", src)
+    add("product temperature", "product outlet", lay_len, pi["product_c"], s.get("product_temperature_degC"),
+        "degC", src)
+    add("gas outlet temperature", "gas outlet", gas_out_at, pi["gas_out_c"], s.get("gas_outlet_temperature_degC"),
+        "degC", src)
+    ux, wx = _solids_profile(results)
+    for x, w in _axial_moisture_points():
+        if 0.0 < x <= lay_len:     # x = 0 is the feed, not a prediction
+            add("solids moisture", f"{x:g} m from the feed", x, 100 * w, 100 * float(np.interp(x, ux, wx)),
+                "% points", "Ajayi (2011) Table 3.3")
+    summary = {}
+    for unit in ("degC", "% points"):
+        errs = [abs(p["error"]) for p in pts if p["unit"] == unit]
+        if errs:
+            worst = max((p for p in pts if p["unit"] == unit), key=lambda p: abs(p["error"]))
+            summary[unit] = dict(n=len(errs), mae=float(np.mean(errs)), max=float(max(errs)),
+                                 max_at=f"{worst['quantity']}, {worst['where']}")
+    return dict(points=pts, summary=summary, reason="", test=pi["test"], tuned=_tuned_on(inp, pi["test"]))
+
+
+def _tuned_on(inputs: dict, test: int) -> bool:
+    """Is ``test`` the one the built-in MMG case's gas flow and area scale were tuned on (Test 4,
+    see the case file) and does the run use those tuned values?"""
+    from ..cases import load_case
+
+    th = load_case("ajayi2011_mmg").thermal
+    run = inputs.get("thermal") or {}
+    return test == 4 and run.get("gas_flow") == th.gas_flow and run.get("area_scale") == th.area_scale

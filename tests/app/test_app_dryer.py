@@ -1,0 +1,171 @@
+"""The "Whole dryer" page: its logic (rotarydryer.app.logic_dryer) against the library, and the
+page through Streamlit's headless AppTest harness."""
+
+import re
+from importlib import resources
+
+import pytest
+
+pytest.importorskip("streamlit")
+pytest.importorskip("xarray")
+
+from streamlit.testing.v1 import AppTest  # noqa: E402
+
+from rotarydryer.app import logic, logic_dryer, script_path  # noqa: E402
+from rotarydryer.simulation import Simulation  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def mmg():
+    return logic_dryer.dryer_view("ajayi2011_mmg")
+
+
+def test_metrics_are_the_library_steady_state(mmg):
+    s = Simulation("ajayi2011_mmg").steady_state().summary()
+    m = mmg["metrics"]
+    for key in ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
+                "specific_energy_kJ_kg_water", "thermal_efficiency", "evaporation_kg_s"):
+        assert m[key] == pytest.approx(s[key], rel=1e-9), key
+    assert m["mean_residence_time_min"] == pytest.approx(s["mean_residence_time_s"] / 60, rel=1e-9)
+    assert m["heat_input_kW"] == pytest.approx(s["heat_input_W"] / 1e3, rel=1e-9)
+    assert mmg["has_burner"] and m["fuel_rate_kg_h"] == pytest.approx(s["fuel_rate_kg_s"] * 3600, rel=1e-9)
+    assert mmg["profiles"][:8] == b"\x89PNG\r\n\x1a\n" and mmg["waterfall"][:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_energy_waterfall_terms_close_the_balance(mmg):
+    terms = mmg["energy_terms_w"]
+    e_in, e_out = sum(terms["in"].values()), sum(terms["out"].values())
+    assert abs(e_in - e_out) / e_in < 1e-6
+    assert abs(e_in - e_out) / e_in == pytest.approx(mmg["summary"]["energy_balance_error"], abs=1e-12)
+    table = mmg["energy_table"]
+    assert table[-1][0].startswith("closure") and abs(table[-1][2]) < 1e-6 * e_in / 1e3
+    assert {t[0] for t in table[:-1]} == {*terms["in"], *terms["out"]}
+    assert sum(t[2] for t in table[:-1] if t[1] == "in") == pytest.approx(e_in / 1e3)
+
+
+def test_measured_plant_values_of_the_test(mmg):
+    """Ajayi (2011) Table 3.9 (test 4): gas 500 -> 131 degC, product 12.4 % moisture."""
+    meas = mmg["measured"]
+    assert meas["test"] == 4
+    assert meas["gas_in_c"] == pytest.approx(500.0) and meas["gas_out_c"] == pytest.approx(131.0)
+    assert meas["moisture_out"] == pytest.approx(0.124)
+    assert logic_dryer.dryer_view("lee2008_invicta", images=False)["measured"] is None
+
+
+def test_operating_inputs_are_the_case_values():
+    by = {s["key"]: s for s in logic_dryer.operating_inputs("lee2008_invicta")}
+    assert by["gas.flow"]["value"] == pytest.approx(30.4)
+    assert by["gas.inlet_temperature"]["value"] == pytest.approx(100.0)
+    assert by["solids.moisture_inlet"]["value"] == pytest.approx(0.02)
+    assert by["operating.feed_rate"]["value"] == pytest.approx(98000 / 3600)
+    t5 = {s["key"]: s for s in logic_dryer.operating_inputs("ajayi2011_mmg", 5)}
+    assert t5["operating.rpm"]["value"] == pytest.approx(2.0)
+    assert t5["operating.feed_rate"]["value"] == pytest.approx(32.333333)
+    assert "thermal.gas_inlet_temperature" in t5 and "operating.feed_moisture" not in t5
+    assert logic_dryer.plant_tests("ajayi2011_mmg") == [2, 3, 4, 5, 6]     # test 1 has no fitted u_s, D
+    assert logic_dryer.plant_tests("song2003_ottawa") == []
+    song = {s["key"] for s in logic_dryer.operating_inputs("song2003_ottawa")}
+    assert {"operating.feed_moisture", "gas.flow", "gas.inlet_temperature"} <= song
+
+
+def test_changed_inputs_give_the_library_values():
+    ov = {"gas.inlet_temperature": 120.0, "operating.feed_rate": 25.0}
+    r = logic_dryer.dryer_view("lee2008_invicta", ov, images=False)
+    s = Simulation("lee2008_invicta", ov).steady_state().summary()
+    assert r["metrics"]["gas_outlet_temperature_degC"] == pytest.approx(s["gas_outlet_temperature_degC"], rel=1e-9)
+    assert r["metrics"]["product_moisture_kg_kg"] == pytest.approx(s["product_moisture_kg_kg"], rel=1e-9)
+    assert not r["has_burner"] and r["metrics"]["fuel_rate_kg_h"] is None
+
+
+def test_bad_value_gives_the_cli_message(cli):
+    from typer.testing import CliRunner
+
+    with pytest.raises(ValueError) as app_err:
+        logic_dryer.dryer_view("ajayi2011_mmg", {"operating.feed_rate": 0.0}, images=False)
+    out = CliRunner().invoke(cli, ["simulate", "ajayi2011_mmg", "--set", "operating.feed_rate=0"])
+    assert out.exit_code == 2
+    for part in ("--set operating.feed_rate: operating.feed_rate = ", "Input should be greater than 0"):
+        assert part in str(app_err.value) and part in out.output
+    with pytest.raises(ValueError, match=r"operating.rpm = 30 rev/min is at or above the critical speed"):
+        logic_dryer.dryer_view("lee2008_invicta", {"operating.rpm": 30.0}, images=False)
+
+
+def test_case_without_heat_and_mass_transfer_is_named():
+    with pytest.raises(logic_dryer.NoThermalModel, match="no heat and mass transfer model"):
+        logic_dryer.dryer_view("lee2008_invicta", {"thermal.enabled": False})
+    text = (resources.files("rotarydryer") / "cases" / "song2003_ottawa.toml").read_text()
+    staged = logic.stage_case_file(text.replace("[thermal]\n", "[thermal]\nenabled = false\n").encode())
+    with pytest.raises(logic_dryer.NoThermalModel):
+        logic_dryer.operating_inputs(staged)
+
+
+def test_uploaded_case_runs_like_the_shipped_one():
+    text = (resources.files("rotarydryer") / "cases" / "song2003_ottawa.toml").read_text()
+    staged = logic.stage_case_file(text.encode())
+    up = logic_dryer.dryer_view(staged, {"gas.inlet_temperature": 110.0}, images=False)
+    ref = logic_dryer.dryer_view("song2003_ottawa", {"gas.inlet_temperature": 110.0}, images=False)
+    assert up["metrics"] == ref["metrics"]
+    assert up["profiles_csv"] == ref["profiles_csv"] and up["profiles_csv"].startswith("position_m,")
+
+
+# ---------------------------------------------------------------------------------- the page
+def _metric(at, label):
+    m = next(m for m in at.metric if m.label == label)
+    return float(re.sub(r"[^0-9.\-]", "", m.value.split()[0]))
+
+
+@pytest.fixture()
+def at():
+    app = AppTest.from_file(str(script_path()), default_timeout=120)
+    app.run()
+    app.sidebar.radio(key="page").set_value("Whole dryer").run()
+    assert not app.exception, [e.value for e in app.exception]
+    assert not app.error, [e.value for e in app.error]
+    return app
+
+
+def test_page_renders_and_feed_rate_changes_the_product(at):
+    labels = [m.label for m in at.metric]
+    for label in ("Product moisture", "Product temperature", "Gas outlet temperature", "Mean residence time",
+                  "Specific energy", "Thermal efficiency", "Fuel rate"):
+        assert label in labels
+    assert len(at.image) == 2
+    before = _metric(at, "Product moisture")
+    s = Simulation("ajayi2011_mmg").steady_state().summary()
+    assert before == pytest.approx(s["product_moisture_kg_kg"], abs=1e-4)
+    assert before == pytest.approx(0.124, rel=0.05)     # Ajayi (2011) test 4, measured
+    at.number_input(key="dryer__operating.feed_rate__ajayi2011_mmg__4").set_value(50.0).run()
+    assert not at.exception and not at.error
+    assert _metric(at, "Product moisture") > before      # more feed, same gas: wetter product
+
+
+def test_page_test_choice_and_bad_value(at):
+    at.sidebar.selectbox(key="dryer_test__ajayi2011_mmg").set_value(5).run()
+    assert not at.exception and not at.error
+    assert at.number_input(key="dryer__operating.rpm__ajayi2011_mmg__5").value == pytest.approx(2.0)
+    at.number_input(key="dryer__operating.feed_rate__ajayi2011_mmg__5").set_value(0.0).run()
+    assert not at.exception
+    assert at.error and "operating.feed_rate" in at.error[0].value and "greater than 0" in at.error[0].value
+    assert "Traceback" not in at.error[0].value
+
+
+def test_page_case_without_burner(at):
+    at.sidebar.selectbox(key="dryer_case").set_value("lee2008_invicta").run()
+    assert not at.exception and not at.error
+    labels = [m.label for m in at.metric]
+    assert "Heat input" in labels and "Fuel rate" not in labels
+    before = _metric(at, "Gas outlet temperature")
+    at.number_input(key="dryer__gas.inlet_temperature__lee2008_invicta__None").set_value(130.0).run()
+    assert not at.exception and not at.error
+    assert _metric(at, "Gas outlet temperature") > before
+
+
+def test_downloads_hold_the_changed_operating_point():
+    ov = {"gas.inlet_temperature": 110.0}
+    html = logic_dryer.report_html("song2003_ottawa", ov)
+    assert html.lstrip().lower().startswith("<!doctype html") and "song2003_ottawa" in html
+    nc = logic_dryer.netcdf_bytes("song2003_ottawa", ov)
+    assert nc[:4] in (b"\x89HDF", b"CDF\x01", b"CDF\x02")
+    res = logic_dryer.results_of("song2003_ottawa", ov)
+    ref = logic_dryer.dryer_view("song2003_ottawa", ov, images=False)["summary"]
+    assert res.scalars["gas_outlet_temperature_degC"] == pytest.approx(ref["gas_outlet_temperature_degC"], rel=1e-9)
