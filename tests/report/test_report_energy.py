@@ -49,3 +49,20 @@ def test_report_cli_unwritable_out_is_bad_input(tmp_path):
 
     res = CliRunner().invoke(app, ["report", "invicta", "--out", str(tmp_path)])  # a directory
     assert res.exit_code == 2 and "cannot write" in res.output and "internal error" not in res.output
+
+
+def test_waterfall_unit_follows_the_size_of_the_dryer():
+    """MW for a plant, kW for a pilot drum (whose terms would otherwise all read 0.00 MW)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotarydryer.report.plots import plot_energy_waterfall
+
+    for total, unit, label in ((8.2e6, "MW", "8.20"), (2.5e4, "kW", "25.00")):
+        fig = plot_energy_waterfall({"in": {"gas": total}, "out": {"evaporation": 0.6 * total, "exhaust": 0.4 * total}})
+        ax = fig.axes[0]
+        assert ax.get_ylabel() == unit
+        assert label in [t.get_text() for t in ax.texts]
+        plt.close(fig)

@@ -52,9 +52,9 @@ def _inputs():
                                 help="; ".join(f"{k}: {v}" for k, v in L.SCENARIO_LABELS.items()))
         magnitude = st.number_input("Magnitude", -0.9, 2.0, 0.2, 0.05, key="control_magnitude",
                                     help=L.SCENARIO_LABELS[scenario])
-        duration = st.number_input("Simulated time (s)", 60.0, 86400.0, 7200.0, 600.0, key="control_duration",
+        duration = st.number_input("Simulated time (s)", 60.0, 14400.0, 7200.0, 600.0, key="control_duration",
                                    help="the run takes about 1 s of computing per simulated 4 min")
-        step_time = st.number_input("Disturbance at (s)", 0.0, 86400.0, 600.0, 60.0, key="control_step_time")
+        step_time = st.number_input("Disturbance at (s)", 0.0, 14400.0, 600.0, 60.0, key="control_step_time")
     with side.expander("Controller", expanded=True):
         measured = st.selectbox("Controlled variable", ["product_moisture", "exhaust_temperature"],
                                 key="control_measured")
@@ -64,7 +64,7 @@ def _inputs():
         feed_backup = st.checkbox("Reduce the feed when the gas temperature saturates", value=True,
                                   key="control_feed_backup")
         c1, c2 = st.columns(2)
-        sample_time = c1.number_input("Sample time (s)", 1.0, 3600.0, 60.0, 10.0, key="control_sample_time")
+        sample_time = c1.number_input("Sample time (s)", 10.0, 3600.0, 60.0, 10.0, key="control_sample_time")
         dead_time = c2.number_input("Dead time (s)", 0.0, 7200.0, 120.0, 10.0, key="control_dead_time")
         gas_t_max = st.number_input("Highest gas inlet temperature (degC)", 1.0, 600.0, 600.0, 10.0,
                                     key="control_gas_t_max")

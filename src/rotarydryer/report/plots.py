@@ -165,7 +165,8 @@ def draw_flight_conventions(drum: FlightedDrum, repose_angle: float = 45.0, *, p
 
 
 def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"):
-    """Waterfall of an energy balance, MW: inputs stacked up, outputs stepped down.
+    """Waterfall of an energy balance, MW (kW below 1 MW of input): inputs stacked up, outputs
+    stepped down.
 
     ``terms = {"in": {name: W}, "out": {name: W}}`` (e.g.
     ``ThermalSteadyState.energy_terms_w``). The last bar is the closure (in - out), which is
@@ -176,19 +177,22 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
         fig, ax = plt.subplots(figsize=(7.5, 3.8), constrained_layout=True)
     else:
         fig = ax.figure
+    # MW for plants, kW below 1 MW of input (a pilot drum's terms would all read 0.00 MW)
+    total_in = sum(terms["in"].values())
+    scale, unit = (1e6, "MW") if total_in >= 1e6 else (1e3, "kW")
     names, bottoms, heights, colours = [], [], [], []
     level = 0.0
     for name, w in terms["in"].items():
         names.append(name)
         bottoms.append(level)
-        heights.append(w / 1e6)
+        heights.append(w / scale)
         colours.append("#c0392b")
-        level += w / 1e6
+        level += w / scale
     for name, w in terms["out"].items():
-        level -= w / 1e6
+        level -= w / scale
         names.append(name)
         bottoms.append(level)
-        heights.append(w / 1e6)
+        heights.append(w / scale)
         colours.append("#2e86c1")
     names.append("closure (in - out)")
     bottoms.append(0.0)
@@ -200,7 +204,7 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
         ax.text(xi, b + h + 0.01 * max(1e-9, max(bottoms) + max(heights)), f"{h:.2f}", ha="center", va="bottom",
                 fontsize=8)
     ax.set_xticks(x, names, rotation=20, ha="right")
-    ax.set_ylabel("MW")
+    ax.set_ylabel(unit)
     ax.set_title(title)
     return fig
 
