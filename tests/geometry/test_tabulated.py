@@ -188,3 +188,61 @@ def test_mmg_converges_where_the_exact_loading_factor_kinks():
     s = ss.summary()
     assert s["water_balance_error"] < 1e-8 and s["energy_balance_error"] < 1e-8
     assert 0.126 < s["product_moisture_kg_kg"] < 0.14   # between the 40.7 and 55 kg/s states
+
+
+# ---- on-disk cache ------------------------------------------------------------------------------
+@pytest.fixture()
+def fresh(monkeypatch, tmp_path):
+    """An empty in-memory cache and a private on-disk cache directory."""
+    import rotarydryer.geometry.tabulated as T
+
+    monkeypatch.setattr(T, "_cache", type(T._cache)())
+    monkeypatch.setenv(T.CACHE_ENV, str(tmp_path / "cache"))
+    return T, tmp_path / "cache"
+
+
+def test_disk_cache_round_trip_is_identical(fresh, monkeypatch):
+    T, d = fresh
+    drum = _drum(PRESETS["mmg_C"])
+    built = T.geometry_table(drum)
+    files = list(d.glob("*.npz"))
+    assert len(files) == 1
+    monkeypatch.setattr(T, "_cache", type(T._cache)())
+    loaded = T.geometry_table(drum)
+    assert loaded is not built
+    phi, f = _points(3000, seed=7)
+    for k in CASCADE:
+        np.testing.assert_array_equal(getattr(loaded.cascade(phi, f, rpm=3.0, slope=2.0), k),
+                                      getattr(built.cascade(phi, f, rpm=3.0, slope=2.0), k))
+    d_load = np.linspace(0.0, 1.3, phi.size)
+    np.testing.assert_array_equal(loaded.loading_factor(d_load, phi), built.loading_factor(d_load, phi))
+    np.testing.assert_array_equal(loaded.design_load_area(phi, method="ajayi2011"),
+                                  built.design_load_area(phi, method="ajayi2011"))
+
+
+def test_disk_cache_off_unwritable_or_corrupt(fresh, monkeypatch, tmp_path):
+    T, d = fresh
+    drum = _drum(PRESETS["mmg_D"])
+    monkeypatch.setenv(T.CACHE_ENV, "off")
+    assert T.cache_directory() is None
+    T.geometry_table(drum)
+    assert not d.exists()
+    # a corrupt file is rebuilt and replaced
+    monkeypatch.setenv(T.CACHE_ENV, str(d))
+    monkeypatch.setattr(T, "_cache", type(T._cache)())
+    path = T._disk_path((2.0,))   # any key: the directory is created on the first save
+    T.geometry_table(drum)
+    (f,) = d.glob("*.npz")
+    f.write_bytes(b"not a table")
+    monkeypatch.setattr(T, "_cache", type(T._cache)())
+    t = T.geometry_table(drum)
+    assert t.design_load_area(40.0) == pytest.approx(float(drum.design_load_area(40.0)), rel=1e-9)
+    assert f.stat().st_size > 1000
+    assert path.parent == d
+    # a cache directory that cannot be created (under a file): the table lives in memory only, no error
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    monkeypatch.setenv(T.CACHE_ENV, str(blocker / "sub"))
+    monkeypatch.setattr(T, "_cache", type(T._cache)())
+    assert T.geometry_table(drum).design_load_area(40.0) == pytest.approx(float(drum.design_load_area(40.0)),
+                                                                           rel=1e-9)

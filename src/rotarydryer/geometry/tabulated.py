@@ -32,6 +32,7 @@ a dryer shares one.
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 from collections import OrderedDict
@@ -179,7 +180,7 @@ class GeometryTable:
         Repose angles (deg) covered by the tables; outside, the exact geometry is computed.
     """
 
-    def __init__(self, drum, *, convention="root", fall_height="chord", phi_range=PHI_RANGE):
+    def __init__(self, drum, *, convention="root", fall_height="chord", phi_range=PHI_RANGE, _grid=None):
         from scipy.interpolate import CubicSpline, PPoly
 
         self.drum = drum
@@ -196,13 +197,17 @@ class GeometryTable:
         self._phi_edges = np.array([lo] + sorted(k for k in kinks if lo < k < hi) + [hi])
         root_f = np.linspace(0.0, 1.0, N_F + 1)  # the table's second axis is sqrt(f): smooth as f -> 0
         f = root_f**2
-        xs, vals = [], []
-        for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
-            phi = np.linspace(a, b, max(8, int(math.ceil((b - a) * N_PHI_PER_DEG))) + 1)
-            pp, ff = np.meshgrid(phi, f, indexing="ij")
-            cs = drum.cascade(pp, ff, rpm=1.0, slope=0.0, fall_height=fall_height, convention=convention)
-            xs.append(phi)
-            vals.append([cs.mean_release_angle, cs.mean_fall_height, cs.mean_fall_time])
+        if _grid is None:   # the exact geometry on the grid: the costly part (the on-disk cache keeps it)
+            xs, vals = [], []
+            for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
+                phi = np.linspace(a, b, max(8, int(math.ceil((b - a) * N_PHI_PER_DEG))) + 1)
+                pp, ff = np.meshgrid(phi, f, indexing="ij")
+                cs = drum.cascade(pp, ff, rpm=1.0, slope=0.0, fall_height=fall_height, convention=convention)
+                xs.append(phi)
+                vals.append([cs.mean_release_angle, cs.mean_fall_height, cs.mean_fall_time])
+        else:
+            xs, vals = _grid
+        self._grid = (xs, vals)
         self._cascade = _PiecewiseTensorSpline(self._phi_edges, xs, root_f, vals)
         # holdups H0 and H_i against phi, split at the phase boundaries
         edges = np.concatenate([[lo], _holdup_breaks(drum, lo, hi, convention), [hi]])
@@ -318,11 +323,92 @@ _cache: OrderedDict = OrderedDict()
 _lock = threading.Lock()
 #: drums whose tables are kept (least recently used dropped first)
 MAX_TABLES = 32
+#: environment variable naming the directory of the on-disk table cache; "off" disables it
+CACHE_ENV = "ROTARYDRYER_CACHE_DIR"
+
+
+def cache_directory():
+    """Directory of the on-disk table cache, or None when disabled: ``$ROTARYDRYER_CACHE_DIR``
+    ("off" disables), else ``$XDG_CACHE_HOME/rotarydryer/geometry`` (``~/.cache/...``)."""
+    import os
+    from pathlib import Path
+
+    env = os.environ.get(CACHE_ENV)
+    if env is not None:
+        return None if env.strip().lower() in ("", "off", "0", "none") else Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "rotarydryer" / "geometry"
+
+
+@functools.lru_cache(maxsize=1)
+def _source_digest() -> str:
+    """Digest of the code that computes a table (this module and the exact geometry's): a table
+    cached by other code is never used."""
+    import hashlib
+    from pathlib import Path
+
+    h = hashlib.sha256()
+    here = Path(__file__).parent
+    for name in ("tabulated.py", "drum.py", "unloading.py", "design_load.py", "flights.py"):
+        h.update((here / name).read_bytes())
+    h.update(repr((PHI_RANGE, N_PHI_PER_DEG, N_F, N_HOLDUP_PER_DEG)).encode())
+    return h.hexdigest()[:16]
+
+
+def _to_arrays(t: GeometryTable) -> dict:
+    """The exact geometry on the table's grid (what costs the build), as plain arrays."""
+    xs, vals = t._grid
+    return {"phi": np.concatenate(xs), "sizes": np.array([x.size for x in xs]),
+            "values": np.concatenate([np.stack(v) for v in vals], axis=1), "phi_range": np.array(t.phi_range)}
+
+
+def _from_arrays(drum, a, convention, fall_height) -> GeometryTable:
+    cuts = np.cumsum(a["sizes"])[:-1]
+    xs = np.split(a["phi"], cuts)
+    vals = [list(v) for v in np.split(a["values"], cuts, axis=1)]
+    table = GeometryTable(drum, convention=convention, fall_height=fall_height,
+                          phi_range=tuple(float(v) for v in a["phi_range"]), _grid=(xs, vals))
+    if [x.size for x in xs] != [x.size for x in table._grid[0]] or len(xs) != table._phi_edges.size - 1:
+        raise ValueError("cached grid does not fit the drum")
+    return table
+
+
+def _disk_path(key):
+    import hashlib
+
+    d = cache_directory()
+    if d is None:
+        return None
+    return d / f"{hashlib.sha256(repr((key, _source_digest())).encode()).hexdigest()[:32]}.npz"
+
+
+def _load_disk(path, drum, convention, fall_height):
+    if path is None or not path.is_file():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as f:
+            return _from_arrays(drum, {k: f[k] for k in f.files}, convention, fall_height)
+    except Exception:        # unreadable or foreign file: rebuild (and overwrite it)
+        return None
+
+
+def _save_disk(path, table):
+    if path is None:
+        return
+    from .._io import atomic_output
+
+    try:
+        with atomic_output(path) as tmp, open(tmp, "wb") as fh:
+            np.savez(fh, **_to_arrays(table))
+    except (OSError, ValueError):   # read-only or full disk: the table lives in memory only
+        pass
 
 
 def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryTable:
     """The :class:`GeometryTable` of ``drum``, built once and cached (keyed by the drum's
-    dimensions, the convention and the fall-height definition)."""
+    dimensions, the convention and the fall-height definition): in memory for the process and on
+    disk (:func:`cache_directory`; tables of other code versions are never read), so a command
+    line run does not pay the 0.5-1 s build of each drum again."""
     fl = drum.flight
     key = (float(drum.radius), int(drum.n_flights), float(fl.s1), float(fl.s2), float(fl.alpha1),
            float(fl.alpha2), convention, fall_height)
@@ -331,7 +417,11 @@ def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryT
         if table is not None:
             _cache.move_to_end(key)
             return table
-    table = GeometryTable(drum, convention=convention, fall_height=fall_height)
+    path = _disk_path(key)
+    table = _load_disk(path, drum, convention, fall_height)
+    if table is None:
+        table = GeometryTable(drum, convention=convention, fall_height=fall_height)
+        _save_disk(path, table)
     with _lock:
         _cache[key] = table
         while len(_cache) > MAX_TABLES:
