@@ -288,8 +288,11 @@ class GeometryTable:
         """Mass-averaged cascade properties (free fall), as :func:`rotarydryer.geometry.unloading.cascade`;
         the discharge start angle and initial holdup are not tabulated (NaN, as in Lee's regressions)."""
         check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
-        rpm = float(check_range("rpm", rpm, 0.0, math.inf, unit="rpm"))
-        slope = float(check_range("slope", slope, -45.0, 45.0, unit="deg"))
+        if not (isinstance(rpm, (int, float)) and 0.0 < rpm < math.inf):   # plain floats: the solvers' calls
+            rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rpm")
+        if not (isinstance(slope, (int, float)) and -45.0 < slope < 45.0):
+            slope = check_range("slope", slope, -45.0, 45.0, unit="deg")
+        rpm, slope = float(rpm), float(slope)
         phi, f = np.broadcast_arrays(np.asarray(repose_angle, float), np.asarray(loading_factor, float))
         shape = phi.shape
         phi, f = phi.ravel(), f.ravel()
