@@ -28,7 +28,7 @@ import tempfile
 from pathlib import Path
 
 __all__ = ["OutputError", "atomic_output", "write_text_atomic", "write_bytes_atomic", "save_figure",
-           "check_output_target", "check_free_space", "json_text", "finite_or_none"]
+           "check_output_target", "check_free_space", "json_text", "csv_text", "finite_or_none"]
 
 
 class OutputError(ValueError, OSError):
@@ -182,3 +182,18 @@ def json_text(obj, **kwargs) -> str:
 
     kwargs.setdefault("default", float)
     return json.dumps(finite_or_none(obj), allow_nan=False, **kwargs)
+
+
+def csv_text(rows: list[dict], last: tuple = ()) -> str:
+    """CSV text of ``rows`` (dicts): the columns in order of first appearance, then the ``last``
+    columns (always present, e.g. a sweep's ``error``); floats by ``repr`` (they read back exactly),
+    ``None`` as an empty cell."""
+    import csv
+
+    cols = list(dict.fromkeys(k for r in rows for k in r if k not in last)) + list(last)
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: ("" if v is None else repr(v) if isinstance(v, float) else v) for k, v in r.items()})
+    return buf.getvalue()

@@ -353,6 +353,14 @@ class ClosedLoopResult:
         keys = list(self.series)
         return [dict(time_s=float(t), **{k: self.series[k][i] for k in keys}) for i, t in enumerate(self.time_s)]
 
+    def csv_text(self) -> str:
+        """The :meth:`table` as CSV text (10 significant digits; empty cells for missing values)."""
+        rows = self.table()
+        keys = list(rows[0])
+        lines = [",".join(keys)] + [",".join("" if r[k] is None else f"{float(r[k]):.10g}" for k in keys)
+                                    for r in rows]
+        return "\n".join(lines) + "\n"
+
 
 def _disturbance(scenario, magnitude, t, t_step, t_end, base):
     """Feed moisture (wet), feed rate (kg/s) and fouling at time t of a scenario."""

@@ -37,15 +37,17 @@ def case_picker(prefix: str, default: str = "ajayi2011_mmg", cases: list[str] | 
     """Sidebar choice of a built-in case or an uploaded case file (kept in memory only).
 
     ``prefix`` makes the widget keys unique per page (``f"{prefix}_case"``,
-    ``f"{prefix}_case_file"``).  Returns ``(case, shown)``: the name to pass to the logic
-    functions (a built-in name or the staged key of an upload) and the name to show."""
+    ``f"{prefix}_case_file"``; an empty prefix: ``"case"`` and ``"case_file"``).  Returns
+    ``(case, shown)``: the name to pass to the logic functions (a built-in name or the staged
+    key of an upload) and the name to show (they differ only for an upload)."""
     from rotarydryer.cases import list_cases
 
     names = list(cases) if cases is not None else list_cases()
     case = st.sidebar.selectbox("Built-in case", names, index=names.index(default) if default in names else 0,
-                                key=f"{prefix}_case", help=help_text)
+                                key=f"{prefix}_case" if prefix else "case", help=help_text)
     upload = st.sidebar.file_uploader("... or upload a case file (TOML; `rotarydryer new NAME` writes a template; "
-                                      "it may name shipped data sets only)", type=["toml"], key=f"{prefix}_case_file",
+                                      "it may name shipped data sets only)", type=["toml"],
+                                      key=f"{prefix}_case_file" if prefix else "case_file",
                                       max_upload_size=logic.MAX_UPLOAD_MB)
     shown = case
     if upload is not None:

@@ -21,7 +21,7 @@ import numpy as np
 
 __all__ = ["presets", "geometry_view", "stage_case_file", "case_defaults", "transport_view", "tracer_sources", "fit_tracer",
            "tracer_models", "TRACER_BASELINES",
-           "png", "visitor_message", "MAX_CASE_UPLOAD_BYTES", "MAX_TRACER_UPLOAD_BYTES", "MAX_TRACER_ROWS",
+           "png", "check_upload_text", "visitor_message", "MAX_CASE_UPLOAD_BYTES", "MAX_TRACER_UPLOAD_BYTES", "MAX_TRACER_ROWS",
            "MAX_UPLOAD_MB", "MAX_STAGED_CASES"]
 
 #: ``server.maxUploadSize`` and the uploaders' ``max_upload_size`` (MB; Streamlit's minimum is 1)
@@ -51,6 +51,18 @@ def visitor_message(exc: BaseException) -> str:
         msg = str(exc)
         return msg if len(msg) <= MAX_MESSAGE_CHARS else msg[:MAX_MESSAGE_CHARS] + " ..."
     return f"internal error ({type(exc).__name__}); the details are in the server log"
+
+
+def check_upload_text(text: str, what: str, max_bytes: int, max_rows: int) -> str:
+    """An uploaded CSV's text within ``max_bytes`` (UTF-8) and ``max_rows`` data rows (below the
+    header; blank and ``#`` lines not counted), else ``ValueError`` naming the limit."""
+    size = len(text.encode("utf-8", "replace"))
+    if size > max_bytes:
+        raise ValueError(f"the {what} has {size} bytes; the limit is {max_bytes} bytes")
+    rows = sum(1 for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))
+    if rows - 1 > max_rows:
+        raise ValueError(f"the {what} has {rows - 1} data rows; the limit is {max_rows}")
+    return text
 
 
 def png(fig, dpi: int = 90) -> bytes:
@@ -252,12 +264,7 @@ def fit_tracer(text: str | None = None, dataset: str | None = None, model: str =
     if (text is None) == (dataset is None):
         raise ValueError("give exactly one of text (an uploaded CSV) and dataset (a shipped curve)")
     if text is not None:
-        size = len(text.encode("utf-8", "replace"))
-        if size > MAX_TRACER_UPLOAD_BYTES:
-            raise ValueError(f"the tracer CSV has {size} bytes; the limit is {MAX_TRACER_UPLOAD_BYTES} bytes")
-        rows = sum(1 for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))
-        if rows - 1 > MAX_TRACER_ROWS:
-            raise ValueError(f"the tracer CSV has {rows - 1} data rows; the limit is {MAX_TRACER_ROWS}")
+        check_upload_text(text, "tracer CSV", MAX_TRACER_UPLOAD_BYTES, MAX_TRACER_ROWS)
     data = parse_tracer_text(text, "uploaded CSV") if text is not None else load_tracer_dataset(dataset)
     import warnings
 

@@ -38,15 +38,6 @@ def control_defaults(case: str, overrides: dict | None = None) -> dict:
     return {"tests": tests, "test": getattr(c.operating, "test", None)}
 
 
-def _simulation(case, overrides):
-    from ..simulation import Simulation
-
-    sim = Simulation(_load(case, overrides))
-    if not sim.thermal_enabled:
-        raise ValueError(f"case {case!r} has no [gas] block: control needs the heat-and-mass model")
-    return sim
-
-
 def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, scenario="feed_moisture_step",
                  magnitude=0.2, duration=7200.0, step_time=None, sample_time=60.0, dead_time=120.0,
                  measured="product_moisture", setpoint=None, kc=None, tau_i=None, tau_c=None, feedforward="model",
@@ -57,33 +48,23 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
     Returns ``{"closed": summary dict, "open": performance dict or None, "tuning": {...},
     "series": {...}, "time_s": [...], "ranges": {...}, "csv": text, "plot": png}``."""
     from .. import control as C
-    from ..cli.control import check_control_options
+    from ..cli.control import check_control_options, run_control
+    from ..simulation import Simulation
 
     step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,
                                       setpoint, kc, tau_i, tau_c, feedforward, gas_t_max, gas_t_min,
                                       feed_min_fraction)
-    sim = _simulation(case, overrides)
-    sim.transport_steady_state()   # feasibility (critical speed, fill) first
-    steady = sim.thermal_steady_state()
-    dryer = steady.dryer
-    cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
-                          measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
-                          feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
-                          gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
-                          feed_min_fraction=feed_min_fraction).validate()
-    kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg)
-    C.check_scenario(dryer, scenario, magnitude, duration, step_time)
     import warnings
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", C.ControlWarning)
-        models = C.identify(dryer, steady)
-        closed = C.closed_loop(dryer, steady, models=models, **kw)
-        opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
+        closed, opened = run_control(Simulation(_load(case, overrides)), case, scenario=scenario, magnitude=magnitude,
+                                     duration=duration, step_time=step_time, sample_time=sample_time,
+                                     dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
+                                     tau_c=tau_c, feedforward=feedforward, feedback=feedback,
+                                     feed_backup=feed_backup, gas_t_max=gas_t_max, gas_t_min=gas_t_min,
+                                     feed_min_fraction=feed_min_fraction, open_loop=open_loop)
     s = closed.series
-    rows = closed.table()
-    keys = list(rows[0])
-    lines = [",".join(keys)] + [",".join("" if r[k] is None else f"{float(r[k]):.10g}" for k in keys) for r in rows]
     out = {
         "closed": closed.summary(),
         "performance": closed.performance,
@@ -100,7 +81,7 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
                                                   float(max(s["gas_inlet_temperature_degC"]))),
                    "feed_rate_kg_s": (float(min(s["feed_rate_kg_s"])), float(max(s["feed_rate_kg_s"])))},
         "warnings": sorted({str(w.message) for w in caught if issubclass(w.category, C.ControlWarning)}),
-        "csv": "\n".join(lines) + "\n",
+        "csv": closed.csv_text(),
     }
     if images:
         fig = C.plot(closed, opened)

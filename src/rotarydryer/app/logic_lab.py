@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import functools
 
-from .logic import MAX_UPLOAD_MB, png
+from .logic import MAX_UPLOAD_MB, check_upload_text, png
 
 __all__ = ["MAX_LAB_UPLOAD_BYTES", "MAX_LAB_ROWS", "MAX_LAB_IMAGE_PIXELS", "rig_example", "rig_view",
            "image_example", "image_view", "design_load_example", "design_load_view", "steps_example",
@@ -38,13 +38,7 @@ IMAGE_EXAMPLE = dict(drum="ajayi_pilot", repose_angle=46.7, reference_angle=91.0
 def _check_text(text: str, what: str) -> str:
     if not isinstance(text, str):
         raise ValueError(f"the {what} must be text")
-    size = len(text.encode("utf-8", "replace"))
-    if size > MAX_LAB_UPLOAD_BYTES:
-        raise ValueError(f"the {what} has {size} bytes; the limit is {MAX_LAB_UPLOAD_BYTES} bytes")
-    rows = sum(1 for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))
-    if rows - 1 > MAX_LAB_ROWS:
-        raise ValueError(f"the {what} has {rows - 1} data rows; the limit is {MAX_LAB_ROWS}")
-    return text
+    return check_upload_text(text, what, MAX_LAB_UPLOAD_BYTES, MAX_LAB_ROWS)
 
 
 def decode_upload(content: bytes, what: str = "uploaded file") -> str:

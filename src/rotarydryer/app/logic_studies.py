@@ -11,12 +11,11 @@ a minute; ``rotarydryer sweep`` and ``rotarydryer sensitivity`` have no such cap
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 
 import numpy as np
 
+from .._io import csv_text
 from .logic import _is_upload, _load, png
 from .logic_dryer import _check_thermal, study_inputs
 
@@ -118,20 +117,10 @@ def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, i
     if failed == len(rows):
         raise ValueError(f"no point of {key} in [{float(low):g}, {float(high):g}] could be solved; first: "
                          f"{rows[0]['error']}")
-    out = {"rows": rows, "outputs": outs, "failed": failed, "csv": _csv(rows), "key": key, "label": spec["label"]}
+    out = {"rows": rows, "outputs": outs, "failed": failed, "csv": csv_text(rows, last=("error",)), "key": key, "label": spec["label"]}
     if images:
         out["plot"] = png(_whatif_figure(rows, key, spec["label"], outs))
     return out
-
-
-def _csv(rows: list[dict]) -> str:
-    cols = list(dict.fromkeys(k for r in rows for k in r if k != "error")) + ["error"]
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: ("" if v is None else repr(v) if isinstance(v, float) else v) for k, v in r.items()})
-    return buf.getvalue()
 
 
 def _whatif_figure(rows, key, label, outs):
@@ -206,7 +195,7 @@ def sensitivity_view(case: str, params: dict, samples: int = 8, seed: int = 0, p
         first = res.failures[0]["error"] if res.failures else ""
         raise ValueError(f"all {res.n_runs} runs failed; first: {first}")
     out = {"data": data, "table": res.table(), "distributions": res.distribution_table(),
-           "runs_csv": _csv(res.runs_table()), "n_runs": res.n_runs, "n_failed": res.n_failed,
+           "runs_csv": csv_text(res.runs_table()), "n_runs": res.n_runs, "n_failed": res.n_failed,
            "seconds": res.seconds, "notes": list(res.notes)}
     if images:       # two outputs per figure: about 720 px wide, readable unscaled on a laptop
         outs = [o for o in data["outputs"] if o in data["indices"]]

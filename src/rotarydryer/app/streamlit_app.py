@@ -109,21 +109,10 @@ elif page == "Flight geometry":
     st.image(g["profile"], caption="Holdup and discharge rate against flight angle")
 
 elif page == "Transport and RTD":
-    from rotarydryer.cases import list_cases
+    from rotarydryer.app._ui import case_picker
 
     st.title("Solids transport and residence time")
-    case = st.sidebar.selectbox("Built-in case", list_cases(), index=list_cases().index("lee2008_invicta"), key="case")
-    upload = st.sidebar.file_uploader("... or upload a case file (TOML; `rotarydryer new NAME` writes a template; "
-                                      "it may name shipped data sets only)", type=["toml"], key="case_file",
-                                      max_upload_size=logic.MAX_UPLOAD_MB)
-    shown = case
-    if upload is not None:
-        shown = upload.name
-        try:
-            case = logic.stage_case_file(upload.getvalue())
-        except Exception as exc:
-            _refuse(f"Case file {shown} refused", exc)
-        st.caption(f"Case file: {_plain(shown)}")
+    case, shown = case_picker("", default="lee2008_invicta")
     try:
         d = logic.case_defaults(case)
     except Exception as exc:
@@ -148,7 +137,7 @@ elif page == "Transport and RTD":
     st.image(r["loading"], caption="Loading state per cell")
     d1, d2 = st.columns(2)
     res = r["results"]
-    stem = "uploaded_case" if upload is not None else case
+    stem = "uploaded_case" if shown != case else case
     d1.download_button("Download results (netCDF)", lambda: _netcdf_bytes(res), file_name=f"{stem}.nc",
                        mime="application/x-netcdf", key="dl_nc")
     d2.download_button("Download HTML report", lambda: _report_html(res), file_name=f"{stem}.html",

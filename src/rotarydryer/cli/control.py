@@ -59,37 +59,21 @@ def control(
                                       feed_min_fraction)
     check_out_dir("--out", out)
 
-    sim = Simulation(case, parse_sets(set_))
-    if not sim.thermal_enabled:
-        raise ValueError(f"case {case!r} has no [gas] block: control needs the heat-and-mass model")
-    progress = C.stderr_progress
-    progress("steady state ...")
-    sim.transport_steady_state()   # feasibility (critical speed, fill) first
-    steady = sim.thermal_steady_state()
-    dryer = steady.dryer
-    cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
-                          measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
-                          feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
-                          gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
-                          feed_min_fraction=feed_min_fraction).validate()
-    kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg,
-              progress=progress)
-    C.check_scenario(dryer, scenario, magnitude, duration, step_time)
-    models = C.identify(dryer, steady, progress=progress)
-    closed = C.closed_loop(dryer, steady, models=models, **kw)
-    opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
+    closed, opened = run_control(Simulation(case, parse_sets(set_)), case, scenario=scenario, magnitude=magnitude,
+                                 duration=duration, step_time=step_time, sample_time=sample_time,
+                                 dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
+                                 tau_c=tau_c, feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
+                                 gas_t_max=gas_t_max, gas_t_min=gas_t_min, feed_min_fraction=feed_min_fraction,
+                                 open_loop=open_loop, progress=C.stderr_progress)
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:
         from .._io import save_figure, write_text_atomic
 
-        rows = closed.table()
-        keys = list(rows[0])
-        lines = [",".join(keys)] + [",".join("" if r[k] is None else f"{float(r[k]):.10g}" for k in keys) for r in rows]
         files = [out / "control.json", out / "control.csv", out / "control.png"]
         write_text_atomic(files[0], json_text(dict(result, series={k: list(v) for k, v in closed.series.items()},
                                                    time_s=list(closed.time_s)), indent=1))
-        write_text_atomic(files[1], "\n".join(lines) + "\n")
+        write_text_atomic(files[1], closed.csv_text())
         save_figure(C.plot(closed, opened), files[2], dpi=110)
         result["files"] = [str(f) for f in files]
     if as_json:
@@ -115,6 +99,36 @@ def control(
                f"{max(s['feed_rate_kg_s']):.2f} kg/s")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")
+
+
+def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_time, dead_time, measured, setpoint,
+                kc, tau_i, tau_c, feedforward, feedback, feed_backup, gas_t_max, gas_t_min, feed_min_fraction,
+                open_loop, progress=None):
+    """The runs of ``rotarydryer control`` (and of the web app's control page) on ``sim``, a
+    :class:`~rotarydryer.simulation.Simulation` of ``case``, with options already checked by
+    :func:`check_control_options`: steady state, FOPDT models, the closed loop and, with
+    ``open_loop``, the uncontrolled plant. Returns ``(closed, opened or None)``."""
+    from .. import control as C
+
+    if not sim.thermal_enabled:
+        raise ValueError(f"case {case!r} has no [gas] block: control needs the heat-and-mass model")
+    if progress:
+        progress("steady state ...")
+    sim.transport_steady_state()   # feasibility (critical speed, fill) first
+    steady = sim.thermal_steady_state()
+    dryer = steady.dryer
+    cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
+                          measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
+                          feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
+                          gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
+                          feed_min_fraction=feed_min_fraction).validate()
+    kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg,
+              progress=progress)
+    C.check_scenario(dryer, scenario, magnitude, duration, step_time)
+    models = C.identify(dryer, steady, progress=progress)
+    closed = C.closed_loop(dryer, steady, models=models, **kw)
+    opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
+    return closed, opened
 
 
 def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration=10800.0, step_time=None,

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import io
 import os
 import sys
 from pathlib import Path
@@ -19,16 +17,6 @@ KNOWN_OUTPUTS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outl
                  "mean_residence_time_s", "total_holdup_kg", "active_holdup_kg", "passive_holdup_kg",
                  "bed_holdup_kg", "outlet_flow_kg_s", "tracer_mean_s", "tracer_std_s", "rtd_std_s",
                  "rtd_mean_residence_time_s")
-
-
-def _csv(rows: list[dict]) -> str:
-    cols = list(dict.fromkeys(k for r in rows for k in r))
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: ("" if v is None else repr(v) if isinstance(v, float) else v) for k, v in r.items()})
-    return buf.getvalue()
 
 
 def _text_table(res) -> str:
@@ -74,7 +62,7 @@ def sensitivity(
     Failed runs (infeasible points) are recorded and left out of the indices block-wise.
     Exit codes: 0 done, 1 every run failed, 2 bad input, 3 SALib or Dask not installed.
     """
-    from .._io import json_text, save_figure, write_text_atomic
+    from .._io import csv_text, json_text, save_figure, write_text_atomic
     from ..studies import sensitivity as sens
     from ._common import check_out_dir, parse_sets
 
@@ -113,9 +101,9 @@ def sensitivity(
         out = Path(out)
         try:
             write_text_atomic(out / "sensitivity.json", json_text(data, indent=1))
-            write_text_atomic(out / "sensitivity_indices.csv", _csv(res.table()))
-            write_text_atomic(out / "sensitivity_distributions.csv", _csv(res.distribution_table()))
-            write_text_atomic(out / "sensitivity_runs.csv", _csv(res.runs_table()))
+            write_text_atomic(out / "sensitivity_indices.csv", csv_text(res.table()))
+            write_text_atomic(out / "sensitivity_distributions.csv", csv_text(res.distribution_table()))
+            write_text_atomic(out / "sensitivity_runs.csv", csv_text(res.runs_table()))
             save_figure(sens.plot_sensitivity(data), out / "sensitivity.png", dpi=110)
         except (ValueError, OSError) as exc:
             typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)

@@ -8,9 +8,7 @@ then and is not a dependency of rotarydryer).
 from __future__ import annotations
 
 import csv
-import io
 import itertools
-import json
 from pathlib import Path
 from typing import List, Optional
 
@@ -139,13 +137,10 @@ def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Opt
 
 
 def rows_to_csv(rows: list[dict]) -> str:
-    cols = list(dict.fromkeys(k for r in rows for k in r if k != "error")) + ["error"]
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
-    return buf.getvalue()
+    """CSV text of sweep rows, the ``error`` column last (:func:`rotarydryer._io.csv_text`)."""
+    from .._io import csv_text
+
+    return csv_text(rows, last=("error",))
 
 
 @app.command("sweep")

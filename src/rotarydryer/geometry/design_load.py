@@ -113,7 +113,7 @@ def design_load_mass(drum: FlightedDrum, repose_angle, bulk_density, length, **k
 
 
 def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, convention: str = "root",
-                   particle_diameter=None):
+                   particle_diameter=None, smoothing=0.0):
     """Flight loading factor ``f_load`` from the dryer loading ``d_load = M_p / M_p,des``.
 
     Solves Lee (2008) Eq. 4.22 exactly,
@@ -122,13 +122,14 @@ def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, conventio
     inverse is found segment by segment (no iteration). ``f = 1`` for ``d >= 1``
     (a flight never holds more than its design load; the excess kilns).
     Vectorised over both arguments. ``dryer_loading`` must be >= 0. ``particle_diameter`` (m,
-    optional): finite-particle correction of the holdups (``docs/dem.md``).
+    optional): finite-particle correction of the holdups (``docs/dem.md``). ``smoothing`` > 0 rounds
+    the kinks of ``f(d)`` over that width of ``d`` (see :func:`_invert_eq_4_22`).
     """
     d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
     d, phi = np.broadcast_arrays(d, phi)
     h0, hi = _upper_flight_holdups(drum, phi, convention, particle_diameter)
-    return _invert_eq_4_22(d, h0, hi)
+    return _invert_eq_4_22(d, h0, hi, smoothing)
 
 
 def _invert_eq_4_22(d, h0, hi, smoothing=0.0):

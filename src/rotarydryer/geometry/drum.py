@@ -364,7 +364,8 @@ class FlightedDrum:
         return design_load_area(self, repose_angle, method=method, convention=convention,
                                 particle_diameter=particle_diameter)
 
-    def loading_factor(self, dryer_loading, repose_angle, *, convention="root", particle_diameter=None):
+    def loading_factor(self, dryer_loading, repose_angle, *, convention="root", particle_diameter=None,
+                       smoothing=0.0):
         """Flight loading factor from the dryer loading (Lee (2008) Eq. 4.22, solved exactly).
 
         See :func:`rotarydryer.geometry.design_load.loading_factor`.
@@ -372,7 +373,7 @@ class FlightedDrum:
         from .design_load import loading_factor
 
         return loading_factor(self, dryer_loading, repose_angle, convention=convention,
-                              particle_diameter=particle_diameter)
+                              particle_diameter=particle_diameter, smoothing=smoothing)
 
     # ------------------------------------------------------------------ coordinates
     def flight_outline(self, psi: float) -> np.ndarray:

@@ -141,13 +141,7 @@ class ExactGeometry:
         over that width of the dryer loading (see ``geometry.design_load._invert_eq_4_22``)."""
         if self.tabulated:
             return self.table.loading_factor(d, phi, smoothing)
-        if smoothing > 0.0:
-            from ..geometry.design_load import _invert_eq_4_22, _upper_flight_holdups
-
-            d, phi = np.broadcast_arrays(np.asarray(d, float), np.asarray(phi, float))
-            h0, hi = _upper_flight_holdups(self.drum, phi, "root", self.particle_diameter)
-            return _invert_eq_4_22(d, h0, hi, smoothing)
-        return self.drum.loading_factor(d, phi, **self._kw)
+        return self.drum.loading_factor(d, phi, smoothing=smoothing, **self._kw)
 
     def cascade(self, phi, f, *, rpm, slope=0.0, passive_time_branch=None):
         kw = dict(rpm=rpm, slope=slope)
