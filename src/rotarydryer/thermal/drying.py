@@ -272,6 +272,15 @@ class DryingKinetics:
     ``critical_moisture``, ``equilibrium_moisture`` kg/kg dry (not needed for ajayi2011);
     ``exponent`` / ``curve`` for the characteristic curve; ``basis`` and
     ``saturation_method`` of the unhindered flux.
+
+    Below the equilibrium moisture (Φ < 0) the rate of :meth:`rate` continues linearly in
+    Φ = (X - X_e)/(X_cr - X_e): the solids take up water from an unsaturated gas at a rate that
+    grows with their distance from equilibrium (sorption towards X_e). The rate is therefore
+    continuous with a slope through X_e; a rate that stopped dead at X_e left the steady-state
+    Newton iteration of a dryer whose product reaches equilibrium (long residence times) without a
+    slope there, and it cycled. Steady states with X >= X_e (drying) are the same as with a rate
+    clipped at zero. :meth:`factor` and :func:`falling_rate_factor` stay the characteristic curve
+    itself, in [0, 1].
     """
 
     method: str = "ajayi2011"
@@ -289,6 +298,8 @@ class DryingKinetics:
         check_choice("saturation_method", self.saturation_method, water.SATURATION_METHODS)
         if self.method != "ajayi2011" and self.critical_moisture is None:
             raise ValueError(f"method={self.method!r} needs critical_moisture (kg/kg dry)")
+        if self.method != "ajayi2011":      # the curve's checks once here: _rate evaluates it unchecked
+            self.factor(np.array([0.0, float(self.critical_moisture)]))
 
     def factor(self, moisture):
         """Falling-rate factor (1 = unhindered) at dry-basis moisture."""
@@ -310,8 +321,22 @@ class DryingKinetics:
         """Unchecked kernel of :meth:`rate` (area, hc, ts, tg, y, p validated arrays; ts 0-150 °C)."""
         flux = _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, self.basis, self.saturation_method, True,
                                        condensation)
-        f = self.factor(moisture)
+        f = self._factor(moisture)
         return area * np.where(flux > 0, f * flux, flux)
+
+    def _factor(self, moisture):
+        """Unchecked :meth:`factor`, continued linearly below the equilibrium moisture (class docstring)."""
+        if self.method == "ajayi2011":
+            return 1.0
+        xe, xcr = self.equilibrium_moisture, self.critical_moisture
+        u = (np.asarray(moisture, dtype=float) - xe) / (xcr - xe)
+        phi = np.clip(u, 0.0, 1.0)
+        if self.method == "characteristic_curve" and self.curve is not None:
+            pts, vals = (np.asarray(c, float) for c in self.curve)
+            f = np.interp(phi, pts, vals)
+        else:
+            f = phi ** (1.0 if self.method == "constant_falling" else self.exponent)
+        return np.where(u < 0.0, f + u, f)
 
 
 #: Kinetics per material. Ajayi's zinc concentrate: thesis form (no falling rate);

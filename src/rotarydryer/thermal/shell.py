@@ -54,7 +54,7 @@ import numpy as np
 from .._validation import check_positive, check_range
 from ..properties import humid_air as ha
 from . import radiation as rad
-from ._roots import illinois
+from ._roots import illinois, newton_from_guess
 
 __all__ = ["ShellHeatLoss", "shell_heat_loss", "ajayi2011_heat_loss", "ajayi2011_outside_air_properties", "steel_conductivity_ajayi2011",
            "churchill_chu_nusselt", "sieder_tate_nusselt", "AJAYI_SHELL_TEMPERATURES"]
@@ -147,9 +147,9 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
     steel_conductivity : callable
         k(T °C) in W/(m K).
     outer_guess : array_like, optional
-        Outer surface temperatures (°C) of a nearby solve (e.g. the previous solver step): the
-        root is bracketed within 2 K of them where possible, which saves most iterations; the
-        root and its tolerance are the same.
+        Outer surface temperatures (°C) of a nearby solve (e.g. the previous solver step):
+        Newton's method from them (2-3 steps instead of about 11 bracketing steps), falling back
+        to the bracketed root when it does not settle; the root and its tolerance are the same.
 
     Examples
     --------
@@ -263,15 +263,12 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         return q_in * 2 * math.pi * r_exp - qp_out
 
     hi = np.array(tg, dtype=float) + np.zeros(tg.shape)
-    f_lo = f_hi = None
+    to = None
     if outer_guess is not None:
         g = np.broadcast_to(np.asarray(outer_guess, dtype=float), tg.shape)
-        a, b = np.clip(g - 2.0, lo, hi), np.clip(g + 2.0, lo, hi)
-        fa, fb = residual(a), residual(b)
-        ok = np.isfinite(fa) & np.isfinite(fb) & (np.sign(fa) != np.sign(fb))
-        if np.all(ok):                     # every stage bracketed near the guess
-            lo, hi, f_lo, f_hi = a, b, fa, fb
-    to = illinois(residual, lo, hi, f_lo=f_lo, f_hi=f_hi, xtol=1e-9)
+        to = newton_from_guess(residual, g, lo, hi, xtol=1e-9)
+    if to is None:                         # no guess, or Newton did not settle: the bracketed root
+        to = illinois(residual, lo, hi, xtol=1e-9)
     twi, qp_out, rc = inner_from_outer(to)
     q_in, h_c, q_r = inside_flux(twi)
     qp_in = q_in * 2 * math.pi * r_exp

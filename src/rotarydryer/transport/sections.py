@@ -180,12 +180,15 @@ class FlightedSectionLaw:
         """(repose angle deg, bulk density kg/m^3) per cell at wet-basis moisture ``x``."""
         phi = self._fixed_phi if self._fixed_phi is not None else self.material.repose_angle(x)
         rho = self._fixed_rho if self._fixed_rho is not None else self.material.bulk_density(x)
-        return np.asarray(phi, float) * np.ones(self.n), np.asarray(rho, float) * np.ones(self.n)
+        ones = np.ones(np.broadcast_shapes(np.shape(x), (self.n,)))   # (n,) or a batch (k, n)
+        return np.asarray(phi, float) * ones, np.asarray(rho, float) * ones
 
     def design_load(self, phi, rho, fouling=None):
         s = self.spec
         fouling = s.fouling if fouling is None else fouling
-        return rho * self.dl * np.asarray(s.geometry.design_load_area(phi), dtype=float) * (1.0 - fouling)
+        phi = np.asarray(phi, dtype=float)
+        area = np.asarray(s.geometry.design_load_area(phi.ravel()), dtype=float).reshape(phi.shape)
+        return rho * self.dl * area * (1.0 - fouling)
 
     @property
     def trajectory(self) -> bool:
@@ -204,14 +207,17 @@ class FlightedSectionLaw:
         kw = dict(rpm=self.rpm if rpm is None else rpm, slope=self.slope)
         if self.spec.passive_time_branch is not None:
             kw["passive_time_branch"] = self.spec.passive_time_branch
-        c = self.spec.geometry.cascade(phi, f, **kw)
+        phi = np.asarray(phi, dtype=float)
+        shape = np.broadcast_shapes(phi.shape, np.shape(f))     # (n,) or a batch (k, n)
+        phi, f = np.broadcast_to(phi, shape), np.broadcast_to(np.asarray(f, dtype=float), shape)
+        c = self.spec.geometry.cascade(phi.ravel(), f.ravel(), **kw)
         s = self.spec
-        tp = np.asarray(c.passive_time, float)
-        ta = np.asarray(c.mean_fall_time, float)
-        h = np.asarray(c.mean_fall_height, float)
+        tp = np.asarray(c.passive_time, float).reshape(shape)
+        ta = np.asarray(c.mean_fall_time, float).reshape(shape)
+        h = np.asarray(c.mean_fall_height, float).reshape(shape)
         if not self.trajectory:
             CF = s.drag_reduction * h * self.sin_t / self.dl
-            return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(self.n, float(s.backmix)))
+            return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(shape, float(s.backmix)))
         from .forward_step import trajectory_forward_step
 
         if flight_mass is None:
@@ -242,12 +248,13 @@ class FlightedSectionLaw:
         """Flight loading factor at passive mass ``mp`` and design load ``des``; ``smoothing`` (> 0,
         the thermal model's ``design_load_smoothing``) rounds the kinks of the exact geometry's."""
         if self.spec.loading == "fixed":
-            return np.ones(self.n)
+            return np.ones(np.broadcast_shapes(np.shape(mp), (self.n,)))
         d = np.clip(mp / des, 1e-6, None)
+        phi = np.broadcast_to(phi, d.shape).ravel()
         g = self.spec.geometry
-        f = g.loading_factor(d, phi, smoothing=smoothing) if smoothing > 0 and isinstance(g, ExactGeometry) \
-            else g.loading_factor(d, phi)
-        return np.clip(np.asarray(f, dtype=float), 1e-6, 1.0)
+        f = g.loading_factor(d.ravel(), phi, smoothing=smoothing) if smoothing > 0 and isinstance(g, ExactGeometry) \
+            else g.loading_factor(d.ravel(), phi)
+        return np.clip(np.asarray(f, dtype=float).reshape(d.shape), 1e-6, 1.0)
 
     def rates(self, phi, f, rpm=None, flight_mass=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
@@ -258,15 +265,22 @@ class FlightedSectionLaw:
         s = self.spec
         out = dict(discharge=1.0 / c["tp"], forward=c["CF"] / c["ta"], backmix=c["CB"] / c["ta"])
         out["return"] = c["CR"] / c["ta"]
-        out["kiln"] = (np.full(self.n, 1.0 / s.kiln_time) if s.kilning == "excess"
-                       else np.full(self.n, s.kiln_velocity / self.dl))
+        shape = np.shape(c["tp"])
+        out["kiln"] = (np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess"
+                       else np.full(shape, s.kiln_velocity / self.dl))
         return out
 
     def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0):
         """dict family name -> coefficient (1/s), plus ``"design_load"`` (kg) and the properties,
         at wet passive masses ``mp`` (kg) and wet-basis moisture ``x``; ``rpm`` and ``fouling``
         replace the section's values (studies that change them); ``smoothing``: see
-        :meth:`loading_factor`."""
+        :meth:`loading_factor`. ``mp`` (and ``x``) may carry a leading batch axis, shape (k, n): the
+        coefficients of k states at once (the heat-and-mass model's finite-difference Jacobian)."""
+        mp = np.asarray(mp, dtype=float)
+        if mp.ndim == 2 and self.trajectory:     # the trajectory step works cell by cell: row by row
+            xs = np.broadcast_to(np.asarray(x, dtype=float), mp.shape)
+            rows = [self.evaluate(mp[i], xs[i], rpm, fouling, smoothing) for i in range(mp.shape[0])]
+            return {k: np.stack([np.broadcast_to(r[k], (self.n,)) for r in rows]) for k in rows[0]}
         phi, rho = self.properties(x)
         des = self.design_load(phi, rho, fouling)
         f = self.loading_factor(mp, des, phi, smoothing)
@@ -285,7 +299,7 @@ class EmpiricalSectionLaw(FlightedSectionLaw):
 
     def rates(self, phi, f, rpm=None):
         r = self.spec.rates
-        return {fam: np.full(self.n, float(r[key])) for fam, key in self.NAMES.items()}
+        return {fam: np.full(np.shape(phi), float(r[key])) for fam, key in self.NAMES.items()}
 
     def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0):
         phi, rho = self.properties(x)

@@ -1,0 +1,122 @@
+"""Issue 16 (part 1): the dryer residual evaluated for a batch of states in one call (the
+finite-difference Jacobian perturbs all column groups at once) equals the residual of each state."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rotarydryer import Simulation
+from rotarydryer._sparse_fd import sparse_fd_jacobian
+from rotarydryer.thermal._roots import illinois, newton_from_guess
+from rotarydryer.thermal.drying import DryingKinetics
+
+CASES = [("ajayi2011_mmg", {"operating.test": 4}),
+         ("ajayi2011_mmg", {"operating.test": 4, "thermal.mode": "ajayi2011",
+                            "geometry.method": "ajayi2011_regressions"}),
+         ("lee2008_invicta", {}), ("song2003_ottawa", {})]
+
+
+@pytest.fixture(scope="module", params=CASES, ids=["mmg", "mmg-thesis", "invicta", "song"])
+def dryer_state(request):
+    case, ov = request.param
+    d = Simulation(case, ov).thermal_dryer()
+    z = d.initial_state()
+    d.freeze_shell(z)
+    return d, z
+
+
+def _batch(d, z, seed):
+    """Columns: the state itself, states with the masses / temperatures / gas of random nodes moved."""
+    rng = np.random.default_rng(seed)
+    cols = [z.copy()]
+    for _ in range(6):
+        x = z.copy()
+        j = rng.choice(d.n, size=rng.integers(1, 40), replace=False)
+        x[j] *= 1.0 + rng.uniform(-1e-3, 1e-3, j.size)
+        cols.append(x)
+    return np.stack(cols, axis=1)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_batch_equals_columns(dryer_state, seed):
+    d, z = dryer_state
+    d.rhs(0.0, z)                       # the law cache holds the base state: batch rows equal to it are reused
+    Z = _batch(d, z, seed)
+    batch = d.rhs(0.0, Z)
+    assert batch.shape == Z.shape
+    for k in range(Z.shape[1]):
+        single = d.rhs(0.0, Z[:, k])
+        np.testing.assert_allclose(batch[:, k], single, rtol=1e-13, atol=1e-13 * np.max(np.abs(single)))
+    one = d.rhs(0.0, Z[:, :1])          # (n, 1): SciPy's vectorized calls of one state
+    assert one.shape == (d.n, 1)
+    np.testing.assert_array_equal(one[:, 0], d.rhs(0.0, Z[:, 0]))
+
+
+def test_vectorized_jacobian_equals_group_by_group(dryer_state):
+    d, z = dryer_state
+    d.sparsity()
+    step = np.maximum(np.abs(z) * 1e-7, d._scale() * 1e-8)
+    f0 = d.rhs(0.0, z)
+    a = sparse_fd_jacobian(lambda x: d.rhs(0.0, x), z, d.sparsity(), d._groups, step=step, f0=f0, vectorized=True)
+    b = sparse_fd_jacobian(lambda x: d.rhs(0.0, x), z, d.sparsity(), d._groups, step=step, f0=f0)
+    scale = np.abs(b).max()
+    assert abs(a - b).max() <= 1e-12 * scale
+
+
+def test_section_law_batch_equals_rows():
+    d = Simulation("lee2008_invicta").thermal_dryer()
+    for law in d.laws:
+        n = law.P.size
+        rng = np.random.default_rng(3)
+        mp = rng.uniform(0.1, 3.0, (5, n)) * np.max(law.evaluate(np.ones(n), np.full(n, 0.01))["design_load"])
+        x = rng.uniform(0.001, 0.03, (5, n))
+        batch = law.evaluate(mp, x, rpm=d.rpm)
+        for i in range(5):
+            row = law.evaluate(mp[i], x[i], rpm=d.rpm)
+            for key, v in row.items():
+                np.testing.assert_allclose(np.broadcast_to(batch[key][i], np.shape(v)), v, rtol=1e-13, atol=0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(root=st.floats(0.5, 9.5), shift=st.floats(-3.0, 3.0), curv=st.floats(0.0, 0.3))
+def test_newton_from_guess_finds_the_bracketed_root(root, shift, curv):
+    def f(x):
+        return (x - root) * (1.0 + curv * x)
+    a = illinois(f, np.array([0.0]), np.array([10.0]), xtol=1e-12)
+    b = newton_from_guess(f, np.array([root + shift]), np.array([0.0]), np.array([10.0]), xtol=1e-12)
+    assert b is not None
+    assert b == pytest.approx(a, abs=1e-9)
+
+
+def test_newton_from_guess_gives_up_without_a_slope():
+    assert newton_from_guess(lambda x: np.ones_like(x), np.array([1.0]), 0.0, 2.0) is None
+    assert newton_from_guess(lambda x: np.where(x > 1, 1.0, -1.0), np.array([0.2]), 0.0, 2.0, max_iter=5) is None
+
+
+@pytest.mark.parametrize("kin", [
+    DryingKinetics("constant_falling", critical_moisture=0.01, equilibrium_moisture=0.0005),
+    DryingKinetics("characteristic_curve", critical_moisture=0.15, equilibrium_moisture=0.01, exponent=2.0),
+    DryingKinetics("characteristic_curve", critical_moisture=0.15, equilibrium_moisture=0.01,
+                   curve=((0, 0.5, 1), (0, 0.8, 1)))])
+def test_rate_continues_through_the_equilibrium_moisture(kin):
+    """Zero at X_e, negative (sorption) below it, continuous; above X_e the characteristic curve."""
+    xe, xcr = kin.equilibrium_moisture, kin.critical_moisture
+    args = (70.0, 50.0, 300.0, 0.02)
+    r = lambda x: float(kin.rate(1.0, x, *args))      # noqa: E731
+    assert r(xe) == 0.0
+    assert r(0.5 * xe) < 0.0 < r(xe + 0.1 * (xcr - xe))
+    h = 1e-9
+    assert abs(r(xe - h) - r(xe + h)) < 1e-6 * abs(r(xcr))
+    xs = np.linspace(0.0, 2 * xcr, 101)
+    assert np.all(np.diff(kin.rate(1.0, xs, *args)) >= 0.0)
+    mid = 0.5 * (xe + xcr)
+    assert r(mid) == pytest.approx(float(kin.factor(mid)) * r(2 * xcr))
+
+
+def test_invicta_small_feed_converges_without_a_restart():
+    """The product reaches equilibrium moisture after about ten days in the drum: the rate's slope
+    through X_e lets Newton converge directly (it cycled at the kink before)."""
+    ss = Simulation("lee2008_invicta", {"operating.feed_rate": 0.01}).thermal_dryer().steady_state()
+    assert ss.iterations < 150
+    assert ss.water_balance_error < 1e-6 and ss.energy_balance_error < 1e-6
