@@ -175,14 +175,18 @@ def _check_case(case, base: dict, params: dict) -> None:
             load_case(case, {**base, key: v})
 
 
-def _steady_summary(case, overrides: dict, warm_state=None):
-    """``(summary dict, coupled state or None)`` of one run; warm start from ``warm_state``
-    when it fits (cold start otherwise or when the warm start does not converge)."""
+def _steady_summary(case, overrides: dict, warm_state=None, warm_transport=None):
+    """``(summary dict, coupled state or None, transport masses)`` of one run; warm start from
+    ``warm_state`` (coupled) and ``warm_transport`` (the transport steady state of the feasibility
+    checks) when they fit (cold start otherwise or when the warm start does not converge)."""
     from ..simulation import Simulation, SteadyResult
 
     sim = Simulation(case, overrides)
+    net = sim.transport_model().network
+    if warm_transport is not None and np.shape(warm_transport) == (net.n,) and net.initial_guess is None:
+        net.initial_guess = warm_transport     # Newton from a nearby run's masses: the same steady state
     if warm_state is not None and sim.thermal_enabled:
-        sim.transport_steady_state()            # feasibility checks, as steady_state() does
+        transport = sim.transport_steady_state()            # feasibility checks, as steady_state() does
         d = sim.thermal_dryer()
         if np.shape(warm_state) == (d.n,):
             try:
@@ -190,9 +194,10 @@ def _steady_summary(case, overrides: dict, warm_state=None):
             except ValueError:                 # DryerError: try the case's own cold start
                 th = None
             if th is not None:
-                return SteadyResult(sim, None, th).summary(), th.state
+                return SteadyResult(sim, None, th).summary(), th.state, transport.masses
     res = sim.steady_state()
-    return res.summary(), (res.thermal.state if res.thermal is not None else None)
+    return (res.summary(), (res.thermal.state if res.thermal is not None else None),
+            sim.transport_steady_state().masses)
 
 
 def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Sequence[str],
@@ -205,7 +210,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
     X = np.asarray(X, dtype=float)
     Y = np.full((len(X), len(outputs)), np.nan)
     errors = [""] * len(X)
-    memory: list[tuple[np.ndarray, np.ndarray]] = []     # (normalised point, state)
+    memory: list[tuple] = []     # (normalised point, coupled state, transport masses)
     span = np.ptp(X, axis=0) if len(X) else np.ones(len(keys))
     span = np.where(span > 0, span, 1.0)
     with single_threaded():
@@ -215,14 +220,14 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
                 if callable(case):
                     out, state = case(point), None
                 else:
-                    warm = None
+                    warm = warm_m = None
                     if warm_start and memory:
                         u = x / span
                         j = int(np.argmin([np.sum((u - m[0]) ** 2) for m in memory]))
-                        warm = memory[j][1]
-                    out, state = _steady_summary(case, {**base, **point}, warm)
+                        warm, warm_m = memory[j][1], memory[j][2]
+                    out, state, masses = _steady_summary(case, {**base, **point}, warm, warm_m)
                     if state is not None and warm_start:
-                        memory.append((x / span, state))
+                        memory.append((x / span, state, masses))
                         if len(memory) > WARM_MEMORY:
                             memory.pop(0)
             except (ValueError, ArithmeticError, MemoryError) as exc:   # one bad point never ends the study

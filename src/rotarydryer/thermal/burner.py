@@ -44,6 +44,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 
 from .._validation import check_choice, check_positive, check_range
@@ -341,6 +343,24 @@ def combustion_chamber(fuel_rate, combustion_air, dilution_air, air_temperature_
                   energy_balance_error=e_err)
 
 
+def _fuel_rate_in_range(target, combustion_air, dilution_air, f_max, kw):
+    """The closed-form fuel rate when the inputs pass the chamber's checks and it lies in [0, f_max];
+    None otherwise (then the bracketed search raises the chamber's or the burner's error)."""
+    ta = kw.get("air_temperature_c", 26.0)
+    y = kw.get("air_humidity", AJAYI_AIR_HUMIDITY)
+    tf = kw.get("fuel_temperature_c", 25.0)
+    loss = kw.get("heat_loss_fraction", 0.0)
+    unknown = set(kw) - {"air_temperature_c", "air_humidity", "fuel_temperature_c", "heat_loss_fraction", "fuel"}
+    if unknown or any(np.ndim(v) != 0 for v in (ta, y, tf, loss, combustion_air, dilution_air)):
+        return None
+    ta, y, tf, loss, ad = (float(v) for v in (ta, y, tf, loss, dilution_air))
+    if not (-20.0 < ta < 400.0 and 0.0 <= y <= 0.3 and -20.0 < tf < 200.0 and 0.0 <= loss < 1.0
+            and ad >= 0.0 and combustion_air + ad > 0.0 and target > ta):
+        return None
+    f = _fuel_rate_linear(target, combustion_air, ad, kw.get("fuel", AJAYI_FUEL_OIL), ta, y, tf, loss)
+    return f if math.isfinite(f) and 0.0 <= f <= f_max else None
+
+
 def fuel_rate_for_temperature(target_temperature_c, combustion_air, dilution_air, max_fuel_rate=None,
                               **chamber_kwargs):
     """Fuel rate, kg/s, that brings the hot gas to ``target_temperature_c`` (°C).
@@ -366,6 +386,30 @@ def fuel_rate_for_temperature(target_temperature_c, combustion_air, dilution_air
     return out if out.ndim else float(out)
 
 
+def _fuel_rate_linear(target_c, combustion_air, dilution_air, fuel=AJAYI_FUEL_OIL, air_temperature_c=26.0,
+                      air_humidity=AJAYI_AIR_HUMIDITY, fuel_temperature_c=25.0, heat_loss_fraction=0.0):
+    """Fuel rate (kg/s) whose products leave :func:`combustion_chamber` at ``target_c`` °C, in closed form.
+
+    At a given gas temperature the chamber's energy balance is linear in the fuel rate f: the
+    product moles are n(f) = n(0) + f dn (``_products``), the heat in is h_air + f (c_p,fuel
+    (T_f - 25) + (1 - loss) LHV). So f = (h_air - n(0).h(T)) / (dn.h(T) - c_p,fuel (T_f - 25) -
+    (1 - loss) LHV): the root that bracketing the chamber temperature over f finds, without the
+    two nested root searches. Unchecked: the caller checks the inputs and the range of f."""
+    air_c = _air_moles(combustion_air, air_humidity)
+    air_d = _air_moles(dilution_air, air_humidity)
+    n0, _ = _products(0.0, air_c, air_d, fuel)
+    n1, _ = _products(1.0, air_c, air_d, fuel)
+
+    def h(species, t):   # kJ/kmol relative to 25 degC, as _h_molar (unchecked)
+        return comb._species_enthalpy(species, t, REFERENCE_C) * comb.MOLAR_MASS[species]
+    h_air = sum((air_c[s] + air_d[s]) * h(s, air_temperature_c) for s in ("N2", "O2", "Ar", "H2O")) * 1000.0
+    hk = {s: h(s, target_c) for s in comb.SPECIES}
+    hp0 = sum(n0[s] * hk[s] for s in comb.SPECIES) * 1000.0
+    dhp = sum((n1[s] - n0[s]) * hk[s] for s in comb.SPECIES) * 1000.0
+    heat_per_fuel = fuel.heat_capacity * (fuel_temperature_c - REFERENCE_C) + (1.0 - heat_loss_fraction) * fuel.lhv
+    return float((h_air - hp0) / (dhp - heat_per_fuel))
+
+
 def _fuel_rate_scalar(target_temperature_c, combustion_air, dilution_air, max_fuel_rate=None, **chamber_kwargs):
     target = check_range("target_temperature_c", target_temperature_c, -20.0, 726.0, unit="degC")
     fuel = chamber_kwargs.get("fuel", AJAYI_FUEL_OIL)
@@ -377,6 +421,9 @@ def _fuel_rate_scalar(target_temperature_c, combustion_air, dilution_air, max_fu
     f_max = f_stoich if max_fuel_rate is None else np.minimum(f_stoich, check_positive("max_fuel_rate",
                                                                                        max_fuel_rate, "kg/s"))
     target, f_max = np.broadcast_arrays(target, f_max)
+    fast = _fuel_rate_in_range(float(target), ac, dilution_air, float(f_max), kw)
+    if fast is not None:
+        return fast
     t0 = combustion_chamber(0.0, combustion_air, dilution_air, **kw).temperature_c
     if np.any(target < t0 - 1e-9):
         raise ValueError(f"target_temperature_c = {float(np.min(target)):g} degC is below the air temperature "

@@ -199,6 +199,10 @@ class ThermalSettings:
         return self
 
 
+#: column groups of the Jacobian patterns met so far (pattern bytes -> groups), oldest dropped first
+_GROUPS_CACHE: dict = {}
+
+
 def _scatter(index, weights, n):
     """``np.bincount(index, weights, n)`` along the last axis of ``weights`` (1-D or a batch (k, e)):
     the sums over edges into nodes, in the same order (so the same rounding) for every row."""
@@ -609,6 +613,22 @@ class ThermalDryer:
         dT = np.maximum(Tg - self.settings.ambient_temperature, 1e-6)
         self._shell_ua = self._shell_loss_exact(Tg, Y, Tg_up) / dT
 
+    def _refreeze_shell(self, z, f):
+        """Freeze the shell loss at ``z`` and return ``f`` (the residual at z with the previous
+        coefficient, or unfrozen) corrected to the new coefficient: only the gas temperature
+        rows change, by the change of the loss over M_g c_s (:meth:`rhs`)."""
+        old = self._shell_ua
+        self.freeze_shell(z)
+        if old is None:
+            return self.rhs(0.0, z)
+        S, W, T, Tg, Y = self.split(z)
+        s = self.settings
+        dq = (self._shell_ua - old) * (Tg - s.ambient_temperature)
+        f = f.copy()
+        nt, ng = self.n_tanks, self.n_gas
+        f[3 * nt:3 * nt + ng] -= dq / (self.gas_holdup * bal._gas_heat_capacity(Tg, Y, s.mode))
+        return f
+
     def unfreeze_shell(self):
         self._shell_ua = None
 
@@ -693,8 +713,18 @@ class ThermalDryer:
         r, c = np.concatenate(rows), np.concatenate(cols)
         pat = sp.csr_matrix((np.ones(r.size), (r, c)), shape=(self.n, self.n))
         pat.data[:] = 1.0
+        pat.sort_indices()
+        # the greedy grouping loops over the columns in Python: reuse it for the same pattern (the
+        # runs of a study or a sweep build one dryer each, all with the same network)
+        key = (self.n, pat.indptr.tobytes(), pat.indices.tobytes())
+        groups = _GROUPS_CACHE.get(key)
+        if groups is None:
+            groups = column_groups(pat)
+            _GROUPS_CACHE[key] = groups
+            while len(_GROUPS_CACHE) > 16:
+                _GROUPS_CACHE.pop(next(iter(_GROUPS_CACHE)))
         self._pattern = pat
-        self._groups = column_groups(pat)
+        self._groups = groups
         return pat
 
     def jacobian(self, z, f0=None):
@@ -740,20 +770,24 @@ class ThermalDryer:
         t0 = time.perf_counter()
         z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
         sc = self._scale()
-        f = self.rhs(0.0, z)
+        eye = sp.identity(self.n, format="csc")
+        self.freeze_shell(z)
+        f = self.rhs(0.0, z)          # the frozen shell loss equals the exact one at z
         norm = np.max(np.abs(f) / sc)
         dt = dt0
+        J = lu = None                 # Jacobian at z (shell frozen at z) and the factorised I/dt - J
         it = 0
         for it in range(1, max_iter + 1):
-            self.freeze_shell(z)
-            f = self.rhs(0.0, z)
-            J = self.jacobian(z, f)
-            A = sp.identity(self.n, format="csc") / dt - J
-            try:
-                dz = splu(A.tocsc()).solve(f)
-            except RuntimeError:
-                dt *= 0.2
-                continue
+            if J is None:
+                J = self.jacobian(z, f)
+                lu = None
+            if lu is None:
+                try:
+                    lu = splu((eye / dt - J).tocsc())
+                except RuntimeError:
+                    dt *= 0.2
+                    continue
+            dz = lu.solve(f)
             zn = z + dz
             ok = self._admissible(zn)
             fn, nn = None, np.inf
@@ -764,12 +798,14 @@ class ThermalDryer:
                 except DryerError:
                     ok = False
             if not ok or not np.isfinite(nn) or (nn > 10 * norm and dt > dt0):
-                dt *= 0.25
+                dt *= 0.25            # the same state: only the pseudo-time step changes, J stays
+                lu = None
                 if dt < 1e-6:
                     break
                 continue
+            ratio = nn / max(norm, 1e-300)
             z, f = zn, fn
-            dt = min(dt * min(max(norm / max(nn, 1e-300), 0.5), 10.0) * 1.5, 1e12)
+            dt = min(dt * min(max(1.0 / max(ratio, 1e-300), 0.5), 10.0) * 1.5, 1e12)
             norm = nn
             if verbose:
                 print(it, norm, dt)
@@ -779,6 +815,12 @@ class ThermalDryer:
                 norm = np.max(np.abs(f) / sc)
                 if norm < tol:
                     break
+            f = self._refreeze_shell(z, f)
+            # converging fast (the residual fell 100-fold): keep the factorisation for a chord step
+            # instead of a new Jacobian (the fixed point f = 0 is the same for any pseudo-time
+            # step); a step that falls less recomputes it
+            if not ratio < 1e-2:
+                J = None
         self.unfreeze_shell()
         ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
         if norm >= tol * 1e3 or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:

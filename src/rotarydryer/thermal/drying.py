@@ -168,9 +168,16 @@ def _mass_transfer_inputs(heat_transfer_coefficient, gas_temperature_c, gas_humi
 def _mass_transfer_coefficient(hc, tg, y, ts, p, cp, pr, sc, basis):
     """Unchecked kernel of :func:`mass_transfer_coefficient` (arguments as returned by its checks)."""
     film = 0.5 * (tg + (tg if ts is None else ts))
-    cp = ha._heat_capacity(film, y) if cp is None else cp
-    pr = ha._prandtl_number(film, y) if pr is None else pr
-    sc = ha._schmidt_number(film, y, p) if sc is None else sc
+    # the film properties evaluated once (ha._prandtl_number and ha._schmidt_number would each
+    # evaluate the mixture viscosity again): the same expressions, the same numbers
+    cp_film = ha._heat_capacity(film, y) if cp is None or pr is None else None
+    cp = cp_film if cp is None else cp
+    if pr is None or sc is None:
+        mu, k = ha._transport(film, y)
+        if pr is None:
+            pr = cp_film * mu / k
+        if sc is None:
+            sc = mu / (ha._density(film, y, p) * ha._water_vapour_diffusivity(film, p))
     lewis_term = (pr / sc) ** (2.0 / 3.0)
     if basis == "ajayi2011":
         pv = ha._vapour_partial_pressure(y, p)

@@ -70,6 +70,7 @@ _SMITH = {
              (0.5492e-1, 0.1087e-4, -0.3500e-7, 0.9123e-11))),
 }
 _ANCHORS = (("h2o", 0.0), ("ratio2", 1.0 / 3.0), ("ratio1", 0.5), ("co2", 1.0))
+_ANCHOR_FC = np.array([x for _, x in _ANCHORS])
 ATM = 101325.0
 
 
@@ -93,14 +94,19 @@ def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
     pc = p_co2 / ATM
     pa = ph + pc
     fc = np.where(pa > 0, pc / np.where(pa > 0, pa, 1.0), 0.0)
-    values = []
-    for name, _ in _ANCHORS:
+    xs = _ANCHOR_FC
+    # only the anchor sets that bracket some CO2 fraction are evaluated (the others would be
+    # weighted by nothing): usually two of the four for combustion gas with moisture
+    seg_of = np.clip(np.searchsorted(xs, fc, side="right") - 1, 0, len(xs) - 2)
+    used = np.unique(seg_of)
+    values = {}
+    for k in np.union1d(used, used + 1):
+        name = _ANCHORS[k][0]
         p = ph if name == "h2o" else (pc if name == "co2" else pa)
-        values.append(_wsgg(name, t_weights_k, p * path_length))
-    xs = np.array([x for _, x in _ANCHORS])
-    out = np.zeros(np.broadcast(fc, *values).shape)
+        values[k] = _wsgg(name, t_weights_k, p * path_length)
+    out = np.zeros(np.broadcast(fc, *values.values()).shape)
     fcb = np.broadcast_to(fc, out.shape)
-    for k in range(len(xs) - 1):
+    for k in used:
         lo, hi = xs[k], xs[k + 1]
         w = (fcb - lo) / (hi - lo)
         seg = (fcb >= lo) & ((fcb < hi) | ((k == len(xs) - 2) & (fcb <= hi)))

@@ -140,20 +140,29 @@ class AjayiRegressions:
 
     def design_load_area(self, repose_angle):
         """design_load_factor * A_s(phi), m^2 (phi in deg)."""
-        phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
+        phi = _inside(repose_angle, 0.0, 90.0)
+        if phi is None:
+            phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
         return self.design_load_factor * sum(c * phi**i for i, c in enumerate(self.p))
 
     def loading_factor(self, dryer_loading, repose_angle):
         """Ajayi's load = min(d_load, 1) (-)."""
-        d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
+        d = _inside(dryer_loading, 0.0, math.inf, low_inclusive=True)
+        if d is None:
+            d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
         return np.minimum(d, 1.0) + 0.0 * np.asarray(repose_angle, dtype=float)
 
     def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, passive_time_branch=None):
         """Cascade summary (deg, m, s, s); ``passive_time_branch`` is not used (Ajayi's acos form)."""
-        phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
-        f = check_range("loading_factor", loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
-        rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rev/min")
-        th = math.radians(float(check_range("slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg")))
+        phi = _inside(repose_angle, 0.0, 90.0)
+        f = _inside(loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+        if phi is None or f is None or not (isinstance(rpm, (int, float)) and 0.0 < rpm < math.inf) \
+                or not (isinstance(slope, (int, float)) and 0.0 <= slope < 45.0):   # the error messages
+            phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
+            f = check_range("loading_factor", loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True)
+            rpm = check_range("rpm", rpm, 0.0, math.inf, unit="rev/min")
+            slope = check_range("slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg")
+        th = math.radians(float(slope))
         U = 1.0 - f
         t = _poly_phi_f(self.q, phi, U)  # same 11-term (phi, U) form as Lee's Eq. 4.24-4.25
         h = 0.5 * G * t**2
@@ -171,6 +180,14 @@ class AjayiRegressions:
         nan = np.full(psi.shape, np.nan)  # not given by the regressions (as Lee2008Regressions)
         return CascadeSummary(mean_release_angle=psi, mean_fall_height=h, mean_fall_time=t, passive_time=tp,
                               discharge_start_angle=nan, initial_holdup_area=nan)
+
+
+def _inside(x, low, high, low_inclusive=False, high_inclusive=False):
+    """``x`` as a float array when every value lies in the range (NaN does not), else None: the
+    cheap test of the solvers' calls; the caller then calls ``check_range`` for the message."""
+    a = np.asarray(x, dtype=float)
+    ok = (a >= low if low_inclusive else a > low) & (a <= high if high_inclusive else a < high)
+    return a if ok.all() else None
 
 
 def _flighted_positions(sections):

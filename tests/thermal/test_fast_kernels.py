@@ -1,0 +1,60 @@
+"""Issue 16 (part 1): kernels made cheaper give the numbers of the slower forms."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rotarydryer.thermal import burner as B
+from rotarydryer.thermal import radiation as rad
+
+
+@settings(max_examples=60, deadline=None)
+@given(t=st.floats(60.0, 720.0), ac=st.floats(0.5, 30.0), ad=st.floats(0.0, 60.0), ta=st.floats(-15.0, 60.0),
+       y=st.floats(0.0, 0.08), loss=st.floats(0.0, 0.4))
+def test_closed_form_fuel_rate_equals_the_bracketed_search(t, ac, ad, ta, y, loss):
+    kw = dict(air_temperature_c=ta, air_humidity=y, heat_loss_fraction=loss)
+
+    def run():
+        try:
+            return B.fuel_rate_for_temperature(t, ac, ad, **kw)
+        except ValueError as exc:
+            return str(exc)
+    fast = run()
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(B, "_fuel_rate_in_range", lambda *a, **k: None)
+        slow = run()
+    if isinstance(slow, str):
+        assert fast == slow                    # the same error message
+    else:
+        assert fast == pytest.approx(slow, rel=1e-10, abs=1e-13)
+        gas = B.combustion_chamber(fast, ac, ad, **kw)
+        assert float(gas.temperature_c) == pytest.approx(t, abs=1e-6)
+
+
+def _emissivity_all_anchors(t_k, p_h2o, p_co2, path):
+    """The WSGG mixture rule with every anchor set evaluated (the form before the speed-up)."""
+    ph, pc = p_h2o / rad.ATM, p_co2 / rad.ATM
+    pa = ph + pc
+    fc = np.where(pa > 0, pc / np.where(pa > 0, pa, 1.0), 0.0)
+    vals = [rad._wsgg(n, t_k, (ph if n == "h2o" else pc if n == "co2" else pa) * path) for n, _ in rad._ANCHORS]
+    xs = [x for _, x in rad._ANCHORS]
+    out = np.zeros(np.broadcast(fc, *vals).shape)
+    for k in range(len(xs) - 1):
+        w = (fc - xs[k]) / (xs[k + 1] - xs[k])
+        seg = (fc >= xs[k]) & ((fc < xs[k + 1]) | ((k == len(xs) - 2) & (fc <= xs[k + 1])))
+        out = np.where(seg, (1 - w) * vals[k] + w * vals[k + 1], out)
+    return np.clip(out, 0.0, 1.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(t=st.floats(300.0, 2000.0), ph=st.lists(st.floats(0.0, 4e4), min_size=1, max_size=6),
+       pc=st.floats(0.0, 3e4), path=st.floats(0.1, 5.0))
+def test_emissivity_evaluates_only_the_bracketing_anchors(t, ph, pc, path):
+    ph = np.array(ph)
+    np.testing.assert_array_equal(rad._emissivity(t, ph, pc, path), _emissivity_all_anchors(t, ph, pc, path))
+
+
+def test_emissivity_anchor_points_and_pure_gases():
+    for ph, pc in ((1e4, 0.0), (0.0, 1e4), (2e4, 1e4), (1e4, 1e4), (0.0, 0.0)):
+        np.testing.assert_array_equal(rad._emissivity(1000.0, ph, pc, 1.0), _emissivity_all_anchors(1000.0, ph, pc, 1.0))
