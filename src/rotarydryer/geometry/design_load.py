@@ -149,14 +149,14 @@ def _invert_eq_4_22(d, h0, hi, smoothing=0.0):
     k = np.arange(n + 2)
     below = np.minimum(k, n)
     g = bp + 2.0 * (np.take_along_axis(csum, np.broadcast_to(below, bp.shape), -1) + (n - below) * bp)
+    if smoothing > 0.0:
+        return _smoothed_inverse(d, bp, g / g[..., -1:], float(smoothing))
     target = d * g[..., -1]
     seg = np.clip((g < target[..., None]).sum(-1) - 1, 0, n)
     g0 = np.take_along_axis(g, seg[..., None], -1)[..., 0]
     g1 = np.take_along_axis(g, seg[..., None] + 1, -1)[..., 0]
     b0 = np.take_along_axis(bp, seg[..., None], -1)[..., 0]
     b1 = np.take_along_axis(bp, seg[..., None] + 1, -1)[..., 0]
-    if smoothing > 0.0:
-        return _smoothed_inverse(d, bp, g / g[..., -1:], float(smoothing))
     with np.errstate(invalid="ignore", divide="ignore"):
         f = np.where(g1 > g0, b0 + (target - g0) * (b1 - b0) / (g1 - g0), b0)
     return np.where(d >= 1.0, 1.0, np.clip(f, 0.0, 1.0))
