@@ -32,6 +32,13 @@ def test_closed_form_fuel_rate_equals_the_bracketed_search(t, ac, ad, ta, y, los
         assert float(gas.temperature_c) == pytest.approx(t, abs=1e-6)
 
 
+def test_no_fuel_for_the_air_temperature():
+    """A target equal to the air temperature needs no fuel (the bracketed search had no bracket)."""
+    for ac, ad in ((0.5, 2.0), (1.5, 0.0)):
+        assert B.fuel_rate_for_temperature(60.0, ac, ad, air_temperature_c=60.0, air_humidity=0.0) == 0.0
+        assert B._fuel_rate_scalar(60.0, ac, ad, air_temperature_c=np.array([60.0]), air_humidity=0.0) == 0.0  # bracketed path
+
+
 def _emissivity_all_anchors(t_k, p_h2o, p_co2, path):
     """The WSGG mixture rule with every anchor set evaluated (the form before the speed-up)."""
     ph, pc = p_h2o / rad.ATM, p_co2 / rad.ATM

@@ -153,6 +153,11 @@ def _ppoly(p, breaks, x):
     return np.matmul(_powers(x - p.x[i])[:, None, ::-1], c)[:, 0, :]
 
 
+def _f_axis(f):
+    """The cascade table's loading coordinate ``(2/pi) asin(sqrt(f))`` of loading factors ``f``."""
+    return np.arcsin(np.sqrt(f)) * (2.0 / np.pi)
+
+
 def _holdup_breaks(drum, lo, hi, convention):
     """Repose angles in (lo, hi) where a holdup behind the design load changes phase
     (psi - phi crosses a phase boundary of Lee (2008) Fig. 4.6-4.9)."""
@@ -195,8 +200,11 @@ class GeometryTable:
         psi0 = first_unloading_angle(drum, convention)
         kinks = [psi0 - o for o in (c.off2, c.off3, c.off4, c.off5)]
         self._phi_edges = np.array([lo] + sorted(k for k in kinks if lo < k < hi) + [hi])
-        root_f = np.linspace(0.0, 1.0, N_F + 1)  # the table's second axis is sqrt(f): smooth as f -> 0
-        f = root_f**2
+        # the table's second axis is s = (2/pi) asin(sqrt(f)): the averages go like sqrt(f) for nearly
+        # empty flights and like sqrt(1 - f) for nearly full ones (the first unloading flight starts
+        # discharging with dH/dpsi = 0), both smooth in s
+        root_f = np.linspace(0.0, 1.0, N_F + 1)
+        f = np.sin(0.5 * np.pi * root_f) ** 2
         if _grid is None:   # the exact geometry on the grid: the costly part (the on-disk cache keeps it)
             xs, vals = [], []
             for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
@@ -301,10 +309,10 @@ class GeometryTable:
         ins = self._inside(phi)
         out = np.empty((phi.size, 3))
         if ins.all():
-            out[:] = self._cascade(phi, np.sqrt(f))
+            out[:] = self._cascade(phi, _f_axis(f))
         else:
             if ins.any():
-                out[ins] = self._cascade(phi[ins], np.sqrt(f[ins]))
+                out[ins] = self._cascade(phi[ins], _f_axis(f[ins]))
             if (~ins).any():
                 ex = self.drum.cascade(phi[~ins], f[~ins], rpm=1.0, slope=0.0, fall_height=self.fall_height,
                                        convention=self.convention)

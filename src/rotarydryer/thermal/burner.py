@@ -355,9 +355,11 @@ def _fuel_rate_in_range(target, combustion_air, dilution_air, f_max, kw):
         return None
     ta, y, tf, loss, ad = (float(v) for v in (ta, y, tf, loss, dilution_air))
     if not (-20.0 < ta < 400.0 and 0.0 <= y <= 0.3 and -20.0 < tf < 200.0 and 0.0 <= loss < 1.0
-            and ad >= 0.0 and combustion_air + ad > 0.0 and target > ta):
+            and ad >= 0.0 and combustion_air + ad > 0.0 and target >= ta):
         return None
     f = _fuel_rate_linear(target, combustion_air, ad, kw.get("fuel", AJAYI_FUEL_OIL), ta, y, tf, loss)
+    if target == ta:
+        f = 0.0                  # the air itself: no fuel (the closed form gives +-1e-16)
     return f if math.isfinite(f) and 0.0 <= f <= f_max else None
 
 
@@ -428,6 +430,8 @@ def _fuel_rate_scalar(target_temperature_c, combustion_air, dilution_air, max_fu
     if np.any(target < t0 - 1e-9):
         raise ValueError(f"target_temperature_c = {float(np.min(target)):g} degC is below the air temperature "
                          f"{float(np.min(t0)):.4g} degC: no fuel rate gives it")
+    if np.all(target <= t0 + 1e-9):   # the air temperature itself (no bracket: both ends above the target)
+        return 0.0
     try:
         t_max = combustion_chamber(f_max, combustion_air, dilution_air, **kw).temperature_c
     except ValueError:
