@@ -65,3 +65,24 @@ def test_emissivity_evaluates_only_the_bracketing_anchors(t, ph, pc, path):
 def test_emissivity_anchor_points_and_pure_gases():
     for ph, pc in ((1e4, 0.0), (0.0, 1e4), (2e4, 1e4), (1e4, 1e4), (0.0, 0.0)):
         np.testing.assert_array_equal(rad._emissivity(1000.0, ph, pc, 1.0), _emissivity_all_anchors(1000.0, ph, pc, 1.0))
+
+
+@pytest.mark.parametrize("field, value, key", [("scale_conductivity", 0.0, "shell.scale_conductivity"),
+                                               ("insulation_conductivity", -1.0, "shell.insulation_conductivity"),
+                                               ("co2_mole_fraction", 0.5, "gas.co2_mole_fraction")])
+def test_shell_settings_checked_once_where_they_enter(field, value, key):
+    """The dryer's shell solves skip the checks of shell_heat_loss: its settings are checked at construction."""
+    from rotarydryer.thermal.dryer import ThermalSettings
+
+    with pytest.raises(ValueError, match=key):
+        ThermalSettings(**{field: value}).validate()
+
+
+def test_trusted_shell_call_equals_the_checked_one():
+    from rotarydryer.thermal.shell import shell_heat_loss
+
+    tg = np.array([480.0, 300.0, 150.0])
+    kw = dict(gas_humidity=np.array([0.03, 0.08, 0.12]), insulation_thickness=0.05, scale_thickness=0.01)
+    a = shell_heat_loss(tg, 20.0, 0.5, 26.0, **kw)
+    b = shell_heat_loss(tg, 20.0, 0.5, 26.0, _trusted=True, **kw)
+    np.testing.assert_array_equal(a.heat_loss, b.heat_loss)

@@ -302,11 +302,13 @@ def lemmon_jacobsen_viscosity(fluid: str, t):
     return 1e-6 * 0.0266958 * np.sqrt(m * t) / (sigma**2 * omega)
 
 
-def lemmon_jacobsen_conductivity(fluid: str, t):
-    """Dilute-gas thermal conductivity, W/(m K), of air, N2, O2 or Ar; Lemmon & Jacobsen (2004) Eq. 5; T in K."""
+def lemmon_jacobsen_conductivity(fluid: str, t, viscosity=None):
+    """Dilute-gas thermal conductivity, W/(m K), of air, N2, O2 or Ar; Lemmon & Jacobsen (2004) Eq. 5; T in K.
+    ``viscosity``: :func:`lemmon_jacobsen_viscosity` at ``t`` if already evaluated."""
     _, _, _, tc, n1, n2, t2, n3, t3 = _LEMMON_JACOBSEN[fluid]
     tau = tc / t
-    return 1e-3 * (n1 * 1e6 * lemmon_jacobsen_viscosity(fluid, t) + n2 * tau**t2 + n3 * tau**t3)
+    mu = lemmon_jacobsen_viscosity(fluid, t) if viscosity is None else viscosity
+    return 1e-3 * (n1 * 1e6 * mu + n2 * tau**t2 + n3 * tau**t3)
 
 
 def _species_viscosity_k(species, t):

@@ -263,8 +263,9 @@ def _density(t, y, p, method="ideal_gas"):
 
 def _air_and_vapour(t):
     tk = t + 273.15
-    return (lemmon_jacobsen_viscosity("air", tk), iapws_vapour_viscosity_dilute(tk),
-            lemmon_jacobsen_conductivity("air", tk), iapws_vapour_conductivity_dilute(tk))
+    mu_a = lemmon_jacobsen_viscosity("air", tk)
+    return (mu_a, iapws_vapour_viscosity_dilute(tk), lemmon_jacobsen_conductivity("air", tk, viscosity=mu_a),
+            iapws_vapour_conductivity_dilute(tk))
 
 
 def _wilke_binary(x1, p1, p2, mu1, mu2, m1, m2):

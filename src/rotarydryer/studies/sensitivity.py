@@ -175,29 +175,39 @@ def _check_case(case, base: dict, params: dict) -> None:
             load_case(case, {**base, key: v})
 
 
-def _steady_summary(case, overrides: dict, warm_state=None, warm_transport=None):
-    """``(summary dict, coupled state or None, transport masses)`` of one run; warm start from
-    ``warm_state`` (coupled) and ``warm_transport`` (the transport steady state of the feasibility
-    checks) when they fit (cold start otherwise or when the warm start does not converge)."""
+def _steady_summary(case, overrides: dict, warm=None):
+    """``(summary dict, warm-start data or None)`` of one run. ``warm`` (the data of a nearby run:
+    coupled state, transport masses, shell temperatures) starts the coupled solve, the transport
+    steady state of the feasibility checks and the first shell solve when it fits (the case's own
+    cold start otherwise, or when the warm start does not converge): the same steady state."""
     from ..simulation import Simulation, SteadyResult
 
+    warm = warm or {}
     sim = Simulation(case, overrides)
     net = sim.transport_model().network
-    if warm_transport is not None and np.shape(warm_transport) == (net.n,) and net.initial_guess is None:
-        net.initial_guess = warm_transport     # Newton from a nearby run's masses: the same steady state
-    if warm_state is not None and sim.thermal_enabled:
+    masses = warm.get("masses")
+    if masses is not None and np.shape(masses) == (net.n,):
+        net.initial_guess = masses        # Newton from a nearby run's masses: the same steady state
+    state = warm.get("state")
+    if state is not None and sim.thermal_enabled:
         transport = sim.transport_steady_state()            # feasibility checks, as steady_state() does
         d = sim.thermal_dryer()
-        if np.shape(warm_state) == (d.n,):
+        if np.shape(state) == (d.n,):
+            shell = warm.get("shell")
+            if shell is not None and np.shape(shell) == (d.n_gas,):
+                d._shell_outer = np.array(shell)    # Newton's start of the first shell solve
             try:
-                th = d.steady_state(z0=warm_state, dt0=WARM_DT0)
+                th = d.steady_state(z0=state, dt0=WARM_DT0)
             except ValueError:                 # DryerError: try the case's own cold start
                 th = None
             if th is not None:
-                return SteadyResult(sim, None, th).summary(), th.state, transport.masses
+                return SteadyResult(sim, None, th).summary(), dict(state=th.state, masses=transport.masses,
+                                                                   shell=d._shell_outer)
     res = sim.steady_state()
-    return (res.summary(), (res.thermal.state if res.thermal is not None else None),
-            sim.transport_steady_state().masses)
+    if res.thermal is None:
+        return res.summary(), None
+    return res.summary(), dict(state=res.thermal.state, masses=sim.transport_steady_state().masses,
+                               shell=res.thermal.dryer._shell_outer)
 
 
 def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Sequence[str],
@@ -210,7 +220,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
     X = np.asarray(X, dtype=float)
     Y = np.full((len(X), len(outputs)), np.nan)
     errors = [""] * len(X)
-    memory: list[tuple] = []     # (normalised point, coupled state, transport masses)
+    memory: list[tuple] = []     # (normalised point, warm-start data of its run)
     span = np.ptp(X, axis=0) if len(X) else np.ones(len(keys))
     span = np.where(span > 0, span, 1.0)
     with single_threaded():
@@ -220,14 +230,14 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
                 if callable(case):
                     out, state = case(point), None
                 else:
-                    warm = warm_m = None
+                    warm = None
                     if warm_start and memory:
                         u = x / span
                         j = int(np.argmin([np.sum((u - m[0]) ** 2) for m in memory]))
-                        warm, warm_m = memory[j][1], memory[j][2]
-                    out, state, masses = _steady_summary(case, {**base, **point}, warm, warm_m)
-                    if state is not None and warm_start:
-                        memory.append((x / span, state, masses))
+                        warm = memory[j][1]
+                    out, data = _steady_summary(case, {**base, **point}, warm)
+                    if data is not None and warm_start:
+                        memory.append((x / span, data))
                         if len(memory) > WARM_MEMORY:
                             memory.pop(0)
             except (ValueError, ArithmeticError, MemoryError) as exc:   # one bad point never ends the study

@@ -191,6 +191,10 @@ class ThermalSettings:
                     high_inclusive=True, unit="kg/kg dry air")
         check_range("shell.scale_thickness", self.scale_thickness, 0.0, 0.5, low_inclusive=True, unit="m")
         check_range("shell.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
+        check_range("shell.scale_conductivity", self.scale_conductivity, 0.0, np.inf, unit="W/(m K)")
+        check_range("shell.insulation_conductivity", self.insulation_conductivity, 0.0, np.inf, unit="W/(m K)")
+        check_range("gas.co2_mole_fraction", self.co2_mole_fraction, 0.0, 0.3, low_inclusive=True,
+                    high_inclusive=True)
         check_range("thermal.design_load_smoothing", self.design_load_smoothing, 0.0, 0.1, low_inclusive=True,
                     high_inclusive=True)
         if self.mode == "ajayi2011" and self.gas_inlet_humidity <= 0:
@@ -539,7 +543,7 @@ class ThermalDryer:
                             scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                             insulation_thickness=s.insulation_thickness,
                             insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
-                            outer_guess=guess)
+                            outer_guess=guess, _trusted=True)
         self._shell_outer = np.asarray(r.outer_surface_temperature_c, dtype=float)
         return r.heat_loss
 

@@ -113,7 +113,8 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
                     scale_thickness=0.0, scale_conductivity=1.0, insulation_thickness=0.0,
                     insulation_conductivity=0.07, inner_emissivity=0.79, outer_emissivity=0.79,
                     gas_emissivity=None, wind_speed=0.0, ambient_humidity=0.015, pressure=101325.0,
-                    steel_conductivity=steel_conductivity_ajayi2011, outer_guess=None) -> ShellHeatLoss:
+                    steel_conductivity=steel_conductivity_ajayi2011, outer_guess=None,
+                    _trusted=False) -> ShellHeatLoss:
     """Heat lost from the gas through the drum shell, with the shell temperatures solved.
 
     Parameters
@@ -157,23 +158,29 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
     >>> round(float(r.outer_surface_temperature_c)), round(float(r.heat_loss) / 1e3, 1)
     (282, 68.0)
     """
-    tg = check_range("gas_temperature_c", gas_temperature_c, 0.0, 600.0, low_inclusive=True, high_inclusive=True,
-                     unit="degC")
-    mg = check_positive("gas_mass_flow", gas_mass_flow, unit="kg/s")
-    seg = check_range("length", length, 0.0, np.inf, low_inclusive=True, unit="m")
-    ta = check_range("ambient_temperature_c", ambient_temperature_c, -40.0, 60.0, low_inclusive=True,
-                     high_inclusive=True, unit="degC")
-    y = check_range("gas_humidity", gas_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
-    xc = check_range("co2_mole_fraction", co2_mole_fraction, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
-    ri = check_positive("inner_radius", inner_radius, unit="m")
-    ds = check_positive("shell_thickness", shell_thickness, unit="m")
-    dsc = check_range("scale_thickness", scale_thickness, 0.0, float(np.min(ri)) * 0.5, low_inclusive=True, unit="m")
-    ksc = check_positive("scale_conductivity", scale_conductivity, unit="W/(m K)")
-    dins = check_range("insulation_thickness", insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
-    kins = check_positive("insulation_conductivity", insulation_conductivity, unit="W/(m K)")
-    ei = check_range("inner_emissivity", inner_emissivity, 0.0, 1.0, high_inclusive=True)
-    eo = check_range("outer_emissivity", outer_emissivity, 0.0, 1.0, high_inclusive=True)
-    wind = check_range("wind_speed", wind_speed, 0.0, 50.0, low_inclusive=True, unit="m/s")
+    if _trusted:    # the dryer's own calls: gas state clipped, its settings validated once
+        tg, mg, seg, ta, y, xc, ri, ds, dsc, ksc, dins, kins, ei, eo, wind = (np.asarray(v, dtype=float) for v in (
+            gas_temperature_c, gas_mass_flow, length, ambient_temperature_c, gas_humidity, co2_mole_fraction,
+            inner_radius, shell_thickness, scale_thickness, scale_conductivity, insulation_thickness,
+            insulation_conductivity, inner_emissivity, outer_emissivity, wind_speed))
+    else:
+        tg = check_range("gas_temperature_c", gas_temperature_c, 0.0, 600.0, low_inclusive=True, high_inclusive=True,
+                         unit="degC")
+        mg = check_positive("gas_mass_flow", gas_mass_flow, unit="kg/s")
+        seg = check_range("length", length, 0.0, np.inf, low_inclusive=True, unit="m")
+        ta = check_range("ambient_temperature_c", ambient_temperature_c, -40.0, 60.0, low_inclusive=True,
+                         high_inclusive=True, unit="degC")
+        y = check_range("gas_humidity", gas_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
+        xc = check_range("co2_mole_fraction", co2_mole_fraction, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
+        ri = check_positive("inner_radius", inner_radius, unit="m")
+        ds = check_positive("shell_thickness", shell_thickness, unit="m")
+        dsc = check_range("scale_thickness", scale_thickness, 0.0, float(np.min(ri)) * 0.5, low_inclusive=True, unit="m")
+        ksc = check_positive("scale_conductivity", scale_conductivity, unit="W/(m K)")
+        dins = check_range("insulation_thickness", insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
+        kins = check_positive("insulation_conductivity", insulation_conductivity, unit="W/(m K)")
+        ei = check_range("inner_emissivity", inner_emissivity, 0.0, 1.0, high_inclusive=True)
+        eo = check_range("outer_emissivity", outer_emissivity, 0.0, 1.0, high_inclusive=True)
+        wind = check_range("wind_speed", wind_speed, 0.0, 50.0, low_inclusive=True, unit="m/s")
     tg, mg, seg, ta, y = np.broadcast_arrays(tg, mg, seg, ta, y)
     if np.any(tg < ta):
         raise ValueError("gas_temperature_c must not be below ambient_temperature_c (the shell would gain heat)")
@@ -197,7 +204,7 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
     # inside gas properties (humid air + CO2 neglected in properties)
     rho = ha._density(tg, y, p)
     mu, k_g = ha._transport(tg, y)
-    pr = ha._prandtl_number(tg, y)
+    pr = ha._heat_capacity(tg, y) * mu / k_g        # ha._prandtl_number without a second mixture viscosity
     velocity = mg / (rho * math.pi * r_exp**2)
     re_in = velocity * d_exp * rho / mu
     p_h2o = ha._vapour_partial_pressure(y, p)
