@@ -203,6 +203,9 @@ class ThermalSettings:
         return self
 
 
+#: a step whose residual falls below this fraction of the last keeps the factorisation (chord step)
+CHORD_RATIO = 1e-2
+
 #: column groups of the Jacobian patterns met so far (pattern bytes -> groups), oldest dropped first
 _GROUPS_CACHE: dict = {}
 
@@ -823,7 +826,7 @@ class ThermalDryer:
             # converging fast (the residual fell 100-fold): keep the factorisation for a chord step
             # instead of a new Jacobian (the fixed point f = 0 is the same for any pseudo-time
             # step); a step that falls less recomputes it
-            if not ratio < 1e-2:
+            if not ratio < CHORD_RATIO:
                 J = None
         self.unfreeze_shell()
         ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
