@@ -120,3 +120,22 @@ def test_invicta_small_feed_converges_without_a_restart():
     ss = Simulation("lee2008_invicta", {"operating.feed_rate": 0.01}).thermal_dryer().steady_state()
     assert ss.iterations < 150
     assert ss.water_balance_error < 1e-6 and ss.energy_balance_error < 1e-6
+
+
+def test_each_jacobian_is_one_batched_call():
+    """The steady state's finite-difference Jacobians perturb every column group in one residual call."""
+    d = Simulation("song2003_ottawa").thermal_dryer()
+    calls = {"batch": 0, "single": 0, "jac": 0}
+    rhs, jac = d.rhs, d.jacobian
+
+    def counting_rhs(t, z):
+        calls["batch" if np.ndim(z) == 2 and np.shape(z)[1] > 1 else "single"] += 1
+        return rhs(t, z)
+
+    def counting_jac(*a, **k):
+        calls["jac"] += 1
+        return jac(*a, **k)
+    d.rhs, d.jacobian = counting_rhs, counting_jac
+    ss = d.steady_state()
+    assert calls["jac"] >= 1 and calls["batch"] == calls["jac"]
+    assert calls["single"] <= 2 * ss.iterations + 4
