@@ -14,6 +14,7 @@ the key, the value and the constraint.
 
 from __future__ import annotations
 
+import copy
 import re
 import tomllib
 from importlib import resources
@@ -704,6 +705,13 @@ def _read(name: str) -> dict:
 
 
 def _parse(text: str, shown: str) -> dict:
+    """The TOML document as a dict (a fresh copy: the caller applies its overrides to it)."""
+    return copy.deepcopy(_parse_text(text, shown))
+
+
+@lru_cache(maxsize=32)
+def _parse_text(text: str, shown: str) -> dict:
+    """``tomllib.loads`` remembered per text: the runs of a study or a sweep load one case many times."""
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

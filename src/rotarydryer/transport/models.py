@@ -55,6 +55,12 @@ def lee2008_repose_profile(n_cells, moisture_inlet=0.02, moisture_outlet=0.002):
     return slope * lee2008_moisture_profile(n, wi, wo) + intercept
 
 
+def _repeat(value, k):
+    """``value`` (a number or k values) as a list of k values."""
+    a = np.asarray(value, dtype=float)
+    return [float(a)] * k if a.ndim == 0 else list(np.broadcast_to(a, (k,)))
+
+
 class NetworkBuilder:
     """Accumulates nodes (with section/phase/cell/position labels) and edge families."""
 
@@ -74,10 +80,10 @@ class NetworkBuilder:
         self.labels["section"] += [section] * k
         self.labels["phase"] += [phase] * k
         self.labels["cell"] += list(cells)
-        self.labels["position"] += list(np.broadcast_to(positions, (k,)))
-        self.design_load += list(np.broadcast_to(np.nan if design_load is None else design_load, (k,)))
+        self.labels["position"] += _repeat(positions, k)
+        self.design_load += _repeat(np.nan if design_load is None else design_load, k)
         self.feed += [0.0] * k
-        self.guess += list(np.broadcast_to(0.0 if guess is None else guess, (k,)))
+        self.guess += _repeat(0.0 if guess is None else guess, k)
         return idx
 
     def add(self, family: EdgeFamily):

@@ -493,13 +493,17 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
                     TRAJECTORY_INFO if any_trajectory else ()):
                 info[key].append(np.full(N, np.nan))
             continue
-        c1 = law.cascade(phi, np.ones(N))
         if law.trajectory:      # the step at the design load must fit (lower loadings are capped, see cascade)
+            c1 = law.cascade(phi, np.ones(N))
             cw = c1
             worst = float(np.min(1.0 - s.backmix - np.abs(c1["step_free"]) / rec["dl"]))
         else:
-            f_check = [] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75]
-            cw = min([c1] + [law.cascade(phi, np.full(N, f)) for f in f_check], key=lambda c: float(np.min(c["CR"])))
+            f_check = [1.0] + ([] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75])
+            both = law.cascade(np.broadcast_to(phi, (len(f_check), N)),      # all loadings in one call
+                               np.asarray(f_check)[:, None] * np.ones(N))
+            rows = [{k: v[i] for k, v in both.items()} for i in range(len(f_check))]
+            c1 = rows[0]
+            cw = min(rows, key=lambda c: float(np.min(c["CR"])))
             worst = float(np.min(cw["CR"]))
         if worst < 0:
             # the largest N whose forward step fits in the cell at the worst loading
