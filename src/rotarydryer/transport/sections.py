@@ -340,8 +340,12 @@ class _Coefficients:
         key = mp.tobytes()
         if key != self._key:
             h = np.where(mp > self.des, 1.0, -1.0) * 1e-7 * self.des
-            v0 = self.law.evaluate(mp, self.x)
-            v1 = self.law.evaluate(mp + h, self.x)
+            if self.law.trajectory:
+                v0 = self.law.evaluate(mp, self.x)
+                v1 = self.law.evaluate(mp + h, self.x)
+            else:       # the point and the perturbed point as a batch of two (the same numbers, one call)
+                v = self.law.evaluate(np.stack([mp, mp + h]), self.x)
+                v0, v1 = ({k: np.broadcast_to(a, (2, mp.size))[i] for k, a in v.items()} for i in (0, 1))
             self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in _RATE_NAMES if k in v0}
             self._key = key
         return self._val
