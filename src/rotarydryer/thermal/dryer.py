@@ -351,6 +351,7 @@ class ThermalDryer:
         self._groups = None
         self._shell_ua = None
         self._shell_outer = None     # outer shell temperatures of the last shell solve (a warm start)
+        self._shell_memo = None      # (inputs, heat loss) of the last exact shell evaluation
         self._inlet_h = None
         self._clipped = False
 
@@ -526,6 +527,22 @@ class ThermalDryer:
         return self._shell_loss_exact(Tg, Y, Tg_up)
 
     def _shell_loss_exact(self, Tg, Y, Tg_up):
+        # the last exact evaluation is remembered: the convergence test and the steady state's
+        # balances evaluate the same converged state
+        key = (Tg.tobytes(), Y.tobytes(), np.asarray(Tg_up).tobytes(), self._settings_key())
+        if self._shell_memo is not None and self._shell_memo[0] == key:
+            return self._shell_memo[1]
+        q = self._shell_loss_exact_eval(Tg, Y, Tg_up)
+        self._shell_memo = (key, q)
+        return q
+
+    def _settings_key(self):
+        s = self.settings
+        return (s.mode, s.gas_flow, s.gas_inlet_humidity, s.leak_air_flow, s.ambient_humidity, s.ambient_temperature,
+                s.loss_factor, s.pressure, s.co2_mole_fraction, s.scale_thickness, s.scale_conductivity,
+                s.insulation_thickness, s.insulation_conductivity)
+
+    def _shell_loss_exact_eval(self, Tg, Y, Tg_up):
         s = self.settings
         fg = self.dry_gas_flow * (1.0 + Y)
         tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)

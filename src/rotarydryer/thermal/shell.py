@@ -252,8 +252,8 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
             r = r + np.log(r_out / r_o) / (2 * math.pi * kins)
         return r
 
-    def inner_from_outer(to):
-        q_out, _, _ = outside_flux(to)
+    def inner_from_outer(to, outside=None):
+        q_out, h_o, q_ro = outside_flux(to) if outside is None else outside
         qp = q_out * 2 * math.pi * r_out
         twi = to
         for _ in range(3):  # steel conductivity at the mean steel temperature
@@ -276,10 +276,11 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         to = newton_from_guess(residual, g, lo, hi, xtol=1e-9)
     if to is None:                         # no guess, or Newton did not settle: the bracketed root
         to = illinois(residual, lo, hi, xtol=1e-9)
-    twi, qp_out, rc = inner_from_outer(to)
+    outside = outside_flux(to)
+    _, h_o, q_ro = outside
+    twi, qp_out, rc = inner_from_outer(to, outside)
     q_in, h_c, q_r = inside_flux(twi)
     qp_in = q_in * 2 * math.pi * r_exp
-    _, h_o, q_ro = outside_flux(to)
     err = float(np.max(np.abs(qp_in - qp_out) / np.maximum(np.abs(qp_out), 1e-12)))
     with np.errstate(invalid="ignore", divide="ignore"):
         h_ri = np.where(tg > twi, q_r / np.where(tg > twi, tg - twi, 1.0), 0.0)
