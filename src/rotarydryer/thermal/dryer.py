@@ -656,6 +656,13 @@ class ThermalDryer:
     def unfreeze_shell(self):
         self._shell_ua = None
 
+    def _reset_caches(self):
+        """Forget what was remembered for the previous inputs (after a study changed them in place)."""
+        self._shell_ua = None
+        self._shell_memo = None
+        self._law_cache = {}
+        self._law_base = {}
+
     def rhs(self, t, z):
         """Time derivatives of the state (S, W kg/s; T, T_g K/s; Y 1/s).
 
@@ -827,19 +834,17 @@ class ThermalDryer:
                 if dt < 1e-6:
                     break
                 continue
+            # the shell coefficient refreshed at the new state: f is then the exact residual there
+            # (the frozen loss equals the exact one at the state it was frozen at)
+            z, f = zn, self._refreeze_shell(zn, fn)
+            nn = np.max(np.abs(f) / sc)
             ratio = nn / max(norm, 1e-300)
-            z, f = zn, fn
             dt = min(dt * min(max(1.0 / max(ratio, 1e-300), 0.5), 10.0) * 1.5, 1e12)
             norm = nn
             if verbose:
                 print(it, norm, dt)
             if norm < tol:
-                self.unfreeze_shell()
-                f = self.rhs(0.0, z)
-                norm = np.max(np.abs(f) / sc)
-                if norm < tol:
-                    break
-            f = self._refreeze_shell(z, f)
+                break
             # converging fast (the residual fell 100-fold): keep the factorisation for a chord step
             # instead of a new Jacobian (the fixed point f = 0 is the same for any pseudo-time
             # step); a step that falls less recomputes it
