@@ -197,17 +197,18 @@ def _steady_summary(case, overrides: dict, warm=None):
             if shell is not None and np.shape(shell) == (d.n_gas,):
                 d._shell_outer = np.array(shell)    # Newton's start of the first shell solve
             try:
-                th = d.steady_state(z0=state, dt0=WARM_DT0)
+                th = d.steady_state(z0=state, dt0=WARM_DT0, factorization=warm.get("factorization"))
             except ValueError:                 # DryerError: try the case's own cold start
                 th = None
             if th is not None:
                 return SteadyResult(sim, None, th).summary(), dict(state=th.state, masses=transport.masses,
-                                                                   shell=d._shell_outer)
+                                                                   shell=d._shell_outer,
+                                                                   factorization=th.factorization)
     res = sim.steady_state()
     if res.thermal is None:
         return res.summary(), None
     return res.summary(), dict(state=res.thermal.state, masses=sim.transport_steady_state().masses,
-                               shell=res.thermal.dryer._shell_outer)
+                               shell=res.thermal.dryer._shell_outer, factorization=res.thermal.factorization)
 
 
 def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Sequence[str],
@@ -228,7 +229,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
             point = {k: float(v) for k, v in zip(keys, x)}
             try:
                 if callable(case):
-                    out, state = case(point), None
+                    out, data = case(point), None
                 else:
                     warm = None
                     if warm_start and memory:

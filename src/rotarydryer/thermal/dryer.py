@@ -205,6 +205,8 @@ class ThermalSettings:
 
 #: a step whose residual falls below this fraction of the last keeps the factorisation (chord step)
 CHORD_RATIO = 1e-2
+#: chord steps with a nearby steady state's factorisation continue while the residual falls at least this much
+BORROWED_RATIO = 0.1
 
 #: column groups of the Jacobian patterns met so far (pattern bytes -> groups), oldest dropped first
 _GROUPS_CACHE: dict = {}
@@ -792,11 +794,15 @@ class ThermalDryer:
         return np.concatenate([S, W, T, Tg, Y])
 
     # ------------------------------------------------------------------ steady state
-    def steady_state(self, z0=None, max_iter=200, tol=1e-11, dt0=20.0, verbose=False):
+    def steady_state(self, z0=None, max_iter=200, tol=1e-11, dt0=20.0, verbose=False, factorization=None):
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring).
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
         close; raises :class:`DryerError` (reason ``"no_steady_state"``) with ``state`` = last iterate.
+        ``factorization``: the :attr:`ThermalSteadyState.factorization` of a nearby steady state
+        (same network, e.g. the previous run of a study, with ``z0`` its state): chord steps with
+        it while the residual falls at least fourfold per step, then the solver's own Jacobians.
+        The converged state is the same; only the path changes.
         """
         t0 = time.perf_counter()
         z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
@@ -807,6 +813,9 @@ class ThermalDryer:
         norm = np.max(np.abs(f) / sc)
         dt = dt0
         J = lu = None                 # Jacobian at z (shell frozen at z) and the factorised I/dt - J
+        borrowed = factorization is not None and factorization.shape == (self.n, self.n)
+        if borrowed:
+            J, lu = "borrowed", factorization
         it = 0
         for it in range(1, max_iter + 1):
             if J is None:
@@ -828,6 +837,10 @@ class ThermalDryer:
                     nn = np.max(np.abs(fn) / sc)
                 except DryerError:
                     ok = False
+            if borrowed and (not ok or not np.isfinite(nn) or nn > norm):
+                J = lu = None         # the nearby factorisation does not fit: the solver's own Jacobian
+                borrowed = False
+                continue
             if not ok or not np.isfinite(nn) or (nn > 10 * norm and dt > dt0):
                 dt *= 0.25            # the same state: only the pseudo-time step changes, J stays
                 lu = None
@@ -848,10 +861,14 @@ class ThermalDryer:
             # converging fast (the residual fell 100-fold): keep the factorisation for a chord step
             # instead of a new Jacobian (the fixed point f = 0 is the same for any pseudo-time
             # step); a step that falls less recomputes it
-            if not ratio < CHORD_RATIO:
+            if borrowed:
+                if not ratio < BORROWED_RATIO:
+                    J, borrowed = None, False
+            elif not ratio < CHORD_RATIO:
                 J = None
         self.unfreeze_shell()
         ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
+        ss.factorization = lu
         if norm >= tol * 1e3 or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:
             raise DryerError(f"no steady state reached: scaled residual {norm:.3g} after {it} iterations "
                              f"(water balance error {ss.water_balance_error:.2g}, energy {ss.energy_balance_error:.2g})",
@@ -902,6 +919,8 @@ class ThermalSteadyState:
     def __init__(self, dryer: ThermalDryer, z, iterations=0, residual=0.0, seconds=0.0):
         self.dryer = dryer
         self.state = np.asarray(z, dtype=float)
+        #: the solver's last factorisation (scipy SuperLU of I/dt - J), a start for nearby solves
+        self.factorization = None
         self.iterations = iterations
         self.residual = float(residual)
         self.seconds = seconds
