@@ -254,7 +254,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
     return Y, errors
 
 
-def _chunks(n_rows: int, block: int, workers: int, target_rows: int = 64):
+def _chunks(n_rows: int, block: int, workers: int, target_rows: int = 160):
     """Contiguous slices of whole blocks: about ``target_rows`` rows each, at least 2 per worker."""
     n_blocks = n_rows // block
     per = max(1, min(max(1, target_rows // block), math.ceil(n_blocks / max(2 * workers, 1))))

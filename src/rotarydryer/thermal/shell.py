@@ -192,14 +192,17 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
     d_out = 2 * r_out
 
     # checks the humid-air property functions did (the loop below calls their unchecked kernels)
-    p = ha._pressure(pressure)
-    beam = rad.mean_beam_length(d_exp)
+    lo = np.array(ta, dtype=float) + np.zeros(tg.shape)
+    if _trusted:
+        p, beam = float(pressure), 0.95 * d_exp      # rad.mean_beam_length without its check
+    else:
+        p = ha._pressure(pressure)
+        beam = rad.mean_beam_length(d_exp)
+        film_lo = ha._temperature(0.5 * (lo + ta))   # outside film at T_o = T_amb (below 0 degC: out of range)
+        ha._humidity(np.full_like(film_lo, ambient_humidity))
     if gas_emissivity is not None:
         eg = np.broadcast_to(check_range("gas_emissivity", gas_emissivity, 0.0, 1.0, low_inclusive=True,
                                          high_inclusive=True), tg.shape)
-    lo = np.array(ta, dtype=float) + np.zeros(tg.shape)
-    film_lo = ha._temperature(0.5 * (lo + ta))   # outside film at T_o = T_amb (below 0 degC: out of range)
-    ha._humidity(np.full_like(film_lo, ambient_humidity))
 
     # inside gas properties (humid air + CO2 neglected in properties)
     rho = ha._density(tg, y, p)
