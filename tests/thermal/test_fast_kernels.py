@@ -27,7 +27,7 @@ def test_closed_form_fuel_rate_equals_the_bracketed_search(t, ac, ad, ta, y, los
     if isinstance(slow, str):
         assert fast == slow                    # the same error message
     else:
-        assert fast == pytest.approx(slow, rel=1e-10, abs=1e-13)
+        assert fast == pytest.approx(slow, rel=1e-10, abs=2e-12)   # the search stops at 1e-12 kg/s
         gas = B.combustion_chamber(fast, ac, ad, **kw)
         assert float(gas.temperature_c) == pytest.approx(t, abs=1e-6)
 
