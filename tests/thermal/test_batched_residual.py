@@ -139,3 +139,23 @@ def test_each_jacobian_is_one_batched_call():
     ss = d.steady_state()
     assert calls["jac"] >= 1 and calls["batch"] == calls["jac"]
     assert calls["single"] <= 2 * ss.iterations + 4
+
+
+def test_nearby_factorization_gives_the_same_steady_state():
+    """A study's run starts from a nearby run's state and factorisation: the same converged state
+    as the case's own start; a factorisation that does not fit is dropped."""
+    from scipy.sparse import identity
+    from scipy.sparse.linalg import splu
+
+    base = Simulation("song2003_ottawa").thermal_dryer().steady_state()
+    assert base.factorization is not None
+    near = Simulation("song2003_ottawa", {"operating.rpm": 1.03 * base.dryer.rpm})
+    ref = near.thermal_dryer().steady_state()
+    warm = near.thermal_dryer().steady_state(z0=base.state, dt0=1e3, factorization=base.factorization)
+    np.testing.assert_allclose(warm.state, ref.state, rtol=1e-7, atol=1e-9 * np.max(np.abs(ref.state)))
+    d = near.thermal_dryer()
+    bad = splu(identity(d.n, format="csc") * 1e6)      # a "factorisation" unrelated to the model
+    again = d.steady_state(z0=base.state, dt0=1e3, factorization=bad)
+    np.testing.assert_allclose(again.state, ref.state, rtol=1e-7, atol=1e-9 * np.max(np.abs(ref.state)))
+    wrong = splu(identity(3, format="csc"))             # another network: ignored
+    assert d.steady_state(z0=base.state, dt0=1e3, factorization=wrong).residual < 1e-11
