@@ -794,7 +794,7 @@ class ThermalDryer:
         return np.concatenate([S, W, T, Tg, Y])
 
     # ------------------------------------------------------------------ steady state
-    def steady_state(self, z0=None, max_iter=200, tol=1e-11, dt0=20.0, verbose=False, factorization=None):
+    def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=False, factorization=None):
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring).
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
