@@ -463,7 +463,7 @@ class ThermalDryer:
         (k, n) evaluates, in one call, only the rows that differ from the last single state."""
         cache = self._law_cache.setdefault(id(law), [])
         if mp.ndim == 2:
-            return self._law_values_batch(law, mp, xp, fouling, cache)
+            return self._law_values_batch(law, mp, xp, fouling)
         key = (mp.tobytes(), xp.tobytes() if isinstance(xp, np.ndarray) else repr(xp), self.rpm, fouling)
         for k, v in cache:
             if k == key:
@@ -475,7 +475,9 @@ class ThermalDryer:
         self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v)
         return v
 
-    def _law_values_batch(self, law, mp, xp, fouling, cache):
+    def _law_values_batch(self, law, mp, xp, fouling):
+        """:meth:`_law_values` of a batch (k, n): rows equal to the last single state reuse its values,
+        the others are evaluated together in one call of the law."""
         smooth = self.settings.design_load_smoothing
         base = self._law_base.get(id(law))
         same = np.zeros(mp.shape[0], dtype=bool)
