@@ -9,9 +9,9 @@ from typer.testing import CliRunner
 
 pytest.importorskip("streamlit")
 
-from streamlit.testing.v1 import AppTest  # noqa: E402
 
-from rotarydryer.app import logic_control, logic_design, script_path  # noqa: E402
+from rotarydryer.app import logic_control, logic_design  # noqa: E402
+from .apptest_support import open_app  # noqa: E402
 
 runner = CliRunner()
 
@@ -29,11 +29,7 @@ def _metric(at, label):
 
 
 def _page(name):
-    at = AppTest.from_file(str(script_path()), default_timeout=240)
-    at.run()
-    at.sidebar.radio(key="page").set_value(name).run()
-    assert not at.exception, [e.value for e in at.exception]
-    return at
+    return open_app(name, timeout=240)
 
 
 # ------------------------------------------------------------------------------------------- design

@@ -1,7 +1,6 @@
 """The "Whole dryer" page: its logic (rotarydryer.app.logic_dryer) against the library, and the
 page through Streamlit's headless AppTest harness."""
 
-import re
 from importlib import resources
 
 import pytest
@@ -9,9 +8,9 @@ import pytest
 pytest.importorskip("streamlit")
 pytest.importorskip("xarray")
 
-from streamlit.testing.v1 import AppTest  # noqa: E402
 
-from rotarydryer.app import logic, logic_dryer, script_path  # noqa: E402
+from rotarydryer.app import logic, logic_dryer  # noqa: E402
+from .apptest_support import metric_number as _metric, open_app  # noqa: E402
 from rotarydryer.simulation import Simulation  # noqa: E402
 
 
@@ -109,19 +108,9 @@ def test_uploaded_case_runs_like_the_shipped_one():
 
 
 # ---------------------------------------------------------------------------------- the page
-def _metric(at, label):
-    m = next(m for m in at.metric if m.label == label)
-    return float(re.sub(r"[^0-9.\-]", "", m.value.split()[0]))
-
-
 @pytest.fixture()
 def at():
-    app = AppTest.from_file(str(script_path()), default_timeout=120)
-    app.run()
-    app.sidebar.radio(key="page").set_value("Whole dryer").run()
-    assert not app.exception, [e.value for e in app.exception]
-    assert not app.error, [e.value for e in app.error]
-    return app
+    return open_app("Whole dryer", timeout=120, no_error=True)
 
 
 def test_page_renders_and_feed_rate_changes_the_product(at):

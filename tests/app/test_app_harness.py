@@ -1,7 +1,6 @@
 """Web app logic through Streamlit's headless AppTest harness (no browser, no server)."""
 
 import csv
-import re
 from importlib import resources
 
 import pytest
@@ -12,9 +11,9 @@ from typer.testing import CliRunner
 pytest.importorskip("streamlit")
 pytest.importorskip("xarray")
 
-from streamlit.testing.v1 import AppTest  # noqa: E402
 
-from rotarydryer.app import logic, script_path  # noqa: E402
+from rotarydryer.app import logic  # noqa: E402
+from .apptest_support import image_urls as _img_urls, metric_number as _metric, open_app  # noqa: E402
 
 runner = CliRunner()
 
@@ -24,21 +23,9 @@ def _csv(name):
     return list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
 
 
-def _metric(at, label):
-    m = next(m for m in at.metric if m.label == label)
-    return float(re.sub(r"[^0-9.\-]", "", m.value.split()[0]))
-
-
-def _img_urls(at):
-    return [i.proto.imgs[0].url for i in at.image]
-
-
 @pytest.fixture()
 def at():
-    app = AppTest.from_file(str(script_path()), default_timeout=120)
-    app.run()
-    assert not app.exception, [e.value for e in app.exception]
-    return app
+    return open_app(timeout=120)
 
 
 def test_geometry_page_reproduces_lee_table_7_7_and_updates(at):

@@ -11,9 +11,9 @@ from typer.testing import CliRunner
 
 pytest.importorskip("streamlit")
 
-from streamlit.testing.v1 import AppTest  # noqa: E402
 
-from rotarydryer.app import logic_lab, script_path  # noqa: E402
+from rotarydryer.app import logic_lab  # noqa: E402
+from .apptest_support import open_app  # noqa: E402
 
 runner = CliRunner()
 
@@ -174,10 +174,7 @@ def test_steps_logic_bad_values_give_the_cli_messages(cli, tmp_path):
 
 # ------------------------------------------------------------------------------------------- page
 def test_lab_page_renders_every_tab_and_updates():
-    at = AppTest.from_file(str(script_path()), default_timeout=240)
-    at.run()
-    at.sidebar.radio(key="page").set_value("Lab data").run()
-    assert not at.exception, [e.value for e in at.exception]
+    at = open_app("Lab data", timeout=240)
     labels = [m.label for m in at.metric]
     for label in ("Repose angle (deg)", "FUF (cm2)", "Design load, 1st group", "Holdup H1 (kg)"):
         assert label in labels

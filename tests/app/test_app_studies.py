@@ -12,9 +12,9 @@ pytest.importorskip("streamlit")
 pytest.importorskip("xarray")
 pytest.importorskip("SALib")
 
-from streamlit.testing.v1 import AppTest  # noqa: E402
 
-from rotarydryer.app import logic, logic_studies, script_path  # noqa: E402
+from rotarydryer.app import logic, logic_studies  # noqa: E402
+from .apptest_support import image_urls as _img_urls, open_app  # noqa: E402
 from rotarydryer.simulation import Simulation  # noqa: E402
 
 
@@ -103,18 +103,9 @@ def test_study_input_ranges_hold_the_case_value():
 
 
 # ---------------------------------------------------------------------------------- the page
-def _img_urls(at):
-    return [i.proto.imgs[0].url for i in at.image]
-
-
 @pytest.fixture()
 def at():
-    app = AppTest.from_file(str(script_path()), default_timeout=180)
-    app.run()
-    app.sidebar.radio(key="page").set_value("Studies and sensitivity").run()
-    assert not app.exception, [e.value for e in app.exception]
-    assert not app.error, [e.value for e in app.error]
-    return app
+    return open_app("Studies and sensitivity", timeout=180, no_error=True)
 
 
 def test_page_whatif_updates_and_refuses_bad_range(at):

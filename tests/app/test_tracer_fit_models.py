@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("streamlit")
 
-from rotarydryer.app import logic, script_path  # noqa: E402
+from rotarydryer.app import logic  # noqa: E402
 from rotarydryer.rtd import RTD_FIT_MODELS  # noqa: E402
 
 
@@ -48,12 +48,9 @@ def test_bad_model_or_baseline_is_refused(kwargs, fragment):
 
 
 def test_page_widgets_choose_the_model_and_the_background():
-    from streamlit.testing.v1 import AppTest
+    from .apptest_support import open_app
 
-    at = AppTest.from_file(str(script_path()), default_timeout=300)
-    at.run()
-    at.sidebar.radio(key="page").set_value("Transport and RTD").run()
-    assert not at.exception
+    at = open_app("Transport and RTD", timeout=300)
     at.selectbox(key="rtd_model").set_value("interactive_mixers").run()
     at.checkbox(key="rtd_baseline").check().run()
     assert not at.exception and not at.error
