@@ -100,7 +100,17 @@ def new_page(browser, server, title: str | None = None, width: int = 1366, heigh
     return page
 
 
+def metric_locator(page, label):
+    """The value element of the metric whose label contains ``label`` (for ``expect``)."""
+    return page.locator('[data-testid="stMetric"]').filter(has_text=label).locator('[data-testid="stMetricValue"]')
+
+
 def metric(page, label):
     """The shown value of the metric whose label contains ``label``."""
-    box = page.locator('[data-testid="stMetric"]').filter(has_text=label)
-    return box.locator('[data-testid="stMetricValue"]').inner_text()
+    return metric_locator(page, label).inner_text()
+
+
+def enter(box, value):
+    """Type ``value`` into an input and press Enter (Streamlit reruns on it)."""
+    box.fill(str(value))
+    box.press("Enter")

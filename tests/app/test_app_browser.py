@@ -10,7 +10,7 @@ from pathlib import Path
 from .browser_support import skip_without_browser
 
 skip_without_browser()
-from .browser_support import DOCS_IMG, SHOTS, browser, expect, server  # noqa: E402,F401
+from .browser_support import DOCS_IMG, SHOTS, browser, enter, expect, metric_locator, server  # noqa: E402,F401
 from .browser_support import metric as _metric  # noqa: E402
 
 
@@ -25,9 +25,8 @@ def test_app_geometry_page_updates_in_browser(server, browser):
     expect(imgs).to_have_count(2)
     src_before = imgs.first.get_attribute("src")
     box = page.get_by_label("Dynamic repose angle (deg)")
-    box.fill("50")
-    box.press("Enter")
-    metric = page.locator('[data-testid="stMetric"]').filter(has_text="Design load").locator('[data-testid="stMetricValue"]')
+    enter(box, "50")
+    metric = metric_locator(page, "Design load")
     expect(metric).not_to_have_text(before)
     expect(metric).to_have_text("6,786 kg")  # Lee (2008) Table 7.7: 6784 kg at 50 deg
     expect(imgs.first).not_to_have_attribute("src", src_before)
@@ -50,9 +49,8 @@ def test_app_transport_page_in_browser(server, browser):
     expect(page.locator('[data-testid="stMetric"]').filter(has_text="Fitted outlet mean")).to_be_visible()
     before = _metric(page, "Total holdup")
     box = page.get_by_label("Feed rate (kg/s)")
-    box.fill("20")
-    box.press("Enter")
-    metric = page.locator('[data-testid="stMetric"]').filter(has_text="Total holdup").locator('[data-testid="stMetricValue"]')
+    enter(box, "20")
+    metric = metric_locator(page, "Total holdup")
     expect(metric).not_to_have_text(before)
     assert float(metric.inner_text().split()[0].replace(",", "")) < float(before.split()[0].replace(",", ""))
     # upload a tracer CSV (Lee's Invicta curve) and fit it

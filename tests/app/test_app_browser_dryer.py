@@ -11,11 +11,8 @@ from .browser_support import skip_without_browser
 
 skip_without_browser()
 pytest.importorskip("SALib")
-from .browser_support import DOCS_IMG, SHOTS, browser, expect, metric, new_page, server  # noqa: E402,F401
-
-
-def _value(page, label):
-    return page.locator('[data-testid="stMetric"]').filter(has_text=label).locator('[data-testid="stMetricValue"]')
+from .browser_support import DOCS_IMG, SHOTS, browser, enter, expect, metric, new_page, server  # noqa: E402,F401
+from .browser_support import metric_locator as _value  # noqa: E402
 
 
 def _choose(page, label, option):
@@ -51,8 +48,7 @@ def test_whole_dryer_page_in_browser(server, browser):
     expect(imgs).to_have_count(2)
     src_before = imgs.first.get_attribute("src")
     box = page.get_by_role("spinbutton", name="Feed rate (kg/s wet)")
-    box.fill("50")
-    box.press("Enter")
+    enter(box, "50")
     expect(moisture).not_to_have_text(f"{x0:.4f} kg/kg")
     assert float(moisture.inner_text().split()[0]) > x0         # more feed, same gas: wetter product
     expect(_value(page, "Gas outlet temperature")).not_to_have_text(gas_before)
@@ -62,15 +58,13 @@ def test_whole_dryer_page_in_browser(server, browser):
     width = page.evaluate("() => document.documentElement.scrollWidth")
     assert width <= 1366
     # a bad value: the CLI's one-line message, no traceback
-    box.fill("0")
-    box.press("Enter")
+    enter(box, "0")
     alert = page.locator('[data-testid="stAlert"]')
     expect(alert).to_contain_text("operating.feed_rate")
     expect(alert).to_contain_text("greater than 0")
     assert "Traceback" not in page.content()
     if SHOTS:
-        box.fill("40.667")
-        box.press("Enter")
+        enter(box, "40.667")
         expect(alert).to_have_count(0)
         _images_loaded(page)
         page.wait_for_timeout(500)
@@ -85,8 +79,7 @@ def test_studies_page_in_browser(server, browser):
     expect(imgs).to_have_count(1)
     src_before = imgs.first.get_attribute("src")
     points = page.get_by_role("spinbutton", name="Points (2-15)")
-    points.fill("3")
-    points.press("Enter")
+    enter(points, "3")
     expect(imgs.first).not_to_have_attribute("src", src_before)
     # the sensitivity study runs on the button: 4 samples x (2 inputs + 2) = 16 runs
     _choose(page, "Base samples N", "4")

@@ -6,17 +6,13 @@ missing."""
 from .browser_support import skip_without_browser
 
 skip_without_browser()
-from .browser_support import browser, expect, metric, new_page, server  # noqa: E402,F401
-
-
-def _value(page, label):
-    return page.locator('[data-testid="stMetric"]').filter(has_text=label).locator('[data-testid="stMetricValue"]')
+from .browser_support import browser, enter, expect, metric, new_page, server  # noqa: E402,F401
+from .browser_support import metric_locator as _value  # noqa: E402
 
 
 def _set(page, label, value):
     box = page.get_by_label(label, exact=True)
-    box.fill(str(value))
-    box.press("Enter")
+    enter(box, value)
 
 
 def _no_traceback(page):
