@@ -250,6 +250,23 @@ def _products(fuel_rate, air_c, air_d, fuel: FuelOil):
     return n, (c, h2, s_, w)
 
 
+def _chamber_inputs(fuel_rate, combustion_air, dilution_air, air_temperature_c, air_humidity, fuel_temperature_c,
+                    heat_loss_fraction):
+    """The checks of :func:`combustion_chamber`: (f, ac, ad, ta, y) broadcast, tf, loss."""
+    f = check_range("fuel_rate", fuel_rate, 0.0, np.inf, low_inclusive=True, unit="kg/s")
+    ac = check_range("combustion_air", combustion_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
+    ad = check_range("dilution_air", dilution_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
+    ta = check_range("air_temperature_c", air_temperature_c, -20.0, 400.0, unit="degC")
+    y = check_range("air_humidity", air_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True,
+                    unit="kg/kg dry air")
+    tf = check_range("fuel_temperature_c", fuel_temperature_c, -20.0, 200.0, unit="degC")
+    loss = check_range("heat_loss_fraction", heat_loss_fraction, 0.0, 1.0, low_inclusive=True)
+    f, ac, ad, ta, y = np.broadcast_arrays(f, ac, ad, ta, y)
+    if np.any(ac + ad <= 0):
+        raise ValueError("combustion_air + dilution_air must be > 0 kg/s")
+    return f, ac, ad, ta, y, tf, loss
+
+
 def combustion_chamber(fuel_rate, combustion_air, dilution_air, air_temperature_c=26.0,
                        air_humidity=AJAYI_AIR_HUMIDITY, fuel: FuelOil = AJAYI_FUEL_OIL,
                        fuel_temperature_c=25.0, heat_loss_fraction=0.0) -> HotGas:
@@ -285,17 +302,8 @@ def combustion_chamber(fuel_rate, combustion_air, dilution_air, air_temperature_
     >>> round(float(gas.temperature_c), 0), round(float(gas.mass_flow), 2)
     (235.0, 39.85)
     """
-    f = check_range("fuel_rate", fuel_rate, 0.0, np.inf, low_inclusive=True, unit="kg/s")
-    ac = check_range("combustion_air", combustion_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
-    ad = check_range("dilution_air", dilution_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
-    ta = check_range("air_temperature_c", air_temperature_c, -20.0, 400.0, unit="degC")
-    y = check_range("air_humidity", air_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True,
-                    unit="kg/kg dry air")
-    tf = check_range("fuel_temperature_c", fuel_temperature_c, -20.0, 200.0, unit="degC")
-    loss = check_range("heat_loss_fraction", heat_loss_fraction, 0.0, 1.0, low_inclusive=True)
-    f, ac, ad, ta, y = np.broadcast_arrays(f, ac, ad, ta, y)
-    if np.any(ac + ad <= 0):
-        raise ValueError("combustion_air + dilution_air must be > 0 kg/s")
+    f, ac, ad, ta, y, tf, loss = _chamber_inputs(fuel_rate, combustion_air, dilution_air, air_temperature_c,
+                                                 air_humidity, fuel_temperature_c, heat_loss_fraction)
     air_c = _air_moles(ac, y)
     air_d = _air_moles(ad, y)
     need = f * fuel.stoichiometric_oxygen()
@@ -344,18 +352,17 @@ def combustion_chamber(fuel_rate, combustion_air, dilution_air, air_temperature_
 
 
 def _fuel_rate_in_range(target, combustion_air, dilution_air, f_max, kw):
-    """The closed-form fuel rate when the inputs pass the chamber's checks and it lies in [0, f_max];
-    None otherwise (then the bracketed search raises the chamber's or the burner's error)."""
-    ta = kw.get("air_temperature_c", 26.0)
-    y = kw.get("air_humidity", AJAYI_AIR_HUMIDITY)
-    tf = kw.get("fuel_temperature_c", 25.0)
-    loss = kw.get("heat_loss_fraction", 0.0)
+    """The closed-form fuel rate when it lies in [0, f_max] (scalar inputs); None otherwise, and then
+    the bracketed search raises the burner's error. The chamber's input checks raise here, as the
+    search's first chamber evaluation would."""
     unknown = set(kw) - {"air_temperature_c", "air_humidity", "fuel_temperature_c", "heat_loss_fraction", "fuel"}
+    ta, y, tf, loss = (kw.get("air_temperature_c", 26.0), kw.get("air_humidity", AJAYI_AIR_HUMIDITY),
+                       kw.get("fuel_temperature_c", 25.0), kw.get("heat_loss_fraction", 0.0))
     if unknown or any(np.ndim(v) != 0 for v in (ta, y, tf, loss, combustion_air, dilution_air)):
         return None
+    _chamber_inputs(0.0, combustion_air, dilution_air, ta, y, tf, loss)
     ta, y, tf, loss, ad = (float(v) for v in (ta, y, tf, loss, dilution_air))
-    if not (-20.0 < ta < 400.0 and 0.0 <= y <= 0.3 and -20.0 < tf < 200.0 and 0.0 <= loss < 1.0
-            and ad >= 0.0 and combustion_air + ad > 0.0 and target >= ta):
+    if not target >= ta:
         return None
     f = _fuel_rate_linear(target, combustion_air, ad, kw.get("fuel", AJAYI_FUEL_OIL), ta, y, tf, loss)
     if target == ta:
