@@ -2,7 +2,8 @@
 
 The core (``pip install rotarydryer``) runs every simulation, RTD and fit. Image analysis needs
 ``rotarydryer[lab]`` (scikit-image, shapely), the web app ``rotarydryer[app]`` (streamlit), the
-Sobol study ``rotarydryer[sensitivity]`` (SALib).
+Sobol study ``rotarydryer[sensitivity]`` (SALib). ``rotarydryer[fast]`` (numba) adds compiled kernels
+that only change the speed (:mod:`rotarydryer._jit`).
 """
 
 from __future__ import annotations

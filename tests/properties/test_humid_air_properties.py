@@ -146,3 +146,21 @@ def test_combustion_gas_against_published_values():
     assert np.allclose(combustion.mole_fractions_from_mass(w), [x[s] for s in combustion.SPECIES])
     with pytest.raises(ValueError, match="sum to 1"):
         combustion.heat_capacity(100.0, {"N2": 0.5})
+
+
+def test_diffusivity_branches_blend_smoothly_at_450_k():
+    """Marrero & Mason's two power laws meet at 450 K with slopes a quarter apart: blended over
+    449.5-450.5 K (continuous with a continuous slope), each unchanged outside that window."""
+    t = np.linspace(448.0, 452.0, 4001) - 273.15
+    d = ha.water_vapour_diffusivity(t)
+    tk = t + 273.15
+    low, high = 1.87e-10 * tk**2.072, 2.75e-9 * tk**1.632
+    out = np.abs(tk - 450.0) > 0.5
+    np.testing.assert_array_equal(d[out], np.where(tk < 450.0, low, high)[out])
+    inside = ~out
+    assert np.all((d[inside] - np.minimum(low, high)[inside]) >= -1e-20)
+    assert np.all((np.maximum(low, high)[inside] - d[inside]) >= -1e-20)
+    slope = np.diff(np.log(d)) / np.diff(np.log(tk))           # d ln D / d ln T
+    assert np.max(np.abs(np.diff(slope))) < 2e-3                # no jump (it was 0.44 at 450 K)
+    assert np.max(np.abs(np.diff(np.log(d)))) < 1e-5            # no step in value (it was 1.8e-4)
+    assert slope[0] == pytest.approx(2.072, abs=1e-3) and slope[-1] == pytest.approx(1.632, abs=1e-3)

@@ -159,3 +159,61 @@ def test_nearby_factorization_gives_the_same_steady_state():
     np.testing.assert_allclose(again.state, ref.state, rtol=1e-7, atol=1e-9 * np.max(np.abs(ref.state)))
     wrong = splu(identity(3, format="csc"))             # another network: ignored
     assert d.steady_state(z0=base.state, dt0=1e3, factorization=wrong).residual < 1e-11
+
+
+@pytest.mark.parametrize("case", ["ajayi2011_mmg", "lee2008_invicta", "song2003_ottawa"])
+def test_section_law_on_a_subset_of_cells_equals_the_whole(case):
+    """A Jacobian's perturbation moves a few cells: evaluated alone (``cells=``) they get the values of
+    the whole section's evaluation (the coefficients of a cell depend on that cell only)."""
+    d = Simulation(case, {"operating.test": 4} if case == "ajayi2011_mmg" else {}).thermal_dryer()
+    rng = np.random.default_rng(11)
+    lo, hi = d.material.wet_range()
+    for law in d.laws:
+        assert law.cellwise
+        n = law.P.size
+        x = rng.uniform(lo, hi, n)
+        mp = rng.uniform(0.05, 1.5, n) * law.evaluate(np.ones(n), x)["design_load"]
+        whole = law.evaluate(mp, x, rpm=d.rpm, smoothing=1e-3)
+        cells = np.sort(rng.choice(n, size=max(1, n // 3), replace=False))
+        cells = np.concatenate([cells, cells[:1]])          # a cell twice (two rows of a batch)
+        part = law.evaluate(mp[cells], x[cells], rpm=d.rpm, smoothing=1e-3, cells=cells)
+        for key, v in whole.items():
+            np.testing.assert_allclose(part[key], np.broadcast_to(v, (n,))[cells], rtol=1e-13, atol=0, err_msg=key)
+
+
+def test_jacobian_batch_evaluates_each_law_once_on_the_changed_cells():
+    d = Simulation("ajayi2011_mmg", {"operating.test": 4}).thermal_dryer()
+    z = d.initial_state()
+    d.freeze_shell(z)
+    f0 = d.rhs(0.0, z)
+    sizes = []
+    for law in d.laws:
+        orig = law.evaluate
+
+        def spy(mp, *a, _orig=orig, **kw):
+            sizes.append((np.shape(mp), kw.get("cells") is not None))
+            return _orig(mp, *a, **kw)
+        law.evaluate = spy
+    J = d.jacobian(z, f0)
+    assert len(sizes) == len(d.laws)                          # one call per law for the whole batch
+    assert all(len(shape) == 1 and subset for shape, subset in sizes)
+    total = sum(shape[0] for shape, _ in sizes)
+    assert total <= 2 * sum(law.n for law in d.laws)           # mass and moisture of each passive cell
+    assert np.all(np.isfinite(J.data))
+
+
+def test_steady_state_with_a_film_temperature_at_450_k_converges():
+    """The one run of the 10^4-run Sobol benchmark that failed (issue 16): the film temperature of a
+    curtain sat at 450 K, where Marrero & Mason's diffusivity switches power law; Newton cycled at a
+    scaled residual of 2.5e-5. With the branches blended it converges in the usual iterations."""
+    keys = ("operating.feed_rate", "operating.rpm", "thermal.gas_flow", "thermal.area_scale",
+            "thermal.gas_inlet_temperature", "solids.moisture_scale", "thermal.solids_inlet_temperature",
+            "thermal.ambient_temperature")
+    values = (39.116628314275296, 2.8924583081156015, 15.509397942665965, 2.559722603857517, 496.96256432682276,
+              1.0103500817902387, 31.31626059114933, 31.193042688071728)
+    d = Simulation("ajayi2011_mmg", {"operating.test": 4, **dict(zip(keys, values))}).thermal_dryer()
+    ss = d.steady_state()
+    assert ss.iterations <= 20
+    S, W, T, Tg, Y = d.split(ss.state)
+    film_k = 0.5 * (Tg + T[d.gas_tank]) + 273.15
+    assert np.min(np.abs(film_k - 450.0)) < 0.5                 # the case still has a stage at the switch

@@ -19,7 +19,9 @@ Model: ideal mixture of dry air and water vapour (no enhancement factor).
 * Water-vapour diffusivity in air: Marrero & Mason (1972) fit as given by Mills (2001,
   Heat Transfer, Table 3.1 note): :math:`D = 1.87\times10^{-10}T^{2.072}/P` (280-450 K),
   :math:`2.75\times10^{-9}T^{1.632}/P` (450-1070 K), P in atm, D in m²/s. Below
-  280 K (down to 0 °C) the first branch is extrapolated (≈1 % uncertainty).
+  280 K (down to 0 °C) the first branch is extrapolated (≈1 % uncertainty). The two
+  branches are blended smoothly over 449.5-450.5 K (they differ there by 2e-4 in value and a
+  quarter in slope; the kink made Newton's method cycle), each used unchanged outside.
 * Saturation, relative humidity, dew point, wet bulb: Wagner-Pruss saturation
   pressure (:mod:`.water`); the wet-bulb temperature is the adiabatic-saturation
   (thermodynamic) wet bulb, ASHRAE (2017) ch. 1 Eq. 33, solved by bisection.
@@ -341,12 +343,22 @@ def water_vapour_diffusivity(temperature_c, pressure=STANDARD_PRESSURE):
     return _water_vapour_diffusivity(_temperature(temperature_c), _pressure(pressure))
 
 
+#: Marrero & Mason (1972) fit one power law below 450 K and another above: their values meet there to
+#: 2e-4 but their slopes differ by a quarter. Within +-0.5 K of 450 K the two are blended (C2
+#: "smootherstep" weight in T), so a solver whose film temperature sits at 450 K sees a smooth function
+#: (Newton's method cycled on that kink); outside the window each fit is used unchanged (the shipped
+#: cases' steady states move by less than 1e-13).
+_D_SWITCH_K, _D_BLEND_K = 450.0, 0.5
+
+
 def _water_vapour_diffusivity(t_c, p):
     t = t_c + 273.15
     p_atm = p / STANDARD_PRESSURE
     low = 1.87e-10 * t**2.072
     high = 2.75e-9 * t**1.632
-    return np.where(t < 450.0, low, high) / p_atm
+    s = np.clip((t - (_D_SWITCH_K - _D_BLEND_K)) / (2.0 * _D_BLEND_K), 0.0, 1.0)
+    blend = low + s**3 * (s * (6.0 * s - 15.0) + 10.0) * (high - low)
+    return np.where(s <= 0.0, low, np.where(s >= 1.0, high, blend)) / p_atm
 
 
 def schmidt_number(temperature_c, humidity, pressure=STANDARD_PRESSURE):

@@ -111,14 +111,37 @@ def _gas_enthalpy(temperature_c, humidity, method):
     t_raw = np.asarray(temperature_c, dtype=float)
     t = _tc(t_raw)
     y = _yc(humidity)
-    # outside 0-600 degC (solver trial states only) continue linearly, so the balance keeps a restoring slope
-    ext = (t_raw - t) * (1150.0 + 2200.0 * y)
     if method == "physical":
-        return ha._enthalpy(t, y) + ext
+        return _physical_enthalpy(t_raw, t, ha._dry_air_enthalpy(t), ha._vapour_enthalpy(t), y)
+    ext = _extension(t_raw, t, y)
     yw = y / (1.0 + y)
     cpg, cpw, lam = AJAYI_CP_GAS, AJAYI_CP_WATER, AJAYI_LATENT_HEAT
     h = (1 - yw) * cpg * 100 + yw * cpw * 100 + yw * lam + (1 - yw) * cpg * (t - 100) + yw * _ajayi_cpv(t) * (t - 100)
     return (1.0 + y) * h + ext
+
+
+def _gas_enthalpy_pair(temperature_c, humidity, dy, method):
+    """``(_gas_enthalpy(T, Y), _gas_enthalpy(T, Y + dy))``: the same numbers, the temperature
+    functions of the physical enthalpy evaluated once for both."""
+    if method != "physical":
+        return _gas_enthalpy(temperature_c, humidity, method), _gas_enthalpy(temperature_c, humidity + dy, method)
+    t_raw = np.asarray(temperature_c, dtype=float)
+    t = _tc(t_raw)
+    air, vapour = ha._dry_air_enthalpy(t), ha._vapour_enthalpy(t)
+    return tuple(_physical_enthalpy(t_raw, t, air, vapour, _yc(y))
+                 for y in (humidity, np.asarray(humidity, dtype=float) + dy))
+
+
+def _extension(t_raw, t, y):
+    """Outside 0-600 degC (solver trial states only) the enthalpy continues linearly, so the balance
+    keeps a restoring slope: (T - T_clipped)(1150 + 2200 Y), J/kg dry gas."""
+    return (t_raw - t) * (1150.0 + 2200.0 * y)
+
+
+def _physical_enthalpy(t_raw, t, air, vapour, y):
+    """Humid-air enthalpy (:func:`rotarydryer.properties.humid_air.enthalpy` from its dry-air and
+    vapour parts at the clipped temperature ``t``) plus :func:`_extension`."""
+    return air + y * vapour + _extension(t_raw, t, y)
 
 
 def gas_heat_capacity(temperature_c, humidity, method: str = "physical"):

@@ -356,6 +356,7 @@ class ThermalDryer:
         self._shell_memo = None      # (inputs, heat loss) of the last exact shell evaluation
         self._inlet_h = None
         self._clipped = False
+        self._plans = {}             # family set -> edges end to end (_edge_plan)
 
     # ------------------------------------------------------------------ state helpers
     def split(self, z):
@@ -433,26 +434,47 @@ class ThermalDryer:
             coef[id(law)] = self._law_values(law, m[..., P], xp, s.fouling)
         if everything and m.ndim == 1:
             self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
-        src, dst, fl = [], [], []
-        eps = s.design_load_smoothing
-        for f in families:
-            law = f.law
-            ms = m[..., f.src]
-            if law is None:
-                k, cap = f.rate, f.cap
-            else:
-                c = coef[id(law)]
-                k, cap = c[f.name], (c["design_load"] if f.kind != "linear" else None)
-            if f.kind == "linear":
-                b = ms
-            elif f.kind == "capped":
-                b = _smooth_min(ms, cap, eps * cap)
-            else:
-                b = ms - _smooth_min(ms, cap, eps * cap)
-            src.append(f.src)
-            dst.append(f.dst)
-            fl.append(k * b)
-        return np.concatenate(src), np.concatenate(dst), np.concatenate(fl, axis=-1)
+        # all edges end to end: one gather, one coefficient array, one smoothed cap for the capped and
+        # excess edges (the same operations per edge as family by family)
+        src, dst, capped, excess, in_ce, slices = self._edge_plan(families)
+        lead = m.shape[:-1]
+        k = np.empty(lead + src.shape)
+        cap = np.empty(lead + in_ce.shape)
+        for f, (edges, caps) in zip(families, slices):
+            k[..., edges] = f.rate if f.law is None else coef[id(f.law)][f.name]
+            if caps is not None:
+                cap[..., caps] = f.cap if f.law is None else coef[id(f.law)]["design_load"]
+        ms = m[..., src]
+        b = ms
+        if in_ce.size:
+            sm = _smooth_min(ms[..., in_ce], cap, s.design_load_smoothing * cap)
+            b = ms.copy()
+            b[..., capped[0]] = sm[..., capped[1]]
+            b[..., excess[0]] = ms[..., excess[0]] - sm[..., excess[1]]
+        return src, dst, k * b
+
+    def _edge_plan(self, families):
+        """The edges of ``families`` end to end (fixed by the network, built once per family set):
+        src, dst, then (edge index, index among the capped and excess edges) of the capped and of
+        the excess edges, the edge index of each capped or excess edge, and per family its slice
+        of the edges and of the capped and excess edges (None when linear)."""
+        key = tuple(id(f) for f in families)
+        plan = self._plans.get(key)
+        if plan is None:
+            kind = np.concatenate([np.full(f.src.size, f.kind) for f in families])
+            ce = np.flatnonzero(kind != "linear")
+            pos = np.full(kind.size, -1)
+            pos[ce] = np.arange(ce.size)
+            cap_e, exc_e = np.flatnonzero(kind == "capped"), np.flatnonzero(kind == "excess")
+            slices, a, c = [], 0, 0
+            for f in families:
+                n = f.src.size
+                slices.append((slice(a, a + n), None if f.kind == "linear" else slice(c, c + n)))
+                a, c = a + n, c + (0 if f.kind == "linear" else n)
+            plan = (np.concatenate([f.src for f in families]), np.concatenate([f.dst for f in families]),
+                    (cap_e, pos[cap_e]), (exc_e, pos[exc_e]), ce, slices)
+            self._plans[key] = plan
+        return plan
 
     def _law_values(self, law, mp, xp, fouling):
         """``law.evaluate`` at (mp, xp), remembered for the last two distinct inputs of each law.
@@ -476,30 +498,28 @@ class ThermalDryer:
         return v
 
     def _law_values_batch(self, law, mp, xp, fouling):
-        """:meth:`_law_values` of a batch (k, n): rows equal to the last single state reuse its values,
-        the others are evaluated together in one call of the law."""
+        """:meth:`_law_values` of a batch (k, n). A cellwise law (:attr:`FlightedSectionLaw.cellwise`)
+        is evaluated, in one call, only at the (row, cell) pairs whose passive mass or moisture
+        differs from the last single state; the others keep its values. A Jacobian's perturbation
+        moves a few cells of a row, so this costs about one single evaluation, not k."""
         smooth = self.settings.design_load_smoothing
         base = self._law_base.get(id(law))
-        same = np.zeros(mp.shape[0], dtype=bool)
-        if base is not None and base[2] == self.rpm and base[3] == fouling:
-            same = np.all(mp == base[0], axis=-1)
-            if isinstance(xp, np.ndarray) and xp.ndim == 2:
-                same &= np.all(xp == base[1], axis=-1) if isinstance(base[1], np.ndarray) else False
-            elif not (xp is base[1] or repr(xp) == repr(base[1])):
-                same[:] = False
-        if not np.any(same):
+        # the moisture: computed per state (k, n), or the assumed profile, the same for every state
+        batch_x = isinstance(xp, np.ndarray) and xp.ndim == 2
+        same_x = base is not None and ((np.shape(base[1]) == (law.n,)) if batch_x else
+                                       (xp is base[1] or repr(xp) == repr(base[1])))
+        if not same_x or base[2] != self.rpm or base[3] != fouling or not law.cellwise:
             return law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=smooth)
-        if np.all(same):
-            return base[4]
-        new = ~same
-        xn = xp[new] if isinstance(xp, np.ndarray) and xp.ndim == 2 else xp
-        v = law.evaluate(mp[new], xn, rpm=self.rpm, fouling=fouling, smoothing=smooth)
-        out = {}
-        for k, b in base[4].items():
-            a = np.empty(mp.shape)
-            a[same] = b
-            a[new] = v[k]
-            out[k] = a
+        changed = mp != base[0]
+        if batch_x:
+            changed |= xp != base[1]
+        rows, cells = np.nonzero(changed)
+        out = {k: np.array(np.broadcast_to(b, mp.shape)) for k, b in base[4].items()}
+        if rows.size:
+            x = xp[rows, cells] if batch_x else np.broadcast_to(np.asarray(xp, dtype=float), (law.n,))[cells]
+            v = law.evaluate(mp[rows, cells], x, rpm=self.rpm, fouling=fouling, smoothing=smooth, cells=cells)
+            for k, a in out.items():
+                a[rows, cells] = v[k]
         return out
 
     def _transfer(self, S, W, T, Tg, Y):
@@ -697,12 +717,12 @@ class ThermalDryer:
         Fd = self.dry_gas_flow
         Mg = self.gas_holdup
         dYm = Fd * (d["Y_up"] - Y) + d["rw"]
-        h = bal._gas_enthalpy(Tg, Y, s.mode)
+        h, h_wetter = bal._gas_enthalpy_pair(Tg, Y, 1e-4, s.mode)
         h_up = h[..., np.maximum(self.gas_up, 0)]       # the upstream stage's enthalpy (elementwise identical)
         h_up[..., self.gas_order[0]] = self._inlet_enthalpy()
         dH = Fd * (h_up - h) + d["rw"] * d["hv"] - d["qc"] - d["qr"] - d["qloss"]
         cs = bal._gas_heat_capacity(Tg, Y, s.mode)
-        dhdY = (bal._gas_enthalpy(Tg, Y + 1e-4, s.mode) - h) / 1e-4
+        dhdY = (h_wetter - h) / 1e-4
         dY = dYm / Mg
         dTg = (dH / Mg - dhdY * dY) / cs
         return np.concatenate([dS, dW, dT, dTg, dY], axis=-1)

@@ -105,12 +105,12 @@ def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
         p = ph if name == "h2o" else (pc if name == "co2" else pa)
         values[k] = _wsgg(name, t_weights_k, p * path_length)
     out = np.zeros(np.broadcast(fc, *values.values()).shape)
-    fcb = np.broadcast_to(fc, out.shape)
+    fcb = fc if np.shape(fc) == out.shape else np.broadcast_to(fc, out.shape)
     for k in used:
         lo, hi = xs[k], xs[k + 1]
         w = (fcb - lo) / (hi - lo)
         seg = (fcb >= lo) & ((fcb < hi) | ((k == len(xs) - 2) & (fcb <= hi)))
-        v = (1 - w) * np.broadcast_to(values[k], out.shape) + w * np.broadcast_to(values[k + 1], out.shape)
+        v = (1 - w) * values[k] + w * values[k + 1]       # broadcast to out's shape by the arithmetic
         out = np.where(seg, v, out)
     return np.clip(out, 0.0, 1.0)
 

@@ -143,6 +143,18 @@ class ExactGeometry:
             return self.table.loading_factor(d, phi, smoothing)
         return self.drum.loading_factor(d, phi, smoothing=smoothing, **self._kw)
 
+    def cell_values(self, phi, rho, mp, *, length, fouling, smoothing, rpm, slope=0.0, passive_time_branch=None,
+                    fixed_loading=False):
+        """Design load, loading factor, passive time, fall height and fall time of cells in one
+        compiled pass (:meth:`GeometryTable.cell_values`), or None where that does not apply (no
+        compiled kernels, a direct evaluation, a repose angle outside the table)."""
+        if not self.tabulated:
+            return None
+        branch = passive_time_branch or self.branch or "eq3.4"
+        return self.table.cell_values(phi, rho, mp, length=length, fouling=fouling, method=self.design_load_method,
+                                      smoothing=smoothing, rpm=rpm, slope=slope, passive_time_branch=branch,
+                                      fixed_loading=fixed_loading)
+
     def cascade(self, phi, f, *, rpm, slope=0.0, passive_time_branch=None):
         kw = dict(rpm=rpm, slope=slope)
         branch = passive_time_branch or self.branch
@@ -176,11 +188,20 @@ class FlightedSectionLaw:
         self._fixed_rho = None if spec.bulk_density is None else np.broadcast_to(
             np.asarray(spec.bulk_density, float), (self.n,)).copy()
 
-    def properties(self, x):
-        """(repose angle deg, bulk density kg/m^3) per cell at wet-basis moisture ``x``."""
-        phi = self._fixed_phi if self._fixed_phi is not None else self.material.repose_angle(x)
-        rho = self._fixed_rho if self._fixed_rho is not None else self.material.bulk_density(x)
-        ones = np.ones(np.broadcast_shapes(np.shape(x), (self.n,)))   # (n,) or a batch (k, n)
+    def _shape(self, a, cells):
+        """Shape of the per-cell values: (n,), a batch (k, n), or that of ``cells`` (a subset)."""
+        return np.broadcast_shapes(np.shape(a), (self.n,)) if cells is None else np.shape(cells)
+
+    def properties(self, x, cells=None):
+        """(repose angle deg, bulk density kg/m^3) per cell at wet-basis moisture ``x``; ``cells``:
+        the cell index of each element of ``x`` when it holds a subset of the cells (1-D)."""
+        fixed_phi, fixed_rho = self._fixed_phi, self._fixed_rho
+        if cells is not None:
+            fixed_phi = None if fixed_phi is None else fixed_phi[cells]
+            fixed_rho = None if fixed_rho is None else fixed_rho[cells]
+        phi = fixed_phi if fixed_phi is not None else self.material.repose_angle(x)
+        rho = fixed_rho if fixed_rho is not None else self.material.bulk_density(x)
+        ones = np.ones(self._shape(x, cells))   # (n,), a batch (k, n) or a subset
         return np.asarray(phi, float) * ones, np.asarray(rho, float) * ones
 
     def design_load(self, phi, rho, fouling=None):
@@ -216,8 +237,7 @@ class FlightedSectionLaw:
         ta = np.asarray(c.mean_fall_time, float).reshape(shape)
         h = np.asarray(c.mean_fall_height, float).reshape(shape)
         if not self.trajectory:
-            CF = s.drag_reduction * h * self.sin_t / self.dl
-            return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(shape, float(s.backmix)))
+            return self._fitted_step(tp, ta, h)
         from .forward_step import trajectory_forward_step
 
         if flight_mass is None:
@@ -238,17 +258,38 @@ class FlightedSectionLaw:
         return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - CB, CB=CB, step=d, step_free=free, CFG=cfg,
                     cv=step["curtain_velocity_ratio"])
 
+    def _fitted_step(self, tp, ta, h):
+        """The cascade dict of the fitted forward step: C_F = drag_reduction h sin(theta) / dL (Lee
+        (2008) Eq. 3.7-3.8), C_B = backmix, C_R = 1 - C_F - C_B."""
+        s = self.spec
+        CF = s.drag_reduction * h * self.sin_t / self.dl
+        return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(np.shape(tp), float(s.backmix)))
+
+    def _compiled(self, mp, phi, rho, rpm, fouling, smoothing):
+        """:meth:`evaluate`'s design load, loading factor and cascade in one compiled pass
+        (:meth:`ExactGeometry.cell_values`), or None where that does not apply."""
+        g = self.spec.geometry
+        if self.trajectory or not isinstance(g, ExactGeometry) or not g.tabulated or phi.ndim != 1:
+            return None
+        r = g.cell_values(phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
+                          smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
+                          passive_time_branch=self.spec.passive_time_branch, fixed_loading=self.spec.loading == "fixed")
+        if r is None:
+            return None
+        des, f, tp, h, ta = r
+        return des, f, self._fitted_step(tp, ta, h)
+
     def _reference_design_load(self):
         """Design load (kg per cell) at the assumed moisture, cached."""
         if getattr(self, "_des_ref", None) is None:
             self._des_ref = self.design_load(*self.properties(self.assumed_moisture))
         return self._des_ref
 
-    def loading_factor(self, mp, des, phi, smoothing=0.0):
+    def loading_factor(self, mp, des, phi, smoothing=0.0, cells=None):
         """Flight loading factor at passive mass ``mp`` and design load ``des``; ``smoothing`` (> 0,
         the thermal model's ``design_load_smoothing``) rounds the kinks of the exact geometry's."""
         if self.spec.loading == "fixed":
-            return np.ones(np.broadcast_shapes(np.shape(mp), (self.n,)))
+            return np.ones(self._shape(mp, cells))
         d = np.clip(mp / des, 1e-6, None)
         phi = np.broadcast_to(phi, d.shape).ravel()
         g = self.spec.geometry
@@ -270,20 +311,38 @@ class FlightedSectionLaw:
                        else np.full(shape, s.kiln_velocity / self.dl))
         return out
 
-    def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0):
+    @property
+    def cellwise(self) -> bool:
+        """Are the coefficients of a cell a function of its own passive mass and moisture only (so a
+        subset of the cells can be evaluated alone, ``evaluate(..., cells=...)``)?"""
+        return not self.trajectory
+
+    def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0, cells=None):
         """dict family name -> coefficient (1/s), plus ``"design_load"`` (kg) and the properties,
         at wet passive masses ``mp`` (kg) and wet-basis moisture ``x``; ``rpm`` and ``fouling``
         replace the section's values (studies that change them); ``smoothing``: see
         :meth:`loading_factor`. ``mp`` (and ``x``) may carry a leading batch axis, shape (k, n): the
-        coefficients of k states at once (the heat-and-mass model's finite-difference Jacobian)."""
+        coefficients of k states at once (the heat-and-mass model's finite-difference Jacobian).
+        ``cells`` (1-D, :attr:`cellwise` laws only): ``mp`` and ``x`` hold the cells of these indices
+        only, one element each (the cells a Jacobian's perturbation changed)."""
         mp = np.asarray(mp, dtype=float)
+        if cells is not None and not self.cellwise:
+            raise ValueError("the trajectory forward step couples the cells: evaluate whole states")
         if mp.ndim == 2 and self.trajectory:     # the trajectory step works cell by cell: row by row
             xs = np.broadcast_to(np.asarray(x, dtype=float), mp.shape)
             rows = [self.evaluate(mp[i], xs[i], rpm, fouling, smoothing) for i in range(mp.shape[0])]
             return {k: np.stack([np.broadcast_to(r[k], (self.n,)) for r in rows]) for k in rows[0]}
-        phi, rho = self.properties(x)
+        phi, rho = self.properties(x, cells)
+        shape = np.broadcast_shapes(phi.shape, mp.shape)
+        fast = self._compiled(*(a.ravel() if a.shape == shape else np.broadcast_to(a, shape).ravel()
+                                for a in (mp, phi, rho)), rpm, fouling, smoothing)
+        if fast is not None:        # one compiled pass; a batch (k, n) is passed flat
+            des, _, c = fast
+            out = self.rates_of({k: v.reshape(shape) for k, v in c.items()})
+            out.update(design_load=des.reshape(shape), repose_angle=phi, bulk_density=rho)
+            return out
         des = self.design_load(phi, rho, fouling)
-        f = self.loading_factor(mp, des, phi, smoothing)
+        f = self.loading_factor(mp, des, phi, smoothing, cells)
         out = self.rates(phi, f, rpm, np.minimum(mp, des) if self.trajectory else None)
         out.update(design_load=des, repose_angle=phi, bulk_density=rho)
         return out
@@ -301,8 +360,8 @@ class EmpiricalSectionLaw(FlightedSectionLaw):
         r = self.spec.rates
         return {fam: np.full(np.shape(phi), float(r[key])) for fam, key in self.NAMES.items()}
 
-    def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0):
-        phi, rho = self.properties(x)
+    def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0, cells=None):
+        phi, rho = self.properties(x, cells)
         out = self.rates(phi, None, rpm)
         out.update(design_load=self.design_load(phi, rho, fouling), repose_angle=phi, bulk_density=rho)
         return out

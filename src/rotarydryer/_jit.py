@@ -1,0 +1,57 @@
+"""Optional compiled kernels (numba, ``pip install 'rotarydryer[fast]'``).
+
+A few hot loops of the solvers (the tabulated flight geometry of every cell, evaluated in every
+residual of the heat-and-mass model) have a compiled form. Each has a NumPy reference that gives
+the same numbers to rounding (tested against each other) and that runs whenever numba is not
+installed, or when ``ROTARYDRYER_JIT=0``. The compiled functions are cached on disk by numba
+(``cache=True``): the first call in a fresh installation compiles them (about a second each).
+"""
+
+from __future__ import annotations
+
+import os
+
+__all__ = ["ENV", "disable", "enabled", "kernel"]
+
+#: environment variable: "0", "off", "no" or "false" disables the compiled kernels
+ENV = "ROTARYDRYER_JIT"
+
+
+def _numba():
+    if os.environ.get(ENV, "").strip().lower() in ("0", "off", "no", "false"):
+        return None
+    try:
+        import numba
+    except ImportError:
+        return None
+    return numba
+
+
+_NUMBA = _numba()
+
+
+def enabled() -> bool:
+    """Are compiled kernels in use (numba installed and not disabled by ``ROTARYDRYER_JIT``)?"""
+    return _NUMBA is not None
+
+
+def kernel(fn):
+    """``numba.njit(cache=True, nogil=True)`` of ``fn`` when numba is in use, else None (the caller
+    then takes its NumPy reference path). Division by zero gives inf or NaN, as in NumPy."""
+    if _NUMBA is None:
+        return None
+    try:
+        return _NUMBA.njit(cache=True, nogil=True, error_model="numpy")(fn)
+    except RuntimeError:        # no writable cache location (read-only installation): compile per process
+        return _NUMBA.njit(nogil=True, error_model="numpy")(fn)
+
+
+def disable(reason: str):
+    """Stop using the compiled kernels in this process (one that failed to compile or run), with a
+    warning naming ``reason``; the NumPy references give the same results."""
+    global _NUMBA
+    if _NUMBA is not None:
+        import warnings
+
+        warnings.warn(f"rotarydryer: compiled kernels disabled ({reason}); using NumPy", RuntimeWarning, stacklevel=3)
+    _NUMBA = None
