@@ -22,7 +22,7 @@ from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
 from rotarydryer.geometry.presets import drum_presets
 from rotarydryer.geometry.tabulated import PHI_RANGE, geometry_table
 
-pytestmark = pytest.mark.skipif(not _jit.enabled(), reason="numba not installed (rotarydryer[fast])")
+pytestmark = pytest.mark.skipif(not _jit.enabled(), reason="compiled kernels off (numba not installed, or ROTARYDRYER_JIT=0)")
 
 PRESETS = drum_presets()
 METHODS = ("lee2008", "ajayi2011", "porter1963", "kelly1977")
