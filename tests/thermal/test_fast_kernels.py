@@ -44,7 +44,11 @@ def _emissivity_all_anchors(t_k, p_h2o, p_co2, path):
     ph, pc = p_h2o / rad.ATM, p_co2 / rad.ATM
     pa = ph + pc
     fc = np.where(pa > 0, pc / np.where(pa > 0, pa, 1.0), 0.0)
-    vals = [rad._wsgg(n, t_k, (ph if n == "h2o" else pc if n == "co2" else pa) * path) for n, _ in rad._ANCHORS]
+    def absorption(n):
+        pl = (ph if n == "h2o" else pc if n == "co2" else pa) * path
+        return [1.0 - np.exp(-kappa * pl) for kappa in rad._SMITH[n][0]]
+
+    vals = [rad._wsgg(n, t_k, absorption(n)) for n, _ in rad._ANCHORS]
     xs = [x for _, x in rad._ANCHORS]
     out = np.zeros(np.broadcast(fc, *vals).shape)
     for k in range(len(xs) - 1):
@@ -60,6 +64,14 @@ def _emissivity_all_anchors(t_k, p_h2o, p_co2, path):
 def test_emissivity_evaluates_only_the_bracketing_anchors(t, ph, pc, path):
     ph = np.array(ph)
     np.testing.assert_array_equal(rad._emissivity(t, ph, pc, path), _emissivity_all_anchors(t, ph, pc, path))
+
+
+def test_emissivity_at_a_fixed_composition_equals_the_full_evaluation():
+    """A shell solve prepares the gas composition once (_wsgg_paths) and evaluates many wall temperatures."""
+    ph, pc = np.array([5e3, 9e3, 2e4]), 1.1e3
+    paths = rad._wsgg_paths(ph, pc, 3.7)
+    for t in (np.array([400.0, 600.0, 900.0]), np.array([[350.0, 500.0, 700.0], [351.0, 501.0, 701.0]])):
+        np.testing.assert_array_equal(rad._emissivity_at(t, paths), rad._emissivity(t, ph, pc, 3.7))
 
 
 def test_emissivity_anchor_points_and_pure_gases():

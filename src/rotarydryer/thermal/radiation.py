@@ -80,16 +80,22 @@ def mean_beam_length(diameter, factor: float = 0.95):
     return factor * d
 
 
-def _wsgg(set_name, t_weights, pl_atm_m):
-    kappas, b = _SMITH[set_name]
+def _wsgg(set_name, t_weights, absorption):
+    """Smith et al. (1982) WSGG sum: temperature weights a_i(T) times the gray gases' absorption
+    factors 1 - exp(-kappa_i p L) (:func:`_wsgg_paths`)."""
+    _, b = _SMITH[set_name]
     eps = 0.0
-    for kappa, bi in zip(kappas, b):
+    for bi, absorbed in zip(b, absorption):
         a = bi[0] + t_weights * (bi[1] + t_weights * (bi[2] + t_weights * bi[3]))
-        eps = eps + np.maximum(a, 0.0) * (1.0 - np.exp(-kappa * pl_atm_m))
+        eps = eps + np.maximum(a, 0.0) * absorbed
     return eps
 
 
-def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
+def _wsgg_paths(p_h2o, p_co2, path_length):
+    """What of the WSGG emissivity does not depend on the temperature: the CO2 fraction of the
+    radiating gas, the anchor segments that bracket it, and per anchor set its gray gases'
+    absorption factors 1 - exp(-kappa p L) (a shell solve evaluates many wall temperatures at one
+    gas composition)."""
     ph = p_h2o / ATM
     pc = p_co2 / ATM
     pa = ph + pc
@@ -99,11 +105,24 @@ def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
     # weighted by nothing): usually two of the four for combustion gas with moisture
     seg_of = np.clip(np.searchsorted(xs, fc, side="right") - 1, 0, len(xs) - 2)
     used = np.unique(seg_of)
-    values = {}
+    absorption = {}
     for k in np.union1d(used, used + 1):
         name = _ANCHORS[k][0]
         p = ph if name == "h2o" else (pc if name == "co2" else pa)
-        values[k] = _wsgg(name, t_weights_k, p * path_length)
+        pl = p * path_length
+        absorption[k] = [1.0 - np.exp(-kappa * pl) for kappa in _SMITH[name][0]]
+    return fc, used, absorption
+
+
+def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
+    return _emissivity_at(t_weights_k, _wsgg_paths(p_h2o, p_co2, path_length))
+
+
+def _emissivity_at(t_weights_k, paths):
+    """WSGG emissivity at temperatures ``t_weights_k`` (K) of the gas of ``paths`` (:func:`_wsgg_paths`)."""
+    fc, used, absorption = paths
+    xs = _ANCHOR_FC
+    values = {k: _wsgg(_ANCHORS[k][0], t_weights_k, a) for k, a in absorption.items()}
     out = np.zeros(np.broadcast(fc, *values.values()).shape)
     fcb = fc if np.shape(fc) == out.shape else np.broadcast_to(fc, out.shape)
     for k in used:

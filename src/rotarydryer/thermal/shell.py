@@ -213,7 +213,8 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
     p_h2o = ha._vapour_partial_pressure(y, p)
     tg_k = tg + 273.15
     if gas_emissivity is None:
-        eg = rad._emissivity(tg_k, p_h2o, xc * pressure, beam)
+        paths = rad._wsgg_paths(p_h2o, xc * pressure, beam)     # the gas composition: once per solve
+        eg = rad._emissivity_at(tg_k, paths)
 
     def inside_flux(twi):
         """W/m2 of exposed inner surface, and its convective coefficient."""
@@ -221,7 +222,7 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         mu_s = ha._viscosity(twi_c, y)
         h_c = sieder_tate_nusselt(re_in, pr, mu / mu_s) * k_g / d_exp
         if gas_emissivity is None:
-            ag = rad._emissivity(twi_c + 273.15, p_h2o, xc * pressure, beam)
+            ag = rad._emissivity_at(twi_c + 273.15, paths)
         else:
             ag = eg
         q_r = rad._gas_wall_flux(tg_k, twi + 273.15, eg, ag, ei)
