@@ -89,6 +89,35 @@ def test_newton_from_guess_finds_the_bracketed_root(root, shift, curv):
     assert b == pytest.approx(a, abs=1e-9)
 
 
+@settings(max_examples=60, deadline=None)
+@given(roots=st.lists(st.floats(0.5, 9.5), min_size=1, max_size=8), shift=st.floats(-2.0, 2.0),
+       curv=st.floats(0.0, 0.5), xtol=st.sampled_from([1e-12, 1e-9, 1e-6]))
+def test_newton_from_guess_stops_within_its_tolerance(roots, shift, curv, xtol):
+    """The early stop (the last two steps' contraction bounds the distance left) keeps the root
+    within xtol of the true one, for every element."""
+    roots = np.array(roots)
+    calls = []
+
+    def f(x):
+        calls.append(1)
+        return (x - roots) * (1.0 + curv * x) * (1.0 + 0.1 * np.sin(x))
+    got = newton_from_guess(f, roots + shift * np.linspace(0.2, 1.0, roots.size), 0.0, 10.0, xtol=xtol, max_iter=40)
+    assert got is not None
+    assert np.all(np.abs(got - roots) < xtol)
+
+
+def test_newton_from_a_nearby_guess_takes_two_evaluations():
+    roots = np.linspace(300.0, 400.0, 20)
+
+    def f(x):
+        calls.append(1)
+        return (x - roots) * (2.0 + 1e-3 * x)          # a smooth, mildly curved balance
+    calls = []
+    got = newton_from_guess(f, roots + 1e-2, 0.0, 600.0, xtol=1e-9)
+    assert np.all(np.abs(got - roots) < 1e-9)
+    assert len(calls) == 2
+
+
 def test_newton_from_guess_gives_up_without_a_slope():
     assert newton_from_guess(lambda x: np.ones_like(x), np.array([1.0]), 0.0, 2.0) is None
     assert newton_from_guess(lambda x: np.where(x > 1, 1.0, -1.0), np.array([0.2]), 0.0, 2.0, max_iter=5) is None
