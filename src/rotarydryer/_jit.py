@@ -24,6 +24,14 @@ def _numba():
         import numba
     except ImportError:
         return None
+    except Exception as exc:     # installed but unusable here (llvmlite: no executable memory, no library)
+        import warnings
+
+        warnings.warn(f"rotarydryer: numba cannot be imported ({type(exc).__name__}: {exc}); using NumPy",
+                      RuntimeWarning, stacklevel=2)
+        return None
+    if getattr(numba.config, "DISABLE_JIT", False):   # NUMBA_DISABLE_JIT=1: njit would return plain Python
+        return None
     return numba
 
 

@@ -154,3 +154,24 @@ def test_a_kernel_that_fails_falls_back_to_numpy_with_a_warning(monkeypatch):
     assert not _jit.enabled()
     for k in want:
         np.testing.assert_allclose(got[k], want[k], rtol=1e-12, atol=0, err_msg=k)
+
+
+def test_kernel_declines_what_the_reference_would_refuse():
+    """Inputs the table's methods reject with a message (non-finite loading, rpm <= 0, slope beyond
+    45 deg) give None, so the caller's NumPy composition names the problem."""
+    t = geometry_table(_drum(PRESETS[sorted(PRESETS)[0]]))
+    phi = np.array([30.0, 40.0])
+    assert t.cell_values(phi, 1000.0, np.array([1.0, np.nan]), length=1.0, rpm=3.0) is None
+    assert t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=0.0) is None
+    assert t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0, slope=50.0) is None
+    assert t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0) is not None
+
+
+@pytest.mark.parametrize("env", [{"ROTARYDRYER_JIT": "0"}, {"NUMBA_DISABLE_JIT": "1"}])
+def test_kernels_off_by_environment(env):
+    """ROTARYDRYER_JIT=0, or numba's own NUMBA_DISABLE_JIT=1 (njit would then run plain Python loops,
+    slower than NumPy), switch the compiled kernels off."""
+    code = "from rotarydryer import _jit; print(_jit.enabled())"
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                       env=dict(os.environ, **env))
+    assert r.stdout.strip() == "False"

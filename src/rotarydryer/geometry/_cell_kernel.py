@@ -3,7 +3,7 @@
 One pass per cell through what a flighted cell's coefficients need from its drum's tables: the
 design load (Lee (2008) Eq. 4.20-4.21 from the tabulated holdups), the loading factor (Lee (2008)
 Eq. 4.22 inverted, with the thermal model's smoothing of its kinks) and the cascade (Lee (2008)
-Eq. 3.3-3.6 from the tabulated splines, passive time Eq. 3.4). The NumPy reference is the
+Eq. 3.3-3.6 from the tabulated splines, passive time Lee (2008) Eq. 3.4). The NumPy reference is the
 composition of the table's own methods (``GeometryTable.cell_values`` without numba); both give
 the same numbers to rounding (``tests/geometry/test_cell_kernel.py``). Plain loops, so the
 module imports without numba; it is only called compiled (:mod:`rotarydryer._jit`).

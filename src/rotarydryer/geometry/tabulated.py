@@ -336,24 +336,30 @@ class GeometryTable:
         """What a flighted cell's coefficients need, in one compiled pass per cell, or None.
 
         Design load ``rho L A_des(phi) (1 - fouling)`` (kg; Lee (2008) Eq. 4.20-4.21), loading
-        factor at the dryer loading ``M_P / M_des`` (Lee (2008) Eq. 4.22 inverted, ``smoothing`` as
-        in :meth:`loading_factor`, clipped to [1e-6, 1]), and the cascade at that loading (passive
-        time s, fall height m, fall time s; :meth:`cascade`), for 1-D arrays of repose angle,
-        bulk density and passive mass (``fixed_loading``: full flights, f = 1). The same numbers, to rounding, as :meth:`design_load_area`,
-        :meth:`loading_factor` and :meth:`cascade` in turn (their NumPy composition is the
-        reference). None when the compiled kernels are off (:mod:`rotarydryer._jit`) or a repose
-        angle lies outside the table: the caller then composes those methods."""
+        factor at the dryer loading ``M_P / M_des`` (Lee (2008) Eq. 4.22 inverted, ``smoothing``
+        as in :meth:`loading_factor`, clipped to [1e-6, 1]), and the cascade at that loading
+        (passive time s, fall height m, fall time s; :meth:`cascade`), for 1-D arrays of repose
+        angle, bulk density and passive mass (``fixed_loading``: full flights, f = 1). The same
+        numbers, to rounding, as :meth:`design_load_area`, :meth:`loading_factor` and
+        :meth:`cascade` in turn (their NumPy composition is the reference). None when the
+        compiled kernels are off (:mod:`rotarydryer._jit`), a repose angle lies outside the
+        table, or an input or result is not finite: the caller then composes those methods,
+        which check their inputs and name what is wrong."""
         from .. import _jit
-        from . import _cell_kernel
 
         phi = np.asarray(repose_angle, dtype=float)
-        if (_cell_kernel.cell_values is None or not _jit.enabled() or phi.ndim != 1
-                or not np.all(self._inside(phi))):
+        if not _jit.enabled() or phi.ndim != 1 or not np.all(self._inside(phi)):
             return None
-        rho, mp = (np.asarray(a, dtype=float) for a in (bulk_density, passive_mass))
-        rho, mp = (np.ascontiguousarray(a if a.shape == phi.shape else np.broadcast_to(a, phi.shape)) for a in (rho, mp))
         check_choice("method", method, DESIGN_LOAD_METHODS)
         check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
+        rpm, slope = float(rpm), float(slope)
+        if not (0.0 < rpm < math.inf and -45.0 < slope < 45.0):
+            return None
+        rho, mp = (np.asarray(a, dtype=float) for a in (bulk_density, passive_mass))
+        rho, mp = (np.ascontiguousarray(a if a.shape == phi.shape else np.broadcast_to(a, phi.shape))
+                   for a in (rho, mp))
+        if not (np.all(np.isfinite(mp)) and np.all(np.isfinite(rho))):
+            return None
         n = self.drum.n_flights
         a_h0, a_baker = {"porter1963": (n / 2.0, 0.0), "kelly1977": ((n + 1) / 2.0, 0.0),
                          "ajayi2011": (0.0, AJAYI_BAKER_FACTOR)}.get(method, (0.0, 1.0))
@@ -365,12 +371,16 @@ class GeometryTable:
         eq34 = passive_time_branch == "eq3.4"
         out = np.empty((phi.size, 5))
         try:
+            from . import _cell_kernel
+
             _cell_kernel.cell_values(np.ascontiguousarray(phi), rho, mp, float(length), 1.0 - float(fouling), a_h0,
                                      a_baker, float(smoothing), bool(fixed_loading), *self._kernel_tables,
-                                     1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0, 6.0 * float(rpm),
-                                     math.cos(math.radians(float(slope))), out)
+                                     1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0, 6.0 * rpm,
+                                     math.cos(math.radians(slope)), out)
         except Exception as exc:    # a numba that cannot compile here: the NumPy composition instead
             _jit.disable(f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
+            return None
+        if not np.all(np.isfinite(out)):
             return None
         return tuple(out[:, k] for k in range(5))
 

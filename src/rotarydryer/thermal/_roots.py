@@ -52,14 +52,15 @@ def newton_from_guess(func, x0, lo, hi, xtol=1e-9, max_iter=12, delta=1e-3):
 
     ``func`` must accept a stacked argument (2, ...): the point and the point + ``delta`` are
     evaluated in one call (forward-difference slope). Returns the roots once every step is below
-    ``xtol``, or once the contraction of the last two steps bounds the distance left below
-    ``xtol`` / 10 (one evaluation fewer from a nearby guess), or None (no finite slope, or not settled in ``max_iter`` steps): then the caller
-    brackets the root (:func:`illinois`). From the root of a nearby state it takes 2-3 steps.
+    ``xtol``, or once the contraction of the last two steps puts the estimated distance left
+    below ``xtol`` / 10 (one evaluation fewer from a nearby guess), or None (no finite slope,
+    or not settled in ``max_iter`` steps): then the caller brackets the root (:func:`illinois`).
+    From the root of a nearby state it takes 2-3 steps.
     """
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
     x = np.clip(np.asarray(x0, dtype=float), lo, hi)
-    previous = None
+    previous = clipped = None
     for _ in range(max_iter):
         f = func(np.stack([x, x + delta]))
         slope = (f[1] - f[0]) / delta
@@ -71,11 +72,14 @@ def newton_from_guess(func, x0, lo, hi, xtol=1e-9, max_iter=12, delta=1e-3):
             return x_new
         if previous is not None:
             # the steps contract by r = step / previous step or faster (Newton's method near its
-            # root): the distance left from x_new is at most step r / (1 - r); below xtol / 10
-            # everywhere, x_new is the root to xtol without one more evaluation
+            # root): the distance left from x_new is about step r / (1 - r); estimated below
+            # xtol / 10 everywhere (and no step clipped to the bracket, which is no Newton step),
+            # x_new is the root to xtol without one more evaluation
             r = step / np.maximum(previous, 1e-300)
-            if np.all((r < 0.5) & (step * r < 0.05 * xtol)):
+            newton = ~(clipped | (x_new == lo) | (x_new == hi))
+            if np.all((r < 0.5) & (step * r < 0.05 * xtol) & newton):
                 return x_new
         previous = step
+        clipped = (x_new == lo) | (x_new == hi)
         x = x_new
     return None

@@ -507,7 +507,8 @@ class ThermalDryer:
         # the moisture: computed per state (k, n), or the assumed profile, the same for every state
         batch_x = isinstance(xp, np.ndarray) and xp.ndim == 2
         same_x = base is not None and ((np.shape(base[1]) == (law.n,)) if batch_x else
-                                       (xp is base[1] or repr(xp) == repr(base[1])))
+                                       (xp is base[1] or (np.shape(xp) == np.shape(base[1])
+                                                          and np.array_equal(xp, base[1]))))
         if not same_x or base[2] != self.rpm or base[3] != fouling or not law.cellwise:
             return law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=smooth)
         changed = mp != base[0]

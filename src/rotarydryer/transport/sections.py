@@ -265,11 +265,19 @@ class FlightedSectionLaw:
         CF = s.drag_reduction * h * self.sin_t / self.dl
         return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(np.shape(tp), float(s.backmix)))
 
+    def _kernel_applies(self):
+        """Can :meth:`ExactGeometry.cell_values` give this law's cells (tabulated exact geometry,
+        fitted forward step, compiled kernels on)?"""
+        from .. import _jit
+
+        g = self.spec.geometry
+        return _jit.enabled() and not self.trajectory and isinstance(g, ExactGeometry) and g.tabulated
+
     def _compiled(self, mp, phi, rho, rpm, fouling, smoothing):
         """:meth:`evaluate`'s design load, loading factor and cascade in one compiled pass
         (:meth:`ExactGeometry.cell_values`), or None where that does not apply."""
         g = self.spec.geometry
-        if self.trajectory or not isinstance(g, ExactGeometry) or not g.tabulated or phi.ndim != 1:
+        if not self._kernel_applies() or phi.ndim != 1:
             return None
         r = g.cell_values(phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
                           smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
@@ -335,7 +343,7 @@ class FlightedSectionLaw:
         phi, rho = self.properties(x, cells)
         shape = np.broadcast_shapes(phi.shape, mp.shape)
         fast = self._compiled(*(a.ravel() if a.shape == shape else np.broadcast_to(a, shape).ravel()
-                                for a in (mp, phi, rho)), rpm, fouling, smoothing)
+                                for a in (mp, phi, rho)), rpm, fouling, smoothing) if self._kernel_applies() else None
         if fast is not None:        # one compiled pass; a batch (k, n) is passed flat
             des, _, c = fast
             out = self.rates_of({k: v.reshape(shape) for k, v in c.items()})
