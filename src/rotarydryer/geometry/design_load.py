@@ -59,6 +59,14 @@ def design_load_methods() -> tuple[str, ...]:
     return DESIGN_LOAD_METHODS
 
 
+def _area_weights(n_flights: int, method: str) -> tuple[float, float]:
+    """``(a, b)`` with the design-load area ``a H0 + b (H0 + 2 sum H_i)`` of ``method``, one of them 0:
+    Porter (1963) n/2 and Kelly (1977) (n + 1)/2 first-unloading-flight holdups, Baker (1988) = Lee
+    (2008) Eq. 4.20 the sum itself, Ajayi (2011) Eq. 4.19 1.24 times it."""
+    return {"porter1963": (n_flights / 2.0, 0.0), "kelly1977": ((n_flights + 1) / 2.0, 0.0),
+            "ajayi2011": (0.0, AJAYI_BAKER_FACTOR)}.get(method, (0.0, 1.0))
+
+
 def _upper_flight_holdups(drum: FlightedDrum, phi, convention, particle_diameter=None):
     """H0 (FUF) and holdups of the upper-half flights at design, m^2. Shapes (...), (..., n).
 
@@ -95,14 +103,8 @@ def design_load_area(drum: FlightedDrum, repose_angle, *, method: str = "lee2008
     check_choice("method", method, DESIGN_LOAD_METHODS)
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
     h0, hi = _upper_flight_holdups(drum, phi, convention, particle_diameter)
-    if method == "porter1963":
-        return drum.n_flights * h0 / 2.0
-    if method == "kelly1977":
-        return (drum.n_flights + 1) * h0 / 2.0
-    baker = h0 + 2.0 * hi.sum(-1)  # Lee (2008) Eq. 4.20 = Baker (1988)
-    if method == "ajayi2011":
-        return AJAYI_BAKER_FACTOR * baker
-    return baker
+    a, b = _area_weights(drum.n_flights, method)
+    return a * h0 if b == 0.0 else b * (h0 + 2.0 * hi.sum(-1))  # Lee (2008) Eq. 4.20 = Baker (1988)
 
 
 def design_load_mass(drum: FlightedDrum, repose_angle, bulk_density, length, **kwargs):  # noqa: D417

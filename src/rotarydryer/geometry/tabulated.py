@@ -40,7 +40,7 @@ from collections import OrderedDict
 import numpy as np
 
 from .._validation import check_choice, check_range
-from .design_load import AJAYI_BAKER_FACTOR, DESIGN_LOAD_METHODS, _upper_flight_holdups
+from .design_load import DESIGN_LOAD_METHODS, _area_weights, _upper_flight_holdups
 from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary
 
 __all__ = ["GeometryTable", "geometry_table"]
@@ -274,11 +274,8 @@ class GeometryTable:
             h0, hi = self.upper_flight_holdups(flat)
             y = np.stack([h0, h0 + 2.0 * hi.sum(-1)], axis=-1)
         h0, baker = y[:, 0].reshape(phi.shape), y[:, 1].reshape(phi.shape)  # Lee (2008) Eq. 4.20 = Baker (1988)
-        if method == "porter1963":
-            return self.drum.n_flights * h0 / 2.0
-        if method == "kelly1977":
-            return (self.drum.n_flights + 1) * h0 / 2.0
-        return AJAYI_BAKER_FACTOR * baker if method == "ajayi2011" else baker
+        a, b = _area_weights(self.drum.n_flights, method)
+        return a * h0 if b == 0.0 else b * baker
 
     def loading_factor(self, dryer_loading, repose_angle, smoothing=0.0):
         """Flight loading factor (Lee (2008) Eq. 4.22 inverted exactly, as
@@ -360,9 +357,7 @@ class GeometryTable:
                    for a in (rho, mp))
         if not (np.all(np.isfinite(mp)) and np.all(np.isfinite(rho))):
             return None
-        n = self.drum.n_flights
-        a_h0, a_baker = {"porter1963": (n / 2.0, 0.0), "kelly1977": ((n + 1) / 2.0, 0.0),
-                         "ajayi2011": (0.0, AJAYI_BAKER_FACTOR)}.get(method, (0.0, 1.0))
+        a_h0, a_baker = _area_weights(self.drum.n_flights, method)
         if getattr(self, "_kernel_tables", None) is None:
             sp = self._cascade
             self._kernel_tables = (self._breaks.x, self._design.rows, self._holdups.rows, self.n_upper, sp.edges,

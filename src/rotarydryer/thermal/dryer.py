@@ -483,9 +483,9 @@ class ThermalDryer:
         section's passive masses and moisture unchanged (temperatures, gas, other sections), so
         its coefficients are those of the base state: exact reuse, the same numbers. A batch
         (k, n) evaluates, in one call, only the rows that differ from the last single state."""
-        cache = self._law_cache.setdefault(id(law), [])
         if mp.ndim == 2:
             return self._law_values_batch(law, mp, xp, fouling)
+        cache = self._law_cache.setdefault(id(law), [])
         key = (mp.tobytes(), xp.tobytes() if isinstance(xp, np.ndarray) else repr(xp), self.rpm, fouling)
         for k, v in cache:
             if k == key:

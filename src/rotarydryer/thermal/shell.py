@@ -257,7 +257,7 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         return r
 
     def inner_from_outer(to, outside=None):
-        q_out, h_o, q_ro = outside_flux(to) if outside is None else outside
+        q_out = (outside_flux(to) if outside is None else outside)[0]
         qp = q_out * 2 * math.pi * r_out
         twi = to
         for _ in range(3):  # steel conductivity at the mean steel temperature

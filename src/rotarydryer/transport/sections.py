@@ -275,13 +275,12 @@ class FlightedSectionLaw:
 
     def _compiled(self, mp, phi, rho, rpm, fouling, smoothing):
         """:meth:`evaluate`'s design load, loading factor and cascade in one compiled pass
-        (:meth:`ExactGeometry.cell_values`), or None where that does not apply."""
-        g = self.spec.geometry
-        if not self._kernel_applies() or phi.ndim != 1:
-            return None
-        r = g.cell_values(phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
-                          smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
-                          passive_time_branch=self.spec.passive_time_branch, fixed_loading=self.spec.loading == "fixed")
+        (:meth:`ExactGeometry.cell_values`), or None where that does not apply (1-D arrays; evaluate()
+        has checked :meth:`_kernel_applies`)."""
+        r = self.spec.geometry.cell_values(
+            phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
+            smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
+            passive_time_branch=self.spec.passive_time_branch, fixed_loading=self.spec.loading == "fixed")
         if r is None:
             return None
         des, f, tp, h, ta = r
