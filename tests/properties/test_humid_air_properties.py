@@ -156,7 +156,8 @@ def test_diffusivity_branches_blend_smoothly_at_450_k():
     tk = t + 273.15
     low, high = 1.87e-10 * tk**2.072, 2.75e-9 * tk**1.632
     out = np.abs(tk - 450.0) > 0.5
-    np.testing.assert_array_equal(d[out], np.where(tk < 450.0, low, high)[out])
+    # unchanged outside the window (to rounding: numba's pow may differ from NumPy's in the last bit)
+    np.testing.assert_allclose(d[out], np.where(tk < 450.0, low, high)[out], rtol=1e-15, atol=0)
     inside = ~out
     assert np.all((d[inside] - np.minimum(low, high)[inside]) >= -1e-20)
     assert np.all((np.maximum(low, high)[inside] - d[inside]) >= -1e-20)

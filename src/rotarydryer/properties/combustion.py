@@ -267,18 +267,21 @@ def _neufeld_omega_v(tstar):
     return 1.16145 * tstar**-0.14874 + 0.52487 * np.exp(-0.77320 * tstar) + 2.16178 * np.exp(-2.43787 * tstar)
 
 
+#: IAPWS (2008) Eq. 11 and IAPWS (2011) Eq. 16 dilute-gas coefficients H_i and L_i
+_IAPWS_VISCOSITY_H = (1.67752, 2.20462, 0.6366564, -0.241605)
+_IAPWS_CONDUCTIVITY_L = (2.443221e-3, 1.323095e-2, 6.770357e-3, -3.454586e-3, 4.096266e-4)
+
+
 def iapws_vapour_viscosity_dilute(t):
     """Dilute-gas viscosity of water vapour, Pa s, IAPWS (2008) Eq. 11; T in K."""
     tb = t / 647.096
-    h = (1.67752, 2.20462, 0.6366564, -0.241605)
-    return 1e-6 * 100.0 * np.sqrt(tb) / sum(hi / tb**i for i, hi in enumerate(h))
+    return 1e-6 * 100.0 * np.sqrt(tb) / sum(hi / tb**i for i, hi in enumerate(_IAPWS_VISCOSITY_H))
 
 
 def iapws_vapour_conductivity_dilute(t):
     """Dilute-gas thermal conductivity of water vapour, W/(m K), IAPWS (2011) Eq. 16; T in K."""
     tb = t / 647.096
-    lk = (2.443221e-3, 1.323095e-2, 6.770357e-3, -3.454586e-3, 4.096266e-4)
-    return 1e-3 * np.sqrt(tb) / sum(li / tb**i for i, li in enumerate(lk))
+    return 1e-3 * np.sqrt(tb) / sum(li / tb**i for i, li in enumerate(_IAPWS_CONDUCTIVITY_L))
 
 
 # Lemmon & Jacobsen (2004) dilute-gas parameters: M g/mol, sigma nm, eps/k K, Tc K, N1, N2, t2, N3, t3.

@@ -47,7 +47,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_choice, check_range
-from . import water
+from . import _kernels, water
 from .combustion import (
     DRY_AIR_COMPOSITION,
     GAS_CONSTANT,
@@ -184,6 +184,34 @@ def _dry_air_enthalpy(t):
     return sum(_W_AIR[s] * _species_enthalpy(s, t, 0.0) for s in _AIR_SPECIES)
 
 
+_flat, _shaped = _kernels.flat, _kernels.shaped
+_EMPTY = np.empty(0)
+
+
+def _heat_terms(t, y=None):
+    """``(_humid_heat(t, y), _dry_air_enthalpy(t), _vapour_enthalpy(t))`` (without ``y``: the two
+    enthalpies) in one compiled pass (:mod:`._kernels`), or None when the kernels are off."""
+    if _kernels.compiled("heat") is None:
+        return None
+    shape, flat = _flat(t) if y is None else _flat(t, y)
+    n = flat[0].size
+    hh, ha, hv = (np.empty(n) for _ in range(3)) if y is not None else (_EMPTY, np.empty(n), np.empty(n))
+    if not _kernels.call("heat", flat[0], _EMPTY if y is None else flat[1], _KERNEL_COEFFICIENTS, hh, ha, hv):
+        return None
+    if y is None:
+        return _shaped(shape, ha, hv)
+    return _shaped(shape, hh, ha, hv)
+
+
+def _enthalpy_parts(t):
+    """``(_dry_air_enthalpy(t), _vapour_enthalpy(t))`` of humid air at t °C (unchecked): the parts
+    of :func:`enthalpy` = air + Y vapour."""
+    fast = _heat_terms(t)
+    if fast is not None:
+        return fast
+    return _dry_air_enthalpy(t), _vapour_enthalpy(t)
+
+
 def humid_heat(temperature_c, humidity):
     """Humid heat c_s = c_pa + Y c_pv, J/(K kg dry air) (= ∂h/∂T of :func:`enthalpy` at constant Y)."""
     y = _humidity(humidity)
@@ -191,6 +219,9 @@ def humid_heat(temperature_c, humidity):
 
 
 def _humid_heat(t, y):
+    fast = _heat_terms(t, y)
+    if fast is not None:
+        return fast[0]
     return _dry_air_heat_capacity(t) + y * _species_heat_capacity("H2O", t)
 
 
@@ -228,7 +259,8 @@ def enthalpy(temperature_c, humidity):
 
 def _enthalpy(t, y):
     """Unchecked kernel of :func:`enthalpy` (t °C in 0-600, y in 0-0.3)."""
-    return _dry_air_enthalpy(t) + y * _vapour_enthalpy(t)
+    air, vapour = _enthalpy_parts(t)
+    return air + y * vapour
 
 
 def density(temperature_c, humidity, pressure=STANDARD_PRESSURE, method: str = "ideal_gas"):
@@ -296,11 +328,37 @@ def _viscosity(t, y, ajayi2011=False):
 
 
 def _transport(t, y):
-    """Viscosity (Wilke) and thermal conductivity (Mason-Saxena) of humid air, unchecked: (mu, k)."""
+    """Viscosity (Wilke) and thermal conductivity (Mason-Saxena) of humid air, unchecked: (mu, k);
+    one compiled pass when the kernels are on (:mod:`._kernels`), else :func:`_transport_numpy`."""
+    if _kernels.compiled("transport") is not None:
+        shape, (tf, yf) = _flat(t, y)
+        mu, k = np.empty(tf.size), np.empty(tf.size)
+        if _kernels.call("transport", tf, yf, _KERNEL_COEFFICIENTS, mu, k):
+            return _shaped(shape, mu, k)
+    return _transport_numpy(t, y)
+
+
+def _transport_numpy(t, y):
+    """:func:`_transport` in NumPy (the reference of the compiled kernel)."""
     mu_a, mu_v, k_a, k_v = _air_and_vapour(t)
     xa = 1.0 - _water_mole_fraction(y)
     return (_wilke_binary(xa, mu_a, mu_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"]),
             _wilke_binary(xa, k_a, k_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"]))
+
+
+def _pack_kernel_coefficients():
+    from . import combustion as cb
+
+    air = ("N2", "O2", "Ar")
+    return _kernels.pack(cb._LEMMON_JACOBSEN["air"], cb._LJ2004_B, cb._IAPWS_VISCOSITY_H, cb._IAPWS_CONDUCTIVITY_L,
+                         MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"], [cb._NASA[s] for s in air + ("H2O",)],
+                         [_W_AIR[s] for s in air], [MOLAR_MASS[s] for s in air],
+                         [cb._h_reference_scalar(s, 0.0) for s in air] + [cb._h_reference_scalar("H2O", 0.01)],
+                         _LATENT_REF, GAS_CONSTANT)
+
+
+#: the coefficients of the functions above, packed for the compiled kernels (:mod:`._kernels`)
+_KERNEL_COEFFICIENTS = _pack_kernel_coefficients()
 
 
 def thermal_conductivity(temperature_c, humidity, method: str = "mason_saxena"):
@@ -352,6 +410,16 @@ _D_SWITCH_K, _D_BLEND_K = 450.0, 0.5
 
 
 def _water_vapour_diffusivity(t_c, p):
+    if _kernels.compiled("diffusivity") is not None:
+        shape, (t, pa) = _flat(np.asarray(t_c, dtype=float) + 273.15, np.asarray(p, dtype=float) / STANDARD_PRESSURE)
+        out = np.empty(t.size)
+        if _kernels.call("diffusivity", t, pa, _D_SWITCH_K, _D_BLEND_K, out):
+            return _shaped(shape, out)[0]
+    return _water_vapour_diffusivity_numpy(t_c, p)
+
+
+def _water_vapour_diffusivity_numpy(t_c, p):
+    """:func:`_water_vapour_diffusivity` in NumPy (the reference of the compiled kernel)."""
     t = t_c + 273.15
     p_atm = p / STANDARD_PRESSURE
     low = 1.87e-10 * t**2.072

@@ -40,6 +40,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_choice, check_range
+from . import _kernels
 from .combustion import MOLAR_MASS, species_heat_capacity
 
 __all__ = [
@@ -73,6 +74,8 @@ _ICE_B = (0.333333333e-2, 0.120666667e1, 0.170333333e1)
 _ANTOINE_AJAYI = (23.56143, 4030.182, 235.0)
 
 SATURATION_METHODS = ("wagner_pruss", "antoine_ajayi2011")
+_PSAT_COEFFICIENTS = _kernels.pack_psat(CRITICAL_TEMPERATURE, CRITICAL_PRESSURE, TRIPLE_TEMPERATURE, TRIPLE_PRESSURE,
+                                        _WP_A, _WP_EXP, _ICE_A, _ICE_B)
 LATENT_HEAT_METHODS = ("clapeyron_wagner_pruss", "ajayi2011", "song2003")
 
 
@@ -128,6 +131,16 @@ def _saturation_pressure(temperature_c, method="wagner_pruss"):
         a, b, c = _ANTOINE_AJAYI
         return np.exp(a - b / (np.asarray(temperature_c, dtype=float) + c))
     t = np.asarray(temperature_c, dtype=float) + 273.15
+    if _kernels.compiled("psat") is not None:
+        shape, (tf,) = _kernels.flat(t)
+        out = np.empty(tf.size)
+        if _kernels.call("psat", tf, _PSAT_COEFFICIENTS, out):
+            return _kernels.shaped(shape, out)[0]
+    return _saturation_pressure_numpy_k(t)
+
+
+def _saturation_pressure_numpy_k(t):
+    """Wagner-Pruss / IAPWS sublimation pressure at t K in NumPy (the reference of the compiled kernel)."""
     liquid = t >= TRIPLE_TEMPERATURE
     return np.where(liquid, _psat_liquid_k(np.maximum(t, TRIPLE_TEMPERATURE)),
                     _psat_ice_k(np.minimum(t, TRIPLE_TEMPERATURE)))

@@ -112,7 +112,7 @@ def _gas_enthalpy(temperature_c, humidity, method):
     t = _tc(t_raw)
     y = _yc(humidity)
     if method == "physical":
-        return _physical_enthalpy(t_raw, t, ha._dry_air_enthalpy(t), ha._vapour_enthalpy(t), y)
+        return _physical_enthalpy(t_raw, t, *ha._enthalpy_parts(t), y)
     ext = _extension(t_raw, t, y)
     yw = y / (1.0 + y)
     cpg, cpw, lam = AJAYI_CP_GAS, AJAYI_CP_WATER, AJAYI_LATENT_HEAT
@@ -127,7 +127,7 @@ def _gas_enthalpy_pair(temperature_c, humidity, dy, method):
         return _gas_enthalpy(temperature_c, humidity, method), _gas_enthalpy(temperature_c, humidity + dy, method)
     t_raw = np.asarray(temperature_c, dtype=float)
     t = _tc(t_raw)
-    air, vapour = ha._dry_air_enthalpy(t), ha._vapour_enthalpy(t)
+    air, vapour = ha._enthalpy_parts(t)
     return tuple(_physical_enthalpy(t_raw, t, air, vapour, _yc(y))
                  for y in (humidity, np.asarray(humidity, dtype=float) + dy))
 

@@ -37,6 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_choice, check_range
+from ..properties import _kernels
 
 __all__ = [
     "STEFAN_BOLTZMANN",
@@ -91,11 +92,33 @@ def _wsgg(set_name, t_weights, absorption):
     return eps
 
 
+_KERNEL_COEFFICIENTS = _kernels.pack_wsgg([(x, *_SMITH[name]) for name, x in _ANCHORS])
+
+
+def _wsgg_compiled(t_k, p_h2o, p_co2, path_length):
+    """:func:`_emissivity` in one compiled pass (:mod:`rotarydryer.properties._kernels`), or None."""
+    if _kernels.compiled("wsgg") is None:
+        return None
+    shape, (t, ph, pc, length) = _kernels.flat(t_k, p_h2o, p_co2, path_length)
+    out = np.empty(t.size)
+    if not _kernels.call("wsgg", t, ph / ATM, pc / ATM, length, _KERNEL_COEFFICIENTS, out):
+        return None
+    return _kernels.shaped(shape, out)[0]
+
+
 def _wsgg_paths(p_h2o, p_co2, path_length):
     """What of the WSGG emissivity does not depend on the temperature: the CO2 fraction of the
     radiating gas, the anchor segments that bracket it, and per anchor set its gray gases'
     absorption factors 1 - exp(-kappa p L) (a shell solve evaluates many wall temperatures at one
-    gas composition)."""
+    gas composition); last, the inputs. With the compiled kernel on, only the inputs (the kernel
+    evaluates the whole sum at each temperature)."""
+    raw = (p_h2o, p_co2, path_length)
+    if _kernels.compiled("wsgg") is not None:
+        return None, None, None, raw
+    return _wsgg_paths_numpy(*raw)
+
+
+def _wsgg_paths_numpy(p_h2o, p_co2, path_length):
     ph = p_h2o / ATM
     pc = p_co2 / ATM
     pa = ph + pc
@@ -111,16 +134,24 @@ def _wsgg_paths(p_h2o, p_co2, path_length):
         p = ph if name == "h2o" else (pc if name == "co2" else pa)
         pl = p * path_length
         absorption[k] = [1.0 - np.exp(-kappa * pl) for kappa in _SMITH[name][0]]
-    return fc, used, absorption
+    return fc, used, absorption, (p_h2o, p_co2, path_length)
 
 
 def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
-    return _emissivity_at(t_weights_k, _wsgg_paths(p_h2o, p_co2, path_length))
+    fast = _wsgg_compiled(t_weights_k, p_h2o, p_co2, path_length)
+    if fast is not None:
+        return fast
+    return _emissivity_at(t_weights_k, _wsgg_paths_numpy(p_h2o, p_co2, path_length))
 
 
 def _emissivity_at(t_weights_k, paths):
     """WSGG emissivity at temperatures ``t_weights_k`` (K) of the gas of ``paths`` (:func:`_wsgg_paths`)."""
-    fc, used, absorption = paths
+    fc, used, absorption, raw = paths
+    if fc is None:          # the compiled kernel's paths: its inputs only
+        fast = _wsgg_compiled(t_weights_k, *raw)
+        if fast is not None:
+            return fast
+        fc, used, absorption, _ = _wsgg_paths_numpy(*raw)
     xs = _ANCHOR_FC
     values = {k: _wsgg(_ANCHORS[k][0], t_weights_k, a) for k, a in absorption.items()}
     out = np.zeros(np.broadcast(fc, *values.values()).shape)
