@@ -85,9 +85,12 @@ def _inverse_eq_4_22(d, h0, hold, nu, smoothing, r, bp, g, s):
 
 
 def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, brk, design_rows, hold_rows, nu,
-                 edges, x0, hx, nx, cell_off, y0, hy, ny, blocks, arc_sign, arc_offset, omega, cos_s, out):
+                 edges, x0, hx, nx, cell_off, y0, hy, ny, blocks, arc_sign, arc_offset, omega, cos_s, phi_lo, phi_hi,
+                 out):
     """out[:, 0..4] = design load (kg), loading factor, passive time (s), fall height (m), fall time (s);
-    ``fixed``: the loading factor is 1 (the section's fixed loading state) instead of Eq. 4.22's."""
+    ``fixed``: the loading factor is 1 (the section's fixed loading state) instead of Eq. 4.22's.
+    Returns False (``out`` incomplete) at the first repose angle outside [phi_lo, phi_hi], bulk density
+    or passive mass not finite, or result not finite: the caller then takes the checked NumPy path."""
     r = np.empty(nu)
     bp = np.empty(nu + 2)
     g = np.empty(nu + 2)
@@ -98,6 +101,8 @@ def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, br
     sq = math.sqrt(cos_s)
     for n in range(phi.size):
         p = phi[n]
+        if not (phi_lo <= p <= phi_hi and math.isfinite(rho[n]) and math.isfinite(mp[n])):
+            return False
         # tabulated holdups (cubic pieces, highest power first): design-load areas and H0, H_i
         i = _interval(brk, p)
         t = p - brk[i]
@@ -148,6 +153,10 @@ def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, br
         out[n, 2] = (arc_offset + arc_sign * arc) / omega
         out[n, 3] = vals[1] / cos_s
         out[n, 4] = vals[2] / sq
+        for c in range(5):
+            if not math.isfinite(out[n, c]):
+                return False
+    return True
 
 
 cell_values = kernel(_cell_values)

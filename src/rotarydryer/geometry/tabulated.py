@@ -345,7 +345,7 @@ class GeometryTable:
         from .. import _jit
 
         phi = np.asarray(repose_angle, dtype=float)
-        if not _jit.enabled() or phi.ndim != 1 or not np.all(self._inside(phi)):
+        if not _jit.enabled() or phi.ndim != 1:
             return None
         check_choice("method", method, DESIGN_LOAD_METHODS)
         check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
@@ -355,8 +355,6 @@ class GeometryTable:
         rho, mp = (np.asarray(a, dtype=float) for a in (bulk_density, passive_mass))
         rho, mp = (np.ascontiguousarray(a if a.shape == phi.shape else np.broadcast_to(a, phi.shape))
                    for a in (rho, mp))
-        if not (np.all(np.isfinite(mp)) and np.all(np.isfinite(rho))):
-            return None
         a_h0, a_baker = _area_weights(self.drum.n_flights, method)
         if getattr(self, "_kernel_tables", None) is None:
             sp = self._cascade
@@ -368,14 +366,16 @@ class GeometryTable:
         try:
             from . import _cell_kernel
 
-            _cell_kernel.cell_values(np.ascontiguousarray(phi), rho, mp, float(length), 1.0 - float(fouling), a_h0,
-                                     a_baker, float(smoothing), bool(fixed_loading), *self._kernel_tables,
-                                     1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0, 6.0 * rpm,
-                                     math.cos(math.radians(slope)), out)
+            # False: a repose angle outside the table, or an input or result not finite
+            ok = _cell_kernel.cell_values(np.ascontiguousarray(phi), rho, mp, float(length), 1.0 - float(fouling),
+                                          a_h0, a_baker, float(smoothing), bool(fixed_loading), *self._kernel_tables,
+                                          1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0, 6.0 * rpm,
+                                          math.cos(math.radians(slope)), float(self.phi_range[0]),
+                                          float(self.phi_range[1]), out)
         except Exception as exc:    # a numba that cannot compile here: the NumPy composition instead
             _jit.disable(f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
             return None
-        if not np.all(np.isfinite(out)):
+        if not ok:
             return None
         return tuple(out[:, k] for k in range(5))
 

@@ -232,6 +232,8 @@ def flat(*arrays):
     """Float arrays broadcast to one shape: (shape, C-contiguous flat arrays, copies where needed)."""
     a = [np.asarray(x, dtype=float) for x in arrays]
     shape = a[0].shape
+    if all(x.shape == shape and x.flags.c_contiguous for x in a):     # the solvers' usual case: no copies
+        return shape, [x.reshape(-1) for x in a]
     if any(x.shape != shape for x in a[1:]):
         shape = np.broadcast_shapes(*(x.shape for x in a))
     out = []
