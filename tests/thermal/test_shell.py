@@ -120,3 +120,47 @@ def test_bad_input(kwargs):
     args.update(kwargs)
     with pytest.raises(ValueError):
         sh.shell_heat_loss(**args)
+
+
+# ---- the shell of the case's own drum (was Ajayi's 1.90 m for every dryer before 2026-12-02) -----------
+def test_each_dryer_loses_heat_through_its_own_shell():
+    """The dryer's shell network has the drum's radius (or [shell] inner_radius) and a wall of 2.63 % of it
+    (or [shell] thickness); the MMG case keeps Ajayi's code values (R_in 1.90 m, R_out 1.95 m)."""
+    from rotarydryer import Simulation
+    from rotarydryer.thermal.dryer import SHELL_THICKNESS_RATIO
+
+    mmg = Simulation("ajayi2011_mmg", {"operating.test": 4}).thermal_dryer()
+    assert (mmg.shell_inner_radius, mmg.shell_thickness) == (1.90, 0.05)
+    for case, overrides, radius, thickness in (
+            ("song2003_ottawa", {}, 0.1525, SHELL_THICKNESS_RATIO * 0.1525),
+            ("lee2008_invicta", {}, 2.5, SHELL_THICKNESS_RATIO * 2.5),
+            ("song2003_ottawa", {"shell.inner_radius": 0.16, "shell.thickness": 0.003}, 0.16, 0.003)):
+        d = Simulation(case, overrides).thermal_dryer()
+        assert d.shell_inner_radius == pytest.approx(radius, rel=1e-15)
+        assert d.shell_thickness == pytest.approx(thickness, rel=1e-15)
+        S, W, T, Tg, Y = d.split(d.initial_state())
+        s = d.settings
+        direct = sh.shell_heat_loss(np.clip(Tg, s.ambient_temperature + 1e-3, 600.0), d.dry_gas_flow * (1.0 + Y),
+                                    d.gas_len, s.ambient_temperature, gas_humidity=Y, inner_radius=radius,
+                                    shell_thickness=thickness, co2_mole_fraction=s.co2_mole_fraction,
+                                    insulation_thickness=s.insulation_thickness, pressure=s.pressure)
+        np.testing.assert_allclose(d.physical_shell_loss(Tg, Y), direct.heat_loss, rtol=1e-9)
+
+
+def test_a_pilot_drum_loses_far_less_than_an_industrial_shell():
+    """Per metre of drum at the same gas state, the loss grows with the shell radius (outside and inside
+    areas; less than in proportion: the inside coefficient falls at a given gas flow)."""
+    losses = [float(sh.shell_heat_loss(150.0, 0.2, 1.0, 20.0, inner_radius=r, shell_thickness=0.0263 * r).heat_loss)
+              for r in (0.1525, 0.5, 1.9)]
+    assert losses[0] < losses[1] < losses[2]
+    assert losses[2] / losses[0] > 4        # 4.9 here; outside areas 12x
+
+
+@pytest.mark.parametrize("overrides, key", [({"shell.inner_radius": 0.0}, "shell.inner_radius"),
+                                            ({"shell.thickness": 0.6}, "shell.thickness"),
+                                            ({"shell.scale_thickness": 0.1}, "shell.scale_thickness")])
+def test_shell_geometry_out_of_range_is_named(overrides, key):
+    from rotarydryer import Simulation
+
+    with pytest.raises(ValueError, match=key.replace(".", r"\.")):
+        Simulation("song2003_ottawa", overrides).thermal_dryer()

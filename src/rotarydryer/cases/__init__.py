@@ -295,6 +295,8 @@ class Shell(_Strict):
     scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, scale layer inside the shell")
     insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
     loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (thermal.mode = ajayi2011 only)")
+    inner_radius: Optional[float] = Field(default=None, gt=0, le=20, description="m, inner radius of the steel shell; default the drum radius")
+    thickness: Optional[float] = Field(default=None, gt=0, le=0.5, description="m, steel shell wall; default 2.63 % of the inner radius (Ajayi's 0.05 m at 1.90 m)")
 
 
 class ThermalModel(_Strict):
@@ -444,6 +446,8 @@ class AjayiThermal(_Strict):
     scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, shell scale layer")
     insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
     loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (ajayi2011 mode only)")
+    shell_inner_radius: float = Field(default=1.90, gt=0, le=20, description="m, steel shell inner radius (Ajayi's code R_in = 1.90, l.3870)")
+    shell_thickness: float = Field(default=0.05, gt=0, le=0.5, description="m, steel shell wall (Ajayi's code R_out - R_in = 1.95 - 1.90, l.4381)")
     leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet end")
     unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the thermal model; default one per 0.3 m (at least 4)")
     design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")

@@ -622,6 +622,7 @@ def _general_settings(case):
               ambient_temperature=sh.ambient_temperature, ambient_humidity=sh.ambient_humidity,
               area_scale=th.area_scale, scale_thickness=sh.scale_thickness,
               insulation_thickness=sh.insulation_thickness, loss_factor=sh.loss_factor,
+              shell_inner_radius=sh.inner_radius, shell_thickness=sh.thickness,
               leak_air_flow=g.leak_air_flow, moisture_coupling=th.moisture_coupling,
               design_load_smoothing=th.design_load_smoothing, gas_direction=g.direction)
     if isinstance(case, DryerCase):

@@ -120,6 +120,8 @@ class ThermalSettings:
     loss_factor : compatibility mode only (θ_loss = 15; the fixed shell temperatures are section data).
     scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity : shell
     network of the physical mode (m, W/(m K)).
+    shell_inner_radius, shell_thickness : steel shell of the physical mode, m (None: the drum radius,
+    and :data:`SHELL_THICKNESS_RATIO` times the inner radius).
     fouling : fraction (0-0.95) of flight loading capacity lost to scale (Ajayi Ch. 5 Eq. 5.21,
     Ch. 7 "scaling 0-80 %"; Test 3 was modelled with 80 %, l.1715): multiplies the design load by (1 - fouling).
     leak_air_flow : ambient air leaking into the drum at the gas inlet end (seals, feed chute), kg/s
@@ -152,6 +154,8 @@ class ThermalSettings:
     scale_conductivity: float = 1.0
     insulation_thickness: float = 0.0
     insulation_conductivity: float = 0.07
+    shell_inner_radius: Optional[float] = None
+    shell_thickness: Optional[float] = None
     co2_mole_fraction: float = 0.011
     leak_air_flow: float = 0.0
     ambient_humidity: float = 0.0193 / (1.0 - 0.0193)
@@ -193,6 +197,10 @@ class ThermalSettings:
         check_range("shell.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
         check_range("shell.scale_conductivity", self.scale_conductivity, 0.0, np.inf, unit="W/(m K)")
         check_range("shell.insulation_conductivity", self.insulation_conductivity, 0.0, np.inf, unit="W/(m K)")
+        if self.shell_inner_radius is not None:
+            check_range("shell.inner_radius", self.shell_inner_radius, 0.0, 20.0, high_inclusive=True, unit="m")
+        if self.shell_thickness is not None:
+            check_range("shell.thickness", self.shell_thickness, 0.0, 0.5, high_inclusive=True, unit="m")
         check_range("gas.co2_mole_fraction", self.co2_mole_fraction, 0.0, 0.3, low_inclusive=True,
                     high_inclusive=True)
         check_range("thermal.design_load_smoothing", self.design_load_smoothing, 0.0, 0.1, low_inclusive=True,
@@ -202,6 +210,10 @@ class ThermalSettings:
                              "vapour pressure (Eq. 6.47); use mode='physical' for dry gas")
         return self
 
+
+#: default steel wall of the shell relative to its inner radius: Ajayi's (2011) 0.05 m at 1.90 m (code
+#: l.3870, l.4381); a choice for drums whose wall is not given (4 mm for a 0.3 m pilot drum, 66 mm at 5 m)
+SHELL_THICKNESS_RATIO = 0.05 / 1.90
 
 #: a step whose residual falls below this fraction of the last keeps the factorisation (chord step)
 CHORD_RATIO = 1e-2
@@ -259,6 +271,9 @@ class ThermalDryer:
         self.section_thermal = {k: (v if isinstance(v, SectionThermal) else SectionThermal(**v))
                                 for k, v in (sections or {}).items()}
         self._check_gas_can_dry()
+        if s.mode == "physical" and not s.scale_thickness < 0.5 * self.shell_inner_radius:
+            raise ValueError(f"shell.scale_thickness = {s.scale_thickness:g} m must be below half the shell inner "
+                             f"radius ({0.5 * self.shell_inner_radius:g} m)")
         if s.kinetics is None:
             kin = material.kinetics
             if s.mode == "ajayi2011":
@@ -269,6 +284,19 @@ class ThermalDryer:
         if s.particle_density is None:
             s.particle_density = float(material.particle_density)
         self._layout()
+
+    @property
+    def shell_inner_radius(self) -> float:
+        """Inner radius of the steel shell, m: ``settings.shell_inner_radius``, or the drum radius."""
+        r = self.settings.shell_inner_radius
+        return self.radius if r is None else float(r)
+
+    @property
+    def shell_thickness(self) -> float:
+        """Steel wall of the shell, m: ``settings.shell_thickness``, or :data:`SHELL_THICKNESS_RATIO` times
+        the inner radius."""
+        d = self.settings.shell_thickness
+        return SHELL_THICKNESS_RATIO * self.shell_inner_radius if d is None else float(d)
 
     def _check_operating_inputs(self):
         """Check (and convert) the inputs a study may change: feed rate, feed moisture, speed."""
@@ -565,7 +593,7 @@ class ThermalDryer:
         s = self.settings
         return (s.mode, s.gas_flow, s.gas_inlet_humidity, s.leak_air_flow, s.ambient_humidity, s.ambient_temperature,
                 s.loss_factor, s.pressure, s.co2_mole_fraction, s.scale_thickness, s.scale_conductivity,
-                s.insulation_thickness, s.insulation_conductivity)
+                s.insulation_thickness, s.insulation_conductivity, self.shell_inner_radius, self.shell_thickness)
 
     def _shell_loss_exact_eval(self, Tg, Y, Tg_up):
         s = self.settings
@@ -585,6 +613,7 @@ class ThermalDryer:
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
         r = shell_heat_loss(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
                             gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
+                            inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
                             scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                             insulation_thickness=s.insulation_thickness,
                             insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
