@@ -44,59 +44,57 @@ def pack(lemmon_air, lj_b, iapws_h, iapws_l, molar_mass_air, molar_mass_h2o, nas
     return c
 
 
-def _transport_loop(t, y, c, mu, k):
-    """Viscosity (Wilke) and conductivity (Mason-Saxena) of humid air at t °C, Y kg/kg (flat arrays)."""
-    m_a, sigma, eps, tc, n1, n2, t2, n3, t3 = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
-    ma, mw = c[_MA], c[_MW]
-    # Wilke's mass ratios (Poling et al. (2001) Eq. 9-5.14)
-    q12 = (mw / ma) ** 0.25
-    q21 = (ma / mw) ** 0.25
-    s12 = math.sqrt(8.0 * (1.0 + ma / mw))
-    s21 = math.sqrt(8.0 * (1.0 + mw / ma))
-    for i in range(t.size):
-        tk = t[i] + 273.15
-        # air, Lemmon & Jacobsen (2004) Eqs. 2-5 (dilute gas)
-        lt = math.log(tk / eps)
-        s = 0.0
-        p = 1.0
-        for j in range(5):
-            s += c[_B + j] * p
-            p *= lt
-        mu_a = 1e-6 * 0.0266958 * math.sqrt(m_a * tk) / (sigma * sigma * math.exp(s))
-        tau = tc / tk
-        k_a = 1e-3 * (n1 * 1e6 * mu_a + n2 * tau ** t2 + n3 * tau ** t3)
-        # water vapour, IAPWS (2008) Eq. 11 and IAPWS (2011) Eq. 16 (dilute gas)
-        tb = tk / 647.096
-        sh = 0.0
-        p = 1.0
-        for j in range(4):
-            sh += c[_H + j] / p
-            p *= tb
-        sl = 0.0
-        p = 1.0
-        for j in range(5):
-            sl += c[_L + j] / p
-            p *= tb
-        rt = math.sqrt(tb)
-        mu_v = 1e-4 * rt / sh
-        k_v = 1e-3 * rt / sl
-        # mixing: x_a = 1 - x_w, x_w = Y / (Y + M_w / M_a)
-        yy = y[i]
-        xa = 1.0 - yy / (yy + c[_RATIO])
-        xw = 1.0 - xa
-        f12 = 1.0 + math.sqrt(mu_a / mu_v) * q12
-        f21 = 1.0 + math.sqrt(mu_v / mu_a) * q21
-        phi12 = f12 * f12 / s12
-        phi21 = f21 * f21 / s21
-        da = xa + xw * phi12
-        dw = xw + xa * phi21
-        mu[i] = xa * mu_a / da + xw * mu_v / dw
-        k[i] = xa * k_a / da + xw * k_v / dw
-
-
 def _helper(fn):
     """A function the kernels call: compiled with them (plain Python without numba, never called then)."""
     return _jit.kernel(fn) or fn
+
+
+@_helper
+def _transport_at(t, y, c):
+    """(viscosity Pa s, conductivity W/(m K)) of humid air at t °C, Y kg/kg: Lemmon & Jacobsen (2004) Eqs. 2-5
+    dilute air, IAPWS (2008) Eq. 11 / IAPWS (2011) Eq. 16 dilute vapour, Wilke (1950) mixing (Poling et al.
+    (2001) Eqs. 9-5.13, 10-6.1)."""
+    m_a, sigma, eps, tc, n1, n2, t2, n3, t3 = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
+    ma, mw = c[_MA], c[_MW]
+    tk = t + 273.15
+    lt = math.log(tk / eps)
+    s = 0.0
+    p = 1.0
+    for j in range(5):
+        s += c[_B + j] * p
+        p *= lt
+    mu_a = 1e-6 * 0.0266958 * math.sqrt(m_a * tk) / (sigma * sigma * math.exp(s))
+    tau = tc / tk
+    k_a = 1e-3 * (n1 * 1e6 * mu_a + n2 * tau ** t2 + n3 * tau ** t3)
+    tb = tk / 647.096
+    sh = 0.0
+    p = 1.0
+    for j in range(4):
+        sh += c[_H + j] / p
+        p *= tb
+    sl = 0.0
+    p = 1.0
+    for j in range(5):
+        sl += c[_L + j] / p
+        p *= tb
+    rt = math.sqrt(tb)
+    mu_v = 1e-4 * rt / sh
+    k_v = 1e-3 * rt / sl
+    xa = 1.0 - y / (y + c[_RATIO])
+    xw = 1.0 - xa
+    f12 = 1.0 + math.sqrt(mu_a / mu_v) * (mw / ma) ** 0.25
+    f21 = 1.0 + math.sqrt(mu_v / mu_a) * (ma / mw) ** 0.25
+    phi12 = f12 * f12 / math.sqrt(8.0 * (1.0 + ma / mw))
+    phi21 = f21 * f21 / math.sqrt(8.0 * (1.0 + mw / ma))
+    da = xa + xw * phi12
+    dw = xw + xa * phi21
+    return xa * mu_a / da + xw * mu_v / dw, xa * k_a / da + xw * k_v / dw
+
+
+def _transport_loop(t, y, c, mu, k):
+    """:func:`_transport_at` over flat arrays."""
+    for i in range(t.size):
+        mu[i], k[i] = _transport_at(t[i], y[i], c)
 
 
 @_helper
@@ -118,6 +116,16 @@ def _h_molar(c, species, tk):
     return _h_nasa(c, a, tk) - _h_nasa(c, a, 298.15)
 
 
+@_helper
+def _humid_heat_at(t, y, c):
+    """Humid heat c_pa + Y c_pv of humid air at t °C, J/(kg dry air K) (NASA polynomials)."""
+    tk = t + 273.15
+    cpa = 0.0
+    for s in range(3):
+        cpa += c[_WAIR + s] * (_cp_molar(c, s, tk) / c[_MSP + s])
+    return cpa + y * (_cp_molar(c, 3, tk) / c[_MW])
+
+
 def _heat_loop(t, y, c, humid_heat, air_enthalpy, vapour_enthalpy):
     """Humid heat c_pa + Y c_pv (J/(kg dry air K)), the dry-air enthalpy above 0 °C and the vapour
     enthalpy above liquid water at 0.01 °C (J/kg) at t °C (flat arrays; y may be empty: then only
@@ -125,51 +133,49 @@ def _heat_loop(t, y, c, humid_heat, air_enthalpy, vapour_enthalpy):
     mw = c[_MW]
     for i in range(t.size):
         tk = t[i] + 273.15
-        cpa = 0.0
         ha = 0.0
         for s in range(3):
-            w = c[_WAIR + s]
-            cpa += w * (_cp_molar(c, s, tk) / c[_MSP + s])
-            ha += w * ((_h_molar(c, s, tk) - c[_HREF + s]) / c[_MSP + s])
-        hv = c[_LAT] + (_h_molar(c, 3, tk) - c[_HREF + 3]) / mw
-        if y.size:
-            humid_heat[i] = cpa + y[i] * (_cp_molar(c, 3, tk) / mw)
+            ha += c[_WAIR + s] * ((_h_molar(c, s, tk) - c[_HREF + s]) / c[_MSP + s])
         air_enthalpy[i] = ha
-        vapour_enthalpy[i] = hv
+        vapour_enthalpy[i] = c[_LAT] + (_h_molar(c, 3, tk) - c[_HREF + 3]) / mw
+        if y.size:
+            humid_heat[i] = _humid_heat_at(t[i], y[i], c)
+
+
+@_helper
+def _wsgg_at(tt, h, co, length, c):
+    """Smith, Shen & Friedman (1982) WSGG emissivity at tt K of a gas with H2O and CO2 partial pressures
+    h, co (atm) over the path ``length`` (m), interpolated in the CO2 fraction between the anchor sets
+    (:func:`rotarydryer.thermal.radiation._emissivity`); c: per anchor set its CO2 fraction, then
+    kappa_1..3 and b_ij (i = 1..3, j = 1..4) (:func:`pack_wsgg`)."""
+    pa = h + co
+    fc = co / pa if pa > 0 else 0.0
+    k = 0
+    while k < 2 and fc >= c[16 * (k + 1)]:
+        k += 1
+    lo = c[16 * k]
+    hi = c[16 * (k + 1)]
+    if not (fc >= lo and (fc < hi or (k == 2 and fc <= hi))):
+        return 0.0
+    w = (fc - lo) / (hi - lo)
+    v = 0.0
+    for side in range(2):
+        a = 16 * (k + side)
+        p = h if k + side == 0 else (co if k + side == 3 else pa)
+        pl = p * length
+        eps = 0.0
+        for g in range(3):
+            b = a + 4 + 4 * g
+            weight = c[b] + tt * (c[b + 1] + tt * (c[b + 2] + tt * c[b + 3]))
+            eps = eps + max(weight, 0.0) * (1.0 - math.exp(-c[a + 1 + g] * pl))
+        v += (1.0 - w) * eps if side == 0 else w * eps
+    return min(max(v, 0.0), 1.0)
 
 
 def _wsgg_loop(t, ph, pc, length, c, out):
-    """Smith, Shen & Friedman (1982) WSGG emissivity at t K of a gas with H2O and CO2 partial pressures
-    ph, pc (atm) over the path ``length`` (m), interpolated in the CO2 fraction between the anchor sets
-    (:func:`rotarydryer.thermal.radiation._emissivity`); c: per anchor set its CO2 fraction, then
-    kappa_1..3 and b_ij (i = 1..3, j = 1..4) (:func:`pack_wsgg`); flat arrays."""
+    """:func:`_wsgg_at` over flat arrays."""
     for i in range(t.size):
-        h = ph[i]
-        co = pc[i]
-        pa = h + co
-        fc = co / pa if pa > 0 else 0.0
-        k = 0
-        while k < 2 and fc >= c[16 * (k + 1)]:
-            k += 1
-        lo = c[16 * k]
-        hi = c[16 * (k + 1)]
-        if not (fc >= lo and (fc < hi or (k == 2 and fc <= hi))):
-            out[i] = 0.0
-            continue
-        w = (fc - lo) / (hi - lo)
-        tt = t[i]
-        v = 0.0
-        for side in range(2):
-            a = 16 * (k + side)
-            p = h if k + side == 0 else (co if k + side == 3 else pa)
-            pl = p * length[i]
-            eps = 0.0
-            for g in range(3):
-                b = a + 4 + 4 * g
-                weight = c[b] + tt * (c[b + 1] + tt * (c[b + 2] + tt * c[b + 3]))
-                eps = eps + max(weight, 0.0) * (1.0 - math.exp(-c[a + 1 + g] * pl))
-            v += (1.0 - w) * eps if side == 0 else w * eps
-        out[i] = min(max(v, 0.0), 1.0)
+        out[i] = _wsgg_at(t[i], ph[i], pc[i], length[i], c)
 
 
 def pack_wsgg(anchors):
@@ -183,25 +189,29 @@ def pack_wsgg(anchors):
     return c
 
 
-def _psat_loop(t, c, out):
-    """Wagner & Pruss (1993) Eq. 2.5 saturation pressure over liquid water (t >= 273.16 K), IAPWS R14-08
-    (2011) Eq. 6 sublimation pressure below, Pa, at t K (:func:`rotarydryer.properties.water._saturation_pressure`);
+@_helper
+def _psat_at(x, c):
+    """Wagner & Pruss (1993) Eq. 2.5 saturation pressure over liquid water (x >= 273.16 K), IAPWS R14-08
+    (2011) Eq. 6 sublimation pressure below, Pa, at x K (:func:`rotarydryer.properties.water._saturation_pressure`);
     c: Tc, pc, Tt, pt, a_1..6, their exponents, then the ice a_1..3 and b_1..3 (:func:`pack_psat`)."""
     tc, pc, tt, pt = c[0], c[1], c[2], c[3]
+    if x >= tt:
+        tau = 1.0 - x / tc
+        f = 0.0
+        for j in range(6):
+            f = f + c[4 + j] * tau ** c[10 + j]
+        return pc * math.exp(tc / x * f)
+    theta = x / tt
+    f = 0.0
+    for j in range(3):
+        f = f + c[16 + j] * theta ** c[19 + j]
+    return pt * math.exp(f / theta)
+
+
+def _psat_loop(t, c, out):
+    """:func:`_psat_at` over flat arrays."""
     for i in range(t.size):
-        x = t[i]
-        if x >= tt:
-            tau = 1.0 - x / tc
-            f = 0.0
-            for j in range(6):
-                f = f + c[4 + j] * tau ** c[10 + j]
-            out[i] = pc * math.exp(tc / x * f)
-        else:
-            theta = x / tt
-            f = 0.0
-            for j in range(3):
-                f = f + c[16 + j] * theta ** c[19 + j]
-            out[i] = pt * math.exp(f / theta)
+        out[i] = _psat_at(t[i], c)
 
 
 def pack_psat(tc, pc, tt, pt, a, exponents, ice_a, ice_b):
@@ -211,21 +221,276 @@ def pack_psat(tc, pc, tt, pt, a, exponents, ice_a, ice_b):
     return c
 
 
-def _diffusivity_loop(t, p_atm, switch_k, blend_k, out):
-    """Marrero & Mason (1972) water-vapour diffusivity in air, m2/s, at t K and p atm, the two power laws
+@_helper
+def _diffusivity_at(x, p_atm, switch_k, blend_k):
+    """Marrero & Mason (1972) water-vapour diffusivity in air, m2/s, at x K and p atm, the two power laws
     blended over switch_k +- blend_k (:func:`rotarydryer.properties.humid_air._water_vapour_diffusivity`)."""
+    low = 1.87e-10 * x ** 2.072
+    high = 2.75e-9 * x ** 1.632
+    s = min(max((x - (switch_k - blend_k)) / (2.0 * blend_k), 0.0), 1.0)
+    if s <= 0.0:
+        v = low
+    elif s >= 1.0:
+        v = high
+    else:
+        v = low + s ** 3 * (s * (6.0 * s - 15.0) + 10.0) * (high - low)
+    return v / p_atm
+
+
+def _diffusivity_loop(t, p_atm, switch_k, blend_k, out):
+    """:func:`_diffusivity_at` over flat arrays."""
     for i in range(t.size):
-        x = t[i]
-        low = 1.87e-10 * x ** 2.072
-        high = 2.75e-9 * x ** 1.632
-        s = min(max((x - (switch_k - blend_k)) / (2.0 * blend_k), 0.0), 1.0)
-        if s <= 0.0:
-            v = low
-        elif s >= 1.0:
-            v = high
+        out[i] = _diffusivity_at(t[i], p_atm[i], switch_k, blend_k)
+
+
+# ----------------------------------------------------------------------------------------------------
+# the shell-loss network of rotarydryer.thermal.shell.shell_heat_loss (kept in this module: numba's disk
+# cache tracks the file of a compiled function, not the files of the functions it calls)
+#: layout of the shell parameters (pack_shell)
+_SH_TA, _SH_PC, _SH_RI, _SH_RO, _SH_ROUT, _SH_REXP, _SH_DSC, _SH_KSC, _SH_DINS, _SH_KINS = range(10)
+_SH_EI, _SH_EO, _SH_WIND, _SH_YA, _SH_P, _SH_K0, _SH_K1, _SH_SIGMA, _SH_G, _SH_BEAM, _SH_XTOL = range(10, 21)
+
+
+def pack_shell(ambient_c, co2_partial_atm, inner_radius, outer_radius, outside_radius, exposed_radius,
+               scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity, inner_emissivity,
+               outer_emissivity, wind_speed, ambient_humidity, pressure, steel_k0, steel_k1, sigma, gravity,
+               beam_length, xtol):
+    """Parameters of :func:`_shell_loop` (one drum and its surroundings), in the order of the ``_SH_`` offsets."""
+    return np.array([ambient_c, co2_partial_atm, inner_radius, outer_radius, outside_radius, exposed_radius,
+                     scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity,
+                     inner_emissivity, outer_emissivity, wind_speed, ambient_humidity, pressure, steel_k0, steel_k1,
+                     sigma, gravity, beam_length, xtol], dtype=float)
+
+
+@_helper
+def _shell_outside(to, q, c):
+    """Outside flux W/m2 at outer surface temperature ``to``: natural convection on a horizontal
+    cylinder (Churchill & Chu 1975; Ajayi (2011) Eq. 6.54) with film properties, optional cross-wind
+    (Churchill & Bernstein 1977, Nu^3 = Nu_N^3 + Nu_F^3), radiation to ambient (Ajayi Eq. 6.55)."""
+    ta = q[_SH_TA]
+    ya = q[_SH_YA]
+    d_out = 2 * q[_SH_ROUT]
+    film = 0.5 * (to + ta)
+    rho = q[_SH_P] * c[_MA] * (1.0 + ya) / (c[_R] * (film + 273.15) * (1.0 + ya / c[_RATIO]))
+    mu, k = _transport_at(film, ya, c)
+    nu_air = mu / rho
+    alpha = k / (rho * (_humid_heat_at(film, ya, c) / (1.0 + ya)))
+    pr = nu_air / alpha
+    beta = 1.0 / (film + 273.15)
+    ra = q[_SH_G] * beta * max(to - ta, 0.0) * d_out ** 3 / (nu_air * alpha)
+    nu = (0.60 + 0.387 * ra ** (1.0 / 6.0) / (1.0 + (0.559 / pr) ** (9.0 / 16.0)) ** (8.0 / 27.0)) ** 2
+    if q[_SH_WIND] > 0:
+        re = q[_SH_WIND] * d_out / nu_air
+        nu_f = 0.3 + 0.62 * re ** 0.5 * pr ** (1 / 3) / (1 + (0.4 / pr) ** (2 / 3)) ** 0.25 * (
+            1 + (re / 282000.0) ** (5 / 8)) ** (4 / 5)
+        nu = (nu ** 3 + nu_f ** 3) ** (1 / 3)
+    h_o = nu * k / d_out
+    return h_o * (to - ta) + q[_SH_EO] * q[_SH_SIGMA] * ((to + 273.15) ** 4 - (ta + 273.15) ** 4)
+
+
+@_helper
+def _shell_inner(to, tg, q, c):
+    """(inner surface temperature, outside loss W per metre) at outer temperature ``to``: conduction
+    ln(r2/r1)/(2 pi k) per layer, the steel's k = k0 - k1 T at the mean steel temperature (3 passes)."""
+    qp = _shell_outside(to, q, c) * 2 * math.pi * q[_SH_ROUT]
+    twi = to
+    for _ in range(3):
+        t_steel = 0.5 * (min(max(twi, to), max(tg, to)) + to)
+        rc = math.log(q[_SH_RO] / q[_SH_RI]) / (2 * math.pi * (q[_SH_K0] - q[_SH_K1] * t_steel))
+        if q[_SH_DSC] > 0:
+            rc = rc + math.log(q[_SH_RI] / q[_SH_REXP]) / (2 * math.pi * q[_SH_KSC])
+        if q[_SH_DINS] > 0:
+            rc = rc + math.log(q[_SH_ROUT] / q[_SH_RO]) / (2 * math.pi * q[_SH_KINS])
+        twi = to + qp * rc
+    return twi, qp
+
+
+@_helper
+def _shell_inside(twi, tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w):
+    """Inside flux W/m2 at inner surface temperature ``twi``: Sieder & Tate (1936) convection (Ajayi
+    (2011) Eq. 6.52) and gas-wall radiation with Hottel's effective wall emissivity (WSGG absorptivity)."""
+    twi_c = min(max(twi, 0.0), 600.0)
+    mu_s = _transport_at(twi_c, y, c)[0]
+    h_c = 0.027 * re_in ** 0.8 * pr ** (1.0 / 3.0) * (mu / mu_s) ** 0.14 * k_g / (2 * q[_SH_REXP])
+    ag = _wsgg_at(twi_c + 273.15, ph, q[_SH_PC], q[_SH_BEAM], w)
+    tgk = tg + 273.15
+    q_r = q[_SH_SIGMA] * 0.5 * (q[_SH_EI] + 1.0) * (eg * tgk ** 4 - ag * (twi + 273.15) ** 4)
+    return h_c * (tg - twi) + q_r
+
+
+@_helper
+def _shell_residual(to, tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w):
+    twi, qp_out = _shell_inner(to, tg, q, c)
+    q_in = _shell_inside(min(twi, tg), tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w)
+    return q_in * 2 * math.pi * q[_SH_REXP] - qp_out
+
+
+def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
+    """Shell heat loss (W per segment) and outer surface temperature (°C) per element, the outer
+    temperature the root of inside = outside flux per metre (:func:`rotarydryer.thermal.shell.shell_heat_loss`):
+    Newton's method from ``guess`` (NaN: none) with the stopping rule of
+    :func:`rotarydryer.thermal._roots.newton_from_guess`, else the Illinois iteration of
+    :func:`rotarydryer.thermal._roots.illinois` on [ambient, gas]. False if an element is not finite or
+    its gas is below ambient (the caller then takes the checked NumPy path)."""
+    ta = q[_SH_TA]
+    xtol = q[_SH_XTOL]
+    r_exp = q[_SH_REXP]
+    for i in range(tg.size):
+        t = tg[i]
+        yy = y[i]
+        if not (t >= ta and math.isfinite(t) and math.isfinite(yy) and math.isfinite(mg[i])):
+            return False
+        # gas-side properties at the gas temperature
+        rho = q[_SH_P] * c[_MA] * (1.0 + yy) / (c[_R] * (t + 273.15) * (1.0 + yy / c[_RATIO]))
+        mu, k_g = _transport_at(t, yy, c)
+        pr = _humid_heat_at(t, yy, c) / (1.0 + yy) * mu / k_g
+        velocity = mg[i] / (rho * math.pi * r_exp ** 2)
+        re_in = velocity * (2 * r_exp) * rho / mu
+        ph = yy / (yy + c[_RATIO]) * q[_SH_P] / 101325.0
+        eg = _wsgg_at(t + 273.15, ph, q[_SH_PC], q[_SH_BEAM], w)
+        lo = ta
+        hi = t
+        root = math.nan
+        g = guess[i]
+        if math.isfinite(g):            # Newton's method from the guess
+            x = min(max(g, lo), hi)
+            previous = -1.0
+            clipped = False
+            for _ in range(12):
+                f0 = _shell_residual(x, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+                f1 = _shell_residual(x + 1e-3, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+                slope = (f1 - f0) / 1e-3
+                if not (math.isfinite(f0) and math.isfinite(f1) and slope != 0):
+                    break
+                x_new = min(max(x - f0 / slope, lo), hi)
+                step = abs(x_new - x)
+                if step < xtol:
+                    root = x_new
+                    break
+                if previous >= 0:
+                    r = step / max(previous, 1e-300)
+                    if r < 0.5 and step * r < 0.05 * xtol and not (clipped or x_new == lo or x_new == hi):
+                        root = x_new
+                        break
+                previous = step
+                clipped = x_new == lo or x_new == hi
+                x = x_new
+        if not math.isfinite(root):     # the bracketed root (Illinois)
+            a, b = lo, hi
+            fa = _shell_residual(a, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+            fb = _shell_residual(b, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+            x = a if fa == 0 else b
+            done = fa == 0 or fb == 0
+            side = 0
+            for _ in range(100):
+                if done:
+                    break
+                denom = fb - fa
+                x_new = (a * fb - b * fa) / denom if denom != 0 else 0.5 * (a + b)
+                if not math.isfinite(x_new) or x_new < min(a, b) or x_new > max(a, b):
+                    x_new = 0.5 * (a + b)
+                x_prev = x
+                x = x_new
+                fx = _shell_residual(x, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+                if np.sign(fx) == np.sign(fa):
+                    if side == 1:
+                        fb = 0.5 * fb
+                    a = x
+                    fa = fx
+                    side = 1
+                else:
+                    if side == -1:
+                        fa = 0.5 * fa
+                    b = x
+                    fb = fx
+                    side = -1
+                done = fx == 0 or abs(b - a) < xtol or abs(x - x_prev) < 0.1 * xtol
+            root = 0.5 * (a + b) if abs(b - a) < xtol else x
+        twi, qp_out = _shell_inner(root, t, q, c)
+        qp_in = _shell_inside(twi, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w) * 2 * math.pi * r_exp
+        loss[i] = 0.5 * (qp_in + qp_out) * seg[i]
+        outer[i] = root
+        if not (math.isfinite(loss[i]) and math.isfinite(root)):
+            return False
+    return True
+
+
+# ----------------------------------------------------------------------------------------------------
+# gas -> solids transfer of a set of gas stages (rotarydryer.thermal.balances._stage_transfer, physical mode)
+_TR_RADIUS, _TR_P, _TR_PC, _TR_BEAM, _TR_ES, _TR_GUARD, _TR_SIGMA, _TR_METHOD, _TR_XE, _TR_XCR, _TR_EXP = range(11)
+_TR_DSWITCH, _TR_DBLEND = 11, 12
+#: drying-kinetics methods of the kernel (DryingKinetics.method)
+KINETICS_CODES = {"ajayi2011": 0.0, "constant_falling": 1.0, "characteristic_curve": 2.0}
+
+
+def pack_transfer(radius, pressure, co2_partial_atm, beam_length, solids_emissivity, dry_guard, sigma, method,
+                  equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k, diffusivity_blend_k):
+    """Parameters of :func:`_transfer_loop`, in the order of the ``_TR_`` offsets (``method``: a key of
+    :data:`KINETICS_CODES`)."""
+    return np.array([radius, pressure, co2_partial_atm, beam_length, solids_emissivity, dry_guard, sigma,
+                     KINETICS_CODES[method], equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k,
+                     diffusivity_blend_k], dtype=float)
+
+
+def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y, c, w, ps, rw, qc, qr):
+    """Evaporation (kg/s), convective and radiative heat (W) from the gas to the solids of each stage:
+    Nu = 0.33 Re^0.6 (Ajayi (2011) Eq. 6.41), Chilton-Colburn mass transfer on the concentration basis
+    with the Stefan (high-flux) correction and Wagner-Pruss saturation at the solids surface (Ajayi
+    (2011) Eq. 6.32-6.49 in this package's consistent form), the falling-rate factor of the kinetics,
+    grey gas-solids radiation with the WSGG emissivity. False where the solids boil (the caller then
+    takes the checked NumPy path, which names it)."""
+    radius, p, sigma = q[_TR_RADIUS], q[_TR_P], q[_TR_SIGMA]
+    method = q[_TR_METHOD]
+    xe, xcr = q[_TR_XE], q[_TR_XCR]
+    for i in range(a.size):
+        tg = min(max(tg_raw[i], 0.0), 600.0)
+        ts = min(max(ts_raw[i], 0.0), 99.0)
+        y = min(max(y_raw[i], 1e-6), 0.3)
+        # gas-solids coefficient at the gas temperature
+        mu, k = _transport_at(tg, y, c)
+        re = fg[i] / (math.pi * radius ** 2) * dp[i] / mu
+        hc = 0.33 * re ** 0.6 * k / dp[i]
+        x = max(x_raw[i], 0.0)
+        # mass transfer coefficient (film properties), concentration basis
+        film = 0.5 * (tg + ts)
+        cp = _humid_heat_at(film, y, c) / (1.0 + y)
+        mu_f, k_f = _transport_at(film, y, c)
+        pr = cp * mu_f / k_f
+        rho_f = p * c[_MA] * (1.0 + y) / (c[_R] * (film + 273.15) * (1.0 + y / c[_RATIO]))
+        sc = mu_f / (rho_f * _diffusivity_at(film + 273.15, p / 101325.0, q[_TR_DSWITCH], q[_TR_DBLEND]))
+        lewis = (pr / sc) ** (2.0 / 3.0)
+        xw = y / (y + c[_RATIO])
+        m_g = (1 - xw) * c[_MA] + xw * c[_MW]
+        hm = hc / cp * lewis / (p * m_g / c[_MW])
+        pw = _psat_at(ts + 273.15, ps)
+        pv = xw * p
+        drive = pw - pv
+        if pw >= p:
+            return False
+        if abs(drive) < 1e-9 * p:
+            flux = hm * drive * (p / (p - pv))
         else:
-            v = low + s ** 3 * (s * (6.0 * s - 15.0) + 10.0) * (high - low)
-        out[i] = v / p_atm[i]
+            flux = hm * drive * (math.log((p - pv) / (p - pw)) * p / drive)
+        # falling-rate factor, continued linearly below the equilibrium moisture
+        if method == 0.0:
+            f = 1.0
+        else:
+            u = (x - xe) / (xcr - xe)
+            phi = min(max(u, 0.0), 1.0)
+            if method == 2.0 and curve_x.size:
+                f = np.interp(phi, curve_x, curve_y)
+            else:
+                f = phi ** (1.0 if method == 1.0 else q[_TR_EXP])
+            if u < 0.0:
+                f = f + u
+        rate = a[i] * (f * flux if flux > 0 else flux)
+        rw[i] = rate * min(max(x / q[_TR_GUARD], 0.0), 1.0)
+        qc[i] = hc * a[i] * (tg - ts_raw[i])
+        tgk = tg + 273.15
+        tsk = ts_raw[i] + 273.15
+        eg = min(max(_wsgg_at(tg + 273.15, pv / 101325.0, q[_TR_PC], q[_TR_BEAM], w), 1e-6), 1.0)
+        qr[i] = sigma * a[i] * (tgk ** 4 - tsk ** 4) / (1.0 / q[_TR_ES] + 1.0 / eg - 1.0)
+    return True
 
 
 def flat(*arrays):
@@ -253,7 +518,7 @@ def shaped(shape, *flat_arrays):
 
 
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,
-          "diffusivity": _diffusivity_loop}
+          "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop}
 _compiled = {}
 
 
@@ -271,13 +536,14 @@ def compiled(name):
 
 
 def call(name, *args):
-    """Run kernel ``name`` on ``args``; False (and the kernels off, with a warning) if numba fails."""
+    """Run kernel ``name`` on ``args``: False (and, if numba failed, the kernels off with a warning) when
+    it did not give its results, else True."""
     fn = compiled(name)
     if fn is None:
         return False
     try:
-        fn(*args)
+        ok = fn(*args)
     except Exception as exc:     # a numba that cannot compile here: the NumPy references instead
         _jit.disable(f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
         return False
-    return True
+    return ok is not False

@@ -301,10 +301,48 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
                            dry_guard, beam)
 
 
+def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
+                             particle_diameter, radius, kinetics, pressure, co2_mole_fraction, solids_emissivity,
+                             dry_guard, beam_length):
+    """:func:`_stage_transfer` of the physical mode in one compiled pass per stage
+    (:mod:`rotarydryer.properties._kernels`), or None: kernels off, a mass-transfer basis other than
+    ``"concentration"`` or a saturation pressure other than Wagner-Pruss, or solids at the boiling point
+    (the NumPy form then names it). The same equations, the same numbers to rounding."""
+    from ..properties import _kernels
+
+    if (_kernels.compiled("transfer") is None or kinetics.basis != "concentration"
+            or kinetics.saturation_method != "wagner_pruss" or kinetics.method not in _kernels.KINETICS_CODES):
+        return None
+    shape, (a, x, ts, tg, y, fg, dp) = _kernels.flat(area, moisture_dry, solids_temperature_c, gas_temperature_c,
+                                                      humidity, gas_mass_flow, particle_diameter)
+    p = float(pressure)
+    if kinetics.method == "ajayi2011":
+        xe = xcr = 0.0
+    else:
+        xe, xcr = float(kinetics.equilibrium_moisture), float(kinetics.critical_moisture)
+    curve = kinetics.curve if kinetics.method == "characteristic_curve" and kinetics.curve is not None else None
+    cx, cy = ((np.empty(0), np.empty(0)) if curve is None
+              else (np.ascontiguousarray(curve[0], dtype=float), np.ascontiguousarray(curve[1], dtype=float)))
+    q = _kernels.pack_transfer(float(radius), p, float(co2_mole_fraction) * p / rad.ATM, float(beam_length),
+                               float(solids_emissivity), float(dry_guard), SIGMA, kinetics.method, xe, xcr,
+                               float(kinetics.exponent), ha._D_SWITCH_K, ha._D_BLEND_K)
+    rw, qc, qr = np.empty(a.size), np.empty(a.size), np.empty(a.size)
+    if not _kernels.call("transfer", a, x, ts, tg, y, fg, dp, q, cx, cy, ha._KERNEL_COEFFICIENTS,
+                         rad._KERNEL_COEFFICIENTS, water._PSAT_COEFFICIENTS, rw, qc, qr):
+        return None
+    return _kernels.shaped(shape, rw, qc, qr)
+
+
 def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
                     particle_diameter, radius, kinetics, mode, pressure, co2_mole_fraction, solids_emissivity,
                     dry_guard, beam_length):
     """Unchecked kernel of :func:`stage_transfer` (``beam_length`` = mean beam length, m, physical mode)."""
+    if mode != "ajayi2011":
+        fast = _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity,
+                                        gas_mass_flow, particle_diameter, radius, kinetics, pressure,
+                                        co2_mole_fraction, solids_emissivity, dry_guard, beam_length)
+        if fast is not None:
+            return fast
     tg = _tc(gas_temperature_c)
     ts = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 99.0)
     y = _yc(humidity, 1e-6)

@@ -75,7 +75,7 @@ from . import balances as bal
 from . import radiation as rad
 from .burner import Burner
 from .drying import DryingKinetics
-from .shell import ajayi2011_heat_loss, shell_heat_loss
+from .shell import _shell_loss_compiled, ajayi2011_heat_loss, shell_heat_loss
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
            "AJAYI_GAS_FLOW", "pi_operating_conditions"]
@@ -611,6 +611,16 @@ class ThermalDryer:
         tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
         # the shell temperatures of the previous solve start Newton's method (same root to 1e-9 K)
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
+        fast = _shell_loss_compiled(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
+                                    gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
+                                    inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
+                                    scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
+                                    insulation_thickness=s.insulation_thickness,
+                                    insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
+                                    outer_guess=guess)
+        if fast is not None:
+            self._shell_outer = fast[1]
+            return fast[0]
         r = shell_heat_loss(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
                             gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
                             inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,

@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_positive, check_range
+from ..properties import _kernels
 from ..properties import humid_air as ha
 from . import radiation as rad
 from ._roots import illinois, newton_from_guess
@@ -64,9 +65,13 @@ AJAYI_SHELL_TEMPERATURES = {"A": 145.0, "B": 105.0, "C": 100.0, "D": 100.0, "E":
 G = 9.81
 
 
+#: Ajayi (2011) App. F L3903: k = 54 - 0.0333 T, W/(m K), T in °C
+_STEEL_K0, _STEEL_K1 = 54.0, 3.33e-2
+
+
 def steel_conductivity_ajayi2011(temperature_c):
     """Shell (mild steel) conductivity k = 54 - 0.0333 T, W/(m K), T in °C (Ajayi 2011 App. F L3903)."""
-    return 54.0 - 3.33e-2 * np.asarray(temperature_c, float)
+    return _STEEL_K0 - _STEEL_K1 * np.asarray(temperature_c, float)
 
 
 def sieder_tate_nusselt(reynolds, prandtl, viscosity_ratio):
@@ -294,6 +299,37 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
                          inner_surface_temperature_c=twi, h_inside_convection=h_c, h_inside_radiation=h_ri,
                          h_outside_convection=h_o, h_outside_radiation=h_ro, conduction_resistance=rc,
                          gas_emissivity=np.asarray(eg), energy_balance_error=err)
+
+
+def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_temperature_c, *, gas_humidity,
+                         co2_mole_fraction, inner_radius, shell_thickness, scale_thickness, scale_conductivity,
+                         insulation_thickness, insulation_conductivity, pressure, inner_emissivity=0.79,
+                         outer_emissivity=0.79, wind_speed=0.0, ambient_humidity=0.015, outer_guess=None):
+    """``(heat_loss W, outer surface temperature °C)`` of :func:`shell_heat_loss` with the steel of
+    :func:`steel_conductivity_ajayi2011` and the WSGG gas emissivity, each element solved in one compiled
+    pass (:mod:`rotarydryer.properties._kernels`), or None (kernels off, or an input it declines: the
+    caller then calls :func:`shell_heat_loss`). For the dryer's own calls: the settings validated once,
+    scalars except the per-stage gas state and lengths. The same root to the 1e-9 K tolerance: Newton's
+    method from ``outer_guess`` stops per element rather than for all elements at once."""
+    if _kernels.compiled("shell") is None:
+        return None
+    shape, (tg, mg, seg, y) = _kernels.flat(gas_temperature_c, gas_mass_flow, length, gas_humidity)
+    guess = (np.full(tg.size, np.nan) if outer_guess is None
+             else _kernels.flat(np.broadcast_to(np.asarray(outer_guess, dtype=float), shape))[1][0])
+    ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
+    r_exp, r_o = ri - dsc, ri + ds
+    r_out = r_o + dins
+    p = float(pressure)
+    q = _kernels.pack_shell(float(ambient_temperature_c), float(co2_mole_fraction) * p / rad.ATM, ri, r_o, r_out,
+                            r_exp, dsc, float(scale_conductivity), dins, float(insulation_conductivity),
+                            float(inner_emissivity), float(outer_emissivity), float(wind_speed),
+                            float(ambient_humidity), p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
+                            0.95 * (2 * r_exp), 1e-9)
+    loss, outer = np.empty(tg.size), np.empty(tg.size)
+    if not _kernels.call("shell", tg, mg, seg, y, guess, q, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS,
+                         loss, outer):
+        return None
+    return loss.reshape(shape), outer.reshape(shape)
 
 
 def ajayi2011_outside_air_properties(shell_temperature_c):
