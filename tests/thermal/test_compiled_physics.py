@@ -35,16 +35,22 @@ def test_shell_network_equals_shell_heat_loss(seed, radius, scale, insulation, w
     rng = np.random.default_rng(seed)
     n = 12
     tg = rng.uniform(ambient + 1.0, 600.0, n)
+    tg[:3] = ambient + np.array([0.05, 1.0, 5.0])    # gas near ambient: tiny, steep losses
     y, mg, seg = rng.uniform(0.0, 0.3, n), rng.uniform(0.05, 40.0, n), rng.uniform(0.05, 2.0, n)
     kw = dict(gas_humidity=y, co2_mole_fraction=0.011, inner_radius=radius, shell_thickness=0.026 * radius,
               scale_thickness=scale * radius, scale_conductivity=1.0, insulation_thickness=insulation,
               insulation_conductivity=0.07, pressure=101325.0, wind_speed=wind, ambient_humidity=0.012)
-    want = sh.shell_heat_loss(tg, mg, seg, ambient, _trusted=True, **kw)
+    want = sh.shell_heat_loss(tg, mg, seg, ambient, _trusted=True, **kw)     # bracketed: the reference root
     start = None if guess is None else want.outer_surface_temperature_c + rng.normal(0.0, guess, n)
-    want = sh.shell_heat_loss(tg, mg, seg, ambient, _trusted=True, outer_guess=start, **kw)
     loss, outer = sh._shell_loss_compiled(tg, mg, seg, ambient, outer_guess=start, **kw)
-    np.testing.assert_allclose(loss, want.heat_loss, rtol=1e-8)
-    np.testing.assert_allclose(outer, want.outer_surface_temperature_c, rtol=0, atol=5e-9)
+    np.testing.assert_allclose(outer, want.outer_surface_temperature_c, rtol=0, atol=2e-9)
+    # the loss is the mean of the inside and outside fluxes at the root, which differ there by the network's
+    # energy_balance_error (a steep inside coefficient: small drum, large gas flow): where the gas is 20 K or
+    # more above ambient the losses agree to 1e-8 plus that; nearer, the inside flux moves by 1e-9 K times
+    # its slope (up to 1e-6 of a loss of a few watts; compared with the drum's largest loss)
+    far = tg >= ambient + 20.0
+    np.testing.assert_allclose(loss[far], want.heat_loss[far], rtol=1e-8 + 2 * want.energy_balance_error)
+    np.testing.assert_allclose(loss[~far], want.heat_loss[~far], rtol=1e-6, atol=1e-8 * np.max(want.heat_loss))
 
 
 def test_shell_kernel_declines_gas_below_ambient():

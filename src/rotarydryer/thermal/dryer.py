@@ -68,7 +68,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .._sparse_fd import column_groups, sparse_fd_jacobian
+from .._sparse_fd import column_groups, fd_plan, shifted, sparse_fd_jacobian
 from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from . import balances as bal
@@ -382,6 +382,7 @@ class ThermalDryer:
         self._shell_ua = None
         self._shell_outer = None     # outer shell temperatures of the last shell solve (a warm start)
         self._shell_memo = None      # (inputs, heat loss) of the last exact shell evaluation
+        self._transfer_base = None   # (inputs, outputs) of the last single-state gas-solids transfer
         self._inlet_h = None
         self._clipped = False
         self._plans = {}             # family set -> edges end to end (_edge_plan)
@@ -543,7 +544,10 @@ class ThermalDryer:
         if batch_x:
             changed |= xp != base[1]
         rows, cells = np.nonzero(changed)
-        out = {k: np.array(np.broadcast_to(b, mp.shape)) for k, b in base[4].items()}
+        out = {}
+        for k, b in base[4].items():     # the base state's values in every row (filled, not broadcast: cheaper)
+            out[k] = np.empty(mp.shape)
+            out[k][...] = b
         if rows.size:
             x = xp[rows, cells] if batch_x else np.broadcast_to(np.asarray(xp, dtype=float), (law.n,))[cells]
             v = law.evaluate(mp[rows, cells], x, rpm=self.rpm, fouling=fouling, smoothing=smooth, cells=cells)
@@ -568,9 +572,34 @@ class ThermalDryer:
         area[..., act] = bal.curtain_area(m[..., tk[act]], self.gas_dp[act], s.area_scale * self.gas_theta[act],
                                           s.particle_density)
         fg = self.dry_gas_flow * (1.0 + Y)
+        xs, ts = X[..., tk], T[..., tk]
+        # the transfer of a stage depends on that stage's inputs only: a batch (the Jacobian's perturbed
+        # states) evaluates only the (state, stage) pairs whose inputs differ from the last single state
+        base = self._transfer_base
+        key = (id(s.kinetics), s.mode, s.pressure, s.co2_mole_fraction, self.radius, self.dry_gas_flow)
+        if S.ndim == 2 and base is not None and base[2] == key and base[0][0].shape == area.shape[1:]:
+            changed = np.zeros(area.shape, dtype=bool)
+            for now, then in zip((area, xs, ts, Tg, Y), base[0]):
+                changed |= now != then
+            rows, st = np.nonzero(changed)
+            out = []
+            for b in base[1]:
+                a = np.empty(area.shape)
+                a[...] = b
+                out.append(a)
+            if rows.size:
+                sub = bal._stage_transfer(area[rows, st], xs[rows, st], ts[rows, st], Tg[rows, st], Y[rows, st],
+                                          fg[rows, st], self.gas_dp[st], self.radius, s.kinetics, s.mode, s.pressure,
+                                          s.co2_mole_fraction, 0.9, 2e-3, self._beam_length)
+                for a, v in zip(out, sub):
+                    a[rows, st] = v
+            return (area, *out)
         # unchecked kernel of bal.stage_transfer: the inputs are clipped there, the parameters checked at construction
-        rw, qc, qr = bal._stage_transfer(area, X[..., tk], T[..., tk], Tg, Y, fg, self.gas_dp, self.radius, s.kinetics,
+        rw, qc, qr = bal._stage_transfer(area, xs, ts, Tg, Y, fg, self.gas_dp, self.radius, s.kinetics,
                                          s.mode, s.pressure, s.co2_mole_fraction, 0.9, 2e-3, self._beam_length)
+        if S.ndim == 1:
+            self._transfer_base = ((area.copy(), xs, ts, np.array(Tg), np.array(Y)), (rw.copy(), qc.copy(), qr.copy()),
+                                   key)
         return area, rw, qc, qr
 
     def _shell_loss(self, Tg, Y, Tg_up):
@@ -724,6 +753,7 @@ class ThermalDryer:
         """Forget what was remembered for the previous inputs (after a study changed them in place)."""
         self._shell_ua = None
         self._shell_memo = None
+        self._transfer_base = None
         self._law_cache = {}
         self._law_base = {}
 
@@ -820,12 +850,13 @@ class ThermalDryer:
                 _GROUPS_CACHE.pop(next(iter(_GROUPS_CACHE)))
         self._pattern = pat
         self._groups = groups
+        self._fd_plan = fd_plan(pat, groups)
         return pat
 
     def jacobian(self, z, f0=None):
-        pat = self.sparsity()
+        self.sparsity()
         step = np.maximum(np.abs(z) * 1e-7, self._scale() * 1e-8)
-        return sparse_fd_jacobian(lambda x: self.rhs(0.0, x), z, pat, self._groups, step=step, f0=f0,
+        return sparse_fd_jacobian(lambda x: self.rhs(0.0, x), z, self._fd_plan, step=step, f0=f0,
                                   vectorized=True)
 
     def _scale(self):
@@ -869,7 +900,6 @@ class ThermalDryer:
         t0 = time.perf_counter()
         z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
         sc = self._scale()
-        eye = sp.identity(self.n, format="csc")
         self.freeze_shell(z)
         f = self.rhs(0.0, z)          # the frozen shell loss equals the exact one at z
         norm = np.max(np.abs(f) / sc)
@@ -885,7 +915,7 @@ class ThermalDryer:
                 lu = None
             if lu is None:
                 try:
-                    lu = splu((eye / dt - J).tocsc())
+                    lu = splu(shifted(J, 1.0 / dt))      # I/dt - J on J's pattern (it holds the diagonal)
                 except RuntimeError:
                     dt *= 0.2
                     continue

@@ -411,7 +411,9 @@ class _Coefficients:
                 v1 = self.law.evaluate(mp + h, self.x)
             else:       # the point and the perturbed point as a batch of two (the same numbers, one call)
                 v = self.law.evaluate(np.stack([mp, mp + h]), self.x)
-                v0, v1 = ({k: np.broadcast_to(a, (2, mp.size))[i] for k, a in v.items()} for i in (0, 1))
+                two = (2, mp.size)
+                v0, v1 = ({k: (a[i] if np.shape(a) == two else np.broadcast_to(a, two)[i]) for k, a in v.items()}
+                          for i in (0, 1))
             self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in _RATE_NAMES if k in v0}
             self._key = key
         return self._val
