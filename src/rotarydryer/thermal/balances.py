@@ -178,7 +178,7 @@ def _vapour_source_enthalpy(solids_temperature_c, method):
     t = _tc(solids_temperature_c)
     if method == "ajayi2011":
         return AJAYI_LATENT_HEAT + AJAYI_CP_WATER * t
-    return ha._vapour_enthalpy(t)
+    return ha._enthalpy_parts(t)[1]       # = ha._vapour_enthalpy(t), compiled with the dry-air part when on
 
 
 def solids_enthalpy(temperature_c, moisture_dry, cp_solids=AJAYI_CP_SOLIDS, cp_water=AJAYI_CP_WATER):

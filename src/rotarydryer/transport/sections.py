@@ -199,10 +199,13 @@ class FlightedSectionLaw:
         if cells is not None:
             fixed_phi = None if fixed_phi is None else fixed_phi[cells]
             fixed_rho = None if fixed_rho is None else fixed_rho[cells]
-        phi = fixed_phi if fixed_phi is not None else self.material.repose_angle(x)
-        rho = fixed_rho if fixed_rho is not None else self.material.bulk_density(x)
-        ones = np.ones(self._shape(x, cells))   # (n,), a batch (k, n) or a subset
-        return np.asarray(phi, float) * ones, np.asarray(rho, float) * ones
+        phi = np.asarray(fixed_phi if fixed_phi is not None else self.material.repose_angle(x), dtype=float)
+        rho = np.asarray(fixed_rho if fixed_rho is not None else self.material.bulk_density(x), dtype=float)
+        shape = self._shape(x, cells)           # (n,), a batch (k, n) or a subset
+        if phi.shape == shape and rho.shape == shape and fixed_phi is None and fixed_rho is None:
+            return phi, rho                     # computed here: new arrays of the right shape
+        ones = np.ones(shape)
+        return phi * ones, rho * ones
 
     def design_load(self, phi, rho, fouling=None):
         s = self.spec
@@ -412,8 +415,8 @@ class _Coefficients:
             else:       # the point and the perturbed point as a batch of two (the same numbers, one call)
                 v = self.law.evaluate(np.stack([mp, mp + h]), self.x)
                 two = (2, mp.size)
-                v0, v1 = ({k: (a[i] if np.shape(a) == two else np.broadcast_to(a, two)[i]) for k, a in v.items()}
-                          for i in (0, 1))
+                v0, v1 = ({k: (a[i] if np.shape(a) == two else np.broadcast_to(a, two)[i])
+                           for k, a in v.items() if k in _RATE_NAMES} for i in (0, 1))
             self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in _RATE_NAMES if k in v0}
             self._key = key
         return self._val
