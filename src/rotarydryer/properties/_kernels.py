@@ -1,15 +1,22 @@
-"""Compiled forms of the humid-air property functions every residual of the dryer calls (numba, optional).
+"""Compiled forms of the physics every residual of the dryer calls (numba, optional).
 
-Transport properties (:func:`rotarydryer.properties.humid_air._transport`: Lemmon & Jacobsen (2004)
-dilute air, IAPWS (2008, 2011) dilute water vapour, Wilke (1950) / Mason-Saxena mixing, Poling et
-al. (2001) Eqs. 9-5.13, 10-6.1), the humid heat and the enthalpy parts of
-:mod:`rotarydryer.properties.humid_air` (NASA polynomials, McBride et al. 2002) in one compiled
-loop per element instead of some 40 NumPy calls on small arrays each. The NumPy functions of
-:mod:`~rotarydryer.properties.humid_air` stay the reference: the same equations with the same
-coefficients (packed from :mod:`~rotarydryer.properties.combustion` by :func:`pack`), the same
-numbers to rounding (``tests/properties/test_property_kernels.py``). Plain loops, so the module
-imports without numba; :func:`compiled` returns None when the kernels are off
-(:mod:`rotarydryer._jit`) and the callers then take their NumPy path.
+* Humid-air transport properties (:func:`rotarydryer.properties.humid_air._transport`: Lemmon &
+  Jacobsen (2004) dilute air, IAPWS (2008, 2011) dilute water vapour, Wilke (1950) / Mason-Saxena
+  mixing, Poling et al. (2001) Eqs. 9-5.13, 10-6.1), the humid heat and the enthalpy parts (NASA
+  polynomials, McBride et al. 2002), the Wagner & Pruss (1993) saturation pressure, the Marrero &
+  Mason (1972) diffusivity and the Smith, Shen & Friedman (1982) WSGG emissivity;
+* the gas -> solids transfer of a set of gas stages (:func:`rotarydryer.thermal.balances._stage_transfer`,
+  physical mode) and the shell-loss network with its shell temperature solved
+  (:func:`rotarydryer.thermal.shell.shell_heat_loss`), built from the scalar forms above.
+
+Each is one compiled loop per element instead of dozens of NumPy calls on small arrays. The NumPy
+functions stay the references: the same equations with the same coefficients (packed from the
+reference tables by the ``pack*`` functions), the same numbers to rounding, and for the shell the
+same root to its 1e-9 K tolerance (``tests/properties/test_property_kernels.py``,
+``tests/thermal/test_compiled_physics.py``). One module: numba's disk cache tracks the file of a
+compiled function, not the files of the functions it calls. Plain loops, so the module imports
+without numba; :func:`compiled` returns None when the kernels are off (:mod:`rotarydryer._jit`)
+and the callers then take their NumPy path.
 """
 
 from __future__ import annotations
@@ -22,7 +29,8 @@ from .. import _jit
 
 # offsets into the packed coefficient array (pack)
 _B, _H, _L, _MA, _MW, _RATIO, _NASA, _WAIR, _MSP, _HREF, _LAT, _R = 9, 14, 18, 23, 24, 25, 26, 54, 57, 60, 64, 65
-_SIZE = 66
+_WILKE = 66      # Wilke's mass-ratio terms (M_w/M_a)^0.25, (M_a/M_w)^0.25, sqrt(8(1 + M_a/M_w)), sqrt(8(1 + M_w/M_a))
+_SIZE = 70
 
 
 def pack(lemmon_air, lj_b, iapws_h, iapws_l, molar_mass_air, molar_mass_h2o, nasa, air_weights, air_molar_masses,
@@ -39,7 +47,10 @@ def pack(lemmon_air, lj_b, iapws_h, iapws_l, molar_mass_air, molar_mass_h2o, nas
     c = np.concatenate([np.asarray(lemmon_air, float), np.asarray(lj_b, float), np.asarray(iapws_h, float),
                         np.asarray(iapws_l, float), [molar_mass_air, molar_mass_h2o, molar_mass_h2o / molar_mass_air],
                         np.asarray(nasa, float).ravel(), np.asarray(air_weights, float),
-                        np.asarray(air_molar_masses, float), np.asarray(h_ref_j_mol, float), [latent_ref, gas_constant]])
+                        np.asarray(air_molar_masses, float), np.asarray(h_ref_j_mol, float), [latent_ref, gas_constant],
+                        [(molar_mass_h2o / molar_mass_air) ** 0.25, (molar_mass_air / molar_mass_h2o) ** 0.25,
+                         math.sqrt(8.0 * (1.0 + molar_mass_air / molar_mass_h2o)),
+                         math.sqrt(8.0 * (1.0 + molar_mass_h2o / molar_mass_air))]])
     assert c.size == _SIZE
     return c
 
@@ -55,7 +66,6 @@ def _transport_at(t, y, c):
     dilute air, IAPWS (2008) Eq. 11 / IAPWS (2011) Eq. 16 dilute vapour, Wilke (1950) mixing (Poling et al.
     (2001) Eqs. 9-5.13, 10-6.1)."""
     m_a, sigma, eps, tc, n1, n2, t2, n3, t3 = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
-    ma, mw = c[_MA], c[_MW]
     tk = t + 273.15
     lt = math.log(tk / eps)
     s = 0.0
@@ -82,10 +92,10 @@ def _transport_at(t, y, c):
     k_v = 1e-3 * rt / sl
     xa = 1.0 - y / (y + c[_RATIO])
     xw = 1.0 - xa
-    f12 = 1.0 + math.sqrt(mu_a / mu_v) * (mw / ma) ** 0.25
-    f21 = 1.0 + math.sqrt(mu_v / mu_a) * (ma / mw) ** 0.25
-    phi12 = f12 * f12 / math.sqrt(8.0 * (1.0 + ma / mw))
-    phi21 = f21 * f21 / math.sqrt(8.0 * (1.0 + mw / ma))
+    f12 = 1.0 + math.sqrt(mu_a / mu_v) * c[_WILKE]
+    f21 = 1.0 + math.sqrt(mu_v / mu_a) * c[_WILKE + 1]
+    phi12 = f12 * f12 / c[_WILKE + 2]
+    phi21 = f21 * f21 / c[_WILKE + 3]
     da = xa + xw * phi12
     dw = xw + xa * phi21
     return xa * mu_a / da + xw * mu_v / dw, xa * k_a / da + xw * k_v / dw
