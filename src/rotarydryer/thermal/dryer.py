@@ -640,23 +640,17 @@ class ThermalDryer:
         tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
         # the shell temperatures of the previous solve start Newton's method (same root to 1e-9 K)
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
-        fast = _shell_loss_compiled(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
-                                    gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
-                                    inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
-                                    scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
-                                    insulation_thickness=s.insulation_thickness,
-                                    insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
-                                    outer_guess=guess)
+        args = (tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature)
+        kw = dict(gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
+                  inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
+                  scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
+                  insulation_thickness=s.insulation_thickness, insulation_conductivity=s.insulation_conductivity,
+                  pressure=s.pressure, outer_guess=guess)
+        fast = _shell_loss_compiled(*args, **kw)     # one compiled pass, or None: the NumPy network
         if fast is not None:
             self._shell_outer = fast[1]
             return fast[0]
-        r = shell_heat_loss(tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature,
-                            gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
-                            inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
-                            scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
-                            insulation_thickness=s.insulation_thickness,
-                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
-                            outer_guess=guess, _trusted=True)
+        r = shell_heat_loss(*args, **kw, _trusted=True)
         self._shell_outer = np.asarray(r.outer_surface_temperature_c, dtype=float)
         return r.heat_loss
 
