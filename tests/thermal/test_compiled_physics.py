@@ -143,3 +143,25 @@ def test_shipped_steady_states_equal_with_the_kernels_on_and_off():
             continue
         for name, value in on[key].items():
             assert value == pytest.approx(off[key][name], rel=1e-8, abs=1e-12), f"{key} {name}"
+
+
+def test_transfer_kernel_leaves_per_stage_parameters_and_subclasses_to_numpy(monkeypatch):
+    """The public stage_transfer accepts per-stage arrays of its scalar parameters (NumPy broadcasts
+    them), and a DryingKinetics subclass may override its rate: the kernel declines both."""
+    n = 3
+    args = (np.ones(n), np.full(n, 0.1), np.full(n, 40.0), np.full(n, 300.0), np.full(n, 0.05), np.full(n, 10.0),
+            np.full(n, 0.01))
+    kin = DryingKinetics("ajayi2011")
+    for radius, pressure in ((np.array([1.0, 1.5, 2.0]), 101325.0), (1.95, np.array([101325.0, 1e5, 9e4]))):
+        assert bal._stage_transfer_compiled(*args, radius, kin, pressure, 0.011, 0.9, 2e-3, 3.7) is None
+        got = bal.stage_transfer(*args, radius, kin, pressure=pressure)
+        with monkeypatch.context() as m:
+            m.setattr(bal, "_stage_transfer_compiled", lambda *a, **k: None)
+            want = bal.stage_transfer(*args, radius, kin, pressure=pressure)
+        for g, w in zip(got, want):
+            np.testing.assert_array_equal(g, w)
+
+    class Faster(DryingKinetics):
+        def _rate(self, *a, **k):
+            return 2.0 * super()._rate(*a, **k)
+    assert bal._stage_transfer_compiled(*args, 1.95, Faster("ajayi2011"), 101325.0, 0.011, 0.9, 2e-3, 3.7) is None

@@ -164,3 +164,15 @@ def test_shell_geometry_out_of_range_is_named(overrides, key):
 
     with pytest.raises(ValueError, match=key.replace(".", r"\.")):
         Simulation("song2003_ottawa", overrides).thermal_dryer()
+
+
+def test_a_study_cannot_put_a_scale_layer_thicker_than_the_shell():
+    from rotarydryer import Simulation
+    from rotarydryer.thermal.studies import perturbed
+
+    d = Simulation("song2003_ottawa").thermal_dryer()
+    with pytest.raises(ValueError, match=r"shell\.scale_thickness = 0\.1 m"):
+        perturbed(d, scale_thickness=0.1)
+    with pytest.raises(ValueError, match=r"shell\.scale_thickness = 0\.03 m"):
+        perturbed(d, shell_inner_radius=0.05, scale_thickness=0.03)
+    assert perturbed(d, scale_thickness=0.01).settings.scale_thickness == 0.01

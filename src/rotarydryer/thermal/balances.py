@@ -307,12 +307,16 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
     """:func:`_stage_transfer` of the physical mode in one compiled pass per stage
     (:mod:`rotarydryer.properties._kernels`), or None: kernels off, a mass-transfer basis other than
     ``"concentration"`` or a saturation pressure other than Wagner-Pruss, or solids at the boiling point
-    (the NumPy form then names it). The same equations, the same numbers to rounding."""
+    (the NumPy form then names it), per-stage arrays of the scalar parameters, or a subclass of
+    DryingKinetics (which may override its rate). The same equations, the same numbers to rounding."""
     from ..properties import _kernels
 
-    if (_kernels.compiled("transfer") is None or kinetics.basis != "concentration"
-            or kinetics.saturation_method != "wagner_pruss" or kinetics.method not in _kernels.KINETICS_CODES):
+    if (_kernels.compiled("transfer") is None or type(kinetics) is not DryingKinetics
+            or kinetics.basis != "concentration" or kinetics.saturation_method != "wagner_pruss"
+            or kinetics.method not in _kernels.KINETICS_CODES):
         return None
+    if any(np.ndim(v) for v in (radius, pressure, co2_mole_fraction, beam_length, solids_emissivity, dry_guard)):
+        return None      # per-stage parameters (the public stage_transfer allows them): NumPy broadcasts them
     shape, (a, x, ts, tg, y, fg, dp) = _kernels.flat(area, moisture_dry, solids_temperature_c, gas_temperature_c,
                                                       humidity, gas_mass_flow, particle_diameter)
     p = float(pressure)

@@ -271,9 +271,7 @@ class ThermalDryer:
         self.section_thermal = {k: (v if isinstance(v, SectionThermal) else SectionThermal(**v))
                                 for k, v in (sections or {}).items()}
         self._check_gas_can_dry()
-        if s.mode == "physical" and not s.scale_thickness < 0.5 * self.shell_inner_radius:
-            raise ValueError(f"shell.scale_thickness = {s.scale_thickness:g} m must be below half the shell inner "
-                             f"radius ({0.5 * self.shell_inner_radius:g} m)")
+        self._check_shell()
         if s.kinetics is None:
             kin = material.kinetics
             if s.mode == "ajayi2011":
@@ -284,6 +282,14 @@ class ThermalDryer:
         if s.particle_density is None:
             s.particle_density = float(material.particle_density)
         self._layout()
+
+    def _check_shell(self):
+        """The scale layer fits inside the shell (checked when the dryer is built and when a study
+        changes its settings, :func:`rotarydryer.thermal.studies.perturbed`)."""
+        s = self.settings
+        if s.mode == "physical" and not s.scale_thickness < 0.5 * self.shell_inner_radius:
+            raise ValueError(f"shell.scale_thickness = {s.scale_thickness:g} m must be below half the shell inner "
+                             f"radius ({0.5 * self.shell_inner_radius:g} m)")
 
     @property
     def shell_inner_radius(self) -> float:
@@ -576,7 +582,7 @@ class ThermalDryer:
         # the transfer of a stage depends on that stage's inputs only: a batch (the Jacobian's perturbed
         # states) evaluates only the (state, stage) pairs whose inputs differ from the last single state
         base = self._transfer_base
-        key = (id(s.kinetics), s.mode, s.pressure, s.co2_mole_fraction, self.radius, self.dry_gas_flow)
+        key = (s.kinetics, s.mode, s.pressure, s.co2_mole_fraction, self.radius, self.dry_gas_flow)
         if S.ndim == 2 and base is not None and base[2] == key and base[0][0].shape == area.shape[1:]:
             changed = np.zeros(area.shape, dtype=bool)
             for now, then in zip((area, xs, ts, Tg, Y), base[0]):

@@ -72,6 +72,7 @@ def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
             raise ValueError(f"unknown input {k!r}; use one of {', '.join(INPUTS)} or a ThermalSettings field")
     d.settings.validate()
     d._check_operating_inputs()  # the same checks as when the dryer was built
+    d._check_shell()
     d._reset_caches()
     d._check_gas_can_dry()
     return d
