@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["column_groups", "sparse_fd_jacobian", "fd_plan", "FDPlan", "shifted"]
+__all__ = ["column_groups", "sparse_fd_jacobian", "FDPlan", "shifted"]
 
 
 def column_groups(pattern) -> np.ndarray:
@@ -54,7 +54,7 @@ def column_groups(pattern) -> np.ndarray:
 class FDPlan:
     """What :func:`sparse_fd_jacobian` derives from a pattern and its column groups, kept for a pattern
     that is reused (a solver's Jacobians): the pattern as sorted CSC, each entry's row, column and
-    group, the number of groups, and the position of each diagonal entry (None if one is missing)."""
+    group, and the number of groups."""
 
     def __init__(self, pattern, groups=None):
         pat = sp.csc_matrix(pattern, dtype=bool)
@@ -66,14 +66,6 @@ class FDPlan:
         self.cols = np.repeat(np.arange(pat.shape[1]), np.diff(pat.indptr))
         self.entry_group = self.groups[self.cols]
         self.n_groups = int(self.groups.max()) + 1 if self.groups.size else 0
-        diag = np.flatnonzero(self.rows == self.cols)
-        square = pat.shape[0] == pat.shape[1]
-        self.diagonal = diag if square and diag.size == pat.shape[1] else None
-
-
-def fd_plan(pattern, groups=None) -> FDPlan:
-    """:class:`FDPlan` of ``pattern`` (and its ``groups``, computed if omitted)."""
-    return FDPlan(pattern, groups)
 
 
 def shifted(J, shift) -> sp.csc_matrix:
@@ -104,7 +96,7 @@ def sparse_fd_jacobian(fun, x, pattern, groups=None, step=None, f0=None, vectori
     x : ndarray, shape (n,)
         Point of evaluation.
     pattern : array_like, sparse matrix (m, n) or FDPlan
-        Sparsity pattern (entries outside it are taken as zero), or its :func:`fd_plan` (a pattern
+        Sparsity pattern (entries outside it are taken as zero), or its :class:`FDPlan` (a pattern
         that is reused: the conversions and groups are done once).
     groups : ndarray of int, optional
         Column groups from :func:`column_groups` (computed if omitted; ignored with a plan).

@@ -138,8 +138,7 @@ def _humid_heat_at(t, y, c):
 
 def _heat_loop(t, y, c, humid_heat, air_enthalpy, vapour_enthalpy):
     """Humid heat c_pa + Y c_pv (J/(kg dry air K)), the dry-air enthalpy above 0 °C and the vapour
-    enthalpy above liquid water at 0.01 °C (J/kg) at t °C (flat arrays; y may be empty: then only
-    the enthalpies)."""
+    enthalpy above liquid water at 0.01 °C (J/kg) at t °C (flat arrays)."""
     mw = c[_MW]
     for i in range(t.size):
         tk = t[i] + 273.15
@@ -148,8 +147,7 @@ def _heat_loop(t, y, c, humid_heat, air_enthalpy, vapour_enthalpy):
             ha += c[_WAIR + s] * ((_h_molar(c, s, tk) - c[_HREF + s]) / c[_MSP + s])
         air_enthalpy[i] = ha
         vapour_enthalpy[i] = c[_LAT] + (_h_molar(c, 3, tk) - c[_HREF + 3]) / mw
-        if y.size:
-            humid_heat[i] = _humid_heat_at(t[i], y[i], c)
+        humid_heat[i] = _humid_heat_at(t[i], y[i], c)
 
 
 @_helper
@@ -515,6 +513,20 @@ def flat(*arrays):
 def shaped(shape, *flat_arrays):
     """The flat results in ``shape`` (NumPy scalars for shape ())."""
     return tuple(x.reshape(shape) if shape else x[0] for x in flat_arrays)
+
+
+def evaluate(name, inputs, params, n_out):
+    """Kernel ``name`` elementwise over ``inputs`` (broadcast to one shape, :func:`flat`) with the
+    scalars or coefficient arrays ``params``: its ``n_out`` results in that shape, or None (kernels
+    off, numba failed, or the kernel declined its inputs: the caller takes its NumPy path). The
+    kernels' arguments are the flat inputs, then ``params``, then the output arrays."""
+    if compiled(name) is None:
+        return None
+    shape, flat_inputs = flat(*inputs)
+    outs = [np.empty(flat_inputs[0].size) for _ in range(n_out)]
+    if not call(name, *flat_inputs, *params, *outs):
+        return None
+    return shaped(shape, *outs)
 
 
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,

@@ -184,23 +184,10 @@ def _dry_air_enthalpy(t):
     return sum(_W_AIR[s] * _species_enthalpy(s, t, 0.0) for s in _AIR_SPECIES)
 
 
-_flat, _shaped = _kernels.flat, _kernels.shaped
-_EMPTY = np.empty(0)
-
-
-def _heat_terms(t, y=None):
-    """``(_humid_heat(t, y), _dry_air_enthalpy(t), _vapour_enthalpy(t))`` (without ``y``: the two
-    enthalpies) in one compiled pass (:mod:`._kernels`), or None when the kernels are off."""
-    if _kernels.compiled("heat") is None:
-        return None
-    shape, flat = _flat(t) if y is None else _flat(t, y)
-    n = flat[0].size
-    hh, ha, hv = (np.empty(n) for _ in range(3)) if y is not None else (_EMPTY, np.empty(n), np.empty(n))
-    if not _kernels.call("heat", flat[0], _EMPTY if y is None else flat[1], _KERNEL_COEFFICIENTS, hh, ha, hv):
-        return None
-    if y is None:
-        return _shaped(shape, ha, hv)
-    return _shaped(shape, hh, ha, hv)
+def _heat_terms(t, y=0.0):
+    """``(_humid_heat(t, y), _dry_air_enthalpy(t), _vapour_enthalpy(t))`` in one compiled pass
+    (:mod:`._kernels`), or None when the kernels are off."""
+    return _kernels.evaluate("heat", (t, y), (_KERNEL_COEFFICIENTS,), 3)
 
 
 def _enthalpy_parts(t):
@@ -208,7 +195,7 @@ def _enthalpy_parts(t):
     of :func:`enthalpy` = air + Y vapour."""
     fast = _heat_terms(t)
     if fast is not None:
-        return fast
+        return fast[1:]
     return _dry_air_enthalpy(t), _vapour_enthalpy(t)
 
 
@@ -330,12 +317,8 @@ def _viscosity(t, y, ajayi2011=False):
 def _transport(t, y):
     """Viscosity (Wilke) and thermal conductivity (Mason-Saxena) of humid air, unchecked: (mu, k);
     one compiled pass when the kernels are on (:mod:`._kernels`), else :func:`_transport_numpy`."""
-    if _kernels.compiled("transport") is not None:
-        shape, (tf, yf) = _flat(t, y)
-        mu, k = np.empty(tf.size), np.empty(tf.size)
-        if _kernels.call("transport", tf, yf, _KERNEL_COEFFICIENTS, mu, k):
-            return _shaped(shape, mu, k)
-    return _transport_numpy(t, y)
+    fast = _kernels.evaluate("transport", (t, y), (_KERNEL_COEFFICIENTS,), 2)
+    return _transport_numpy(t, y) if fast is None else fast
 
 
 def _transport_numpy(t, y):
@@ -410,12 +393,10 @@ _D_SWITCH_K, _D_BLEND_K = 450.0, 0.5
 
 
 def _water_vapour_diffusivity(t_c, p):
-    if _kernels.compiled("diffusivity") is not None:
-        shape, (t, pa) = _flat(np.asarray(t_c, dtype=float) + 273.15, np.asarray(p, dtype=float) / STANDARD_PRESSURE)
-        out = np.empty(t.size)
-        if _kernels.call("diffusivity", t, pa, _D_SWITCH_K, _D_BLEND_K, out):
-            return _shaped(shape, out)[0]
-    return _water_vapour_diffusivity_numpy(t_c, p)
+    fast = _kernels.evaluate("diffusivity", (np.asarray(t_c, dtype=float) + 273.15,
+                                             np.asarray(p, dtype=float) / STANDARD_PRESSURE),
+                             (_D_SWITCH_K, _D_BLEND_K), 1)
+    return _water_vapour_diffusivity_numpy(t_c, p) if fast is None else fast[0]
 
 
 def _water_vapour_diffusivity_numpy(t_c, p):

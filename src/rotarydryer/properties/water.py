@@ -131,12 +131,8 @@ def _saturation_pressure(temperature_c, method="wagner_pruss"):
         a, b, c = _ANTOINE_AJAYI
         return np.exp(a - b / (np.asarray(temperature_c, dtype=float) + c))
     t = np.asarray(temperature_c, dtype=float) + 273.15
-    if _kernels.compiled("psat") is not None:
-        shape, (tf,) = _kernels.flat(t)
-        out = np.empty(tf.size)
-        if _kernels.call("psat", tf, _PSAT_COEFFICIENTS, out):
-            return _kernels.shaped(shape, out)[0]
-    return _saturation_pressure_numpy_k(t)
+    fast = _kernels.evaluate("psat", (t,), (_PSAT_COEFFICIENTS,), 1)
+    return _saturation_pressure_numpy_k(t) if fast is None else fast[0]
 
 
 def _saturation_pressure_numpy_k(t):

@@ -317,8 +317,6 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
         return None
     if any(np.ndim(v) for v in (radius, pressure, co2_mole_fraction, beam_length, solids_emissivity, dry_guard)):
         return None      # per-stage parameters (the public stage_transfer allows them): NumPy broadcasts them
-    shape, (a, x, ts, tg, y, fg, dp) = _kernels.flat(area, moisture_dry, solids_temperature_c, gas_temperature_c,
-                                                      humidity, gas_mass_flow, particle_diameter)
     p = float(pressure)
     if kinetics.method == "ajayi2011":
         xe = xcr = 0.0
@@ -330,11 +328,9 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
     q = _kernels.pack_transfer(float(radius), p, float(co2_mole_fraction) * p / rad.ATM, float(beam_length),
                                float(solids_emissivity), float(dry_guard), SIGMA, kinetics.method, xe, xcr,
                                float(kinetics.exponent), ha._D_SWITCH_K, ha._D_BLEND_K)
-    rw, qc, qr = np.empty(a.size), np.empty(a.size), np.empty(a.size)
-    if not _kernels.call("transfer", a, x, ts, tg, y, fg, dp, q, cx, cy, ha._KERNEL_COEFFICIENTS,
-                         rad._KERNEL_COEFFICIENTS, water._PSAT_COEFFICIENTS, rw, qc, qr):
-        return None
-    return _kernels.shaped(shape, rw, qc, qr)
+    return _kernels.evaluate("transfer", (area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity,
+                                          gas_mass_flow, particle_diameter),
+                             (q, cx, cy, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS, water._PSAT_COEFFICIENTS), 3)
 
 
 def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,

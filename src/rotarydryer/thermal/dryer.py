@@ -68,7 +68,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .._sparse_fd import column_groups, fd_plan, shifted, sparse_fd_jacobian
+from .._sparse_fd import FDPlan, column_groups, shifted, sparse_fd_jacobian
 from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from . import balances as bal
@@ -232,6 +232,15 @@ def _scatter(index, weights, n):
     k = weights.shape[0]
     flat = (np.arange(k)[:, None] * n + index).ravel()
     return np.bincount(flat, weights.ravel(), k * n).reshape(k, n)
+
+
+def _filled(base, shape):
+    """A new array of ``shape`` holding the last single state's values ``base`` in every row (the
+    Jacobian batches overwrite the pairs their perturbations changed; cheaper than np.broadcast_to
+    and a copy)."""
+    a = np.empty(shape)
+    a[...] = base
+    return a
 
 
 def _smooth_min(a, b, eps):
@@ -550,10 +559,7 @@ class ThermalDryer:
         if batch_x:
             changed |= xp != base[1]
         rows, cells = np.nonzero(changed)
-        out = {}
-        for k, b in base[4].items():     # the base state's values in every row (filled, not broadcast: cheaper)
-            out[k] = np.empty(mp.shape)
-            out[k][...] = b
+        out = {k: _filled(b, mp.shape) for k, b in base[4].items()}
         if rows.size:
             x = xp[rows, cells] if batch_x else np.broadcast_to(np.asarray(xp, dtype=float), (law.n,))[cells]
             v = law.evaluate(mp[rows, cells], x, rpm=self.rpm, fouling=fouling, smoothing=smooth, cells=cells)
@@ -588,11 +594,7 @@ class ThermalDryer:
             for now, then in zip((area, xs, ts, Tg, Y), base[0]):
                 changed |= now != then
             rows, st = np.nonzero(changed)
-            out = []
-            for b in base[1]:
-                a = np.empty(area.shape)
-                a[...] = b
-                out.append(a)
+            out = [_filled(b, area.shape) for b in base[1]]
             if rows.size:
                 sub = bal._stage_transfer(area[rows, st], xs[rows, st], ts[rows, st], Tg[rows, st], Y[rows, st],
                                           fg[rows, st], self.gas_dp[st], self.radius, s.kinetics, s.mode, s.pressure,
@@ -850,7 +852,7 @@ class ThermalDryer:
                 _GROUPS_CACHE.pop(next(iter(_GROUPS_CACHE)))
         self._pattern = pat
         self._groups = groups
-        self._fd_plan = fd_plan(pat, groups)
+        self._fd_plan = FDPlan(pat, groups)
         return pat
 
     def jacobian(self, z, f0=None):

@@ -97,13 +97,9 @@ _KERNEL_COEFFICIENTS = _kernels.pack_wsgg([(x, *_SMITH[name]) for name, x in _AN
 
 def _wsgg_compiled(t_k, p_h2o, p_co2, path_length):
     """:func:`_emissivity` in one compiled pass (:mod:`rotarydryer.properties._kernels`), or None."""
-    if _kernels.compiled("wsgg") is None:
-        return None
-    shape, (t, ph, pc, length) = _kernels.flat(t_k, p_h2o, p_co2, path_length)
-    out = np.empty(t.size)
-    if not _kernels.call("wsgg", t, ph / ATM, pc / ATM, length, _KERNEL_COEFFICIENTS, out):
-        return None
-    return _kernels.shaped(shape, out)[0]
+    fast = _kernels.evaluate("wsgg", (t_k, np.asarray(p_h2o, dtype=float) / ATM,
+                                      np.asarray(p_co2, dtype=float) / ATM, path_length), (_KERNEL_COEFFICIENTS,), 1)
+    return None if fast is None else fast[0]
 
 
 def _wsgg_paths(p_h2o, p_co2, path_length):

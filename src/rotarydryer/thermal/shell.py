@@ -313,9 +313,6 @@ def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_tempe
     method from ``outer_guess`` stops per element rather than for all elements at once."""
     if _kernels.compiled("shell") is None:
         return None
-    shape, (tg, mg, seg, y) = _kernels.flat(gas_temperature_c, gas_mass_flow, length, gas_humidity)
-    guess = (np.full(tg.size, np.nan) if outer_guess is None
-             else _kernels.flat(np.broadcast_to(np.asarray(outer_guess, dtype=float), shape))[1][0])
     ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
     r_exp, r_o = ri - dsc, ri + ds
     r_out = r_o + dins
@@ -325,11 +322,9 @@ def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_tempe
                             float(inner_emissivity), float(outer_emissivity), float(wind_speed),
                             float(ambient_humidity), p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
                             0.95 * (2 * r_exp), 1e-9)
-    loss, outer = np.empty(tg.size), np.empty(tg.size)
-    if not _kernels.call("shell", tg, mg, seg, y, guess, q, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS,
-                         loss, outer):
-        return None
-    return loss.reshape(shape), outer.reshape(shape)
+    guess = np.nan if outer_guess is None else outer_guess       # NaN: no guess, the bracketed root
+    return _kernels.evaluate("shell", (gas_temperature_c, gas_mass_flow, length, gas_humidity, guess),
+                             (q, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS), 2)
 
 
 def ajayi2011_outside_air_properties(shell_temperature_c):
