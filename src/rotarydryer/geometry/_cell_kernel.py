@@ -36,9 +36,13 @@ def _inverse_eq_4_22(d, h0, hold, nu, smoothing, r, bp, g, s):
     """Lee (2008) Eq. 4.22 inverted at dryer loading ``d`` for the holdups H0 = ``h0`` and H_i =
     ``hold[1:nu+1]`` (``design_load._invert_eq_4_22`` and ``_smoothed_inverse``, one cell);
     r, bp, g, s: work arrays of nu, nu + 2, nu + 2 and nu + 2 elements."""
-    for i in range(nu):
-        r[i] = min(max(hold[1 + i] / h0, 0.0), 1.0)
-    r.sort()
+    for i in range(nu):             # the ratios, sorted by insertion (few, and nearly in order)
+        v = min(max(hold[1 + i] / h0, 0.0), 1.0)
+        j = i
+        while j > 0 and r[j - 1] > v:
+            r[j] = r[j - 1]
+            j -= 1
+        r[j] = v
     bp[0] = 0.0
     for i in range(nu):
         bp[1 + i] = r[i]
@@ -87,7 +91,7 @@ def _inverse_eq_4_22(d, h0, hold, nu, smoothing, r, bp, g, s):
 def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, brk, design_rows, hold_rows, nu,
                  edges, x0, hx, nx, cell_off, y0, hy, ny, blocks, arc_sign, arc_offset, omega, cos_s, phi_lo, phi_hi,
                  out):
-    """out[:, 0..4] = design load (kg), loading factor, passive time (s), fall height (m), fall time (s);
+    """out[0..4, :] = design load (kg), loading factor, passive time (s), fall height (m), fall time (s);
     ``fixed``: the loading factor is 1 (the section's fixed loading state) instead of Eq. 4.22's.
     Returns False (``out`` incomplete) at the first repose angle outside [phi_lo, phi_hi], bulk density
     or passive mass not finite, or result not finite: the caller then takes the checked NumPy path."""
@@ -148,13 +152,13 @@ def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, br
                 vp *= v
             up *= u
         arc = 2.0 * vals[0] - 180.0
-        out[n, 0] = des
-        out[n, 1] = f
-        out[n, 2] = (arc_offset + arc_sign * arc) / omega
-        out[n, 3] = vals[1] / cos_s
-        out[n, 4] = vals[2] / sq
+        out[0, n] = des
+        out[1, n] = f
+        out[2, n] = (arc_offset + arc_sign * arc) / omega
+        out[3, n] = vals[1] / cos_s
+        out[4, n] = vals[2] / sq
         for c in range(5):
-            if not math.isfinite(out[n, c]):
+            if not math.isfinite(out[c, n]):
                 return False
     return True
 

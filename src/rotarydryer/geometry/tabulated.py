@@ -39,6 +39,7 @@ from collections import OrderedDict
 
 import numpy as np
 
+from .. import _jit
 from .._validation import check_choice, check_range
 from .design_load import DESIGN_LOAD_METHODS, _area_weights, _upper_flight_holdups
 from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary
@@ -342,44 +343,60 @@ class GeometryTable:
         compiled kernels are off (:mod:`rotarydryer._jit`), a repose angle lies outside the
         table, or an input or result is not finite: the caller then composes those methods,
         which check their inputs and name what is wrong."""
-        from .. import _jit
-
         phi = np.asarray(repose_angle, dtype=float)
         if not _jit.enabled() or phi.ndim != 1:
             return None
-        check_choice("method", method, DESIGN_LOAD_METHODS)
-        check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
-        rpm, slope = float(rpm), float(slope)
-        if not (0.0 < rpm < math.inf and -45.0 < slope < 45.0):
+        rpm = float(rpm)
+        if not 0.0 < rpm < math.inf:
             return None
-        rho, mp = (np.asarray(a, dtype=float) for a in (bulk_density, passive_mass))
-        rho, mp = (np.ascontiguousarray(a if a.shape == phi.shape else np.broadcast_to(a, phi.shape))
-                   for a in (rho, mp))
-        a_h0, a_baker = _area_weights(self.drum.n_flights, method)
-        if getattr(self, "_kernel_tables", None) is None:
+        # what stays fixed for a law (method, passive-time branch, slope): checked and packed once
+        key = (method, passive_time_branch, slope)
+        fixed = self._kernel_fixed.get(key) if getattr(self, "_kernel_fixed", None) is not None else None
+        if fixed is None:
+            check_choice("method", method, DESIGN_LOAD_METHODS)
+            check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
+            slope = float(slope)
+            if not -45.0 < slope < 45.0:
+                return None
             sp = self._cascade
-            self._kernel_tables = (self._breaks.x, self._design.rows, self._holdups.rows, self.n_upper, sp.edges,
-                                   sp.x0.astype(float), sp.hx.astype(float), sp.nx.astype(np.int64),
-                                   sp.cell_off.astype(np.int64), sp.y0, sp.hy, sp.ny, sp.blocks)
-        eq34 = passive_time_branch == "eq3.4"
-        out = np.empty((phi.size, 5))
+            eq34 = passive_time_branch == "eq3.4"
+            fixed = (_area_weights(self.drum.n_flights, method),
+                     (self._breaks.x, self._design.rows, self._holdups.rows, self.n_upper, sp.edges,
+                      sp.x0.astype(float), sp.hx.astype(float), sp.nx.astype(np.int64), sp.cell_off.astype(np.int64),
+                      sp.y0, sp.hy, sp.ny, sp.blocks, 1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0),
+                     (math.cos(math.radians(slope)), float(self.phi_range[0]), float(self.phi_range[1])))
+            if getattr(self, "_kernel_fixed", None) is None:
+                self._kernel_fixed = {}
+            self._kernel_fixed[key] = fixed
+        (a_h0, a_baker), tables, tail = fixed
+        n = phi.size
+        rho, mp = (a if type(a) is np.ndarray and a.shape == phi.shape and a.dtype == float
+                   else np.broadcast_to(np.asarray(a, dtype=float), phi.shape) for a in (bulk_density, passive_mass))
+        out = np.empty((5, n))
         try:
-            from . import _cell_kernel
-
             # False: a repose angle outside the table, or an input or result not finite
-            ok = _cell_kernel.cell_values(np.ascontiguousarray(phi), rho, mp, float(length), 1.0 - float(fouling),
-                                          a_h0, a_baker, float(smoothing), bool(fixed_loading), *self._kernel_tables,
-                                          1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0, 6.0 * rpm,
-                                          math.cos(math.radians(slope)), float(self.phi_range[0]),
-                                          float(self.phi_range[1]), out)
+            ok = _cell_kernel().cell_values(np.ascontiguousarray(phi), np.ascontiguousarray(rho), np.ascontiguousarray(mp),
+                                            float(length), 1.0 - float(fouling), a_h0, a_baker, float(smoothing),
+                                            bool(fixed_loading), *tables, 6.0 * rpm, *tail, out)
         except Exception as exc:    # a numba that cannot compile here: the NumPy composition instead
             _jit.disable(f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
             return None
         if not ok:
             return None
-        return tuple(out[:, k] for k in range(5))
+        return tuple(out)
 
 
+def _cell_kernel():
+    """The compiled cell kernel's module (imported on first use: it imports numba)."""
+    global _CELL_KERNEL
+    if _CELL_KERNEL is None:
+        from . import _cell_kernel as module
+
+        _CELL_KERNEL = module
+    return _CELL_KERNEL
+
+
+_CELL_KERNEL = None
 _cache: OrderedDict = OrderedDict()
 _lock = threading.Lock()
 #: drums whose tables are kept (least recently used dropped first)

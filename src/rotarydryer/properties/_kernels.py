@@ -297,29 +297,39 @@ def _shell_outside(to, q, c):
 
 
 @_helper
-def _shell_inner(to, tg, q, c):
+def _shell_inner(to, tg, q, c, cond):
     """(inner surface temperature, outside loss W per metre) at outer temperature ``to``: conduction
-    ln(r2/r1)/(2 pi k) per layer, the steel's k = k0 - k1 T at the mean steel temperature (3 passes)."""
+    ln(r2/r1)/(2 pi k) per layer, the steel's k = k0 - k1 T at the mean steel temperature (3 passes);
+    ``cond``: (ln(r_o/r_i) of the steel, the scale's and the insulation's resistance), :func:`_shell_layers`."""
     qp = _shell_outside(to, q, c) * 2 * math.pi * q[_SH_ROUT]
     twi = to
     for _ in range(3):
         t_steel = 0.5 * (min(max(twi, to), max(tg, to)) + to)
-        rc = math.log(q[_SH_RO] / q[_SH_RI]) / (2 * math.pi * (q[_SH_K0] - q[_SH_K1] * t_steel))
+        rc = cond[0] / (2 * math.pi * (q[_SH_K0] - q[_SH_K1] * t_steel))
         if q[_SH_DSC] > 0:
-            rc = rc + math.log(q[_SH_RI] / q[_SH_REXP]) / (2 * math.pi * q[_SH_KSC])
+            rc = rc + cond[1]
         if q[_SH_DINS] > 0:
-            rc = rc + math.log(q[_SH_ROUT] / q[_SH_RO]) / (2 * math.pi * q[_SH_KINS])
+            rc = rc + cond[2]
         twi = to + qp * rc
     return twi, qp
 
 
 @_helper
-def _shell_inside(twi, tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w):
+def _shell_layers(q):
+    """What :func:`_shell_inner` needs of the drum's layers, computed once per solve."""
+    r_sc = math.log(q[_SH_RI] / q[_SH_REXP]) / (2 * math.pi * q[_SH_KSC]) if q[_SH_DSC] > 0 else 0.0
+    r_ins = math.log(q[_SH_ROUT] / q[_SH_RO]) / (2 * math.pi * q[_SH_KINS]) if q[_SH_DINS] > 0 else 0.0
+    return math.log(q[_SH_RO] / q[_SH_RI]), r_sc, r_ins
+
+
+@_helper
+def _shell_inside(twi, tg, y, st, mu, k_g, eg, ph, q, c, w):
     """Inside flux W/m2 at inner surface temperature ``twi``: Sieder & Tate (1936) convection (Ajayi
-    (2011) Eq. 6.52) and gas-wall radiation with Hottel's effective wall emissivity (WSGG absorptivity)."""
+    (2011) Eq. 6.52; ``st`` = 0.027 Re^0.8 Pr^(1/3) of the gas) and gas-wall radiation with Hottel's
+    effective wall emissivity (WSGG absorptivity)."""
     twi_c = min(max(twi, 0.0), 600.0)
     mu_s = _transport_at(twi_c, y, c)[0]
-    h_c = 0.027 * re_in ** 0.8 * pr ** (1.0 / 3.0) * (mu / mu_s) ** 0.14 * k_g / (2 * q[_SH_REXP])
+    h_c = st * (mu / mu_s) ** 0.14 * k_g / (2 * q[_SH_REXP])
     ag = _wsgg_at(twi_c + 273.15, ph, q[_SH_PC], q[_SH_BEAM], w)
     tgk = tg + 273.15
     q_r = q[_SH_SIGMA] * 0.5 * (q[_SH_EI] + 1.0) * (eg * tgk ** 4 - ag * (twi + 273.15) ** 4)
@@ -327,22 +337,24 @@ def _shell_inside(twi, tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w):
 
 
 @_helper
-def _shell_residual(to, tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w):
-    twi, qp_out = _shell_inner(to, tg, q, c)
-    q_in = _shell_inside(min(twi, tg), tg, y, re_in, pr, mu, k_g, eg, ph, q, c, w)
+def _shell_residual(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond):
+    twi, qp_out = _shell_inner(to, tg, q, c, cond)
+    q_in = _shell_inside(min(twi, tg), tg, y, st, mu, k_g, eg, ph, q, c, w)
     return q_in * 2 * math.pi * q[_SH_REXP] - qp_out
 
 
 def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
     """Shell heat loss (W per segment) and outer surface temperature (°C) per element, the outer
     temperature the root of inside = outside flux per metre (:func:`rotarydryer.thermal.shell.shell_heat_loss`):
-    Newton's method from ``guess`` (NaN: none) until a step is below the tolerance (12 steps at most;
+    Newton's method (secant slopes after the first) from ``guess`` (NaN: none) until a step is below the
+    tolerance (12 steps at most;
     each element on its own, so one more evaluation costs little), else the Illinois iteration of
     :func:`rotarydryer.thermal._roots.illinois` on [ambient, gas]. False if an element is not finite or
     its gas is below ambient (the caller then takes the checked NumPy path)."""
     ta = q[_SH_TA]
     xtol = q[_SH_XTOL]
     r_exp = q[_SH_REXP]
+    cond = _shell_layers(q)
     for i in range(tg.size):
         t = tg[i]
         yy = y[i]
@@ -354,6 +366,7 @@ def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
         pr = _humid_heat_at(t, yy, c) / (1.0 + yy) * mu / k_g
         velocity = mg[i] / (rho * math.pi * r_exp ** 2)
         re_in = velocity * (2 * r_exp) * rho / mu
+        st = 0.027 * re_in ** 0.8 * pr ** (1.0 / 3.0)
         ph = yy / (yy + c[_RATIO]) * q[_SH_P] / 101325.0
         eg = _wsgg_at(t + 273.15, ph, q[_SH_PC], q[_SH_BEAM], w)
         lo = ta
@@ -362,21 +375,25 @@ def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
         g = guess[i]
         if math.isfinite(g):            # Newton's method from the guess
             x = min(max(g, lo), hi)
+            # the first slope by a forward difference, then the secant through the last two iterates
+            # (one evaluation per step; superlinear, as the difference Newton's method it replaces)
+            f0 = _shell_residual(x, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+            f1 = _shell_residual(x + 1e-3, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+            slope = (f1 - f0) / 1e-3
             for _ in range(12):
-                f0 = _shell_residual(x, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
-                f1 = _shell_residual(x + 1e-3, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
-                slope = (f1 - f0) / 1e-3
-                if not (math.isfinite(f0) and math.isfinite(f1) and slope != 0):
+                if not (math.isfinite(f0) and math.isfinite(slope) and slope != 0):
                     break
                 x_new = min(max(x - f0 / slope, lo), hi)
                 if abs(x_new - x) < xtol:       # a step below the tolerance (no contraction estimate:
                     root = x_new                # near the convection kink at ambient it can stop early)
                     break
-                x = x_new
+                f_new = _shell_residual(x_new, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+                slope = (f_new - f0) / (x_new - x)
+                x, f0 = x_new, f_new
         if not math.isfinite(root):     # the bracketed root (Illinois)
             a, b = lo, hi
-            fa = _shell_residual(a, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
-            fb = _shell_residual(b, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+            fa = _shell_residual(a, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+            fb = _shell_residual(b, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
             x = a if fa == 0 else b
             done = fa == 0 or fb == 0
             side = 0
@@ -389,7 +406,7 @@ def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
                     x_new = 0.5 * (a + b)
                 x_prev = x
                 x = x_new
-                fx = _shell_residual(x, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w)
+                fx = _shell_residual(x, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
                 if np.sign(fx) == np.sign(fa):
                     if side == 1:
                         fb = 0.5 * fb
@@ -404,8 +421,8 @@ def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
                     side = -1
                 done = fx == 0 or abs(b - a) < xtol or abs(x - x_prev) < 0.1 * xtol
             root = 0.5 * (a + b) if abs(b - a) < xtol else x
-        twi, qp_out = _shell_inner(root, t, q, c)
-        qp_in = _shell_inside(twi, t, yy, re_in, pr, mu, k_g, eg, ph, q, c, w) * 2 * math.pi * r_exp
+        twi, qp_out = _shell_inner(root, t, q, c, cond)
+        qp_in = _shell_inside(twi, t, yy, st, mu, k_g, eg, ph, q, c, w) * 2 * math.pi * r_exp
         loss[i] = 0.5 * (qp_in + qp_out) * seg[i]
         outer[i] = root
         if not (math.isfinite(loss[i]) and math.isfinite(root)):

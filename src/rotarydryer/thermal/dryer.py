@@ -216,7 +216,10 @@ class ThermalSettings:
 SHELL_THICKNESS_RATIO = 0.05 / 1.90
 
 #: a step whose residual falls below this fraction of the last keeps the factorisation (chord step)
-CHORD_RATIO = 1e-2
+CHORD_RATIO = 0.05
+#: tolerance of the transport-only steady state that starts the coupled solve (relative to the feed;
+#: a start needs no more: the coupled Newton steps correct far larger differences)
+START_TOLERANCE = 1e-10
 #: chord steps with a nearby steady state's factorisation continue while the residual falls at least this much
 BORROWED_RATIO = 0.1
 
@@ -872,7 +875,7 @@ class ThermalDryer:
         """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
         s = self.settings
         try:
-            m = self.model.network.steady_state()
+            m = self.model.network.steady_state(tol=START_TOLERANCE)
         except ValueError as exc:
             raise DryerError(f"no transport steady state for the start: {exc}", reason="no_steady_state") from exc
         m = m * (self.feed_rate / max(self.model.feed_rate, 1e-300))

@@ -459,46 +459,93 @@ class Network:
                 raise ValueError(f"edge family {f.name!r} references a node outside 0..{self.n - 1}")
 
     # --- flows, residual, Jacobian --------------------------------------------------------
+    def _plan(self):
+        """The edges of all families end to end (fixed by the network; rebuilt if the families
+        change): src, dst, the inside edges (dst >= 0) and their dst, per family its slice, the
+        capped and the excess edges, and the Jacobian's pattern with each entry's place in it."""
+        key = (self.n, tuple(map(id, self.families)))
+        plan = getattr(self, "_edge_plan", None)
+        if plan is not None and plan["key"] == key:
+            return plan
+        fams = self.families
+        src = np.concatenate([f.src for f in fams] or [np.zeros(0, np.int64)])
+        dst = np.concatenate([f.dst for f in fams] or [np.zeros(0, np.int64)])
+        bounds = np.cumsum([0] + [f.n for f in fams])
+        slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
+        kind = np.concatenate([np.full(f.n, f.kind) for f in fams] or [np.zeros(0, str)])
+        inside = np.flatnonzero(dst >= 0)
+        # Jacobian entries: d(out of src)/d(src) and d(into dst)/d(src) of every edge, then the same
+        # for the control node of each state-dependent coefficient
+        ctrl_fams = [(f, sl) for f, sl in zip(fams, slices) if f.rate_fn is not None]
+        ctrl_edges = np.concatenate([np.arange(sl.start, sl.stop) for _, sl in ctrl_fams] or [np.zeros(0, np.int64)])
+        ctrl = np.concatenate([f.ctrl for f, _ in ctrl_fams] or [np.zeros(0, np.int64)])
+        ctrl_in = np.flatnonzero(dst[ctrl_edges] >= 0)
+        rows = np.concatenate([src, dst[inside], src[ctrl_edges], dst[ctrl_edges][ctrl_in]])
+        cols = np.concatenate([src, src[inside], ctrl, ctrl[ctrl_in]])
+        pattern = sp.csc_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n, self.n))
+        pattern.sum_duplicates()
+        pattern.sort_indices()
+        # place of each entry in the pattern's data (column-major order of the csc matrix)
+        lin = cols.astype(np.int64) * self.n + rows
+        place = np.searchsorted(np.repeat(np.arange(self.n), np.diff(pattern.indptr)) * self.n
+                                + pattern.indices, lin)
+        plan = dict(key=key, src=src, dst=dst, slices=slices, inside=inside, dst_in=dst[inside],
+                    capped=np.flatnonzero(kind == "capped"), excess=np.flatnonzero(kind == "excess"),
+                    nonlinear=[(f, sl) for f, sl in zip(fams, slices) if f.kind != "linear"],
+                    ctrl_edges=ctrl_edges, ctrl_in=ctrl_in, ctrl_fams=ctrl_fams, pattern=pattern, place=place)
+        self._edge_plan = plan
+        return plan
+
+    def _edge_flows(self, M, plan, derivatives=False):
+        """Flow of every edge end to end (kg/s) at masses M; with ``derivatives``: also the
+        coefficient k, dF/dM_src (k db/dM) and, per state-dependent edge, dF/dM_ctrl (dk/dM b)."""
+        fams = self.families
+        ks, dks = [], []
+        for f in fams:
+            k, dk = f.coefficients(M)
+            ks.append(np.broadcast_to(k, (f.n,)))
+            if dk is not None:
+                dks.append(np.broadcast_to(dk, (f.n,)))
+        k = np.concatenate(ks) if ks else np.zeros(0)
+        b = M[plan["src"]]
+        db = np.ones_like(b) if derivatives else None
+        if plan["nonlinear"]:
+            cap = np.empty_like(b)
+            for f, sl in plan["nonlinear"]:
+                cap[sl] = f.cap
+            # at the kink M = M_des the over-loaded branch (EdgeFamily.basis)
+            for idx, capped in ((plan["capped"], True), (plan["excess"], False)):
+                if idx.size:
+                    ms, c = b[idx], cap[idx]
+                    over = ms >= c
+                    b[idx] = np.where(over, c, ms) if capped else np.where(over, ms - c, 0.0)
+                    if derivatives:
+                        db[idx] = np.where(over, 0.0, 1.0) if capped else np.where(over, 1.0, 0.0)
+        F = k * b
+        if not derivatives:
+            return F
+        dkb = (np.concatenate(dks) if dks else np.zeros(0)) * b[plan["ctrl_edges"]]
+        return F, k * db, dkb
+
     def family_flows(self, M):
         """Flows of every edge (kg/s): a list of arrays aligned with ``families``."""
-        out = []
-        for f in self.families:
-            k, _ = f.coefficients(M)
-            b, _ = f.basis(M[f.src])
-            out.append(k * b)
-        return out
+        plan = self._plan()
+        F = self._edge_flows(M, plan)
+        return [F[sl] for sl in plan["slices"]]
 
     def residual(self, M):
         """dM/dt (kg/s) for masses M (kg)."""
-        R = self.feed.copy()
-        for f in self.families:
-            k, _ = f.coefficients(M)
-            b, _ = f.basis(M[f.src])
-            F = k * b
-            np.subtract.at(R, f.src, F)
-            inside = f.dst >= 0
-            np.add.at(R, f.dst[inside], F[inside])
-        return R
+        return self.residual_and_gross(M)[0]
 
     def jacobian(self, M):
         """Sparse Jacobian d(dM/dt)/dM (1/s)."""
-        rows, cols, vals = [], [], []
-        for f in self.families:
-            k, dk = f.coefficients(M)
-            b, db = f.basis(M[f.src])
-            g = k * db
-            inside = f.dst >= 0
-            rows += [f.src, f.dst[inside]]
-            cols += [f.src, f.src[inside]]
-            vals += [-g, g[inside]]
-            if dk is not None:
-                h = dk * b
-                rows += [f.src, f.dst[inside]]
-                cols += [f.ctrl, f.ctrl[inside]]
-                vals += [-h, h[inside]]
-        J = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(self.n, self.n))
-        return J.tocsc()
+        plan = self._plan()
+        _, g, h = self._edge_flows(M, plan, derivatives=True)
+        inside, ci = plan["inside"], plan["ctrl_in"]
+        vals = np.concatenate([-g, g[inside], -h, h[ci]])
+        pat = plan["pattern"]
+        data = np.bincount(plan["place"], weights=vals, minlength=pat.indices.size)
+        return sp.csc_matrix((data, pat.indices, pat.indptr), shape=(self.n, self.n))
 
     # --- steady state -------------------------------------------------------------------
     #: floor of the steady-state tolerance, relative to the gross flow through each node: the
@@ -512,17 +559,13 @@ class Network:
     def residual_and_gross(self, M):
         """(dM/dt, gross flow) per node, kg/s: the gross flow is feed + inflows + outflows, the
         scale of the rounding error of dM/dt."""
-        R = self.feed.copy()
-        G = np.abs(self.feed)
-        for f in self.families:
-            k, _ = f.coefficients(M)
-            b, _ = f.basis(M[f.src])
-            F = k * b
-            np.subtract.at(R, f.src, F)
-            np.add.at(G, f.src, np.abs(F))
-            inside = f.dst >= 0
-            np.add.at(R, f.dst[inside], F[inside])
-            np.add.at(G, f.dst[inside], np.abs(F[inside]))
+        plan = self._plan()
+        F = self._edge_flows(M, plan)
+        Fi = F[plan["inside"]]
+        n, src, dst = self.n, plan["src"], plan["dst_in"]
+        R = self.feed - np.bincount(src, F, minlength=n) + np.bincount(dst, Fi, minlength=n)
+        aF = np.abs(F)
+        G = np.abs(self.feed) + np.bincount(src, aF, minlength=n) + np.bincount(dst, aF[plan["inside"]], minlength=n)
         return R, G
 
     def tolerance(self, M, tol: float = 1e-13):

@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _jit
 from .._validation import check_choice, check_range, fmt_number
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
@@ -190,7 +191,10 @@ class FlightedSectionLaw:
 
     def _shape(self, a, cells):
         """Shape of the per-cell values: (n,), a batch (k, n), or that of ``cells`` (a subset)."""
-        return np.broadcast_shapes(np.shape(a), (self.n,)) if cells is None else np.shape(cells)
+        if cells is not None:
+            return np.shape(cells)
+        shape = np.shape(a)
+        return shape if shape[-1:] == (self.n,) else np.broadcast_shapes(shape, (self.n,))
 
     def properties(self, x, cells=None):
         """(repose angle deg, bulk density kg/m^3) per cell at wet-basis moisture ``x``; ``cells``:
@@ -271,23 +275,18 @@ class FlightedSectionLaw:
     def _kernel_applies(self):
         """Can :meth:`ExactGeometry.cell_values` give this law's cells (tabulated exact geometry,
         fitted forward step, compiled kernels on)?"""
-        from .. import _jit
-
         g = self.spec.geometry
         return _jit.enabled() and not self.trajectory and isinstance(g, ExactGeometry) and g.tabulated
 
     def _compiled(self, mp, phi, rho, rpm, fouling, smoothing):
-        """:meth:`evaluate`'s design load, loading factor and cascade in one compiled pass
-        (:meth:`ExactGeometry.cell_values`), or None where that does not apply (1-D arrays; evaluate()
-        has checked :meth:`_kernel_applies`)."""
+        """:meth:`evaluate`'s design load, loading factor, passive time, fall height and fall time in
+        one compiled pass (:meth:`ExactGeometry.cell_values`), or None where that does not apply (1-D
+        arrays; evaluate() has checked :meth:`_kernel_applies`)."""
         r = self.spec.geometry.cell_values(
             phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
             smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
             passive_time_branch=self.spec.passive_time_branch, fixed_loading=self.spec.loading == "fixed")
-        if r is None:
-            return None
-        des, f, tp, h, ta = r
-        return des, f, self._fitted_step(tp, ta, h)
+        return r
 
     def _reference_design_load(self):
         """Design load (kg per cell) at the assumed moisture, cached."""
@@ -310,6 +309,15 @@ class FlightedSectionLaw:
     def rates(self, phi, f, rpm=None, flight_mass=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
         return self.rates_of(self.cascade(phi, f, rpm, flight_mass))
+
+    def _fitted_rates(self, tp, ta, h):
+        """:meth:`rates_of` of :meth:`_fitted_step` (the same operations, without the cascade dict)."""
+        s = self.spec
+        cf = s.drag_reduction * h * self.sin_t / self.dl
+        out = dict(discharge=1.0 / tp, forward=cf / ta, backmix=float(s.backmix) / ta)
+        out["return"] = (1.0 - cf - s.backmix) / ta
+        out["kiln"] = np.full(tp.shape, 1.0 / s.kiln_time if s.kilning == "excess" else s.kiln_velocity / self.dl)
+        return out
 
     def rates_of(self, c):
         """Coefficients (1/s) of each family from a :meth:`cascade` result."""
@@ -343,13 +351,13 @@ class FlightedSectionLaw:
             rows = [self.evaluate(mp[i], xs[i], rpm, fouling, smoothing) for i in range(mp.shape[0])]
             return {k: np.stack([np.broadcast_to(r[k], (self.n,)) for r in rows]) for k in rows[0]}
         phi, rho = self.properties(x, cells)
-        shape = np.broadcast_shapes(phi.shape, mp.shape)
+        shape = mp.shape if mp.shape == phi.shape else np.broadcast_shapes(phi.shape, mp.shape)
         fast = self._compiled(*(a.ravel() if a.shape == shape else np.broadcast_to(a, shape).ravel()
                                 for a in (mp, phi, rho)), rpm, fouling, smoothing) if self._kernel_applies() else None
         if fast is not None:        # one compiled pass; a batch (k, n) is passed flat
-            des, _, c = fast
-            out = self.rates_of({k: v.reshape(shape) for k, v in c.items()})
-            out.update(design_load=des.reshape(shape), repose_angle=phi, bulk_density=rho)
+            des, _, tp, h, ta = (v.reshape(shape) for v in fast)
+            out = self._fitted_rates(tp, ta, h)
+            out.update(design_load=des, repose_angle=phi, bulk_density=rho)
             return out
         des = self.design_load(phi, rho, fouling)
         f = self.loading_factor(mp, des, phi, smoothing, cells)
