@@ -45,8 +45,14 @@ def test_shell_network_equals_shell_heat_loss(seed, radius, scale, insulation, w
               insulation_conductivity=0.07, pressure=101325.0, wind_speed=wind, ambient_humidity=0.012)
     want = sh.shell_heat_loss(tg, mg, seg, ambient, _trusted=True, **kw)     # bracketed: the reference root
     start = None if guess is None else want.outer_surface_temperature_c + rng.normal(0.0, guess, n)
-    loss, outer = sh._shell_loss_compiled(tg, mg, seg, ambient, outer_guess=start, **kw)
+    loss, outer, slope = sh._shell_loss_compiled(tg, mg, seg, ambient, outer_guess=start, **kw)
     np.testing.assert_allclose(outer, want.outer_surface_temperature_c, rtol=0, atol=2e-9)
+    # the next solve of a solver nearby starts from these temperatures and their last Newton slopes
+    assert slope.shape == outer.shape and (guess is not None or np.isnan(slope).all())   # NaN: bracketed
+    moved = tg + rng.uniform(0.0, 2.0, n)
+    near = sh.shell_heat_loss(moved, mg, seg, ambient, _trusted=True, **kw)
+    _, outer2, _ = sh._shell_loss_compiled(moved, mg, seg, ambient, outer_guess=outer, slope_guess=slope, **kw)
+    np.testing.assert_allclose(outer2, near.outer_surface_temperature_c, rtol=0, atol=2e-9)
     # the loss is the mean of the inside and outside fluxes at the root, which differ there by the network's
     # energy_balance_error (a steep inside coefficient: small drum, large gas flow): where the gas is 20 K or
     # more above ambient the losses agree to 1e-8 plus that; nearer, the inside flux moves by 1e-9 K times

@@ -343,14 +343,15 @@ def _shell_residual(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond):
     return q_in * 2 * math.pi * q[_SH_REXP] - qp_out
 
 
-def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
+def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_out):
     """Shell heat loss (W per segment) and outer surface temperature (°C) per element, the outer
     temperature the root of inside = outside flux per metre (:func:`rotarydryer.thermal.shell.shell_heat_loss`):
-    Newton's method (secant slopes after the first) from ``guess`` (NaN: none) until a step is below the
-    tolerance (12 steps at most;
-    each element on its own, so one more evaluation costs little), else the Illinois iteration of
-    :func:`rotarydryer.thermal._roots.illinois` on [ambient, gas]. False if an element is not finite or
-    its gas is below ambient (the caller then takes the checked NumPy path)."""
+    Newton's method from ``guess`` (NaN: none) until a step is below the tolerance (12 steps at most; each
+    element on its own, so one more evaluation costs little), else the Illinois iteration of
+    :func:`rotarydryer.thermal._roots.illinois` on [ambient, gas]. The first slope is ``slope_guess`` (the
+    last slope of a previous solve, ``slope_out``; NaN: a forward difference), then the secant through the
+    last two iterates. False if an element is not finite or its gas is below ambient (the caller then
+    takes the checked NumPy path)."""
     ta = q[_SH_TA]
     xtol = q[_SH_XTOL]
     r_exp = q[_SH_REXP]
@@ -372,20 +373,24 @@ def _shell_loop(tg, mg, seg, y, guess, q, c, w, loss, outer):
         lo = ta
         hi = t
         root = math.nan
+        slope_out[i] = math.nan
         g = guess[i]
         if math.isfinite(g):            # Newton's method from the guess
             x = min(max(g, lo), hi)
             # the first slope by a forward difference, then the secant through the last two iterates
             # (one evaluation per step; superlinear, as the difference Newton's method it replaces)
             f0 = _shell_residual(x, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
-            f1 = _shell_residual(x + 1e-3, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
-            slope = (f1 - f0) / 1e-3
+            slope = slope_guess[i]      # the last slope of the previous solve, or a forward difference
+            if not (math.isfinite(slope) and slope != 0):
+                f1 = _shell_residual(x + 1e-3, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+                slope = (f1 - f0) / 1e-3
             for _ in range(12):
                 if not (math.isfinite(f0) and math.isfinite(slope) and slope != 0):
                     break
                 x_new = min(max(x - f0 / slope, lo), hi)
                 if abs(x_new - x) < xtol:       # a step below the tolerance (no contraction estimate:
                     root = x_new                # near the convection kink at ambient it can stop early)
+                    slope_out[i] = slope
                     break
                 f_new = _shell_residual(x_new, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
                 slope = (f_new - f0) / (x_new - x)

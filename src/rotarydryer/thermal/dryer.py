@@ -227,14 +227,15 @@ BORROWED_RATIO = 0.1
 _GROUPS_CACHE: dict = {}
 
 
-def _scatter(index, weights, n):
-    """``np.bincount(index, weights, n)`` along the last axis of ``weights`` (1-D or a batch (k, e)):
-    the sums over edges into nodes, in the same order (so the same rounding) for every row."""
-    if weights.ndim == 1:
-        return np.bincount(index, weights, n)
-    k = weights.shape[0]
-    flat = (np.arange(k)[:, None] * n + index).ravel()
-    return np.bincount(flat, weights.ravel(), k * n).reshape(k, n)
+def _scatter_rows(index, weights, n, flat_index):
+    """``np.bincount(index, w, n)`` along the last axis of each of several weight arrays ``w`` of one
+    shape ((e,) or a batch (k, e)): the sums over edges into nodes, as one bincount of them stacked, in
+    the same order (so the same rounding) for every row. ``flat_index(rows)``: the index of each weight
+    in the stacked rows (rows x n bins), ``index`` offset by row (cached by the caller)."""
+    w = np.stack(weights)
+    rows = w.size // index.size
+    out = np.bincount(flat_index(rows), w.reshape(-1), rows * n)
+    return out.reshape(w.shape[:-1] + (n,))
 
 
 def _filled(base, shape):
@@ -399,11 +400,14 @@ class ThermalDryer:
         self._groups = None
         self._shell_ua = None
         self._shell_outer = None     # outer shell temperatures of the last shell solve (a warm start)
+        self._shell_slope = None     # (those temperatures, their Newton slopes) of a compiled solve
         self._shell_memo = None      # (inputs, heat loss) of the last exact shell evaluation
         self._transfer_base = None   # (inputs, outputs) of the last single-state gas-solids transfer
+        self._edge_base = None       # (k, caps, law evaluations) of the last single state's edges (flows)
         self._inlet_h = None
         self._clipped = False
         self._plans = {}             # family set -> edges end to end (_edge_plan)
+        self._flat = {}              # stacked bincount indices (_flat_index)
 
     # ------------------------------------------------------------------ state helpers
     def split(self, z):
@@ -466,31 +470,37 @@ class ThermalDryer:
         families = self.families if everything else families
         s = self.settings
         m = S + W
-        lo, hi = self.material.wet_range()
-        clipped = False
-        coef = {}
-        laws = self.laws if everything else {id(f.law): f.law for f in families if f.law is not None}.values()
-        for law in laws:
-            P = law.P
-            if s.moisture_coupling:
-                xp = W[..., P] / np.maximum(m[..., P], 1e-12)
-                clipped = clipped or bool(np.any(xp < lo) or np.any(xp > hi))
-                xp = np.clip(xp, lo, hi)
-            else:
-                xp = law.assumed_moisture
-            coef[id(law)] = self._law_values(law, m[..., P], xp, s.fouling)
-        if everything and m.ndim == 1:
-            self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
         # all edges end to end: one gather, one coefficient array, one smoothed cap for the capped and
         # excess edges (the same operations per edge as family by family)
         src, dst, capped, excess, in_ce, slices = self._edge_plan(families)
-        lead = m.shape[:-1]
-        k = np.empty(lead + src.shape)
-        cap = np.empty(lead + in_ce.shape)
-        for f, (edges, caps) in zip(families, slices):
-            k[..., edges] = f.rate if f.law is None else coef[id(f.law)][f.name]
-            if caps is not None:
-                cap[..., caps] = f.cap if f.law is None else coef[id(f.law)]["design_load"]
+        batch = self._edge_values_batch(W, m) if everything and m.ndim == 2 else None
+        if batch is not None:
+            k, cap = batch
+        else:
+            lo, hi = self.material.wet_range()
+            clipped = False
+            coef = {}
+            laws = self.laws if everything else {id(f.law): f.law for f in families if f.law is not None}.values()
+            for law in laws:
+                P = law.P
+                if s.moisture_coupling:
+                    xp = W[..., P] / np.maximum(m[..., P], 1e-12)
+                    clipped = clipped or bool(np.any(xp < lo) or np.any(xp > hi))
+                    xp = np.clip(xp, lo, hi)
+                else:
+                    xp = law.assumed_moisture
+                coef[id(law)] = self._law_values(law, m[..., P], xp, s.fouling)
+            lead = m.shape[:-1]
+            k = np.empty(lead + src.shape)
+            cap = np.empty(lead + in_ce.shape)
+            for f, (edges, caps) in zip(families, slices):
+                k[..., edges] = f.rate if f.law is None else coef[id(f.law)][f.name]
+                if caps is not None:
+                    cap[..., caps] = f.cap if f.law is None else coef[id(f.law)]["design_load"]
+            if everything and m.ndim == 1:
+                self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
+                # the edge values of this state and the law evaluations they came from (_edge_values_batch)
+                self._edge_base = (k, cap, [self._law_base.get(id(law)) for law in self.laws])
         ms = m[..., src]
         b = ms
         if in_ce.size:
@@ -499,6 +509,65 @@ class ThermalDryer:
             b[..., capped[0]] = sm[..., capped[1]]
             b[..., excess[0]] = ms[..., excess[0]] - sm[..., excess[1]]
         return src, dst, k * b
+
+    def _edge_values_batch(self, W, m):
+        """Coefficients and caps of every edge (k, e) for a batch of states (k, n), or None: the last
+        single state's edge values with only the (state, cell) pairs re-evaluated whose passive mass or
+        moisture differs from it (a Jacobian's perturbations move a few cells of each state; the same
+        numbers as :meth:`_law_values_batch` and the family-by-family fill, without building every law's
+        values for the whole batch first). None where that does not apply (no single state evaluated
+        since, a law that couples its cells, changed settings)."""
+        base = self._edge_base
+        if base is None:
+            return None
+        k0, cap0, law_bases = base
+        s = self.settings
+        smooth = s.design_load_smoothing
+        lo, hi = self.material.wet_range()
+        per_law = self._edge_plan_laws()
+        k = cap = None
+        for law, law_base in zip(self.laws, law_bases):
+            if law_base is None or self._law_base.get(id(law)) is not law_base or not law.cellwise \
+                    or law_base[2] != self.rpm or law_base[3] != s.fouling:
+                return None
+            mb, xb = law_base[0], law_base[1]
+            P = law.P
+            mp = m[:, P]
+            if s.moisture_coupling:
+                xp = np.clip(W[:, P] / np.maximum(mp, 1e-12), lo, hi)
+                changed = (mp != mb) | (xp != xb)
+            else:
+                xp = law.assumed_moisture
+                if not (xp is xb or np.array_equal(xp, xb)):
+                    return None
+                changed = mp != mb
+            rows, cells = np.nonzero(changed)
+            if not rows.size:
+                continue
+            x = xp[rows, cells] if s.moisture_coupling else np.broadcast_to(np.asarray(xp, dtype=float), (law.n,))[cells]
+            v = law.evaluate(mp[rows, cells], x, rpm=self.rpm, fouling=s.fouling, smoothing=smooth, cells=cells)
+            if k is None:
+                k, cap = _filled(k0, (m.shape[0], k0.size)), _filled(cap0, (m.shape[0], cap0.size))
+            for name, e0, c0 in per_law[id(law)]:
+                k[rows, e0 + cells] = v[name]
+                if c0 is not None:
+                    cap[rows, c0 + cells] = v["design_load"]
+        if k is None:
+            k, cap = _filled(k0, (m.shape[0], k0.size)), _filled(cap0, (m.shape[0], cap0.size))
+        return k, cap
+
+    def _edge_plan_laws(self):
+        """Per section law: (family name, its first edge, its first capped or excess edge or None) of each
+        of its families in :meth:`_edge_plan` of all families (edge j of a family is the law's cell j)."""
+        plan = self._plans.get("laws")
+        if plan is None:
+            slices = self._edge_plan(self.families)[-1]
+            plan = {id(law): [] for law in self.laws}
+            for f, (edges, caps) in zip(self.families, slices):
+                if f.law is not None:
+                    plan[id(f.law)].append((f.name, edges.start, None if caps is None else caps.start))
+            self._plans["laws"] = plan
+        return plan
 
     def _edge_plan(self, families):
         """The edges of ``families`` end to end (fixed by the network, built once per family set):
@@ -651,15 +720,18 @@ class ThermalDryer:
         tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
         # the shell temperatures of the previous solve start Newton's method (same root to 1e-9 K)
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
+        slope = self._shell_slope if guess is not None and self._shell_slope is not None and \
+            self._shell_slope[0] is guess else None
         args = (tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature)
         kw = dict(gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
                   inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
                   scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                   insulation_thickness=s.insulation_thickness, insulation_conductivity=s.insulation_conductivity,
                   pressure=s.pressure, outer_guess=guess)
-        fast = _shell_loss_compiled(*args, **kw)     # one compiled pass, or None: the NumPy network
-        if fast is not None:
+        fast = _shell_loss_compiled(*args, **kw, slope_guess=None if slope is None else slope[1])
+        if fast is not None:     # one compiled pass (else None: the NumPy network)
             self._shell_outer = fast[1]
+            self._shell_slope = (fast[1], fast[2])     # the slopes of these temperatures' Newton iterations
             return fast[0]
         r = shell_heat_loss(*args, **kw, _trusted=True)
         self._shell_outer = np.asarray(r.outer_surface_temperature_c, dtype=float)
@@ -691,20 +763,18 @@ class ThermalDryer:
         out = dst < 0
         return float(np.sum((F * frac_s)[out])), float(np.sum((F * frac_w)[out])), float(np.sum((F * h_wet)[out]))
 
-    def terms(self, z):
-        """All balance terms at state ``z`` (dict of arrays, W and kg/s)."""
+    def terms(self, z, products=True):
+        """All balance terms at state ``z`` (dict of arrays, W and kg/s); ``products``: with the product
+        stream's dry solids, water and enthalpy (``product_S``, ``product_W``, ``product_H``)."""
         s = self.settings
         S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet = self._solids_streams(z)
         nt = self.n_tanks
-        inner = dst >= 0
+        inner, di, out = self._inner_edges()
         Fs, Fw, Fh = F * frac_s, F * frac_w, F * h_wet
-        di = dst[inner]
-        inS = _scatter(di, Fs[..., inner], nt)
-        inW = _scatter(di, Fw[..., inner], nt)
-        inH = _scatter(di, Fh[..., inner], nt)
-        outS = _scatter(src, Fs, nt)
-        outW = _scatter(src, Fw, nt)
-        outH = _scatter(src, Fh, nt)
+        # solids, water and enthalpy into and out of the tanks: two stacked bincounts (_scatter_rows)
+        inS, inW, inH = _scatter_rows(di, [x[..., inner] for x in (Fs, Fw, Fh)], nt,
+                                      lambda rows: self._flat_index(di, rows, nt))
+        outS, outW, outH = _scatter_rows(src, [Fs, Fw, Fh], nt, lambda rows: self._flat_index(src, rows, nt))
         fS, fW = self.feed_rate * (1 - self.feed_moisture), self.feed_rate * self.feed_moisture
         inS[..., self.entry] += fS
         inW[..., self.entry] += fW
@@ -716,13 +786,33 @@ class ThermalDryer:
         Tg_up = np.where(up >= 0, Tg[..., np.maximum(up, 0)], s.gas_inlet_temperature)
         Y_up = np.where(up >= 0, Y[..., np.maximum(up, 0)], self.gas_inlet_Y)
         qloss = self._shell_loss(Tg, Y, Tg_up)
-        out = ~inner
-        prod = [np.sum(x[..., out], axis=-1) for x in (Fs, Fw, Fh)]
-        if F.ndim == 1:
-            prod = [float(x) for x in prod]
-        return dict(S=S, W=W, T=T, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW, outH=outH,
-                    area=area, rw=rw, qc=qc, qr=qr, hv=hv, qloss=qloss, Tg_up=Tg_up, Y_up=Y_up,
-                    product_S=prod[0], product_W=prod[1], product_H=prod[2], src=src, dst=dst, F=F)
+        d = dict(S=S, W=W, T=T, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW, outH=outH,
+                 area=area, rw=rw, qc=qc, qr=qr, hv=hv, qloss=qloss, Tg_up=Tg_up, Y_up=Y_up, src=src, dst=dst, F=F)
+        if products:
+            prod = [np.sum(x[..., out], axis=-1) for x in (Fs, Fw, Fh)]
+            if F.ndim == 1:
+                prod = [float(x) for x in prod]
+            d.update(product_S=prod[0], product_W=prod[1], product_H=prod[2])
+        return d
+
+    def _inner_edges(self):
+        """(mask of the edges that end in a tank, their destination tanks, mask of the outlet edges) of all
+        families (fixed by the network)."""
+        plan = self._plans.get("inner")
+        if plan is None:
+            dst = self._edge_plan(self.families)[1]
+            inner = dst >= 0
+            plan = self._plans["inner"] = (inner, dst[inner], ~inner)
+        return plan
+
+    def _flat_index(self, index, rows, n):
+        """``index`` offset by n per row for ``rows`` stacked rows (:func:`_scatter_rows`), cached for the
+        network's own index arrays."""
+        key = (id(index), rows, n)
+        hit = self._flat.get(key)
+        if hit is None or hit[0] is not index:
+            hit = self._flat[key] = (index, (np.arange(rows)[:, None] * n + index).ravel())
+        return hit[1]
 
     def freeze_shell(self, z):
         """Evaluate the shell-loss network exactly at ``z`` and use it as a lagged UA coefficient
@@ -759,6 +849,7 @@ class ThermalDryer:
         self._shell_ua = None
         self._shell_memo = None
         self._transfer_base = None
+        self._edge_base = None
         self._law_cache = {}
         self._law_base = {}
 
@@ -778,12 +869,12 @@ class ThermalDryer:
     def _rhs(self, z):
         """:meth:`rhs` of one state (n,) or of a batch with the states as rows, (k, n)."""
         s = self.settings
-        d = self.terms(z)
+        d = self.terms(z, products=False)
         S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
         nt = self.n_tanks
         tk = self.gas_tank
-        rw_t = _scatter(tk, d["rw"], nt)
-        qh_t = _scatter(tk, d["qc"] + d["qr"] - d["rw"] * d["hv"], nt)
+        rw_t, qh_t = _scatter_rows(tk, [d["rw"], d["qc"] + d["qr"] - d["rw"] * d["hv"]], nt,
+                                   lambda rows: self._flat_index(tk, rows, nt))
         dS = d["inS"] - d["outS"]
         dW = d["inW"] - d["outW"] - rw_t
         dU = d["inH"] - d["outH"] + qh_t

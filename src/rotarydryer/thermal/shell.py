@@ -304,13 +304,16 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
 def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_temperature_c, *, gas_humidity,
                          co2_mole_fraction, inner_radius, shell_thickness, scale_thickness, scale_conductivity,
                          insulation_thickness, insulation_conductivity, pressure, inner_emissivity=0.79,
-                         outer_emissivity=0.79, wind_speed=0.0, ambient_humidity=0.015, outer_guess=None):
-    """``(heat_loss W, outer surface temperature °C)`` of :func:`shell_heat_loss` with the steel of
+                         outer_emissivity=0.79, wind_speed=0.0, ambient_humidity=0.015, outer_guess=None,
+                         slope_guess=None):
+    """``(heat_loss W, outer surface temperature °C, slope)`` of :func:`shell_heat_loss` with the steel of
     :func:`steel_conductivity_ajayi2011` and the WSGG gas emissivity, each element solved in one compiled
     pass (:mod:`rotarydryer.properties._kernels`), or None (kernels off, or an input it declines: the
     caller then calls :func:`shell_heat_loss`). For the dryer's own calls: the settings validated once,
     scalars except the per-stage gas state and lengths. The same root to the 1e-9 K tolerance: Newton's
-    method from ``outer_guess`` stops per element rather than for all elements at once."""
+    method from ``outer_guess`` stops per element rather than for all elements at once. ``slope``: the
+    last slope of each element's Newton iteration (W/(m K); NaN where the root was bracketed), the
+    ``slope_guess`` of a next solve nearby (saves the first difference)."""
     if _kernels.compiled("shell") is None:
         return None
     ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
@@ -323,8 +326,9 @@ def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_tempe
                             float(ambient_humidity), p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
                             0.95 * (2 * r_exp), 1e-9)
     guess = np.nan if outer_guess is None else outer_guess       # NaN: no guess, the bracketed root
-    return _kernels.evaluate("shell", (gas_temperature_c, gas_mass_flow, length, gas_humidity, guess),
-                             (q, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS), 2)
+    slope = np.nan if slope_guess is None or outer_guess is None else slope_guess
+    return _kernels.evaluate("shell", (gas_temperature_c, gas_mass_flow, length, gas_humidity, guess, slope),
+                             (q, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS), 3)
 
 
 def ajayi2011_outside_air_properties(shell_temperature_c):

@@ -502,10 +502,12 @@ class Network:
         fams = self.families
         ks, dks = [], []
         for f in fams:
+            if f.rate_fn is None:
+                ks.append(f.rate)
+                continue
             k, dk = f.coefficients(M)
-            ks.append(np.broadcast_to(k, (f.n,)))
-            if dk is not None:
-                dks.append(np.broadcast_to(dk, (f.n,)))
+            ks.append(k if k.shape == (f.n,) else np.broadcast_to(k, (f.n,)))
+            dks.append(dk if dk.shape == (f.n,) else np.broadcast_to(dk, (f.n,)))
         k = np.concatenate(ks) if ks else np.zeros(0)
         b = M[plan["src"]]
         db = np.ones_like(b) if derivatives else None
