@@ -6,7 +6,7 @@ import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rotarydryer._sparse_fd import column_groups, sparse_fd_jacobian
+from rotarydryer._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 
 
 def _random_pattern(seed, m, n, density):
@@ -55,6 +55,33 @@ def test_vectorized_equals_group_by_group(seed, n, density):
     assert len(calls) == 2                            # f0 and the batch
     ref = sparse_fd_jacobian(f, x, a != 0)
     np.testing.assert_allclose(one.toarray(), ref.toarray(), rtol=1e-12, atol=1e-12)
+
+
+@given(st.integers(0, 10_000), st.integers(1, 50), st.floats(0.0, 0.3), st.booleans())
+@settings(max_examples=40, deadline=None)
+def test_shifted_lu_solves_with_the_kept_column_order(seed, n, density, full_diagonal):
+    """FDPlan.shifted_lu: shift I - J solved to rounding by the first factorisation (COLAMD) and by the
+    next ones in its column order, for Jacobians of other values on the same pattern; a pattern
+    without the whole diagonal (or another matrix) is factorised as it is."""
+    rng = np.random.default_rng(seed)
+    a = _random_pattern(seed, n, n, density)
+    if not full_diagonal and n > 1:
+        a = a.tolil()
+        a[0, 0] = 0.0
+        a = a.tocsc()
+        a.eliminate_zeros()
+    plan = FDPlan(a != 0)
+    for k in range(3):
+        J = sparse_fd_jacobian(lambda v, k=k: (a * (1.0 + k)) @ v + 0.1 * np.sin(v), rng.normal(size=n), plan,
+                               vectorized=True)
+        shift = 10.0 ** rng.uniform(-3, 2)
+        A = (shift * sp.identity(n) - J).toarray()
+        b = rng.normal(size=n)
+        x = plan.shifted_lu(J, shift).solve(b)
+        assert plan.shifted_lu(J, shift).shape == (n, n)
+        np.testing.assert_allclose(A @ x, b, atol=1e-9 * (1 + np.abs(A).max() * np.abs(x).max()))
+    other = sp.csc_matrix(np.eye(n) * 2.0)      # not this plan's pattern: factorised as given
+    np.testing.assert_allclose(plan.shifted_lu(other, 1.0).solve(np.ones(n)), -np.ones(n))
 
 
 def test_banded_nonlinear_matches_analytic_and_uses_few_groups():

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.linalg import splu
 
 __all__ = ["column_groups", "sparse_fd_jacobian", "FDPlan", "shifted"]
 
@@ -66,6 +67,57 @@ class FDPlan:
         self.cols = np.repeat(np.arange(pat.shape[1]), np.diff(pat.indptr))
         self.entry_group = self.groups[self.cols]
         self.n_groups = int(self.groups.max()) + 1 if self.groups.size else 0
+        self._diag = None
+        self._order = None
+
+    def shifted_lu(self, J, shift):
+        """SuperLU factors of ``shift * I - J`` for a Jacobian ``J`` on this plan's pattern (as
+        :func:`sparse_fd_jacobian` returns it) when the pattern holds the whole diagonal, else of
+        :func:`shifted`. The fill-reducing column ordering (COLAMD) of the first factorisation is kept
+        and the next ones factorise the matrix with its columns in that order (``permc_spec="NATURAL"``;
+        the row pivoting is SuperLU's as always): the ordering depends on the pattern only, and costs
+        about 30 % of a factorisation of 516 unknowns. Returns an object with ``solve`` and ``shape``."""
+        pat = self.pattern
+        same = (J.format == "csc" and J.shape == pat.shape and J.shape[0] == J.shape[1]
+                and J.indices.size == pat.indices.size and np.array_equal(J.indptr, pat.indptr)
+                and np.array_equal(J.indices, pat.indices))
+        if same and self._diag is None:
+            diag = np.flatnonzero(self.rows == self.cols)
+            self._diag = diag if diag.size == pat.shape[1] else False
+        if not same or self._diag is False:
+            return splu(shifted(J, shift))
+        if self._order is None:
+            data = -J.data
+            data[self._diag] += shift
+            lu = splu(sp.csc_matrix((data, pat.indices.copy(), pat.indptr.copy()), shape=pat.shape))
+            inv = np.argsort(lu.perm_c)          # column j of the ordered matrix is column inv[j]
+            counts = np.diff(pat.indptr)[inv]
+            indptr = np.concatenate([[0], np.cumsum(counts)])
+            take = np.repeat(pat.indptr[inv] - indptr[:-1], counts) + np.arange(indptr[-1])
+            is_diag = np.zeros(pat.indices.size, dtype=bool)
+            is_diag[self._diag] = True
+            self._order = (inv, indptr, pat.indices[take], take, np.flatnonzero(is_diag[take]))
+            return lu
+        inv, indptr, indices, take, diag = self._order
+        data = -J.data[take]
+        data[diag] += shift
+        lu = splu(sp.csc_matrix((data, indices, indptr), shape=pat.shape), permc_spec="NATURAL")
+        return _ColumnOrderedLU(lu, inv)
+
+
+class _ColumnOrderedLU:
+    """The factors of a matrix A factorised with its columns reordered (column j of the factorised matrix
+    is column ``inv[j]`` of A): ``solve(b)`` solves A x = b."""
+
+    def __init__(self, lu, inv):
+        self.lu, self.inv = lu, inv
+        self.shape = lu.shape
+
+    def solve(self, b):
+        y = self.lu.solve(b)
+        x = np.empty_like(y)
+        x[self.inv] = y
+        return x
 
 
 def shifted(J, shift) -> sp.csc_matrix:

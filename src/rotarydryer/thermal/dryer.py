@@ -66,9 +66,8 @@ from typing import Optional
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
-from .._sparse_fd import FDPlan, column_groups, shifted, sparse_fd_jacobian
+from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
 from . import balances as bal
@@ -1011,7 +1010,7 @@ class ThermalDryer:
                 lu = None
             if lu is None:
                 try:
-                    lu = splu(shifted(J, 1.0 / dt))      # I/dt - J on J's pattern (it holds the diagonal)
+                    lu = self._fd_plan.shifted_lu(J, 1.0 / dt)     # I/dt - J (the first one's column order)
                 except RuntimeError:
                     dt *= 0.2
                     continue
