@@ -84,7 +84,9 @@ class EdgeFamily:
     rate_fn : callable, optional
         ``rate_fn(M) -> (k, dk_dMctrl)`` for state-dependent coefficients, where
         ``M`` is the full mass vector (kg); ``ctrl`` gives the control node of each
-        edge.
+        edge. A ``rate_fn`` with an attribute ``source = (obj, name)`` takes
+        ``obj.get(M)[name]``: the network calls ``obj.get`` once per state for all
+        its families.
     cap : float array, optional
         Design load M_des of the source node, kg (for "capped"/"excess").
     section : str
@@ -501,11 +503,19 @@ class Network:
         coefficient k, dF/dM_src (k db/dM) and, per state-dependent edge, dF/dM_ctrl (dk/dM b)."""
         fams = self.families
         ks, dks = [], []
+        sources = {}
         for f in fams:
             if f.rate_fn is None:
                 ks.append(f.rate)
                 continue
-            k, dk = f.coefficients(M)
+            source = getattr(f.rate_fn, "source", None)
+            if source is not None:      # a source of several families' coefficients: asked once
+                got = sources.get(id(source[0]))
+                if got is None:
+                    got = sources[id(source[0])] = source[0].get(M)
+                k, dk = got[source[1]]
+            else:
+                k, dk = f.coefficients(M)
             ks.append(k if k.shape == (f.n,) else np.broadcast_to(k, (f.n,)))
             dks.append(dk if dk.shape == (f.n,) else np.broadcast_to(dk, (f.n,)))
         k = np.concatenate(ks) if ks else np.zeros(0)

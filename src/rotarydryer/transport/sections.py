@@ -423,14 +423,19 @@ class _Coefficients:
             else:       # the point and the perturbed point as a batch of two (the same numbers, one call)
                 v = self.law.evaluate(np.stack([mp, mp + h]), self.x)
                 two = (2, mp.size)
-                v0, v1 = ({k: (a[i] if np.shape(a) == two else np.broadcast_to(a, two)[i])
-                           for k, a in v.items() if k in _RATE_NAMES} for i in (0, 1))
+                v0, v1 = {}, {}
+                for k in _RATE_NAMES:
+                    if k in v:
+                        a = v[k] if np.shape(v[k]) == two else np.broadcast_to(v[k], two)
+                        v0[k], v1[k] = a[0], a[1]
             self._val = {k: (v0[k], (v1[k] - v0[k]) / h) for k in _RATE_NAMES if k in v0}
             self._key = key
         return self._val
 
     def rate_fn(self, name):
-        return lambda M: self.get(M)[name]
+        fn = lambda M: self.get(M)[name]      # noqa: E731
+        fn.source = (self, name)      # the network asks each source once per state (Network._edge_flows)
+        return fn
 
 
 _RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln")
