@@ -125,7 +125,8 @@ def test_bad_input(kwargs):
 # ---- the shell of the case's own drum (was Ajayi's 1.90 m for every dryer before 2026-12-02) -----------
 def test_each_dryer_loses_heat_through_its_own_shell():
     """The dryer's shell network has the drum's radius (or [shell] inner_radius) and a wall of 2.63 % of it
-    (or [shell] thickness); the MMG case keeps Ajayi's code values (R_in 1.90 m, R_out 1.95 m)."""
+    (or [shell] thickness); the MMG case keeps Ajayi's code values (R_in 1.90 m, R_out 1.95 m). The outside
+    film is the case's ambient air ([shell] ambient_humidity; a fixed 0.015 kg/kg before 2026-12-02)."""
     from rotarydryer import Simulation
     from rotarydryer.thermal.dryer import SHELL_THICKNESS_RATIO
 
@@ -134,7 +135,8 @@ def test_each_dryer_loses_heat_through_its_own_shell():
     for case, overrides, radius, thickness in (
             ("song2003_ottawa", {}, 0.1525, SHELL_THICKNESS_RATIO * 0.1525),
             ("lee2008_invicta", {}, 2.5, SHELL_THICKNESS_RATIO * 2.5),
-            ("song2003_ottawa", {"shell.inner_radius": 0.16, "shell.thickness": 0.003}, 0.16, 0.003)):
+            ("song2003_ottawa", {"shell.inner_radius": 0.16, "shell.thickness": 0.003}, 0.16, 0.003),
+            ("lee2008_invicta", {"shell.ambient_humidity": 0.002}, 2.5, SHELL_THICKNESS_RATIO * 2.5)):
         d = Simulation(case, overrides).thermal_dryer()
         assert d.shell_inner_radius == pytest.approx(radius, rel=1e-15)
         assert d.shell_thickness == pytest.approx(thickness, rel=1e-15)
@@ -143,8 +145,17 @@ def test_each_dryer_loses_heat_through_its_own_shell():
         direct = sh.shell_heat_loss(np.clip(Tg, s.ambient_temperature + 1e-3, 600.0), d.dry_gas_flow * (1.0 + Y),
                                     d.gas_len, s.ambient_temperature, gas_humidity=Y, inner_radius=radius,
                                     shell_thickness=thickness, co2_mole_fraction=s.co2_mole_fraction,
-                                    insulation_thickness=s.insulation_thickness, pressure=s.pressure)
+                                    insulation_thickness=s.insulation_thickness, pressure=s.pressure,
+                                    ambient_humidity=s.ambient_humidity)
         np.testing.assert_allclose(d.physical_shell_loss(Tg, Y), direct.heat_loss, rtol=1e-9)
+        if "shell.ambient_humidity" in overrides:       # the case's humidity, not the network's default
+            assert s.ambient_humidity == 0.002
+            default = sh.shell_heat_loss(np.clip(Tg, s.ambient_temperature + 1e-3, 600.0),
+                                         d.dry_gas_flow * (1.0 + Y), d.gas_len, s.ambient_temperature,
+                                         gas_humidity=Y, inner_radius=radius, shell_thickness=thickness,
+                                         co2_mole_fraction=s.co2_mole_fraction,
+                                         insulation_thickness=s.insulation_thickness, pressure=s.pressure)
+            assert np.max(np.abs(default.heat_loss / direct.heat_loss - 1.0)) > 1e-5
 
 
 def test_a_pilot_drum_loses_far_less_than_an_industrial_shell():

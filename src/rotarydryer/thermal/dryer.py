@@ -726,7 +726,7 @@ class ThermalDryer:
                   inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
                   scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                   insulation_thickness=s.insulation_thickness, insulation_conductivity=s.insulation_conductivity,
-                  pressure=s.pressure, outer_guess=guess)
+                  pressure=s.pressure, ambient_humidity=s.ambient_humidity, outer_guess=guess)
         fast = _shell_loss_compiled(*args, **kw, slope_guess=None if slope is None else slope[1])
         if fast is not None:     # one compiled pass (else None: the NumPy network)
             self._shell_outer = fast[1]
