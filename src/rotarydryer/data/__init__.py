@@ -1,1 +1,14 @@
 """Published data sets (CSV, first line = source); read them with rotarydryer.published."""
+
+#: file-name prefix of the shipped tracer curves (``tracer_<name>.csv``)
+TRACER_PREFIX = "tracer_"
+
+
+def tracer_dataset_names() -> list[str]:
+    """Names of the shipped tracer curves (:func:`rotarydryer.rtd.tracer_datasets`), without importing
+    the RTD package (the case loader checks ``tracer.dataset`` with it on every run)."""
+    from importlib import resources
+
+    root = resources.files(__name__)
+    return sorted(p.name[len(TRACER_PREFIX):-4] for p in root.iterdir()
+                  if p.name.startswith(TRACER_PREFIX) and p.name.endswith(".csv"))

@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from ..data import TRACER_PREFIX, tracer_dataset_names
 from ._datafile import MAX_DATA_ROWS, csv_rows, data_lines, fmt, parse_number, text_lines, too_many_rows
 
 __all__ = [
@@ -326,7 +327,7 @@ def write_tracer_csv(path, time_s, signal, metadata: dict | None = None, time_un
     write_text_atomic(path, out.getvalue())
 
 
-_DATASET_PREFIX = "tracer_"
+_DATASET_PREFIX = TRACER_PREFIX
 
 
 def tracer_datasets() -> list[str]:
@@ -335,14 +336,7 @@ def tracer_datasets() -> list[str]:
     ``lee2008_invicta`` (Lee (2008) App. I Experiment entity = Fig. 7.1) and
     ``ajayi2011_test1`` ... ``ajayi2011_test6`` (Ajayi (2011) Appendix B).
     """
-    from importlib import resources
-
-    root = resources.files("rotarydryer.data")
-    return sorted(
-        p.name[len(_DATASET_PREFIX) : -4]
-        for p in root.iterdir()
-        if p.name.startswith(_DATASET_PREFIX) and p.name.endswith(".csv")
-    )
+    return tracer_dataset_names()
 
 
 def load_tracer_dataset(name: str) -> TracerData:
