@@ -165,6 +165,14 @@ def test_kernel_declines_what_the_reference_would_refuse():
     assert t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=0.0) is None
     assert t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0, slope=50.0) is None
     assert t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0) is not None
+    # the fixed arguments are cached per (method, branch, slope): any number type for the slope, and a
+    # choice that is not one is named (also when it cannot be a cache key)
+    a = t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0, slope=np.array(2.0))
+    b = t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0, slope=2)
+    assert all(np.array_equal(x, y) for x, y in zip(a, b))
+    for bad in (["lee2008"], "bogus"):
+        with pytest.raises(ValueError, match="method"):
+            t.cell_values(phi, 1000.0, 1.0, length=1.0, rpm=3.0, method=bad)
 
 
 @pytest.mark.parametrize("env", [{"ROTARYDRYER_JIT": "0"}, {"NUMBA_DISABLE_JIT": "1"}])

@@ -80,3 +80,29 @@ def test_bad_edges():
         EdgeFamily("x", [0], [1], "bogus", rate=[1.0])
     with pytest.raises(ValueError, match="tracer mass"):
         TracerInput.pulse(0.0, 1.0)
+
+
+def _capped_pair():
+    """Node 0 passes at most its design load 1.5 kg on (rate 0.1/s) and kilns the excess; node 1 empties
+    through the outlet (rate 0.2/s)."""
+    fams = [EdgeFamily("discharge", [0], [1], "capped", rate=[0.1], cap=[1.5]),
+            EdgeFamily("kiln", [0], [1], "excess", rate=[0.05], cap=[1.5]),
+            EdgeFamily("out", [1], [-1], "linear", rate=[0.2])]
+    return Network(2, fams, feed=[0.1, 0.0])
+
+
+def test_integer_masses_are_masses():
+    """Masses given as integers are the same masses (the capped and excess bases are not truncated)."""
+    net = _capped_pair()
+    np.testing.assert_allclose(net.residual(np.array([2, 1])), net.residual(np.array([2.0, 1.0])), rtol=1e-15)
+    np.testing.assert_allclose(net.residual(np.array([2, 1])), [0.1 - 0.15 - 0.025, 0.15 + 0.025 - 0.2], rtol=1e-14)
+    np.testing.assert_allclose(net.jacobian(np.array([1, 1])).toarray(), net.jacobian(np.array([1.0, 1.0])).toarray())
+
+
+def test_a_caller_changing_a_jacobian_does_not_change_the_next():
+    """The Jacobian has its own index arrays: dropping its explicit zeros (an over-loaded capped edge) leaves
+    the network's pattern intact."""
+    net = _capped_pair()
+    J = net.jacobian(np.array([2.0, 1.0]))
+    J.eliminate_zeros()
+    np.testing.assert_allclose(net.jacobian(np.array([0.5, 1.0])).toarray(), [[-0.1, 0.0], [0.1, -0.2]], rtol=1e-15)

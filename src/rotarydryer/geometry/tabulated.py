@@ -346,16 +346,16 @@ class GeometryTable:
         phi = np.asarray(repose_angle, dtype=float)
         if not _jit.enabled() or phi.ndim != 1:
             return None
-        rpm = float(rpm)
-        if not 0.0 < rpm < math.inf:
-            return None
         # what stays fixed for a law (method, passive-time branch, slope): checked and packed once
+        slope = float(slope)
         key = (method, passive_time_branch, slope)
-        fixed = self._kernel_fixed.get(key) if getattr(self, "_kernel_fixed", None) is not None else None
+        try:
+            fixed = self._kernel_fixed.get(key) if getattr(self, "_kernel_fixed", None) is not None else None
+        except TypeError:       # an unhashable choice: named by check_choice below
+            fixed = None
         if fixed is None:
             check_choice("method", method, DESIGN_LOAD_METHODS)
             check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
-            slope = float(slope)
             if not -45.0 < slope < 45.0:
                 return None
             sp = self._cascade
@@ -369,6 +369,9 @@ class GeometryTable:
                 self._kernel_fixed = {}
             self._kernel_fixed[key] = fixed
         (a_h0, a_baker), tables, tail = fixed
+        rpm = float(rpm)
+        if not 0.0 < rpm < math.inf:
+            return None
         n = phi.size
         rho, mp = (a if type(a) is np.ndarray and a.shape == phi.shape and a.dtype == float
                    else np.broadcast_to(np.asarray(a, dtype=float), phi.shape) for a in (bulk_density, passive_mass))

@@ -337,10 +337,17 @@ def _shell_inside(twi, tg, y, st, mu, k_g, eg, ph, q, c, w):
 
 
 @_helper
-def _shell_residual(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond):
+def _shell_balance(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond):
+    """(inside minus outside flow W per metre, inner surface temperature, inside flow W per metre, outside
+    flow W per metre) at outer temperature ``to``."""
     twi, qp_out = _shell_inner(to, tg, q, c, cond)
-    q_in = _shell_inside(min(twi, tg), tg, y, st, mu, k_g, eg, ph, q, c, w)
-    return q_in * 2 * math.pi * q[_SH_REXP] - qp_out
+    qp_in = _shell_inside(min(twi, tg), tg, y, st, mu, k_g, eg, ph, q, c, w) * 2 * math.pi * q[_SH_REXP]
+    return qp_in - qp_out, twi, qp_in, qp_out
+
+
+@_helper
+def _shell_residual(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond):
+    return _shell_balance(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond)[0]
 
 
 def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_out):
@@ -373,13 +380,14 @@ def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_
         lo = ta
         hi = t
         root = math.nan
+        twi0, qin0, qout0 = math.inf, 0.0, 0.0      # the flows of Newton's last evaluation
         slope_out[i] = math.nan
         g = guess[i]
         if math.isfinite(g):            # Newton's method from the guess
             x = min(max(g, lo), hi)
             # the first slope by a forward difference, then the secant through the last two iterates
             # (one evaluation per step; superlinear, as the difference Newton's method it replaces)
-            f0 = _shell_residual(x, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+            f0, twi0, qin0, qout0 = _shell_balance(x, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
             slope = slope_guess[i]      # the last slope of the previous solve, or a forward difference
             if not (math.isfinite(slope) and slope != 0):
                 f1 = _shell_residual(x + 1e-3, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
@@ -392,7 +400,7 @@ def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_
                     root = x_new                # near the convection kink at ambient it can stop early)
                     slope_out[i] = slope
                     break
-                f_new = _shell_residual(x_new, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
+                f_new, twi0, qin0, qout0 = _shell_balance(x_new, t, yy, st, mu, k_g, eg, ph, q, c, w, cond)
                 slope = (f_new - f0) / (x_new - x)
                 x, f0 = x_new, f_new
         if not math.isfinite(root):     # the bracketed root (Illinois)
@@ -426,8 +434,12 @@ def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_
                     side = -1
                 done = fx == 0 or abs(b - a) < xtol or abs(x - x_prev) < 0.1 * xtol
             root = 0.5 * (a + b) if abs(b - a) < xtol else x
-        twi, qp_out = _shell_inner(root, t, q, c, cond)
-        qp_in = _shell_inside(twi, t, yy, st, mu, k_g, eg, ph, q, c, w) * 2 * math.pi * r_exp
+            twi0 = math.inf
+        if twi0 <= t:       # Newton's last evaluation, less than the tolerance from the root: its flows
+            qp_in, qp_out = qin0, qout0
+        else:
+            twi, qp_out = _shell_inner(root, t, q, c, cond)
+            qp_in = _shell_inside(twi, t, yy, st, mu, k_g, eg, ph, q, c, w) * 2 * math.pi * r_exp
         loss[i] = 0.5 * (qp_in + qp_out) * seg[i]
         outer[i] = root
         if not (math.isfinite(loss[i]) and math.isfinite(root)):

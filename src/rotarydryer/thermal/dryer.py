@@ -215,7 +215,7 @@ class ThermalSettings:
 SHELL_THICKNESS_RATIO = 0.05 / 1.90
 
 #: a step whose residual falls below this fraction of the last keeps the factorisation (chord step)
-CHORD_RATIO = 0.05
+CHORD_RATIO = 0.01
 #: tolerance of the transport-only steady state that starts the coupled solve (relative to the feed;
 #: a start needs no more: the coupled Newton steps correct far larger differences)
 START_TOLERANCE = 1e-10
@@ -232,6 +232,8 @@ def _scatter_rows(index, weights, n, flat_index):
     the same order (so the same rounding) for every row. ``flat_index(rows)``: the index of each weight
     in the stacked rows (rows x n bins), ``index`` offset by row (cached by the caller)."""
     w = np.stack(weights)
+    if not index.size:      # no edge ends here
+        return np.zeros(w.shape[:-1] + (n,))
     rows = w.size // index.size
     out = np.bincount(flat_index(rows), w.reshape(-1), rows * n)
     return out.reshape(w.shape[:-1] + (n,))
@@ -476,19 +478,12 @@ class ThermalDryer:
         if batch is not None:
             k, cap = batch
         else:
-            lo, hi = self.material.wet_range()
-            clipped = False
             coef = {}
-            laws = self.laws if everything else {id(f.law): f.law for f in families if f.law is not None}.values()
-            for law in laws:
-                P = law.P
-                if s.moisture_coupling:
-                    xp = W[..., P] / np.maximum(m[..., P], 1e-12)
-                    clipped = clipped or bool(np.any(xp < lo) or np.any(xp > hi))
-                    xp = np.clip(xp, lo, hi)
-                else:
-                    xp = law.assumed_moisture
-                coef[id(law)] = self._law_values(law, m[..., P], xp, s.fouling)
+            laws = self.laws if everything else list({id(f.law): f.law for f in families
+                                                      if f.law is not None}.values())
+            passive, clipped = self._passive(W, m, laws)
+            for law, (mp, xp) in zip(laws, passive):
+                coef[id(law)] = self._law_values(law, mp, xp, s.fouling)
             lead = m.shape[:-1]
             k = np.empty(lead + src.shape)
             cap = np.empty(lead + in_ce.shape)
@@ -509,6 +504,28 @@ class ThermalDryer:
             b[..., excess[0]] = ms[..., excess[0]] - sm[..., excess[1]]
         return src, dst, k * b
 
+    def _passive(self, W, m, laws):
+        """Per law (its passive nodes' wet masses, their wet-basis moisture clipped to the material's
+        range, or the assumed transport profile without ``moisture_coupling``), and whether a moisture
+        was clipped: the passive nodes of all ``laws`` in one pass (the same numbers as law by law)."""
+        if not laws:
+            return [], False
+        if not self.settings.moisture_coupling:
+            return [(m[..., law.P], law.assumed_moisture) for law in laws], False
+        key = ("passive",) + tuple(id(law) for law in laws)
+        plan = self._plans.get(key)
+        if plan is None:
+            bounds = np.cumsum([0] + [law.P.size for law in laws])
+            plan = self._plans[key] = (np.concatenate([law.P for law in laws]),
+                                       [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])])
+        P, slices = plan
+        lo, hi = self.material.wet_range()
+        mp = m[..., P]
+        xp = W[..., P] / np.maximum(mp, 1e-12)
+        clipped = bool(np.any(xp < lo) or np.any(xp > hi))
+        xp = np.clip(xp, lo, hi)
+        return [(mp[..., sl], xp[..., sl]) for sl in slices], clipped
+
     def _edge_values_batch(self, W, m):
         """Coefficients and caps of every edge (k, e) for a batch of states (k, n), or None: the last
         single state's edge values with only the (state, cell) pairs re-evaluated whose passive mass or
@@ -522,21 +539,18 @@ class ThermalDryer:
         k0, cap0, law_bases = base
         s = self.settings
         smooth = s.design_load_smoothing
-        lo, hi = self.material.wet_range()
         per_law = self._edge_plan_laws()
-        k = cap = None
         for law, law_base in zip(self.laws, law_bases):
             if law_base is None or self._law_base.get(id(law)) is not law_base or not law.cellwise \
                     or law_base[2] != self.rpm or law_base[3] != s.fouling:
                 return None
+        k = cap = None
+        passive, _ = self._passive(W, m, self.laws)
+        for law, law_base, (mp, xp) in zip(self.laws, law_bases, passive):
             mb, xb = law_base[0], law_base[1]
-            P = law.P
-            mp = m[:, P]
             if s.moisture_coupling:
-                xp = np.clip(W[:, P] / np.maximum(mp, 1e-12), lo, hi)
                 changed = (mp != mb) | (xp != xb)
             else:
-                xp = law.assumed_moisture
                 if not (xp is xb or np.array_equal(xp, xb)):
                     return None
                 changed = mp != mb
@@ -810,6 +824,8 @@ class ThermalDryer:
         key = (id(index), rows, n)
         hit = self._flat.get(key)
         if hit is None or hit[0] is not index:
+            if len(self._flat) > 32:        # a few batch sizes per dryer in practice
+                self._flat.clear()
             hit = self._flat[key] = (index, (np.arange(rows)[:, None] * n + index).ravel())
         return hit[1]
 
@@ -1065,10 +1081,11 @@ class ThermalDryer:
     def _admissible(self, z):
         S, W, T, Tg, Y = self.split(z)
         s = self.settings
-        return (np.all(S > 0) and np.all(W > -1e-9 * self.feed_rate) and np.all(T > -5)
-                and np.all(T < max(150.0, s.gas_inlet_temperature + 5.0))
-                and np.all(Tg > s.ambient_temperature - 5) and np.all(Tg < 650) and np.all(Y > -1e-6)
-                and np.all(Y < 0.3))
+        # the extremes against the bounds (a NaN fails every comparison, as with np.all)
+        return bool(S.min() > 0 and W.min() > -1e-9 * self.feed_rate and T.min() > -5
+                    and T.max() < max(150.0, s.gas_inlet_temperature + 5.0)
+                    and Tg.min() > s.ambient_temperature - 5 and Tg.max() < 650 and Y.min() > -1e-6
+                    and Y.max() < 0.3)
 
     # ------------------------------------------------------------------ dynamics
     def simulate(self, z0, t_end, t_eval=None, rtol=1e-5, atol=None, max_step=np.inf, shell_refresh=60.0):
@@ -1106,7 +1123,9 @@ class ThermalSteadyState:
     def __init__(self, dryer: ThermalDryer, z, iterations=0, residual=0.0, seconds=0.0):
         self.dryer = dryer
         self.state = np.asarray(z, dtype=float)
-        #: the solver's last factorisation (scipy SuperLU of I/dt - J), a start for nearby solves
+        #: the solver's last factorisation of I/dt - J (an object with ``solve(b)`` and ``shape``: SciPy's
+        #: SuperLU or its column-ordered form, :meth:`rotarydryer._sparse_fd.FDPlan.shifted_lu`), a start for
+        #: nearby solves
         self.factorization = None
         self.iterations = iterations
         self.residual = float(residual)
@@ -1138,8 +1157,9 @@ class ThermalSteadyState:
         self.water_balance_error = abs(w_in - w_out) / w_in
         self.solids_balance_error = abs(fS - pS) / fS
         hs_in = (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
-        hg_in = Fd * dryer.gas_inlet_enthalpy()
-        hg_out = Fd * float(bal.gas_enthalpy(Tg[k], Y[k], s.mode))
+        # the solver's states are checked (the unchecked enthalpy; the inlet's remembered per settings)
+        hg_in = Fd * dryer._inlet_enthalpy()
+        hg_out = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], s.mode))
         e_in = hs_in + hg_in
         e_out = pH + hg_out + self.shell_heat_loss_w
         self.energy_in_w = e_in
@@ -1150,8 +1170,11 @@ class ThermalSteadyState:
             "out": {"exhaust gas": float(hg_out), "product": float(pH), "shell loss": float(self.shell_heat_loss_w)},
         }
         # the same streams with physical enthalpies (closes only in the physical mode)
-        hg_in_p = Fd * dryer.gas_inlet_enthalpy("physical")
-        hg_out_p = Fd * float(bal.gas_enthalpy(Tg[k], Y[k], "physical"))
+        if s.mode == "physical":
+            hg_in_p, hg_out_p = hg_in, hg_out
+        else:
+            hg_in_p = Fd * dryer.gas_inlet_enthalpy("physical")
+            hg_out_p = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], "physical"))
         e_in_p = hs_in + hg_in_p
         if s.mode == "physical":
             self.physical_shell_loss_w = self.shell_heat_loss_w

@@ -462,9 +462,10 @@ class Network:
 
     # --- flows, residual, Jacobian --------------------------------------------------------
     def _plan(self):
-        """The edges of all families end to end (fixed by the network; rebuilt if the families
-        change): src, dst, the inside edges (dst >= 0) and their dst, per family its slice, the
-        capped and the excess edges, and the Jacobian's pattern with each entry's place in it."""
+        """The edges of all families end to end (fixed by the network; rebuilt when the list of
+        families changes, families are not changed in place): src, dst, the inside edges (dst >= 0)
+        and their dst, per family its slice, the capped and the excess edges, and the Jacobian's
+        pattern with each entry's place in it."""
         key = (self.n, tuple(map(id, self.families)))
         plan = getattr(self, "_edge_plan", None)
         if plan is not None and plan["key"] == key:
@@ -502,6 +503,7 @@ class Network:
         """Flow of every edge end to end (kg/s) at masses M; with ``derivatives``: also the
         coefficient k, dF/dM_src (k db/dM) and, per state-dependent edge, dF/dM_ctrl (dk/dM b)."""
         fams = self.families
+        M = np.asarray(M, dtype=float)
         ks, dks = [], []
         sources = {}
         for f in fams:
@@ -547,7 +549,11 @@ class Network:
 
     def residual(self, M):
         """dM/dt (kg/s) for masses M (kg)."""
-        return self.residual_and_gross(M)[0]
+        plan = self._plan()
+        F = self._edge_flows(M, plan)
+        n = self.n
+        return self.feed - np.bincount(plan["src"], F, minlength=n) + np.bincount(plan["dst_in"], F[plan["inside"]],
+                                                                                  minlength=n)
 
     def jacobian(self, M):
         """Sparse Jacobian d(dM/dt)/dM (1/s)."""
@@ -557,7 +563,7 @@ class Network:
         vals = np.concatenate([-g, g[inside], -h, h[ci]])
         pat = plan["pattern"]
         data = np.bincount(plan["place"], weights=vals, minlength=pat.indices.size)
-        return sp.csc_matrix((data, pat.indices, pat.indptr), shape=(self.n, self.n))
+        return sp.csc_matrix((data, pat.indices.copy(), pat.indptr.copy()), shape=(self.n, self.n))
 
     # --- steady state -------------------------------------------------------------------
     #: floor of the steady-state tolerance, relative to the gross flow through each node: the
