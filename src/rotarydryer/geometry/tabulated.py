@@ -349,8 +349,9 @@ class GeometryTable:
         # what stays fixed for a law (method, passive-time branch, slope): checked and packed once
         slope = float(slope)
         key = (method, passive_time_branch, slope)
+        cache = self.__dict__.setdefault("_kernel_fixed", {})
         try:
-            fixed = self._kernel_fixed.get(key) if getattr(self, "_kernel_fixed", None) is not None else None
+            fixed = cache.get(key)
         except TypeError:       # an unhashable choice: named by check_choice below
             fixed = None
         if fixed is None:
@@ -365,9 +366,7 @@ class GeometryTable:
                       sp.x0.astype(float), sp.hx.astype(float), sp.nx.astype(np.int64), sp.cell_off.astype(np.int64),
                       sp.y0, sp.hy, sp.ny, sp.blocks, 1.0 if eq34 else -1.0, 0.0 if eq34 else 360.0),
                      (math.cos(math.radians(slope)), float(self.phi_range[0]), float(self.phi_range[1])))
-            if getattr(self, "_kernel_fixed", None) is None:
-                self._kernel_fixed = {}
-            self._kernel_fixed[key] = fixed
+            cache[key] = fixed
         (a_h0, a_baker), tables, tail = fixed
         rpm = float(rpm)
         if not 0.0 < rpm < math.inf:

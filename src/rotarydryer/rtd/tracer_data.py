@@ -327,9 +327,6 @@ def write_tracer_csv(path, time_s, signal, metadata: dict | None = None, time_un
     write_text_atomic(path, out.getvalue())
 
 
-_DATASET_PREFIX = TRACER_PREFIX
-
-
 def tracer_datasets() -> list[str]:
     """Names of the published tracer curves shipped in ``rotarydryer/data``.
 
@@ -346,6 +343,6 @@ def load_tracer_dataset(name: str) -> TracerData:
     names = tracer_datasets()
     if name not in names:
         raise ValueError(f"tracer dataset {name!r} is not one of {', '.join(map(repr, names))}")
-    res = resources.files("rotarydryer.data").joinpath(_DATASET_PREFIX + name + ".csv")
+    res = resources.files("rotarydryer.data").joinpath(TRACER_PREFIX + name + ".csv")
     d = parse_tracer_text(res.read_text("utf-8"), name=name)
     return TracerData(d.time_s, d.signal, d.metadata, d.time_column, d.extra_columns, str(res))

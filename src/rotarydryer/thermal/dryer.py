@@ -530,9 +530,9 @@ class ThermalDryer:
         """Coefficients and caps of every edge (k, e) for a batch of states (k, n), or None: the last
         single state's edge values with only the (state, cell) pairs re-evaluated whose passive mass or
         moisture differs from it (a Jacobian's perturbations move a few cells of each state; the same
-        numbers as :meth:`_law_values_batch` and the family-by-family fill, without building every law's
-        values for the whole batch first). None where that does not apply (no single state evaluated
-        since, a law that couples its cells, changed settings)."""
+        numbers as evaluating every law on the whole batch and filling family by family). None where
+        that does not apply (no single state evaluated since, a law that couples its cells, changed
+        settings): :meth:`flows` then evaluates the laws on the whole batch."""
         base = self._edge_base
         if base is None:
             return None
@@ -610,10 +610,10 @@ class ThermalDryer:
 
         The finite-difference Jacobian perturbs groups of unknowns; most groups leave a given
         section's passive masses and moisture unchanged (temperatures, gas, other sections), so
-        its coefficients are those of the base state: exact reuse, the same numbers. A batch
-        (k, n) evaluates, in one call, only the rows that differ from the last single state."""
+        its coefficients are those of the base state: exact reuse, the same numbers. A batch (k, n)
+        is evaluated whole (a Jacobian's batch normally takes :meth:`_edge_values_batch` instead)."""
         if mp.ndim == 2:
-            return self._law_values_batch(law, mp, xp, fouling)
+            return law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=self.settings.design_load_smoothing)
         cache = self._law_cache.setdefault(id(law), [])
         key = (mp.tobytes(), xp.tobytes() if isinstance(xp, np.ndarray) else repr(xp), self.rpm, fouling)
         for k, v in cache:
@@ -625,32 +625,6 @@ class ThermalDryer:
         del cache[2:]
         self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v)
         return v
-
-    def _law_values_batch(self, law, mp, xp, fouling):
-        """:meth:`_law_values` of a batch (k, n). A cellwise law (:attr:`FlightedSectionLaw.cellwise`)
-        is evaluated, in one call, only at the (row, cell) pairs whose passive mass or moisture
-        differs from the last single state; the others keep its values. A Jacobian's perturbation
-        moves a few cells of a row, so this costs about one single evaluation, not k."""
-        smooth = self.settings.design_load_smoothing
-        base = self._law_base.get(id(law))
-        # the moisture: computed per state (k, n), or the assumed profile, the same for every state
-        batch_x = isinstance(xp, np.ndarray) and xp.ndim == 2
-        same_x = base is not None and ((np.shape(base[1]) == (law.n,)) if batch_x else
-                                       (xp is base[1] or (np.shape(xp) == np.shape(base[1])
-                                                          and np.array_equal(xp, base[1]))))
-        if not same_x or base[2] != self.rpm or base[3] != fouling or not law.cellwise:
-            return law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=smooth)
-        changed = mp != base[0]
-        if batch_x:
-            changed |= xp != base[1]
-        rows, cells = np.nonzero(changed)
-        out = {k: _filled(b, mp.shape) for k, b in base[4].items()}
-        if rows.size:
-            x = xp[rows, cells] if batch_x else np.broadcast_to(np.asarray(xp, dtype=float), (law.n,))[cells]
-            v = law.evaluate(mp[rows, cells], x, rpm=self.rpm, fouling=fouling, smoothing=smooth, cells=cells)
-            for k, a in out.items():
-                a[rows, cells] = v[k]
-        return out
 
     def _transfer(self, S, W, T, Tg, Y):
         s = self.settings
@@ -1172,14 +1146,12 @@ class ThermalSteadyState:
         # the same streams with physical enthalpies (closes only in the physical mode)
         if s.mode == "physical":
             hg_in_p, hg_out_p = hg_in, hg_out
-        else:
+            self.physical_shell_loss_w = self.shell_heat_loss_w
+        else:   # and the shell network (shell temperature solved) at the same gas temperatures
             hg_in_p = Fd * dryer.gas_inlet_enthalpy("physical")
             hg_out_p = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], "physical"))
-        e_in_p = hs_in + hg_in_p
-        if s.mode == "physical":
-            self.physical_shell_loss_w = self.shell_heat_loss_w
-        else:   # the shell network (shell temperature solved) at the same gas temperatures
             self.physical_shell_loss_w = float(np.sum(dryer.physical_shell_loss(Tg, Y)))
+        e_in_p = hs_in + hg_in_p
         self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / e_in_p
         self.physical_implied_shell_loss_w = e_in_p - pH - hg_out_p
         self.gas_heat_duty_w = hg_in - hg_out

@@ -147,14 +147,19 @@ class EdgeFamily:
 
     def basis(self, Ms):
         """Return (b(M_src), db/dM_src)."""
-        if self.kind == "linear":
-            return Ms, np.ones_like(Ms)
-        # at the kink M = M_des the derivative of the over-loaded branch is used, so
-        # that a start at the design load begins with the over-loaded active set
-        over = Ms >= self.cap
-        if self.kind == "capped":
-            return np.where(over, self.cap, Ms), np.where(over, 0.0, 1.0)
-        return np.where(over, Ms - self.cap, 0.0), np.where(over, 1.0, 0.0)
+        return _basis(self.kind, Ms, self.cap)
+
+
+def _basis(kind, Ms, cap):
+    """(b(M_src), db/dM_src) of the flow rule ``kind`` with design loads ``cap``."""
+    if kind == "linear":
+        return Ms, np.ones_like(Ms)
+    # at the kink M = M_des the derivative of the over-loaded branch is used, so
+    # that a start at the design load begins with the over-loaded active set
+    over = Ms >= cap
+    if kind == "capped":
+        return np.where(over, cap, Ms), np.where(over, 0.0, 1.0)
+    return np.where(over, Ms - cap, 0.0), np.where(over, 1.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -492,10 +497,10 @@ class Network:
         lin = cols.astype(np.int64) * self.n + rows
         place = np.searchsorted(np.repeat(np.arange(self.n), np.diff(pattern.indptr)) * self.n
                                 + pattern.indices, lin)
-        plan = dict(key=key, src=src, dst=dst, slices=slices, inside=inside, dst_in=dst[inside],
+        plan = dict(key=key, src=src, slices=slices, inside=inside, dst_in=dst[inside],
                     capped=np.flatnonzero(kind == "capped"), excess=np.flatnonzero(kind == "excess"),
                     nonlinear=[(f, sl) for f, sl in zip(fams, slices) if f.kind != "linear"],
-                    ctrl_edges=ctrl_edges, ctrl_in=ctrl_in, ctrl_fams=ctrl_fams, pattern=pattern, place=place)
+                    ctrl_edges=ctrl_edges, ctrl_in=ctrl_in, pattern=pattern, place=place)
         self._edge_plan = plan
         return plan
 
@@ -527,14 +532,12 @@ class Network:
             cap = np.empty_like(b)
             for f, sl in plan["nonlinear"]:
                 cap[sl] = f.cap
-            # at the kink M = M_des the over-loaded branch (EdgeFamily.basis)
-            for idx, capped in ((plan["capped"], True), (plan["excess"], False)):
+            for kind in ("capped", "excess"):
+                idx = plan[kind]
                 if idx.size:
-                    ms, c = b[idx], cap[idx]
-                    over = ms >= c
-                    b[idx] = np.where(over, c, ms) if capped else np.where(over, ms - c, 0.0)
+                    b[idx], dbk = _basis(kind, b[idx], cap[idx])
                     if derivatives:
-                        db[idx] = np.where(over, 0.0, 1.0) if capped else np.where(over, 1.0, 0.0)
+                        db[idx] = dbk
         F = k * b
         if not derivatives:
             return F
@@ -550,10 +553,13 @@ class Network:
     def residual(self, M):
         """dM/dt (kg/s) for masses M (kg)."""
         plan = self._plan()
-        F = self._edge_flows(M, plan)
+        return self._net(self._edge_flows(M, plan), plan)
+
+    def _net(self, F, plan):
+        """The feed plus the edge flows ``F`` into each node, minus those out of it (kg/s)."""
         n = self.n
         return self.feed - np.bincount(plan["src"], F, minlength=n) + np.bincount(plan["dst_in"], F[plan["inside"]],
-                                                                                  minlength=n)
+                                                                              minlength=n)
 
     def jacobian(self, M):
         """Sparse Jacobian d(dM/dt)/dM (1/s)."""
@@ -579,12 +585,10 @@ class Network:
         scale of the rounding error of dM/dt."""
         plan = self._plan()
         F = self._edge_flows(M, plan)
-        Fi = F[plan["inside"]]
         n, src, dst = self.n, plan["src"], plan["dst_in"]
-        R = self.feed - np.bincount(src, F, minlength=n) + np.bincount(dst, Fi, minlength=n)
         aF = np.abs(F)
         G = np.abs(self.feed) + np.bincount(src, aF, minlength=n) + np.bincount(dst, aF[plan["inside"]], minlength=n)
-        return R, G
+        return self._net(F, plan), G
 
     def tolerance(self, M, tol: float = 1e-13):
         """Per-node steady-state tolerance on |dM/dt| (kg/s) at masses M: ``tol`` times the total

@@ -269,8 +269,12 @@ class FlightedSectionLaw:
         """The cascade dict of the fitted forward step: C_F = drag_reduction h sin(theta) / dL (Lee
         (2008) Eq. 3.7-3.8), C_B = backmix, C_R = 1 - C_F - C_B."""
         s = self.spec
-        CF = s.drag_reduction * h * self.sin_t / self.dl
+        CF = self._fitted_forward(h)
         return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - s.backmix, CB=np.full(np.shape(tp), float(s.backmix)))
+
+    def _fitted_forward(self, h):
+        """C_F of the fitted forward step at fall height ``h`` (Lee (2008) Eq. 3.7-3.8)."""
+        return self.spec.drag_reduction * h * self.sin_t / self.dl
 
     def _kernel_applies(self):
         """Can :meth:`ExactGeometry.cell_values` give this law's cells (tabulated exact geometry,
@@ -282,11 +286,10 @@ class FlightedSectionLaw:
         """:meth:`evaluate`'s design load, loading factor, passive time, fall height and fall time in
         one compiled pass (:meth:`ExactGeometry.cell_values`), or None where that does not apply (1-D
         arrays; evaluate() has checked :meth:`_kernel_applies`)."""
-        r = self.spec.geometry.cell_values(
+        return self.spec.geometry.cell_values(
             phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
             smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
             passive_time_branch=self.spec.passive_time_branch, fixed_loading=self.spec.loading == "fixed")
-        return r
 
     def _reference_design_load(self):
         """Design load (kg per cell) at the assumed moisture, cached."""
@@ -311,20 +314,21 @@ class FlightedSectionLaw:
         return self.rates_of(self.cascade(phi, f, rpm, flight_mass))
 
     def _fitted_rates(self, tp, ta, h):
-        """:meth:`rates_of` of :meth:`_fitted_step` (the same operations, without the cascade dict)."""
-        s = self.spec
-        cf = s.drag_reduction * h * self.sin_t / self.dl
-        out = dict(discharge=1.0 / tp, forward=cf / ta, backmix=float(s.backmix) / ta)
-        out["return"] = (1.0 - cf - s.backmix) / ta
-        out["kiln"] = np.full(tp.shape, 1.0 / s.kiln_time if s.kilning == "excess" else s.kiln_velocity / self.dl)
-        return out
+        """:meth:`rates_of` of :meth:`_fitted_step` (the same numbers, without the cascade dict)."""
+        cf = self._fitted_forward(h)
+        return self._rates(tp, ta, cf, float(self.spec.backmix), 1.0 - cf - self.spec.backmix)
 
     def rates_of(self, c):
         """Coefficients (1/s) of each family from a :meth:`cascade` result."""
+        return self._rates(c["tp"], c["ta"], c["CF"], c["CB"], c["CR"])
+
+    def _rates(self, tp, ta, cf, cb, cr):
+        """Coefficients (1/s) of each family from the passive and fall times and the forward, backmix
+        and return fractions (Lee (2008) Eq. 3.3-3.8)."""
         s = self.spec
-        out = dict(discharge=1.0 / c["tp"], forward=c["CF"] / c["ta"], backmix=c["CB"] / c["ta"])
-        out["return"] = c["CR"] / c["ta"]
-        shape = np.shape(c["tp"])
+        out = dict(discharge=1.0 / tp, forward=cf / ta, backmix=cb / ta)
+        out["return"] = cr / ta
+        shape = np.shape(tp)
         out["kiln"] = (np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess"
                        else np.full(shape, s.kiln_velocity / self.dl))
         return out
