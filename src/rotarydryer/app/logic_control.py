@@ -1,7 +1,7 @@
 """Logic of the web app's "Control" page: closed loop on the dynamic model (``rotarydryer control``).
 
 Plain functions (no Streamlit): the options are checked by the same function as the command line
-(:func:`rotarydryer.cli.control.check_control_options`), so a bad value gives the CLI's message;
+(:func:`rotarydryer.services.control.check_control_options`), so a bad value gives the CLI's message;
 the runs are :func:`rotarydryer.control.identify` and :func:`rotarydryer.control.closed_loop`
 (closed loop, and the uncontrolled plant for comparison).  A case is a built-in name or an
 uploaded case file staged in memory (:func:`rotarydryer.app.logic.stage_case_file`).
@@ -9,6 +9,7 @@ uploaded case file staged in memory (:func:`rotarydryer.app.logic.stage_case_fil
 
 from __future__ import annotations
 
+from ..services.control import check_control_options, run_control
 from .logic import _load, png
 
 __all__ = ["thermal_cases", "control_defaults", "control_view", "SCENARIO_LABELS"]
@@ -48,7 +49,6 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
     Returns ``{"closed": summary dict, "open": performance dict or None, "tuning": {...},
     "series": {...}, "time_s": [...], "ranges": {...}, "csv": text, "plot": png}``."""
     from .. import control as C
-    from ..cli.control import check_control_options, run_control
     from ..simulation import Simulation
 
     step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,

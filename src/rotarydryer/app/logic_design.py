@@ -1,14 +1,15 @@
 """Logic of the web app's "Design" page: size a dryer for a duty (``rotarydryer design``).
 
 Plain functions (no Streamlit): the duty and the search options are checked by the same
-functions as the command line (:func:`rotarydryer.cli.design.design_duty`,
-:func:`rotarydryer.cli.design.design_limits`), so a bad value gives the CLI's message; the
+functions as the command line (:func:`rotarydryer.services.design.design_duty`,
+:func:`rotarydryer.services.design.design_limits`), so a bad value gives the CLI's message; the
 search is :func:`rotarydryer.design.design` (or :func:`~rotarydryer.design.design_verified`
 with the coupled-model check).  Units: SI, degC, moistures kg/kg wet.
 """
 
 from __future__ import annotations
 
+from ..services.design import design_duty, design_limits
 from .logic import png
 
 __all__ = ["DESIGN_PRESETS", "SEARCH_EFFORT", "design_materials", "duty_defaults", "design_view"]
@@ -28,8 +29,6 @@ def design_materials() -> list[str]:
 
 def duty_defaults(preset: str) -> dict:
     """The fields of a preset duty (:data:`DESIGN_PRESETS`) as the page's inputs show them."""
-    from ..cli.design import design_duty
-
     d = design_duty(preset)
     return dict(material=d.material, feed=d.feed_rate, moisture_in=d.moisture_in, moisture_out=d.moisture_out,
                 gas_in=d.gas_inlet_temperature, gas_flow=d.gas_flow, ntu=d.ntu, direction=d.direction,
@@ -51,7 +50,6 @@ def design_view(preset: str | None = "raw_sugar", *, material=None, feed=None, m
     "seconds": float, "cross_section": png}``.  An infeasible duty raises
     :class:`rotarydryer.design.InfeasibleDuty` (a ``ValueError``) naming the blocking constraint."""
     from .. import design as D
-    from ..cli.design import design_duty, design_limits
 
     if effort not in SEARCH_EFFORT:
         raise ValueError(f"effort = {effort!r} is not one of {', '.join(SEARCH_EFFORT)}")

@@ -6,13 +6,15 @@ kept in memory and parsed by the library's in-memory readers: nothing is written
 size-limited, docs/app_threat_model.md) or a built-in example made by the library (a synthetic
 rig run, a rendered photograph, series mimicking Ajayi's Table 4.11, a simulated step test of
 Song's pilot dryer).  Options are checked by the same functions as the command line
-(:mod:`rotarydryer.cli.lab`), so a bad value gives the CLI's message.
+(:mod:`rotarydryer.services.lab`), so a bad value gives the CLI's message.
 """
 
 from __future__ import annotations
 
 import functools
 
+from ..services.lab import (check_rig_options, check_steps_options, design_load_fits, image_options,
+                            measure_image, rig_analysis, steps_analysis)
 from .logic import MAX_UPLOAD_MB, check_upload_text, png
 
 __all__ = ["MAX_LAB_UPLOAD_BYTES", "MAX_LAB_ROWS", "MAX_LAB_IMAGE_PIXELS", "rig_example", "rig_view",
@@ -75,7 +77,6 @@ def rig_view(text: str | None = None, name: str = "example rig run", *, flight="
              phase="zero", fit_bulk_density=False, images=True) -> dict:
     """``rotarydryer lab rig`` on a load-cell CSV (``text``; None: :func:`rig_example`): start of
     unloading, fitted repose angle with its CI, Lee's band and the fraction of samples inside it."""
-    from ..cli.lab import check_rig_options, rig_analysis
     from ..lab import flight_rig as fr
 
     check_rig_options(flight, rpm, start_angle, bulk_density, length, repose_angle, repose_sd, cutoff, phase)
@@ -131,7 +132,6 @@ def image_view(content: bytes | None = None, name: str = "example photograph", *
     :func:`image_example`): areas per flight, FUF, UHD, LHD, TP and airborne (cm^2), and the
     annotated picture.  Needs the ``lab`` extra (scikit-image, shapely): without it the error names
     the extra to install."""
-    from ..cli.lab import image_options, measure_image
     from ..lab import images as im
 
     col, row = centre
@@ -174,7 +174,6 @@ def design_load_view(text: str | None = None, name: str = "example series", *, l
                      images=True) -> dict:
     """``rotarydryer lab design-load`` on a table (``text``; None: :func:`design_load_example`):
     design load = break point of FUF area against loading per group, with its intervals."""
-    from ..cli.lab import design_load_fits
     from ..lab import design_load_fit as dl
     from ..rtd._datafile import text_lines
 
@@ -231,7 +230,6 @@ def steps_view(text: str | None = None, name: str = "example step test", *, step
                threshold=0.1, plateau=0.2, tolerance=0.05, initial_holdup=0.0, images=True) -> dict:
     """``rotarydryer lab steps`` on a feed/discharge record (``text``; None: :func:`steps_example`):
     holdup after each step, tau = H/F, H1 vs H2 and the closure (Song 2003, Eq. 4.1, Table 4.2)."""
-    from ..cli.lab import check_steps_options, steps_analysis
     from ..lab import steps as sm
 
     check_steps_options(threshold, plateau, tolerance, initial_holdup)

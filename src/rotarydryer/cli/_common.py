@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import List, Optional
+
+from ..services._options import check_option  # noqa: F401  (re-exported: the commands' range checks)
 
 
 def parse_sets(sets: Optional[List[str]]) -> dict:
@@ -32,36 +33,6 @@ def load_tracer(data: str):
         f"DATA {data!r} is neither an existing file nor a shipped data set "
         f"({', '.join(tracer_datasets())})"
     )
-
-
-def check_option(option: str, value, low: float = -math.inf, high: float = math.inf, *, unit: str = "",
-                 low_inclusive: bool = False, high_inclusive: bool = False) -> float:
-    """``value`` of the command-line option ``option`` (e.g. ``--rpm``) as a float, or a
-    ``ValueError`` naming the option, the value as a plain number, the allowed range and unit:
-    ``--rpm = -2 rev/min is outside the allowed range (0, 100] rev/min``."""
-    u = f" {unit}" if unit else ""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{option} = {value!r} is not a number{(' (' + unit + ')') if unit else ''}") from None
-    ok = math.isfinite(v) and (v >= low if low_inclusive else v > low) and (v <= high if high_inclusive else v < high)
-    if not ok:
-        lb = "[" if low_inclusive else "("
-        hb = "]" if high_inclusive else ")"
-        shown = _plain(v)
-        if not math.isfinite(v) and low == -math.inf and high == math.inf:
-            raise ValueError(f"{option} = {shown} is not a finite number{(' (' + unit + ')') if unit else ''}")
-        why = "is not a finite number" if not math.isfinite(v) else "is outside the allowed range"
-        raise ValueError(f"{option} = {shown}{u} {why}; allowed: {lb}{_plain(low)}, {_plain(high)}{hb}{u}")
-    return v
-
-
-def _plain(x: float) -> str:
-    if math.isinf(x):
-        return "inf" if x > 0 else "-inf"
-    if math.isnan(x):
-        return "nan"
-    return str(int(x)) if x == int(x) and abs(x) < 1e15 else f"{x:.6g}"
 
 
 def check_out_dir(option: str, out) -> None:

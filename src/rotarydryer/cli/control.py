@@ -8,8 +8,9 @@ from typing import List, Optional
 import typer
 
 from .._io import json_text
+from ..services.control import check_control_options, run_control
 from . import app
-from ._common import check_option, check_out_dir, parse_sets
+from ._common import check_out_dir, parse_sets
 
 
 @app.command("control")
@@ -99,76 +100,3 @@ def control(
                f"{max(s['feed_rate_kg_s']):.2f} kg/s")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")
-
-
-def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_time, dead_time, measured, setpoint,
-                kc, tau_i, tau_c, feedforward, feedback, feed_backup, gas_t_max, gas_t_min, feed_min_fraction,
-                open_loop, progress=None):
-    """The runs of ``rotarydryer control`` (and of the web app's control page) on ``sim``, a
-    :class:`~rotarydryer.simulation.Simulation` of ``case``, with options already checked by
-    :func:`check_control_options`: steady state, FOPDT models, the closed loop and, with
-    ``open_loop``, the uncontrolled plant. Returns ``(closed, opened or None)``."""
-    from .. import control as C
-
-    if not sim.thermal_enabled:
-        raise ValueError(f"case {case!r} has no [gas] block: control needs the heat-and-mass model")
-    if progress:
-        progress("steady state ...")
-    sim.transport_steady_state()   # feasibility (critical speed, fill) first
-    steady = sim.thermal_steady_state()
-    dryer = steady.dryer
-    cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
-                          measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
-                          feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
-                          gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
-                          feed_min_fraction=feed_min_fraction).validate()
-    kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg,
-              progress=progress)
-    C.check_scenario(dryer, scenario, magnitude, duration, step_time)
-    models = C.identify(dryer, steady, progress=progress)
-    closed = C.closed_loop(dryer, steady, models=models, **kw)
-    opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
-    return closed, opened
-
-
-def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration=10800.0, step_time=None,
-                          sample_time=60.0, dead_time=120.0, measured="product_moisture", setpoint=None, kc=None,
-                          tau_i=None, tau_c=None, feedforward="model", gas_t_max=600.0, gas_t_min=None,
-                          feed_min_fraction=0.5):
-    """Check the options of ``rotarydryer control`` (``ValueError`` naming the option; the web app
-    calls this too, for the same messages); returns the step time (default 600 s or the duration)."""
-    from .. import control as C
-
-    for opt, v, lo, hi in (("--duration", duration, 0.0, 30 * 86400.0), ("--sample-time", sample_time, 1.0, 3600.0),
-                           ("--dead-time", dead_time, 0.0, 7200.0)):
-        check_option(opt, v, lo, hi, unit="s", low_inclusive=opt != "--duration", high_inclusive=True)
-    if step_time is None:
-        step_time = min(600.0, duration)
-    check_option("--step-time", step_time, 0.0, duration, unit="s", low_inclusive=True, high_inclusive=True)
-    if sample_time > duration:
-        raise ValueError(f"--sample-time = {sample_time:g} s is longer than --duration = {duration:g} s")
-    check_option("--gas-t-max", gas_t_max, 0.0, 600.0, unit="degC", high_inclusive=True)
-    if gas_t_min is not None:
-        check_option("--gas-t-min", gas_t_min, 0.0, gas_t_max, unit="degC")
-    check_option("--feed-min-fraction", feed_min_fraction, 0.0, 1.0, high_inclusive=True)
-    for opt, v, allowed in (("--scenario", scenario, C.SCENARIOS), ("--measured", measured, C.MEASURED),
-                            ("--feedforward", feedforward, ("model", "linear", "off"))):
-        if v not in allowed:
-            raise ValueError(f"{opt} = {v!r} is not one of {', '.join(allowed)}")
-    if scenario == "fouling_ramp":
-        check_option("--magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,
-                     unit="(final fouling fraction)")
-    else:
-        check_option("--magnitude", magnitude, -0.9, 2.0, unit="(relative change)")
-    if setpoint is not None:
-        if measured == "product_moisture":
-            check_option("--setpoint", setpoint, 0.0, 1.0, unit="kg/kg wet")
-        else:
-            check_option("--setpoint", setpoint, 0.0, 600.0, unit="degC")
-    if tau_i is not None:
-        check_option("--tau-i", tau_i, 0.0, float("inf"), unit="s")
-    if tau_c is not None:
-        check_option("--tau-c", tau_c, 0.0, float("inf"), unit="s")
-    if kc is not None:
-        check_option("--kc", kc, -1e6, 1e6)
-    return step_time
