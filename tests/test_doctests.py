@@ -25,7 +25,7 @@ SRC = Path(rotarydryer.__file__).resolve().parent
 ELSEWHERE = {
     "rotarydryer.correlations", "rotarydryer.correlations.drag", "rotarydryer.correlations.heat_transfer",
     "rotarydryer.correlations.residence_time", "rotarydryer.correlations.trajectory",
-    "rotarydryer.thermal.burner", "rotarydryer.thermal.drying", "rotarydryer.thermal.radiation",
+    "rotarydryer.thermal.burner", "rotarydryer.thermal.drying", "rotarydryer.properties.drying", "rotarydryer.thermal.radiation",
     "rotarydryer.thermal.shell", "rotarydryer.thermal.streams", "rotarydryer.thermal.balances",
     "rotarydryer.properties.humid_air", "rotarydryer.properties.water", "rotarydryer.properties.combustion",
 }

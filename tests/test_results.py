@@ -15,7 +15,8 @@ xr = pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")
 
 from rotarydryer import results as results_mod  # noqa: E402
-from rotarydryer.results import Results, load_results, run_case, split_unit  # noqa: E402
+from rotarydryer.results import Results, load_results, split_unit
+from rotarydryer.simulation import run_case  # noqa: E402
 
 LEE_REG = {"geometry.method": "lee2008_regressions"}
 
@@ -69,7 +70,8 @@ def test_conservation_and_consistency(name, request):
     assert s["outlet_flow_kg_s"] == pytest.approx(s["feed_rate_kg_s"], rel=1e-9)
     assert float(res.nodes.holdup.sum()) == pytest.approx(s["total_holdup_kg"], rel=1e-12)
     assert float(res.sections.total_holdup.sum()) == pytest.approx(s["total_holdup_kg"], rel=1e-12)
-    assert s["cells_over"] + s["cells_design"] + s["cells_under"] == res.cells.sizes["cell"]
+    assert s["cells_over"] + s["cells_design"] + s["cells_under"] == res.flighted_cells.sizes["cell"]
+    assert float(res.cells.holdup.sum()) == pytest.approx(s["total_holdup_kg"], rel=1e-12)
     assert s["mean_residence_time_s"] == pytest.approx(s["total_holdup_kg"] / s["outlet_flow_kg_s"])
     for v in res.cells.data_vars:
         assert "units" in res.cells[v].attrs and "long_name" in res.cells[v].attrs

@@ -4,7 +4,8 @@ import pytest
 
 pytest.importorskip("xarray")
 
-from rotarydryer.results import Results, run_case  # noqa: E402
+from rotarydryer.results import Results
+from rotarydryer.simulation import run_case  # noqa: E402
 
 
 def test_thermal_outputs_saved_and_loaded(tmp_path):

@@ -42,15 +42,15 @@ def test_bad_limit():
 
 
 def test_sweep_point_runs_single_threaded(monkeypatch):
-    import rotarydryer.results as results
     from rotarydryer.cli.sweep import run_point
+    from rotarydryer.simulation import Simulation
 
     seen = []
 
-    def fake_run_case(case, overrides, rtd=True):
+    def fake_steady_state(self, warm=None):
         seen.append(_max_threads())
         raise ValueError("stop here")
 
-    monkeypatch.setattr(results, "run_case", fake_run_case)
+    monkeypatch.setattr(Simulation, "steady_state", fake_steady_state)
     row = run_point("song2003_ottawa", {"operating.rpm": "4"})
     assert seen == [1] and row["error"] == "stop here"

@@ -1,10 +1,11 @@
 """One results object for a simulation: inputs, model choices, version and outputs.
 
->>> from rotarydryer.results import run_case, Results
+>>> from rotarydryer.simulation import run_case
+>>> from rotarydryer.results import Results
 >>> res = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions"}, thermal=False)
 >>> round(res.scalars["total_holdup_kg"])      # kg, solids transport only (thermal=True: the coupled state)
 16398
->>> res.cells                  # xarray.Dataset, one row per flighted cell   # doctest: +SKIP
+>>> res.cells                  # xarray.Dataset, one row per cell (flighted and unflighted)  # doctest: +SKIP
 >>> res.to_frame("cells")      # pandas.DataFrame, columns "name [unit]"     # doctest: +SKIP
 >>> path = res.save("invicta.nc")                                            # doctest: +SKIP
 >>> Results.load(path) == res                                                # doctest: +SKIP
@@ -25,15 +26,16 @@ Contents
 
     * ``nodes``: every network node (dim ``node``): phase, section, cell, position (m),
       holdup (kg), design_load (kg, NaN where not defined);
-    * ``cells``: every flighted cell (dim ``cell``): passive/active holdup, design load,
-      kilning bed (kg), dryer loading (-), loading state, plus the model's per-cell
-      coefficients (repose angle deg, cycle times s, ...);
+    * ``cells``: every cell (dim ``cell``; ``kind`` flighted or unflighted finite volume):
+      passive/active/bed and whole holdup, design load, kilning bed (kg), dryer loading (-),
+      loading state, plus the model's per-cell coefficients (repose angle deg, cycle times s, ...;
+      NaN for the unflighted volumes); ``Results.flighted_cells`` selects the flighted ones;
     * ``sections``: holdups per section (dim ``section``);
     * ``rtd``: simulated tracer response (dim ``time``): E(t) 1/s, F(t) -, outlet tracer
       flow kg/s;
     * ``rtd_measured``: the case's measured tracer curve (dim ``time``), when it has one;
     * ``rtd_fits``: classical RTD models fitted to it (dims ``model``, ``parameter``), with
-      ``run_case(..., fit_rtd=True)``.
+      ``Simulation.results(fit_rtd=True)``.
 
 Storage format (why netCDF)
 ---------------------------
@@ -67,7 +69,7 @@ import numpy as np
 
 from . import __version__
 
-__all__ = ["Results", "from_transport", "run_case", "fit_measured_rtd", "load_results", "FORMAT_VERSION",
+__all__ = ["Results", "from_transport", "fit_measured_rtd", "load_results", "FORMAT_VERSION",
            "UNIT_SUFFIXES"]
 
 FORMAT_VERSION = 1
@@ -165,8 +167,18 @@ class Results:
 
     @property
     def cells(self):
-        """Per flighted cell profile (xarray.Dataset, dim ``cell``), or None."""
+        """Per cell profile (xarray.Dataset, dim ``cell``): every flighted cell and every finite volume
+        of the unflighted sections (``kind``), adding up to the total holdup; or None."""
         return self.datasets.get("cells")
+
+    @property
+    def flighted_cells(self):
+        """The flighted cells of :attr:`cells` (loading state, design load, coefficients), or None."""
+        c = self.cells
+        if c is None or "kind" not in c:
+            return c            # results saved before the cells held the unflighted volumes
+        keep = np.flatnonzero(c.kind.values == "flighted")
+        return c.isel(cell=keep) if keep.size else None
 
     @property
     def sections(self):
@@ -253,7 +265,12 @@ class Results:
             raise ValueError(f"dataset = {name!r} is not one of {', '.join(self.datasets) or 'none'}")
         return self.datasets[name]
 
-    def summary(self) -> str:
+    def summary(self) -> dict:
+        """The named numbers (a copy of :attr:`scalars`, units in the names), as every result's
+        ``summary()`` gives them; :meth:`summary_text` is the plain-text form."""
+        return dict(self.scalars)
+
+    def summary_text(self) -> str:
         """A short plain-text summary."""
         lines = [f"rotarydryer {self.version} results: {self.case_name or self.kind} "
                  f"({self.model_choices.get('model', '?')}), {self.created}"]
@@ -376,7 +393,11 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
     ----------
     case : LeeCase or AjayiCase (pydantic) or dict
     model : rotarydryer.transport.TransportModel
+        the case's transport model (its name and parameters are recorded)
     steady : rotarydryer.transport.SteadyState
+        the state reported: the transport one, or a coupled one
+        (:meth:`rotarydryer.thermal.dryer.ThermalSteadyState.transport_state`), whose own network,
+        sections and design loads the datasets show
     rtd : rotarydryer.transport.RTDResult, optional
     measured : (time s, signal) arrays, optional — the case's measured tracer curve
         (``rotarydryer.cases.measured_rtd``); signal in 1/s or raw concentration.
@@ -385,7 +406,7 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
     inputs = _jsonable(case)
     datasets = {}
     n = steady.masses.size
-    design = np.asarray(model.design_load, dtype=float)
+    design = np.asarray(steady.design_load, dtype=float)
     datasets["nodes"] = xr.Dataset(
         {
             "phase": _var(steady.phase.astype(str), "-", "phase (active, passive, bed)", "node"),
@@ -404,12 +425,15 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
                 "active_kg": "airborne (curtain) holdup", "design_load_kg": "design load",
                 "kiln_bed_kg": "kilning bed (holdup above the design load)",
                 "dryer_loading": "dryer loading M_P/M_P,des (Lee (2008) Section 4.4.2)",
-                "state": "loading state (under, design, over)"}
-        rename = {"passive_kg": "passive_holdup", "active_kg": "active_holdup", "cell": "cell_in_section"}
+                "state": "loading state (under, design, over; unflighted)",
+                "kind": "flighted cell or unflighted finite volume", "bed_kg": "rolling bed (unflighted)",
+                "holdup_kg": "whole holdup of the cell"}
+        rename = {"passive_kg": "passive_holdup", "active_kg": "active_holdup", "bed_kg": "bed_holdup",
+                  "cell": "cell_in_section"}
         vars_ = {}
         for key in rows[0]:
             vals = [r[key] for r in rows]
-            if key in ("section", "state"):
+            if key in ("section", "state", "kind"):
                 arr, unit, nm = np.array(vals, dtype=str), "-", key
             elif key == "cell":
                 arr, unit, nm = np.array(vals, dtype=np.int64), "-", "cell_in_section"
@@ -420,7 +444,7 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
             vars_[nm] = _var(arr, unit, long.get(key, key), "cell")
         datasets["cells"] = xr.Dataset(vars_, coords={"cell": ("cell", np.arange(len(rows), dtype=np.int64))})
     sec_h = steady.section_holdups()
-    secs = model.sections
+    secs = steady.model.sections
     datasets["sections"] = xr.Dataset(
         {
             "kind": _var(np.array([s["kind"] for s in secs], dtype=str), "-", "flighted or unflighted", "section"),
@@ -563,48 +587,14 @@ def add_thermal(res: Results, steady) -> Results:
     return res
 
 
-def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: str = "auto",
-             fit_rtd: bool = False, thermal: bool | None = None) -> Results:
-    """Load a case (name, ``.toml`` path or validated case), solve the steady state and,
-    with ``rtd=True``, the tracer pulse of the case; with ``fit_rtd=True`` also fit the
-    classical RTD models to the case's measured curve (:func:`fit_measured_rtd`, stored as
-    ``datasets["rtd_fits"]``); ``thermal`` (default: when the case has a heat and mass transfer
-    model) adds the coupled thermal steady state (:func:`add_thermal`).  Returns the
-    :class:`Results`."""
-    from .cases import build_model, load_case, measured_rtd
+def __getattr__(name):
+    # deprecated alias (0.1 -> 0.2): results.py is the container; the assembler is rotarydryer.simulation
+    if name == "run_case":
+        import warnings
 
-    name = case if isinstance(case, (str, os.PathLike)) else getattr(getattr(case, "meta", None), "title", "")
-    c = load_case(str(case), overrides) if isinstance(case, (str, os.PathLike)) else case
-    model = build_model(c)
-    steady = model.steady_state()
-    r = meas = None
-    if rtd:
-        r = steady.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
-        meas = measured_rtd(c)
-    res = from_transport(c, model, steady, r, meas, case_name=str(name))
-    if meas is not None:
-        from .cases import measured_rtd_moments
+        warnings.warn("rotarydryer.results.run_case is deprecated: use rotarydryer.simulation.run_case "
+                      "or Simulation(case, overrides).results()", DeprecationWarning, stacklevel=2)
+        from .simulation import run_case     # the one upward import, listed in tests/test_layering.py
 
-        mm = measured_rtd_moments(c)  # rotarydryer.rtd.rtd_moments with the case's baseline
-        res.scalars.update(measured_mean_s=float(mm["mean_s"]), measured_std_s=float(mm["std_s"]),
-                           measured_baseline=float(mm["baseline"]))
-    if fit_rtd and meas is not None:
-        res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
-    from .simulation import Simulation, SteadyResult
-
-    sim = Simulation(c)
-    if thermal is None:
-        thermal = sim.thermal_enabled
-    if thermal:
-        # the coupled state's outputs under the names of ``simulate --json`` (one total holdup per
-        # run); the nodes/cells/sections/rtd datasets stay those of the transport-only model
-        coupled = sim.thermal_steady_state()
-        add_thermal(res, coupled)
-        res.scalars = _numbers(SteadyResult(sim, None, coupled).merged(res.scalars))
-        res.model_choices["transport_datasets"] = "transport-only model (assumed moisture profile)"
-    if overrides:
-        res.model_choices["overrides"] = _jsonable(overrides)
-    if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):
-        bad = [k for k, v in res.scalars.items() if not math.isfinite(v)]
-        raise ValueError(f"case {name!r}: non-finite results {', '.join(bad)}")
-    return res
+        return run_case
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

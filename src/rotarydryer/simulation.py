@@ -18,12 +18,30 @@ inlet, its own bed discretisation, properties from the computed moisture). Outpu
 from __future__ import annotations
 
 import dataclasses
+import itertools
+import math
+import os
 
 import numpy as np
 
+from ._grids import MAX_POINTS, check_points, parse_grid
 from ._threads import single_threaded
+from ._validation import check_choice
+from .cases import load_case, measured_rtd, measured_rtd_moments
+from .cases.build import build_model, has_burner, thermal_enabled, thermal_inputs
+from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, split_unit
+from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
+from .thermal.plots import plot_thermal_steady_state
+from .thermal.studies import perturbed
+from .transport.plots import plot_holdup_profile
+from .transport.sections import build_sections
 
-__all__ = ["Simulation", "SteadyResult", "build_thermal_dryer"]
+__all__ = ["Simulation", "SteadyResult", "build_thermal_dryer", "run_case", "grid_points", "parse_grid",
+           "MAX_POINTS", "WARM_DT0"]
+
+
+#: first pseudo-time step (s) of a coupled solve started from a nearby run's state
+WARM_DT0 = 1e3
 
 
 class Simulation:
@@ -39,35 +57,34 @@ class Simulation:
     """
 
     def __init__(self, case, overrides=None):
-        from .cases import load_case
-
         if isinstance(case, (str, bytes)) or hasattr(case, "__fspath__"):
             self.case_name = str(case)
-            self.case = load_case(str(case), overrides or {})
+            #: the overrides the case was loaded with (kept by :meth:`sweep` and :meth:`fit`)
+            self.overrides = dict(overrides or {})
+            self.case = load_case(str(case), self.overrides)
         else:
             if overrides:
                 raise ValueError("overrides need a case name or path (load_case applies them)")
             self.case_name = getattr(getattr(case, "meta", None), "title", "") or "case"
+            self.overrides = {}
             self.case = case
         self.kind = self.case.kind
         self._transport = None
         self._transport_ss = None
+        self._dryer = None          # the heat-and-mass model of the case, built once
+        self._thermal_ss = None
 
     def __repr__(self):
         return f"<Simulation {self.case_name} (kind {self.kind!r}, heat and mass {'on' if self.thermal_enabled else 'off'})>"
 
     @property
     def thermal_enabled(self) -> bool:
-        from .cases.build import thermal_enabled
-
         return thermal_enabled(self.case)
 
     # ------------------------------------------------------------------ transport
     def transport_model(self):
         """The solids-transport model (TransportModel on the network) of the case."""
         if self._transport is None:
-            from .cases.build import build_model
-
             self._transport = build_model(self.case)
         return self._transport
 
@@ -83,19 +100,14 @@ class Simulation:
     # ------------------------------------------------------------------ heat and mass
     def thermal_settings(self):
         """:class:`~rotarydryer.thermal.dryer.ThermalSettings` of the case."""
-        from .cases.build import thermal_inputs
-
         return thermal_inputs(self.case)["settings"]
 
     def thermal_dryer(self, settings=None, feed_moisture=None, **overrides):
         """The heat-and-mass model on the case's sections: the transport model's section specs
         with the case's thermal changes (closed inlet, thermal discretisation, properties from the
         computed moisture). ``settings`` replaces the case's ThermalSettings, ``overrides`` set
-        fields of them, ``feed_moisture`` (kg/kg wet) replaces the case's."""
-        from .cases.build import thermal_inputs
-        from .thermal.dryer import ThermalDryer, ThermalSettings
-        from .transport.sections import build_sections
-
+        fields of them, ``feed_moisture`` (kg/kg wet) replaces the case's. Without arguments this
+        is a new model each call; :meth:`dryer` is the Simulation's own, built once."""
         inp = thermal_inputs(self.case)
         st = settings if settings is not None else inp["settings"]
         unknown = sorted(set(overrides) - {f.name for f in dataclasses.fields(ThermalSettings)})
@@ -108,21 +120,50 @@ class Simulation:
         specs = [dataclasses.replace(sp, fouling=st.fouling, **inp["section_changes"].get(sp.name, {}))
                  for sp in base.specs]
         model = build_sections(specs, material=inp["material"], feed_rate=base.feed_rate, rpm=p["rpm"],
-                               slope=p["slope"], inlet="danckwerts", name="thermal")
+                               slope=p["slope"], inlet="danckwerts", name="thermal", tracer_input=base.tracer_input)
         return ThermalDryer(model, material=inp["material"], feed_rate=base.feed_rate,
                             feed_moisture=inp["feed_moisture"] if feed_moisture is None else feed_moisture,
                             rpm=p["rpm"], radius=self.case.drum.radius, sections=inp["sections"], settings=st)
 
+    def dryer(self):
+        """The case's heat-and-mass model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`), built
+        once per Simulation and reused by :meth:`steady_state`, :meth:`dynamics` and :meth:`results`
+        (do not change it in place: :func:`rotarydryer.thermal.studies.perturbed` makes changed copies)."""
+        if self._dryer is None:
+            self._dryer = self.thermal_dryer()
+        return self._dryer
+
     # ------------------------------------------------------------------ runs
     @single_threaded()
-    def steady_state(self):
+    def steady_state(self, warm: dict | None = None):
         """Steady state of the whole dryer: transport, and heat and mass where the case has a gas.
 
-        The transport steady state is solved (and checked for feasibility) first in either case."""
+        The transport steady state is solved (and checked for feasibility) first in either case.
+        ``warm`` (:meth:`SteadyResult.warm_data` of a nearby run: coupled state, transport masses,
+        shell temperatures, factorisation) starts the solves when its shapes fit; the state is the
+        same steady state, accepted by the same convergence test (the case's cold start is tried
+        when the warm one does not converge)."""
+        warm = warm or {}
+        masses = warm.get("masses")
+        if self._transport_ss is None and masses is not None:
+            net = self.transport_model().network
+            if np.shape(masses) == (net.n,):
+                net.initial_guess = masses        # Newton from a nearby run's masses
         transport = self.transport_steady_state()
-        if self.thermal_enabled:
-            return SteadyResult(self, None, self.thermal_steady_state())
-        return SteadyResult(self, transport, None)
+        if not self.thermal_enabled:
+            return SteadyResult(self, transport, None)
+        state = warm.get("state")
+        if self._thermal_ss is None and state is not None:
+            d = self.dryer()
+            if np.shape(state) == (d.n,):
+                shell = warm.get("shell")
+                if shell is not None and np.shape(shell) == (d.n_gas,):
+                    d._shell_outer = np.array(shell)    # Newton's start of the first shell solve
+                try:
+                    self._thermal_ss = d.steady_state(z0=state, dt0=WARM_DT0, factorization=warm.get("factorization"))
+                except ValueError:                  # DryerError: the case's own cold start, on a new model
+                    self._dryer = None
+        return SteadyResult(self, None, self.thermal_steady_state())
 
     #: width of the smoothed design-load switch of the start model when the coupled Newton chatters
     START_SMOOTHING = 1e-3
@@ -134,28 +175,28 @@ class Simulation:
         the steady state of the same model with the switch smoothed over ten times the case's
         width (at least :attr:`START_SMOOTHING` of M_des); the state returned is always that of the
         case's own model, accepted by its own convergence test."""
-        from .thermal.dryer import DryerError
-
-        d = self.thermal_dryer()
+        if self._thermal_ss is not None:
+            return self._thermal_ss
+        d = self.dryer()
         try:
-            return d.steady_state()
+            ss = d.steady_state()
         except DryerError as exc:
             w = d.settings.design_load_smoothing
             if exc.reason != "no_steady_state" or w >= 0.01:
                 raise
             try:   # continuation in the width: from a 10x wider switch (at least START_SMOOTHING)
                 start = self.thermal_dryer(design_load_smoothing=max(self.START_SMOOTHING, 10.0 * w)).steady_state()
-                return d.steady_state(z0=start.state)
+                ss = d.steady_state(z0=start.state)
             except DryerError:
                 raise exc from None
+        self._thermal_ss = ss
+        return ss
 
     def dynamics(self, t_end=7200.0, dt=60.0, **changes):
         """Response from the steady state to new inputs ``changes`` (names of
         :data:`rotarydryer.thermal.studies.INPUTS` or ThermalSettings fields, absolute values)."""
-        from .thermal.studies import perturbed
-
-        d = self.thermal_dryer()
-        ss = d.steady_state()
+        d = self.dryer()
+        ss = self.thermal_steady_state()
         d2 = perturbed(d, **changes) if changes else d
         return d2.simulate(ss.state, t_end, t_eval=np.arange(0.0, t_end + dt / 2, dt))
 
@@ -165,36 +206,96 @@ class Simulation:
         return self.transport_steady_state().rtd(self.transport_model().tracer_input, t_end=t_end or tr.t_end,
                                                  dt=dt or tr.dt, method=method)
 
-    def results(self):
-        """:class:`rotarydryer.results.Results` of the case (transport, RTD, heat and mass)."""
-        from .results import run_case
-
-        res = run_case(self.case)
-        res.case_name = self.case_name
+    def results(self, *, rtd: bool = True, method: str = "auto", fit_rtd: bool = False,
+                thermal: bool | None = None):
+        """:class:`rotarydryer.results.Results` of the case: the steady state (coupled with heat and
+        mass where the case has a gas; ``thermal=False`` for the solids transport alone), with
+        ``rtd=True`` the case's tracer pulse simulated at that state and its measured curve, with
+        ``fit_rtd=True`` the classical RTD models fitted to the measured curve. Every dataset
+        (nodes, cells, sections, rtd) and scalar is that one state's."""
+        c = self.case
+        model = self.transport_model()
+        if thermal is None:
+            thermal = self.thermal_enabled
+        steady = self.steady_state() if thermal else SteadyResult(self, self.transport_steady_state(), None)
+        view = steady.state
+        r = meas = None
+        if rtd:
+            r = view.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
+            meas = measured_rtd(c)
+        res = from_transport(c, model, view, r, meas, case_name=self.case_name)
+        if meas is not None:
+            mm = measured_rtd_moments(c)  # rotarydryer.rtd.rtd_moments with the case's baseline
+            res.scalars.update(measured_mean_s=float(mm["mean_s"]), measured_std_s=float(mm["std_s"]),
+                               measured_baseline=float(mm["baseline"]))
+        if fit_rtd and meas is not None:
+            res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
+        if steady.thermal is not None:
+            add_thermal(res, steady.thermal)
+            res.scalars = _numbers(steady.merged(res.scalars))
+            res.model_choices["datasets"] = "coupled heat-and-mass steady state"
+        if self.overrides:
+            res.model_choices["overrides"] = _jsonable(self.overrides)
+        if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):
+            bad = [k for k, v in res.scalars.items() if not math.isfinite(v)]
+            raise ValueError(f"case {self.case_name!r}: non-finite results {', '.join(bad)}")
         return res
 
     def fit(self, dataset, parameters, **kwargs):
         """Fit ``parameters`` (override keys, e.g. ``["transport.backmix"]``) to a measured tracer
         curve: a :class:`rotarydryer.rtd.TracerData` or a shipped dataset name
         (``"lee2008_invicta"``); keyword arguments as
-        :func:`rotarydryer.estimation.cases.fit_case_to_tracer`. Returns its ``CaseFit``."""
-        from .estimation.cases import fit_case_to_tracer
+        :func:`rotarydryer.estimation.cases.fit_case_to_tracer`, starting from this Simulation's
+        overrides (``base_overrides`` adds to them). Returns its ``CaseFit``."""
+        from .estimation.cases import fit_case_to_tracer      # estimation builds on Simulation
+        from .rtd import load_tracer_dataset
 
         if isinstance(dataset, str):
-            from .rtd import load_tracer_dataset
-
             dataset = load_tracer_dataset(dataset)
-        return fit_case_to_tracer(self.case_name, dataset, list(parameters), **kwargs)
+        base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
+        return fit_case_to_tracer(self.case_name, dataset, list(parameters), base_overrides=base or None, **kwargs)
 
     def sweep(self, grid, outputs=None):
-        """Steady state over a grid of overrides: list of dicts (``grid``: list of override dicts)."""
+        """Steady state over a grid of overrides on top of this Simulation's: a list of override
+        dicts, or the CLI's form, a dict ``{key: [values]}`` or ``["key=v1,v2", ...]`` (the cartesian
+        product). Returns one dict per point: its overrides and :meth:`SteadyResult.summary`
+        (``outputs``: only these names)."""
         rows = []
-        for ov in grid:
-            sim = Simulation(self.case_name, ov)
+        for ov in grid_points(grid):
+            sim = Simulation(self.case_name, {**self.overrides, **ov})
             row = dict(ov)
             row.update(sim.steady_state().summary())
             rows.append({k: row[k] for k in (outputs or row)})
         return rows
+
+
+def grid_points(grid) -> list[dict]:
+    """Override dicts of a sweep grid: a list of dicts (as given), a dict ``{key: [values]}`` or a
+    list of ``"key=v1,v2,..."`` strings (the CLI's ``--grid``): the cartesian product, in order."""
+    if isinstance(grid, dict):
+        keys = list(grid)
+        values = [list(v) if isinstance(v, (list, tuple, np.ndarray)) else [v] for v in grid.values()]
+        check_points(math.prod(len(v) for v in values), "grid")
+        return [dict(zip(keys, combo)) for combo in itertools.product(*values)]
+    grid = list(grid)
+    if all(isinstance(g, str) for g in grid):
+        return parse_grid(grid)
+    if not all(isinstance(g, dict) for g in grid):
+        raise ValueError("grid: give a list of override dicts, a dict {key: [values]} or 'key=v1,v2' strings")
+    return grid
+
+
+def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: str = "auto",
+             fit_rtd: bool = False, thermal: bool | None = None):
+    """``Simulation(case, overrides).results(...)``: a case name, ``.toml`` path or validated case
+    solved into a :class:`rotarydryer.results.Results` (see :meth:`Simulation.results`)."""
+    if isinstance(case, (str, os.PathLike)):
+        sim = Simulation(case, overrides)
+    else:
+        sim = Simulation(case)
+        sim.case_name = getattr(getattr(case, "meta", None), "title", "")
+        sim.overrides = dict(overrides or {})
+    return sim.results(rtd=rtd, method=method, fit_rtd=fit_rtd, thermal=thermal)
 
 
 def build_thermal_dryer(case, settings=None, feed_moisture=None, **overrides):
@@ -226,34 +327,84 @@ class SteadyResult:
 
         return html_table(self.summary(), caption=f"steady state of {self.simulation.case_name}")
 
+    def plot(self, what: str = "holdup"):
+        """The figures ``rotarydryer simulate --out`` writes, from this state: ``"holdup"`` (holdup
+        per metre along the dryer, titled with the total), ``"thermal"`` (temperatures, moisture and
+        humidity; cases with heat and mass transfer), or ``"all"`` (a dict of both). Returns
+        matplotlib figures."""
+        check_choice("what", what, ("holdup", "thermal", "all"))
+        if what in ("thermal", "all") and self.thermal is None:
+            if what == "thermal":
+                raise ValueError("what = 'thermal': the case has no heat and mass transfer (no [gas])")
+        figs = {"holdup": plot_holdup_profile(self.state, name=self.simulation.transport_model().name)} \
+            if what in ("holdup", "all") else {}
+        if what in ("thermal", "all") and self.thermal is not None:
+            figs["thermal"] = plot_thermal_steady_state(self.thermal)
+        return figs if what == "all" else figs[what]
+
+    def summary_text(self) -> str:
+        """:meth:`summary` as plain text, one output a line (units from the names)."""
+        lines = [f"steady state of {self.simulation.case_name}"]
+        for k, v in self.summary().items():
+            name, unit = split_unit(k)
+            shown = f"{v:.6g}" if isinstance(v, float) else str(v)
+            lines.append(f"  {name:<32s} {shown} {unit if unit != '-' else ''}".rstrip())
+        return "\n".join(lines)
+
     def to_dataframe(self):
         """:meth:`summary` as a pandas DataFrame (value, unit)."""
         from ._display import outputs_dataframe
 
         return outputs_dataframe(self.summary())
 
+    @property
+    def state(self):
+        """The solids of this state as a transport steady state: the coupled one
+        (:meth:`ThermalSteadyState.transport_state`) with heat and mass, else the transport one.
+        Its holdups, section and cell tables and tracer system are what every view shows."""
+        return self.thermal.transport_state() if self.thermal is not None else self.transport
+
+    def warm_data(self) -> dict | None:
+        """What starts a nearby run (:meth:`Simulation.steady_state` ``warm``): the coupled state,
+        the transport masses, the shell temperatures and the last factorisation; None without heat
+        and mass transfer."""
+        th = self.thermal
+        if th is None:
+            return None
+        return dict(state=th.state, masses=self.simulation.transport_steady_state().masses,
+                    shell=th.dryer._shell_outer, factorization=th.factorization)
+
+    def loading_counts(self) -> dict:
+        """Flighted cells over, at and under their design load (``cells_over``, ``cells_design``,
+        ``cells_under``) in this state."""
+        states = self.state.loading_state
+        return {f"cells_{k}": float(states.count(k)) for k in ("over", "design", "under")}
+
+    def to_dict(self) -> dict:
+        """:meth:`summary` with the ``sections`` and ``cells`` tables of :attr:`state` (the
+        object ``rotarydryer simulate --json`` prints, less ``case`` and ``parameters``)."""
+        out = self.state.to_dict()
+        out["model"] = self.simulation.transport_model().name
+        return self.merged(out)
+
     def tracer_system(self):
         """Linear tracer system at this state's flows (the coupled one with heat and mass)."""
-        return (self.thermal if self.thermal is not None else self.transport).tracer_system()
+        return self.state.tracer_system()
 
     def tracer_moments(self):
         """Analytic moments of the outlet curve for the case's tracer pulse (from the injection start)."""
         return self.tracer_system().moments(self.simulation.transport_model().tracer_input)
 
-    #: transport-only outputs with no coupled counterpart: dropped from a coupled run's outputs
-    TRANSPORT_ONLY = ("kiln_bed_holdup_kg",)
-
     def summary(self) -> dict:
         """Outputs named with their unit: holdups, residence time, tracer moments and, with heat
         and mass transfer, :meth:`ThermalSteadyState.summary` (the transport-only total holdup is
         kept as ``transport_only_total_holdup_kg``; the fuel rate where the case has a burner)."""
-        from .cases.build import has_burner
-
         ts = self.tracer_system()
         m = ts.moments(self.simulation.transport_model().tracer_input)
         impulse = ts.moments()
         if self.thermal is not None:
             out = self.thermal.summary(with_fuel=has_burner(self.simulation.case))
+            out["kiln_bed_holdup_kg"] = self.state.kiln_bed_holdup
             out["transport_only_total_holdup_kg"] = self.simulation.transport_steady_state().total_holdup
         else:
             ss = self.transport
@@ -270,7 +421,6 @@ class SteadyResult:
     def merged(self, transport_outputs: dict) -> dict:
         """``transport_outputs`` (the transport-only model's, e.g. ``SteadyState.to_dict()`` or a
         Results' scalars) overwritten by :meth:`summary`: one value per name in every view."""
-        out = {k: v for k, v in transport_outputs.items()
-               if self.thermal is None or k not in self.TRANSPORT_ONLY}
+        out = dict(transport_outputs)
         out.update(self.summary())
         return out

@@ -12,7 +12,7 @@ pytest.importorskip("xarray")
 
 from rotarydryer.cli import app as cli  # noqa: E402
 from rotarydryer.cli import sweep as sweep_mod  # noqa: E402
-from rotarydryer.results import run_case  # noqa: E402
+from rotarydryer.simulation import run_case  # noqa: E402
 
 runner = CliRunner()
 REG = ["--set", "geometry.method=lee2008_regressions"]
@@ -28,7 +28,12 @@ def test_grid_matches_single_runs_and_is_ordered(tmp_path):
         ("2", "20"), ("2", "27.2"), ("3", "20"), ("3", "27.2")]
     single = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions", "operating.rpm": 3,
                                           "operating.feed_rate": 27.2}, rtd=False)
-    assert float(rows[3]["total_holdup_kg"]) == single.scalars["total_holdup_kg"]  # exact (repr floats)
+    # each point starts from the previous one (issue 27): the same steady state to the solver's tolerance
+    assert float(rows[3]["total_holdup_kg"]) == pytest.approx(single.scalars["total_holdup_kg"], rel=1e-9)
+    # the first point has no warm start: exact (repr floats through the CSV)
+    first = run_case("lee2008_invicta", {"geometry.method": "lee2008_regressions", "operating.rpm": 2,
+                                         "operating.feed_rate": 20}, rtd=False)
+    assert float(rows[0]["total_holdup_kg"]) == first.scalars["total_holdup_kg"]
     for r in rows:  # conservation in every run
         assert float(r["mass_balance_error"]) < 1e-9
     # more feed -> more holdup at each speed
@@ -71,7 +76,8 @@ def test_parse_grid_product():
 
 
 def test_dask_scheduler_gives_same_table():
-    """The Dask path (in-process LocalCluster) gives exactly the local table."""
+    """The Dask path (in-process LocalCluster) gives the local table: the same rows, keys and
+    strings, numbers to the solver's tolerance (the serial sweep starts each point from the last)."""
     distributed = pytest.importorskip("dask.distributed")
     args = ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3,4", "--no-rtd", "--json"]
     local = json.loads(runner.invoke(cli, args).stdout)
@@ -79,4 +85,11 @@ def test_dask_scheduler_gives_same_table():
                                   dashboard_address=None) as cluster:
         res = runner.invoke(cli, [*args, "--scheduler", cluster.scheduler_address])
     assert res.exit_code == 0, res.output
-    assert json.loads(res.stdout) == local
+    remote = json.loads(res.stdout)
+    assert [list(r) for r in remote] == [list(r) for r in local]
+    for r, q in zip(remote, local):
+        for k, v in r.items():
+            if k.endswith("_error") and isinstance(v, float):     # round-off of a converged state
+                assert v < 1e-9 and q[k] < 1e-9, k
+                continue
+            assert v == (pytest.approx(q[k], rel=1e-9, abs=1e-12) if isinstance(v, float) else q[k]), k

@@ -249,7 +249,7 @@ def test_full_disk_netcdf_is_refused_without_a_crash(small_disk):
     """Results.save (HDF5) onto a nearly full disk, in a separate process: exit 2 and a message,
     not a crash (h5py on a full disk can kill the process); the previous file stays, no temporary."""
     prev = small_disk / "old.nc"
-    code = ("from rotarydryer.results import run_case; run_case('song2003_ottawa', "
+    code = ("from rotarydryer.simulation import run_case; run_case('song2003_ottawa', "
             "{'thermal.enabled': False}).save(%r)" % str(prev))
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
     before = prev.read_bytes()

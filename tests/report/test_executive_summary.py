@@ -27,7 +27,7 @@ def test_hotter_gas_costs_more_per_kg_of_water():
 
 def test_report_opens_with_an_executive_summary():
     from rotarydryer.report.html import render_report
-    from rotarydryer.results import run_case
+    from rotarydryer.simulation import run_case
 
     text = render_report(run_case("song2003_ottawa"))
     i = text.index('id="executive-summary"')
@@ -39,7 +39,7 @@ def test_figures_are_numbered_with_captions_in_reading_order():
     import re
 
     from rotarydryer.report.html import render_report
-    from rotarydryer.results import run_case
+    from rotarydryer.simulation import run_case
 
     text = render_report(run_case("song2003_ottawa"))
     numbers = [int(n) for n in re.findall(r"<figcaption><b>Figure (\d+)\.</b>", text)]

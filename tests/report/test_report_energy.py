@@ -33,7 +33,7 @@ def test_measured_rtd_legend_uses_the_case_baseline():
     case's baseline): Ajayi test 4 has a lithium background (SD 1.53 min, not 6.2)."""
     from rotarydryer.cases import load_case, measured_rtd_moments
     from rotarydryer.report.figures import plot_rtd
-    from rotarydryer.results import run_case
+    from rotarydryer.simulation import run_case
 
     res = run_case("ajayi2011_mmg", {"operating.test": 4}, thermal=False)
     mm = measured_rtd_moments(load_case("ajayi2011_mmg", {"operating.test": 4}))

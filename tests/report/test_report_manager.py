@@ -23,7 +23,7 @@ from rotarydryer.cases import load_case  # noqa: E402
 from rotarydryer.report.drawing import dryer_layout, dryer_svg  # noqa: E402
 from rotarydryer.report.html import render_report  # noqa: E402
 from rotarydryer.report.references import cited_keys, format_reference, load_references  # noqa: E402
-from rotarydryer.results import run_case  # noqa: E402
+from rotarydryer.simulation import run_case  # noqa: E402
 
 SVG = "{http://www.w3.org/2000/svg}"
 

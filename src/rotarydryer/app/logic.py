@@ -203,7 +203,7 @@ def transport_view(case: str, feed_rate: float, rpm: float, slope: float, images
     Returns ``{"results": Results, "metrics": {...}, "holdup": png, "rtd": png,
     "loading": png}`` (the PNGs only with ``images``)."""
     from ..report.figures import plot_holdup_profile, plot_loading_state, plot_rtd
-    from ..results import run_case
+    from ..simulation import run_case
 
     overrides = {"operating.feed_rate": feed_rate, "operating.rpm": rpm, "drum.slope": slope}
     if _is_upload(case):

@@ -248,7 +248,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
 def results_of(case: str, overrides: dict | None = None):
     """:class:`rotarydryer.results.Results` of the case at ``overrides`` (transport, tracer RTD
     and the coupled heat and mass steady state): what the downloads hold."""
-    from ..results import run_case
+    from ..simulation import run_case
 
     c = _load(case, dict(overrides or {}))
     _check_thermal(c, "this case")

@@ -64,8 +64,6 @@ def simulate(
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
-    result = ss.to_dict()
-    result.update({"case": case, "parameters": model.parameters})
     thermal = None
     try:
         steady = sim.steady_state()
@@ -77,7 +75,11 @@ def simulate(
             typer.echo(f"last solver state saved to {saved}", err=True)
         solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
         raise typer.Exit(1 if solver_failed else 2)
-    result = steady.merged(result)
+    ss = steady.state        # the one state every output shows (the coupled one with heat and mass)
+    result = steady.to_dict()
+    for key in ("sections", "cells"):       # keep the JSON's order: tables, then case and parameters
+        result[key] = result.pop(key)
+    result.update({"case": case, "parameters": model.parameters})
     thermal_on = thermal is not None
     if out is not None:
         from .._io import write_text_atomic
@@ -89,7 +91,7 @@ def simulate(
         files = [out / "steady_state.json", out / "holdup_profile.png"]
         try:
             write_text_atomic(files[0], json_text(result, indent=1))
-            save_figure(plot_holdup_profile(ss), files[1], dpi=120)
+            save_figure(plot_holdup_profile(ss, name=model.name), files[1], dpi=120)
             if thermal is not None:
                 files.append(out / "thermal_profiles.png")
                 save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
@@ -113,8 +115,8 @@ def simulate(
     ]
     if not thermal_on:
         rows.append(("mass balance error", f"{ss.mass_balance_error:.1e}"))
-        for name, h in ss.section_holdups().items():
-            rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
+    for name, h in ss.section_holdups().items():
+        rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
     if thermal is not None:
         rows += [
             ("product moisture", f"{result['product_moisture_kg_kg']:.4f} kg/kg wet"),
@@ -128,10 +130,9 @@ def simulate(
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a" if result["fuel_rate_kg_s"] is None
                          else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"))
-    states = ss.loading_state if not thermal_on else []
-    if not thermal_on:
-        rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
-                                                f"{states.count('under')}"))
+    states = ss.loading_state
+    rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
+                                            f"{states.count('under')}"))
     w = max(len(k) for k, _ in rows)
     for k, v in rows:
         typer.echo(f"  {k:<{w}}  {v}")

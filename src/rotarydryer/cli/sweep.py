@@ -8,47 +8,21 @@ then and is not a dependency of rotarydryer).
 from __future__ import annotations
 
 import csv
-import itertools
+import math
 from pathlib import Path
 from typing import List, Optional
 
 import typer
 
+from .._grids import MAX_POINTS, parse_grid
+from .._grids import check_points as _check_points
 from . import app
+
+__all__ = ["parse_grid", "read_list", "run_point", "run_sweep", "rows_to_csv", "MAX_POINTS"]
 
 KEY_SCALARS = ("total_holdup_kg", "active_holdup_kg", "passive_holdup_kg", "kiln_bed_holdup_kg", "bed_holdup_kg",
                "outlet_flow_kg_s", "mean_residence_time_s", "rtd_std_s", "mass_balance_error", "cells_over",
                "cells_design", "cells_under")
-
-
-#: most runs one sweep may ask for (a grid or list above it is refused before anything runs)
-MAX_POINTS = 10000
-
-
-def _check_points(n: int, what: str):
-    if n > MAX_POINTS:
-        raise ValueError(f"{what} has {n} runs; the limit is {MAX_POINTS} per sweep (split it, or run "
-                         "a global sensitivity study with fewer points)")
-
-
-def parse_grid(items: Optional[List[str]]) -> list[dict]:
-    """``["operating.rpm=2,3", "drum.slope=2,4"]`` -> the cartesian product as override dicts
-    (at most :data:`MAX_POINTS`)."""
-    keys, values = [], []
-    for item in items or []:
-        if "=" not in item:
-            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,..., e.g. operating.rpm=2,3,4")
-        k, v = item.split("=", 1)
-        vals = [x.strip() for x in v.split(",") if x.strip()]
-        if not vals:
-            raise ValueError(f"--grid {item!r}: no values")
-        keys.append(k.strip())
-        values.append(vals)
-        n = 1
-        for v in values:
-            n *= len(v)
-        _check_points(n, "--grid")
-    return [dict(zip(keys, combo)) for combo in itertools.product(*values)] if keys else []
 
 
 def read_list(path: Path) -> list[dict]:
@@ -73,26 +47,35 @@ def run_point(case: str, overrides: dict, rtd: bool = True) -> dict:
     """One sweep point -> a flat row (overrides + key scalars, units in the names); an
     invalid point gives a row with ``error``.  Top-level so that it pickles for
     process pools and Dask."""
+    return _solve_point(case, overrides)[0]
+
+
+def _solve_point(case: str, overrides: dict, warm=None):
+    """(row, warm-start data or None) of one point: the steady state of
+    ``Simulation(case, overrides)`` (started from ``warm``, a nearby point's), its summary and
+    loading counts. The tracer moments are the analytic ones of that state (what a simulated
+    pulse's would tend to), so a point costs one transport and one coupled solve."""
     from .._threads import single_threaded
-    from ..results import run_case
+    from ..simulation import Simulation       # the model stack: not at the CLI's start-up
 
     row = dict(overrides)
     try:
         with single_threaded():      # one BLAS/OpenMP thread per run (no oversubscription, issue 16)
-            res = run_case(case, overrides, rtd=rtd)
+            res = Simulation(case, overrides).steady_state(warm=warm)
+            out = {k: float(v) for k, v in {**res.summary(), **res.loading_counts()}.items()
+                   if isinstance(v, (int, float)) and not isinstance(v, bool)}
     except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
         row["error"] = " ".join(str(exc).split()) or type(exc).__name__
-        return row
-    for k in KEY_SCALARS:
-        if k in res.scalars:
-            row[k] = res.scalars[k]
-    if "tracer_mean_s" in res.scalars:
-        row["tracer_mean_s"] = res.scalars["tracer_mean_s"]
-    for k in THERMAL_SCALARS:  # cases with a heat and mass transfer model (run_case adds them)
-        if k in res.scalars:
-            row[k] = res.scalars[k]
+        return row, None
+    bad = [k for k, v in out.items() if not math.isfinite(v) and k != "mass_balance_error"]
+    if bad:
+        row["error"] = f"case {case!r}: non-finite results {', '.join(bad)}"
+        return row, None
+    for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS):
+        if k in out:
+            row[k] = out[k]
     row["error"] = ""
-    return row
+    return row, res.warm_data()
 
 
 #: outputs of the coupled heat and mass transfer steady state added to sweep rows
@@ -120,8 +103,10 @@ def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Opt
                 tick(1)
         return rows
     if workers <= 1 or len(points) == 1:
-        for i, p in enumerate(points):
-            rows[i] = run_point(case, p, rtd)
+        warm = None
+        for i, p in enumerate(points):      # each point starts from the last converged one
+            rows[i], data = _solve_point(case, p, warm)
+            warm = data or warm
             tick(1)
         return rows
     from concurrent.futures import ProcessPoolExecutor, as_completed

@@ -38,12 +38,11 @@ from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:  # thermal.drying imports this package: import it lazily at load time
-    from ..thermal.drying import DryingKinetics
+from .drying import DryingKinetics
 
 __all__ = ["Material", "load_material", "list_materials"]
 
@@ -201,8 +200,6 @@ def _law(key: str, table: Any) -> tuple[tuple[float, float], str]:
 
 
 def _build(d: dict) -> Material:
-    from ..thermal.drying import DryingKinetics
-
     unknown = set(d) - set(_FIELDS)
     if unknown:
         raise ValueError(f"material.{sorted(unknown)[0]} is not a material field (allowed: {', '.join(_FIELDS)})")

@@ -27,7 +27,7 @@ def case_drums(inputs: dict, results=None) -> list[dict]:
     from ..geometry import FlightedDrum, TwoSectionFlight
 
     kind = inputs.get("kind")
-    cells = results.cells if results is not None else None
+    cells = results.flighted_cells if results is not None else None
     params = (results.model_choices.get("parameters", {}) if results is not None else {})
 
     def _mean(section, var, default):
@@ -103,7 +103,7 @@ def plot_rtd(results, ax=None):
 def plot_loading_state(results, ax=None):
     """Dryer loading M_P/M_P,des per flighted cell (Lee (2008) Section 4.4.2), coloured by
     loading state (under, design, over).  Returns the figure (None without flighted cells)."""
-    cells = results.cells
+    cells = results.flighted_cells
     if cells is None:
         return None
     plt = _plt()

@@ -163,10 +163,10 @@ def _geometry_sections(drums, results) -> str:
             a = float(drum.design_load_area(phi, method=m))
             dl_rows.append((m, f"{a:.4f}", f"{a * rho * length:,.0f}"))
         model_des = ""
-        if results is not None and results.cells is not None:
-            sel = results.cells.section.values == d["name"]
+        if results is not None and results.flighted_cells is not None:
+            sel = results.flighted_cells.section.values == d["name"]
             if np.any(sel):
-                tot = float(np.nansum(results.cells.design_load.values[sel]))
+                tot = float(np.nansum(results.flighted_cells.design_load.values[sel]))
                 model_des = (f'<p class="note">Transport model ({html.escape(str(results.model_choices.get("model")))})'
                              f" design load in this section: <b>{tot:,.0f} kg</b> "
                              f"(sum over {int(sel.sum())} cells, moisture-dependent repose angle).</p>")
@@ -202,11 +202,10 @@ def _transport_sections(results) -> str:
     ]
     key_rows = [(k, _fmt(float(v)) if v is not None else "-", u) for k, v, u in key if v is not None]
     note = ""
-    if results.model_choices.get("transport_datasets"):
-        note = ('<p class="note">Key results are those of the coupled transport, heat and mass steady state '
-                '(the names and values of <code>rotarydryer simulate --json</code>); the holdup profile, RTD and '
-                'loading-state figures and tables below show the solids-transport model with its assumed '
-                'moisture profile.</p>')
+    if results.model_choices.get("datasets") == "coupled heat-and-mass steady state":
+        note = ('<p class="note">Key results, the holdup profile, RTD and loading-state figures and tables are '
+                'those of the coupled transport, heat and mass steady state (the names and values of '
+                '<code>rotarydryer simulate --json</code>): one state, one number per quantity.</p>')
     from .drawing import dryer_layout
     from .manager import holdup_comparison, rtd_comparison
 
@@ -255,8 +254,8 @@ def _transport_sections(results) -> str:
                        'prediction only.</p>')
         parts.append(f'<section id="rtd"><h2>Residence-time distribution{meas}</h2>'
                      f'{_img(plot_rtd(results), "RTD", cap_rtd)}{rtd_mvm}{_fit_table(results)}</section>')
-    if results.cells is not None:
-        c = results.cells
+    if results.flighted_cells is not None:
+        c = results.flighted_cells
         rows = []
         for name in dict.fromkeys(c.section.values.tolist()):
             sel = c.section.values == name
@@ -581,7 +580,8 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
     from .._validation import check_range
     from ..cases import list_cases
     from ..geometry.presets import drum_presets, preset_drum
-    from ..results import Results, run_case
+    from ..results import Results
+    from ..simulation import run_case
 
     if repose_angle is not None:
         repose_angle = float(check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg"))

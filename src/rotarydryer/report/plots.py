@@ -10,6 +10,7 @@ import numpy as np
 
 from .._plotting import pyplot as _plt
 from ..geometry import FlightedDrum
+from ..thermal.plots import plot_thermal_profiles, plot_thermal_steady_state
 
 __all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
            "plot_thermal_profiles", "thermal_profiles_from_results", "plot_thermal_steady_state"]
@@ -209,57 +210,6 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
     return fig
 
 
-def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
-    """Gas and solids temperature (top), solids moisture and gas humidity (bottom) along the
-    dryer; returns the figure.
-
-    ``profiles``: arrays ``position``, ``phase`` (bed, passive, active), ``section``,
-    ``solids_temperature_c``, ``moisture_wet`` per tank and ``gas_position``,
-    ``gas_temperature_c``, ``gas_humidity`` per gas stage, as
-    :meth:`rotarydryer.thermal.dryer.ThermalSteadyState.profiles` gives them (or
-    :func:`thermal_profiles_from_results` from saved results). ``sections``: (name, length m)
-    pairs in order, drawn as boundaries.
-    """
-    plt = _plt()
-    p = profiles
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
-    kinds = np.asarray(p["phase"])
-    sec_of = np.asarray(p["section"])
-    a1.plot(p["gas_position"], p["gas_temperature_c"], "r-", label="gas")
-    for ph, st in (("bed", "k-"), ("passive", "b-"), ("active", "c--")):
-        m = kinds == ph
-        if not np.any(m):
-            continue
-        if ph == "bed":  # one line per unflighted section
-            first = np.unique(sec_of[m])[0]
-            for sec in np.unique(sec_of[m]):
-                mm = m & (sec_of == sec)
-                label = "solids (unflighted bed)" if sec == first else None
-                a1.plot(p["position"][mm], p["solids_temperature_c"][mm], st, label=label)
-                a2.plot(p["position"][mm], p["moisture_wet"][mm], st, label=label)
-        else:
-            a1.plot(p["position"][m], p["solids_temperature_c"][m], st, label=f"solids ({ph})")
-            a2.plot(p["position"][m], p["moisture_wet"][m], st, label=f"solids ({ph})")
-    a1.set_ylabel("temperature (°C)")
-    if title:
-        a1.set_title(title)
-    a1.legend(fontsize=8)
-    a2.set_ylabel("solids moisture (kg/kg wet)")
-    ax2 = a2.twinx()
-    ax2.plot(p["gas_position"], p["gas_humidity"], "r:", label="gas humidity")
-    ax2.set_ylabel("gas humidity (kg/kg dry gas)", color="r")
-    a2.set_xlabel("axial position (m)")
-    a2.legend(fontsize=8, loc="upper center")
-    x0 = 0.0
-    for name, length in sections:
-        for a in (a1, a2):
-            a.axvline(x0, color="0.8", lw=0.8)
-        a1.text(x0 + 0.1, a1.get_ylim()[1] * 0.95, str(name), fontsize=9)
-        x0 += float(length)
-    fig.tight_layout()
-    return fig
-
-
 def thermal_profiles_from_results(results) -> dict:
     """The ``profiles`` arrays of :func:`plot_thermal_profiles` from a
     :class:`rotarydryer.results.Results` with thermal datasets."""
@@ -268,14 +218,3 @@ def thermal_profiles_from_results(results) -> dict:
                 solids_temperature_c=sol.temperature.values, moisture_wet=sol.moisture.values,
                 gas_position=gas.position.values, gas_temperature_c=gas.temperature.values,
                 gas_humidity=gas.humidity.values)
-
-
-def plot_thermal_steady_state(steady):
-    """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along
-    the dryer for a :class:`rotarydryer.thermal.dryer.ThermalSteadyState`
-    (:func:`plot_thermal_profiles` of ``steady.profiles()``, titled with the product state and
-    with the section boundaries). Moved from ``rotarydryer.thermal.studies.plot_profiles``."""
-    title = (f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
-             f"{steady.product_temperature_c:.1f} °C; gas out {steady.gas_outlet_temperature_c:.0f} °C")
-    return plot_thermal_profiles(steady.profiles(), title=title,
-                                 sections=[(sd["name"], sd["length"]) for sd in steady.dryer.model.sections])

@@ -51,8 +51,6 @@ MAX_SAMPLES = 65536
 MAX_RUNS = 1_000_000
 #: confidence level of the bootstrap intervals
 CONF_LEVEL = 0.95
-#: pseudo-time step of a warm start (the start is near the solution: Newton almost at once)
-WARM_DT0 = 1e3
 #: states remembered per chunk for warm starts
 WARM_MEMORY = 64
 
@@ -176,39 +174,12 @@ def _check_case(case, base: dict, params: dict) -> None:
 
 
 def _steady_summary(case, overrides: dict, warm=None):
-    """``(summary dict, warm-start data or None)`` of one run. ``warm`` (the data of a nearby run:
-    coupled state, transport masses, shell temperatures) starts the coupled solve, the transport
-    steady state of the feasibility checks and the first shell solve when it fits (the case's own
-    cold start otherwise, or when the warm start does not converge): the same steady state."""
-    from ..simulation import Simulation, SteadyResult
+    """``(summary dict, warm-start data or None)`` of one run, started from ``warm`` (the data of
+    a nearby run, :meth:`rotarydryer.simulation.Simulation.steady_state`): the same steady state."""
+    from ..simulation import Simulation
 
-    warm = warm or {}
-    sim = Simulation(case, overrides)
-    net = sim.transport_model().network
-    masses = warm.get("masses")
-    if masses is not None and np.shape(masses) == (net.n,):
-        net.initial_guess = masses        # Newton from a nearby run's masses: the same steady state
-    state = warm.get("state")
-    if state is not None and sim.thermal_enabled:
-        transport = sim.transport_steady_state()            # feasibility checks, as steady_state() does
-        d = sim.thermal_dryer()
-        if np.shape(state) == (d.n,):
-            shell = warm.get("shell")
-            if shell is not None and np.shape(shell) == (d.n_gas,):
-                d._shell_outer = np.array(shell)    # Newton's start of the first shell solve
-            try:
-                th = d.steady_state(z0=state, dt0=WARM_DT0, factorization=warm.get("factorization"))
-            except ValueError:                 # DryerError: try the case's own cold start
-                th = None
-            if th is not None:
-                return SteadyResult(sim, None, th).summary(), dict(state=th.state, masses=transport.masses,
-                                                                   shell=d._shell_outer,
-                                                                   factorization=th.factorization)
-    res = sim.steady_state()
-    if res.thermal is None:
-        return res.summary(), None
-    return res.summary(), dict(state=res.thermal.state, masses=sim.transport_steady_state().masses,
-                               shell=res.thermal.dryer._shell_outer, factorization=res.thermal.factorization)
+    res = Simulation(case, overrides).steady_state(warm=warm)
+    return res.summary(), res.warm_data()
 
 
 def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Sequence[str],

@@ -73,7 +73,8 @@ from ..properties import humid_air as ha
 from . import balances as bal
 from . import radiation as rad
 from .burner import Burner
-from .drying import DryingKinetics
+from ..properties.drying import DryingKinetics
+from ..transport.results import SteadyState
 from .shell import _shell_loss_compiled, ajayi2011_heat_loss, shell_heat_loss
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
@@ -1160,6 +1161,34 @@ class ThermalSteadyState:
     def total_holdup(self):
         return float(np.sum(self.holdup))
 
+    def transport_state(self):
+        """This state as a transport steady state (:class:`CoupledTransportState`) on the
+        heat-and-mass model's network: the coupled holdups and flows, the design loads and per-cell
+        coefficients at the computed moisture. Its totals, section holdups, cell table and tracer
+        moments are this state's, so every view (``simulate --json`` ``sections``/``cells``, the
+        holdup plot, Results, the report) shows one number per quantity."""
+        if getattr(self, "_transport_state", None) is None:
+            from ..transport.sections import cell_info_at
+
+            dr, d = self.dryer, self.terms
+            model = dr.model
+            m = d["S"] + d["W"]
+            flows = np.split(np.asarray(d["F"], dtype=float), np.cumsum([f.src.size for f in dr.families])[:-1])
+            design = np.array(model.design_load, dtype=float)
+            per_node = {k: np.full(m.size, np.nan) for k in model.cell_info}
+            passive, _ = dr._passive(d["W"], m, dr.laws)
+            for law, (_, xp) in zip(dr.laws, passive):
+                des, info = cell_info_at(law, xp)
+                design[law.P] = des
+                for k in per_node:
+                    if k in info:
+                        per_node[k][law.P] = info[k]
+            p = np.asarray(model.network.labels["phase"]) == "passive"
+            cell_info = {k: v[p] for k, v in per_node.items()}
+            self._transport_state = CoupledTransportState(self, model, m, flows=flows, design_load=design,
+                                                          cell_info=cell_info)
+        return self._transport_state
+
     def tracer_system(self):
         """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
         so RTD moments agree with the holdups of this state."""
@@ -1288,6 +1317,26 @@ class ThermalSteadyState:
                 out["fuel_rate_kg_s"] = None
                 out["fuel_rate_error"] = str(exc)
         return out
+
+
+class CoupledTransportState(SteadyState):
+    """A coupled steady state seen as a transport :class:`~rotarydryer.transport.results.SteadyState`
+    (:meth:`ThermalSteadyState.transport_state`): wet-solids holdups and flows of the heat-and-mass
+    model, its tracer system, and the mass balance with the evaporation."""
+
+    def __init__(self, thermal: "ThermalSteadyState", model, masses, **kw):
+        super().__init__(model, masses, **kw)
+        self.thermal = thermal
+
+    @property
+    def mass_balance_error(self) -> float:
+        """|feed - product - evaporation| / feed (-), wet solids."""
+        th = self.thermal
+        F = th.dryer.feed_rate
+        return abs(F - float(th.product_rate) - th.evaporation_rate) / F
+
+    def tracer_system(self):
+        return self.thermal.tracer_system()
 
 
 class DynamicResult:

@@ -53,7 +53,7 @@ def cell_flows(ss, section=None) -> dict:
     out["kiln_kg_s"] = out["kiln_kg_s"] + out.pop("passive_forward_kg_s")
     back_next = np.r_[out["backmix_kg_s"][1:], 0.0]
     out["net_curtain_kg_s"] = out["forward_kg_s"] - back_next
-    mp, des = ss.masses[passive], ss.model.design_load[passive]
+    mp, des = ss.masses[passive], ss.design_load[passive]
     out.update(passive_kg=mp, active_kg=ss.masses[active], design_load_kg=des,
                kiln_bed_kg=np.maximum(mp - des, 0.0),
                passive_time_s=np.minimum(mp, des) / np.maximum(out["discharge_kg_s"], 1e-300))
@@ -65,6 +65,6 @@ def holdup_parts(ss) -> dict:
     ``kiln_bed_kg`` (sum of the excess over the design load), ``curtain_kg`` (active phases),
     ``bed_kg`` (unflighted sections) and ``total_kg``."""
     p = ss.phase == "passive"
-    mp, des = ss.masses[p], np.nan_to_num(ss.model.design_load[p], nan=np.inf)
+    mp, des = ss.masses[p], np.nan_to_num(ss.design_load[p], nan=np.inf)
     return dict(flights_kg=float(np.sum(np.minimum(mp, des))), kiln_bed_kg=float(np.sum(np.maximum(mp - des, 0.0))),
                 curtain_kg=ss.active_holdup, bed_kg=ss.bed_holdup, total_kg=ss.total_holdup)

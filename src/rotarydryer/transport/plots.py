@@ -18,14 +18,15 @@ from .._plotting import pyplot as _plt
 __all__ = ["plot_holdup_profile", "plot_rtd", "plot_measured_rtd", "holdup_profile_figure", "rtd_figure"]
 
 
-def plot_holdup_profile(steady, ax=None):
+def plot_holdup_profile(steady, ax=None, name=None):
     """Holdup per metre (kg/m) along the dryer of a steady state: airborne (curtain),
-    flight-borne (up to the design load), kilning bed and unflighted bed.  Returns the figure."""
+    flight-borne (up to the design load), kilning bed and unflighted bed; ``name`` (default the
+    model's) heads the title, with the state's total holdup.  Returns the figure."""
     m = steady.model
     sections = [(s["name"], s["kind"], s["length"], s["n_cells"]) for s in m.sections]
     return holdup_profile_figure(sections, steady.position, steady.phase, steady.section, steady.masses,
-                                 m.design_load, total_kg=steady.total_holdup,
-                                 holdup_over_flow_s=steady.mean_residence_time, name=m.name, ax=ax)
+                                 getattr(steady, "design_load", m.design_load), total_kg=steady.total_holdup,
+                                 holdup_over_flow_s=steady.mean_residence_time, name=name or m.name, ax=ax)
 
 
 def plot_rtd(rtd, measured=None, ax=None, label="model", baseline=0.0):

@@ -105,11 +105,16 @@ class TransportModel:
 class SteadyState:
     """Steady-state holdups and flows of a :class:`TransportModel`."""
 
-    def __init__(self, model: TransportModel, masses: np.ndarray):
+    def __init__(self, model: TransportModel, masses: np.ndarray, *, flows=None, design_load=None, cell_info=None):
         self.model = model
         self.masses = masses
         net = model.network
-        self.flows = net.family_flows(masses)
+        #: edge flows per family (kg/s); a coupled state (heat and mass) passes its own
+        self.flows = net.family_flows(masses) if flows is None else flows
+        #: design load per node (kg, NaN off the passive nodes) and per-cell coefficients of this state:
+        #: the model's (assumed moisture) unless a coupled state passes those at its computed moisture
+        self.design_load = np.asarray(model.design_load if design_load is None else design_load, dtype=float)
+        self.cell_info = model.cell_info if cell_info is None else cell_info
         lab = net.labels
         self.phase = np.asarray(lab["phase"])
         self.section = np.asarray(lab["section"])
@@ -144,7 +149,7 @@ class SteadyState:
     def kiln_bed(self) -> np.ndarray:
         """Per passive node: mass above the design load (kilning bed), kg."""
         p = self.phase == "passive"
-        des = self.model.design_load[p]
+        des = self.design_load[p]
         return np.where(np.isfinite(des), np.maximum(self.masses[p] - np.nan_to_num(des, nan=np.inf), 0.0), 0.0)
 
     @property
@@ -155,7 +160,7 @@ class SteadyState:
     def dryer_loading(self) -> np.ndarray:
         """d_load = M_P / M_P,des per passive node (-), Lee (2008) Section 4.4.2."""
         p = self.phase == "passive"
-        return self.masses[p] / self.model.design_load[p]
+        return self.masses[p] / self.design_load[p]
 
     @property
     def loading_state(self) -> list:
@@ -250,22 +255,44 @@ class SteadyState:
         return res
 
     def cell_table(self) -> list:
-        """One dict per cell of flighted sections: position, masses, design load, state, repose angle."""
-        p = np.where(self.phase == "passive")[0]
+        """One dict per cell, in node order along the dryer: every cell of the flighted sections
+        (position, passive and active masses, design load, loading state, repose angle and the
+        per-cell coefficients) and every finite volume of the unflighted ones (``kind`` =
+        "unflighted": its rolling-bed mass, NaN for the flight quantities). ``holdup_kg`` is the
+        cell's whole holdup, so the rows add up to :attr:`total_holdup`."""
         a_of = {(s, c): i for i, (s, c, ph) in enumerate(zip(self.section, self.cell, self.phase)) if ph == "active"}
-        info = self.model.cell_info
+        info = self.cell_info
         kiln, loading, state = self.kiln_bed, self.dryer_loading, self.loading_state  # once, not per row
+        j_of = {int(i): j for j, i in enumerate(np.where(self.phase == "passive")[0])}
+        whole: dict = {}     # every node of a cell (passive, active, a stagnant core's layers)
+        for sec, c, mass in zip(self.section, self.cell, self.masses):
+            whole[(sec, c)] = whole.get((sec, c), 0.0) + float(mass)
         rows = []
-        for j, i in enumerate(p):
+        nan = float("nan")
+        for i in np.where((self.phase == "passive") | (self.phase == "bed"))[0]:
             key = (self.section[i], self.cell[i])
+            j = j_of.get(int(i))
+            if j is None:       # a finite volume of an unflighted section
+                row = {"section": str(self.section[i]), "cell": int(self.cell[i]), "kind": "unflighted",
+                       "position_m": float(self.position[i]), "passive_kg": 0.0, "active_kg": 0.0,
+                       "bed_kg": float(self.masses[i]), "holdup_kg": whole[key],
+                       "design_load_kg": nan, "kiln_bed_kg": 0.0, "dryer_loading": nan, "state": "unflighted"}
+                for k in info:
+                    row[k] = nan
+                rows.append(row)
+                continue
             ai = a_of.get(key)
+            active = float(self.masses[ai]) if ai is not None else 0.0
             row = {
                 "section": str(self.section[i]),
                 "cell": int(self.cell[i]),
+                "kind": "flighted",
                 "position_m": float(self.position[i]),
                 "passive_kg": float(self.masses[i]),
-                "active_kg": float(self.masses[ai]) if ai is not None else 0.0,
-                "design_load_kg": float(self.model.design_load[i]),
+                "active_kg": active,
+                "bed_kg": 0.0,
+                "holdup_kg": whole[key],
+                "design_load_kg": float(self.design_load[i]),
                 "kiln_bed_kg": float(kiln[j]),
                 "dryer_loading": float(loading[j]),
                 "state": state[j],

@@ -1,0 +1,36 @@
+"""Sweep grids: the cartesian product of ``KEY=V1,V2`` options and the ceiling on runs (no model
+imports, so the command line loads it at start-up)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+__all__ = ["MAX_POINTS", "check_points", "parse_grid"]
+
+#: most runs one sweep may ask for (a grid or list above it is refused before anything runs)
+MAX_POINTS = 10000
+
+
+def check_points(n: int, what: str):
+    """Refuse a sweep of more than :data:`MAX_POINTS` runs (``what`` names the option)."""
+    if n > MAX_POINTS:
+        raise ValueError(f"{what} has {n} runs; the limit is {MAX_POINTS} per sweep (split it, or run "
+                         "a global sensitivity study with fewer points)")
+
+
+def parse_grid(items) -> list[dict]:
+    """``["operating.rpm=2,3", "drum.slope=2,4"]`` -> the cartesian product as override dicts
+    (at most :data:`MAX_POINTS`)."""
+    keys, values = [], []
+    for item in items or []:
+        if "=" not in item:
+            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,..., e.g. operating.rpm=2,3,4")
+        k, v = item.split("=", 1)
+        vals = [x.strip() for x in v.split(",") if x.strip()]
+        if not vals:
+            raise ValueError(f"--grid {item!r}: no values")
+        keys.append(k.strip())
+        values.append(vals)
+        check_points(math.prod(len(v) for v in values), "--grid")
+    return [dict(zip(keys, combo)) for combo in itertools.product(*values)] if keys else []
