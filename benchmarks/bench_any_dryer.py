@@ -3,10 +3,9 @@
 
 
 import numpy as np
+from _timing import best  # noqa: E402
 
 from rotarydryer import Simulation
-
-from _timing import best  # noqa: E402
 
 CASES = [("ajayi2011_mmg", {"operating.test": 4}), ("ajayi2011_mmg", {"operating.test": 4, "thermal.mode": "ajayi2011"}),
          ("lee2008_invicta", {}), ("song2003_ottawa", {})]

@@ -7,12 +7,11 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from _timing import best  # noqa: E402
 
 from rotarydryer.dem.deck import Particles, build_slice, export_deck
 from rotarydryer.dem.dumps import read_dump
 from rotarydryer.geometry.presets import preset_drum
-
-from _timing import best  # noqa: E402
 
 
 def profile_ratio(rounds=15, n=20):

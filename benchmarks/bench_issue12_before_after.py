@@ -4,8 +4,10 @@
 Run: git worktree add /tmp/oldtree 92b2a6a && python benchmarks/bench_issue12_before_after.py /tmp/oldtree/src
 """
 import json
+import os
 import subprocess
 import sys
+
 code = r'''
 import time, json, numpy as np, sys
 from rotarydryer.cases import load_case
@@ -28,13 +30,14 @@ for mode in ("physical", "ajayi2011"):
 print(json.dumps(out))
 '''
 res = {}
-import os
+
 here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src")
 old = sys.argv[1] if len(sys.argv) > 1 else "/tmp/oldtree/src"
 for label, path in (("before", old), ("after", here)):
     r = subprocess.run([sys.executable, "-c", code], env={**os.environ, "PYTHONPATH": path}, capture_output=True,
                        text=True)
     if r.returncode:
-        print(label, r.stderr[-2000:]); continue
+        print(label, r.stderr[-2000:])
+        continue
     res[label] = json.loads(r.stdout.strip().splitlines()[-1])
 print(json.dumps(res, indent=1))

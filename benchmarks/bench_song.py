@@ -10,9 +10,9 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
-from rotarydryer.studies import song_pilot as sp  # noqa: E402
-
 from _timing import best  # noqa: E402
+
+from rotarydryer.studies import song_pilot as sp  # noqa: E402
 
 BEST = sp.Coefficients(*sp.SONG_PILOT_FITS["all"])
 

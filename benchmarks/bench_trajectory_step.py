@@ -15,12 +15,11 @@ import time
 import warnings
 
 import numpy as np
+from _timing import best  # noqa: E402
 
 from rotarydryer.cases import build_model, load_case
 from rotarydryer.correlations import cascade_trajectory
 from rotarydryer.transport.forward_step import forward_step_table, trajectory_forward_step
-
-from _timing import best  # noqa: E402
 
 warnings.simplefilter("ignore")
 # N = 35 with the trajectory step needs C_B = 0 (with Lee's 0.68 the step does not fit the cell)

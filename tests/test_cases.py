@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from rotarydryer.cases import build_model, list_cases, load_case, measured_rtd, valid_override_keys, LeeCase
+from rotarydryer.cases import LeeCase, build_model, list_cases, load_case, measured_rtd, valid_override_keys
 
 REQUIRED_LEE_KEYS = ["transport.n_cells", "transport.kiln_time", "transport.backmix",
                      "transport.drag_reduction", "geometry.method"]

@@ -13,9 +13,6 @@ from rotarydryer.geometry.lee2008_regressions import (
 )
 from rotarydryer.published import read_published_csv as _csv
 
-
-
-
 TABLE_7_6 = _csv("lee_response_angle_of_repose_cycle_times.csv")
 GEOM = Lee2008Regressions()
 

@@ -1,7 +1,6 @@
 """Sparse finite-difference Jacobians with column grouping (rotarydryer._sparse_fd)."""
 
 import numpy as np
-import pytest
 import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -116,6 +115,7 @@ def test_dryer_jacobian_matches_dense_differences():
     step = np.maximum(np.abs(z) * 1e-7, d._scale() * 1e-8)
     cols = np.random.default_rng(0).choice(d.n, 25, replace=False)
     for j in cols:
-        z1 = z.copy(); z1[j] += step[j]
+        z1 = z.copy()
+        z1[j] += step[j]
         dense = (d.rhs(0.0, z1) - f0) / (z1[j] - z[j])
         np.testing.assert_allclose(jac[:, j], dense, rtol=1e-9, atol=1e-9 * np.abs(dense).max())

@@ -59,8 +59,6 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
-import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -119,7 +117,7 @@ def _jsonable(obj: Any) -> Any:
 
 
 def _utcnow() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    return _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
 
 
 def _xr():
@@ -220,7 +218,7 @@ class Results:
         }
 
     # -- comparison ---------------------------------------------------------------------
-    def identical(self, other: "Results") -> bool:
+    def identical(self, other: Results) -> bool:
         """True when metadata and every dataset (values, dims, coords, attrs) are identical
         (NaN equals NaN, floats compared exactly)."""
         if not isinstance(other, Results):
@@ -302,7 +300,7 @@ class Results:
         return path
 
     @classmethod
-    def load(cls, path) -> "Results":
+    def load(cls, path) -> Results:
         """Read a file written by :meth:`save`."""
         xr = _xr()
         path = Path(path)
@@ -594,7 +592,7 @@ def __getattr__(name):
 
         warnings.warn("rotarydryer.results.run_case is deprecated: use rotarydryer.simulation.run_case "
                       "or Simulation(case, overrides).results()", DeprecationWarning, stacklevel=2)
-        from .simulation import run_case     # the one upward import, listed in tests/test_layering.py
+        from .simulation import run_case  # the one upward import, listed in tests/test_layering.py
 
         return run_case
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

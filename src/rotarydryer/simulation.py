@@ -247,7 +247,7 @@ class Simulation:
         (``"lee2008_invicta"``); keyword arguments as
         :func:`rotarydryer.estimation.cases.fit_case_to_tracer`, starting from this Simulation's
         overrides (``base_overrides`` adds to them). Returns its ``CaseFit``."""
-        from .estimation.cases import fit_case_to_tracer      # estimation builds on Simulation
+        from .estimation.cases import fit_case_to_tracer  # estimation builds on Simulation
         from .rtd import load_tracer_dataset
 
         if isinstance(dataset, str):

@@ -11,6 +11,7 @@ pytest.importorskip("streamlit")
 
 
 from rotarydryer.app import logic_control, logic_design  # noqa: E402
+
 from .apptest_support import open_app  # noqa: E402
 
 runner = CliRunner()

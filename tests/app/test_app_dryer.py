@@ -10,8 +10,10 @@ pytest.importorskip("xarray")
 
 
 from rotarydryer.app import logic, logic_dryer  # noqa: E402
-from .apptest_support import metric_number as _metric, open_app  # noqa: E402
 from rotarydryer.simulation import Simulation  # noqa: E402
+
+from .apptest_support import metric_number as _metric  # noqa: E402
+from .apptest_support import open_app
 
 
 @pytest.fixture(scope="module")

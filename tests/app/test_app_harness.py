@@ -13,7 +13,10 @@ pytest.importorskip("xarray")
 
 
 from rotarydryer.app import logic  # noqa: E402
-from .apptest_support import image_urls as _img_urls, metric_number as _metric, open_app  # noqa: E402
+
+from .apptest_support import image_urls as _img_urls  # noqa: E402
+from .apptest_support import metric_number as _metric
+from .apptest_support import open_app
 
 runner = CliRunner()
 

@@ -13,6 +13,7 @@ pytest.importorskip("streamlit")
 
 
 from rotarydryer.app import logic_lab  # noqa: E402
+
 from .apptest_support import open_app  # noqa: E402
 
 runner = CliRunner()

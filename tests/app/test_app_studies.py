@@ -14,8 +14,10 @@ pytest.importorskip("SALib")
 
 
 from rotarydryer.app import logic, logic_studies  # noqa: E402
-from .apptest_support import image_urls as _img_urls, open_app  # noqa: E402
 from rotarydryer.simulation import Simulation  # noqa: E402
+
+from .apptest_support import image_urls as _img_urls  # noqa: E402
+from .apptest_support import open_app
 
 
 def test_whatif_points_are_the_library_steady_states():

@@ -14,8 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from rotarydryer._io import (OutputError, atomic_output, json_text, save_figure, write_bytes_atomic,
-                             write_text_atomic)
+from rotarydryer._io import OutputError, atomic_output, json_text, save_figure, write_bytes_atomic, write_text_atomic
 
 from .conftest import assert_bad, run_cli, snapshot
 
@@ -250,7 +249,7 @@ def test_full_disk_netcdf_is_refused_without_a_crash(small_disk):
     not a crash (h5py on a full disk can kill the process); the previous file stays, no temporary."""
     prev = small_disk / "old.nc"
     code = ("from rotarydryer.simulation import run_case; run_case('song2003_ottawa', "
-            "{'thermal.enabled': False}).save(%r)" % str(prev))
+            f"{{'thermal.enabled': False}}).save({str(prev)!r})")
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
     before = prev.read_bytes()
     _fill(small_disk, 16384)

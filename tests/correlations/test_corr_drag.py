@@ -148,9 +148,9 @@ def test_drag_monotonicity(re, factor, phi):
 def test_iteration_kernel_is_the_public_formula(method, kwargs):
     """The unchecked kernel used inside iterations (terminal velocity, trajectory) gives the
     public drag_coefficient bit for bit, and rejects the same bad parameters."""
-    from rotarydryer.correlations.drag import _drag_kernel
-
     import warnings
+
+    from rotarydryer.correlations.drag import _drag_kernel
 
     re = np.geomspace(1e-3, 1e5, 97)
     with warnings.catch_warnings():

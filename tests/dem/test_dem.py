@@ -16,7 +16,7 @@ import pytest
 
 from rotarydryer.dem.deck import Particles, build_slice, export_deck, flight_facets, shell_facets
 from rotarydryer.dem.dumps import read_dump
-from rotarydryer.dem.holdup import analyse_frames, analyse_run, compare, read_reduced_csv, write_reduced_csv
+from rotarydryer.dem.holdup import analyse_run, compare, read_reduced_csv, write_reduced_csv
 from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
 from rotarydryer.geometry import drum as drum_mod
 from rotarydryer.geometry.presets import preset_drum
@@ -260,10 +260,10 @@ def test_shipped_campaign_reads_and_held_out_acceptance():
 # ------------------------------------------------------------------ LIGGGHTS smoke test
 def test_liggghts_smoke(tmp_path):
     """export -> run -> holdup of a tiny deck (a few hundred particles), through the CLI."""
-    from rotarydryer.dem.run import find_liggghts
     from typer.testing import CliRunner
 
     from rotarydryer.cli import app
+    from rotarydryer.dem.run import find_liggghts
 
     if find_liggghts() is None:
         pytest.skip("LIGGGHTS is not installed (apt-get install liggghts); .ci/run installs it")

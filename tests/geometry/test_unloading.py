@@ -5,7 +5,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-
 from rotarydryer.geometry.unloading import GRAVITY, fall_height, first_unloading_angle
 
 

@@ -14,7 +14,8 @@ import math
 
 import pytest
 
-from rotarydryer.properties import combustion, humid_air as ha, water
+from rotarydryer.properties import combustion, water
+from rotarydryer.properties import humid_air as ha
 
 CP = pytest.importorskip("CoolProp.CoolProp")
 HA = pytest.importorskip("CoolProp.HumidAirProp")

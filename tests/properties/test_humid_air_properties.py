@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rotarydryer.properties import combustion, humid_air as ha, water
+from rotarydryer.properties import combustion, water
+from rotarydryer.properties import humid_air as ha
 
 
 @pytest.mark.parametrize("module", [ha, water, combustion], ids=lambda m: m.__name__)

@@ -9,7 +9,6 @@ from hypothesis import strategies as st
 
 from rotarydryer.properties import bulk_density, lee2008_moisture_profile, repose_angle
 from rotarydryer.properties.solids import PropertyRangeWarning
-
 from rotarydryer.published import read_published_csv as read_csv
 
 

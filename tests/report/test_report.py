@@ -110,7 +110,7 @@ def test_report_cli_bad_input(cli, tmp_path, args, expect):
 
 def test_repose_angle_checked_before_the_case_runs_and_applied_to_every_section(monkeypatch):
     """--repose-angle is handled in one place (resolve_source), for the CLI and build_report."""
-    import rotarydryer.simulation as results_module     # the assembler: run_case lives there
+    import rotarydryer.simulation as results_module  # the assembler: run_case lives there
     from rotarydryer.report.html import resolve_source
 
     def _no_run(*args, **kwargs):

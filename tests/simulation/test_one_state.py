@@ -141,3 +141,16 @@ def test_the_dryer_is_built_once(monkeypatch):
         warnings.simplefilter("ignore")
         sim.results(rtd=False)
     assert len(built) == 1
+
+
+def test_temperatures_end_in_degC_and_the_old_names_warn():
+    sim = Simulation("song2003_ottawa")
+    th = sim.steady_state().thermal
+    dyn = sim.dynamics(t_end=120.0, dt=60.0)
+    for obj, name in ((th, "product_temperature"), (th, "gas_outlet_temperature"), (th, "solids_temperature"),
+                      (dyn, "product_temperature"), (dyn, "gas_outlet_temperature")):
+        new = getattr(obj, f"{name}_degC")
+        with pytest.warns(DeprecationWarning, match=f"use .{name}_degC"):
+            old = getattr(obj, f"{name}_c")
+        assert np.array_equal(old, new)
+    assert dyn.to_dataframe()["gas_outlet_temperature_degC"].iloc[-1] == dyn.gas_outlet_temperature_degC[-1]

@@ -10,8 +10,7 @@ import pytest
 
 pytest.importorskip("SALib")
 
-from rotarydryer.studies.sensitivity import (OUTPUTS, plot_sensitivity, require_salib,  # noqa: E402
-                                             saltelli_design, sobol_study)
+from rotarydryer.studies.sensitivity import OUTPUTS, plot_sensitivity, require_salib, saltelli_design, sobol_study  # noqa: E402
 
 PI = np.pi
 ISHIGAMI = {"x1": (-PI, PI), "x2": (-PI, PI), "x3": (-PI, PI)}

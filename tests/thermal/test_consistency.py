@@ -6,9 +6,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rotarydryer.cases import load_case
-from rotarydryer.thermal.consistency import (balance_gas_outlet_temperature, implied_gas_flow,
-                                             max_gas_outlet_temperature, measured_balances, pi_test_conditions)
 from rotarydryer.simulation import build_thermal_dryer
+from rotarydryer.thermal.consistency import (
+    balance_gas_outlet_temperature,
+    implied_gas_flow,
+    max_gas_outlet_temperature,
+    measured_balances,
+    pi_test_conditions,
+)
 
 Y_IN = 0.0193 / (1 - 0.0193)          # Ajayi l.3227
 
@@ -37,9 +42,9 @@ def test_model_steady_state_obeys_its_overall_balance(model):
     """The coupled model's Test 4 outlets, put through the outlet balance, give back its gas flow."""
     ss = model[4]
     c = pi_test_conditions(4)
-    g = implied_gas_flow(ss.dryer.settings.gas_inlet_temperature, Y_IN, ss.gas_outlet_temperature_c,
+    g = implied_gas_flow(ss.dryer.settings.gas_inlet_temperature, Y_IN, ss.gas_outlet_temperature_degC,
                          ss.dryer.feed_rate, ss.dryer.feed_moisture, ss.product_moisture, 28.0,
-                         ss.product_temperature_c, heat_loss=ss.shell_heat_loss_w)
+                         ss.product_temperature_degC, heat_loss=ss.shell_heat_loss_w)
     assert g == pytest.approx(ss.dryer.settings.gas_flow, rel=0.01)
     assert c["gas_out_c"] == 131.0
 
@@ -49,7 +54,7 @@ def test_test6_needs_more_gas_than_test4(model):
     ~22 % more gas than Test 4; the tests' gas flows differ (Ajayi used one value for all)."""
     tests = (4, 6)
     b = measured_balances(tests, heat_loss=[model[t].shell_heat_loss_w for t in tests],
-                          product_c=[model[t].product_temperature_c for t in tests])
+                          product_c=[model[t].product_temperature_degC for t in tests])
     g4, g6 = b[0].gas_flow_at_product_c, b[1].gas_flow_at_product_c
     assert g4 == pytest.approx(model[4].dryer.settings.gas_flow, rel=0.02)   # the tuned value
     assert 1.15 < g6 / g4 < 1.30
@@ -66,8 +71,8 @@ def test_test6_gas_outlet_bound_at_test4_gas_flow(model):
                                        heat_loss=ss.shell_heat_loss_w)
     assert 125.0 < bound["gas_out_c"] < 133.0
     # the coupled model sits below the bound: it is wetter-bulbed than the dew point
-    assert ss.gas_outlet_temperature_c < bound["gas_out_c"]
-    assert ss.product_temperature_c > bound["product_c"]
+    assert ss.gas_outlet_temperature_degC < bound["gas_out_c"]
+    assert ss.product_temperature_degC > bound["product_c"]
 
 
 def test_measured_product_temperature_below_exhaust_dew_point():
@@ -101,12 +106,12 @@ def test_test6_with_its_balance_implied_gas_flow(model):
     flow uses the measured outlets), the Test-4-tuned model predicts Test 6 within Ajayi's accuracy."""
     ss6 = model[6]
     g6 = measured_balances((6,), heat_loss=ss6.shell_heat_loss_w,
-                           product_c=ss6.product_temperature_c)[0].gas_flow_at_product_c
+                           product_c=ss6.product_temperature_degC)[0].gas_flow_at_product_c
     ss = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 6, "thermal.gas_flow": g6, "geometry.method": "ajayi2011_regressions"})).steady_state()
     c = pi_test_conditions(6)
     assert abs(ss.product_moisture - c["moisture_out"]) <= 0.007
-    assert abs(ss.gas_outlet_temperature_c - c["gas_out_c"]) <= 20.0
-    assert ss.gas_outlet_temperature_c > ss6.gas_outlet_temperature_c + 5.0
+    assert abs(ss.gas_outlet_temperature_degC - c["gas_out_c"]) <= 20.0
+    assert ss.gas_outlet_temperature_degC > ss6.gas_outlet_temperature_degC + 5.0
 
 
 def test_a_tests_own_gas_flow_replaces_the_default(tmp_path):

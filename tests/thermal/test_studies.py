@@ -7,8 +7,8 @@ from hypothesis import strategies as st
 
 from rotarydryer.cases import load_case
 from rotarydryer.published import read_published_csv
-from rotarydryer.thermal import studies
 from rotarydryer.simulation import build_thermal_dryer
+from rotarydryer.thermal import studies
 
 PUB = read_published_csv("ajayi_relative_indices_ch7.csv")
 

@@ -15,8 +15,12 @@ from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions
 from rotarydryer.transport import lee2008
 from rotarydryer.transport.diagnostics import cell_flows
-from rotarydryer.transport.forward_step import (CurtainGas, curtain_velocity_ratio, forward_step_table,
-                                                trajectory_forward_step)
+from rotarydryer.transport.forward_step import (
+    CurtainGas,
+    curtain_velocity_ratio,
+    forward_step_table,
+    trajectory_forward_step,
+)
 
 
 def sim(case="lee2008_invicta", **ov):

@@ -94,7 +94,7 @@ for _case in ("song2003_ottawa", "template"):
 IDS = [s.id for s in SETUPS]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _steady(case, items):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")          # critical-speed and correlation-range warnings

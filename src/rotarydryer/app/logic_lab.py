@@ -13,8 +13,15 @@ from __future__ import annotations
 
 import functools
 
-from ..services.lab import (check_rig_options, check_steps_options, design_load_fits, image_options,
-                            measure_image, rig_analysis, steps_analysis)
+from ..services.lab import (
+    check_rig_options,
+    check_steps_options,
+    design_load_fits,
+    image_options,
+    measure_image,
+    rig_analysis,
+    steps_analysis,
+)
 from .logic import MAX_UPLOAD_MB, check_upload_text, png
 
 __all__ = ["MAX_LAB_UPLOAD_BYTES", "MAX_LAB_ROWS", "MAX_LAB_IMAGE_PIXELS", "rig_example", "rig_view",

@@ -17,12 +17,10 @@ from __future__ import annotations
 import copy
 import re
 import tomllib
+from functools import lru_cache
 from importlib import resources
 from pathlib import Path
-from typing import Any, Literal, Optional
-
-from functools import lru_cache
-from typing import Annotated
+from typing import Annotated, Any, Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
@@ -71,7 +69,7 @@ def measured_files() -> tuple[str, ...]:
 
 
 def _dataset_names() -> list[str]:
-    from rotarydryer.data import tracer_dataset_names     # not via rotarydryer.rtd: 0.4-0.9 s of imports
+    from rotarydryer.data import tracer_dataset_names  # not via rotarydryer.rtd: 0.4-0.9 s of imports
 
     return tracer_dataset_names()
 
@@ -916,4 +914,4 @@ def measured_rtd_moments(case):
             "tail_truncated": m.tail_truncated}
 
 
-from .build import build_model, lee_parameters  # noqa: E402  (the builders read the classes above)
+from .build import build_model, lee_parameters  # noqa: E402, F401  (the builders read the classes above)

@@ -115,7 +115,24 @@ def _guard_all(typer_app):
 
 
 # Command modules (each registers its commands on ``app`` at import time).
-from . import balance, control, correlations, design, fmu, dem, fit, flight, lab, report, rtdfit, schema, sensitivity, simulate, sweep, webapp  # noqa: E402,F401,E501
+from . import (  # noqa: E402,F401,E501
+    balance,
+    control,
+    correlations,
+    dem,
+    design,
+    fit,
+    flight,
+    fmu,
+    lab,
+    report,
+    rtdfit,
+    schema,
+    sensitivity,
+    simulate,
+    sweep,
+    webapp,
+)
 
 _guard_all(app)
 

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 from ..services._options import check_option  # noqa: F401  (re-exported: the commands' range checks)
 
 
-def parse_sets(sets: Optional[List[str]]) -> dict:
+def parse_sets(sets: Optional[list[str]]) -> dict:
     """``["operating.rpm=4", ...]`` -> ``{"operating.rpm": "4"}``; the case model converts the
     values to their types and checks them."""
     out = {}

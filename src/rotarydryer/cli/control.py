@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -16,7 +16,7 @@ from ._common import check_out_dir, parse_sets
 @app.command("control")
 def control(
     case: str = typer.Argument(..., help="Case name (ajayi2011_mmg, ...) or a .toml file with a [gas] block."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. operating.test=4."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. operating.test=4."),
     scenario: str = typer.Option("feed_moisture_step", help="feed_moisture_step | feed_rate_step | fouling_ramp "
                                                               "| none."),
     magnitude: float = typer.Option(0.2, help="Disturbance: relative step (+0.2 = +20 %; feed moisture on the dry "

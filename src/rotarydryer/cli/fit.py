@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -16,8 +15,8 @@ from ._common import check_option, check_out_dir, load_tracer, parse_sets
 def fit_command(
     case: str = typer.Argument(..., help="Built-in case name or a case .toml file."),
     data: str = typer.Argument(..., help="Tracer CSV (time_s|time_min|time_h, signal) or a built-in data set name."),
-    param: List[str] = typer.Option(..., "--param", "-p", help="Override key to estimate (repeat)."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
+    param: list[str] = typer.Option(..., "--param", "-p", help="Override key to estimate (repeat)."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
     starts: int = typer.Option(2, help="Number of starts (the case values plus sampled ones)."),
     scale: str = typer.Option("known", help="'known': the signal is E(t); 'fit': raw concentration, unknown scale."),
     method: str = typer.Option("wls", help="wls | ml"),

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -15,7 +15,7 @@ from ._common import check_out_file, parse_sets
 def fmu_cmd(
     case: str = typer.Argument(..., help="Case name (ajayi2011_mmg, ...) or a .toml file with a [gas] block."),
     out: Path = typer.Option(Path("dryer.fmu"), "-o", "--out", help="FMU file to write (.fmu)."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. operating.test=4."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. operating.test=4."),
 ):
     """Export the case's dynamic coupled model as an FMI 2.0 co-simulation FMU (pythonfmu):
     inputs feed_rate, feed_moisture, gas_inlet_temperature, rpm; outputs product_moisture,
@@ -24,8 +24,8 @@ def fmu_cmd(
 
     Example: rotarydryer fmu ajayi2011_mmg --set operating.test=4 -o dryer.fmu
     """
-    from ..fmu import build_fmu
     from ..control import stderr_progress
+    from ..fmu import build_fmu
 
     check_out_file("-o", out, suffixes=("fmu",))
     if Path(out).suffix.lower() != ".fmu":

@@ -8,8 +8,15 @@ from typing import Optional
 
 import typer
 
-from ..services.lab import (check_rig_options, check_steps_options, design_load_fits, image_options,
-                            measure_image, rig_analysis, steps_analysis)
+from ..services.lab import (
+    check_rig_options,
+    check_steps_options,
+    design_load_fits,
+    image_options,
+    measure_image,
+    rig_analysis,
+    steps_analysis,
+)
 from . import app
 from ._common import check_option, check_out_dir, check_out_file
 

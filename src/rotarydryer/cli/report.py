@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import time
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -18,7 +18,7 @@ def report(
     source: str = typer.Argument(..., help="Saved results (.nc), case name (lee2008_invicta, ajayi2011_mmg), "
                                            "case .toml file, or drum preset (invicta, mmg_B, ...)."),
     out: Path = typer.Option(Path("report.html"), "--out", "-o", help="HTML file to write."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Case override KEY=VALUE, e.g. operating.rpm=4."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Case override KEY=VALUE, e.g. operating.rpm=4."),
     repose_angle: Optional[float] = typer.Option(None, help="Repose angle for the flight pictures, deg "
                                                            "(default: the case's mean per section; 45 for a drum)."),
     save: Optional[Path] = typer.Option(None, help="Also save the results (netCDF, .nc) when SOURCE is a case."),

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -36,11 +36,11 @@ def _text_table(res) -> str:
 @app.command("sensitivity")
 def sensitivity(
     case: str = typer.Argument(..., help="Case name or .toml file."),
-    param: Optional[List[str]] = typer.Option(None, "--param", help="Uncertain input KEY=LOW,HIGH (uniform); repeat."),
+    param: Optional[list[str]] = typer.Option(None, "--param", help="Uncertain input KEY=LOW,HIGH (uniform); repeat."),
     samples: str = typer.Option("64", "--samples", "-n", help="Base samples N (runs: N x (inputs + 2)); a power of 2."),
-    output: Optional[List[str]] = typer.Option(None, "--output", help="Output name (repeat); default: product "
+    output: Optional[list[str]] = typer.Option(None, "--output", help="Output name (repeat); default: product "
                                                "moisture, gas outlet temperature, fuel rate, mean residence time."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
     workers: int = typer.Option(1, help="Local worker processes (0: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Dask scheduler address, e.g. tcp://10.0.0.5:8786."),
     seed: int = typer.Option(0, help="Seed of the scrambled Sobol' sequence and the bootstrap."),

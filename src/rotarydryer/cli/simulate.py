@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -44,7 +43,7 @@ def _save_last_thermal_state(exc, out):
 @app.command("simulate")
 def simulate(
     case: str = typer.Argument(..., help="Case name (lee2008_invicta, ajayi2011_mmg) or a .toml file."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. transport.n_cells=33."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. transport.n_cells=33."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for steady_state.json and holdup_profile.png."),
 ):
@@ -82,11 +81,9 @@ def simulate(
     result.update({"case": case, "parameters": model.parameters})
     thermal_on = thermal is not None
     if out is not None:
-        from .._io import write_text_atomic
+        from .._io import save_figure, write_text_atomic
         from ..report.plots import plot_thermal_steady_state
         from ..transport.plots import plot_holdup_profile
-
-        from .._io import save_figure
 
         files = [out / "steady_state.json", out / "holdup_profile.png"]
         try:
@@ -143,7 +140,7 @@ def simulate(
 @app.command("rtd")
 def rtd(
     case: str = typer.Argument(..., help="Case name or .toml file."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for rtd.csv, rtd.json and rtd.png."),
     method: str = typer.Option("auto", help="Tracer integrator: auto | expm | bdf2 | ivp."),
@@ -182,13 +179,12 @@ def rtd(
         result["measured_baseline"] = mm["baseline"]
         result["measured_baseline_method"] = mm["baseline_method"]
     if out is not None:
-        import numpy as np
-
-        from ..transport.plots import plot_rtd
-
         import io
 
+        import numpy as np
+
         from .._io import save_figure, write_text_atomic
+        from ..transport.plots import plot_rtd
 
         r = res.response
         buf = io.StringIO()

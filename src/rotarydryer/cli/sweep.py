@@ -10,7 +10,7 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
-from typing import List, Optional
+from typing import Optional
 
 import typer
 
@@ -56,7 +56,7 @@ def _solve_point(case: str, overrides: dict, warm=None):
     loading counts. The tracer moments are the analytic ones of that state (what a simulated
     pulse's would tend to), so a point costs one transport and one coupled solve."""
     from .._threads import single_threaded
-    from ..simulation import Simulation       # the model stack: not at the CLI's start-up
+    from ..simulation import Simulation  # the model stack: not at the CLI's start-up
 
     row = dict(overrides)
     try:
@@ -131,9 +131,9 @@ def rows_to_csv(rows: list[dict]) -> str:
 @app.command("sweep")
 def sweep(
     case: str = typer.Argument(..., help="Case name or .toml file."),
-    grid: Optional[List[str]] = typer.Option(None, "--grid", help="KEY=V1,V2,...; several --grid: all combinations."),
+    grid: Optional[list[str]] = typer.Option(None, "--grid", help="KEY=V1,V2,...; several --grid: all combinations."),
     list_: Optional[Path] = typer.Option(None, "--list", help="CSV of runs: header = override keys, a row per run."),
-    set_: Optional[List[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
     workers: int = typer.Option(1, help="Local worker processes (0: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Dask scheduler address, e.g. tcp://10.0.0.5:8786."),
     rtd: bool = typer.Option(True, "--rtd/--no-rtd", help="Also simulate the tracer pulse (RTD SD, tracer mean)."),

@@ -39,6 +39,27 @@ class CorrelationRangeWarning(UserWarning):
 
 
 # Submodules import CorrelationRangeWarning from here, so it must be defined first.
+from .drag import (  # noqa: E402
+    drag_coefficient,
+    drag_coefficient_methods,
+    haider_levenspiel_1989,
+    lee_2008,
+    modified_schiller_naumann,
+    reynolds_number,
+    schiller_naumann_1933,
+    stokes_drag,
+    terminal_velocity,
+)
+from .heat_transfer import (  # noqa: E402
+    chilton_colburn_mass_transfer_coefficient,
+    heat_transfer_coefficient,
+    log_mean_temperature_difference,
+    nusselt_number,
+    nusselt_number_methods,
+    ua_from_drying_data,
+    volumetric_heat_transfer_coefficient,
+    volumetric_heat_transfer_coefficient_methods,
+)
 from .residence_time import (  # noqa: E402
     alvarez_shene_1994,
     foust_1960,
@@ -54,27 +75,6 @@ from .residence_time import (  # noqa: E402
     song_2003_appendix_a,
     sullivan_1927,
     sullivan_friedman_marshall_1949,
-)
-from .heat_transfer import (  # noqa: E402
-    chilton_colburn_mass_transfer_coefficient,
-    heat_transfer_coefficient,
-    log_mean_temperature_difference,
-    nusselt_number,
-    nusselt_number_methods,
-    ua_from_drying_data,
-    volumetric_heat_transfer_coefficient,
-    volumetric_heat_transfer_coefficient_methods,
-)
-from .drag import (  # noqa: E402
-    drag_coefficient,
-    drag_coefficient_methods,
-    haider_levenspiel_1989,
-    lee_2008,
-    modified_schiller_naumann,
-    reynolds_number,
-    schiller_naumann_1933,
-    stokes_drag,
-    terminal_velocity,
 )
 from .trajectory import (  # noqa: E402
     CascadeTrajectory,

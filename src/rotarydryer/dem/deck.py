@@ -190,7 +190,7 @@ class SliceDeck:
         return d
 
     @classmethod
-    def from_dict(cls, d: dict) -> "SliceDeck":
+    def from_dict(cls, d: dict) -> SliceDeck:
         if d.get("format") != DECK_FORMAT:
             raise ValueError(f"deck.json: format = {d.get('format')!r} is not {DECK_FORMAT!r} (not a deck written by "
                              "rotarydryer dem export)")

@@ -21,8 +21,8 @@ start of injection). A signal in 1/h is converted to 1/s; a raw concentration
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 

@@ -33,8 +33,8 @@ from __future__ import annotations
 import math
 import time
 import warnings
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Sequence
 
 import numpy as np
 from scipy import optimize, stats
@@ -677,7 +677,7 @@ def profile_likelihood(model, parameters, data, result: FitResult, name: str, *,
 
     for zg in np.clip(zc + np.linspace(-span, span, n_points) * sd_z, lo_b, hi_b):
         delta(zg)
-    for sign, bound in ((-1.0, lo_b), (1.0, hi_b)):
+    for sign, _bound in ((-1.0, lo_b), (1.0, hi_b)):
         reach = span
         for _ in range(int(extend)):
             side = [d for z, d in points.items() if sign * (z - zc) > 0]

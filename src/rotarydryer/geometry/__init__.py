@@ -16,21 +16,23 @@ Public API::
 from .design_load import (
     DESIGN_LOAD_METHODS,
     LOADING_STATES,
-    design_load_mass,
     design_load_area,
+    design_load_mass,
     design_load_methods,
     loading_factor,
     loading_state,
 )
 from .drum import (
     CRITICAL_SPEED_WARN_FRACTION,
-    SURFACE_LAYER as SURFACE_LAYER_DEFAULT,
     CriticalSpeedWarning,
     FlightedDrum,
     TransitionAngles,
     check_speed,
     critical_speed,
     finite_particle_correction,
+)
+from .drum import (
+    SURFACE_LAYER as SURFACE_LAYER_DEFAULT,
 )
 from .flights import TwoSectionFlight
 from .unloading import (

@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from .._validation import check_choice, check_range
-from .drum import FlightedDrum, _H
+from .drum import _H, FlightedDrum
 from .unloading import first_unloading_angle
 
 __all__ = [

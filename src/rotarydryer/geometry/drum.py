@@ -646,7 +646,7 @@ def _strip_area(c: _Consts, w, h, L, delta):
     return np.fmin(np.fmax(da, 0.0), c.full_area - h)
 
 
-def finite_particle_correction(drum: "FlightedDrum", psi, repose_angle, particle_diameter, surface_layer=None):
+def finite_particle_correction(drum: FlightedDrum, psi, repose_angle, particle_diameter, surface_layer=None):
     """Extra holdup of a flight of particles over the continuum model, m^2 (``docs/dem.md``).
 
     The free surface of a bed of particles of diameter d stands a layer ``delta = k d`` above the

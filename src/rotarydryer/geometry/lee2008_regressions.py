@@ -37,7 +37,6 @@ __all__ = [
 
 from .unloading import CascadeSummary
 
-
 #: Names of the two readings of the passive (flight) time, see :meth:`Lee2008Regressions.cascade`.
 PASSIVE_TIME_BRANCHES = ("eq3.4", "lee2008_ch7")
 

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_choice, check_range
-from .drum import FlightedDrum, _H, _S
+from .drum import _H, _S, FlightedDrum
 
 __all__ = [
     "CascadeDrag",

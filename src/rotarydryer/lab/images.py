@@ -94,7 +94,7 @@ class ImageCalibration:
         object.__setattr__(self, "angle_offset", float(check_finite("angle_offset", self.angle_offset)))
 
     @classmethod
-    def from_known_length(cls, centre, length_px: float, length_m: float, **kw) -> "ImageCalibration":
+    def from_known_length(cls, centre, length_px: float, length_m: float, **kw) -> ImageCalibration:
         """Scale from a known length: ``length_px`` pixels measure ``length_m`` metres
         (Ajayi: the 0.75 m drum diameter = 1900 px)."""
         lp = float(check_positive("length_px", length_px, "px"))
@@ -417,7 +417,7 @@ def _to_uint8(pil) -> np.ndarray:
     return np.array(pil.convert("RGB"), dtype=np.uint8)
 
 
-def check_drum_in_image(shape, drum: FlightedDrum, calibration: "ImageCalibration", *, image_name: str = "the image",
+def check_drum_in_image(shape, drum: FlightedDrum, calibration: ImageCalibration, *, image_name: str = "the image",
                         centre_name: str = "centre", scale_name: str = "px_per_m") -> None:
     """Raise ``ValueError`` unless the drum (centre and radius, px) lies in an image of ``shape``.
 

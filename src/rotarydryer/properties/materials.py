@@ -35,7 +35,7 @@ import math
 import os
 import tomllib
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -129,12 +129,12 @@ def list_materials() -> list[str]:
     return sorted(p.name[:-5] for p in _LIBRARY.iterdir() if p.name.endswith(".toml"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _library_table(name: str) -> dict:
     return tomllib.loads((_LIBRARY / f"{name}.toml").read_text(encoding="utf-8"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _library_material(name: str) -> Material:
     return _build(_library_table(name))
 

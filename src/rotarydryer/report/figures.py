@@ -117,7 +117,7 @@ def plot_loading_state(results, ax=None):
         if np.any(sel):
             ax.bar(x[sel], d[sel], width=width, color=colour, label=f"{state} ({int(sel.sum())} cells)")
     ax.axhline(1.0, color="k", lw=0.8, ls="--")
-    for name, kind, x0, x1 in _axial_sections(results):
+    for _name, _kind, x0, _x1 in _axial_sections(results):
         ax.axvline(x0, color="0.85", lw=0.8)
     ax.set_xlabel("axial position from the feed end (m)")
     ax.set_ylabel("dryer loading (-)")

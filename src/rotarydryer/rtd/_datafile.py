@@ -20,8 +20,8 @@ from __future__ import annotations
 import math
 import os
 import stat
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 __all__ = ["csv_rows", "MAX_DATA_ROWS", "MAX_DATA_FILE_BYTES", "MAX_LINE_CHARS", "check_input_file", "data_lines",
            "text_lines", "too_many_rows", "parse_number", "fmt"]

@@ -26,8 +26,8 @@ Input shapes (all start at t = 0 and end at t = ``duration_s``):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 from scipy.integrate import trapezoid

@@ -31,7 +31,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache, lru_cache
 from importlib import resources
 
 import numpy as np
@@ -67,7 +67,7 @@ def published(test: int) -> dict:
                 recovery_pct=f("recovery_pct"), holdup_kg=f("holdup_measured_kg"), method=r["tracer_method"])
 
 
-@lru_cache(maxsize=None)
+@cache
 def _measured(test: int):
     from ..cases import load_case
     from ..rtd import exit_age_curve, load_tracer_dataset

@@ -150,7 +150,7 @@ class PilotRuns:
         3.83/4.74/6.67 deg)."""
         return np.degrees(np.arctan(self.slope))
 
-    def subset(self, idx) -> "PilotRuns":
+    def subset(self, idx) -> PilotRuns:
         idx = np.asarray(idx)
         return PilotRuns(*(getattr(self, f.name)[idx] for f in dataclasses.fields(self)))
 

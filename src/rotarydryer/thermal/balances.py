@@ -56,8 +56,8 @@ import numpy as np
 from .._validation import check_choice, check_finite, check_range
 from ..properties import humid_air as ha
 from ..properties import water
-from . import radiation as rad
 from ..properties.drying import DryingKinetics
+from . import radiation as rad
 
 __all__ = ["ENTHALPY_METHODS", "AJAYI_CP_SOLIDS", "AJAYI_CP_WATER", "AJAYI_CP_GAS", "AJAYI_LATENT_HEAT",
            "gas_enthalpy", "gas_heat_capacity", "vapour_source_enthalpy", "solids_enthalpy", "kilning_angle",

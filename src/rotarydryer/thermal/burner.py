@@ -42,9 +42,8 @@ half of F_ain) with 750 kg/h - the notes' "gas flow ~2x too high", quantified.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 

@@ -27,7 +27,7 @@ kg/kg dry gas, heat in W.
 from __future__ import annotations
 
 import dataclasses
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from scipy.optimize import brentq

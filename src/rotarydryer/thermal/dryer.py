@@ -62,6 +62,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 from typing import Optional
 
 import numpy as np
@@ -70,11 +71,11 @@ import scipy.sparse as sp
 from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 from .._validation import check_choice, check_range
 from ..properties import humid_air as ha
+from ..properties.drying import DryingKinetics
+from ..transport.results import SteadyState
 from . import balances as bal
 from . import radiation as rad
 from .burner import Burner
-from ..properties.drying import DryingKinetics
-from ..transport.results import SteadyState
 from .shell import _shell_loss_compiled, ajayi2011_heat_loss, shell_heat_loss
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
@@ -164,7 +165,7 @@ class ThermalSettings:
     moisture_coupling: bool = True
     gas_direction: str = "co-current"
     design_load_smoothing: float = 0.0
-    burner: Optional["Burner"] = None
+    burner: Optional[Burner] = None
 
     @classmethod
     def ajayi2011(cls, **kw):
@@ -1092,8 +1093,31 @@ class ThermalDryer:
         return DynamicResult(self, sol.t, sol.y, time.perf_counter() - t0, sol.nfev)
 
 
+class _Renamed:
+    """A deprecated attribute name that reads the new one with a ``DeprecationWarning`` naming it
+    (issue 27: ``_degC`` on every public temperature)."""
+
+    def __init__(self, new: str):
+        self.new = new
+
+    def __set_name__(self, owner, name):
+        self.old = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        warnings.warn(f"{type(obj).__name__}.{self.old} is deprecated: use .{self.new}", DeprecationWarning,
+                      stacklevel=2)
+        return getattr(obj, self.new)
+
+
 class ThermalSteadyState:
-    """A converged steady state: profiles, outlet values and balances (SI, °C)."""
+    """A converged steady state: profiles, outlet values and balances (SI, °C: names end in ``_degC``)."""
+
+    solids_temperature_c = _Renamed("solids_temperature_degC")
+    gas_temperature_c = _Renamed("gas_temperature_degC")
+    gas_outlet_temperature_c = _Renamed("gas_outlet_temperature_degC")
+    product_temperature_c = _Renamed("product_temperature_degC")
 
     def __init__(self, dryer: ThermalDryer, z, iterations=0, residual=0.0, seconds=0.0):
         self.dryer = dryer
@@ -1110,19 +1134,19 @@ class ThermalSteadyState:
         self.terms = d
         self.transport_moisture_clipped = bool(dryer._clipped)
         S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
-        self.solids_temperature_c = T
+        self.solids_temperature_degC = T
         self.moisture_wet = W / (S + W)
         self.holdup = S + W
-        self.gas_temperature_c = Tg
+        self.gas_temperature_degC = Tg
         self.gas_humidity = Y
         Fd = dryer.dry_gas_flow
         k = dryer.gas_outlet_stage
-        self.gas_outlet_temperature_c = float(Tg[k])
+        self.gas_outlet_temperature_degC = float(Tg[k])
         self.gas_outlet_humidity = float(Y[k])
         pS, pW, pH = d["product_S"], d["product_W"], d["product_H"]
         self.product_rate = pS + pW
         self.product_moisture = pW / (pS + pW)
-        self.product_temperature_c = pH / (pS * s.cp_solids + pW * s.cp_water)
+        self.product_temperature_degC = pH / (pS * s.cp_solids + pW * s.cp_water)
         self.evaporation_rate = float(np.sum(d["rw"]))
         self.shell_heat_loss_w = float(np.sum(d["qloss"]))
         fS, fW = dryer.feed_rate * (1 - dryer.feed_moisture), dryer.feed_rate * dryer.feed_moisture
@@ -1228,9 +1252,9 @@ class ThermalSteadyState:
         """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per stage)."""
         dr = self.dryer
         return dict(position=dr.position, phase=np.array(["bed", "passive", "active"])[dr.kind],
-                    section=dr.tank_section, solids_temperature_c=self.solids_temperature_c,
+                    section=dr.tank_section, solids_temperature_c=self.solids_temperature_degC,
                     moisture_wet=self.moisture_wet, holdup_kg=self.holdup, gas_position=dr.gas_position,
-                    gas_temperature_c=self.gas_temperature_c, gas_humidity=self.gas_humidity,
+                    gas_temperature_c=self.gas_temperature_degC, gas_humidity=self.gas_humidity,
                     evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
 
     def __repr__(self):
@@ -1238,8 +1262,8 @@ class ThermalSteadyState:
 
         return short_repr("ThermalSteadyState", self.dryer.model.name, [
             ("product moisture kg/kg", float(self.product_moisture)),
-            ("product degC", float(self.product_temperature_c)),
-            ("gas out degC", self.gas_outlet_temperature_c), ("holdup kg", self.total_holdup),
+            ("product degC", float(self.product_temperature_degC)),
+            ("gas out degC", self.gas_outlet_temperature_degC), ("holdup kg", self.total_holdup),
             ("energy balance error", float(self.energy_balance_error))])
 
     def _repr_html_(self):
@@ -1275,7 +1299,7 @@ class ThermalSteadyState:
         q = self.heat_input_w
         if q <= 0:
             return float("nan")
-        t = float(np.clip(self.product_temperature_c, 0.0, 99.0))
+        t = float(np.clip(self.product_temperature_degC, 0.0, 99.0))
         return self.evaporation_rate * float(latent_heat(t)) / q
 
     def summary(self, with_fuel=True):
@@ -1289,8 +1313,8 @@ class ThermalSteadyState:
             feed_rate_kg_s=self.dryer.feed_rate, outlet_flow_kg_s=float(self.product_rate),
             mean_residence_time_s=self.total_holdup / float(self.product_rate),
             product_moisture_kg_kg=float(self.product_moisture),
-            product_temperature_degC=float(self.product_temperature_c),
-            gas_outlet_temperature_degC=self.gas_outlet_temperature_c,
+            product_temperature_degC=float(self.product_temperature_degC),
+            gas_outlet_temperature_degC=self.gas_outlet_temperature_degC,
             gas_outlet_humidity_kg_kg=self.gas_outlet_humidity,
             evaporation_kg_s=self.evaporation_rate,
             heat_input_W=self.heat_input_w,
@@ -1324,7 +1348,7 @@ class CoupledTransportState(SteadyState):
     (:meth:`ThermalSteadyState.transport_state`): wet-solids holdups and flows of the heat-and-mass
     model, its tracer system, and the mass balance with the evaporation."""
 
-    def __init__(self, thermal: "ThermalSteadyState", model, masses, **kw):
+    def __init__(self, thermal: ThermalSteadyState, model, masses, **kw):
         super().__init__(model, masses, **kw)
         self.thermal = thermal
 
@@ -1340,7 +1364,11 @@ class CoupledTransportState(SteadyState):
 
 
 class DynamicResult:
-    """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series."""
+    """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series
+    (``product_moisture``, ``product_temperature_degC``, ``gas_outlet_temperature_degC``)."""
+
+    product_temperature_c = _Renamed("product_temperature_degC")
+    gas_outlet_temperature_c = _Renamed("gas_outlet_temperature_degC")
 
     def __repr__(self):
         from .._display import short_repr
@@ -1354,8 +1382,8 @@ class DynamicResult:
         import pandas as pd
 
         return pd.DataFrame({"product_moisture_kg_kg": self.product_moisture,
-                             "product_temperature_degC": self.product_temperature_c,
-                             "gas_outlet_temperature_degC": self.gas_outlet_temperature_c},
+                             "product_temperature_degC": self.product_temperature_degC,
+                             "gas_outlet_temperature_degC": self.gas_outlet_temperature_degC},
                             index=pd.Index(self.time, name="time_s"))
 
     def __init__(self, dryer, t, y, seconds, nfev):
@@ -1368,8 +1396,8 @@ class DynamicResult:
             pt.append(pH / (pS * s.cp_solids + pW * s.cp_water))
             tg.append(dryer.split(y[:, j])[3][dryer.gas_outlet_stage])
         self.product_moisture = np.array(pm)
-        self.product_temperature_c = np.array(pt)
-        self.gas_outlet_temperature_c = np.array(tg)
+        self.product_temperature_degC = np.array(pt)
+        self.gas_outlet_temperature_degC = np.array(tg)
 
 
 def pi_operating_conditions(test_number):

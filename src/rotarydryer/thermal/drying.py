@@ -15,27 +15,30 @@ from .._validation import check_choice, check_positive, check_range
 from ..correlations.heat_transfer import ajayi_2011_nu, heat_transfer_coefficient, log_mean_temperature_difference
 from ..properties import humid_air as ha
 from ..properties import water
-from ..properties.drying import (AJAYI_PRESSURE, BASES, MATERIAL_KINETICS, MOISTURE_METHODS, DryingKinetics,
-                                 _drying_flux_inputs, _mass_transfer_coefficient, _mass_transfer_inputs,
-                                 _unhindered_drying_flux, ajayi2011_drying_rate_as_coded, check_gas_can_dry,
-                                 drying_rate, dry_basis, falling_rate_factor, mass_transfer_coefficient,
-                                 unhindered_drying_flux, wet_basis)
+from ..properties.drying import (
+    AJAYI_PRESSURE,
+    BASES,
+    MATERIAL_KINETICS,
+    MOISTURE_METHODS,
+    DryingKinetics,
+    _drying_flux_inputs,
+    _mass_transfer_coefficient,
+    _mass_transfer_inputs,
+    _unhindered_drying_flux,
+    ajayi2011_drying_rate_as_coded,
+    check_gas_can_dry,
+    dry_basis,
+    drying_rate,
+    falling_rate_factor,
+    mass_transfer_coefficient,
+    unhindered_drying_flux,
+    wet_basis,
+)
 
-__all__ = [
-    "dry_basis",
-    "wet_basis",
-    "mass_transfer_coefficient",
-    "unhindered_drying_flux",
-    "falling_rate_factor",
-    "DryingKinetics",
-    "MATERIAL_KINETICS",
-    "drying_rate",
-    "check_gas_can_dry",
-    "song_pilot_Ua",
-    "SONG_RENAUD_PILOT",
-    "ajayi2011_gas_solids_coefficient",
-    "ajayi2011_drying_rate_as_coded",
-]
+#: this module's own names, then the kinetics of rotarydryer.properties.drying it re-exports
+__all__ = ["song_pilot_Ua", "SONG_RENAUD_PILOT", "ajayi2011_gas_solids_coefficient",
+           "dry_basis", "wet_basis", "mass_transfer_coefficient", "unhindered_drying_flux", "falling_rate_factor",
+           "DryingKinetics", "MATERIAL_KINETICS", "drying_rate", "check_gas_can_dry", "ajayi2011_drying_rate_as_coded"]
 
 # re-exported from rotarydryer.properties.drying (the names this module held before)
 _REEXPORTED = (AJAYI_PRESSURE, BASES, MOISTURE_METHODS, _drying_flux_inputs, _mass_transfer_coefficient,

@@ -66,6 +66,6 @@ def plot_thermal_steady_state(steady):
     (:func:`plot_thermal_profiles` of ``steady.profiles()``, titled with the product state and
     with the section boundaries). Also importable from :mod:`rotarydryer.report.plots`."""
     title = (f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
-             f"{steady.product_temperature_c:.1f} °C; gas out {steady.gas_outlet_temperature_c:.0f} °C")
+             f"{steady.product_temperature_degC:.1f} °C; gas out {steady.gas_outlet_temperature_degC:.0f} °C")
     return plot_thermal_profiles(steady.profiles(), title=title,
                                  sections=[(sd["name"], sd["length"]) for sd in steady.dryer.model.sections])

@@ -101,8 +101,8 @@ def sensitivity_table(dryer: ThermalDryer, foulings=(0.0, 0.4, 0.6, 0.8), overlo
                              scaling_pct=round(100 * fouling),
                              eta_product_moisture=float(relative_index(ss.product_moisture, ref.product_moisture,
                                                                        u0 * (1 + rel), u0)),
-                             eta_product_temperature=float(relative_index(ss.product_temperature_c,
-                                                                          ref.product_temperature_c,
+                             eta_product_temperature=float(relative_index(ss.product_temperature_degC,
+                                                                          ref.product_temperature_degC,
                                                                           u0 * (1 + rel), u0))))
     return rows
 
@@ -197,8 +197,8 @@ def step_response(dryer: ThermalDryer, steady: ThermalSteadyState, input_name: s
     res = d2.simulate(steady.state, duration, t_eval=t_eval)
     du = u0 * relative_change
     out = dict(input=input_name, input_change=du, time=res.time, product_moisture=res.product_moisture,
-               product_temperature_c=res.product_temperature_c,
-               gas_outlet_temperature_c=res.gas_outlet_temperature_c, seconds=res.seconds, nfev=res.nfev)
+               product_temperature_c=res.product_temperature_degC,
+               gas_outlet_temperature_c=res.gas_outlet_temperature_degC, seconds=res.seconds, nfev=res.nfev)
     for key in ("product_moisture", "product_temperature_c", "gas_outlet_temperature_c"):
         try:
             out[key + "_fopdt"] = fopdt_fit(res.time, out[key], du)

@@ -38,8 +38,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -175,7 +175,7 @@ class TracerInput:
     rates: tuple
 
     @classmethod
-    def pulse(cls, mass: float = 1.0, duration: float = 0.0, start: float = 0.0) -> "TracerInput":
+    def pulse(cls, mass: float = 1.0, duration: float = 0.0, start: float = 0.0) -> TracerInput:
         """Square pulse of ``mass`` kg over ``duration`` s starting at ``start`` s.
 
         ``duration = 0`` gives an ideal impulse (handled analytically by the moment

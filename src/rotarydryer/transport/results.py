@@ -65,7 +65,7 @@ class TransportModel:
     #: :func:`rotarydryer.cases.build.build_model` adds the fill-fraction check of the case
     checks: list = field(default_factory=list)
 
-    def steady_state(self) -> "SteadyState":
+    def steady_state(self) -> SteadyState:
         """Solve the steady state (see :meth:`Network.steady_state`) and run :attr:`checks`."""
         M = self.network.steady_state()
         ss = SteadyState(self, M)
@@ -237,7 +237,7 @@ class SteadyState:
         return self.model.network.tracer_system(self.masses, inlet=self.model.tracer_inlet)
 
     def rtd(self, tracer_input: TracerInput | None = None, t_end: float = 3600.0, dt: float = 10.0,
-            method: str = "auto", simulate: bool = True, check_window: bool = True) -> "RTDResult":
+            method: str = "auto", simulate: bool = True, check_window: bool = True) -> RTDResult:
         """Tracer RTD at this steady state: analytic moments and (optionally) the simulated curve.
 
         With ``check_window`` an :class:`RTDWindowWarning` says when the simulated curve does not
