@@ -8,6 +8,8 @@ over their array arguments.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -258,7 +260,7 @@ def lee_2008(reynolds, prefactor=24.0):
     return as_result(_cd_lee_2008(re, a))
 
 
-_DRAG_METHODS = {
+_DRAG_METHODS: dict[str, tuple[Callable[..., Any], tuple[str, ...]]] = {
     "schiller_naumann_1933": (schiller_naumann_1933, ()),
     "haider_levenspiel_1989": (haider_levenspiel_1989, ("sphericity",)),
     "lee_2008": (lee_2008, ()),

@@ -22,6 +22,8 @@ is the conductivity of the *solids*; in the Nu-Re-Pr correlations it is the
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -263,7 +265,7 @@ def alvarez_shene_1994_ua(gas_mass_flux, diameter, material="sand"):
     return as_result(k * g**c / d)
 
 
-_UA_METHODS = {
+_UA_METHODS: dict[str, tuple[Callable[..., Any], tuple[str, ...]]] = {
     "mccormick_1962": (mccormick_1962_ua, ("gas_mass_flux", "diameter")),
     "myklestad_1963": (myklestad_1963_ua, ("gas_mass_flux",)),
     "alvarez_shene_1994": (alvarez_shene_1994_ua, ("gas_mass_flux", "diameter", "material")),
@@ -483,7 +485,7 @@ def ajayi_2011_nu(reynolds, prandtl=None):
     return as_result(0.33 * re**0.6)
 
 
-_NU_METHODS = {
+_NU_METHODS: dict[str, tuple[Callable[..., Any], tuple[str, ...]]] = {
     "ranz_marshall_1952": (ranz_marshall_1952_nu, ("reynolds", "prandtl")),
     "ajayi_2011": (ajayi_2011_nu, ("reynolds",)),
     "mcadams_1951": (mcadams_1951_nu, ("reynolds",)),

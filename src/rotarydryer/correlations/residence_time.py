@@ -30,6 +30,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -632,7 +634,7 @@ def solids_holdup(mean_residence_time, solids_feed_rate):
 
 # --------------------------------------------------------------------------- dispatcher
 
-_METHODS = {
+_METHODS: dict[str, tuple[Callable[..., Any], tuple[str, ...]]] = {
     "song_2003": (song_2003, ("length", "diameter", "slope", "rpm", "particle_size", "gas_mass_flux",
                               "solids_mass_flux", "gas_flow")),
     "perry_green_1984": (perry_green_1984, ("length", "diameter", "slope", "rpm", "particle_size",

@@ -286,8 +286,7 @@ def cascade(
     psi5 = phi + c.off5
     # integration breakpoints: phase boundaries and the chord kink at tip angle 270
     cuts = [phi + c.off2, phi + c.off3, phi + c.off4, np.full_like(phi, 270.0 - c.psi_ft)]
-    edges = [start] + [np.clip(x, start, psi5) for x in cuts] + [psi5]
-    edges = np.sort(np.stack(edges, axis=-1), axis=-1)
+    edges = np.sort(np.stack([start] + [np.clip(x, start, psi5) for x in cuts] + [psi5], axis=-1), axis=-1)
     acc = {"w": 0.0, "psi": 0.0, "h": 0.0, "t": 0.0, "x": 0.0}
     tan_s = np.tan(np.radians(slope))
     for k in range(edges.shape[-1] - 1):

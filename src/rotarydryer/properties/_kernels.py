@@ -565,7 +565,7 @@ def evaluate(name, inputs, params, n_out):
 
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,
           "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop}
-_compiled = {}
+_compiled: dict = {}
 
 
 def compiled(name):

@@ -49,6 +49,7 @@ returns it, ``"zero"`` clips, ``"raise"`` raises ``ValueError`` ("gas too cold t
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -178,13 +179,15 @@ def unhindered_drying_flux(heat_transfer_coefficient, solids_temperature_c, gas_
     >>> round(float(unhindered_drying_flux(60.0, 50.0, 300.0, 0.05)) * 1e3, 4)
     2.2776
     """
-    args = _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c, gas_humidity,
-                               pressure, basis, saturation_method, condensation, **property_overrides)
-    return _unhindered_drying_flux(*args, basis, saturation_method, high_flux, condensation)
+    hc, ts, tg, y, p, cp, pr, sc = _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c,
+                                                       gas_temperature_c, gas_humidity, pressure, basis,
+                                                       saturation_method, condensation, **property_overrides)
+    return _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, basis, saturation_method, high_flux, condensation)
 
 
 def _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c, gas_humidity, pressure,
-                        basis, saturation_method, condensation, gas_heat_capacity=None, prandtl=None, schmidt=None):
+                        basis, saturation_method, condensation, gas_heat_capacity=None, prandtl=None,
+                        schmidt=None) -> tuple[Any, ...]:
     """Checks of :func:`unhindered_drying_flux`; returns (hc, ts, tg, y, p, cp, pr, sc) for the kernel."""
     check_choice("condensation", condensation, ("allow", "zero", "raise"))
     ts = check_range("solids_temperature_c", solids_temperature_c, 0.0, 150.0, low_inclusive=True,

@@ -25,6 +25,7 @@ Materials
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import numpy as np
 
@@ -43,7 +44,7 @@ class PropertyRangeWarning(UserWarning):
     """A property correlation is used outside the moisture range it was fitted on."""
 
 
-SOLIDS = {
+SOLIDS: dict[str, dict[str, Any]] = {
     "zinc_concentrate_ajayi2011": {
         "repose": (419.6, -7.801),  # Ajayi (2011) Eq. 3.2, deg = a x + b
         "repose_range": (0.120, 0.166),  # Table 3.3

@@ -143,7 +143,7 @@ class RTDFit:
     fixed: dict = field(default_factory=dict)
     time_origin_s: float = 0.0
     pulse: TracerPulse | None = field(default=None, repr=False)
-    residuals: np.ndarray = field(default=None, repr=False)
+    residuals: np.ndarray | None = field(default=None, repr=False)
     warnings: tuple = ()
     n_cells_scan: dict = field(default_factory=dict)
 
@@ -487,7 +487,7 @@ def fit_rtd_model(
         best, objs, starts = fit_at(None, [first_x(None)])
         n_best = None
     else:
-        fits = {}
+        fits: dict = {}
 
         def warm(n):
             """The best fit so far (its mean kept; alpha below 0.99 so that beta matters), or the
@@ -580,16 +580,19 @@ def fit_rtd_model(
     if not fit_delay:
         fixed["delay_s"] = 0.0
     if cells:
+        assert n_best is not None      # set by the scan over the cell counts
         fixed["n_cells"] = int(n_best)
     for msg in warn:
         _warnings.warn(msg, RuntimeWarning, stacklevel=2)
+    ci_low, ci_high = unc.ci_low, unc.ci_high
+    assert ci_low is not None and ci_high is not None     # linearised_uncertainty gives both
     return RTDFit(
         model=model,
         parameter_names=tuple(names),
         values={k: float(est[k]) for k in names},
         std_errors={k: float(se[j]) for j, k in enumerate(names)},
-        ci_low={k: float(unc.ci_low[j]) for j, k in enumerate(names)},
-        ci_high={k: float(unc.ci_high[j]) for j, k in enumerate(names)},
+        ci_low={k: float(ci_low[j]) for j, k in enumerate(names)},
+        ci_high={k: float(ci_high[j]) for j, k in enumerate(names)},
         covariance=cov,
         correlation=corr,
         objective=ssr,

@@ -103,7 +103,7 @@ class TracerData:
     def rate_factor(self) -> float | None:
         """Factor converting the signal to E(t) in 1/s when ``signal_unit`` is a normalised
         RTD (1/s, 1/min, 1/h); None for any other unit (a raw concentration)."""
-        return _RATE_UNITS.get(self.signal_unit)
+        return _RATE_UNITS.get(self.signal_unit or "")
 
     def pulse(self):
         """The tracer input from metadata (``pulse_kind``, ``pulse_duration_s``); Dirac if absent."""
@@ -215,7 +215,7 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
     if header_line is None:
         raise ValueError(f"{name}: no header line found (expected e.g. 'time_s,signal')")
     try:
-        header = [h.strip() for h in next(csv.reader([header_text]))]
+        header = [h.strip() for h in next(csv.reader([header_text or ""]))]
     except csv.Error as exc:
         raise ValueError(f"{name} line {header_line}: unreadable header ({exc})") from None
     tcols = [h for h in header if h in TIME_COLUMNS]
@@ -233,8 +233,10 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
         raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {', '.join(header)}")
     _check_metadata(metadata, meta_lines, name)
     it, isg = header.index(tcols[0]), header.index("signal")
-    times, sig, lineno = [], [], []
-    extras = {h: [] for k, h in enumerate(header) if k not in (it, isg)}
+    times: list[float] = []
+    sig: list[float] = []
+    lineno: list[int] = []
+    extras: dict[str, list[str]] = {h: [] for k, h in enumerate(header) if k not in (it, isg)}
     for k, row in csv_rows(lines, name):
         if len(times) >= limit:
             raise too_many_rows(name, k, limit)
@@ -256,9 +258,9 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
             )
         times.append(t_k)
         sig.append(s_k)
-        for c, h in enumerate(header):
+        for col, h in enumerate(header):
             if h in extras:
-                extras[h].append(row[c].strip())
+                extras[h].append(row[col].strip())
         lineno.append(k)
     t = np.asarray(times, dtype=float) * TIME_COLUMNS[tcols[0]]
     c = np.asarray(sig, dtype=float)

@@ -204,8 +204,8 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     for attr in ("specs", "material"):
         if hasattr(model, attr):
             setattr(out, attr, getattr(model, attr))
-    if getattr(model, "cell_length", None) is not None:
-        cl = np.asarray(model.cell_length, dtype=float)
+    if model.cell_length is not None:
+        cl = np.asarray(model.cell_length, dtype=np.float64)
         out.cell_length = np.r_[cl, np.tile(cl[P], nl)]
     return out
 

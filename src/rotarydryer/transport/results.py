@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -64,6 +65,11 @@ class TransportModel:
     #: feasibility checks ``check(steady_state)`` run on every steady state (raise ``ValueError``);
     #: :func:`rotarydryer.cases.build.build_model` adds the fill-fraction check of the case
     checks: list = field(default_factory=list)
+    #: what :func:`rotarydryer.transport.sections.build_sections` attaches: the length of each node's
+    #: cell (m), the section specs and the material (None / empty for models built otherwise)
+    cell_length: np.ndarray | None = None
+    specs: list = field(default_factory=list)
+    material: Any = None
 
     def steady_state(self) -> SteadyState:
         """Solve the steady state (see :meth:`Network.steady_state`) and run :attr:`checks`."""

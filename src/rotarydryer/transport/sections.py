@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -95,7 +96,7 @@ class SectionSpec:
     velocity: float = 0.0
     rates: dict | None = None
     forward_step: str = "fitted"
-    gas: object = None
+    gas: Any = None
 
 
 class ExactGeometry:
@@ -542,12 +543,12 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
     feed = np.zeros(b.n)
     guess = np.array(b.guess)
     design_load = np.array(b.design_load)
-    info_keys = ("moisture_kg_kg", "repose_angle_deg", "bulk_density_kg_m3", "passive_time_s", "fall_time_s",
+    info_keys: tuple[str, ...] = ("moisture_kg_kg", "repose_angle_deg", "bulk_density_kg_m3", "passive_time_s", "fall_time_s",
                  "fall_height_m", "C_F", "C_R")
     any_trajectory = any(r["kind"] == "flighted" and r["spec"].forward_step == "trajectory" for r in built)
     if any_trajectory:      # the trajectory forward step per cell (NaN in cells with the fitted one)
         info_keys += TRAJECTORY_INFO
-    info = {k: [] for k in info_keys}
+    info: dict[str, list] = {k: [] for k in info_keys}
     families = []
     cell_length = np.zeros(b.n)
     fix_families = {}
@@ -569,7 +570,8 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
                 if bw > 0:
                     families.append(EdgeFamily("bed_dispersion", idx[1:], idx[:-1], "linear",
                                                rate=np.full(n - 1, bw), section=sec))
-            families.append(EdgeFamily("bed_outflow", idx[-1:], [nxt], "linear", rate=[u / dz], section=sec))
+            families.append(EdgeFamily("bed_outflow", idx[-1:], np.array([nxt]), "linear", rate=np.array([u / dz]),
+                                       section=sec))
             cell_length[idx] = dz
             continue
         N, P, A = rec["n"], rec["P"], rec["A"]
@@ -682,8 +684,8 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         dz, u, D = first["dz"], float(first["spec"].velocity), float(first["spec"].dispersion)
         beta = 2.0 * D / (u * dz)
         feed[first["entry"]] = F * (1.0 + beta)
-        families.append(EdgeFamily("inlet_dispersion", [first["entry"]], [-2], "linear", rate=[2.0 * D / dz**2],
-                                   section=first["spec"].name))
+        families.append(EdgeFamily("inlet_dispersion", np.array([first["entry"]]), np.array([-2]), "linear",
+                                   rate=np.array([2.0 * D / dz**2]), section=first["spec"].name))
         inlet_vec = np.zeros(b.n)
         inlet_vec[first["entry"]] = 1.0 + beta
     else:
@@ -697,14 +699,14 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             net.initial_guess = fixed.steady_state()
         except ValueError:
             pass
-    info = {k: np.concatenate(v) if v else np.zeros(0) for k, v in info.items()}
+    cell_info = {k: np.concatenate(v) if v else np.zeros(0) for k, v in info.items()}
     if tracer_input is None:
         tracer_input = TracerInput.pulse(1e-4 * F * 60.0, 60.0)
     model = TransportModel(
         name=name, network=net,
         sections=[dict(name=r["spec"].name, kind=r["kind"], length=float(r["spec"].length), n_cells=int(r["n"]))
                   for r in built],
-        feed_rate=F, design_load=design_load, cell_info=info, tracer_input=tracer_input,
+        feed_rate=F, design_load=design_load, cell_info=cell_info, tracer_input=tracer_input,
         parameters=dict(parameters or {}))
     model.tracer_inlet = inlet_vec
     model.cell_length = cell_length
