@@ -362,6 +362,7 @@ class LeeCase(_Strict):
 class AjayiDrum(_Strict):
     radius: float = Field(gt=0, le=20, description="m")
     slope: float = Field(ge=0, lt=45, description="deg")
+    length: Optional[float] = Field(default=None, gt=0, le=200, description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
 
 
 class AjayiOperating(_Strict):
@@ -490,7 +491,7 @@ class AjayiCase(_Strict):
                 for key in ("n_flights", "s1", "s2", "alpha1", "alpha2"):
                     if getattr(sec, key) is None:
                         problems.append(f"{where}.{key} is missing: geometry.method = 'exact' needs the flight dimensions")
-        problems += filter(None, [_cells_problem(self), _dataset_problem(self)])
+        problems += filter(None, [_length_problem(self), _cells_problem(self), _dataset_problem(self)])
         if problems:
             raise ValueError("; ".join(problems))
         return self
@@ -500,6 +501,7 @@ class AjayiCase(_Strict):
 class DryerDrum(_Strict):
     radius: float = Field(gt=0, le=20, description="m")
     slope: float = Field(ge=0, lt=45, description="deg")
+    length: Optional[float] = Field(default=None, gt=0, le=200, description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
     n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS, description="flights per flighted section (default)")
 
 
@@ -609,12 +611,28 @@ class DryerCase(_Strict):
                     problems.append(f"{where}.{key} is missing (and no [flight] default)")
         if self.thermal.enabled and self.gas is None:
             problems.append("gas is missing: [gas] (flow, inlet_temperature) is needed when thermal.enabled = true")
-        problem = _cells_problem(self)
-        if problem:
-            problems.append(problem)
+        problems += filter(None, [_length_problem(self), _cells_problem(self)])
         if problems:
             raise ValueError("; ".join(problems))
         return self
+
+
+#: relative tolerance of drum.length against the sum of the section lengths
+_LENGTH_RTOL = 1e-9
+
+
+def _length_problem(case) -> str | None:
+    """``drum.length``, when a sectioned case gives it, must equal the sum of its sections' lengths:
+    one quantity, one value (the message names both keys)."""
+    L = getattr(case.drum, "length", None)
+    if L is None or not case.sections:
+        return None
+    total = sum(s.length for s in case.sections)
+    if abs(total - L) <= _LENGTH_RTOL * max(L, total):
+        return None
+    parts = " + ".join(f"sections[{k}].length = {s.length:g}" for k, s in enumerate(case.sections))
+    return (f"drum.length = {L:g} m disagrees with the sections' lengths ({parts} = {total:g} m): give drum.length "
+            "equal to their sum, or leave it out (the sections set the length)")
 
 
 def _cells_problem(case) -> str | None:
@@ -770,7 +788,8 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
             m = re.match(r"([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)+) = ", text_msg)
             loc = tuple(m.group(1).split(".")) if m else loc
         where = shown
-        below = [k for k in overrides or {} if k == dotted or (dotted and k.startswith(dotted + "."))]
+        named = ".".join(str(x) for x in loc)      # the key a whole-case message starts with, else dotted
+        below = [k for k in overrides or {} if k == named or (named and k.startswith(named + "."))]
         if below:
             where = "--set " + ", --set ".join(below)
         elif text and loc:
