@@ -544,21 +544,21 @@ def _numbers(d: dict) -> dict:
 def add_thermal(res: Results, steady) -> Results:
     """Add a coupled heat and mass transfer steady state
     (:class:`rotarydryer.thermal.dryer.ThermalSteadyState`) to ``res``: datasets
-    ``thermal_solids`` (per tank), ``thermal_gas`` (per gas stage), ``energy_balance``
+    ``thermal_solids`` (per node: the nodes of ``nodes``, one dimension name), ``thermal_gas`` (per gas stage), ``energy_balance``
     (streams, W) and the key scalars (product moisture, temperatures, fuel, shell loss,
     balance errors)."""
     xr = _xr()
     prof = steady.profiles()
     res.datasets["thermal_solids"] = xr.Dataset(
         {
-            "position": _var(np.asarray(prof["position"], float), "m", "axial position from the feed end", "tank"),
-            "phase": _var(np.asarray(prof["phase"]).astype(str), "-", "bed, passive or active", "tank"),
-            "section": _var(np.asarray(prof["section"]).astype(str), "-", "section name", "tank"),
-            "moisture": _var(np.asarray(prof["moisture_wet"], float), "kg/kg", "solids moisture, wet basis", "tank"),
-            "temperature": _var(np.asarray(prof["solids_temperature_c"], float), "degC", "solids temperature", "tank"),
-            "holdup": _var(np.asarray(prof["holdup_kg"], float), "kg", "wet solids holdup", "tank"),
+            "position": _var(np.asarray(prof["position"], float), "m", "axial position from the feed end", "node"),
+            "phase": _var(np.asarray(prof["phase"]).astype(str), "-", "bed, passive or active", "node"),
+            "section": _var(np.asarray(prof["section"]).astype(str), "-", "section name", "node"),
+            "moisture": _var(np.asarray(prof["moisture_wet"], float), "kg/kg", "solids moisture, wet basis", "node"),
+            "temperature": _var(np.asarray(prof["solids_temperature_c"], float), "degC", "solids temperature", "node"),
+            "holdup": _var(np.asarray(prof["holdup_kg"], float), "kg", "wet solids holdup", "node"),
         },
-        coords={"tank": ("tank", np.arange(len(prof["position"]), dtype=np.int64))},
+        coords={"node": ("node", np.arange(len(prof["position"]), dtype=np.int64))},
     )
     res.datasets["thermal_gas"] = xr.Dataset(
         {

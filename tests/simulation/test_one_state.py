@@ -73,6 +73,9 @@ def test_results_datasets_are_the_coupled_state():
     assert float(res.nodes.holdup.sum()) == pytest.approx(total, rel=1e-12)
     assert float(res.cells.holdup.sum()) == pytest.approx(total, rel=1e-12)
     assert float(res.sections.total_holdup.sum()) == pytest.approx(total, rel=1e-12)
+    # one dimension name for the same nodes: the heat-and-mass profiles are per node of `nodes`
+    sol = res.datasets["thermal_solids"]
+    assert sol.holdup.dims == ("node",) and np.array_equal(sol.holdup.values, res.nodes.holdup.values)
     # the simulated tracer curve is that of the same state as the analytic moments
     t, e = res.rtd.time.values, res.rtd.exit_age.values
     mean = float(np.trapezoid(t * e, t) / np.trapezoid(e, t))
