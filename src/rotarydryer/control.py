@@ -57,7 +57,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 import time
 import warnings
 from typing import Optional
@@ -633,6 +632,3 @@ def plot(closed: ClosedLoopResult, open_: ClosedLoopResult | None = None):
     fig.tight_layout()
     return fig
 
-
-def stderr_progress(msg):
-    print(msg, file=sys.stderr, flush=True)

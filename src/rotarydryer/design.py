@@ -40,7 +40,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 import time
 from typing import Optional
 
@@ -670,6 +669,3 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
         shortfall = dm.E / max(e_ach, 1e-3 * dm.E)
         limits = dataclasses.replace(limits, ua_factor=limits.ua_factor / shortfall**1.5)
 
-
-def stderr_progress(msg):
-    print(msg, file=sys.stderr, flush=True)

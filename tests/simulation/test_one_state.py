@@ -157,3 +157,13 @@ def test_temperatures_end_in_degC_and_the_old_names_warn():
             old = getattr(obj, f"{name}_c")
         assert np.array_equal(old, new)
     assert dyn.to_dataframe()["gas_outlet_temperature_degC"].iloc[-1] == dyn.gas_outlet_temperature_degC[-1]
+
+
+def test_the_solver_reports_progress_through_a_callback_and_never_prints(capsys):
+    d = Simulation("song2003_ottawa").dryer()
+    seen = []
+    d.steady_state(progress=lambda it, norm, dt: seen.append((it, norm, dt)))
+    assert seen and seen[-1][1] < 1e-11
+    with pytest.warns(DeprecationWarning, match="progress="):
+        d.steady_state(verbose=True)
+    assert capsys.readouterr().out == ""

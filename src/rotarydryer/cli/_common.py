@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Optional
 
@@ -70,3 +71,9 @@ def check_out_file(option: str, out, suffixes=None) -> None:
         q = q.parent
     if not q.is_dir():
         raise ValueError(f"{option} {str(p)!r}: cannot create the file, {str(q)!r} is a file")
+
+
+def stderr_progress(msg: str) -> None:
+    """Progress lines of the long commands (design, control, fmu) on stderr: the library takes a
+    ``progress`` callback and never prints."""
+    print(msg, file=sys.stderr, flush=True)

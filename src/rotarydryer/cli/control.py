@@ -10,7 +10,7 @@ import typer
 from .._io import json_text
 from ..services.control import check_control_options, run_control
 from . import app
-from ._common import check_out_dir, parse_sets
+from ._common import check_out_dir, parse_sets, stderr_progress
 
 
 @app.command("control")
@@ -65,7 +65,7 @@ def control(
                                  dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
                                  tau_c=tau_c, feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
                                  gas_t_max=gas_t_max, gas_t_min=gas_t_min, feed_min_fraction=feed_min_fraction,
-                                 open_loop=open_loop, progress=C.stderr_progress)
+                                 open_loop=open_loop, progress=stderr_progress)
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:

@@ -11,7 +11,7 @@ import typer
 from .._io import json_text
 from ..services.design import design_duty, design_limits
 from . import app
-from ._common import check_out_dir
+from ._common import check_out_dir, stderr_progress
 
 
 @app.command("design")
@@ -72,7 +72,7 @@ def design_cmd(
     if check is not None:
         if check not in D.PLANTS:
             raise ValueError(f"--check = {check!r} is not one of {', '.join(D.PLANTS)}")
-        res = D.check_plant(check, limits, objective=objective, progress=D.stderr_progress)
+        res = D.check_plant(check, limits, objective=objective, progress=stderr_progress)
         res["wall_time_s"] = time.perf_counter() - t0
         if out is not None:
             from .._io import write_text_atomic
@@ -101,10 +101,10 @@ def design_cmd(
     d = design_duty(duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow, ntu, direction,
                     feed_temperature, max_fuel)
     if verify:
-        res, ver = D.design_verified(d, limits, objective=objective, rounds=rounds, progress=D.stderr_progress,
+        res, ver = D.design_verified(d, limits, objective=objective, rounds=rounds, progress=stderr_progress,
                                      top=top)
     else:
-        res, ver = D.design(d, limits, objective=objective, progress=D.stderr_progress, top=top), None
+        res, ver = D.design(d, limits, objective=objective, progress=stderr_progress, top=top), None
     summary = dict(res.summary(), table=res.table(top))
     if ver is not None:
         summary["verification"] = ver

@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 
 from . import app
-from ._common import check_out_file, parse_sets
+from ._common import check_out_file, parse_sets, stderr_progress
 
 
 @app.command("fmu")
@@ -24,7 +24,6 @@ def fmu_cmd(
 
     Example: rotarydryer fmu ajayi2011_mmg --set operating.test=4 -o dryer.fmu
     """
-    from ..control import stderr_progress
     from ..fmu import build_fmu
 
     check_out_file("-o", out, suffixes=("fmu",))

@@ -60,6 +60,7 @@ keep the last iterate on ``exc.state``.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import time
 import warnings
@@ -80,6 +81,8 @@ from .shell import _shell_loss_compiled, ajayi2011_heat_loss, shell_heat_loss
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
            "AJAYI_GAS_FLOW", "pi_operating_conditions"]
+
+_log = logging.getLogger(__name__)
 
 AJAYI_GAS_FLOW = 112675.6688 / 3600.0   # kg/s wet gas, App. F L3225
 
@@ -974,7 +977,8 @@ class ThermalDryer:
         return np.concatenate([S, W, T, Tg, Y])
 
     # ------------------------------------------------------------------ steady state
-    def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=False, factorization=None):
+    def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=None, factorization=None,
+                     progress=None):
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring).
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
@@ -982,8 +986,16 @@ class ThermalDryer:
         ``factorization``: the :attr:`ThermalSteadyState.factorization` of a nearby steady state
         (same network, e.g. the previous run of a study, with ``z0`` its state): chord steps with
         it while the residual falls at least fourfold per step, then the solver's own Jacobians.
-        The converged state is the same; only the path changes.
+        The converged state is the same; only the path changes. ``progress(iteration, scaled
+        residual, pseudo-time step s)`` is called after each step (``verbose=True``, deprecated,
+        logs them at INFO level on this module's logger).
         """
+        if verbose is not None:       # deprecated (it printed): the library never prints
+            warnings.warn("ThermalDryer.steady_state(verbose=...) is deprecated: pass progress=callable(iteration, "
+                          "scaled residual, pseudo-time step)", DeprecationWarning, stacklevel=2)
+            if verbose and progress is None:
+                def progress(it, norm, dt):
+                    _log.info("iteration %d: scaled residual %.3g, pseudo-time step %.3g s", it, norm, dt)
         t0 = time.perf_counter()
         z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
         sc = self._scale()
@@ -1033,8 +1045,8 @@ class ThermalDryer:
             ratio = nn / max(norm, 1e-300)
             dt = min(dt * min(max(1.0 / max(ratio, 1e-300), 0.5), 10.0) * 1.5, 1e12)
             norm = nn
-            if verbose:
-                print(it, norm, dt)
+            if progress is not None:
+                progress(it, norm, dt)
             if norm < tol:
                 break
             # converging fast (the residual fell 100-fold): keep the factorisation for a chord step
