@@ -6,7 +6,7 @@ from __future__ import annotations
 import itertools
 import math
 
-__all__ = ["MAX_POINTS", "check_points", "parse_grid"]
+__all__ = ["MAX_POINTS", "check_points", "grid_product", "parse_grid"]
 
 #: most runs one sweep may ask for (a grid or list above it is refused before anything runs)
 MAX_POINTS = 10000
@@ -17,6 +17,13 @@ def check_points(n: int, what: str):
     if n > MAX_POINTS:
         raise ValueError(f"{what} has {n} runs; the limit is {MAX_POINTS} per sweep (split it, or run "
                          "a global sensitivity study with fewer points)")
+
+
+def grid_product(keys, values, what: str) -> list[dict]:
+    """The cartesian product of ``values`` (one list per key) as override dicts, in order; refused
+    (``what`` names the option) above :data:`MAX_POINTS` runs."""
+    check_points(math.prod(len(v) for v in values), what)
+    return [dict(zip(keys, combo)) for combo in itertools.product(*values)]
 
 
 def parse_grid(items) -> list[dict]:
@@ -33,4 +40,4 @@ def parse_grid(items) -> list[dict]:
         keys.append(k.strip())
         values.append(vals)
         check_points(math.prod(len(v) for v in values), "--grid")
-    return [dict(zip(keys, combo)) for combo in itertools.product(*values)] if keys else []
+    return grid_product(keys, values, "--grid") if keys else []

@@ -97,6 +97,17 @@ def split_unit(name: str) -> tuple[str, str]:
     return name, "-"
 
 
+def output_lines(outputs: dict) -> list[str]:
+    """One text line per named output, ``  name  value unit`` (unit from the name's suffix): the
+    text form of every ``summary()``."""
+    lines = []
+    for k, v in outputs.items():
+        name, unit = split_unit(k)
+        shown = f"{v:.6g}" if isinstance(v, float) else str(v)
+        lines.append(f"  {name:<28s} {shown} {unit if unit != '-' else ''}".rstrip())
+    return lines
+
+
 def _jsonable(obj: Any) -> Any:
     """Convert to JSON-ready builtins (numpy scalars/arrays, tuples, objects -> repr)."""
     if obj is None or isinstance(obj, (bool, str, int)):
@@ -270,12 +281,8 @@ class Results:
 
     def summary_text(self) -> str:
         """A short plain-text summary."""
-        lines = [f"rotarydryer {self.version} results: {self.case_name or self.kind} "
-                 f"({self.model_choices.get('model', '?')}), {self.created}"]
-        for k, v in self.scalars.items():
-            name, unit = split_unit(k)
-            lines.append(f"  {name:<28s} {v:.6g} {unit if unit != '-' else ''}".rstrip())
-        return "\n".join(lines)
+        return "\n".join([f"rotarydryer {self.version} results: {self.case_name or self.kind} "
+                          f"({self.model_choices.get('model', '?')}), {self.created}", *output_lines(self.scalars)])
 
     # -- storage ------------------------------------------------------------------------
     def save(self, path) -> Path:
@@ -455,9 +462,7 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
     )
     ss = steady.to_dict()
     scalars = _numbers(ss)
-    states = steady.loading_state
-    scalars.update({"cells_over": float(states.count("over")), "cells_design": float(states.count("design")),
-                    "cells_under": float(states.count("under"))})
+    scalars.update(steady.loading_counts())
     if rtd is not None:
         rd = rtd.to_dict()
         for k, v in rd.items():

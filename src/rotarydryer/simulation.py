@@ -18,18 +18,17 @@ inlet, its own bed discretisation, properties from the computed moisture). Outpu
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
 import os
 
 import numpy as np
 
-from ._grids import MAX_POINTS, check_points, parse_grid
+from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
 from ._validation import check_choice
 from .cases import load_case, measured_rtd, measured_rtd_moments
 from .cases.build import build_model, has_burner, thermal_enabled, thermal_inputs
-from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, split_unit
+from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
 from .thermal.studies import perturbed
@@ -37,7 +36,7 @@ from .transport.plots import plot_holdup_profile
 from .transport.sections import build_sections
 
 __all__ = ["Simulation", "SteadyResult", "build_thermal_dryer", "run_case", "grid_points", "parse_grid",
-           "MAX_POINTS", "WARM_DT0"]
+           "MAX_POINTS", "WARM_DT0", "check_finite"]
 
 
 #: first pseudo-time step (s) of a coupled solve started from a nearby run's state
@@ -236,9 +235,7 @@ class Simulation:
             res.model_choices["datasets"] = "coupled heat-and-mass steady state"
         if self.overrides:
             res.model_choices["overrides"] = _jsonable(self.overrides)
-        if not all(math.isfinite(v) for k, v in res.scalars.items() if k != "mass_balance_error"):
-            bad = [k for k, v in res.scalars.items() if not math.isfinite(v)]
-            raise ValueError(f"case {self.case_name!r}: non-finite results {', '.join(bad)}")
+        check_finite(res.scalars, self.case_name)
         return res
 
     def fit(self, dataset, parameters, **kwargs):
@@ -269,14 +266,22 @@ class Simulation:
         return rows
 
 
+def check_finite(outputs: dict, case_name: str) -> None:
+    """Refuse a run whose numeric outputs are not finite (the mass balance error excepted: it may be
+    0/0 for an empty network), naming them."""
+    bad = [k for k, v in outputs.items() if isinstance(v, (int, float)) and not isinstance(v, bool)
+           and k != "mass_balance_error" and not math.isfinite(v)]
+    if bad:
+        raise ValueError(f"case {case_name!r}: non-finite results {', '.join(bad)}")
+
+
 def grid_points(grid) -> list[dict]:
     """Override dicts of a sweep grid: a list of dicts (as given), a dict ``{key: [values]}`` or a
     list of ``"key=v1,v2,..."`` strings (the CLI's ``--grid``): the cartesian product, in order."""
     if isinstance(grid, dict):
         keys = list(grid)
         values = [list(v) if isinstance(v, (list, tuple, np.ndarray)) else [v] for v in grid.values()]
-        check_points(math.prod(len(v) for v in values), "grid")
-        return [dict(zip(keys, combo)) for combo in itertools.product(*values)]
+        return grid_product(keys, values, "grid")
     grid = list(grid)
     if all(isinstance(g, str) for g in grid):
         return parse_grid(grid)
@@ -333,9 +338,8 @@ class SteadyResult:
         humidity; cases with heat and mass transfer), or ``"all"`` (a dict of both). Returns
         matplotlib figures."""
         check_choice("what", what, ("holdup", "thermal", "all"))
-        if what in ("thermal", "all") and self.thermal is None:
-            if what == "thermal":
-                raise ValueError("what = 'thermal': the case has no heat and mass transfer (no [gas])")
+        if what == "thermal" and self.thermal is None:
+            raise ValueError("what = 'thermal': the case has no heat and mass transfer (no [gas])")
         figs = {"holdup": plot_holdup_profile(self.state, name=self.simulation.transport_model().name)} \
             if what in ("holdup", "all") else {}
         if what in ("thermal", "all") and self.thermal is not None:
@@ -344,12 +348,7 @@ class SteadyResult:
 
     def summary_text(self) -> str:
         """:meth:`summary` as plain text, one output a line (units from the names)."""
-        lines = [f"steady state of {self.simulation.case_name}"]
-        for k, v in self.summary().items():
-            name, unit = split_unit(k)
-            shown = f"{v:.6g}" if isinstance(v, float) else str(v)
-            lines.append(f"  {name:<32s} {shown} {unit if unit != '-' else ''}".rstrip())
-        return "\n".join(lines)
+        return "\n".join([f"steady state of {self.simulation.case_name}", *output_lines(self.summary())])
 
     def to_dataframe(self):
         """:meth:`summary` as a pandas DataFrame (value, unit)."""
@@ -373,12 +372,6 @@ class SteadyResult:
             return None
         return dict(state=th.state, masses=self.simulation.transport_steady_state().masses,
                     shell=th.dryer._shell_outer, factorization=th.factorization)
-
-    def loading_counts(self) -> dict:
-        """Flighted cells over, at and under their design load (``cells_over``, ``cells_design``,
-        ``cells_under``) in this state."""
-        states = self.state.loading_state
-        return {f"cells_{k}": float(states.count(k)) for k in ("over", "design", "under")}
 
     def to_dict(self) -> dict:
         """:meth:`summary` with the ``sections`` and ``cells`` tables of :attr:`state` (the

@@ -165,3 +165,17 @@ def test_live_and_saved_result_figures_are_one_drawing():
     assert live[2].split(":", 1)[1] == saved[2].split(":", 1)[1]  # title: model name vs "Holdup profile"
     assert "airborne (curtain)" in live[1] and "H/F" in live[2]
     assert _content(tp.plot_rtd(rtd, meas, baseline=baseline)) == _content(rf.plot_rtd(res))
+
+
+def test_report_of_a_new_case_whose_sections_inherit_the_flight(tmp_path, monkeypatch):
+    """`rotarydryer new X && rotarydryer report X.toml`: the flighted section takes [flight] and
+    drum.n_flights (it crashed formatting the section's own s1, None), and the report shows them."""
+    from rotarydryer.cli import app
+
+    monkeypatch.chdir(tmp_path)
+    runner = CliRunner()
+    assert runner.invoke(app, ["new", "mine"]).exit_code == 0
+    r = runner.invoke(app, ["report", "mine.toml", "-o", "mine.html"])
+    assert r.exit_code == 0, r.output
+    text = (tmp_path / "mine.html").read_text()
+    assert re.search(r"section flighted \(11 m\): 18 flights, s1 0\.15 m / s2 0\.1 m, 90 / 120 deg", text)

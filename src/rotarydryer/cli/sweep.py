@@ -8,7 +8,6 @@ then and is not a dependency of rotarydryer).
 from __future__ import annotations
 
 import csv
-import math
 from pathlib import Path
 from typing import Optional
 
@@ -56,20 +55,17 @@ def _solve_point(case: str, overrides: dict, warm=None):
     loading counts. The tracer moments are the analytic ones of that state (what a simulated
     pulse's would tend to), so a point costs one transport and one coupled solve."""
     from .._threads import single_threaded
-    from ..simulation import Simulation  # the model stack: not at the CLI's start-up
+    from ..simulation import Simulation, check_finite  # the model stack: not at the CLI's start-up
 
     row = dict(overrides)
     try:
         with single_threaded():      # one BLAS/OpenMP thread per run (no oversubscription, issue 16)
             res = Simulation(case, overrides).steady_state(warm=warm)
-            out = {k: float(v) for k, v in {**res.summary(), **res.loading_counts()}.items()
+            out = {k: float(v) for k, v in {**res.summary(), **res.state.loading_counts()}.items()
                    if isinstance(v, (int, float)) and not isinstance(v, bool)}
+            check_finite(out, case)
     except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
         row["error"] = " ".join(str(exc).split()) or type(exc).__name__
-        return row, None
-    bad = [k for k, v in out.items() if not math.isfinite(v) and k != "mass_balance_error"]
-    if bad:
-        row["error"] = f"case {case!r}: non-finite results {', '.join(bad)}"
         return row, None
     for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS):
         if k in out:

@@ -102,10 +102,13 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
             desc += f", s1 {f['s1']:g} m / s2 {f['s2']:g} m, {f['alpha1']:g} / {f['alpha2']:g} deg"
         rows.append(("flights", desc, ""))
     else:
+        shared = {**(inp.get("flight") or {}), "n_flights": drum.get("n_flights")}   # what sections inherit
         for sec in inp.get("sections", []):
             if sec["kind"] == "flighted":
-                d = (f"section {sec['name']} ({sec['length']:g} m): {sec['n_flights']} flights, s1 {sec['s1']:g} m / "
-                     f"s2 {sec['s2']:g} m, {sec['alpha1']:g} / {sec['alpha2']:g} deg")
+                g = {k: sec.get(k) if sec.get(k) is not None else shared.get(k)
+                     for k in ("n_flights", "s1", "s2", "alpha1", "alpha2")}
+                d = (f"section {sec['name']} ({sec['length']:g} m): {g['n_flights']} flights, s1 {g['s1']:g} m / "
+                     f"s2 {g['s2']:g} m, {g['alpha1']:g} / {g['alpha2']:g} deg")
             else:
                 d = f"section {sec['name']} ({sec['length']:g} m): unflighted"
             rows.append(("flights" if sec is inp["sections"][0] else "", d, ""))

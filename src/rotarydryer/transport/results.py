@@ -174,6 +174,12 @@ class SteadyState:
         d = self.dryer_loading
         return ["over" if x > 1 + 1e-9 else ("design" if x >= 1 - 1e-9 else "under") for x in d]
 
+    def loading_counts(self) -> dict:
+        """Flighted cells over, at and under their design load: ``cells_over``, ``cells_design``,
+        ``cells_under`` (floats, as the Results scalars hold them)."""
+        states = self.loading_state
+        return {f"cells_{k}": float(states.count(k)) for k in ("over", "design", "under")}
+
     def section_holdups(self) -> dict:
         """{section: {"active": kg, "passive": kg, "bed": kg, "total": kg}}."""
         out = {}
