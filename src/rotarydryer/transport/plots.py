@@ -25,7 +25,7 @@ def plot_holdup_profile(steady, ax=None, name=None):
     m = steady.model
     sections = [(s["name"], s["kind"], s["length"], s["n_cells"]) for s in m.sections]
     return holdup_profile_figure(sections, steady.position, steady.phase, steady.section, steady.masses,
-                                 getattr(steady, "design_load", m.design_load), total_kg=steady.total_holdup,
+                                 steady.design_load, total_kg=steady.total_holdup,
                                  holdup_over_flow_s=steady.mean_residence_time, name=name or m.name, ax=ax)
 
 
