@@ -69,7 +69,7 @@ def test_incomplete_flighted_section_named(tmp_path):
     """A flighted Ajayi section without n_cells, regression coefficients or flight dimensions is
     reported with its index and field (it used to fail later with a raw TypeError / KeyError)."""
     path = _mmg_variant(tmp_path, "n_cells = 8\n", "")
-    with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.n_cells = None"):
+    with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.n_cells is missing"):
         load_case(path, {"operating.test": 4})
     thesis = {"operating.test": 4, "geometry.method": "ajayi2011_regressions"}
     path = _mmg_variant(tmp_path, "regression.area = ", "regression.areas = ")

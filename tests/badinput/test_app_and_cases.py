@@ -120,9 +120,9 @@ CASES = [
      ["material.name", "../../../secret.toml", "not a material of the library"]),
     ("material-unknown", _set("song", "material", "name", '"cheese"'), ["material.name", "cheese", "allowed"]),
     # --- file format ----------------------------------------------------------------------
-    ("kind-unknown", _text("lee", 'kind = "lee2008"', 'kind = "rocket"'), ["kind", "rocket", "lee2008"]),
-    ("kind-missing", _text("lee", 'kind = "lee2008"', ""), ["kind", "none", "lee2008"]),
-    ("kind-number", _text("lee", 'kind = "lee2008"', "kind = 3"), ["kind", "3", "lee2008"]),
+    ("kind-unknown", _text("lee", 'kind = "dryer"', 'kind = "rocket"'), ["kind", "rocket", "dryer"]),
+    ("kind-missing", _text("lee", 'kind = "dryer"', ""), ["kind", "none", "dryer"]),
+    ("kind-number", _text("lee", 'kind = "dryer"', "kind = 3"), ["kind", "3", "dryer"]),
     ("not-toml", lambda: "radius = = 3\n", ["not valid toml"]),
     ("deeply-nested-toml", lambda: "a = " + "[" * 50_000 + "]" * 50_000 + "\n", ["not valid toml", "nested"]),
     ("empty-file", lambda: "", ["kind", "none"]),
@@ -177,7 +177,7 @@ CASES = [
     ("rpm-word", _set("lee", "operating", "rpm", '"fast"'), ["operating.rpm", "fast"]),
     ("feed-negative", _set("lee", "operating", "feed_rate", "-1.0"), ["operating.feed_rate", "-1.0"]),
     ("feed-nan", _set("song", "operating", "feed_rate", "nan"), ["operating.feed_rate", "nan", "finite"]),
-    ("moisture-above-one", _set("lee", "solids", "moisture_inlet", "1.5"), ["solids.moisture_inlet", "1.5"]),
+    ("moisture-above-one", _set("lee", "operating", "feed_moisture", "1.5"), ["operating.feed_moisture", "1.5"]),
     ("ajayi-test-7", _set("mmg", "operating", "test", "7"), ["operating.test", "7", "6"]),
 ]
 

@@ -37,12 +37,13 @@ def _refused(args, workdir, *fragments):
 # ---- impossible dryers through `simulate` / `rtd` (the case key and its value named) ------------------
 FILL = [
     (INVICTA, ["operating.feed_rate=1000"], ["solids fill 142 %", "limit is 30 %", "operating.feed_rate = 1000 kg/s"]),
-    (INVICTA, ["operating.feed_rate=1e6"], ["solids fill", "operating.feed_rate = 1000000 kg/s"]),
+    (INVICTA, ["operating.feed_rate=1e6"], ["operating.feed_rate", "less than or equal to 1000"]),
+    (INVICTA, ["operating.feed_rate=900"], ["solids fill", "operating.feed_rate = 900 kg/s"]),
     (INVICTA, ["operating.feed_rate=300"], ["solids fill 46", "operating.feed_rate = 300 kg/s"]),
     (INVICTA, ["transport.kiln_time=1e6"], ["solids fill", "transport.kiln_time = 1000000 s"]),
     (MMG, ["operating.feed_rate=1000"], ["solids fill", "section a", "operating.feed_rate = 1000 kg/s"]),
     (MMG, ["operating.feed_rate=200"], ["solids fill", "operating.feed_rate = 200 kg/s"]),
-    (MMG, ["transport.kiln_velocity=1e-6"], ["solids fill", "transport.kiln_velocity = 1e-06 m/s",
+    (MMG, ["transport.solids_velocity=1e-6"], ["solids fill", "transport.solids_velocity = 1e-06 m/s",
                                              "operating.feed_rate = 40.666667 kg/s (the value of test 4)"]),
     (SONG, ["operating.feed_rate=10"], ["solids fill 279 %", "operating.feed_rate = 10 kg/s"]),
     (SONG, ["operating.feed_rate=2"], ["solids fill 61", "operating.feed_rate = 2 kg/s"]),
@@ -59,10 +60,10 @@ SPEED = [
 ]
 
 INPUTS = [
-    (INVICTA, ["solids.bulk_density=1e-300"], ["solids.bulk_density = 1e-300 kg/m^3", "[1, 23000] kg/m^3"]),
-    (INVICTA, ["solids.bulk_density=1e9"], ["solids.bulk_density = 1000000000 kg/m^3", "[1, 23000]"]),
-    (INVICTA, ["solids.bulk_density=nan"], ["solids.bulk_density", "nan"]),
-    (INVICTA, ["solids.bulk_density=-5"], ["solids.bulk_density", "-5"]),
+    (INVICTA, ["material.bulk_density.a=1e-300"], ["material.bulk_density (at the feed moisture) = 1e-300 kg/m^3", "[1, 23000] kg/m^3"]),
+    (INVICTA, ["material.bulk_density.a=1e9"], ["material.bulk_density", "1e+09"]),
+    (INVICTA, ["material.bulk_density.a=nan"], ["material.bulk_density", "nan"]),
+    (INVICTA, ["material.bulk_density.a=-5"], ["material.bulk_density", "-5"]),
     (INVICTA, ["drum.radius=0.1"], ["drum.radius = 0.1 m", "flight.s1 = 0.195 m"]),
     (INVICTA, ["drum.radius=1e-300"], ["drum.radius = 1e-300 m", "flight.s1"]),
     (INVICTA, ["drum.radius=nan"], ["drum.radius", "nan"]),
@@ -73,10 +74,10 @@ INPUTS = [
     (INVICTA, ["drum.slope=60"], ["drum.slope", "60"]),
     (INVICTA, ["operating.feed_rate=nan"], ["operating.feed_rate", "nan"]),
     (INVICTA, ["operating.feed_rate=-1"], ["operating.feed_rate", "-1"]),
-    (MMG, ["solids.moisture_scale=10"], ["solids.moisture_scale = 10", "[0.61, 1.23]", "kg/kg wet"]),
-    (MMG, ["solids.moisture_scale=0.1"], ["solids.moisture_scale = 0.1", "[0.61, 1.23]"]),
-    (MMG, ["solids.moisture_scale=1.5"], ["solids.moisture_scale = 1.5", "allowed range"]),
-    (MMG, ["solids.moisture_scale=inf"], ["solids.moisture_scale", "inf"]),
+    (MMG, ["transport.moisture_scale=10"], ["transport.moisture_scale = 10", "[0.61, 1.23]", "kg/kg wet"]),
+    (MMG, ["transport.moisture_scale=0.1"], ["transport.moisture_scale = 0.1", "[0.61, 1.23]"]),
+    (MMG, ["transport.moisture_scale=1.5"], ["transport.moisture_scale = 1.5", "allowed range"]),
+    (MMG, ["transport.moisture_scale=inf"], ["transport.moisture_scale", "inf"]),
     (MMG, ["drum.radius=0.5"], ["drum.radius = 0.5 m", "sections[1] (B).n_flights = 30", "flights overlap"]),
     (MMG, ["drum.radius=0.5", "geometry.method=ajayi2011_regressions"], ["drum.radius = 0.5 m",
                                                                          "geometry.method = 'exact'"]),
@@ -191,9 +192,9 @@ def test_validation_messages_are_plain():
 
 def test_moisture_scale_names_the_key_not_the_repose_angle():
     with pytest.raises(ValueError) as exc:
-        build_model(load_case(MMG, {"solids.moisture_scale": "10"}))
+        build_model(load_case(MMG, {"transport.moisture_scale": "10"}))
     msg = str(exc.value)
-    assert msg.startswith("solids.moisture_scale = 10 ")
+    assert msg.startswith("transport.moisture_scale = 10 ")
     assert "repose_angle" not in msg and "np.float64" not in msg
 
 

@@ -239,7 +239,7 @@ def test_drawing_gas_arrows_follow_the_case_direction(case, overrides, direction
 def test_drawing_has_a_burner_iff_the_case_has_one_at_the_gas_inlet_end():
     aj = load_case("ajayi2011_mmg").model_dump()
     lee = load_case("lee2008_invicta").model_dump()
-    assert aj["thermal"]["burner"] is not None and lee["gas"]["burner"] is None
+    assert aj["gas"]["burner"] is not None and lee["gas"]["burner"] is None
     _, root = _gas_arrow_signs(dryer_svg(aj))
     (burner,) = _burners(root)
     drum_left = min(float(r.get("x")) for g in root.iter(f"{SVG}g") if g.get("class") == "section"

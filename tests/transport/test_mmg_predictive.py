@@ -61,14 +61,14 @@ def test_case_test_rows_follow_ajayis_tables():
         r = SUMMARY[t.test]
         assert t.feed_rate * 60 == pytest.approx(float(r["feed_kg_wet_min"]), rel=1e-6)
         assert t.rpm == float(r["rpm"])
-        assert t.moisture_inlet == pytest.approx(float(r["solid_in_moisture_pct"]) / 100, abs=1e-9)
-        assert t.moisture_outlet == pytest.approx(float(r["product_moisture_pct"]) / 100, abs=1e-9)
+        assert t.feed_moisture == pytest.approx(float(r["solid_in_moisture_pct"]) / 100, abs=1e-9)
+        assert t.product_moisture == pytest.approx(float(r["product_moisture_pct"]) / 100, abs=1e-9)
         assert t.mrt_measured_min == pytest.approx(float(r["MRT_measured_min"]))
         assert t.scaled == (r["internal_condition"] == "scaled")
         if r["u_s_fitted_m_s"]:
-            assert t.kiln_velocity == pytest.approx(float(r["u_s_fitted_m_s"]), rel=0.03)
+            assert t.solids_velocity == pytest.approx(float(r["u_s_fitted_m_s"]), rel=0.03)
         else:
-            assert t.kiln_velocity is None and t.dispersion is None
+            assert t.solids_velocity is None and t.dispersion is None
 
 
 def test_per_test_is_the_default_and_refuses_test_1():
@@ -137,7 +137,7 @@ def test_predictive_transport_per_section():
             for s in case.sections]
     t4 = next(t for t in case.tests if t.test == 4)
     pt = predictive_transport(sections=secs, feed_rate=t4.feed_rate, rpm=t4.rpm, slope=4.0, radius=1.95,
-                              moisture_inlet=t4.moisture_inlet, moisture_outlet=t4.moisture_outlet,
+                              moisture_inlet=t4.feed_moisture, moisture_outlet=t4.product_moisture,
                               material=material_of(case), velocity_coefficient=0.25, dispersion_coefficient=3.0)
     u = pt.kiln_velocity_m_s
     assert list(u) == ["A", "B", "C", "D", "E"] and set(pt.dispersion_m2_s) == {"A", "E"}

@@ -186,13 +186,10 @@ def _check_builtin(case) -> None:
 def case_defaults(case: str) -> dict:
     """Feed rate (kg/s), speed (rev/min) and slope (deg) of a built-in case (or of an
     uploaded one, see :func:`stage_case_file`), as used."""
+    from ..cases.build import operating_point
+
     c = _load(case)
-    op = c.operating
-    feed, rpm = op.feed_rate, op.rpm
-    if hasattr(c, "tests"):  # Ajayi: defaults from the chosen test
-        t = next((t for t in c.tests if t.test == op.test), None)
-        feed = feed if feed is not None else (t.feed_rate if t else None)
-        rpm = rpm if rpm is not None else (t.rpm if t else None)
+    feed, rpm, _, _ = operating_point(c)
     return {"feed_rate": float(feed), "rpm": float(rpm), "slope": float(c.drum.slope)}
 
 

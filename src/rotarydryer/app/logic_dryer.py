@@ -36,26 +36,18 @@ def _spec(key, label, unit, value, lo, hi, step, fmt="%.3f", integer=False):
 
 
 def _kind_keys(case) -> dict:
-    """Override keys of the main operating variables for the case's schema (``kind``)."""
-    kind = case.kind
-    if kind == "ajayi2011":
-        return {"gas_inlet_temperature": "thermal.gas_inlet_temperature", "gas_flow": "thermal.gas_flow",
-                "feed_temperature": "thermal.solids_inlet_temperature", "area_scale": "thermal.area_scale",
-                "gas_inlet_humidity": "thermal.gas_inlet_humidity",
-                "insulation_thickness": "thermal.insulation_thickness", "feed_moisture": None}
-    lee = kind == "lee2008"
+    """Override keys of the main operating variables (one schema: the same keys for every case)."""
     return {"gas_inlet_temperature": "gas.inlet_temperature", "gas_flow": "gas.flow",
-            "feed_temperature": "gas.feed_temperature" if lee else "operating.feed_temperature",
-            "area_scale": "thermal.area_scale", "gas_inlet_humidity": "gas.inlet_humidity",
-            "insulation_thickness": "shell.insulation_thickness",
-            "feed_moisture": "solids.moisture_inlet" if lee else "operating.feed_moisture"}
+            "feed_temperature": "operating.feed_temperature", "area_scale": "thermal.area_scale",
+            "gas_inlet_humidity": "gas.inlet_humidity", "insulation_thickness": "shell.insulation_thickness",
+            "feed_moisture": "operating.feed_moisture"}
 
 
 def _has_thermal(c) -> bool:
     from ..simulation import Simulation
 
     try:
-        return Simulation(c).thermal_enabled and (c.kind == "ajayi2011" or getattr(c, "gas", None) is not None)
+        return Simulation(c).thermal_enabled and c.gas is not None
     except ValueError:
         return False
 
@@ -71,10 +63,8 @@ def plant_tests(case: str) -> list[int]:
     """Plant tests a case can run (Ajayi's MMG tests with fitted transport parameters, or every
     test with ``transport.parameter_source = 'predictive'``); [] for other kinds."""
     c = _load(case)
-    if c.kind != "ajayi2011":
-        return []
     predictive = c.transport.parameter_source == "predictive"
-    return [t.test for t in c.tests if predictive or t.kiln_velocity is not None]
+    return [t.test for t in c.tests if predictive or t.solids_velocity is not None]
 
 
 def operating_inputs(case: str, test: int | None = None) -> list[dict]:
@@ -94,10 +84,7 @@ def operating_inputs(case: str, test: int | None = None) -> list[dict]:
     k = _kind_keys(c)
     out = [_spec("operating.feed_rate", "Feed rate", "kg/s wet", feed, 0.0, 1000.0, 0.5),
            _spec("operating.rpm", "Speed", "rev/min", rpm, 0.0, 60.0, 0.1, "%.2f")]
-    if k["feed_moisture"] == "solids.moisture_inlet":       # Lee's schema: dry basis
-        out.append(_spec("solids.moisture_inlet", "Feed moisture", "kg/kg dry basis", c.solids.moisture_inlet,
-                         0.0, 1.0, 0.005, "%.4f"))
-    elif k["feed_moisture"] is not None:
+    if k["feed_moisture"] is not None:
         out.append(_spec("operating.feed_moisture", "Feed moisture", "kg/kg wet", x_in, 0.0, 1.0, 0.005, "%.4f"))
     out += [_spec(k["feed_temperature"], "Feed temperature", "degC", t_feed, 0.0, 99.0, 1.0, "%.1f"),
             _spec(k["gas_inlet_temperature"], "Gas inlet temperature", "degC", st.gas_inlet_temperature, 0.0, 600.0,
@@ -159,7 +146,7 @@ def energy_table(terms: dict) -> list[tuple[str, str, float]]:
 
 def _measured(c) -> dict | None:
     """Measured plant values of the case's operating point (Ajayi's MMG tests, Tables 3.5-3.11)."""
-    if c.kind != "ajayi2011":
+    if c.operating.test is None or c.tracer.dataset != "ajayi2011_test{test}":   # the MMG PI data set
         return None
     from ..thermal.consistency import pi_test_conditions
 

@@ -278,8 +278,8 @@ class Burner(_Strict):
 class Gas(_Strict):
     """Drying gas (humid air or combustion gas)."""
     direction: Literal["co-current", "counter-current"] = "co-current"
-    flow: float = Field(ge=0, le=1000, description="kg/s wet gas into the dryer (0: no gas, e.g. Song's no-air runs; heat and mass transfer needs > 0, so use thermal.enabled = false)")
-    inlet_temperature: float = Field(gt=0, le=600, description="degC")
+    flow: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s wet gas into the dryer (0: no gas, e.g. Song's no-air runs; heat and mass transfer needs > 0, so use thermal.enabled = false); needed by the heat-and-mass model and the trajectory forward step")
+    inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC; needed as gas.flow")
     inlet_humidity: float = Field(default=0.01, ge=0, lt=0.2, description="kg/kg wet gas")
     leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet")
     feed_temperature: Optional[float] = Field(default=None, ge=0, lt=99, description="degC of the wet feed (plant cases without [operating] feed_temperature)")
@@ -304,6 +304,19 @@ class ThermalModel(_Strict):
     area_scale: float = Field(default=1.0, ge=0, le=100, description="multiplier on the sections' area factors")
     moisture_coupling: bool = Field(default=True, description="repose angle and bulk density from the computed moisture")
     design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+    unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the heat-and-mass model (default the transport model's)")
+    mode_values: dict[str, dict[str, float]] = Field(default={}, max_length=10, description="per thermal.mode, values of gas.flow and thermal.area_scale that mode takes instead of the case's (the source's own settings of its mode, e.g. Ajayi's code gas flow)")
+
+    @field_validator("mode_values")
+    @classmethod
+    def _mode_values(cls, v):
+        for mode, vals in v.items():
+            if mode not in ("physical", "ajayi2011"):
+                raise ValueError(f"names mode {mode!r}; allowed: 'physical', 'ajayi2011'")
+            bad = sorted(set(vals) - {"gas.flow", "thermal.area_scale"})
+            if bad:
+                raise ValueError(f"[{mode}] sets {', '.join(bad)}; allowed keys: 'gas.flow', 'thermal.area_scale'")
+        return v
 
 
 class Material(_Strict):
@@ -326,12 +339,16 @@ class Material(_Strict):
         return self
 
 
-class LeeParameterSet(_Strict):
+class ParameterSet(_Strict):
+    """Fitted transport coefficients of one cell count (Lee (2008) Table 7.2)."""
     n_cells: int = Field(ge=1, le=100000)
-    kiln_time: float
-    backmix: float
-    drag_reduction: float
+    kiln_time: float = Field(gt=0, description="s")
+    backmix: float = Field(ge=0, le=1, description="C_B, -")
+    drag_reduction: float = Field(ge=0, description="C_F^G, -")
     source: str = ""
+
+
+LeeParameterSet = ParameterSet
 
 
 class LeeCase(_Strict):
@@ -506,10 +523,31 @@ class DryerDrum(_Strict):
 
 
 class DryerOperating(_Strict):
-    feed_rate: float = Field(gt=0, le=1000, description="kg/s wet solids")
-    rpm: float = Field(gt=0, le=60, description="rev/min")
-    feed_moisture: float = Field(ge=0, lt=1, description="kg/kg wet")
+    test: Optional[int] = Field(default=None, ge=0, le=1_000_000, description="the [[tests]] row whose operating "
+                                "point this run takes: its values are the defaults of the keys it gives")
+    feed_rate: Optional[float] = Field(default=None, gt=0, le=1000, description="kg/s wet solids (default the test's)")
+    rpm: Optional[float] = Field(default=None, gt=0, le=60, description="rev/min (default the test's)")
+    feed_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet (default the test's)")
     feed_temperature: float = Field(default=20.0, ge=0, lt=99, description="degC")
+
+
+class OperatingTest(_Strict):
+    """One measured operating point of the plant (a row of [[tests]], selected by operating.test):
+    its values are the defaults of the case keys named in each field's description."""
+    test: int = Field(ge=0, le=1_000_000)
+    feed_rate: float = Field(gt=0, le=1000, description="kg/s wet (operating.feed_rate)")
+    rpm: float = Field(gt=0, le=60, description="rev/min (operating.rpm)")
+    feed_moisture: float = Field(ge=0, lt=1, description="kg/kg wet (operating.feed_moisture)")
+    product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, measured (transport.product_moisture)")
+    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, fitted to this test (transport.solids_velocity)")
+    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, fitted to this test (transport.dispersion)")
+    fouling: float = Field(default=0.0, ge=0, le=0.95, description="fraction of flight capacity lost to scale in this test (transport.fouling)")
+    gas_flow: Optional[float] = Field(default=None, gt=0, le=1000, description="kg/s wet gas in this test, where known (gas.flow)")
+    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC, measured (gas.inlet_temperature)")
+    mrt_model_min: Optional[float] = Field(default=None, description="min, the source's model result (for comparison)")
+    holdup_model_kg: Optional[float] = Field(default=None, description="kg, the source's model result (for comparison)")
+    mrt_measured_min: Optional[float] = Field(default=None, description="min, measured mean residence time")
+    source: str = ""
 
 
 class DryerTransport(_TransportVariants):
@@ -524,19 +562,35 @@ class DryerTransport(_TransportVariants):
 
     model: Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"] = "lee2008"
     n_cells: Optional[int] = Field(default=None, ge=1, le=100000, description="cells per flighted section (default)")
-    kiln_time: float = Field(default=10.0, gt=0, description="s, kilning time of the excess over the design load (lee2008)")
-    backmix: float = Field(default=0.0, ge=0, le=1, description="C_B, -")
-    drag_reduction: float = Field(default=1.0, ge=0, description="C_F^G, -")
+    kiln_time: Optional[float] = Field(default=None, gt=0, description="s, kilning time of the excess over the design load (lee2008); default the [[parameter_sets]] row of n_cells, else 10 s")
+    backmix: Optional[float] = Field(default=None, ge=0, le=1, description="C_B, -; default the [[parameter_sets]] row of n_cells, else 0")
+    drag_reduction: Optional[float] = Field(default=None, ge=0, description="C_F^G, -; default the [[parameter_sets]] row of n_cells, else 1")
+    backmix_to: Literal["passive", "active"] = Field(default="passive", description="where backmixed solids go: the previous passive phase (Lee 2008) or active phase (sheehan2005_model2 always)")
     loading: Literal["fixed", "state"] = "state"
-    solids_velocity: float = Field(default=0.01, gt=0, description="u_s, m/s: rolling-bed velocity (unflighted) and kilning velocity (ajayi2011)")
-    dispersion: float = Field(default=1e-3, ge=0, description="m2/s, axial dispersion of unflighted sections")
+    moisture_profile: Literal["exponential", "lee2008_eq7.3", "ajayi2011_eq3.1"] = Field(
+        default="exponential", description="assumed moisture of the transport-only network from operating.feed_moisture to "
+        "transport.product_moisture: exponential in the wet basis at the cells' centres, or Lee (2008) Eq. 7.3 (exponential "
+        "in the dry basis at i/(N-1), i = 0..N-1, as Lee's gPROMS code), or Ajayi (2011) Eq. 3.1 times transport.moisture_scale "
+        "(the MMG dryer's measured profile; with transport.parameter_source = 'predictive' mapped onto the feed and product "
+        "moisture)")
+    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s: rolling-bed velocity (unflighted) and kilning velocity (ajayi2011); default the test's, else 0.01")
+    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, axial dispersion of unflighted sections; default the test's, else 1e-3")
     unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="finite volumes per unflighted section; default auto")
-    fouling: float = Field(default=0.0, ge=0, le=0.95, description="fraction of flight capacity lost to scale")
-    product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, assumed outlet moisture of the transport-only profile (default: the feed moisture)")
+    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight capacity lost to scale (default the test's, else 0)")
+    product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, assumed outlet moisture of the transport-only profile (default: the test's, else the feed moisture)")
+    moisture_scale: float = Field(default=1.0, gt=0, description="factor on the ajayi2011_eq3.1 moisture profile")
+    unflighted_inlet: Literal["danckwerts", "ajayi"] = Field(default="danckwerts", description="inlet condition of a first unflighted section: Danckwerts flux, or Dirichlet m(0) = F/u (Ajayi (2011) Eq. 5.11-5.13 as coded)")
+    parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="u_s and D of the ajayi2011 sections: the case's (transport.solids_velocity, transport.dispersion, else the selected test's fit), or predicted from the operating point (rotarydryer.transport.ajayi_predictive, docs/mmg_cross_test.md)")
+    velocity_law: Literal["friedman_marshall", "kramers"] = Field(default="friedman_marshall", description="predictive kiln velocity: Sullivan/Friedman-Marshall (Song 2003 Eq. 1-2) or Kramers-Croockewit bed (comparison)")
+    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law; the case file holds the calibration")
+    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p; the case file holds the calibration")
 
 
 class DryerGeometry(_Strict):
-    method: Literal["exact"] = "exact"
+    method: Literal["exact", "lee2008_regressions", "ajayi2011_regressions"] = Field(
+        default="exact", description="exact flight geometry, or Lee (2008) Eq. 4.24-4.28 regressions (fitted to the "
+        "Invicta flights; reproduce Lee's Ch. 7), or Ajayi (2011) Appendix F per-section regressions (sections[].regression)")
+    design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor x m_Baker of the ajayi2011_regressions (Ajayi (2011) Section 4.5)")
     passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
     tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
                             "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
@@ -560,6 +614,7 @@ class DryerSection(_Strict):
     area_factor: float = Field(default=1.0, ge=0, description="exposed-area factor of the heat/mass transfer")
     particle_diameter: Optional[float] = Field(default=None, gt=0, description="m; default the material's")
     shell_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC (thermal.mode = ajayi2011)")
+    regression: Optional[dict[str, list[float]]] = Field(default=None, description="Ajayi (2011) Appendix F coefficients: area (7) and fall_time (11), geometry.method = ajayi2011_regressions")
 
 
 class DryerTracer(_Strict):
@@ -567,6 +622,22 @@ class DryerTracer(_Strict):
     duration: float = Field(default=60.0, ge=0, description="s")
     t_end: float = Field(default=7200.0, gt=0, description="s")
     dt: float = Field(default=10.0, gt=0, description="s")
+    measured: Optional[str] = Field(default=None, max_length=200,
+                                    description="bare file name of a shipped tracer CSV (measured_files())")
+    measured_offset: float = Field(default=0.0, description="s, injection start in the measured file")
+    dataset: Optional[str] = Field(default=None, max_length=200,
+                                   description="rotarydryer.rtd dataset; {test} is replaced (plain text)")
+    baseline: str = Field(default="none", max_length=50, description="baseline method for the measured moments")
+
+    @field_validator("measured")
+    @classmethod
+    def _measured_shipped(cls, v):
+        return _check_measured(v)
+
+    @field_validator("dataset")
+    @classmethod
+    def _dataset_shipped(cls, v):
+        return _check_dataset(v)
 
     @model_validator(mode="after")
     def _time_grid(self):
@@ -589,10 +660,26 @@ class DryerCase(_Strict):
     shell: Shell = Shell()
     thermal: ThermalModel = ThermalModel()
     tracer: DryerTracer = DryerTracer()
+    parameter_sets: list[ParameterSet] = Field(default=[], max_length=MAX_ENTRIES, description="fitted transport "
+                                               "coefficients per transport.n_cells (e.g. Lee (2008) Table 7.2)")
+    tests: list[OperatingTest] = Field(default=[], max_length=MAX_ENTRIES, description="measured operating points "
+                                       "of the plant (operating.test selects one)")
 
     @model_validator(mode="after")
     def _complete(self):
         problems = []
+        problem = _dataset_problem(self)
+        if problem:
+            problems.append(problem)
+        problems += _operating_problems(self)
+        rates = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self.transport, k) is not None]
+        models = {sec.model or self.transport.model for sec in self.sections if sec.kind == "flighted"}
+        if rates and "sheehan2005_model1" not in models:
+            problems.append(f"{', '.join(rates)} set but transport.model = {self.transport.model!r}: the rates are "
+                            "those of transport.model = 'sheehan2005_model1'")
+        if self.gas is not None and self.gas.feed_temperature is not None:
+            problems.append(f"gas.feed_temperature = {self.gas.feed_temperature!r} is a key of the lee2008 format: give "
+                            "operating.feed_temperature (degC) instead")
         if not self.sections:
             problems.append("sections = []: a dryer needs at least one [[sections]] entry")
         names = [sec.name for sec in self.sections]
@@ -606,15 +693,50 @@ class DryerCase(_Strict):
                 problems.append(f"{where}.n_cells is missing (and no transport.n_cells default)")
             if (sec.n_flights or self.drum.n_flights) is None:
                 problems.append(f"{where}.n_flights is missing (and no drum.n_flights default)")
+            if self.geometry.method == "ajayi2011_regressions":
+                reg = sec.regression or {}
+                for key, n in (("area", 7), ("fall_time", 11)):
+                    got = reg.get(key)
+                    if got is None or len(got) != n:
+                        problems.append(f"{where}.regression.{key} = {got!r}: geometry.method = "
+                                        f"'ajayi2011_regressions' needs {n} coefficients")
+                continue
             for key in ("s1", "s2", "alpha1", "alpha2"):
                 if getattr(sec, key) is None and (self.flight is None or getattr(self.flight, key, None) is None):
                     problems.append(f"{where}.{key} is missing (and no [flight] default)")
-        if self.thermal.enabled and self.gas is None:
-            problems.append("gas is missing: [gas] (flow, inlet_temperature) is needed when thermal.enabled = true")
+        if self.thermal.enabled:
+            row = next((t for t in self.tests if t.test == self.operating.test), None)
+            missing = (["gas"] if self.gas is None else
+                       [f"gas.{k}" for k in ("flow", "inlet_temperature") if getattr(self.gas, k) is None
+                        and getattr(row, "gas_" + k.replace("flow", "flow"), None) is None])
+            if missing:
+                problems.append(f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} missing: [gas] flow "
+                                "and inlet_temperature are needed when thermal.enabled = true")
         problems += filter(None, [_length_problem(self), _cells_problem(self)])
         if problems:
             raise ValueError("; ".join(problems))
         return self
+
+
+def _operating_problems(case) -> list[str]:
+    """The operating point is complete: ``operating.test`` names a [[tests]] row, and every one of
+    feed_rate, rpm, feed_moisture is given or comes from that row."""
+    op, out = case.operating, []
+    row = None
+    if op.test is not None:
+        row = next((t for t in case.tests if t.test == op.test), None)
+        if row is None:
+            have = ", ".join(str(t.test) for t in case.tests) or "none"
+            out.append(f"operating.test = {op.test} is not in the case's [[tests]] (tests: {have})")
+            return out
+    nums = [t.test for t in case.tests]
+    if len(set(nums)) != len(nums):
+        out.append(f"tests: test numbers {nums} are not unique")
+    missing = [f"operating.{k}" for k in ("feed_rate", "rpm", "feed_moisture") if getattr(op, k) is None and row is None]
+    if missing:
+        out.append(f"{', '.join(missing)} {'is' if len(missing) == 1 else 'are'} missing (give {'it' if len(missing) == 1 else 'them'}, "
+                   "or operating.test with a [[tests]] row)")
+    return out
 
 
 #: relative tolerance of drum.length against the sum of the section lengths
@@ -839,6 +961,8 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
 
 
 def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None):
+    from .readers import readers, translate_legacy_overrides
+
     raw = _parse(text, shown)
     kind = raw.get("kind")
     if not isinstance(kind, str) or kind not in _KINDS:
@@ -847,6 +971,25 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
     if isinstance(raw.get("material"), str):
         raw["material"] = {"name": raw["material"]}
     valid = valid_override_keys(cls)
+    if kind == "dryer":
+        overrides = translate_legacy_overrides(overrides, valid)
+    case = _validated(cls, raw, valid, text, shown, name, overrides)
+    reader = readers().get(kind)
+    if reader is None:
+        return case
+    try:       # a plant format: its reader translates it into the one specification
+        spec = reader[1](case)
+    except ValueError as exc:
+        raise ValueError(f"invalid case {name!r} (1 problem):\n{shown}: {exc}") from None
+    try:
+        return DryerCase.model_validate(spec)
+    except ValidationError as exc:
+        n = len(exc.errors())
+        details = _format_validation_error(exc, spec, "", shown, overrides)
+        raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
+
+
+def _validated(cls, raw, valid, text, shown, name, overrides):
     for key, value in (overrides or {}).items():
         if key not in valid and not key.startswith("material."):
             raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")

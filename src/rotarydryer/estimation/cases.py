@@ -60,16 +60,20 @@ def _current_value(case, key: str) -> float:
     value = case
     for part in key.split("."):
         value = getattr(value, part, None)
-    if value is None and sec == "transport" and hasattr(case, "tests"):
-        # Ajayi (2011) case: defaults come from the selected test's Table 5.2 row
-        test = next((t for t in case.tests if t.test == case.operating.test), None)
-        alias = {"solids_velocity": "kiln_velocity"}.get(fld, fld)
-        value = getattr(test, alias, None) if test is not None else None
-    elif value is None and sec == "transport":
-        from ..cases import lee_parameters
+    if value is None and sec == "transport":
+        # the default the model takes: the selected test's row (Table 5.2 in the MMG case) or the
+        # [[parameter_sets]] row of n_cells (Lee's Table 7.2)
+        from ..cases.build import solids_transport, test_row, transport_coefficients
 
+        row = test_row(case)
+        value = getattr(row, fld, None) if row is not None else None
         try:
-            value = lee_parameters(case).get(fld)
+            if value is None and fld in ("kiln_time", "backmix", "drag_reduction"):
+                value = transport_coefficients(case).get(fld)
+            elif value is None and fld in ("solids_velocity", "dispersion"):
+                u, D, _ = solids_transport(case)
+                vals = list((u if fld == "solids_velocity" else D).values())
+                value = vals[0] if vals and all(v == vals[0] for v in vals) else None
         except Exception:  # noqa: BLE001 - only a default start is being looked up
             value = None
     if isinstance(value, bool) or not isinstance(value, (int, float)):

@@ -27,9 +27,8 @@ def dryer_layout(inputs: dict) -> dict:
     sections ``[(name, kind, length m, n_flights or None)]``, diameter (m), length (m), slope
     (deg), gas direction ("co-current", "counter-current" or None without gas) and burner (bool)."""
     drum = inputs.get("drum", {}) or {}
-    kind = inputs.get("kind")
     secs = []
-    if kind == "lee2008" or not inputs.get("sections"):
+    if not inputs.get("sections"):
         secs.append(("dryer", "flighted", float(drum.get("length") or 0.0), drum.get("n_flights")))
     else:
         for s in inputs["sections"]:
@@ -39,7 +38,7 @@ def dryer_layout(inputs: dict) -> dict:
             secs.append((str(s["name"]), str(s["kind"]), float(s["length"]), n))
     gas = inputs.get("gas") or {}
     op = inputs.get("operating") or {}
-    direction = gas.get("direction") or op.get("gas_flow")
+    direction = gas.get("direction") or op.get("gas_flow")   # gas_flow: results saved before the one schema
     thermal = inputs.get("thermal") or {}
     burner = gas.get("burner") is not None or thermal.get("burner") is not None
     return dict(sections=secs, diameter=2.0 * float(drum["radius"]), length=sum(s[2] for s in secs),

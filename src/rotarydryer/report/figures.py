@@ -26,7 +26,6 @@ def case_drums(inputs: dict, results=None) -> list[dict]:
     """
     from ..geometry import FlightedDrum, TwoSectionFlight
 
-    kind = inputs.get("kind")
     cells = results.flighted_cells if results is not None else None
     params = (results.model_choices.get("parameters", {}) if results is not None else {})
 
@@ -37,29 +36,23 @@ def case_drums(inputs: dict, results=None) -> list[dict]:
         return float(np.mean(cells[var].values[sel])) if np.any(sel) else default
 
     out = []
-    if kind == "lee2008":
-        d, f = inputs["drum"], inputs["flight"]
-        drum = FlightedDrum(d["radius"], d["n_flights"], TwoSectionFlight(f["s1"], f["s2"], f["alpha1"], f["alpha2"]))
-        s = inputs.get("solids", {})
-        phi = s.get("repose_angle") or 45.0
-        out.append(dict(name="dryer", drum=drum, length=d["length"], slope=d["slope"],
-                        rpm=inputs["operating"]["rpm"], bulk_density=s.get("bulk_density", 1000.0),
-                        repose_angle=_mean("dryer", "repose_angle", phi)))
-    elif kind == "ajayi2011":
-        d = inputs["drum"]
-        op = inputs.get("operating", {})
-        rpm = params.get("rpm") or op.get("rpm")
-        if rpm is None:
-            test = next((t for t in inputs.get("tests", []) if t["test"] == op.get("test")), None)
-            rpm = test["rpm"] if test else 3.0
-        for sec in inputs.get("sections", []):
-            if sec["kind"] != "flighted":
-                continue
-            drum = FlightedDrum(d["radius"], sec["n_flights"],
-                                TwoSectionFlight(sec["s1"], sec["s2"], sec["alpha1"], sec["alpha2"]))
-            out.append(dict(name=sec["name"], drum=drum, length=sec["length"], slope=d["slope"], rpm=rpm,
-                            bulk_density=_mean(sec["name"], "bulk_density", 1000.0),
-                            repose_angle=_mean(sec["name"], "repose_angle", 45.0)))
+    d, op = inputs["drum"], inputs.get("operating", {})
+    shared = {**(inputs.get("flight") or {}), "n_flights": d.get("n_flights")}     # what sections inherit
+    rpm = params.get("rpm") or op.get("rpm")
+    if rpm is None:
+        test = next((t for t in inputs.get("tests", []) if t["test"] == op.get("test")), None)
+        rpm = test["rpm"] if test else 3.0
+    for sec in inputs.get("sections", []):
+        if sec["kind"] != "flighted":
+            continue
+        g = {k: sec.get(k) if sec.get(k) is not None else shared.get(k)
+             for k in ("n_flights", "s1", "s2", "alpha1", "alpha2")}
+        if any(v is None for v in g.values()):
+            continue        # no flight dimensions (regression geometry only)
+        drum = FlightedDrum(d["radius"], g["n_flights"], TwoSectionFlight(g["s1"], g["s2"], g["alpha1"], g["alpha2"]))
+        out.append(dict(name=sec["name"], drum=drum, length=sec["length"], slope=d["slope"], rpm=rpm,
+                        bulk_density=_mean(sec["name"], "bulk_density", 1000.0),
+                        repose_angle=_mean(sec["name"], "repose_angle", 45.0)))
     return out
 
 
@@ -135,7 +128,7 @@ def draw_dryer_side_view(results=None, *, inputs: dict | None = None, ax=None):
     inputs = inputs if inputs is not None else results.inputs
     if results is not None and results.sections is not None:
         secs = [(n, k, a, b) for n, k, a, b in _axial_sections(results)]
-    elif inputs.get("kind") == "ajayi2011":
+    elif inputs.get("sections"):
         secs, x0 = [], 0.0
         for s in inputs["sections"]:
             secs.append((s["name"], s["kind"], x0, x0 + s["length"]))

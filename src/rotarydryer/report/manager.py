@@ -38,25 +38,23 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
     flights, from the case inputs and the stored scalars (what the model was actually run with)."""
     inp, s = results.inputs, results.scalars
     params = results.model_choices.get("parameters", {}) or {}
-    kind = inp.get("kind")
     drum = inp.get("drum", {}) or {}
     op = inp.get("operating", {}) or {}
     gas = inp.get("gas") or {}
     th = inp.get("thermal") or {}
-    solids = inp.get("solids") or {}
-    test = _test_row(inp) if kind == "ajayi2011" else None
+    test = _test_row(inp)
     rows: list[tuple[str, str, str]] = []
     if test is not None:
-        rows.append(("plant test", f"Test {test['test']}", "Ajayi (2011) Tables 3.5-3.11"))
+        rows.append(("plant test", f"Test {test['test']}", str(test.get("source") or "")))
     feed = s.get("feed_rate_kg_s", params.get("feed_rate", op.get("feed_rate")))
     if feed is not None:
         rows.append(("wet feed rate", f"{float(feed):.4g} ({3.6 * float(feed):.4g} t/h)", "kg/s"))
-    x_in = solids.get("moisture_inlet", op.get("feed_moisture"))
+    x_in = op.get("feed_moisture")
     if x_in is None and test is not None:
-        x_in = float(test["moisture_inlet"]) * float(solids.get("moisture_scale", 1.0) or 1.0)
+        x_in = test.get("feed_moisture")
     if x_in is not None:
         rows.append(("feed moisture", f"{100 * float(x_in):.3g}", "% wet basis"))
-    t_feed = gas.get("feed_temperature", op.get("feed_temperature", th.get("solids_inlet_temperature")))
+    t_feed = op.get("feed_temperature")
     if t_feed is not None:
         rows.append(("feed temperature", f"{float(t_feed):.3g}", "degC"))
     rpm = params.get("rpm", op.get("rpm"))
@@ -64,23 +62,21 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
         rows.append(("drum speed", f"{float(rpm):g}", "rev/min"))
     if drum.get("slope") is not None:
         rows.append(("drum slope", f"{float(drum['slope']):g}", "deg"))
-    direction = gas.get("direction") or op.get("gas_flow")
+    direction = gas.get("direction")
     if direction:
         rows.append(("gas direction", str(direction), "relative to the solids"))
-    g_flow = s.get("gas_flow_kg_s", gas.get("flow", th.get("gas_flow")))
+    g_flow = s.get("gas_flow_kg_s", gas.get("flow"))
     if g_flow is not None:
         rows.append(("gas flow", f"{float(g_flow):.4g}", "kg/s wet gas"))
-    t_gas = gas.get("inlet_temperature", th.get("gas_inlet_temperature"))
-    if t_gas is None and kind == "ajayi2011" and th:
-        from ..thermal.consistency import pi_test_conditions
-
-        t_gas = pi_test_conditions(int(op["test"]))["gas_in_c"]      # as the case builder does
+    t_gas = gas.get("inlet_temperature")
+    if t_gas is None and test is not None and th.get("enabled", True):
+        t_gas = test.get("gas_inlet_temperature")      # as the case builder does
     if t_gas is not None:
         rows.append(("gas inlet temperature", f"{float(t_gas):.4g}", "degC"))
-    y_gas = gas.get("inlet_humidity", th.get("gas_inlet_humidity"))
+    y_gas = gas.get("inlet_humidity")
     if y_gas is not None:
         rows.append(("gas inlet humidity", f"{float(y_gas):.3g}", "kg/kg"))
-    burner = gas.get("burner") if gas.get("burner") is not None else th.get("burner")
+    burner = gas.get("burner")
     if burner is not None:
         fuel = f"fuel oil (C/H {float(burner.get('fuel_carbon_hydrogen_ratio', float('nan'))):g}, " \
                f"S {100 * float(burner.get('fuel_sulphur_fraction', float('nan'))):g} %), Ajayi (2011) App. A"
@@ -94,7 +90,7 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
     lay = dryer_layout(inp)
     rows.append(("drum D x L", f"{lay['diameter']:g} x {lay['length']:g}", "m"))
     secs = lay["sections"]
-    if kind == "lee2008" or len(secs) == 1:
+    if len(secs) == 1:
         f = inp.get("flight") or {}
         nf = drum.get("n_flights")
         desc = f"{nf} two-section flights" if nf else "flighted"
@@ -143,14 +139,15 @@ def rtd_comparison(results) -> dict | None:
 
 def _pi(inputs: dict) -> tuple[dict | None, str]:
     """Ajayi's measured means of the case's test, or None and the reason."""
-    if inputs.get("kind") != "ajayi2011":
-        return None, ""
-    op, th, solids = inputs.get("operating") or {}, inputs.get("thermal") or {}, inputs.get("solids") or {}
+    op, gas, tr = inputs.get("operating") or {}, inputs.get("gas") or {}, inputs.get("transport") or {}
     test = op.get("test")
+    if test is None or (inputs.get("tracer") or {}).get("dataset") != "ajayi2011_test{test}":   # the MMG PI data
+        return None, ""
     changed = [k for k, v in (("operating.feed_rate", op.get("feed_rate")), ("operating.rpm", op.get("rpm")),
-                              ("thermal.gas_inlet_temperature", th.get("gas_inlet_temperature"))) if v is not None]
-    if float(solids.get("moisture_scale", 1.0) or 1.0) != 1.0:
-        changed.append("solids.moisture_scale")
+                              ("operating.feed_moisture", op.get("feed_moisture")),
+                              ("gas.inlet_temperature", gas.get("inlet_temperature"))) if v is not None]
+    if float(tr.get("moisture_scale", 1.0) or 1.0) != 1.0:
+        changed.append("transport.moisture_scale")
     if changed:
         return None, (f"The run departs from the conditions of Test {test} ({', '.join(changed)} set), so it is not "
                       "compared with that test's plant data.")
@@ -238,6 +235,6 @@ def _tuned_on(inputs: dict, test: int) -> bool:
     see the case file) and does the run use those tuned values?"""
     from ..cases import load_case
 
-    th = load_case("ajayi2011_mmg").thermal
-    run = inputs.get("thermal") or {}
-    return test == 4 and run.get("gas_flow") == th.gas_flow and run.get("area_scale") == th.area_scale
+    tuned = load_case("ajayi2011_mmg")
+    run, gas = inputs.get("thermal") or {}, inputs.get("gas") or {}
+    return test == 4 and gas.get("flow") == tuned.gas.flow and run.get("area_scale") == tuned.thermal.area_scale

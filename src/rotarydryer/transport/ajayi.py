@@ -210,11 +210,22 @@ def _base_moisture(pos, sections, moisture_ends):
     return mmg_test_moisture_profile(pos, moisture_ends[0], moisture_ends[1], length)
 
 
-def _check_moisture_scale(scale, sections, material, moisture_ends=None):
+def eq31_moisture(pos, sections, moisture_ends=None):
+    """Unscaled moisture (kg/kg wet) at ``pos`` (m) of a dryer of ``sections`` (dicts with
+    ``length``): Ajayi (2011) Eq. 3.1, or its map onto ``moisture_ends`` = (x_in, x_out)."""
+    return _base_moisture(pos, sections, moisture_ends)
+
+
+def check_moisture_scale(scale, sections, material, moisture_ends=None, key="solids.moisture_scale"):
+    """The Eq. 3.1 profile times ``scale`` inside the material's moisture range (message names ``key``)."""
+    return _check_moisture_scale(scale, sections, material, moisture_ends, key=key)
+
+
+def _check_moisture_scale(scale, sections, material, moisture_ends=None, key="solids.moisture_scale"):
     """``solids.moisture_scale`` must keep the Eq. 3.1 profile inside the material's moisture range
     (where its repose-angle and bulk-density laws hold): the message names the key, its value and
     the allowed range of the scale for this dryer."""
-    s = float(check_range("solids.moisture_scale", scale, 0.0, math.inf))
+    s = float(check_range(key, scale, 0.0, math.inf))
     pos = _flighted_positions(sections)
     if pos.size == 0 or material is None:
         return
@@ -224,11 +235,11 @@ def _check_moisture_scale(scale, sections, material, moisture_ends=None):
     if s * pmin >= lo - 1e-12 and s * pmax <= hi + 1e-12:
         return
     raise ValueError(
-        f"solids.moisture_scale = {fmt_number(s)} puts the solids moisture (Ajayi (2011) Eq. 3.1"
+        f"{key} = {fmt_number(s)} puts the solids moisture (Ajayi (2011) Eq. 3.1"
         f"{'' if moisture_ends is None else ' mapped onto the test inlet/product moisture'} x "
         f"{fmt_number(s)}) at {s * pmin:.3g} to {s * pmax:.3g} kg/kg wet, outside the moisture range "
         f"[{lo:g}, {hi:g}] kg/kg wet of material '{material.name}' (its repose-angle and bulk-density laws "
-        f"hold there only); the allowed range of solids.moisture_scale for this dryer is "
+        f"hold there only); the allowed range of {key} for this dryer is "
         f"[{lo / pmin:.3g}, {hi / pmax:.3g}]")
 
 

@@ -1,0 +1,57 @@
+"""The plant formats (kind lee2008, ajayi2011) are readers into the one dryer specification."""
+
+from pathlib import Path
+
+import pytest
+
+from rotarydryer import Simulation
+from rotarydryer.cases import DryerCase, load_case, load_case_text
+
+LEGACY = Path(__file__).parent / "data" / "legacy"
+
+
+@pytest.mark.parametrize("name", ["lee2008_invicta", "ajayi2011_mmg"])
+def test_old_file_reads_into_the_shipped_spec(name):
+    old = load_case(str(LEGACY / f"{name}.toml"))
+    new = load_case(name)
+    assert isinstance(old, DryerCase) and isinstance(new, DryerCase)
+    assert old.model_dump() == new.model_dump()
+
+
+@pytest.mark.parametrize("name, overrides", [
+    ("lee2008_invicta", {"transport.n_cells": 30, "thermal.enabled": False}),
+    ("ajayi2011_mmg", {"operating.test": 3}),
+])
+def test_old_file_gives_the_same_steady_state(name, overrides):
+    a = Simulation(str(LEGACY / f"{name}.toml"), overrides).transport_steady_state()
+    b = Simulation(name, overrides).transport_steady_state()
+    assert a.total_holdup == pytest.approx(b.total_holdup, rel=1e-12)
+
+
+def test_old_override_keys_warn_and_name_the_replacement():
+    with pytest.warns(DeprecationWarning, match="'solids.moisture_inlet' is deprecated: use 'operating.feed_moisture'"):
+        old = load_case("lee2008_invicta", {"solids.moisture_inlet": 0.015})
+    assert old.operating.feed_moisture == pytest.approx(0.015 / 1.015, rel=1e-15)
+    with pytest.warns(DeprecationWarning, match="use 'gas.inlet_temperature'"):
+        c = load_case("ajayi2011_mmg", {"thermal.gas_inlet_temperature": 480})
+    assert c.gas.inlet_temperature == 480
+    new = Simulation("ajayi2011_mmg", {"gas.inlet_temperature": 480}).thermal_settings()
+    assert new.gas_inlet_temperature == 480
+
+
+def test_one_gas_direction_in_an_old_lee_file():
+    text = (LEGACY / "lee2008_invicta.toml").read_text()
+    text = text.replace('direction = "counter-current"', 'direction = "co-current"')
+    with pytest.raises(ValueError, match=r"gas\.direction = 'co-current' disagrees with operating\.gas_flow"):
+        load_case_text(text, "old.toml")
+
+
+def test_the_test_row_gives_the_operating_point():
+    from rotarydryer.cases.build import operating_point, product_moisture
+
+    c = load_case("ajayi2011_mmg", {"operating.test": 5})
+    assert operating_point(c)[:3] == (32.333333, 2.0, 0.1653)
+    assert product_moisture(c) == 0.12
+    assert Simulation("ajayi2011_mmg", {"operating.test": 5}).thermal_settings().gas_inlet_temperature == 509.0
+    with pytest.raises(ValueError, match=r"operating\.test = 9 is not in the case's \[\[tests\]\]"):
+        load_case("ajayi2011_mmg", {"operating.test": 9})
