@@ -81,7 +81,7 @@ def test_operating_conditions_values_of_the_two_cases(lee, ajayi):
     inp = lee[0].inputs
     assert "counter-current" in lee_sec and "none in the case" in lee_sec       # no burner in Lee's case
     assert f"{2 * inp['drum']['radius']:g} x {inp['drum']['length']:g}" in lee_sec
-    assert f"{100 * inp['solids']['moisture_inlet']:.3g}" in lee_sec
+    assert f"{100 * inp['operating']['feed_moisture']:.3g}" in lee_sec
     assert f"{inp['gas']['inlet_temperature']:.4g}" in lee_sec
     aj_sec = _plain(_section(ajayi[1], "operating"))
     pi = _pi_row(4)
@@ -248,9 +248,9 @@ def test_drawing_has_a_burner_iff_the_case_has_one_at_the_gas_inlet_end():
     _, root = _gas_arrow_signs(dryer_svg(lee))
     assert _burners(root) == []
     no_burner = load_case("ajayi2011_mmg").model_dump()
-    no_burner["thermal"]["burner"] = None
+    no_burner["gas"]["burner"] = None
     assert _burners(_gas_arrow_signs(dryer_svg(no_burner))[1]) == []
-    counter = load_case("ajayi2011_mmg", {"operating.gas_flow": "counter-current"}).model_dump()
+    counter = load_case("ajayi2011_mmg", {"gas.direction": "counter-current"}).model_dump()
     _, root = _gas_arrow_signs(dryer_svg(counter))
     (burner,) = _burners(root)
     assert float(burner.find(f"{SVG}rect").get("x")) > drum_left + 100  # counter-current: product end
