@@ -57,7 +57,7 @@ def test_operating_inputs_are_the_case_values():
     by = {s["key"]: s for s in logic_dryer.operating_inputs("lee2008_invicta")}
     assert by["gas.flow"]["value"] == pytest.approx(30.4)
     assert by["gas.inlet_temperature"]["value"] == pytest.approx(100.0)
-    assert by["solids.moisture_inlet"]["value"] == pytest.approx(0.02)
+    assert by["operating.feed_moisture"]["value"] == pytest.approx(0.02 / 1.02)
     assert by["operating.feed_rate"]["value"] == pytest.approx(98000 / 3600)
     t5 = {s["key"]: s for s in logic_dryer.operating_inputs("ajayi2011_mmg", 5)}
     assert t5["operating.rpm"]["value"] == pytest.approx(2.0)

@@ -97,8 +97,8 @@ def test_auto_grid_keeps_cell_peclet_below_two():
 @pytest.mark.parametrize("ov, key", [
     ({"operating.test": 7}, r"operating\.test = 7"),
     ({"transport.dispersion": -1}, r"transport\.dispersion = -1"),
-    ({"transport.kiln_velocity": 0}, r"transport\.kiln_velocity = 0"),
-    ({"transport.n_cells": 3}, r"unknown override key 'transport\.n_cells'"),
+    ({"transport.solids_velocity": 0}, r"transport\.solids_velocity = 0"),
+    ({"transport.n_cell": 3}, r"unknown override key 'transport\.n_cell'"),
 ])
 def test_bad_input(ov, key):
     with pytest.raises(ValueError, match=key):

@@ -535,8 +535,13 @@ def _build_dryer(case: DryerCase):
         params.update(n_cells=sp.n_cells, length=sp.length, kiln_time=sp.kiln_time, backmix=sp.backmix,
                       drag_reduction=sp.drag_reduction, loading=sp.loading, backmix_to=sp.backmix_to)
     u_of, D_of, pred = solids_transport(case) if _needs_bed_parameters(case) else ({}, {}, None)
-    if u_of:
-        params.update(kiln_velocity=u_of, dispersion=D_of)
+    if u_of:      # one number when every section has the same value (a per-test fit), else per section
+
+        def one(d):
+            vals = set(d.values())
+            return next(iter(vals)) if len(vals) == 1 and pred is None else dict(d)
+
+        params.update(kiln_velocity=one(u_of), dispersion=one(D_of))
     if case.transport.moisture_profile == "ajayi2011_eq3.1":
         params["moisture_scale"] = case.transport.moisture_scale
     model = build_sections(specs, material=material, feed_rate=F, rpm=rpm, slope=case.drum.slope,
