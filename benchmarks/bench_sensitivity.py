@@ -23,12 +23,12 @@ from rotarydryer.studies.sensitivity import sobol_study
 MMG_PARAMS = {
     "operating.feed_rate": (38.6, 42.7),            # kg/s (test 4: 40.67)
     "operating.rpm": (2.85, 3.15),                  # rev/min (3.0)
-    "thermal.gas_flow": (15.4, 17.1),               # kg/s (16.25)
+    "gas.flow": (15.4, 17.1),                       # kg/s (16.25)
     "thermal.area_scale": (2.45, 2.75),             # - (2.6)
-    "thermal.gas_inlet_temperature": (480.0, 520.0),  # degC (500)
-    "solids.moisture_scale": (0.95, 1.05),          # - (1.0)
-    "thermal.solids_inlet_temperature": (24.0, 32.0),  # degC (28)
-    "thermal.ambient_temperature": (20.0, 32.0),    # degC (26)
+    "gas.inlet_temperature": (480.0, 520.0),        # degC (500)
+    "transport.moisture_scale": (0.95, 1.05),       # - (1.0)
+    "operating.feed_temperature": (24.0, 32.0),     # degC (28)
+    "shell.ambient_temperature": (20.0, 32.0),      # degC (26)
 }
 TARGET_RUNS = 10_000
 TARGET_SECONDS = 180.0

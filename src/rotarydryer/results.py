@@ -396,7 +396,7 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
 
     Parameters
     ----------
-    case : LeeCase or AjayiCase (pydantic) or dict
+    case : DryerCase (pydantic) or dict
     model : rotarydryer.transport.TransportModel
         the case's transport model (its name and parameters are recorded)
     steady : rotarydryer.transport.SteadyState

@@ -62,7 +62,8 @@ def test_operating_inputs_are_the_case_values():
     t5 = {s["key"]: s for s in logic_dryer.operating_inputs("ajayi2011_mmg", 5)}
     assert t5["operating.rpm"]["value"] == pytest.approx(2.0)
     assert t5["operating.feed_rate"]["value"] == pytest.approx(32.333333)
-    assert "thermal.gas_inlet_temperature" in t5 and "operating.feed_moisture" not in t5
+    assert t5["gas.inlet_temperature"]["value"] == pytest.approx(509.0)          # the test's PI value
+    assert t5["operating.feed_moisture"]["value"] == pytest.approx(0.1653)         # one schema: the same keys
     assert logic_dryer.plant_tests("ajayi2011_mmg") == [2, 3, 4, 5, 6]     # test 1 has no fitted u_s, D
     assert logic_dryer.plant_tests("song2003_ottawa") == []
     song = {s["key"] for s in logic_dryer.operating_inputs("song2003_ottawa")}

@@ -35,10 +35,11 @@ def _mmg_reversed(tmp_path):
     """The MMG dryer with its sections in reverse order and the gas counter-current."""
     text = (resources.files("rotarydryer.cases") / "ajayi2011_mmg.toml").read_text()
     head, *secs = re.split(r"(?m)^\[\[sections\]\]\n", text)
-    last, tests = re.split(r"(?m)^(?=# Tests:)", secs[-1], maxsplit=1)
+    last, tests = re.split(r"(?m)^(?=# Tests )", secs[-1], maxsplit=1)
     secs[-1] = last
     body = "".join("[[sections]]\n" + s.rstrip() + "\n\n" for s in reversed(secs))
-    head = head.replace('gas_flow = "co-current"', 'gas_flow = "counter-current"')
+    assert 'direction = "co-current"' in head
+    head = head.replace('direction = "co-current"', 'direction = "counter-current"')
     return _write(tmp_path, "mmg_reversed", head + body + tests)
 
 
@@ -235,8 +236,17 @@ def test_material_outside_its_moisture_range(tmp_path):
     assert "operating.feed_moisture = 0.5" in out and "ottawa_sand_song2003" in out and "0.2" in out
 
 
-def test_lee_moisture_outside_the_sugar_range_names_the_dry_basis_key():
-    out = _cli_error(["simulate", "lee2008_invicta", "--set", "solids.moisture_inlet=0.5"])
+def test_lee_moisture_outside_the_sugar_range_names_the_key():
+    out = _cli_error(["simulate", "lee2008_invicta", "--set", "operating.feed_moisture=0.5"])
+    assert "operating.feed_moisture = 0.5 kg/kg wet" in out and "raw_sugar_lee2008" in out and "0.0384615" in out
+
+
+def test_lee_dry_basis_moisture_of_the_old_format_names_its_own_key(tmp_path):
+    """An old-format (lee2008) file keeps its dry-basis key in the message."""
+    from pathlib import Path
+
+    old = Path(__file__).parents[1] / "data" / "legacy" / "lee2008_invicta.toml"
+    out = _cli_error(["simulate", str(old), "--set", "solids.moisture_inlet=0.5"])
     assert "solids.moisture_inlet = 0.5 kg/kg dry" in out and "raw_sugar_lee2008" in out and "0.04" in out
 
 

@@ -36,9 +36,9 @@ FILL_LIMIT = 0.30
 BULK_DENSITY_RANGE = (1.0, 23000.0)
 
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
-           "exact_drum", "lee_parameters", "ajayi_test_inputs", "ajayi_geometries",
-           "settings_from_case", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of",
-           "operating_point", "curtain_gas"]
+           "exact_drum", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
+           "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
+           "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
 
 
 def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):

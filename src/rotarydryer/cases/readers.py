@@ -22,14 +22,257 @@ from __future__ import annotations
 
 import math
 import warnings
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Annotated, Any, Literal, Optional
+
+from pydantic import Field, model_validator
 
 from .._validation import check_range
+from . import (
+    _MODEL1_RATES,
+    MAX_ENTRIES,
+    MAX_FLIGHTS,
+    Burner,
+    Drum,
+    Flight,
+    Gas,
+    Material,
+    Meta,
+    ParameterSet,
+    Shell,
+    ThermalModel,
+    Tracer,
+    _cells_problem,
+    _core_problem,
+    _dataset_problem,
+    _length_problem,
+    _Strict,
+    _TransportVariants,
+)
+from .build import BULK_DENSITY_RANGE, material_of
 
-__all__ = ["lee2008_to_spec", "ajayi2011_to_spec", "LEGACY_KEYS", "translate_legacy_overrides", "check_lee2008"]
+__all__ = ["lee2008_to_spec", "ajayi2011_to_spec", "LEGACY_KEYS", "translate_legacy_overrides", "check_lee2008",
+           "LeeCase", "AjayiCase", "SCHEMAS", "READERS"]
 
-#: bulk densities a granular solid can have, kg/m^3: above air (1.2) and below osmium (22 590)
-BULK_DENSITY_RANGE = (1.0, 23000.0)
+
+
+# ---- the plant formats' schemas ----------------------------------------------------------------
+class LeeOperating(_Strict):
+    feed_rate: float = Field(gt=0, description="kg/s")
+    rpm: float = Field(gt=0, le=60, description="rev/min")
+    gas_flow: Literal["counter-current", "co-current"] = "counter-current"
+
+
+class LeeSolids(_Strict):
+    bulk_density: float = Field(gt=0, description="kg/m3")
+    moisture_inlet: float = Field(gt=0, lt=1, description="kg/kg")
+    moisture_outlet: float = Field(gt=0, lt=1, description="kg/kg")
+    repose_angle: Optional[float] = Field(default=None, gt=0, lt=90, description="deg, constant")
+
+
+class LeeTransport(_TransportVariants):
+    model: Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2"] = "lee2008"
+
+    @model_validator(mode="after")
+    def _variants(self):
+        problems = [p for p in (_core_problem(self),) if p]
+        if self.model == "sheehan2005_model1":
+            missing = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self, k) is None]
+            if missing:
+                problems.append(f"transport.model = 'sheehan2005_model1' needs {', '.join(missing)} (1/s; "
+                                "Sheehan et al. (2005) Model 1, notes lee_models.md Section 4.2)")
+            elif self.passive_rate == 0 and self.kiln_rate == 0:
+                problems.append("transport.passive_rate = 0 and transport.kiln_rate = 0: no solids leave the "
+                                "cells (give one of them > 0)")
+        else:
+            given = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self, k) is not None]
+            if given:
+                problems.append(f"{', '.join(given)} set but transport.model = {self.model!r}: the rates are "
+                                "those of transport.model = 'sheehan2005_model1'")
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
+    n_cells: int = Field(ge=1, le=100000)
+    kiln_time: Optional[float] = Field(default=None, gt=0, description="s")
+    backmix: Optional[float] = Field(default=None, ge=0, le=1, description="C_B, -")
+    drag_reduction: Optional[float] = Field(default=None, ge=0, description="C_F^G, -")
+    loading: Literal["fixed", "state"] = "fixed"
+    backmix_to: Literal["passive", "active"] = "passive"
+
+
+class LeeGeometry(_Strict):
+    method: Literal["exact", "lee2008_regressions"] = "exact"
+    passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+    tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
+                            "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
+
+
+LeeParameterSet = ParameterSet
+
+
+class LeeCase(_Strict):
+    kind: Literal["lee2008"]
+    meta: Meta = Meta()
+    drum: Drum
+    flight: Flight
+    operating: LeeOperating
+    solids: LeeSolids
+    transport: LeeTransport
+    geometry: LeeGeometry = LeeGeometry()
+    tracer: Tracer
+    parameter_sets: list[LeeParameterSet] = Field(default=[], max_length=MAX_ENTRIES)
+    material: Optional[Material] = None
+    gas: Optional[Gas] = None
+    shell: Shell = Shell()
+    thermal: ThermalModel = ThermalModel(enabled=False)
+
+    @model_validator(mode="after")
+    def _shipped_dataset(self):
+        problem = _dataset_problem(self)
+        if problem:
+            raise ValueError(problem)
+        return self
+
+
+# ---- Ajayi (2011) MMG Karumba --------------------------------------------------------
+class AjayiDrum(_Strict):
+    radius: float = Field(gt=0, le=20, description="m")
+    slope: float = Field(ge=0, lt=45, description="deg")
+    length: Optional[float] = Field(default=None, gt=0, le=200, description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
+
+
+class AjayiOperating(_Strict):
+    test: int = Field(ge=1, le=6)
+    feed_rate: Optional[float] = Field(default=None, gt=0, description="kg/s wet; default from the test")
+    rpm: Optional[float] = Field(default=None, gt=0, le=60, description="rev/min; default from the test")
+    gas_flow: Literal["co-current", "counter-current"] = "co-current"
+
+
+class AjayiSolids(_Strict):
+    moisture_scale: float = Field(default=1.0, gt=0, description="factor on the Eq. 3.1 moisture profile")
+
+
+class AjayiTransport(_Strict):
+    model: Literal["ajayi2011"] = "ajayi2011"
+    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, Ajayi's solids (kilning) velocity; default Table 5.2")
+    kiln_velocity: Optional[float] = Field(default=None, gt=0, description="alias of solids_velocity (m/s); solids_velocity wins when both are set")
+    dispersion: Optional[float] = Field(default=None, ge=0, description="axial dispersion, m2/s; default Table 5.2")
+    unflighted_inlet: Literal["ajayi", "danckwerts"] = "ajayi"
+    unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="FV cells per unflighted section; default auto")
+    design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor * m_Baker (Ajayi code)")
+    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale (Ajayi Eq. 5.21); default 0.8 for tests marked scaled (l.1715), else 0")
+    parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="per_test: u_s and D of the test (Ajayi Table 5.2); predictive: from the operating point (rotarydryer.transport.ajayi_predictive, docs/mmg_cross_test.md)")
+    velocity_law: Literal["friedman_marshall", "kramers"] = Field(default="friedman_marshall", description="predictive kiln velocity: Sullivan/Friedman-Marshall (Song 2003 Eq. 1-2) or Kramers-Croockewit bed (comparison)")
+    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law; the case file holds the calibration")
+    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p; the case file holds the calibration")
+
+
+class AjayiGeometry(_Strict):
+    method: Literal["exact", "ajayi2011_regressions"] = "exact"
+    passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
+    tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
+                            "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
+
+
+class AjayiSection(_Strict):
+    name: str
+    kind: Literal["flighted", "unflighted"]
+    length: float = Field(gt=0, le=200, description="m")
+    n_cells: Optional[int] = Field(default=None, le=100000)
+    n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS)
+    s1: Optional[float] = None
+    s2: Optional[float] = None
+    alpha1: Optional[float] = None
+    alpha2: Optional[float] = None
+    regression: Optional[dict[str, list[float]]] = None
+    area_factor: float = Field(default=1.0, ge=0, description="theta_AL / theta_a, exposed-area factor")
+    particle_diameter: Optional[float] = Field(default=None, gt=0, description="m; default the material's")
+    shell_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC, fixed shell temperature (thermal.mode = ajayi2011)")
+
+
+class AjayiTest(_Strict):
+    test: int
+    feed_rate: float = Field(gt=0, description="kg/s wet")
+    rpm: float
+    moisture_inlet: float
+    moisture_outlet: float
+    kiln_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, Ajayi Table 5.2 (none for test 1, not modelled by Ajayi)")
+    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, Ajayi Table 5.2 (none for test 1)")
+    mrt_model_min: Optional[float] = None
+    holdup_model_kg: Optional[float] = None
+    mrt_measured_min: Optional[float] = None
+    scaled: bool = False
+    gas_flow: Optional[float] = Field(default=None, gt=0, le=1000,
+                                      description="kg/s wet gas in this test, where known (fan openings, a "
+                                                  "balance); replaces thermal.gas_flow in the physical mode")
+    source: str = ""
+
+
+class AjayiThermal(_Strict):
+    """Heat and mass transfer parameters (rotarydryer.thermal.dryer.ThermalSettings); SI, degC."""
+    mode: Literal["physical", "ajayi2011"] = "physical"
+    gas_flow: float = Field(default=16.25, gt=0, le=1000, description="kg/s wet gas into the dryer (physical mode)")
+    area_scale: float = Field(default=2.6, ge=0, le=100, description="multiplier on Ajayi's area factors (physical mode)")
+    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC; default the test's PI value")
+    gas_inlet_humidity: float = Field(default=0.0193, ge=0, lt=0.2, description="kg/kg wet gas (Ajayi l.3227)")
+    solids_inlet_temperature: float = Field(default=28.0, ge=0, lt=99, description="degC (Ajayi l.3241)")
+    ambient_temperature: float = Field(default=26.0, gt=-40, lt=60, description="degC (Ajayi l.3231)")
+    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale; default 0.8 for 'Scaled' tests")
+    scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, shell scale layer")
+    insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
+    loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (ajayi2011 mode only)")
+    shell_inner_radius: float = Field(default=1.90, gt=0, le=20, description="m, steel shell inner radius (Ajayi's code R_in = 1.90, l.3870)")
+    shell_thickness: float = Field(default=0.05, gt=0, le=0.5, description="m, steel shell wall (Ajayi's code R_out - R_in = 1.95 - 1.90, l.4381)")
+    leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet end")
+    unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the thermal model; default one per 0.3 m (at least 4)")
+    design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+    moisture_coupling: bool = True
+    enabled: bool = True
+    burner: Optional[Burner] = Field(default=None, description="the combustion chamber (Ajayi (2011) App. A); gives the fuel rate")
+
+
+class AjayiCase(_Strict):
+    kind: Literal["ajayi2011"]
+    meta: Meta = Meta()
+    drum: AjayiDrum
+    operating: AjayiOperating
+    solids: AjayiSolids = AjayiSolids()
+    transport: AjayiTransport = AjayiTransport()
+    geometry: AjayiGeometry = AjayiGeometry()
+    tracer: Tracer
+    sections: list[AjayiSection] = Field(max_length=MAX_ENTRIES)
+    tests: list[AjayiTest] = Field(max_length=MAX_ENTRIES)
+    thermal: AjayiThermal = AjayiThermal()
+    material: Material = Material(name="zinc_concentrate_ajayi2011")
+
+    @model_validator(mode="after")
+    def _flighted_sections_complete(self):
+        """A flighted section needs its cell count and what the chosen geometry method uses:
+        Ajayi's regression coefficients (7 area, 11 fall-time) or the flight dimensions."""
+        problems = []
+        for i, sec in enumerate(self.sections):
+            if sec.kind != "flighted":
+                continue
+            where = f"sections[{i}] ({sec.name})"
+            if sec.n_cells is None or sec.n_cells < 1:
+                problems.append(f"{where}.n_cells = {sec.n_cells!r}: a flighted section needs n_cells >= 1")
+            if self.geometry.method == "ajayi2011_regressions":
+                reg = sec.regression or {}
+                for key, n in (("area", 7), ("fall_time", 11)):
+                    got = reg.get(key)
+                    if got is None or len(got) != n:
+                        problems.append(f"{where}.regression.{key} = {got!r}: geometry.method = "
+                                        f"'ajayi2011_regressions' needs {n} coefficients")
+            else:
+                for key in ("n_flights", "s1", "s2", "alpha1", "alpha2"):
+                    if getattr(sec, key) is None:
+                        problems.append(f"{where}.{key} is missing: geometry.method = 'exact' needs the flight dimensions")
+        problems += filter(None, [_length_problem(self), _cells_problem(self), _dataset_problem(self)])
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
+
+
 
 
 def _wet(w: float) -> float:
@@ -46,8 +289,6 @@ def check_lee2008(case) -> None:
     """Checks of a ``kind = "lee2008"`` file in its own keys: ``solids.bulk_density`` in
     :data:`BULK_DENSITY_RANGE`, ``solids.repose_angle`` in (0, 90) deg, and the dry-basis moistures
     ``solids.moisture_inlet`` / ``moisture_outlet`` inside the material's range."""
-    from .build import material_of
-
     lo, hi = BULK_DENSITY_RANGE
     check_range("solids.bulk_density", case.solids.bulk_density, lo, hi, low_inclusive=True, high_inclusive=True,
                 unit="kg/m^3")
@@ -70,8 +311,6 @@ def lee2008_to_spec(case) -> dict:
     Eq. 7.2 is that sugar's); ``operating.gas_flow`` is ``gas.direction``; ``gas.feed_temperature``
     is ``operating.feed_temperature``. Heat and mass transfer is on when the file enables it and
     gives [gas] and [material], as before."""
-    from .build import material_of
-
     check_lee2008(case)
     d, fl, op, so, tr, ge = case.drum, case.flight, case.operating, case.solids, case.transport, case.geometry
     material = case.material.model_dump() if case.material is not None else {"name": "raw_sugar_lee2008"}
@@ -211,11 +450,9 @@ def ajayi2011_to_spec(case) -> dict:
     }
 
 
-#: readers by the ``kind`` of the file: (schema of the file, translation into the dryer document)
-def readers() -> dict[str, tuple[type, Callable]]:
-    from . import AjayiCase, LeeCase
-
-    return {"lee2008": (LeeCase, lee2008_to_spec), "ajayi2011": (AjayiCase, ajayi2011_to_spec)}
+#: schema of each plant format (``kind``) and the reader translating it into the one specification
+SCHEMAS: dict[str, type] = {"lee2008": LeeCase, "ajayi2011": AjayiCase}
+READERS: dict[str, Callable] = {"lee2008": lee2008_to_spec, "ajayi2011": ajayi2011_to_spec}
 
 
 # ---- keys of the old formats as overrides of the rewritten shipped cases ------------------------

@@ -343,7 +343,7 @@ class ThermalDryer:
         y = s.gas_inlet_humidity / (1.0 - s.gas_inlet_humidity)
         if s.gas_inlet_temperature <= s.solids_inlet_temperature:
             raise DryerError(
-                f"gas too cold to dry: gas.inlet_temperature (thermal.gas_inlet_temperature in the MMG case) = "
+                f"gas too cold to dry: gas.inlet_temperature = "
                 f"{s.gas_inlet_temperature:g} degC is not above "
                 f"the solids inlet temperature {s.solids_inlet_temperature:g} degC, so the gas cannot supply the "
                 f"latent heat", reason="gas_too_cold")

@@ -162,7 +162,7 @@ def predictive_transport(*, sections, feed_rate, rpm, slope, radius, moisture_in
     cu = float(check_range("transport.velocity_coefficient", velocity_coefficient, 0.0, math.inf))
     cd = float(check_range("transport.dispersion_coefficient", dispersion_coefficient, 0.0, math.inf,
                            low_inclusive=True))
-    scale = float(check_range("solids.moisture_scale", moisture_scale, 0.0, math.inf))
+    scale = float(check_range("transport.moisture_scale", moisture_scale, 0.0, math.inf))
     R = float(check_range("drum.radius", radius, 0.0, math.inf, unit="m"))
     material.check_moisture("moisture_inlet", moisture_inlet)
     material.check_moisture("moisture_outlet", moisture_outlet)
