@@ -490,7 +490,7 @@ class DryerCase(_Strict):
             row = next((t for t in self.tests if t.test == self.operating.test), None)
             missing = (["gas"] if self.gas is None else
                        [f"gas.{k}" for k in ("flow", "inlet_temperature") if getattr(self.gas, k) is None
-                        and getattr(row, "gas_" + k.replace("flow", "flow"), None) is None])
+                        and getattr(row, f"gas_{k}", None) is None])      # or the selected test's
             if missing:
                 problems.append(f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} missing: [gas] flow "
                                 "and inlet_temperature are needed when thermal.enabled = true")

@@ -118,6 +118,15 @@ def product_moisture(case) -> float:
     return operating_point(case)[2] if x is None else x
 
 
+def moisture_ends(case, material) -> tuple[float, float]:
+    """(feed, product) moisture (kg/kg wet) of the transport-only profile, each checked against the
+    material's range (the message names the key, and the test when the value is the test's)."""
+    x_in, x_out = operating_point(case)[2], product_moisture(case)
+    material.check_moisture("operating.feed_moisture" + _test_text(case, "operating.feed_moisture"), x_in)
+    material.check_moisture("transport.product_moisture" + _test_text(case, "transport.product_moisture"), x_out)
+    return x_in, x_out
+
+
 def fouling_of(case) -> float:
     """Fraction of the flights' loading capacity lost to scale (Ajayi (2011) Eq. 5.21):
     ``transport.fouling``, else the selected test's, else 0."""
@@ -126,8 +135,11 @@ def fouling_of(case) -> float:
 
 
 def _test_text(case, key) -> str:
-    """`` (the value of test N)`` when ``key`` comes from the selected test."""
-    return f" (the value of test {case.operating.test})" if getattr(case.operating, key) is None else ""
+    """`` (the value of test N)`` when the case leaves ``key`` (``"operating.feed_rate"``) to the
+    selected test, else ``""``."""
+    block, field = key.split(".")
+    given = getattr(getattr(case, block), field)
+    return f" (the value of test {case.operating.test})" if given is None and test_row(case) is not None else ""
 
 
 # ---- feasibility ---------------------------------------------------------------------------
@@ -142,7 +154,7 @@ def _speed_key(case) -> str:
 
 def _feed_text(case, F) -> str:
     """``operating.feed_rate = F kg/s`` (with the test whose value it is)."""
-    return f"operating.feed_rate = {fmt_number(F)} kg/s{_test_text(case, 'feed_rate')}"
+    return f"operating.feed_rate = {fmt_number(F)} kg/s{_test_text(case, 'operating.feed_rate')}"
 
 
 def check_inputs(case) -> None:
@@ -209,14 +221,9 @@ def _holdup_hint(case) -> str:
                     "check drum.radius and the section lengths)")
         u = solids_transport(case)[0]
         u = next(iter(u.values())) if u else None
-        return (f" (or raise transport.solids_velocity = {fmt_number(u)} m/s{_test_text_tr(case, 'solids_velocity')}; "
+        return (f" (or raise transport.solids_velocity = {fmt_number(u)} m/s{_test_text(case, 'transport.solids_velocity')}; "
                 "check drum.radius and the section lengths)")
     return " (or check transport.kiln_time, transport.solids_velocity, drum.radius and the section lengths)"
-
-
-def _test_text_tr(case, key) -> str:
-    return (f" (the value of test {case.operating.test})"
-            if getattr(case.transport, key) is None and test_row(case) is not None else "")
 
 
 def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
@@ -386,10 +393,8 @@ def _predictive(case):
         raise ValueError(f"transport.parameter_source = 'predictive' needs {' and '.join(missing)} (the calibrated "
                          "values are in the packaged ajayi2011_mmg.toml; docs/mmg_cross_test.md)")
     material = material_of(case)
-    F, rpm, x_in, _ = operating_point(case)
-    x_out = product_moisture(case)
-    material.check_moisture("operating.feed_moisture" + _test_text(case, "feed_moisture"), x_in)
-    material.check_moisture("transport.product_moisture" + _test_text_tr(case, "product_moisture"), x_out)
+    F, rpm, _, _ = operating_point(case)
+    x_in, x_out = moisture_ends(case, material)
     secs = [dict(name=s.name, kind=s.kind, length=s.length, particle_diameter=s.particle_diameter)
             for s in case.sections]
     return predictive_transport(sections=secs, feed_rate=F, rpm=rpm, slope=case.drum.slope,
@@ -467,16 +472,14 @@ def _flighted_moisture(case, x_in, x_out):
     return out
 
 
-def _dryer_specs(case: DryerCase, material):
+def _dryer_specs(case: DryerCase, material, bed):
+    """The section specs of a case; ``bed`` = :func:`solids_transport` of the case."""
     from rotarydryer.transport.sections import SectionSpec
 
     tr = case.transport
-    _, _, x_in, _ = operating_point(case)
-    material.check_moisture("operating.feed_moisture" + _test_text(case, "feed_moisture"), x_in)
-    x_out = product_moisture(case)
-    material.check_moisture("transport.product_moisture" + _test_text_tr(case, "product_moisture"), x_out)
+    x_in, x_out = moisture_ends(case, material)
     moisture = _flighted_moisture(case, x_in, x_out)
-    u_of, D_of, _ = solids_transport(case)
+    u_of, D_of, _ = bed
     fouling = fouling_of(case)
     specs = []
     for s in case.sections:
@@ -521,7 +524,8 @@ def _build_dryer(case: DryerCase):
 
     material = material_of(case)
     F, rpm, _, _ = operating_point(case)
-    specs = _dryer_specs(case, material)
+    bed = solids_transport(case)
+    specs = _dryer_specs(case, material, bed)
     models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
     # named by the flighted sections' transport model (lee2008, ajayi2011, ...); "dryer" when they differ
     name = next(iter(models)) if len(models) == 1 else "dryer"
@@ -534,7 +538,7 @@ def _build_dryer(case: DryerCase):
         sp = flighted[0]
         params.update(n_cells=sp.n_cells, length=sp.length, kiln_time=sp.kiln_time, backmix=sp.backmix,
                       drag_reduction=sp.drag_reduction, loading=sp.loading, backmix_to=sp.backmix_to)
-    u_of, D_of, pred = solids_transport(case) if _needs_bed_parameters(case) else ({}, {}, None)
+    u_of, D_of, pred = bed if _needs_bed_parameters(case) else ({}, {}, None)
     if u_of:      # one number when every section has the same value (a per-test fit), else per section
 
         def one(d):

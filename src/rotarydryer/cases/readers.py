@@ -400,12 +400,7 @@ def ajayi2011_to_spec(case) -> dict:
                "gas_inlet_temperature": _pi_gas_inlet_temperature(t.test), "mrt_model_min": t.mrt_model_min,
                "holdup_model_kg": t.holdup_model_kg, "mrt_measured_min": t.mrt_measured_min, "source": t.source}
         tests.append({k: v for k, v in row.items() if v is not None})
-    sections = []
-    for s in case.sections:
-        sec = s.model_dump(exclude_none=True)
-        if s.kind == "flighted" and "regression" in sec and case.geometry.method != "ajayi2011_regressions":
-            pass    # kept: the coefficients stay with the section for geometry.method = "ajayi2011_regressions"
-        sections.append(sec)
+    sections = [s.model_dump(exclude_none=True) for s in case.sections]
     unflighted = {s.name: th.unflighted_cells.get(s.name, max(4, int(math.ceil(s.length / 0.3))))
                   for s in case.sections if s.kind == "unflighted"}
     gas = {"direction": op.gas_flow, "inlet_humidity": th.gas_inlet_humidity, "leak_air_flow": th.leak_air_flow}
@@ -456,41 +451,38 @@ READERS: dict[str, Callable] = {"lee2008": lee2008_to_spec, "ajayi2011": ajayi20
 
 
 # ---- keys of the old formats as overrides of the rewritten shipped cases ------------------------
-def _dry_to_wet(key: str) -> Callable[[Any], Any]:
-    def convert(value):
-        try:
-            w = float(value)
-        except (TypeError, ValueError):
-            return value            # the new key's validation names the value
-        if not (math.isfinite(w) and w > -1.0):
-            return value
-        return _wet(w)
-    convert.__doc__ = f"{key} (kg/kg dry) on the wet basis"
-    return convert
-
-
-def _constant_law(value):
+def _float(value):
+    """``value`` as a float, or None when it is not a number (the new key's validation then names it)."""
     try:
-        v = float(value)
+        return float(value)
     except (TypeError, ValueError):
-        return value
-    return {"b": v, "a": 0.0}
+        return None
+
+
+def _dry_to_wet(value):
+    """A dry-basis moisture (kg/kg dry) on the wet basis, w / (1 + w)."""
+    w = _float(value)
+    return value if w is None or not (math.isfinite(w) and w > -1.0) else _wet(w)
 
 
 def _bulk_law(value):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        return value
-    return {"a": v, "b": 0.0}
+    """A constant bulk density as the material's law kg/m^3 = a + b x."""
+    v = _float(value)
+    return value if v is None else {"a": v, "b": 0.0}
+
+
+def _constant_law(value):
+    """A constant repose angle as the material's law deg = a x + b."""
+    v = _float(value)
+    return value if v is None else {"b": v, "a": 0.0}
 
 
 #: old key -> (new key, conversion of the value or None, what the conversion does)
 LEGACY_KEYS: dict[str, tuple[str, Callable | None, str]] = {
     "operating.gas_flow": ("gas.direction", None, ""),
-    "solids.moisture_inlet": ("operating.feed_moisture", _dry_to_wet("solids.moisture_inlet"),
+    "solids.moisture_inlet": ("operating.feed_moisture", _dry_to_wet,
                               " (kg/kg wet = w / (1 + w) of the dry-basis value)"),
-    "solids.moisture_outlet": ("transport.product_moisture", _dry_to_wet("solids.moisture_outlet"),
+    "solids.moisture_outlet": ("transport.product_moisture", _dry_to_wet,
                                " (kg/kg wet = w / (1 + w) of the dry-basis value)"),
     "solids.bulk_density": ("material.bulk_density", _bulk_law, " (a constant law: {a = value, b = 0})"),
     "solids.repose_angle": ("material.repose_angle", _constant_law, " (a constant law: {a = 0, b = value})"),
