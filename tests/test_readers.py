@@ -29,10 +29,10 @@ def test_old_file_gives_the_same_steady_state(name, overrides):
 
 
 def test_old_override_keys_warn_and_name_the_replacement():
-    with pytest.warns(DeprecationWarning, match="'solids.moisture_inlet' is deprecated: use 'operating.feed_moisture'"):
+    with pytest.warns(FutureWarning, match="'solids.moisture_inlet' is deprecated: use 'operating.feed_moisture'"):
         old = load_case("lee2008_invicta", {"solids.moisture_inlet": 0.015})
     assert old.operating.feed_moisture == pytest.approx(0.015 / 1.015, rel=1e-15)
-    with pytest.warns(DeprecationWarning, match="use 'gas.inlet_temperature'"):
+    with pytest.warns(FutureWarning, match="use 'gas.inlet_temperature'"):
         c = load_case("ajayi2011_mmg", {"thermal.gas_inlet_temperature": 480})
     assert c.gas.inlet_temperature == 480
     new = Simulation("ajayi2011_mmg", {"gas.inlet_temperature": 480}).thermal_settings()

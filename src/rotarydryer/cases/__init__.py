@@ -449,11 +449,12 @@ class DryerCase(_Strict):
 
     @model_validator(mode="after")
     def _complete(self):
-        problems = []
+        problems = _operating_problems(self)
+        if self.operating.test is not None and not any(t.test == self.operating.test for t in self.tests):
+            raise ValueError(problems[0])      # what depends on the test (data set, gas) follows from it
         problem = _dataset_problem(self)
         if problem:
             problems.append(problem)
-        problems += _operating_problems(self)
         rates = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self.transport, k) is not None]
         models = {sec.model or self.transport.model for sec in self.sections if sec.kind == "flighted"}
         if rates and "sheehan2005_model1" not in models:

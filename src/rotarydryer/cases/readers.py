@@ -14,7 +14,7 @@ then returns the ``kind = "dryer"`` document that :class:`~rotarydryer.cases.Dry
 validates. Nothing else in the package knows these formats.
 
 Keys of the old formats that a rewritten shipped case no longer has still work as overrides
-(``--set``): :data:`LEGACY_KEYS` maps each to its replacement, with a ``DeprecationWarning``
+(``--set``): :data:`LEGACY_KEYS` maps each to its replacement, with a ``FutureWarning`` (shown to users by default, the CLI prints it as a ``warning:`` line)
 naming it.
 """
 
@@ -514,7 +514,7 @@ LEGACY_KEYS: dict[str, tuple[str, Callable | None, str]] = {
 
 def translate_legacy_overrides(overrides: dict | None, valid: set[str] | list[str]) -> dict:
     """``overrides`` with the keys of the old formats that a ``kind = "dryer"`` case does not have
-    replaced by their :data:`LEGACY_KEYS` replacements (a ``DeprecationWarning`` names each)."""
+    replaced by their :data:`LEGACY_KEYS` replacements (a ``FutureWarning`` names each)."""
     if not overrides:
         return dict(overrides or {})
     valid = set(valid)
@@ -522,7 +522,7 @@ def translate_legacy_overrides(overrides: dict | None, valid: set[str] | list[st
     for key, value in overrides.items():
         if key in LEGACY_KEYS and key not in valid:
             new, convert, how = LEGACY_KEYS[key]
-            warnings.warn(f"override key {key!r} is deprecated: use {new!r}{how}", DeprecationWarning, stacklevel=3)
+            warnings.warn(f"override key {key!r} is deprecated: use {new!r}{how}", FutureWarning, stacklevel=3)
             if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
                 out[new] = value
                 continue
