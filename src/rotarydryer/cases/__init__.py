@@ -545,16 +545,14 @@ def _cells_problem(case) -> str | None:
     unflighted section counts with its maximum) against :data:`MAX_CELLS`."""
     total = thermal = 0
     tr = case.transport
-    th_cells = getattr(case.thermal, "unflighted_cells", None)   # Ajayi: the thermal model's own volumes
+    th_cells = case.thermal.unflighted_cells      # the heat-and-mass model's volumes (default: the transport's)
     for sec in case.sections:
         if sec.kind == "flighted":
             n = (sec.n_cells if sec.n_cells is not None else getattr(tr, "n_cells", None)) or 0
-            total, thermal = total + n, thermal + n
         else:
-            own = sec.n_cells if isinstance(case, DryerCase) else None
-            total += own or tr.unflighted_cells or _AUTO_UNFLIGHTED_CELLS
-            if isinstance(th_cells, dict):
-                thermal += th_cells.get(sec.name, max(4, int(-(-sec.length // 0.3))))
+            n = sec.n_cells or tr.unflighted_cells or _AUTO_UNFLIGHTED_CELLS
+        total += n
+        thermal += th_cells.get(sec.name, n) if sec.kind == "unflighted" else n
     if max(total, thermal) > MAX_CELLS:
         return (f"sections: {max(total, thermal)} cells in all (n_cells of the flighted sections plus the finite "
                 f"volumes of the unflighted ones, {_AUTO_UNFLIGHTED_CELLS} when automatic"
@@ -562,7 +560,6 @@ def _cells_problem(case) -> str | None:
     return None
 
 
-#: case model of each ``kind``
 _NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests"}
 
 
