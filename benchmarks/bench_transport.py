@@ -13,7 +13,7 @@ import pytest
 
 from rotarydryer.cases import build_model, load_case
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions
-from rotarydryer.transport import lee2008
+from rotarydryer.transport import lee2008, lee2008_repose_profile
 
 
 def _invicta(method):
@@ -47,8 +47,9 @@ def test_invicta_analytic_moments(benchmark):
 def scaled_model(n):
     """Invicta with n cells; C_F^G and t_kiln scaled by 35/n so that C_R >= 0 (Lee Ch. 7:
     t ~ 1/N)."""
-    return lee2008(geometry=Lee2008Regressions(), n_cells=n, kiln_time=8.69 * 35 / n, backmix=0.68,
-                   drag_reduction=0.48 * 35 / n)
+    return lee2008(geometry=Lee2008Regressions(), n_cells=n, feed_rate=98000 / 3600, length=12.0, rpm=3.0, slope=2.8,
+                   bulk_density=940.0, repose_angle=lee2008_repose_profile(n, 0.02, 0.002),   # Lee's Invicta
+                   kiln_time=8.69 * 35 / n, backmix=0.68, drag_reduction=0.48 * 35 / n)
 
 
 @pytest.mark.parametrize("n", [35, 100, 300, 1000])

@@ -267,7 +267,12 @@ def test_slowest_time_constant_and_builder():
     # a slow first-order core sets the far tail: close to t_c (1 + beta ...) for t_c >> tau
     core = add_stagnant_core(tank, 0.1, 5000.0)
     assert slowest_time_constant(core.steady_state()) > 5000.0
-    m = lee2008_stagnant_core(geometry=Lee2008Regressions(), core_fraction=0.2, core_time=900.0)
+    from rotarydryer.transport import lee2008_repose_profile
+
+    invicta = dict(n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.0, slope=2.8, bulk_density=940.0,
+                   repose_angle=lee2008_repose_profile(35, 0.02, 0.002), kiln_time=8.69, backmix=0.68,
+                   drag_reduction=0.48)       # Lee's Invicta (the case file's values)
+    m = lee2008_stagnant_core(geometry=Lee2008Regressions(), core_fraction=0.2, core_time=900.0, **invicta)
     ss = m.steady_state()
     assert m.name == "lee2008_stagnant_core"
     assert np.sum(ss.phase == "core") == 35 and ss.mass_balance_error < 1e-9

@@ -180,7 +180,7 @@ def test_burner_cannot_reach_set_temperature(test4):
 
 def test_bad_setting_names_argument():
     with pytest.raises(ValueError, match="thermal.mode"):
-        ThermalSettings(mode="magic").validate()
+        ThermalSettings(gas_flow=10.0, gas_inlet_temperature=200.0, mode="magic").validate()
 
 
 def test_cli_simulate_adds_thermal_outputs(tmp_path):

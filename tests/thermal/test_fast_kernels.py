@@ -92,7 +92,7 @@ def test_shell_settings_checked_once_where_they_enter(field, value, key):
     from rotarydryer.thermal.dryer import ThermalSettings
 
     with pytest.raises(ValueError, match=key):
-        ThermalSettings(**{field: value}).validate()
+        ThermalSettings(gas_flow=10.0, gas_inlet_temperature=200.0, **{field: value}).validate()
 
 
 def test_trusted_shell_call_equals_the_checked_one():

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from rotarydryer.cases import build_model, load_case
+from rotarydryer.properties.materials import load_material
 from rotarydryer.transport.ajayi import ajayi2011, unflighted_cells_auto
 
 from .conftest import read_csv
@@ -67,7 +68,7 @@ def test_closed_dispersion_section_matches_analytic(pe):
     D = u * L / pe
     m = ajayi2011(sections=[dict(name="A", kind="unflighted", length=L)], feed_rate=10.0, rpm=3, slope=4,
                   radius=1.95, kiln_velocity=u, dispersion=D, geometries={}, inlet="danckwerts",
-                  unflighted_cells=800)
+                  unflighted_cells=800, material=load_material("zinc_concentrate_ajayi2011"))
     mom = m.steady_state().tracer_system().moments()
     tau = L / u
     assert mom["mean"] == pytest.approx(tau, rel=1e-9)

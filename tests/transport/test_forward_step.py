@@ -22,6 +22,8 @@ from rotarydryer.transport.forward_step import (
     trajectory_forward_step,
 )
 
+from .conftest import invicta
+
 
 def sim(case="lee2008_invicta", **ov):
     ov.setdefault("thermal.enabled", False)
@@ -128,11 +130,12 @@ def test_errors_name_the_keys():
     with pytest.raises(ValueError, match="transport.curtain_velocity_ratio"):
         load_case("lee2008_invicta", {"transport.curtain_velocity_ratio": 2.0})
     with pytest.raises(ValueError, match=r"\[gas\]"):
-        lee2008(geometry=Lee2008Regressions(), forward_step="trajectory")
+        lee2008(geometry=Lee2008Regressions(), forward_step="trajectory", kiln_time=8.69, backmix=0.68,
+                drag_reduction=0.48, **invicta(35))
     gas = invicta_gas()
     with pytest.raises(ValueError, match="operating.gas_flow"):
-        lee2008(geometry=Lee2008Regressions(), n_cells=30, forward_step="trajectory", gas=gas, backmix=0.0,
-                gas_flow="co-current")
+        lee2008(geometry=Lee2008Regressions(), forward_step="trajectory", gas=gas, backmix=0.0, kiln_time=8.69,
+                drag_reduction=1.0, gas_flow="co-current", **invicta(30))
     with pytest.raises(ValueError, match="material.particle_diameter"):
         CurtainGas(**{**gas.__dict__, "particle_diameter": -1.0})
 

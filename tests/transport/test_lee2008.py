@@ -16,15 +16,13 @@ from rotarydryer.transport import (
     sheehan2005_model2,
 )
 
-from .conftest import read_csv
-
-FEED = 98000 / 3600
+from .conftest import FEED, invicta, read_csv
 
 
 def model(regressions, table_7_2, N=35, **kw):
     p = dict(table_7_2[N])
     p.update(kw)
-    return lee2008(geometry=regressions, n_cells=N, **p)
+    return lee2008(geometry=regressions, **invicta(N, **p))
 
 
 @pytest.mark.parametrize("row", read_csv("lee_rtd_moments.csv")[1:], ids=lambda r: r["rtd"])
@@ -68,7 +66,7 @@ def test_table_7_7_holdups(row, regressions, table_7_2):
 
 
 def test_moisture_profile_eq_7_2():
-    phi = lee2008_repose_profile(35)
+    phi = lee2008_repose_profile(35, 0.02, 0.002)
     assert phi[0] == pytest.approx(58.944, abs=1e-3) and phi[-1] == pytest.approx(36.944, abs=1e-3)
     assert np.all(np.diff(phi) < 0)
 
@@ -115,7 +113,7 @@ def test_holdup_falls_with_speed(r1, r2, feed, regressions):
     lo, hi = sorted((r1, r2))
     if hi - lo < 1e-3:
         return
-    h = [lee2008(geometry=regressions, n_cells=30, rpm=r, feed_rate=feed, **CO_CURRENT).steady_state().total_holdup
+    h = [lee2008(geometry=regressions, **invicta(30, rpm=r, feed_rate=feed, **CO_CURRENT)).steady_state().total_holdup
          for r in (lo, hi)]
     assert h[1] < h[0]
 
@@ -143,8 +141,8 @@ def test_state_dependent_loading(regressions, table_7_2):
     assert b.total_holdup == pytest.approx(a.total_holdup, rel=1e-9)
     # a light feed leaves the dryer under-loaded; the iteration still closes the balance, and the
     # fuller under-loaded flights (f_load < 1: later release, Lee Section 4.4.2) change the holdup
-    c = lee2008(geometry=regressions, n_cells=30, loading="state", feed_rate=1.0, **CO_CURRENT).steady_state()
-    d = lee2008(geometry=regressions, n_cells=30, loading="fixed", feed_rate=1.0, **CO_CURRENT).steady_state()
+    c = lee2008(geometry=regressions, loading="state", **invicta(30, feed_rate=1.0, **CO_CURRENT)).steady_state()
+    d = lee2008(geometry=regressions, loading="fixed", **invicta(30, feed_rate=1.0, **CO_CURRENT)).steady_state()
     assert c.mass_balance_error < 1e-9
     assert set(c.loading_state) == {"under"}
     assert np.all(c.dryer_loading > 0)
@@ -152,7 +150,7 @@ def test_state_dependent_loading(regressions, table_7_2):
 
 
 def test_sheehan_model2_backmix_into_active(regressions, table_7_2):
-    ss = sheehan2005_model2(geometry=regressions, n_cells=30, **table_7_2[30]).steady_state()
+    ss = sheehan2005_model2(geometry=regressions, **invicta(30, **table_7_2[30])).steady_state()
     assert ss.mass_balance_error < 1e-9
     fam = [f for f in ss.model.network.families if f.name == "backmix"][0]
     assert set(ss.phase[fam.dst[1:]]) == {"active"}
@@ -163,7 +161,7 @@ def test_sheehan_model2_backmix_into_active(regressions, table_7_2):
 def test_sheehan_model1_underloaded_closed_form():
     # below design load: F = k_PP M_P in every cell, M_A = (k_PA / k_AP) M_P (derivation in docstring)
     kpp, kpa, kap = 0.01, 0.05, 25.4 / 3600
-    m = sheehan2005_model1(n_cells=10, feed_rate=5.0, passive_rate=kpp, exchange_rate=kpa, return_rate=kap,
+    m = sheehan2005_model1(n_cells=10, feed_rate=5.0, length=12.0, passive_rate=kpp, exchange_rate=kpa, return_rate=kap,
                            kiln_rate=0.1, design_load=1e6)
     ss = m.steady_state()
     p = ss.masses[ss.phase == "passive"]
@@ -171,7 +169,7 @@ def test_sheehan_model1_underloaded_closed_form():
     np.testing.assert_allclose(p, 5.0 / kpp, rtol=1e-10)
     np.testing.assert_allclose(a, kpa / kap * 5.0 / kpp, rtol=1e-10)
     # air drag (counter-current) slows the passive path: holdup rises
-    m2 = sheehan2005_model1(n_cells=10, feed_rate=5.0, passive_rate=kpp, exchange_rate=kpa, return_rate=kap,
+    m2 = sheehan2005_model1(n_cells=10, feed_rate=5.0, length=12.0, passive_rate=kpp, exchange_rate=kpa, return_rate=kap,
                             kiln_rate=0.1, design_load=1e6, air_coefficient=1e-4, gas_mass_flow=20.0)
     assert m2.steady_state().total_holdup > ss.total_holdup
 
@@ -179,7 +177,7 @@ def test_sheehan_model1_underloaded_closed_form():
 # ---- bad input ---------------------------------------------------------------------------
 def test_too_many_cells_names_key_and_limit(regressions, table_7_2):
     with pytest.raises(ValueError, match=r"transport\.n_cells = 40.*<= 37"):
-        lee2008(geometry=regressions, n_cells=40, **table_7_2[35])
+        lee2008(geometry=regressions, **invicta(40, **table_7_2[35]))
 
 
 @pytest.mark.parametrize("kw, key", [

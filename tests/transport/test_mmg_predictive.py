@@ -175,7 +175,8 @@ def test_dict_velocities_equal_one_velocity():
     secs = [dict(name=s.name, kind=s.kind, length=s.length, n_cells=s.n_cells) for s in case.sections]
     from rotarydryer.cases.build import ajayi_geometries
 
-    kw = dict(sections=secs, feed_rate=40.0, rpm=3.0, slope=4.0, radius=1.95, geometries=ajayi_geometries(case))
+    kw = dict(sections=secs, feed_rate=40.0, rpm=3.0, slope=4.0, radius=1.95, geometries=ajayi_geometries(case),
+              material=material_of(case))
     a = ajayi2011(kiln_velocity=0.0156, dispersion=4e-4, **kw).steady_state()
     b = ajayi2011(kiln_velocity={s["name"]: 0.0156 for s in secs}, dispersion={"A": 4e-4, "E": 4e-4},
                   **kw).steady_state()

@@ -114,10 +114,12 @@ class SectionThermal:
 class ThermalSettings:
     """Thermal parameters of the dryer (SI; temperatures °C).
 
+    gas_flow : wet gas into the dryer, kg/s (required: the case's gas.flow; Ajayi 31.30 kg/s = 112675.7 kg/h, L3225).
+    gas_inlet_temperature : °C (required: the case's gas.inlet_temperature; Ajayi 500).
     mode : "physical" | "ajayi2011" (see module docstring).
-    gas_flow : wet gas into the dryer, kg/s (Ajayi 31.30 kg/s = 112675.7 kg/h, L3225).
-    gas_inlet_temperature : °C (Ajayi 500). gas_inlet_humidity : kg/kg **wet** gas (Ajayi 0.0193, L3227).
-    solids_inlet_temperature : °C (28, L3241). ambient_temperature : °C (26, L3231).
+    gas_inlet_humidity : kg/kg **wet** gas (default 0.01; Ajayi 0.0193, L3227).
+    solids_inlet_temperature : °C (default 20; Ajayi 28, L3241). ambient_temperature : °C (default 25; Ajayi 26,
+    L3231). The defaults are neutral: the plants' values are case data (rotarydryer.cases.build.thermal_settings).
     area_scale : common multiplier on the sections' area factors (tuned).
     cp_solids, cp_water : J/(kg K) (None = the material's). particle_density : kg/m³ (None = the
     material's). pressure : Pa.
@@ -142,12 +144,12 @@ class ThermalSettings:
     from elsewhere, e.g. steam-heated air; no fuel rate).
     """
 
+    gas_flow: float
+    gas_inlet_temperature: float
     mode: str = "physical"
-    gas_flow: float = 15.0
-    gas_inlet_temperature: float = 500.0
-    gas_inlet_humidity: float = 0.0193
-    solids_inlet_temperature: float = 28.0
-    ambient_temperature: float = 26.0
+    gas_inlet_humidity: float = 0.01
+    solids_inlet_temperature: float = 20.0
+    ambient_temperature: float = 25.0
     area_scale: float = 1.0
     particle_density: Optional[float] = None
     cp_solids: Optional[float] = None
@@ -162,7 +164,7 @@ class ThermalSettings:
     shell_thickness: Optional[float] = None
     co2_mole_fraction: float = 0.011
     leak_air_flow: float = 0.0
-    ambient_humidity: float = 0.0193 / (1.0 - 0.0193)
+    ambient_humidity: float = 0.01
     fouling: float = 0.0
     kinetics: Optional[DryingKinetics] = None
     moisture_coupling: bool = True
@@ -280,8 +282,8 @@ class ThermalDryer:
     """
 
     def __init__(self, model, *, material, feed_rate, feed_moisture, rpm, radius, sections=None,
-                 settings: ThermalSettings | None = None):
-        self.settings = s = (settings or ThermalSettings()).validate()
+                 settings: ThermalSettings):
+        self.settings = s = settings.validate()
         self.model = model
         self.material = material
         self.feed_rate, self.feed_moisture, self.rpm = feed_rate, feed_moisture, rpm

@@ -2,9 +2,11 @@
 
 Public API::
 
-    from rotarydryer.transport import lee2008, Network, TracerInput
+    from rotarydryer.transport import lee2008, lee2008_repose_profile
     from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions
-    model = lee2008(geometry=Lee2008Regressions(), n_cells=35)
+    model = lee2008(geometry=Lee2008Regressions(), n_cells=35, feed_rate=27.2, length=12.0, rpm=3.0,
+                    slope=2.8, bulk_density=940.0, repose_angle=lee2008_repose_profile(35, 0.02, 0.002),
+                    kiln_time=8.69, backmix=0.68, drag_reduction=0.48)   # Lee's Invicta (its case file)
     ss = model.steady_state()          # holdups (kg), flows (kg/s)
     rtd = ss.rtd(t_end=3600, dt=10)     # analytic moments + simulated curve
 

@@ -47,7 +47,6 @@ from .._validation import check_range, fmt_number
 from ..geometry.lee2008_regressions import _poly_phi_f
 from ..geometry.unloading import CascadeSummary
 from ..properties.solids import SOLIDS
-from .network import TracerInput
 from .sections import unflighted_cells_auto
 
 __all__ = ["AjayiRegressions", "mmg_moisture_profile", "mmg_test_moisture_profile", "unflighted_cells_auto",
@@ -266,9 +265,8 @@ def _recorded(value):
 
 
 def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispersion,
-              geometries, moisture_scale=1.0, inlet="ajayi", unflighted_cells=None,
-              tracer_input=None, gas_flow="co-current", name="ajayi2011", fouling=0.0, material=None,
-              moisture_ends=None):
+              geometries, material, moisture_scale=1.0, inlet="ajayi", unflighted_cells=None,
+              tracer_input=None, gas_flow="co-current", name="ajayi2011", fouling=0.0, moisture_ends=None):
     r"""Build the Ajayi (2011) multi-section model.
 
     Parameters
@@ -302,9 +300,9 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     fouling : float
         Fraction of the flights' loading capacity lost to scale (Ajayi (2011) Eq. 5.21; Test 3:
         0.8, l.1715): the design load is multiplied by (1 - fouling).
-    material : Material, optional
-        Repose angle and bulk density versus moisture; default the library's
-        ``zinc_concentrate_ajayi2011`` (Ajayi (2011) Eq. 3.2, 3.4).
+    material : Material
+        Repose angle and bulk density versus moisture (the MMG case names the library's
+        ``zinc_concentrate_ajayi2011``, Ajayi (2011) Eq. 3.2, 3.4).
     """
     from .sections import SectionSpec, build_sections
 
@@ -318,10 +316,6 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
                         unit="m^2/s")
     if inlet not in ("ajayi", "danckwerts"):
         raise ValueError(f"transport.unflighted_inlet = {inlet!r} is not one of 'ajayi', 'danckwerts'")
-    if material is None:
-        from ..properties.materials import load_material
-
-        material = load_material("zinc_concentrate_ajayi2011")
     _check_moisture_scale(moisture_scale, sections, material, moisture_ends)
     specs = []
     x0 = 0.0
@@ -339,8 +333,6 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
                                      drag_reduction=1.0, backmix=0.0, loading="state", fouling=fouling,
                                      moisture=moisture_scale * _base_moisture(pos, sections, moisture_ends)))
         x0 += L
-    if tracer_input is None:
-        tracer_input = TracerInput.pulse(1.255e-4 * F * 60.0, 60.0)
     params = dict(feed_rate=F, rpm=rpm, slope=theta, radius=radius, kiln_velocity=_recorded(kiln_velocity),
                   dispersion=_recorded(dispersion),
                   moisture_scale=moisture_scale, unflighted_inlet=inlet, gas_flow=gas_flow, fouling=fouling,

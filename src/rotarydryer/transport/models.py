@@ -37,14 +37,14 @@ __all__ = [
 GAS_FLOWS = ("counter-current", "co-current")
 
 
-def lee2008_repose_profile(n_cells, moisture_inlet=0.02, moisture_outlet=0.002):
+def lee2008_repose_profile(n_cells, moisture_inlet, moisture_outlet):
     r"""Dynamic angle of repose per cell (deg) for the Invicta sugar, Lee (2008) Eq. 7.2-7.3.
 
     w_i = w_in exp[((i-1)/(N-1)) ln(w_out/w_in)] (Eq. 7.3, exponential moisture
     profile, kg/kg dry) and phi_i = 1222.2 w_i + 34.5 (Eq. 7.2, Britton et al.).
-    Defaults are the code values (Appendix I l.12456, 0.02 -> 0.002 kg/kg, i.e.
-    58.94 -> 36.94 deg); the thesis text says "0.2 wt% to 0.02 wt%", a factor 10
-    lower - the code values are the ones that reproduce Ch. 7.
+    Lee's code values are 0.02 -> 0.002 kg/kg (Appendix I l.12456, i.e. 58.94 -> 36.94 deg; the
+    Invicta case file); the thesis text says "0.2 wt% to 0.02 wt%", a factor 10 lower - the code
+    values are the ones that reproduce Ch. 7.
     """
     from ..properties.solids import SOLIDS, lee2008_moisture_profile
 
@@ -94,9 +94,8 @@ class NetworkBuilder:
                        initial_guess=np.array(self.guess))
 
 
-def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.0, slope=2.8,
-            bulk_density=940.0, repose_angle=None, kiln_time=8.69, backmix=0.68, drag_reduction=0.48,
-            passive_time_branch=None, loading="fixed", backmix_to="passive", gas_flow="counter-current",
+def lee2008(*, geometry, n_cells, feed_rate, length, rpm, slope, bulk_density, repose_angle, kiln_time, backmix,
+            drag_reduction, passive_time_branch=None, loading="fixed", backmix_to="passive", gas_flow="counter-current",
             tracer_input=None, name="lee2008", section="dryer", forward_step="fitted", gas=None):
     r"""Lee (2008) compartment model of a flighted dryer (one flighted section).
 
@@ -137,8 +136,9 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
     bulk_density : float
         rho_b, kg/m^3 (Lee's code uses 940).
     repose_angle : float or array of n_cells
-        Dynamic angle of repose per cell, deg; default
-        :func:`lee2008_repose_profile` (Eq. 7.2-7.3).
+        Dynamic angle of repose per cell, deg (Lee's Invicta profile: :func:`lee2008_repose_profile`,
+        Eq. 7.2-7.3). Every plant quantity is an argument: the Invicta values are case data
+        (``rotarydryer.cases.load_case("lee2008_invicta")``).
     kiln_time : float
         tau_kiln, s (> 0; ``math.inf`` disables kilning, then an overloaded dryer
         has no steady state).
@@ -159,7 +159,8 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
         previous active phase (Sheehan et al. 2005 Model 2; Britton et al. 2006).
     gas_flow : {"counter-current", "co-current"}
     tracer_input : TracerInput, optional
-        Default injection for :meth:`SteadyState.rtd`.
+        Default injection for :meth:`SteadyState.rtd` (default a 60 s pulse of 1e-4 of the feed,
+        as :func:`~rotarydryer.transport.sections.build_sections`).
     forward_step : {"fitted", "trajectory"}
         "fitted": C_F = C_F^G h_m sin(theta)/dL with the fitted ``drag_reduction`` (Lee (2008)
         Eq. 3.7-3.8); "trajectory": C_F = d/dL with d the mean axial advance of a particle
@@ -200,16 +201,11 @@ def lee2008(*, geometry, n_cells=35, feed_rate=98000 / 3600, length=12.0, rpm=3.
                              "(give [gas] flow and inlet_temperature, and a [material])")
         if gas.gas_flow != gas_flow:
             raise ValueError(f"gas direction {gas.gas_flow!r} differs from operating.gas_flow = {gas_flow!r}")
-    if repose_angle is None:
-        phi = lee2008_repose_profile(N)
-    else:
-        phi = np.broadcast_to(check_range("solids.repose_angle", repose_angle, 0.0, 90.0, unit="deg"), (N,)).copy()
+    phi = np.broadcast_to(check_range("solids.repose_angle", repose_angle, 0.0, 90.0, unit="deg"), (N,)).copy()
     spec = SectionSpec(name=section, kind="flighted", length=L, n_cells=N, geometry=geometry, kilning="excess",
                        kiln_time=float(kiln_time), drag_reduction=CFG, backmix=CB, backmix_to=backmix_to,
                        loading=loading, passive_time_branch=passive_time_branch, repose_angle=phi,
                        bulk_density=rho, forward_step=forward_step, gas=gas if forward_step == "trajectory" else None)
-    if tracer_input is None:
-        tracer_input = TracerInput.pulse(3.683e-4 * 39.6 * F, 39.6)
     params = dict(n_cells=N, feed_rate=F, length=L, rpm=rpm, slope=theta, bulk_density=rho,
                   kiln_time=kiln_time, backmix=CB, drag_reduction=CFG, loading=loading,
                   backmix_to=backmix_to, gas_flow=gas_flow,
@@ -247,7 +243,7 @@ def sheehan2005_model2(*, geometry, **kwargs):
     return lee2008(geometry=geometry, backmix_to="active", **kwargs)
 
 
-def sheehan2005_model1(*, n_cells=30, feed_rate=98000 / 3600, length=12.0, passive_rate, exchange_rate,
+def sheehan2005_model1(*, n_cells, feed_rate, length, passive_rate, exchange_rate,
                        return_rate, kiln_rate, design_load, air_coefficient=0.0, gas_mass_flow=0.0,
                        gas_flow="counter-current", tracer_input=None, section="dryer"):
     r"""Sheehan et al. (2005) "Model 1" (empirical; Lee et al.), as recovered.
