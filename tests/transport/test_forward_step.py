@@ -173,3 +173,19 @@ def test_exact_drum_mass_average_close_to_step_at_h_m():
     c = cascade(drum, 45.0, 1.0, rpm=3.0, slope=2.8, drag=drag)
     at_hm = forward_step_table(gas, 2.8)(c.mean_fall_height * math.cos(math.radians(2.8)), u_c)
     assert float(at_hm) == pytest.approx(float(c.mean_axial_step), rel=0.02)
+
+
+@pytest.mark.parametrize("c0", [1.0, 1.7, 2.4])
+def test_step_factor_and_curtain_coefficient_are_case_keys(c0):
+    """Song's two coefficients are parameters of the one forward-step law: with no gas inside the
+    curtains (K = 0) the step is c_0 h_m sin(theta) exactly, C_F^G = c_0 in every cell (Song (2003)
+    L600-618 reading, docs/song_pilot.md); with Sherritt's K the gas adds to it."""
+    ov = {"transport.forward_step": "trajectory", "transport.n_cells": 10, "transport.kiln_time": 9.0,
+          "transport.backmix": 0.0, "transport.step_factor": c0}
+    still = sim(**ov, **{"transport.curtain_coefficient": 0.0}).transport_model().cell_info
+    np.testing.assert_allclose(still["C_F_G"], c0, rtol=1e-12)
+    np.testing.assert_allclose(still["curtain_velocity_ratio"], 0.0)
+    windy = sim(**ov).transport_model().cell_info       # counter-current Invicta gas: shorter steps
+    assert np.all(windy["C_F_G"] < c0) and np.all(windy["curtain_velocity_ratio"] > 0)
+    with pytest.raises(ValueError, match=r"transport\.step_factor"):
+        load_case("lee2008_invicta", {"transport.step_factor": 0.0})

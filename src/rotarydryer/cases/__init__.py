@@ -174,6 +174,8 @@ class _TransportVariants(_Strict):
                                        "(first_order), or t_D = d^2/D_core, diffusion time across it (diffusive)")
     forward_step: Literal["fitted", "trajectory"] = Field(default="fitted", description="C_F from the fitted drag_reduction (Lee Eq. 3.7-3.8) or from particle trajectories through [gas] (docs/transport.md)")
     curtain_velocity_ratio: Optional[float] = Field(default=None, ge=0, le=1, description="U_c/U_g in the curtains (trajectory step); default Sherritt, Lee Eq. 2.14")
+    curtain_coefficient: float = Field(default=1.546, ge=0, le=1e4, description="K of Sherritt's c_v = min(1, K h^-0.76 q^-0.86) (trajectory step; Lee Eq. 2.14 prints 1.546; Song's pilot fit in docs/song_pilot.md)")
+    step_factor: float = Field(default=1.0, gt=0, le=100, description="c_0 (-), advance of a cascade without gas over the drag-free fall h_m sin(theta) (trajectory step; 1 = a straight fall)")
 
 
 class Tracer(_Strict):

@@ -302,7 +302,9 @@ def curtain_gas(case, particle_diameter=None):
                                     humidity=case.gas.inlet_humidity, radius=case.drum.radius, gas_flow=direction,
                                     particle_diameter=particle_diameter or mat.particle_diameter,
                                     particle_density=mat.particle_density,
-                                    velocity_ratio=case.transport.curtain_velocity_ratio)
+                                    velocity_ratio=case.transport.curtain_velocity_ratio,
+                                    curtain_coefficient=case.transport.curtain_coefficient,
+                                    step_factor=case.transport.step_factor)
 
 
 def _with_core(case, model):

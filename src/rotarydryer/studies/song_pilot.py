@@ -71,6 +71,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_range
+from ..transport.forward_step import SHERRITT_EXPONENTS, sherritt_form  # noqa: F401  (SHERRITT_EXPONENTS: re-exported)
 
 __all__ = [
     "CASE",
@@ -112,8 +113,6 @@ CASE = "song2003_ottawa"
 AIR_DENSITY = 1.1774
 #: degC: ambient air of Song's runs (dry air of 1.1774 kg/m^3 at 101325 Pa is at 26.9 degC)
 AIR_TEMPERATURE = 26.85
-#: exponents of fall height and release rate in Sherritt's c_v (Lee (2008) Eq. 2.14)
-SHERRITT_EXPONENTS = (-0.76, -0.86)
 
 #: (step_factor, curtain_coefficient) fitted by :func:`fit_coefficients` (least squares on log tau)
 #: to all 73 runs, to each half of :func:`split_halves` and to the "base" runs of
@@ -211,8 +210,7 @@ def curtain_velocity_ratio(fall_height, release_rate, coefficient):
     h = check_range("fall_height", fall_height, 0.0, math.inf, unit="m")
     q = check_range("release_rate", release_rate, 0.0, math.inf, unit="kg/(s m)")
     K = float(check_range("curtain_coefficient", coefficient, 0.0, math.inf, low_inclusive=True))
-    a, b = SHERRITT_EXPONENTS
-    return np.minimum(1.0, K * h**a * q**b)
+    return sherritt_form(h, q, K)       # the one curtain law (rotarydryer.transport.forward_step)
 
 
 def _air():

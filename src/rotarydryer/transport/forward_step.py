@@ -42,12 +42,26 @@ import numpy as np
 
 from .._validation import check_choice, check_range
 
-__all__ = ["CurtainGas", "ForwardStepTable", "forward_step_table", "curtain_velocity_ratio",
-           "trajectory_forward_step", "FORWARD_STEPS"]
+__all__ = ["CurtainGas", "ForwardStepTable", "forward_step_table", "curtain_velocity_ratio", "sherritt_form",
+           "trajectory_forward_step", "FORWARD_STEPS", "SHERRITT_COEFFICIENT", "SHERRITT_EXPONENTS"]
 
 #: values of ``transport.forward_step``
 FORWARD_STEPS = ("fitted", "trajectory")
 GAS_FLOWS = ("co-current", "counter-current")
+#: Sherritt's constant of Lee (2008) Eq. 2.14, c_v = 1.546 h^-0.76 F^-0.86 L^0.44 (read with F = q x 1 m, L = 1 m)
+SHERRITT_COEFFICIENT = 1.546
+#: exponents of h (m) and q (kg/(s m)) in Lee (2008) Eq. 2.14, as printed
+SHERRITT_EXPONENTS = (-0.76, -0.86)
+
+
+def sherritt_form(fall_height, release_rate_per_length, coefficient=SHERRITT_COEFFICIENT):
+    r"""c_v = min(1, K h^-0.76 q^-0.86): the gas velocity inside a curtain over the bulk gas velocity in
+    Sherritt's form (Lee (2008) Eq. 2.14), h the fall height (m), q the release per metre of drum
+    (kg/(s m)), K Sherritt's 1.546 or a fitted value (Song's pilot: ``transport.curtain_coefficient``).
+    Unchecked kernel (vectorised; the callers check their inputs)."""
+    a, b = SHERRITT_EXPONENTS
+    return np.minimum(1.0, coefficient * np.asarray(fall_height, float)**a
+                      * np.asarray(release_rate_per_length, float)**b)
 
 
 @dataclass(frozen=True)
@@ -69,6 +83,12 @@ class CurtainGas:
         Fixed c_v = U_c/U_g in [0, 1]; None: Sherritt's Lee (2008) Eq. 2.14.
     method : str
         Drag correlation (:func:`rotarydryer.correlations.drag_coefficient`).
+    curtain_coefficient : float
+        K of :func:`sherritt_form` (default Sherritt's 1.546).
+    step_factor : float
+        c_0, the advance of a cascade without gas over the drag-free fall h_m sin(theta) (1: a straight
+        fall; > 1: bouncing and rolling where the particles land, Song (2003) L600-618). The step is
+        d = c_0 h_m sin(theta) + (the extra advance of the fall through the gas).
     """
 
     gas_mass_flow: float
@@ -80,6 +100,8 @@ class CurtainGas:
     particle_density: float
     velocity_ratio: float | None = None
     method: str = "schiller_naumann_1933"
+    curtain_coefficient: float = SHERRITT_COEFFICIENT
+    step_factor: float = 1.0
 
     def __post_init__(self):
         check_range("gas.flow", self.gas_mass_flow, 0.0, math.inf, low_inclusive=True, unit="kg/s")
@@ -92,10 +114,13 @@ class CurtainGas:
         if self.velocity_ratio is not None:
             check_range("transport.curtain_velocity_ratio", self.velocity_ratio, 0.0, 1.0, low_inclusive=True,
                         high_inclusive=True)
+        check_range("transport.curtain_coefficient", self.curtain_coefficient, 0.0, 1e4, low_inclusive=True)
+        check_range("transport.step_factor", self.step_factor, 0.0, 100.0)
 
     @classmethod
     def at_conditions(cls, *, gas_mass_flow, temperature_degC, humidity, radius, gas_flow, particle_diameter,
-                      particle_density, velocity_ratio=None, method="schiller_naumann_1933"):
+                      particle_density, velocity_ratio=None, method="schiller_naumann_1933",
+                      curtain_coefficient=SHERRITT_COEFFICIENT, step_factor=1.0):
         """From the gas flow (kg/s wet), temperature (degC) and water mass fraction (kg/kg wet gas):
         density (ideal gas) and viscosity (Wilke) of humid air, :mod:`rotarydryer.properties.humid_air`."""
         from ..properties import humid_air as ha
@@ -107,7 +132,8 @@ class CurtainGas:
         return cls(gas_mass_flow=float(gas_mass_flow), gas_density=float(ha.density(t, Y)),
                    gas_viscosity=float(ha.viscosity(t, Y)), radius=float(radius), gas_flow=gas_flow,
                    particle_diameter=float(particle_diameter), particle_density=float(particle_density),
-                   velocity_ratio=None if velocity_ratio is None else float(velocity_ratio), method=method)
+                   velocity_ratio=None if velocity_ratio is None else float(velocity_ratio), method=method,
+                   curtain_coefficient=float(curtain_coefficient), step_factor=float(step_factor))
 
     @property
     def gas_velocity(self) -> float:
@@ -165,16 +191,13 @@ def forward_step_table(gas: CurtainGas, slope: float) -> ForwardStepTable:
 
 def curtain_velocity_ratio(gas: CurtainGas, fall_height, release_rate_per_length):
     """c_v = U_c/U_g of the curtains, in [0, 1]: ``gas.velocity_ratio`` when fixed, else Sherritt's
-    Lee (2008) Eq. 2.14 with F = q x 1 m and L = 1 m (module docstring): 1.546 h^-0.76 q^-0.86,
-    h in m, q in kg/(s m)."""
+    Lee (2008) Eq. 2.14 with F = q x 1 m and L = 1 m (module docstring): :func:`sherritt_form`,
+    K h^-0.76 q^-0.86 with K = ``gas.curtain_coefficient``, h in m, q in kg/(s m)."""
     h = np.maximum(np.asarray(fall_height, float), 1e-9)
     q = np.asarray(release_rate_per_length, float)
     if gas.velocity_ratio is not None:
         return np.full(np.broadcast(h, q).shape, float(gas.velocity_ratio))
-    from ..correlations.trajectory import sherritt_curtain_velocity_ratio
-
-    cv = np.asarray(sherritt_curtain_velocity_ratio(h, np.maximum(q, 1e-12), 1.0), float)
-    return np.clip(cv, 0.0, 1.0)
+    return np.clip(sherritt_form(h, np.maximum(q, 1e-12), gas.curtain_coefficient), 0.0, 1.0)
 
 
 def trajectory_forward_step(gas: CurtainGas, slope, fall_height, release_rate_per_length):
@@ -213,4 +236,7 @@ def trajectory_forward_step(gas: CurtainGas, slope, fall_height, release_rate_pe
     h_perp = np.asarray(fall_height, float) * math.cos(math.radians(float(slope)))
     cv = curtain_velocity_ratio(gas, fall_height, release_rate_per_length)
     uc = cv * gas.gas_velocity
-    return dict(step_m=table(h_perp, uc), curtain_velocity_ratio=cv, curtain_gas_velocity_m_s=uc)
+    step = table(h_perp, uc)
+    if gas.step_factor != 1.0:      # the landing's own advance: c_0 h_m sin(theta) instead of the straight fall's
+        step = step + (gas.step_factor - 1.0) * h_perp * table._tan
+    return dict(step_m=step, curtain_velocity_ratio=cv, curtain_gas_velocity_m_s=uc)
