@@ -23,5 +23,5 @@ radiation
     H2O/CO2 gas emissivity (weighted sum of grey gases, Smith et al. 1982), mean beam
     length, gas-wall and gas-solids radiative exchange.
 
-The dryer-level balances and solvers: ``dryer``; studies: ``studies``.
+The dryer-level model: ``dryer`` (equations and solvers), ``settings``, ``states``; studies: ``studies``.
 """

@@ -163,7 +163,6 @@ def pi_test_conditions(test: int) -> dict:
     Keys: feed_rate (kg/s wet), moisture_in, moisture_out (kg/kg wet), gas_in_c, gas_out_c,
     product_c (°C), rpm, scaled (bool); standard deviations with a ``_sd`` suffix where published.
     """
-    from .dryer import pi_operating_conditions
 
     r = pi_operating_conditions(test)
 
@@ -229,3 +228,13 @@ def measured_balances(tests: Sequence[int] = (1, 2, 3, 4, 5, 6), heat_loss=0.0, 
                                gas_flow_at_product_c=g2, product_c_assumed=tp, exhaust_humidity=y_out,
                                exhaust_dew_point_c=float(ha.dew_point(y_out)), product_c=c["product_c"]))
     return out
+
+
+def pi_operating_conditions(test_number):
+    """PI operating conditions of an Ajayi test (package data ``ajayi_pi_operating_conditions.csv``): dict."""
+    from ..published import read_published_csv
+
+    for r in read_published_csv("ajayi_pi_operating_conditions.csv"):
+        if int(r["test"]) == int(test_number):
+            return r
+    raise ValueError(f"test = {test_number} is not one of 1-6")

@@ -1,0 +1,325 @@
+"""States of the heat-and-mass model: a converged steady state (:class:`ThermalSteadyState`), the
+same state seen as a transport steady state (:class:`CoupledTransportState`) and a dynamic run
+(:class:`DynamicResult`). Temperatures in degC, names ending in ``_degC``."""
+
+from __future__ import annotations
+
+import warnings
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..transport.results import SteadyState
+from . import balances as bal
+from .settings import DryerError
+
+if TYPE_CHECKING:
+    from .dryer import ThermalDryer
+
+__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult"]
+
+class _Renamed:
+    """A deprecated attribute name that reads the new one with a ``DeprecationWarning`` naming it
+    (issue 27: ``_degC`` on every public temperature)."""
+
+    def __init__(self, new: str):
+        self.new = new
+
+    def __set_name__(self, owner, name):
+        self.old = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        warnings.warn(f"{type(obj).__name__}.{self.old} is deprecated: use .{self.new}", DeprecationWarning,
+                      stacklevel=2)
+        return getattr(obj, self.new)
+
+
+class ThermalSteadyState:
+    """A converged steady state: profiles, outlet values and balances (SI, °C: names end in ``_degC``)."""
+
+    solids_temperature_c = _Renamed("solids_temperature_degC")
+    gas_temperature_c = _Renamed("gas_temperature_degC")
+    gas_outlet_temperature_c = _Renamed("gas_outlet_temperature_degC")
+    product_temperature_c = _Renamed("product_temperature_degC")
+
+    def __init__(self, dryer: ThermalDryer, z, iterations=0, residual=0.0, seconds=0.0):
+        self.dryer = dryer
+        self.state = np.asarray(z, dtype=float)
+        #: the solver's last factorisation of I/dt - J (an object with ``solve(b)`` and ``shape``: SciPy's
+        #: SuperLU or its column-ordered form, :meth:`rotarydryer._sparse_fd.FDPlan.shifted_lu`), a start for
+        #: nearby solves
+        self.factorization = None
+        self.iterations = iterations
+        self.residual = float(residual)
+        self.seconds = seconds
+        s = dryer.settings
+        d = dryer.terms(self.state)
+        self.terms = d
+        self.transport_moisture_clipped = bool(dryer._clipped)
+        S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
+        self.solids_temperature_degC = T
+        self.moisture_wet = W / (S + W)
+        self.holdup = S + W
+        self.gas_temperature_degC = Tg
+        self.gas_humidity = Y
+        Fd = dryer.dry_gas_flow
+        k = dryer.gas_outlet_stage
+        self.gas_outlet_temperature_degC = float(Tg[k])
+        self.gas_outlet_humidity = float(Y[k])
+        pS, pW, pH = d["product_S"], d["product_W"], d["product_H"]
+        self.product_rate = pS + pW
+        self.product_moisture = pW / (pS + pW)
+        self.product_temperature_degC = pH / (pS * s.cp_solids + pW * s.cp_water)
+        self.evaporation_rate = float(np.sum(d["rw"]))
+        self.shell_heat_loss_w = float(np.sum(d["qloss"]))
+        fS, fW = dryer.feed_rate * (1 - dryer.feed_moisture), dryer.feed_rate * dryer.feed_moisture
+        Yin = dryer.gas_inlet_Y
+        w_in = fW + Fd * Yin
+        w_out = pW + Fd * Y[k]
+        self.water_balance_error = abs(w_in - w_out) / w_in
+        self.solids_balance_error = abs(fS - pS) / fS
+        hs_in = (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
+        # the solver's states are checked (the unchecked enthalpy; the inlet's remembered per settings)
+        hg_in = Fd * dryer._inlet_enthalpy()
+        hg_out = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], s.mode))
+        e_in = hs_in + hg_in
+        e_out = pH + hg_out + self.shell_heat_loss_w
+        self.energy_in_w = e_in
+        self.energy_balance_error = abs(e_in - e_out) / e_in
+        #: energy streams of the balance, W (enthalpies relative to the model's reference state)
+        self.energy_terms_w = {
+            "in": {"hot gas": float(hg_in), "wet feed": float(hs_in)},
+            "out": {"exhaust gas": float(hg_out), "product": float(pH), "shell loss": float(self.shell_heat_loss_w)},
+        }
+        # the same streams with physical enthalpies (closes only in the physical mode)
+        if s.mode == "physical":
+            hg_in_p, hg_out_p = hg_in, hg_out
+            self.physical_shell_loss_w = self.shell_heat_loss_w
+        else:   # and the shell network (shell temperature solved) at the same gas temperatures
+            hg_in_p = Fd * dryer.gas_inlet_enthalpy("physical")
+            hg_out_p = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], "physical"))
+            self.physical_shell_loss_w = float(np.sum(dryer.physical_shell_loss(Tg, Y)))
+        e_in_p = hs_in + hg_in_p
+        self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / e_in_p
+        self.physical_implied_shell_loss_w = e_in_p - pH - hg_out_p
+        self.gas_heat_duty_w = hg_in - hg_out
+
+    @property
+    def total_holdup(self):
+        return float(np.sum(self.holdup))
+
+    def transport_state(self):
+        """This state as a transport steady state (:class:`CoupledTransportState`) on the
+        heat-and-mass model's network: the coupled holdups and flows, the design loads and per-cell
+        coefficients at the computed moisture. Its totals, section holdups, cell table and tracer
+        moments are this state's, so every view (``simulate --json`` ``sections``/``cells``, the
+        holdup plot, Results, the report) shows one number per quantity."""
+        if getattr(self, "_transport_state", None) is None:
+            from ..transport.sections import cell_info_at
+
+            dr, d = self.dryer, self.terms
+            model = dr.model
+            m = d["S"] + d["W"]
+            flows = np.split(np.asarray(d["F"], dtype=float), np.cumsum([f.src.size for f in dr.families])[:-1])
+            design = np.array(model.design_load, dtype=float)
+            per_node = {k: np.full(m.size, np.nan) for k in model.cell_info}
+            passive, _ = dr._passive(d["W"], m, dr.laws)
+            for law, (_, xp) in zip(dr.laws, passive):
+                des, info = cell_info_at(law, xp)
+                design[law.P] = des
+                for k in per_node:
+                    if k in info:
+                        per_node[k][law.P] = info[k]
+            p = np.asarray(model.network.labels["phase"]) == "passive"
+            cell_info = {k: v[p] for k, v in per_node.items()}
+            self._transport_state = CoupledTransportState(self, model, m, flows=flows, design_load=design,
+                                                          cell_info=cell_info)
+        return self._transport_state
+
+    def tracer_system(self):
+        """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
+        so RTD moments agree with the holdups of this state."""
+        from ..transport.network import tracer_system_from_flows
+
+        d = self.terms
+        inlet = np.zeros(d["S"].size)
+        inlet[self.dryer.entry] = 1.0
+        return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
+
+    def fuel_rate(self, fuel_heat_loss_fraction=None):
+        """Fuel rate (kg/s) that the case's burner (``ThermalSettings.burner``, Ajayi (2011) App. A
+        combustion chamber) needs to heat this gas flow to the inlet temperature (air at ambient,
+        humidity of the gas). ``fuel_heat_loss_fraction`` replaces the burner's. Raises
+        :class:`DryerError` if the case has no burner or it cannot reach the set temperature."""
+        from .burner import fuel_rate_for_temperature
+
+        dr = self.dryer
+        s = dr.settings
+        b = s.burner
+        if b is None:
+            raise DryerError("the case has no burner ([gas.burner] combustion_air_share, fuel): no fuel rate",
+                             reason="no_burner", state=self)
+        loss = b.heat_loss_fraction if fuel_heat_loss_fraction is None else fuel_heat_loss_fraction
+        air = s.gas_flow
+        try:
+            return float(fuel_rate_for_temperature(s.gas_inlet_temperature, air * b.combustion_air_share,
+                                                   air * (1 - b.combustion_air_share),
+                                                   air_temperature_c=s.ambient_temperature,
+                                                   air_humidity=dr.hot_gas_Y, fuel=b.fuel,
+                                                   heat_loss_fraction=loss))
+        except ValueError as exc:
+            raise DryerError(f"burner cannot reach the set gas inlet temperature {s.gas_inlet_temperature:g} degC: "
+                             f"{exc}", reason="burner", state=self) from exc
+
+    def profiles(self):
+        """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per stage)."""
+        dr = self.dryer
+        return dict(position=dr.position, phase=np.array(["bed", "passive", "active"])[dr.kind],
+                    section=dr.tank_section, solids_temperature_c=self.solids_temperature_degC,
+                    moisture_wet=self.moisture_wet, holdup_kg=self.holdup, gas_position=dr.gas_position,
+                    gas_temperature_c=self.gas_temperature_degC, gas_humidity=self.gas_humidity,
+                    evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
+
+    def __repr__(self):
+        from .._display import short_repr
+
+        return short_repr("ThermalSteadyState", self.dryer.model.name, [
+            ("product moisture kg/kg", float(self.product_moisture)),
+            ("product degC", float(self.product_temperature_degC)),
+            ("gas out degC", self.gas_outlet_temperature_degC), ("holdup kg", self.total_holdup),
+            ("energy balance error", float(self.energy_balance_error))])
+
+    def _repr_html_(self):
+        from .._display import html_table
+
+        return html_table(self.summary(with_fuel=False), caption=f"heat-and-mass steady state ({self.dryer.model.name})")
+
+    def to_dataframe(self):
+        """Named outputs (:meth:`summary`) as a pandas DataFrame (value, unit)."""
+        from .._display import outputs_dataframe
+
+        return outputs_dataframe(self.summary(with_fuel=False))
+
+    @property
+    def heat_input_w(self):
+        """Heat put into the drying gas (W): the entering gas's enthalpy above that of the same gas
+        at ambient temperature (what a burner or heater supplies to it), mode-consistent."""
+        dr = self.dryer
+        s = dr.settings
+        hot, leak = dr._flows_in
+        mode = s.mode
+        dh = float(bal.gas_enthalpy(s.gas_inlet_temperature, dr.hot_gas_Y, mode)) - float(
+            bal.gas_enthalpy(s.ambient_temperature, dr.hot_gas_Y, mode))
+        return hot * dh
+
+    @property
+    def thermal_efficiency(self):
+        """Heat that evaporated water (evaporation x latent heat at the product temperature, Watson/
+        Clapeyron) over :attr:`heat_input_w` (-); the usual dryer efficiency (Kemp, Handbook of
+        Industrial Drying, 'energy efficiency')."""
+        from ..properties.water import latent_heat
+
+        q = self.heat_input_w
+        if q <= 0:
+            return float("nan")
+        t = float(np.clip(self.product_temperature_degC, 0.0, 99.0))
+        return self.evaporation_rate * float(latent_heat(t)) / q
+
+    def summary(self, with_fuel=True):
+        """Outputs of the state, named with their unit (the names of ``simulate --json``, sweeps,
+        Results and the report). Balance errors are relative; ``thermal_mode`` the model mode."""
+        kind, hold = self.dryer.kind, self.holdup
+        out = dict(
+            thermal_mode=self.dryer.settings.mode,
+            total_holdup_kg=self.total_holdup, active_holdup_kg=float(np.sum(hold[kind == 2])),
+            passive_holdup_kg=float(np.sum(hold[kind == 1])), bed_holdup_kg=float(np.sum(hold[kind == 0])),
+            feed_rate_kg_s=self.dryer.feed_rate, outlet_flow_kg_s=float(self.product_rate),
+            mean_residence_time_s=self.total_holdup / float(self.product_rate),
+            product_moisture_kg_kg=float(self.product_moisture),
+            product_temperature_degC=float(self.product_temperature_degC),
+            gas_outlet_temperature_degC=self.gas_outlet_temperature_degC,
+            gas_outlet_humidity_kg_kg=self.gas_outlet_humidity,
+            evaporation_kg_s=self.evaporation_rate,
+            heat_input_W=self.heat_input_w,
+            specific_energy_kJ_kg_water=(self.heat_input_w / self.evaporation_rate / 1e3
+                                         if self.evaporation_rate > 1e-12 else float("nan")),
+            thermal_efficiency=self.thermal_efficiency,
+            shell_heat_loss_W=self.shell_heat_loss_w,
+            gas_flow_kg_s=self.dryer.settings.gas_flow,
+            energy_balance_error=float(self.energy_balance_error),
+            water_balance_error=float(self.water_balance_error),
+            solids_balance_error=float(self.solids_balance_error),
+            # wet solids: feed = product + evaporation (the transport model's mass balance, with drying)
+            mass_balance_error=abs(self.dryer.feed_rate - float(self.product_rate) - self.evaporation_rate)
+            / self.dryer.feed_rate,
+            physical_energy_balance_error=float(self.physical_energy_balance_error),
+            physical_shell_loss_W=float(self.physical_shell_loss_w),
+            transport_moisture_clipped=self.transport_moisture_clipped,
+            solver_iterations=self.iterations, solver_time_s=self.seconds,
+        )
+        if with_fuel:
+            try:
+                out["fuel_rate_kg_s"] = self.fuel_rate()
+            except DryerError as exc:
+                out["fuel_rate_kg_s"] = None
+                out["fuel_rate_error"] = str(exc)
+        return out
+
+
+class CoupledTransportState(SteadyState):
+    """A coupled steady state seen as a transport :class:`~rotarydryer.transport.results.SteadyState`
+    (:meth:`ThermalSteadyState.transport_state`): wet-solids holdups and flows of the heat-and-mass
+    model, its tracer system, and the mass balance with the evaporation."""
+
+    def __init__(self, thermal: ThermalSteadyState, model, masses, **kw):
+        super().__init__(model, masses, **kw)
+        self.thermal = thermal
+
+    @property
+    def mass_balance_error(self) -> float:
+        """|feed - product - evaporation| / feed (-), wet solids."""
+        th = self.thermal
+        F = th.dryer.feed_rate
+        return abs(F - float(th.product_rate) - th.evaporation_rate) / F
+
+    def tracer_system(self):
+        return self.thermal.tracer_system()
+
+
+class DynamicResult:
+    """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series
+    (``product_moisture``, ``product_temperature_degC``, ``gas_outlet_temperature_degC``)."""
+
+    product_temperature_c = _Renamed("product_temperature_degC")
+    gas_outlet_temperature_c = _Renamed("gas_outlet_temperature_degC")
+
+    def __repr__(self):
+        from .._display import short_repr
+
+        return short_repr("DynamicResult", "", [("t_end s", float(self.time[-1])), ("points", self.time.size),
+                                                ("final product moisture kg/kg", float(self.product_moisture[-1])),
+                                                ("solve s", self.seconds)])
+
+    def to_dataframe(self):
+        """Outlet series versus time (s) as a pandas DataFrame."""
+        import pandas as pd
+
+        return pd.DataFrame({"product_moisture_kg_kg": self.product_moisture,
+                             "product_temperature_degC": self.product_temperature_degC,
+                             "gas_outlet_temperature_degC": self.gas_outlet_temperature_degC},
+                            index=pd.Index(self.time, name="time_s"))
+
+    def __init__(self, dryer, t, y, seconds, nfev):
+        self.dryer, self.time, self.states, self.seconds, self.nfev = dryer, t, y, seconds, nfev
+        pm, pt, tg = [], [], []
+        s = dryer.settings
+        for j in range(y.shape[1]):
+            pS, pW, pH = dryer.product_stream(y[:, j])
+            pm.append(pW / (pS + pW))
+            pt.append(pH / (pS * s.cp_solids + pW * s.cp_water))
+            tg.append(dryer.split(y[:, j])[3][dryer.gas_outlet_stage])
+        self.product_moisture = np.array(pm)
+        self.product_temperature_degC = np.array(pt)
+        self.gas_outlet_temperature_degC = np.array(tg)
