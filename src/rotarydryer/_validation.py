@@ -116,13 +116,19 @@ def check_range(
     a float array (0-d for scalars). Messages name ``name``, the value (plain numbers; min and
     max for arrays), the allowed range and ``unit``.
     """
+    if type(value) is float or type(value) is int:      # the common case: one plain number, no array reductions
+        v = float(value)
+        if math.isfinite(v) and (v >= low if low_inclusive else v > low) and (v <= high if high_inclusive else v < high):
+            return np.asarray(v)
     arr = _as_float_array(name, value)
+    lo_ok = arr >= low if low_inclusive else arr > low
+    hi_ok = arr <= high if high_inclusive else arr < high
+    if (np.isfinite(arr) & lo_ok & hi_ok).all():       # one reduction when every value is valid
+        return arr
     if not np.all(np.isfinite(arr)):
         what = "not a number" if np.any(np.isnan(arr)) else "not finite"
         raise ValueError(f"{name} = {describe(arr, unit)} is {what} (allowed range "
                          f"{_interval(low, high, low_inclusive, high_inclusive, unit)})")
-    lo_ok = arr >= low if low_inclusive else arr > low
-    hi_ok = arr <= high if high_inclusive else arr < high
     if not (np.all(lo_ok) and np.all(hi_ok)):
         raise ValueError(
             f"{name} = {describe(arr, unit)} is outside the allowed range "

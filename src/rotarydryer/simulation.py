@@ -27,7 +27,7 @@ from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
 from ._validation import check_choice
 from .cases import load_case, measured_rtd, measured_rtd_moments
-from .cases.build import build_model, has_burner, thermal_enabled, thermal_inputs
+from .cases.build import build_model, check_feasible, has_burner, thermal_enabled, thermal_inputs, transport_inputs
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
@@ -68,6 +68,7 @@ class Simulation:
             self.overrides = {}
             self.case = case
         self.kind = self.case.kind
+        self._inputs = None         # what the networks are built from (cases.build.transport_inputs)
         self._transport = None
         self._transport_ss = None
         self._dryer = None          # the heat-and-mass model of the case, built once
@@ -81,10 +82,27 @@ class Simulation:
         return thermal_enabled(self.case)
 
     # ------------------------------------------------------------------ transport
+    def transport_inputs(self) -> dict:
+        """The section specs and operating values the case's networks are built from
+        (:func:`rotarydryer.cases.build.transport_inputs`; the case checked), once."""
+        if self._inputs is None:
+            self._inputs = transport_inputs(self.case)
+        return self._inputs
+
+    @property
+    def tracer_input(self):
+        """The case's tracer pulse (:class:`~rotarydryer.transport.TracerInput`, from its [tracer])."""
+        return self.transport_inputs()["tracer_input"]
+
+    @property
+    def model_name(self) -> str:
+        """Name of the case's transport model (its flighted sections' model, e.g. ``lee2008``)."""
+        return self.transport_model().name if self._transport is not None else self.transport_inputs()["name"]
+
     def transport_model(self):
         """The solids-transport model (TransportModel on the network) of the case."""
         if self._transport is None:
-            self._transport = build_model(self.case)
+            self._transport = build_model(self.case, self.transport_inputs())
         return self._transport
 
     def transport_steady_state(self):
@@ -114,15 +132,15 @@ class Simulation:
             raise ValueError(f"unknown ThermalSettings field(s) {', '.join(map(repr, unknown))}; valid: "
                              f"{', '.join(f.name for f in dataclasses.fields(ThermalSettings))}")
         st = dataclasses.replace(st, **overrides)   # a copy: the caller's settings stay as they were
-        base = self.transport_model()
-        p = base.parameters
+        base = self.transport_inputs()      # the specs alone: no transport-only network is built
         specs = [dataclasses.replace(sp, fouling=st.fouling, **inp["section_changes"].get(sp.name, {}))
-                 for sp in base.specs]
-        model = build_sections(specs, material=inp["material"], feed_rate=base.feed_rate, rpm=p["rpm"],
-                               slope=p["slope"], inlet="danckwerts", name="thermal", tracer_input=base.tracer_input)
-        return ThermalDryer(model, material=inp["material"], feed_rate=base.feed_rate,
+                 for sp in base["sections"]]
+        model = build_sections(specs, material=inp["material"], feed_rate=base["feed_rate"], rpm=base["rpm"],
+                               slope=base["slope"], inlet="danckwerts", name="thermal",
+                               tracer_input=base["tracer_input"])
+        return ThermalDryer(model, material=inp["material"], feed_rate=base["feed_rate"],
                             feed_moisture=inp["feed_moisture"] if feed_moisture is None else feed_moisture,
-                            rpm=p["rpm"], radius=self.case.drum.radius, sections=inp["sections"], settings=st)
+                            rpm=base["rpm"], radius=self.case.drum.radius, sections=inp["sections"], settings=st)
 
     def dryer(self):
         """The case's heat-and-mass model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`), built
@@ -137,20 +155,22 @@ class Simulation:
     def steady_state(self, warm: dict | None = None):
         """Steady state of the whole dryer: transport, and heat and mass where the case has a gas.
 
-        The transport steady state is solved (and checked for feasibility) first in either case.
-        ``warm`` (:meth:`SteadyResult.warm_data` of a nearby run: coupled state, transport masses,
-        shell temperatures, factorisation) starts the solves when its shapes fit; the state is the
-        same steady state, accepted by the same convergence test (the case's cold start is tried
-        when the warm one does not converge)."""
+        Without heat and mass transfer this is the transport steady state. With it, the coupled
+        state, whose fill of the drum is checked (:func:`rotarydryer.cases.build.check_feasible`):
+        the transport-only model is neither built nor solved unless the coupled solve fails, when
+        its feasibility check gives the physical reason where there is one. ``warm``
+        (:meth:`SteadyResult.warm_data` of a nearby run: coupled state, transport masses, shell
+        temperatures, factorisation) starts the solves when its shapes fit; the state is the same
+        steady state, accepted by the same convergence test (the case's cold start is tried when the
+        warm one does not converge)."""
         warm = warm or {}
-        masses = warm.get("masses")
-        if self._transport_ss is None and masses is not None:
-            net = self.transport_model().network
-            if np.shape(masses) == (net.n,):
-                net.initial_guess = masses        # Newton from a nearby run's masses
-        transport = self.transport_steady_state()
         if not self.thermal_enabled:
-            return SteadyResult(self, transport, None)
+            masses = warm.get("masses")
+            if self._transport_ss is None and masses is not None:
+                net = self.transport_model().network
+                if np.shape(masses) == (net.n,):
+                    net.initial_guess = masses        # Newton from a nearby run's masses
+            return SteadyResult(self, self.transport_steady_state(), None)
         state = warm.get("state")
         if self._thermal_ss is None and state is not None:
             d = self.dryer()
@@ -162,7 +182,13 @@ class Simulation:
                     self._thermal_ss = d.steady_state(z0=state, dt0=WARM_DT0, factorization=warm.get("factorization"))
                 except ValueError:                  # DryerError: the case's own cold start, on a new model
                     self._dryer = None
-        return SteadyResult(self, None, self.thermal_steady_state())
+        try:
+            thermal = self.thermal_steady_state()
+        except DryerError:
+            self.transport_steady_state()           # an impossible dryer is refused with its physical reason
+            raise
+        check_feasible(self.case, thermal.transport_state())
+        return SteadyResult(self, None, thermal)
 
     #: width of the smoothed design-load switch of the start model when the coupled Newton chatters
     START_SMOOTHING = 1e-3
@@ -340,7 +366,7 @@ class SteadyResult:
         check_choice("what", what, ("holdup", "thermal", "all"))
         if what == "thermal" and self.thermal is None:
             raise ValueError("what = 'thermal': the case has no heat and mass transfer (no [gas])")
-        figs = {"holdup": plot_holdup_profile(self.state, name=self.simulation.transport_model().name)} \
+        figs = {"holdup": plot_holdup_profile(self.state, name=self.simulation.model_name)} \
             if what in ("holdup", "all") else {}
         if what in ("thermal", "all") and self.thermal is not None:
             figs["thermal"] = plot_thermal_steady_state(self.thermal)
@@ -370,15 +396,19 @@ class SteadyResult:
         th = self.thermal
         if th is None:
             return None
-        return dict(state=th.state, masses=self.simulation.transport_steady_state().masses,
+        ts = self.simulation._transport_ss
+        return dict(state=th.state, masses=None if ts is None else ts.masses,
                     shell=th.dryer._shell_outer, factorization=th.factorization)
 
     def to_dict(self) -> dict:
         """:meth:`summary` with the ``sections`` and ``cells`` tables of :attr:`state` (the
         object ``rotarydryer simulate --json`` prints, less ``case`` and ``parameters``)."""
         out = self.state.to_dict()
-        out["model"] = self.simulation.transport_model().name
-        return self.merged(out)
+        out["model"] = self.simulation.model_name
+        out = self.merged(out)
+        if self.thermal is not None:      # the transport-only model's total, under its own name
+            out["transport_only_total_holdup_kg"] = self.simulation.transport_steady_state().total_holdup
+        return out
 
     def tracer_system(self):
         """Linear tracer system at this state's flows (the coupled one with heat and mass)."""
@@ -386,19 +416,19 @@ class SteadyResult:
 
     def tracer_moments(self):
         """Analytic moments of the outlet curve for the case's tracer pulse (from the injection start)."""
-        return self.tracer_system().moments(self.simulation.transport_model().tracer_input)
+        return self.tracer_system().moments(self.simulation.tracer_input)
 
     def summary(self) -> dict:
         """Outputs named with their unit: holdups, residence time, tracer moments and, with heat
-        and mass transfer, :meth:`ThermalSteadyState.summary` (the transport-only total holdup is
-        kept as ``transport_only_total_holdup_kg``; the fuel rate where the case has a burner)."""
+        and mass transfer, :meth:`ThermalSteadyState.summary` (the fuel rate where the case has a
+        burner). The transport-only model's total holdup, where wanted, is in :meth:`to_dict`
+        (``transport_only_total_holdup_kg``): the summary is this state's alone."""
         ts = self.tracer_system()
-        m = ts.moments(self.simulation.transport_model().tracer_input)
+        m = ts.moments(self.simulation.tracer_input)
         impulse = ts.moments()
         if self.thermal is not None:
             out = self.thermal.summary(with_fuel=has_burner(self.simulation.case))
             out["kiln_bed_holdup_kg"] = self.state.kiln_bed_holdup
-            out["transport_only_total_holdup_kg"] = self.simulation.transport_steady_state().total_holdup
         else:
             ss = self.transport
             out = dict(total_holdup_kg=ss.total_holdup, active_holdup_kg=ss.active_holdup,

@@ -572,6 +572,12 @@ def list_cases() -> list[str]:
 
 def valid_override_keys(case_cls) -> list[str]:
     """Flat ``section.key`` names that may be overridden for a case class."""
+    return list(_override_keys(case_cls))
+
+
+@lru_cache(maxsize=None)
+def _override_keys(case_cls) -> tuple[str, ...]:
+    """:func:`valid_override_keys`, computed once per class (every case load needs them)."""
     import typing
 
     def block(annotation):
@@ -594,7 +600,7 @@ def valid_override_keys(case_cls) -> list[str]:
         sub = block(finfo.annotation)
         if sec not in _NOT_OVERRIDABLE and sub is not None:
             keys += fields(sub, sec)
-    return sorted(keys)
+    return tuple(sorted(keys))
 
 
 def _decode(content: bytes, shown: str) -> str:

@@ -38,7 +38,7 @@ BULK_DENSITY_RANGE = (1.0, 23000.0)
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
-           "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
+           "transport_inputs", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
 
 
 def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):
@@ -77,16 +77,16 @@ def _tracer_pulse(case, feed_rate):
     return TracerInput.pulse(tr.fraction * feed_rate * max(tr.duration, 1e-6), tr.duration)
 
 
-def build_model(case):
-    """The :class:`rotarydryer.transport.TransportModel` of a validated case.
+def build_model(case, inputs: dict | None = None):
+    """The :class:`rotarydryer.transport.TransportModel` of a validated case (``inputs``: its
+    :func:`transport_inputs`, when the caller has them).
 
     The case is checked first (:func:`check_inputs`) and every steady state of the model is
     checked for its fill of the drum (:func:`check_feasible`)."""
     if not isinstance(case, DryerCase):
         raise ValueError(f"case of type {type(case).__name__} is not supported (load it with "
                          "rotarydryer.cases.load_case)")
-    check_inputs(case)
-    model = _with_core(case, _build_dryer(case))
+    model = _with_core(case, _build_dryer(case, inputs))
     model.checks.append(functools.partial(check_feasible, case))     # picklable, unlike a lambda
     return model
 
@@ -521,9 +521,14 @@ def _dryer_specs(case: DryerCase, material, bed):
     return specs
 
 
-def _build_dryer(case: DryerCase):
-    from rotarydryer.transport.sections import build_sections
-
+def transport_inputs(case) -> dict:
+    """What :func:`rotarydryer.transport.sections.build_sections` builds a case's network from:
+    ``sections`` (the SectionSpecs), ``material``, ``feed_rate``, ``rpm``, ``slope``, ``inlet``,
+    ``tracer_input``, ``name`` and ``parameters`` (the model choices recorded with a model; the
+    predictive transport's, if any, under ``predictive``). The case is checked first
+    (:func:`check_inputs`). The heat-and-mass model builds its own network from these without the
+    transport-only one (:meth:`rotarydryer.Simulation.thermal_dryer`)."""
+    check_inputs(case)
     material = material_of(case)
     F, rpm, _, _ = operating_point(case)
     bed = solids_transport(case)
@@ -550,14 +555,23 @@ def _build_dryer(case: DryerCase):
         params.update(kiln_velocity=one(u_of), dispersion=one(D_of))
     if case.transport.moisture_profile == "ajayi2011_eq3.1":
         params["moisture_scale"] = case.transport.moisture_scale
-    model = build_sections(specs, material=material, feed_rate=F, rpm=rpm, slope=case.drum.slope,
-                           inlet=case.transport.unflighted_inlet, tracer_input=_tracer_pulse(case, F),
-                           name=name, parameters=params)
+    if pred is not None:     # parameter_source = "predictive": what the velocities came from
+        params["predictive"] = pred.to_dict()
+    return dict(sections=specs, material=material, feed_rate=F, rpm=rpm, slope=case.drum.slope,
+                inlet=case.transport.unflighted_inlet, tracer_input=_tracer_pulse(case, F), name=name,
+                parameters=params)
+
+
+def _build_dryer(case: DryerCase, inputs: dict | None = None):
+    from rotarydryer.transport.sections import build_sections
+
+    inp = transport_inputs(case) if inputs is None else inputs
+    model = build_sections(**inp)
     unfl = {s["name"]: s["n_cells"] for s in model.sections if s["kind"] == "unflighted"}
     if unfl:
         model.parameters["unflighted_cells"] = unfl
-    if pred is not None:     # parameter_source = "predictive": what the velocities came from
-        model.parameters["predictive"] = pred.to_dict()
+    if "predictive" in model.parameters:      # recorded last, as before
+        model.parameters["predictive"] = model.parameters.pop("predictive")
     return model
 
 

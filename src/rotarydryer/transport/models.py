@@ -86,6 +86,23 @@ class NetworkBuilder:
         self.guess += _repeat(0.0 if guess is None else guess, k)
         return idx
 
+    def add_cell_pairs(self, section, phases, positions):
+        """Nodes of ``len(positions)`` cells with two phases each, interleaved (cell 0 phase 0, cell 0
+        phase 1, cell 1 phase 0, ...: a banded matrix): the index arrays of each phase. The same nodes
+        and labels as :meth:`add_nodes` called per cell and phase, in one step."""
+        pos = np.asarray(positions, dtype=float).ravel()
+        k = pos.size
+        first = np.arange(self.n, self.n + 2 * k, 2)
+        self.n += 2 * k
+        self.labels["section"] += [section] * (2 * k)
+        self.labels["phase"] += list(phases) * k
+        self.labels["cell"] += np.repeat(np.arange(k), 2).tolist()
+        self.labels["position"] += np.repeat(pos, 2).tolist()
+        self.design_load += [np.nan] * (2 * k)
+        self.feed += [0.0] * (2 * k)
+        self.guess += [0.0] * (2 * k)
+        return first, first + 1
+
     def add(self, family: EdgeFamily):
         self.families.append(family)
 

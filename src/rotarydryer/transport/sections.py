@@ -531,11 +531,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             N = int(N)
             dl = L / N
             pos = x0 + (np.arange(N) + 0.5) * dl
-            P = np.empty(N, dtype=np.int64)
-            A = np.empty(N, dtype=np.int64)
-            for i in range(N):                  # interleaved P_i, A_i: a banded matrix
-                P[i] = b.add_nodes(s.name, "passive", i, pos[i])[0]
-                A[i] = b.add_nodes(s.name, "active", i, pos[i])[0]
+            P, A = b.add_cell_pairs(s.name, ("passive", "active"), pos)     # interleaved P_i, A_i: banded
             built.append(dict(spec=s, kind="flighted", n=N, dl=dl, P=P, A=A, entry=P[0]))
         else:
             raise ValueError(f"{where}.kind = {s.kind!r} is not one of 'flighted', 'unflighted'")
