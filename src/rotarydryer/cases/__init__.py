@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 import re
 import tomllib
-from functools import lru_cache
+from functools import cache, lru_cache
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal, Optional
@@ -575,7 +575,7 @@ def valid_override_keys(case_cls) -> list[str]:
     return list(_override_keys(case_cls))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _override_keys(case_cls) -> tuple[str, ...]:
     """:func:`valid_override_keys`, computed once per class (every case load needs them)."""
     import typing
