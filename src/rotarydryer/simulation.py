@@ -27,7 +27,19 @@ from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
 from ._validation import check_choice
 from .cases import load_case, measured_rtd, measured_rtd_moments
-from .cases.build import build_model, check_feasible, has_burner, thermal_enabled, thermal_inputs, transport_inputs
+from .cases.build import (
+    build_model,
+    check_feasible,
+    check_inputs,
+    has_burner,
+    model_name,
+    operating_point,
+    takes_as_parameters,
+    thermal_enabled,
+    thermal_inputs,
+    tracer_pulse,
+    transport_inputs,
+)
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
@@ -92,12 +104,14 @@ class Simulation:
     @property
     def tracer_input(self):
         """The case's tracer pulse (:class:`~rotarydryer.transport.TracerInput`, from its [tracer])."""
-        return self.transport_inputs()["tracer_input"]
+        if self._inputs is not None:
+            return self._inputs["tracer_input"]
+        return tracer_pulse(self.case)
 
     @property
     def model_name(self) -> str:
         """Name of the case's transport model (its flighted sections' model, e.g. ``lee2008``)."""
-        return self.transport_model().name if self._transport is not None else self.transport_inputs()["name"]
+        return self.transport_model().name if self._transport is not None else model_name(self.case)
 
     def transport_model(self):
         """The solids-transport model (TransportModel on the network) of the case."""
@@ -142,6 +156,14 @@ class Simulation:
                             feed_moisture=inp["feed_moisture"] if feed_moisture is None else feed_moisture,
                             rpm=base["rpm"], radius=self.case.drum.radius, sections=inp["sections"], settings=st)
 
+    def _reparameterised(self, dryer):
+        """``dryer`` (the heat-and-mass model of a case differing from this one in parameter values
+        only) with this case's settings, feed rate and speed."""
+        check_inputs(self.case)                 # as transport_inputs would (speed, drum, flights)
+        settings = thermal_inputs(self.case)["settings"]
+        F, rpm, _, _ = operating_point(self.case)
+        return dryer.with_parameters(settings=settings, feed_rate=F, rpm=rpm)
+
     def dryer(self):
         """The case's heat-and-mass model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`), built
         once per Simulation and reused by :meth:`steady_state`, :meth:`dynamics` and :meth:`results`
@@ -162,8 +184,14 @@ class Simulation:
         (:meth:`SteadyResult.warm_data` of a nearby run: coupled state, transport masses, shell
         temperatures, factorisation) starts the solves when its shapes fit; the state is the same
         steady state, accepted by the same convergence test (the case's cold start is tried when the
-        warm one does not converge)."""
+        warm one does not converge). When the nearby run's case differs from this one only in
+        parameter values (:func:`rotarydryer.cases.build.takes_as_parameters`), its heat-and-mass model
+        is reused with this case's values: no network is built."""
         warm = warm or {}
+        source = warm.get("simulation")
+        if self._dryer is None and source is not None and source._dryer is not None and self.thermal_enabled \
+                and takes_as_parameters(source.case, self.case):
+            self._dryer = self._reparameterised(source._dryer)
         if not self.thermal_enabled:
             masses = warm.get("masses")
             if self._transport_ss is None and masses is not None:
@@ -398,7 +426,7 @@ class SteadyResult:
             return None
         ts = self.simulation._transport_ss
         return dict(state=th.state, masses=None if ts is None else ts.masses,
-                    shell=th.dryer._shell_outer, factorization=th.factorization)
+                    shell=th.dryer._shell_outer, factorization=th.factorization, simulation=self.simulation)
 
     def to_dict(self) -> dict:
         """:meth:`summary` with the ``sections`` and ``cells`` tables of :attr:`state` (the
@@ -418,27 +446,37 @@ class SteadyResult:
         """Analytic moments of the outlet curve for the case's tracer pulse (from the injection start)."""
         return self.tracer_system().moments(self.simulation.tracer_input)
 
-    def summary(self) -> dict:
+    #: outputs of :meth:`summary` from the tracer system of the state (analytic moments)
+    TRACER_OUTPUTS = ("tracer_mean_s", "tracer_std_s", "tracer_skewness", "recovery", "rtd_mean_residence_time_s",
+                      "rtd_std_s", "rtd_skewness")
+
+    def summary(self, outputs=None) -> dict:
         """Outputs named with their unit: holdups, residence time, tracer moments and, with heat
         and mass transfer, :meth:`ThermalSteadyState.summary` (the fuel rate where the case has a
         burner). The transport-only model's total holdup, where wanted, is in :meth:`to_dict`
-        (``transport_only_total_holdup_kg``): the summary is this state's alone."""
-        ts = self.tracer_system()
-        m = ts.moments(self.simulation.tracer_input)
-        impulse = ts.moments()
+        (``transport_only_total_holdup_kg``): the summary is this state's alone. ``outputs`` (names):
+        the groups that cost a computation (tracer moments, fuel rate, kiln bed) are left out unless
+        named; the values of the others are the same."""
+        want = None if outputs is None else set(outputs)
         if self.thermal is not None:
-            out = self.thermal.summary(with_fuel=has_burner(self.simulation.case))
-            out["kiln_bed_holdup_kg"] = self.state.kiln_bed_holdup
+            fuel = has_burner(self.simulation.case) and (want is None or "fuel_rate_kg_s" in want)
+            out = self.thermal.summary(with_fuel=fuel)
+            if want is None or "kiln_bed_holdup_kg" in want:
+                out["kiln_bed_holdup_kg"] = self.state.kiln_bed_holdup
         else:
             ss = self.transport
             out = dict(total_holdup_kg=ss.total_holdup, active_holdup_kg=ss.active_holdup,
                        passive_holdup_kg=ss.passive_holdup, bed_holdup_kg=ss.bed_holdup,
                        feed_rate_kg_s=float(self.simulation.transport_model().feed_rate),
                        outlet_flow_kg_s=ss.outlet_flow, mean_residence_time_s=ss.mean_residence_time)
-        # analytic moments, named as RTDResult.to_dict names them (the impulse response's with rtd_)
-        out.update(tracer_mean_s=m["mean"], tracer_std_s=m["std"], tracer_skewness=m["skewness"],
-                   recovery=impulse["recovery"], rtd_mean_residence_time_s=impulse["mean"],
-                   rtd_std_s=impulse["std"], rtd_skewness=impulse["skewness"])
+        if want is None or want & set(self.TRACER_OUTPUTS):
+            ts = self.tracer_system()
+            m = ts.moments(self.simulation.tracer_input)
+            impulse = ts.moments()
+            # analytic moments, named as RTDResult.to_dict names them (the impulse response's with rtd_)
+            out.update(tracer_mean_s=m["mean"], tracer_std_s=m["std"], tracer_skewness=m["skewness"],
+                       recovery=impulse["recovery"], rtd_mean_residence_time_s=impulse["mean"],
+                       rtd_std_s=impulse["std"], rtd_skewness=impulse["skewness"])
         return out
 
     def merged(self, transport_outputs: dict) -> dict:

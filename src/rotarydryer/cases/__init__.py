@@ -748,7 +748,7 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
 
 
 def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None):
-    raw = _parse(text, shown)
+    raw = dict(_parse_text(text, shown))     # copied where the overrides write (below), not whole
     kind = raw.get("kind")
     if not isinstance(kind, str) or kind not in _KINDS:
         raise ValueError(f"{shown}: kind = {_shown_value(kind)} is not one of {', '.join(map(repr, _KINDS))}")
@@ -784,10 +784,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         elif isinstance(value, str) and key.startswith("material.") and key != "material.name":
             value = _toml_value(value)      # material fields are free-form: read "0.0006" as TOML would
         node = raw
-        for part in path:
+        for part in path:       # copy on write: the parsed document is shared by every load of the text
             nxt = node.get(part)
-            if not isinstance(nxt, dict):
-                nxt = node[part] = {}
+            nxt = node[part] = dict(nxt) if isinstance(nxt, dict) else {}
             node = nxt
         node[fld] = value
     try:

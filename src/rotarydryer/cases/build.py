@@ -38,7 +38,7 @@ BULK_DENSITY_RANGE = (1.0, 23000.0)
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
-           "transport_inputs", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
+           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
 
 
 def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):
@@ -75,6 +75,18 @@ def _tracer_pulse(case, feed_rate):
 
     tr = case.tracer
     return TracerInput.pulse(tr.fraction * feed_rate * max(tr.duration, 1e-6), tr.duration)
+
+
+def tracer_pulse(case):
+    """The case's tracer pulse ([tracer] fraction of the feed over its duration) at its feed rate."""
+    return _tracer_pulse(case, operating_point(case)[0])
+
+
+def model_name(case) -> str:
+    """Name of a case's transport model: its flighted sections' model (lee2008, ajayi2011, ...), or
+    "dryer" when they differ."""
+    models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
+    return next(iter(models)) if len(models) == 1 else "dryer"
 
 
 def build_model(case, inputs: dict | None = None):
@@ -533,9 +545,7 @@ def transport_inputs(case) -> dict:
     F, rpm, _, _ = operating_point(case)
     bed = solids_transport(case)
     specs = _dryer_specs(case, material, bed)
-    models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
-    # named by the flighted sections' transport model (lee2008, ajayi2011, ...); "dryer" when they differ
-    name = next(iter(models)) if len(models) == 1 else "dryer"
+    name = model_name(case)
     params = dict(feed_rate=F, rpm=rpm, slope=case.drum.slope, radius=case.drum.radius, fouling=fouling_of(case),
                   unflighted_inlet=case.transport.unflighted_inlet)
     if case.gas is not None:
@@ -558,7 +568,7 @@ def transport_inputs(case) -> dict:
     if pred is not None:     # parameter_source = "predictive": what the velocities came from
         params["predictive"] = pred.to_dict()
     return dict(sections=specs, material=material, feed_rate=F, rpm=rpm, slope=case.drum.slope,
-                inlet=case.transport.unflighted_inlet, tracer_input=_tracer_pulse(case, F), name=name,
+                inlet=case.transport.unflighted_inlet, tracer_input=tracer_pulse(case), name=name,
                 parameters=params)
 
 
@@ -573,6 +583,51 @@ def _build_dryer(case: DryerCase, inputs: dict | None = None):
     if "predictive" in model.parameters:      # recorded last, as before
         model.parameters["predictive"] = model.parameters.pop("predictive")
     return model
+
+
+# ---- parameters a built model takes without a rebuild ----------------------------------------
+#: case keys (and key prefixes ending in ".") whose values a built heat-and-mass model takes as new
+#: parameters (:meth:`rotarydryer.thermal.dryer.ThermalDryer.with_parameters`): they enter its
+#: ThermalSettings, its feed rate or its speed, never its network or section specs
+PARAMETER_KEYS = ("operating.feed_rate", "operating.rpm", "operating.feed_temperature", "gas.flow",
+                  "gas.inlet_temperature", "gas.inlet_humidity", "gas.leak_air_flow", "gas.burner.",
+                  "thermal.area_scale", "thermal.design_load_smoothing", "shell.")
+#: of those, the keys the section specs also depend on in some configurations: the operating point
+#: (the predictive kilning velocity and dispersion) and the gas (the trajectory forward step's curtains)
+_OPERATING_KEYS = ("operating.feed_rate", "operating.rpm")
+
+
+def _flat(d: dict, prefix: str = "") -> dict:
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, dict) and k != "material":
+            out.update(_flat(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
+
+
+def changed_keys(old, new) -> list[str]:
+    """The case keys whose values differ between two validated cases (lists such as ``sections`` and
+    ``tests`` count as one key; the material as a whole)."""
+    a, b = _flat(old.model_dump()), _flat(new.model_dump())
+    return sorted(k for k in set(a) | set(b) if a.get(k, _MISSING) != b.get(k, _MISSING))
+
+
+_MISSING = object()
+
+
+def takes_as_parameters(old, new) -> bool:
+    """Can the heat-and-mass model built for case ``old`` run case ``new`` with new parameter values
+    (no rebuild)? True when every changed key is one of :data:`PARAMETER_KEYS` and none of them
+    changes the section specs: not the operating point with ``transport.parameter_source =
+    "predictive"``, not the gas with ``transport.forward_step = "trajectory"``."""
+    keys = changed_keys(old, new)
+    if not all(k in PARAMETER_KEYS or any(k.startswith(p) for p in PARAMETER_KEYS if p.endswith(".")) for k in keys):
+        return False
+    if new.transport.parameter_source == "predictive" and any(k in _OPERATING_KEYS for k in keys):
+        return False
+    return not (new.transport.forward_step == "trajectory" and any(k.startswith("gas.") for k in keys))
 
 
 # ---- heat and mass transfer ----------------------------------------------------------------

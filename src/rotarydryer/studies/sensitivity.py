@@ -174,13 +174,15 @@ def _check_case(case, base: dict, params: dict) -> None:
             load_case(case, {**base, key: v})
 
 
-def _steady_summary(case, overrides: dict, warm=None):
+def _steady_summary(case, overrides: dict, warm=None, outputs=None):
     """``(summary dict, warm-start data or None)`` of one run, started from ``warm`` (the data of
-    a nearby run, :meth:`rotarydryer.simulation.Simulation.steady_state`): the same steady state."""
+    a nearby run, :meth:`rotarydryer.simulation.Simulation.steady_state`: the same steady state, on
+    its heat-and-mass model when only parameter values differ); ``outputs``: the names wanted
+    (:meth:`SteadyResult.summary`)."""
     from ..simulation import Simulation
 
     res = Simulation(case, overrides).steady_state(warm=warm)
-    return res.summary(), res.warm_data()
+    return res.summary(outputs), res.warm_data()
 
 
 def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Sequence[str],
@@ -208,7 +210,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
                         u = x / span
                         j = int(np.argmin([np.sum((u - m[0]) ** 2) for m in memory]))
                         warm = memory[j][1]
-                    out, data = _steady_summary(case, {**base, **point}, warm)
+                    out, data = _steady_summary(case, {**base, **point}, warm, outputs)
                     if data is not None and warm_start:
                         memory.append((x / span, data))
                         if len(memory) > WARM_MEMORY:

@@ -59,6 +59,7 @@ keep the last iterate on ``exc.state``.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import logging
 import math
@@ -147,9 +148,9 @@ class ThermalDryer:
 
     def __init__(self, model, *, material, feed_rate, feed_moisture, rpm, radius, sections=None,
                  settings: ThermalSettings):
-        self.settings = s = settings.validate()
         self.model = model
         self.material = material
+        self.settings = self._completed(settings.validate())      # a copy: the caller's settings stay as they are
         self.feed_rate, self.feed_moisture, self.rpm = feed_rate, feed_moisture, rpm
         self._check_operating_inputs()
         self.radius = float(check_range("drum.radius", radius, 0.0, 20.0, unit="m"))
@@ -157,16 +158,21 @@ class ThermalDryer:
                                 for k, v in (sections or {}).items()}
         self._check_gas_can_dry()
         self._check_shell()
-        if s.kinetics is None:
-            kin = material.kinetics
+        self._layout()
+
+    def _completed(self, s: ThermalSettings) -> ThermalSettings:
+        """``s`` with what it leaves to the material filled in: the drying kinetics (in the ajayi2011
+        mode on Ajayi's mass-transfer basis with Antoine's saturation pressure), the solids' heat
+        capacity and particle density."""
+        kin = s.kinetics
+        if kin is None:
+            kin = self.material.kinetics
             if s.mode == "ajayi2011":
                 kin = dataclasses.replace(kin, basis="ajayi2011", saturation_method="antoine_ajayi2011")
-            s.kinetics = kin
-        if s.cp_solids is None:
-            s.cp_solids = float(material.heat_capacity)
-        if s.particle_density is None:
-            s.particle_density = float(material.particle_density)
-        self._layout()
+        return dataclasses.replace(
+            s, kinetics=kin,
+            cp_solids=float(self.material.heat_capacity) if s.cp_solids is None else s.cp_solids,
+            particle_density=float(self.material.particle_density) if s.particle_density is None else s.particle_density)
 
     def _check_shell(self):
         """The scale layer fits inside the shell (checked when the dryer is built and when a study
@@ -703,6 +709,24 @@ class ThermalDryer:
 
     def unfreeze_shell(self):
         self._shell_ua = None
+
+    def with_parameters(self, settings=None, feed_rate=None, rpm=None, feed_moisture=None):
+        """A copy of this dryer on the same network with new parameter values: ``settings`` (a whole
+        :class:`ThermalSettings`), the wet feed rate (kg/s), the drum speed (rev/min), the feed moisture
+        (kg/kg wet); checked as at construction, caches cleared. The network, the section laws and the
+        layout are shared (nothing is rebuilt): a study's or sweep's run re-evaluates the coefficients
+        at its own values (:func:`rotarydryer.thermal.studies.perturbed`, :meth:`rotarydryer.Simulation.steady_state`)."""
+        d = copy.copy(self)
+        d.settings = copy.copy(self.settings) if settings is None else self._completed(settings)
+        for name, value in (("feed_rate", feed_rate), ("rpm", rpm), ("feed_moisture", feed_moisture)):
+            if value is not None:
+                setattr(d, name, value)
+        d.settings.validate()
+        d._check_operating_inputs()  # the same checks as when the dryer was built
+        d._check_shell()
+        d._reset_caches()
+        d._check_gas_can_dry()
+        return d
 
     def _reset_caches(self):
         """Forget what was remembered for the previous inputs (after a study changed them in place)."""

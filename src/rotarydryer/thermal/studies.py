@@ -60,22 +60,20 @@ def _get(dryer, name):
 
 def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
     """A copy of ``dryer`` with inputs changed (names of :data:`INPUTS` or ThermalSettings fields)."""
-    d = copy.copy(dryer)
-    d.settings = copy.copy(dryer.settings)
+    settings = copy.copy(dryer.settings)
+    values = {}
     for k, v in changes.items():
         if k in INPUTS:
             holder, attr, _ = INPUTS[k]
-            setattr(d.settings if holder == "settings" else d, attr, float(v))
-        elif hasattr(d.settings, k):
-            setattr(d.settings, k, v)
+            if holder == "settings":
+                setattr(settings, attr, float(v))
+            else:
+                values[attr] = float(v)
+        elif hasattr(settings, k):
+            setattr(settings, k, v)
         else:
             raise ValueError(f"unknown input {k!r}; use one of {', '.join(INPUTS)} or a ThermalSettings field")
-    d.settings.validate()
-    d._check_operating_inputs()  # the same checks as when the dryer was built
-    d._check_shell()
-    d._reset_caches()
-    d._check_gas_can_dry()
-    return d
+    return dryer.with_parameters(settings=settings, **values)
 
 
 def sensitivity_table(dryer: ThermalDryer, foulings=(0.0, 0.4, 0.6, 0.8), overload_feed=63.89, inputs=None):
