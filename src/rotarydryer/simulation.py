@@ -310,12 +310,15 @@ class Simulation:
         """Steady state over a grid of overrides on top of this Simulation's: a list of override
         dicts, or the CLI's form, a dict ``{key: [values]}`` or ``["key=v1,v2", ...]`` (the cartesian
         product). Returns one dict per point: its overrides and :meth:`SteadyResult.summary`
-        (``outputs``: only these names)."""
-        rows = []
-        for ov in grid_points(grid):
+        (``outputs``: only these names). Each point is warm-started from the previous one: the same
+        steady state, on the previous point's heat-and-mass model when only parameter values differ."""
+        rows, warm = [], None
+        for ov in grid_points(grid):      # each point starts from the previous one (and its model, when it can)
             sim = Simulation(self.case_name, {**self.overrides, **ov})
+            res = sim.steady_state(warm=warm)
+            warm = res.warm_data()
             row = dict(ov)
-            row.update(sim.steady_state().summary())
+            row.update(res.summary(outputs))
             rows.append({k: row[k] for k in (outputs or row)})
         return rows
 
