@@ -19,8 +19,11 @@ the path and the reason, e.g. ``cannot write 'out/rtd.json': No space left on de
 from __future__ import annotations
 
 import contextlib
+import csv
 import errno
 import io
+import json
+import math
 import os
 import shutil
 import stat
@@ -159,7 +162,6 @@ def save_figure(fig, path, **kwargs) -> Path:
 def finite_or_none(obj):
     """``obj`` with every non-finite float (NaN, inf) replaced by None, recursively (dicts, lists,
     tuples, NumPy scalars and arrays), so that the JSON written is valid JSON."""
-    import math
 
     import numpy as np
 
@@ -178,7 +180,6 @@ def finite_or_none(obj):
 
 def json_text(obj, **kwargs) -> str:
     """``json.dumps`` of ``obj`` as strict JSON (NaN and inf become null)."""
-    import json
 
     kwargs.setdefault("default", float)
     return json.dumps(finite_or_none(obj), allow_nan=False, **kwargs)
@@ -188,7 +189,6 @@ def csv_text(rows: list[dict], last: tuple = ()) -> str:
     """CSV text of ``rows`` (dicts): the columns in order of first appearance, then the ``last``
     columns (always present, e.g. a sweep's ``error``); floats by ``repr`` (they read back exactly),
     ``None`` as an empty cell."""
-    import csv
 
     cols = list(dict.fromkeys(k for r in rows for k in r if k not in last)) + list(last)
     buf = io.StringIO()

@@ -13,6 +13,7 @@ first use in a fresh installation compiles them (about 8 s); later processes loa
 from __future__ import annotations
 
 import os
+import warnings
 
 __all__ = ["ENV", "disable", "enabled", "kernel"]
 
@@ -28,7 +29,6 @@ def _numba():
     except ImportError:
         return None
     except Exception as exc:     # installed but unusable here (llvmlite: no executable memory, no library)
-        import warnings
 
         warnings.warn(f"rotarydryer: numba cannot be imported ({type(exc).__name__}: {exc}); using NumPy",
                       RuntimeWarning, stacklevel=2)
@@ -62,7 +62,6 @@ def disable(reason: str):
     warning naming ``reason``; the NumPy references give the same results."""
     global _NUMBA
     if _NUMBA is not None:
-        import warnings
 
         warnings.warn(f"rotarydryer: compiled kernels disabled ({reason}); using NumPy", RuntimeWarning, stacklevel=3)
     _NUMBA = None

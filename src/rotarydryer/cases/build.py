@@ -25,6 +25,19 @@ import math
 
 import numpy as np
 
+from rotarydryer.geometry import FlightedDrum, TwoSectionFlight, check_speed
+from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
+from rotarydryer.properties.materials import load_material
+from rotarydryer.properties.solids import lee2008_moisture_profile
+from rotarydryer.thermal.burner import Burner, FuelOil
+from rotarydryer.thermal.dryer import SectionThermal, ThermalSettings
+from rotarydryer.transport import TracerInput
+from rotarydryer.transport.ajayi import AjayiRegressions, check_moisture_scale, eq31_moisture
+from rotarydryer.transport.ajayi_predictive import predictive_transport
+from rotarydryer.transport.core_variants import add_stagnant_core
+from rotarydryer.transport.forward_step import CurtainGas
+from rotarydryer.transport.sections import ExactGeometry, SectionSpec, build_sections
+
 from .._validation import check_range, fmt_number
 from . import DryerCase
 
@@ -46,7 +59,6 @@ def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_f
 
     A geometry that cannot be built raises ``ValueError`` naming the case keys (``drum.radius``,
     ``n_flights_key``, ``<where>.s1`` ...) with their values."""
-    from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
 
     try:
         return FlightedDrum(radius=radius, n_flights=n_flights,
@@ -60,7 +72,6 @@ def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_f
 
 def material_of(case):
     """The :class:`rotarydryer.properties.materials.Material` of a case."""
-    from rotarydryer.properties.materials import load_material
 
     spec = case.material
     if spec is None:
@@ -71,7 +82,6 @@ def material_of(case):
 
 
 def _tracer_pulse(case, feed_rate):
-    from rotarydryer.transport import TracerInput
 
     tr = case.tracer
     return TracerInput.pulse(tr.fraction * feed_rate * max(tr.duration, 1e-6), tr.duration)
@@ -179,7 +189,6 @@ def check_inputs(case) -> None:
     * the material's bulk density at the feed moisture in :data:`BULK_DENSITY_RANGE`;
     * each flight fits the drum: its base shorter than the radius.
     """
-    from rotarydryer.geometry import check_speed
 
     d = case.drum
     R = float(check_range("drum.radius", d.radius, 0.0, math.inf, unit="m"))
@@ -303,7 +312,6 @@ def curtain_gas(case, particle_diameter=None):
     """The :class:`~rotarydryer.transport.forward_step.CurtainGas` of a Lee or general case for the
     trajectory forward step: the gas inlet flow, temperature and humidity ([gas]) over the drum
     cross-section, the material's particle size and density, ``transport.curtain_velocity_ratio``."""
-    from rotarydryer.transport.forward_step import CurtainGas
 
     if case.gas is None or case.gas.flow is None or case.gas.inlet_temperature is None:
         raise ValueError("transport.forward_step = 'trajectory' needs [gas] (flow, inlet_temperature): the "
@@ -327,7 +335,6 @@ def _with_core(case, model):
     core = getattr(tr, "core", "none")
     if core == "none":
         return model
-    from rotarydryer.transport.core_variants import add_stagnant_core
 
     try:
         return add_stagnant_core(model, tr.core_fraction, tr.core_time, core_model=core,
@@ -350,7 +357,6 @@ def _moisture_profile(case, x_in, x_out, pos, length, n):
     (``transport.moisture_profile``): exponential in the wet basis at the cells' centres, or Lee (2008)
     Eq. 7.3, exponential in the dry basis at i/(N-1), i = 0..N-1 (Lee's gPROMS code; a one-section drum)."""
     if case.transport.moisture_profile == "lee2008_eq7.3":
-        from rotarydryer.properties.solids import lee2008_moisture_profile
 
         w = lee2008_moisture_profile(n, x_in / (1.0 - x_in), x_out / (1.0 - x_out))
         return w / (1.0 + w)
@@ -399,7 +405,6 @@ def _needs_bed_parameters(case) -> bool:
 
 def _predictive(case):
     """:class:`~rotarydryer.transport.ajayi_predictive.PredictiveTransport` at the case's operating point."""
-    from rotarydryer.transport.ajayi_predictive import predictive_transport
 
     tr = case.transport
     missing = [f"transport.{k}" for k in ("velocity_coefficient", "dispersion_coefficient") if getattr(tr, k) is None]
@@ -427,18 +432,15 @@ def ajayi_geometries(case) -> dict:
 
 def _section_geometry(case, s, where, material):
     """The cell geometry model of flighted section ``s`` (``geometry.method``)."""
-    from rotarydryer.transport.sections import ExactGeometry
 
     tr = case.transport
     g = {k: getattr(s, k) if getattr(s, k) is not None else getattr(case.flight, k)
          for k in ("s1", "s2", "alpha1", "alpha2")}
     if case.geometry.method == "ajayi2011_regressions":
-        from rotarydryer.transport.ajayi import AjayiRegressions
 
         reg = s.regression or {}
         return AjayiRegressions(reg["area"], reg["fall_time"], case.drum.radius, case.geometry.design_load_factor)
     if case.geometry.method == "lee2008_regressions":
-        from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
 
         return Lee2008Regressions(tip_radius=invicta_tip_radius(case.drum.radius, *g.values()))
     drum = exact_drum(case.drum.radius, s.n_flights or case.drum.n_flights, **g,
@@ -468,7 +470,6 @@ def _flighted_moisture(case, x_in, x_out):
     tr = case.transport
     length = sum(s.length for s in case.sections)
     if tr.moisture_profile == "ajayi2011_eq3.1":
-        from rotarydryer.transport.ajayi import check_moisture_scale, eq31_moisture
 
         secs = [dict(name=s.name, kind=s.kind, length=s.length, n_cells=s.n_cells or tr.n_cells) for s in case.sections]
         ends = (x_in, x_out) if tr.parameter_source == "predictive" else None
@@ -488,7 +489,6 @@ def _flighted_moisture(case, x_in, x_out):
 
 def _dryer_specs(case: DryerCase, material, bed):
     """The section specs of a case; ``bed`` = :func:`solids_transport` of the case."""
-    from rotarydryer.transport.sections import SectionSpec
 
     tr = case.transport
     x_in, x_out = moisture_ends(case, material)
@@ -573,7 +573,6 @@ def transport_inputs(case) -> dict:
 
 
 def _build_dryer(case: DryerCase, inputs: dict | None = None):
-    from rotarydryer.transport.sections import build_sections
 
     inp = transport_inputs(case) if inputs is None else inputs
     model = build_sections(**inp)
@@ -649,7 +648,6 @@ def has_burner(case) -> bool:
 
 def burner_of(case):
     """:class:`~rotarydryer.thermal.burner.Burner` of the case, or None."""
-    from rotarydryer.thermal.burner import Burner, FuelOil
 
     b = _burner_block(case)
     if b is None:
@@ -663,7 +661,6 @@ def thermal_settings(case):
     """:class:`~rotarydryer.thermal.dryer.ThermalSettings` of a case: [gas], [shell], [thermal], the
     operating point and the selected test (gas flow and inlet temperature where the case leaves them
     to the test); ``thermal.mode_values`` of the chosen mode replace gas.flow / thermal.area_scale."""
-    from rotarydryer.thermal.dryer import ThermalSettings
 
     g, sh, th = case.gas, case.shell, case.thermal
     row = test_row(case)
@@ -694,7 +691,6 @@ def thermal_inputs(case) -> dict:
     """Inputs of the heat-and-mass model of a case: ``settings`` (ThermalSettings), ``sections``
     (name -> SectionThermal), ``material``, ``feed_moisture`` (kg/kg wet) and ``section_changes``
     (name -> SectionSpec fields that differ from the transport model's sections)."""
-    from rotarydryer.thermal.dryer import SectionThermal
 
     core = getattr(case.transport, "core", "none")
     if core != "none":

@@ -27,6 +27,10 @@ from typing import Annotated, Any, Literal, Optional
 
 from pydantic import Field, model_validator
 
+from rotarydryer.properties.materials import load_material
+from rotarydryer.published import read_published_csv
+from rotarydryer.thermal.dryer import AJAYI_GAS_FLOW
+
 from .._validation import check_range
 from . import (
     _MODEL1_RATES,
@@ -316,7 +320,6 @@ def lee2008_to_spec(case) -> dict:
     material = case.material.model_dump() if case.material is not None else {"name": "raw_sugar_lee2008"}
     lib = material_of(case) if case.material is not None else None
     if lib is None:
-        from rotarydryer.properties.materials import load_material
 
         lib = load_material("raw_sugar_lee2008")
     if not _same_law(lib, "bulk_density", so.bulk_density, 0.0):
@@ -364,7 +367,6 @@ SCALED_FOULING = 0.8
 
 def _pi_gas_inlet_temperature(test: int):
     """The measured gas inlet temperature (degC) of an MMG test (Ajayi (2011) Tables 3.5-3.11, PI data), or None."""
-    from rotarydryer.published import read_published_csv
 
     for r in read_published_csv("ajayi_pi_operating_conditions.csv"):
         if int(r["test"]) == int(test):
@@ -381,7 +383,6 @@ def ajayi2011_to_spec(case) -> dict:
     go to [gas], [shell] and [operating] (one key per quantity); the thesis mode's own gas flow
     (Ajayi's code, l.3225) and area scale 1 become ``thermal.mode_values.ajayi2011``; the heat-and-mass
     model's unflighted volumes default to one per 0.3 m (at least 4), as the format did."""
-    from rotarydryer.thermal.dryer import AJAYI_GAS_FLOW
 
     op, tr, th = case.operating, case.transport, case.thermal
     fixed = th.model_fields_set

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_choice, check_finite, check_positive, check_range
+from ..published import read_published_csv
 from . import CorrelationRangeWarning
 from ._common import SECONDS_PER_HOUR, as_result, warn_outside
 
@@ -778,7 +779,6 @@ def song_2003_appendix_a() -> dict[str, np.ndarray]:
     >>> len(d["rpm"]), round(float(d["mean_residence_time"][0]), 1)
     (73, 354.6)
     """
-    from ..published import read_published_csv
 
     rows = read_published_csv("song_appendixA_mrt.csv")
 

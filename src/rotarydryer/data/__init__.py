@@ -1,4 +1,5 @@
 """Published data sets (CSV, first line = source); read them with rotarydryer.published."""
+from importlib import resources
 
 #: file-name prefix of the shipped tracer curves (``tracer_<name>.csv``)
 TRACER_PREFIX = "tracer_"
@@ -7,7 +8,6 @@ TRACER_PREFIX = "tracer_"
 def tracer_dataset_names() -> list[str]:
     """Names of the shipped tracer curves (:func:`rotarydryer.rtd.tracer_datasets`), without importing
     the RTD package (the case loader checks ``tracer.dataset`` with it on every run)."""
-    from importlib import resources
 
     root = resources.files(__name__)
     return sorted(p.name[len(TRACER_PREFIX):-4] for p in root.iterdir()

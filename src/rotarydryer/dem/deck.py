@@ -27,13 +27,16 @@ Eng. Sci. 60, 2253, Eq. 19; ``G = E / (2 (1 + nu))``).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._io import json_text, write_text_atomic
 from .._validation import check_range, fmt_number
 from ..geometry import FlightedDrum, TwoSectionFlight
+from ..geometry.drum import check_speed
 
 __all__ = ["Particles", "SliceDeck", "DeckFiles", "export_deck", "build_slice", "rayleigh_time", "pocket_mouth_width",
            "ARCHING_MOUTH_DIAMETERS",
@@ -209,7 +212,6 @@ def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading
 
     Refuses particles larger than :data:`MAX_DIAMETER_FRACTION` of the flight base and speeds at or
     above the critical speed."""
-    from ..geometry.drum import check_speed
 
     d = particles.diameter
     s1 = drum.flight.s1
@@ -233,7 +235,6 @@ def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading
         area = math.pi * drum.radius**2 * float(fill_fraction)
     mouth = pocket_mouth_width(drum) / d
     if mouth < ARCHING_MOUTH_DIAMETERS:
-        import warnings
 
         warnings.warn(f"the pocket mouth (flight tip to the next flight) is {mouth:.1f} particle diameters wide, "
                       f"less than {ARCHING_MOUTH_DIAMETERS:g}: the particles may arch across it and the flights hold "
@@ -443,7 +444,6 @@ run {st['record']}
 
 def export_deck(s: SliceDeck, folder) -> DeckFiles:
     """Write ``in.drum``, ``shell.stl``, ``flights.stl`` and ``deck.json`` to ``folder`` (atomic writes)."""
-    from .._io import json_text, write_text_atomic
 
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():

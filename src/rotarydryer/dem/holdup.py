@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._io import json_text, save_figure, write_text_atomic
 from .deck import GRAVITY, SliceDeck
 from .dumps import DumpFrames, read_dump
 
@@ -466,7 +467,6 @@ def write_reduced_csv(res: DemHoldup, path, *, role: str = "") -> Path:
     """Reduced run: one row per recorded frame and flight, ``frame, flight, psi_deg, holdup_area_m2,
     holdup_fraction``; the header (``#`` lines, JSON) holds the deck, the LIGGGHTS version and the
     measured packing fraction, repose angle and airborne fraction."""
-    from .._io import json_text, write_text_atomic
 
     meta = {"liggghts_version": res.liggghts_version, "role": role, "n_particles": res.n_particles,
             "n_frames": res.n_frames, "packing_fraction": round(res.packing_fraction, 5),
@@ -525,7 +525,6 @@ def plot_comparison(res: DemHoldup, path, *, surface_layer=None, title: str | No
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .._io import save_figure
 
     drum = res.deck.drum
     full = drum.full_holdup_area

@@ -20,6 +20,7 @@ solids, surface flow, no flow over the tip).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -59,7 +60,6 @@ def check_speed(key: str, rpm, radius, *, radius_key: str = "drum.radius", warn:
     the critical speed (with ``refuse=False`` it only warns, :class:`CriticalSpeedWarning`); between
     :data:`CRITICAL_SPEED_WARN_FRACTION` of it and ``N_c`` it warns when ``warn``. Returns the
     largest speed as a float."""
-    import warnings
 
     n = float(np.max(check_range(key, rpm, 0.0, math.inf, unit="rev/min")))
     R = float(check_range(radius_key, radius, 0.0, math.inf, unit="m"))

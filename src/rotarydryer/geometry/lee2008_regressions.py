@@ -27,6 +27,7 @@ import math
 import numpy as np
 
 from .._validation import check_choice, check_positive, check_range, describe
+from .flights import TwoSectionFlight
 
 __all__ = [
     "Lee2008Regressions",
@@ -78,7 +79,6 @@ def invicta_tip_radius(radius=2.5, s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0
     :meth:`rotarydryer.geometry.TwoSectionFlight.tip_radius` (the flight is validated there).
     Lengths in m, angles in deg. Invicta (defaults) gives 2.22789 m.
     """
-    from .flights import TwoSectionFlight
 
     return TwoSectionFlight(s1, s2, alpha1, alpha2).tip_radius(radius)
 

@@ -33,16 +33,21 @@ a dryer shares one.
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
+import os
 import threading
 from collections import OrderedDict
+from pathlib import Path
 
 import numpy as np
 
 from .. import _jit
+from .._io import atomic_output
 from .._validation import check_choice, check_range
-from .design_load import DESIGN_LOAD_METHODS, _area_weights, _upper_flight_holdups
-from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary
+from . import _cell_kernel as module
+from .design_load import DESIGN_LOAD_METHODS, _area_weights, _invert_eq_4_22, _upper_flight_holdups
+from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary, first_unloading_angle
 
 __all__ = ["GeometryTable", "geometry_table"]
 
@@ -162,7 +167,6 @@ def _f_axis(f):
 def _holdup_breaks(drum, lo, hi, convention):
     """Repose angles in (lo, hi) where a holdup behind the design load changes phase
     (psi - phi crosses a phase boundary of Lee (2008) Fig. 4.6-4.9)."""
-    from .unloading import first_unloading_angle
 
     c = drum._c
     psi0 = first_unloading_angle(drum, convention)
@@ -195,7 +199,6 @@ class GeometryTable:
         self.phi_range = (lo, hi)
         # cascade: (phi, f) grids, rpm = 1 and slope = 0 (both analytic), one per phi piece between the
         # repose angles where the first unloading flight's holdup changes phase (kinks in phi)
-        from .unloading import first_unloading_angle
 
         c = drum._c
         psi0 = first_unloading_angle(drum, convention)
@@ -281,7 +284,6 @@ class GeometryTable:
     def loading_factor(self, dryer_loading, repose_angle, smoothing=0.0):
         """Flight loading factor (Lee (2008) Eq. 4.22 inverted exactly, as
         :func:`rotarydryer.geometry.design_load.loading_factor`) from tabulated holdups."""
-        from .design_load import _invert_eq_4_22
 
         d, phi = np.broadcast_arrays(np.asarray(dryer_loading, float), np.asarray(repose_angle, float))
         if not np.all(d >= 0.0):
@@ -392,7 +394,6 @@ def _cell_kernel():
     """The compiled cell kernel's module (imported on first use: it imports numba)."""
     global _CELL_KERNEL
     if _CELL_KERNEL is None:
-        from . import _cell_kernel as module
 
         _CELL_KERNEL = module
     return _CELL_KERNEL
@@ -410,8 +411,6 @@ CACHE_ENV = "ROTARYDRYER_CACHE_DIR"
 def cache_directory():
     """Directory of the on-disk table cache, or None when disabled: ``$ROTARYDRYER_CACHE_DIR``
     ("off" disables), else ``$XDG_CACHE_HOME/rotarydryer/geometry`` (``~/.cache/...``)."""
-    import os
-    from pathlib import Path
 
     env = os.environ.get(CACHE_ENV)
     if env is not None:
@@ -424,8 +423,6 @@ def cache_directory():
 def _source_digest() -> str:
     """Digest of the code that computes a table (this module and the exact geometry's): a table
     cached by other code is never used."""
-    import hashlib
-    from pathlib import Path
 
     h = hashlib.sha256()
     here = Path(__file__).parent
@@ -454,7 +451,6 @@ def _from_arrays(drum, a, convention, fall_height) -> GeometryTable:
 
 
 def _disk_path(key):
-    import hashlib
 
     d = cache_directory()
     if d is None:
@@ -475,7 +471,6 @@ def _load_disk(path, drum, convention, fall_height):
 def _save_disk(path, table):
     if path is None:
         return
-    from .._io import atomic_output
 
     try:
         with atomic_output(path) as tmp, open(tmp, "wb") as fh:

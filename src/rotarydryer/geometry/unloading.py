@@ -49,6 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_choice, check_range
+from ..correlations.trajectory import cascade_trajectory
 from .drum import _H, _S, FlightedDrum
 
 __all__ = [
@@ -343,7 +344,6 @@ def cascade(
 
 def _drag_fall(drag: CascadeDrag, h, slope):
     """Fall time (s) and axial displacement (m) through the gas for section fall heights ``h``."""
-    from ..correlations.trajectory import cascade_trajectory
 
     h = np.asarray(h, dtype=float)
     r = cascade_trajectory(np.maximum(h, 1e-6), drag.particle_diameter, drag.particle_density, drag.gas_density,

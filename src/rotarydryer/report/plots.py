@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._plotting import pyplot as _plt
-from ..geometry import FlightedDrum
+from ..geometry import FlightedDrum, first_unloading_angle
 from ..thermal.plots import plot_thermal_profiles, plot_thermal_steady_state
 
 __all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
@@ -25,7 +25,6 @@ def plot_unloading_profile(drum: FlightedDrum, repose_angle: float, rpm: float, 
     Shows the transition angles psi1..psi5 (Lee (2008) Eq. 4.9-4.13) and the first
     unloading flight position.
     """
-    from ..geometry import first_unloading_angle
 
     plt = _plt()
     psi = np.arange(0.0, 360.0, 0.1)

@@ -17,6 +17,7 @@ is one): ``rig.csv line 17: 'abc' is not a number in column time_s``.
 
 from __future__ import annotations
 
+import csv
 import math
 import os
 import stat
@@ -145,7 +146,6 @@ def csv_rows(lines, name: str, *, skip_comments: bool = True) -> Iterator[tuple[
     """CSV rows of numbered ``lines`` (from :func:`data_lines` or :func:`text_lines`) as
     ``(line number, fields)``; blank rows (and ``#`` rows with ``skip_comments``) are skipped, a
     malformed row names the file and line."""
-    import csv
 
     current = [0]
 

@@ -41,13 +41,18 @@ import io
 import math
 import re
 from dataclasses import dataclass, field
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .._io import write_text_atomic
+from .._validation import check_finite
 from ..data import TRACER_PREFIX, tracer_dataset_names
 from ._datafile import MAX_DATA_ROWS, csv_rows, data_lines, fmt, parse_number, text_lines, too_many_rows
+from .analysis import rtd_moments
+from .pulses import PULSE_KINDS, pulse_input
 
 __all__ = [
     "TracerData",
@@ -107,7 +112,6 @@ class TracerData:
 
     def pulse(self):
         """The tracer input from metadata (``pulse_kind``, ``pulse_duration_s``); Dirac if absent."""
-        from .pulses import pulse_input
 
         kind = str(self.metadata.get("pulse_kind", "dirac"))
         if kind == "dirac":
@@ -137,7 +141,6 @@ class TracerData:
     def moments(self, **kwargs):
         """:func:`rotarydryer.rtd.rtd_moments` of this curve, with the file's time
         origin and expected area as defaults (override with keyword arguments)."""
-        from .analysis import rtd_moments
 
         kwargs.setdefault("time_origin_s", self.time_origin_s)
         kwargs.setdefault("expected_area", self.expected_area())
@@ -163,7 +166,6 @@ _NUMERIC_METADATA = {
 
 def _check_metadata(metadata: dict, meta_lines: dict, name: str) -> None:
     """Numeric metadata must be finite numbers in range; ``pulse_kind`` a known kind."""
-    from .pulses import PULSE_KINDS
 
     for key, (low, unit) in _NUMERIC_METADATA.items():
         if key not in metadata:
@@ -309,12 +311,10 @@ def write_tracer_csv(path, time_s, signal, metadata: dict | None = None, time_un
 
     ``time_s`` in s is written in ``time_unit`` (``s``, ``min`` or ``h``).
     """
-    from .._io import write_text_atomic
 
     col = f"time_{time_unit}"
     if col not in TIME_COLUMNS:
         raise ValueError(f"time_unit = {time_unit!r} is not one of 's', 'min', 'h'")
-    from .._validation import check_finite
 
     t = check_finite("time_s", time_s) / TIME_COLUMNS[col]
     c = check_finite("signal", signal)
@@ -340,7 +340,6 @@ def tracer_datasets() -> list[str]:
 
 def load_tracer_dataset(name: str) -> TracerData:
     """Load a shipped tracer curve by name (see :func:`tracer_datasets`)."""
-    from importlib import resources
 
     names = tracer_datasets()
     if name not in names:

@@ -54,8 +54,8 @@ import math
 import numpy as np
 
 from .._validation import check_choice, check_finite, check_range
+from ..properties import _kernels, water
 from ..properties import humid_air as ha
-from ..properties import water
 from ..properties.drying import DryingKinetics
 from . import radiation as rad
 
@@ -309,7 +309,6 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
     ``"concentration"`` or a saturation pressure other than Wagner-Pruss, or solids at the boiling point
     (the NumPy form then names it), per-stage arrays of the scalar parameters, or a subclass of
     DryingKinetics (which may override its rate). The same equations, the same numbers to rounding."""
-    from ..properties import _kernels
 
     if (_kernels.compiled("transfer") is None or type(kinetics) is not DryingKinetics
             or kinetics.basis != "concentration" or kinetics.saturation_method != "wagner_pruss"

@@ -34,6 +34,7 @@ from scipy.optimize import brentq
 
 from .._validation import check_range
 from ..properties import humid_air as ha
+from ..published import read_published_csv
 from .streams import evaporation_rate, exhaust_humidity, implied_heat_loss
 
 __all__ = ["implied_gas_flow", "balance_gas_outlet_temperature", "max_gas_outlet_temperature",
@@ -232,7 +233,6 @@ def measured_balances(tests: Sequence[int] = (1, 2, 3, 4, 5, 6), heat_loss=0.0, 
 
 def pi_operating_conditions(test_number):
     """PI operating conditions of an Ajayi test (package data ``ajayi_pi_operating_conditions.csv``): dict."""
-    from ..published import read_published_csv
 
     for r in read_published_csv("ajayi_pi_operating_conditions.csv"):
         if int(r["test"]) == int(test_number):

@@ -9,8 +9,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._display import html_table, outputs_dataframe, short_repr
+from ..properties.water import latent_heat
+from ..transport.network import tracer_system_from_flows
 from ..transport.results import SteadyState
+from ..transport.sections import cell_info_at
 from . import balances as bal
+from .burner import fuel_rate_for_temperature
 from .settings import DryerError
 
 if TYPE_CHECKING:
@@ -117,7 +122,6 @@ class ThermalSteadyState:
         moments are this state's, so every view (``simulate --json`` ``sections``/``cells``, the
         holdup plot, Results, the report) shows one number per quantity."""
         if getattr(self, "_transport_state", None) is None:
-            from ..transport.sections import cell_info_at
 
             dr, d = self.dryer, self.terms
             model = dr.model
@@ -141,7 +145,6 @@ class ThermalSteadyState:
     def tracer_system(self):
         """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
         so RTD moments agree with the holdups of this state."""
-        from ..transport.network import tracer_system_from_flows
 
         d = self.terms
         inlet = np.zeros(d["S"].size)
@@ -153,7 +156,6 @@ class ThermalSteadyState:
         combustion chamber) needs to heat this gas flow to the inlet temperature (air at ambient,
         humidity of the gas). ``fuel_heat_loss_fraction`` replaces the burner's. Raises
         :class:`DryerError` if the case has no burner or it cannot reach the set temperature."""
-        from .burner import fuel_rate_for_temperature
 
         dr = self.dryer
         s = dr.settings
@@ -183,7 +185,6 @@ class ThermalSteadyState:
                     evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
 
     def __repr__(self):
-        from .._display import short_repr
 
         return short_repr("ThermalSteadyState", self.dryer.model.name, [
             ("product moisture kg/kg", float(self.product_moisture)),
@@ -192,13 +193,11 @@ class ThermalSteadyState:
             ("energy balance error", float(self.energy_balance_error))])
 
     def _repr_html_(self):
-        from .._display import html_table
 
         return html_table(self.summary(with_fuel=False), caption=f"heat-and-mass steady state ({self.dryer.model.name})")
 
     def to_dataframe(self):
         """Named outputs (:meth:`summary`) as a pandas DataFrame (value, unit)."""
-        from .._display import outputs_dataframe
 
         return outputs_dataframe(self.summary(with_fuel=False))
 
@@ -219,7 +218,6 @@ class ThermalSteadyState:
         """Heat that evaporated water (evaporation x latent heat at the product temperature, Watson/
         Clapeyron) over :attr:`heat_input_w` (-); the usual dryer efficiency (Kemp, Handbook of
         Industrial Drying, 'energy efficiency')."""
-        from ..properties.water import latent_heat
 
         q = self.heat_input_w
         if q <= 0:
@@ -296,7 +294,6 @@ class DynamicResult:
     gas_outlet_temperature_c = _Renamed("gas_outlet_temperature_degC")
 
     def __repr__(self):
-        from .._display import short_repr
 
         return short_repr("DynamicResult", "", [("t_end s", float(self.time[-1])), ("points", self.time.size),
                                                 ("final product moisture kg/kg", float(self.product_moisture[-1])),

@@ -47,7 +47,7 @@ from .._validation import check_range, fmt_number
 from ..geometry.lee2008_regressions import _poly_phi_f
 from ..geometry.unloading import CascadeSummary
 from ..properties.solids import SOLIDS
-from .sections import unflighted_cells_auto
+from .sections import SectionSpec, build_sections, unflighted_cells_auto
 
 __all__ = ["AjayiRegressions", "mmg_moisture_profile", "mmg_test_moisture_profile", "unflighted_cells_auto",
            "ajayi2011"]
@@ -304,7 +304,6 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
         Repose angle and bulk density versus moisture (the MMG case names the library's
         ``zinc_concentrate_ajayi2011``, Ajayi (2011) Eq. 3.2, 3.4).
     """
-    from .sections import SectionSpec, build_sections
 
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))

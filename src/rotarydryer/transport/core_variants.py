@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from .._validation import check_choice, check_range, fmt_number
+from .models import lee2008
 from .network import EdgeFamily, Network
 from .results import TransportModel
 
@@ -218,7 +219,6 @@ def lee2008_stagnant_core(*, geometry, core_fraction, core_time, **lee_kwargs) -
     + moving kilning bed), ``core_time`` t_c or t_D (s); ``core_model``, ``n_layers``,
     ``layer_ratio`` as :func:`add_stagnant_core`; other keywords as ``lee2008``
     (kiln_time, backmix, drag_reduction, n_cells, ...)."""
-    from .models import lee2008
 
     name = lee_kwargs.pop("name", "lee2008_stagnant_core")
     core_kw = {k: lee_kwargs.pop(k) for k in ("core_model", "n_layers", "layer_ratio") if k in lee_kwargs}
