@@ -560,7 +560,7 @@ def add_thermal(res: Results, steady) -> Results:
             "phase": _var(np.asarray(prof["phase"]).astype(str), "-", "bed, passive or active", "node"),
             "section": _var(np.asarray(prof["section"]).astype(str), "-", "section name", "node"),
             "moisture": _var(np.asarray(prof["moisture_wet"], float), "kg/kg", "solids moisture, wet basis", "node"),
-            "temperature": _var(np.asarray(prof["solids_temperature_c"], float), "degC", "solids temperature", "node"),
+            "temperature": _var(np.asarray(prof["solids_temperature_degC"], float), "degC", "solids temperature", "node"),
             "holdup": _var(np.asarray(prof["holdup_kg"], float), "kg", "wet solids holdup", "node"),
         },
         coords={"node": ("node", np.arange(len(prof["position"]), dtype=np.int64))},
@@ -568,7 +568,7 @@ def add_thermal(res: Results, steady) -> Results:
     res.datasets["thermal_gas"] = xr.Dataset(
         {
             "position": _var(np.asarray(prof["gas_position"], float), "m", "axial position from the feed end", "stage"),
-            "temperature": _var(np.asarray(prof["gas_temperature_c"], float), "degC", "gas temperature", "stage"),
+            "temperature": _var(np.asarray(prof["gas_temperature_degC"], float), "degC", "gas temperature", "stage"),
             "humidity": _var(np.asarray(prof["gas_humidity"], float), "kg/kg", "gas humidity, dry basis", "stage"),
         },
         coords={"stage": ("stage", np.arange(len(prof["gas_position"]), dtype=np.int64))},

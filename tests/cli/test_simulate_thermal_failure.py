@@ -23,7 +23,7 @@ def test_unreached_steady_state_saves_last_iterate(tmp_path, monkeypatch):
     saved = json.loads((tmp_path / "thermal_last_state.json").read_text())
     assert saved["reason"] == "no_steady_state"
     assert set(saved["summary"]) >= {"product_moisture_kg_kg", "gas_outlet_temperature_degC", "energy_balance_error"}
-    assert len(saved["state_vector"]) > 100 and len(saved["profiles"]["gas_temperature_c"]) > 10
+    assert len(saved["state_vector"]) > 100 and len(saved["profiles"]["gas_temperature_degC"]) > 10
 
 
 def test_bad_thermal_input_exits_2_without_a_state_file(tmp_path):

@@ -254,3 +254,13 @@ def test_compatibility_mode_physical_shell_loss_sees_insulation():
     lagged = build_thermal_dryer(load_case("ajayi2011_mmg", {"operating.test": 4, "thermal.mode": "ajayi2011"}),
                                  insulation_thickness=0.1).steady_state()
     assert lagged.physical_shell_loss_w < 0.3 * bare.physical_shell_loss_w
+
+
+def test_profiles_carry_unit_suffixes_and_read_the_old_names(test4):
+    p = test4.profiles()
+    assert {"solids_temperature_degC", "gas_temperature_degC", "shell_loss_W"} <= set(p)
+    with pytest.warns(DeprecationWarning, match="'gas_temperature_c' is deprecated: use 'gas_temperature_degC'"):
+        old = p["gas_temperature_c"]
+    assert old is p["gas_temperature_degC"]
+    with pytest.raises(KeyError):
+        p["no_such_profile"]

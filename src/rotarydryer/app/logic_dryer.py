@@ -183,12 +183,12 @@ def _profiles_csv(th) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["position_m", "phase", "section", "solids_temperature_degC", "moisture_kg_kg_wet", "holdup_kg",
                 "evaporation_kg_s"])
-    for row in zip(p["position"], p["phase"], p["section"], p["solids_temperature_c"], p["moisture_wet"],
+    for row in zip(p["position"], p["phase"], p["section"], p["solids_temperature_degC"], p["moisture_wet"],
                    p["holdup_kg"], p["evaporation_kg_s"]):
         w.writerow([repr(float(row[0])), row[1], row[2], *(repr(float(v)) for v in row[3:])])
     w.writerow([])
     w.writerow(["gas_position_m", "gas_temperature_degC", "gas_humidity_kg_kg_dry"])
-    for row in zip(p["gas_position"], p["gas_temperature_c"], p["gas_humidity"]):
+    for row in zip(p["gas_position"], p["gas_temperature_degC"], p["gas_humidity"]):
         w.writerow([repr(float(v)) for v in row])
     return buf.getvalue()
 

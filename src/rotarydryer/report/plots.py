@@ -214,6 +214,6 @@ def thermal_profiles_from_results(results) -> dict:
     :class:`rotarydryer.results.Results` with thermal datasets."""
     sol, gas = results.datasets["thermal_solids"], results.datasets["thermal_gas"]
     return dict(position=sol.position.values, phase=sol.phase.values, section=sol.section.values,
-                solids_temperature_c=sol.temperature.values, moisture_wet=sol.moisture.values,
-                gas_position=gas.position.values, gas_temperature_c=gas.temperature.values,
+                solids_temperature_degC=sol.temperature.values, moisture_wet=sol.moisture.values,
+                gas_position=gas.position.values, gas_temperature_degC=gas.temperature.values,
                 gas_humidity=gas.humidity.values)

@@ -14,8 +14,8 @@ def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
     dryer; returns the figure.
 
     ``profiles``: arrays ``position``, ``phase`` (bed, passive, active), ``section``,
-    ``solids_temperature_c``, ``moisture_wet`` per tank and ``gas_position``,
-    ``gas_temperature_c``, ``gas_humidity`` per gas stage, as
+    ``solids_temperature_degC``, ``moisture_wet`` per tank and ``gas_position``,
+    ``gas_temperature_degC``, ``gas_humidity`` per gas stage, as
     :meth:`rotarydryer.thermal.dryer.ThermalSteadyState.profiles` gives them (or
     :func:`thermal_profiles_from_results` from saved results). ``sections``: (name, length m)
     pairs in order, drawn as boundaries.
@@ -25,7 +25,7 @@ def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
     kinds = np.asarray(p["phase"])
     sec_of = np.asarray(p["section"])
-    a1.plot(p["gas_position"], p["gas_temperature_c"], "r-", label="gas")
+    a1.plot(p["gas_position"], p["gas_temperature_degC"], "r-", label="gas")
     for ph, st in (("bed", "k-"), ("passive", "b-"), ("active", "c--")):
         m = kinds == ph
         if not np.any(m):
@@ -35,10 +35,10 @@ def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
             for sec in np.unique(sec_of[m]):
                 mm = m & (sec_of == sec)
                 label = "solids (unflighted bed)" if sec == first else None
-                a1.plot(p["position"][mm], p["solids_temperature_c"][mm], st, label=label)
+                a1.plot(p["position"][mm], p["solids_temperature_degC"][mm], st, label=label)
                 a2.plot(p["position"][mm], p["moisture_wet"][mm], st, label=label)
         else:
-            a1.plot(p["position"][m], p["solids_temperature_c"][m], st, label=f"solids ({ph})")
+            a1.plot(p["position"][m], p["solids_temperature_degC"][m], st, label=f"solids ({ph})")
             a2.plot(p["position"][m], p["moisture_wet"][m], st, label=f"solids ({ph})")
     a1.set_ylabel("temperature (°C)")
     if title:

@@ -41,6 +41,26 @@ class _Renamed:
         return getattr(obj, self.new)
 
 
+class _RenamedKeys(dict):
+    """A dict whose old key names still read, with a ``DeprecationWarning`` naming the new one."""
+
+    def __init__(self, data, renamed):
+        super().__init__(data)
+        self._renamed = dict(renamed)
+
+    def __missing__(self, key):
+        if key in self._renamed:
+            warnings.warn(f"profiles key {key!r} is deprecated: use {self._renamed[key]!r}", DeprecationWarning,
+                          stacklevel=2)
+            return self[self._renamed[key]]
+        raise KeyError(key)
+
+
+#: old profile keys -> the names with the unit suffixes of every other output
+_PROFILE_RENAMED = {"solids_temperature_c": "solids_temperature_degC", "gas_temperature_c": "gas_temperature_degC",
+                    "shell_loss_w": "shell_loss_W"}
+
+
 class ThermalSteadyState:
     """A converged steady state: profiles, outlet values and balances (SI, °C: names end in ``_degC``)."""
 
@@ -176,13 +196,15 @@ class ThermalSteadyState:
                              f"{exc}", reason="burner", state=self) from exc
 
     def profiles(self):
-        """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per stage)."""
+        """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per
+        stage), named with their units (the old ``_c``/``_w`` names still read, deprecated)."""
         dr = self.dryer
-        return dict(position=dr.position, phase=np.array(["bed", "passive", "active"])[dr.kind],
-                    section=dr.tank_section, solids_temperature_c=self.solids_temperature_degC,
-                    moisture_wet=self.moisture_wet, holdup_kg=self.holdup, gas_position=dr.gas_position,
-                    gas_temperature_c=self.gas_temperature_degC, gas_humidity=self.gas_humidity,
-                    evaporation_kg_s=self.terms["rw"], shell_loss_w=self.terms["qloss"], area_m2=self.terms["area"])
+        return _RenamedKeys(dict(
+            position=dr.position, phase=np.array(["bed", "passive", "active"])[dr.kind], section=dr.tank_section,
+            solids_temperature_degC=self.solids_temperature_degC, moisture_wet=self.moisture_wet, holdup_kg=self.holdup,
+            gas_position=dr.gas_position, gas_temperature_degC=self.gas_temperature_degC, gas_humidity=self.gas_humidity,
+            evaporation_kg_s=self.terms["rw"], shell_loss_W=self.terms["qloss"], area_m2=self.terms["area"]),
+            _PROFILE_RENAMED)
 
     def __repr__(self):
 
