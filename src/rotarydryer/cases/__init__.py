@@ -178,14 +178,11 @@ class _TransportVariants(_Strict):
     step_factor: float = Field(default=1.0, gt=0, le=100, description="c_0 (-), advance of a cascade without gas over the drag-free fall h_m sin(theta) (trajectory step; 1 = a straight fall)")
 
 
-class Tracer(_Strict):
-    fraction: float = Field(gt=0, description="kg tracer per kg feed during the pulse")
-    duration: float = Field(ge=0, description="s")
-    t_end: float = Field(gt=0, description="s")
-    dt: float = Field(gt=0, description="s")
+class _TracerSource(_Strict):
+    """Where a case's measured tracer curve comes from (shared by the tracer blocks of every schema)."""
     measured: Optional[str] = Field(default=None, max_length=200,
                                     description="bare file name of a shipped tracer CSV (measured_files())")
-    measured_offset: float = 0.0
+    measured_offset: float = Field(default=0.0, description="s, injection start in the measured file")
     dataset: Optional[str] = Field(default=None, max_length=200,
                                    description="rotarydryer.rtd dataset; {test} is replaced (plain text)")
     baseline: str = Field(default="none", max_length=50, description="baseline method for the measured moments")
@@ -204,6 +201,14 @@ class Tracer(_Strict):
     def _time_grid(self):
         _check_time_grid(self)
         return self
+
+
+class Tracer(_TracerSource):
+    """The tracer pulse of the plant formats (every value given)."""
+    fraction: float = Field(gt=0, description="kg tracer per kg feed during the pulse")
+    duration: float = Field(ge=0, description="s")
+    t_end: float = Field(gt=0, description="s")
+    dt: float = Field(gt=0, description="s")
 
 
 def _check_time_grid(tr):
@@ -401,32 +406,11 @@ class DryerSection(_Strict):
     regression: Optional[dict[str, list[float]]] = Field(default=None, description="Ajayi (2011) Appendix F coefficients: area (7) and fall_time (11), geometry.method = ajayi2011_regressions")
 
 
-class DryerTracer(_Strict):
+class DryerTracer(_TracerSource):
     fraction: float = Field(default=1e-4, gt=0, description="kg tracer per kg feed during the pulse")
     duration: float = Field(default=60.0, ge=0, description="s")
     t_end: float = Field(default=7200.0, gt=0, description="s")
     dt: float = Field(default=10.0, gt=0, description="s")
-    measured: Optional[str] = Field(default=None, max_length=200,
-                                    description="bare file name of a shipped tracer CSV (measured_files())")
-    measured_offset: float = Field(default=0.0, description="s, injection start in the measured file")
-    dataset: Optional[str] = Field(default=None, max_length=200,
-                                   description="rotarydryer.rtd dataset; {test} is replaced (plain text)")
-    baseline: str = Field(default="none", max_length=50, description="baseline method for the measured moments")
-
-    @field_validator("measured")
-    @classmethod
-    def _measured_shipped(cls, v):
-        return _check_measured(v)
-
-    @field_validator("dataset")
-    @classmethod
-    def _dataset_shipped(cls, v):
-        return _check_dataset(v)
-
-    @model_validator(mode="after")
-    def _time_grid(self):
-        _check_time_grid(self)
-        return self
 
 
 class DryerCase(_Strict):
@@ -479,12 +463,7 @@ class DryerCase(_Strict):
             if (sec.n_flights or self.drum.n_flights) is None:
                 problems.append(f"{where}.n_flights is missing (and no drum.n_flights default)")
             if self.geometry.method == "ajayi2011_regressions":
-                reg = sec.regression or {}
-                for key, n in (("area", 7), ("fall_time", 11)):
-                    got = reg.get(key)
-                    if got is None or len(got) != n:
-                        problems.append(f"{where}.regression.{key} = {got!r}: geometry.method = "
-                                        f"'ajayi2011_regressions' needs {n} coefficients")
+                problems += regression_problems(where, sec)
                 continue
             for key in ("s1", "s2", "alpha1", "alpha2"):
                 if getattr(sec, key) is None and (self.flight is None or getattr(self.flight, key, None) is None):
@@ -501,6 +480,19 @@ class DryerCase(_Strict):
         if problems:
             raise ValueError("; ".join(problems))
         return self
+
+
+def regression_problems(where: str, sec) -> list[str]:
+    """Ajayi (2011) Appendix F coefficients of a flighted section for geometry.method =
+    'ajayi2011_regressions': 7 area and 11 fall-time coefficients."""
+    reg = sec.regression or {}
+    out = []
+    for key, n in (("area", 7), ("fall_time", 11)):
+        got = reg.get(key)
+        if got is None or len(got) != n:
+            out.append(f"{where}.regression.{key} = {got!r}: geometry.method = 'ajayi2011_regressions' needs {n} "
+                       "coefficients")
+    return out
 
 
 def _operating_problems(case) -> list[str]:

@@ -52,6 +52,7 @@ from . import (
     _length_problem,
     _Strict,
     _TransportVariants,
+    regression_problems,
 )
 from .build import BULK_DENSITY_RANGE, material_of
 
@@ -261,12 +262,7 @@ class AjayiCase(_Strict):
             if sec.n_cells is None or sec.n_cells < 1:
                 problems.append(f"{where}.n_cells = {sec.n_cells!r}: a flighted section needs n_cells >= 1")
             if self.geometry.method == "ajayi2011_regressions":
-                reg = sec.regression or {}
-                for key, n in (("area", 7), ("fall_time", 11)):
-                    got = reg.get(key)
-                    if got is None or len(got) != n:
-                        problems.append(f"{where}.regression.{key} = {got!r}: geometry.method = "
-                                        f"'ajayi2011_regressions' needs {n} coefficients")
+                problems += regression_problems(where, sec)
             else:
                 for key in ("n_flights", "s1", "s2", "alpha1", "alpha2"):
                     if getattr(sec, key) is None:
