@@ -55,3 +55,13 @@ def test_the_test_row_gives_the_operating_point():
     assert Simulation("ajayi2011_mmg", {"operating.test": 5}).thermal_settings().gas_inlet_temperature == 509.0
     with pytest.raises(ValueError, match=r"operating\.test = 9 is not in the case's \[\[tests\]\]"):
         load_case("ajayi2011_mmg", {"operating.test": 9})
+
+
+def test_an_old_mmg_file_without_regression_coefficients_names_them():
+    text = (LEGACY / "ajayi2011_mmg.toml").read_text()
+    start = text.index("regression.area = [-8.44")
+    text = text[:start] + text[text.index("\n", start) + 1:]        # section B loses its area coefficients
+    with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.regression\.area = None: geometry\.method = "
+                                         r"'ajayi2011_regressions' needs 7 coefficients"):
+        load_case_text(text, "old.toml", {"geometry.method": "ajayi2011_regressions"})
+    assert load_case_text(text, "old.toml").geometry.method == "exact"     # the exact geometry does not need them
