@@ -65,3 +65,15 @@ def test_an_old_mmg_file_without_regression_coefficients_names_them():
                                          r"'ajayi2011_regressions' needs 7 coefficients"):
         load_case_text(text, "old.toml", {"geometry.method": "ajayi2011_regressions"})
     assert load_case_text(text, "old.toml").geometry.method == "exact"     # the exact geometry does not need them
+
+
+def test_a_test_rows_gas_flow_leaves_the_format_default_for_the_others():
+    text = (LEGACY / "ajayi2011_mmg.toml").read_text()
+    text = text.replace("test = 4\n", "test = 4\ngas_flow = 20.0\n", 1)
+    assert Simulation(load_case_text(text, "old.toml")).thermal_settings().gas_flow == 20.0
+    assert Simulation(load_case_text(text, "old.toml", {"operating.test": 5})).thermal_settings().gas_flow == 16.25
+
+
+def test_an_old_key_and_its_replacement_together_are_refused():
+    with pytest.raises(ValueError, match="'transport.kiln_velocity' and 'transport.solids_velocity' set the same"):
+        load_case("ajayi2011_mmg", {"transport.solids_velocity": 0.01, "transport.kiln_velocity": 0.05})

@@ -79,3 +79,12 @@ def test_a_bad_value_on_the_reuse_path_is_refused_as_on_a_fresh_run(source):
     sim = _sim(case, {**CASES[case], "operating.rpm": 59.0})      # above the drum's critical speed
     with pytest.raises(ValueError, match="operating.rpm = 59 rev/min"):
         sim.steady_state(warm=warm)
+
+
+def test_a_reused_model_reports_its_cells_at_its_own_speed():
+    src = _sim("song2003_ottawa", {"operating.rpm": 5.0})
+    warm = src.steady_state().warm_data()
+    reused = _sim("song2003_ottawa", {"operating.rpm": 7.5}).steady_state(warm=warm)
+    fresh = _sim("song2003_ottawa", {"operating.rpm": 7.5}).steady_state()
+    a, b = reused.state.cell_info["passive_time_s"], fresh.state.cell_info["passive_time_s"]
+    np.testing.assert_allclose(a, b, rtol=1e-9)

@@ -30,7 +30,7 @@ from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta
 from rotarydryer.properties.materials import load_material
 from rotarydryer.properties.solids import lee2008_moisture_profile
 from rotarydryer.thermal.burner import Burner, FuelOil
-from rotarydryer.thermal.dryer import SectionThermal, ThermalSettings
+from rotarydryer.thermal.settings import SectionThermal, ThermalSettings
 from rotarydryer.transport import TracerInput
 from rotarydryer.transport.ajayi import AjayiRegressions, check_moisture_scale, eq31_moisture
 from rotarydryer.transport.ajayi_predictive import predictive_transport

@@ -29,7 +29,7 @@ from pydantic import Field, model_validator
 
 from rotarydryer.properties.materials import load_material
 from rotarydryer.published import read_published_csv
-from rotarydryer.thermal.dryer import AJAYI_GAS_FLOW
+from rotarydryer.thermal.settings import AJAYI_GAS_FLOW
 
 from .._validation import check_range
 from . import (
@@ -381,7 +381,6 @@ def ajayi2011_to_spec(case) -> dict:
     model's unflighted volumes default to one per 0.3 m (at least 4), as the format did."""
 
     op, tr, th = case.operating, case.transport, case.thermal
-    fixed = th.model_fields_set
     # one fouling: the transport's, else the thermal block's, else the tests' (Scaled: 0.8)
     fouling = tr.fouling
     if th.fouling is not None:
@@ -401,8 +400,7 @@ def ajayi2011_to_spec(case) -> dict:
     unflighted = {s.name: th.unflighted_cells.get(s.name, max(4, int(math.ceil(s.length / 0.3))))
                   for s in case.sections if s.kind == "unflighted"}
     gas = {"direction": op.gas_flow, "inlet_humidity": th.gas_inlet_humidity, "leak_air_flow": th.leak_air_flow}
-    if "gas_flow" in fixed or not any(t.gas_flow is not None for t in case.tests):
-        gas["flow"] = th.gas_flow
+    gas["flow"] = th.gas_flow      # a test row's own gas_flow wins (cases.build.thermal_settings)
     if th.gas_inlet_temperature is not None:
         gas["inlet_temperature"] = th.gas_inlet_temperature
     if th.burner is not None:
@@ -519,6 +517,9 @@ def translate_legacy_overrides(overrides: dict | None, valid: set[str] | list[st
     for key, value in overrides.items():
         if key in LEGACY_KEYS and key not in valid:
             new, convert, how = LEGACY_KEYS[key]
+            if new in overrides or any(k.startswith(new + ".") for k in overrides):
+                raise ValueError(f"override keys {key!r} and {new!r} set the same quantity: give {new!r} only "
+                                 f"({key!r} is its deprecated name)")
             warnings.warn(f"override key {key!r} is deprecated: use {new!r}{how}", FutureWarning, stacklevel=3)
             if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
                 out[new] = value

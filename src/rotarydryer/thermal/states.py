@@ -151,7 +151,7 @@ class ThermalSteadyState:
             per_node = {k: np.full(m.size, np.nan) for k in model.cell_info}
             passive, _ = dr._passive(d["W"], m, dr.laws)
             for law, (_, xp) in zip(dr.laws, passive):
-                des, info = cell_info_at(law, xp)
+                des, info = cell_info_at(law, xp, dr.rpm)   # at this run's speed
                 design[law.P] = des
                 for k in per_node:
                     if k in info:

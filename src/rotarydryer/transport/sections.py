@@ -453,17 +453,18 @@ _CASCADE_INFO = (("passive_time_s", "tp"), ("fall_time_s", "ta"), ("fall_height_
                  ("C_R", "CR")) + tuple(zip(TRAJECTORY_INFO, ("CB", "step", "CFG", "cv")))
 
 
-def cell_info_at(law: FlightedSectionLaw, moisture) -> tuple[np.ndarray, dict]:
+def cell_info_at(law: FlightedSectionLaw, moisture, rpm=None) -> tuple[np.ndarray, dict]:
     """Design load (kg per cell) and the per-cell quantities that :func:`build_sections` reports
     (moisture, repose angle, bulk density, passive and fall times, fall height, C_F, C_R and the
     trajectory step's), of a section law at wet-basis ``moisture`` per cell: the heat-and-mass
     model's cells at their computed moisture (the transport model reports them at its assumed one).
-    The times and fractions are those of a flight at its design load (loading factor 1), as there."""
+    The times and fractions are those of a flight at its design load (loading factor 1), as there;
+    ``rpm``: the drum speed (default the law's own, that of its build)."""
     x = np.broadcast_to(np.asarray(moisture, dtype=float), (law.n,)).copy()
     phi, rho = (np.broadcast_to(np.asarray(a, dtype=float), (law.n,)) for a in law.properties(x))
     des = np.broadcast_to(np.asarray(law.design_load(phi, rho), dtype=float), (law.n,))
     info = {"moisture_kg_kg": x, "repose_angle_deg": phi, "bulk_density_kg_m3": rho}
-    c1 = {} if isinstance(law, EmpiricalSectionLaw) else law.cascade(phi, np.ones(law.n))
+    c1 = {} if isinstance(law, EmpiricalSectionLaw) else law.cascade(phi, np.ones(law.n), rpm)
     for key, ck in _CASCADE_INFO:
         info[key] = np.broadcast_to(np.asarray(c1[ck], dtype=float), (law.n,)) if ck in c1 else np.full(law.n, np.nan)
     return des, info
