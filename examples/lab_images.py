@@ -7,8 +7,6 @@ Run: python examples/lab_images.py [OUTDIR]
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from rotarydryer.geometry.presets import preset_drum
 from rotarydryer.lab import images as im
 

@@ -18,8 +18,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from rotarydryer.cases import load_case  # noqa: E402
 from rotarydryer.report.plots import plot_thermal_steady_state  # noqa: E402
-from rotarydryer.thermal import studies  # noqa: E402
 from rotarydryer.simulation import build_thermal_dryer  # noqa: E402
+from rotarydryer.thermal import studies  # noqa: E402
 
 #: Ajayi's thesis model (his regression geometry, on which the case's thermal model was tuned); the case's
 #: default is the exact geometry (docs/geometry.md)

@@ -55,7 +55,12 @@ def test_invalid_values_name_key_and_value(key, value, match):
 
 
 def test_n_cells_above_limit_and_without_parameters():
-    with pytest.raises(ValueError, match=r"transport\.n_cells = 40 has no parameter set"):
+    # no calibration of N = 40: the closest (Lee's N = 35) is used, with a warning, and its coefficients
+    # do not fit 40 cells
+    from rotarydryer.cases.calibration import CalibrationWarning
+
+    with pytest.warns(CalibrationWarning, match="transport.n_cells = 35"), \
+            pytest.raises(ValueError, match=r"transport\.n_cells = 40 makes the return coefficient"):
         build_model(load_case("lee2008_invicta", {"transport.n_cells": 40, "geometry.method": "lee2008_regressions"}))
     with pytest.raises(ValueError, match=r"transport\.n_cells = 40 makes the return coefficient.*<= 37"):
         build_model(load_case("lee2008_invicta", {

@@ -120,7 +120,8 @@ LAYERS = (
     ("case readers and builders", ("cases",)),
     ("results container", ("results",)),
     ("assembler", ("simulation", "Simulation")),
-    ("analyses", ("estimation.cases", "control", "design", "studies", "lab", "dem", "fmu")),
+    ("analyses", ("estimation.cases", "estimation.calibrate", "validate", "control", "design", "studies", "lab", "dem",
+                  "fmu")),
     ("services and views", ("services", "report")),
     ("web app", ("app",)),
     ("command line", ("cli", "__main__")),
@@ -131,6 +132,7 @@ FACADES = frozenset({PACKAGE})
 ALLOWED_UPWARD = {
     ("rotarydryer.results", "simulation"): "deprecated alias results.run_case (warns; the assembler is simulation)",
     ("rotarydryer.simulation", "estimation.cases"): "Simulation.fit, a facade over estimation.cases.fit_case_to_tracer",
+    ("rotarydryer.simulation", "estimation.calibrate"): "Simulation.calibrate, a facade over estimation.calibrate.calibrate",
 }
 _UNITS = {u: i for i, (_, units) in enumerate(LAYERS) for u in units}
 

@@ -10,17 +10,37 @@ from rotarydryer.cases import DryerCase, load_case, load_case_text
 LEGACY = Path(__file__).parent / "data" / "legacy"
 
 
+#: the thesis configurations, where the shipped cases' calibration records hold the published values
+#: the old files carry as plain keys ([[parameter_sets]], the tests' u_s and D, thermal.mode_values)
+THESIS = {"lee2008_invicta": {"geometry.method": "lee2008_regressions"},
+          "ajayi2011_mmg": {"geometry.method": "ajayi2011_regressions"}}
+#: what the shipped cases hold beyond the old formats: the calibration records and the plant's measured outlets
+#: (Lee's Table 7.2 values: a [[parameter_sets]] row in the old file, the record's transport keys in the new;
+#: test_old_file_gives_the_same_steady_state checks they are the same numbers)
+_NEW_ONLY = ("calibrations", "parameter_sets", "mode_values", "gas_outlet_temperature", "product_temperature",
+             "holdup_measured_kg", "moisture_profile", "kiln_time", "backmix", "drag_reduction",
+             "kiln_bed_area")   # the thesis-geometry physical calibration was fitted without the kiln beds
+
+
+def _comparable(d):
+    if isinstance(d, dict):
+        return {k: _comparable(v) for k, v in d.items() if k not in _NEW_ONLY}
+    if isinstance(d, list):
+        return [_comparable(v) for v in d]
+    return d
+
+
 @pytest.mark.parametrize("name", ["lee2008_invicta", "ajayi2011_mmg"])
 def test_old_file_reads_into_the_shipped_spec(name):
-    old = load_case(str(LEGACY / f"{name}.toml"))
-    new = load_case(name)
+    old = load_case(str(LEGACY / f"{name}.toml"), THESIS[name])
+    new = load_case(name, THESIS[name])
     assert isinstance(old, DryerCase) and isinstance(new, DryerCase)
-    assert old.model_dump() == new.model_dump()
+    assert _comparable(old.model_dump()) == _comparable(new.model_dump())
 
 
 @pytest.mark.parametrize("name, overrides", [
-    ("lee2008_invicta", {"transport.n_cells": 30, "thermal.enabled": False}),
-    ("ajayi2011_mmg", {"operating.test": 3}),
+    ("lee2008_invicta", {"transport.n_cells": 30, "thermal.enabled": False, **THESIS["lee2008_invicta"]}),
+    ("ajayi2011_mmg", {"operating.test": 3, **THESIS["ajayi2011_mmg"]}),
 ])
 def test_old_file_gives_the_same_steady_state(name, overrides):
     a = Simulation(str(LEGACY / f"{name}.toml"), overrides).transport_steady_state()

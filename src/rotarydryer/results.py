@@ -67,7 +67,7 @@ import numpy as np
 
 from . import __version__
 
-__all__ = ["Results", "from_transport", "fit_measured_rtd", "load_results", "FORMAT_VERSION",
+__all__ = ["Results", "from_transport", "fit_measured_rtd", "load_results", "rtd_comparison", "FORMAT_VERSION",
            "UNIT_SUFFIXES"]
 
 FORMAT_VERSION = 1
@@ -601,3 +601,26 @@ def __getattr__(name):
 
         return run_case
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def rtd_comparison(results) -> dict | None:
+    """Model against the measured tracer curve: means and standard deviations (s) as stored
+    (``tracer_*`` = model with the case's tracer input, ``measured_*``) and R^2 of the model
+    E(t), interpolated at the measured times, against the measured E(t) (baseline removed,
+    normalised by its area).  None without a measured curve."""
+    s = results.scalars
+    if results.rtd is None or results.rtd_measured is None or not s.get("measured_mean_s"):
+        return None
+    from .cases import exit_age_r_squared  # start-up (tests/test_imports.py LAZY)
+    from .rtd import rtd_moments
+    m = results.rtd_measured
+    t, sig = np.asarray(m.time.values, float), np.asarray(m.signal.values, float)
+    mom = rtd_moments(t, sig, baseline=float(s.get("measured_baseline", 0.0)))
+    e_meas = np.clip(sig - mom.baseline, 0.0, None) / mom.area
+    e_mod = np.interp(t, results.rtd.time.values, results.rtd.exit_age.values, left=0.0, right=0.0)
+    r2 = exit_age_r_squared(e_meas, e_mod)
+    mod_mean = s.get("tracer_mean_s", s.get("simulated_mean_s"))
+    mod_std = s.get("tracer_std_s", s.get("simulated_std_s"))
+    return dict(model_mean_s=float(mod_mean), measured_mean_s=float(s["measured_mean_s"]),
+                model_std_s=float(mod_std), measured_std_s=float(s["measured_std_s"]), r_squared=r2,
+                n_points=int(t.size))

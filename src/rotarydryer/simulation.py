@@ -306,6 +306,17 @@ class Simulation:
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
         return fit_case_to_tracer(self.case_name, dataset, list(parameters), base_overrides=base or None, **kwargs)
 
+    def calibrate(self, parameters, **kwargs):
+        """Fit case keys ``parameters`` to several measured responses of many tests at once, from this
+        Simulation's case and overrides (keyword arguments as
+        :func:`rotarydryer.estimation.calibrate.calibrate`; ``base_overrides`` adds to the overrides).
+        Returns its :class:`~rotarydryer.estimation.calibrate.CaseCalibration` (``.record()``: the
+        calibration record)."""
+        from .estimation.calibrate import calibrate  # estimation builds on Simulation
+
+        base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
+        return calibrate(self.case_name, list(parameters), base_overrides=base or None, **kwargs)
+
     def sweep(self, grid, outputs=None):
         """Steady state over a grid of overrides on top of this Simulation's: a list of override
         dicts, or the CLI's form, a dict ``{key: [values]}`` or ``["key=v1,v2", ...]`` (the cartesian

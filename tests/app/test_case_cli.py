@@ -62,7 +62,11 @@ def test_new_writes_a_loadable_template(tmp_path, base):
     assert text.startswith("# Case 'mine'") and "# m" in text  # unit comments kept
     case = load_case(str(p))
     assert case.meta.title == f"mine (from {base})"
-    assert case.model_dump(exclude={"meta"}) == load_case(base).model_dump(exclude={"meta"})
+    mine, shipped = case.model_dump(exclude={"meta"}), load_case(base).model_dump(exclude={"meta"})
+    assert [r["case"] for r in mine["calibrations"]] == [f"mine (from {base})"] * len(mine["calibrations"])
+    for d in (mine, shipped):            # the base's calibrations, now named for the copy
+        d["calibrations"] = [{k: v for k, v in r.items() if k != "case"} for r in d["calibrations"]]
+    assert mine == shipped
     res = runner.invoke(cli, ["new", "mine", "-o", str(p)])
     assert res.exit_code == 2 and "exists" in res.output
     assert runner.invoke(cli, ["new", "mine", "-o", str(p), "--force"]).exit_code == 0

@@ -36,10 +36,10 @@ def _refused(args, workdir, *fragments):
 
 # ---- impossible dryers through `simulate` / `rtd` (the case key and its value named) ------------------
 FILL = [
-    (INVICTA, ["operating.feed_rate=1000"], ["solids fill 142 %", "limit is 30 %", "operating.feed_rate = 1000 kg/s"]),
+    (INVICTA, ["operating.feed_rate=1000"], ["solids fill 107 %", "limit is 30 %", "operating.feed_rate = 1000 kg/s"]),
     (INVICTA, ["operating.feed_rate=1e6"], ["operating.feed_rate", "less than or equal to 1000"]),
     (INVICTA, ["operating.feed_rate=900"], ["solids fill", "operating.feed_rate = 900 kg/s"]),
-    (INVICTA, ["operating.feed_rate=300"], ["solids fill 46", "operating.feed_rate = 300 kg/s"]),
+    (INVICTA, ["operating.feed_rate=300"], ["solids fill 35.4", "operating.feed_rate = 300 kg/s"]),
     (INVICTA, ["transport.kiln_time=1e6"], ["solids fill", "transport.kiln_time = 1000000 s"]),
     (MMG, ["operating.feed_rate=1000"], ["solids fill", "section a", "operating.feed_rate = 1000 kg/s"]),
     (MMG, ["operating.feed_rate=200"], ["solids fill", "operating.feed_rate = 200 kg/s"]),

@@ -121,7 +121,8 @@ def test_a_tests_own_gas_flow_replaces_the_default(tmp_path):
     text = text.replace("test = 6\n", "test = 6\ngas_flow = 19.5\n", 1)
     path = tmp_path / "mmg_with_flow.toml"
     path.write_text(text)
-    assert build_thermal_dryer(load_case(str(path), {"operating.test": 6})).settings.gas_flow == 19.5
-    assert build_thermal_dryer(load_case(str(path), {"operating.test": 4})).settings.gas_flow == 16.25
+    thesis = {"geometry.method": "ajayi2011_regressions"}   # one gas flow for all tests in its calibration record
+    assert build_thermal_dryer(load_case(str(path), {"operating.test": 6, **thesis})).settings.gas_flow == 19.5
+    assert build_thermal_dryer(load_case(str(path), {"operating.test": 4, **thesis})).settings.gas_flow == 16.25
     compat = build_thermal_dryer(load_case(str(path), {"operating.test": 6, "thermal.mode": "ajayi2011"}))
     assert compat.settings.gas_flow == pytest.approx(112675.6688 / 3600)

@@ -145,7 +145,8 @@ def test_fitted_default_unchanged():
     m = sim().transport_model()
     assert "C_F_G" not in m.cell_info
     ci = m.cell_info
-    np.testing.assert_allclose(ci["C_F"], 0.48 * ci["fall_height_m"] * math.sin(math.radians(2.8)) / (12 / 35),
+    cfg = sim().case.transport.drag_reduction      # the case's calibrated C_F^G
+    np.testing.assert_allclose(ci["C_F"], cfg * ci["fall_height_m"] * math.sin(math.radians(2.8)) / (12 / 35),
                                rtol=1e-12)
 
 

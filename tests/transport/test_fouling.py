@@ -26,4 +26,5 @@ def test_fouling_monotone_in_curtain_holdup():
 def test_thermal_model_uses_the_transport_fouling():
     case = load_case("ajayi2011_mmg", {"operating.test": 4, "transport.fouling": 0.3})
     assert settings_from_case(case).fouling == 0.3
-    assert settings_from_case(load_case("ajayi2011_mmg", {"operating.test": 3})).fouling == 0.8
+    thesis = {"geometry.method": "ajayi2011_regressions"}     # Ajayi's -80 % (l.1715); 0.91 on the exact geometry
+    assert settings_from_case(load_case("ajayi2011_mmg", {"operating.test": 3, **thesis})).fouling == 0.8

@@ -28,6 +28,10 @@ from rotarydryer.transport.ajayi_predictive import (
 
 from .conftest import read_csv
 
+#: Ajayi's regression geometry: where the case's calibration records hold his Table 5.2 and the predictive
+#: law's thesis-geometry calibration (the default exact geometry has its own, tests/test_calibration.py)
+THESIS_GEOMETRY = {"geometry.method": "ajayi2011_regressions"}
+
 SUMMARY = {int(r["test"]): r for r in read_csv("ajayi_rtd_tests_summary.csv")}
 #: the predictive coefficients of the case were calibrated with Ajayi's regression geometry (his thesis model)
 PRED = {"transport.parameter_source": "predictive", "geometry.method": "ajayi2011_regressions"}
@@ -55,7 +59,7 @@ def test_case_test_rows_follow_ajayis_tables():
     """Feed (Tables 3.13/3.14), speed, feed and product moisture (Tables 3.5-3.11), published MRT
     (Table 3.13) and scaled state of every [[tests]] row, Test 1 included, against the summary CSV;
     Test 1 has no Table 5.2 fit."""
-    case = load_case("ajayi2011_mmg")
+    case = load_case("ajayi2011_mmg", THESIS_GEOMETRY)
     assert sorted(t.test for t in case.tests) == sorted(SUMMARY)
     for t in case.tests:
         r = SUMMARY[t.test]
@@ -74,7 +78,7 @@ def test_case_test_rows_follow_ajayis_tables():
 def test_per_test_is_the_default_and_refuses_test_1():
     assert load_case("ajayi2011_mmg").transport.parameter_source == "per_test"
     with pytest.raises(ValueError, match=r"operating\.test = 1 .*transport\.parameter_source = 'predictive'"):
-        build_model(load_case("ajayi2011_mmg", {"operating.test": 1}))
+        build_model(load_case("ajayi2011_mmg", {"operating.test": 1, **THESIS_GEOMETRY}))   # Table 5.2: no test 1
     # an explicit velocity and dispersion run test 1 in the per-test mode too
     ss = build_model(load_case("ajayi2011_mmg", {"operating.test": 1, "transport.solids_velocity": 0.0156,
                                                  "transport.dispersion": 4e-4})).steady_state()
@@ -194,7 +198,7 @@ def test_measured_curves_are_normalised(n):
 
 
 def test_test_4_calibration_is_the_case_files():
-    tr = load_case("ajayi2011_mmg").transport
+    tr = load_case("ajayi2011_mmg", THESIS_GEOMETRY).transport     # the study calibrates on the thesis geometry
     c = study.calibrate(4)
     assert c.velocity_coefficient == pytest.approx(tr.velocity_coefficient, rel=5e-3)
     assert c.dispersion_coefficient == pytest.approx(tr.dispersion_coefficient, rel=0.05)
@@ -209,7 +213,7 @@ def test_test_4_calibration_is_the_case_files():
 @pytest.mark.parametrize("n", [5, 6])
 def test_target_met_out_of_sample_from_test_4(n):
     """Issue 14 target: MRT within 5 % of Ajayi's Table 3.13 and R^2 >= 0.9, calibrated on Test 4."""
-    tr = load_case("ajayi2011_mmg").transport
+    tr = load_case("ajayi2011_mmg", THESIS_GEOMETRY).transport
     p = study.predict(n, tr.velocity_coefficient, tr.dispersion_coefficient)
     assert abs(p.mrt_error) <= 0.05
     assert p.r_squared >= 0.9

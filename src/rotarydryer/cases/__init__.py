@@ -24,7 +24,10 @@ from typing import Annotated, Any, Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from .calibration import CalibrationRecord, apply_calibrations, record_problems
+
 __all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
+           "measured_exit_age", "exit_age_r_squared",
            "valid_override_keys", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
            "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES"]
 
@@ -261,6 +264,8 @@ class ThermalModel(_Strict):
     area_scale: float = Field(default=1.0, ge=0, le=100, description="multiplier on the sections' area factors")
     moisture_coupling: bool = Field(default=True, description="repose angle and bulk density from the computed moisture")
     design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+    kiln_bed_area: bool = Field(default=True, description="physical mode: the solids of a flighted cell above its design load (a kiln bed: overloaded or fouled flights) exchange with the gas through the bed's active layer (Ajayi (2011) Eq. 6.56-6.61); false: curtains and unflighted beds only, as the thesis")
+    discharge_cooling_ntu: float = Field(default=0.0, ge=0, le=50, description="transfer units of the product's cooling by ambient air between the drum outlet and the product temperature sensor (rotarydryer.thermal.streams.discharge_cooling; 0: the sensor at the drum outlet)")
     unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the heat-and-mass model (default the transport model's)")
     mode_values: dict[str, dict[str, float]] = Field(default={}, max_length=10, description="per thermal.mode, values of gas.flow and thermal.area_scale that mode takes instead of the case's (the source's own settings of its mode, e.g. Ajayi's code gas flow)")
 
@@ -336,7 +341,22 @@ class OperatingTest(_Strict):
     mrt_model_min: Optional[float] = Field(default=None, description="min, the source's model result (for comparison)")
     holdup_model_kg: Optional[float] = Field(default=None, description="kg, the source's model result (for comparison)")
     mrt_measured_min: Optional[float] = Field(default=None, description="min, measured mean residence time")
+    holdup_measured_kg: Optional[float] = Field(default=None, gt=0, description="kg, measured total holdup (e.g. mean residence time x feed)")
+    moisture_profile: Optional[str] = Field(default=None, max_length=200, description="shipped CSV of solids moisture samples along the drum at this test (columns position_m, moisture_kg_per_kg_wet; a bare file name in rotarydryer/data)")
+    gas_outlet_temperature: Optional[float] = Field(default=None, gt=-40, lt=1000, description="degC, measured exhaust gas temperature")
+    product_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC, measured product temperature (at the plant's sensor: thermal.discharge_cooling_ntu)")
     source: str = ""
+
+    @field_validator("moisture_profile")
+    @classmethod
+    def _profile_file(cls, v):
+        if v is None:
+            return v
+        if any(c in v for c in "/\\:\x00") or ".." in v or not v.endswith(".csv") \
+                or not (resources.files("rotarydryer.data") / v).is_file():
+            raise ValueError("is not the bare name of a CSV shipped in rotarydryer/data (e.g. "
+                             "'ajayi_moisture_profile_table3_3.csv'); paths are refused")
+        return v
 
 
 class DryerTransport(_TransportVariants):
@@ -432,6 +452,9 @@ class DryerCase(_Strict):
                                                "coefficients per transport.n_cells (e.g. Lee (2008) Table 7.2)")
     tests: list[OperatingTest] = Field(default=[], max_length=MAX_ENTRIES, description="measured operating points "
                                        "of the plant (operating.test selects one)")
+    calibrations: list[CalibrationRecord] = Field(default=[], max_length=MAX_ENTRIES, description="fitted values "
+                                                  "with the data and model configuration they hold for "
+                                                  "(rotarydryer.cases.calibration)")
 
     @model_validator(mode="after")
     def _complete(self):
@@ -441,6 +464,9 @@ class DryerCase(_Strict):
         problem = _dataset_problem(self)
         if problem:
             problems.append(problem)
+        keys = valid_override_keys(DryerCase)
+        for i, rec in enumerate(self.calibrations):
+            problems += record_problems(rec, keys, self.tests, f"calibrations[{i}] ({rec.name})", self.meta.title)
         rates = [f"transport.{k}" for k in _MODEL1_RATES if getattr(self.transport, k) is not None]
         models = {sec.model or self.transport.model for sec in self.sections if sec.kind == "flighted"}
         if rates and "sheehan2005_model1" not in models:
@@ -554,7 +580,7 @@ def _cells_problem(case) -> str | None:
     return None
 
 
-_NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests"}
+_NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests", "calibrations"}
 
 
 def list_cases() -> list[str]:
@@ -781,12 +807,52 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             nxt = node[part] = dict(nxt) if isinstance(nxt, dict) else {}
             node = nxt
         node[fld] = value
+    if raw.get("calibrations") and cls is DryerCase:
+        _calibrate(raw, overrides, shown)
+    if overrides and "gas.flow" in overrides and isinstance(raw.get("tests"), list):
+        # a --set gas.flow is this run's gas flow: it wins over the selected test's (a row's gas_flow
+        # otherwise replaces the case's gas.flow)
+        raw["tests"] = [{**r, "gas_flow": None} if isinstance(r, dict) else r for r in raw["tests"]]
     try:
         return cls.model_validate(raw)
     except ValidationError as exc:
         n = len(exc.errors())
         details = _format_validation_error(exc, raw, text, shown, overrides)
         raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
+
+
+def _schema_default(cls, key: str):
+    """The default of case key ``key`` (``geometry.method``) in schema ``cls``; None where a block is optional."""
+    first, *rest = key.split(".")
+    finfo = cls.model_fields.get(first)
+    value = None if finfo is None else finfo.get_default(call_default_factory=True)
+    for part in rest:
+        value = getattr(value, part, None)
+    return value
+
+
+def _calibrate(raw: dict, overrides, shown: str) -> None:
+    """Apply the case's [[calibrations]] to ``raw`` (:func:`rotarydryer.cases.calibration.apply_calibrations`);
+    a malformed record is refused naming its entry and key."""
+    recs = raw.get("calibrations")
+    if not isinstance(recs, list):
+        raise ValueError(f"{shown}: calibrations must be an array of tables ([[calibrations]])")
+    keys = valid_override_keys(DryerCase)
+    rows = raw.get("tests") if isinstance(raw.get("tests"), list) else []
+    title = (raw.get("meta") or {}).get("title", "") if isinstance(raw.get("meta"), dict) else ""
+    for i, rec in enumerate(recs):
+        try:
+            r = CalibrationRecord.model_validate(rec)
+        except ValidationError as exc:
+            err = exc.errors()[0]
+            loc = ".".join(str(p) for p in err["loc"])
+            raise ValueError(f"{shown}: calibrations[{i}].{loc}: {err['msg']} ({len(exc.errors())} problem"
+                             f"{'s' if len(exc.errors()) > 1 else ''})") from None
+        problems = record_problems(r, keys, [t for t in rows if isinstance(t, dict)],
+                                   f"calibrations[{i}] ({r.name})", title)
+        if problems:             # before any value is written: the record, not the case, is at fault
+            raise ValueError(f"{shown}: " + "; ".join(problems))
+    apply_calibrations(raw, overrides, lambda key: _schema_default(DryerCase, key), shown)
 
 
 def _toml_value(text: str):
@@ -850,6 +916,31 @@ def measured_rtd_moments(case):
     m = rtd_moments(t, y, baseline=case.tracer.baseline)
     return {"mean_s": m.mean_s, "std_s": m.std_s, "baseline": m.baseline, "baseline_method": m.baseline_method,
             "tail_truncated": m.tail_truncated}
+
+
+def measured_exit_age(case):
+    """The case's measured tracer curve as E(t): (time s since injection start, E 1/s) with the
+    case's baseline removed (:func:`measured_rtd_moments`), clipped at 0 and normalised by its
+    area over the measured window; None without a measured curve. The curve every model-data
+    comparison of E(t) uses (R^2 of the report, the calibration, the validation suite)."""
+    data = measured_rtd(case)
+    if data is None:
+        return None
+    import numpy as np
+
+    from rotarydryer.rtd import rtd_moments
+
+    t, y = data
+    m = rtd_moments(t, y, baseline=case.tracer.baseline)
+    return np.asarray(t, float), np.clip(np.asarray(y, float) - m.baseline, 0.0, None) / m.area
+
+
+def exit_age_r_squared(e_measured, e_model) -> float:
+    """1 - SSR/SST of a model E(t) against the measured E(t) at the same times (unweighted)."""
+    import numpy as np
+
+    y, f = np.asarray(e_measured, float), np.asarray(e_model, float)
+    return 1.0 - float(np.sum((y - f) ** 2)) / float(np.sum((y - y.mean()) ** 2))
 
 
 #: the one internal specification (``kind = "dryer"``)

@@ -590,7 +590,7 @@ def _build_dryer(case: DryerCase, inputs: dict | None = None):
 #: ThermalSettings, its feed rate or its speed, never its network or section specs
 PARAMETER_KEYS = ("operating.feed_rate", "operating.rpm", "operating.feed_temperature", "gas.flow",
                   "gas.inlet_temperature", "gas.inlet_humidity", "gas.leak_air_flow", "gas.burner.",
-                  "thermal.area_scale", "thermal.design_load_smoothing", "shell.")
+                  "thermal.area_scale", "thermal.design_load_smoothing", "thermal.discharge_cooling_ntu", "shell.")
 #: of those, the keys the section specs also depend on in some configurations: the operating point
 #: (the predictive kilning velocity and dispersion) and the gas (the trajectory forward step's curtains)
 _OPERATING_KEYS = ("operating.feed_rate", "operating.rpm")
@@ -606,11 +606,25 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
+def _flat_case(case) -> dict:
+    d = case.model_dump()
+    rows = d.pop("tests", [])
+    out = _flat(d)
+    for r in rows:       # a [[tests]] row's fields as tests.<test>.<field>
+        out.update({f"tests.{r['test']}.{k}": v for k, v in r.items() if k != "test"})
+    out["tests"] = sorted(r["test"] for r in rows)
+    return out
+
+
 def changed_keys(old, new) -> list[str]:
-    """The case keys whose values differ between two validated cases (lists such as ``sections`` and
-    ``tests`` count as one key; the material as a whole)."""
-    a, b = _flat(old.model_dump()), _flat(new.model_dump())
+    """The case keys whose values differ between two validated cases (``sections`` counts as one key,
+    a [[tests]] row's fields as ``tests.<test>.<field>``, the material as a whole)."""
+    a, b = _flat_case(old), _flat_case(new)
     return sorted(k for k in set(a) | set(b) if a.get(k, _MISSING) != b.get(k, _MISSING))
+
+
+#: fields of a [[tests]] row that are parameters of the heat-and-mass model (tests.<test>.<field>)
+_TEST_PARAMETER_FIELDS = (".gas_flow", ".gas_inlet_temperature")
 
 
 _MISSING = object()
@@ -622,7 +636,8 @@ def takes_as_parameters(old, new) -> bool:
     changes the section specs: not the operating point with ``transport.parameter_source =
     "predictive"``, not the gas with ``transport.forward_step = "trajectory"``."""
     keys = changed_keys(old, new)
-    if not all(k in PARAMETER_KEYS or any(k.startswith(p) for p in PARAMETER_KEYS if p.endswith(".")) for k in keys):
+    if not all(k in PARAMETER_KEYS or any(k.startswith(p) for p in PARAMETER_KEYS if p.endswith("."))
+               or (k.startswith("tests.") and k.endswith(_TEST_PARAMETER_FIELDS)) for k in keys):
         return False
     if new.transport.parameter_source == "predictive" and any(k in _OPERATING_KEYS for k in keys):
         return False
@@ -680,7 +695,8 @@ def thermal_settings(case):
               insulation_thickness=sh.insulation_thickness, loss_factor=sh.loss_factor,
               shell_inner_radius=sh.inner_radius, shell_thickness=sh.thickness,
               leak_air_flow=g.leak_air_flow, moisture_coupling=th.moisture_coupling,
-              design_load_smoothing=th.design_load_smoothing, gas_direction=g.direction, fouling=fouling_of(case))
+              design_load_smoothing=th.design_load_smoothing, gas_direction=g.direction, fouling=fouling_of(case),
+              discharge_cooling_ntu=th.discharge_cooling_ntu, kiln_bed_area=th.kiln_bed_area)
     return ThermalSettings.ajayi2011(**kw) if th.mode == "ajayi2011" else ThermalSettings(**kw)
 
 

@@ -117,6 +117,7 @@ def _guard_all(typer_app):
 # Command modules (each registers its commands on ``app`` at import time).
 from . import (  # noqa: E402,F401,E501
     balance,
+    calibrate,
     control,
     correlations,
     dem,
@@ -131,6 +132,7 @@ from . import (  # noqa: E402,F401,E501
     sensitivity,
     simulate,
     sweep,
+    validate,
     webapp,
 )
 

@@ -124,7 +124,13 @@ def new(
               "# Validate and run:  rotarydryer simulate " + str(path) + "\n"
               "# Every field, its unit and allowed range:  rotarydryer schema\n"
               "# The [meta] citations refer to the base case: replace them with your sources.\n\n")
-    text = re.sub(r'(?m)^title = ".*"$', f'title = "{case_name} (from {base})"', text, count=1)
+    m = re.search(r'(?m)^title = "(.*)"$', text)
+    title = f"{case_name} (from {base})"
+    text = re.sub(r'(?m)^title = ".*"$', f'title = "{title}"', text, count=1)
+    if m is not None and "[[calibrations]]" in text:   # the base's calibrations, now of this copy of its dryer
+        text = text.replace(f'case = "{m.group(1)}"', f'case = "{title}"')
+        header += ("# The [[calibrations]] were fitted to the base case's plant data: once you change the dryer,\n"
+                   "# refit them to your own data with `rotarydryer calibrate` (docs/calibration.md).\n\n")
     from .._io import write_text_atomic
 
     try:

@@ -513,8 +513,30 @@ def _references_section(body: str) -> str:
     return f'<section id="references"><h2>References</h2><ol class="refs">{items}</ol></section>'
 
 
+def validation_section(report) -> str:
+    """The "Validation" section: every item of the case's validation (rotarydryer.validate) with its
+    measured and model value, error, tolerance and status; known misses with their reasons."""
+    s = report.summary()
+    rows, misses = [], []
+    for it in report.items:
+        status = it.status + (" (known miss)" if it.known_miss and it.status == "pass" else "")
+        rows.append([html.escape(it.description or it.id), _fmt(it.measured) if it.measured is not None else "-",
+                     _fmt(it.model) if it.model is not None else "-", _fmt(it.error) if it.error is not None else "-",
+                     f"{it.kind} {_fmt(it.tolerance)}", html.escape(it.unit), html.escape(status)])
+        if it.status != "pass" and (it.known_miss or it.message):
+            misses.append(f"<li><b>{html.escape(it.id)}</b>: {html.escape(it.known_miss or it.message)}</li>")
+    head = (f"<p>{s['n_items']} items of the case as its file gives it (the run's --set overrides not applied): "
+            f"{s['n_pass']} pass, {s['n_fail']} fail, {s['n_known_miss']} known misses. Tolerances and their reasons: "
+            f"<code>rotarydryer/data/validation.toml</code>; the whole suite: <code>rotarydryer validate</code>.</p>")
+    if not report.items:
+        head = "<p>The case has no measured or published numbers to compare with.</p>"
+    table = _table(["item", "measured", "model", "error", "tolerance", "unit", "status"], rows) if rows else ""
+    known = f"<ul>{''.join(misses)}</ul>" if misses else ""
+    return f'<section id="validation"><h2>Validation against the plant data</h2>{head}{table}{known}</section>'
+
+
 def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "",
-                  sensitivity: dict | None = None) -> str:
+                  sensitivity: dict | None = None, validation=None) -> str:
     """HTML text of the report.
 
     Parameters
@@ -525,6 +547,8 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
         Flighted sections to draw (see :func:`rotarydryer.report.figures.case_drums`);
         default: those of ``results.inputs``.
     title, subtitle : str
+    validation : rotarydryer.validate.ValidationReport, optional
+        The case's validation (:func:`validation_section`).
     """
     from .figures import case_drums
 
@@ -544,6 +568,8 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
     body.append(_geometry_sections(drums, results))
     if sensitivity is not None:
         body.append(sensitivity_section(sensitivity))
+    if validation is not None:
+        body.append(validation_section(validation))
     if results is not None:
         body.append(f"""<section id="inputs"><h2>Inputs and model choices</h2>
 <details><summary>model choices</summary><pre>{html.escape(json.dumps(results.model_choices, indent=1))}</pre></details>
@@ -620,7 +646,12 @@ def _case_drums_at(results, repose_angle):
 def build_report(source: str, overrides: dict | None = None, *, repose_angle: float | None = None) -> str:
     """HTML text of the report of ``source`` (see :func:`resolve_source`)."""
     results, drums, title = resolve_source(source, overrides, repose_angle=repose_angle)
-    return render_report(results, drums=drums, title=title)
+    validation = None
+    if results is not None and Path(source).suffix not in (".nc", ".h5"):
+        from ..validate import run_validation
+
+        validation = run_validation([source])
+    return render_report(results, drums=drums, title=title, validation=validation)
 
 
 def write_report(source, out, overrides: dict | None = None, *, repose_angle: float | None = None) -> Path:

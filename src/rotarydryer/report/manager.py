@@ -14,6 +14,8 @@ from importlib import resources
 
 import numpy as np
 
+from ..results import rtd_comparison  # noqa: F401  (the report's comparison; defined with the Results)
+
 __all__ = ["operating_conditions", "rtd_comparison", "thermal_comparison", "holdup_comparison", "MODEL_SOURCES"]
 
 MODEL_SOURCES = {
@@ -112,29 +114,6 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
     if mat:
         rows.append(("material", str(mat), ""))
     return rows
-
-
-def rtd_comparison(results) -> dict | None:
-    """Model against the measured tracer curve: means and standard deviations (s) as stored
-    (``tracer_*`` = model with the case's tracer input, ``measured_*``) and R^2 of the model
-    E(t), interpolated at the measured times, against the measured E(t) (baseline removed,
-    normalised by its area).  None without a measured curve."""
-    s = results.scalars
-    if results.rtd is None or results.rtd_measured is None or not s.get("measured_mean_s"):
-        return None
-    from ..rtd import rtd_moments
-
-    m = results.rtd_measured
-    t, sig = np.asarray(m.time.values, float), np.asarray(m.signal.values, float)
-    mom = rtd_moments(t, sig, baseline=float(s.get("measured_baseline", 0.0)))
-    e_meas = np.clip(sig - mom.baseline, 0.0, None) / mom.area
-    e_mod = np.interp(t, results.rtd.time.values, results.rtd.exit_age.values, left=0.0, right=0.0)
-    r2 = 1.0 - float(np.sum((e_meas - e_mod) ** 2)) / float(np.sum((e_meas - e_meas.mean()) ** 2))
-    mod_mean = s.get("tracer_mean_s", s.get("simulated_mean_s"))
-    mod_std = s.get("tracer_std_s", s.get("simulated_std_s"))
-    return dict(model_mean_s=float(mod_mean), measured_mean_s=float(s["measured_mean_s"]),
-                model_std_s=float(mod_std), measured_std_s=float(s["measured_std_s"]), r_squared=r2,
-                n_points=int(t.size))
 
 
 def _pi(inputs: dict) -> tuple[dict | None, str]:

@@ -216,7 +216,7 @@ def calibrate(test: int, *, law: str = "friedman_marshall", start: tuple[float, 
     check_choice("law", law, ("friedman_marshall", "kramers"))
     t0 = time.perf_counter()
     if start is None:
-        tr = load_case(CASE).transport
+        tr = load_case(CASE, THESIS_GEOMETRY).transport     # the calibration record of the geometry it runs on
         start = (tr.velocity_coefficient, tr.dispersion_coefficient)
     extra = dict(overrides or {})
     cu0 = _start_velocity(int(test), float(start[0]), float(start[1]), law, extra)

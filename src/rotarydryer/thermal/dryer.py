@@ -262,6 +262,15 @@ class ThermalDryer:
                                 else self.material.particle_diameter for x in st], dtype=float)
         self.shell_T = np.array([x.shell_temperature if x.shell_temperature is not None else 100.0 for x in st])
         self.is_bed_stage = self.kind[gas_tank] == 0
+        # kiln bed: the passive solids of a flighted cell above its design load roll on the drum floor;
+        # their active layer exchanges with the gas of the cell's stage (the curtain's), with the
+        # bed-surface area of Ajayi (2011) Eq. 6.56-6.61 (kiln_bed_area = true)
+        stage_of = {(self.tank_section[t], float(self.position[t])): i for i, t in enumerate(gas_tank)}
+        self._kiln_plan = []
+        for law in self.laws:
+            stages = np.array([stage_of.get((self.tank_section[p], float(self.position[p])), -1) for p in law.P])
+            if np.all(stages >= 0):
+                self._kiln_plan.append((law, stages))
         # gas holdup (kg dry gas) of each stage: freeboard at 250 degC
         rho = float(ha.density(250.0, 0.05, s.pressure)) / 1.05
         self.gas_holdup = rho * math.pi * self.radius**2 * self.gas_len
@@ -503,6 +512,24 @@ class ThermalDryer:
         self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v)
         return v
 
+    def _kiln_bed_area(self, W, m):
+        """Gas-exposed area (m^2) per gas stage of the kiln beds of the flighted cells: the passive
+        mass above the design load, max(M_P - M_des, 0) smoothed over the case's design-load width,
+        as a rolling bed's active layer (:func:`rotarydryer.thermal.balances.active_layer_area`)."""
+        s = self.settings
+        out = np.zeros(m.shape[:-1] + (self.n_gas,))
+        passive, _ = self._passive(W, m, [law for law, _ in self._kiln_plan])
+        for (law, stages), (mp, xp) in zip(self._kiln_plan, passive):
+            xw = np.broadcast_to(xp, mp.shape)
+            phi, rho = law.properties(xw)           # the design load alone (not the law's coefficients)
+            des = law.design_load(phi, rho, s.fouling)
+            eps = max(s.design_load_smoothing, 1e-3) * np.maximum(des, 1e-9)
+            excess = np.maximum(mp - _smooth_min(mp, des, eps), 0.0)
+            out[..., stages] += bal.active_layer_area(excess, rho, self.gas_len[stages],
+                                                      self.radius, self.gas_dp[stages],
+                                                      s.area_scale * self.gas_theta[stages], s.particle_density)
+        return out
+
     def _transfer(self, S, W, T, Tg, Y):
         s = self.settings
         m = S + W
@@ -519,6 +546,8 @@ class ThermalDryer:
         act = ~bed
         area[..., act] = bal.curtain_area(m[..., tk[act]], self.gas_dp[act], s.area_scale * self.gas_theta[act],
                                           s.particle_density)
+        if s.kiln_bed_area and s.mode == "physical" and self._kiln_plan:
+            area = area + self._kiln_bed_area(W, m)
         fg = self.dry_gas_flow * (1.0 + Y)
         xs, ts = X[..., tk], T[..., tk]
         # the transfer of a stage depends on that stage's inputs only: a batch (the Jacobian's perturbed
@@ -811,6 +840,11 @@ class ThermalDryer:
             for t in tvars:
                 rows += [g, t]
                 cols += [t, g]
+        for law, stages in self._kiln_plan:      # a kiln bed's area: the passive node's mass and moisture
+            act = tk[stages]
+            for col in (law.P, nt + law.P):
+                for row in (3 * nt + stages, 3 * nt + ng + stages, act, nt + act, 2 * nt + act):
+                    rows.append(row), cols.append(col)
         has_up = self.gas_up >= 0
         for g in gvars:
             for h in (3 * nt + self.gas_up[has_up], 3 * nt + ng + self.gas_up[has_up]):

@@ -78,6 +78,13 @@ class ThermalSettings:
     to M_des (0 = exact, as the transport network; 1e-3 in the MMG case, as before).
     burner : :class:`~rotarydryer.thermal.burner.Burner` that makes the gas (None = the gas comes
     from elsewhere, e.g. steam-heated air; no fuel rate).
+    kiln_bed_area : physical mode: the passive solids of a flighted cell above its design load (a kiln
+    bed on the drum floor: overloaded or fouled flights) exchange with the gas through the active
+    layer of the bed, as an unflighted section's bed (Ajayi (2011) Eq. 6.56-6.61); False: no exchange
+    (the thesis's model: only curtains and unflighted beds).
+    discharge_cooling_ntu : transfer units of the product's cooling by ambient air between the drum
+    outlet and a product temperature sensor downstream
+    (:func:`~rotarydryer.thermal.streams.discharge_cooling`; 0 = the sensor at the drum outlet).
     """
 
     gas_flow: float
@@ -107,6 +114,8 @@ class ThermalSettings:
     gas_direction: str = "co-current"
     design_load_smoothing: float = 0.0
     burner: Optional[Burner] = None
+    discharge_cooling_ntu: float = 0.0
+    kiln_bed_area: bool = True
 
     @classmethod
     def ajayi2011(cls, **kw):
@@ -132,6 +141,8 @@ class ThermalSettings:
         check_range("thermal.area_scale", self.area_scale, 0.0, 100.0, low_inclusive=True)
         check_range("thermal.fouling", self.fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
         check_range("shell.loss_factor", self.loss_factor, 0.0, 1000.0, low_inclusive=True)
+        check_range("thermal.discharge_cooling_ntu", self.discharge_cooling_ntu, 0.0, 50.0, low_inclusive=True,
+                    high_inclusive=True)
         check_range("gas.leak_air_flow", self.leak_air_flow, 0.0, 1000.0, low_inclusive=True, unit="kg/s")
         check_range("shell.ambient_humidity", self.ambient_humidity, 0.0, 0.3, low_inclusive=True,
                     high_inclusive=True, unit="kg/kg dry air")

@@ -17,6 +17,7 @@ from ..transport.sections import cell_info_at
 from . import balances as bal
 from .burner import fuel_rate_for_temperature
 from .settings import DryerError
+from .streams import discharge_cooling
 
 if TYPE_CHECKING:
     from .dryer import ThermalDryer
@@ -206,6 +207,16 @@ class ThermalSteadyState:
             evaporation_kg_s=self.terms["rw"], shell_loss_W=self.terms["qloss"], area_m2=self.terms["area"]),
             _PROFILE_RENAMED)
 
+    def solids_moisture_at(self, positions_m):
+        """Wet-basis moisture (kg/kg) of the solids on the flights and in the beds (the airborne curtains
+        left out) at axial positions (m from the feed end), interpolated along the drum and clamped at
+        its ends: what samples taken along a stopped dryer hold (Ajayi (2011) Table 3.3, l.802)."""
+        p = self.profiles()
+        solids = np.asarray(p["phase"]) != "active"
+        pos, w = np.asarray(p["position"], float)[solids], np.asarray(p["moisture_wet"], float)[solids]
+        order = np.argsort(pos, kind="stable")
+        return np.interp(np.asarray(positions_m, float), pos[order], w[order])
+
     def __repr__(self):
 
         return short_repr("ThermalSteadyState", self.dryer.model.name, [
@@ -279,6 +290,12 @@ class ThermalSteadyState:
             transport_moisture_clipped=self.transport_moisture_clipped,
             solver_iterations=self.iterations, solver_time_s=self.seconds,
         )
+        st = self.dryer.settings
+        if st.discharge_cooling_ntu > 0:     # what a sensor downstream of the drum outlet reads
+            t_s, x_s = discharge_cooling(self.product_temperature_degC, self.product_moisture, st.discharge_cooling_ntu,
+                                         st.ambient_temperature, st.ambient_humidity, st.cp_solids, st.cp_water)
+            out["product_temperature_at_sensor_degC"] = float(t_s)
+            out["product_moisture_at_sensor_kg_kg"] = float(x_s)
         if with_fuel:
             try:
                 out["fuel_rate_kg_s"] = self.fuel_rate()

@@ -37,6 +37,7 @@ from ..properties import humid_air as ha
 from ..properties import water
 
 __all__ = ["gas_stream_enthalpy", "solids_stream_enthalpy", "evaporation_rate", "exhaust_humidity", "implied_heat_loss",
+           "discharge_cooling",
            "AJAYI_ZINC_HEAT_CAPACITY", "AJAYI_WATER_HEAT_CAPACITY"]
 
 AJAYI_ZINC_HEAT_CAPACITY = 505.0  # J/(kg K), L3182
@@ -131,3 +132,53 @@ def implied_heat_loss(gas_flow_in, gas_in_c, gas_humidity_in, gas_out_c, feed_ra
     return {"evaporation": float(evap), "gas_out_humidity": float(y_out), "gas_in": float(gas_in),
             "gas_out": float(gas_out), "solids_in": float(s_in), "solids_out": float(s_out),
             "heat_loss": float(gas_in + s_in - gas_out - s_out)}
+
+
+def discharge_cooling(temperature_c, moisture_wet, ntu, ambient_c, ambient_humidity, solids_heat_capacity,
+                      water_heat_capacity=4182.0):
+    r"""Wet product cooled by ambient air between the drum outlet and a temperature sensor downstream.
+
+    A wet product leaving the drum above the ambient wet-bulb temperature cools on the discharge
+    chute or conveyor mostly by evaporation. With the Lewis relation (Le = 1) the driving force of
+    the combined heat and mass transfer is the enthalpy difference of saturated air at the solids
+    temperature and the ambient air (Merkel 1925, as in cooling-tower design; Mujumdar (2006)
+    Handbook of Industrial Drying ch. 1), so the solids temperature relaxes towards the ambient
+    wet-bulb temperature :math:`T_{wb}`:
+
+    .. math::
+
+        T_{sensor} = T_{wb} + (T_p - T_{wb})\,e^{-NTU}
+
+    where NTU = h a t / c of the exposure (h a: transfer coefficient times area per kg of dry
+    solids, t: the time to the sensor, c: the wet solids' heat capacity per kg of dry solids). The
+    heat released, :math:`c (T_p - T_{sensor})`, evaporates the share
+    :math:`1 - c_h (\bar T - T_a)/(h_s(\bar T) - h_a)` of it (the sensible part of the Merkel driving
+    force at the mean temperature :math:`\bar T`, c_h the humid heat of the ambient air).
+
+    Parameters: product temperature °C and moisture kg/kg wet at the drum outlet; NTU (-, >= 0);
+    ambient temperature °C and humidity kg/kg dry air; heat capacities J/(kg K) of the dry solids
+    and of water. Returns ``(temperature_c, moisture_wet)`` at the sensor (arrays; NTU = 0 or a
+    product at or below the wet bulb: unchanged).
+
+    >>> t, x = discharge_cooling(61.6, 0.124, 0.56, 26.0, 0.0197, 505.0)
+    >>> round(float(t), 1), round(float(x), 4)
+    (45.9, 0.119)
+    """
+    tp = np.asarray(temperature_c, dtype=float)
+    xw = np.asarray(moisture_wet, dtype=float)
+    ntu = np.asarray(check_range("thermal.discharge_cooling_ntu", ntu, 0.0, 50.0, low_inclusive=True,
+                                 high_inclusive=True), dtype=float)
+    t_wb = ha.wet_bulb_temperature(ambient_c, ambient_humidity)
+    drop = np.maximum(tp - t_wb, 0.0) * (1.0 - np.exp(-ntu))
+    ts = tp - drop
+    x_dry = xw / np.maximum(1.0 - xw, 1e-12)
+    c = solids_heat_capacity + water_heat_capacity * x_dry            # J/(K kg dry solids)
+    tm = 0.5 * (tp + ts)
+    tq = np.minimum(tm, 70.0)     # saturated air above 70 degC leaves the humid-air range (Y > 0.3): its share there
+    h_sat = ha.enthalpy(tq, ha.saturation_humidity(tq))
+    h_amb = ha.enthalpy(ambient_c, ambient_humidity)
+    sensible = ha.humid_heat(ambient_c, ambient_humidity) * (tq - ambient_c)
+    share = np.clip(1.0 - sensible / np.maximum(h_sat - h_amb, 1e-9), 0.0, 1.0)
+    dx = share * c * drop / water.latent_heat(tm)
+    x_new = np.maximum(x_dry - dx, 0.0)
+    return ts, x_new / (1.0 + x_new)

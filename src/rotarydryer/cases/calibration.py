@@ -1,0 +1,287 @@
+"""Calibrations as data: fitted values tied to the model configuration and the data they came from.
+
+A case's ``[[calibrations]]`` entries (:class:`CalibrationRecord`) hold fitted values of case keys,
+their 95 % intervals and correlation, the data sets (with their weights) they were fitted to, the
+model configuration they hold for (``configuration``: case keys and their values, e.g.
+``"geometry.method" = "exact"``), the software version and the date. A thesis's published
+estimates are a record too, with the thesis's configuration (Ajayi (2011) Table 5.2 under
+``geometry.method = "ajayi2011_regressions"``; Lee (2008) Table 7.2 under ``lee2008_regressions``).
+
+When a case is loaded, the records that set the same keys form a group, and of each group one
+record applies, whole: the one whose configuration the run has (after the ``--set`` overrides; of
+several, the last in the file, so that an appended calibration supersedes). A key given as an
+override keeps the override. When no record of a group matches, the closest one (fewest differing
+configuration keys) is used and a :class:`CalibrationWarning` names the keys that differ and
+``rotarydryer calibrate``: the run is outside the configuration its coefficients were fitted in.
+A record's ``case`` (the meta.title of the case it was fitted for) must be the case's, and its
+``format`` the one this version reads.
+
+Keys of a record's ``values``: any override key (``thermal.area_scale``) or a field of one
+``[[tests]]`` row, ``tests.<test>.<field>`` (``tests.4.solids_velocity``).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Any, Optional, Union
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+__all__ = ["CalibrationRecord", "CalibrationData", "CalibrationWarning", "apply_calibrations",
+           "configuration_value", "select_calibrations", "TEST_KEY_PREFIX", "record_problems"]
+
+#: prefix of a record value that sets a field of one [[tests]] row: tests.<test>.<field>
+TEST_KEY_PREFIX = "tests."
+#: fields of a [[tests]] row a calibration may set (fitted or unmeasured inputs of that test)
+TEST_FIELDS = ("solids_velocity", "dispersion", "gas_flow", "fouling")
+
+_ConfigValue = Union[bool, int, float, str, None]
+
+
+class CalibrationWarning(UserWarning):
+    """A run uses calibrated values outside the model configuration they were fitted in."""
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+class CalibrationData(_Strict):
+    """One data set a calibration was fitted to, with its weight (1/sigma^2 of each point)."""
+    name: str = Field(min_length=1, max_length=200, description="data set, e.g. 'ajayi2011_test4' or 'test4.gas_outlet_temperature'")
+    response: str = Field(default="", max_length=200, description="what was compared: tracer E(t), mrt, gas_outlet_temperature, ...")
+    sigma: Optional[float] = Field(default=None, gt=0, description="measurement standard deviation (the response's unit)")
+    unit: str = Field(default="", max_length=40)
+    n_points: Optional[int] = Field(default=None, ge=1)
+    source: str = Field(default="", max_length=400)
+
+
+class Correlation(_Strict):
+    keys: list[str] = Field(max_length=200)
+    matrix: list[list[float]]
+
+    @model_validator(mode="after")
+    def _square(self):
+        n = len(self.keys)
+        if len(self.matrix) != n or any(len(r) != n for r in self.matrix):
+            raise ValueError(f"correlation.matrix must be {n} x {n} (one row and column per key of correlation.keys)")
+        return self
+
+
+class CalibrationRecord(_Strict):
+    """A calibration: values of case keys fitted to named data, in a stated model configuration."""
+    format: int = Field(default=1, description="version of the record format (this software reads 1)")
+    name: str = Field(min_length=1, max_length=200)
+    case: str = Field(default="", max_length=400, description="the case it was fitted for (its meta.title)")
+    description: str = Field(default="", max_length=2000)
+    configuration: dict[str, _ConfigValue] = Field(default={}, max_length=50, description="case keys and the values "
+                                                   "the calibration holds for (e.g. geometry.method = 'exact')")
+    values: dict[str, Union[bool, float, str]] = Field(min_length=1, max_length=1000, description="fitted values of case keys "
+                                     "(tests.<test>.<field> for a [[tests]] row)")
+    intervals: dict[str, list[float]] = Field(default={}, max_length=1000, description="95 % interval [low, high] of values")
+    interval_method: str = Field(default="", max_length=100, description="wald | profile | published")
+    correlation: Optional[Correlation] = None
+    data: list[CalibrationData] = Field(default=[], max_length=1000)
+    method: str = Field(default="", max_length=200, description="estimator (e.g. weighted least squares)")
+    objective: Optional[float] = Field(default=None, ge=0)
+    n_evaluations: Optional[int] = Field(default=None, ge=0)
+    software_version: str = Field(default="", max_length=50)
+    date: str = Field(default="", max_length=40)
+    source: str = Field(default="", max_length=1000, description="who fitted it: this software, or the publication")
+
+    @field_validator("intervals")
+    @classmethod
+    def _pairs(cls, v):
+        for k, iv in v.items():
+            if len(iv) != 2 or not (math.isfinite(iv[0]) and math.isfinite(iv[1])) or iv[0] > iv[1]:
+                raise ValueError(f"intervals.{k} = {iv!r} must be [low, high] with low <= high")
+        return v
+
+    @field_validator("format")
+    @classmethod
+    def _format(cls, v):
+        if v != 1:
+            raise ValueError(f"calibration record format {v} is not the format 1 this version of rotarydryer reads")
+        return v
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        extra = sorted(set(self.intervals) - set(self.values))
+        if extra:
+            raise ValueError(f"intervals of {', '.join(extra)} but no value of them in values")
+        if self.correlation is not None:
+            extra = sorted(set(self.correlation.keys) - set(self.values))
+            if extra:
+                raise ValueError(f"correlation.keys {', '.join(extra)} are not keys of values")
+        return self
+
+
+def _split_test_key(key: str) -> tuple[int, str] | None:
+    """(test, field) of ``tests.<test>.<field>``, None for another key."""
+    if not key.startswith(TEST_KEY_PREFIX):
+        return None
+    parts = key.split(".")
+    if len(parts) != 3 or not parts[1].lstrip("-").isdigit():
+        raise ValueError(f"calibration key {key!r} must be tests.<test number>.<field>")
+    return int(parts[1]), parts[2]
+
+
+def record_problems(record: CalibrationRecord, valid_keys, tests: list, where: str, title: str = "") -> list[str]:
+    """What in ``record`` does not fit the case: another case's record, keys it cannot have, tests it
+    does not have."""
+    problems = []
+    if record.case and title and record.case != title:
+        problems.append(f"{where}: a calibration of case {record.case!r}, not of this case ({title!r})")
+    numbers = {t.get("test") if isinstance(t, dict) else getattr(t, "test", None) for t in tests}
+    for key in record.values:
+        tk = _split_test_key(key)
+        if tk is not None:
+            test, fld = tk
+            if fld not in TEST_FIELDS:
+                problems.append(f"{where}.values: {key!r}: a calibration sets {', '.join(TEST_FIELDS)} of a "
+                                "[[tests]] row")
+            elif test not in numbers:
+                problems.append(f"{where}.values: {key!r}: the case has no [[tests]] row test = {test} "
+                                f"(tests: {', '.join(str(n) for n in sorted(x for x in numbers if x is not None)) or 'none'})")
+        elif key not in valid_keys and not key.startswith("material."):
+            problems.append(f"{where}.values: {key!r} is not a key of this case")
+    for key in record.configuration:
+        if key not in valid_keys and not key.startswith("material."):
+            problems.append(f"{where}.configuration: {key!r} is not a key of this case")
+    return problems
+
+
+def _get(raw: dict, key: str, defaults) -> Any:
+    node: Any = raw
+    for part in key.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return defaults(key)
+        node = node[part]
+    return node
+
+
+def configuration_value(raw: dict, key: str, defaults) -> Any:
+    """The run's value of configuration key ``key`` in the raw case ``raw`` (the schema default
+    ``defaults(key)`` where the file does not give it)."""
+    return _get(raw, key, defaults)
+
+
+def _coerced(have, want):
+    """A --set value (text, before validation) read as the type of the record's value."""
+    if not isinstance(have, str) or isinstance(want, str) or want is None:
+        return have
+    text = have.strip().lower()
+    if isinstance(want, bool):
+        return {"true": True, "false": False}.get(text, have)
+    try:
+        return float(text)
+    except ValueError:
+        return have
+
+
+def _same(a, b) -> bool:
+    if isinstance(b, str) and b.strip().lower() in ("none", "null") and a == "":
+        return True
+    if a is None or b is None:              # "" in a record stands for a key left at None
+        return (a if a is not None else "") == (b if b is not None else "")
+    if isinstance(a, bool) or isinstance(b, bool):
+        return a is b
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
+        return math.isclose(float(a), float(b), rel_tol=1e-12, abs_tol=0.0)
+    return a == b
+
+
+def _differences(record: CalibrationRecord, raw: dict, defaults) -> list[tuple[str, Any, Any]]:
+    out = []
+    for key, want in record.configuration.items():
+        have = _coerced(configuration_value(raw, key, defaults), want)
+        if not _same(have, want):
+            out.append((key, want, have))
+    return out
+
+
+def _set(raw: dict, key: str, value) -> None:
+    """Write ``value`` at ``key`` of ``raw``, copying the nested tables it passes (the parsed
+    document is shared between loads)."""
+    tk = _split_test_key(key)
+    if tk is not None:
+        test, fld = tk
+        rows = [dict(r) if isinstance(r, dict) else r for r in raw.get("tests", [])]
+        for r in rows:
+            if isinstance(r, dict) and r.get("test") == test:
+                r[fld] = value
+        raw["tests"] = rows
+        return
+    *path, fld = key.split(".")
+    node = raw
+    for part in path:
+        nxt = node.get(part)
+        nxt = node[part] = dict(nxt) if isinstance(nxt, dict) else {}
+        node = nxt
+    node[fld] = value
+
+
+def _fmt(v) -> str:
+    return repr(v) if isinstance(v, str) else str(v)
+
+
+def _groups(records: list[CalibrationRecord]) -> list[list[int]]:
+    """Indices of the records that set overlapping keys (connected components), in file order: one
+    record of each group applies."""
+    parent = list(range(len(records)))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    owner: dict[str, int] = {}
+    for i, r in enumerate(records):
+        for k in r.values:
+            if k in owner:
+                parent[root(i)] = root(owner[k])
+            else:
+                owner[k] = i
+    out: dict[int, list[int]] = {}
+    for i in range(len(records)):
+        out.setdefault(root(i), []).append(i)
+    return list(out.values())
+
+
+def select_calibrations(records: list[CalibrationRecord], raw: dict, defaults):
+    """[(record, differences)] of the records that apply to the run ``raw``: of each group of records
+    setting the same keys, the one whose configuration the run has, else the closest (fewest
+    differing keys); of equals the last in the file (a record appended later supersedes) with its differences [(key, calibrated value, run value)]."""
+    diffs = [_differences(r, raw, defaults) for r in records]
+    chosen = []
+    for group in _groups(records):
+        best = min(group, key=lambda i: (len(diffs[i]), -i))
+        chosen.append((records[best], diffs[best]))
+    return chosen
+
+
+def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str) -> list[str]:
+    """Write the values of the case's calibrations into ``raw`` (a loaded case document with its
+    overrides applied): of each group of records that set the same keys, the one whose
+    configuration the run has (the last of several), else the closest one with a :class:`CalibrationWarning` naming the
+    keys that differ. A record applies whole; keys in ``overrides`` keep their override. Returns the
+    names of the records applied. ``defaults(key)`` gives a key's schema default."""
+    records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
+    given = set(overrides or {})
+    used = []
+    for rec, diff in select_calibrations(records, raw, defaults):
+        for key, value in rec.values.items():
+            if key not in given:
+                _set(raw, key, value)
+        used.append(rec.name)
+        if diff:
+            held = ", ".join(f"{k} = {_fmt(w)}" for k, w, _ in diff)
+            runs = ", ".join(f"{k} = {_fmt(h)}" for k, _, h in diff)
+            keys = list(rec.values)
+            shown_keys = ", ".join(keys[:3]) + (f" and {len(keys) - 3} more" if len(keys) > 3 else "")
+            warnings.warn(f"{shown}: calibration {rec.name!r} was fitted with {held}; this run has {runs}: its "
+                          f"values ({shown_keys}) may not reproduce the data they were fitted to (refit them for "
+                          "this configuration with `rotarydryer calibrate`)", CalibrationWarning, stacklevel=4)
+    return used

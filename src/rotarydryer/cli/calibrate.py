@@ -1,0 +1,153 @@
+"""``rotarydryer calibrate``: fit case keys to several measured responses of many tests at once."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from . import app
+from ._common import check_out_dir, parse_sets, stderr_progress
+
+
+def _tests(text: Optional[str]):
+    if text is None:
+        return None
+    out = []
+    for part in text.split(","):
+        part = part.strip()
+        if not part.lstrip("-").isdigit():
+            raise ValueError(f"--tests {text!r}: expected test numbers separated by commas, e.g. 2,3,4")
+        out.append(int(part))
+    if not out:
+        raise ValueError("--tests: give at least one test number")
+    return out
+
+
+def _sigmas(items: Optional[list[str]]) -> dict:
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ValueError(f"--sigma {item!r}: expected RESPONSE=VALUE, e.g. gas_outlet_temperature=5")
+        k, v = (s.strip() for s in item.split("=", 1))
+        try:
+            out[k] = float(v)
+        except ValueError:
+            raise ValueError(f"--sigma {item!r}: {v!r} is not a number") from None
+        if not out[k] > 0 or out[k] != out[k] or out[k] == float("inf"):
+            raise ValueError(f"--sigma {k} = {v}: a standard deviation must be a finite number > 0")
+    return out
+
+
+@app.command("calibrate")
+def calibrate_command(
+    case: str = typer.Argument(..., help="Built-in case name or a case .toml file."),
+    param: list[str] = typer.Option(..., "--param", "-p", help="Case key to fit (repeat); tests.N.FIELD or "
+                                    "tests.*.FIELD for a value per test (solids_velocity, dispersion, gas_flow, "
+                                    "fouling)."),
+    tests: Optional[str] = typer.Option(None, help="Tests ([[tests]] rows) to fit at once, e.g. 2,3,4,5,6 "
+                                        "(default all)."),
+    response: Optional[list[str]] = typer.Option(None, "--response", "-r", help="Response to fit (repeat): "
+                                                 "tracer, mrt, holdup, gas_outlet_temperature, product_moisture, "
+                                                 "product_temperature (default: those the data have)."),
+    sigma: Optional[list[str]] = typer.Option(None, help="Measurement standard deviation RESPONSE=VALUE "
+                                              "(repeat; in the response's unit; tracer: of E(t), 1/s)."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
+    starts: int = typer.Option(1, help="Number of starts (the case values plus sampled ones), 1-100."),
+    profile: bool = typer.Option(False, "--profile", help="Also profile-likelihood 95 % intervals."),
+    name: Optional[str] = typer.Option(None, help="Name of the calibration record."),
+    out: Optional[Path] = typer.Option(None, help="Directory for calibration.toml (the record), "
+                                       "calibration.json and CASE_calibrated.toml (the case with the record)."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Calibrate case keys to tracer curves, residence times, holdups, exhaust and product
+    temperatures and product moisture of one or many tests at once, and write the calibration
+    record (values, 95 % intervals, correlation, data and weights, model configuration).
+
+    Example: rotarydryer calibrate ajayi2011_mmg -p "tests.*.solids_velocity" -p "tests.*.dispersion"
+    --tests 2,4,5,6 -r tracer -r mrt --out cal
+
+    Example: rotarydryer calibrate ajayi2011_mmg -p thermal.area_scale -p "tests.*.gas_flow"
+    -p thermal.discharge_cooling_ntu --tests 2,3,4,5,6
+    """
+    import warnings
+
+    from .._io import json_text, write_text_atomic
+    from ..estimation import FitError
+    from ..estimation.calibrate import calibrate, record_toml
+
+    try:
+        check_out_dir("--out", out)
+        base = parse_sets(set_)
+        sel = _tests(tests)
+        sig = _sigmas(sigma)
+        if name is not None and not 0 < len(name.strip()) <= 200:
+            raise ValueError("--name must have 1-200 characters")
+
+        def progress(stage, k, n):
+            stderr_progress(f"{stage} {k}/{n} done")
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            cal = calibrate(case, param, tests=sel, responses=response or None, base_overrides=base, sigmas=sig,
+                            n_starts=starts, profile=profile, progress=progress)
+            record = cal.record(name=name)
+            text = record_toml(record)
+            calibrated = None
+            if out is not None:
+                src = Path(case)
+                if src.suffix == ".toml" and src.exists():
+                    case_text = src.read_text("utf-8")
+                else:
+                    from importlib import resources
+
+                    case_text = (resources.files("rotarydryer.cases") / f"{case}.toml").read_text("utf-8")
+                calibrated = case_text.rstrip("\n") + "\n\n# ---- appended by rotarydryer calibrate ----\n" + text
+                from ..cases import load_case_text
+
+                load_case_text(calibrated, "the calibrated case")      # the new file loads, or nothing is written
+    except (ValueError, FitError) as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+    result = cal.to_dict()
+    result["record"] = record.model_dump(exclude_none=True)
+    if out is not None:
+        stem = Path(case).stem
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+            write_text_atomic(out / "calibration.json", json_text(result, indent=2))
+            write_text_atomic(out / f"{stem}_calibrated.toml", calibrated)
+            write_text_atomic(out / "calibration.toml", text)     # last: its presence marks a complete set
+        except OSError as exc:
+            typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
+            raise typer.Exit(2)
+        result["files"] = [str(out / n) for n in ("calibration.toml", "calibration.json", f"{stem}_calibrated.toml")]
+    if as_json:
+        typer.echo(json_text(result))
+        return
+    r = cal.fit
+    typer.echo(f"calibration of {case}: {len(cal.keys)} parameters, {len(cal.data)} data sets "
+               f"({sum(m.y.size for m in cal.data)} values), objective {r.objective:.6g}, "
+               f"{r.n_evaluations} evaluations, {cal.seconds:.1f} s")
+    w = max(len(k) for k in cal.keys)
+    typer.echo(f"  {'parameter':<{w}}  {'estimate':>12}  {'95% interval':>29}")
+    for k in cal.keys:
+        p = r.parameters[k]
+        lo, hi = (cal.profiles[k].ci_low, cal.profiles[k].ci_high) if cal.profiles.get(k) is not None else \
+            (p.ci_low, p.ci_high)
+        typer.echo(f"  {k:<{w}}  {p.value:12.6g}  [{lo:12.6g}, {hi:12.6g}]")
+    typer.echo("fit to the data:")
+    for row in cal.comparison():
+        if row["response"] == "tracer":
+            typer.echo(f"  {row['name']:<34} R^2 {row['r_squared']:.4f} ({row['n_points']} points)")
+        else:
+            typer.echo(f"  {row['name']:<34} measured {row['measured']:.5g}, model {row['model']:.5g} "
+                       f"{row['unit']}")
+    for msg in r.warnings:
+        typer.echo(f"warning: {msg}")
+    if out is None:
+        typer.echo("\n# the calibration record (append it to the case file, or give --out):")
+        typer.echo(text.rstrip("\n"))
+    else:
+        typer.echo(f"wrote {', '.join(result['files'])}")

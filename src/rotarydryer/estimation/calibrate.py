@@ -1,0 +1,550 @@
+"""Multi-response calibration of case keys to plant data, written as a calibration record.
+
+One call fits chosen case keys to several measured responses of one or many operating tests at
+once: tracer curves E(t), mean residence times, holdups, exhaust gas and product temperatures and
+product moisture (the ``[[tests]]`` rows of the case hold the measured numbers, the case's
+``[tracer]`` names the curves). A key is shared by every test (``thermal.area_scale``) or belongs to
+one test (``tests.4.solids_velocity``: that test's fitted or unmeasured input, e.g. a gas flow
+that was not metered); ``tests.*.gas_flow`` stands for the key of every selected test.
+
+Weights: each response's residuals are divided by its measurement standard deviation
+(:data:`DEFAULT_SIGMA`, or the caller's): the weighted least-squares estimate with Wald 95 %
+intervals (and profile-likelihood intervals on request) from :func:`rotarydryer.estimation.fit`,
+which also reports non-identifiable parameters. The result converts to a
+:class:`rotarydryer.cases.calibration.CalibrationRecord` (:meth:`CaseCalibration.record`) that holds
+the values, intervals, correlation, the data and weights, the model configuration of the fit, the
+software version and the date.
+
+Each test's heat-and-mass model is built once: an evaluation that changes only parameter values
+(gas flow, area scale, ... :data:`rotarydryer.cases.build.PARAMETER_KEYS`) reuses it, warm-started
+from that test's previous state.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import __version__
+from .._threads import single_threaded
+from ..cases import (
+    exit_age_r_squared,
+    load_case,
+    measured_exit_age,
+    measured_rtd_moments,
+    resolve_dataset,
+    valid_override_keys,
+)
+from ..cases.build import test_row, thermal_settings
+from ..cases.calibration import TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
+from ..published import read_published_csv
+from ..simulation import Simulation
+from .cases import DEFAULT_BOUNDS
+from .fit import Dataset, FitResult, Parameter, fit, profile_likelihood
+
+__all__ = ["RESPONSES", "DEFAULT_SIGMA", "CONFIGURATION_KEYS", "KEY_BOUNDS", "Measurement", "CaseCalibration", "measurements",
+           "calibrate", "record_toml"]
+
+#: responses a calibration can fit: name -> (what, unit, [[tests]] field of the measured value)
+RESPONSES: dict[str, tuple[str, str, str | None]] = {
+    "tracer": ("E(t) of the measured tracer curve", "1/s", None),
+    "mrt": ("mean residence time", "s", "mrt_measured_min"),
+    "holdup": ("total solids holdup", "kg", "holdup_measured_kg"),
+    "gas_outlet_temperature": ("exhaust gas temperature", "degC", "gas_outlet_temperature"),
+    "product_moisture": ("product moisture", "kg/kg wet", "product_moisture"),
+    "product_temperature": ("product temperature at the plant's sensor", "degC", "product_temperature"),
+    "moisture_profile": ("solids moisture along the drum", "kg/kg wet", "moisture_profile"),
+}
+_TRANSPORT = ("tracer", "mrt", "holdup")
+_THERMAL = ("gas_outlet_temperature", "product_moisture", "product_temperature", "moisture_profile")
+
+#: measurement standard deviations (the weights 1/sigma^2), chosen for plant data of this kind:
+#: ``("absolute", s)`` in the response's unit or ``("relative", f)`` of the measured value; the
+#: tracer's is relative to the curve's peak.
+DEFAULT_SIGMA: dict[str, tuple[str, float]] = {
+    # sampled outlet concentrations scatter by several % of the peak (Ajayi (2011) App. B: ppm
+    # readings of 30-60 s grab samples; Lee (2008) Fig. 7.6)
+    "tracer": ("relative", 0.05),
+    # first moment of a sampled curve with an uncertain tail and background
+    "mrt": ("relative", 0.02),
+    # holdup = MRT x feed rate, feed rate SD 5-10 % of its mean (Ajayi Table 3.14, PI SDs)
+    "holdup": ("relative", 0.10),
+    # a thermocouple in a dusty exhaust duct, and the 1-2 h test mean of a controlled process
+    "gas_outlet_temperature": ("absolute", 5.0),
+    # oven-dried grab samples (Ajayi (2011) l.806), +/- 0.5 % moisture
+    "product_moisture": ("absolute", 0.005),
+    "product_temperature": ("absolute", 2.0),
+    # oven-dried samples along the stopped drum (Ajayi (2011) l.802-806), as the product's
+    "moisture_profile": ("absolute", 0.005),
+}
+
+#: case keys whose values make the model configuration a calibration holds for
+CONFIGURATION_KEYS = ("geometry.method", "geometry.design_load_method", "transport.model", "transport.n_cells",
+                      "transport.loading", "transport.forward_step", "thermal.mode", "thermal.kiln_bed_area")
+_THERMAL_CONFIG = ("thermal.mode", "thermal.kiln_bed_area")
+
+#: case key of each [[tests]] field a calibration may set (the run's override for that test)
+_TEST_FIELD_KEYS = {"solids_velocity": "transport.solids_velocity", "dispersion": "transport.dispersion",
+                    "gas_flow": "gas.flow", "fouling": "transport.fouling"}
+_FIELD_BOUNDS = {"gas_flow": (0.01, 1000.0, True), "fouling": (0.0, 0.95, False)}
+#: (lower, upper, log) of keys a calibration often fits, beyond :data:`rotarydryer.estimation.cases.DEFAULT_BOUNDS`
+KEY_BOUNDS = {**DEFAULT_BOUNDS,
+              "transport.moisture_scale": (0.62, 1.22, False),   # the range the material's laws allow (MMG)
+              "transport.fouling": (0.0, 0.95, False),
+              "transport.velocity_coefficient": (0.01, 10.0, True),
+              "transport.dispersion_coefficient": (1e-3, 1e4, True),
+              "thermal.area_scale": (1e-3, 100.0, True),
+              "thermal.discharge_cooling_ntu": (0.0, 50.0, False),
+              "gas.flow": (0.01, 1000.0, True),
+              "gas.leak_air_flow": (0.0, 1000.0, False)}
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """One measured response of one test: values ``y`` with standard deviations ``sigma`` at ``x``
+    (times s of a tracer curve; empty for a scalar)."""
+
+    test: int | None
+    response: str
+    y: np.ndarray
+    sigma: np.ndarray
+    x: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    source: str = ""
+
+    @property
+    def name(self) -> str:
+        return f"{'case' if self.test is None else f'test{self.test}'}.{self.response}"
+
+
+def _get(obj, key: str):
+    for part in key.split("."):
+        obj = getattr(obj, part, None)
+    return obj
+
+
+def _sigma(response: str, value: np.ndarray, sigmas: Mapping[str, float] | None) -> np.ndarray:
+    if sigmas and response in sigmas:
+        s = float(sigmas[response])
+        if not (math.isfinite(s) and s > 0):
+            raise ValueError(f"sigma of {response!r} = {sigmas[response]!r} must be a finite number > 0 "
+                             f"({RESPONSES[response][1]})")
+        return np.full(value.shape, s)
+    kind, s = DEFAULT_SIGMA[response]
+    if response == "tracer":
+        return np.full(value.shape, s * float(np.max(value)))
+    return np.full(value.shape, s * float(np.max(np.abs(value))) if kind == "relative" else s)
+
+
+def _test_case(case_name: str, base: dict, test: int | None):
+    ov = dict(base)
+    if test is not None:
+        ov["operating.test"] = int(test)
+    return load_case(case_name, ov)
+
+
+def measurements(case_name: str, tests: Sequence[int] | None = None, responses: Sequence[str] | None = None, *,
+                 base_overrides: dict | None = None, sigmas: Mapping[str, float] | None = None,
+                 strict: bool = False) -> list[Measurement]:
+    """The measured responses of a case's tests (its ``[[tests]]`` rows and tracer curves).
+
+    ``tests`` default every row of the case (a case without rows: its one operating point);
+    ``responses`` default every response in :data:`RESPONSES` the data have (with ``strict`` a
+    requested response a test lacks is an error, naming the test and the row field)."""
+    base = dict(base_overrides or {})
+    case = load_case(case_name, base)
+    rows = {t.test: t for t in case.tests}
+    if tests is None:
+        tests = sorted(rows) if rows else [None]
+    for t in tests:
+        if t is not None and t not in rows:
+            raise ValueError(f"--tests: test {t} is not a [[tests]] row of case {case_name!r} (rows: "
+                             f"{', '.join(map(str, sorted(rows))) or 'none'})")
+    wanted = list(RESPONSES) if responses is None else list(responses)
+    for r in wanted:
+        if r not in RESPONSES:
+            raise ValueError(f"--response {r!r} is not one of {', '.join(RESPONSES)}")
+    thermal = Simulation(case).thermal_enabled
+    out: list[Measurement] = []
+    missing: dict[str, list] = {}
+    for t in tests:
+        c = _test_case(case_name, base, t) if t is not None else case
+        row = rows.get(t)
+        for r in wanted:
+            if r in _THERMAL and not thermal:
+                if strict:
+                    raise ValueError(f"--response {r}: case {case_name!r} has no heat and mass transfer "
+                                     "(thermal.enabled = false or no [gas])")
+                continue
+            if r == "moisture_profile" and (row is None or row.moisture_profile is None):
+                missing.setdefault(r, []).append(t)
+                continue
+            if r == "tracer":
+                meas = measured_exit_age(c)
+                if meas is None:
+                    missing.setdefault(r, []).append(t)
+                    continue
+                tt, e = meas
+                src = resolve_dataset(c.tracer.dataset, t if t is not None else "") if c.tracer.dataset else c.tracer.measured
+                out.append(Measurement(t, r, e, _sigma(r, e, sigmas), tt, source=str(src)))
+                continue
+            fld = RESPONSES[r][2]
+            v = None if row is None else getattr(row, fld, None)
+            if r == "moisture_profile" and v is not None:
+                rows_ = read_published_csv(v)
+                z = np.array([float(q["position_m"]) for q in rows_])
+                x = np.array([float(q["moisture_kg_per_kg_wet"]) for q in rows_])
+                keep = z > 0                       # the sample at 0 m is the feed
+                out.append(Measurement(t, r, x[keep], _sigma(r, x[keep], sigmas), z[keep], source=v))
+                continue
+            if v is None and r == "mrt" and row is None:
+                mom = measured_rtd_moments(c)      # a case without test rows: its measured curve's mean
+                if mom is not None:
+                    y = np.array([float(mom["mean_s"])])
+                    out.append(Measurement(t, r, y, _sigma(r, y, sigmas), source="mean of the measured tracer curve"))
+                    continue
+            if v is None:
+                missing.setdefault(r, []).append(t)
+                continue
+            v = float(v) * (60.0 if r == "mrt" else 1.0)
+            y = np.array([v])
+            out.append(Measurement(t, r, y, _sigma(r, y, sigmas), source=f"[[tests]] test {t}: {fld}"))
+    have = {m.response for m in out}
+    for r in wanted if strict else ():
+        if r not in have and r in missing:     # asked for, and none of the tests has it
+            where = "its [tracer] (dataset or measured)" if r == "tracer" else f"[[tests]] {RESPONSES[r][2]}"
+            raise ValueError(f"--response {r}: {'test ' if len(missing[r]) == 1 else 'tests '}"
+                             f"{', '.join(str(x) for x in missing[r])} of case {case_name!r} "
+                             f"{'has' if len(missing[r]) == 1 else 'have'} no measured {where}")
+    if not out:
+        raise ValueError(f"case {case_name!r} has no measured data for the responses "
+                         f"{', '.join(wanted)} of tests {', '.join(map(str, tests))}")
+    return out
+
+
+def _expand(keys: Sequence[str], tests: Sequence[int | None]) -> list[str]:
+    """``tests.*.field`` -> one key per selected test."""
+    out = []
+    for k in keys:
+        if k.startswith(TEST_KEY_PREFIX + "*."):
+            fld = k.split(".", 2)[2]
+            out += [f"{TEST_KEY_PREFIX}{t}.{fld}" for t in tests if t is not None]
+            if all(t is None for t in tests):
+                raise ValueError(f"parameter {k!r}: the case has no [[tests]] rows")
+        else:
+            out.append(k)
+    return list(dict.fromkeys(out))
+
+
+def _parameter(case_name: str, base: dict, key: str, tests) -> Parameter:
+    if key.startswith(TEST_KEY_PREFIX):
+        parts = key.split(".")
+        if len(parts) != 3 or not parts[1].isdigit():
+            raise ValueError(f"parameter {key!r} must be tests.<test>.<field> or tests.*.<field>")
+        t, fld = int(parts[1]), parts[2]
+        if fld not in TEST_FIELDS:
+            raise ValueError(f"parameter {key!r}: a calibration fits {', '.join(TEST_FIELDS)} of a [[tests]] row")
+        if t not in tests:
+            raise ValueError(f"parameter {key!r}: test {t} is not among the calibrated tests "
+                             f"({', '.join(map(str, tests))})")
+        case = _test_case(case_name, base, t)
+        if fld == "gas_flow":
+            value = thermal_settings(case).gas_flow
+        else:
+            value = _get(case, _TEST_FIELD_KEYS[fld])
+            if value is None:
+                value = getattr(test_row(case), fld, None)
+            if value is None:      # a test without its own value yet: start from the other tests' mean
+                known = [getattr(r, fld) for r in case.tests if getattr(r, fld, None) is not None]
+                value = float(np.exp(np.mean(np.log(known)))) if known and min(known) > 0 else None
+        lo, hi, lg = _FIELD_BOUNDS.get(fld, KEY_BOUNDS.get(_TEST_FIELD_KEYS[fld], (0.0, math.inf, True)))
+    else:
+        case = load_case(case_name, base)
+        valid = valid_override_keys(type(case))
+        if key not in valid:
+            raise ValueError(f"unknown parameter key {key!r} for case {case_name!r}: a case key "
+                             f"(rotarydryer schema) or tests.<test>.<field>")
+        value = _get(case, key)
+        if value is None and key in ("transport.solids_velocity", "transport.dispersion", "transport.fouling"):
+            row = test_row(case)
+            value = getattr(row, key.split(".")[1], None) if row is not None else None
+        if value is None and key == "gas.flow":
+            value = thermal_settings(case).gas_flow
+        lo, hi, lg = KEY_BOUNDS.get(key, (0.0, math.inf, True))
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"parameter {key!r} has no numeric value in case {case_name!r} (value {value!r}); "
+                         "it cannot be calibrated")
+    value = float(value)
+    if lg and not value > 0:
+        lg, lo = False, min(lo, value)
+    return Parameter(key, value, lo, hi, lg)
+
+
+def _run_overrides(base: dict, values: Mapping[str, float], test: int | None) -> dict:
+    ov = dict(base)
+    if test is not None:
+        ov["operating.test"] = int(test)
+    for k, v in values.items():
+        if k.startswith(TEST_KEY_PREFIX):
+            _, t, fld = k.split(".")
+            if test is not None and int(t) == int(test):
+                ov[_TEST_FIELD_KEYS[fld]] = float(v)
+        else:
+            ov[k] = float(v)
+    return ov
+
+
+class _Model:
+    """values -> {measurement name: prediction}; one warm heat-and-mass model per test."""
+
+    def __init__(self, case_name: str, base: dict, data: list[Measurement]):
+        self.case_name, self.base, self.data = case_name, base, data
+        self.tests = list(dict.fromkeys(m.test for m in data))
+        self.warm: dict = {}
+        self.n_solves = 0
+        self._last: dict = {}       # test -> (its overrides, its predictions): a test whose inputs did not change
+
+    def predict_test(self, values, test, wanted):
+        ov = _run_overrides(self.base, values, test)
+        key = tuple(sorted((k, repr(v)) for k, v in ov.items()))
+        last = self._last.get(test)
+        if last is not None and last[0] == key:        # e.g. another test's parameter perturbed
+            return last[1]
+        out = self._predict(ov, values, wanted)
+        self._last[test] = (key, out)
+        return out
+
+    def _predict(self, ov, values, wanted):
+        test = ov.get("operating.test")
+        out = {}
+        need_transport = [m for m in wanted if m.response in _TRANSPORT]
+        need_thermal = [m for m in wanted if m.response in _THERMAL]
+        if need_transport:
+            sim = Simulation(self.case_name, ov)
+            ss = sim.transport_steady_state()
+            self.n_solves += 1
+            r = None
+            for m in need_transport:
+                if m.response in ("tracer", "mrt") and r is None:
+                    tmax = max([float(x.x[-1]) for x in need_transport if x.response == "tracer"] or [0.0])
+                    t_end = max(math.ceil((tmax + 60.0) / 10.0) * 10.0, float(sim.case.tracer.t_end))
+                    r = ss.rtd(sim.transport_model().tracer_input, t_end=t_end, dt=10.0)
+                if m.response == "tracer":
+                    e = np.interp(m.x, r.response.time, r.response.exit_age, left=0.0, right=0.0)
+                    if not float(np.max(e)) > 1e-3 * float(np.max(r.response.exit_age)):   # nothing in the window
+                        raise ValueError(f"{m.name}: no tracer reaches the outlet within the measured window "
+                                         f"({m.x[-1]:.0f} s) with {dict(values)}")
+                    out[m.name] = e
+                elif m.response == "mrt":
+                    out[m.name] = np.array([float(r.tracer_mean)])   # from the injection start, as measured
+                else:
+                    out[m.name] = np.array([float(ss.total_holdup)])
+        if need_thermal:
+            sim = Simulation(self.case_name, ov)
+            res = sim.steady_state(warm=self.warm.get(test))
+            self.warm[test] = res.warm_data()
+            self.n_solves += 1
+            s = res.summary()
+            for m in need_thermal:
+                if m.response == "moisture_profile":
+                    out[m.name] = np.asarray(res.thermal.solids_moisture_at(m.x), float)
+                    continue
+                key = {"gas_outlet_temperature": "gas_outlet_temperature_degC",
+                       "product_moisture": "product_moisture_kg_kg",
+                       "product_temperature": "product_temperature_at_sensor_degC"}[m.response]
+                v = s.get(key, s["product_temperature_degC"] if m.response == "product_temperature" else None)
+                out[m.name] = np.array([float(v)])
+        return out
+
+    def __call__(self, values):
+        out = {}
+        for t in self.tests:
+            out.update(self.predict_test(values, t, [m for m in self.data if m.test == t]))
+        return out
+
+
+@dataclass
+class CaseCalibration:
+    """Result of :func:`calibrate`: the fit, its data and what it was run on."""
+
+    case: str
+    case_title: str
+    keys: list[str]
+    tests: list
+    base_overrides: dict
+    data: list[Measurement]
+    fit: FitResult
+    configuration: dict
+    profiles: dict = field(default_factory=dict)
+    seconds: float = 0.0
+    n_solves: int = 0
+
+    def comparison(self) -> list[dict]:
+        """Per measurement: measured and calibrated model (means for a curve), weighted RMS residual,
+        and R^2 for a tracer curve."""
+        rows = []
+        for m in self.data:
+            f = np.asarray(self.fit.predictions[m.name], float)
+            row = dict(name=m.name, test=m.test, response=m.response, unit=RESPONSES[m.response][1],
+                       n_points=int(m.y.size), weighted_rms=float(np.sqrt(np.mean(((f - m.y) / m.sigma) ** 2))))
+            if m.response == "tracer":
+                row.update(r_squared=exit_age_r_squared(m.y, f))
+            else:
+                row.update(measured=float(m.y[0]), model=float(f[0]), error=float(f[0] - m.y[0]))
+            rows.append(row)
+        return rows
+
+    def record(self, name: str | None = None, description: str = "") -> CalibrationRecord:
+        """The calibration record (values, intervals, correlation, data, configuration, version, date)."""
+        p = self.fit.parameters
+        values = {k: float(p[k].value) for k in self.keys}
+        prof = {k: v for k, v in self.profiles.items() if v is not None}
+        intervals = {}
+        for k in self.keys:
+            if k in prof and math.isfinite(prof[k].ci_low) and math.isfinite(prof[k].ci_high):
+                intervals[k] = [float(prof[k].ci_low), float(prof[k].ci_high)]
+            elif math.isfinite(p[k].ci_low) and math.isfinite(p[k].ci_high):
+                intervals[k] = [float(p[k].ci_low), float(p[k].ci_high)]
+        corr = np.asarray(self.fit.correlation, float)
+        correlation = None
+        if corr.shape == (len(self.fit.names),) * 2 and np.all(np.isfinite(corr)) and len(self.keys) > 1:
+            idx = [self.fit.names.index(k) for k in self.keys]
+            correlation = {"keys": list(self.keys), "matrix": [[round(float(corr[i, j]), 6) for j in idx] for i in idx]}
+        data = [dict(name=m.name, response=m.response, sigma=float(m.sigma.flat[0]), unit=RESPONSES[m.response][1],
+                     n_points=int(m.y.size), source=m.source) for m in self.data]
+        tests = ", ".join(str(t) for t in self.tests if t is not None)
+        return CalibrationRecord.model_validate(dict(
+            name=name or f"rotarydryer calibrate {self.case_title or self.case}"[:200],
+            description=description or (f"{', '.join(self.keys[:6])}{' ...' if len(self.keys) > 6 else ''} fitted "
+                                         f"to {len(self.data)} data sets{f' of tests {tests}' if tests else ''}"),
+            case=self.case_title, configuration=self.configuration, values=values, intervals=intervals,
+            interval_method="profile" if prof else "wald", correlation=correlation, data=data,
+            method=f"weighted least squares ({self.fit.method}), {len(self.fit.starts)} start(s)",
+            objective=float(self.fit.objective), n_evaluations=int(self.fit.n_evaluations),
+            software_version=__version__, date=_dt.datetime.now(_dt.UTC).date().isoformat(),
+            source="rotarydryer calibrate"))
+
+    def to_dict(self) -> dict:
+        d = self.fit.to_dict()
+        d.update(case=self.case, keys=list(self.keys), tests=list(self.tests), base_overrides=dict(self.base_overrides),
+                 comparison=self.comparison(), configuration=dict(self.configuration), seconds=self.seconds,
+                 n_solves=self.n_solves,
+                 profiles={k: (None if v is None else {"ci_low": v.ci_low, "ci_high": v.ci_high})
+                           for k, v in self.profiles.items()})
+        return d
+
+
+def _configuration(case, thermal: bool) -> dict:
+    out = {}
+    for k in CONFIGURATION_KEYS:
+        if k in _THERMAL_CONFIG and not thermal:
+            continue
+        v = _get(case, k)
+        out[k] = "" if v is None else v
+    return out
+
+
+@single_threaded()
+def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int] | None = None,
+              responses: Sequence[str] | None = None, base_overrides: dict | None = None,
+              sigmas: Mapping[str, float] | None = None, n_starts: int = 1, seed: int = 0,
+              profile: Sequence[str] | bool = False, progress: Callable | None = None) -> CaseCalibration:
+    """Fit case keys ``parameters`` to the measured responses of ``tests`` at once (module docstring).
+
+    ``parameters``: case keys (shared) and ``tests.<test>.<field>`` / ``tests.*.<field>`` (per test).
+    ``responses``: names of :data:`RESPONSES` (default: every one the data have that the parameters
+    can move: transport keys move the transport responses; thermal keys the thermal ones).
+    ``sigmas``: {response: standard deviation} replacing :data:`DEFAULT_SIGMA`. ``profile``: True
+    or the keys to profile (likelihood intervals; each point re-fits the others).
+    ``progress(stage, k, n)`` after each start / profile."""
+    t0 = time.perf_counter()
+    base = dict(base_overrides or {})
+    if not parameters:
+        raise ValueError("--param: give at least one case key to calibrate")
+    if int(n_starts) != n_starts or not 1 <= n_starts <= 100:
+        raise ValueError(f"--starts = {n_starts!r} must be an integer in [1, 100]")
+    case = load_case(case_name, base)
+    all_tests = sorted(t.test for t in case.tests)
+    sel = list(all_tests or [None]) if tests is None else list(tests)
+    keys = _expand(list(parameters), sel)
+    params = [_parameter(case_name, base, k, sel) for k in keys]
+    thermal_keys = any(k.startswith(("thermal.", "gas.", "shell.", "material.kinetics")) or k.endswith(".gas_flow")
+                       for k in keys)
+    if responses is None:
+        wanted = list(_TRANSPORT) if not thermal_keys else list(_TRANSPORT + _THERMAL)
+        if thermal_keys and not any(k.startswith(("transport.", "geometry.")) or k.endswith(
+                (".solids_velocity", ".dispersion", ".fouling")) for k in keys):
+            wanted = list(_THERMAL)
+        data = measurements(case_name, sel, wanted, base_overrides=base, sigmas=sigmas)
+    else:
+        data = measurements(case_name, sel, responses, base_overrides=base, sigmas=sigmas, strict=True)
+    n = sum(m.y.size for m in data)
+    if n <= len(params):
+        raise ValueError(f"{n} measured values for {len(params)} parameters: give more data (--tests, --response) "
+                         "or fewer parameters")
+    model = _Model(case_name, base, data)
+    datasets = [Dataset(m.name, m.y, m.sigma) for m in data]
+
+    def on_start(k, total, best):
+        if progress is not None:
+            progress("start", k, total)
+
+    res = fit(model, params, datasets, method="wls", n_starts=n_starts, seed=seed, progress=on_start)
+    profiles = {}
+    names = keys if profile is True else list(profile or [])
+    for i, k in enumerate(names):
+        if k not in keys:
+            raise ValueError(f"--profile {k!r} is not a calibrated parameter ({', '.join(keys)})")
+        try:
+            profiles[k] = profile_likelihood(model, params, datasets, res, k, n_points=9)
+        except Exception:  # noqa: BLE001 - a profile that fails leaves the Wald interval
+            profiles[k] = None
+        if progress is not None:
+            progress("profile", i + 1, len(names))
+    title = case.meta.title or case_name
+    thermal = Simulation(case).thermal_enabled and any(m.response in _THERMAL for m in data)
+    return CaseCalibration(case_name, title, keys, sel, base, data, res, _configuration(case, thermal),
+                           profiles, time.perf_counter() - t0, model.n_solves)
+
+
+# ----------------------------------------------------------------------------- TOML of a record
+def _toml_scalar(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"a calibration record holds a non-finite number {v!r}")
+        return repr(v)
+    s = str(v).replace("\\", "\\\\").replace('"', '\\"').replace("\n", " ")
+    return f'"{s}"'
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return _toml_scalar(v)
+
+
+def record_toml(record: CalibrationRecord) -> str:
+    """The record as a ``[[calibrations]]`` TOML table (append it to a case file to use it)."""
+    d = record.model_dump(exclude_none=True)
+    lines = ["[[calibrations]]"]
+    nested = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            nested[k] = v
+        elif k == "data":
+            continue
+        else:
+            lines.append(f"{k} = {_toml_value(v)}")
+    for k, v in nested.items():
+        lines.append(f"[calibrations.{k}]")
+        lines += [f"{_toml_scalar(kk)} = {_toml_value(vv)}" for kk, vv in v.items()]
+    for item in d.get("data", []):
+        lines.append("[[calibrations.data]]")
+        lines += [f"{kk} = {_toml_value(vv)}" for kk, vv in item.items()]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,324 @@
+"""Calibrations as data (rotarydryer.cases.calibration), multi-response calibration
+(rotarydryer.estimation.calibrate, ``rotarydryer calibrate``) and the product sensor model."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from importlib import resources
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from rotarydryer import Simulation
+from rotarydryer.cases import load_case, load_case_text
+from rotarydryer.cases.calibration import CalibrationRecord, CalibrationWarning, apply_calibrations
+from rotarydryer.cli import app
+from rotarydryer.estimation.calibrate import calibrate, record_toml
+from rotarydryer.thermal.streams import discharge_cooling
+
+MMG, INVICTA = "ajayi2011_mmg", "lee2008_invicta"
+runner = CliRunner()
+
+
+def _case_text(name):
+    return (resources.files("rotarydryer.cases") / f"{name}.toml").read_text("utf-8")
+
+
+def _no_calibration_warning(name, overrides=None):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CalibrationWarning)
+        return load_case(name, overrides)
+
+
+# ---------------------------------------------------------------- records and their selection
+def test_defaults_take_the_calibrations_of_their_configuration():
+    mmg = _no_calibration_warning(MMG)
+    row4 = next(t for t in mmg.tests if t.test == 4)
+    assert row4.solids_velocity == pytest.approx(0.016512, rel=1e-3)     # exact-geometry refit
+    assert mmg.thermal.discharge_cooling_ntu > 0
+    inv = _no_calibration_warning(INVICTA)
+    assert inv.transport.kiln_time == pytest.approx(6.5018, rel=1e-3)
+    assert inv.transport.drag_reduction == 0.48                         # Lee's, kept (docs/calibration.md)
+
+
+def test_thesis_configuration_takes_the_published_values():
+    mmg = _no_calibration_warning(MMG, {"geometry.method": "ajayi2011_regressions"})
+    rows = {t.test: t for t in mmg.tests}
+    assert (rows[4].solids_velocity, rows[4].dispersion) == (0.01557, 0.000399686)   # Ajayi Table 5.2
+    assert rows[3].fouling == 0.8 and rows[2].solids_velocity == 0.02
+    assert (mmg.gas.flow, mmg.thermal.area_scale) == (16.25, 2.6)
+    thesis_mode = _no_calibration_warning(MMG, {"thermal.mode": "ajayi2011"})
+    assert thesis_mode.gas.flow == pytest.approx(31.2988, rel=1e-5)
+    for n, (kiln, back, drag) in {30: (9.95, 0.41, 0.11), 35: (8.69, 0.68, 0.48)}.items():    # Lee Table 7.2
+        c = _no_calibration_warning(INVICTA, {"geometry.method": "lee2008_regressions", "transport.n_cells": n})
+        assert (c.transport.kiln_time, c.transport.backmix, c.transport.drag_reduction) == (kiln, back, drag)
+
+
+def test_thesis_configuration_reproduces_table_5_4():
+    sim = Simulation(MMG, {"geometry.method": "ajayi2011_regressions", "operating.test": 4})
+    r = sim.transport_steady_state().rtd(sim.transport_model().tracer_input, t_end=3600, dt=10)
+    assert r.tracer_mean / 60 == pytest.approx(15.26, rel=0.01)       # Ajayi (2011) Table 5.4 model MRT
+
+
+@pytest.mark.parametrize("case, overrides, key", [
+    (MMG, {"transport.n_cells": 10}, "transport.n_cells"),
+    (INVICTA, {"transport.n_cells": 30}, "transport.n_cells"),
+    (MMG, {"thermal.kiln_bed_area": False}, "thermal.kiln_bed_area"),
+])
+def test_a_run_outside_the_calibrated_configuration_warns(case, overrides, key):
+    with pytest.warns(CalibrationWarning, match=key) as rec:
+        load_case(case, overrides)
+    assert any("rotarydryer calibrate" in str(w.message) for w in rec)
+
+
+def test_a_run_outside_the_calibrated_configuration_warns_on_the_command_line():
+    res = runner.invoke(app, ["rtd", INVICTA, "--set", "geometry.method=exact", "--set", "transport.n_cells=30",
+                              "--json"])
+    assert res.exit_code == 0, res.output
+    assert "warning: " in res.stderr and "transport.n_cells" in res.stderr and "rotarydryer calibrate" in res.stderr
+
+
+def test_an_override_of_a_calibrated_key_wins():
+    assert _no_calibration_warning(MMG, {"thermal.area_scale": 3.0}).thermal.area_scale == 3.0
+    c = load_case(MMG, {"operating.test": 6, "gas.flow": 25.0})
+    assert Simulation(c).thermal_settings().gas_flow == 25.0            # over the test's calibrated gas flow
+
+
+def _record(**kw):
+    d = dict(name="r", configuration={"geometry.method": "exact"}, values={"thermal.area_scale": 2.0})
+    d.update(kw)
+    return d
+
+
+def _record_text(d: dict) -> str:
+    """A [[calibrations]] table of a (possibly invalid) record dict, written as TOML by hand."""
+    def val(v):
+        return json.dumps(v)          # numbers, strings and lists are valid TOML in their JSON form
+    lines = ["[[calibrations]]"] + [f"{k} = {val(v)}" for k, v in d.items() if not isinstance(v, dict)]
+    for k, v in d.items():
+        if isinstance(v, dict):
+            lines.append(f"[calibrations.{k}]")
+            lines += [f"{json.dumps(kk)} = {val(vv)}" for kk, vv in v.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _with_records(*records):
+    text = _case_text(MMG).split("# ---- calibrations")[0]
+    return text + "\n" + "\n".join(_record_text(r) for r in records)
+
+
+@given(st.permutations([0, 1, 2]))
+@settings(max_examples=6, deadline=None)
+def test_the_matching_record_applies_wherever_it_stands(order):
+    recs = [_record(name="a", configuration={"geometry.method": "ajayi2011_regressions"}, values={"thermal.area_scale": 1.0}),
+            _record(name="b", configuration={"geometry.method": "exact"}, values={"thermal.area_scale": 2.0}),
+            _record(name="c", configuration={"thermal.mode": "ajayi2011"}, values={"thermal.area_scale": 3.0})]
+    raw = {"calibrations": [recs[i] for i in order], "geometry": {"method": "exact"}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CalibrationWarning)
+        used = apply_calibrations(raw, {}, lambda k: "physical" if k == "thermal.mode" else None, "test")
+    assert used == ["b"] and raw["thermal"]["area_scale"] == 2.0
+
+
+def test_an_appended_record_of_the_same_configuration_supersedes():
+    text = _case_text(MMG) + "\n" + record_toml(CalibrationRecord.model_validate(_record(
+        name="later", configuration={"geometry.method": "exact", "thermal.mode": "physical"},
+        values={"thermal.area_scale": 9.0, "gas.flow": 20.0})))
+    assert load_case_text(text).thermal.area_scale == 9.0
+
+
+@pytest.mark.parametrize("record, message", [
+    (_record(values={"thermal.no_such_key": 1.0}), "'thermal.no_such_key' is not a key of this case"),
+    (_record(values={"tests.9.gas_flow": 10.0}), "no [[tests]] row test = 9"),
+    (_record(values={"tests.4.feed_rate": 10.0}), "a calibration sets"),
+    (_record(case="another dryer"), "a calibration of case 'another dryer'"),
+    (_record(format=2), "format 2"),
+    (_record(intervals={"thermal.area_scale": [3.0, 1.0]}), "low <= high"),
+    (_record(intervals={"gas.flow": [1.0, 2.0]}), "no value of them"),
+])
+def test_bad_records_are_refused_naming_the_record_and_key(record, message):
+    with pytest.raises(ValueError) as exc:
+        load_case_text(_with_records(record))
+    assert message in str(exc.value) and "calibrations[0]" in str(exc.value)
+
+
+# ---------------------------------------------------------------- multi-response calibration
+@pytest.fixture(scope="module")
+def test4_transport():
+    return calibrate(MMG, ["tests.*.solids_velocity", "tests.*.dispersion"], tests=[4], responses=["tracer", "mrt"])
+
+
+def test_calibration_recovers_the_shipped_record_and_writes_its_own(test4_transport):
+    cal = test4_transport
+    shipped = next(t for t in load_case(MMG).tests if t.test == 4)
+    assert cal.fit.parameters["tests.4.solids_velocity"].value == pytest.approx(shipped.solids_velocity, rel=2e-3)
+    rows = {r["response"]: r for r in cal.comparison()}
+    assert rows["tracer"]["r_squared"] > 0.94
+    assert abs(rows["mrt"]["error"]) / rows["mrt"]["measured"] < 0.01
+    rec = cal.record()
+    assert rec.configuration["geometry.method"] == "exact" and rec.software_version and rec.date
+    lo, hi = rec.intervals["tests.4.solids_velocity"]
+    assert lo < rec.values["tests.4.solids_velocity"] < hi
+    assert {d.name for d in rec.data} == {"test4.tracer", "test4.mrt"}
+    assert all(d.sigma > 0 for d in rec.data)
+    text = _case_text(MMG) + "\n" + record_toml(rec)
+    again = load_case_text(text)      # the record loads and applies (appended: supersedes)
+    assert next(t for t in again.tests if t.test == 4).solids_velocity == rec.values["tests.4.solids_velocity"]
+
+
+def test_one_evaluation_reuses_each_tests_model():
+    """Shared thermal keys on two tests: each evaluation solves each test once (warm, on its own
+    heat-and-mass model, not rebuilt), and a per-test key perturbed leaves the other test's result reused."""
+    from rotarydryer.estimation.calibrate import _Model, measurements
+
+    data = measurements(MMG, [4, 6], ["gas_outlet_temperature", "product_moisture"])
+    model = _Model(MMG, {}, data)
+    base = {"thermal.area_scale": 2.7, "tests.4.gas_flow": 14.4, "tests.6.gas_flow": 20.6}
+    model(base)
+    dryer4 = model.warm[4]["simulation"]._dryer
+    assert model.n_solves == 2
+    model({**base, "tests.4.gas_flow": 14.5})                  # only test 4 moved
+    assert model.n_solves == 3
+    assert model.warm[4]["simulation"]._dryer.model is dryer4.model     # the same network, new values
+    cal = calibrate(MMG, ["thermal.area_scale", "tests.*.gas_flow"], tests=[4, 6],
+                    responses=["gas_outlet_temperature", "product_moisture"])
+    for row in cal.comparison():
+        tol = 10.0 if row["response"] == "gas_outlet_temperature" else 0.01
+        assert abs(row["error"]) < tol
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(parameters=["thermal.nope"]), "unknown parameter key 'thermal.nope'"),
+    (dict(parameters=["tests.*.feed_rate"]), "a calibration fits"),
+    (dict(parameters=["thermal.area_scale"], tests=[9]), "test 9 is not a [[tests]] row"),
+    (dict(parameters=["thermal.area_scale"], responses=["exhaust"]), "--response 'exhaust' is not one of"),
+    (dict(parameters=["thermal.area_scale"], sigmas={"gas_outlet_temperature": 0.0}), "must be a finite number > 0"),
+    (dict(parameters=["thermal.area_scale"], sigmas={"gas_outlet_temperature": -1.0}), "must be a finite number > 0"),
+    (dict(parameters=[]), "at least one case key"),
+])
+def test_bad_calibration_input_is_refused(kwargs, message):
+    params = kwargs.pop("parameters")
+    kwargs.setdefault("tests", [4])
+    with pytest.raises(ValueError) as exc:
+        calibrate(MMG, params, **kwargs)
+    assert message in str(exc.value)
+
+
+def test_a_response_the_case_has_no_data_for_is_refused(tmp_path):
+    p = tmp_path / "mmg.toml"
+    p.write_text(_case_text(MMG).replace("product_temperature = 46.0", "", 1), "utf-8")   # test 3's row
+    with pytest.raises(ValueError, match="test 3 of case .* has no measured .*product_temperature"):
+        calibrate(str(p), ["thermal.area_scale"], tests=[3], responses=["product_temperature"])
+    with pytest.raises(ValueError, match="no heat and mass transfer"):
+        calibrate(MMG, ["tests.*.solids_velocity"], tests=[4], responses=["gas_outlet_temperature"],
+                  base_overrides={"thermal.enabled": False})
+
+
+def test_a_tracer_that_never_reaches_the_outlet_is_refused():
+    from rotarydryer.estimation.calibrate import Measurement, _Model
+
+    early = Measurement(4, "tracer", np.array([0.0, 1e-4, 0.0]), np.full(3, 1e-4), np.array([10.0, 20.0, 30.0]))
+    with pytest.raises(ValueError, match="no tracer reaches the outlet within the measured window"):
+        _Model(MMG, {}, [early])({})
+
+
+def test_calibrate_command_writes_the_record_and_the_calibrated_case(tmp_path):
+    out = tmp_path / "cal"
+    res = runner.invoke(app, ["calibrate", MMG, "-p", "tests.*.solids_velocity", "-p", "tests.*.dispersion",
+                              "--tests", "5", "-r", "tracer", "-r", "mrt", "--out", str(out), "--json"])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert set(d["record"]["values"]) == {"tests.5.solids_velocity", "tests.5.dispersion"}
+    assert (out / "calibration.toml").is_file() and (out / "calibration.json").is_file()
+    case = load_case(str(out / f"{MMG}_calibrated.toml"), {"operating.test": 5})
+    assert next(t for t in case.tests if t.test == 5).solids_velocity == d["record"]["values"]["tests.5.solids_velocity"]
+
+
+@pytest.mark.parametrize("args, message", [
+    (["-p", "thermal.nope"], "unknown parameter key"),
+    (["-p", "thermal.area_scale", "--tests", "4,x"], "--tests"),
+    (["-p", "thermal.area_scale", "--sigma", "gas_outlet_temperature=0"], "finite number > 0"),
+    (["-p", "thermal.area_scale", "--sigma", "gas_outlet_temperature"], "RESPONSE=VALUE"),
+    (["-p", "thermal.area_scale", "--tests", "8"], "test 8"),
+    (["-p", "thermal.area_scale", "--starts", "0"], "--starts"),
+])
+def test_calibrate_command_bad_input_exits_2_and_writes_nothing(tmp_path, args, message):
+    out = tmp_path / "cal"
+    res = runner.invoke(app, ["calibrate", MMG, *args, "--out", str(out)])
+    assert res.exit_code == 2, res.output
+    assert message in res.stderr and "Traceback" not in res.output
+    assert not out.exists() or not any(out.iterdir())
+
+
+# ---------------------------------------------------------------- the product temperature sensor
+@given(tp=st.floats(30.0, 95.0), xw=st.floats(0.01, 0.4), ntu=st.floats(0.0, 10.0))
+@settings(max_examples=60, deadline=None)
+def test_discharge_cooling_relaxes_towards_the_ambient_wet_bulb(tp, xw, ntu):
+    t, x = discharge_cooling(tp, xw, ntu, 26.0, 0.0197, 505.0)
+    from rotarydryer.properties.humid_air import wet_bulb_temperature
+
+    twb = float(wet_bulb_temperature(26.0, 0.0197))
+    assert min(tp, twb) - 1e-9 <= float(t) <= tp + 1e-12
+    assert 0.0 <= float(x) <= xw + 1e-15
+    t2, x2 = discharge_cooling(tp, xw, ntu + 0.5, 26.0, 0.0197, 505.0)
+    assert float(t2) <= float(t) + 1e-12 and float(x2) <= float(x) + 1e-15
+
+
+def test_discharge_cooling_limits():
+    t, x = discharge_cooling(61.6, 0.124, 0.0, 26.0, 0.0197, 505.0)
+    assert (float(t), float(x)) == (61.6, pytest.approx(0.124))
+    t, _ = discharge_cooling(61.6, 0.124, 50.0, 26.0, 0.0197, 505.0)
+    from rotarydryer.properties.humid_air import wet_bulb_temperature
+
+    assert float(t) == pytest.approx(float(wet_bulb_temperature(26.0, 0.0197)), abs=1e-6)
+    with pytest.raises(ValueError, match="thermal.discharge_cooling_ntu"):
+        discharge_cooling(61.6, 0.124, -1.0, 26.0, 0.0197, 505.0)
+
+
+def test_the_sensor_reading_is_an_output_only_where_the_case_has_a_sensor():
+    s = Simulation(MMG).steady_state().summary()
+    assert s["product_temperature_at_sensor_degC"] < s["product_temperature_degC"]
+    assert abs(s["product_temperature_at_sensor_degC"] - 46.0) < 5.0            # Ajayi Table 3.9: 46 degC
+    s0 = Simulation(MMG, {"thermal.discharge_cooling_ntu": 0.0}).steady_state().summary()
+    assert "product_temperature_at_sensor_degC" not in s0
+    assert s0["product_temperature_degC"] == pytest.approx(s["product_temperature_degC"], abs=1e-9)
+
+
+def test_kiln_bed_area_conserves_energy_and_only_acts_on_overloaded_cells():
+    on = Simulation(MMG, {"operating.test": 3}).steady_state()
+    off = Simulation(MMG, {"operating.test": 3, "thermal.kiln_bed_area": False}).steady_state()
+    s_on, s_off = on.summary(), off.summary()
+    assert s_on["kiln_bed_holdup_kg"] > 1000.0                       # scaled flights: a kiln bed
+    assert s_on["evaporation_kg_s"] > s_off["evaporation_kg_s"]
+    assert s_on["energy_balance_error"] < 1e-9 and s_off["energy_balance_error"] < 1e-9
+    assert math.isfinite(s_on["gas_outlet_temperature_degC"])
+    low = {"operating.test": 4, "operating.feed_rate": 20.0}
+    a = Simulation(MMG, low).steady_state().summary()
+    b = Simulation(MMG, {**low, "thermal.kiln_bed_area": False}).steady_state().summary()
+    # flights below their design load: only the smoothed switch's sliver of excess (cells at the switch)
+    assert a["evaporation_kg_s"] == pytest.approx(b["evaporation_kg_s"], rel=0.01)
+    assert np.isfinite(a["product_moisture_kg_kg"])
+
+
+@pytest.mark.slow
+def test_the_shipped_records_are_reproduced_by_their_script(tmp_path):
+    """examples/calibrate_shipped_cases.py refits the shipped cases' own records from their data."""
+    import runpy
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "examples" / "calibrate_shipped_cases.py"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        records = runpy.run_path(str(script))["main"](tmp_path)
+    for case, recs in records.items():
+        shipped = {r.name: r for r in load_case(case).calibrations}
+        for rec in recs:
+            assert rec.name in shipped, f"{case}: record {rec.name!r} is not in the shipped case"
+            for key, value in rec.values.items():
+                old = shipped[rec.name].values[key]
+                assert value == pytest.approx(old, rel=0.02, abs=1e-6), f"{case} {rec.name}: {key} {value} vs {old}"
