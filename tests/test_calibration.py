@@ -46,16 +46,22 @@ def test_defaults_take_the_calibrations_of_their_configuration():
     assert inv.transport.drag_reduction == 0.48                         # Lee's, kept (docs/calibration.md)
 
 
+def _selected(name, overrides):
+    """The case with overrides that select another calibration than the default: a warning says so."""
+    with pytest.warns(CalibrationWarning, match="selects the calibration"):
+        return load_case(name, overrides)
+
+
 def test_thesis_configuration_takes_the_published_values():
-    mmg = _no_calibration_warning(MMG, {"geometry.method": "ajayi2011_regressions"})
+    mmg = _selected(MMG, {"geometry.method": "ajayi2011_regressions"})
     rows = {t.test: t for t in mmg.tests}
     assert (rows[4].solids_velocity, rows[4].dispersion) == (0.01557, 0.000399686)   # Ajayi Table 5.2
     assert rows[3].fouling == 0.8 and rows[2].solids_velocity == 0.02
     assert (mmg.gas.flow, mmg.thermal.area_scale) == (16.25, 2.6)
-    thesis_mode = _no_calibration_warning(MMG, {"thermal.mode": "ajayi2011"})
+    thesis_mode = _selected(MMG, {"thermal.mode": "ajayi2011"})
     assert thesis_mode.gas.flow == pytest.approx(31.2988, rel=1e-5)
     for n, (kiln, back, drag) in {30: (9.95, 0.41, 0.11), 35: (8.69, 0.68, 0.48)}.items():    # Lee Table 7.2
-        c = _no_calibration_warning(INVICTA, {"geometry.method": "lee2008_regressions", "transport.n_cells": n})
+        c = _selected(INVICTA, {"geometry.method": "lee2008_regressions", "transport.n_cells": n})
         assert (c.transport.kiln_time, c.transport.backmix, c.transport.drag_reduction) == (kiln, back, drag)
 
 
@@ -81,6 +87,14 @@ def test_a_run_outside_the_calibrated_configuration_warns_on_the_command_line():
                               "--json"])
     assert res.exit_code == 0, res.output
     assert "warning: " in res.stderr and "transport.n_cells" in res.stderr and "rotarydryer calibrate" in res.stderr
+
+
+def test_changing_the_geometry_names_the_calibration_it_selects():
+    with pytest.warns(CalibrationWarning) as rec:
+        load_case(MMG, {"geometry.method": "ajayi2011_regressions"})
+    text = " ".join(str(w.message) for w in rec)
+    assert "geometry.method = 'ajayi2011_regressions' (set)" in text and "Ajayi (2011) Table 5.2" in text
+    _no_calibration_warning(MMG, {"operating.test": 5, "operating.feed_rate": 30.0})   # not a configuration key
 
 
 def test_an_override_of_a_calibrated_key_wins():

@@ -61,16 +61,19 @@ def test_report_cli_case_save_and_reload_identical(cli, tmp_path):
     res = runner.invoke(cli, ["report", "lee2008_invicta", "--set", "geometry.method=lee2008_regressions",
                               "--out", str(out), "--save", str(nc), "--json"])
     assert res.exit_code == 0, res.output
-    info = json.loads(res.output)
+    info = json.loads(res.stdout)
     assert info["report"] == str(out) and info["bytes"] == out.stat().st_size
     text = out.read_text()
     assert _assert_self_contained(text) >= 6
-    for sid in ('id="summary"', 'id="holdup"', 'id="rtd"', 'id="loading"', 'id="flight-dryer"', 'id="inputs"'):
+    for sid in ('id="summary"', 'id="holdup"', 'id="rtd"', 'id="loading"', 'id="flight-dryer"', 'id="inputs"',
+                'id="validation"'):
         assert sid in text
     assert "against the measured tracer curve" in text and "over-loaded" in text
     loaded = Results.load(nc)
     # the report of the saved result is byte-identical to the one made from the live run
-    assert render_report(loaded) == text
+    from rotarydryer.validate import run_validation
+
+    assert render_report(loaded, validation=run_validation(["lee2008_invicta"])) == text
     res2 = runner.invoke(cli, ["report", str(nc), "--out", str(tmp_path / "r2.html")])
     assert res2.exit_code == 0, res2.output
     assert (tmp_path / "r2.html").read_text() == text

@@ -17,7 +17,7 @@ KEYS = ["mean_residence_time_s", "rtd_std_s", "total_holdup_kg", "active_holdup_
 def test_json_output(cmd):
     r = CliRunner().invoke(app, [cmd, "lee2008_invicta", *REG, "--set", "transport.n_cells=33", "--json"])
     assert r.exit_code == 0, r.output
-    d = json.loads(r.output)
+    d = json.loads(r.stdout)
     for k in KEYS:
         assert k in d
     # simulate: the coupled state (issue 12), whose product leaves drier than the feed
@@ -61,7 +61,7 @@ def test_ajayi_rtd_cli(method, tmp_path):
     r = CliRunner().invoke(app, ["rtd", "ajayi2011_mmg", "--set", f"geometry.method={method}", "--json",
                                  "--out", str(tmp_path)])
     assert r.exit_code == 0, r.output
-    d = json.loads(r.output)
+    d = json.loads(r.stdout)
     for k in KEYS:
         assert k in d
     assert 10 * 60 < d["mean_residence_time_s"] < 20 * 60

@@ -48,7 +48,7 @@ def test_cli_rtd_predictive_every_test(n):
     res = runner.invoke(app, ["rtd", "ajayi2011_mmg", "--set", f"operating.test={n}", "--set",
                               "transport.parameter_source=predictive", "--json"])
     assert res.exit_code == 0, res.output
-    d = json.loads(res.output)
+    d = json.loads(res.stdout)
     assert math.isfinite(d["tracer_mean_s"]) and d["tracer_mean_s"] > 0
     assert math.isfinite(d["tracer_std_s"]) and d["tracer_std_s"] > 0
     assert d["outlet_flow_kg_s"] == pytest.approx(float(SUMMARY[n]["feed_kg_wet_min"]) / 60.0, rel=1e-6)
@@ -207,7 +207,7 @@ def test_test_4_calibration_is_the_case_files():
     p = study.predict(4, tr.velocity_coefficient, tr.dispersion_coefficient)
     res = runner.invoke(app, ["rtd", "ajayi2011_mmg", "--set", "transport.parameter_source=predictive", "--set",
                               "geometry.method=ajayi2011_regressions", "--json"])
-    assert json.loads(res.output)["tracer_mean_s"] == pytest.approx(p.tracer_mean_s, rel=1e-9)
+    assert json.loads(res.stdout)["tracer_mean_s"] == pytest.approx(p.tracer_mean_s, rel=1e-9)
 
 
 @pytest.mark.parametrize("n", [5, 6])

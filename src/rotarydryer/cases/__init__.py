@@ -793,6 +793,7 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
 
 
 def _validated(cls, raw, valid, text, shown, name, overrides):
+    file_raw = dict(raw)      # the file's values: the overrides below copy what they change
     for key, value in (overrides or {}).items():
         if key not in valid and not key.startswith("material."):
             raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")
@@ -808,7 +809,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             node = nxt
         node[fld] = value
     if raw.get("calibrations") and cls is DryerCase:
-        _calibrate(raw, overrides, shown)
+        _calibrate(raw, overrides, shown, file_raw)
     if overrides and "gas.flow" in overrides and isinstance(raw.get("tests"), list):
         # a --set gas.flow is this run's gas flow: it wins over the selected test's (a row's gas_flow
         # otherwise replaces the case's gas.flow)
@@ -831,7 +832,7 @@ def _schema_default(cls, key: str):
     return value
 
 
-def _calibrate(raw: dict, overrides, shown: str) -> None:
+def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -> None:
     """Apply the case's [[calibrations]] to ``raw`` (:func:`rotarydryer.cases.calibration.apply_calibrations`);
     a malformed record is refused naming its entry and key."""
     recs = raw.get("calibrations")
@@ -852,7 +853,7 @@ def _calibrate(raw: dict, overrides, shown: str) -> None:
                                    f"calibrations[{i}] ({r.name})", title)
         if problems:             # before any value is written: the record, not the case, is at fault
             raise ValueError(f"{shown}: " + "; ".join(problems))
-    apply_calibrations(raw, overrides, lambda key: _schema_default(DryerCase, key), shown)
+    apply_calibrations(raw, overrides, lambda key: _schema_default(DryerCase, key), shown, file_raw)
 
 
 def _toml_value(text: str):

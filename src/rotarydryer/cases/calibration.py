@@ -175,9 +175,10 @@ def _coerced(have, want):
     if isinstance(want, bool):
         return {"true": True, "false": False}.get(text, have)
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         return have
+    return int(value) if isinstance(want, int) and value.is_integer() else value
 
 
 def _same(a, b) -> bool:
@@ -262,16 +263,37 @@ def select_calibrations(records: list[CalibrationRecord], raw: dict, defaults):
     return chosen
 
 
-def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str) -> list[str]:
+def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, file_raw: dict | None = None) -> list[str]:
     """Write the values of the case's calibrations into ``raw`` (a loaded case document with its
     overrides applied): of each group of records that set the same keys, the one whose
     configuration the run has (the last of several), else the closest one with a :class:`CalibrationWarning` naming the
     keys that differ. A record applies whole; keys in ``overrides`` keep their override. Returns the
-    names of the records applied. ``defaults(key)`` gives a key's schema default."""
+    names of the records applied. ``defaults(key)`` gives a key's schema default. With ``file_raw``
+    (the document without the overrides), a group whose record the overrides change (e.g. --set
+    geometry.method selects the thesis's calibration) is named in a :class:`CalibrationWarning` too:
+    the run's coefficients are then not the case's default calibration."""
     records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
     given = set(overrides or {})
     used = []
-    for rec, diff in select_calibrations(records, raw, defaults):
+    chosen = select_calibrations(records, raw, defaults)
+    if file_raw is not None and given:
+        default = {id(r): r for r, _ in select_calibrations(records, file_raw, defaults)}
+        groups = _groups(records)
+        for rec, diff in chosen:
+            if diff or id(rec) in default:
+                continue
+            group = next(g for g in groups if any(records[i] is rec for i in g))
+            was = next(records[i] for i in group if id(records[i]) in default)
+            keys = sorted({k for r in (rec, was) for k in r.configuration
+                           if not _same(_coerced(configuration_value(raw, k, defaults), r.configuration[k]),
+                                        _coerced(configuration_value(file_raw, k, defaults), r.configuration[k]))})
+            want = {**was.configuration, **rec.configuration}
+            runs = ", ".join(f"{k} = {_fmt(_coerced(configuration_value(raw, k, defaults), want[k]))}" for k in keys)
+            warnings.warn(f"{shown}: {runs} (set) selects the calibration {rec.name!r} of that configuration in "
+                          f"place of the case's default {was.name!r}: the run's {', '.join(list(rec.values)[:3])}"
+                          f"{' ...' if len(rec.values) > 3 else ''} are that calibration's", CalibrationWarning,
+                          stacklevel=4)
+    for rec, diff in chosen:
         for key, value in rec.values.items():
             if key not in given:
                 _set(raw, key, value)

@@ -39,7 +39,7 @@ def report(
       rotarydryer report invicta --repose-angle 50
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
-    from ..report.html import load_sensitivity, render_report, resolve_source, write_html
+    from ..report.html import case_validation, load_sensitivity, render_report, resolve_source, write_html
 
     t0 = time.perf_counter()
     try:
@@ -54,7 +54,8 @@ def report(
                 if results is None:
                     raise ValueError(f"--save needs a case or results source, got the drum {source!r}")
                 results.save(save)
-            html_text = render_report(results, drums=drums, title=title, sensitivity=sens)
+            html_text = render_report(results, drums=drums, title=title, sensitivity=sens,
+                                      validation=case_validation(source, results))
             bar.update(1)
         write_html(html_text, out)
     except ValueError as exc:

@@ -38,6 +38,7 @@ from .. import __version__
 from .._io import write_text_atomic
 
 __all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source",
+           "case_validation", "validation_section",
            "sensitivity_section", "load_sensitivity"]
 
 _CSS = """
@@ -646,12 +647,22 @@ def _case_drums_at(results, repose_angle):
 def build_report(source: str, overrides: dict | None = None, *, repose_angle: float | None = None) -> str:
     """HTML text of the report of ``source`` (see :func:`resolve_source`)."""
     results, drums, title = resolve_source(source, overrides, repose_angle=repose_angle)
-    validation = None
-    if results is not None and Path(source).suffix not in (".nc", ".h5"):
-        from ..validate import run_validation
+    return render_report(results, drums=drums, title=title, validation=case_validation(source, results))
 
-        validation = run_validation([source])
-    return render_report(results, drums=drums, title=title, validation=validation)
+
+def case_validation(source: str, results):
+    """The validation (:func:`rotarydryer.validate.run_validation`) of the case a report shows: the
+    case ``source`` names, or a saved result's case when it is a packaged case or a case file; None
+    for a drum preset or a result of an unknown case."""
+    if results is None:
+        return None
+    from ..cases import list_cases
+    from ..validate import run_validation
+
+    case = results.case_name if Path(source).suffix in (".nc", ".h5") else source
+    if case in list_cases() or (Path(case).suffix == ".toml" and Path(case).is_file()):
+        return run_validation([case])
+    return None
 
 
 def write_report(source, out, overrides: dict | None = None, *, repose_angle: float | None = None) -> Path:
