@@ -146,6 +146,12 @@ def test_an_appended_record_of_the_same_configuration_supersedes():
     assert load_case_text(text).thermal.area_scale == 9.0
 
 
+def test_a_bad_value_of_an_applied_record_names_the_record():
+    text = _case_text(MMG).replace('"gas.flow" = 16.25\n', '"gas.flow" = -1.0\n', 1)     # the thesis-geometry record
+    with pytest.raises(ValueError, match="gas.flow from calibration 'physical heat and mass transfer, thesis geometry"):
+        load_case_text(text, overrides={"geometry.method": "ajayi2011_regressions"})
+
+
 @pytest.mark.parametrize("record, message", [
     (_record(values={"thermal.no_such_key": 1.0}), "'thermal.no_such_key' is not a key of this case"),
     (_record(values={"tests.9.gas_flow": 10.0}), "no [[tests]] row test = 9"),

@@ -814,11 +814,17 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         # a --set gas.flow is this run's gas flow: it wins over the selected test's (a row's gas_flow
         # otherwise replaces the case's gas.flow)
         raw["tests"] = [{**r, "gas_flow": None} if isinstance(r, dict) else r for r in raw["tests"]]
+    origin = raw.pop("__calibrated__", {})
     try:
         return cls.model_validate(raw)
     except ValidationError as exc:
         n = len(exc.errors())
         details = _format_validation_error(exc, raw, text, shown, overrides)
+        locs = {".".join(str(p) for p in e["loc"]) for e in exc.errors()}
+        from_records = sorted({f"{k} from calibration {origin[k]!r}" for k in origin
+                               if k in locs or any(loc.startswith(k + ".") for loc in locs)})
+        if from_records:
+            details += "\n(" + "; ".join(from_records) + ")"
         raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
 
 

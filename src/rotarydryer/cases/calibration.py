@@ -275,6 +275,7 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
     records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
     given = set(overrides or {})
     used = []
+    origin: dict[str, str] = {}
     chosen = select_calibrations(records, raw, defaults)
     if file_raw is not None and given:
         default = {id(r): r for r, _ in select_calibrations(records, file_raw, defaults)}
@@ -297,6 +298,7 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
         for key, value in rec.values.items():
             if key not in given:
                 _set(raw, key, value)
+                origin[key] = rec.name
         used.append(rec.name)
         if diff:
             held = ", ".join(f"{k} = {_fmt(w)}" for k, w, _ in diff)
@@ -306,4 +308,5 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
             warnings.warn(f"{shown}: calibration {rec.name!r} was fitted with {held}; this run has {runs}: its "
                           f"values ({shown_keys}) may not reproduce the data they were fitted to (refit them for "
                           "this configuration with `rotarydryer calibrate`)", CalibrationWarning, stacklevel=4)
+    raw["__calibrated__"] = origin       # key -> record name, for the messages of the case's validation
     return used

@@ -217,12 +217,15 @@ def measurements(case_name: str, tests: Sequence[int] | None = None, responses: 
     for r in wanted if strict else ():
         if r not in have and r in missing:     # asked for, and none of the tests has it
             where = "its [tracer] (dataset or measured)" if r == "tracer" else f"[[tests]] {RESPONSES[r][2]}"
-            raise ValueError(f"--response {r}: {'test ' if len(missing[r]) == 1 else 'tests '}"
-                             f"{', '.join(str(x) for x in missing[r])} of case {case_name!r} "
-                             f"{'has' if len(missing[r]) == 1 else 'have'} no measured {where}")
+            who = (f"case {case_name!r} (no [[tests]] rows)" if missing[r] == [None] else
+                   f"{'test ' if len(missing[r]) == 1 else 'tests '}{', '.join(str(x) for x in missing[r])} of case "
+                   f"{case_name!r}")
+            raise ValueError(f"--response {r}: {who} {'has' if len(missing[r]) == 1 else 'have'} no measured {where}")
     if not out:
-        raise ValueError(f"case {case_name!r} has no measured data for the responses "
-                         f"{', '.join(wanted)} of tests {', '.join(map(str, tests))}")
+        where = "its operating point (no [[tests]] rows)" if list(tests) == [None] else \
+            f"tests {', '.join(map(str, tests))}"
+        raise ValueError(f"case {case_name!r} has no measured data for the responses {', '.join(wanted)} of {where} "
+                         "(the measured values are [[tests]] fields: docs/calibration.md)")
     return out
 
 
