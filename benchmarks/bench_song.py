@@ -1,6 +1,9 @@
 """Song's Ottawa pilot dryer (issue 14 parts 4-5): the 73-run prediction (target < 10 s), the
 two-coefficient fit of one cross-validation half, and a simulated step test.
 
+Every prediction is ``Simulation("song2003_ottawa", overrides).transport_steady_state()`` (the
+case's predictive transport law; rotarydryer.studies.song_pilot keeps no model of its own).
+
 Run: python benchmarks/bench_song.py          (prints a Markdown table)
      pytest benchmarks/bench_song.py --benchmark-only
 """
@@ -18,18 +21,13 @@ BEST = sp.Coefficients(*sp.SONG_PILOT_FITS["all"])
 
 
 def predict_73_cold():
-    """From nothing: 73 Simulation case loads and networks, the fixed point of every gas run, the
-    steady states (what a user pays for the 73 predictions)."""
+    """From nothing: the runs, the case's [[tests]] rows, 73 Simulation case loads and networks
+    (each solving its curtain-velocity fixed point) and their steady states."""
     return sp.PilotModel().predict(BEST)
 
 
-def predict_73_via_simulation():
-    """The same, the final steady states through Simulation(case, overrides).transport_steady_state()."""
-    return sp.PilotModel().predict(BEST, via_simulation=True)
-
-
-def predict_73_warm(model):
-    """Prediction with the networks built and the drag factors of a nearby call (as inside a fit)."""
+def predict_73(model):
+    """The 73 predictions at other coefficients (one evaluation inside a fit)."""
     return model.predict(sp.Coefficients(BEST.step_factor * 1.001, BEST.curtain_coefficient))
 
 
@@ -47,10 +45,9 @@ def test_predict_73_cold(benchmark):
     benchmark.pedantic(predict_73_cold, rounds=3, iterations=1)
 
 
-def test_predict_73_warm(benchmark):
+def test_predict_73(benchmark):
     m = sp.PilotModel()
-    m.predict(BEST)
-    benchmark(predict_73_warm, m)
+    benchmark.pedantic(predict_73, args=(m,), rounds=3, iterations=1)
 
 
 def test_step_test(benchmark):
@@ -61,9 +58,9 @@ def test_step_test(benchmark):
 if __name__ == "__main__":
     m = sp.PilotModel()
     m.predict(BEST)
-    rows = [("73-run prediction from nothing (73 case loads, fixed points, steady states)", best(predict_73_cold)),
-            ("the same, final steady states through rotarydryer.Simulation", best(predict_73_via_simulation)),
-            ("73-run prediction, networks built, warm drag factors (one fit evaluation)", best(predict_73_warm, m)),
+    rows = [("73-run prediction from nothing (runs, case rows, 73 Simulations and steady states)",
+             best(predict_73_cold)),
+            ("73-run prediction at other coefficients (one fit evaluation)", best(predict_73, m)),
             ("fit of the 2 coefficients on one half (37 runs), from SONG_PILOT_FITS", best(fit_half, m, repeat=1)),
             ("simulated up/down step test (Table 4.1 run 5) + lab analysis", best(step_test, m))]
     print("| benchmark | time (s) |")

@@ -12,11 +12,14 @@ shipped case files hold (src/rotarydryer/cases/*.toml), fitted by ``rotarydryer.
   shared by tests 3-6, with each test's unmetered gas flow, to the exhaust and product temperatures
   and product moisture; then Test 2's gas flow with the shared values fixed (docs/calibration.md says
   why Test 2 is not in the shared fit).
+  The predictive cascade law (transport.parameter_source = "predictive"): c_0 and c_D to tests 4-6;
+  Ajayi's kilning-velocity variant (transport.predictive_flights = "kiln_velocity"): c_u and c_D.
 * ``lee2008_invicta``, exact geometry, N = 35: t_kiln and C_B to the Monro tracer curve and its mean,
-  C_F^G at Lee's 0.48.
+  C_F^G at Lee's 0.48; the predictive law's c_0 and K to the same curve.
+* ``song2003_ottawa``: the predictive law's c_0 and K to Song's 73 mean residence times (tests 1-73).
 
 CI runs it (tests/test_calibration.py, slow) and checks that the values reproduce the shipped ones.
-Runtime about 1.5 min on two shared cores.
+Runtime about 2 min on two shared cores.
 """
 
 from __future__ import annotations
@@ -30,6 +33,9 @@ from rotarydryer.estimation.calibrate import calibrate, record_toml
 
 MMG = "ajayi2011_mmg"
 INVICTA = "lee2008_invicta"
+SONG = "song2003_ottawa"
+#: the cascade law's two coefficients
+LAW = ("transport.step_factor", "transport.curtain_coefficient")
 
 
 def merged(first: CalibrationRecord, second: CalibrationRecord, name: str, description: str) -> CalibrationRecord:
@@ -48,7 +54,11 @@ def mmg_records() -> list[CalibrationRecord]:
                           tests=[1, 2, 3, 4, 5, 6], responses=["tracer", "mrt"])
     predictive = calibrate(MMG, ["transport.velocity_coefficient", "transport.dispersion_coefficient"],
                            tests=[4, 5, 6], responses=["tracer", "mrt"],
-                           base_overrides={"transport.parameter_source": "predictive"})
+                           base_overrides={"transport.parameter_source": "predictive",
+                                           "transport.predictive_flights": "kiln_velocity"})
+    cascade = calibrate(MMG, ["transport.step_factor", "transport.dispersion_coefficient"], tests=[4, 5, 6],
+                        responses=["tracer", "mrt"],
+                        base_overrides={"transport.parameter_source": "predictive", "transport.step_factor": 1.5})
     thermal_keys = ["thermal.area_scale", "tests.*.gas_flow", "thermal.discharge_cooling_ntu"]
     responses = ["gas_outlet_temperature", "product_moisture", "product_temperature"]
     start = {"thermal.mode": "physical", "gas.flow": 16.0, "thermal.area_scale": 2.7, "thermal.discharge_cooling_ntu": 0.5}
@@ -63,7 +73,8 @@ def mmg_records() -> list[CalibrationRecord]:
                      "test's unmetered gas flow, fitted to their exhaust and product temperatures and product "
                      "moisture; then Test 2's gas flow with the shared values fixed; gas.flow = Test 4's")
     return [transport.record(name="per-test solids transport, exact geometry (rotarydryer)"),
-            predictive.record(name="predictive transport law, exact geometry (rotarydryer)"), thermal]
+            predictive.record(name="predictive transport law (kilning velocity), exact geometry (rotarydryer)"), thermal,
+            cascade.record(name="predictive transport law (cascade), exact geometry (rotarydryer)")]
 
 
 def invicta_records() -> list[CalibrationRecord]:
@@ -76,12 +87,22 @@ def invicta_records() -> list[CalibrationRecord]:
                      description="t_kiln and C_B fitted to the Monro E(t) and its mean with C_F^G fixed at Lee's "
                                  "Table 7.2 value for N = 35 (free, the optimum lies on C_R = 0)")
     rec.values.update(drag)
-    return [rec]
+    pred = calibrate(INVICTA, list(LAW), responses=["tracer"],
+                     base_overrides={"transport.parameter_source": "predictive", "transport.step_factor": 2.4,
+                                     "transport.curtain_coefficient": 70.0})
+    return [rec, pred.record(name="predictive transport law, exact geometry (rotarydryer)")]
+
+
+def song_records() -> list[CalibrationRecord]:
+    # Song's 73 Appendix A runs (tests 1-73): the mean residence times
+    cal = calibrate(SONG, list(LAW), tests=list(range(1, 74)), responses=["mrt"],
+                    base_overrides={"transport.step_factor": 2.4, "transport.curtain_coefficient": 0.12})
+    return [cal.record(name="predictive transport law, exact geometry (rotarydryer)")]
 
 
 def main(out: Path) -> dict:
     out.mkdir(parents=True, exist_ok=True)
-    records = {MMG: mmg_records(), INVICTA: invicta_records()}
+    records = {MMG: mmg_records(), INVICTA: invicta_records(), SONG: song_records()}
     for case, recs in records.items():
         (out / f"{case}.calibrations.toml").write_text("\n".join(record_toml(r) for r in recs), "utf-8")
     return records

@@ -1,14 +1,16 @@
 """Song's (2003) Ottawa pilot dryer predicted: 73 mean residence times, two coefficients, cross-validated.
 
-The case song2003_ottawa's transport network (rotarydryer.Simulation) with the forward step of a
-cascade from the particle trajectory through the co-current air (Sherritt's curtain velocity) and
-two global coefficients (rotarydryer.studies.song_pilot) is fitted on one half of Song's Appendix A
-runs and predicts the other half, and the reverse; its error is compared with the correlations
+The case song2003_ottawa's predictive transport law (rotarydryer.Simulation with
+transport.parameter_source = "predictive": the forward step of a cascade from the particle trajectory
+through the co-current air, Sherritt's curtain velocity, the excess kilned at the cascade speed) has two
+global coefficients, transport.step_factor and transport.curtain_coefficient; the study
+(rotarydryer.studies.song_pilot) fits them on one half of Song's Appendix A runs and predicts the other
+half, and the reverse; its error is compared with the correlations
 (Perry & Green, Song's Eq. 4.5, ...) computed by rotarydryer.correlations. Song's dynamic step
 method (rotarydryer.lab.steps) is then applied to simulated step experiments and compared with
 Song's Tables 4.1 and 4.2. See docs/song_pilot.md.
 
-Run: python examples/song_prediction.py [OUTDIR] [--update-docs]     (about 1 min)
+Run: python examples/song_prediction.py [OUTDIR] [--update-docs]     (about 2 min)
 
 Prints the tables; writes OUTDIR/song_prediction.csv (one row per run), song_prediction.json,
 song_prediction.png (parity plot), song_pilot.md (the generated docs block) and
@@ -61,7 +63,7 @@ block = sp.markdown(model, fits, cv, ex, table, t41, speed)
 print(block)
 best = fits["all"][0]
 t1 = time.perf_counter()
-pred_all = model.predict(best, via_simulation=True)
+pred_all = model.predict(best)
 t_pred = time.perf_counter() - t1
 print(f"73-run prediction through rotarydryer.Simulation: {t_pred:.2f} s; fits and cross-validation {t_fit:.0f} s; "
       f"total {seconds:.0f} s")
@@ -69,6 +71,8 @@ i = int(np.nonzero(runs.src_line == 1559)[0][0])
 print("\nreproduce one prediction (App. A L1559, 4.82 kg/min, 10.8 kg/min of air, 5 rpm, 0.083 m/m; "
       f"measured {runs.tau[i] / 60:.2f} min, predicted {pred_all.tau[i] / 60:.2f} min):")
 print("  " + sp.command_line(model, i, best))
+print("  (the case as shipped, its calibration record: rotarydryer rtd song2003_ottawa "
+      f"--set operating.test={model.tests[i]})")
 
 
 def parity_figure():
@@ -79,11 +83,11 @@ def parity_figure():
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.2, 5))
     m = runs.tau / 60
-    ax.plot(m, cv["tau_out"] / 60, "o", ms=5, label="this model, out of sample (%.1f %%)" % cv["errors"]["mape_pct"])
-    ax.plot(m, corr["song_2003"] / 60, "s", ms=4, mfc="none", label="Song Eq. 4.5, in sample (%.1f %%)"
-            % sp.error_summary(corr["song_2003"], runs.tau)["mape_pct"])
-    ax.plot(m, corr["perry_green_1984"] / 60, "^", ms=4, mfc="none", label="Perry & Green (%.1f %%)"
-            % sp.error_summary(corr["perry_green_1984"], runs.tau)["mape_pct"])
+    e_song = sp.error_summary(corr["song_2003"], runs.tau)["mape_pct"]
+    e_perry = sp.error_summary(corr["perry_green_1984"], runs.tau)["mape_pct"]
+    ax.plot(m, cv["tau_out"] / 60, "o", ms=5, label=f"this model, out of sample ({cv['errors']['mape_pct']:.1f} %)")
+    ax.plot(m, corr["song_2003"] / 60, "s", ms=4, mfc="none", label=f"Song Eq. 4.5, in sample ({e_song:.1f} %)")
+    ax.plot(m, corr["perry_green_1984"] / 60, "^", ms=4, mfc="none", label=f"Perry & Green ({e_perry:.1f} %)")
     lim = [0, 1.1 * max(m.max(), np.nanmax(corr["perry_green_1984"]) / 60)]
     ax.plot(lim, lim, "k-", lw=0.8)
     ax.set_xlim(lim)

@@ -29,6 +29,9 @@ TEMPLATE = str(resources.files("rotarydryer.cases") / "templates" / "dryer.toml"
 
 
 def steady(case="lee2008_invicta", **ov):
+    # the fitted coefficients and the chosen forward step of each model (Song's case is predictive by
+    # default; the predictive law's trends: docs/predictive_transport.md)
+    ov.setdefault("transport.parameter_source", "per_test")
     if case != "ajayi2011_mmg":
         ov.setdefault("thermal.enabled", False)
     else:   # Ajayi's thesis model (regression geometry), whose feed independence the table states

@@ -50,7 +50,6 @@ from .cases.build import thermal_enabled
 from .published import read_published_csv
 from .results import rtd_comparison
 from .simulation import Simulation
-from .studies.song_pilot import PilotModel, error_summary
 
 __all__ = ["run_validation", "load_tolerances", "ValidationItem", "ValidationReport", "ValidationSpec",
            "TOLERANCE_KINDS", "STATUSES", "DERIVED_QUANTITIES", "METRICS", "TOLERANCES_FILE"]
@@ -65,6 +64,7 @@ TOLERANCES_FILE = "validation.toml"
 #: quantities of the items derived from case data -> unit of the values
 DERIVED_QUANTITIES = {
     "tracer_mean": "min",             # model tracer mean against the test row's mrt_measured_min
+    "mean_residence_time": "min",     # holdup / flow against mrt_measured_min (a row without a tracer curve)
     "curve_mean": "min",              # model tracer mean against the mean of the measured curve
     "r_squared": "-",                 # E(t) against the measured curve
     "holdup": "kg",                   # total holdup against holdup_measured_kg
@@ -76,6 +76,7 @@ DERIVED_QUANTITIES = {
 
 _DERIVED_TEXT = {
     "tracer_mean": "tracer mean residence time",
+    "mean_residence_time": "mean residence time (holdup / flow)",
     "curve_mean": "tracer mean residence time against the measured curve's mean",
     "r_squared": "R^2 of the tracer E(t) against the measured curve",
     "holdup": "total holdup",
@@ -496,7 +497,6 @@ class _Context:
         self.spec, self.sets, self.progress = spec, dict(sets), progress
         self._runs: dict[str, _Run] = {}
         self.used: list[_Run] = []
-        self._pilot: Optional[PilotModel] = None
 
     def run(self, case: str, overrides: dict) -> _Run:
         ov = {**overrides, **self.sets}
@@ -507,13 +507,12 @@ class _Context:
         self.used.append(r)
         return r
 
-    def pilot(self) -> PilotModel:
-        """Song's Appendix A runs (rotarydryer.studies.song_pilot), once."""
-        if self._pilot is None:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                self._pilot = PilotModel()
-        return self._pilot
+    def tests(self, case: str) -> list:
+        """The [[tests]] rows of ``case`` that have a measured mean residence time."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            c = load_case(case)
+        return [t for t in getattr(c, "tests", []) if t.mrt_measured_min is not None]
 
 
 # ---------------------------------------------------------------------------------- metrics
@@ -581,32 +580,31 @@ def _m_fuel_rate(ctx, item, ov):
     return 3600.0 * float(s["fuel_rate_kg_s"])
 
 
-def _song_overrides(pm: PilotModel, i: int) -> dict:
-    """The case network as shipped at Song's run ``i``: rotarydryer.studies.song_pilot's run
-    overrides without its fixed loading (as its ``baseline_predictions``, row "case")."""
-    return {k: v for k, v in pm.base_overrides(i).items() if k != "transport.loading"}
-
-
-def _song_index(pm: PilotModel, src_line) -> int:
-    hit = np.nonzero(pm.runs.src_line == int(src_line))[0]
-    if hit.size == 0:
-        raise _NotComputed(f"no Song (2003) Appendix A run at source line {src_line}")
+def _test_of_line(ctx, item) -> int:
+    """The [[tests]] row whose source names Song's Appendix A line ``params.src_line``."""
+    if "src_line" not in item.params:
+        raise _NotComputed("the item names no Appendix A run (params.src_line)")
+    tag = f"L{int(item.params['src_line'])}"
+    hit = [t.test for t in ctx.tests(item.case) if t.source.split()[-1:] == [tag]]
+    if not hit:
+        raise _NotComputed(f"no [[tests]] row of {item.case} at source line {item.params['src_line']}")
     return int(hit[0])
 
 
 def _m_song_mape(ctx, item, ov):
-    pm = ctx.pilot()
-    tau = [ctx.run(item.case, {**_song_overrides(pm, i), **ov}).transport().mean_residence_time
-           for i in range(len(pm.runs))]
-    return error_summary(np.array(tau), pm.runs.tau)["mape_pct"]
+    """Mean absolute relative error (%) of the transport mean residence time over the case's [[tests]]
+    rows with a measured one (Song's Appendix A runs), each run as ``--set operating.test=N``."""
+    rows = ctx.tests(item.case)
+    if not rows:
+        raise _NotComputed("the case has no [[tests]] row with mrt_measured_min")
+    tau = np.array([ctx.run(item.case, {"operating.test": t.test, **ov}).transport().mean_residence_time
+                    for t in rows])
+    meas = 60.0 * np.array([t.mrt_measured_min for t in rows])
+    return float(100.0 * np.mean(np.abs(tau / meas - 1.0)))
 
 
 def _m_song_holdup(ctx, item, ov):
-    if "src_line" not in item.params:
-        raise _NotComputed("the item names no Appendix A run (params.src_line)")
-    pm = ctx.pilot()
-    i = _song_index(pm, item.params["src_line"])
-    return float(ctx.run(item.case, {**_song_overrides(pm, i), **ov}).transport().total_holdup)
+    return float(ctx.run(item.case, {"operating.test": _test_of_line(ctx, item), **ov}).transport().total_holdup)
 
 
 #: quantity of a published item -> (model value from (context, item, overrides), unit)
@@ -687,8 +685,11 @@ def _derived_items(ctx: _Context, case: str, loaded, shipped: bool) -> list[Vali
         prefix, where = f"test{row.test}", f", test {row.test}"
         if ctx.progress is not None:
             ctx.progress(f"validate {case}: test {row.test}")
-        if row.mrt_measured_min is not None:
+        if row.mrt_measured_min is not None and has_curve:
             add(prefix, "tracer_mean", row.mrt_measured_min, lambda r=run: r.rtd()["model_mean_s"] / 60.0, ov, run, where)
+        elif row.mrt_measured_min is not None:      # no tracer curve: a residence time H/F (Song's step method)
+            add(prefix, "mean_residence_time", row.mrt_measured_min,
+                lambda r=run: r.transport().mean_residence_time / 60.0, ov, run, where)
         elif has_curve:
             add(prefix, "curve_mean", lambda r=run: r.rtd()["measured_mean_s"] / 60.0,
                 lambda r=run: r.rtd()["model_mean_s"] / 60.0, ov, run, where)

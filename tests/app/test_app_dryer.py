@@ -65,7 +65,7 @@ def test_operating_inputs_are_the_case_values():
     assert t5["gas.inlet_temperature"]["value"] == pytest.approx(509.0)          # the test's PI value
     assert t5["operating.feed_moisture"]["value"] == pytest.approx(0.1653)         # one schema: the same keys
     assert logic_dryer.plant_tests("ajayi2011_mmg") == [1, 2, 3, 4, 5, 6]   # every test has its calibrated u_s, D
-    assert logic_dryer.plant_tests("song2003_ottawa") == []
+    assert logic_dryer.plant_tests("song2003_ottawa") == list(range(74))  # the heated point + Song's 73 runs
     song = {s["key"] for s in logic_dryer.operating_inputs("song2003_ottawa")}
     assert {"operating.feed_moisture", "gas.flow", "gas.inlet_temperature"} <= song
 

@@ -72,6 +72,15 @@ def test_new_writes_a_loadable_template(tmp_path, base):
     assert runner.invoke(cli, ["new", "mine", "-o", str(p), "--force"]).exit_code == 0
 
 
+def test_new_with_a_toml_name_writes_that_file(tmp_path, monkeypatch):
+    """`rotarydryer new mine.toml` writes mine.toml (not mine.toml.toml), titled "mine"."""
+    monkeypatch.chdir(tmp_path)
+    res = runner.invoke(cli, ["new", "mine.toml"])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "mine.toml").exists() and not (tmp_path / "mine.toml.toml").exists()
+    assert 'title = "mine (from template)"' in (tmp_path / "mine.toml").read_text()
+
+
 def test_new_bad_arguments(tmp_path):
     assert runner.invoke(cli, ["new", "bad/name"]).exit_code == 2
     res = runner.invoke(cli, ["new", "x", "--from", "nope", "-o", str(tmp_path / "x.toml")])

@@ -140,7 +140,7 @@ def test_a_kernel_that_fails_falls_back_to_numpy_with_a_warning(monkeypatch):
     from rotarydryer import Simulation
     from rotarydryer.geometry import _cell_kernel
 
-    d = Simulation("song2003_ottawa").thermal_dryer()
+    d = Simulation("song2003_ottawa", {"transport.parameter_source": "per_test"}).thermal_dryer()  # the fitted step
     law = d.laws[0]
     mp, x = np.full(law.n, 0.5), np.full(law.n, 0.03)
     want = law.evaluate(mp, x, rpm=d.rpm)

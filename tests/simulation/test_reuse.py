@@ -9,7 +9,10 @@ from rotarydryer import Simulation
 from rotarydryer.cases import load_case
 from rotarydryer.cases.build import PARAMETER_KEYS, changed_keys, takes_as_parameters
 
-CASES = {"ajayi2011_mmg": {"operating.test": 4}, "lee2008_invicta": {}, "song2003_ottawa": {}}
+#: Song's case with its fitted-step settings (its default, the predictive law, rebuilds on a speed or gas
+#: change: test_the_predictive_law_rebuilds_on_speed_and_gas)
+CASES = {"ajayi2011_mmg": {"operating.test": 4}, "lee2008_invicta": {},
+         "song2003_ottawa": {"transport.parameter_source": "per_test"}}
 
 
 def _sim(case, ov):
@@ -85,9 +88,26 @@ def test_a_bad_value_on_the_reuse_path_is_refused_as_on_a_fresh_run(source):
 
 
 def test_a_reused_model_reports_its_cells_at_its_own_speed():
-    src = _sim("song2003_ottawa", {"operating.rpm": 5.0})
+    per_test = CASES["song2003_ottawa"]
+    src = _sim("song2003_ottawa", {**per_test, "operating.rpm": 5.0})
     warm = src.steady_state().warm_data()
-    reused = _sim("song2003_ottawa", {"operating.rpm": 7.5}).steady_state(warm=warm)
-    fresh = _sim("song2003_ottawa", {"operating.rpm": 7.5}).steady_state()
+    reused = _sim("song2003_ottawa", {**per_test, "operating.rpm": 7.5}).steady_state(warm=warm)
+    fresh = _sim("song2003_ottawa", {**per_test, "operating.rpm": 7.5}).steady_state()
     a, b = reused.state.cell_info["passive_time_s"], fresh.state.cell_info["passive_time_s"]
     np.testing.assert_allclose(a, b, rtol=1e-9)
+
+
+def test_the_predictive_law_rebuilds_on_speed_and_gas():
+    """Song's default (the predictive law): the cascade kilning follows the speed and the trajectory step
+    the gas, so those changes build a new model; a feed change reuses it and gives the fresh state."""
+    src = _sim("song2003_ottawa", {})
+    st = src.steady_state()
+    warm = st.warm_data()
+    for key, value in (("operating.rpm", 6.0), ("gas.flow", 0.15)):
+        sim = _sim("song2003_ottawa", {key: value})
+        assert sim.dryer() is not src.dryer(), key
+    sim = _sim("song2003_ottawa", {"operating.feed_rate": 0.09})
+    reused = sim.steady_state(warm=warm)
+    fresh = _sim("song2003_ottawa", {"operating.feed_rate": 0.09}).steady_state()
+    assert reused.summary()["mean_residence_time_s"] == pytest.approx(fresh.summary()["mean_residence_time_s"],
+                                                                      rel=1e-7)

@@ -34,7 +34,8 @@ THESIS_GEOMETRY = {"geometry.method": "ajayi2011_regressions"}
 
 SUMMARY = {int(r["test"]): r for r in read_csv("ajayi_rtd_tests_summary.csv")}
 #: the predictive coefficients of the case were calibrated with Ajayi's regression geometry (his thesis model)
-PRED = {"transport.parameter_source": "predictive", "geometry.method": "ajayi2011_regressions"}
+PRED = {"transport.parameter_source": "predictive", "transport.predictive_flights": "kiln_velocity",
+        "geometry.method": "ajayi2011_regressions"}
 runner = CliRunner()
 
 
@@ -85,9 +86,26 @@ def test_per_test_is_the_default_and_refuses_test_1():
     assert ss.mass_balance_error < 1e-9
 
 
+def test_coefficients_default_to_the_material_class(monkeypatch):
+    """Without transport.velocity_coefficient / dispersion_coefficient the zinc concentrate's [transport]
+    values (its class calibration) apply; a material without them is refused naming both keys."""
+    import dataclasses
+
+    from rotarydryer.cases import build as cb
+
+    case = _case(**{"transport.velocity_coefficient": "none", "transport.dispersion_coefficient": "none"})
+    mat = material_of(case)
+    pred = build_model(case).parameters["predictive"]
+    assert pred["velocity_coefficient"] == mat.transport_coefficient("velocity_coefficient") == 0.2591
+    assert pred["dispersion_coefficient"] == mat.transport_coefficient("dispersion_coefficient")
+    bare = dataclasses.replace(mat, transport_coefficients=())
+    monkeypatch.setattr(cb, "material_of", lambda c: bare)
+    with pytest.raises(ValueError, match=r"needs transport\.velocity_coefficient and "
+                                         r"transport\.dispersion_coefficient .*has none"):
+        cb.solids_transport(case)
+
+
 @pytest.mark.parametrize("ov, match", [
-    ({"transport.velocity_coefficient": "none"}, r"needs transport\.velocity_coefficient"),
-    ({"transport.dispersion_coefficient": "none"}, r"needs transport\.dispersion_coefficient"),
     ({"transport.velocity_coefficient": 0}, r"transport\.velocity_coefficient = 0"),
     ({"transport.dispersion_coefficient": -1}, r"transport\.dispersion_coefficient = -1"),
     ({"transport.parameter_source": "fitted"}, r"transport\.parameter_source = 'fitted'"),
@@ -206,6 +224,7 @@ def test_test_4_calibration_is_the_case_files():
     # the calibrated prediction of Test 4 is what the CLI reports
     p = study.predict(4, tr.velocity_coefficient, tr.dispersion_coefficient)
     res = runner.invoke(app, ["rtd", "ajayi2011_mmg", "--set", "transport.parameter_source=predictive", "--set",
+                              "transport.predictive_flights=kiln_velocity", "--set",
                               "geometry.method=ajayi2011_regressions", "--json"])
     assert json.loads(res.stdout)["tracer_mean_s"] == pytest.approx(p.tracer_mean_s, rel=1e-9)
 

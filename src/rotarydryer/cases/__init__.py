@@ -177,8 +177,9 @@ class _TransportVariants(_Strict):
                                        "(first_order), or t_D = d^2/D_core, diffusion time across it (diffusive)")
     forward_step: Literal["fitted", "trajectory"] = Field(default="fitted", description="C_F from the fitted drag_reduction (Lee Eq. 3.7-3.8) or from particle trajectories through [gas] (docs/transport.md)")
     curtain_velocity_ratio: Optional[float] = Field(default=None, ge=0, le=1, description="U_c/U_g in the curtains (trajectory step); default Sherritt, Lee Eq. 2.14")
-    curtain_coefficient: float = Field(default=1.546, ge=0, le=1e4, description="K of Sherritt's c_v = min(1, K h^-0.76 q^-0.86) (trajectory step; Lee Eq. 2.14 prints 1.546; Song's pilot fit in docs/song_pilot.md)")
-    step_factor: float = Field(default=1.0, gt=0, le=100, description="c_0 (-), advance of a cascade without gas over the drag-free fall h_m sin(theta) (trajectory step; 1 = a straight fall)")
+    curtain_coefficient: Optional[float] = Field(default=None, ge=0, le=1e4, description="K of Sherritt's c_v = min(1, K h^-0.76 q^-0.86) (trajectory step; default the material's [transport] value, else Lee Eq. 2.14's 1.546; docs/predictive_transport.md)")
+    step_factor: Optional[float] = Field(default=None, gt=0, le=100, description="c_0 (-), advance of a cascade without gas over the drag-free fall h_m sin(theta) (trajectory step; default the material's [transport] value, else 1 = a straight fall)")
+    kiln_law: Literal["fixed", "cascade"] = Field(default="fixed", description="kilning of the excess over the design load (lee2008): 'fixed', at 1/transport.kiln_time (Lee Eq. 3.9), or 'cascade', at the axial speed of the flight-borne solids without gas, c_0 h_m sin(theta)/(t_p + t_a) (docs/predictive_transport.md; transport.kiln_time unused)")
 
 
 class _TracerSource(_Strict):
@@ -336,8 +337,9 @@ class OperatingTest(_Strict):
     solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, fitted to this test (transport.solids_velocity)")
     dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, fitted to this test (transport.dispersion)")
     fouling: float = Field(default=0.0, ge=0, le=0.95, description="fraction of flight capacity lost to scale in this test (transport.fouling)")
-    gas_flow: Optional[float] = Field(default=None, gt=0, le=1000, description="kg/s wet gas in this test, where known (gas.flow)")
-    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC, measured (gas.inlet_temperature)")
+    gas_flow: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s wet gas in this test, where known (gas.flow; 0: no gas, transport only)")
+    slope: Optional[float] = Field(default=None, ge=0, le=45, description="deg, drum inclination in this test (drum.slope; a --set drum.slope wins)")
+    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC, measured (replaces gas.inlet_temperature in this test; a --set gas.inlet_temperature wins)")
     mrt_model_min: Optional[float] = Field(default=None, description="min, the source's model result (for comparison)")
     holdup_model_kg: Optional[float] = Field(default=None, description="kg, the source's model result (for comparison)")
     mrt_measured_min: Optional[float] = Field(default=None, description="min, measured mean residence time")
@@ -389,10 +391,11 @@ class DryerTransport(_TransportVariants):
     product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, assumed outlet moisture of the transport-only profile (default: the test's, else the feed moisture)")
     moisture_scale: float = Field(default=1.0, gt=0, description="factor on the ajayi2011_eq3.1 moisture profile")
     unflighted_inlet: Literal["danckwerts", "ajayi"] = Field(default="danckwerts", description="inlet condition of a first unflighted section: Danckwerts flux, or Dirichlet m(0) = F/u (Ajayi (2011) Eq. 5.11-5.13 as coded)")
-    parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="u_s and D of the ajayi2011 sections: the case's (transport.solids_velocity, transport.dispersion, else the selected test's fit), or predicted from the operating point (rotarydryer.transport.ajayi_predictive, docs/mmg_cross_test.md)")
+    parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="per_test: the fitted coefficients (lee2008: transport.kiln_time, backmix, drag_reduction or [[parameter_sets]]; ajayi2011: transport.solids_velocity, transport.dispersion, else the selected test's fit); predictive: from geometry, material and operating point (lee2008: the trajectory forward step with transport.step_factor and transport.curtain_coefficient and kiln_law = 'cascade'; ajayi2011: rotarydryer.transport.ajayi_predictive; docs/predictive_transport.md)")
+    predictive_flights: Literal["cascade", "kiln_velocity"] = Field(default="cascade", description="ajayi2011 flighted sections under parameter_source = 'predictive': the cascade law of every flighted model (trajectory step, transport.step_factor, excess kilned at the cascade speed; docs/predictive_transport.md), or Ajayi's kilning of the whole passive mass at the velocity law's u_s (docs/mmg_cross_test.md)")
     velocity_law: Literal["friedman_marshall", "kramers"] = Field(default="friedman_marshall", description="predictive kiln velocity: Sullivan/Friedman-Marshall (Song 2003 Eq. 1-2) or Kramers-Croockewit bed (comparison)")
-    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law; the case file holds the calibration")
-    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p; the case file holds the calibration")
+    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law (unflighted beds, ajayi2011 kilning); default the material's [transport] value")
+    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p (unflighted beds); default the material's [transport] value")
 
 
 class DryerGeometry(_Strict):
@@ -792,6 +795,19 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
         raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
 
 
+def _test_slope(raw, overrides):
+    """The selected [[tests]] row's ``slope`` is the run's ``drum.slope`` (a ``--set drum.slope`` wins)."""
+    op, tests = raw.get("operating"), raw.get("tests")
+    if not isinstance(op, dict) or not isinstance(tests, list) or op.get("test") is None:
+        return
+    if overrides and "drum.slope" in overrides:
+        return
+    want = str(op.get("test")).strip()
+    row = next((r for r in tests if isinstance(r, dict) and str(r.get("test")) == want), None)
+    if row is not None and row.get("slope") is not None and isinstance(raw.get("drum"), dict):
+        raw["drum"] = {**raw["drum"], "slope": row["slope"]}
+
+
 def _validated(cls, raw, valid, text, shown, name, overrides):
     file_raw = dict(raw)      # the file's values: the overrides below copy what they change
     for key, value in (overrides or {}).items():
@@ -810,10 +826,12 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         node[fld] = value
     if raw.get("calibrations") and cls is DryerCase:
         _calibrate(raw, overrides, shown, file_raw)
-    if overrides and "gas.flow" in overrides and isinstance(raw.get("tests"), list):
-        # a --set gas.flow is this run's gas flow: it wins over the selected test's (a row's gas_flow
-        # otherwise replaces the case's gas.flow)
-        raw["tests"] = [{**r, "gas_flow": None} if isinstance(r, dict) else r for r in raw["tests"]]
+    _test_slope(raw, overrides)
+    for key, fld in (("gas.flow", "gas_flow"), ("gas.inlet_temperature", "gas_inlet_temperature")):
+        if overrides and key in overrides and isinstance(raw.get("tests"), list):
+            # a --set gas.flow (gas.inlet_temperature) is this run's: it wins over the selected test's (a
+            # row's value otherwise replaces the case's)
+            raw["tests"] = [{**r, fld: None} if isinstance(r, dict) else r for r in raw["tests"]]
     origin = raw.pop("__calibrated__", {})
     try:
         return cls.model_validate(raw)

@@ -22,12 +22,14 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 
 import numpy as np
 
+from rotarydryer.correlations.drag import terminal_velocity
 from rotarydryer.geometry import FlightedDrum, TwoSectionFlight, check_speed
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
-from rotarydryer.properties.materials import load_material
+from rotarydryer.properties.materials import CALIBRATED_RANGES, load_material
 from rotarydryer.properties.solids import lee2008_moisture_profile
 from rotarydryer.thermal.burner import Burner, FuelOil
 from rotarydryer.thermal.settings import SectionThermal, ThermalSettings
@@ -35,11 +37,12 @@ from rotarydryer.transport import TracerInput
 from rotarydryer.transport.ajayi import AjayiRegressions, check_moisture_scale, eq31_moisture
 from rotarydryer.transport.ajayi_predictive import predictive_transport
 from rotarydryer.transport.core_variants import add_stagnant_core
-from rotarydryer.transport.forward_step import CurtainGas
+from rotarydryer.transport.forward_step import SHERRITT_COEFFICIENT, CurtainGas
 from rotarydryer.transport.sections import ExactGeometry, SectionSpec, build_sections
 
 from .._validation import check_range, fmt_number
 from . import DryerCase
+from .calibration import PredictiveRangeWarning
 
 #: largest solids fill of the drum volume (whole drum and each section) of a feasible steady state:
 #: loaded flighted dryers run at 10-15 %; every shipped case is below 16 % (Invicta 8.9 %, MMG tests
@@ -123,6 +126,15 @@ def test_row(case):
 def _from_test(case, value, field):
     row = test_row(case)
     return value if value is not None or row is None else getattr(row, field)
+
+
+def test_gas_inlet_temperature(case):
+    """The run's gas inlet temperature (degC): the selected [[tests]] row's measured one, as its gas_flow
+    (a ``--set gas.inlet_temperature`` clears the rows' values), else ``gas.inlet_temperature``."""
+    row = test_row(case)
+    if row is not None and row.gas_inlet_temperature is not None:
+        return row.gas_inlet_temperature
+    return case.gas.inlet_temperature if case.gas is not None else None
 
 
 def operating_point(case):
@@ -232,13 +244,16 @@ def _holdup_hint(case) -> str:
     if models == {"sheehan2005_model1"}:
         return (f" (or check the material's bulk density, transport.passive_rate = {fmt_number(t.passive_rate)} 1/s, "
                 f"transport.kiln_rate = {fmt_number(t.kiln_rate)} 1/s, drum.radius and drum.length)")
+    if models and models <= {"lee2008", "sheehan2005_model2"} and t.parameter_source == "predictive":
+        return (f" (or raise transport.step_factor = {fmt_number(law_coefficient(case, 'step_factor'))} (the predictive forward step); check "
+                "the material's bulk density, drum.radius and the section lengths)")
     if models and models <= {"lee2008", "sheehan2005_model2"}:
         kiln = transport_coefficients(case)["kiln_time"] if t.n_cells is not None else t.kiln_time
         return (f" (or check the material's bulk density, transport.kiln_time = {fmt_number(kiln)} s, drum.radius "
                 "and the section lengths)")
     if "ajayi2011" in models:
         if t.parameter_source == "predictive":
-            return (f" (or raise transport.velocity_coefficient = {fmt_number(t.velocity_coefficient)}; "
+            return (f" (or raise transport.velocity_coefficient = {fmt_number(law_coefficient(case, 'velocity_coefficient'))}; "
                     "check drum.radius and the section lengths)")
         u = solids_transport(case)[0]
         u = next(iter(u.values())) if u else None
@@ -253,15 +268,22 @@ def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
     each cell). The ``ValueError`` names the fill (%), the limit and the keys to change. Returns the
     fill fractions (:meth:`rotarydryer.transport.results.SteadyState.fill_fractions`)."""
     fills = steady_state.fill_fractions(case.drum.radius, _bed_density(case))
+    _check_fill(case, fills, limit)
+    if case.transport.parameter_source == "predictive":      # a feasible run: is it inside the calibration?
+        warn_predictive_range(case, fills["total"])
+    return fills
+
+
+def _check_fill(case, fills, limit) -> None:
     items = [("total", fills["total"])]
     if len(fills["sections"]) > 1:
         items += list(fills["sections"].items())
     items = [(k, v) for k, v in items if not math.isnan(v)]     # NaN: no bulk density known for a node
     if not items:
-        return fills
+        return
     name, worst = max(items, key=lambda kv: kv[1])
     if worst <= limit:
-        return fills
+        return
     det = fills["detail"][name]
     where = ("the drum volume" if name == "total"
              else f"the drum volume of section {name} ({det['length_m']:g} m long)")
@@ -272,6 +294,39 @@ def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
         f"{rho:.4g} kg/m^3 take {det['volume_m3']:.3g} m^3 of {det['drum_volume_m3']:.3g} m^3); the limit is "
         f"{100 * limit:.0f} % (loaded dryers run at 10-15 %): reduce {_feed_text(case, F)}"
         + _holdup_hint(case))
+
+
+def predictive_range(case, fill: float) -> list[str]:
+    """What of a predictive run lies outside the range its material's coefficients were calibrated on
+    (material ``[transport]`` ``calibrated_*``): one phrase per quantity, naming value and range."""
+    mat = material_of(case)
+    ranges = dict(mat.transport_ranges)
+    if not ranges:
+        return []
+    _, rpm, x_in, _ = operating_point(case)
+    omega = 2.0 * math.pi * float(rpm) / 60.0
+    values = {"calibrated_rpm": float(rpm), "calibrated_froude": omega**2 * float(case.drum.radius) / 9.80665,
+              "calibrated_fill": float(fill), "calibrated_moisture": float(x_in)}
+    out = []
+    for key, (lo, hi) in ranges.items():
+        v = values[key]
+        if math.isnan(v) or lo * (1 - 1e-9) - 1e-12 <= v <= hi * (1 + 1e-9) + 1e-12:
+            continue
+        what, unit = CALIBRATED_RANGES[key]
+        out.append(f"{what} {v:.4g}{'' if unit == '-' else ' ' + unit} outside [{lo:g}, {hi:g}]")
+    return out
+
+
+def warn_predictive_range(case, fill: float) -> None:
+    """:class:`~rotarydryer.cases.calibration.PredictiveRangeWarning` for :func:`predictive_range`."""
+    out = predictive_range(case, fill)
+    if out:
+        mat = material_of(case)
+        warnings.warn(f"transport.parameter_source = 'predictive': this run is outside the conditions the "
+                      f"coefficients of material {mat.name!r} were calibrated at "
+                      f"({mat.transport_source or 'its [transport] table'}): "
+                      f"{'; '.join(out)}; the prediction is an extrapolation (calibrate on this dryer's data with "
+                      "`rotarydryer calibrate`)", PredictiveRangeWarning, stacklevel=3)
 
 
 # ---- fitted transport coefficients ---------------------------------------------------------
@@ -302,10 +357,62 @@ def transport_coefficients(case, n_cells=None) -> dict:
                     f"n_cells = {have}); set transport.{key} (and the other transport coefficients) explicitly")
             v = getattr(row, key) if row is not None else _NEUTRAL_COEFFICIENTS[key]
         out[key] = v
+    out["kiln_law"] = t.kiln_law
     return out
 
 
 lee_parameters = transport_coefficients
+
+
+#: the value of a predictive-transport coefficient when neither the case nor its material gives one
+_NEUTRAL_LAW = {"step_factor": 1.0, "curtain_coefficient": SHERRITT_COEFFICIENT}
+
+
+def law_coefficient(case, key: str):
+    """A coefficient of the predictive transport law (``step_factor``, ``curtain_coefficient``,
+    ``velocity_coefficient``, ``dispersion_coefficient``): ``transport.<key>``, else the material
+    class's ([transport] of the material, calibrated under the predictive law: with
+    ``transport.parameter_source = "predictive"`` only), else the neutral value (a straight fall,
+    Sherritt's constant; None for the bed law's coefficients)."""
+    v = getattr(case.transport, key)
+    if v is None and case.transport.parameter_source == "predictive":
+        v = material_of(case).transport_coefficient(key)
+    return _NEUTRAL_LAW.get(key) if v is None else float(v)
+
+
+def cascade_law(case, model: str) -> bool:
+    """Does a flighted section of ``model`` take the predictive cascade law (``transport.parameter_source =
+    "predictive"``: every flighted model but Sheehan's Model 1, and Ajayi's sections unless
+    ``transport.predictive_flights = "kiln_velocity"``)?"""
+    t = case.transport
+    if t.parameter_source != "predictive" or model == "sheehan2005_model1":
+        return False
+    return model != "ajayi2011" or t.predictive_flights == "cascade"
+
+
+def forward_step_of(case, model: str | None = None) -> str:
+    """The forward step of a case's flighted sections of ``model`` (default ``transport.model``):
+    ``transport.forward_step``, always "trajectory" under the predictive cascade law (nothing fitted
+    to a tracer; :func:`cascade_law`)."""
+    t = case.transport
+    return "trajectory" if cascade_law(case, model or t.model) else t.forward_step
+
+
+def _any_trajectory(case) -> bool:
+    models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
+    return any(forward_step_of(case, m) == "trajectory" and m != "sheehan2005_model1" for m in models)
+
+
+def predictive_lee_coefficients(case) -> dict:
+    """The lee2008-type coefficients of ``transport.parameter_source = "predictive"``: the excess
+    over the design load at the cascade speed (``kiln_law = "cascade"``), the forward step from
+    trajectories (``drag_reduction`` unused; a counter-current gas that turns the step backwards
+    carries the solids back), no fitted backmix, and the flights' loading factor 1 (Lee (2008) Eq. 4.22
+    with f = 1, as his gPROMS runs: Song's (2003) residence time of dry sand does not change with the
+    feed from under- to over-loaded flights, L1363-1367); nothing of ``transport.kiln_time``,
+    ``transport.backmix``, ``transport.drag_reduction``, ``transport.loading`` or ``[[parameter_sets]]``
+    (fitted to a tracer)."""
+    return {"kiln_time": math.inf, "backmix": 0.0, "drag_reduction": 1.0, "kiln_law": "cascade", "loading": "fixed"}
 
 
 def curtain_gas(case, particle_diameter=None):
@@ -313,18 +420,41 @@ def curtain_gas(case, particle_diameter=None):
     trajectory forward step: the gas inlet flow, temperature and humidity ([gas]) over the drum
     cross-section, the material's particle size and density, ``transport.curtain_velocity_ratio``."""
 
-    if case.gas is None or case.gas.flow is None or case.gas.inlet_temperature is None:
-        raise ValueError("transport.forward_step = 'trajectory' needs [gas] (flow, inlet_temperature): the "
-                         "forward step is computed from the fall through the gas")
+    row = test_row(case)
+    flow = row.gas_flow if row is not None and row.gas_flow is not None else (
+        case.gas.flow if case.gas is not None else None)
+    t_in = test_gas_inlet_temperature(case)
+    if case.gas is None or flow is None or t_in is None:
+        why = ("transport.parameter_source = 'predictive'" if case.transport.parameter_source == "predictive"
+               else "transport.forward_step = 'trajectory'")
+        raise ValueError(f"{why} needs [gas] (flow, inlet_temperature): the forward step is computed from the "
+                         "fall through the gas (give gas.flow = 0 for a drum without gas)")
     mat = material_of(case)
     direction = case.gas.direction
-    return CurtainGas.at_conditions(gas_mass_flow=case.gas.flow, temperature_degC=case.gas.inlet_temperature,
+    gas = CurtainGas.at_conditions(gas_mass_flow=flow, temperature_degC=t_in,
                                     humidity=case.gas.inlet_humidity, radius=case.drum.radius, gas_flow=direction,
                                     particle_diameter=particle_diameter or mat.particle_diameter,
                                     particle_density=mat.particle_density,
                                     velocity_ratio=case.transport.curtain_velocity_ratio,
-                                    curtain_coefficient=case.transport.curtain_coefficient,
-                                    step_factor=case.transport.step_factor)
+                                    curtain_coefficient=law_coefficient(case, "curtain_coefficient"),
+                                    step_factor=law_coefficient(case, "step_factor"))
+    if direction == "counter-current" and gas.gas_mass_flow > 0:
+        _check_entrainment(case, gas, row)
+    return gas
+
+
+def _check_entrainment(case, gas, row) -> None:
+    """Refuse a counter-current gas faster than the terminal velocity of the particles (Lee (2008) Eq.
+    6.2-6.3 at a = 0): it would carry them to the feed end instead of letting them fall."""
+    vt = float(terminal_velocity(gas.particle_diameter, gas.particle_density, gas.gas_density, gas.gas_viscosity))
+    u = gas.gas_velocity
+    if u >= vt:
+        g_max = vt * gas.gas_density * math.pi * gas.radius**2
+        key = f"gas.flow (test {row.test})" if row is not None and row.gas_flow is not None else "gas.flow"
+        raise ValueError(f"{key} = {fmt_number(gas.gas_mass_flow)} kg/s gives a counter-current gas velocity of "
+                         f"{u:.3g} m/s, above the terminal velocity {vt:.3g} m/s of the particles (d_p = "
+                         f"{gas.particle_diameter * 1e6:.4g} um): the gas would entrain them to the feed end; "
+                         f"the allowed range is gas.flow < {fmt_number(g_max)} kg/s at this gas temperature")
 
 
 def _with_core(case, model):
@@ -379,7 +509,7 @@ def solids_transport(case) -> tuple[dict, dict, object]:
     tr = case.transport
     names = [s.name for s in case.sections]
     pred = None
-    if tr.parameter_source == "predictive":
+    if tr.parameter_source == "predictive" and _needs_bed_parameters(case):
         pred = _predictive(case)
         u = tr.solids_velocity if tr.solids_velocity is not None else pred.kiln_velocity_m_s
         D = tr.dispersion if tr.dispersion is not None else pred.dispersion_m2_s
@@ -387,8 +517,8 @@ def solids_transport(case) -> tuple[dict, dict, object]:
         u = _from_test(case, tr.solids_velocity, "solids_velocity")
         D = _from_test(case, tr.dispersion, "dispersion")
         row = test_row(case)
-        if row is not None and (u is None or D is None) and _needs_bed_parameters(case):
-            fitted = ", ".join(str(t.test) for t in case.tests if t.solids_velocity is not None and t.dispersion is not None)
+        fitted = ", ".join(str(t.test) for t in case.tests if t.solids_velocity is not None and t.dispersion is not None)
+        if row is not None and (u is None or D is None) and _needs_bed_parameters(case) and fitted:
             raise ValueError(f"operating.test = {row.test} has no fitted solids velocity and dispersion (the case's "
                              f"[[tests]] fit tests {fitted or 'none'}): set transport.parameter_source = 'predictive', "
                              "or give transport.solids_velocity (m/s) and transport.dispersion (m^2/s)")
@@ -407,19 +537,21 @@ def _predictive(case):
     """:class:`~rotarydryer.transport.ajayi_predictive.PredictiveTransport` at the case's operating point."""
 
     tr = case.transport
-    missing = [f"transport.{k}" for k in ("velocity_coefficient", "dispersion_coefficient") if getattr(tr, k) is None]
-    if missing:
-        raise ValueError(f"transport.parameter_source = 'predictive' needs {' and '.join(missing)} (the calibrated "
-                         "values are in the packaged ajayi2011_mmg.toml; docs/mmg_cross_test.md)")
     material = material_of(case)
+    cu, cd = law_coefficient(case, "velocity_coefficient"), law_coefficient(case, "dispersion_coefficient")
+    missing = [f"transport.{k}" for k, v in (("velocity_coefficient", cu), ("dispersion_coefficient", cd)) if v is None]
+    if missing:
+        raise ValueError(f"transport.parameter_source = 'predictive' needs {' and '.join(missing)} for the "
+                         f"unflighted (rolling-bed) sections: give them, or a material whose [transport] table has "
+                         f"them (material {material.name!r} has none; docs/predictive_transport.md)")
     F, rpm, _, _ = operating_point(case)
     x_in, x_out = moisture_ends(case, material)
     secs = [dict(name=s.name, kind=s.kind, length=s.length, particle_diameter=s.particle_diameter)
             for s in case.sections]
     return predictive_transport(sections=secs, feed_rate=F, rpm=rpm, slope=case.drum.slope,
                                 radius=case.drum.radius, moisture_inlet=x_in, moisture_outlet=x_out,
-                                material=material, velocity_coefficient=tr.velocity_coefficient,
-                                dispersion_coefficient=tr.dispersion_coefficient, law=tr.velocity_law,
+                                material=material, velocity_coefficient=cu,
+                                dispersion_coefficient=cd, law=tr.velocity_law,
                                 moisture_scale=tr.moisture_scale)
 
 
@@ -509,9 +641,9 @@ def _dryer_specs(case: DryerCase, material, bed):
         common = dict(name=s.name, kind="flighted", length=s.length, n_cells=N, geometry=geometry,
                       loading=tr.loading, fouling=fouling, passive_time_branch=case.geometry.passive_time_branch,
                       moisture=moisture[s.name])
-        if tr.forward_step == "trajectory" and model != "sheehan2005_model1":   # Model 1 has no forward step
+        if forward_step_of(case, model) == "trajectory" and model != "sheehan2005_model1":   # Model 1: no forward step
             common.update(forward_step="trajectory", gas=curtain_gas(case, s.particle_diameter))
-        if model == "ajayi2011":
+        if model == "ajayi2011" and not cascade_law(case, model):
             specs.append(SectionSpec(kilning="velocity", kiln_velocity=u_of[s.name], **common))
         elif model == "sheehan2005_model1":
             rates = {k: getattr(tr, k) for k in ("passive_rate", "exchange_rate", "return_rate", "kiln_rate")}
@@ -521,12 +653,14 @@ def _dryer_specs(case: DryerCase, material, bed):
                                  f"{', '.join('transport.' + k for k in missing)} (1/s)")
             specs.append(SectionSpec(kilning="empirical", rates={k: float(v) for k, v in rates.items()}, **common))
         else:
-            p = transport_coefficients(case, N)
+            p = (predictive_lee_coefficients(case) if cascade_law(case, model)
+                 else transport_coefficients(case, N))
+            common["loading"] = p.get("loading", tr.loading)
             if p["backmix"] > 0 and case.gas is not None and case.gas.direction == "co-current":
                 raise ValueError(f"transport.backmix = {fmt_number(p['backmix'])} must be 0 for co-current gas "
                                  "flow (gas.direction; Lee (2008) l.2766: no backmixing, drag lengthens the "
                                  "forward step)")
-            specs.append(SectionSpec(kilning="excess", kiln_time=float(p["kiln_time"]),
+            specs.append(SectionSpec(kilning="excess", kiln_time=float(p["kiln_time"]), kiln_law=p["kiln_law"],
                                      drag_reduction=float(p["drag_reduction"]), backmix=float(p["backmix"]),
                                      backmix_to="active" if model == "sheehan2005_model2" else tr.backmix_to,
                                      **common))
@@ -555,6 +689,10 @@ def transport_inputs(case) -> dict:
         sp = flighted[0]
         params.update(n_cells=sp.n_cells, length=sp.length, kiln_time=sp.kiln_time, backmix=sp.backmix,
                       drag_reduction=sp.drag_reduction, loading=sp.loading, backmix_to=sp.backmix_to)
+        if sp.kiln_law == "cascade":
+            params.update(kiln_law="cascade", step_factor=law_coefficient(case, "step_factor"),
+                          curtain_coefficient=law_coefficient(case, "curtain_coefficient"))
+            del params["kiln_time"]
     u_of, D_of, pred = bed if _needs_bed_parameters(case) else ({}, {}, None)
     if u_of:      # one number when every section has the same value (a per-test fit), else per section
 
@@ -633,15 +771,17 @@ _MISSING = object()
 def takes_as_parameters(old, new) -> bool:
     """Can the heat-and-mass model built for case ``old`` run case ``new`` with new parameter values
     (no rebuild)? True when every changed key is one of :data:`PARAMETER_KEYS` and none of them
-    changes the section specs: not the operating point with ``transport.parameter_source =
-    "predictive"``, not the gas with ``transport.forward_step = "trajectory"``."""
+    changes the section specs: not the speed (and, with unflighted beds, the feed) with
+    ``transport.parameter_source = "predictive"``, not the gas with a trajectory forward step."""
     keys = changed_keys(old, new)
     if not all(k in PARAMETER_KEYS or any(k.startswith(p) for p in PARAMETER_KEYS if p.endswith("."))
                or (k.startswith("tests.") and k.endswith(_TEST_PARAMETER_FIELDS)) for k in keys):
         return False
-    if new.transport.parameter_source == "predictive" and any(k in _OPERATING_KEYS for k in keys):
-        return False
-    return not (new.transport.forward_step == "trajectory" and any(k.startswith("gas.") for k in keys))
+    if new.transport.parameter_source == "predictive":
+        # the cascade law's kilning and the beds' velocity follow the speed; the beds' law the feed
+        if "operating.rpm" in keys or (_needs_bed_parameters(new) and "operating.feed_rate" in keys):
+            return False
+    return not (_any_trajectory(new) and any(k.startswith("gas.") for k in keys))
 
 
 # ---- heat and mass transfer ----------------------------------------------------------------
@@ -680,7 +820,7 @@ def thermal_settings(case):
     g, sh, th = case.gas, case.shell, case.thermal
     row = test_row(case)
     flow = row.gas_flow if row is not None and row.gas_flow is not None else (g.flow if g is not None else None)
-    t_in = _from_test(case, g.inlet_temperature if g is not None else None, "gas_inlet_temperature")
+    t_in = test_gas_inlet_temperature(case)
     if g is None or flow is None or t_in is None:
         raise ValueError("gas is missing: give [gas] flow and inlet_temperature to compute heat and mass transfer")
     area_scale = th.area_scale

@@ -13,6 +13,8 @@ several, the last in the file, so that an appended calibration supersedes). A ke
 override keeps the override. When no record of a group matches, the closest one (fewest differing
 configuration keys) is used and a :class:`CalibrationWarning` names the keys that differ and
 ``rotarydryer calibrate``: the run is outside the configuration its coefficients were fitted in.
+A record fitted under the other transport law (its ``transport.parameter_source`` differs from the
+run's) is never used: its values are coefficients of a law the run does not evaluate.
 A record's ``case`` (the meta.title of the case it was fitted for) must be the case's, and its
 ``format`` the one this version reads.
 
@@ -29,7 +31,7 @@ from typing import Any, Optional, Union
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 __all__ = ["CalibrationRecord", "CalibrationData", "CalibrationWarning", "apply_calibrations",
-           "configuration_value", "select_calibrations", "TEST_KEY_PREFIX", "record_problems"]
+           "configuration_value", "select_calibrations", "PredictiveRangeWarning", "TEST_KEY_PREFIX", "record_problems"]
 
 #: prefix of a record value that sets a field of one [[tests]] row: tests.<test>.<field>
 TEST_KEY_PREFIX = "tests."
@@ -41,6 +43,11 @@ _ConfigValue = Union[bool, int, float, str, None]
 
 class CalibrationWarning(UserWarning):
     """A run uses calibrated values outside the model configuration they were fitted in."""
+
+
+class PredictiveRangeWarning(CalibrationWarning):
+    """A predictive-law run outside the operating range its coefficients were calibrated on (speed,
+    Froude number, fill, feed moisture: the material's ``[transport]`` ``calibrated_*`` ranges)."""
 
 
 class _Strict(BaseModel):
@@ -193,9 +200,16 @@ def _same(a, b) -> bool:
     return a == b
 
 
+#: configuration keys that only matter under the predictive law (ignored in a run without it)
+PREDICTIVE_ONLY = ("transport.predictive_flights",)
+
+
 def _differences(record: CalibrationRecord, raw: dict, defaults) -> list[tuple[str, Any, Any]]:
     out = []
+    predictive = configuration_value(raw, LAW_KEY, defaults) == "predictive"
     for key, want in record.configuration.items():
+        if key in PREDICTIVE_ONLY and not predictive:
+            continue
         have = _coerced(configuration_value(raw, key, defaults), want)
         if not _same(have, want):
             out.append((key, want, have))
@@ -251,6 +265,10 @@ def _groups(records: list[CalibrationRecord]) -> list[list[int]]:
     return list(out.values())
 
 
+#: the configuration key that selects the transport law: a record fitted under the other law is not used
+LAW_KEY = "transport.parameter_source"
+
+
 def select_calibrations(records: list[CalibrationRecord], raw: dict, defaults):
     """[(record, differences)] of the records that apply to the run ``raw``: of each group of records
     setting the same keys, the one whose configuration the run has, else the closest (fewest
@@ -258,6 +276,10 @@ def select_calibrations(records: list[CalibrationRecord], raw: dict, defaults):
     diffs = [_differences(r, raw, defaults) for r in records]
     chosen = []
     for group in _groups(records):
+        # a record of the other transport law (transport.parameter_source) holds values this run does not use
+        group = [i for i in group if not any(k == LAW_KEY for k, _, _ in diffs[i])]
+        if not group:
+            continue
         best = min(group, key=lambda i: (len(diffs[i]), -i))
         chosen.append((records[best], diffs[best]))
     return chosen
@@ -284,10 +306,14 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
             if diff or id(rec) in default:
                 continue
             group = next(g for g in groups if any(records[i] is rec for i in g))
-            was = next(records[i] for i in group if id(records[i]) in default)
+            was = next((records[i] for i in group if id(records[i]) in default), None)
+            if was is None:         # the default run uses no record of this group (another transport law)
+                continue
             keys = sorted({k for r in (rec, was) for k in r.configuration
                            if not _same(_coerced(configuration_value(raw, k, defaults), r.configuration[k]),
                                         _coerced(configuration_value(file_raw, k, defaults), r.configuration[k]))})
+            if LAW_KEY in keys or any(k in PREDICTIVE_ONLY for k in keys):
+                continue        # another transport law chosen: its own record is the one to use
             want = {**was.configuration, **rec.configuration}
             runs = ", ".join(f"{k} = {_fmt(_coerced(configuration_value(raw, k, defaults), want[k]))}" for k in keys)
             warnings.warn(f"{shown}: {runs} (set) selects the calibration {rec.name!r} of that configuration in "

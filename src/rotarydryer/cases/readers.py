@@ -408,6 +408,8 @@ def ajayi2011_to_spec(case) -> dict:
     transport = {"model": "ajayi2011", "loading": "state", "unflighted_inlet": tr.unflighted_inlet,
                  "parameter_source": tr.parameter_source, "velocity_law": tr.velocity_law,
                  "moisture_profile": "ajayi2011_eq3.1", "moisture_scale": case.solids.moisture_scale}
+    if tr.parameter_source == "predictive":     # this format's predictive mode: the kilning-velocity law
+        transport["predictive_flights"] = "kiln_velocity"
     u = tr.solids_velocity or tr.kiln_velocity
     for key, value in (("solids_velocity", u), ("dispersion", tr.dispersion), ("unflighted_cells", tr.unflighted_cells),
                        ("fouling", fouling), ("velocity_coefficient", tr.velocity_coefficient),

@@ -113,6 +113,8 @@ def new(
         typer.echo(f"error: --from {base!r} is not 'template' nor a built-in case ({', '.join(list_cases())})",
                    err=True)
         raise typer.Exit(2)
+    if case_name.lower().endswith(".toml"):     # `rotarydryer new mine.toml` writes mine.toml, not mine.toml.toml
+        case_name = case_name[:-5]
     path = out if out is not None else Path(f"{case_name}.toml")
     if path.exists() and not force:
         typer.echo(f"error: {path} exists (use --force to overwrite)", err=True)

@@ -40,7 +40,7 @@ from ..cases import (
     resolve_dataset,
     valid_override_keys,
 )
-from ..cases.build import test_row, thermal_settings
+from ..cases.build import cascade_law, law_coefficient, test_row, thermal_settings
 from ..cases.calibration import TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
 from ..published import read_published_csv
 from ..simulation import Simulation
@@ -85,9 +85,13 @@ DEFAULT_SIGMA: dict[str, tuple[str, float]] = {
 
 #: case keys whose values make the model configuration a calibration holds for
 CONFIGURATION_KEYS = ("geometry.method", "geometry.design_load_method", "transport.model", "transport.n_cells",
-                      "transport.loading", "transport.forward_step", "thermal.mode", "thermal.kiln_bed_area")
+                      "transport.loading", "transport.forward_step", "transport.parameter_source", "transport.predictive_flights", "thermal.mode",
+                      "thermal.kiln_bed_area")
 _THERMAL_CONFIG = ("thermal.mode", "thermal.kiln_bed_area")
 
+#: coefficients of the predictive transport law (a start value from the material class when the case has none)
+_LAW_KEYS = ("transport.step_factor", "transport.curtain_coefficient", "transport.velocity_coefficient",
+             "transport.dispersion_coefficient")
 #: case key of each [[tests]] field a calibration may set (the run's override for that test)
 _TEST_FIELD_KEYS = {"solids_velocity": "transport.solids_velocity", "dispersion": "transport.dispersion",
                     "gas_flow": "gas.flow", "fouling": "transport.fouling"}
@@ -98,6 +102,8 @@ KEY_BOUNDS = {**DEFAULT_BOUNDS,
               "transport.fouling": (0.0, 0.95, False),
               "transport.velocity_coefficient": (0.01, 10.0, True),
               "transport.dispersion_coefficient": (1e-3, 1e4, True),
+              "transport.step_factor": (0.05, 20.0, True),         # c_0 of the cascade law (Song: 2.45)
+              "transport.curtain_coefficient": (1e-4, 1e4, True),  # Sherritt's K (Lee Eq. 2.14: 1.546)
               "thermal.area_scale": (1e-3, 100.0, True),
               "thermal.discharge_cooling_ntu": (0.0, 50.0, False),
               "gas.flow": (0.01, 1000.0, True),
@@ -277,6 +283,8 @@ def _parameter(case_name: str, base: dict, key: str, tests) -> Parameter:
             value = getattr(row, key.split(".")[1], None) if row is not None else None
         if value is None and key == "gas.flow":
             value = thermal_settings(case).gas_flow
+        if value is None and key in _LAW_KEYS:      # the material class's value, else the neutral one
+            value = law_coefficient(case, key.split(".", 1)[1])
         lo, hi, lg = KEY_BOUNDS.get(key, (0.0, math.inf, True))
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"parameter {key!r} has no numeric value in case {case_name!r} (value {value!r}); "
@@ -443,8 +451,13 @@ class CaseCalibration:
 
 def _configuration(case, thermal: bool) -> dict:
     out = {}
+    # the predictive law of lee2008-type sections fixes their forward step and loading (cases.build)
+    cascade = all(cascade_law(case, s.model or case.transport.model) for s in case.sections if s.kind == "flighted")
+    forced = (("transport.forward_step", "transport.loading") if cascade else ()) + (
+        () if any((s.model or case.transport.model) == "ajayi2011" for s in case.sections)
+        and case.transport.parameter_source == "predictive" else ("transport.predictive_flights",))
     for k in CONFIGURATION_KEYS:
-        if k in _THERMAL_CONFIG and not thermal:
+        if (k in _THERMAL_CONFIG and not thermal) or k in forced:
             continue
         v = _get(case, k)
         out[k] = "" if v is None else v

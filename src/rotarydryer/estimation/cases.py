@@ -63,13 +63,16 @@ def _current_value(case, key: str) -> float:
     if value is None and sec == "transport":
         # the default the model takes: the selected test's row (Table 5.2 in the MMG case) or the
         # [[parameter_sets]] row of n_cells (Lee's Table 7.2)
-        from ..cases.build import solids_transport, test_row, transport_coefficients
+        from ..cases.build import law_coefficient, solids_transport, test_row, transport_coefficients
 
         row = test_row(case)
         value = getattr(row, fld, None) if row is not None else None
         try:
             if value is None and fld in ("kiln_time", "backmix", "drag_reduction"):
                 value = transport_coefficients(case).get(fld)
+            elif value is None and fld in ("step_factor", "curtain_coefficient", "velocity_coefficient",
+                                           "dispersion_coefficient"):
+                value = law_coefficient(case, fld)      # the material class's, else the neutral value
             elif value is None and fld in ("solids_velocity", "dispersion"):
                 u, D, _ = solids_transport(case)
                 vals = list((u if fld == "solids_velocity" else D).values())

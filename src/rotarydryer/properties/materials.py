@@ -47,11 +47,19 @@ from .drying import DryingKinetics
 __all__ = ["Material", "load_material", "list_materials"]
 
 _LIBRARY = resources.files("rotarydryer.data") / "materials"
-_TABLES = ("repose_angle", "bulk_density", "kinetics", "particle_diameter_by_section")
+_TABLES = ("repose_angle", "bulk_density", "kinetics", "particle_diameter_by_section", "transport")
 _FIELDS = ("name", "title", "citations", "moisture_basis", "moisture_range", "repose_angle", "bulk_density",
            "heat_capacity", "water_heat_capacity", "particle_density", "particle_diameter",
-           "particle_diameter_by_section", "kinetics")
-_OPTIONAL = ("water_heat_capacity", "particle_diameter_by_section")
+           "particle_diameter_by_section", "kinetics", "transport")
+_OPTIONAL = ("water_heat_capacity", "particle_diameter_by_section", "transport")
+#: coefficients of the predictive transport law a material may carry (its class's calibration;
+#: the case's transport.<key> wins): key -> (low, high) open range
+TRANSPORT_COEFFICIENTS = {"step_factor": (0.0, 100.0), "curtain_coefficient": (0.0, 1e4),
+                          "velocity_coefficient": (0.0, 100.0), "dispersion_coefficient": (0.0, 1e4)}
+#: the operating range of the data those coefficients were calibrated on: key -> (quantity, unit)
+CALIBRATED_RANGES = {"calibrated_rpm": ("drum speed", "rev/min"), "calibrated_froude": ("Froude number omega^2 R/g", "-"),
+                     "calibrated_fill": ("solids fill of the drum volume", "-"),
+                     "calibrated_moisture": ("feed moisture", "kg/kg wet")}
 _KINETICS = {"method", "critical_moisture", "equilibrium_moisture", "exponent", "curve", "basis",
              "saturation_method", "source"}
 _TOL = 1e-12  # kg/kg: a range end recomputed from the other basis still counts as inside
@@ -82,6 +90,16 @@ class Material:
     repose_angle_source: str = ""
     bulk_density_source: str = ""
     particle_diameter_by_section: tuple[tuple[str, float], ...] = ()
+    #: coefficients of the predictive transport law calibrated for this material class, (key, value)
+    #: pairs of :data:`TRANSPORT_COEFFICIENTS`; the case's ``transport.<key>`` wins
+    transport_coefficients: tuple[tuple[str, float], ...] = ()
+    transport_source: str = ""
+    #: (key of :data:`CALIBRATED_RANGES`, (low, high)) pairs: where the coefficients were calibrated
+    transport_ranges: tuple[tuple[str, tuple[float, float]], ...] = ()
+
+    def transport_coefficient(self, key: str):
+        """The material class's value of predictive-transport coefficient ``key``, or None."""
+        return dict(self.transport_coefficients).get(key)
 
     def to_basis(self, x_wet):
         """Wet-basis moisture (kg/kg) on the basis of the laws (X = x/(1 - x) for "dry"); unchecked."""
@@ -235,6 +253,26 @@ def _build(d: dict) -> Material:
         raise ValueError(f"material.particle_diameter_by_section = {sections!r} must be a table section = m")
     sections = tuple((str(k), _number(f"particle_diameter_by_section.{k}", v, 0.0, 0.2, "m"))
                      for k, v in sections.items())
+    tr = d.get("transport", {})
+    if not isinstance(tr, dict):
+        raise ValueError(f"material.transport = {tr!r} must be a table (step_factor, curtain_coefficient, ...)")
+    extra = set(tr) - set(TRANSPORT_COEFFICIENTS) - set(CALIBRATED_RANGES) - {"source"}
+    if extra:
+        raise ValueError(f"material.transport.{sorted(extra)[0]} is not a field (allowed: "
+                         f"{', '.join(TRANSPORT_COEFFICIENTS)}, {', '.join(CALIBRATED_RANGES)}, source)")
+    coeffs = tuple((k, _number(f"transport.{k}", tr[k], *TRANSPORT_COEFFICIENTS[k], ""))
+                   for k in TRANSPORT_COEFFICIENTS if k in tr)
+    ranges = []
+    for k in CALIBRATED_RANGES:
+        if k in tr:
+            v = tr[k]
+            if not isinstance(v, (list, tuple)) or len(v) != 2:
+                raise ValueError(f"material.transport.{k} = {v!r} must be [low, high]")
+            lo_r = _number(f"transport.{k}[0]", v[0], 0.0, math.inf, "", lo_closed=True)
+            hi_r = _number(f"transport.{k}[1]", v[1], 0.0, math.inf, "", lo_closed=True)
+            if hi_r < lo_r:
+                _fail(f"transport.{k}", list(v), "[low, high] with low <= high")
+            ranges.append((k, (lo_r, hi_r)))
     kin = d["kinetics"]
     if not isinstance(kin, dict):
         raise ValueError(f"material.kinetics = {kin!r} must be a table (method, critical_moisture, ...)")
@@ -264,4 +302,5 @@ def _build(d: dict) -> Material:
         kinetics=kinetics,
         water_heat_capacity=_number("water_heat_capacity", d.get("water_heat_capacity", 4182.0), 0.0, 1e4,
                                     "J/(kg K)"),
-        repose_angle_source=repose_src, bulk_density_source=density_src, particle_diameter_by_section=sections)
+        repose_angle_source=repose_src, bulk_density_source=density_src, particle_diameter_by_section=sections,
+        transport_coefficients=coeffs, transport_source=str(tr.get("source", "")), transport_ranges=tuple(ranges))

@@ -135,6 +135,7 @@ THESIS_GEOMETRY = {"geometry.method": "ajayi2011_regressions"}
 
 def _overrides(test, cu, cd, law, extra=None) -> dict:
     ov = {**THESIS_GEOMETRY, "operating.test": int(test), "transport.parameter_source": "predictive",
+          "transport.predictive_flights": "kiln_velocity",
           "transport.velocity_coefficient": float(cu), "transport.dispersion_coefficient": float(cd),
           "transport.velocity_law": law}
     ov.update(extra or {})

@@ -1,61 +1,24 @@
-r"""Study: Song's (2003) Ottawa pilot dryer predicted by the mechanistic transport model (issue 14, part 4).
+r"""Study: Song's (2003) Ottawa pilot dryer predicted by the predictive transport law (issue 14, part 4).
 
 Song (2003) Appendix A.1 lists 73 mean residence times of dry building sand in the Ottawa
 pilot drum (3.05 m x 0.305 m, 9 lifters, co-current ambient air) over feed 3.1-15.3 kg/min,
-gas 0-0.1824 m^3/s, 3-8 rpm and slope 0.067-0.117 m/m (``song_appendixA_mrt.csv``). This
-module predicts them with the case's transport network (``song2003_ottawa``, Lee (2008)
-slice model, :class:`rotarydryer.Simulation`) with **two global coefficients**, fitted by
-cross-validation, and compares the out-of-sample error with the correlations of
-:mod:`rotarydryer.correlations` (docs/song_pilot.md).
+gas 0-0.1824 m^3/s, 3-8 rpm and slope 0.067-0.117 m/m (``song_appendixA_mrt.csv``; the case's
+``[[tests]]`` rows 1-73). This module keeps only the study -- fits, cross-validation, tables
+and figures; it has no model of its own. Every prediction is the steady state of
 
-The model (per run; every quantity but the two coefficients comes from the case, the
-geometry of its lifter and the physics cited):
+    ``Simulation("song2003_ottawa", PilotModel.overrides(i, coefficients)).transport_steady_state()``
 
-* Lee's network with the loading factor fixed at 1 (``transport.loading = "fixed"``, Lee's
-  gPROMS runs; Lee (2008) Eq. 4.22 with f_load = 1): cycle time t_p + t_a and mean fall
-  height h_m of the case's lifter at the design load (Lee (2008) Eq. 3.3-3.6);
-* **forward step of a cascade** (Lee (2008) Eq. 3.7-3.8, C_F = C_F^G h_m sin(theta)/dL) with
+with the case's predictive transport law (``transport.parameter_source = "predictive"``:
+Lee's (2008) slice network with the forward step of each cascade from the particle
+trajectories through the co-current air, Sherritt's curtain velocity with the constant
+``transport.curtain_coefficient`` K, the landing advance ``transport.step_factor`` c_0, the
+excess over the design load kilned at the cascade speed, ``kiln_law = "cascade"``, the
+flights' loading factor fixed at 1; docs/predictive_transport.md). The two coefficients are
+fitted here by cross-validation, and the out-of-sample error is compared with the
+correlations of :mod:`rotarydryer.correlations` (docs/song_pilot.md).
 
-  .. math::
-      C_F^G = c_0 + \frac{\Delta x(h_m\cos\theta,\ c_v U_g)}{h_m \sin\theta},
-
-  c_0 (**coefficient 1**, ``step_factor``) the advance of a cascade without gas in units of
-  the drag-free fall h_m sin(theta): bouncing and rolling of dry, free-flowing sand where it
-  lands (Song (2003) L600-618: kiln action > 40 % of the movement, bouncing "more important
-  for dry, free-flowing solids"); Delta x the extra axial advance of a particle falling
-  through the co-current gas, from its trajectory
-  (:func:`rotarydryer.correlations.cascade_trajectory`, Schiller-Naumann drag, Lee (2008)
-  Eq. 6.2-6.3 and 2.13) minus the same fall through still gas;
-* **gas velocity inside the curtain** U_c = c_v U_g with U_g = G/(rho_g pi R^2) and Sherritt's
-  form (Lee (2008) Eq. 2.14)
-
-  .. math::
-      c_v = \min\!\left(1,\ K\, h_m^{-0.76}\, q^{-0.86}\right),
-
-  q the flight release into the curtain per metre of drum (kg/(s m), the mean flight
-  discharge of the steady state over the cell length; Song's holdup is uniform along the
-  drum, L1369), exponents as printed; K (**coefficient 2**, ``curtain_coefficient``) replaces
-  Sherritt's 1.546 L^0.44, whose units and length L Lee does not define (reading: the
-  release rate per metre of a continuous curtain, as :mod:`rotarydryer.transport.forward_step`);
-  q depends on the step, so C_F^G is the fixed point of a scalar equation per run (secant);
-* **kilning of the excess** over the design load (Lee (2008) Eq. 3.9) at the speed of a
-  flight-borne particle without gas: t_kiln = (t_p + t_a) dL/(c_0 h_m sin(theta)) -- not a
-  third coefficient: Song's no-gas series shows the residence time independent of the feed
-  from 3.1 to 15.3 kg/min (L1363-1367; holdup 18-94 kg against a design load of 28 kg of the
-  case's lifter), i.e. the solids beyond the flights' capacity move as fast as those in them.
-  Gas acts on the curtains only, so the share of the holdup it speeds up falls as the feed
-  rises: Song's Fig. 4.8 trend.
-
-Air: Song's conversion of Ori_G (m^3/s) to kg with 1.1774 kg/m^3 (notes song.md 7.2), dry
-air at 26.85 degC (density 1.176 kg/m^3, viscosity 1.85e-5 Pa s by
-:mod:`rotarydryer.properties.humid_air`); sand d_p = 444 um (L1283), particle density
-2650 kg/m^3 (the material's, a choice).
-
-Every prediction is the steady state of ``Simulation("song2003_ottawa", overrides)`` with
-the overrides of :meth:`PilotModel.overrides` (thermal off, dry feed, the run's feed, speed,
-slope, gas, and the computed ``transport.drag_reduction`` and ``transport.kiln_time``); the
-fits use the same network built directly (:func:`rotarydryer.transport.sections.build_sections`
-on the case's section specs, bit-identical, tested).
+Air: Song's conversion of Ori_G (m^3/s) to kg with 1.1774 kg/m^3 (notes song.md 7.2), at
+26.85 degC (dry air of 1.1774 kg/m^3 at 101325 Pa).
 
 Units: SI (kg, s, m, kg/s) unless a name says otherwise; slopes in m/m (Song) and deg
 (``drum.slope`` of the case schema).
@@ -65,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import warnings
 from dataclasses import dataclass
 
@@ -81,8 +45,6 @@ __all__ = [
     "pilot_runs",
     "Coefficients",
     "curtain_velocity_ratio",
-    "gas_advance",
-    "tied_kiln_time",
     "PilotModel",
     "PilotPrediction",
     "fit_coefficients",
@@ -95,6 +57,7 @@ __all__ = [
     "error_summary",
     "comparison_table",
     "baseline_predictions",
+    "PER_TEST_SETTINGS",
     "table41_comparison",
     "speed_sequence",
     "step_test",
@@ -116,12 +79,13 @@ AIR_TEMPERATURE = 26.85
 
 #: (step_factor, curtain_coefficient) fitted by :func:`fit_coefficients` (least squares on log tau)
 #: to all 73 runs, to each half of :func:`split_halves` and to the "base" runs of
-#: :func:`split_extrapolation` (reproduced by tests/studies/test_song_pilot.py; start values of the fits)
+#: :func:`split_extrapolation` (reproduced by tests/studies/test_song_pilot.py; start values of the fits), the
+#: runs' gas at :data:`AIR_TEMPERATURE`
 SONG_PILOT_FITS = {
-    "all": (2.434764, 0.1227307),
-    "odd": (2.427722, 0.1240793),
-    "even": (2.438764, 0.1220326),
-    "base": (2.405059, 0.1229272),
+    "all": (2.434868, 0.1224377),
+    "odd": (2.427786, 0.1237944),
+    "even": (2.438785, 0.1217600),
+    "base": (2.405063, 0.1226585),
 }
 
 
@@ -165,12 +129,13 @@ def pilot_runs() -> PilotRuns:
                      slope=d["slope"], tau=d["mean_residence_time"])
 
 
-# ------------------------------------------------------------------------------------ physics
+# ------------------------------------------------------------------------------------ coefficients
 @dataclass(frozen=True)
 class Coefficients:
-    """The two global coefficients: ``step_factor`` c_0 (-), advance of a cascade without gas over
-    the drag-free fall h_m sin(theta); ``curtain_coefficient`` K, Sherritt's constant of
-    :func:`curtain_velocity_ratio` (h in m, q in kg/(s m))."""
+    """The two global coefficients of the predictive law: ``step_factor`` c_0 (-, case key
+    ``transport.step_factor``), advance of a cascade without gas over the drag-free fall
+    h_m sin(theta); ``curtain_coefficient`` K (``transport.curtain_coefficient``), Sherritt's
+    constant of :func:`curtain_velocity_ratio` (h in m, q in kg/(s m))."""
 
     step_factor: float
     curtain_coefficient: float
@@ -181,7 +146,9 @@ class Coefficients:
 
 
 def curtain_velocity_ratio(fall_height, release_rate, coefficient):
-    r"""Gas velocity inside a curtain over the bulk gas velocity, Sherritt's form (Lee (2008) Eq. 2.14).
+    r"""Gas velocity inside a curtain over the bulk gas velocity, Sherritt's form (Lee (2008) Eq. 2.14),
+    with checked inputs: :func:`rotarydryer.transport.forward_step.sherritt_form`, the curtain law of
+    the network.
 
     .. math::
         c_v = \min(1,\ K\, h^{-0.76} q^{-0.86})
@@ -193,7 +160,7 @@ def curtain_velocity_ratio(fall_height, release_rate, coefficient):
     release_rate : array_like
         q, release of the flights into the curtain per metre of drum, kg/(s m) (> 0).
     coefficient : float
-        K, replaces Sherritt's 1.546 L^0.44 (units undefined in Lee; fitted here).
+        K, replaces Sherritt's 1.546 L^0.44 (``transport.curtain_coefficient``).
 
     Returns
     -------
@@ -210,115 +177,45 @@ def curtain_velocity_ratio(fall_height, release_rate, coefficient):
     h = check_range("fall_height", fall_height, 0.0, math.inf, unit="m")
     q = check_range("release_rate", release_rate, 0.0, math.inf, unit="kg/(s m)")
     K = float(check_range("curtain_coefficient", coefficient, 0.0, math.inf, low_inclusive=True))
-    return sherritt_form(h, q, K)       # the one curtain law (rotarydryer.transport.forward_step)
-
-
-def _air():
-    from ..properties import humid_air as ha
-
-    return float(ha.density(AIR_TEMPERATURE, 0.0)), float(ha.viscosity(AIR_TEMPERATURE, 0.0))
-
-
-def gas_advance(fall_height, gas_velocity, slope_deg, particle_diameter=444e-6, particle_density=2650.0,
-                gas_density=None, gas_viscosity=None):
-    r"""Extra axial advance of a particle falling through co-current gas, m.
-
-    .. math::
-        \Delta x = x(h_\perp, u) - x(h_\perp, 0), \qquad h_\perp = h_m \cos\theta
-
-    x from :func:`rotarydryer.correlations.cascade_trajectory` (Schiller-Naumann drag, slope and
-    buoyancy; Lee (2008) Eq. 6.2-6.3); the fall starts at rest. Vectorised over every argument.
-
-    Parameters
-    ----------
-    fall_height : array_like
-        Vertical mean fall height h_m, m (Lee (2008) Eq. 3.5).
-    gas_velocity : array_like
-        Axial gas velocity seen by the particles, m/s (>= 0).
-    slope_deg : array_like
-        Drum inclination, deg.
-    particle_diameter, particle_density : float
-        m and kg/m^3 (Song's sand: 444 um; 2650 kg/m^3 is the material's choice).
-    gas_density, gas_viscosity : float, optional
-        kg/m^3 and Pa s; default dry air at :data:`AIR_TEMPERATURE`.
-
-    Examples
-    --------
-    >>> round(float(gas_advance(0.2, 0.0, 4.7)), 6)
-    0.0
-    >>> round(float(gas_advance(0.2, 1.0, 4.7)), 4)
-    0.0341
-    """
-    from ..correlations import cascade_trajectory
-
-    rho, mu = _air()
-    rho = rho if gas_density is None else gas_density
-    mu = mu if gas_viscosity is None else gas_viscosity
-    h = check_range("fall_height", fall_height, 0.0, math.inf, unit="m")
-    u = check_range("gas_velocity", gas_velocity, 0.0, math.inf, low_inclusive=True, unit="m/s")
-    th = check_range("slope_deg", slope_deg, 0.0, 45.0, unit="deg")
-    h, u, th = np.broadcast_arrays(h, u, th)
-    hp = h * np.cos(np.radians(th))
-    kw = dict(gas_flow="co-current", inclination=th)
-    x = np.asarray(cascade_trajectory(hp, particle_diameter, particle_density, rho, mu, gas_velocity=u, **kw)
-                   .axial_displacement, float)
-    x0 = np.asarray(cascade_trajectory(hp, particle_diameter, particle_density, rho, mu, gas_velocity=0.0 * u, **kw)
-                    .axial_displacement, float)
-    return x - x0
-
-
-def tied_kiln_time(passive_time, fall_time, fall_height, slope_deg, cell_length, step_factor):
-    r"""Kilning time of the excess over the design load that moves it at the speed of a
-    flight-borne particle without gas, s.
-
-    .. math::
-        t_{kiln} = \frac{(t_p + t_a)\, dL}{c_0\, h_m \sin\theta}
-
-    (Lee (2008) Eq. 3.9 excess form; t_p, t_a, h_m of Eq. 3.3-3.6; c_0 the step factor.)
-
-    Examples
-    --------
-    >>> round(float(tied_kiln_time(4.54, 0.20, 0.206, 4.745, 0.305, 2.4)), 2)
-    35.35
-    """
-    tp = check_range("passive_time", passive_time, 0.0, math.inf, unit="s")
-    ta = check_range("fall_time", fall_time, 0.0, math.inf, low_inclusive=True, unit="s")
-    h = check_range("fall_height", fall_height, 0.0, math.inf, unit="m")
-    th = check_range("slope_deg", slope_deg, 0.0, 45.0, unit="deg")
-    dl = check_range("cell_length", cell_length, 0.0, math.inf, unit="m")
-    c0 = check_range("step_factor", step_factor, 0.0, math.inf)
-    return (tp + ta) * dl / (c0 * h * np.sin(np.radians(th)))
+    return sherritt_form(h, q, K)
 
 
 # ------------------------------------------------------------------------------------ model
-class _MemoGeometry:
-    """The case's cell geometry with its cascade results memoised (one per speed and slope)."""
+def _simulation(case, overrides):
+    """``(Simulation(case, overrides), its transport steady state)``, the case loader's warnings
+    suppressed (the runs are inside the case's ranges by construction; the study reports errors)."""
+    from .. import Simulation
 
-    def __init__(self, geometry):
-        self.geometry = geometry
-        self._memo = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sim = Simulation(case, overrides)
+        return sim, sim.transport_steady_state()
 
-    def __repr__(self):
-        return repr(self.geometry)
 
-    def design_load_area(self, phi):
-        return self.geometry.design_load_area(phi)
+def _case_rows(case) -> dict:
+    """{Appendix A source line: [[tests]] row} of the case's rows 1.. whose ``source`` names a line."""
+    from .. import Simulation
 
-    def loading_factor(self, d, phi):
-        return self.geometry.loading_factor(d, phi)
-
-    def cascade(self, phi, f, **kw):
-        key = (np.asarray(phi, float).tobytes(), np.asarray(f, float).tobytes(), tuple(sorted(kw.items())))
-        if key not in self._memo:
-            self._memo[key] = self.geometry.cascade(phi, f, **kw)
-        return self._memo[key]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tests = Simulation(case).case.tests
+    out = {}
+    for row in tests:
+        m = re.search(r"App\. A L(\d+)", row.source or "")
+        if row.test and m:
+            out[int(m.group(1))] = row
+    return out
 
 
 @dataclass
 class PilotPrediction:
-    """Predictions for the runs ``idx`` (arrays aligned with ``idx``): ``tau`` s, ``holdup`` kg,
-    ``drag_reduction`` C_F^G, ``kiln_time`` s, ``velocity_ratio`` c_v (NaN without gas),
-    ``release_rate`` q kg/(s m), ``design_load`` kg (whole drum)."""
+    """Predictions for the runs ``idx`` (arrays aligned with ``idx``), from each steady state of
+    ``Simulation(case, overrides)``: ``tau`` s, ``holdup`` kg; from its model's ``cell_info``
+    (means over the cells): ``drag_reduction`` C_F^G of the trajectory step at the design load
+    (``C_F_G``), ``velocity_ratio`` c_v (``curtain_velocity_ratio``; NaN without gas),
+    ``kiln_time`` s of the cascade kiln law, (t_p + t_a) dL/(c_0 h_m sin(theta)); ``release_rate``
+    q kg/(s m), the mean flight discharge of the steady state over the cell length;
+    ``design_load`` kg (whole drum)."""
 
     idx: np.ndarray
     tau: np.ndarray
@@ -331,7 +228,7 @@ class PilotPrediction:
 
 
 class PilotModel:
-    """The ``song2003_ottawa`` transport network at the operating points of ``runs``.
+    """The ``song2003_ottawa`` case at the operating points of ``runs``.
 
     Parameters
     ----------
@@ -339,160 +236,98 @@ class PilotModel:
         Default :func:`pilot_runs` (all 73).
     case : str
         Case name or file (default ``song2003_ottawa``).
+
+    A run whose Appendix A source line is one of the case's ``[[tests]]`` rows (with the same
+    conditions) takes that row's numbers, so its explicit overrides reproduce
+    ``{"operating.test": N}`` exactly; ``tests[i]`` is that N (None for other runs).
     """
 
     def __init__(self, runs: PilotRuns | None = None, case: str = CASE):
-        from .. import Simulation
-
         self.runs = pilot_runs() if runs is None else runs
         self.case = case
-        self.air_density, self.air_viscosity = _air()
-        self._base = []
-        geometry = {}
-        for i in range(len(self.runs)):
-            sim = Simulation(case, self.base_overrides(i))
-            m = sim.transport_model()
-            specs = []
-            for s in m.specs:
-                g = geometry.setdefault(id(s.geometry), _MemoGeometry(s.geometry)) if s.geometry is not None else None
-                specs.append(dataclasses.replace(s, geometry=g))
-            info = m.cell_info
-            self._base.append(dict(specs=specs, material=m.material, radius=float(sim.case.drum.radius),
-                                   length=float(sum(s.length for s in m.specs)),
-                                   cell_length=float(m.specs[0].length / m.specs[0].n_cells),
-                                   tp=float(np.mean(info["passive_time_s"])), ta=float(np.mean(info["fall_time_s"])),
-                                   h=float(np.mean(info["fall_height_m"])),
-                                   particle=(float(m.material.particle_diameter), float(m.material.particle_density)),
-                                   design_load=float(np.nansum(m.design_load))))
-        self._warm = {}
+        rows = _case_rows(case)
+        r = self.runs
+        self.tests: list[int | None] = []
+        self._rows = []
+        for i in range(len(r)):
+            row = rows.get(int(r.src_line[i]))
+            same = row is not None and all(
+                v is not None and math.isclose(float(v), float(w), rel_tol=1e-6, abs_tol=1e-9) for v, w in
+                ((row.feed_rate, r.feed_rate[i]), (row.rpm, r.rpm[i]), (row.slope, r.slope_deg[i]),
+                 (row.gas_flow, r.gas_flow[i])))
+            self.tests.append(int(row.test) if same and row is not None else None)
+            self._rows.append(row if same else None)
 
     # -------------------------------------------------------------- per-run inputs
     def base_overrides(self, i: int) -> dict:
         """Case overrides of run ``i`` without the transport coefficients: no heat and mass
         transfer, dry feed (kg/s), speed, slope (deg = atan of Song's m/m), gas (kg/s) at ambient
-        temperature, Lee's fixed loading factor."""
-        r = self.runs
-        return {"thermal.enabled": False, "operating.feed_moisture": 0.0,
-                "operating.feed_rate": float(r.feed_rate[i]), "operating.rpm": float(r.rpm[i]),
-                "drum.slope": float(r.slope_deg[i]), "gas.flow": float(r.gas_flow[i]),
-                "gas.inlet_temperature": AIR_TEMPERATURE, "gas.inlet_humidity": 0.0,
-                "transport.loading": "fixed"}
+        temperature, the predictive transport law. A run of the case's ``[[tests]]`` takes the row's
+        numbers (the case's humidity and the rest as ``{"operating.test": N}``)."""
+        r, row = self.runs, self._rows[i]
+        if row is not None:
+            feed, rpm, slope, gas = (float(row.feed_rate), float(row.rpm), float(row.slope), float(row.gas_flow))
+        else:
+            feed, rpm, slope, gas = (float(r.feed_rate[i]), float(r.rpm[i]), float(r.slope_deg[i]),
+                                     float(r.gas_flow[i]))
+        return {"thermal.enabled": False, "operating.feed_moisture": 0.0, "operating.feed_rate": feed,
+                "operating.rpm": rpm, "drum.slope": slope, "gas.flow": gas,
+                "gas.inlet_temperature": AIR_TEMPERATURE, "transport.parameter_source": "predictive"}
 
     def overrides(self, i: int, coefficients: Coefficients) -> dict:
-        """Complete case overrides of run ``i``: :meth:`base_overrides` plus the computed
-        ``transport.drag_reduction`` and ``transport.kiln_time`` (``rotarydryer simulate
-        song2003_ottawa --set KEY=VALUE ...`` reproduces the prediction)."""
-        p = self.predict(coefficients, [i])
+        """Complete case overrides of run ``i``: :meth:`base_overrides` plus the two coefficients
+        (``rotarydryer rtd song2003_ottawa --set KEY=VALUE ...`` reproduces the prediction)."""
+        c = coefficients if isinstance(coefficients, Coefficients) else Coefficients(*coefficients)
         ov = self.base_overrides(i)
-        ov.update({"transport.drag_reduction": float(p.drag_reduction[0]),
-                   "transport.kiln_time": float(p.kiln_time[0])})
+        ov.update({"transport.step_factor": float(c.step_factor),
+                   "transport.curtain_coefficient": float(c.curtain_coefficient)})
         return ov
 
     def gas_velocity(self, i: int) -> float:
-        """Superficial gas velocity U_g = G/(rho_g pi R^2), m/s."""
-        b = self._base[i]
-        return float(self.runs.gas_flow[i]) / (AIR_DENSITY * math.pi * b["radius"] ** 2)
-
-    def _steady(self, i, drag_reduction, kiln_time):
-        from ..transport.sections import build_sections
-
-        b, r = self._base[i], self.runs
-        specs = [dataclasses.replace(s, drag_reduction=float(drag_reduction), kiln_time=float(kiln_time))
-                 for s in b["specs"]]
-        m = build_sections(specs, material=b["material"], feed_rate=float(r.feed_rate[i]), rpm=float(r.rpm[i]),
-                           slope=float(r.slope_deg[i]), inlet="danckwerts")
-        return m.steady_state()
-
-    def _release(self, i, ss) -> float:
-        return float(np.mean(ss.flow("discharge"))) / self._base[i]["cell_length"]
-
-    def _step_map(self, idx, c, coefficients, states):
-        """g(c) = C_F^G implied by the steady states at drag_reduction c (vectorised over runs)."""
-        q = np.array([self._release(i, s) for i, s in zip(idx, states)])
-        h = np.array([self._base[i]["h"] for i in idx])
-        th = self.runs.slope_deg[idx]
-        cv = curtain_velocity_ratio(h, q, coefficients.curtain_coefficient)
-        u = cv * np.array([self.gas_velocity(i) for i in idx])
-        dp, rp = self._base[idx[0]]["particle"]
-        dx = gas_advance(h, u, th, dp, rp, self.air_density, self.air_viscosity)
-        return coefficients.step_factor + dx / (h * np.sin(np.radians(th))), cv, q
+        """Superficial gas velocity U_g = G/(rho_g pi R^2), m/s, with Song's air density and the
+        case's drum radius 0.1525 m."""
+        return float(self.runs.gas_flow[i]) / (AIR_DENSITY * math.pi * 0.1525**2)
 
     # -------------------------------------------------------------- prediction
-    def predict(self, coefficients: Coefficients, idx=None, *, via_simulation: bool = False,
-                tol: float = 1e-11, max_iter: int = 40) -> PilotPrediction:
-        """Steady states of the runs ``idx`` (default all) with the two coefficients.
+    def steady_state(self, i: int, coefficients: Coefficients):
+        """The transport steady state of run ``i``: ``Simulation(case, overrides(i, c)).transport_steady_state()``."""
+        return _simulation(self.case, self.overrides(i, coefficients))[1]
 
-        The drag factor of each gas run is the fixed point C_F^G = g(C_F^G) (the curtain release q
-        depends on the step; secant iteration, ``tol`` relative). ``via_simulation`` takes the final
-        steady states from ``Simulation(case, overrides(i)).transport_steady_state()`` (with the
-        case's feasibility checks) instead of the directly built network (the same numbers)."""
+    def predict(self, coefficients: Coefficients, idx=None) -> PilotPrediction:
+        """Steady states of the runs ``idx`` (default all) with the two coefficients, one
+        ``Simulation(case, overrides(i, coefficients))`` per run (the network solves the curtain
+        velocity's fixed point itself)."""
         if not isinstance(coefficients, Coefficients):
             coefficients = Coefficients(*coefficients)
         idx = np.arange(len(self.runs)) if idx is None else np.asarray(idx, dtype=int).ravel()
+        n = idx.size
+        out = {k: np.full(n, np.nan) for k in ("tau", "holdup", "drag_reduction", "kiln_time", "velocity_ratio",
+                                               "release_rate", "design_load")}
         c0 = coefficients.step_factor
-        kiln = np.array([float(tied_kiln_time(self._base[i]["tp"], self._base[i]["ta"], self._base[i]["h"],
-                                              self.runs.slope_deg[i], self._base[i]["cell_length"], c0))
-                         for i in idx])
-        gas = self.runs.gas_flow[idx] > 0
-        c = np.full(idx.size, c0)
-        cv = np.full(idx.size, np.nan)
-        q = np.full(idx.size, np.nan)
-        states = [None] * idx.size
-        for k in np.nonzero(~gas)[0]:
-            states[k] = self._steady(idx[k], c0, kiln[k])
-            q[k] = self._release(idx[k], states[k])
-        g_idx = np.nonzero(gas)[0]
-        if g_idx.size:
-            x = np.array([self._warm.get(int(idx[k]), c0) for k in g_idx], float)   # last solution: warm start
-            st = [self._steady(idx[k], x[j], kiln[k]) for j, k in enumerate(g_idx)]
-            gx, cvx, qx = self._step_map(idx[g_idx], x, coefficients, st)
-            fx = gx - x
-            x_prev, f_prev = x.copy(), fx.copy()
-            x = gx.copy()                                   # one plain fixed-point step, then secant
-            todo = np.ones(g_idx.size, dtype=bool)
-            for _ in range(max_iter):
-                st_new = list(st)
-                for j in np.nonzero(todo)[0]:
-                    st_new[j] = self._steady(idx[g_idx[j]], x[j], kiln[g_idx[j]])
-                st = st_new
-                gx, cvx, qx = self._step_map(idx[g_idx], x, coefficients, st)
-                fx = gx - x
-                todo = np.abs(fx) > tol * np.abs(x)
-                if not np.any(todo):
-                    break
-                denom = fx - f_prev
-                ok = todo & (np.abs(denom) > 1e-300)
-                x_new = np.where(ok, x - fx * (x - x_prev) / np.where(ok, denom, 1.0), gx)
-                x_new = np.where(x_new > 0, x_new, gx)          # a secant step below 0: plain step
-                x_prev, f_prev = np.where(todo, x, x_prev), np.where(todo, fx, f_prev)
-                x = np.where(todo, x_new, x)
-            else:
-                lines = ", ".join(str(int(self.runs.src_line[idx[g_idx[j]]])) for j in np.nonzero(todo)[0])
-                raise ValueError(f"the drag factor of the runs of source lines {lines} did not converge in "
-                                 f"{max_iter} iterations")
-            for j, k in enumerate(g_idx):
-                self._warm[int(idx[k])] = float(x[j])
-                states[k] = st[j]
-            c[g_idx], cv[g_idx], q[g_idx] = x, cvx, qx
-        if via_simulation:
-            from .. import Simulation
-
-            for k, i in enumerate(idx):
-                ov = self.base_overrides(int(i))
-                ov.update({"transport.drag_reduction": float(c[k]), "transport.kiln_time": float(kiln[k])})
-                states[k] = Simulation(self.case, ov).transport_steady_state()
-        tau = np.array([s.mean_residence_time for s in states])
-        hold = np.array([s.total_holdup for s in states])
-        des = np.array([self._base[i]["design_load"] for i in idx])
-        return PilotPrediction(idx=idx, tau=tau, holdup=hold, drag_reduction=c, kiln_time=kiln, velocity_ratio=cv,
-                               release_rate=q, design_load=des)
+        for k, i in enumerate(idx):
+            sim, ss = _simulation(self.case, self.overrides(int(i), coefficients))
+            m = ss.model
+            info = m.cell_info
+            dl = float(m.specs[0].length / m.specs[0].n_cells)
+            sin_t = math.sin(math.radians(float(sim.case.drum.slope)))
+            tp, ta, h = (np.asarray(info[key], float) for key in ("passive_time_s", "fall_time_s", "fall_height_m"))
+            out["tau"][k] = ss.mean_residence_time
+            out["holdup"][k] = ss.total_holdup
+            out["drag_reduction"][k] = float(np.mean(info["C_F_G"]))
+            out["kiln_time"][k] = float(np.mean((tp + ta) * dl / (c0 * h * sin_t)))
+            if self.runs.gas_flow[i] > 0:
+                out["velocity_ratio"][k] = float(np.mean(info["curtain_velocity_ratio"]))
+            out["release_rate"][k] = float(np.mean(ss.flow("discharge"))) / dl
+            out["design_load"][k] = float(np.nansum(m.design_load))
+        return PilotPrediction(idx=idx, **out)
 
 
 # ------------------------------------------------------------------------------------ fitting
-def fit_coefficients(model: PilotModel, idx=None, start=(2.4, 0.4)) -> tuple[Coefficients, dict]:
+def fit_coefficients(model: PilotModel, idx=None, start=(2.45, 0.093)) -> tuple[Coefficients, dict]:
     """Least-squares fit of the two coefficients to the runs ``idx`` (default all): residuals
-    ln(tau_model/tau_measured), i.e. relative errors, equally weighted; parameters on a log scale.
-    Returns the coefficients and ``dict(cost, nfev, success)``."""
+    ln(tau_model/tau_measured), i.e. relative errors, equally weighted; parameters on a log scale;
+    every evaluation is :meth:`PilotModel.predict` (one Simulation per run, about 1 s for 73 runs;
+    a fit takes 10-40 of them). Returns the coefficients and ``dict(cost, nfev, success)``."""
     from scipy.optimize import least_squares
 
     idx = np.arange(len(model.runs)) if idx is None else np.asarray(idx, dtype=int).ravel()
@@ -596,43 +431,55 @@ def refit_song_eq45(runs: PilotRuns, idx=None, length=3.05, diameter=0.305, part
         * (r.gas_flow / r.feed_rate), float))
 
 
+#: the case's fitted-step transport settings before the predictive law (``baseline_predictions`` "case")
+PER_TEST_SETTINGS = {"transport.parameter_source": "per_test", "transport.forward_step": "fitted",
+                     "transport.kiln_time": 10.0, "transport.drag_reduction": 1.0, "transport.backmix": 0.0,
+                     "transport.loading": "state"}
+
+
 def baseline_predictions(model: PilotModel) -> dict:
-    """Mean residence time (s) of every run by the case's network with nothing fitted: ``"case"``,
-    the case's own transport settings (Lee's step C_F^G = ``drag_reduction`` = 1, kilning time
-    10 s, loading from the state) at the run's conditions; ``"trajectory"``, the same with
-    ``transport.forward_step = "trajectory"`` (the step from the particle trajectory with
-    Sherritt's curtain velocity as printed, Lee (2008) Eq. 2.14; :mod:`rotarydryer.transport.forward_step`)."""
-    from .. import Simulation
+    """Mean residence time (s) of every run by the case's network with nothing fitted here:
+
+    * ``"case"``: the case's fitted-step settings (:data:`PER_TEST_SETTINGS`:
+      ``transport.parameter_source = "per_test"``, Lee's step C_F^G = ``drag_reduction`` = 1,
+      kilning time 10 s, loading from the state), the configuration of the case before the
+      predictive law, at the run's conditions;
+    * ``"trajectory"``: the same with ``transport.forward_step = "trajectory"`` and Sherritt's curtain
+      velocity as printed (``step_factor`` 1, ``curtain_coefficient`` 1.546; Lee (2008) Eq. 2.14;
+      :mod:`rotarydryer.transport.forward_step`);
+    * ``"predictive"``: the case as shipped, the predictive law with the coefficients of its
+      ``[[calibrations]]`` record (fitted to all 73 runs: in sample), i.e. :meth:`PilotModel.base_overrides`."""
+    from ..transport.forward_step import SHERRITT_COEFFICIENT
 
     out = {}
-    for key, extra in (("case", {}), ("trajectory", {"transport.forward_step": "trajectory"})):
+    traj = {**PER_TEST_SETTINGS, "transport.forward_step": "trajectory", "transport.step_factor": 1.0,
+            "transport.curtain_coefficient": SHERRITT_COEFFICIENT}
+    for key, extra in (("case", PER_TEST_SETTINGS), ("trajectory", traj), ("predictive", {})):
         tau = np.empty(len(model.runs))
         for i in range(len(model.runs)):
-            ov = {k: v for k, v in model.base_overrides(i).items() if k != "transport.loading"}
-            ov.update(extra)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                tau[i] = Simulation(model.case, ov).transport_steady_state().mean_residence_time
+            tau[i] = _simulation(model.case, {**model.base_overrides(i), **extra})[1].mean_residence_time
         out[key] = tau
     return out
 
 
 def comparison_table(model: PilotModel, cv: dict | None = None, extrapolation: dict | None = None,
                      baselines: dict | None = None) -> list[dict]:
-    """Rows comparing the mechanistic model with the correlations, each with ``errors`` on all 73
+    """Rows comparing the predictive law with the correlations, each with ``errors`` on all 73
     runs and ``errors_other`` on the 20 speed/slope runs of :func:`split_extrapolation`:
 
-    * the mechanistic model, cross-validated (:func:`cross_validate`; ``errors_other``: fitted on the
+    * the predictive law, cross-validated (:func:`cross_validate`; ``errors_other``: fitted on the
       53 base runs only, :func:`extrapolate`);
     * Song's Eq. 4.5 form with its two constants refitted the same ways;
     * the published correlations as printed (Song's Eq. 4.5 was fitted by Song on these very runs:
       in sample; the others' constants come from other dryers);
-    * the case's network with nothing fitted (:func:`baseline_predictions`; ``baselines`` reuses them)."""
+    * the case's network with nothing fitted here (:func:`baseline_predictions`; ``baselines`` reuses
+      them): the former fitted-step settings, the trajectory step with Sherritt's constant as printed,
+      and the case as shipped (the predictive law with its calibration record, in sample)."""
     runs = model.runs
     cv = cross_validate(model) if cv is None else cv
     ex = extrapolate(model) if extrapolation is None else extrapolation
     other = ex["split"]["other"]
-    rows = [dict(name="mechanistic model (this study)", fitted=2, how="2-fold cross-validation (out of sample)",
+    rows = [dict(name="predictive law (this study)", fitted=2, how="2-fold cross-validation (out of sample)",
                  errors=cv["errors"], errors_other=ex["errors"])]
     halves = split_halves(runs)
     tau = np.full(len(runs), np.nan)
@@ -653,9 +500,12 @@ def comparison_table(model: PilotModel, cv: dict | None = None, extrapolation: d
         rows.append(dict(name=name, fitted=k, how=how, errors=error_summary(corr[key], runs.tau),
                          errors_other=error_summary(corr[key][other], runs.tau[other])))
     base = baseline_predictions(model) if baselines is None else baselines
-    for key, name in (("case", "case network as shipped (C_F^G = 1, t_kiln = 10 s)"),
-                      ("trajectory", "case network, trajectory step (Sherritt as printed)")):
-        rows.append(dict(name=name, fitted=0, how="nothing fitted", errors=error_summary(base[key], runs.tau),
+    for key, name, k, how in (
+            ("predictive", "case as shipped (predictive, calibration record)", 2,
+             "calibration record: fitted to all 73 runs (in sample)"),
+            ("case", "case network, fitted-step settings (per_test: C_F^G = 1, t_kiln = 10 s)", 0, "nothing fitted"),
+            ("trajectory", "case network, trajectory step (Sherritt as printed)", 0, "nothing fitted")):
+        rows.append(dict(name=name, fitted=k, how=how, errors=error_summary(base[key], runs.tau),
                          errors_other=error_summary(base[key][other], runs.tau[other])))
     return rows
 
@@ -673,10 +523,8 @@ def _custom_runs(feed_kg_min, gas_m3_s, rpm, slope_m_m, tau_min=None, src_line=N
 
 def run_transport_model(model: PilotModel, i: int, coefficients: Coefficients):
     """(TransportModel, SteadyState) of run ``i`` through ``Simulation(case, model.overrides(i, ...))``."""
-    from .. import Simulation
-
-    sim = Simulation(model.case, model.overrides(i, coefficients))
-    return sim.transport_model(), sim.transport_steady_state()
+    ss = model.steady_state(i, coefficients)
+    return ss.model, ss
 
 
 def simulate_steps(segments, dt: float = 1.0, settle: float = 1e-7, max_duration: float = 86400.0) -> dict:
@@ -863,16 +711,18 @@ def series_of(runs: PilotRuns) -> list[str]:
 
 
 def command_line(model: PilotModel, i: int, coefficients: Coefficients) -> str:
-    """The ``rotarydryer simulate`` command that reproduces the prediction of run ``i``."""
-    ov = model.overrides(i, coefficients)
+    """The ``rotarydryer rtd`` command that reproduces the prediction of run ``i``: a run of the
+    case's ``[[tests]]`` by its row (``--set operating.test=N``) and the two coefficients, any other
+    run by all of :meth:`PilotModel.overrides`."""
+    c = coefficients if isinstance(coefficients, Coefficients) else Coefficients(*coefficients)
+    ov: dict = ({"operating.test": model.tests[i], "transport.step_factor": float(c.step_factor),
+                 "transport.curtain_coefficient": float(c.curtain_coefficient)} if model.tests[i] is not None
+                else model.overrides(i, c))
     parts = []
     for k, v in ov.items():
-        if isinstance(v, bool):
-            v = str(v).lower()
-        elif isinstance(v, float):
-            v = f"{v:.10g}"
-        parts.append(f"--set {k}={v}")
-    return f"rotarydryer simulate {model.case} " + " ".join(parts) + " --json"
+        text = str(v).lower() if isinstance(v, bool) else f"{v:.10g}" if isinstance(v, float) else str(v)
+        parts.append(f"--set {k}={text}")
+    return f"rotarydryer rtd {model.case} " + " ".join(parts) + " --json"
 
 
 def markdown(model: PilotModel, fits: dict, cv: dict, extrapolation: dict, table: list, table41: list,
@@ -895,12 +745,12 @@ def markdown(model: PilotModel, fits: dict, cv: dict, extrapolation: dict, table
     for r in table:
         e, o = r["errors"], r["errors_other"]
         how = r["how"]
-        if r["name"].startswith("mechanistic") or r["name"].startswith("Song Eq. 4.5 form"):
+        if r["name"].startswith("predictive law") or r["name"].startswith("Song Eq. 4.5 form"):
             how += "; (20): fitted on the 53 base runs"
         L.append(f"| {r['name']} | {r['fitted']} | {how} | {e['mape_pct']:.2f} | {e['max_pct']:.1f} | "
                  f"{e['bias_pct']:+.2f} | {o['mape_pct']:.2f} | {o['max_pct']:.1f} |")
     L.append("")
-    L.append("**Cross-validated errors by series** (mechanistic model, out of sample):\n")
+    L.append("**Cross-validated errors by series** (predictive law, out of sample):\n")
     L.append("| series | runs | MAPE % | max % | bias % |")
     L.append("|---|---|---|---|---|")
     ser = np.array(series_of(runs))

@@ -73,6 +73,11 @@ class SectionSpec:
     forward_step : "fitted" (C_F = drag_reduction h_m sin(theta)/dL, Lee (2008) Eq. 3.7-3.8) or
     "trajectory" (C_F from the fall through ``gas``, a
     :class:`~rotarydryer.transport.forward_step.CurtainGas`; ``drag_reduction`` is then unused).
+    kiln_law (``kilning = "excess"``): "fixed" (the excess over the design load leaves a cell at
+    1/``kiln_time``, Lee (2008) Eq. 3.9) or "cascade" (it moves at the axial speed of the
+    flight-borne solids without gas, c_0 h_m sin(theta)/(t_p + t_a), so
+    1/t_kiln = c_0 h_m sin(theta)/((t_p + t_a) dL) per cell; c_0 the trajectory step's
+    ``step_factor``, 1 for the fitted step; ``kiln_time`` is then unused).
     """
 
     name: str
@@ -97,6 +102,7 @@ class SectionSpec:
     rates: dict | None = None
     forward_step: str = "fitted"
     gas: Any = None
+    kiln_law: str = "fixed"
 
 
 class ExactGeometry:
@@ -216,8 +222,29 @@ class FlightedSectionLaw:
         s = self.spec
         fouling = s.fouling if fouling is None else fouling
         phi = np.asarray(phi, dtype=float)
-        area = np.asarray(s.geometry.design_load_area(phi.ravel()), dtype=float).reshape(phi.shape)
-        return rho * self.dl * area * (1.0 - fouling)
+        key = (phi.shape, phi.tobytes())
+        memo = getattr(self, "_area_memo", None)
+        if memo is None or memo[0] != key:      # the same repose angles (fixed moisture): the same area
+            area = np.array(s.geometry.design_load_area(phi.ravel()), dtype=float).reshape(phi.shape)
+            area.setflags(write=False)
+            memo = self._area_memo = (key, area)
+        return rho * self.dl * memo[1] * (1.0 - fouling)
+
+    def _geometry_cascade(self, phi, f, kw):
+        """(t_p, t_a, h_m) of the geometry at repose angles ``phi`` and loading factors ``f`` (same shape),
+        memoised on the last call: a transport-only network with a fixed loading evaluates the same cells
+        at every state (the trajectory step changes with the release only)."""
+        key = (phi.shape, phi.tobytes(), f.tobytes(), tuple(sorted(kw.items())))
+        memo = getattr(self, "_cascade_memo", None)
+        if memo is None or memo[0] != key:
+            c = self.spec.geometry.cascade(phi.ravel(), f.ravel(), **kw)
+            shape = phi.shape
+            vals = tuple(np.array(v, float).reshape(shape) for v in (c.passive_time, c.mean_fall_time,
+                                                                    c.mean_fall_height))
+            for v in vals:
+                v.setflags(write=False)     # shared by the callers: read-only
+            memo = self._cascade_memo = (key, vals)
+        return memo[1]
 
     @property
     def trajectory(self) -> bool:
@@ -239,11 +266,8 @@ class FlightedSectionLaw:
         phi = np.asarray(phi, dtype=float)
         shape = np.broadcast_shapes(phi.shape, np.shape(f))     # (n,) or a batch (k, n)
         phi, f = np.broadcast_to(phi, shape), np.broadcast_to(np.asarray(f, dtype=float), shape)
-        c = self.spec.geometry.cascade(phi.ravel(), f.ravel(), **kw)
         s = self.spec
-        tp = np.asarray(c.passive_time, float).reshape(shape)
-        ta = np.asarray(c.mean_fall_time, float).reshape(shape)
-        h = np.asarray(c.mean_fall_height, float).reshape(shape)
+        tp, ta, h = self._geometry_cascade(np.ascontiguousarray(phi), np.ascontiguousarray(f), kw)
         if not self.trajectory:
             return self._fitted_step(tp, ta, h)
         from .forward_step import trajectory_forward_step
@@ -257,14 +281,23 @@ class FlightedSectionLaw:
         # structure (Lee (2008) Fig. 3.4) cannot carry solids further. build_sections refuses a
         # discretisation whose step at the design load does not fit; the cap acts only at lower
         # loadings (sparse curtains of nearly empty flights feel the whole gas velocity)
-        reach = (1.0 - s.backmix) * self.dl
+        far = s.backmix == 0.0          # without a fitted backmix a cascade may reach two cells on
+        reach = (2.0 if far else 1.0 - s.backmix) * self.dl
         d = np.clip(free, -reach, reach)
-        CF = np.maximum(d, 0.0) / self.dl
-        CB = s.backmix + np.maximum(-d, 0.0) / self.dl
+        xf, xb = np.maximum(d, 0.0) / self.dl, np.maximum(-d, 0.0) / self.dl
+        # a uniform curtain over the cell whose particles all advance d: the fraction x = d/dL (< 1) lands
+        # in the next cell; for 1 < x <= 2 every particle leaves, 2 - x into the next and x - 1 into the
+        # one after (mean advance (2 - x) + 2 (x - 1) = x cells); the same backwards
+        CF2, CB2 = np.maximum(xf - 1.0, 0.0), np.maximum(xb - 1.0, 0.0)
+        CF = np.where(xf > 1.0, 2.0 - xf, xf)
+        CB = s.backmix + np.where(xb > 1.0, 2.0 - xb, xb)
         zero = h * self.sin_t
         cfg = np.divide(d, zero, out=np.full(self.n, np.nan), where=zero > 0)
-        return dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - CB, CB=CB, step=d, step_free=free, CFG=cfg,
-                    cv=step["curtain_velocity_ratio"])
+        out = dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - CB - CF2 - CB2, CB=CB, step=d, step_free=free, CFG=cfg,
+                   cv=step["curtain_velocity_ratio"])
+        if far:
+            out.update(CF2=CF2, CB2=CB2)
+        return out
 
     def _fitted_step(self, tp, ta, h):
         """The cascade dict of the fitted forward step: C_F = drag_reduction h sin(theta) / dL (Lee
@@ -317,21 +350,41 @@ class FlightedSectionLaw:
     def _fitted_rates(self, tp, ta, h):
         """:meth:`rates_of` of :meth:`_fitted_step` (the same numbers, without the cascade dict)."""
         cf = self._fitted_forward(h)
-        return self._rates(tp, ta, cf, float(self.spec.backmix), 1.0 - cf - self.spec.backmix)
+        return self._rates(tp, ta, cf, float(self.spec.backmix), 1.0 - cf - self.spec.backmix, h)
 
     def rates_of(self, c):
         """Coefficients (1/s) of each family from a :meth:`cascade` result."""
-        return self._rates(c["tp"], c["ta"], c["CF"], c["CB"], c["CR"])
+        out = self._rates(c["tp"], c["ta"], c["CF"], c["CB"], c["CR"], c["h"])
+        if "CF2" in c:      # the trajectory step's reach into the second cell (cascade)
+            out.update(forward_far=c["CF2"] / c["ta"], backmix_far=c["CB2"] / c["ta"])
+        return out
 
-    def _rates(self, tp, ta, cf, cb, cr):
+    @property
+    def step_factor(self) -> float:
+        """c_0 of the forward step without gas (the trajectory step's ``step_factor``; 1 for the fitted step)."""
+        gas = self.spec.gas
+        return float(gas.step_factor) if self.trajectory and gas is not None else 1.0
+
+    def cascade_kiln_rate(self, tp, ta, h):
+        """1/t_kiln (1/s) of ``kiln_law = "cascade"``: the excess over the design load moves one cell at the
+        axial speed of the flight-borne solids without gas, c_0 h_m sin(theta)/(t_p + t_a) (Lee (2008) Eq.
+        3.3-3.8 with C_F^G = c_0; the kilning of Eq. 3.9 tied to the cascade: Song (2003) L1363-1367, the
+        residence time of dry sand independent of the feed beyond the flights' capacity)."""
+        return self.step_factor * np.asarray(h, float) * self.sin_t / ((np.asarray(tp, float)
+                                                                       + np.asarray(ta, float)) * self.dl)
+
+    def _rates(self, tp, ta, cf, cb, cr, h=None):
         """Coefficients (1/s) of each family from the passive and fall times and the forward, backmix
-        and return fractions (Lee (2008) Eq. 3.3-3.8)."""
+        and return fractions (Lee (2008) Eq. 3.3-3.8); ``h`` the fall height (the cascade kiln law)."""
         s = self.spec
         out = dict(discharge=1.0 / tp, forward=cf / ta, backmix=cb / ta)
         out["return"] = cr / ta
         shape = np.shape(tp)
-        out["kiln"] = (np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess"
-                       else np.full(shape, s.kiln_velocity / self.dl))
+        if s.kilning == "excess" and s.kiln_law == "cascade":
+            out["kiln"] = self.cascade_kiln_rate(tp, ta, h) * np.ones(shape)
+        else:
+            out["kiln"] = (np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess"
+                           else np.full(shape, s.kiln_velocity / self.dl))
         return out
 
     @property
@@ -443,7 +496,9 @@ class _Coefficients:
         return fn
 
 
-_RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln")
+#: values of ``transport.kiln_law`` (SectionSpec.kiln_law)
+KILN_LAWS = ("fixed", "cascade")
+_RATE_NAMES = ("discharge", "forward", "return", "backmix", "kiln", "forward_far", "backmix_far")
 #: cell_info keys of the trajectory forward step (at the design load, transport-only moisture)
 TRAJECTORY_INFO = ("C_B", "forward_step_m", "C_F_G", "curtain_velocity_ratio")
 
@@ -484,7 +539,8 @@ def _check_flighted(spec: SectionSpec, where: str):
         if not isinstance(spec.gas, CurtainGas):
             raise ValueError(f"{where}: transport.forward_step = 'trajectory' needs the gas stream and the "
                              "particles (give [gas] flow and inlet_temperature, and a [material])")
-    if spec.kilning == "excess" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
+    check_choice("transport.kiln_law", spec.kiln_law, KILN_LAWS)
+    if spec.kilning == "excess" and spec.kiln_law == "fixed" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
         raise ValueError(f"transport.kiln_time = {fmt_number(spec.kiln_time)} s is outside the allowed range (0, inf]")
     if spec.kilning == "velocity":
         check_range("transport.kiln_velocity", spec.kiln_velocity, 0.0, math.inf, unit="m/s")
@@ -608,7 +664,8 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         if law.trajectory:      # the step at the design load must fit (lower loadings are capped, see cascade)
             c1 = law.cascade(phi, np.ones(N))
             cw = c1
-            worst = float(np.min(1.0 - s.backmix - np.abs(c1["step_free"]) / rec["dl"]))
+            worst = float(np.min((2.0 if s.backmix == 0.0 else 1.0 - s.backmix)
+                                 - np.abs(c1["step_free"]) / rec["dl"]))
         else:
             f_check = [1.0] + ([] if s.loading == "fixed" else [1e-3, 0.25, 0.5, 0.75])
             both = law.cascade(np.broadcast_to(phi, (len(f_check), N)),      # all loadings in one call
@@ -622,13 +679,15 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             if law.trajectory:
                 step = float(np.max(np.abs(cw["step_free"])))     # m, the trajectory advance
                 what = (f"the trajectory step |d| = {step:.4g} m at the design load (transport.forward_step = "
-                        f"'trajectory') exceeds the cell length {rec['dl']:.4g} m minus backmix; with backmix = "
+                        f"'trajectory') exceeds {'two cell lengths' if s.backmix == 0.0 else 'the cell length'} "
+                        f"{rec['dl']:.4g} m{'' if s.backmix == 0.0 else ' minus backmix'}; with backmix = "
                         f"{s.backmix:g} the")
             else:
                 step = s.drag_reduction * float(np.max(cw["h"])) * law.sin_t
                 what = ("the forward step C_F^G h_m sin(theta) exceeds the cell length minus backmix; with "
                         f"backmix = {s.backmix:g} and drag_reduction = {s.drag_reduction:g} the")
-            n_max = int(math.floor((1.0 - s.backmix) * s.length / step)) if step > 0 else 0
+            span = 2.0 if law.trajectory and s.backmix == 0.0 else 1.0 - s.backmix
+            n_max = int(math.floor(span * s.length / step)) if step > 0 else 0
             raise ValueError(
                 f"section {sec}: transport.n_cells = {N} makes the return coefficient C_R = 1 - C_F - C_B "
                 f"negative (min {worst:.4g}): {what} limit is transport.n_cells <= {n_max} (Lee (2008) Ch. 7: "
@@ -651,7 +710,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
             cc = _Coefficients(law, x, des)
             mk = lambda key, cc=cc: dict(rate_fn=cc.rate_fn(key), ctrl=P)  # noqa: E731
         fams = [EdgeFamily("discharge", P, A, "capped", cap=des, section=sec, **mk("discharge"))]
-        if s.kilning == "excess" and math.isfinite(s.kiln_time):
+        if s.kilning == "excess" and (s.kiln_law == "cascade" or math.isfinite(s.kiln_time)):
             fams.append(EdgeFamily("kiln", P, nxtP, "excess", rate=r1["kiln"], cap=des, section=sec))
         fams.append(EdgeFamily("forward", A, nxtP, "linear", section=sec, **mk("forward")))
         fams.append(EdgeFamily("return", A, P, "linear", section=sec, **mk("return")))
@@ -659,6 +718,12 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         if s.backmix > 0 or (law.trajectory and s.gas.gas_flow == "counter-current"):
             dst = prevP if s.backmix_to == "passive" else prevA
             fams.append(EdgeFamily("backmix", A, dst, "linear", section=sec, **mk("backmix")))
+        if "CF2" in c1:     # the trajectory step's second cell (a step longer than a cell)
+            nxt2P = np.r_[P[2:], np.full(min(2, N), nxt)][:N]
+            fams.append(EdgeFamily("forward_far", A, nxt2P, "linear", section=sec, **mk("forward_far")))
+            if s.gas.gas_flow == "counter-current":
+                prev2P = np.r_[P[:1], P[:1], P[:-2]][:N]
+                fams.append(EdgeFamily("backmix_far", A, prev2P, "linear", section=sec, **mk("backmix_far")))
         if s.kilning == "velocity":
             fams.append(EdgeFamily("kiln", P, nxtP, "linear", rate=r1["kiln"], section=sec))
         for f in fams:
