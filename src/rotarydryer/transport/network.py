@@ -37,7 +37,6 @@ Units: kg, s, kg/s throughout.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -658,11 +657,9 @@ class Network:
             if self._converged(R, G, tol, scale):
                 return M, True, 0.0
             J = self.jacobian(M)
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("error")
-                    step = splu(J).solve(-R)
-            except (RuntimeError, Warning) as exc:
+            try:       # a singular factorisation raises; no process-wide warnings filter (not thread-safe:
+                step = splu(J).solve(-R)     # a sweep's worker threads load cases, and their warnings, meanwhile)
+            except RuntimeError as exc:
                 raise NoSteadyStateError(
                     f"feed_rate = {fmt_number(scale)} kg/s: no steady state - the dryer cannot carry this feed "
                     "(an overloaded compartment has no outflow for its excess: give a finite kiln time / "
