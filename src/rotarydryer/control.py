@@ -408,6 +408,18 @@ def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, p
     return out
 
 
+def default_gas_temperature_min(gas_inlet_temperature: float, solids_inlet_temperature: float) -> float:
+    """Lowest gas inlet temperature of the split range when none is given: 50 K above the feed and at
+    most 200 K below the case's gas inlet temperature, but never above that temperature (a dryer
+    whose gas enters less than 50 K above the feed, e.g. Lee's 100 degC air on 55 degC sugar, gets
+    the point halfway between feed and gas)."""
+    t0, ts = float(gas_inlet_temperature), float(solids_inlet_temperature)
+    tmin = max(ts + 50.0, t0 - 200.0)
+    if tmin > t0:
+        tmin = 0.5 * (ts + t0) if t0 > ts else t0
+    return max(0.0, min(tmin, t0))
+
+
 def check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s=0.0):
     """Refuse (``ValueError`` naming the key) a disturbance that takes the plant outside its valid
     inputs (e.g. a feed wetter than the material's range) before any long run."""
@@ -446,12 +458,13 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     sp = y_ss[cv] if cfg.setpoint is None else float(cfg.setpoint)
     ts = cfg.sample_time_s
     T0, F0 = s.gas_inlet_temperature, dryer.feed_rate
-    Tmin = cfg.gas_temperature_min if cfg.gas_temperature_min is not None else max(s.solids_inlet_temperature + 50.0,
-                                                                                    T0 - 200.0)
+    Tmin = cfg.gas_temperature_min if cfg.gas_temperature_min is not None else default_gas_temperature_min(
+        T0, s.solids_inlet_temperature)
     Tmax = cfg.gas_temperature_max
     if not Tmin <= T0 <= Tmax:
+        which = ("--gas-t-max (gas_temperature_max)" if T0 > Tmax else "--gas-t-min (gas_temperature_min)")
         raise ValueError(f"gas_temperature_min..gas_temperature_max = {Tmin:g}..{Tmax:g} degC must contain the "
-                         f"case's gas inlet temperature {T0:g} degC")
+                         f"case's gas inlet temperature {T0:g} degC: set {which} so that it does")
     tuning = {}
     if controlled:
         if models is None:

@@ -94,12 +94,15 @@ class Duty:
         if self.moisture_out >= self.moisture_in:
             raise ValueError(f"moisture_out = {self.moisture_out:g} must be below moisture_in = "
                              f"{self.moisture_in:g} kg/kg wet: the duty must dry")
-        check_range("gas_inlet_temperature", self.gas_inlet_temperature, self.feed_temperature, 1000.0, unit="degC")
+        check_range("feed_temperature", self.feed_temperature, -20.0, 99.0, unit="degC")
+        check_range("gas_inlet_temperature", self.gas_inlet_temperature, -20.0, 1000.0, unit="degC")
+        if not self.gas_inlet_temperature > self.feed_temperature:
+            raise ValueError(f"gas_inlet_temperature = {self.gas_inlet_temperature:g} degC must be above "
+                             f"feed_temperature = {self.feed_temperature:g} degC: the gas must heat the feed")
         if self.gas_flow is not None:
             check_range("gas_flow", self.gas_flow, 0.0, 1000.0, unit="kg/s")
         check_range("ntu", self.ntu, 0.1, 6.0, high_inclusive=True)
         check_choice("direction", self.direction, ("co-current", "counter-current"))
-        check_range("feed_temperature", self.feed_temperature, -20.0, 99.0, unit="degC")
         check_range("gas_inlet_humidity", self.gas_inlet_humidity, 0.0, 0.3, low_inclusive=True,
                     unit="kg/kg dry gas")
         check_range("shell_u", self.shell_u, 0.0, 100.0, low_inclusive=True, unit="W/(m2 K)")

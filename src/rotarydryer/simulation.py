@@ -285,7 +285,10 @@ class Simulation:
             res.datasets["rtd_fits"] = fit_measured_rtd(meas[0], meas[1], c.tracer.duration)
         if steady.thermal is not None:
             add_thermal(res, steady.thermal)
-            res.scalars = _numbers(steady.merged(res.scalars))
+            merged = steady.merged(res.scalars)
+            res.scalars = _numbers(merged)
+            if merged.get("fuel_rate_error"):     # why the fuel rate is n/a (the report says it)
+                res.model_choices["fuel_rate_error"] = " ".join(str(merged["fuel_rate_error"]).split())
             res.model_choices["datasets"] = "coupled heat-and-mass steady state"
         if self.overrides:
             res.model_choices["overrides"] = _jsonable(self.overrides)

@@ -195,7 +195,7 @@ def load_tolerances(path=None) -> ValidationSpec:
         p = Path(path)
         if not p.is_file():
             raise ValueError(f"tolerances file {str(p)!r} is not a file")
-        text, shown = p.read_text("utf-8"), str(p)
+        text, shown = p.read_text("utf-8-sig"), str(p)      # a byte-order mark is dropped
     try:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

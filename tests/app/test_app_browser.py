@@ -48,7 +48,7 @@ def test_app_transport_page_in_browser(server, browser):
     expect(page.locator('[data-testid="stMetric"]').filter(has_text="Total holdup")).to_be_visible()
     expect(page.locator('[data-testid="stMetric"]').filter(has_text="Fitted outlet mean")).to_be_visible()
     before = _metric(page, "Total holdup")
-    box = page.get_by_label("Feed rate (kg/s)")
+    box = page.get_by_role("spinbutton", name="Feed rate (kg/s)")
     enter(box, "20")
     metric = metric_locator(page, "Total holdup")
     expect(metric).not_to_have_text(before)

@@ -57,7 +57,7 @@ def test_humidity_conversions_roundtrip():
 
 
 @pytest.mark.parametrize("bad", [
-    lambda: ha.enthalpy(-5.0, 0.01),
+    lambda: ha.enthalpy(-41.0, 0.01),
     lambda: ha.enthalpy(601.0, 0.01),
     lambda: ha.enthalpy(100.0, 0.31),
     lambda: ha.enthalpy(float("nan"), 0.01),

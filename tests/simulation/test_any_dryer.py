@@ -183,11 +183,10 @@ def test_balances_close_on_other_operating_points(ov):
     assert out["product_moisture_kg_kg"] <= ov["operating.feed_moisture"] + 1e-12
 
 
-@pytest.mark.xfail(strict=True, raises=ValueError, reason=(
-    "known solver failure (issue 12 note): pseudo-transient continuation stalls with one gas stage's humidity "
-    "at the admissibility bound 0.3 kg/kg, where the clipped transfer kernel no longer responds; found by a "
-    "hypothesis search over the template's operating range"))
 def test_template_hot_gas_point_converges():
+    """Found by a hypothesis search over the template's operating range (issue 12): the pseudo-transient
+    continuation stalled with one gas stage's humidity at the admissibility bound; it converges since the
+    solids temperature is no longer clipped at 300 degC and the steps keep S and Y positive (issue 30)."""
     ov = {"operating.feed_rate": 3.0, "operating.feed_moisture": 0.03125, "gas.inlet_temperature": 351.0,
           "gas.direction": "co-current"}
     out = Simulation_from_template(ov).steady_state().summary()

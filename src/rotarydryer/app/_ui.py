@@ -58,3 +58,57 @@ def case_picker(prefix: str, default: str = "ajayi2011_mmg", cases: list[str] | 
             refuse(f"Case file {shown} refused", exc)
         st.caption(f"Case file: {plain(shown)}")
     return case, shown
+
+
+def session_id() -> str | None:
+    """The Streamlit session id of the running script (None outside a script run)."""
+    try:
+        from streamlit.runtime.scriptrunner import get_script_run_ctx
+
+        ctx = get_script_run_ctx(suppress_warning=True)
+    except Exception:  # noqa: BLE001 - no context: no per-session limit
+        return None
+    return None if ctx is None else str(ctx.session_id)
+
+
+def heavy(session: str | None = None):
+    """``with heavy():`` around a heavy computation (:mod:`rotarydryer.app._runs`): one at a time
+    per session, a bounded number at once over all sessions; the refusals are ``ValueError``\\ s
+    that :func:`refuse` shows as their message."""
+    from ._runs import heavy_run
+
+    return heavy_run(session if session is not None else session_id())
+
+
+def deferred(func, *args):
+    """A download button's deferred ``data`` callable: ``func(*args)`` as a heavy run of this
+    session (the session id is taken now; the callable runs outside the script thread).  An error
+    is logged and the download holds a one-line text instead of the file."""
+    sid = session_id()
+
+    def call():
+        try:
+            with heavy(sid):
+                return func(*args)
+        except Exception as exc:  # noqa: BLE001 - a download has no page to show it on
+            if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
+                log.error("download failed", exc_info=exc)
+            return f"error: {logic.visitor_message(exc)}\n".encode()
+
+    return call
+
+
+def number(container, label: str, low, high, value, step=None, **kwargs):
+    """``container.number_input`` whose bounds (``None``: unbounded) always contain ``value``:
+    a preset's, a case's or an upload's value never makes the widget raise."""
+    lo, hi = logic.widen(low, high, value)
+    v = int(value) if isinstance(value, int) and not isinstance(value, bool) else float(value)
+    return container.number_input(label, lo, hi, v, step, **kwargs)
+
+
+def case_number(container, label: str, case: str, case_key: str, value, step=None, **kwargs):
+    """A number input for the override ``case_key`` of ``case`` at ``value``: its bounds are the
+    schema's range of the key (and the case's drum for the speed), widened to contain ``value``
+    (:func:`rotarydryer.app.logic.input_range`); ``kwargs`` go to ``number_input`` (``key`` ...)."""
+    lo, hi = logic.input_range(case, case_key, float(value))
+    return number(container, label, lo, hi, float(value), step, **kwargs)

@@ -22,7 +22,7 @@ import numpy as np
 __all__ = ["presets", "geometry_view", "stage_case_file", "case_defaults", "transport_view", "tracer_sources", "fit_tracer",
            "tracer_models", "TRACER_BASELINES",
            "png", "check_upload_text", "visitor_message", "MAX_CASE_UPLOAD_BYTES", "MAX_TRACER_UPLOAD_BYTES", "MAX_TRACER_ROWS",
-           "MAX_UPLOAD_MB", "MAX_STAGED_CASES"]
+           "MAX_UPLOAD_MB", "MAX_STAGED_CASES", "schema_bounds", "input_range", "widen", "geometry_range"]
 
 #: ``server.maxUploadSize`` and the uploaders' ``max_upload_size`` (MB; Streamlit's minimum is 1)
 MAX_UPLOAD_MB = 1
@@ -138,7 +138,7 @@ def stage_case_file(content: bytes) -> str:
     if len(content) > MAX_CASE_UPLOAD_BYTES:
         raise ValueError(f"the case file has {len(content)} bytes; the limit is {MAX_CASE_UPLOAD_BYTES} bytes")
     try:
-        text = content.decode("utf-8")
+        text = content.decode("utf-8-sig")     # a leading byte-order mark is dropped
     except UnicodeDecodeError as exc:
         raise ValueError(f"not a valid UTF-8 TOML file: byte 0x{content[exc.start]:02x} at offset {exc.start} "
                          "is not UTF-8") from None
@@ -181,6 +181,100 @@ def _check_builtin(case) -> None:
     if case not in list_cases():
         raise ValueError(f"case = {case!r} is not a built-in case ({', '.join(list_cases())}) "
                          "nor an uploaded case file")
+
+
+def schema_bounds(model, key: str) -> tuple[float | None, float | None]:
+    """``(low, high)`` of the override ``key`` (``"section.field"``) in the case schema ``model``
+    (a pydantic model class, e.g. ``type(case)``): the field's ``gt``/``ge`` and ``lt``/``le``
+    constraints, ``None`` for a side without one (or a key the schema does not have).  An
+    excluded end (``gt=0``) is returned as is: a widget may reach it and the model refuses it
+    with the CLI's message."""
+    import typing
+
+    fields = getattr(model, "model_fields", {})
+    parts = key.split(".")
+    for i, part in enumerate(parts):
+        f = fields.get(part)
+        if f is None:
+            return None, None
+        if i == len(parts) - 1:
+            lo = hi = None
+            for md in f.metadata:
+                for name in ("gt", "ge"):
+                    if getattr(md, name, None) is not None:
+                        lo = float(getattr(md, name))
+                for name in ("lt", "le"):
+                    if getattr(md, name, None) is not None:
+                        hi = float(getattr(md, name))
+            return lo, hi
+        ann = f.annotation
+        subs = [a for a in (typing.get_args(ann) or (ann,)) if isinstance(a, type) and hasattr(a, "model_fields")]
+        if not subs:
+            return None, None
+        fields = subs[0].model_fields
+    return None, None
+
+
+def widen(low, high, value):
+    """Widget bounds ``(low, high)`` widened so that they contain ``value`` (``None``: no bound).
+    Integers stay integers (Streamlit wants one type for the bounds and the value)."""
+    as_int = isinstance(value, int) and not isinstance(value, bool)
+    cast = int if as_int else float
+    v = cast(value)
+    lo = None if low is None or (isinstance(low, float) and not math.isfinite(low)) else min(cast(low), v)
+    hi = None if high is None or (isinstance(high, float) and not math.isfinite(high)) else max(cast(high), v)
+    return lo, hi
+
+
+#: inputs of :func:`geometry_view` -> the case key whose schema range they take (the dryer schema)
+_GEOMETRY_KEYS = {"radius": "drum.radius", "n_flights": "drum.n_flights", "s1": "flight.s1", "s2": "flight.s2",
+                  "alpha1": "flight.alpha1", "alpha2": "flight.alpha2", "rpm": "operating.rpm",
+                  "slope": "drum.slope", "length": "drum.length"}
+#: inputs of :func:`geometry_view` the case schema does not hold: the ranges the geometry checks
+#: refuse outside (``rotarydryer.geometry.design_load``: repose angle (0, 90) deg, bulk density > 0)
+_GEOMETRY_RANGES = {"repose_angle": (0.0, 90.0), "bulk_density": (0.0, None)}
+
+
+def geometry_range(name: str, value) -> tuple:
+    """Widget bounds of the input ``name`` of :func:`geometry_view` at ``value`` (a preset's): the
+    dryer schema's range of the matching case key (``drum.radius`` ...) or the range the geometry
+    checks allow, widened to contain ``value``."""
+    if name in _GEOMETRY_KEYS:
+        from ..cases import CASE_MODELS
+
+        lo, hi = schema_bounds(CASE_MODELS["dryer"], _GEOMETRY_KEYS[name])
+    else:
+        lo, hi = _GEOMETRY_RANGES[name]
+    if isinstance(value, int) and not isinstance(value, bool):
+        lo = None if lo is None else math.ceil(lo)
+        hi = None if hi is None else math.floor(hi)
+    return widen(lo, hi, value)
+
+
+def input_range(case: str, key: str, value: float | None = None) -> tuple[float | None, float | None]:
+    """Bounds of a widget for the override ``key`` of ``case`` (a built-in name or a staged upload):
+    the schema's range of the key (:func:`schema_bounds`), for ``operating.rpm`` also below the
+    critical speed of the case's drum (``rotarydryer.geometry.drum.critical_speed``), always
+    widened to contain ``value`` (default: the case's own value of the key), so that the
+    case's value is never outside its widget."""
+    c = _load(case)
+    lo, hi = schema_bounds(type(c), key)
+    if key == "operating.rpm":
+        from ..geometry.drum import critical_speed
+
+        try:
+            nc = float(critical_speed(float(c.drum.radius)))
+            hi = nc if hi is None else min(hi, nc)
+        except (AttributeError, TypeError, ValueError):
+            pass
+    if value is None:
+        obj = c
+        for part in key.split("."):
+            obj = getattr(obj, part, None)
+        value = obj
+    if value is None or not math.isfinite(float(value)):
+        return lo, hi
+    return widen(lo, hi, float(value))
 
 
 def case_defaults(case: str) -> dict:

@@ -82,15 +82,44 @@ def operating_inputs(case: str, test: int | None = None) -> list[dict]:
     st = Simulation(c).thermal_settings()
     feed, rpm, x_in, t_feed = operating_point(c)
     k = _kind_keys(c)
-    out = [_spec("operating.feed_rate", "Feed rate", "kg/s wet", feed, 0.0, 1000.0, 0.5),
-           _spec("operating.rpm", "Speed", "rev/min", rpm, 0.0, 60.0, 0.1, "%.2f")]
+    out = [_spec("operating.feed_rate", "Feed rate", "kg/s wet", feed, None, None, _step(feed), "%.4g"),
+           _spec("operating.rpm", "Speed", "rev/min", rpm, None, None, 0.1, "%.2f")]
     if k["feed_moisture"] is not None:
-        out.append(_spec("operating.feed_moisture", "Feed moisture", "kg/kg wet", x_in, 0.0, 1.0, 0.005, "%.4f"))
-    out += [_spec(k["feed_temperature"], "Feed temperature", "degC", t_feed, 0.0, 99.0, 1.0, "%.1f"),
-            _spec(k["gas_inlet_temperature"], "Gas inlet temperature", "degC", st.gas_inlet_temperature, 0.0, 600.0,
+        out.append(_spec("operating.feed_moisture", "Feed moisture", "kg/kg wet", x_in, None, None, 0.005, "%.4f"))
+    out += [_spec(k["feed_temperature"], "Feed temperature", "degC", t_feed, None, None, 1.0, "%.1f"),
+            _spec(k["gas_inlet_temperature"], "Gas inlet temperature", "degC", st.gas_inlet_temperature, None, None,
                   5.0, "%.1f"),
-            _spec(k["gas_flow"], "Gas flow", "kg/s wet", st.gas_flow, 0.0, 1000.0, 0.5, "%.3f")]
-    return out
+            _spec(k["gas_flow"], "Gas flow", "kg/s wet", st.gas_flow, None, None, _step(st.gas_flow), "%.4g")]
+    return _case_bounds(c, out)
+
+
+def _step(value) -> float:
+    """A widget step of about a tenth of ``value``, rounded to 1, 2 or 5 x 10^k."""
+    v = abs(float(value or 0.0)) / 10 or 0.1
+    k = 10 ** math.floor(math.log10(v))
+    return float(next(m * k for m in (1, 2, 5, 10) if m * k >= v * 0.999))
+
+
+def _case_bounds(c, specs: list[dict]) -> list[dict]:
+    """Fill the widget bounds ``min``/``max`` of ``specs`` from the case schema's range of each key
+    (:func:`rotarydryer.app.logic.schema_bounds`; the speed also below the critical speed of the
+    case's drum), widened to contain the case's value: no fixed limits, and the case's value is
+    always inside its widget (None: no bound on that side)."""
+    from ..geometry.drum import critical_speed
+    from .logic import schema_bounds, widen
+
+    for s in specs:
+        lo, hi = schema_bounds(type(c), s["key"])
+        if s["key"] == "operating.rpm":
+            try:
+                nc = float(critical_speed(float(c.drum.radius)))
+                hi = nc if hi is None else min(hi, nc)
+            except (AttributeError, TypeError, ValueError):
+                pass
+        if s["value"] is not None:
+            lo, hi = widen(lo, hi, s["value"])
+        s["min"], s["max"] = lo, hi
+    return specs
 
 
 def study_inputs(case: str) -> list[dict]:
@@ -101,13 +130,13 @@ def study_inputs(case: str) -> list[dict]:
     specs = operating_inputs(case)
     k = _kind_keys(c)
     st = _settings(c)
-    specs += [_spec("drum.slope", "Drum slope", "deg", c.drum.slope, 0.0, 45.0, 0.1, "%.2f"),
-              _spec(k["area_scale"], "Area scale (transfer area multiplier)", "-", st.area_scale, 0.0, 100.0, 0.1,
-                    "%.3f"),
-              _spec(k["gas_inlet_humidity"], "Gas inlet humidity", "kg/kg wet gas", st.gas_inlet_humidity, 0.0, 0.2,
-                    0.001, "%.4f"),
-              _spec(k["insulation_thickness"], "Shell insulation thickness", "m", st.insulation_thickness, 0.0, 2.0,
-                    0.01, "%.3f")]
+    specs += _case_bounds(c, [
+        _spec("drum.slope", "Drum slope", "deg", c.drum.slope, None, None, 0.1, "%.2f"),
+        _spec(k["area_scale"], "Area scale (transfer area multiplier)", "-", st.area_scale, None, None, 0.1, "%.3f"),
+        _spec(k["gas_inlet_humidity"], "Gas inlet humidity", "kg/kg wet gas", st.gas_inlet_humidity, None, None,
+              0.001, "%.4f"),
+        _spec(k["insulation_thickness"], "Shell insulation thickness", "m", st.insulation_thickness, None, None,
+              0.01, "%.3f")])
     for s in specs:
         v = s["value"]
         if v is None or v == 0:
@@ -115,7 +144,8 @@ def study_inputs(case: str) -> list[dict]:
         else:
             rel = 0.1 if s["unit"] == "degC" else 0.15
             lo, hi = v * (1 - rel), v * (1 + rel)
-        lo, hi = max(lo, s["min"]), min(hi, s["max"])
+        lo = lo if s["min"] is None else max(lo, s["min"])
+        hi = hi if s["max"] is None else min(hi, s["max"])
         s["low"], s["high"] = float(f"{lo:.4g}"), float(f"{hi:.4g}")
     return specs
 

@@ -10,12 +10,13 @@ settling time, the SIMC tuning.  Bad input gives the CLI's messages
 import streamlit as st
 
 from . import logic_control as L
-from ._ui import case_picker, plain, refuse
+from ._ui import case_picker, heavy, number, plain, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=8)
 def _control(case, overrides, kwargs):
-    return L.control_view(case, dict(overrides) or None, **dict(kwargs))
+    with heavy():
+        return L.control_view(case, dict(overrides) or None, **dict(kwargs))
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -26,7 +27,7 @@ def _defaults(case):
 def _opt(side, label, default, key, lo, hi, step, help_text):
     """A number input that may be left to the default (None): a checkbox turns it on."""
     on = side.checkbox(label, value=False, key=f"{key}_on", help=help_text)
-    return side.number_input(f"{label} value", lo, hi, default, step, key=key) if on else None
+    return number(side, f"{label} value", lo, hi, default, step, key=key) if on else None
 
 
 def _inputs():
@@ -50,11 +51,11 @@ def _inputs():
         scenarios = list(L.SCENARIO_LABELS)
         scenario = st.selectbox("Scenario", scenarios, key="control_scenario",
                                 help="; ".join(f"{k}: {v}" for k, v in L.SCENARIO_LABELS.items()))
-        magnitude = st.number_input("Magnitude", -0.9, 2.0, 0.2, 0.05, key="control_magnitude",
+        magnitude = number(st, "Magnitude", -0.9, 2.0, 0.2, 0.05, key="control_magnitude",
                                     help=L.SCENARIO_LABELS[scenario])
-        duration = st.number_input("Simulated time (s)", 60.0, 14400.0, 7200.0, 600.0, key="control_duration",
+        duration = number(st, "Simulated time (s)", 60.0, 14400.0, 7200.0, 600.0, key="control_duration",
                                    help="the run takes about 1 s of computing per simulated 4 min")
-        step_time = st.number_input("Disturbance at (s)", 0.0, 14400.0, 600.0, 60.0, key="control_step_time")
+        step_time = number(st, "Disturbance at (s)", 0.0, 14400.0, 600.0, 60.0, key="control_step_time")
     with side.expander("Controller", expanded=True):
         measured = st.selectbox("Controlled variable", ["product_moisture", "exhaust_temperature"],
                                 key="control_measured")
@@ -64,11 +65,11 @@ def _inputs():
         feed_backup = st.checkbox("Reduce the feed when the gas temperature saturates", value=True,
                                   key="control_feed_backup")
         c1, c2 = st.columns(2)
-        sample_time = c1.number_input("Sample time (s)", 10.0, 3600.0, 60.0, 10.0, key="control_sample_time")
-        dead_time = c2.number_input("Dead time (s)", 0.0, 7200.0, 120.0, 10.0, key="control_dead_time")
-        gas_t_max = st.number_input("Highest gas inlet temperature (degC)", 1.0, 600.0, 600.0, 10.0,
+        sample_time = number(c1, "Sample time (s)", 10.0, 3600.0, 60.0, 10.0, key="control_sample_time")
+        dead_time = number(c2, "Dead time (s)", 0.0, 7200.0, 120.0, 10.0, key="control_dead_time")
+        gas_t_max = number(st, "Highest gas inlet temperature (degC)", 1.0, 600.0, 600.0, 10.0,
                                     key="control_gas_t_max")
-        feed_min = st.number_input("Lowest feed (fraction of the case's)", 0.01, 1.0, 0.5, 0.05,
+        feed_min = number(st, "Lowest feed (fraction of the case's)", 0.01, 1.0, 0.5, 0.05,
                                    key="control_feed_min")
     with side.expander("Tuning (default: SIMC, Skogestad 2003)"):
         kc = _opt(st, "Controller gain Kc", 0.25, "control_kc", -1e6, 1e6, 0.05,

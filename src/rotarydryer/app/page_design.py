@@ -10,12 +10,13 @@ infeasible duty give the CLI's messages (:mod:`rotarydryer.app.logic_design`).
 import streamlit as st
 
 from . import logic_design as L
-from ._ui import plain, refuse
+from ._ui import heavy, number, plain, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
 def _design(preset, kwargs):
-    return L.design_view(preset, **dict(kwargs))
+    with heavy():
+        return L.design_view(preset, **dict(kwargs))
 
 
 def _inputs():
@@ -29,50 +30,50 @@ def _inputs():
     with side.expander("Duty", expanded=True):
         material = st.selectbox("Material", mats, index=mats.index(d["material"]) if d["material"] in mats else 0,
                                 key=f"design_material{k}")
-        feed = st.number_input("Wet feed rate (kg/s)", 0.01, 1000.0, float(d["feed"]), 1.0, key=f"design_feed{k}")
+        feed = number(st, "Wet feed rate (kg/s)", 0.01, 1000.0, float(d["feed"]), 1.0, key=f"design_feed{k}")
         c1, c2 = st.columns(2)
-        moisture_in = c1.number_input("Feed moisture (kg/kg wet)", 0.0, 0.95, float(d["moisture_in"]), 0.001,
+        moisture_in = number(c1, "Feed moisture (kg/kg wet)", 0.0, 0.95, float(d["moisture_in"]), 0.001,
                                       format="%.4f", key=f"design_min{k}")
-        moisture_out = c2.number_input("Target moisture (kg/kg wet)", 0.0, 0.95, float(d["moisture_out"]), 0.001,
+        moisture_out = number(c2, "Target moisture (kg/kg wet)", 0.0, 0.95, float(d["moisture_out"]), 0.001,
                                        format="%.4f", key=f"design_mout{k}")
-        gas_in = st.number_input("Gas inlet temperature (degC)", 0.0, 1000.0, float(d["gas_in"]), 10.0,
+        gas_in = number(st, "Gas inlet temperature (degC)", 0.0, 1000.0, float(d["gas_in"]), 10.0,
                                  key=f"design_gas_in{k}")
         gas_mode = st.radio("Gas flow", ["given", "from NTU"], horizontal=True, key=f"design_gas_mode{k}",
                             help="from NTU: the exhaust temperature from the number of transfer units, the gas "
                                  "flow from the energy balance (--ntu)")
         if gas_mode == "given":
-            gas_flow = st.number_input("Gas flow (kg/s wet)", 0.01, 1000.0, float(d["gas_flow"] or 20.0), 1.0,
+            gas_flow = number(st, "Gas flow (kg/s wet)", 0.01, 1000.0, float(d["gas_flow"] or 20.0), 1.0,
                                        key=f"design_gas_flow{k}")
             ntu = None
         else:
             gas_flow = None
-            ntu = st.number_input("Transfer units NTU (Perry: 1.5-2.5)", 0.1, 6.0, float(d["ntu"]), 0.1,
+            ntu = number(st, "Transfer units NTU (Perry: 1.5-2.5)", 0.1, 6.0, float(d["ntu"]), 0.1,
                                   key=f"design_ntu{k}")
         dirs = ["counter-current", "co-current"]
         direction = st.radio("Direction", dirs, index=dirs.index(d["direction"]), horizontal=True,
                              key=f"design_direction{k}")
-        feed_t = st.number_input("Feed temperature (degC)", -20.0, 99.0, float(d["feed_temperature"]), 1.0,
+        feed_t = number(st, "Feed temperature (degC)", -20.0, 99.0, float(d["feed_temperature"]), 1.0,
                                  key=f"design_feed_t{k}")
         burner = st.checkbox("Limit the burner (fuel oil)", value=False, key=f"design_burner{k}")
-        max_fuel = (st.number_input("Burner capacity (kg/s fuel oil)", 0.001, 100.0, 0.5, 0.05,
+        max_fuel = (number(st, "Burner capacity (kg/s fuel oil)", 0.001, 100.0, 0.5, 0.05,
                                     key=f"design_max_fuel{k}") if burner else None)
     with side.expander("Constraints and objective"):
         objective = st.selectbox("Objective", ["volume", "fuel", "cost"], key="design_objective",
                                  help="drum volume; heat input per kg of water; cost proxy (shell surface^0.6)")
-        speed_fraction = st.number_input("Largest speed / critical speed", 0.01, 0.99, 0.5, 0.05,
+        speed_fraction = number(st, "Largest speed / critical speed", 0.01, 0.99, 0.5, 0.05,
                                          key="design_speed_fraction")
-        entrainment = st.number_input("Largest gas velocity / terminal velocity", 0.01, 2.0, 1.0, 0.05,
+        entrainment = number(st, "Largest gas velocity / terminal velocity", 0.01, 2.0, 1.0, 0.05,
                                       key="design_entrainment")
-        u_max = st.number_input("Largest gas velocity (m/s)", 0.1, 100.0, 5.0, 0.5, key="design_u_max")
-        fill_max = st.number_input("Largest fill (holdup / drum volume)", 0.01, 0.5, 0.15, 0.01,
+        u_max = number(st, "Largest gas velocity (m/s)", 0.1, 100.0, 5.0, 0.5, key="design_u_max")
+        fill_max = number(st, "Largest fill (holdup / drum volume)", 0.01, 0.5, 0.15, 0.01,
                                    key="design_fill_max")
-        dl_tol = st.number_input("Design-load tolerance |H/DL - 1|", 0.01, 10.0, 0.15, 0.05, key="design_dl_tol")
+        dl_tol = number(st, "Design-load tolerance |H/DL - 1|", 0.01, 10.0, 0.15, 0.05, key="design_dl_tol")
         c1, c2 = st.columns(2)
-        ld_min = c1.number_input("L/D min", 0.5, 50.0, 4.0, 0.5, key="design_ld_min")
-        ld_max = c2.number_input("L/D max", 0.5, 50.0, 10.0, 0.5, key="design_ld_max")
-        d_min = c1.number_input("D min (m)", 0.05, 20.0, 0.5, 0.1, key="design_d_min")
-        d_max = c2.number_input("D max (m)", 0.05, 20.0, 6.0, 0.1, key="design_d_max")
-        ua = st.number_input("Ua factor (on McCormick's Ua)", 0.01, 100.0, 1.0, 0.1, key="design_ua")
+        ld_min = number(c1, "L/D min", 0.5, 50.0, 4.0, 0.5, key="design_ld_min")
+        ld_max = number(c2, "L/D max", 0.5, 50.0, 10.0, 0.5, key="design_ld_max")
+        d_min = number(c1, "D min (m)", 0.05, 20.0, 0.5, 0.1, key="design_d_min")
+        d_max = number(c2, "D max (m)", 0.05, 20.0, 6.0, 0.1, key="design_d_max")
+        ua = number(st, "Ua factor (on McCormick's Ua)", 0.01, 100.0, 1.0, 0.1, key="design_ua")
     effort = side.radio("Search", list(L.SEARCH_EFFORT), horizontal=True, key="design_effort",
                         help="quick: 20 generations x population 8 (~1-5 s); full: the CLI's 60 x 12")
     verify = side.checkbox("Check the best design with the coupled model", value=False, key="design_verify",

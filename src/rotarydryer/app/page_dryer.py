@@ -11,7 +11,7 @@ Logic: :mod:`rotarydryer.app.logic_dryer` (no Streamlit). Errors: the CLI's mess
 import streamlit as st
 
 from . import logic_dryer
-from ._ui import case_picker, plain, refuse
+from ._ui import case_picker, deferred, heavy, number, plain, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=32)
@@ -26,7 +26,8 @@ def _tests(case):
 
 @st.cache_data(show_spinner=False, max_entries=32)
 def _view(case, overrides):
-    return logic_dryer.dryer_view(case, dict(overrides))
+    with heavy():
+        return logic_dryer.dryer_view(case, dict(overrides))
 
 
 def _fmt(v, spec):
@@ -60,11 +61,10 @@ def render():
     overrides = {} if test is None else {"operating.test": int(test)}
     with st.sidebar.expander("Operating variables", expanded=True):
         for s in specs:
-            v = float(s["value"])          # a case value beyond the widget's bounds widens them
-            overrides[s["key"]] = st.number_input(s["label"], min(float(s["min"]), v), max(float(s["max"]), v), v,
-                                                  float(s["step"]), format=s["format"],
-                                                  key=f"dryer__{s['key']}__{case}__{test}",
-                                                  help=f"case key {s['key']} (rotarydryer simulate --set)")
+            # bounds: the schema's range of the key, containing the case's value (logic_dryer._case_bounds)
+            overrides[s["key"]] = number(st, s["label"], s["min"], s["max"], float(s["value"]), float(s["step"]),
+                                         format=s["format"], key=f"dryer__{s['key']}__{case}__{test}",
+                                         help=f"case key {s['key']} (rotarydryer simulate --set)")
     if test is not None:
         st.sidebar.caption("Feed moisture: the test's (Ajayi Tables 3.5-3.11); change the test to change it.")
     try:
@@ -121,7 +121,7 @@ def render():
     d1, d2, d3 = st.columns(3)
     d1.download_button("Download profiles (CSV)", r["profiles_csv"], file_name=f"{stem}_profiles.csv",
                        mime="text/csv", key="dryer_dl_csv")
-    d2.download_button("Download results (netCDF)", lambda: logic_dryer.netcdf_bytes(case, ov),
+    d2.download_button("Download results (netCDF)", deferred(logic_dryer.netcdf_bytes, case, ov),
                        file_name=f"{stem}.nc", mime="application/x-netcdf", key="dryer_dl_nc")
-    d3.download_button("Download HTML report", lambda: logic_dryer.report_html(case, ov), file_name=f"{stem}.html",
+    d3.download_button("Download HTML report", deferred(logic_dryer.report_html, case, ov), file_name=f"{stem}.html",
                        mime="text/html", key="dryer_dl_html")

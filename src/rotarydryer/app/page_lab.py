@@ -9,7 +9,7 @@ gives the CLI's messages (:mod:`rotarydryer.app.logic_lab`).
 import streamlit as st
 
 from . import logic_lab as L
-from ._ui import log, plain
+from ._ui import heavy, log, number, plain
 from .logic import MAX_UPLOAD_MB, visitor_message
 
 
@@ -27,12 +27,14 @@ def refuse(what, exc):
 
 @st.cache_data(show_spinner=False, max_entries=16)
 def _rig(text, name, kwargs):
-    return L.rig_view(text, name, **dict(kwargs))
+    with heavy():
+        return L.rig_view(text, name, **dict(kwargs))
 
 
 @st.cache_data(show_spinner=False, max_entries=8)
 def _image(content, name, kwargs):
-    return L.image_view(content, name, **dict(kwargs))
+    with heavy():
+        return L.image_view(content, name, **dict(kwargs))
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -69,15 +71,15 @@ def _rig_tab():
     flight = left.selectbox("Rig flight (Lee 2008 Table 5.1)", flights, index=flights.index(e["flight"]),
                             key="lab_rig_flight")
     c1, c2 = left.columns(2)
-    rpm = c1.number_input("Speed (rev/min)", 0.01, 100.0, e["rpm"], 0.5, key="lab_rig_rpm")
-    start = c2.number_input("Start angle (deg)", 0.0, 359.9, e["start_angle"], 0.5, key="lab_rig_start",
+    rpm = number(c1, "Speed (rev/min)", 0.01, 100.0, e["rpm"], 0.5, key="lab_rig_rpm")
+    start = number(c2, "Start angle (deg)", 0.0, 359.9, e["start_angle"], 0.5, key="lab_rig_start",
                             help="flight-root angle at the start of unloading, from the images (--start-angle)")
-    rho = c1.number_input("Bulk density (kg/m3)", 1.0, 20000.0, e["bulk_density"], 10.0, key="lab_rig_rho")
-    length = c2.number_input("Flight length (m)", 0.01, 100.0, 1.0, 0.1, key="lab_rig_length")
-    sd = c1.number_input("Repose-angle SD (deg)", 0.0, 45.0, 1.7, 0.1, key="lab_rig_sd",
+    rho = number(c1, "Bulk density (kg/m3)", 1.0, 20000.0, e["bulk_density"], 10.0, key="lab_rig_rho")
+    length = number(c2, "Flight length (m)", 0.01, 100.0, 1.0, 0.1, key="lab_rig_length")
+    sd = number(c1, "Repose-angle SD (deg)", 0.0, 45.0, 1.7, 0.1, key="lab_rig_sd",
                          help="band = fitted angle +/- 2 SD (Lee: 1.7 deg from the images); 0: the fit's "
                               "standard error")
-    cutoff = c2.number_input("FIR cut-off (Hz)", 0.01, 50.0, 1.5, 0.1, key="lab_rig_cutoff",
+    cutoff = number(c2, "FIR cut-off (Hz)", 0.01, 50.0, 1.5, 0.1, key="lab_rig_cutoff",
                              help="1.5 = Lee's code fir1(200, 0.03); 3 = his text")
     phase = left.selectbox("Filter phase", list(FILTER_PHASES), key="lab_rig_phase")
     fit_rho = left.checkbox("Also fit the bulk density", value=False, key="lab_rig_fit_rho")
@@ -120,12 +122,12 @@ def _image_tab():
     drums = list(drum_presets())
     drum = left.selectbox("Drum", drums, index=drums.index(e["drum"]), key="lab_image_drum")
     c1, c2 = left.columns(2)
-    col = c1.number_input("Centre column (px)", 0.0, 1e5, e["centre"][0], 1.0, key="lab_image_col")
-    row = c2.number_input("Centre row (px)", 0.0, 1e5, e["centre"][1], 1.0, key="lab_image_row")
-    px_per_m = c1.number_input("Scale (px/m)", 1.0, 1e7, e["px_per_m"], 10.0, key="lab_image_scale")
-    ref = c2.number_input("Flight 0 root angle (deg)", -360.0, 360.0, e["reference_angle"], 0.5,
+    col = number(c1, "Centre column (px)", 0.0, 1e5, e["centre"][0], 1.0, key="lab_image_col")
+    row = number(c2, "Centre row (px)", 0.0, 1e5, e["centre"][1], 1.0, key="lab_image_row")
+    px_per_m = number(c1, "Scale (px/m)", 1.0, 1e7, e["px_per_m"], 10.0, key="lab_image_scale")
+    ref = number(c2, "Flight 0 root angle (deg)", -360.0, 360.0, e["reference_angle"], 0.5,
                           key="lab_image_ref", help="from the drum bottom in the direction of rotation")
-    channel = c1.number_input("Colour channel", 0, 3, 0, 1, key="lab_image_channel", help="0 = red (Ajayi)")
+    channel = number(c1, "Colour channel", 0, 3, 0, 1, key="lab_image_channel", help="0 = red (Ajayi)")
     mirror = c2.checkbox("Turns clockwise", value=e["mirror"], key="lab_image_mirror",
                          help="the drum turns clockwise in the picture (Ajayi's did)")
     thr = c1.text_input("Flight-borne threshold", "168,177", key="lab_image_thr", help="'upper,lower', one grey "
@@ -160,7 +162,7 @@ def _design_load_tab():
     loading = left.text_input("Loading column", "loading_kg", key="lab_dl_loading")
     area = left.text_input("FUF area column", "FUF_area_cm2", key="lab_dl_area")
     group = left.text_input("Group column (empty: one fit)", "condition", key="lab_dl_group")
-    conf = left.number_input("Confidence level", 0.5, 0.999, 0.95, 0.01, key="lab_dl_conf")
+    conf = number(left, "Confidence level", 0.5, 0.999, 0.95, 0.01, key="lab_dl_conf")
     kw = dict(loading_column=loading, area_column=area, group_column=group or None, confidence=conf)
     with right:
         try:
@@ -194,11 +196,11 @@ def _steps_tab():
     steps = left.text_input("Step times (empty: detected from the feed)", "", key="lab_steps_times",
                             help="comma-separated, in the unit of the time column (steps of speed or gas)")
     c1, c2 = left.columns(2)
-    threshold = c1.number_input("Detection threshold", 0.001, 0.999, 0.1, 0.05, key="lab_steps_threshold",
+    threshold = number(c1, "Detection threshold", 0.001, 0.999, 0.1, 0.05, key="lab_steps_threshold",
                                 help="smallest feed change, fraction of the largest feed")
-    plateau = c2.number_input("Plateau fraction", 0.01, 1.0, 0.2, 0.05, key="lab_steps_plateau")
-    tolerance = c1.number_input("Steady tolerance", 0.001, 0.999, 0.05, 0.01, key="lab_steps_tolerance")
-    h0 = c2.number_input("Initial holdup (kg)", 0.0, 1e7, 0.0, 1.0, key="lab_steps_h0")
+    plateau = number(c2, "Plateau fraction", 0.01, 1.0, 0.2, 0.05, key="lab_steps_plateau")
+    tolerance = number(c1, "Steady tolerance", 0.001, 0.999, 0.05, 0.01, key="lab_steps_tolerance")
+    h0 = number(c2, "Initial holdup (kg)", 0.0, 1e7, 0.0, 1.0, key="lab_steps_h0")
     kw = dict(step_times=steps or None, threshold=threshold, plateau=plateau, tolerance=tolerance,
               initial_holdup=h0)
     with right:

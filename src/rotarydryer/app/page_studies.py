@@ -13,7 +13,7 @@ in the widgets. Logic: :mod:`rotarydryer.app.logic_studies` (no Streamlit).
 import streamlit as st
 
 from . import logic_dryer, logic_studies
-from ._ui import case_picker, plain, refuse
+from ._ui import case_picker, heavy, plain, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -23,12 +23,14 @@ def _specs(case):
 
 @st.cache_data(show_spinner=False, max_entries=32)
 def _whatif(case, key, low, high, points):
-    return logic_studies.whatif_view(case, key, low, high, points)
+    with heavy():
+        return logic_studies.whatif_view(case, key, low, high, points)
 
 
 @st.cache_data(show_spinner=False, max_entries=8)
 def _sensitivity(case, params, samples, seed, _progress=None):
-    return logic_studies.sensitivity_view(case, dict(params), samples, seed, progress=_progress)
+    with heavy():
+        return logic_studies.sensitivity_view(case, dict(params), samples, seed, progress=_progress)
 
 
 def _rows_table(rows, key, outs):

@@ -24,6 +24,7 @@ from typing import Annotated, Any, Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from .._limits import field_bounds
 from .calibration import CalibrationRecord, apply_calibrations, record_problems
 
 __all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
@@ -239,34 +240,34 @@ class Burner(_Strict):
 class Gas(_Strict):
     """Drying gas (humid air or combustion gas)."""
     direction: Literal["co-current", "counter-current"] = "co-current"
-    flow: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s wet gas into the dryer (0: no gas, e.g. Song's no-air runs; heat and mass transfer needs > 0, so use thermal.enabled = false); needed by the heat-and-mass model and the trajectory forward step")
-    inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC; needed as gas.flow")
-    inlet_humidity: float = Field(default=0.01, ge=0, lt=0.2, description="kg/kg wet gas")
-    leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet")
-    feed_temperature: Optional[float] = Field(default=None, ge=0, lt=99, description="degC of the wet feed (plant cases without [operating] feed_temperature)")
+    flow: Optional[float] = Field(default=None, **field_bounds("gas.flow"), description="kg/s wet gas into the dryer (0: no gas, e.g. Song's no-air runs; heat and mass transfer needs > 0, so use thermal.enabled = false); needed by the heat-and-mass model and the trajectory forward step")
+    inlet_temperature: Optional[float] = Field(default=None, **field_bounds("gas.inlet_temperature"), description="degC; needed as gas.flow")
+    inlet_humidity: float = Field(default=0.01, **field_bounds("gas.inlet_humidity"), description="kg/kg wet gas")
+    leak_air_flow: float = Field(default=0.0, **field_bounds("gas.leak_air_flow"), description="kg/s ambient air leaking in at the gas inlet")
+    feed_temperature: Optional[float] = Field(default=None, **field_bounds("gas.feed_temperature"), description="degC of the wet feed (plant cases without [operating] feed_temperature)")
     burner: Optional[Burner] = Field(default=None, description="burner making the gas; gives the fuel rate (none: the gas is heated elsewhere)")
 
 
 class Shell(_Strict):
     """Drum shell and surroundings."""
-    ambient_temperature: float = Field(default=25.0, gt=-40, lt=60, description="degC")
-    ambient_humidity: float = Field(default=0.01, ge=0, le=0.3, description="kg/kg dry air")
-    scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, scale layer inside the shell")
-    insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
-    loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (thermal.mode = ajayi2011 only)")
-    inner_radius: Optional[float] = Field(default=None, gt=0, le=20, description="m, inner radius of the steel shell; default the drum radius")
-    thickness: Optional[float] = Field(default=None, gt=0, le=0.5, description="m, steel shell wall; default 2.63 % of the inner radius (Ajayi's 0.05 m at 1.90 m)")
+    ambient_temperature: float = Field(default=25.0, **field_bounds("shell.ambient_temperature"), description="degC")
+    ambient_humidity: float = Field(default=0.01, **field_bounds("shell.ambient_humidity"), description="kg/kg dry air")
+    scale_thickness: float = Field(default=0.0, **field_bounds("shell.scale_thickness"), description="m, scale layer inside the shell")
+    insulation_thickness: float = Field(default=0.0, **field_bounds("shell.insulation_thickness"), description="m, external lagging")
+    loss_factor: float = Field(default=15.0, **field_bounds("shell.loss_factor"), description="theta_loss (thermal.mode = ajayi2011 only)")
+    inner_radius: Optional[float] = Field(default=None, **field_bounds("shell.inner_radius"), description="m, inner radius of the steel shell; default the drum radius")
+    thickness: Optional[float] = Field(default=None, **field_bounds("shell.thickness"), description="m, steel shell wall; default 2.63 % of the inner radius (Ajayi's 0.05 m at 1.90 m)")
 
 
 class ThermalModel(_Strict):
     """Heat and mass transfer model choices (rotarydryer.thermal.dryer)."""
     enabled: bool = Field(default=True, description="solve heat and mass transfer (false: solids transport only)")
     mode: Literal["physical", "ajayi2011"] = "physical"
-    area_scale: float = Field(default=1.0, ge=0, le=100, description="multiplier on the sections' area factors")
+    area_scale: float = Field(default=1.0, **field_bounds("thermal.area_scale"), description="multiplier on the sections' area factors")
     moisture_coupling: bool = Field(default=True, description="repose angle and bulk density from the computed moisture")
-    design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+    design_load_smoothing: float = Field(default=0.0, **field_bounds("thermal.design_load_smoothing"), description="relative width of the smoothed design-load switch (0 = exact)")
     kiln_bed_area: bool = Field(default=True, description="physical mode: the solids of a flighted cell above its design load (a kiln bed: overloaded or fouled flights) exchange with the gas through the bed's active layer (Ajayi (2011) Eq. 6.56-6.61); false: curtains and unflighted beds only, as the thesis")
-    discharge_cooling_ntu: float = Field(default=0.0, ge=0, le=50, description="transfer units of the product's cooling by ambient air between the drum outlet and the product temperature sensor (rotarydryer.thermal.streams.discharge_cooling; 0: the sensor at the drum outlet)")
+    discharge_cooling_ntu: float = Field(default=0.0, **field_bounds("thermal.discharge_cooling_ntu"), description="transfer units of the product's cooling by ambient air between the drum outlet and the product temperature sensor (rotarydryer.thermal.streams.discharge_cooling; 0: the sensor at the drum outlet)")
     unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the heat-and-mass model (default the transport model's)")
     mode_values: dict[str, dict[str, float]] = Field(default={}, max_length=10, description="per thermal.mode, values of gas.flow and thermal.area_scale that mode takes instead of the case's (the source's own settings of its mode, e.g. Ajayi's code gas flow)")
 
@@ -323,7 +324,7 @@ class DryerOperating(_Strict):
     feed_rate: Optional[float] = Field(default=None, gt=0, le=1000, description="kg/s wet solids (default the test's)")
     rpm: Optional[float] = Field(default=None, gt=0, le=60, description="rev/min (default the test's)")
     feed_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet (default the test's)")
-    feed_temperature: float = Field(default=20.0, ge=0, lt=99, description="degC")
+    feed_temperature: float = Field(default=20.0, **field_bounds("operating.feed_temperature"), description="degC")
 
 
 class OperatingTest(_Strict):
@@ -337,9 +338,9 @@ class OperatingTest(_Strict):
     solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, fitted to this test (transport.solids_velocity)")
     dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, fitted to this test (transport.dispersion)")
     fouling: float = Field(default=0.0, ge=0, le=0.95, description="fraction of flight capacity lost to scale in this test (transport.fouling)")
-    gas_flow: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s wet gas in this test, where known (gas.flow; 0: no gas, transport only)")
-    slope: Optional[float] = Field(default=None, ge=0, le=45, description="deg, drum inclination in this test (drum.slope; a --set drum.slope wins)")
-    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC, measured (replaces gas.inlet_temperature in this test; a --set gas.inlet_temperature wins)")
+    gas_flow: Optional[float] = Field(default=None, **field_bounds("gas.flow"), description="kg/s wet gas in this test, where known (gas.flow; 0: no gas, transport only)")
+    slope: Optional[float] = Field(default=None, **field_bounds("drum.slope"), description="deg, drum inclination in this test (drum.slope; a --set drum.slope wins)")
+    gas_inlet_temperature: Optional[float] = Field(default=None, **field_bounds("gas.inlet_temperature"), description="degC, measured (replaces gas.inlet_temperature in this test; a --set gas.inlet_temperature wins)")
     mrt_model_min: Optional[float] = Field(default=None, description="min, the source's model result (for comparison)")
     holdup_model_kg: Optional[float] = Field(default=None, description="kg, the source's model result (for comparison)")
     mrt_measured_min: Optional[float] = Field(default=None, description="min, measured mean residence time")
@@ -629,7 +630,7 @@ def _decode(content: bytes, shown: str) -> str:
     if len(content) > MAX_CASE_BYTES:
         raise ValueError(f"{shown}: the case file is larger than the limit of {MAX_CASE_BYTES} bytes")
     try:
-        return content.decode("utf-8")
+        return content.decode("utf-8-sig")     # a leading byte-order mark (Windows editors) is dropped
     except UnicodeDecodeError as exc:
         raise ValueError(f"{shown}: not UTF-8 text (byte 0x{content[exc.start]:02x} at offset {exc.start})") from None
 
@@ -662,7 +663,7 @@ def _parse(text: str, shown: str) -> dict:
 def _parse_text(text: str, shown: str) -> dict:
     """``tomllib.loads`` remembered per text: the runs of a study or a sweep load one case many times."""
     try:
-        return tomllib.loads(text)
+        return tomllib.loads(text.removeprefix("\ufeff"))     # a byte-order mark is not TOML: dropped
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{shown}: not valid TOML: {exc}") from None
     except RecursionError:   # deeply nested arrays/tables

@@ -73,7 +73,7 @@ def calibrate_command(
     """
     import warnings
 
-    from .._io import json_text, write_text_atomic
+    from .._io import json_text, output_set, write_text_atomic
     from ..estimation import FitError
     from ..estimation.calibrate import calibrate, record_toml
 
@@ -116,9 +116,10 @@ def calibrate_command(
         stem = Path(case).stem
         try:
             out.mkdir(parents=True, exist_ok=True)
-            write_text_atomic(out / "calibration.json", json_text(result, indent=2))
-            write_text_atomic(out / f"{stem}_calibrated.toml", calibrated)
-            write_text_atomic(out / "calibration.toml", text)     # last: its presence marks a complete set
+            with output_set(out):               # all files or none: a failure keeps the previous set
+                write_text_atomic(out / "calibration.json", json_text(result, indent=2))
+                write_text_atomic(out / f"{stem}_calibrated.toml", calibrated)
+                write_text_atomic(out / "calibration.toml", text)
         except OSError as exc:
             typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
             raise typer.Exit(2)

@@ -69,13 +69,14 @@ def control(
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:
-        from .._io import save_figure, write_text_atomic
+        from .._io import output_set, save_figure, write_text_atomic
 
         files = [out / "control.json", out / "control.csv", out / "control.png"]
-        write_text_atomic(files[0], json_text(dict(result, series={k: list(v) for k, v in closed.series.items()},
-                                                   time_s=list(closed.time_s)), indent=1))
-        write_text_atomic(files[1], closed.csv_text())
-        save_figure(C.plot(closed, opened), files[2], dpi=110)
+        with output_set(out):                   # all files or none: a failure keeps the previous set
+            write_text_atomic(files[0], json_text(dict(result, series={k: list(v) for k, v in closed.series.items()},
+                                                       time_s=list(closed.time_s)), indent=1))
+            write_text_atomic(files[1], closed.csv_text())
+            save_figure(C.plot(closed, opened), files[2], dpi=110)
         result["files"] = [str(f) for f in files]
     if as_json:
         typer.echo(json_text(result))

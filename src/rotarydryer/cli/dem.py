@@ -173,6 +173,12 @@ def run(
         from .._validation import check_range
 
         check_range("--timeout (timeout)", timeout, 0.0, 1e7, unit="s")
+    from ..services._options import usable_cpus
+
+    cpus = usable_cpus()
+    if not isinstance(np_, bool) and isinstance(np_, int) and cpus < np_ <= 256:
+        typer.echo(f"warning: --np = {np_} is more than the {cpus} usable CPU cores; using {cpus}", err=True)
+        np_ = cpus
     info = run_deck(folder, np=np_, progress=not quiet, timeout=timeout)
     typer.echo(f"LIGGGHTS finished in {info['seconds']:.1f} s; dumps in {Path(folder) / 'post'}/; "
                f"next: rotarydryer dem holdup {folder}")
@@ -190,7 +196,7 @@ def holdup(
 ):
     """Flight holdup versus flight angle from the dumps, packing fraction, dynamic repose angle,
     airborne fraction; RMS and bias of the geometric model (plain and corrected) in % of a full flight."""
-    from .._io import json_text
+    from .._io import json_text, output_set
     from .._validation import check_range
     from ..dem.holdup import analyse_run, compare, plot_comparison, write_reduced_csv
 
@@ -202,10 +208,11 @@ def holdup(
         check_range("--repose-angle (repose_angle)", repose_angle, 0.0, 90.0, unit="deg")
     res = analyse_run(folder, every=every)
     c = compare(res, surface_layer=surface_layer, repose_angle=repose_angle)
-    if csv is not None:
-        write_reduced_csv(res, csv)
-    if plot is not None:
-        plot_comparison(res, plot, surface_layer=surface_layer, repose_angle=repose_angle)
+    with output_set():                  # --csv and --plot: both or neither
+        if csv is not None:
+            write_reduced_csv(res, csv)
+        if plot is not None:
+            plot_comparison(res, plot, surface_layer=surface_layer, repose_angle=repose_angle)
     out = {"n_particles": res.n_particles, "n_frames": res.n_frames, "packing_fraction": res.packing_fraction,
            "repose_angle_deg": res.repose_angle_deg, "repose_angle_iqr_deg": res.repose_angle_iqr_deg,
            "repose_angle_samples": res.extra.get("repose_angle_samples", 0),

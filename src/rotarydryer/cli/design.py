@@ -57,6 +57,9 @@ def design_cmd(
     progress on stderr). Prints a ranked table of feasible designs with their binding
     constraints; an infeasible duty is an error naming the blocking constraint.
 
+    Exit codes: 0 done, 1 the design's verification (coupled model) failed or missed the target,
+    2 bad input or an infeasible duty.
+
     Examples: rotarydryer design --duty raw_sugar
 
     rotarydryer design --duty mmg --ua-factor 1.84 --out mmg_design
@@ -111,7 +114,7 @@ def design_cmd(
     wall = time.perf_counter() - t0
     summary["wall_time_s"] = wall
     if out is not None:
-        from .._io import save_figure, write_text_atomic
+        from .._io import output_set, save_figure, write_text_atomic
         from ..geometry import FlightedDrum, TwoSectionFlight
         from ..report.plots import draw_cross_section
 
@@ -119,13 +122,18 @@ def design_cmd(
         drum = FlightedDrum(b.diameter_m / 2, b.n_flights, TwoSectionFlight(s1=b.s1_m, s2=b.s2_m, alpha1=90.0,
                                                                              alpha2=b.alpha2_deg))
         files = [out / "design.json", out / "design_report.md", out / "design_cross_section.png"]
-        write_text_atomic(files[0], json_text(summary, indent=1))
-        write_text_atomic(files[1], _report(d, res, summary))
-        fig = draw_cross_section(drum, D._DutyModel(d).repose)
-        save_figure(fig, files[2], dpi=100)
+        with output_set(out):                   # all files or none: a failure keeps the previous set
+            write_text_atomic(files[0], json_text(summary, indent=1))
+            write_text_atomic(files[1], _report(d, res, summary))
+            fig = draw_cross_section(drum, D._DutyModel(d).repose)
+            save_figure(fig, files[2], dpi=100)
         summary["files"] = [str(f) for f in files]
+    failed = _verification_failure(summary.get("verification"), d.moisture_out)
     if as_json:
         typer.echo(json_text(summary))
+        if failed:
+            typer.echo(f"error: {failed}", err=True)
+            raise typer.Exit(1)
         return
     typer.echo(_table_text(d, res, wall))
     ver = summary.get("verification")
@@ -144,6 +152,23 @@ def design_cmd(
                 typer.echo(f"  with the Ua lowered to what the coupled model achieves: {ver['next_round_infeasible']}")
     if out is not None:
         typer.echo(f"files: {', '.join(summary['files'])}")
+    if failed:
+        typer.echo(f"error: {failed}", err=True)
+        raise typer.Exit(1)
+
+
+def _verification_failure(ver, target) -> str:
+    """The one-line reason the coupled-model verification of a design failed (it could not run, or
+    the design misses the target moisture), or '' (passed, or not verified: --no-verify)."""
+    if ver is None:
+        return ""
+    if "error" in ver:
+        return f"the design's verification (coupled model) failed: {' '.join(str(ver['error']).split())}"
+    if not ver.get("target_met", True):
+        return (f"the design's verification (coupled model) failed: product moisture "
+                f"{ver.get('product_moisture_kg_kg', float('nan')):.4g} kg/kg wet misses the target {target:g} "
+                f"after {len(ver.get('rounds', []))} round(s) (--rounds); the design does not meet the duty")
+    return ""
 
 
 def _table_text(d, res, wall):

@@ -17,7 +17,7 @@ def fit_command(
     data: str = typer.Argument(..., help="Tracer CSV (time_s|time_min|time_h, signal) or a built-in data set name."),
     param: list[str] = typer.Option(..., "--param", "-p", help="Override key to estimate (repeat)."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
-    starts: int = typer.Option(2, help="Number of starts (the case values plus sampled ones)."),
+    starts: int = typer.Option(2, help="Number of starts (the case values plus sampled ones), 1-100."),
     scale: str = typer.Option("known", help="'known': the signal is E(t); 'fit': raw concentration, unknown scale."),
     method: str = typer.Option("wls", help="wls | ml"),
     baseline: str = typer.Option("none", help="none | fit: fit a constant tracer background (signal unit) "
@@ -51,6 +51,7 @@ def fit_command(
             if not profile:
                 raise ValueError(f"--profile-points = {profile_points} needs --profile")
             check_option("--profile-points", profile_points, 3, 101, low_inclusive=True, high_inclusive=True)
+        check_option("--starts", starts, 1, 100, low_inclusive=True, high_inclusive=True)
         check_out_dir("--out", out)
         base = parse_sets(set_)
         tracer = load_tracer(data)
@@ -112,15 +113,16 @@ def fit_command(
         a2.axhline(0, color="0.5", lw=0.8)
         a2.set_ylabel("residual")
         a2.set_xlabel("time since injection (min)")
-        from .._io import json_text, save_figure, write_text_atomic
+        from .._io import json_text, output_set, save_figure, write_text_atomic
 
         try:
-            save_figure(fig, out / "fit.png", dpi=110)
-            plots = [str(out / "fit.png")]
-            if profiles:
-                save_figure(_profile_figure(plt, profiles, r), out / "profile.png", dpi=110)
-                plots.append(str(out / "profile.png"))
-            write_text_atomic(out / "fit.json", json_text(result, indent=2))
+            with output_set(out):               # all files or none: a failure keeps the previous set
+                save_figure(fig, out / "fit.png", dpi=110)
+                plots = [str(out / "fit.png")]
+                if profiles:
+                    save_figure(_profile_figure(plt, profiles, r), out / "profile.png", dpi=110)
+                    plots.append(str(out / "profile.png"))
+                write_text_atomic(out / "fit.json", json_text(result, indent=2))
         except OSError as exc:
             typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
             raise typer.Exit(2)

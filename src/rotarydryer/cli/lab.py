@@ -104,11 +104,11 @@ def rig(
 
 
 def _write_rig_outputs(fr, a, run_csv, out: Path) -> list:
-    """rig.png and rig_aligned.csv in ``out``, each written atomically; both are rendered in
-    memory first, and if the second write fails a rig.png created by this run is removed."""
+    """rig.png and rig_aligned.csv in ``out``, rendered in memory first and written as one set
+    (:func:`rotarydryer._io.output_set`): if either write fails, the previous pair is kept."""
     import io
 
-    from .._io import write_bytes_atomic, write_text_atomic
+    from .._io import output_set, write_bytes_atomic, write_text_atomic
     from .._plotting import pyplot
 
     fig = fr.plot_analysis(a)
@@ -122,14 +122,9 @@ def _write_rig_outputs(fr, a, run_csv, out: Path) -> list:
     lines += [",".join(f"{v:.6g}" for v in row)
               for row in zip(a.time, a.mass, a.rate, a.band.mass_mean, a.band.mass_low, a.band.mass_high)]
     png, csv_path = out / "rig.png", out / "rig_aligned.csv"
-    existed = png.exists()
-    write_bytes_atomic(png, buf.getvalue())
-    try:
+    with output_set(out):
+        write_bytes_atomic(png, buf.getvalue())
         write_text_atomic(csv_path, "\n".join(lines) + "\n")
-    except BaseException:
-        if not existed:
-            png.unlink(missing_ok=True)
-        raise
     return [str(png), str(csv_path)]
 
 
@@ -308,11 +303,11 @@ def steps(
 
 
 def _write_steps_outputs(sm, rec, a, out: Path) -> list:
-    """steps.png and steps.csv in ``out``, rendered in memory first and each written atomically; if
-    the second write fails a steps.png created by this run is removed."""
+    """steps.png and steps.csv in ``out``, rendered in memory first and written as one set
+    (:func:`rotarydryer._io.output_set`): if either write fails, the previous pair is kept."""
     import io
 
-    from .._io import write_bytes_atomic, write_text_atomic
+    from .._io import output_set, write_bytes_atomic, write_text_atomic
     from .._plotting import pyplot
 
     fig = sm.plot_steps(rec, a)
@@ -322,12 +317,8 @@ def _write_steps_outputs(sm, rec, a, out: Path) -> list:
     finally:
         pyplot().close(fig)
     png, csv_path = out / "steps.png", out / "steps.csv"
-    existed = png.exists()
-    write_bytes_atomic(png, buf.getvalue())
-    try:
-        write_text_atomic(csv_path, sm.segment_table(a))
-    except BaseException:
-        if not existed:
-            png.unlink(missing_ok=True)
-        raise
+    table = sm.segment_table(a)
+    with output_set(out):
+        write_bytes_atomic(png, buf.getvalue())
+        write_text_atomic(csv_path, table)
     return [str(png), str(csv_path)]

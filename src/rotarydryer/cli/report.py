@@ -39,6 +39,7 @@ def report(
       rotarydryer report invicta --repose-angle 50
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
+    from .._io import output_set
     from ..report.html import case_validation, load_sensitivity, render_report, resolve_source, write_html
 
     t0 = time.perf_counter()
@@ -50,22 +51,30 @@ def report(
                                hidden=as_json or not sys.stderr.isatty()) as bar:
             results, drums, title = resolve_source(source, parse_sets(set_), repose_angle=repose_angle)
             bar.update(1)
-            if save is not None:
-                if results is None:
-                    raise ValueError(f"--save needs a case or results source, got the drum {source!r}")
-                results.save(save)
+            if save is not None and results is None:
+                raise ValueError(f"--save needs a case or results source, got the drum {source!r}")
             html_text = render_report(results, drums=drums, title=title, sensitivity=sens,
                                       validation=case_validation(source, results))
             bar.update(1)
-        write_html(html_text, out)
-    except ValueError as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(2)
-    except OSError as exc:  # e.g. --out in a missing or read-only directory: bad input
-        typer.echo(f"error: {exc}" if "cannot write" in str(exc) else f"error: cannot write {out}: {exc}", err=True)
-        raise typer.Exit(2)
-    except Exception as exc:  # a bug, not bad input: say so without a traceback
-        typer.echo(f"error: internal error ({type(exc).__name__}): {exc}; please report it", err=True)
+        with output_set():                  # the report and --save: both or neither
+            if save is not None:
+                results.save(save)
+            write_html(html_text, out)
+    except Exception as exc:
+        from . import DEBUG
+
+        if DEBUG["on"]:  # --debug: the traceback, for developers
+            raise
+        if isinstance(exc, ValueError):
+            typer.echo(f"error: {exc}", err=True)
+            raise typer.Exit(2)
+        if isinstance(exc, OSError):  # e.g. --out in a missing or read-only directory: bad input
+            typer.echo(f"error: {exc}" if "cannot write" in str(exc) else f"error: cannot write {out}: {exc}",
+                       err=True)
+            raise typer.Exit(2)
+        # a bug, not bad input: say so without a traceback
+        typer.echo(f"error: internal error ({type(exc).__name__}): {exc}; please report it "
+                   "(rerun with --debug for the traceback)", err=True)
         raise typer.Exit(1)
     dt = time.perf_counter() - t0
     info = {"report": str(out), "bytes": out.stat().st_size, "seconds": round(dt, 3), "source": source}

@@ -106,8 +106,11 @@ def new(
 
     from ..cases import list_cases, load_case
 
-    if not re.fullmatch(r"[A-Za-z0-9_.\-]+", case_name):
-        typer.echo(f"error: case_name = {case_name!r} may only contain letters, digits, '_', '-', '.'", err=True)
+    stem = case_name[:-5] if case_name.lower().endswith(".toml") else case_name
+    if not re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*", stem) or stem.endswith("."):
+        typer.echo(f"error: case_name = {case_name!r} is not a plain file name: it must start with a letter, digit "
+                   "or '_', may contain only letters, digits, '_', '-', '.', and must not end with '.' "
+                   "(e.g. mydryer; give a folder with --out)", err=True)
         raise typer.Exit(2)
     if base != "template" and base not in list_cases():
         typer.echo(f"error: --from {base!r} is not 'template' nor a built-in case ({', '.join(list_cases())})",
@@ -116,6 +119,10 @@ def new(
     if case_name.lower().endswith(".toml"):     # `rotarydryer new mine.toml` writes mine.toml, not mine.toml.toml
         case_name = case_name[:-5]
     path = out if out is not None else Path(f"{case_name}.toml")
+    if out is not None and (path.is_dir() or path.suffix.lower() != ".toml" or path.name.startswith(".")):
+        typer.echo(f"error: --out {str(out)!r} is not a case file name: give a file NAME.toml (e.g. "
+                   f"{str(Path(out) / (case_name + '.toml'))!r})", err=True)
+        raise typer.Exit(2)
     if path.exists() and not force:
         typer.echo(f"error: {path} exists (use --force to overwrite)", err=True)
         raise typer.Exit(2)

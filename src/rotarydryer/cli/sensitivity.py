@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 from typing import Optional
@@ -62,7 +61,8 @@ def sensitivity(
     Failed runs (infeasible points) are recorded and left out of the indices block-wise.
     Exit codes: 0 done, 1 every run failed, 2 bad input, 3 SALib or Dask not installed.
     """
-    from .._io import csv_text, json_text, save_figure, write_text_atomic
+    from .._io import csv_text, json_text, output_set, save_figure, write_text_atomic
+    from ..services._options import check_scheduler, check_workers
     from ..studies import sensitivity as sens
     from ._common import check_out_dir, parse_sets
 
@@ -75,18 +75,20 @@ def sensitivity(
         base = parse_sets(set_)
         params = sens.check_params([sens.parse_param(p) for p in (param or [])])
         n_samples = sens.check_samples(samples, len(params))
+        sens.check_seed(seed)
         outputs = list(dict.fromkeys(output)) if output else list(sens.OUTPUTS)
         for o in outputs:
             if o not in KNOWN_OUTPUTS:
                 raise ValueError(f"--output {o!r} is not a known output; choose from {', '.join(KNOWN_OUTPUTS)}")
-        if workers < 0:
-            raise ValueError(f"--workers = {workers} is outside the allowed range [0, inf)")
-        n_workers = workers if workers > 0 else (os.cpu_count() or 1)
+        scheduler = check_scheduler(scheduler)
+        n_workers, worker_notes = check_workers(workers, n_samples * (len(params) + 2), scheduler=scheduler)
         check_out_dir("--out", out)
         sens._check_case(case, base, params)          # unknown case or key, a range the schema refuses
     except (ValueError, OSError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    for note in worker_notes:
+        typer.echo(f"warning: {note}", err=True)
     n_runs = n_samples * (len(params) + 2)
     try:
         with typer.progressbar(length=n_runs, label=f"{n_runs} runs", file=sys.stderr,
@@ -100,11 +102,12 @@ def sensitivity(
     if out is not None:
         out = Path(out)
         try:
-            write_text_atomic(out / "sensitivity.json", json_text(data, indent=1))
-            write_text_atomic(out / "sensitivity_indices.csv", csv_text(res.table()))
-            write_text_atomic(out / "sensitivity_distributions.csv", csv_text(res.distribution_table()))
-            write_text_atomic(out / "sensitivity_runs.csv", csv_text(res.runs_table()))
-            save_figure(sens.plot_sensitivity(data), out / "sensitivity.png", dpi=110)
+            with output_set(out):               # all files or none: a failure keeps the previous set
+                write_text_atomic(out / "sensitivity.json", json_text(data, indent=1))
+                write_text_atomic(out / "sensitivity_indices.csv", csv_text(res.table()))
+                write_text_atomic(out / "sensitivity_distributions.csv", csv_text(res.distribution_table()))
+                write_text_atomic(out / "sensitivity_runs.csv", csv_text(res.runs_table()))
+                save_figure(sens.plot_sensitivity(data), out / "sensitivity.png", dpi=110)
         except (ValueError, OSError) as exc:
             typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
             raise typer.Exit(2)

@@ -9,7 +9,7 @@ import typer
 
 from .._io import json_text
 from . import app
-from ._common import parse_sets
+from ._common import check_out_file, parse_sets
 
 
 def _steady(case_name, sets):
@@ -20,9 +20,11 @@ def _steady(case_name, sets):
     return case, model, model.steady_state()
 
 
-def _save_last_thermal_state(exc, out):
-    """Write the last iterate of a failed thermal steady state (``DryerError.state``) to
-    ``thermal_last_state.json`` in ``out`` (or the working directory); returns the path or None."""
+def _save_last_thermal_state(exc, out, diagnostics=None) -> Optional[str]:
+    """Write the last iterate of a failed thermal steady state (``DryerError.state``) to the file
+    ``diagnostics`` or, without it, to ``thermal_last_state.json`` in ``out``; never into the
+    working directory unasked. Returns the line telling the user where it went (or how to get
+    it), or None when the error has no solver state."""
     import numpy as np
 
     from .._io import write_text_atomic
@@ -30,14 +32,17 @@ def _save_last_thermal_state(exc, out):
     state = getattr(exc, "state", None)
     if state is None or not hasattr(state, "profiles"):
         return None
+    if diagnostics is None and out is None:
+        return ("the solver's last state was not saved: rerun with --diagnostics FILE.json "
+                "(or --out DIR) to save it")
+    target = Path(diagnostics) if diagnostics is not None else Path(out) / "thermal_last_state.json"
     record = {"error": str(exc), "reason": exc.reason, "summary": state.summary(with_fuel=False),
               "profiles": {k: np.asarray(v).tolist() for k, v in state.profiles().items()},
               "state_vector": np.asarray(state.state).tolist()}
-    folder = Path(out) if out is not None else Path.cwd()
     try:
-        return write_text_atomic(folder / "thermal_last_state.json", json_text(record, indent=1, default=float))
-    except OSError:
-        return None
+        return f"last solver state saved to {write_text_atomic(target, json_text(record, indent=1, default=float))}"
+    except OSError as exc2:
+        return f"the solver's last state could not be saved: {exc2}"
 
 
 @app.command("simulate")
@@ -46,6 +51,9 @@ def simulate(
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. transport.n_cells=33."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for steady_state.json and holdup_profile.png."),
+    diagnostics: Optional[Path] = typer.Option(None, "--diagnostics", help="File for the solver's last state "
+                                               "(JSON) when the heat and mass steady state fails (default with "
+                                               "--out: DIR/thermal_last_state.json; without either: not saved)."),
 ):
     """Steady state of a dryer: solids transport (holdup per phase and section, loading state
     per cell, flows, tracer moments) and, for every case with a [gas] block, heat and mass
@@ -57,6 +65,7 @@ def simulate(
     from ..simulation import Simulation
 
     try:
+        check_out_file("--diagnostics", diagnostics)
         sim = Simulation(case, parse_sets(set_))
         model = sim.transport_model()
         ss = sim.transport_steady_state()
@@ -69,9 +78,9 @@ def simulate(
         thermal = steady.thermal
     except ValueError as exc:
         typer.echo(f"error: heat and mass transfer: {exc}", err=True)
-        saved = _save_last_thermal_state(exc, out)
+        saved = _save_last_thermal_state(exc, out, diagnostics)
         if saved is not None:
-            typer.echo(f"last solver state saved to {saved}", err=True)
+            typer.echo(saved, err=True)
         solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
         raise typer.Exit(1 if solver_failed else 2)
     ss = steady.state        # the one state every output shows (the coupled one with heat and mass)
@@ -81,17 +90,18 @@ def simulate(
     result.update({"case": case, "parameters": model.parameters})
     thermal_on = thermal is not None
     if out is not None:
-        from .._io import save_figure, write_text_atomic
+        from .._io import output_set, save_figure, write_text_atomic
         from ..report.plots import plot_thermal_steady_state
         from ..transport.plots import plot_holdup_profile
 
         files = [out / "steady_state.json", out / "holdup_profile.png"]
         try:
-            write_text_atomic(files[0], json_text(result, indent=1))
-            save_figure(plot_holdup_profile(ss, name=model.name), files[1], dpi=120)
-            if thermal is not None:
-                files.append(out / "thermal_profiles.png")
-                save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
+            with output_set(out):               # all files or none: a failure keeps the previous set
+                write_text_atomic(files[0], json_text(result, indent=1))
+                save_figure(plot_holdup_profile(ss, name=model.name), files[1], dpi=120)
+                if thermal is not None:
+                    files.append(out / "thermal_profiles.png")
+                    save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
         except OSError as exc:
             typer.echo(f"error: --out {out}: {exc}", err=True)
             raise typer.Exit(2)
@@ -125,14 +135,19 @@ def simulate(
                                               f"{result['water_balance_error']:.1e}"),
         ]
         if "fuel_rate_kg_s" in result:      # cases with a burner
-            rows.append(("fuel rate", "n/a" if result["fuel_rate_kg_s"] is None
-                         else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"))
+            rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"
+                         if result["fuel_rate_kg_s"] is None else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"))
     states = ss.loading_state
     rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
                                             f"{states.count('under')}"))
     w = max(len(k) for k, _ in rows)
     for k, v in rows:
         typer.echo(f"  {k:<{w}}  {v}")
+    from ..thermal.states import fuel_rate_note
+
+    note = fuel_rate_note(result)
+    if note:        # a valid steady state of the set gas temperature, which the burner cannot deliver: exit 0
+        typer.echo(f"warning: {note}")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")
 
@@ -183,7 +198,7 @@ def rtd(
 
         import numpy as np
 
-        from .._io import save_figure, write_text_atomic
+        from .._io import output_set, save_figure, write_text_atomic
         from ..transport.plots import plot_rtd
 
         r = res.response
@@ -191,9 +206,11 @@ def rtd(
         np.savetxt(buf, np.c_[r.time, r.exit_age, r.cumulative], delimiter=",", header="time_s,E_per_s,F",
                    comments="")
         try:
-            write_text_atomic(out / "rtd.csv", buf.getvalue())
-            write_text_atomic(out / "rtd.json", json_text(result, indent=1))
-            save_figure(plot_rtd(res, meas, baseline=result.get("measured_baseline", 0.0)), out / "rtd.png", dpi=120)
+            with output_set(out):               # all files or none: a failure keeps the previous set
+                write_text_atomic(out / "rtd.csv", buf.getvalue())
+                write_text_atomic(out / "rtd.json", json_text(result, indent=1))
+                save_figure(plot_rtd(res, meas, baseline=result.get("measured_baseline", 0.0)), out / "rtd.png",
+                            dpi=120)
         except OSError as exc:
             typer.echo(f"error: --out {out}: {exc}", err=True)
             raise typer.Exit(2)

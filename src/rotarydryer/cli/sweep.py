@@ -109,7 +109,7 @@ def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Opt
 
     from .._threads import limit_worker_threads
 
-    with ProcessPoolExecutor(max_workers=workers, initializer=limit_worker_threads) as ex:
+    with ProcessPoolExecutor(max_workers=min(workers, len(points)), initializer=limit_worker_threads) as ex:
         futs = {ex.submit(run_point, case, p, rtd): i for i, p in enumerate(points)}
         for f in as_completed(futs):
             rows[futs[f]] = f.result()
@@ -149,6 +149,7 @@ def sweep(
     import sys
 
     from .._io import check_output_target, write_text_atomic
+    from ..services._options import check_scheduler, check_workers
     from ._common import parse_sets
 
     try:
@@ -160,9 +161,8 @@ def sweep(
             points = read_list(list_)
         if not points:
             raise ValueError("nothing to run: give --grid KEY=V1,V2 or --list runs.csv")
-        if workers < 0:
-            raise ValueError(f"workers = {workers} is outside the allowed range [0, inf)")
-        n = workers if workers > 0 else (os.cpu_count() or 1)
+        scheduler = check_scheduler(scheduler)
+        n, worker_notes = check_workers(workers, len(points), scheduler=scheduler)
         points = [{**base, **p} for p in points]
         from ..cases import load_case
 
@@ -176,6 +176,8 @@ def sweep(
     except (ValueError, OSError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    for note in worker_notes:
+        typer.echo(f"warning: {note}", err=True)
     rows: list = [None] * len(points)
     interrupted = False
     try:

@@ -49,12 +49,13 @@ def validate(
         raise typer.Exit(2)
     result = report.to_dict()
     if out is not None:
-        from .._io import write_text_atomic
+        from .._io import output_set, write_text_atomic
 
         files = [out / "validation.json", out / "validation.md"]
         try:
-            write_text_atomic(files[0], json_text(result, indent=1))
-            write_text_atomic(files[1], report.markdown())
+            with output_set(out):               # both files or neither: a failure keeps the previous set
+                write_text_atomic(files[0], json_text(result, indent=1))
+                write_text_atomic(files[1], report.markdown())
         except OSError as exc:
             typer.echo(f"error: --out {out}: {exc}", err=True)
             raise typer.Exit(2)

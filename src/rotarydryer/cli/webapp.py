@@ -28,10 +28,11 @@ def run_app(
     Examples:
       rotarydryer app                      # http://127.0.0.1:8501
       rotarydryer app --port 8600 --browser
-    Exit codes: 0 stopped normally, 2 bad option, 3 Streamlit not installed, else the server's.
+    Stopping it (Ctrl+C, SIGTERM, SIGHUP) stops the server.
+    Exit codes: 0 stopped normally, 2 bad option, 3 Streamlit not installed, else the server's
+    (128 + N when signal N ended it).
     """
     import importlib.util
-    import subprocess
 
     from ..app import streamlit_command
 
@@ -47,8 +48,59 @@ def run_app(
                    err=True)
         raise typer.Exit(3)
     typer.echo(f"rotarydryer app on http://{host}:{port} (Ctrl+C to stop)")
+    raise typer.Exit(serve(cmd))
+
+
+#: seconds the server gets to stop after a forwarded signal before it is killed
+STOP_TIMEOUT_S = 10.0
+
+
+def serve(cmd: list[str]) -> int:
+    """Run the server command ``cmd`` as a child process and return its exit code (128 + N when
+    a signal N ended it).
+
+    SIGTERM, SIGINT and SIGHUP sent to this process are forwarded to the server, so stopping
+    ``rotarydryer app`` (Ctrl+C, ``kill``, a service manager) stops the server too; when this
+    process leaves for any other reason the server is terminated (killed after
+    :data:`STOP_TIMEOUT_S` s). Only the main thread can install signal handlers; elsewhere the
+    signals are not forwarded (the clean-up still runs)."""
+    import signal
+    import subprocess
+    import threading
+
+    proc = subprocess.Popen(cmd)
+
+    def forward(signum, frame):
+        if proc.poll() is None:
+            try:
+                proc.send_signal(signum)
+            except OSError:  # already gone
+                pass
+
+    names = ("SIGTERM", "SIGINT", "SIGHUP")
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        for name in names:
+            sig = getattr(signal, name, None)
+            if sig is not None:
+                previous[sig] = signal.signal(sig, forward)
     try:
-        code = subprocess.call(cmd)
-    except KeyboardInterrupt:
-        code = 0
-    raise typer.Exit(code)
+        while True:
+            try:
+                code = proc.wait()
+                break
+            except KeyboardInterrupt:  # SIGINT without our handler (not the main thread)
+                forward(signal.SIGINT, None)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if proc.poll() is None:
+            proc.terminate()
+            try:
+                proc.wait(timeout=STOP_TIMEOUT_S)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+    if code < 0:                          # ended by a signal: the shell's convention
+        return 128 - code
+    return code

@@ -33,18 +33,27 @@ from pathlib import Path
 
 import numpy as np
 
-from .._io import json_text, write_text_atomic
+from .._io import json_text, output_set, write_text_atomic
 from .._validation import check_range, fmt_number
 from ..geometry import FlightedDrum, TwoSectionFlight
 from ..geometry.drum import check_speed
 
 __all__ = ["Particles", "SliceDeck", "DeckFiles", "export_deck", "build_slice", "rayleigh_time", "pocket_mouth_width",
            "ARCHING_MOUTH_DIAMETERS",
-           "MAX_DIAMETER_FRACTION", "stl_text", "shell_facets", "flight_facets", "DECK_FORMAT"]
+           "MAX_DIAMETER_FRACTION", "MAX_PARTICLES", "MAX_FACETS", "MAX_DUMP_ROWS", "MAX_SEED", "stl_text", "shell_facets", "flight_facets", "DECK_FORMAT"]
 
 #: particles larger than this fraction of the flight base s1 are refused (the flight would hold a
 #: handful of particles and neither the geometric model nor its correction means anything)
 MAX_DIAMETER_FRACTION = 0.25
+#: most particles one slice deck may hold (a slice is meant for a workstation LIGGGHTS run of
+#: minutes to hours; above it the deck is refused, with the smallest diameter that fits)
+MAX_PARTICLES = 200_000
+#: most triangles of the two STL meshes together (ASCII STL: about 250 bytes each, ~100 MB)
+MAX_FACETS = 400_000
+#: most particle rows of the recorded dump (frames x particles; ~110 bytes each, ~1 GB)
+MAX_DUMP_ROWS = 10_000_000
+#: largest random seed (LIGGGHTS takes a prime above 10 000 that fits a 32-bit int)
+MAX_SEED = 2_000_000_000
 DECK_FORMAT = "rotarydryer-dem-slice/1"
 GRAVITY = 9.81  # m/s^2, as rotarydryer.geometry.unloading.GRAVITY
 
@@ -240,14 +249,56 @@ def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading
                       f"less than {ARCHING_MOUTH_DIAMETERS:g}: the particles may arch across it and the flights hold "
                       "their load longer than the geometric model (with or without the correction) says",
                       stacklevel=2)
-    n = int(round(area * n_layers * d * packing_guess / particles.volume))
+    seed = kw.get("seed", 5778)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= int(seed) <= MAX_SEED:
+        raise ValueError(f"seed (--seed) = {seed!r} is outside the allowed range: an integer from 0 to {MAX_SEED} "
+                         "(made a prime > 10000 for LIGGGHTS)")
+    n_est = area * n_layers * d * packing_guess / particles.volume
+    if not math.isfinite(n_est) or n_est > MAX_PARTICLES:
+        d_min = d * math.sqrt(n_est / MAX_PARTICLES) if math.isfinite(n_est) else float("nan")
+        raise ValueError(f"particle diameter (--diameter) = {fmt_number(d)} m gives a slice of {n_est:.3g} particles "
+                         f"in a drum of radius {fmt_number(drum.radius)} m; the limit is {MAX_PARTICLES} particles "
+                         f"per deck: give --diameter >= {d_min:.3g} m, or a smaller --loading, --fill or --layers")
+    n = int(round(n_est))
     if n < 1:
         raise ValueError(f"the slice would hold {n} particles: increase loading (--loading) or fill (--fill)")
     f = drum.flight
-    return SliceDeck(radius=drum.radius, n_flights=drum.n_flights, s1=f.s1, s2=f.s2, alpha1=f.alpha1,
+    deck = SliceDeck(radius=drum.radius, n_flights=drum.n_flights, s1=f.s1, s2=f.s2, alpha1=f.alpha1,
                      alpha2=f.alpha2, rpm=float(rpm), particles=particles, n_particles=n, source=source,
                      loading=None if loading is None else float(loading),
                      fill_fraction=None if fill_fraction is None else float(fill_fraction), **kw)
+    check_deck_size(deck)
+    return deck
+
+
+def facet_count(s: SliceDeck) -> int:
+    """Triangles of ``shell.stl`` and ``flights.stl`` together (as :func:`shell_facets` and
+    :func:`flight_facets` make them, one axial cell), without building them."""
+    facet = s.facet_size * s.particles.diameter
+    n = 2 * max(48, int(math.ceil(2.0 * math.pi * s.radius / facet)))
+    per_flight = sum(2 * max(1, int(math.ceil(seg / facet))) for seg in (s.s1, s.s2) if seg > 1e-12)
+    return n + s.n_flights * per_flight
+
+
+def check_deck_size(s: SliceDeck) -> None:
+    """Refuse (ValueError naming the option and the bound) a deck whose meshes, dump interval or
+    dump volume is beyond the documented limits (:data:`MAX_FACETS`, one time step per dump,
+    :data:`MAX_DUMP_ROWS`), before anything is written."""
+    nf = facet_count(s)
+    if nf > MAX_FACETS:
+        raise ValueError(f"particle diameter (--diameter) = {fmt_number(s.particles.diameter)} m gives STL meshes of "
+                         f"{nf} facets (facets {s.facet_size:g} diameters long on a drum of radius "
+                         f"{fmt_number(s.radius)} m); the limit is {MAX_FACETS}: give a larger --diameter")
+    deg_per_step = 360.0 * s.timestep / s.period
+    check_range("dump_every_deg (--dump-every)", s.dump_every_deg, deg_per_step, 360.0, unit="deg",
+                low_inclusive=True, high_inclusive=True)
+    st = s.steps()
+    rows = (st["record"] // st["dump_every"] + 1) * s.n_particles
+    if rows > MAX_DUMP_ROWS:
+        raise ValueError(f"dump_every_deg (--dump-every) = {s.dump_every_deg:g} deg with {s.n_particles} particles "
+                         f"over {s.record_revolutions:g} revolutions (--revolutions) gives {rows} dump rows; the limit is "
+                         f"{MAX_DUMP_ROWS} (about 1 GB): give a larger --dump-every, fewer --revolutions or "
+                         "fewer particles")
 
 
 # ---------------------------------------------------------------------------- STL
@@ -451,11 +502,16 @@ def export_deck(s: SliceDeck, folder) -> DeckFiles:
     d = s.particles.diameter
     facet = s.facet_size * d
     nz = 1
-    shell = shell_facets(s.radius, s.length, facet, nz)
-    flights = flight_facets(s.drum, s.length, facet, nz, inset=0.0)
+    check_deck_size(s)
+    # every text is made before the first file is written: a refused deck leaves no folder
+    deck = deck_text(s)
+    meta = json_text(s.to_dict(), indent=1) + "\n"
+    shell = stl_text(shell_facets(s.radius, s.length, facet, nz), "shell")
+    flights = stl_text(flight_facets(s.drum, s.length, facet, nz, inset=0.0), "flights")
     files = DeckFiles(folder, folder / "in.drum", folder / "deck.json", folder / "shell.stl", folder / "flights.stl")
-    write_text_atomic(files.shell, stl_text(shell, "shell"))
-    write_text_atomic(files.flights, stl_text(flights, "flights"))
-    write_text_atomic(files.meta, json_text(s.to_dict(), indent=1) + "\n")
-    write_text_atomic(files.input, deck_text(s))
+    with output_set(folder):        # all four or none: a failure keeps the previous deck
+        write_text_atomic(files.shell, shell)
+        write_text_atomic(files.flights, flights)
+        write_text_atomic(files.meta, meta)
+        write_text_atomic(files.input, deck)
     return files

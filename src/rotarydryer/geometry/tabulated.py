@@ -28,15 +28,35 @@ points and on every shipped drum: below 1e-6 of the largest value of each quanti
 exactly, so the table never extrapolates. Tables are cached per drum (geometry, convention and
 fall-height definition), so every cell and every solver iteration of
 a dryer shares one.
+
+On-disk cache (:func:`cache_directory`): the exact geometry on the cascade grid (what costs the
+0.5 s build; the splines are rebuilt from it in about 0.1 s) is stored per drum as one ``.npz``
+file. Its name is a sha256 of the entry's record (:func:`_entry_meta`: the drum key, the digest of
+the code that computes a table, which covers the grid parameters, and :data:`CACHE_FORMAT`); the
+file holds that record (``meta``) and a sha256 of the record and of every grid array's name,
+dtype, shape and bytes (``sha256``), next to the arrays, so data and check are replaced together.
+A file is used only if it is a regular ``.npz`` of exactly these arrays with the expected dtypes
+and shapes, its record is this entry's, its sha256 matches, its values are finite and its grid is
+the drum's; any other file (changed, e.g. values multiplied by 3, non-finite, truncated, not an
+archive, another program's or another entry's) is ignored with one :class:`GeometryCacheWarning`
+naming it and the reason, and the table is rebuilt and written over it with
+:func:`rotarydryer._io.atomic_output` (a temporary file renamed onto it, so concurrent processes
+writing the same entry and readers only ever see whole files). The checks cost about 1 ms per
+entry (mostly the sha256 of its 0.9 MB). The hash detects accidental and naive changes; it is not
+a signature (whoever can write the cache directory can also write a matching hash).
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import hmac
+import json
 import math
 import os
+import stat
 import threading
+import warnings
 from collections import OrderedDict
 from pathlib import Path
 
@@ -49,7 +69,7 @@ from . import _cell_kernel as module
 from .design_load import DESIGN_LOAD_METHODS, _area_weights, _invert_eq_4_22, _upper_flight_holdups
 from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary, first_unloading_angle
 
-__all__ = ["GeometryTable", "geometry_table"]
+__all__ = ["GeometryCacheWarning", "GeometryTable", "geometry_table"]
 
 #: default table range of the repose angle, deg (outside: exact evaluation)
 PHI_RANGE = (10.0, 80.0)
@@ -164,6 +184,11 @@ def _f_axis(f):
     return np.arcsin(np.sqrt(f)) * (2.0 / np.pi)
 
 
+def _phi_grid(a, b):
+    """The cascade table's repose angles (deg) on the piece [a, b] (uniform, at least 8 intervals)."""
+    return np.linspace(a, b, max(8, int(math.ceil((b - a) * N_PHI_PER_DEG))) + 1)
+
+
 def _holdup_breaks(drum, lo, hi, convention):
     """Repose angles in (lo, hi) where a holdup behind the design load changes phase
     (psi - phi crosses a phase boundary of Lee (2008) Fig. 4.6-4.9)."""
@@ -212,7 +237,7 @@ class GeometryTable:
         if _grid is None:   # the exact geometry on the grid: the costly part (the on-disk cache keeps it)
             xs, vals = [], []
             for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
-                phi = np.linspace(a, b, max(8, int(math.ceil((b - a) * N_PHI_PER_DEG))) + 1)
+                phi = _phi_grid(a, b)
                 pp, ff = np.meshgrid(phi, f, indexing="ij")
                 cs = drum.cascade(pp, ff, rpm=1.0, slope=0.0, fall_height=fall_height, convention=convention)
                 xs.append(phi)
@@ -406,6 +431,22 @@ _lock = threading.Lock()
 MAX_TABLES = 32
 #: environment variable naming the directory of the on-disk table cache; "off" disables it
 CACHE_ENV = "ROTARYDRYER_CACHE_DIR"
+#: version of the on-disk entry format (part of each entry's key and of its stored record)
+CACHE_FORMAT = 2
+#: the arrays of an entry's grid: dtype and number of dimensions
+_GRID_ARRAYS = {"phi": ("<f8", 1), "sizes": ("<i8", 1), "values": ("<f8", 3), "phi_range": ("<f8", 1)}
+#: every array of an entry file: the grid, its record (``meta``: what it was built from) and the
+#: sha256 of both (``sha256``)
+_FILE_ARRAYS = frozenset(_GRID_ARRAYS) | {"meta", "sha256"}
+#: larger files are not ours (an entry is about 1 MB) and are not read
+_MAX_FILE_BYTES = 64 << 20
+#: bad files already reported by this process: (path, inode, size, mtime) -> one warning per file
+_warned: set = set()
+
+
+class GeometryCacheWarning(RuntimeWarning):
+    """A file of the on-disk geometry table cache was ignored and the table rebuilt (the file is
+    replaced atomically); the message names the file and the reason."""
 
 
 def cache_directory():
@@ -432,11 +473,30 @@ def _source_digest() -> str:
     return h.hexdigest()[:16]
 
 
+def _entry_meta(key) -> str:
+    """The record of what an entry is built from: the drum key (dimensions, convention, fall
+    height), the code digest (:func:`_source_digest`, which covers the grid parameters) and the
+    entry format. It names the file and is stored in it, so a file of another entry is not ours."""
+    return json.dumps({"format": CACHE_FORMAT, "code": _source_digest(), "key": list(key)}, separators=(",", ":"))
+
+
+def _content_digest(meta: str, arrays) -> str:
+    """sha256 of an entry: its record and every grid array (name, dtype, shape and bytes)."""
+    h = hashlib.sha256(b"rotarydryer.geometry.tabulated\0")
+    h.update(meta.encode())
+    for name in sorted(_GRID_ARRAYS):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"\0{name}:{a.dtype.str}:{a.shape}\0".encode())
+        h.update(a.data)   # the buffer itself, no copy
+    return h.hexdigest()
+
+
 def _to_arrays(t: GeometryTable) -> dict:
     """The exact geometry on the table's grid (what costs the build), as plain arrays."""
     xs, vals = t._grid
-    return {"phi": np.concatenate(xs), "sizes": np.array([x.size for x in xs]),
-            "values": np.concatenate([np.stack(v) for v in vals], axis=1), "phi_range": np.array(t.phi_range)}
+    return {"phi": np.concatenate(xs).astype("<f8"), "sizes": np.array([x.size for x in xs], dtype="<i8"),
+            "values": np.concatenate([np.stack(v) for v in vals], axis=1).astype("<f8"),
+            "phi_range": np.array(t.phi_range, dtype="<f8")}
 
 
 def _from_arrays(drum, a, convention, fall_height) -> GeometryTable:
@@ -445,8 +505,10 @@ def _from_arrays(drum, a, convention, fall_height) -> GeometryTable:
     vals = [list(v) for v in np.split(a["values"], cuts, axis=1)]
     table = GeometryTable(drum, convention=convention, fall_height=fall_height,
                           phi_range=tuple(float(v) for v in a["phi_range"]), _grid=(xs, vals))
-    if [x.size for x in xs] != [x.size for x in table._grid[0]] or len(xs) != table._phi_edges.size - 1:
-        raise ValueError("cached grid does not fit the drum")
+    edges = table._phi_edges
+    if len(xs) != edges.size - 1 or not all(np.array_equal(x, _phi_grid(lo, hi))
+                                            for x, lo, hi in zip(xs, edges[:-1], edges[1:])):
+        raise ValueError("its grid does not fit the drum")
     return table
 
 
@@ -455,48 +517,131 @@ def _disk_path(key):
     d = cache_directory()
     if d is None:
         return None
-    return d / f"{hashlib.sha256(repr((key, _source_digest())).encode()).hexdigest()[:32]}.npz"
+    return d / f"{hashlib.sha256(_entry_meta(key).encode()).hexdigest()[:32]}.npz"
 
 
-def _load_disk(path, drum, convention, fall_height):
-    if path is None or not path.is_file():
-        return None
+def _check_grid(f, meta):
+    """The grid arrays of the open entry ``f``, and None; or None and why the file is not a valid
+    entry (wrong arrays, dtypes or shapes, another entry's record, a content hash that does not
+    match, non-finite values)."""
+    names = set(f.files)
+    if names != _FILE_ARRAYS:
+        return None, f"not a geometry table of this code (its arrays: {', '.join(sorted(names)) or 'none'})"
+    stored_meta, stored_hash = f["meta"], f["sha256"]
+    if stored_meta.shape != () or stored_meta.dtype.kind != "U" or str(stored_meta[()]) != meta:
+        return None, "not this entry (written for another drum, convention or code version)"
+    a = {k: f[k] for k in _GRID_ARRAYS}
+    for k, (dtype, ndim) in _GRID_ARRAYS.items():
+        if a[k].dtype.str != dtype or a[k].ndim != ndim:
+            return None, f"array {k!r} is {a[k].dtype.str} with shape {a[k].shape}, not {ndim}-d {dtype}"
+    n = a["phi"].size
+    if (a["values"].shape != (3, n, N_F + 1) or a["phi_range"].shape != (2,) or a["sizes"].size < 1
+            or np.any(a["sizes"] < 2) or int(a["sizes"].sum()) != n):
+        return None, (f"wrong shapes (phi {a['phi'].shape}, sizes {a['sizes'].tolist()}, "
+                      f"values {a['values'].shape}, phi_range {a['phi_range'].shape})")
+    if (stored_hash.shape != () or stored_hash.dtype.kind != "U"
+            or not hmac.compare_digest(str(stored_hash[()]), _content_digest(meta, a))):
+        return None, "its content does not match its sha256 (changed after it was written)"
+    if not all(np.isfinite(v).all() for v in a.values()):
+        return None, "it holds non-finite values"
+    if tuple(a["phi_range"].tolist()) != PHI_RANGE:
+        return None, f"its repose-angle range {a['phi_range'].tolist()} is not the tables' {list(PHI_RANGE)}"
+    return a, None
+
+
+def _load_disk(path, key, drum, convention, fall_height):
+    """``(table, None)`` from a valid entry file; ``(None, None)`` when there is none; ``(None,
+    reason)`` when the file at ``path`` is not a valid entry (see :func:`_check_grid`; also not
+    a regular file, too large, not an ``.npz`` archive, truncated or unreadable)."""
+    if path is None:
+        return None, None
     try:
-        with np.load(path, allow_pickle=False) as f:
-            return _from_arrays(drum, {k: f[k] for k in f.files}, convention, fall_height)
-    except Exception:        # unreadable or foreign file: rebuild (and overwrite it)
-        return None
+        st = path.stat()
+    except (FileNotFoundError, NotADirectoryError):   # no entry (or no cache directory)
+        return None, None
+    except OSError as exc:
+        return None, f"it cannot be read ({exc.strerror or exc})"
+    if not stat.S_ISREG(st.st_mode):
+        return None, "it is not a regular file"
+    if st.st_size > _MAX_FILE_BYTES:
+        return None, f"it is too large for a geometry table ({st.st_size / 1e6:.3g} MB)"
+    try:
+        with open(path, "rb") as fh:
+            if fh.read(4) != b"PK\x03\x04":
+                return None, "it is not an .npz archive"
+            fh.seek(0)
+            with np.load(fh, allow_pickle=False) as f:
+                a, reason = _check_grid(f, _entry_meta(key))
+    except Exception as exc:   # noqa: BLE001 - a truncated or damaged archive fails in many ways
+        return None, f"it is truncated or unreadable ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
+    if a is None:
+        return None, reason
+    try:
+        return _from_arrays(drum, a, convention, fall_height), None
+    except Exception as exc:   # noqa: BLE001 - whatever a stored grid breaks, the table is rebuilt
+        return None, str(exc) if isinstance(exc, ValueError) else f"it cannot be used ({type(exc).__name__}: {exc})"
 
 
-def _save_disk(path, table):
+def _warn_bad_file(path, reason):
+    """One :class:`GeometryCacheWarning` per bad file (the same file found again, e.g. when it
+    cannot be replaced, is not reported twice by a process)."""
+    try:
+        st = path.stat()
+        ident = (str(path), st.st_ino, st.st_size, st.st_mtime_ns)
+    except OSError:
+        ident = (str(path), reason)
+    with _lock:
+        if ident in _warned:
+            return
+        _warned.add(ident)
+    warnings.warn(f"rotarydryer: ignoring the geometry table cache file {str(path)!r}: {reason}; "
+                  "the table is rebuilt and the file replaced", GeometryCacheWarning, stacklevel=3)
+
+
+def _save_disk(path, table, key):
+    """Write the table's entry to ``path`` atomically (:func:`rotarydryer._io.atomic_output`: a
+    reader, or another process writing the same entry, only ever sees a whole file); a grid with
+    non-finite values is not stored."""
     if path is None:
         return
-
+    arrays = _to_arrays(table)
+    if not all(np.isfinite(v).all() for v in arrays.values()):
+        return
+    meta = _entry_meta(key)
     try:
         with atomic_output(path) as tmp, open(tmp, "wb") as fh:
-            np.savez(fh, **_to_arrays(table))
+            np.savez(fh, meta=np.array(meta), sha256=np.array(_content_digest(meta, arrays)), **arrays)
     except (OSError, ValueError):   # read-only or full disk: the table lives in memory only
         pass
+
+
+def _key(drum, *, convention="root", fall_height="chord") -> tuple:
+    """What a table is computed from: the drum's dimensions, the convention and the fall height."""
+    fl = drum.flight
+    return (float(drum.radius), int(drum.n_flights), float(fl.s1), float(fl.s2), float(fl.alpha1),
+            float(fl.alpha2), convention, fall_height)
 
 
 def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryTable:
     """The :class:`GeometryTable` of ``drum``, built once and cached (keyed by the drum's
     dimensions, the convention and the fall-height definition): in memory for the process and on
     disk (:func:`cache_directory`; tables of other code versions are never read), so a command
-    line run does not pay the 0.5-1 s build of each drum again."""
-    fl = drum.flight
-    key = (float(drum.radius), int(drum.n_flights), float(fl.s1), float(fl.s2), float(fl.alpha1),
-           float(fl.alpha2), convention, fall_height)
+    line run does not pay the 0.5-1 s build of each drum again. An on-disk entry is used only if
+    it passes its checks (its record, array shapes, sha256 and finite values); a file that does
+    not is rebuilt and replaced, with one :class:`GeometryCacheWarning`."""
+    key = _key(drum, convention=convention, fall_height=fall_height)
     with _lock:
         table = _cache.get(key)
         if table is not None:
             _cache.move_to_end(key)
             return table
     path = _disk_path(key)
-    table = _load_disk(path, drum, convention, fall_height)
+    table, reason = _load_disk(path, key, drum, convention, fall_height)
     if table is None:
+        if reason is not None:
+            _warn_bad_file(path, reason)
         table = GeometryTable(drum, convention=convention, fall_height=fall_height)
-        _save_disk(path, table)
+        _save_disk(path, table, key)
     with _lock:
         _cache[key] = table
         while len(_cache) > MAX_TABLES:

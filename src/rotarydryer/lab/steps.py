@@ -61,6 +61,13 @@ DISCHARGE_COLUMNS = {"discharge_kg_s": (1.0, False), "discharge_kg_min": (1 / 60
                      "discharge_kg_h": (1 / 3600, False), "discharged_kg": (1.0, True)}
 #: fewest data rows of a record
 MIN_ROWS = 3
+#: largest solids flow rate of a record, kg/s (36 000 t/h, far above any rotary dryer); larger values
+#: (a wrong unit, 1e300) are refused naming the column and the line, before any overflow
+MAX_FLOW_KG_S = 1.0e4
+#: largest cumulative mass of a record (fed_kg, discharged_kg), kg
+MAX_MASS_KG = 1.0e9
+#: largest |time| of a record, s (about 30 years)
+MAX_TIME_S = 1.0e9
 #: a cumulative mass may fall between samples by this fraction of its range (balance noise, Song's
 #: 0.01 kg resolution); a larger fall (a balance emptied or reset) is an error
 CUMULATIVE_NOISE = 1e-3
@@ -206,6 +213,7 @@ def _read_step_lines(numbered_lines, name: str) -> StepRecord:
             v = parse_number(row[header.index(col)], name, k, col)
             if role != "time" and not _is_cumulative(col) and v < 0:
                 raise ValueError(f"{name} line {k}: {col} = {fmt_number(v)} is negative; a solids flow rate is >= 0")
+            _check_magnitude(v, role, col, name, k)
             vals.append(v)
         data.append(vals)
         lines.append(k)
@@ -232,6 +240,24 @@ def _read_step_lines(numbered_lines, name: str) -> StepRecord:
             out[role] = (v, _cumulative(t, v))
     return StepRecord(time=t, feed=out["feed"][0], discharge=out["discharge"][0], fed=out["feed"][1],
                       discharged=out["discharge"][1], name=name, columns=cols)
+
+
+def _check_magnitude(v: float, role: str, col: str, name: str, lineno: int) -> None:
+    """Refuse a value beyond :data:`MAX_TIME_S`, :data:`MAX_FLOW_KG_S` or :data:`MAX_MASS_KG` (in the
+    column's own unit), naming the file, line, column and the bound."""
+    if role == "time":
+        limit, unit = MAX_TIME_S / TIME_COLUMNS[col], col.split("_", 1)[1]
+        if abs(v) > limit:
+            raise ValueError(f"{name} line {lineno}: {col} = {fmt_number(v)} is outside the allowed range "
+                             f"[-{fmt_number(limit)}, {fmt_number(limit)}] {unit}")
+        return
+    factor, cum = (FEED_COLUMNS if role == "feed" else DISCHARGE_COLUMNS)[col]
+    limit = (MAX_MASS_KG if cum else MAX_FLOW_KG_S) / factor
+    if abs(v) > limit:
+        what = "a cumulative mass" if cum else "a solids flow rate"
+        raise ValueError(f"{name} line {lineno}: {col} = {fmt_number(v)} is outside the allowed range "
+                         f"[0, {fmt_number(limit)}] ({what}; {fmt_number(MAX_MASS_KG if cum else MAX_FLOW_KG_S)} "
+                         f"{'kg' if cum else 'kg/s'})")
 
 
 def _first_fall(c):

@@ -475,7 +475,7 @@ def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y,
     method = q[_TR_METHOD]
     xe, xcr = q[_TR_XE], q[_TR_XCR]
     for i in range(a.size):
-        tg = min(max(tg_raw[i], 0.0), 600.0)
+        tg = min(max(tg_raw[i], -40.0), 600.0)   # humid_air.T_MIN_C, T_MAX_C
         ts = min(max(ts_raw[i], 0.0), 99.0)
         y = min(max(y_raw[i], 1e-6), 0.3)
         # gas-solids coefficient at the gas temperature

@@ -92,11 +92,15 @@ MOLAR_MASS_DRY_AIR = sum(DRY_AIR_COMPOSITION[s] * MOLAR_MASS[s] for s in _AIR_SP
 _W_AIR = {s: DRY_AIR_COMPOSITION[s] * MOLAR_MASS[s] / MOLAR_MASS_DRY_AIR for s in _AIR_SPECIES}
 _RATIO = MOLAR_MASS["H2O"] / MOLAR_MASS_DRY_AIR  # 0.6220
 T_MAX_C = 600.0
+#: lowest temperature of the humid-air functions, degC: the coldest ambient of a case
+#: (shell.ambient_temperature > -40 degC); the vapour pressure is then that over supercooled water
+#: (the Wagner-Pruss equation extended, as psychrometric practice does to -40 degC)
+T_MIN_C = -40.0
 Y_MAX = 0.3
 
 
 def _temperature(temperature_c, name="temperature_c", high=T_MAX_C):
-    return check_range(name, temperature_c, 0.0, high, low_inclusive=True, high_inclusive=True, unit="degC")
+    return check_range(name, temperature_c, T_MIN_C, high, low_inclusive=True, high_inclusive=True, unit="degC")
 
 
 def _humidity(humidity):

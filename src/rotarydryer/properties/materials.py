@@ -175,7 +175,7 @@ def load_material(spec) -> Material:
         return _library_material(spec)
     if isinstance(spec, (str, os.PathLike)) and os.fspath(spec).endswith(".toml") and os.path.isfile(spec):
         try:
-            return _build(tomllib.loads(Path(spec).read_text(encoding="utf-8")))
+            return _build(tomllib.loads(Path(spec).read_text(encoding="utf-8-sig")))   # BOM dropped
         except tomllib.TOMLDecodeError as exc:
             raise ValueError(f"material = {os.fspath(spec)!r} is not valid TOML: {exc}") from None
     raise ValueError(f"material = {spec!r} is not in the materials library ({', '.join(names)}) nor a .toml file")

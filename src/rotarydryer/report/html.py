@@ -336,6 +336,8 @@ def _thermal_section(results) -> str:
               ("water_balance_error", "water balance error", "-", 1.0))
     rows = [("model", str(results.model_choices.get("thermal_mode", "")), "-")]
     rows += [(label, _fmt(sc[key] * factor), unit) for key, label, unit, factor in labels if key in sc]
+    if results.model_choices.get("fuel_rate_error") and "fuel_rate_kg_s" not in sc:
+        rows.append(("fuel rate (burner, App. A)", "n/a: " + str(results.model_choices["fuel_rate_error"]), "kg/h"))
     eb = results.datasets["energy_balance"]
     terms = {"in": {}, "out": {}}
     for name, direction, power in zip(eb.stream.values, eb.direction.values, eb.power.values):
@@ -481,6 +483,11 @@ def _executive_summary(results) -> str:
                      "direct dryers typically run at 3 000-6 000 kJ/kg).</li>")
     if s.get("fuel_rate_kg_s") is not None:
         lines.append(f"<li>The burner needs {_fmt(3600 * s['fuel_rate_kg_s'])} kg/h of fuel.</li>")
+    elif results.model_choices.get("fuel_rate_error"):
+        from ..thermal.states import fuel_rate_note
+
+        note = fuel_rate_note({"fuel_rate_error": results.model_choices["fuel_rate_error"]})
+        lines.append(f'<li class="warning"><b>Warning:</b> {html.escape(note)}.</li>')
     lines.append("</ul>")
     return f'<section id="executive-summary"><h2>Summary</h2>{"".join(lines)}</section>'
 

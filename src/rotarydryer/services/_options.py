@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["check_option"]
+__all__ = ["check_option", "check_scheduler", "check_workers", "usable_cpus"]
 
 
 def check_option(option: str, value, low: float = -math.inf, high: float = math.inf, *, unit: str = "",
@@ -36,3 +36,66 @@ def _plain(x: float) -> str:
     if math.isnan(x):
         return "nan"
     return str(int(x)) if x == int(x) and abs(x) < 1e15 else f"{x:.6g}"
+
+
+def usable_cpus() -> int:
+    """CPU cores this process may run on (its affinity mask where the OS has one), at least 1."""
+    import os
+
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--workers") -> tuple[int, list[str]]:
+    """``(local worker processes, warnings)`` of ``--workers`` (0: one per usable core) for a job of
+    ``n_runs`` runs: a ``ValueError`` naming the option below 0 or not an integer; clamped (with a
+    warning naming the option and the bound) to the usable CPU cores (:func:`usable_cpus`) and to
+    ``n_runs``. With a Dask ``scheduler`` the local count is not used (the cluster has its own)."""
+    if isinstance(workers, bool) or not isinstance(workers, int):
+        raise ValueError(f"{option} = {workers!r} is not an integer; allowed: 0 (one per core) to the CPU count")
+    cpus = usable_cpus()
+    if workers < 0:
+        raise ValueError(f"{option} = {workers} is outside the allowed range [0, {cpus}] (0: one per core, "
+                         f"{cpus} usable CPU cores)")
+    notes: list[str] = []
+    if scheduler:
+        return max(1, min(workers or 1, max(1, n_runs))), notes
+    n = workers if workers > 0 else cpus
+    if n > cpus:
+        notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores; using {cpus} "
+                     "(give --scheduler for a Dask cluster)")
+        n = cpus
+    if n > max(1, n_runs):
+        if workers > 0:
+            notes.append(f"{option} = {workers} is more than the {n_runs} runs; using {max(1, n_runs)}")
+        n = max(1, n_runs)
+    return n, notes
+
+
+def check_scheduler(address, option: str = "--scheduler"):
+    """A Dask scheduler address the commands support, ``tcp://HOST:PORT`` or ``tls://HOST:PORT``
+    (``HOST:PORT`` means tcp), returned as given; ``None`` passes. Else a one-line ``ValueError``
+    naming the option and the value."""
+    if address is None:
+        return None
+    a = str(address).strip()
+    form = "expected tcp://HOST:PORT or tls://HOST:PORT (PORT 1-65535), e.g. tcp://10.0.0.5:8786"
+    scheme, sep, rest = a.partition("://")
+    if not sep:
+        scheme, rest = "tcp", a
+    if scheme.lower() == "inproc":     # a scheduler in this process (LocalCluster(processes=False))
+        if not rest.strip("/"):
+            raise ValueError(f"{option} = {a!r} is not a scheduler address: inproc:// needs the address "
+                             f"of a scheduler in this process; {form}")
+        return a
+    if scheme.lower() not in ("tcp", "tls"):
+        raise ValueError(f"{option} = {a!r}: the protocol {scheme + '://'!r} is not supported; {form}")
+    host, colon, port = rest.rstrip("/").rpartition(":")
+    host = host.strip("[]")
+    if not colon or not host or any(c.isspace() for c in host) or "/" in host:
+        raise ValueError(f"{option} = {a!r} is not a scheduler address; {form}")
+    if not port.isdigit() or not 1 <= int(port) <= 65535:
+        raise ValueError(f"{option} = {a!r}: port {port!r} is outside the allowed range 1-65535; {form}")
+    return a

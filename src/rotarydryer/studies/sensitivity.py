@@ -133,11 +133,27 @@ def check_samples(samples, n_params: int) -> int:
     samples = int(samples)
     if not 1 <= samples <= MAX_SAMPLES:
         raise ValueError(f"--samples = {samples} is outside the allowed range [1, {MAX_SAMPLES}]")
+    if samples & (samples - 1):
+        lo = 1 << (samples.bit_length() - 1)
+        raise ValueError(f"--samples = {samples} is not a power of 2 (the Sobol' sequence keeps its balance "
+                         f"properties only then; others give biased indices, e.g. S1 > ST); allowed: 1, 2, 4, ... {MAX_SAMPLES}; use {lo} "
+                         f"or {2 * lo}")
     runs = samples * (n_params + 2)
     if runs > MAX_RUNS:
         raise ValueError(f"--samples = {samples} with {n_params} inputs gives {runs} runs; the limit is "
                          f"{MAX_RUNS} per study")
     return samples
+
+
+#: largest seed of the scrambled Sobol' sequence and the bootstrap (NumPy seeds are 32-bit here)
+MAX_SEED = 2**32 - 1
+
+
+def check_seed(seed, option: str = "--seed") -> int:
+    """The seed as an int in [0, :data:`MAX_SEED`], or a ``ValueError`` naming ``option``."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= int(seed) <= MAX_SEED:
+        raise ValueError(f"{option} = {seed!r} is outside the allowed range: an integer from 0 to {MAX_SEED}")
+    return int(seed)
 
 
 def _problem(params: dict) -> dict:
@@ -195,6 +211,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
     X = np.asarray(X, dtype=float)
     Y = np.full((len(X), len(outputs)), np.nan)
     errors = [""] * len(X)
+    missing: list[dict] = [{} for _ in range(len(X))]     # per run: {output: why it is missing}
     memory: list[tuple] = []     # (normalised point, warm-start data of its run)
     span = np.ptp(X, axis=0) if len(X) else np.ones(len(keys))
     span = np.where(span > 0, span, 1.0)
@@ -225,7 +242,39 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
                         Y[i, j] = float(v)
                     except (TypeError, ValueError):
                         pass
-    return Y, errors
+                if not np.isfinite(Y[i, j]):
+                    missing[i][name] = _missing_reason(name, out)
+    return Y, errors, missing
+
+
+def _missing_reason(name: str, out: dict) -> str:
+    """Why output ``name`` is missing from a successful run's ``out``: the run's own message
+    (``fuel_rate_error`` for the fuel rate, ``NAME_error`` for others), else a generic one."""
+    err = out.get("fuel_rate_error") if name == "fuel_rate_kg_s" else out.get(f"{name}_error")
+    if err:
+        return " ".join(str(err).split())
+    if name not in out:
+        return "not computed by this run"
+    return f"not a finite number ({out.get(name)!r})"
+
+
+def _reason_kind(reason: str) -> str:
+    """The kind of a missing-output reason, for counting (the numbers of each run left out)."""
+    if reason.startswith("burner cannot reach"):
+        return "burner cannot reach the set gas inlet temperature"
+    return reason.split(": ", 1)[0]
+
+
+def missing_summary(missing, output: str) -> list[dict]:
+    """``[{"reason": kind, "runs": n, "example": first full message}]`` of the runs missing
+    ``output`` (``missing``: per-run ``{output: reason}``), most frequent first."""
+    counts: dict[str, list] = {}
+    for m in missing or []:
+        why = (m or {}).get(output)
+        if why:
+            kind = _reason_kind(why)
+            counts.setdefault(kind, [0, why])[0] += 1
+    return [{"reason": k, "runs": n, "example": ex} for k, (n, ex) in sorted(counts.items(), key=lambda kv: -kv[1][0])]
 
 
 def _chunks(n_rows: int, block: int, workers: int, target_rows: int = 160):
@@ -240,10 +289,13 @@ def _evaluate(case, base, keys, X, outputs, *, block, workers=1, scheduler=None,
     tick = progress or (lambda n: None)
     Y = np.full((len(X), len(outputs)), np.nan)
     errors = [""] * len(X)
+    missing: list[dict] = [{} for _ in range(len(X))]
     chunks = _chunks(len(X), block, workers)
 
     def store(sl, res):
         Y[sl], errors[sl] = res[0], res[1]
+        if len(res) > 2:
+            missing[sl] = res[2]
         tick(sl.stop - sl.start)
 
     if scheduler:
@@ -264,11 +316,11 @@ def _evaluate(case, base, keys, X, outputs, *, block, workers=1, scheduler=None,
 
         from .._threads import limit_worker_threads
 
-        with ProcessPoolExecutor(max_workers=workers, initializer=limit_worker_threads) as ex:
+        with ProcessPoolExecutor(max_workers=min(workers, len(chunks)), initializer=limit_worker_threads) as ex:
             futs = {ex.submit(_run_chunk, case, base, keys, X[sl], outputs, warm_start): sl for sl in chunks}
             for f in as_completed(futs):
                 store(futs[f], f.result())
-    return Y, errors
+    return Y, errors, missing
 
 
 # ---------------------------------------------------------------------------------- analysis
@@ -278,7 +330,11 @@ def _distribution(y: np.ndarray, bins: int = 30) -> dict:
         return {"n": 0}
     q = np.percentile(y, [5, 25, 50, 75, 95])
     lo, hi = float(y.min()), float(y.max())
-    counts, edges = np.histogram(y, bins=bins, range=(lo, hi) if hi > lo else (lo - 0.5, hi + 0.5))
+    try:
+        counts, edges = np.histogram(y, bins=bins, range=(lo, hi) if hi > lo else (lo - 0.5, hi + 0.5))
+    except ValueError:      # a range of a few ulps: "too many bins for data range"
+        counts, edges = np.histogram(y, bins=1, range=(lo - 0.5 * max(abs(lo), 1.0) * 1e-9,
+                                                       hi + 0.5 * max(abs(hi), 1.0) * 1e-9))
     return {"n": int(y.size), "mean": float(y.mean()), "sd": float(y.std(ddof=1)) if y.size > 1 else 0.0,
             "min": lo, "p5": float(q[0]), "p25": float(q[1]), "p50": float(q[2]), "p75": float(q[3]),
             "p95": float(q[4]), "max": hi, "histogram": {"counts": counts.tolist(), "edges": edges.tolist()}}
@@ -332,6 +388,8 @@ class SensitivityResult:
     X: Optional[np.ndarray] = None
     Y: Optional[np.ndarray] = None
     errors: Optional[list] = None
+    #: {output: [{"reason", "runs", "example"}]}: why an output is missing in successful runs
+    missing_outputs: dict = dataclasses.field(default_factory=dict)
 
     @property
     def runs_per_second(self) -> float:
@@ -365,7 +423,8 @@ class SensitivityResult:
                 "outputs": list(self.outputs), "conf_level": CONF_LEVEL, "n_runs": self.n_runs,
                 "n_failed": self.n_failed, "blocks_used": dict(self.blocks_used), "seconds": self.seconds,
                 "runs_per_second": self.runs_per_second, "indices": self.indices,
-                "distributions": self.distributions, "failures": self.failures, "notes": self.notes}
+                "distributions": self.distributions, "failures": self.failures, "notes": self.notes,
+                "missing_outputs": self.missing_outputs}
 
 
 def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *, workers: int = 1,
@@ -382,7 +441,7 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     params : {key: (low, high)}
         Uniform uncertain inputs (override keys).
     samples : int
-        Base samples N; the design has ``N * (D + 2)`` runs (a power of 2 is best).
+        Base samples N, a power of 2 (others are refused); the design has ``N * (D + 2)`` runs.
     outputs : names of the outputs (default :data:`OUTPUTS`).
     workers, scheduler : local processes, or a Dask scheduler address.
     base_overrides : overrides applied to every run (``--set``).
@@ -392,6 +451,7 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     t0 = time.perf_counter()
     params = check_params(params)
     samples = check_samples(samples, len(params))
+    seed = check_seed(seed, "seed")
     outputs = list(outputs)
     if not outputs:
         raise ValueError("outputs: give at least one output name")
@@ -404,8 +464,8 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     keys = list(params)
     block = len(keys) + 2
     X = saltelli_design(params, samples, seed)
-    Y, errors = _evaluate(case, base, keys, X, outputs, block=block, workers=workers, scheduler=scheduler,
-                          warm_start=warm_start, progress=progress)
+    Y, errors, missing_why = _evaluate(case, base, keys, X, outputs, block=block, workers=workers,
+                                       scheduler=scheduler, warm_start=warm_start, progress=progress)
     failed = np.array([bool(e) for e in errors])
     n_failed = int(failed.sum())
     notes = []
@@ -414,17 +474,25 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     Yc = Y.copy()
     Yc[np.repeat(blocks_failed, block)] = np.nan
     indices, used, dists, kept = {}, {}, {}, []
+    missing_outputs: dict[str, list] = {}
     for j, o in enumerate(outputs):
         ok_runs = ~failed
+        why = missing_summary([m for m, ok in zip(missing_why, ok_runs) if ok], o)
+        if why:
+            missing_outputs[o] = why
+        reasons = "; ".join(f"{w['runs']} run{'s' if w['runs'] != 1 else ''}: {w['reason']}" for w in why)
         if ok_runs.any() and not np.isfinite(Y[ok_runs, j]).any():
-            notes.append(f"{o}: not computed by this case (e.g. no burner, or heat and mass transfer off); skipped")
+            generic = all(w["reason"] == "not computed by this run" for w in why)
+            notes.append(f"{o}: not computed by this case (e.g. no burner, or heat and mass transfer off); skipped"
+                         if generic or not why else f"{o}: missing in every successful run ({reasons}); skipped")
             continue
         if not ok_runs.any():
             notes.append(f"{o}: every run failed; skipped")
             continue
         missing = int(np.sum(ok_runs & ~np.isfinite(Y[:, j])))
         if missing:
-            notes.append(f"{o}: missing in {missing} successful runs; their blocks are left out of its indices")
+            notes.append(f"{o}: missing in {missing} successful runs ({reasons or 'no reason given'}); their "
+                         "blocks are left out of its indices")
         indices[o], used[o] = _sobol_indices(params, Yc[:, j], block, seed, num_resamples)
         dists[o] = _distribution(Y[ok_runs, j])
         kept.append(o)
@@ -441,6 +509,7 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     return SensitivityResult(case=name, params=params, samples=samples, outputs=kept, indices=indices,
                              distributions=dists, n_runs=len(X), n_failed=n_failed, blocks_used=used,
                              failures=failures, notes=notes, seconds=time.perf_counter() - t0,
+                             missing_outputs=missing_outputs,
                              base_overrides=base, X=X, Y=Y[:, [outputs.index(o) for o in kept]], errors=errors)
 
 

@@ -69,7 +69,7 @@ AJAYI_CP_WATER = 4182.0      # J/(kg K), L3181
 AJAYI_CP_GAS = 1070.0        # J/(kg K), L3183
 AJAYI_LATENT_HEAT = 2257e3   # J/kg, L3184
 SIGMA = 5.67e-8              # W/(m2 K4)
-_T_LO, _T_HI = 0.0, 600.0    # property range of humid_air, degC
+_T_LO, _T_HI = ha.T_MIN_C, ha.T_MAX_C    # property range of humid_air, degC
 
 
 def _tc(t):

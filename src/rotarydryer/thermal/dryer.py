@@ -98,6 +98,13 @@ BORROWED_RATIO = 0.1
 _GROUPS_CACHE: dict = {}
 
 
+#: virtual solids mass (kg per kg/s of feed) giving an empty tank a temperature (ThermalDryer._rhs)
+EMPTY_TANK_MASS = 1e-10
+#: below this solids mass (kg per kg/s of feed) a tank's temperature residual counts in
+#: proportion to its heat capacity (ThermalDryer._residual_norm)
+EMPTY_TANK_MASS_NORM = 1e-6
+
+
 def _scatter_rows(index, weights, n, flat_index):
     """``np.bincount(index, w, n)`` along the last axis of each of several weight arrays ``w`` of one
     shape ((e,) or a batch (k, e)): the sums over edges into nodes, as one bincount of them stacked, in
@@ -262,6 +269,11 @@ class ThermalDryer:
                                 else self.material.particle_diameter for x in st], dtype=float)
         self.shell_T = np.array([x.shell_temperature if x.shell_temperature is not None else 100.0 for x in st])
         self.is_bed_stage = self.kind[gas_tank] == 0
+        # the gas stage nearest each tank (same section where it has one): the anchor of an empty tank's
+        # temperature (_rhs: EMPTY_TANK_MASS)
+        near = np.abs(self.position[:, None] - self.gas_position[None, :]) + 1e6 * (
+            np.asarray(self.tank_section)[:, None] != np.asarray(self.gas_section)[None, :])
+        self._tank_stage = np.argmin(near, axis=1) if self.n_gas else np.zeros(self.n_tanks, dtype=int)
         # kiln bed: the passive solids of a flighted cell above its design load roll on the drum floor;
         # their active layer exchanges with the gas of the cell's stage (the curtain's), with the
         # bed-surface area of Ajayi (2011) Eq. 6.56-6.61 (kiln_bed_area = true)
@@ -638,9 +650,9 @@ class ThermalDryer:
             raise DryerError("state became non-finite (solver diverged)", reason="diverged", state=z)
         s = self.settings
         S, W, T, Tg, Y = self.split(z)
-        S = np.maximum(S, 1e-9 * self.feed_rate)
+        S = np.maximum(S, 1e-15 * self.feed_rate)
         W = np.maximum(W, 0.0)
-        T = np.clip(T, -20.0, 300.0)
+        T = np.clip(T, -20.0, self._solids_temperature_ceiling())
         m = S + W
         src, dst, F = self.flows(S, W, T, families)
         ms = np.maximum(m[..., src], 1e-12)
@@ -648,6 +660,13 @@ class ThermalDryer:
         frac_w = W[..., src] / ms
         h_wet = (s.cp_solids * frac_s + s.cp_water * frac_w) * T[..., src]
         return S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet
+
+    def _solids_temperature_ceiling(self):
+        """Upper clip of the solids temperature on the nearest physical state, degC: above the hottest
+        gas (+50 K) a trial state is unphysical. (A fixed 300 degC ceiling made solids hotter than it
+        invisible to their own balance: a hot over-dried dryer had no restoring heat flow and no
+        steady state.)"""
+        return max(300.0, self.settings.gas_inlet_temperature + 50.0)
 
     def product_stream(self, z):
         """Dry solids (kg/s), water (kg/s) and enthalpy (W) leaving with the product at state ``z``
@@ -791,8 +810,15 @@ class ThermalDryer:
         dS = d["inS"] - d["outS"]
         dW = d["inW"] - d["outW"] - rw_t
         dU = d["inH"] - d["outH"] + qh_t
-        C = np.maximum(S * s.cp_solids + W * s.cp_water, 1e-9)
-        dT = (dU - T * (s.cp_solids * dS + s.cp_water * dW)) / C
+        # an empty tank (a cell the cascade overshoots, S -> 0) has no temperature of its own: a virtual
+        # heat capacity of EMPTY_TANK_MASS x feed rate x 1 s exchanging with the nearest gas stage at a
+        # 1 s time constant defines it (the gas temperature); it fades as (virtual/actual heat capacity)^2,
+        # so in a tank holding solids its heat flow moves no reported number
+        ce = EMPTY_TANK_MASS * self.feed_rate * s.cp_solids
+        C = S * s.cp_solids + W * s.cp_water
+        ce = ce / (1.0 + (C / ce) ** 2)          # fades as (ce/C)^2 once the tank holds solids
+        C = C + ce
+        dT = (dU - T * (s.cp_solids * dS + s.cp_water * dW) + ce * (Tg[..., self._tank_stage] - T)) / C
         Fd = self.dry_gas_flow
         Mg = self.gas_holdup
         dYm = Fd * (d["Y_up"] - Y) + d["rw"]
@@ -925,7 +951,7 @@ class ThermalDryer:
         sc = self._scale()
         self.freeze_shell(z)
         f = self.rhs(0.0, z)          # the frozen shell loss equals the exact one at z
-        norm = np.max(np.abs(f) / sc)
+        norm = self._residual_norm(f, z, sc)
         dt = dt0
         J = lu = None                 # Jacobian at z (shell frozen at z) and the factorised I/dt - J
         borrowed = factorization is not None and factorization.shape == (self.n, self.n)
@@ -943,13 +969,13 @@ class ThermalDryer:
                     dt *= 0.2
                     continue
             dz = lu.solve(f)
-            zn = z + dz
+            zn = self._bounded_step(z, dz)
             ok = self._admissible(zn)
             fn, nn = None, np.inf
             if ok:
                 try:
                     fn = self.rhs(0.0, zn)
-                    nn = np.max(np.abs(fn) / sc)
+                    nn = self._residual_norm(fn, zn, sc)
                 except DryerError:
                     ok = False
             if borrowed and (not ok or not np.isfinite(nn) or nn > norm):
@@ -965,7 +991,7 @@ class ThermalDryer:
             # the shell coefficient refreshed at the new state: f is then the exact residual there
             # (the frozen loss equals the exact one at the state it was frozen at)
             z, f = zn, self._refreeze_shell(zn, fn)
-            nn = np.max(np.abs(f) / sc)
+            nn = self._residual_norm(f, z, sc)
             ratio = nn / max(norm, 1e-300)
             dt = min(dt * min(max(1.0 / max(ratio, 1e-300), 0.5), 10.0) * 1.5, 1e12)
             norm = nn
@@ -990,13 +1016,44 @@ class ThermalDryer:
                              reason="no_steady_state", state=ss)
         return ss
 
+    def _residual_norm(self, f, z, sc):
+        """Scaled residual max |f_i|/scale_i of the steady-state test, the temperature rate of a tank
+        weighted by its heat capacity up to EMPTY_TANK_MASS_NORM x feed rate x 1 s of solids (the
+        heat-flow residual, W, of a nearly empty tank is what its balance can resolve; its K/s is a
+        ratio of two vanishing numbers). At any tank holding solids the test is the plain one."""
+        r = np.abs(f) / sc
+        nt = self.n_tanks
+        S, W = z[:nt], z[nt:2 * nt]
+        s = self.settings
+        c_floor = EMPTY_TANK_MASS_NORM * self.feed_rate * s.cp_solids
+        w = np.minimum(1.0, np.maximum(S * s.cp_solids + W * s.cp_water, 0.0) / c_floor)
+        r[2 * nt:3 * nt] *= w
+        return float(np.max(r))
+
+    def _bounded_step(self, z, dz):
+        """``z + dz`` with the dry solids, the water and the gas humidity kept inside their admissible
+        range by a fraction-to-boundary rule (interior-point practice, Nocedal & Wright (2006) Eq. 19.9,
+        per component): a component the Newton step would take below zero moves to a fifth of its value
+        instead (the water may go half the admissibility margin, 5e-10 of the feed, below zero: a
+        bone-dry product's steady state can hold W a rounding below zero, which the balances read as
+        zero). Elsewhere the step is Newton's own, so the converged state is the same. A steady state
+        with an empty tank (a cell the cascade overshoots) or a dry product lies on that boundary: the
+        iterates approach it geometrically instead of stalling on rejected steps."""
+        zn = z + dz
+        S, W, _, _, Y = self.split(z)
+        Sn, Wn, _, _, Yn = self.split(zn)
+        np.maximum(Sn, 0.2 * S, out=Sn)
+        np.maximum(Wn, np.minimum(0.2 * W, W) - 0.5e-9 * self.feed_rate, out=Wn)
+        np.maximum(Yn, np.minimum(0.2 * Y, Y), out=Yn)
+        return zn
+
     def _admissible(self, z):
         S, W, T, Tg, Y = self.split(z)
         s = self.settings
         # the extremes against the bounds (a NaN fails every comparison, as with np.all)
         return bool(S.min() > 0 and W.min() > -1e-9 * self.feed_rate and T.min() > -5
                     and T.max() < max(150.0, s.gas_inlet_temperature + 5.0)
-                    and Tg.min() > s.ambient_temperature - 5 and Tg.max() < 650 and Y.min() > -1e-6
+                    and Tg.min() > min(s.ambient_temperature, s.solids_inlet_temperature) - 5 and Tg.max() < 650 and Y.min() > -1e-6
                     and Y.max() < 0.3)
 
     # ------------------------------------------------------------------ dynamics

@@ -13,6 +13,7 @@ from typing import Optional
 
 import numpy as np
 
+from .._limits import check_key
 from .._validation import check_choice, check_range
 from ..properties.drying import DryingKinetics
 from . import balances as bal
@@ -130,33 +131,26 @@ class ThermalSettings:
         if self.gas_flow == 0:
             raise ValueError("gas.flow = 0 kg/s: heat and mass transfer needs a gas flow in (0, 1000] kg/s; "
                              "for a run without gas set thermal.enabled = false (solids transport only)")
-        check_range("gas.flow", self.gas_flow, 0.0, 1000.0, unit="kg/s")
-        check_range("gas.inlet_temperature", self.gas_inlet_temperature, 0.0, 600.0, high_inclusive=True,
-                    unit="degC")
-        check_range("gas.inlet_humidity", self.gas_inlet_humidity, 0.0, 0.2, low_inclusive=True,
-                    unit="kg/kg wet gas")
-        check_range("operating.feed_temperature", self.solids_inlet_temperature, 0.0, 99.0,
-                    low_inclusive=True, unit="degC")
-        check_range("shell.ambient_temperature", self.ambient_temperature, -40.0, 60.0, unit="degC")
-        check_range("thermal.area_scale", self.area_scale, 0.0, 100.0, low_inclusive=True)
-        check_range("thermal.fouling", self.fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
-        check_range("shell.loss_factor", self.loss_factor, 0.0, 1000.0, low_inclusive=True)
-        check_range("thermal.discharge_cooling_ntu", self.discharge_cooling_ntu, 0.0, 50.0, low_inclusive=True,
-                    high_inclusive=True)
-        check_range("gas.leak_air_flow", self.leak_air_flow, 0.0, 1000.0, low_inclusive=True, unit="kg/s")
-        check_range("shell.ambient_humidity", self.ambient_humidity, 0.0, 0.3, low_inclusive=True,
-                    high_inclusive=True, unit="kg/kg dry air")
-        check_range("shell.scale_thickness", self.scale_thickness, 0.0, 0.5, low_inclusive=True, unit="m")
-        check_range("shell.insulation_thickness", self.insulation_thickness, 0.0, 2.0, low_inclusive=True, unit="m")
+        # the ranges of the case schema (rotarydryer._limits: one declaration for both)
+        for key, value in (("gas.flow", self.gas_flow), ("gas.inlet_temperature", self.gas_inlet_temperature),
+                           ("gas.inlet_humidity", self.gas_inlet_humidity),
+                           ("operating.feed_temperature", self.solids_inlet_temperature),
+                           ("shell.ambient_temperature", self.ambient_temperature),
+                           ("thermal.area_scale", self.area_scale), ("thermal.fouling", self.fouling),
+                           ("shell.loss_factor", self.loss_factor),
+                           ("thermal.discharge_cooling_ntu", self.discharge_cooling_ntu),
+                           ("gas.leak_air_flow", self.leak_air_flow), ("shell.ambient_humidity", self.ambient_humidity),
+                           ("shell.scale_thickness", self.scale_thickness),
+                           ("shell.insulation_thickness", self.insulation_thickness),
+                           ("thermal.design_load_smoothing", self.design_load_smoothing)):
+            check_key(key, value)
         check_range("shell.scale_conductivity", self.scale_conductivity, 0.0, np.inf, unit="W/(m K)")
         check_range("shell.insulation_conductivity", self.insulation_conductivity, 0.0, np.inf, unit="W/(m K)")
         if self.shell_inner_radius is not None:
-            check_range("shell.inner_radius", self.shell_inner_radius, 0.0, 20.0, high_inclusive=True, unit="m")
+            check_key("shell.inner_radius", self.shell_inner_radius)
         if self.shell_thickness is not None:
-            check_range("shell.thickness", self.shell_thickness, 0.0, 0.5, high_inclusive=True, unit="m")
+            check_key("shell.thickness", self.shell_thickness)
         check_range("gas.co2_mole_fraction", self.co2_mole_fraction, 0.0, 0.3, low_inclusive=True,
-                    high_inclusive=True)
-        check_range("thermal.design_load_smoothing", self.design_load_smoothing, 0.0, 0.1, low_inclusive=True,
                     high_inclusive=True)
         if self.mode == "ajayi2011" and self.gas_inlet_humidity <= 0:
             raise DryerError("gas.inlet_humidity = 0 with thermal.mode='ajayi2011': Ajayi's h_m divides by the gas "

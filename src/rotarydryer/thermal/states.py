@@ -22,7 +22,19 @@ from .streams import discharge_cooling
 if TYPE_CHECKING:
     from .dryer import ThermalDryer
 
-__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult"]
+__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult", "fuel_rate_note"]
+
+
+def fuel_rate_note(summary: dict) -> str:
+    """One line saying why a run has no fuel rate although its case has a burner (the burner cannot
+    reach the set gas inlet temperature) and what was simulated instead, or '' when it has one
+    (``summary``: :meth:`ThermalSteadyState.summary`, or any dict with ``fuel_rate_error``). The
+    steady state is still valid for the set temperature: the gas the burner cannot deliver."""
+    err = summary.get("fuel_rate_error")
+    if not err:
+        return ""
+    return (f"{' '.join(str(err).split())}; simulated with the set gas inlet temperature anyway (a gas this "
+            "burner cannot deliver): fuel rate n/a")
 
 class _Renamed:
     """A deprecated attribute name that reads the new one with a ``DeprecationWarning`` naming it
@@ -193,8 +205,11 @@ class ThermalSteadyState:
                                                    air_humidity=dr.hot_gas_Y, fuel=b.fuel,
                                                    heat_loss_fraction=loss))
         except ValueError as exc:
+            why = str(exc)
+            if why.startswith("burner cannot reach target_temperature_c") and ": " in why:
+                why = why.split(": ", 1)[1]        # the set temperature is named once, below
             raise DryerError(f"burner cannot reach the set gas inlet temperature {s.gas_inlet_temperature:g} degC: "
-                             f"{exc}", reason="burner", state=self) from exc
+                             f"{why}", reason="burner", state=self) from exc
 
     def profiles(self):
         """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per

@@ -1,0 +1,118 @@
+"""The allowed range of every bounded case key: one declaration for the schema and the runtime.
+
+The case schema (:mod:`rotarydryer.cases`, ``rotarydryer schema``) takes its pydantic bounds from
+:func:`field_bounds`, and the model's own checks (e.g. :meth:`rotarydryer.thermal.settings.ThermalSettings.validate`)
+call :func:`check_key`, so a value the schema accepts is never refused at run time for its range and
+the messages quote the same interval (``docs/errors.md``)::
+
+    >>> field_bounds("gas.flow")
+    {'ge': 0.0, 'le': 1000.0}
+    >>> float(check_key("shell.insulation_thickness", 2.0))
+    2.0
+    >>> describe_limit("gas.inlet_temperature")
+    '(0, 600] degC'
+
+A key's limit is a range of validity of the model or its correlations (or a guard against
+nonsense input), documented where the key is declared; the physical feasibility of a whole case
+(entrainment, overloaded flights, a burner that cannot reach its set point) is checked where the
+model is built, with its reason.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from ._validation import _interval, check_range
+
+__all__ = ["Limit", "LIMITS", "field_bounds", "check_key", "describe_limit"]
+
+
+@dataclass(frozen=True)
+class Limit:
+    """An interval: ``low``/``high`` (infinite for none), each end closed when its flag is set."""
+
+    low: float = -math.inf
+    high: float = math.inf
+    low_inclusive: bool = False
+    high_inclusive: bool = False
+    unit: str = ""
+
+    def field(self) -> dict:
+        """pydantic ``Field`` keyword arguments (ge/gt, le/lt) of this interval."""
+        out: dict[str, float] = {}
+        if math.isfinite(self.low):
+            out["ge" if self.low_inclusive else "gt"] = self.low
+        if math.isfinite(self.high):
+            out["le" if self.high_inclusive else "lt"] = self.high
+        return out
+
+
+def _c(low, high, unit=""):        # closed [low, high]
+    return Limit(float(low), float(high), True, True, unit)
+
+
+def _co(low, high, unit=""):       # [low, high)
+    return Limit(float(low), float(high), True, False, unit)
+
+
+def _oc(low, high, unit=""):       # (low, high]
+    return Limit(float(low), float(high), False, True, unit)
+
+
+def _o(low, high, unit=""):        # (low, high)
+    return Limit(float(low), float(high), False, False, unit)
+
+
+#: the range of each bounded scalar case key (``[[tests]]`` fields use the key they set)
+LIMITS: dict[str, Limit] = {
+    # drum and operating point
+    "drum.radius": _oc(0, 20, "m"),
+    "drum.length": _oc(0, 200, "m"),
+    "drum.slope": _co(0, 45, "deg"),
+    "operating.feed_rate": _oc(0, 1000, "kg/s"),
+    "operating.rpm": _oc(0, 60, "rev/min"),
+    "operating.feed_moisture": _co(0, 1, "kg/kg wet"),
+    "operating.feed_temperature": _co(0, 99, "degC"),
+    # gas
+    "gas.flow": _c(0, 1000, "kg/s"),
+    "gas.inlet_temperature": _oc(0, 600, "degC"),
+    "gas.inlet_humidity": _co(0, 0.2, "kg/kg wet gas"),
+    "gas.leak_air_flow": _c(0, 1000, "kg/s"),
+    "gas.feed_temperature": _co(0, 99, "degC"),
+    # shell
+    "shell.ambient_temperature": _o(-40, 60, "degC"),
+    "shell.ambient_humidity": _c(0, 0.3, "kg/kg dry air"),
+    "shell.scale_thickness": _c(0, 0.5, "m"),
+    "shell.insulation_thickness": _c(0, 2.0, "m"),
+    "shell.loss_factor": _c(0, 1000),
+    "shell.inner_radius": _oc(0, 20, "m"),
+    "shell.thickness": _oc(0, 0.5, "m"),
+    # heat-and-mass model
+    "thermal.area_scale": _c(0, 100),
+    "thermal.design_load_smoothing": _c(0, 0.1),
+    "thermal.discharge_cooling_ntu": _c(0, 50),
+    "thermal.fouling": _c(0, 0.95),
+    "transport.fouling": _c(0, 0.95),
+}
+
+
+def field_bounds(key: str) -> dict:
+    """The pydantic ``Field`` bounds of ``key`` (a key of :data:`LIMITS`)."""
+    return LIMITS[key].field()
+
+
+def check_key(key: str, value: Any, name: str | None = None):
+    """``value`` checked against the range of ``key`` (message names ``name`` or the key, the value
+    and the interval); returns it as a float array (0-d for a scalar), as
+    :func:`rotarydryer._validation.check_range`."""
+    lim = LIMITS[key]
+    return check_range(name or key, value, lim.low, lim.high, low_inclusive=lim.low_inclusive,
+                       high_inclusive=lim.high_inclusive, unit=lim.unit)
+
+
+def describe_limit(key: str) -> str:
+    """The interval of ``key`` as the error messages print it, e.g. ``'[0, 1000] kg/s'``."""
+    lim = LIMITS[key]
+    return _interval(lim.low, lim.high, lim.low_inclusive, lim.high_inclusive, lim.unit)
