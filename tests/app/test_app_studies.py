@@ -136,3 +136,16 @@ def test_page_sensitivity_runs_on_the_button(at):
     assert len(at.image) == 3      # what-if plot and the Sobol figures (two outputs each)
     at.selectbox(key="studies_samples").set_value(8).run()       # changed inputs: the old result is not shown
     assert not any(m.label == "Runs (failed)" for m in at.metric)
+
+
+def test_page_sensitivity_same_study_in_a_second_session():
+    """A second visitor running the same study in the same server process (the progress bar is not
+    replayed from a cache: that failed with CacheReplayClosureError once another session had run it)."""
+    for _ in range(2):
+        at = open_app("Studies and sensitivity", timeout=180, no_error=True)
+        at.sidebar.selectbox(key="studies_case").set_value("song2003_ottawa").run()
+        at.multiselect(key="studies_sens_inputs__song2003_ottawa").set_value(["gas.inlet_temperature"]).run()
+        at.selectbox(key="studies_samples").set_value(4).run()
+        at.button(key="studies_run").click().run()
+        assert not at.exception and not at.error, [e.value for e in at.error]
+        assert re.match(r"12 \(0\)", next(m for m in at.metric if m.label == "Runs (failed)").value)

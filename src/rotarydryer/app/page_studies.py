@@ -27,10 +27,17 @@ def _whatif(case, key, low, high, points):
         return logic_studies.whatif_view(case, key, low, high, points)
 
 
-@st.cache_data(show_spinner=False, max_entries=8)
-def _sensitivity(case, params, samples, seed, _progress=None):
+def _sensitivity(case, params, samples, seed, progress=None):
+    """The study of these inputs, kept in the session (not ``st.cache_data``: the progress bar's
+    calls inside a cached function would be recorded and fail to replay on a later hit)."""
+    sig = (case, params, samples, seed)
+    kept = st.session_state.get("studies_sens_result")
+    if kept is not None and kept[0] == sig:
+        return kept[1]
     with heavy():
-        return logic_studies.sensitivity_view(case, dict(params), samples, seed, progress=_progress)
+        r = logic_studies.sensitivity_view(case, dict(params), samples, seed, progress=progress)
+    st.session_state["studies_sens_result"] = (sig, r)
+    return r
 
 
 def _rows_table(rows, key, outs):
@@ -115,7 +122,7 @@ def _sensitivity_section(case, specs, by_key):
         bar.progress(min(1.0, done[0] / max(runs, 1)), text=f"{done[0]} of {runs} runs")
 
     try:
-        r = _sensitivity(case, tuple(params.items()), int(samples), int(seed), _progress=tick)
+        r = _sensitivity(case, tuple(params.items()), int(samples), int(seed), progress=tick)
     except Exception as exc:
         bar.empty()
         refuse("Sensitivity study refused", exc, stop=False)
