@@ -24,9 +24,12 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
+from ._docblocks import sync_doc_block
 from ._validation import _interval, check_range
 
-__all__ = ["Limit", "LIMITS", "field_bounds", "check_key", "describe_limit"]
+__all__ = ["Limit", "LIMITS", "field_bounds", "check_key", "describe_limit", "limits_table", "DOC_BEGIN", "DOC_END"]
 
 
 @dataclass(frozen=True)
@@ -94,7 +97,30 @@ LIMITS: dict[str, Limit] = {
     "thermal.design_load_smoothing": _c(0, 0.1),
     "thermal.discharge_cooling_ntu": _c(0, 50),
     "thermal.fouling": _c(0, 0.95),
+    # solids transport ([transport], [[parameter_sets]], [[tests]] fits, [geometry]); the runtime checks of
+    # rotarydryer.transport (models, sections, forward_step, core_variants, ajayi, ajayi_predictive) read these
     "transport.fouling": _c(0, 0.95),
+    "transport.n_cells": _c(1, 100000),
+    "transport.unflighted_cells": _c(2, 100000),
+    "transport.kiln_time": Limit(0.0, math.inf, False, True, "s"),   # inf: no kilning (library callers only)
+    "transport.backmix": _c(0, 1),
+    "transport.drag_reduction": _co(0, math.inf),
+    "transport.curtain_velocity_ratio": _c(0, 1),
+    "transport.curtain_coefficient": _co(0, 1e4),
+    "transport.step_factor": _o(0, 100),
+    "transport.velocity_coefficient": _oc(0, 100),
+    "transport.dispersion_coefficient": _c(0, 1e4),
+    "transport.core_fraction": _c(0, 10),
+    "transport.core_time": _oc(0, 1e6, "s"),
+    "transport.passive_rate": _co(0, math.inf, "1/s"),
+    "transport.exchange_rate": _o(0, math.inf, "1/s"),
+    "transport.return_rate": _o(0, math.inf, "1/s"),
+    "transport.kiln_rate": _co(0, math.inf, "1/s"),
+    "transport.solids_velocity": _o(0, math.inf, "m/s"),
+    "transport.dispersion": _co(0, math.inf, "m^2/s"),
+    "transport.product_moisture": _co(0, 1, "kg/kg wet"),
+    "transport.moisture_scale": _o(0, math.inf),
+    "geometry.design_load_factor": _o(0, math.inf),
 }
 
 
@@ -108,6 +134,8 @@ def check_key(key: str, value: Any, name: str | None = None):
     and the interval); returns it as a float array (0-d for a scalar), as
     :func:`rotarydryer._validation.check_range`."""
     lim = LIMITS[key]
+    if lim.high == math.inf and lim.high_inclusive and isinstance(value, (int, float)) and value == math.inf:
+        return np.asarray(math.inf)       # a closed infinite end (transport.kiln_time = inf: no kilning)
     return check_range(name or key, value, lim.low, lim.high, low_inclusive=lim.low_inclusive,
                        high_inclusive=lim.high_inclusive, unit=lim.unit)
 
@@ -116,3 +144,30 @@ def describe_limit(key: str) -> str:
     """The interval of ``key`` as the error messages print it, e.g. ``'[0, 1000] kg/s'``."""
     lim = LIMITS[key]
     return _interval(lim.low, lim.high, lim.low_inclusive, lim.high_inclusive, lim.unit)
+
+
+#: markers of the generated table of :data:`LIMITS` in ``docs/errors.md``
+DOC_BEGIN, DOC_END = "<!-- limits:begin (generated: python -m rotarydryer._limits --update-docs) -->", \
+    "<!-- limits:end -->"
+
+
+def limits_table() -> str:
+    """The Markdown table of every key of :data:`LIMITS` and its allowed range (``docs/errors.md``)."""
+    rows = ["| key | allowed range |", "|---|---|"]
+    rows += [f"| `{key}` | `{describe_limit(key)}` |" for key in sorted(LIMITS)]
+    return "\n".join(rows) + "\n"
+
+
+def _update_docs(doc) -> str:
+    """Rewrite the generated block of ``doc`` (``docs/errors.md``) with :func:`limits_table`."""
+    return sync_doc_block(doc, DOC_BEGIN, DOC_END, limits_table(), update=True, script="-m rotarydryer._limits")
+
+
+if __name__ == "__main__":      # python -m rotarydryer._limits --update-docs [docs/errors.md]
+    import sys
+
+    args = sys.argv[1:]
+    if not args or args[0] != "--update-docs":
+        print(limits_table(), end="")
+    else:
+        print(_update_docs(args[1] if len(args) > 1 else "docs/errors.md"))

@@ -67,12 +67,21 @@ from ._validation import check_choice, check_range
 
 __all__ = ["ControlWarning", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
            "ControlConfig", "identify", "check_scenario", "closed_loop", "ClosedLoopResult", "SCENARIOS",
+           "MAX_DURATION_S", "MAX_SAMPLES",
            "AJAYI_TARGETS",
            "performance"]
 
 #: Ajayi (2011) Ch. 7 (l.2362): transportable product moisture limit and MMG product temperature policy
 AJAYI_TARGETS = {"product_moisture_max_kg_kg": 0.12, "product_temperature_band_degC": (45.0, 50.0)}
 SCENARIOS = ("feed_moisture_step", "feed_rate_step", "fouling_ramp", "none")
+#: longest simulated time of one closed- or open-loop run, s (one day). The run rebuilds and integrates
+#: the dynamic model every sampling interval (about 0.1-0.25 s of wall time per interval of the MMG
+#: dryer), so the former 30 days ran for hours; a dryer with residence times of minutes to an hour
+#: settles within hours of a disturbance. ``rotarydryer control --duration`` and the web app's
+#: control page check the same bound (:func:`rotarydryer.services.control.check_control_options`).
+MAX_DURATION_S = 86400.0
+#: most sampling intervals of one run (duration / sample time: one a minute for a day)
+MAX_SAMPLES = 1440
 MEASURED = ("product_moisture", "exhaust_temperature")
 #: default tolerance band of the controlled variable (0.5 percentage point; 2 K)
 TOLERANCE = {"product_moisture": 0.005, "exhaust_temperature": 2.0}
@@ -440,7 +449,11 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     :class:`ClosedLoopResult`; warns :class:`ControlWarning` for unstable settings."""
     cfg = (config or ControlConfig()).validate()
     check_choice("scenario", scenario, SCENARIOS)
-    check_range("t_end_s", t_end_s, 0.0, 30 * 86400.0, unit="s")
+    check_range("t_end_s", t_end_s, 0.0, MAX_DURATION_S, high_inclusive=True, unit="s")
+    if t_end_s / cfg.sample_time_s > MAX_SAMPLES:
+        raise ValueError(f"t_end_s / sample_time_s = {t_end_s:g} s / {cfg.sample_time_s:g} s = "
+                         f"{t_end_s / cfg.sample_time_s:.6g} sampling intervals; the limit is {MAX_SAMPLES} "
+                         "(raise sample_time_s or lower t_end_s)")
     check_range("t_step_s", t_step_s, 0.0, t_end_s, low_inclusive=True, high_inclusive=True, unit="s")
     if scenario == "fouling_ramp":
         check_range("magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,

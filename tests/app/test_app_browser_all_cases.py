@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 from .browser_support import skip_without_browser
 
 skip_without_browser()
-from .browser_support import browser, expect, new_page, server  # noqa: E402,F401
+from .browser_support import browser, choose, expect, new_page, server  # noqa: E402,F401
 
 SHIPPED = ["ajayi2011_mmg", "lee2008_invicta", "song2003_ottawa"]
 #: page -> (label of its case selectbox or None, text shown once the page has its results)
@@ -24,20 +24,6 @@ PAGES = {
 }
 #: texts of the app's error boxes (pages' refusals and the failure boundary)
 ERRORS = ("could not be shown", "internal error", "refused", "Invalid input", "Cannot ", "No design", "Traceback")
-
-
-def _choose(page, label, option):
-    from playwright.sync_api import TimeoutError as PlaywrightTimeout
-
-    sidebar = page.locator('[data-testid="stSidebar"]')
-    for _ in range(10):
-        sidebar.get_by_role("combobox", name=label).click()
-        try:
-            page.get_by_role("option", name=option, exact=True).click(timeout=5_000)
-            return
-        except PlaywrightTimeout:
-            page.keyboard.press("Escape")
-    raise AssertionError(f"could not choose {option!r} in {label!r}")
 
 
 def _check(page, where, ready):
@@ -74,7 +60,7 @@ def test_every_page_with_every_case_in_browser(server, browser, template):
             _check(page, title, ready)
             continue
         for case in SHIPPED:
-            _choose(page, case_label, case)
+            choose(page, case_label, case, within=sidebar)
             expect(sidebar.get_by_role("combobox", name=case_label)).to_have_value(case)
             _check(page, (title, case), ready)
         uploader = sidebar.locator('[data-testid="stFileUploader"]').filter(has_text="case file")

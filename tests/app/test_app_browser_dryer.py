@@ -11,22 +11,8 @@ from .browser_support import skip_without_browser
 
 skip_without_browser()
 pytest.importorskip("SALib")
-from .browser_support import DOCS_IMG, SHOTS, browser, enter, expect, metric, new_page, server  # noqa: E402,F401
+from .browser_support import DOCS_IMG, SHOTS, browser, choose, enter, expect, metric, new_page, server  # noqa: E402,F401
 from .browser_support import metric_locator as _value  # noqa: E402
-
-
-def _choose(page, label, option):
-    """Pick ``option`` of the selectbox ``label`` (again if a rerun of the app closed the list)."""
-    from playwright.sync_api import TimeoutError as PlaywrightTimeout
-
-    for _ in range(10):
-        page.get_by_role("combobox", name=label).click()
-        try:
-            page.get_by_role("option", name=option, exact=True).click(timeout=5_000)
-            return
-        except PlaywrightTimeout:
-            page.keyboard.press("Escape")
-    raise AssertionError(f"could not choose {option!r} in {label!r}")
 
 
 def _images_loaded(page):
@@ -82,14 +68,14 @@ def test_studies_page_in_browser(server, browser):
     enter(points, "3")
     expect(imgs.first).not_to_have_attribute("src", src_before)
     # the sensitivity study runs on the button: 4 samples x (2 inputs + 2) = 16 runs
-    _choose(page, "Base samples N", "4")
+    choose(page, "Base samples N", "4")
     expect(page.get_by_text("16 runs (limit 96)")).to_be_visible()
     page.get_by_role("button", name="Run the sensitivity study").click()
     runs = _value(page, "Runs (failed)")
     expect(runs).to_have_text("16 (0)")
     expect(imgs).to_have_count(3)          # what-if plot, Sobol figures of 2 + 2 outputs
     # changing an input changes the result: 8 samples -> 32 runs
-    _choose(page, "Base samples N", "8")
+    choose(page, "Base samples N", "8")
     expect(page.get_by_text("32 runs (limit 96)")).to_be_visible()
     page.get_by_role("button", name="Run the sensitivity study").click()
     expect(runs).to_have_text("32 (0)")

@@ -7,20 +7,15 @@ import socket
 import subprocess
 import sys
 import time
-import urllib.request
 
 import pytest
 
 pytest.importorskip("streamlit")
 psutil = pytest.importorskip("psutil")
 
+from .browser_support import free_port, wait_until_serving  # noqa: E402 - no browser needed
+
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
-
-
-def _free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def _listening(port) -> bool:
@@ -30,22 +25,11 @@ def _listening(port) -> bool:
 
 
 def _start(tmp_path):
-    port = _free_port()
+    port = free_port()
     log = open(tmp_path / "app.log", "wb")
     proc = subprocess.Popen([sys.executable, "-m", "rotarydryer", "app", "--port", str(port)], stdout=log,
                             stderr=subprocess.STDOUT)
-    deadline = time.monotonic() + 90
-    while True:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/_stcore/health", timeout=2) as r:
-                if r.read().strip() == b"ok":
-                    break
-        except OSError:
-            pass
-        if proc.poll() is not None or time.monotonic() > deadline:
-            proc.kill()
-            pytest.fail(f"rotarydryer app did not start (exit {proc.poll()}):\n{(tmp_path / 'app.log').read_text()}")
-        time.sleep(0.3)
+    wait_until_serving(f"http://127.0.0.1:{port}", proc, tmp_path / "app.log", what="rotarydryer app")
     children = psutil.Process(proc.pid).children(recursive=True)
     assert children, "no server child process"
     return proc, port, children, log

@@ -224,3 +224,37 @@ def test_material_file_with_utf8_bom_is_read(tmp_path):
     p = tmp_path / "m.toml"
     p.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
     assert load_material(str(p)) is not None
+
+
+# ------------------------------------------------------------------------------ control --duration
+def test_control_duration_bounded_to_what_runs_in_bounded_time():
+    """``control --duration`` once allowed 30 days: each loop rebuilds and integrates the model every
+    sampling interval (~0.1-0.25 s each), so that ran for hours (and was then refused by the loop's own
+    open bound). Now at most one day and MAX_SAMPLES intervals, refused at once naming the option and
+    the bound; the library loop checks the same bounds."""
+    from rotarydryer import control as C
+    from rotarydryer.services.control import check_control_options
+
+    assert C.MAX_DURATION_S == 86400.0 and C.MAX_SAMPLES == 1440
+    assert check_control_options(duration=C.MAX_DURATION_S) == 600.0       # the bound itself is allowed
+    for args, fragments in ((["--duration", "2592000"], ["--duration = 2592000", "(0, 86400] s"]),
+                            (["--duration", "86401"], ["--duration = 86401", "(0, 86400] s"]),
+                            (["--duration", "7200", "--sample-time", "1"],
+                             ["--duration = 7200", "--sample-time = 1", "the limit is 1440"])):
+        t0 = time.perf_counter()
+        res = run_cli(["control", "ajayi2011_mmg", *args])
+        assert time.perf_counter() - t0 < 30
+        assert_bad(res, *fragments)
+        assert len([ln for ln in res.output.splitlines() if ln.startswith("error:")]) == 1, res.output
+    # the library loop: the same bounds, before any model work (no dryer needed to refuse)
+    with pytest.raises(ValueError, match=r"t_end_s = 2592000 s is outside the allowed range \(0, 86400\] s"):
+        C.closed_loop(None, None, t_end_s=2592000.0)
+    with pytest.raises(ValueError, match="the limit is 1440"):
+        C.closed_loop(None, None, t_end_s=7200.0, config=C.ControlConfig(sample_time_s=1.0))
+
+
+def test_control_duration_bound_documented():
+    from pathlib import Path
+
+    text = (Path(__file__).parents[2] / "docs" / "errors.md").read_text(encoding="utf-8")
+    assert "--duration" in text and "86400 s" in text and "1440 sampling intervals" in text

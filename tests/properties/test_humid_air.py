@@ -53,12 +53,19 @@ def test_density_vs_coolprop(t, y):
 
 @pytest.mark.parametrize("t,y", STATES)
 def test_wet_bulb_vs_coolprop(t, y):
-    ref = _ha("B", t, y) - 273.15
-    if ref < -0.01:  # below the model range: must raise, not extrapolate
-        with pytest.raises(ValueError, match="below 0 degC"):
-            ha.wet_bulb_temperature(t, y)
-        return
+    ref = _ha("B", t, y) - 273.15       # below 0 degC CoolProp's is the ice bulb, as the model's
     assert float(ha.wet_bulb_temperature(t, y)) == pytest.approx(ref, abs=0.15)
+
+
+@pytest.mark.parametrize("t,y", [(-20.0, 0.0002), (-35.0, 0.0), (5.0, 0.0), (-39.0, 0.0001)])
+def test_ice_bulb_vs_coolprop(t, y):
+    """Cold ambient air (shell.ambient_temperature down to -40 degC): the wet bulb over ice."""
+    assert float(ha.wet_bulb_temperature(t, y)) == pytest.approx(_ha("B", t, y) - 273.15, abs=0.15)
+
+
+def test_wet_bulb_below_the_range_raises():
+    with pytest.raises(ValueError, match="below -40 degC"):
+        ha.wet_bulb_temperature(-39.9, 0.0)
 
 
 @pytest.mark.parametrize("t,y", [(t, y) for t, y in STATES if 10 <= t <= 90 and y > 0])

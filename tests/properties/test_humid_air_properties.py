@@ -59,7 +59,7 @@ def test_humidity_conversions_roundtrip():
 @pytest.mark.parametrize("bad", [
     lambda: ha.enthalpy(-41.0, 0.01),
     lambda: ha.enthalpy(601.0, 0.01),
-    lambda: ha.enthalpy(100.0, 0.31),
+    lambda: ha.enthalpy(100.0, 1.01),       # above humid_air.Y_MAX
     lambda: ha.enthalpy(float("nan"), 0.01),
     lambda: ha.density(100.0, 0.01, pressure=-1.0),
     lambda: ha.saturation_humidity(100.5),

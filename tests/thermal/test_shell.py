@@ -114,7 +114,7 @@ def test_thicker_insulation_loses_less(t1, dt):
 
 @pytest.mark.parametrize("kwargs", [dict(gas_temperature_c=700.0), dict(gas_mass_flow=0.0),
                                     dict(gas_temperature_c=10.0), dict(scale_thickness=-0.01),
-                                    dict(inner_emissivity=1.5), dict(gas_humidity=0.5)])
+                                    dict(inner_emissivity=1.5), dict(gas_humidity=1.5)])
 def test_bad_input(kwargs):
     args = dict(gas_temperature_c=300.0, gas_mass_flow=GAS_FLOW)
     args.update(kwargs)

@@ -112,3 +112,10 @@ def case_number(container, label: str, case: str, case_key: str, value, step=Non
     (:func:`rotarydryer.app.logic.input_range`); ``kwargs`` go to ``number_input`` (``key`` ...)."""
     lo, hi = logic.input_range(case, case_key, float(value))
     return number(container, label, lo, hi, float(value), step, **kwargs)
+
+
+def metric_row(spec: list[tuple[str, str]], values: dict) -> None:
+    """One row of metrics across the page: a column for each ``(label, template)`` of ``spec``,
+    showing ``template.format(**values)`` (``"{holdup_kg:,.0f} kg"``)."""
+    for col, (label, template) in zip(st.columns(len(spec)), spec):
+        col.metric(label, template.format(**values))

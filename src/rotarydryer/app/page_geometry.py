@@ -9,12 +9,19 @@ value; a value the model refuses gives its message (:func:`rotarydryer.app._ui.r
 import streamlit as st
 
 from . import logic
-from ._ui import number, refuse
+from ._ui import metric_row, number, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=64)
 def _geometry(*args):
     return logic.geometry_view(*args)
+
+
+#: the row of metrics: (label, template of the value, formatted with the view's "metrics")
+_METRICS = [("Design load (Lee 2008)", "{design_load_kg:,.0f} kg"),
+            ("Mean fall height", "{mean_fall_height_m:.3f} m"),
+            ("Mean fall time", "{mean_fall_time_s:.3f} s"),
+            ("Passive time", "{passive_time_s:.2f} s")]
 
 
 def _num(container, label, name, value, step, **kwargs):
@@ -45,12 +52,7 @@ def render():
         g = _geometry(radius, int(n_flights), s1, s2, alpha1, alpha2, repose, rpm, slope, rho, length)
     except Exception as exc:
         refuse("Invalid input", exc)
-    m = g["metrics"]
-    c1, c2, c3, c4 = st.columns(4)
-    c1.metric("Design load (Lee 2008)", f"{m['design_load_kg']:,.0f} kg")
-    c2.metric("Mean fall height", f"{m['mean_fall_height_m']:.3f} m")
-    c3.metric("Mean fall time", f"{m['mean_fall_time_s']:.3f} s")
-    c4.metric("Passive time", f"{m['passive_time_s']:.2f} s")
+    metric_row(_METRICS, g["metrics"])
     left, right = st.columns([1, 1])
     with left:
         st.image(g["cross_section"], caption="Cross-section to scale (flight at 90 deg)")

@@ -13,7 +13,7 @@ import math
 import streamlit as st
 
 from . import logic
-from ._ui import case_number, case_picker, deferred, heavy, plain, refuse
+from ._ui import case_number, case_picker, deferred, heavy, metric_row, plain, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -22,6 +22,13 @@ def _transport(case, feed, rpm, slope):
         out = logic.transport_view(case, feed, rpm, slope)
     out["scalars"] = dict(out["results"].scalars)
     return out  # the report and the netCDF file are built only when downloaded
+
+
+#: the row of metrics: (label, template of the value, formatted with the view's "metrics")
+_METRICS = [("Total holdup", "{total_holdup_kg:,.0f} kg"),
+            ("Mean residence time H/F", "{mean_residence_time_min:.2f} min"),
+            ("RTD standard deviation", "{rtd_std_min:.2f} min"),
+            ("Cells over / design / under", "{cells_over} / {cells_design} / {cells_under}")]
 
 
 def _report_html(res):
@@ -71,12 +78,7 @@ def render():
             r = _transport(case, feed, rpm, slope)
     except Exception as exc:
         refuse("Invalid input", exc)
-    m = r["metrics"]
-    c1, c2, c3, c4 = st.columns(4)
-    c1.metric("Total holdup", f"{m['total_holdup_kg']:,.0f} kg")
-    c2.metric("Mean residence time H/F", f"{m['mean_residence_time_min']:.2f} min")
-    c3.metric("RTD standard deviation", f"{m['rtd_std_min']:.2f} min")
-    c4.metric("Cells over / design / under", f"{m['cells_over']} / {m['cells_design']} / {m['cells_under']}")
+    metric_row(_METRICS, r["metrics"])
     left, right = st.columns(2)
     left.image(r["holdup"], caption="Holdup profile")
     right.image(r["rtd"], caption="RTD against the measured tracer curve")

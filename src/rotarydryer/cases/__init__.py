@@ -24,7 +24,7 @@ from typing import Annotated, Any, Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from .._limits import field_bounds
+from .._limits import LIMITS, describe_limit, field_bounds
 from .calibration import CalibrationRecord, apply_calibrations, record_problems
 
 __all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
@@ -128,9 +128,9 @@ class Meta(_Strict):
 
 
 class Drum(_Strict):
-    radius: float = Field(gt=0, le=20, description="m")
-    length: float = Field(gt=0, le=200, description="m")
-    slope: float = Field(ge=0, lt=45, description="deg")
+    radius: float = Field(**field_bounds("drum.radius"), description="m")
+    length: float = Field(**field_bounds("drum.length"), description="m")
+    slope: float = Field(**field_bounds("drum.slope"), description="deg")
     n_flights: int = Field(ge=2, le=MAX_FLIGHTS, description="-")
 
 
@@ -152,7 +152,8 @@ def _core_problem(tr) -> str | None:
         missing = [f"transport.{k}" for k in ("core_fraction", "core_time") if getattr(tr, k) is None]
         if missing:
             return (f"transport.core = {tr.core!r} needs {' and '.join(missing)} (core_fraction: core mass / "
-                    "mobile passive mass, -, in [0, 10]; core_time: s, in (0, 1e6])")
+                    f"mobile passive mass, -, in {describe_limit('transport.core_fraction')}; core_time: s, in "
+                    f"{describe_limit('transport.core_time')})")
     elif given:
         return (f"{' and '.join('transport.' + k for k in given)} set but transport.core = 'none': choose "
                 f"transport.core = 'first_order' or 'diffusive' (or remove them)")
@@ -165,21 +166,21 @@ _MODEL1_RATES = ("passive_rate", "exchange_rate", "return_rate", "kiln_rate")
 class _TransportVariants(_Strict):
     """Transport options shared by the Lee and the general case: Sheehan et al. (2005) Model 1
     rates, the near-stagnant core and the forward-step source."""
-    passive_rate: Optional[float] = Field(default=None, ge=0, description="k_PP, 1/s (sheehan2005_model1)")
-    exchange_rate: Optional[float] = Field(default=None, gt=0, description="k_PA, 1/s (sheehan2005_model1)")
-    return_rate: Optional[float] = Field(default=None, gt=0, description="k_AP, 1/s (sheehan2005_model1)")
-    kiln_rate: Optional[float] = Field(default=None, ge=0, description="k_K, 1/s (sheehan2005_model1)")
+    passive_rate: Optional[float] = Field(default=None, **field_bounds("transport.passive_rate"), description="k_PP, 1/s (sheehan2005_model1)")
+    exchange_rate: Optional[float] = Field(default=None, **field_bounds("transport.exchange_rate"), description="k_PA, 1/s (sheehan2005_model1)")
+    return_rate: Optional[float] = Field(default=None, **field_bounds("transport.return_rate"), description="k_AP, 1/s (sheehan2005_model1)")
+    kiln_rate: Optional[float] = Field(default=None, **field_bounds("transport.kiln_rate"), description="k_K, 1/s (sheehan2005_model1)")
     core: Literal["none", "first_order", "diffusive"] = Field(
         default="none", description="near-stagnant core of the passive phase of every cell "
         "(rotarydryer.transport.core_variants.add_stagnant_core; docs/rtd_spread.md)")
-    core_fraction: Optional[float] = Field(default=None, ge=0, le=10, description="beta, core mass / mobile "
+    core_fraction: Optional[float] = Field(default=None, **field_bounds("transport.core_fraction"), description="beta, core mass / mobile "
                                            "passive mass (-), with transport.core only")
-    core_time: Optional[float] = Field(default=None, gt=0, le=1e6, description="s: t_c, mean stay in the core "
+    core_time: Optional[float] = Field(default=None, **field_bounds("transport.core_time"), description="s: t_c, mean stay in the core "
                                        "(first_order), or t_D = d^2/D_core, diffusion time across it (diffusive)")
     forward_step: Literal["fitted", "trajectory"] = Field(default="fitted", description="C_F from the fitted drag_reduction (Lee Eq. 3.7-3.8) or from particle trajectories through [gas] (docs/transport.md)")
-    curtain_velocity_ratio: Optional[float] = Field(default=None, ge=0, le=1, description="U_c/U_g in the curtains (trajectory step); default Sherritt, Lee Eq. 2.14")
-    curtain_coefficient: Optional[float] = Field(default=None, ge=0, le=1e4, description="K of Sherritt's c_v = min(1, K h^-0.76 q^-0.86) (trajectory step; default the material's [transport] value, else Lee Eq. 2.14's 1.546; docs/predictive_transport.md)")
-    step_factor: Optional[float] = Field(default=None, gt=0, le=100, description="c_0 (-), advance of a cascade without gas over the drag-free fall h_m sin(theta) (trajectory step; default the material's [transport] value, else 1 = a straight fall)")
+    curtain_velocity_ratio: Optional[float] = Field(default=None, **field_bounds("transport.curtain_velocity_ratio"), description="U_c/U_g in the curtains (trajectory step); default Sherritt, Lee Eq. 2.14")
+    curtain_coefficient: Optional[float] = Field(default=None, **field_bounds("transport.curtain_coefficient"), description="K of Sherritt's c_v = min(1, K h^-0.76 q^-0.86) (trajectory step; default the material's [transport] value, else Lee Eq. 2.14's 1.546; docs/predictive_transport.md)")
+    step_factor: Optional[float] = Field(default=None, **field_bounds("transport.step_factor"), description="c_0 (-), advance of a cascade without gas over the drag-free fall h_m sin(theta) (trajectory step; default the material's [transport] value, else 1 = a straight fall)")
     kiln_law: Literal["fixed", "cascade"] = Field(default="fixed", description="kilning of the excess over the design load (lee2008): 'fixed', at 1/transport.kiln_time (Lee Eq. 3.9), or 'cascade', at the axial speed of the flight-borne solids without gas, c_0 h_m sin(theta)/(t_p + t_a) (docs/predictive_transport.md; transport.kiln_time unused)")
 
 
@@ -305,25 +306,25 @@ class Material(_Strict):
 
 class ParameterSet(_Strict):
     """Fitted transport coefficients of one cell count (Lee (2008) Table 7.2)."""
-    n_cells: int = Field(ge=1, le=100000)
-    kiln_time: float = Field(gt=0, description="s")
-    backmix: float = Field(ge=0, le=1, description="C_B, -")
-    drag_reduction: float = Field(ge=0, description="C_F^G, -")
+    n_cells: int = Field(**field_bounds("transport.n_cells"))
+    kiln_time: float = Field(**field_bounds("transport.kiln_time"), description="s")
+    backmix: float = Field(**field_bounds("transport.backmix"), description="C_B, -")
+    drag_reduction: float = Field(**field_bounds("transport.drag_reduction"), description="C_F^G, -")
     source: str = ""
 # ---- the general schema: any flighted dryer ----------------------------------------------
 class DryerDrum(_Strict):
-    radius: float = Field(gt=0, le=20, description="m")
-    slope: float = Field(ge=0, lt=45, description="deg")
-    length: Optional[float] = Field(default=None, gt=0, le=200, description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
+    radius: float = Field(**field_bounds("drum.radius"), description="m")
+    slope: float = Field(**field_bounds("drum.slope"), description="deg")
+    length: Optional[float] = Field(default=None, **field_bounds("drum.length"), description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
     n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS, description="flights per flighted section (default)")
 
 
 class DryerOperating(_Strict):
     test: Optional[int] = Field(default=None, ge=0, le=1_000_000, description="the [[tests]] row whose operating "
                                 "point this run takes: its values are the defaults of the keys it gives")
-    feed_rate: Optional[float] = Field(default=None, gt=0, le=1000, description="kg/s wet solids (default the test's)")
-    rpm: Optional[float] = Field(default=None, gt=0, le=60, description="rev/min (default the test's)")
-    feed_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet (default the test's)")
+    feed_rate: Optional[float] = Field(default=None, **field_bounds("operating.feed_rate"), description="kg/s wet solids (default the test's)")
+    rpm: Optional[float] = Field(default=None, **field_bounds("operating.rpm"), description="rev/min (default the test's)")
+    feed_moisture: Optional[float] = Field(default=None, **field_bounds("operating.feed_moisture"), description="kg/kg wet (default the test's)")
     feed_temperature: float = Field(default=20.0, **field_bounds("operating.feed_temperature"), description="degC")
 
 
@@ -331,13 +332,13 @@ class OperatingTest(_Strict):
     """One measured operating point of the plant (a row of [[tests]], selected by operating.test):
     its values are the defaults of the case keys named in each field's description."""
     test: int = Field(ge=0, le=1_000_000)
-    feed_rate: float = Field(gt=0, le=1000, description="kg/s wet (operating.feed_rate)")
-    rpm: float = Field(gt=0, le=60, description="rev/min (operating.rpm)")
-    feed_moisture: float = Field(ge=0, lt=1, description="kg/kg wet (operating.feed_moisture)")
-    product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, measured (transport.product_moisture)")
-    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, fitted to this test (transport.solids_velocity)")
-    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, fitted to this test (transport.dispersion)")
-    fouling: float = Field(default=0.0, ge=0, le=0.95, description="fraction of flight capacity lost to scale in this test (transport.fouling)")
+    feed_rate: float = Field(**field_bounds("operating.feed_rate"), description="kg/s wet (operating.feed_rate)")
+    rpm: float = Field(**field_bounds("operating.rpm"), description="rev/min (operating.rpm)")
+    feed_moisture: float = Field(**field_bounds("operating.feed_moisture"), description="kg/kg wet (operating.feed_moisture)")
+    product_moisture: Optional[float] = Field(default=None, **field_bounds("transport.product_moisture"), description="kg/kg wet, measured (transport.product_moisture)")
+    solids_velocity: Optional[float] = Field(default=None, **field_bounds("transport.solids_velocity"), description="u_s, m/s, fitted to this test (transport.solids_velocity)")
+    dispersion: Optional[float] = Field(default=None, **field_bounds("transport.dispersion"), description="m2/s, fitted to this test (transport.dispersion)")
+    fouling: float = Field(default=0.0, **field_bounds("transport.fouling"), description="fraction of flight capacity lost to scale in this test (transport.fouling)")
     gas_flow: Optional[float] = Field(default=None, **field_bounds("gas.flow"), description="kg/s wet gas in this test, where known (gas.flow; 0: no gas, transport only)")
     slope: Optional[float] = Field(default=None, **field_bounds("drum.slope"), description="deg, drum inclination in this test (drum.slope; a --set drum.slope wins)")
     gas_inlet_temperature: Optional[float] = Field(default=None, **field_bounds("gas.inlet_temperature"), description="degC, measured (replaces gas.inlet_temperature in this test; a --set gas.inlet_temperature wins)")
@@ -373,10 +374,10 @@ class DryerTransport(_TransportVariants):
         return self
 
     model: Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"] = "lee2008"
-    n_cells: Optional[int] = Field(default=None, ge=1, le=100000, description="cells per flighted section (default)")
-    kiln_time: Optional[float] = Field(default=None, gt=0, description="s, kilning time of the excess over the design load (lee2008); default the [[parameter_sets]] row of n_cells, else 10 s")
-    backmix: Optional[float] = Field(default=None, ge=0, le=1, description="C_B, -; default the [[parameter_sets]] row of n_cells, else 0")
-    drag_reduction: Optional[float] = Field(default=None, ge=0, description="C_F^G, -; default the [[parameter_sets]] row of n_cells, else 1")
+    n_cells: Optional[int] = Field(default=None, **field_bounds("transport.n_cells"), description="cells per flighted section (default)")
+    kiln_time: Optional[float] = Field(default=None, **field_bounds("transport.kiln_time"), description="s, kilning time of the excess over the design load (lee2008); default the [[parameter_sets]] row of n_cells, else 10 s")
+    backmix: Optional[float] = Field(default=None, **field_bounds("transport.backmix"), description="C_B, -; default the [[parameter_sets]] row of n_cells, else 0")
+    drag_reduction: Optional[float] = Field(default=None, **field_bounds("transport.drag_reduction"), description="C_F^G, -; default the [[parameter_sets]] row of n_cells, else 1")
     backmix_to: Literal["passive", "active"] = Field(default="passive", description="where backmixed solids go: the previous passive phase (Lee 2008) or active phase (sheehan2005_model2 always)")
     loading: Literal["fixed", "state"] = "state"
     moisture_profile: Literal["exponential", "lee2008_eq7.3", "ajayi2011_eq3.1"] = Field(
@@ -385,25 +386,25 @@ class DryerTransport(_TransportVariants):
         "in the dry basis at i/(N-1), i = 0..N-1, as Lee's gPROMS code), or Ajayi (2011) Eq. 3.1 times transport.moisture_scale "
         "(the MMG dryer's measured profile; with transport.parameter_source = 'predictive' mapped onto the feed and product "
         "moisture)")
-    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s: rolling-bed velocity (unflighted) and kilning velocity (ajayi2011); default the test's, else 0.01")
-    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, axial dispersion of unflighted sections; default the test's, else 1e-3")
-    unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="finite volumes per unflighted section; default auto")
-    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight capacity lost to scale (default the test's, else 0)")
-    product_moisture: Optional[float] = Field(default=None, ge=0, lt=1, description="kg/kg wet, assumed outlet moisture of the transport-only profile (default: the test's, else the feed moisture)")
-    moisture_scale: float = Field(default=1.0, gt=0, description="factor on the ajayi2011_eq3.1 moisture profile")
+    solids_velocity: Optional[float] = Field(default=None, **field_bounds("transport.solids_velocity"), description="u_s, m/s: rolling-bed velocity (unflighted) and kilning velocity (ajayi2011); default the test's, else 0.01")
+    dispersion: Optional[float] = Field(default=None, **field_bounds("transport.dispersion"), description="m2/s, axial dispersion of unflighted sections; default the test's, else 1e-3")
+    unflighted_cells: Optional[int] = Field(default=None, **field_bounds("transport.unflighted_cells"), description="finite volumes per unflighted section; default auto")
+    fouling: Optional[float] = Field(default=None, **field_bounds("transport.fouling"), description="fraction of flight capacity lost to scale (default the test's, else 0)")
+    product_moisture: Optional[float] = Field(default=None, **field_bounds("transport.product_moisture"), description="kg/kg wet, assumed outlet moisture of the transport-only profile (default: the test's, else the feed moisture)")
+    moisture_scale: float = Field(default=1.0, **field_bounds("transport.moisture_scale"), description="factor on the ajayi2011_eq3.1 moisture profile")
     unflighted_inlet: Literal["danckwerts", "ajayi"] = Field(default="danckwerts", description="inlet condition of a first unflighted section: Danckwerts flux, or Dirichlet m(0) = F/u (Ajayi (2011) Eq. 5.11-5.13 as coded)")
     parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="per_test: the fitted coefficients (lee2008: transport.kiln_time, backmix, drag_reduction or [[parameter_sets]]; ajayi2011: transport.solids_velocity, transport.dispersion, else the selected test's fit); predictive: from geometry, material and operating point (lee2008: the trajectory forward step with transport.step_factor and transport.curtain_coefficient and kiln_law = 'cascade'; ajayi2011: rotarydryer.transport.ajayi_predictive; docs/predictive_transport.md)")
     predictive_flights: Literal["cascade", "kiln_velocity"] = Field(default="cascade", description="ajayi2011 flighted sections under parameter_source = 'predictive': the cascade law of every flighted model (trajectory step, transport.step_factor, excess kilned at the cascade speed; docs/predictive_transport.md), or Ajayi's kilning of the whole passive mass at the velocity law's u_s (docs/mmg_cross_test.md)")
     velocity_law: Literal["friedman_marshall", "kramers"] = Field(default="friedman_marshall", description="predictive kiln velocity: Sullivan/Friedman-Marshall (Song 2003 Eq. 1-2) or Kramers-Croockewit bed (comparison)")
-    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law (unflighted beds, ajayi2011 kilning); default the material's [transport] value")
-    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p (unflighted beds); default the material's [transport] value")
+    velocity_coefficient: Optional[float] = Field(default=None, **field_bounds("transport.velocity_coefficient"), description="c_u (-), predictive: u_s = c_u x the velocity law (unflighted beds, ajayi2011 kilning); default the material's [transport] value")
+    dispersion_coefficient: Optional[float] = Field(default=None, **field_bounds("transport.dispersion_coefficient"), description="c_D (-), predictive: D = c_D u_s d_p (unflighted beds); default the material's [transport] value")
 
 
 class DryerGeometry(_Strict):
     method: Literal["exact", "lee2008_regressions", "ajayi2011_regressions"] = Field(
         default="exact", description="exact flight geometry, or Lee (2008) Eq. 4.24-4.28 regressions (fitted to the "
         "Invicta flights; reproduce Lee's Ch. 7), or Ajayi (2011) Appendix F per-section regressions (sections[].regression)")
-    design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor x m_Baker of the ajayi2011_regressions (Ajayi (2011) Section 4.5)")
+    design_load_factor: float = Field(default=1.24, **field_bounds("geometry.design_load_factor"), description="m_des = factor x m_Baker of the ajayi2011_regressions (Ajayi (2011) Section 4.5)")
     passive_time_branch: Optional[Literal["eq3.4", "lee2008_ch7"]] = None
     tabulated: bool = Field(default=True, description="exact geometry from a per-drum table (within 1e-7 of the "
                             "direct evaluation, at the cost of the regressions: docs/geometry.md); false = direct")
@@ -417,7 +418,7 @@ class DryerSection(_Strict):
     name: str = Field(min_length=1)
     kind: Literal["flighted", "unflighted"]
     length: float = Field(gt=0, le=200, description="m")
-    n_cells: Optional[int] = Field(default=None, ge=1, le=100000)
+    n_cells: Optional[int] = Field(default=None, **field_bounds("transport.n_cells"))
     model: Optional[Literal["lee2008", "sheehan2005_model1", "sheehan2005_model2", "ajayi2011"]] = None
     n_flights: Optional[int] = Field(default=None, ge=2, le=MAX_FLIGHTS)
     s1: Optional[float] = Field(default=None, gt=0, description="m, flight base")
@@ -705,6 +706,23 @@ def _toml_line(text: str, loc: tuple) -> int | None:
     return best
 
 
+#: pydantic error types of a violated ge/gt/le/lt bound
+_BOUND_ERRORS = frozenset({"greater_than", "greater_than_equal", "less_than", "less_than_equal"})
+#: list entries whose fields are the values of case keys: ``parameter_sets[i].backmix`` is ``transport.backmix``
+_ENTRY_KEYS = {"parameter_sets": "transport", "sections": "transport"}
+
+
+def _limit_key(loc: tuple) -> str | None:
+    """The :data:`rotarydryer._limits.LIMITS` key of an error location, if it has one."""
+    dotted = ".".join(str(x) for x in loc)
+    if dotted in LIMITS:
+        return dotted
+    if len(loc) == 3 and loc[0] in _ENTRY_KEYS and isinstance(loc[1], int):
+        key = f"{_ENTRY_KEYS[loc[0]]}.{loc[2]}"
+        return key if key in LIMITS else None
+    return None
+
+
 def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", shown: str = "",
                              overrides: dict | None = None) -> str:
     """One line per problem: ``file:line: field = value: message (allowed ...)``."""
@@ -735,6 +753,9 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
             msg = f"{dotted} = {_shown_value(e.get('input'))} {text_msg}"
         else:
             msg = f"{dotted} = {_shown_value(e.get('input'))}: {e['msg']}"
+            limit = _limit_key(loc) if kind in _BOUND_ERRORS else None
+            if limit is not None:        # the whole interval, as the runtime checks quote it (docs/errors.md)
+                msg += f" (allowed range {describe_limit(limit)})"
         lines.append(f"{where}: {msg}")
     return "\n".join(lines)
 

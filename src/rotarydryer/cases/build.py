@@ -40,6 +40,7 @@ from rotarydryer.transport.core_variants import add_stagnant_core
 from rotarydryer.transport.forward_step import SHERRITT_COEFFICIENT, CurtainGas
 from rotarydryer.transport.sections import ExactGeometry, SectionSpec, build_sections
 
+from .._limits import check_key
 from .._validation import check_range, fmt_number
 from . import DryerCase
 from .calibration import PredictiveRangeWarning
@@ -195,20 +196,21 @@ def check_inputs(case) -> None:
     """Physical checks of a case before any model is built; ``ValueError`` names the key, its
     value, the allowed range and the unit.
 
-    * ``drum.radius``, section lengths finite and > 0, ``drum.slope`` in [0, 45) deg;
-    * the feed rate finite and > 0; the drum speed below the critical speed N_c = 42.3/sqrt(D)
+    * ``drum.radius``, ``drum.slope`` and the feed rate in their declared ranges
+      (:data:`rotarydryer._limits.LIMITS`), section lengths finite and > 0;
+    * the drum speed below the critical speed N_c = 42.3/sqrt(D)
       rev/min (:func:`rotarydryer.geometry.check_speed`; a warning above half of it);
     * the material's bulk density at the feed moisture in :data:`BULK_DENSITY_RANGE`;
     * each flight fits the drum: its base shorter than the radius.
     """
 
     d = case.drum
-    R = float(check_range("drum.radius", d.radius, 0.0, math.inf, unit="m"))
-    check_range("drum.slope", d.slope, 0.0, 45.0, low_inclusive=True, unit="deg")
+    R = float(check_key("drum.radius", d.radius))
+    check_key("drum.slope", d.slope)
     for prefix, _, L in _section_lengths(case):
         check_range(f"{prefix}.length", L, 0.0, math.inf, unit="m")
     F, rpm, x_in, _ = operating_point(case)
-    check_range("operating.feed_rate", F, 0.0, math.inf, unit="kg/s")
+    check_key("operating.feed_rate", F)
     check_speed(_speed_key(case), rpm, R, radius_key="drum.radius")
     mat = material_of(case)
     lo, hi = BULK_DENSITY_RANGE

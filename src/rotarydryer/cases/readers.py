@@ -31,6 +31,7 @@ from rotarydryer.properties.materials import load_material
 from rotarydryer.published import read_published_csv
 from rotarydryer.thermal.settings import AJAYI_GAS_FLOW
 
+from .._limits import field_bounds
 from .._validation import check_range
 from . import (
     _MODEL1_RATES,
@@ -62,9 +63,20 @@ __all__ = ["lee2008_to_spec", "ajayi2011_to_spec", "LEGACY_KEYS", "translate_leg
 
 
 # ---- the plant formats' schemas ----------------------------------------------------------------
+# Their numeric bounds are those of the keys they become (rotarydryer._limits.LIMITS), so a value the old
+# format accepts is never refused for its range after the translation into the one specification.
+def _positive(key: str) -> dict:
+    """:func:`field_bounds` of ``key`` with its lower end open at 0 (the old formats' gas flows: the
+    heat-and-mass model needs a gas flow; the one specification allows 0 for transport-only runs)."""
+    b = field_bounds(key)
+    b.pop("ge", None)
+    b.setdefault("gt", 0.0)
+    return b
+
+
 class LeeOperating(_Strict):
-    feed_rate: float = Field(gt=0, description="kg/s")
-    rpm: float = Field(gt=0, le=60, description="rev/min")
+    feed_rate: float = Field(**field_bounds("operating.feed_rate"), description="kg/s")
+    rpm: float = Field(**field_bounds("operating.rpm"), description="rev/min")
     gas_flow: Literal["counter-current", "co-current"] = "counter-current"
 
 
@@ -97,10 +109,10 @@ class LeeTransport(_TransportVariants):
         if problems:
             raise ValueError("; ".join(problems))
         return self
-    n_cells: int = Field(ge=1, le=100000)
-    kiln_time: Optional[float] = Field(default=None, gt=0, description="s")
-    backmix: Optional[float] = Field(default=None, ge=0, le=1, description="C_B, -")
-    drag_reduction: Optional[float] = Field(default=None, ge=0, description="C_F^G, -")
+    n_cells: int = Field(**field_bounds("transport.n_cells"))
+    kiln_time: Optional[float] = Field(default=None, **field_bounds("transport.kiln_time"), description="s")
+    backmix: Optional[float] = Field(default=None, **field_bounds("transport.backmix"), description="C_B, -")
+    drag_reduction: Optional[float] = Field(default=None, **field_bounds("transport.drag_reduction"), description="C_F^G, -")
     loading: Literal["fixed", "state"] = "fixed"
     backmix_to: Literal["passive", "active"] = "passive"
 
@@ -141,35 +153,35 @@ class LeeCase(_Strict):
 
 # ---- Ajayi (2011) MMG Karumba --------------------------------------------------------
 class AjayiDrum(_Strict):
-    radius: float = Field(gt=0, le=20, description="m")
-    slope: float = Field(ge=0, lt=45, description="deg")
-    length: Optional[float] = Field(default=None, gt=0, le=200, description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
+    radius: float = Field(**field_bounds("drum.radius"), description="m")
+    slope: float = Field(**field_bounds("drum.slope"), description="deg")
+    length: Optional[float] = Field(default=None, **field_bounds("drum.length"), description="m, whole drum; optional: the sum of the sections' lengths, which it must equal")
 
 
 class AjayiOperating(_Strict):
     test: int = Field(ge=1, le=6)
-    feed_rate: Optional[float] = Field(default=None, gt=0, description="kg/s wet; default from the test")
-    rpm: Optional[float] = Field(default=None, gt=0, le=60, description="rev/min; default from the test")
+    feed_rate: Optional[float] = Field(default=None, **field_bounds("operating.feed_rate"), description="kg/s wet; default from the test")
+    rpm: Optional[float] = Field(default=None, **field_bounds("operating.rpm"), description="rev/min; default from the test")
     gas_flow: Literal["co-current", "counter-current"] = "co-current"
 
 
 class AjayiSolids(_Strict):
-    moisture_scale: float = Field(default=1.0, gt=0, description="factor on the Eq. 3.1 moisture profile")
+    moisture_scale: float = Field(default=1.0, **field_bounds("transport.moisture_scale"), description="factor on the Eq. 3.1 moisture profile")
 
 
 class AjayiTransport(_Strict):
     model: Literal["ajayi2011"] = "ajayi2011"
-    solids_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, Ajayi's solids (kilning) velocity; default Table 5.2")
-    kiln_velocity: Optional[float] = Field(default=None, gt=0, description="alias of solids_velocity (m/s); solids_velocity wins when both are set")
-    dispersion: Optional[float] = Field(default=None, ge=0, description="axial dispersion, m2/s; default Table 5.2")
+    solids_velocity: Optional[float] = Field(default=None, **field_bounds("transport.solids_velocity"), description="u_s, m/s, Ajayi's solids (kilning) velocity; default Table 5.2")
+    kiln_velocity: Optional[float] = Field(default=None, **field_bounds("transport.solids_velocity"), description="alias of solids_velocity (m/s); solids_velocity wins when both are set")
+    dispersion: Optional[float] = Field(default=None, **field_bounds("transport.dispersion"), description="axial dispersion, m2/s; default Table 5.2")
     unflighted_inlet: Literal["ajayi", "danckwerts"] = "ajayi"
-    unflighted_cells: Optional[int] = Field(default=None, ge=2, le=100000, description="FV cells per unflighted section; default auto")
-    design_load_factor: float = Field(default=1.24, gt=0, description="m_des = factor * m_Baker (Ajayi code)")
-    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale (Ajayi Eq. 5.21); default 0.8 for tests marked scaled (l.1715), else 0")
+    unflighted_cells: Optional[int] = Field(default=None, **field_bounds("transport.unflighted_cells"), description="FV cells per unflighted section; default auto")
+    design_load_factor: float = Field(default=1.24, **field_bounds("geometry.design_load_factor"), description="m_des = factor * m_Baker (Ajayi code)")
+    fouling: Optional[float] = Field(default=None, **field_bounds("transport.fouling"), description="fraction of flight loading capacity lost to scale (Ajayi Eq. 5.21); default 0.8 for tests marked scaled (l.1715), else 0")
     parameter_source: Literal["per_test", "predictive"] = Field(default="per_test", description="per_test: u_s and D of the test (Ajayi Table 5.2); predictive: from the operating point (rotarydryer.transport.ajayi_predictive, docs/mmg_cross_test.md)")
     velocity_law: Literal["friedman_marshall", "kramers"] = Field(default="friedman_marshall", description="predictive kiln velocity: Sullivan/Friedman-Marshall (Song 2003 Eq. 1-2) or Kramers-Croockewit bed (comparison)")
-    velocity_coefficient: Optional[float] = Field(default=None, gt=0, le=100, description="c_u (-), predictive: u_s = c_u x the velocity law; the case file holds the calibration")
-    dispersion_coefficient: Optional[float] = Field(default=None, ge=0, le=10000, description="c_D (-), predictive: D = c_D u_s d_p; the case file holds the calibration")
+    velocity_coefficient: Optional[float] = Field(default=None, **field_bounds("transport.velocity_coefficient"), description="c_u (-), predictive: u_s = c_u x the velocity law; the case file holds the calibration")
+    dispersion_coefficient: Optional[float] = Field(default=None, **field_bounds("transport.dispersion_coefficient"), description="c_D (-), predictive: D = c_D u_s d_p; the case file holds the calibration")
 
 
 class AjayiGeometry(_Strict):
@@ -197,17 +209,17 @@ class AjayiSection(_Strict):
 
 class AjayiTest(_Strict):
     test: int
-    feed_rate: float = Field(gt=0, description="kg/s wet")
+    feed_rate: float = Field(**field_bounds("operating.feed_rate"), description="kg/s wet")
     rpm: float
     moisture_inlet: float
     moisture_outlet: float
-    kiln_velocity: Optional[float] = Field(default=None, gt=0, description="u_s, m/s, Ajayi Table 5.2 (none for test 1, not modelled by Ajayi)")
-    dispersion: Optional[float] = Field(default=None, ge=0, description="m2/s, Ajayi Table 5.2 (none for test 1)")
+    kiln_velocity: Optional[float] = Field(default=None, **field_bounds("transport.solids_velocity"), description="u_s, m/s, Ajayi Table 5.2 (none for test 1, not modelled by Ajayi)")
+    dispersion: Optional[float] = Field(default=None, **field_bounds("transport.dispersion"), description="m2/s, Ajayi Table 5.2 (none for test 1)")
     mrt_model_min: Optional[float] = None
     holdup_model_kg: Optional[float] = None
     mrt_measured_min: Optional[float] = None
     scaled: bool = False
-    gas_flow: Optional[float] = Field(default=None, gt=0, le=1000,
+    gas_flow: Optional[float] = Field(default=None, **_positive("gas.flow"),
                                       description="kg/s wet gas in this test, where known (fan openings, a "
                                                   "balance); replaces thermal.gas_flow in the physical mode")
     source: str = ""
@@ -216,21 +228,21 @@ class AjayiTest(_Strict):
 class AjayiThermal(_Strict):
     """Heat and mass transfer parameters (rotarydryer.thermal.dryer.ThermalSettings); SI, degC."""
     mode: Literal["physical", "ajayi2011"] = "physical"
-    gas_flow: float = Field(default=16.25, gt=0, le=1000, description="kg/s wet gas into the dryer (physical mode)")
-    area_scale: float = Field(default=2.6, ge=0, le=100, description="multiplier on Ajayi's area factors (physical mode)")
-    gas_inlet_temperature: Optional[float] = Field(default=None, gt=0, le=600, description="degC; default the test's PI value")
-    gas_inlet_humidity: float = Field(default=0.0193, ge=0, lt=0.2, description="kg/kg wet gas (Ajayi l.3227)")
-    solids_inlet_temperature: float = Field(default=28.0, ge=0, lt=99, description="degC (Ajayi l.3241)")
-    ambient_temperature: float = Field(default=26.0, gt=-40, lt=60, description="degC (Ajayi l.3231)")
-    fouling: Optional[float] = Field(default=None, ge=0, le=0.95, description="fraction of flight loading capacity lost to scale; default 0.8 for 'Scaled' tests")
-    scale_thickness: float = Field(default=0.0, ge=0, le=0.5, description="m, shell scale layer")
-    insulation_thickness: float = Field(default=0.0, ge=0, le=2.0, description="m, external lagging")
-    loss_factor: float = Field(default=15.0, ge=0, le=1000, description="theta_loss (ajayi2011 mode only)")
-    shell_inner_radius: float = Field(default=1.90, gt=0, le=20, description="m, steel shell inner radius (Ajayi's code R_in = 1.90, l.3870)")
-    shell_thickness: float = Field(default=0.05, gt=0, le=0.5, description="m, steel shell wall (Ajayi's code R_out - R_in = 1.95 - 1.90, l.4381)")
-    leak_air_flow: float = Field(default=0.0, ge=0, le=1000, description="kg/s ambient air leaking in at the gas inlet end")
+    gas_flow: float = Field(default=16.25, **_positive("gas.flow"), description="kg/s wet gas into the dryer (physical mode)")
+    area_scale: float = Field(default=2.6, **field_bounds("thermal.area_scale"), description="multiplier on Ajayi's area factors (physical mode)")
+    gas_inlet_temperature: Optional[float] = Field(default=None, **field_bounds("gas.inlet_temperature"), description="degC; default the test's PI value")
+    gas_inlet_humidity: float = Field(default=0.0193, **field_bounds("gas.inlet_humidity"), description="kg/kg wet gas (Ajayi l.3227)")
+    solids_inlet_temperature: float = Field(default=28.0, **field_bounds("operating.feed_temperature"), description="degC (Ajayi l.3241)")
+    ambient_temperature: float = Field(default=26.0, **field_bounds("shell.ambient_temperature"), description="degC (Ajayi l.3231)")
+    fouling: Optional[float] = Field(default=None, **field_bounds("transport.fouling"), description="fraction of flight loading capacity lost to scale; default 0.8 for 'Scaled' tests")
+    scale_thickness: float = Field(default=0.0, **field_bounds("shell.scale_thickness"), description="m, shell scale layer")
+    insulation_thickness: float = Field(default=0.0, **field_bounds("shell.insulation_thickness"), description="m, external lagging")
+    loss_factor: float = Field(default=15.0, **field_bounds("shell.loss_factor"), description="theta_loss (ajayi2011 mode only)")
+    shell_inner_radius: float = Field(default=1.90, **field_bounds("shell.inner_radius"), description="m, steel shell inner radius (Ajayi's code R_in = 1.90, l.3870)")
+    shell_thickness: float = Field(default=0.05, **field_bounds("shell.thickness"), description="m, steel shell wall (Ajayi's code R_out - R_in = 1.95 - 1.90, l.4381)")
+    leak_air_flow: float = Field(default=0.0, **field_bounds("gas.leak_air_flow"), description="kg/s ambient air leaking in at the gas inlet end")
     unflighted_cells: dict[str, Annotated[int, Field(ge=1, le=100000)]] = Field(default={}, max_length=MAX_ENTRIES, description="finite volumes per unflighted section of the thermal model; default one per 0.3 m (at least 4)")
-    design_load_smoothing: float = Field(default=0.0, ge=0, le=0.1, description="relative width of the smoothed design-load switch (0 = exact)")
+    design_load_smoothing: float = Field(default=0.0, **field_bounds("thermal.design_load_smoothing"), description="relative width of the smoothed design-load switch (0 = exact)")
     moisture_coupling: bool = True
     enabled: bool = True
     burner: Optional[Burner] = Field(default=None, description="the combustion chamber (Ajayi (2011) App. A); gives the fuel rate")

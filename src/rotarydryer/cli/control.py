@@ -21,7 +21,8 @@ def control(
                                                               "| none."),
     magnitude: float = typer.Option(0.2, help="Disturbance: relative step (+0.2 = +20 %; feed moisture on the dry "
                                               "basis), or the final fouling fraction of fouling_ramp."),
-    duration: float = typer.Option(10800.0, help="Simulated time, s."),
+    duration: float = typer.Option(10800.0, help="Simulated time, s: at most 86400 (one day) and 1440 sampling "
+                                                 "intervals (--duration / --sample-time)."),
     step_time: Optional[float] = typer.Option(None, help="Time of the disturbance (start of the ramp), s; "
                                                           "default 600 s or --duration if shorter."),
     sample_time: float = typer.Option(60.0, help="Sampling interval of measurement and controller, s."),

@@ -477,7 +477,7 @@ def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y,
     for i in range(a.size):
         tg = min(max(tg_raw[i], -40.0), 600.0)   # humid_air.T_MIN_C, T_MAX_C
         ts = min(max(ts_raw[i], 0.0), 99.0)
-        y = min(max(y_raw[i], 1e-6), 0.3)
+        y = min(max(y_raw[i], 1e-6), 1.0)    # humid_air.Y_MAX
         # gas-solids coefficient at the gas temperature
         mu, k = _transport_at(tg, y, c)
         re = fg[i] / (math.pi * radius ** 2) * dp[i] / mu

@@ -96,7 +96,11 @@ T_MAX_C = 600.0
 #: (shell.ambient_temperature > -40 degC); the vapour pressure is then that over supercooled water
 #: (the Wagner-Pruss equation extended, as psychrometric practice does to -40 degC)
 T_MIN_C = -40.0
-Y_MAX = 0.3
+#: highest humidity of the humid-air functions, kg water / kg dry air (water mole fraction 0.62):
+#: the ideal-gas mixture and its mixing rules hold at any composition; a counter-current dryer's
+#: evaporation-condensation loop (water evaporated at the hot end, condensed on the cold feed and
+#: carried back by the solids) holds more than 0.3 kg/kg inside the drum
+Y_MAX = 1.0
 
 
 def _temperature(temperature_c, name="temperature_c", high=T_MAX_C):
@@ -481,8 +485,9 @@ def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
 
     Solves :math:`h(T,Y) + (Y_s(T_{wb}) - Y)\,h_w(T_{wb}) = h(T_{wb}, Y_s(T_{wb}))`
     (ASHRAE 2017 ch. 1 Eq. 33) by vectorised bisection to 1e-9 K; h_w is the liquid
-    enthalpy from the DIPPR heat capacity. Needs a wet bulb below 0 °C → raises (the
-    model range starts at 0 °C).
+    enthalpy from the DIPPR heat capacity, below 0 °C that of ice (ASHRAE 2017 ch. 1 Eq. 34:
+    the ice-bulb temperature, over the frost-point vapour pressure). A wet bulb below
+    T_MIN_C (-40 °C) raises.
 
     >>> round(float(wet_bulb_temperature(500.0, 0.0197)), 2)
     66.24
@@ -493,18 +498,19 @@ def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     t, y, p = np.broadcast_arrays(t, y, p)
     h = enthalpy(t, y)
     tb = water.saturation_temperature(p)
-    lo = np.zeros_like(t)
+    lo = np.full_like(t, T_MIN_C)
     hi = np.minimum(t, tb - 1e-6)
 
     def residual(tw):
         ps = water.saturation_pressure(tw)
         ys = _RATIO * ps / (p - ps)
-        hw = 4186.0 * (tw - 0.01)
+        hw = np.where(tw >= 0.0, 4186.0 * (tw - 0.01), -333430.0 + 2040.0 * tw)   # water; ice below 0 degC
         return h + (ys - y) * hw - _enthalpy(tw, ys)
 
     f_lo = residual(lo)
     if np.any(f_lo < 0):
-        raise ValueError("wet_bulb_temperature: the wet-bulb temperature is below 0 degC, outside the model range")
+        raise ValueError(f"wet_bulb_temperature: the wet-bulb temperature is below {T_MIN_C:g} degC, outside the "
+                         "model range")
     for _ in range(80):
         mid = 0.5 * (lo + hi)
         f_mid = residual(mid)

@@ -42,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from .._limits import LIMITS, check_key, describe_limit
 from .drying import DryingKinetics
 
 __all__ = ["Material", "load_material", "list_materials"]
@@ -53,9 +54,10 @@ _FIELDS = ("name", "title", "citations", "moisture_basis", "moisture_range", "re
            "particle_diameter_by_section", "kinetics", "transport")
 _OPTIONAL = ("water_heat_capacity", "particle_diameter_by_section", "transport")
 #: coefficients of the predictive transport law a material may carry (its class's calibration;
-#: the case's transport.<key> wins): key -> (low, high) open range
-TRANSPORT_COEFFICIENTS = {"step_factor": (0.0, 100.0), "curtain_coefficient": (0.0, 1e4),
-                          "velocity_coefficient": (0.0, 100.0), "dispersion_coefficient": (0.0, 1e4)}
+#: the case's transport.<key> wins): key -> the range of that case key (rotarydryer._limits.LIMITS),
+#: one declaration for the material's default and the case's value
+TRANSPORT_COEFFICIENTS = {k: LIMITS[f"transport.{k}"] for k in ("step_factor", "curtain_coefficient",
+                                                                 "velocity_coefficient", "dispersion_coefficient")}
 #: the operating range of the data those coefficients were calibrated on: key -> (quantity, unit)
 CALIBRATED_RANGES = {"calibrated_rpm": ("drum speed", "rev/min"), "calibrated_froude": ("Froude number omega^2 R/g", "-"),
                      "calibrated_fill": ("solids fill of the drum volume", "-"),
@@ -205,6 +207,13 @@ def _number(key: str, value: Any, lo: float, hi: float, unit: str, lo_closed: bo
     return float(value)
 
 
+def _coefficient(key: str, value: Any) -> float:
+    """``material.transport.<key>`` in the range of the case key ``transport.<key>``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        _fail(f"transport.{key}", value, describe_limit(f"transport.{key}"))
+    return float(check_key(f"transport.{key}", value, f"material.transport.{key}"))
+
+
 def _law(key: str, table: Any) -> tuple[tuple[float, float], str]:
     if isinstance(table, (list, tuple)) and len(table) == 2:
         table = {"a": table[0], "b": table[1]}
@@ -260,8 +269,7 @@ def _build(d: dict) -> Material:
     if extra:
         raise ValueError(f"material.transport.{sorted(extra)[0]} is not a field (allowed: "
                          f"{', '.join(TRANSPORT_COEFFICIENTS)}, {', '.join(CALIBRATED_RANGES)}, source)")
-    coeffs = tuple((k, _number(f"transport.{k}", tr[k], *TRANSPORT_COEFFICIENTS[k], ""))
-                   for k in TRANSPORT_COEFFICIENTS if k in tr)
+    coeffs = tuple((k, _coefficient(k, tr[k])) for k in TRANSPORT_COEFFICIENTS if k in tr)
     ranges = []
     for k in CALIBRATED_RANGES:
         if k in tr:

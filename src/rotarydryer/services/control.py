@@ -16,9 +16,16 @@ def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration
     calls this too, for the same messages); returns the step time (default 600 s or the duration)."""
     from .. import control as C
 
-    for opt, v, lo, hi in (("--duration", duration, 0.0, 30 * 86400.0), ("--sample-time", sample_time, 1.0, 3600.0),
+    # --duration: at most C.MAX_DURATION_S (one day) and C.MAX_SAMPLES sampling intervals, the bounds of
+    # C.closed_loop: a run costs ~0.1-0.25 s of wall time per interval, so 30 days ran for hours
+    for opt, v, lo, hi in (("--duration", duration, 0.0, C.MAX_DURATION_S), ("--sample-time", sample_time, 1.0, 3600.0),
                            ("--dead-time", dead_time, 0.0, 7200.0)):
         check_option(opt, v, lo, hi, unit="s", low_inclusive=opt != "--duration", high_inclusive=True)
+    if duration / sample_time > C.MAX_SAMPLES:
+        raise ValueError(f"--duration = {duration:g} s with --sample-time = {sample_time:g} s makes "
+                         f"{duration / sample_time:.6g} sampling intervals; the limit is {C.MAX_SAMPLES} (raise "
+                         f"--sample-time to at least {duration / C.MAX_SAMPLES:.3g} s or lower --duration to at most "
+                         f"{C.MAX_SAMPLES * sample_time:g} s)")
     if step_time is None:
         step_time = min(600.0, duration)
     check_option("--step-time", step_time, 0.0, duration, unit="s", low_inclusive=True, high_inclusive=True)

@@ -77,7 +77,7 @@ def _tc(t):
 
 
 def _yc(y, low=0.0):
-    return np.clip(np.asarray(y, dtype=float), low, 0.3)
+    return np.clip(np.asarray(y, dtype=float), low, ha.Y_MAX)
 
 
 def _check_gas_state(temperature_c, humidity, method):

@@ -40,7 +40,7 @@ from .streams import evaporation_rate, exhaust_humidity, implied_heat_loss
 __all__ = ["implied_gas_flow", "balance_gas_outlet_temperature", "max_gas_outlet_temperature",
            "TestBalance", "measured_balances", "pi_test_conditions"]
 
-_Y_MAX = 0.3              # kg/kg dry gas, top of the humid-air property range
+_Y_MAX = 0.3              # kg/kg dry gas, the top of the exhaust humidities these plant-data inversions search
 
 
 def _loss_at(gas_flow, gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_in, moisture_out, solids_in_c,

@@ -103,6 +103,25 @@ EMPTY_TANK_MASS = 1e-10
 #: below this solids mass (kg per kg/s of feed) a tank's temperature residual counts in
 #: proportion to its heat capacity (ThermalDryer._residual_norm)
 EMPTY_TANK_MASS_NORM = 1e-6
+#: gas within this many K of the ambient (and below it): the shell loss is linear in T_g - T_amb with
+#: the network's conductance at the band's edge (ThermalDryer.physical_shell_loss)
+SHELL_LINEAR_BAND_K = 1.0
+#: transient marches (multiples of the start's solids residence time) before Newton again, where
+#: pseudo-transient continuation from the start fails (ThermalDryer.steady_state)
+MARCH_HORIZONS = (3.0, 10.0)
+#: a converged state whose water or energy balance is open by more than this is polished
+#: (ThermalDryer._polished)
+BALANCE_POLISH = 1e-10
+
+
+def _near_ambient(q_edge, Tg, ambient):
+    """Shell loss ``q_edge`` (W per stage, evaluated at max(T_g, T_amb + band)) continued linearly
+    below the band's edge: q = q_edge (T_g - T_amb) / band, zero at the ambient and a gain below
+    it. The correlations of the shell network (natural convection, radiation) hold for a shell
+    warmer than the surroundings; near and below the ambient their conductance at the edge stands
+    for both directions of the heat flow."""
+    dT = np.asarray(Tg, dtype=float) - ambient
+    return np.where(dT < SHELL_LINEAR_BAND_K, q_edge * dT / SHELL_LINEAR_BAND_K, q_edge)
 
 
 def _scatter_rows(index, weights, n, flat_index):
@@ -228,8 +247,17 @@ class ThermalDryer:
                 f"latent heat", reason="gas_too_cold")
         rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3)))
         if rh >= 1.0:
-            raise DryerError(f"gas too cold to dry: the inlet gas is saturated (relative humidity {rh:.2f} at "
-                             f"{s.gas_inlet_temperature:g} degC)", reason="gas_too_cold")
+            raise DryerError(f"gas too cold to dry: the inlet gas is saturated (gas.inlet_humidity = "
+                             f"{s.gas_inlet_humidity:g} kg/kg wet gas at gas.inlet_temperature = "
+                             f"{s.gas_inlet_temperature:g} degC: relative humidity {rh:.2f})", reason="gas_too_cold")
+        if self.feed_moisture > 0:
+            wb = float(ha.wet_bulb_temperature(min(s.gas_inlet_temperature, 600.0), min(y, ha.Y_MAX)))
+            if wb < 0.0:
+                raise DryerError(
+                    f"gas too cold to dry: gas.inlet_temperature = {s.gas_inlet_temperature:g} degC with "
+                    f"gas.inlet_humidity = {s.gas_inlet_humidity:g} kg/kg wet gas has a wet-bulb temperature of "
+                    f"{wb:.3g} degC: the wet feed would cool below freezing, which the model does not represent "
+                    "(no ice); raise gas.inlet_temperature", reason="gas_too_cold")
 
     def _layout(self):
         """Nodes, families and gas stages from the transport model (no layout of its own)."""
@@ -301,6 +329,7 @@ class ThermalDryer:
         self._shell_outer = None     # outer shell temperatures of the last shell solve (a warm start)
         self._shell_slope = None     # (those temperatures, their Newton slopes) of a compiled solve
         self._shell_memo = None      # (inputs, heat loss) of the last exact shell evaluation
+        self._floor_memo = None      # (inputs, lowest admissible gas temperature) (_gas_temperature_floor)
         self._transfer_base = None   # (inputs, outputs) of the last single-state gas-solids transfer
         self._edge_base = None       # (k, caps, law evaluations) of the last single state's edges (flows)
         self._inlet_h = None
@@ -611,24 +640,30 @@ class ThermalDryer:
 
     def _shell_loss_exact_eval(self, Tg, Y, Tg_up):
         s = self.settings
-        fg = self.dry_gas_flow * (1.0 + Y)
-        tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
         if s.mode == "ajayi2011":
-            return ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
-                                       np.clip(Tg_up, 0.0, 600.0))
+            fg = self.dry_gas_flow * (1.0 + Y)
+            tg = np.clip(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K, 600.0)
+            q = ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
+                                    np.clip(Tg_up, 0.0, 600.0))
+            return _near_ambient(q, Tg, s.ambient_temperature)
         return self.physical_shell_loss(Tg, Y)
 
     def physical_shell_loss(self, Tg, Y):
         """Shell heat loss per gas stage (W) of the solved shell network (shell temperature solved,
-        scale and insulation layers) at gas temperatures ``Tg`` and humidities ``Y``."""
+        scale and insulation layers) at gas temperatures ``Tg`` and humidities ``Y``; within
+        SHELL_LINEAR_BAND_K of the ambient and below it, the network's conductance at the band's
+        edge times (T_g - T_amb): a gas colder than the surroundings gains heat through the shell."""
+        return _near_ambient(self._shell_network_loss(Tg, Y), Tg, self.settings.ambient_temperature)
+
+    def _shell_network_loss(self, Tg, Y):
         s = self.settings
-        tg = np.clip(Tg, s.ambient_temperature + 1e-3, 600.0)
+        tg = np.clip(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K, 600.0)
         # the shell temperatures of the previous solve start Newton's method (same root to 1e-9 K)
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
         slope = self._shell_slope if guess is not None and self._shell_slope is not None and \
             self._shell_slope[0] is guess else None
         args = (tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature)
-        kw = dict(gas_humidity=np.clip(Y, 0, 0.3), co2_mole_fraction=s.co2_mole_fraction,
+        kw = dict(gas_humidity=np.clip(Y, 0, ha.Y_MAX), co2_mole_fraction=s.co2_mole_fraction,
                   inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
                   scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                   insulation_thickness=s.insulation_thickness, insulation_conductivity=s.insulation_conductivity,
@@ -736,8 +771,17 @@ class ThermalDryer:
         S, W, T, Tg, Y = self.split(z)
         up = self.gas_up
         Tg_up = np.where(up >= 0, Tg[np.maximum(up, 0)], self.settings.gas_inlet_temperature)
-        dT = np.maximum(Tg - self.settings.ambient_temperature, 1e-6)
-        self._shell_ua = self._shell_loss_exact(Tg, Y, Tg_up) / dT
+        q = self._shell_loss_exact(Tg, Y, Tg_up)
+        dT = Tg - self.settings.ambient_temperature
+        # the loss is linear in dT inside the band (_near_ambient): its coefficient there is exact
+        # at any dT, also at dT = 0 and below (a gas colder than the surroundings gains heat)
+        band = dT < SHELL_LINEAR_BAND_K
+        if np.any(band):
+            edge = np.where(band, self.settings.ambient_temperature + SHELL_LINEAR_BAND_K, Tg)
+            q_edge = self._shell_loss_exact_eval(edge, Y, Tg_up)
+            self._shell_ua = np.where(band, q_edge / SHELL_LINEAR_BAND_K, q / np.where(band, 1.0, dT))
+        else:
+            self._shell_ua = q / dT
 
     def _refreeze_shell(self, z, f):
         """Freeze the shell loss at ``z`` and return ``f`` (the residual at z with the previous
@@ -780,6 +824,7 @@ class ThermalDryer:
         """Forget what was remembered for the previous inputs (after a study changed them in place)."""
         self._shell_ua = None
         self._shell_memo = None
+        self._floor_memo = None
         self._transfer_base = None
         self._edge_base = None
         self._law_cache = {}
@@ -928,7 +973,54 @@ class ThermalDryer:
 
     # ------------------------------------------------------------------ steady state
     def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=None, factorization=None,
-                     progress=None):
+                     progress=None, march=True):
+        """Coupled steady state by pseudo-transient continuation + Newton (module docstring); where
+        that fails (and ``march``), a transient march (BDF with error control, :meth:`simulate`) over
+        MARCH_HORIZONS solids residence times from the same start, then Newton again from the
+        marched state.
+
+        Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
+        close; raises :class:`DryerError` (reason ``"no_steady_state"``) with ``state`` = last iterate
+        of the first attempt. The other arguments are those of :meth:`_pseudo_transient`.
+        """
+        try:
+            return self._polished(self._pseudo_transient(z0, max_iter, tol, dt0, verbose, factorization, progress),
+                                  tol, dt0)
+        except DryerError as exc:
+            if not march or exc.reason != "no_steady_state" or exc.state is None:
+                raise
+            first = exc
+        start = self.initial_state() if z0 is None else np.array(z0, dtype=float)
+        mrt = float(np.sum(start[:2 * self.n_tanks])) / max(self.feed_rate, 1e-300)
+        for horizon in MARCH_HORIZONS:
+            try:
+                marched = self.simulate(start, max(horizon * mrt, 60.0))
+                z = np.asarray(marched.states, dtype=float)[:, -1]
+                if not self._admissible(z):
+                    continue
+                ss = self._pseudo_transient(z, max_iter, tol, dt0, None, None, progress)
+            except (DryerError, RuntimeError, ValueError, FloatingPointError):
+                continue
+            ss = self._polished(ss, tol, dt0)
+            ss.marched_s = max(horizon * mrt, 60.0)
+            return ss
+        raise first
+
+    def _polished(self, ss, tol, dt0):
+        """``ss``, or where its water or energy balance is open by more than BALANCE_POLISH (the
+        residual test met at a state a little off the root), the state a few Newton steps further
+        with a hundredfold tighter residual test."""
+        if max(ss.water_balance_error, ss.energy_balance_error) <= BALANCE_POLISH:
+            return ss
+        try:
+            better = self._pseudo_transient(ss.state, 20, tol * 1e-2, dt0 * 1e6, None, ss.factorization, None)
+        except DryerError:
+            return ss
+        better.iterations += ss.iterations
+        return better
+
+    def _pseudo_transient(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=None, factorization=None,
+                          progress=None):
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring).
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
@@ -1031,30 +1123,62 @@ class ThermalDryer:
         return float(np.max(r))
 
     def _bounded_step(self, z, dz):
-        """``z + dz`` with the dry solids, the water and the gas humidity kept inside their admissible
-        range by a fraction-to-boundary rule (interior-point practice, Nocedal & Wright (2006) Eq. 19.9,
-        per component): a component the Newton step would take below zero moves to a fifth of its value
-        instead (the water may go half the admissibility margin, 5e-10 of the feed, below zero: a
-        bone-dry product's steady state can hold W a rounding below zero, which the balances read as
-        zero). Elsewhere the step is Newton's own, so the converged state is the same. A steady state
+        """``z + dz`` with the dry solids, the water, the temperatures and the gas humidity kept inside
+        their admissible range by a fraction-to-boundary rule (interior-point practice, Nocedal & Wright
+        (2006) Eq. 19.9, per component): a component the Newton step would take below zero (or past
+        its bound) moves to a fifth of its distance instead; the humidity is projected onto zero
+        (zero is admissible: a dry gas over a dry feed). The water may go half the admissibility
+        margin, 5e-10 of the feed, below zero: a bone-dry product's steady state can hold W a
+        rounding below zero, which the balances read as zero. Elsewhere the step is Newton's own, so the converged state is the same. A steady state
         with an empty tank (a cell the cascade overshoots) or a dry product lies on that boundary: the
         iterates approach it geometrically instead of stalling on rejected steps."""
         zn = z + dz
-        S, W, _, _, Y = self.split(z)
-        Sn, Wn, _, _, Yn = self.split(zn)
+        S, W, T, Tg, Y = self.split(z)
+        Sn, Wn, Tn, Tgn, Yn = self.split(zn)
         np.maximum(Sn, 0.2 * S, out=Sn)
         np.maximum(Wn, np.minimum(0.2 * W, W) - 0.5e-9 * self.feed_rate, out=Wn)
-        np.maximum(Yn, np.minimum(0.2 * Y, Y), out=Yn)
+        np.maximum(Yn, 0.0, out=Yn)      # a humidity may reach zero (dry gas, nothing evaporates)
+        # the temperatures and the humidity's top the same way, towards the bounds of _admissible
+        lo_t, hi_t, lo_g, hi_g, hi_y = self._state_bounds()
+        np.minimum(Yn, np.maximum(hi_y - 0.2 * (hi_y - Y), Y), out=Yn)
+        np.maximum(Tn, np.minimum(lo_t + 0.2 * (T - lo_t), T), out=Tn)
+        np.minimum(Tn, np.maximum(hi_t - 0.2 * (hi_t - T), T), out=Tn)
+        np.maximum(Tgn, np.minimum(lo_g + 0.2 * (Tg - lo_g), Tg), out=Tgn)
+        np.minimum(Tgn, np.maximum(hi_g - 0.2 * (hi_g - Tg), Tg), out=Tgn)
         return zn
+
+    def _state_bounds(self):
+        """(solids T low, high, gas T low, high, humidity high) of :meth:`_admissible`, each a
+        rounding inside (degC, kg/kg)."""
+        s = self.settings
+        eps = 1e-9
+        return (-5.0 + eps, max(150.0, s.gas_inlet_temperature + 5.0) - eps, self._gas_temperature_floor() + eps,
+                650.0 - eps, ha.Y_MAX * (1 - eps))
+
+    def _gas_temperature_floor(self):
+        """Lowest admissible gas temperature, degC: 30 K below the coldest of the ambient (leaks,
+        shell), the feed and the inlet gas's wet-bulb temperature (a hot, dry gas evaporating water
+        from a warm feed cools towards its adiabatic saturation temperature, below both), and inside
+        the humid-air range. The margin is wide: the drying laws cool wet solids, and the gas with
+        them, below the inlet gas's wet bulb (16 K below in a sampled Invicta case); the bound only
+        keeps the iterates physical (:meth:`_bounded_step`)."""
+        s = self.settings
+        key = (s.ambient_temperature, s.solids_inlet_temperature, s.gas_inlet_temperature, self.gas_inlet_Y)
+        if self._floor_memo is None or self._floor_memo[0] != key:
+            try:
+                wb = float(ha.wet_bulb_temperature(min(s.gas_inlet_temperature, ha.T_MAX_C),
+                                                   min(max(self.gas_inlet_Y, 0.0), ha.Y_MAX)))
+            except ValueError:
+                wb = ha.T_MIN_C
+            self._floor_memo = (key, max(ha.T_MIN_C + 1.0, min(s.ambient_temperature, s.solids_inlet_temperature, wb) - 30.0))
+        return self._floor_memo[1]
 
     def _admissible(self, z):
         S, W, T, Tg, Y = self.split(z)
-        s = self.settings
         # the extremes against the bounds (a NaN fails every comparison, as with np.all)
-        return bool(S.min() > 0 and W.min() > -1e-9 * self.feed_rate and T.min() > -5
-                    and T.max() < max(150.0, s.gas_inlet_temperature + 5.0)
-                    and Tg.min() > min(s.ambient_temperature, s.solids_inlet_temperature) - 5 and Tg.max() < 650 and Y.min() > -1e-6
-                    and Y.max() < 0.3)
+        lo_t, hi_t, lo_g, hi_g, hi_y = self._state_bounds()
+        return bool(S.min() > 0 and W.min() > -1e-9 * self.feed_rate and T.min() > lo_t and T.max() < hi_t
+                    and Tg.min() > lo_g and Tg.max() < hi_g and Y.min() > -1e-6 and Y.max() < hi_y)
 
     # ------------------------------------------------------------------ dynamics
     def simulate(self, z0, t_end, t_eval=None, rtol=1e-5, atol=None, max_step=np.inf, shell_refresh=60.0):

@@ -175,7 +175,7 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
         seg = check_range("length", length, 0.0, np.inf, low_inclusive=True, unit="m")
         ta = check_range("ambient_temperature_c", ambient_temperature_c, -40.0, 60.0, low_inclusive=True,
                          high_inclusive=True, unit="degC")
-        y = check_range("gas_humidity", gas_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
+        y = check_range("gas_humidity", gas_humidity, 0.0, ha.Y_MAX, low_inclusive=True, high_inclusive=True)
         xc = check_range("co2_mole_fraction", co2_mole_fraction, 0.0, 0.3, low_inclusive=True, high_inclusive=True)
         ri = check_positive("inner_radius", inner_radius, unit="m")
         ds = check_positive("shell_thickness", shell_thickness, unit="m")

@@ -90,6 +90,8 @@ class ThermalSteadyState:
         #: nearby solves
         self.factorization = None
         self.iterations = iterations
+        #: simulated seconds of the transient march that preceded Newton (0: Newton from the start)
+        self.marched_s = 0.0
         self.residual = float(residual)
         self.seconds = seconds
         s = dryer.settings
@@ -116,7 +118,8 @@ class ThermalSteadyState:
         Yin = dryer.gas_inlet_Y
         w_in = fW + Fd * Yin
         w_out = pW + Fd * Y[k]
-        self.water_balance_error = abs(w_in - w_out) / w_in
+        # relative to the water in; a bone-dry feed in dry gas: to 1e-9 of the mass flows
+        self.water_balance_error = abs(w_in - w_out) / max(w_in, 1e-9 * (dryer.feed_rate + Fd))
         self.solids_balance_error = abs(fS - pS) / fS
         hs_in = (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
         # the solver's states are checked (the unchecked enthalpy; the inlet's remembered per settings)
@@ -125,7 +128,10 @@ class ThermalSteadyState:
         e_in = hs_in + hg_in
         e_out = pH + hg_out + self.shell_heat_loss_w
         self.energy_in_w = e_in
-        self.energy_balance_error = abs(e_in - e_out) / e_in
+        # relative to the energy in; a dryer whose streams all enter near the reference 0 degC: to
+        # their heat capacity flow x 100 K (the solver's temperature scale, ThermalDryer._scale)
+        e_ref = max(abs(e_in), (fS * s.cp_solids + fW * s.cp_water + Fd * 1006.0) * 100.0)
+        self.energy_balance_error = abs(e_in - e_out) / e_ref
         #: energy streams of the balance, W (enthalpies relative to the model's reference state)
         self.energy_terms_w = {
             "in": {"hot gas": float(hg_in), "wet feed": float(hs_in)},
@@ -140,7 +146,8 @@ class ThermalSteadyState:
             hg_out_p = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], "physical"))
             self.physical_shell_loss_w = float(np.sum(dryer.physical_shell_loss(Tg, Y)))
         e_in_p = hs_in + hg_in_p
-        self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / e_in_p
+        self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / max(
+            abs(e_in_p), e_ref)
         self.physical_implied_shell_loss_w = e_in_p - pH - hg_out_p
         self.gas_heat_duty_w = hg_in - hg_out
 
@@ -290,8 +297,10 @@ class ThermalSteadyState:
             evaporation_kg_s=self.evaporation_rate,
             heat_input_W=self.heat_input_w,
             specific_energy_kJ_kg_water=(self.heat_input_w / self.evaporation_rate / 1e3
-                                         if self.evaporation_rate > 1e-12 else float("nan")),
-            thermal_efficiency=self.thermal_efficiency,
+                                         if self.evaporation_rate > 1e-12 else None),
+            # no water removed (a dry feed, or humid gas condensing on cold solids): both undefined
+            thermal_efficiency=(self.thermal_efficiency if self.evaporation_rate > 1e-12
+                                and np.isfinite(self.thermal_efficiency) else None),
             shell_heat_loss_W=self.shell_heat_loss_w,
             gas_flow_kg_s=self.dryer.settings.gas_flow,
             energy_balance_error=float(self.energy_balance_error),

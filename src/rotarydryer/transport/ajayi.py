@@ -43,6 +43,7 @@ import math
 
 import numpy as np
 
+from .._limits import check_key
 from .._validation import check_range, fmt_number
 from ..geometry.lee2008_regressions import _poly_phi_f
 from ..geometry.unloading import CascadeSummary
@@ -132,7 +133,7 @@ class AjayiRegressions:
         if len(self.p) != 7 or len(self.q) != 11:
             raise ValueError("AjayiRegressions needs 7 area (p0..p6) and 11 fall-time (q0..q10) coefficients")
         self.radius = float(check_range("drum.radius", radius, 0.0, math.inf, unit="m"))
-        self.design_load_factor = float(check_range("transport.design_load_factor", design_load_factor, 0.0, math.inf))
+        self.design_load_factor = float(check_key("geometry.design_load_factor", design_load_factor))
 
     def __repr__(self):
         return f"AjayiRegressions(radius={self.radius:g}, design_load_factor={self.design_load_factor:g})"
@@ -224,7 +225,7 @@ def _check_moisture_scale(scale, sections, material, moisture_ends=None, key="so
     """``solids.moisture_scale`` must keep the Eq. 3.1 profile inside the material's moisture range
     (where its repose-angle and bulk-density laws hold): the message names the key, its value and
     the allowed range of the scale for this dryer."""
-    s = float(check_range(key, scale, 0.0, math.inf))
+    s = float(check_key("transport.moisture_scale", scale, key))
     pos = _flighted_positions(sections)
     if pos.size == 0 or material is None:
         return
@@ -338,7 +339,7 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
                   geometry={k: repr(v) for k, v in geometries.items()})
     if moisture_ends is not None:
         params["moisture_ends"] = [float(x) for x in moisture_ends]
-    check_range("transport.fouling", fouling, 0.0, 0.95, low_inclusive=True, high_inclusive=True)
+    check_key("transport.fouling", fouling)
     model = build_sections(specs, material=material, feed_rate=F, rpm=rpm, slope=theta, inlet=inlet,
                            tracer_input=tracer_input, name=name, parameters=params)
     model.parameters["unflighted_cells"] = {s["name"]: s["n_cells"] for s in model.sections

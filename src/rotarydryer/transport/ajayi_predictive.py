@@ -58,6 +58,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._limits import check_key
 from .._validation import check_choice, check_range
 
 __all__ = ["LAWS", "FM_CONSTANT", "FM_SPEED_EXPONENT", "FM_REFERENCE_REPOSE", "friedman_marshall_velocity",
@@ -96,7 +97,7 @@ def kramers_velocity(volume_flow, rpm, radius, slope, repose_angle, coefficient=
     R = check_range("drum.radius", radius, 0.0, math.inf, unit="m")
     a = check_range("drum.slope", slope, 0.0, 45.0, unit="deg")
     b = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
-    c = check_range("transport.velocity_coefficient", coefficient, 0.0, math.inf)
+    c = check_key("transport.velocity_coefficient", coefficient)
     k = c * 4.0 / 3.0 * math.pi * ns * R**3 * np.tan(np.radians(a)) / np.sin(np.radians(b))
     s = (q / k) ** (2.0 / 3.0)              # (chord half-length / R)^2 = 2h/R - h^2/R^2
     if np.any(s >= 1.0):
@@ -113,7 +114,7 @@ def particle_dispersion(velocity, particle_diameter, coefficient):
     """Axial dispersion D = c_D u d_p (m^2/s): a constant particle Peclet number u d_p / D = 1/c_D."""
     u = check_range("velocity", velocity, 0.0, math.inf, low_inclusive=True, unit="m/s")
     dp = check_range("particle_diameter", particle_diameter, 0.0, math.inf, unit="m")
-    c = check_range("transport.dispersion_coefficient", coefficient, 0.0, math.inf, low_inclusive=True)
+    c = check_key("transport.dispersion_coefficient", coefficient)
     return c * u * dp
 
 
@@ -159,10 +160,9 @@ def predictive_transport(*, sections, feed_rate, rpm, slope, radius, moisture_in
 
     check_choice("transport.velocity_law", law, LAWS)
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
-    cu = float(check_range("transport.velocity_coefficient", velocity_coefficient, 0.0, math.inf))
-    cd = float(check_range("transport.dispersion_coefficient", dispersion_coefficient, 0.0, math.inf,
-                           low_inclusive=True))
-    scale = float(check_range("transport.moisture_scale", moisture_scale, 0.0, math.inf))
+    cu = float(check_key("transport.velocity_coefficient", velocity_coefficient))
+    cd = float(check_key("transport.dispersion_coefficient", dispersion_coefficient))
+    scale = float(check_key("transport.moisture_scale", moisture_scale))
     R = float(check_range("drum.radius", radius, 0.0, math.inf, unit="m"))
     material.check_moisture("moisture_inlet", moisture_inlet)
     material.check_moisture("moisture_outlet", moisture_outlet)

@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 
+from .._limits import check_key
 from .._validation import check_choice, check_range, fmt_number
 from .models import lee2008
 from .network import EdgeFamily, Network
@@ -146,8 +147,8 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     name : str, optional
         Name of the new model (default ``model.name + "+core"``).
     """
-    beta = float(check_range("core_fraction", core_fraction, 0.0, 10.0, low_inclusive=True, high_inclusive=True))
-    tc = float(check_range("core_time", core_time, 0.0, 1e6, high_inclusive=True, unit="s"))
+    beta = float(check_key("transport.core_fraction", core_fraction, "core_fraction"))
+    tc = float(check_key("transport.core_time", core_time, "core_time"))
     net = model.network
     ph = np.asarray(net.labels.get("phase", []))
     P = np.where(ph == phase)[0]

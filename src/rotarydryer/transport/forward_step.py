@@ -40,6 +40,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .._limits import check_key
 from .._validation import check_choice, check_range
 
 __all__ = ["CurtainGas", "ForwardStepTable", "forward_step_table", "curtain_velocity_ratio", "sherritt_form",
@@ -112,10 +113,9 @@ class CurtainGas:
         check_range("material.particle_diameter", self.particle_diameter, 0.0, math.inf, unit="m")
         check_range("material.particle_density", self.particle_density, self.gas_density, math.inf, unit="kg/m^3")
         if self.velocity_ratio is not None:
-            check_range("transport.curtain_velocity_ratio", self.velocity_ratio, 0.0, 1.0, low_inclusive=True,
-                        high_inclusive=True)
-        check_range("transport.curtain_coefficient", self.curtain_coefficient, 0.0, 1e4, low_inclusive=True)
-        check_range("transport.step_factor", self.step_factor, 0.0, 100.0)
+            check_key("transport.curtain_velocity_ratio", self.velocity_ratio)
+        check_key("transport.curtain_coefficient", self.curtain_coefficient)
+        check_key("transport.step_factor", self.step_factor)
 
     @classmethod
     def at_conditions(cls, *, gas_mass_flow, temperature_degC, humidity, radius, gas_flow, particle_diameter,
@@ -127,7 +127,7 @@ class CurtainGas:
 
         t = float(check_range("gas.inlet_temperature", temperature_degC, 0.0, 600.0, low_inclusive=True,
                               high_inclusive=True, unit="degC"))
-        y = float(check_range("gas.inlet_humidity", humidity, 0.0, 0.2, low_inclusive=True, unit="kg/kg wet gas"))
+        y = float(check_key("gas.inlet_humidity", humidity))
         Y = float(ha.humidity_from_mass_fraction(y))
         return cls(gas_mass_flow=float(gas_mass_flow), gas_density=float(ha.density(t, Y)),
                    gas_viscosity=float(ha.viscosity(t, Y)), radius=float(radius), gas_flow=gas_flow,

@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from .._limits import check_key
 from .._validation import check_choice, check_range, fmt_number
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
@@ -192,18 +193,17 @@ def lee2008(*, geometry, n_cells, feed_rate, length, rpm, slope, bulk_density, r
     check_choice("transport.loading", loading, ("fixed", "state"))
     check_choice("transport.backmix_to", backmix_to, ("passive", "active"))
     check_choice("operating.gas_flow", gas_flow, GAS_FLOWS)
-    N = int(check_range("transport.n_cells", n_cells, 1, 100000, low_inclusive=True, high_inclusive=True))
+    N = int(check_key("transport.n_cells", n_cells))
     if N != n_cells:
         raise ValueError(f"transport.n_cells = {fmt_number(n_cells)} must be an integer >= 1")
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     L = float(check_range("drum.length", length, 0.0, math.inf, unit="m"))
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
-    theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
+    theta = float(check_key("drum.slope", slope))
     rho = float(check_range("solids.bulk_density", bulk_density, 0.0, math.inf, unit="kg/m^3"))
-    if not (isinstance(kiln_time, (int, float)) and kiln_time > 0 and not math.isnan(kiln_time)):
-        raise ValueError(f"transport.kiln_time = {fmt_number(kiln_time)} s is outside the allowed range (0, inf]")
-    CB = float(check_range("transport.backmix", backmix, 0.0, 1.0, low_inclusive=True, high_inclusive=True))
-    CFG = float(check_range("transport.drag_reduction", drag_reduction, 0.0, math.inf, low_inclusive=True))
+    check_key("transport.kiln_time", kiln_time)
+    CB = float(check_key("transport.backmix", backmix))
+    CFG = float(check_key("transport.drag_reduction", drag_reduction))
     if gas_flow == "co-current" and CB > 0:
         raise ValueError(
             f"transport.backmix = {fmt_number(CB)} must be 0 for co-current gas flow (Lee (2008) l.2766: "
@@ -288,13 +288,13 @@ def sheehan2005_model1(*, n_cells, feed_rate, length, passive_rate, exchange_rat
         k_air, 1/kg (1/s per kg/s of gas); gas_mass_flow: G, kg/s.
     """
     check_choice("operating.gas_flow", gas_flow, GAS_FLOWS)
-    N = int(check_range("transport.n_cells", n_cells, 1, 100000, low_inclusive=True, high_inclusive=True))
+    N = int(check_key("transport.n_cells", n_cells))
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     L = float(check_range("drum.length", length, 0.0, math.inf, unit="m"))
-    kpp0 = float(check_range("transport.passive_rate", passive_rate, 0.0, math.inf, low_inclusive=True, unit="1/s"))
-    kpa = float(check_range("transport.exchange_rate", exchange_rate, 0.0, math.inf, unit="1/s"))
-    kap = float(check_range("transport.return_rate", return_rate, 0.0, math.inf, unit="1/s"))
-    kk = float(check_range("transport.kiln_rate", kiln_rate, 0.0, math.inf, low_inclusive=True, unit="1/s"))
+    kpp0 = float(check_key("transport.passive_rate", passive_rate))
+    kpa = float(check_key("transport.exchange_rate", exchange_rate))
+    kap = float(check_key("transport.return_rate", return_rate))
+    kk = float(check_key("transport.kiln_rate", kiln_rate))
     mdes = float(check_range("transport.design_load", design_load, 0.0, math.inf, unit="kg"))
     kair = float(check_range("transport.air_coefficient", air_coefficient, 0.0, math.inf, low_inclusive=True))
     G = float(check_range("operating.gas_mass_flow", gas_mass_flow, 0.0, math.inf, low_inclusive=True, unit="kg/s"))

@@ -609,7 +609,13 @@ class Network:
         or no convergence)."""
         scale = max(float(self.feed.sum()), 1e-300)
         M0 = np.zeros(self.n) if self.initial_guess is None else np.array(self.initial_guess, dtype=float)
-        M, ok, res = self._newton(M0, tol, scale, max_iter)
+        singular = None
+        try:
+            M, ok, res = self._newton(M0, tol, scale, max_iter)
+        except NoSteadyStateError as exc:
+            # a singular Jacobian on the way (a compartment whose law is flat at a trial state, e.g.
+            # every cell empty at the start) is not conclusive: the fallbacks below decide
+            singular, M, ok, res = exc, M0, False, math.inf
         if not ok:
             # full (undamped) semismooth Newton steps: with the design-load switch the residual norm
             # may rise while the active set is corrected cell by cell (small feeds, where the last
@@ -626,10 +632,15 @@ class Network:
             while t_end <= 1e8:
                 sol = self.simulate_masses(Mc, (0.0, t_end), t_eval=[t_end], rtol=1e-8, atol=1e-8)
                 Mc = sol.y[:, -1]
-                M, ok, res = self._newton(Mc, tol, scale, 30)
+                try:
+                    M, ok, res = self._newton(Mc, tol, scale, 30)
+                except NoSteadyStateError as exc:
+                    singular, ok = exc, False
                 if ok:
                     break
                 t_end *= 10
+        if not ok and singular is not None:
+            raise singular
         if not ok:
             raise NoSteadyStateError(
                 f"feed_rate = {fmt_number(scale)} kg/s: the steady-state iteration did not converge "

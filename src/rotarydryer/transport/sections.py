@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from .. import _jit
+from .._limits import check_key
 from .._validation import check_choice, check_range, fmt_number
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
@@ -453,8 +454,7 @@ def _check_rates(spec, where):
         if key not in r:
             raise ValueError(f"{where}: transport.{key} is missing (1/s); sheehan2005_model1 needs "
                              f"{', '.join('transport.' + k for k in need)}")
-        lo_incl = key in ("passive_rate", "kiln_rate")
-        check_range(f"transport.{key}", r[key], 0.0, math.inf, low_inclusive=lo_incl, unit="1/s")
+        check_key(f"transport.{key}", r[key])
     if r["passive_rate"] == 0 and r["kiln_rate"] == 0:
         raise ValueError(f"{where}: transport.passive_rate = 0 and transport.kiln_rate = 0: no solids leave "
                          "the cells (give one of them > 0)")
@@ -540,8 +540,8 @@ def _check_flighted(spec: SectionSpec, where: str):
             raise ValueError(f"{where}: transport.forward_step = 'trajectory' needs the gas stream and the "
                              "particles (give [gas] flow and inlet_temperature, and a [material])")
     check_choice("transport.kiln_law", spec.kiln_law, KILN_LAWS)
-    if spec.kilning == "excess" and spec.kiln_law == "fixed" and not (spec.kiln_time > 0 and not math.isnan(spec.kiln_time)):
-        raise ValueError(f"transport.kiln_time = {fmt_number(spec.kiln_time)} s is outside the allowed range (0, inf]")
+    if spec.kilning == "excess" and spec.kiln_law == "fixed":
+        check_key("transport.kiln_time", spec.kiln_time)
     if spec.kilning == "velocity":
         check_range("transport.kiln_velocity", spec.kiln_velocity, 0.0, math.inf, unit="m/s")
 
@@ -561,7 +561,7 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         raise ValueError("sections = [] is empty: a dryer needs at least one section")
     F = float(check_range("operating.feed_rate", feed_rate, 0.0, math.inf, unit="kg/s"))
     rpm = float(check_range("operating.rpm", rpm, 0.0, math.inf, unit="rev/min"))
-    theta = float(check_range("drum.slope", slope, 0.0, 45.0, low_inclusive=True, unit="deg"))
+    theta = float(check_key("drum.slope", slope))
     check_choice("transport.unflighted_inlet", inlet, ("ajayi", "danckwerts"))
     from .models import NetworkBuilder
 
@@ -572,9 +572,8 @@ def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwer
         where = f"sections[{k}] ({s.name})"
         L = float(check_range(f"{where}.length", s.length, 0.0, math.inf, unit="m"))
         if s.kind == "unflighted":
-            u = float(check_range(f"{where}: transport.solids_velocity", s.velocity, 0.0, math.inf, unit="m/s"))
-            D = float(check_range(f"{where}: transport.dispersion", s.dispersion, 0.0, math.inf, low_inclusive=True,
-                                  unit="m^2/s"))
+            u = float(check_key("transport.solids_velocity", s.velocity, f"{where}: transport.solids_velocity"))
+            D = float(check_key("transport.dispersion", s.dispersion, f"{where}: transport.dispersion"))
             n = int(s.n_cells or unflighted_cells_auto(L, u, D))
             dz = L / n
             pos = x0 + (np.arange(n) + 0.5) * dz
