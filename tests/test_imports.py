@@ -39,7 +39,7 @@ LAZY = {
     "rotarydryer.report.manager": "start-up: +1563 ms",
     "rotarydryer.results": "start-up: +1613 ms (the case loader and the thermal model for a Results file)",
     "rotarydryer.rtd.models": "cycle: rtd.pulses uses the RTD models",
-    "rotarydryer.simulation": "start-up: +144 ms; and the two upward imports (Simulation.fit, Simulation.calibrate: "
+    "rotarydryer.simulation": "start-up: +144 ms; and the three upward imports (Simulation.fit, .calibrate, .target: "
                               "tests/test_layering.py)",
     "rotarydryer.studies.invicta_rtd_spread": "start-up: +952 ms",
     "rotarydryer.studies.mmg_cross_test": "start-up: +1008 ms",

@@ -133,6 +133,7 @@ ALLOWED_UPWARD = {
     ("rotarydryer.results", "simulation"): "deprecated alias results.run_case (warns; the assembler is simulation)",
     ("rotarydryer.simulation", "estimation.cases"): "Simulation.fit, a facade over estimation.cases.fit_case_to_tracer",
     ("rotarydryer.simulation", "estimation.calibrate"): "Simulation.calibrate, a facade over estimation.calibrate.calibrate",
+    ("rotarydryer.simulation", "studies"): "Simulation.target, a facade over studies.target.target (its only import of studies)",
 }
 _UNITS = {u: i for i, (_, units) in enumerate(LAYERS) for u in units}
 

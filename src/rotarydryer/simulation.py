@@ -309,6 +309,15 @@ class Simulation:
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
         return fit_case_to_tracer(self.case_name, dataset, list(parameters), base_overrides=base or None, **kwargs)
 
+    def target(self, find, such_that, bounds=None, **kwargs):
+        """The value of the case input ``find`` (e.g. ``"operating.feed_rate"``) in ``bounds`` that
+        meets ``such_that`` (e.g. ``"product_moisture_kg_kg<=0.12"``), starting from this
+        Simulation's overrides; keyword arguments and the returned ``TargetResult`` as
+        :func:`rotarydryer.studies.target.target`."""
+        from .studies.target import target  # the target study builds on Simulation
+
+        return target(self, find, such_that, bounds, **kwargs)
+
     def calibrate(self, parameters, **kwargs):
         """Fit case keys ``parameters`` to several measured responses of many tests at once, from this
         Simulation's case and overrides (keyword arguments as

@@ -132,6 +132,7 @@ from . import (  # noqa: E402,F401,E501
     sensitivity,
     simulate,
     sweep,
+    target,
     validate,
     webapp,
 )

@@ -1,0 +1,145 @@
+"""Targets (issue 31 item 1): one free input, one condition on a steady-state output."""
+
+import json
+import math
+
+import pytest
+from typer.testing import CliRunner
+
+from rotarydryer import Simulation
+from rotarydryer._limits import LIMITS
+from rotarydryer.cases import load_case
+from rotarydryer.cli import app
+from rotarydryer.studies.target import check_bounds, default_bounds, parse_find, parse_such_that, target
+
+CASE = "ajayi2011_mmg"
+FEED = "operating.feed_rate"
+MOISTURE = "product_moisture_kg_kg"
+
+
+@pytest.fixture(scope="module")
+def root():
+    """The MMG dryer's feed rate for 12 % product moisture (Test 4's gas and speed)."""
+    return target(CASE, FEED, f"{MOISTURE}=0.12", bounds=(20.0, 40.0))
+
+
+def _moisture(case, feed):
+    """Product moisture of a cold (not warm-started) steady state at ``feed``."""
+    return Simulation(case, {FEED: feed}).steady_state().summary()[MOISTURE]
+
+
+def test_equality_root_reproduces_the_target(root):
+    assert root.active == "target met with equality" and root.found
+    assert 20.0 < root.value < 40.0
+    assert abs(root.output - 0.12) <= root.tol
+    # an independent steady state at the answer gives the target within the tolerance
+    assert abs(_moisture(CASE, root.value) - 0.12) <= root.tol
+    lo, hi = root.outputs_at_bounds["lo"], root.outputs_at_bounds["hi"]
+    assert lo < 0.12 < hi                      # moisture rises with the feed
+    assert root.evaluations <= 12
+
+
+def test_at_most_form_gives_the_same_root_when_the_output_crosses(root):
+    res = target(CASE, FEED, f"{MOISTURE}<=0.12")         # the default bracket around Test 4's feed
+    assert res.active == "target met with equality"
+    assert res.value == pytest.approx(root.value, abs=0.02)
+    lo, hi = res.bounds
+    assert lo < res.value < hi
+    assert lo == pytest.approx(0.25 * 40.6667, rel=1e-3)     # 0.25x Test 4's feed
+    # 4x overfills the drum: the bound moved halfway toward lo, and the answer says so
+    assert hi == pytest.approx(lo + 0.5 * (4 * 40.6667 - lo), rel=1e-3)
+    assert any(n.startswith("bound hi moved") and "fill" in n for n in res.notes)
+
+
+def test_at_most_form_returns_the_binding_bound_when_the_whole_bracket_meets_it():
+    res = target(CASE, f"{FEED}=10,20", f"{MOISTURE}<=0.12")
+    assert res.active == "bound hi binds" and res.value == 20.0      # the largest feed in the bounds
+    assert res.output == res.outputs_at_bounds["hi"] < 0.12
+    res = target(CASE, f"{FEED}=20,30", f"{MOISTURE}>=0.05")
+    assert res.active == "bound lo binds" and res.value == 20.0      # the smallest feed that stays >= 0.05
+
+
+def test_no_solution_names_the_closest_bound_and_the_outputs_at_both():
+    res = target(CASE, f"{FEED}=20,30", f"{MOISTURE}<=0.05")
+    assert not res.found and res.value is None
+    assert res.active == "no solution in [20, 30]" and res.closest == "lo"
+    assert 0.05 < res.outputs_at_bounds["lo"] < res.outputs_at_bounds["hi"]
+    assert "bound lo comes closest" in res.text()
+
+
+def test_cli_json_matches_the_library(root):
+    res = CliRunner().invoke(app, ["target", CASE, "--find", f"{FEED}=20,40", "--such-that", f"{MOISTURE}=0.12",
+                                   "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    assert out[FEED] == pytest.approx(root.value, rel=1e-9)
+    assert out[MOISTURE] == pytest.approx(root.output, rel=1e-9)
+    assert out["unit"] == "kg/s" and out["active"] == "target met with equality"
+    assert out["outputs_at_bounds"]["lo"] == {FEED: 20.0, MOISTURE: pytest.approx(root.outputs_at_bounds["lo"])}
+
+
+def test_cli_text_and_no_solution_exit_code():
+    res = CliRunner().invoke(app, ["target", CASE, "--find", f"{FEED}=20,30", "--such-that", f"{MOISTURE}<=0.05"])
+    assert res.exit_code == 1, res.output
+    assert "no solution in [20, 30]" in res.stdout and "0.100" in res.stdout
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["--find", f"{FEED}=40,20", "--such-that", f"{MOISTURE}=0.1"], ["--find", "LO < HI", "(0, 1000] kg/s"]),
+    (["--find", f"{FEED}=0,20", "--such-that", f"{MOISTURE}=0.1"], ["--find", "LO = 0", "(0, 1000] kg/s"]),
+    (["--find", f"{FEED}=1,2000", "--such-that", f"{MOISTURE}=0.1"], ["--find", "HI = 2000", "(0, 1000] kg/s"]),
+    (["--find", f"{FEED}=a,b", "--such-that", f"{MOISTURE}=0.1"], ["--find", "'a,b'", "KEY=LO,HI"]),
+    (["--find", "operating.nope", "--such-that", f"{MOISTURE}=0.1"], ["--find", "operating.nope", "not a key"]),
+    (["--find", FEED, "--such-that", "moisture<0.1"], ["--such-that", "moisture<0.1", "OUTPUT<=VALUE"]),
+    (["--find", FEED, "--such-that", f"{MOISTURE}=wet"], ["--such-that", "'wet' is not a number"]),
+    (["--find", f"{FEED}=20,40", "--such-that", "wetness_kg_kg=0.1"], ["--such-that", "wetness_kg_kg",
+                                                                         "not an output", MOISTURE]),
+    (["--find", FEED, "--such-that", f"{MOISTURE}=0.1", "--tol", "-1"], ["--tol = -1", "(0, inf)"]),
+    (["--find", FEED, "--such-that", f"{MOISTURE}=0.1", "--set", f"{FEED}=3"], ["--find", "also set"]),
+])
+def test_cli_bad_input_is_one_line_and_exit_2(args, fragments):
+    res = CliRunner().invoke(app, ["target", CASE, *args])
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
+    assert "Traceback" not in res.output and res.stdout == ""
+    for f in fragments:
+        assert f in lines[0], lines[0]
+
+
+def test_on_the_new_case_template(tmp_path):
+    path = tmp_path / "mydryer.toml"
+    assert CliRunner().invoke(app, ["new", "mydryer", "--out", str(path)]).exit_code == 0
+    res = CliRunner().invoke(app, ["target", str(path), "--find", FEED, "--such-that", f"{MOISTURE}<=0.01",
+                                   "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    assert out["active"] == "target met with equality"
+    assert abs(_moisture(str(path), out[FEED]) - 0.01) <= out["tol"]
+
+
+def test_parsers_and_default_bracket():
+    assert parse_such_that("product_moisture_kg_kg <= 0.12") == (MOISTURE, "<=", 0.12)
+    assert parse_such_that("gas_outlet_temperature_degC==80") == ("gas_outlet_temperature_degC", "=", 80.0)
+    assert parse_such_that((MOISTURE, ">=", "0.1")) == (MOISTURE, ">=", 0.1)
+    assert parse_find("gas.flow=5, 20") == ("gas.flow", (5.0, 20.0)) and parse_find(FEED) == (FEED, None)
+    with pytest.raises(ValueError, match="not a finite number"):
+        parse_such_that(f"{MOISTURE}=nan")
+    with pytest.raises(ValueError, match="allowed range"):
+        check_bounds("gas.inlet_temperature", (100, 700))
+    assert check_bounds("operating.feed_rate", ("1", 2)) == (1.0, 2.0)
+    # 4x an inlet temperature of 200 degC is clipped to the key's limit, 600 degC
+    case = load_case(CASE, {"gas.inlet_temperature": 200})
+    lo, hi = default_bounds(case, "gas.inlet_temperature")
+    assert lo == pytest.approx(50.0) and hi == LIMITS["gas.inlet_temperature"].high
+    with pytest.raises(ValueError, match="give bounds"):
+        default_bounds(case, "transport.kiln_rate")
+    assert math.isfinite(lo)
+
+
+def test_simulation_target_is_the_study(root):
+    from rotarydryer.simulation import Simulation
+
+    res = Simulation("ajayi2011_mmg").target("operating.feed_rate", "product_moisture_kg_kg=0.12",
+                                             bounds=(root.bounds[0], root.bounds[1]))
+    assert res.value == pytest.approx(root.value, rel=1e-3)
