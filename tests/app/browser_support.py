@@ -139,6 +139,9 @@ def choose(page, label, option, within=None):
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
     scope = page if within is None else within
+    # the previous page's widgets may still be on screen for a moment after a page switch (a
+    # second selectbox of the same label): wait for the one of this page
+    expect(scope.get_by_role("combobox", name=label)).to_have_count(1)
     for _ in range(10):
         scope.get_by_role("combobox", name=label).click()
         try:
