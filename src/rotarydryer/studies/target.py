@@ -338,7 +338,7 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
             return cache[x]
         warm[0] = res.warm_data() or warm[0]
         y = out.get(name)
-        if name not in out or isinstance(y, bool) or not isinstance(y, (int, float)) or y is None:
+        if name not in out or isinstance(y, bool) or not isinstance(y, (int, float)):
             numeric = sorted(k for k, v in out.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
             what = "is not an output of the case" if name not in out else "is not a number in this run"
             raise ValueError(f"{lab['such_that']} = {str(such_that)!r}: {name!r} {what}; "

@@ -999,7 +999,7 @@ class ThermalDryer:
                 if not self._admissible(z):
                     continue
                 ss = self._pseudo_transient(z, max_iter, tol, dt0, None, None, progress)
-            except (DryerError, RuntimeError, ValueError, FloatingPointError):
+            except (RuntimeError, ValueError, FloatingPointError):     # DryerError is a ValueError
                 continue
             ss = self._polished(ss, tol, dt0)
             ss.marched_s = max(horizon * mrt, 60.0)
