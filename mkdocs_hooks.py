@@ -5,10 +5,16 @@
 * Links from a docs page to a repository file outside ``docs/`` (``../../examples/size_a_dryer.py``)
   become the file's path in code style: the site has no copy of the sources. A link to a file
   that does not exist is left alone, so ``mkdocs build --strict`` still reports it.
+* Maths (``$...$`` inline, ``$$ ... $$`` blocks, in the pages and in the docstrings), which
+  ``pymdownx.arithmatex`` in generic mode leaves as ``<span class="arithmatex">\\(...\\)</span>``
+  and ``<div class="arithmatex">\\[...\\]</div>``, becomes MathML (``<math>``) at build time with
+  ``latex2mathml``: browsers render MathML natively, so the site needs no JavaScript and no CDN.
+  A formula latex2mathml cannot convert fails the build with the page and the formula.
 """
 
 from __future__ import annotations
 
+import html
 import posixpath
 import re
 from pathlib import Path
@@ -71,6 +77,32 @@ def on_page_markdown(markdown, page, config, files, **kwargs):
     # leave fenced code blocks untouched
     parts = re.split(r"(^```.*?^```)", markdown, flags=re.S | re.M)
     return "".join(p if p.startswith("```") else _LINK.sub(fix, p) for p in parts)
+
+
+_MATH = re.compile(r'<(span|div) class="arithmatex">(.*?)</\1>', re.S)
+_DELIMS = {"span": (r"\(", r"\)"), "div": (r"\[", r"\]")}
+
+
+def math_to_mathml(page_html: str, where: str = "page") -> str:
+    """Replace the arithmatex (generic mode) spans and divs of ``page_html`` by MathML."""
+    from latex2mathml.converter import convert
+
+    def repl(m):
+        tag, tex = m.group(1), html.unescape(m.group(2)).strip()
+        opening, closing = _DELIMS[tag]
+        if tex.startswith(opening) and tex.endswith(closing):
+            tex = tex[len(opening):-len(closing)].strip()
+        try:
+            mathml = convert(tex, display="block" if tag == "div" else "inline")
+        except Exception as exc:  # latex2mathml raises its own exception classes
+            raise ValueError(f"{where}: cannot convert the formula {tex!r} to MathML: {exc}") from exc
+        return f'<div class="math">{mathml}</div>' if tag == "div" else mathml
+
+    return _MATH.sub(repl, page_html)
+
+
+def on_page_content(html_text, page, config, files, **kwargs):
+    return math_to_mathml(html_text, page.file.src_uri)
 
 
 # --- griffe extension (mkdocs.yml: mkdocstrings handlers.python.options.extensions) ------------

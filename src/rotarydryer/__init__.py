@@ -4,7 +4,7 @@ Units are SI inside the package (kg, m, s, K unless a docstring says otherwise);
 angles are in degrees at the public API.
 
 The public names below are loaded on first use (``import rotarydryer`` stays cheap) and listed
-by ``dir(rotarydryer)``, so tab completion shows them::
+by ``dir(rotarydryer)``, so tab completion shows them:
 
     >>> import rotarydryer
     >>> "Simulation" in dir(rotarydryer)

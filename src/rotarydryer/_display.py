@@ -10,11 +10,13 @@ from __future__ import annotations
 import html
 import math
 
-__all__ = ["fmt", "short_repr", "html_table", "outputs_dataframe"]
+__all__ = ["fmt", "fmt_error", "fmt_angle", "fmt_moisture", "short_repr", "html_table", "outputs_dataframe"]
 
 
-def fmt(v) -> str:
-    """A number as people write it (4 significant digits, thousands separated), else str."""
+def fmt(v, digits: int = 4) -> str:
+    """A number as people write it (``digits`` significant digits, 4 by default; thousands
+    separated from 1 000 to 1e6, exponent outside 1e-3 to 1e6), else str. The one number
+    format of the text surfaces (CLI tables, the report, reprs)."""
     if isinstance(v, bool) or v is None:
         return str(v)
     try:
@@ -24,10 +26,48 @@ def fmt(v) -> str:
     if not math.isfinite(x):
         return str(x)
     if x != 0 and (abs(x) >= 1e6 or abs(x) < 1e-3):
-        return f"{x:.4g}"
+        return f"{x:.{digits}g}"
     if abs(x) >= 1000:
         return f"{x:,.0f}"
-    return f"{x:.4g}"
+    return f"{x:.{digits}g}"
+
+
+def fmt_error(v, floor: float = 1e-9) -> str:
+    """A relative balance error: ``< 1e-9`` below ``floor`` (round-off, the balance closes),
+    else two significant digits (``6.9e-06``, ``0.012``)."""
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    if not math.isfinite(x):
+        return str(x)
+    if abs(x) < floor:
+        return f"< {floor:.0e}".replace("e-0", "e-")
+    return f"{x:.2g}"
+
+
+def fmt_angle(v) -> str:
+    """An angle in degrees to 0.1 deg (``44.2``)."""
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    return f"{x:.1f}" if math.isfinite(x) else str(x)
+
+
+def fmt_moisture(v, digits: int = 4) -> str:
+    """A moisture content given in kg/kg as a percentage (the display unit of moisture on the
+    text surfaces, % wet basis for a wet-basis value): ``digits`` significant digits, ``< 0.001``
+    below 1e-5 kg/kg."""
+    try:
+        x = 100.0 * float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    if not math.isfinite(x):
+        return str(x)
+    if abs(x) < 1e-3:
+        return "< 0.001" if x > 0 else "0"
+    return f"{x:.{digits}g}"
 
 
 def short_repr(kind: str, title: str, pairs) -> str:

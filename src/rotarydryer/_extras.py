@@ -3,7 +3,7 @@
 The core (``pip install rotarydryer``) runs every simulation, RTD and fit. Image analysis needs
 ``rotarydryer[lab]`` (scikit-image, shapely), the web app ``rotarydryer[app]`` (streamlit), the
 Sobol study ``rotarydryer[sensitivity]`` (SALib). ``rotarydryer[fast]`` (numba) adds compiled kernels
-that only change the speed (:mod:`rotarydryer._jit`).
+that only change the speed (`rotarydryer._jit`).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ class MissingExtraError(ValueError, ImportError):
 
 
 def require(module: str, extra: str, feature: str, package: str | None = None):
-    """Import and return ``module``; if it is missing raise :class:`MissingExtraError`:
+    """Import and return ``module``; if it is missing raise `MissingExtraError`:
     ``FEATURE needs the optional package PACKAGE: pip install 'rotarydryer[EXTRA]'``."""
     try:
         return importlib.import_module(module)

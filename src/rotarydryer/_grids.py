@@ -13,7 +13,7 @@ MAX_POINTS = 10000
 
 
 def check_points(n: int, what: str):
-    """Refuse a sweep of more than :data:`MAX_POINTS` runs (``what`` names the option)."""
+    """Refuse a sweep of more than `MAX_POINTS` runs (``what`` names the option)."""
     if n > MAX_POINTS:
         raise ValueError(f"{what} has {n} runs; the limit is {MAX_POINTS} per sweep (split it, or run "
                          "a global sensitivity study with fewer points)")
@@ -21,14 +21,14 @@ def check_points(n: int, what: str):
 
 def grid_product(keys, values, what: str) -> list[dict]:
     """The cartesian product of ``values`` (one list per key) as override dicts, in order; refused
-    (``what`` names the option) above :data:`MAX_POINTS` runs."""
+    (``what`` names the option) above `MAX_POINTS` runs."""
     check_points(math.prod(len(v) for v in values), what)
     return [dict(zip(keys, combo)) for combo in itertools.product(*values)]
 
 
 def parse_grid(items) -> list[dict]:
     """``["operating.rpm=2,3", "drum.slope=2,4"]`` -> the cartesian product as override dicts
-    (at most :data:`MAX_POINTS`)."""
+    (at most `MAX_POINTS`)."""
     keys, values = [], []
     for item in items or []:
         if "=" not in item:

@@ -1,31 +1,31 @@
 """Safe output files: nothing a user saved is left half-written, lost or made unreadable.
 
-Every file rotarydryer writes goes through :func:`atomic_output` (or the helpers built on it):
+Every file rotarydryer writes goes through `atomic_output` (or the helpers built on it):
 
 * the data go to a temporary file in the destination directory, flushed to disk, which then
-  replaces the target with :func:`os.replace`; on any failure (a full disk, a killed write, an
+  replaces the target with `os.replace`; on any failure (a full disk, a killed write, an
   exception in the writer) the previous file is left exactly as it was and the temporary file
   is removed;
 * an existing file keeps its permission bits; a new file gets the usual ``0666 & ~umask``
-  (0644 under umask 022), not the 0600 of :func:`tempfile.mkstemp`;
-* a target that is a directory, a device, a FIFO or a socket is refused (:class:`OutputError`);
+  (0644 under umask 022), not the 0600 of `tempfile.mkstemp`;
+* a target that is a directory, a device, a FIFO or a socket is refused (`OutputError`);
   a symbolic link is followed, so the file it points to is updated and the link stays;
 * a missing parent directory is created;
 * the temporary file is named ``.NAME.rdtmp-<host>-<pid>-<random>.tmp``; a file of that pattern
   left by a run that was killed (``kill -9``, power loss) is removed at the next write into the same
   folder: when its process is no longer alive on this host (or, for another host or where the
-  process cannot be checked, when it is older than :data:`STALE_AFTER_S`). Temporary files of a
+  process cannot be checked, when it is older than `STALE_AFTER_S`). Temporary files of a
   live concurrent run and files not matching the pattern are never touched.
 
 Several files that form one result (``simulate --out DIR``: the JSON and its plots) are written as a
-set with :func:`output_set`: every write inside the ``with`` block goes to its temporary file, and
+set with `output_set`: every write inside the ``with`` block goes to its temporary file, and
 only when all of them are complete are they renamed onto their targets, one after the other. Any
 failure before that (a full disk on the third file, an exception, Ctrl-C) removes the temporary
 files and leaves the previous set exactly as it was; a rename that fails puts back the files already
 renamed (from hard-link backups). Files of the previous set that the new set does not write are
 kept (nothing the user has is deleted).
 
-Errors are :class:`OutputError` (a ``ValueError`` and an ``OSError`` subclass) whose message names
+Errors are `OutputError` (a ``ValueError`` and an ``OSError`` subclass) whose message names
 the path and the reason, e.g. ``cannot write 'out/rtd.json': No space left on device``.
 """
 
@@ -69,7 +69,7 @@ def _umask() -> int:
 
 
 def check_output_target(path) -> Path:
-    """The real file to write for ``path`` (symbolic links followed); raises :class:`OutputError`
+    """The real file to write for ``path`` (symbolic links followed); raises `OutputError`
     if it is a directory, device, FIFO or socket, or its parent is not a directory."""
     path = Path(path)
     if path.is_symlink():
@@ -92,7 +92,7 @@ def check_output_target(path) -> Path:
 
 
 def check_free_space(directory, nbytes: int, what: str = "the output") -> None:
-    """Raise :class:`OutputError` (ENOSPC) if ``directory`` has less than ``nbytes`` (+ 1 MiB) free.
+    """Raise `OutputError` (ENOSPC) if ``directory`` has less than ``nbytes`` (+ 1 MiB) free.
 
     Used before writers that do not fail cleanly on a full disk (HDF5)."""
     try:
@@ -137,7 +137,7 @@ def remove_stale_temps(directory, *, now: float | None = None) -> list[Path]:
     """Remove the temporary files of ours (``.NAME.rdtmp-<host>-<pid>-<random>.tmp``, regular
     files only) in ``directory`` that a killed run left: its process is not alive on this host,
     or (another host, or the process cannot be checked) the file is older than
-    :data:`STALE_AFTER_S`. Returns the paths removed; errors are ignored (best effort)."""
+    `STALE_AFTER_S`. Returns the paths removed; errors are ignored (best effort)."""
     now = time.time() if now is None else now
     host, me = _host_tag(), os.getpid()
     removed: list[Path] = []
@@ -222,7 +222,7 @@ def _flush_to_disk(tmp: str, mode: int) -> None:
 
 
 class OutputSet:
-    """The files of one result, written together (see :func:`output_set`)."""
+    """The files of one result, written together (see `output_set`)."""
 
     def __init__(self, directory=None) -> None:
         self.directory = None if directory is None else Path(directory)
@@ -292,11 +292,11 @@ _ACTIVE: contextvars.ContextVar[OutputSet | None] = contextvars.ContextVar("rota
 
 @contextlib.contextmanager
 def output_set(directory=None):
-    """Context manager: every file written inside the block (through :func:`atomic_output` and
-    the helpers built on it: :func:`write_text_atomic`, :func:`save_figure`, ``Results.save``)
+    """Context manager: every file written inside the block (through `atomic_output` and
+    the helpers built on it: `write_text_atomic`, `save_figure`, ``Results.save``)
     belongs to one result set and replaces its target only when the block ends without an
     error and every file is complete; otherwise none does and no temporary file is left (see the
-    module docstring). Yields the :class:`OutputSet`. ``directory``, when given, is the set's
+    module docstring). Yields the `OutputSet`. ``directory``, when given, is the set's
     folder (stale temporary files in it are removed at the start). A set opened inside another
     joins the outer one."""
     outer = _ACTIVE.get()
@@ -321,7 +321,7 @@ def output_set(directory=None):
 @contextlib.contextmanager
 def atomic_output(path):
     """Context manager yielding a temporary path beside ``path``; on a clean exit the temporary
-    file replaces ``path`` (see the module docstring), or, inside :func:`output_set`, joins the
+    file replaces ``path`` (see the module docstring), or, inside `output_set`, joins the
     set and replaces ``path`` when the set is complete. The caller writes the whole file to the
     yielded path (any library may do it: ``savefig``, ``to_netcdf``)."""
     active = _ACTIVE.get()

@@ -1,8 +1,8 @@
 """Optional compiled kernels (numba, ``pip install 'rotarydryer[fast]'``).
 
 The hot loops of the heat-and-mass residual have a compiled form: the tabulated flight geometry
-of every cell (:mod:`rotarydryer.geometry._cell_kernel`), the gas properties, the gas-solids
-transfer and the shell network (:mod:`rotarydryer.properties._kernels`). Each has a NumPy
+of every cell (`rotarydryer.geometry._cell_kernel`), the gas properties, the gas-solids
+transfer and the shell network (`rotarydryer.properties._kernels`). Each has a NumPy
 reference that gives the same numbers to rounding (the shell: the same root to its tolerance;
 tested against each other) and that runs whenever numba is not installed, or when
 ``ROTARYDRYER_JIT=0``. The compiled functions are cached on disk by numba (``cache=True``): the

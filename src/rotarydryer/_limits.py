@@ -1,9 +1,9 @@
 """The allowed range of every bounded case key: one declaration for the schema and the runtime.
 
-The case schema (:mod:`rotarydryer.cases`, ``rotarydryer schema``) takes its pydantic bounds from
-:func:`field_bounds`, and the model's own checks (e.g. :meth:`rotarydryer.thermal.settings.ThermalSettings.validate`)
-call :func:`check_key`, so a value the schema accepts is never refused at run time for its range and
-the messages quote the same interval (``docs/errors.md``)::
+The case schema (`rotarydryer.cases`, ``rotarydryer schema``) takes its pydantic bounds from
+`field_bounds`, and the model's own checks (e.g. `rotarydryer.thermal.settings.ThermalSettings.validate`)
+call `check_key`, so a value the schema accepts is never refused at run time for its range and
+the messages quote the same interval (``docs/errors.md``):
 
     >>> field_bounds("gas.flow")
     {'ge': 0.0, 'le': 1000.0}
@@ -125,14 +125,14 @@ LIMITS: dict[str, Limit] = {
 
 
 def field_bounds(key: str) -> dict:
-    """The pydantic ``Field`` bounds of ``key`` (a key of :data:`LIMITS`)."""
+    """The pydantic ``Field`` bounds of ``key`` (a key of `LIMITS`)."""
     return LIMITS[key].field()
 
 
 def check_key(key: str, value: Any, name: str | None = None):
     """``value`` checked against the range of ``key`` (message names ``name`` or the key, the value
     and the interval); returns it as a float array (0-d for a scalar), as
-    :func:`rotarydryer._validation.check_range`."""
+    `rotarydryer._validation.check_range`."""
     lim = LIMITS[key]
     if lim.high == math.inf and lim.high_inclusive and isinstance(value, (int, float)) and value == math.inf:
         return np.asarray(math.inf)       # a closed infinite end (transport.kiln_time = inf: no kilning)
@@ -152,14 +152,14 @@ DOC_BEGIN, DOC_END = "<!-- limits:begin (generated: python -m rotarydryer._limit
 
 
 def limits_table() -> str:
-    """The Markdown table of every key of :data:`LIMITS` and its allowed range (``docs/errors.md``)."""
+    """The Markdown table of every key of `LIMITS` and its allowed range (``docs/errors.md``)."""
     rows = ["| key | allowed range |", "|---|---|"]
     rows += [f"| `{key}` | `{describe_limit(key)}` |" for key in sorted(LIMITS)]
     return "\n".join(rows) + "\n"
 
 
 def _update_docs(doc) -> str:
-    """Rewrite the generated block of ``doc`` (``docs/errors.md``) with :func:`limits_table`."""
+    """Rewrite the generated block of ``doc`` (``docs/errors.md``) with `limits_table`."""
     return sync_doc_block(doc, DOC_BEGIN, DOC_END, limits_table(), update=True, script="-m rotarydryer._limits")
 
 

@@ -53,7 +53,7 @@ def column_groups(pattern) -> np.ndarray:
 
 
 class FDPlan:
-    """What :func:`sparse_fd_jacobian` derives from a pattern and its column groups, kept for a pattern
+    """What `sparse_fd_jacobian` derives from a pattern and its column groups, kept for a pattern
     that is reused (a solver's Jacobians): the pattern as sorted CSC, each entry's row, column and
     group, and the number of groups."""
 
@@ -72,12 +72,12 @@ class FDPlan:
 
     def shifted_lu(self, J, shift):
         """SuperLU factors of ``shift * I - J`` for a Jacobian ``J`` on this plan's pattern (as
-        :func:`sparse_fd_jacobian` returns it) when the pattern holds the whole diagonal, else of
-        :func:`shifted`. The fill-reducing column ordering (COLAMD) of the first factorisation is kept
+        `sparse_fd_jacobian` returns it) when the pattern holds the whole diagonal, else of
+        `shifted`. The fill-reducing column ordering (COLAMD) of the first factorisation is kept
         and the next ones factorise the matrix with its columns in that order (``permc_spec="NATURAL"``;
         the row pivoting is SuperLU's as always): ordering costs about a quarter of a factorisation of
         516 unknowns and depends on the pattern only (and on the entries that are exact zeros, which
-        are dropped as by :func:`shifted`). Returns an object with ``solve`` and ``shape``."""
+        are dropped as by `shifted`). Returns an object with ``solve`` and ``shape``."""
         pat = self.pattern
         same = (J.format == "csc" and J.shape == pat.shape and J.shape[0] == J.shape[1]
                 and J.indices.size == pat.indices.size and np.array_equal(J.indptr, pat.indptr)
@@ -122,7 +122,7 @@ class _ColumnOrderedLU:
 
 def shifted(J, shift) -> sp.csc_matrix:
     """``shift * I - J`` for a square CSC matrix ``J``: from ``J``'s own arrays when its pattern holds the
-    whole diagonal (a Jacobian of :func:`sparse_fd_jacobian` with such a pattern; 0.02 ms instead of
+    whole diagonal (a Jacobian of `sparse_fd_jacobian` with such a pattern; 0.02 ms instead of
     0.36 ms of sparse arithmetic and conversion for 516 unknowns), else by sparse arithmetic. The
     same entries either way (explicit zeros dropped)."""
     J = J.tocsc()
@@ -148,10 +148,10 @@ def sparse_fd_jacobian(fun, x, pattern, groups=None, step=None, f0=None, vectori
     x : ndarray, shape (n,)
         Point of evaluation.
     pattern : array_like, sparse matrix (m, n) or FDPlan
-        Sparsity pattern (entries outside it are taken as zero), or its :class:`FDPlan` (a pattern
+        Sparsity pattern (entries outside it are taken as zero), or its `FDPlan` (a pattern
         that is reused: the conversions and groups are done once).
     groups : ndarray of int, optional
-        Column groups from :func:`column_groups` (computed if omitted; ignored with a plan).
+        Column groups from `column_groups` (computed if omitted; ignored with a plan).
     step : float or ndarray, optional
         Absolute step per column (default ``sqrt(eps) * max(1, |x|)``).
     f0 : ndarray, optional

@@ -15,7 +15,7 @@ than with one thread (``benchmarks/bench_threads.py``).
 
 The limits are process-wide while active (threadpoolctl changes the pools of the loaded native
 libraries) and the previous limits come back on exit. ``threadpoolctl`` is a dependency; if it
-cannot be imported, :func:`single_threaded` does nothing (the results are the same, only slower).
+cannot be imported, `single_threaded` does nothing (the results are the same, only slower).
 """
 
 from __future__ import annotations

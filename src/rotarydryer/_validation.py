@@ -15,7 +15,7 @@ Traceback (most recent call last):
 ValueError: solids.repose_angle = 616.1 to 643 deg (2 values) is outside the allowed range (0, 90) deg
 
 Numbers in messages never carry NumPy reprs (``np.float64(...)``, ``array(...)``):
-:func:`fmt_number` writes them as a user would type them.
+`fmt_number` writes them as a user would type them.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 r"""Closed-loop control of the dynamic coupled dryer model (PI feedback + feed-forward).
 
-The plant is :class:`~rotarydryer.thermal.dryer.ThermalDryer`: it is integrated over one sample
+The plant is `ThermalDryer`: it is integrated over one sample
 interval at a time (``dryer.simulate(z, dt_sample)``) and its inputs are changed between
-intervals (:func:`~rotarydryer.thermal.studies.perturbed`), keeping the state, so the controller
+intervals (`perturbed`), keeping the state, so the controller
 sees a sampled, dead-time-delayed measurement of the nonlinear model.
 
 Structure (Ajayi (2011) Ch. 7 targets: product moisture at most 12 % wet basis, product
@@ -18,29 +18,29 @@ temperature 45-50 degC; the plant's DCS uses a *feed-forward* on the water to re
   is in units of the controlled variable ("y-equivalent"): each range is normalised by its
   identified steady-state gain, so the loop gain is 1 in either range (gain scheduling).
 * **PI** in velocity form (Seborg et al. 2011 Ch. 8, incremental form):
-  :math:`\Delta v_k = K_c\,[(e_k-e_{k-1}) + (T_s/\tau_I)\,e_k]`, output clipped to the
+  $\Delta v_k = K_c\,[(e_k-e_{k-1}) + (T_s/\tau_I)\,e_k]$, output clipped to the
   ranges, which is its anti-windup (the stored output never leaves the limits).
 * **Feed-forward** from the measured feed moisture (dry basis) and feed rate (Ajayi's DCS logic:
   the water to remove sets the heat demand). ``"model"`` (default): the static feed-forward
-  :math:`v_{ff}` that the steady state of the model itself needs to hold the setpoint at the
+  $v_{ff}$ that the steady state of the model itself needs to hold the setpoint at the
   measured disturbance (secant iteration on steady states, cached); ``"linear"``:
-  :math:`v_{ff} = -(K_{d,x}\,\Delta X_{feed} + K_{d,F}\,\Delta F_{feed})` from the FOPDT gains
+  $v_{ff} = -(K_{d,x}\,\Delta X_{feed} + K_{d,F}\,\Delta F_{feed})$ from the FOPDT gains
   (Seborg et al. 2011 Ch. 15, static design). Dynamic compensation (Seborg et al. 2011 Ch. 15: lead-lag and delay)
-  is replaced by one delay that matches the times to half response, :math:`\theta+\tau\ln 2`,
+  is replaced by one delay that matches the times to half response, $\theta+\tau\ln 2$,
   of the disturbance path and of the slowest manipulated path (a lead-lag kicks the
   saturating split range too hard).
 * **Tuning**: FOPDT models (gain K, dead time θ, time constant τ) from step responses of the
-  dynamic model (as :func:`rotarydryer.thermal.studies.step_response`, with the feed moisture
-  and the exhaust temperature added; two-point fit :func:`~rotarydryer.thermal.studies.fopdt_fit`)
+  dynamic model (as `rotarydryer.thermal.studies.step_response`, with the feed moisture
+  and the exhaust temperature added; two-point fit `fopdt_fit`)
   and the SIMC rules of Skogestad (2003),
   "Simple analytic rules for model reduction and PID controller tuning", J. Process Control 13,
-  291-309, SIMC PI rule: :math:`K_c = \tau / (K(\tau_c+\theta))`,
-  :math:`\tau_I = \min(\tau, 4(\tau_c+\theta))`, with :math:`\tau_c = \theta` (the "tight but
+  291-309, SIMC PI rule: $K_c = \tau / (K(\tau_c+\theta))$,
+  $\tau_I = \min(\tau, 4(\tau_c+\theta))$, with $\tau_c = \theta$ (the "tight but
   robust" choice). Sampling and the measurement dead time are added to θ (half the sample
   time for the zero-order hold, Skogestad 2003 Sec. 3.2).
 * **Stability check**: the ultimate loop gain of a FOPDT + PI loop (phase crossover of
-  :math:`K_cK(1+1/(j\omega\tau_I))e^{-j\omega\theta}/(1+j\omega\tau)`); settings with
-  :math:`K_cK` beyond it, or of the wrong sign, raise a :class:`ControlWarning`.
+  $K_cK(1+1/(j\omega\tau_I))e^{-j\omega\theta}/(1+j\omega\tau)$); settings with
+  $K_cK$ beyond it, or of the wrong sign, raise a `ControlWarning`.
 
 Disturbance scenarios: ``feed_moisture_step`` (relative step of the feed moisture, dry basis
 by default: +20 % of 0.163 wet = 0.195 would leave the zinc concentrate's validated range),
@@ -64,8 +64,9 @@ from typing import Optional
 import numpy as np
 
 from ._validation import check_choice, check_range
+from .thermal.schedule import base_inputs, burner_fuel_rate, check_applicable, outlets
 
-__all__ = ["ControlWarning", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
+__all__ = ["ControlWarning", "check_schedule", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
            "ControlConfig", "identify", "check_scenario", "closed_loop", "ClosedLoopResult", "SCENARIOS",
            "MAX_DURATION_S", "MAX_SAMPLES",
            "AJAYI_TARGETS",
@@ -127,7 +128,7 @@ def simc_pi(model: FOPDT, tau_c_s: Optional[float] = None, extra_dead_time_s: fl
 def pi_ultimate_gain(model: FOPDT, tau_i_s: float, extra_dead_time_s: float = 0.0) -> float:
     r"""Largest loop gain Kc*K (same sign as K) for which the FOPDT + PI loop is stable.
 
-    Phase of :math:`(1+1/(j\omega\tau_I))e^{-j\omega\theta}/(1+j\omega\tau)` reaches -180° at
+    Phase of $(1+1/(j\omega\tau_I))e^{-j\omega\theta}/(1+j\omega\tau)$ reaches -180° at
     ω180; the limit is 1/|L(jω180)/(K_cK)| (Nyquist; the loop is open-loop stable)."""
     from scipy.optimize import brentq
 
@@ -148,8 +149,8 @@ def pi_ultimate_gain(model: FOPDT, tau_i_s: float, extra_dead_time_s: float = 0.
 
 
 def check_pi_stability(model: FOPDT, kc: float, tau_i_s: float, extra_dead_time_s: float = 0.0, name="PI"):
-    """Gain margin of the loop; warns (:class:`ControlWarning`) when Kc*K is of the wrong sign
-    (positive feedback) or beyond the ultimate gain (:func:`pi_ultimate_gain`). Returns the gain margin."""
+    """Gain margin of the loop; warns (`ControlWarning`) when Kc*K is of the wrong sign
+    (positive feedback) or beyond the ultimate gain (`pi_ultimate_gain`). Returns the gain margin."""
     loop = kc * model.gain
     if loop <= 0:
         warnings.warn(f"{name}: Kc*K = {loop:.3g} <= 0: the controller acts in the wrong direction (positive "
@@ -247,7 +248,7 @@ def _wet_basis(X):
 def plant(dryer, *, gas_inlet_temperature=None, feed_rate=None, feed_moisture=None, fouling=None, **settings):
     """A copy of ``dryer`` with new inputs (gas inlet temperature degC, feed rate kg/s wet, feed
     moisture kg/kg wet, fouling 0-0.95, or other ThermalSettings fields); the checks of
-    :func:`~rotarydryer.thermal.studies.perturbed` apply."""
+    `perturbed` apply."""
     from .thermal.studies import perturbed
 
     ch = dict(settings)
@@ -266,30 +267,17 @@ def plant(dryer, *, gas_inlet_temperature=None, feed_rate=None, feed_moisture=No
 
 def outputs_of(dryer, z):
     """Measured outputs of state ``z``: product moisture (kg/kg wet) and temperature (degC),
-    exhaust temperature (degC) and humidity (kg/kg dry gas), total holdup (kg)."""
-    s = dryer.settings
-    pS, pW, pH = dryer.product_stream(z)
-    S, W, T, Tg, Y = dryer.split(z)
-    k = dryer.gas_outlet_stage
-    return dict(product_moisture=float(pW / (pS + pW)),
-                product_temperature=float(pH / (pS * s.cp_solids + pW * s.cp_water)),
-                exhaust_temperature=float(Tg[k]), exhaust_humidity=float(Y[k]),
-                holdup=float(np.sum(S + W)))
+    exhaust temperature (degC) and humidity (kg/kg dry gas), total holdup (kg)
+    ([`outlets`][rotarydryer.thermal.schedule.outlets])."""
+    return outlets(dryer, z)
 
 
 def _fuel(dryer):
     """Fuel rate (kg/s) of the case's burner for the dryer's gas inlet temperature (None without a burner)."""
-    from .thermal.burner import fuel_rate_for_temperature
-
-    s = dryer.settings
-    b = s.burner
-    if b is None:
+    if dryer.settings.burner is None:
         return None
     try:
-        return float(fuel_rate_for_temperature(s.gas_inlet_temperature, s.gas_flow * b.combustion_air_share,
-                                               s.gas_flow * (1 - b.combustion_air_share),
-                                               air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y,
-                                               fuel=b.fuel, heat_loss_fraction=b.heat_loss_fraction))
+        return burner_fuel_rate(dryer)
     except ValueError:
         return None
 
@@ -312,7 +300,7 @@ def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, fe
     """FOPDT models (per measured output) of the gas inlet temperature, the feed rate and the
     feed moisture (dry basis, kg/kg dry), from step responses of the dynamic model around ``steady``.
 
-    Returns dict input -> output -> :class:`FOPDT` (input names: ``gas_inlet_temperature`` (per K),
+    Returns dict input -> output -> `FOPDT` (input names: ``gas_inlet_temperature`` (per K),
     ``feed_rate`` (per kg/s), ``feed_moisture_dry`` (per kg/kg dry))."""
     from .thermal.studies import fopdt_fit
 
@@ -362,7 +350,7 @@ class ClosedLoopResult:
         return [dict(time_s=float(t), **{k: self.series[k][i] for k in keys}) for i, t in enumerate(self.time_s)]
 
     def csv_text(self) -> str:
-        """The :meth:`table` as CSV text (10 significant digits; empty cells for missing values)."""
+        """The `table` as CSV text (10 significant digits; empty cells for missing values)."""
         rows = self.table()
         keys = list(rows[0])
         lines = [",".join(keys)] + [",".join("" if r[k] is None else f"{float(r[k]):.10g}" for k in keys)
@@ -380,6 +368,33 @@ def _disturbance(scenario, magnitude, t, t_step, t_end, base):
     elif scenario == "fouling_ramp" and t >= t_step:
         f = f + (magnitude - f) * min(1.0, (t - t_step) / max(t_end - t_step, 1.0))
     return x, F, f
+
+
+#: the plant()/perturbed() names of the schedulable inputs other than feed rate, moisture and fouling
+_PLANT_NAMES = {"rpm": "rotational_speed", "gas_flow": "gas_flow", "gas_inlet_humidity": "gas_inlet_humidity",
+                "feed_temperature": "solid_inlet_temperature", "gas_inlet_temperature": "gas_inlet_temperature"}
+
+
+def check_schedule(dryer, schedule, t_end_s, controlled=True):
+    """The schedule resolved and checked for a control run; its first change is the disturbance
+    time of the performance figures."""
+    names = set(schedule.points)
+    if "burner_fuel_rate" in names:
+        raise ValueError(f"{schedule.source}: control schedules the gas inlet temperature, not burner_fuel_rate "
+                         "(the burner's fuel follows from it)")
+    if controlled and "gas_inlet_temperature" in names:
+        raise ValueError(f"{schedule.source}: gas_inlet_temperature is the controller's manipulated input; schedule "
+                         "the disturbances (feed_rate, feed_moisture, fouling, rpm, gas_flow, gas_inlet_humidity, "
+                         "feed_temperature), or run the open loop alone")
+    base = base_inputs(dryer)
+    checked = schedule.check(base, t_end_s, burner=dryer.settings.burner is not None)
+    check_applicable(dryer, checked)
+    starts = []
+    for name, p in checked.points.items():      # the start of the first change away from the case's value
+        i = next((j for j, (_, v) in enumerate(p) if v != base[name]), None)
+        if i is not None:
+            starts.append(p[max(i - 1, 0)][0])
+    return checked, (min(starts) if starts else 0.0)
 
 
 def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, product_temperature=None):
@@ -440,22 +455,29 @@ def check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s=0.0):
 
 def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=0.2, t_end_s=10800.0,
                 t_step_s=600.0, config: ControlConfig | None = None, models=None, controlled=True,
-                progress=None):
+                progress=None, schedule=None):
     """Closed-loop (``controlled=True``) or open-loop run of ``dryer`` from ``steady`` (default:
-    its steady state) under a disturbance ``scenario`` (:data:`SCENARIOS`; ``magnitude`` relative:
-    +0.2 = +20 %; for ``fouling_ramp`` the final fouling fraction).
+    its steady state) under a disturbance ``scenario`` (`SCENARIOS`; ``magnitude`` relative:
+    +0.2 = +20 %; for ``fouling_ramp`` the final fouling fraction), or an input ``schedule``
+    ([`InputSchedule`][rotarydryer.thermal.schedule.InputSchedule]: the disturbances feed rate,
+    feed moisture, fouling, drum speed, gas flow, gas humidity, feed temperature; the gas inlet
+    temperature too in an open-loop run), in place of the scenario.
 
-    ``models``: the result of :func:`identify` (computed when None and needed). Returns a
-    :class:`ClosedLoopResult`; warns :class:`ControlWarning` for unstable settings."""
+    ``models``: the result of `identify` (computed when None and needed). Returns a
+    `ClosedLoopResult`; warns `ControlWarning` for unstable settings."""
     cfg = (config or ControlConfig()).validate()
-    check_choice("scenario", scenario, SCENARIOS)
+    if schedule is None:
+        check_choice("scenario", scenario, SCENARIOS)
     check_range("t_end_s", t_end_s, 0.0, MAX_DURATION_S, high_inclusive=True, unit="s")
     if t_end_s / cfg.sample_time_s > MAX_SAMPLES:
         raise ValueError(f"t_end_s / sample_time_s = {t_end_s:g} s / {cfg.sample_time_s:g} s = "
                          f"{t_end_s / cfg.sample_time_s:.6g} sampling intervals; the limit is {MAX_SAMPLES} "
                          "(raise sample_time_s or lower t_end_s)")
     check_range("t_step_s", t_step_s, 0.0, t_end_s, low_inclusive=True, high_inclusive=True, unit="s")
-    if scenario == "fouling_ramp":
+    if schedule is not None:
+        schedule, t_step_s = check_schedule(dryer, schedule, t_end_s, controlled)
+        scenario, magnitude = "schedule", 0.0
+    elif scenario == "fouling_ramp":
         check_range("magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,
                     unit="(final fouling fraction)")
     else:
@@ -465,7 +487,9 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         steady = dryer.steady_state()
     s = dryer.settings
     base = dict(feed_moisture=dryer.feed_moisture, feed_rate=dryer.feed_rate, fouling=s.fouling)
-    check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s)
+    if schedule is None:
+        check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s)
+    sched_base = base_inputs(dryer)
     y_ss = outputs_of(dryer, steady.state)
     cv = cfg.measured
     sp = y_ss[cv] if cfg.setpoint is None else float(cfg.setpoint)
@@ -580,11 +604,18 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     v_fb = 0.0
     for k in range(n + 1):
         t = k * ts
-        x, Fd, f = _disturbance(scenario, magnitude, t, t_step_s, t_end_s, base)
+        extra = {}
+        if schedule is None:
+            x, Fd, f = _disturbance(scenario, magnitude, t, t_step_s, t_end_s, base)
+        else:
+            u = schedule.inputs_at(t, sched_base)
+            x, Fd, f = u.pop("feed_moisture", base["feed_moisture"]), u.pop("feed_rate", F0), u.pop("fouling", base["fouling"])
+            extra = {_PLANT_NAMES[k]: v for k, v in u.items() if k != "gas_inlet_temperature"}
+            T_sched = u.get("gas_inlet_temperature", T0)
         y = outputs_of(d_cur, z)
         meas_buf.append(y[cv])
         ym = meas_buf[max(0, len(meas_buf) - 1 - delay_n)]
-        T_in, F_in, v = T0, Fd, 0.0
+        T_in, F_in, v = (T0 if schedule is None else T_sched), Fd, 0.0
         if controlled:
             v_ff = 0.0
             if cfg.feedforward != "off":
@@ -597,7 +628,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             v = float(np.clip(v_fb + v_ff, lo, hi))
             # split range: the gas temperature first, the rest by the feed rate
             T_in, F_in, _ = split(v, Fd)
-        d_cur = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x, fouling=f)
+        d_cur = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x, fouling=f, **extra)
         times.append(t)
         for key, val in (("product_moisture_kg_kg", y["product_moisture"]),
                          ("product_temperature_degC", y["product_temperature"]),

@@ -1,7 +1,7 @@
 r"""Size a flighted rotary dryer for a drying duty (issue 17, part 1).
 
-From a :class:`Duty` (material, wet feed rate, inlet and target outlet moisture, gas inlet
-temperature and gas flow or a number of transfer units, burner limit) :func:`design` searches
+From a `Duty` (material, wet feed rate, inlet and target outlet moisture, gas inlet
+temperature and gas flow or a number of transfer units, burner limit) `design` searches
 drum diameter and length (as L/D), slope, speed and flights (number, base length s1, tip length
 s2, tip angle alpha2; base angle 90 deg) with SciPy's ``differential_evolution`` (integer flight
 count), the drum at least as long as the drying requirement, minimising drum volume, fuel per kg of water
@@ -10,30 +10,30 @@ evaporated, or a cost proxy, under the constraints the engineer sets:
 * **drying** - the heat to the solids (evaporation at the wet-bulb temperature, vapour and solids
   heating) is transferred with the volumetric coefficient of McCormick (1962), Perry's Chemical
   Engineers' Handbook (Sec. 12, rotary dryers; 0.5 G^0.67/D in Btu/(h ft3 F), in SI):
-  :math:`Ua = 237\,G^{0.67}/D` W/(m^3 K) (G gas mass velocity kg/(m^2 s), D m) over the log-mean
-  difference of gas and wet-bulb temperature: :math:`V = Q/(Ua\,\Delta T_{lm})`, so the length is :math:`L = 4V/(\pi D^2)`;
+  $Ua = 237\,G^{0.67}/D$ W/(m^3 K) (G gas mass velocity kg/(m^2 s), D m) over the log-mean
+  difference of gas and wet-bulb temperature: $V = Q/(Ua\,\Delta T_{lm})$, so the length is $L = 4V/(\pi D^2)$;
   without a gas flow, the exhaust temperature follows from ``ntu`` (Perry: economical rotary
-  dryers have 1.5-2.5 transfer units), :math:`T_{out} = T_{wb} + (T_{in}-T_{wb})e^{-NTU}`,
+  dryers have 1.5-2.5 transfer units), $T_{out} = T_{wb} + (T_{in}-T_{wb})e^{-NTU}$,
   and the gas flow from the energy balance (with the shell loss);
-* **speed** below ``speed_fraction_max`` of the critical speed :math:`N_c = 42.3/\sqrt{D}`
-  (:func:`rotarydryer.geometry.drum.critical_speed`);
+* **speed** below ``speed_fraction_max`` of the critical speed $N_c = 42.3/\sqrt{D}$
+  (`rotarydryer.geometry.drum.critical_speed`);
 * **gas velocity** (either end, free area) below ``entrainment_fraction`` times the terminal
-  velocity of the material's particles (:func:`rotarydryer.correlations.drag.terminal_velocity`)
+  velocity of the material's particles (`rotarydryer.correlations.drag.terminal_velocity`)
   and below ``gas_velocity_max`` (dust carry-over; 5 m/s, Ajayi (2011) l.1922: 3-5 m/s);
 * **fill**: holdup (mean residence time of Perry & Green (1984), Friedman & Marshall,
-  :func:`rotarydryer.correlations.residence_time.perry_green_1984`, times the solids flow) at most
+  `rotarydryer.correlations.residence_time.perry_green_1984`, times the solids flow) at most
   ``fill_max`` of the drum volume (Perry: 10-15 %);
 * **flights at design load**: holdup / design load (exact flight geometry,
-  :meth:`rotarydryer.geometry.FlightedDrum.design_load_area`, Lee 2008 Ch. 4) within
+  `rotarydryer.geometry.FlightedDrum.design_load_area`, Lee 2008 Ch. 4) within
   1 +- ``design_load_tolerance`` (under-loaded flights waste curtain, over-loaded ones kiln);
 * **L/D** within ``length_to_diameter`` (Perry: 4-10), diameter within ``diameter_range``;
 * **exhaust** at least 10 K above its dew point; **burner**: fuel rate at most ``max_fuel_rate``.
 
 The result ranks the feasible designs and names the binding constraints (slack below 3 %); an
-infeasible duty raises :class:`InfeasibleDuty` (a ``ValueError``) naming the blocking constraint.
-:func:`check_plant` applies the same screening to a shipped plant's real geometry and duty and
-says how far it is from the optimum. :func:`verify` runs the coupled heat-and-mass model
-(:class:`rotarydryer.Simulation`) on a design.
+infeasible duty raises `InfeasibleDuty` (a ``ValueError``) naming the blocking constraint.
+`check_plant` applies the same screening to a shipped plant's real geometry and duty and
+says how far it is from the optimum. `verify` runs the coupled heat-and-mass model
+(`rotarydryer.Simulation`) on a design.
 """
 
 from __future__ import annotations
@@ -414,9 +414,9 @@ def _decode(x, limits, dm):
 
 def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter=60, popsize=12, seed=1,
            progress=None, top=10) -> DesignResult:
-    """Search the geometry that meets ``duty`` at the least ``objective`` (:data:`OBJECTIVES`).
+    """Search the geometry that meets ``duty`` at the least ``objective`` (`OBJECTIVES`).
 
-    Raises :class:`InfeasibleDuty` naming the constraint that blocks the least-infeasible design."""
+    Raises `InfeasibleDuty` naming the constraint that blocks the least-infeasible design."""
     from scipy.optimize import differential_evolution
 
     duty.validate()
@@ -551,7 +551,7 @@ PLANTS = {
 
 
 def check_plant(name, limits: Limits | None = None, objective="volume", progress=None, **search):
-    """A shipped plant's real geometry under its own duty (:data:`PLANTS`).
+    """A shipped plant's real geometry under its own duty (`PLANTS`).
 
     1. The screening rules at ``limits``: which the real plant violates (the correlations are
        generic: McCormick's Ua, Perry & Green's residence time).
@@ -610,7 +610,7 @@ def _why(real: Design, best: Design, limits: Limits):
 
 
 def verify(design: Design, duty: Duty, n_cells=20):
-    """Coupled heat-and-mass steady state (:class:`rotarydryer.Simulation`, general dryer case,
+    """Coupled heat-and-mass steady state (`rotarydryer.Simulation`, general dryer case,
     Lee (2008) transport) of a design: dict of its summary (product moisture etc.)."""
     from .cases import DryerCase
     from .simulation import Simulation
@@ -632,7 +632,7 @@ def verify(design: Design, duty: Duty, n_cells=20):
 
 
 def design_verified(duty: Duty, limits: Limits | None = None, objective="volume", rounds=3, progress=None, **search):
-    """:func:`design`, then :func:`verify` of the best design with the coupled model; while the
+    """`design`, then `verify` of the best design with the coupled model; while the
     coupled model misses the target product moisture, the Ua factor is lowered by the
     evaporation shortfall (required / achieved evaporation, to the power 1.5) and the search
     repeated (at most ``rounds`` searches). Returns (DesignResult, verification dict with the

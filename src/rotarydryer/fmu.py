@@ -1,12 +1,12 @@
 """FMI 2.0 co-simulation FMU of the dynamic dryer (issue 17, part 3), built with ``pythonfmu``.
 
-:func:`build_fmu` writes an FMU whose slave (:data:`SLAVE_TEMPLATE`) builds the case's
-:class:`~rotarydryer.thermal.dryer.ThermalDryer` (:class:`rotarydryer.Simulation`), starts
+`build_fmu` writes an FMU whose slave (`SLAVE_TEMPLATE`) builds the case's
+`ThermalDryer` (`rotarydryer.Simulation`), starts
 from its steady state and, at every communication step, applies the inputs and integrates
-``dryer.simulate(z, step)`` exactly as :class:`DryerStepper` (the Python reference) does.
+``dryer.simulate(z, step)`` exactly as `DryerStepper` (the Python reference) does.
 
 Inputs: ``feed_rate`` (kg/s wet), ``feed_moisture`` (kg/kg wet), ``gas_inlet_temperature``
-(degC), ``rpm`` (rev/min); start values = the case's. Outputs: ``product_moisture`` (kg/kg
+(degC), ``rpm`` (rev/min), ``gas_flow`` (kg/s wet gas); start values = the case's. Outputs: ``product_moisture`` (kg/kg
 wet), ``product_temperature`` (degC), ``exhaust_temperature`` (degC), ``exhaust_humidity``
 (kg/kg dry gas), ``holdup`` (kg). Parameters (strings): ``case``, ``overrides`` (JSON).
 
@@ -26,51 +26,57 @@ import numpy as np
 
 __all__ = ["DryerStepper", "build_fmu", "INPUTS", "OUTPUTS"]
 
-INPUTS = ("feed_rate", "feed_moisture", "gas_inlet_temperature", "rpm")
+INPUTS = ("feed_rate", "feed_moisture", "gas_inlet_temperature", "rpm", "gas_flow")
 OUTPUTS = ("product_moisture", "product_temperature", "exhaust_temperature", "exhaust_humidity", "holdup")
 
 
 class DryerStepper:
-    """The stepping of the FMU in Python: ``step(dt, **inputs)`` -> outputs dict."""
+    """The stepping of the FMU in Python: ``step(dt, **inputs)`` -> outputs dict.
+
+    The inputs are held over each step (FMI co-simulation); the integration
+    ([`DryerIntegrator`][rotarydryer.thermal.schedule.DryerIntegrator]) carries on across steps whose
+    inputs did not change, exactly as ``rotarydryer dynamics --schedule``
+    ([`simulate_schedule`][rotarydryer.thermal.schedule.simulate_schedule]) does."""
 
     def __init__(self, case, overrides=None):
         from .simulation import Simulation
+        from .thermal.schedule import DryerIntegrator, base_inputs
 
         sim = Simulation(case, overrides or {})
         if not sim.thermal_enabled:
             raise ValueError(f"case {case!r} has no [gas] block: the FMU needs the heat-and-mass model")
         sim.transport_steady_state()
         steady = sim.thermal_steady_state()
-        self.dryer = steady.dryer
+        self.base = steady.dryer
+        self.dryer = self.base
         self.z = np.asarray(steady.state, float)
         self.time = 0.0
-        d = self.dryer
-        self.inputs = dict(feed_rate=d.feed_rate, feed_moisture=d.feed_moisture,
-                           gas_inlet_temperature=d.settings.gas_inlet_temperature, rpm=d.rpm)
-        self.outputs = self._outputs(d)
+        self.inputs = base_inputs(self.base, INPUTS)
+        self._applied = dict(self.inputs)
+        self._integrator = DryerIntegrator(self.base, self.z)
+        self.outputs = self._outputs(self.base)
 
     def _outputs(self, d):
-        from .control import outputs_of
+        from .thermal.schedule import outlets
 
-        o = outputs_of(d, self.z)
-        return dict(product_moisture=o["product_moisture"], product_temperature=o["product_temperature"],
-                    exhaust_temperature=o["exhaust_temperature"], exhaust_humidity=o["exhaust_humidity"],
-                    holdup=o["holdup"])
+        o = outlets(d, self.z)
+        return {k: o[k] for k in OUTPUTS}
 
     def step(self, dt, **inputs):
-        from .control import plant
+        from .thermal.schedule import apply_inputs
 
         unknown = set(inputs) - set(INPUTS)
         if unknown:
             raise ValueError(f"unknown FMU input(s) {sorted(unknown)}; use {', '.join(INPUTS)}")
         self.inputs.update({k: float(v) for k, v in inputs.items()})
-        u = self.inputs
-        d = plant(self.dryer, gas_inlet_temperature=u["gas_inlet_temperature"], feed_rate=u["feed_rate"],
-                  feed_moisture=u["feed_moisture"], rotational_speed=u["rpm"])
+        if self.inputs != self._applied:
+            self.dryer = apply_inputs(self.base, self.inputs)
+            self._integrator.restart(self.dryer)
+            self._applied = dict(self.inputs)
         if dt > 0:
-            self.z = d.simulate(self.z, float(dt)).states[:, -1]
+            self.z = self._integrator.advance(self.time + float(dt))
         self.time += dt
-        self.outputs = self._outputs(d)
+        self.outputs = self._outputs(self.dryer)
         return dict(self.outputs)
 
 

@@ -14,15 +14,18 @@ True
 Contents
 --------
 ``inputs``
-    The validated case as a JSON-ready dict (``case.model_dump(mode="json")``), SI units.
+:   The validated case as a JSON-ready dict (``case.model_dump(mode="json")``), SI units.
+
 ``model_choices``
-    Model name and the parameters the transport model was built with (JSON-ready).
+:   Model name and the parameters the transport model was built with (JSON-ready).
+
 ``scalars``
-    Named numbers; the unit is the suffix of the name (``_kg``, ``_s``, ``_kg_s``, ``_min``,
+:   Named numbers; the unit is the suffix of the name (``_kg``, ``_s``, ``_kg_s``, ``_min``,
     ``_m``; no suffix = dimensionless).
+
 ``datasets``
-    Named :class:`xarray.Dataset` objects; every variable carries ``attrs["units"]`` and
-    ``attrs["long_name"]``.  Built by :func:`from_transport`:
+:   Named `xarray.Dataset` objects; every variable carries ``attrs["units"]`` and
+    ``attrs["long_name"]``.  Built by [`from_transport`][rotarydryer.results.from_transport]:
 
     * ``nodes``: every network node (dim ``node``): phase, section, cell, position (m),
       holdup (kg), design_load (kg, NaN where not defined);
@@ -51,7 +54,7 @@ NaN included; metadata is JSON (Python's ``json`` round-trips floats exactly; Na
 infinities are written as the non-standard ``NaN``/``Infinity`` tokens Python reads back).
 
 Writes are atomic: the file is written to a temporary file in the destination directory
-and moved over the target with :func:`os.replace`; if anything fails midway the
+and moved over the target with `os.replace`; if anything fails midway the
 temporary file is removed and an existing file at ``path`` is left untouched.
 """
 
@@ -182,7 +185,7 @@ class Results:
 
     @property
     def flighted_cells(self):
-        """The flighted cells of :attr:`cells` (loading state, design load, coefficients), or None."""
+        """The flighted cells of [`cells`][rotarydryer.results.Results.cells] (loading state, design load, coefficients), or None."""
         c = self.cells
         if c is None or "kind" not in c:
             return c            # results saved before the cells held the unflighted volumes
@@ -275,8 +278,8 @@ class Results:
         return self.datasets[name]
 
     def summary(self) -> dict:
-        """The named numbers (a copy of :attr:`scalars`, units in the names), as every result's
-        ``summary()`` gives them; :meth:`summary_text` is the plain-text form."""
+        """The named numbers (a copy of `scalars`, units in the names), as every result's
+        ``summary()`` gives them; [`summary_text`][rotarydryer.results.Results.summary_text] is the plain-text form."""
         return dict(self.scalars)
 
     def summary_text(self) -> str:
@@ -308,7 +311,7 @@ class Results:
 
     @classmethod
     def load(cls, path) -> Results:
-        """Read a file written by :meth:`save`."""
+        """Read a file written by [`save`][rotarydryer.results.Results.save]."""
         xr = _xr()
         path = Path(path)
         if not path.is_file():
@@ -337,7 +340,7 @@ class Results:
 
     # -- case round trip ----------------------------------------------------------------
     def case(self):
-        """The validated case model (pydantic) rebuilt from :attr:`inputs`."""
+        """The validated case model (pydantic) rebuilt from `inputs`."""
         from .cases import CASE_MODELS as kinds
 
         if self.kind not in kinds:
@@ -382,7 +385,7 @@ def _write(res: Results, path: str) -> None:
 
 
 def load_results(path) -> Results:
-    """Same as :meth:`Results.load`."""
+    """Same as [`Results.load`][rotarydryer.results.Results.load]."""
     return Results.load(path)
 
 
@@ -392,7 +395,7 @@ def _var(values, units: str, long_name: str, dims=None):
 
 
 def from_transport(case, model, steady, rtd=None, measured=None, case_name: str = "") -> Results:
-    """Collect a transport simulation into a :class:`Results`.
+    """Collect a transport simulation into a [`Results`][rotarydryer.results.Results].
 
     Parameters
     ----------
@@ -401,7 +404,7 @@ def from_transport(case, model, steady, rtd=None, measured=None, case_name: str 
         the case's transport model (its name and parameters are recorded)
     steady : rotarydryer.transport.SteadyState
         the state reported: the transport one, or a coupled one
-        (:meth:`rotarydryer.thermal.dryer.ThermalSteadyState.transport_state`), whose own network,
+        ([`rotarydryer.thermal.dryer.ThermalSteadyState.transport_state`][rotarydryer.thermal.dryer.ThermalSteadyState.transport_state]), whose own network,
         sections and design loads the datasets show
     rtd : rotarydryer.transport.RTDResult, optional
     measured : (time s, signal) arrays, optional — the case's measured tracer curve
@@ -548,7 +551,7 @@ def _numbers(d: dict) -> dict:
 
 def add_thermal(res: Results, steady) -> Results:
     """Add a coupled heat and mass transfer steady state
-    (:class:`rotarydryer.thermal.dryer.ThermalSteadyState`) to ``res``: datasets
+    ([`rotarydryer.thermal.dryer.ThermalSteadyState`][rotarydryer.thermal.dryer.ThermalSteadyState]) to ``res``: datasets
     ``thermal_solids`` (per node: the nodes of ``nodes``, one dimension name), ``thermal_gas`` (per gas stage), ``energy_balance``
     (streams, W) and the key scalars (product moisture, temperatures, fuel, shell loss,
     balance errors)."""

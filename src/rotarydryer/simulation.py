@@ -7,9 +7,9 @@
 ['product_moisture_kg_kg', 'product_temperature_degC']
 
 The case (any kind: the general ``kind = "dryer"`` schema, or Lee's and Ajayi's plant cases)
-becomes a list of :class:`~rotarydryer.transport.sections.SectionSpec` (:mod:`rotarydryer.cases.build`),
-from which :func:`~rotarydryer.transport.sections.build_sections` builds the transport network;
-the heat-and-mass model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`) rides on the nodes and
+becomes a list of [`SectionSpec`][rotarydryer.transport.sections.SectionSpec] ([`rotarydryer.cases.build`][rotarydryer.cases.build]),
+from which [`build_sections`][rotarydryer.transport.sections.build_sections] builds the transport network;
+the heat-and-mass model ([`ThermalDryer`][rotarydryer.thermal.dryer.ThermalDryer]) rides on the nodes and
 edge families of a network built from the same specs with the case's thermal changes (closed
 inlet, its own bed discretisation, properties from the computed moisture). Output names carry their unit (``_kg``, ``_kg_s``, ``_s``, ``_degC``, ``_kg_kg``,
 ``_W``); balances are relative errors.
@@ -31,6 +31,7 @@ from .cases.build import (
     build_model,
     check_feasible,
     check_inputs,
+    drum_fill_fraction,
     has_burner,
     model_name,
     operating_point,
@@ -43,6 +44,7 @@ from .cases.build import (
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
+from .thermal.schedule import InputSchedule, load_schedule, simulate_schedule
 from .thermal.studies import perturbed
 from .transport.plots import plot_holdup_profile
 from .transport.sections import build_sections
@@ -62,7 +64,7 @@ class Simulation:
     ----------
     case : str, path or validated case
         Packaged case name (``lee2008_invicta``, ``ajayi2011_mmg``, ``song2003_ottawa``), a
-        ``.toml`` file, or a case object from :func:`rotarydryer.cases.load_case`.
+        ``.toml`` file, or a case object from `rotarydryer.cases.load_case`.
     overrides : dict, optional
         ``{"operating.feed_rate": 30.0, ...}`` (the CLI's ``--set``).
     """
@@ -96,14 +98,14 @@ class Simulation:
     # ------------------------------------------------------------------ transport
     def transport_inputs(self) -> dict:
         """The section specs and operating values the case's networks are built from
-        (:func:`rotarydryer.cases.build.transport_inputs`; the case checked), once."""
+        ([`rotarydryer.cases.build.transport_inputs`][rotarydryer.cases.build.transport_inputs]; the case checked), once."""
         if self._inputs is None:
             self._inputs = transport_inputs(self.case)
         return self._inputs
 
     @property
     def tracer_input(self):
-        """The case's tracer pulse (:class:`~rotarydryer.transport.TracerInput`, from its [tracer])."""
+        """The case's tracer pulse ([`TracerInput`][rotarydryer.transport.TracerInput], from its [tracer])."""
         if self._inputs is not None:
             return self._inputs["tracer_input"]
         return tracer_pulse(self.case)
@@ -122,15 +124,15 @@ class Simulation:
     def transport_steady_state(self):
         """Steady state of the solids transport; refused (``ValueError`` naming the keys) when the
         case is physically impossible: speed at or above the critical speed, solids filling more
-        than :data:`rotarydryer.cases.build.FILL_LIMIT` of the drum (see
-        :func:`rotarydryer.cases.build.check_feasible`)."""
+        than `rotarydryer.cases.build.FILL_LIMIT` of the drum (see
+        [`rotarydryer.cases.build.check_feasible`][rotarydryer.cases.build.check_feasible])."""
         if self._transport_ss is None:
             self._transport_ss = self.transport_model().steady_state()
         return self._transport_ss
 
     # ------------------------------------------------------------------ heat and mass
     def thermal_settings(self):
-        """:class:`~rotarydryer.thermal.dryer.ThermalSettings` of the case."""
+        """[`ThermalSettings`][rotarydryer.thermal.dryer.ThermalSettings] of the case."""
         return thermal_inputs(self.case)["settings"]
 
     def thermal_dryer(self, settings=None, feed_moisture=None, **overrides):
@@ -138,7 +140,7 @@ class Simulation:
         with the case's thermal changes (closed inlet, thermal discretisation, properties from the
         computed moisture). ``settings`` replaces the case's ThermalSettings, ``overrides`` set
         fields of them, ``feed_moisture`` (kg/kg wet) replaces the case's. Without arguments this
-        is a new model each call; :meth:`dryer` is the Simulation's own, built once."""
+        is a new model each call; [`dryer`][rotarydryer.simulation.Simulation.dryer] is the Simulation's own, built once."""
         inp = thermal_inputs(self.case)
         st = settings if settings is not None else inp["settings"]
         unknown = sorted(set(overrides) - {f.name for f in dataclasses.fields(ThermalSettings)})
@@ -165,9 +167,9 @@ class Simulation:
         return dryer.with_parameters(settings=settings, feed_rate=F, rpm=rpm)
 
     def dryer(self):
-        """The case's heat-and-mass model (:class:`~rotarydryer.thermal.dryer.ThermalDryer`), built
-        once per Simulation and reused by :meth:`steady_state`, :meth:`dynamics` and :meth:`results`
-        (do not change it in place: :func:`rotarydryer.thermal.studies.perturbed` makes changed copies)."""
+        """The case's heat-and-mass model ([`ThermalDryer`][rotarydryer.thermal.dryer.ThermalDryer]), built
+        once per Simulation and reused by [`steady_state`][rotarydryer.simulation.Simulation.steady_state], [`dynamics`][rotarydryer.simulation.Simulation.dynamics] and [`results`][rotarydryer.simulation.Simulation.results]
+        (do not change it in place: [`rotarydryer.thermal.studies.perturbed`][rotarydryer.thermal.studies.perturbed] makes changed copies)."""
         if self._dryer is None:
             self._dryer = self.thermal_dryer()
         return self._dryer
@@ -178,14 +180,14 @@ class Simulation:
         """Steady state of the whole dryer: transport, and heat and mass where the case has a gas.
 
         Without heat and mass transfer this is the transport steady state. With it, the coupled
-        state, whose fill of the drum is checked (:func:`rotarydryer.cases.build.check_feasible`):
+        state, whose fill of the drum is checked ([`rotarydryer.cases.build.check_feasible`][rotarydryer.cases.build.check_feasible]):
         the transport-only model is neither built nor solved unless the coupled solve fails, when
         its feasibility check gives the physical reason where there is one. ``warm``
-        (:meth:`SteadyResult.warm_data` of a nearby run: coupled state, transport masses, shell
+        ([`SteadyResult.warm_data`][rotarydryer.simulation.SteadyResult.warm_data] of a nearby run: coupled state, transport masses, shell
         temperatures, factorisation) starts the solves when its shapes fit; the state is the same
         steady state, accepted by the same convergence test (the case's cold start is tried when the
         warm one does not converge). When the nearby run's case differs from this one only in
-        parameter values (:func:`rotarydryer.cases.build.takes_as_parameters`), its heat-and-mass model
+        parameter values ([`rotarydryer.cases.build.takes_as_parameters`][rotarydryer.cases.build.takes_as_parameters]), its heat-and-mass model
         is reused with this case's values: no network is built."""
         warm = warm or {}
         source = warm.get("simulation")
@@ -226,7 +228,7 @@ class Simulation:
         chatters on the design-load switch min(M_P, M_des) or a kink of the exact loading factor
         (a cell at its design load or where a flight fills, e.g. small feeds), it is restarted from
         the steady state of the same model with the switch smoothed over ten times the case's
-        width (at least :attr:`START_SMOOTHING` of M_des); the state returned is always that of the
+        width (at least `START_SMOOTHING` of M_des); the state returned is always that of the
         case's own model, accepted by its own convergence test."""
         if self._thermal_ss is not None:
             return self._thermal_ss
@@ -247,11 +249,30 @@ class Simulation:
 
     def dynamics(self, t_end=7200.0, dt=60.0, **changes):
         """Response from the steady state to new inputs ``changes`` (names of
-        :data:`rotarydryer.thermal.studies.INPUTS` or ThermalSettings fields, absolute values)."""
+        `rotarydryer.thermal.studies.INPUTS` or ThermalSettings fields, absolute values)."""
         d = self.dryer()
         ss = self.thermal_steady_state()
         d2 = perturbed(d, **changes) if changes else d
         return d2.simulate(ss.state, t_end, t_eval=np.arange(0.0, t_end + dt / 2, dt))
+
+    def run_schedule(self, schedule=None, t_end=7200.0, dt=60.0, progress=None):
+        """Response from the coupled steady state to an input ``schedule`` (an
+        [`InputSchedule`][rotarydryer.thermal.schedule.InputSchedule], a .csv/.toml path, or None for
+        the case's own inputs), reported every ``dt`` s for ``t_end`` s; the
+        [`ScheduleResult`][rotarydryer.thermal.schedule.ScheduleResult] of ``rotarydryer dynamics``."""
+        if schedule is not None and not isinstance(schedule, InputSchedule):
+            schedule = load_schedule(schedule)
+        if not self.thermal_enabled:
+            raise ValueError(f"case {self.case_name!r} has no [gas] block: dynamics needs the heat-and-mass model")
+        if progress:
+            progress("steady state ...")
+        self.transport_steady_state()    # feasibility (critical speed, fill) first
+        steady = self.thermal_steady_state()
+        step = None
+        if progress is not None:
+            def step(done, total):
+                progress(f"t = {done:.0f} / {total:.0f} s")
+        return simulate_schedule(steady.dryer, steady.state, schedule, t_end, dt, progress=step)
 
     def rtd(self, t_end=None, dt=None, method="auto"):
         """Tracer response at the (transport) steady state with the case's tracer pulse."""
@@ -261,7 +282,7 @@ class Simulation:
 
     def results(self, *, rtd: bool = True, method: str = "auto", fit_rtd: bool = False,
                 thermal: bool | None = None):
-        """:class:`rotarydryer.results.Results` of the case: the steady state (coupled with heat and
+        """[`rotarydryer.results.Results`][rotarydryer.results.Results] of the case: the steady state (coupled with heat and
         mass where the case has a gas; ``thermal=False`` for the solids transport alone), with
         ``rtd=True`` the case's tracer pulse simulated at that state and its measured curve, with
         ``fit_rtd=True`` the classical RTD models fitted to the measured curve. Every dataset
@@ -297,9 +318,9 @@ class Simulation:
 
     def fit(self, dataset, parameters, **kwargs):
         """Fit ``parameters`` (override keys, e.g. ``["transport.backmix"]``) to a measured tracer
-        curve: a :class:`rotarydryer.rtd.TracerData` or a shipped dataset name
+        curve: a [`rotarydryer.rtd.TracerData`][rotarydryer.rtd.TracerData] or a shipped dataset name
         (``"lee2008_invicta"``); keyword arguments as
-        :func:`rotarydryer.estimation.cases.fit_case_to_tracer`, starting from this Simulation's
+        [`rotarydryer.estimation.cases.fit_case_to_tracer`][rotarydryer.estimation.cases.fit_case_to_tracer], starting from this Simulation's
         overrides (``base_overrides`` adds to them). Returns its ``CaseFit``."""
         from .estimation.cases import fit_case_to_tracer  # estimation builds on Simulation
         from .rtd import load_tracer_dataset
@@ -313,7 +334,7 @@ class Simulation:
         """The value of the case input ``find`` (e.g. ``"operating.feed_rate"``) in ``bounds`` that
         meets ``such_that`` (e.g. ``"product_moisture_kg_kg<=0.12"``), starting from this
         Simulation's overrides; keyword arguments and the returned ``TargetResult`` as
-        :func:`rotarydryer.studies.target.target`."""
+        `rotarydryer.studies.target.target`."""
         from .studies.target import target  # the target study builds on Simulation
 
         return target(self, find, such_that, bounds, **kwargs)
@@ -321,8 +342,8 @@ class Simulation:
     def calibrate(self, parameters, **kwargs):
         """Fit case keys ``parameters`` to several measured responses of many tests at once, from this
         Simulation's case and overrides (keyword arguments as
-        :func:`rotarydryer.estimation.calibrate.calibrate`; ``base_overrides`` adds to the overrides).
-        Returns its :class:`~rotarydryer.estimation.calibrate.CaseCalibration` (``.record()``: the
+        `rotarydryer.estimation.calibrate.calibrate`; ``base_overrides`` adds to the overrides).
+        Returns its `CaseCalibration` (``.record()``: the
         calibration record)."""
         from .estimation.calibrate import calibrate  # estimation builds on Simulation
 
@@ -332,7 +353,7 @@ class Simulation:
     def sweep(self, grid, outputs=None):
         """Steady state over a grid of overrides on top of this Simulation's: a list of override
         dicts, or the CLI's form, a dict ``{key: [values]}`` or ``["key=v1,v2", ...]`` (the cartesian
-        product). Returns one dict per point: its overrides and :meth:`SteadyResult.summary`
+        product). Returns one dict per point: its overrides and [`SteadyResult.summary`][rotarydryer.simulation.SteadyResult.summary]
         (``outputs``: only these names). Each point is warm-started from the previous one: the same
         steady state, on the previous point's heat-and-mass model when only parameter values differ."""
         rows, warm = [], None
@@ -373,7 +394,7 @@ def grid_points(grid) -> list[dict]:
 def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: str = "auto",
              fit_rtd: bool = False, thermal: bool | None = None):
     """``Simulation(case, overrides).results(...)``: a case name, ``.toml`` path or validated case
-    solved into a :class:`rotarydryer.results.Results` (see :meth:`Simulation.results`)."""
+    solved into a [`rotarydryer.results.Results`][rotarydryer.results.Results] (see [`Simulation.results`][rotarydryer.simulation.Simulation.results])."""
     if isinstance(case, (str, os.PathLike)):
         sim = Simulation(case, overrides)
     else:
@@ -389,10 +410,10 @@ def build_thermal_dryer(case, settings=None, feed_moisture=None, **overrides):
 
 
 class SteadyResult:
-    """Steady state of a :class:`Simulation`: one total holdup, one set of names.
+    """Steady state of a [`Simulation`][rotarydryer.simulation.Simulation]: one total holdup, one set of names.
 
     ``transport``: the transport-only steady state (no gas) or None; ``thermal``: the coupled
-    :class:`~rotarydryer.thermal.dryer.ThermalSteadyState` or None. With heat and mass transfer
+    [`ThermalSteadyState`][rotarydryer.thermal.dryer.ThermalSteadyState] or None. With heat and mass transfer
     every holdup, residence time and tracer moment is that of the coupled state (the tracer
     system is built on its flows), so the numbers add up.
     """
@@ -427,11 +448,11 @@ class SteadyResult:
         return figs if what == "all" else figs[what]
 
     def summary_text(self) -> str:
-        """:meth:`summary` as plain text, one output a line (units from the names)."""
+        """[`summary`][rotarydryer.simulation.SteadyResult.summary] as plain text, one output a line (units from the names)."""
         return "\n".join([f"steady state of {self.simulation.case_name}", *output_lines(self.summary())])
 
     def to_dataframe(self):
-        """:meth:`summary` as a pandas DataFrame (value, unit)."""
+        """[`summary`][rotarydryer.simulation.SteadyResult.summary] as a pandas DataFrame (value, unit)."""
         from ._display import outputs_dataframe
 
         return outputs_dataframe(self.summary())
@@ -439,12 +460,12 @@ class SteadyResult:
     @property
     def state(self):
         """The solids of this state as a transport steady state: the coupled one
-        (:meth:`ThermalSteadyState.transport_state`) with heat and mass, else the transport one.
+        ([`ThermalSteadyState.transport_state`][rotarydryer.thermal.states.ThermalSteadyState.transport_state]) with heat and mass, else the transport one.
         Its holdups, section and cell tables and tracer system are what every view shows."""
         return self.thermal.transport_state() if self.thermal is not None else self.transport
 
     def warm_data(self) -> dict | None:
-        """What starts a nearby run (:meth:`Simulation.steady_state` ``warm``): the coupled state,
+        """What starts a nearby run ([`Simulation.steady_state`][rotarydryer.simulation.Simulation.steady_state] ``warm``): the coupled state,
         the transport masses, the shell temperatures and the last factorisation; None without heat
         and mass transfer."""
         th = self.thermal
@@ -455,7 +476,7 @@ class SteadyResult:
                     shell=th.dryer._shell_outer, factorization=th.factorization, simulation=self.simulation)
 
     def to_dict(self) -> dict:
-        """:meth:`summary` with the ``sections`` and ``cells`` tables of :attr:`state` (the
+        """[`summary`][rotarydryer.simulation.SteadyResult.summary] with the ``sections`` and ``cells`` tables of [`state`][rotarydryer.simulation.SteadyResult.state] (the
         object ``rotarydryer simulate --json`` prints, less ``case`` and ``parameters``)."""
         out = self.state.to_dict()
         out["model"] = self.simulation.model_name
@@ -478,8 +499,8 @@ class SteadyResult:
 
     def summary(self, outputs=None) -> dict:
         """Outputs named with their unit: holdups, residence time, tracer moments and, with heat
-        and mass transfer, :meth:`ThermalSteadyState.summary` (the fuel rate where the case has a
-        burner). The transport-only model's total holdup, where wanted, is in :meth:`to_dict`
+        and mass transfer, [`ThermalSteadyState.summary`][rotarydryer.thermal.states.ThermalSteadyState.summary] (the fuel rate where the case has a
+        burner). The transport-only model's total holdup, where wanted, is in [`to_dict`][rotarydryer.simulation.SteadyResult.to_dict]
         (``transport_only_total_holdup_kg``): the summary is this state's alone. ``outputs`` (names):
         the groups that cost a computation (tracer moments, fuel rate, kiln bed) are left out unless
         named; the values of the others are the same."""
@@ -495,6 +516,8 @@ class SteadyResult:
                        passive_holdup_kg=ss.passive_holdup, bed_holdup_kg=ss.bed_holdup,
                        feed_rate_kg_s=float(self.simulation.transport_model().feed_rate),
                        outlet_flow_kg_s=ss.outlet_flow, mean_residence_time_s=ss.mean_residence_time)
+        if want is None or "fill_fraction" in want:
+            out["fill_fraction"] = drum_fill_fraction(self.simulation.case, self.state)
         if want is None or want & set(self.TRACER_OUTPUTS):
             ts = self.tracer_system()
             m = ts.moments(self.simulation.tracer_input)
@@ -507,7 +530,7 @@ class SteadyResult:
 
     def merged(self, transport_outputs: dict) -> dict:
         """``transport_outputs`` (the transport-only model's, e.g. ``SteadyState.to_dict()`` or a
-        Results' scalars) overwritten by :meth:`summary`: one value per name in every view."""
+        Results' scalars) overwritten by [`summary`][rotarydryer.simulation.SteadyResult.summary]: one value per name in every view."""
         out = dict(transport_outputs)
         out.update(self.summary())
         return out

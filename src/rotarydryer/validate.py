@@ -14,7 +14,7 @@ file, ``rotarydryer/data/validation.toml``, with its kind, its reason and its so
   reproductions of the theses' own models in their configuration, each with its overrides.
 
 An item whose ``known_miss`` is set is listed with its figure and reason but does not fail the
-run (it shows "pass" when it meets its tolerance). Overrides given to :func:`run_validation`
+run (it shows "pass" when it meets its tolerance). Overrides given to `run_validation`
 apply on top of every item's own (how a test perturbs a calibration).
 
 >>> spec = load_tolerances()                                # the shipped tolerances, checked
@@ -748,7 +748,7 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
     ----------
     cases : list of str, optional
         Packaged case names or ``.toml`` files; default every packaged case
-        (:func:`rotarydryer.cases.list_cases`). Published items (``[[items]]``) belong to
+        (`rotarydryer.cases.list_cases`). Published items (``[[items]]``) belong to
         packaged cases; a file gets the items derived from its own data.
     overrides : dict, optional
         ``{"thermal.area_scale": 5}`` (the CLI's ``--set``): applied on top of every item's own

@@ -1,11 +1,18 @@
 """Helpers shared by the AppTest tests (Streamlit's headless harness): open the app on a page,
-read a metric as a number, the image URLs. Import after ``pytest.importorskip("streamlit")``."""
+switch pages, read a metric as a number, the image URLs. Import after
+``pytest.importorskip("streamlit")``."""
 
 import re
 
 from streamlit.testing.v1 import AppTest
 
-from rotarydryer.app import script_path
+from rotarydryer.app import PAGES, script_path
+
+
+def goto(at, title):
+    """Switch ``at`` (run at least once) to the page ``title`` (``st.navigation``: the page's
+    file in :mod:`rotarydryer.app.entries`, as a click on its navigation link) and run it."""
+    return at.switch_page(f"entries/{PAGES[title][1]}.py").run()
 
 
 def open_app(page=None, timeout=120, no_error=False):
@@ -13,7 +20,7 @@ def open_app(page=None, timeout=120, no_error=False):
     at = AppTest.from_file(str(script_path()), default_timeout=timeout)
     at.run()
     if page is not None:
-        at.sidebar.radio(key="page").set_value(page).run()
+        goto(at, page)
     assert not at.exception, [e.value for e in at.exception]
     if no_error:
         assert not at.error, [e.value for e in at.error]

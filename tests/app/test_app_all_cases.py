@@ -16,7 +16,7 @@ pytest.importorskip("xarray")
 from rotarydryer.app import _runs, logic  # noqa: E402
 from rotarydryer.cases import list_cases  # noqa: E402
 
-from .apptest_support import open_app  # noqa: E402
+from .apptest_support import goto, open_app  # noqa: E402
 
 SHIPPED = ["ajayi2011_mmg", "lee2008_invicta", "song2003_ottawa"]
 #: page -> the key of its case selectbox (pages without a case: None)
@@ -66,7 +66,8 @@ def _exercise(at, page, where, buttons=False):
         assert len(at.image) == 4, where
     elif page == "Whole dryer":
         assert {"Product moisture", "Gas outlet temperature"} <= {m.label for m in at.metric}, where
-        assert len(at.image) == 2, where
+        assert len(at.image) == 1, where                    # the energy waterfall
+        assert len(at.get("vega_lite_chart")) == 3, where   # the interactive profiles
     elif page == "Studies and sensitivity":
         assert at.image, where     # the what-if plot
         if not buttons:
@@ -195,19 +196,19 @@ def test_a_failing_page_shows_one_error_box(monkeypatch):
 
     monkeypatch.setattr(page_design, "render", broken)
     at = open_app()
-    at.sidebar.radio(key="page").set_value("Design").run()
+    goto(at, "Design")
     assert not at.exception
     assert len(at.error) == 1
     msg = at.error[0].value
     assert "Design" in msg and "internal error (RuntimeError)" in msg and "secret" not in msg and "\n" not in msg
-    at.sidebar.radio(key="page").set_value("Flight geometry").run()      # the app is alive
+    goto(at, "Flight geometry")      # the app is alive
     _ok(at, "after the failure")
 
     def bad_input():
         raise ValueError("operating.rpm = 99 rev/min is at or above the critical speed\nsecond line")
 
     monkeypatch.setattr(page_design, "render", bad_input)
-    at.sidebar.radio(key="page").set_value("Design").run()
+    goto(at, "Design")
     assert not at.exception and "operating.rpm = 99" in at.error[0].value and "\n" not in at.error[0].value
 
 
@@ -294,7 +295,7 @@ def test_second_run_of_a_session_is_refused_on_the_page(monkeypatch):
         return real(session)
 
     monkeypatch.setattr(page_transport, "heavy", heavy_spy)
-    at.sidebar.radio(key="page").set_value("Transport and RTD").run()
+    goto(at, "Transport and RTD")
     at.sidebar.number_input(key="trpm__lee2008_invicta").set_value(3.17).run()    # not cached: a new run
     assert seen.get("sid"), "no session id in the script run"
 

@@ -53,19 +53,21 @@ def test_app_transport_page_in_browser(server, browser):
     metric = metric_locator(page, "Total holdup")
     expect(metric).not_to_have_text(before)
     assert float(metric.inner_text().split()[0].replace(",", "")) < float(before.split()[0].replace(",", ""))
-    # upload a tracer CSV (Lee's Invicta curve) and fit it
+    # the tracer fit starts on the case's own data set (Invicta case: Lee's Invicta curve)
+    expect(page.get_by_text("Fitting: published curve lee2008_invicta")).to_be_visible()
+    # upload a tracer CSV (Ajayi's test 2) and fit it
     fitted = page.locator('[data-testid="stMetric"]').filter(has_text="Fitted outlet mean").locator(
         '[data-testid="stMetricValue"]')
     fit_before = fitted.inner_text()
-    csv_path = Path(__file__).resolve().parents[2] / "src" / "rotarydryer" / "data" / "tracer_lee2008_invicta.csv"
+    csv_path = Path(__file__).resolve().parents[2] / "src" / "rotarydryer" / "data" / "tracer_ajayi2011_test2.csv"
     page.locator('[data-testid="stFileUploader"]').filter(has_text="tracer CSV").locator(
         'input[type="file"]').set_input_files(str(csv_path))
+    expect(page.get_by_text("Fitting: uploaded file tracer_ajayi2011_test2.csv")).to_be_visible()
     expect(fitted).not_to_have_text(fit_before)
     from rotarydryer.app.logic import fit_tracer
 
     expected = fit_tracer(text=csv_path.read_text(), images=False)["moments"]["mean_s"] / 60
     expect(fitted).to_have_text(f"{expected:.2f} min")
-    expect(page.get_by_text("Fitting: uploaded file tracer_lee2008_invicta.csv")).to_be_visible()
     if SHOTS:
         page.wait_for_function("() => [...document.querySelectorAll('[data-testid=stImage] img')]"
                                ".every(i => i.complete && i.naturalWidth > 100)")

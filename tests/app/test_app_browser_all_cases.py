@@ -3,12 +3,16 @@ template uploaded) in a real browser (Debian chromium + Playwright): each page s
 results, no error box, no exception, no traceback. One server and one tab (about 2-3 min).
 Skips cleanly when /usr/bin/chromium, Playwright or Streamlit is missing."""
 
+import re
+
 import pytest
 from typer.testing import CliRunner
 
 from .browser_support import skip_without_browser
 
 skip_without_browser()
+from rotarydryer.app import PAGES as APP_PAGES  # noqa: E402
+
 from .browser_support import browser, choose, expect, new_page, server  # noqa: E402,F401
 
 SHIPPED = ["ajayi2011_mmg", "lee2008_invicta", "song2003_ottawa"]
@@ -55,7 +59,8 @@ def test_every_page_with_every_case_in_browser(server, browser, template):
     sidebar = page.locator('[data-testid="stSidebar"]')
     for title, (case_label, ready) in PAGES.items():
         sidebar.get_by_text(title, exact=True).click()
-        expect(page.locator('[data-testid="stSidebar"] [data-testid="stRadio"] input:checked')).to_have_count(1)
+        url = APP_PAGES[title][1]          # the page's own address (the landing page: the root)
+        expect(page).to_have_url(re.compile(rf"/{'' if title == next(iter(APP_PAGES)) else url}/?$"))
         if case_label is None:
             _check(page, title, ready)
             continue

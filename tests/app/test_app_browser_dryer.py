@@ -31,7 +31,10 @@ def test_whole_dryer_page_in_browser(server, browser):
     expect(_value(page, "Fuel rate")).to_be_visible()
     gas_before = metric(page, "Gas outlet temperature")
     imgs = page.locator('[data-testid="stImage"] img')
-    expect(imgs).to_have_count(2)
+    expect(imgs).to_have_count(1)                                   # the energy waterfall
+    charts = page.locator('[data-testid="stVegaLiteChart"]')        # the interactive profiles
+    expect(charts).to_have_count(3)
+    expect(charts.first.locator("canvas, svg").first).to_be_visible()
     src_before = imgs.first.get_attribute("src")
     box = page.get_by_role("spinbutton", name="Feed rate (kg/s wet)")
     enter(box, "50")

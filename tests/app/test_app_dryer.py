@@ -33,6 +33,38 @@ def test_metrics_are_the_library_steady_state(mmg):
     assert mmg["profiles"][:8] == b"\x89PNG\r\n\x1a\n" and mmg["waterfall"][:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_profile_rows_are_the_profiles_and_the_plant_values(mmg):
+    """The interactive charts' rows: every gas stage and tank of the steady state, and Ajayi's
+    test 4 measured values at the ends (gas in at the feed end: co-current)."""
+    rows = mmg["profile_rows"]
+    s = Simulation("ajayi2011_mmg").steady_state()
+    p = s.thermal.profiles()
+    gas_t = [r for r in rows if r["quantity"] == "temperature" and r["series"] == "gas"]
+    assert [r["value"] for r in gas_t] == pytest.approx(list(p["gas_temperature_degC"]))
+    solids = [r for r in rows if r["quantity"] == "moisture" and not r["measured"]]
+    assert len(solids) == len(p["position"]) and {r["series"] for r in solids} <= {
+        "solids (bed)", "solids (passive)", "solids (active)"}
+    meas = {(r["quantity"], r["value"]) for r in rows if r["measured"]}
+    m = mmg["measured"]
+    assert ("temperature", m["gas_in_c"]) in meas and ("moisture", m["moisture_out"]) in meas
+    x0 = min(r["position_m"] for r in rows)
+    assert next(r for r in rows if r["measured"] and r["value"] == m["gas_in_c"])["position_m"] == x0
+    assert not any(r["measured"] for r in logic_dryer.dryer_view("lee2008_invicta", images=False)["profile_rows"])
+
+
+def test_page_profile_charts_have_a_read_out(at):
+    """The profiles are Altair charts with a tooltip read-out and a nearest-position hover; the
+    PNG figure stays downloadable."""
+    import json
+
+    specs = [json.loads(c.proto.spec) for c in at.get("vega_lite_chart")]
+    for spec in specs:
+        assert any("tooltip" in layer.get("encoding", {}) for layer in spec["layer"])
+        params = spec.get("params", []) + [p for layer in spec["layer"] for p in layer.get("params", [])]
+        assert any(p.get("select", {}).get("nearest") for p in params)
+    assert "Download the profiles figure (PNG)" in [b.label for b in at.get("download_button")]
+
+
 def test_energy_waterfall_terms_close_the_balance(mmg):
     terms = mmg["energy_terms_w"]
     e_in, e_out = sum(terms["in"].values()), sum(terms["out"].values())
@@ -121,7 +153,8 @@ def test_page_renders_and_feed_rate_changes_the_product(at):
     for label in ("Product moisture", "Product temperature", "Gas outlet temperature", "Mean residence time",
                   "Specific energy", "Thermal efficiency", "Fuel rate"):
         assert label in labels
-    assert len(at.image) == 2
+    assert len(at.image) == 1                                   # the energy waterfall; the profiles: charts
+    assert len(at.get("vega_lite_chart")) == 3
     before = _metric(at, "Product moisture")
     s = Simulation("ajayi2011_mmg").steady_state().summary()
     assert before == pytest.approx(s["product_moisture_kg_kg"], abs=1e-4)

@@ -14,9 +14,9 @@ pytest.importorskip("xarray")
 
 from rotarydryer.app import logic  # noqa: E402
 
-from .apptest_support import image_urls as _img_urls  # noqa: E402
+from .apptest_support import goto, open_app  # noqa: E402
+from .apptest_support import image_urls as _img_urls
 from .apptest_support import metric_number as _metric
-from .apptest_support import open_app
 
 runner = CliRunner()
 
@@ -60,7 +60,7 @@ def test_transport_page_speed_and_tracer_fit(at):
     over-loaded counter-current Invicta case the kilning bed grows with speed instead);
     Ajayi (2011) test 4 tracer: fitted outlet mean vs the published measured mean
     15.21 min (Tables 3.12-3.13), 1 %."""
-    at.sidebar.radio(key="page").set_value("Transport and RTD").run()
+    goto(at, "Transport and RTD")
     assert not at.exception and not at.error
     assert _metric(at, "Total holdup") > 1000
     at.sidebar.selectbox(key="case").set_value("ajayi2011_mmg").run()

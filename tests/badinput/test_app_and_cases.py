@@ -265,7 +265,7 @@ try:
 except ImportError:  # the "app" extra is not installed
     AppTest = None
 
-from rotarydryer.app import logic, script_path, streamlit_command  # noqa: E402
+from rotarydryer.app import PAGES, logic, script_path, streamlit_command  # noqa: E402
 
 needs_streamlit = pytest.mark.skipif(AppTest is None, reason="Streamlit is not installed")
 
@@ -292,7 +292,7 @@ def _errors(at) -> str:
 def transport_page():
     at = AppTest.from_file(str(script_path()), default_timeout=120)
     at.run()
-    at.sidebar.radio(key="page").set_value("Transport and RTD").run()
+    at.switch_page(f"entries/{PAGES['Transport and RTD'][1]}.py").run()   # its navigation link
     assert not at.exception and not at.error
     return at
 

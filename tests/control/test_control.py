@@ -116,3 +116,21 @@ def test_control_cli(tmp_path):
     out = json.loads(res.stdout.strip().splitlines()[-1])
     assert out["closed_loop"]["tuning"]["rule"].startswith("SIMC")
     assert {p.name for p in tmp_path.iterdir()} == {"control.json", "control.csv", "control.png"}
+
+
+def test_schedule_in_place_of_a_scenario_is_the_same_run(mmg):
+    """A feed moisture step written as a schedule gives the open-loop run of the scenario (issue 31)."""
+    from rotarydryer.thermal.schedule import InputSchedule
+
+    d, ss = mmg
+    x_new = C._wet_basis(C._dry_basis(d.feed_moisture) * 1.1)
+    sched = InputSchedule.from_events({"step": [{"input": "feed_moisture", "at_s": 300, "value": x_new}]})
+    kw = dict(t_end_s=1200.0, controlled=False)
+    by_scenario = C.closed_loop(d, ss, scenario="feed_moisture_step", magnitude=0.1, t_step_s=300.0, **kw)
+    by_schedule = C.closed_loop(d, ss, schedule=sched, **kw)
+    assert by_schedule.scenario["name"] == "schedule" and by_schedule.scenario["t_step_s"] == 300.0
+    for k in ("feed_moisture_kg_kg", "product_moisture_kg_kg", "exhaust_temperature_degC"):
+        np.testing.assert_allclose(by_schedule.series[k], by_scenario.series[k], rtol=1e-12, err_msg=k)
+    assert by_schedule.series["product_moisture_kg_kg"][-1] > by_schedule.series["product_moisture_kg_kg"][0]
+    with pytest.raises(ValueError, match="manipulated input"):
+        C.closed_loop(d, ss, schedule=InputSchedule({"gas_inlet_temperature": ((60.0, 400.0),)}), t_end_s=600.0)

@@ -13,18 +13,24 @@ from rotarydryer.fmu import OUTPUTS, DryerStepper  # noqa: E402
 CASE, SETS = "ajayi2011_mmg", {"operating.test": 4}
 
 
-def test_fmu_matches_python_model_after_feed_step(tmp_path):
+@pytest.fixture(scope="module")
+def fmu_path(tmp_path_factory):
     from typer.testing import CliRunner
 
     from rotarydryer.cli import app
 
-    path = tmp_path / "dryer.fmu"
+    path = tmp_path_factory.mktemp("fmu") / "dryer.fmu"
     res = CliRunner().invoke(app, ["fmu", CASE, "--set", "operating.test=4", "-o", str(path)])
     assert res.exit_code == 0, res.output
+    return path
+
+
+def test_fmu_matches_python_model_after_feed_step(fmu_path):
+    path = fmu_path
     md = fmpy.read_model_description(str(path))
     names = {v.name: v.causality for v in md.modelVariables}
     assert {k for k, c in names.items() if c == "input"} == {"feed_rate", "feed_moisture", "gas_inlet_temperature",
-                                                              "rpm"}
+                                                              "rpm", "gas_flow"}
     assert {k for k, c in names.items() if c == "output"} == set(OUTPUTS)
 
     ref = DryerStepper(CASE, SETS)
@@ -42,3 +48,33 @@ def test_fmu_matches_python_model_after_feed_step(tmp_path):
         np.testing.assert_allclose(out[k], e, rtol=1e-6, atol=1e-9 * max(1.0, np.max(np.abs(e))), err_msg=k)
     # the step moved the plant (not a trivially constant comparison)
     assert out["holdup"][-1] > 1.02 * out["holdup"][0]
+
+
+def test_fmu_driven_by_fmpy_with_a_schedule_matches_rotarydryer_dynamics(fmu_path, tmp_path):
+    """Issue 31 acceptance: the burner trip (gas inlet 500 -> 100 degC for 10 min) of
+    ``rotarydryer dynamics --schedule trip.csv`` and the FMU driven by fmpy with the same table."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+    from rotarydryer.thermal.schedule import load_schedule
+
+    trip = tmp_path / "trip.csv"
+    trip.write_text("time_s,gas_inlet_temperature\n0,500\n600,500\n600,100\n1200,100\n1200,500\n", encoding="utf-8")
+    res = CliRunner().invoke(app, ["dynamics", CASE, "--set", "operating.test=4", "--schedule", str(trip),
+                                   "--t-end", "3600", "--out", str(tmp_path / "run"), "--json", "--quiet"])
+    assert res.exit_code == 0, res.output
+    series = json.loads((tmp_path / "run" / "dynamics.json").read_text())["series"]
+    sched = load_schedule(trip)
+    inp = sched.signals({"gas_inlet_temperature": 500.0}, 3600.0)
+    out = fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=3600.0, step_size=60.0, output_interval=60.0,
+                            input=inp, output=list(OUTPUTS))
+    np.testing.assert_array_equal(out["time"], series["time_s"])
+    units = {"product_moisture": "kg_kg", "product_temperature": "degC", "exhaust_temperature": "degC",
+             "exhaust_humidity": "kg_kg", "holdup": "kg"}
+    for k in OUTPUTS:
+        e = np.array(series[f"{k}_{units[k]}"])
+        np.testing.assert_allclose(out[k], e, rtol=1e-6, atol=0, err_msg=k)
+    pm = np.array(series["product_moisture_kg_kg"])
+    assert pm.max() > pm[0] + 0.02          # the trip moved the plant

@@ -14,11 +14,17 @@ def test_ajayi_report_has_energy_balance_section():
     section = text[text.index('id="energy"'):]
     assert "energy balance waterfall" in section
     assert "thermal profiles" in section
-    # the balance table lists inputs and outputs whose difference is the tiny closure
-    rows = dict(re.findall(r"<td[^>]*>([a-z ]+ \((?:in|out)\))</td><td[^>]*>([-0-9.]+)</td>", section))
-    ins = sum(float(v) for k, v in rows.items() if k.endswith("(in)"))
-    outs = sum(float(v) for k, v in rows.items() if k.endswith("(out)"))
-    assert ins > 5 and abs(ins - outs) < 0.01 * ins
+    # the heat-duty table (kW): the heat input and where it goes (evaporation, heating of solids,
+    # shell loss, exhaust), which add up to it
+    rows = dict(re.findall(r"<td[^>]*>([a-z ]+ \((?:in|out)\))</td><td[^>]*>([-0-9.,]+)</td>", section))
+    kw = {k: float(v.replace(",", "")) for k, v in rows.items()}
+    assert set(kw) == {"heat input (in)", "evaporation (out)", "heating of solids (out)", "shell loss (out)",
+                       "exhaust (out)"}
+    ins = sum(v for k, v in kw.items() if k.endswith("(in)"))
+    outs = sum(v for k, v in kw.items() if k.endswith("(out)"))
+    assert ins > 5000 and abs(ins - outs) < 0.01 * ins
+    words = re.sub(r'src="data:[^"]*"', "", section.split("<h3>Temperature")[0])
+    assert "MW" not in words and "(kW)" not in words and "<th class=\"\">kW</th>" in words  # duties in kW
 
 
 def test_lee_report_has_an_energy_section():

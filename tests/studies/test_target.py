@@ -10,7 +10,15 @@ from rotarydryer import Simulation
 from rotarydryer._limits import LIMITS
 from rotarydryer.cases import load_case
 from rotarydryer.cli import app
-from rotarydryer.studies.target import check_bounds, default_bounds, parse_find, parse_such_that, target
+from rotarydryer.studies.target import (
+    check_bounds,
+    default_bounds,
+    optimum,
+    parse_find,
+    parse_such_that,
+    solve_targets,
+    target,
+)
 
 CASE = "ajayi2011_mmg"
 FEED = "operating.feed_rate"
@@ -79,9 +87,85 @@ def test_cli_json_matches_the_library(root):
 
 
 def test_cli_text_and_no_solution_exit_code():
+    """A target no value in the bounds reaches is bad input (issue 31 item 6): exit 2, one error line
+    naming the target, the key and its range, the answer's outputs at the bounds on stdout."""
     res = CliRunner().invoke(app, ["target", CASE, "--find", f"{FEED}=20,30", "--such-that", f"{MOISTURE}<=0.05"])
-    assert res.exit_code == 1, res.output
+    assert res.exit_code == 2, res.output
     assert "no solution in [20, 30]" in res.stdout and "0.100" in res.stdout
+    err = [ln for ln in res.stderr.splitlines() if ln.startswith("error:")]
+    assert len(err) == 1 and f"{MOISTURE}<=0.05" in err[0] and f"{FEED} in [20, 30] kg/s" in err[0]
+
+
+def test_failed_steady_state_inside_the_bracket_exits_1(monkeypatch):
+    """A steady state failing inside the bounds is the solver's answer, as in simulate: exit 1."""
+    import rotarydryer.studies.target as T
+    from rotarydryer.thermal.settings import DryerError
+
+    class Failing(T.Simulation):
+        def steady_state(self, *a, **k):
+            x = self.overrides.get(FEED)
+            if x is not None and 24.0 < x < 36.0:
+                raise DryerError("no steady state (test)", reason="no_steady_state")
+            return super().steady_state(*a, **k)
+
+    monkeypatch.setattr(T, "Simulation", Failing)
+    res = CliRunner().invoke(app, ["target", CASE, "--find", f"{FEED}=20,40", "--such-that", f"{MOISTURE}=0.12"])
+    assert res.exit_code == 1, res.output
+    assert "inside the bracket" in res.stderr
+
+
+def test_two_targets_two_inputs_newton():
+    """Targets taken from a steady state at (35 kg/s, 550 degC): Newton from the case's values finds it."""
+    sets = {"operating.test": 4}
+    s = Simulation(CASE, {**sets, FEED: 35.0, "gas.inlet_temperature": 550.0}).steady_state().summary()
+    m, tg = s[MOISTURE], s["gas_outlet_temperature_degC"]
+    res = solve_targets(CASE, [f"{FEED}=20,60", "gas.inlet_temperature=350,600"],
+                        [f"{MOISTURE}={m!r}", f"gas_outlet_temperature_degC={tg!r}"], overrides=sets)
+    assert res.found and res.kind == "targets"
+    assert res.values[FEED] == pytest.approx(35.0, rel=2e-3)
+    assert res.values["gas.inlet_temperature"] == pytest.approx(550.0, rel=2e-3)
+    assert all(c["met"] and c["active"] for c in res.conditions)
+    assert res.evaluations <= 30
+
+
+def test_max_feed_under_two_conditions_names_the_binding_one(root):
+    res = optimum(CASE, [f"{FEED}=20,60"], FEED, [f"{MOISTURE}<=0.12", "gas_outlet_dew_point_margin_K>=10"])
+    assert res.found and res.values[FEED] == pytest.approx(root.value, abs=0.02)
+    active = [c["such_that"] for c in res.conditions if c["active"]]
+    assert active == [f"{MOISTURE}<=0.12"]
+    # a dew-point margin that binds first lowers the answer
+    margin = Simulation(CASE, {FEED: 25.0}).steady_state().summary()["gas_outlet_dew_point_margin_K"]
+    res2 = optimum(CASE, [f"{FEED}=20,60"], FEED, [f"{MOISTURE}<=0.12", f"gas_outlet_dew_point_margin_K>={margin!r}"])
+    assert res2.values[FEED] == pytest.approx(25.0, rel=2e-3)
+    assert [c["such_that"] for c in res2.conditions if c["active"]][0].startswith("gas_outlet_dew_point_margin_K")
+
+
+def test_min_fuel_two_inputs_slsqp():
+    res = optimum(CASE, [f"{FEED}=20,60", "gas.inlet_temperature=350,600"], "fuel_rate_kg_s",
+                  [f"{MOISTURE}<=0.12", "feed_rate_kg_s>=35"], sense="min", overrides={"operating.test": 4})
+    assert res.found
+    assert res.values[FEED] == pytest.approx(35.0, rel=1e-3)        # no more feed than needed
+    m = [c for c in res.conditions if c["output_name"] == MOISTURE][0]
+    assert m["output"] == pytest.approx(0.12, abs=2e-4)             # dried no further than needed
+
+
+@pytest.mark.parametrize("finds, conds, match", [
+    ([FEED, "gas.inlet_temperature"], [f"{MOISTURE}=0.12"], "as many free inputs"),
+    ([FEED, "gas.inlet_temperature"], [f"{MOISTURE}=0.12", f"{MOISTURE}=0.1"], "conflicting targets"),
+    ([FEED, "gas.inlet_temperature"], [f"{MOISTURE}<=0.12", "gas_outlet_temperature_degC=130"], "equalities"),
+    ([FEED, FEED], [f"{MOISTURE}=0.12", "gas_outlet_temperature_degC=130"], "given twice"),
+])
+def test_bad_target_sets(finds, conds, match):
+    with pytest.raises(ValueError, match=match):
+        solve_targets(CASE, finds, conds)
+
+
+def test_cli_maximize_json():
+    res = CliRunner().invoke(app, ["target", CASE, "--find", f"{FEED}=20,40", "--maximize", FEED, "--such-that",
+                                   f"{MOISTURE}<=0.12", "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    assert out["kind"] == "optimum" and out["sense"] == "max" and 29 < out[FEED] < 31
 
 
 @pytest.mark.parametrize("args, fragments", [
@@ -143,3 +227,16 @@ def test_simulation_target_is_the_study(root):
     res = Simulation("ajayi2011_mmg").target("operating.feed_rate", "product_moisture_kg_kg=0.12",
                                              bounds=(root.bounds[0], root.bounds[1]))
     assert res.value == pytest.approx(root.value, rel=1e-3)
+
+
+def test_issue31_acceptance_target_then_simulate_gives_the_moisture():
+    """``rotarydryer target ajayi2011_mmg --set operating.test=4 --find operating.feed_rate --such-that
+    product_moisture_kg_kg=0.12`` returns a feed for which ``simulate`` gives 0.12 +- 1e-4."""
+    runner = CliRunner()
+    res = runner.invoke(app, ["target", CASE, "--set", "operating.test=4", "--find", FEED, "--such-that",
+                              f"{MOISTURE}=0.12", "--json"])
+    assert res.exit_code == 0, res.output
+    feed = json.loads(res.stdout)[FEED]
+    sim = runner.invoke(app, ["simulate", CASE, "--set", "operating.test=4", "--set", f"{FEED}={feed!r}", "--json"])
+    assert sim.exit_code == 0, sim.output
+    assert abs(json.loads(sim.stdout)[MOISTURE] - 0.12) <= 1e-4

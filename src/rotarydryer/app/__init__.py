@@ -1,9 +1,9 @@
 """Web app (Streamlit): flight geometry explorer, transport + RTD of a built-in case,
 tracer-curve fitting.
 
-Start it with ``rotarydryer app`` (or ``streamlit run`` on :func:`script_path`).  The
-page logic lives in :mod:`rotarydryer.app.logic` (plain functions, testable without
-Streamlit); :mod:`rotarydryer.app.streamlit_app` is the Streamlit script.
+Start it with ``rotarydryer app`` (or ``streamlit run`` on `script_path`).  The
+page logic lives in `rotarydryer.app.logic` (plain functions, testable without
+Streamlit); `rotarydryer.app.streamlit_app` is the Streamlit script.
 
 Why Streamlit: its ``streamlit.testing.v1.AppTest`` harness runs the script headless in
 the test process (set widget values, read metrics, tables and images) with no browser
@@ -19,7 +19,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["script_path", "streamlit_command"]
+__all__ = ["PAGES", "script_path", "streamlit_command"]
+
+#: page title -> (module of `rotarydryer.app` with a ``render()``, URL path = file of
+#: `rotarydryer.app.entries`, icon); the first is the landing page (served at /, its URL path
+#: too).  `rotarydryer.app.streamlit_app` makes one ``st.Page`` of each.
+PAGES = {"Flight geometry": ("page_geometry", "geometry", ":material/donut_large:"),
+         "Transport and RTD": ("page_transport", "transport", ":material/conveyor_belt:"),
+         "Whole dryer": ("page_dryer", "whole_dryer", ":material/local_fire_department:"),
+         "Studies and sensitivity": ("page_studies", "studies", ":material/query_stats:"),
+         "Design": ("page_design", "design", ":material/architecture:"),
+         "Control": ("page_control", "control", ":material/tune:"),
+         "Lab data": ("page_lab", "lab", ":material/science:")}
 
 
 def script_path() -> Path:

@@ -7,12 +7,12 @@ soon as a widget changes, while the old run's computation goes on in its thread,
 can also pile up runs.  Process-wide, therefore:
 
 - one session runs at most one heavy run at a time: a second request of the same session waits
-  up to :data:`SESSION_WAIT_S` seconds for the running one to end (an ordinary widget change
-  during a run), then is refused with :class:`RunInProgress` ("a run is already in progress");
+  up to `SESSION_WAIT_S` seconds for the running one to end (an ordinary widget change
+  during a run), then is refused with `RunInProgress` ("a run is already in progress");
   of several waiting requests of a session only the newest runs (the older ones belong to
   replaced script runs and are refused at once);
-- at most :data:`MAX_CONCURRENT_RUNS` heavy runs run at once over all sessions; a request waits
-  up to :data:`WAIT_S` seconds for a free slot, then is refused with :class:`ServerBusy`.
+- at most `MAX_CONCURRENT_RUNS` heavy runs run at once over all sessions; a request waits
+  up to `WAIT_S` seconds for a free slot, then is refused with `ServerBusy`.
 
 Both are ``ValueError`` subclasses, so the pages show their message (never a traceback).  The
 same thread may nest heavy runs of its session (a cached view calling another): only the outer
@@ -29,7 +29,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 __all__ = ["RunInProgress", "ServerBusy", "heavy_run", "MAX_CONCURRENT_RUNS", "WAIT_S", "SESSION_WAIT_S",
-           "active_runs"]
+           "active_runs", "Kept"]
 
 
 def _env_int(name: str, default: int, low: int = 1) -> int:
@@ -59,7 +59,7 @@ class RunInProgress(ValueError):
 
 
 class ServerBusy(ValueError):
-    """Every slot for heavy runs stayed taken for :data:`WAIT_S` seconds."""
+    """Every slot for heavy runs stayed taken for `WAIT_S` seconds."""
 
 
 _guard = threading.Condition()
@@ -118,10 +118,10 @@ def heavy_run(session: str | None, wait: float | None = None, slots: threading.S
     """Hold this session's run and one of the process's slots for the ``with`` body.
 
     ``session``: the Streamlit session id (``None``: no per-session limit, the global bound only).
-    Raises :class:`RunInProgress` when the session's running heavy run (in another thread) does not
-    end within ``session_wait`` seconds (default :data:`SESSION_WAIT_S`) or a newer request of the
-    session came meanwhile, :class:`ServerBusy` when no slot frees within ``wait`` seconds
-    (default :data:`WAIT_S`)."""
+    Raises `RunInProgress` when the session's running heavy run (in another thread) does not
+    end within ``session_wait`` seconds (default `SESSION_WAIT_S`) or a newer request of the
+    session came meanwhile, `ServerBusy` when no slot frees within ``wait`` seconds
+    (default `WAIT_S`)."""
     me = threading.get_ident()
     key = None if session is None else str(session)
     ticket = None
@@ -142,3 +142,36 @@ def heavy_run(session: str | None, wait: float | None = None, slots: threading.S
     finally:
         if key is not None and ticket is not None:
             _release(key, me, ticket)
+
+
+class Kept:
+    """A bounded, thread-safe store of finished heavy runs' results shared by every session (the
+    newest ``max_entries``), for the runs that draw a progress bar while they compute: inside an
+    ``st.cache_data`` function the bar's calls would be recorded and replayed on a later hit of
+    another session (which fails: CacheReplayClosureError), so the page keeps the result here and
+    draws the bar only when it computes."""
+
+    def __init__(self, max_entries: int = 8):
+        self.max_entries = max(1, int(max_entries))
+        self._lock = threading.Lock()
+        self._items: dict = {}
+
+    def get(self, key):
+        """The kept result of ``key`` (hashable) or None."""
+        with self._lock:
+            if key not in self._items:
+                return None
+            value = self._items.pop(key)
+            self._items[key] = value        # newest last
+            return value
+
+    def put(self, key, value) -> None:
+        with self._lock:
+            self._items.pop(key, None)
+            self._items[key] = value
+            while len(self._items) > self.max_entries:
+                del self._items[next(iter(self._items))]
+
+    def clear(self) -> None:
+        with self._lock:
+            self._items.clear()

@@ -4,8 +4,8 @@ No Streamlit here, so everything is testable directly and cacheable by the page.
 Units: SI, angles in deg, speed in rev/min, as in the rest of the package.
 
 What a visitor may send and what the server may touch: docs/app_threat_model.md.  An
-uploaded case file is kept in memory only (:func:`stage_case_file`; never written to disk)
-and validated by :func:`rotarydryer.cases.load_case_text`: it may name shipped data sets
+uploaded case file is kept in memory only (`stage_case_file`; never written to disk)
+and validated by `rotarydryer.cases.load_case_text`: it may name shipped data sets
 only, never a path.
 """
 
@@ -45,7 +45,7 @@ _staged_lock = threading.Lock()
 def visitor_message(exc: BaseException) -> str:
     """The text of an error shown on the page: the message of a ``ValueError`` (the package's
     input errors name the key, the value and what is allowed; they contain the visitor's own
-    input only), cut to :data:`MAX_MESSAGE_CHARS`; for any other exception only a generic
+    input only), cut to `MAX_MESSAGE_CHARS`; for any other exception only a generic
     sentence with its type (the details go to the server log, never to the visitor)."""
     if isinstance(exc, ValueError) and not isinstance(exc, UnicodeError):
         msg = str(exc)
@@ -128,9 +128,9 @@ def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: f
 def stage_case_file(content: bytes) -> str:
     """Keep an uploaded case file (TOML bytes) in memory and return its content-addressed
     name ``uploaded_case_<sha256 prefix>`` (so results cache by content), which
-    :func:`case_defaults` and :func:`transport_view` accept in place of a built-in case.
-    Nothing is written to disk; at most :data:`MAX_STAGED_CASES` files are kept.  Raises
-    ``ValueError`` when the file is larger than :data:`MAX_CASE_UPLOAD_BYTES`, not UTF-8 or
+    `case_defaults` and `transport_view` accept in place of a built-in case.
+    Nothing is written to disk; at most `MAX_STAGED_CASES` files are kept.  Raises
+    ``ValueError`` when the file is larger than `MAX_CASE_UPLOAD_BYTES`, not UTF-8 or
     not TOML."""
     import tomllib
 
@@ -226,17 +226,17 @@ def widen(low, high, value):
     return lo, hi
 
 
-#: inputs of :func:`geometry_view` -> the case key whose schema range they take (the dryer schema)
+#: inputs of `geometry_view` -> the case key whose schema range they take (the dryer schema)
 _GEOMETRY_KEYS = {"radius": "drum.radius", "n_flights": "drum.n_flights", "s1": "flight.s1", "s2": "flight.s2",
                   "alpha1": "flight.alpha1", "alpha2": "flight.alpha2", "rpm": "operating.rpm",
                   "slope": "drum.slope", "length": "drum.length"}
-#: inputs of :func:`geometry_view` the case schema does not hold: the ranges the geometry checks
+#: inputs of `geometry_view` the case schema does not hold: the ranges the geometry checks
 #: refuse outside (``rotarydryer.geometry.design_load``: repose angle (0, 90) deg, bulk density > 0)
 _GEOMETRY_RANGES = {"repose_angle": (0.0, 90.0), "bulk_density": (0.0, None)}
 
 
 def geometry_range(name: str, value) -> tuple:
-    """Widget bounds of the input ``name`` of :func:`geometry_view` at ``value`` (a preset's): the
+    """Widget bounds of the input ``name`` of `geometry_view` at ``value`` (a preset's): the
     dryer schema's range of the matching case key (``drum.radius`` ...) or the range the geometry
     checks allow, widened to contain ``value``."""
     if name in _GEOMETRY_KEYS:
@@ -253,8 +253,9 @@ def geometry_range(name: str, value) -> tuple:
 
 def input_range(case: str, key: str, value: float | None = None) -> tuple[float | None, float | None]:
     """Bounds of a widget for the override ``key`` of ``case`` (a built-in name or a staged upload):
-    the schema's range of the key (:func:`schema_bounds`), for ``operating.rpm`` also below the
-    critical speed of the case's drum (``rotarydryer.geometry.drum.critical_speed``), always
+    the schema's range of the key (`schema_bounds`), for ``operating.rpm`` also below the
+    critical speed of the case's drum (``rotarydryer.geometry.drum.critical_speed``), for
+    ``operating.feed_moisture`` at most the top of the material's validated moisture range, always
     widened to contain ``value`` (default: the case's own value of the key), so that the
     case's value is never outside its widget."""
     c = _load(case)
@@ -265,6 +266,14 @@ def input_range(case: str, key: str, value: float | None = None) -> tuple[float 
         try:
             nc = float(critical_speed(float(c.drum.radius)))
             hi = nc if hi is None else min(hi, nc)
+        except (AttributeError, TypeError, ValueError):
+            pass
+    if key == "operating.feed_moisture":      # the material's validated range (its laws hold up to it)
+        from ..cases.build import material_of
+
+        try:
+            wet_hi = float(material_of(c).wet_range()[1])
+            hi = wet_hi if hi is None else min(hi, wet_hi)
         except (AttributeError, TypeError, ValueError):
             pass
     if value is None:
@@ -279,7 +288,7 @@ def input_range(case: str, key: str, value: float | None = None) -> tuple[float 
 
 def case_defaults(case: str) -> dict:
     """Feed rate (kg/s), speed (rev/min) and slope (deg) of a built-in case (or of an
-    uploaded one, see :func:`stage_case_file`), as used."""
+    uploaded one, see `stage_case_file`), as used."""
     from ..cases.build import operating_point
 
     c = _load(case)
@@ -327,7 +336,24 @@ def tracer_sources() -> list[str]:
     return tracer_datasets()
 
 
-#: ``baseline`` choices of :func:`fit_tracer`: none, or a constant background fitted with the model
+def case_tracer_dataset(case: str) -> str:
+    """The published tracer curve the tracer fit starts on for ``case``: the case's own shipped
+    data set (``tracer.dataset``, ``{test}`` replaced by its ``operating.test``: Ajayi's test 4 for
+    the MMG case, Lee's Invicta curve for the Invicta case) when it names one, else the first of
+    `tracer_sources` (a case without a tracer data set, or one that names none shipped)."""
+    from ..cases import resolve_dataset
+
+    sources = tracer_sources()
+    c = _load(case)
+    template = getattr(c.tracer, "dataset", None) if getattr(c, "tracer", None) is not None else None
+    if template:
+        name = resolve_dataset(template, getattr(c.operating, "test", ""))
+        if name in sources:
+            return name
+    return sources[0]
+
+
+#: ``baseline`` choices of `fit_tracer`: none, or a constant background fitted with the model
 TRACER_BASELINES = ("none", "fit")
 
 
@@ -341,8 +367,8 @@ def tracer_models() -> tuple:
 
 def fit_tracer(text: str | None = None, dataset: str | None = None, model: str = "tanks_in_series",
                images: bool = True, baseline: str = "none") -> dict:
-    """Fit a reference RTD model (``rotarydryer.rtd.fit_tracer_data``; one of :func:`tracer_models`)
-    to a tracer CSV (text in the tracer-CSV format of :mod:`rotarydryer.rtd.tracer_data`) or to a
+    """Fit a reference RTD model (``rotarydryer.rtd.fit_tracer_data``; one of `tracer_models`)
+    to a tracer CSV (text in the tracer-CSV format of `rotarydryer.rtd.tracer_data`) or to a
     shipped dataset; ``baseline="fit"`` adds a fitted constant background (signal unit, e.g. the
     lithium background of Ajayi's raw ppm).  Returns ``{"table": [(parameter, value, std_error,
     ci_low, ci_high)], "moments": {...}, "r_squared": float, "n_cells": N or None, "plot": png}``."""

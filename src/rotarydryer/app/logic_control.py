@@ -1,18 +1,20 @@
 """Logic of the web app's "Control" page: closed loop on the dynamic model (``rotarydryer control``).
 
 Plain functions (no Streamlit): the options are checked by the same function as the command line
-(:func:`rotarydryer.services.control.check_control_options`), so a bad value gives the CLI's message;
-the runs are :func:`rotarydryer.control.identify` and :func:`rotarydryer.control.closed_loop`
+(`rotarydryer.services.control.check_control_options`), so a bad value gives the CLI's message;
+the runs are `rotarydryer.control.identify` and `rotarydryer.control.closed_loop`
 (closed loop, and the uncontrolled plant for comparison).  A case is a built-in name or an
-uploaded case file staged in memory (:func:`rotarydryer.app.logic.stage_case_file`).
+uploaded case file staged in memory (`rotarydryer.app.logic.stage_case_file`).
 """
 
 from __future__ import annotations
 
+import re
+
 from ..services.control import check_control_options, run_control
 from .logic import _load, png
 
-__all__ = ["thermal_cases", "control_defaults", "control_view", "SCENARIO_LABELS"]
+__all__ = ["thermal_cases", "control_defaults", "control_view", "progress_fraction", "SCENARIO_LABELS"]
 
 #: scenario -> what ``magnitude`` means (shown on the page)
 SCENARIO_LABELS = {
@@ -43,11 +45,13 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
                  magnitude=0.2, duration=7200.0, step_time=None, sample_time=60.0, dead_time=120.0,
                  measured="product_moisture", setpoint=None, kc=None, tau_i=None, tau_c=None, feedforward="model",
                  feedback=True, feed_backup=True, gas_t_max=600.0, gas_t_min=None, feed_min_fraction=0.5,
-                 open_loop=True, images=True) -> dict:
+                 open_loop=True, images=True, progress=None) -> dict:
     """Closed-loop run of a case's dynamic model under a disturbance, as ``rotarydryer control``.
 
     Returns ``{"closed": summary dict, "open": performance dict or None, "tuning": {...},
-    "series": {...}, "time_s": [...], "ranges": {...}, "csv": text, "plot": png}``."""
+    "series": {...}, "time_s": [...], "ranges": {...}, "csv": text, "plot": png}``.  ``progress``:
+    called with a message at each stage (steady state, each identification step, every 10 samples
+    of the closed and the open loop; `progress_fraction` turns one into a fraction done)."""
     from .. import control as C
     from ..simulation import Simulation
 
@@ -63,7 +67,7 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
                                      dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
                                      tau_c=tau_c, feedforward=feedforward, feedback=feedback,
                                      feed_backup=feed_backup, gas_t_max=gas_t_max, gas_t_min=gas_t_min,
-                                     feed_min_fraction=feed_min_fraction, open_loop=open_loop)
+                                     feed_min_fraction=feed_min_fraction, open_loop=open_loop, progress=progress)
     s = closed.series
     out = {
         "closed": closed.summary(),
@@ -89,3 +93,34 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
         fig.tight_layout()
         out["plot"] = png(fig)
     return out
+
+
+#: identification steps of `rotarydryer.control.identify`, in their order
+_ID_STEPS = ("gas_inlet_temperature", "feed_rate", "feed_moisture_dry")
+_LOOP = re.compile(r"(closed|open) loop: t = ([0-9.eE+-]+) / ([0-9.eE+-]+) s")
+
+
+def progress_fraction(message: str, open_loop: bool = True) -> float | None:
+    """The fraction of a control run done when the run reports ``message`` (its ``progress``
+    callback), from the measured shares of a 2 h MMG run (about 35 s: the steady state 1/3,
+    identification 1/10, the closed loop and the open loop 1/4 each); None for a message
+    that tells no stage (the feed-forward's steady states).
+
+    >>> progress_fraction("closed loop: t = 3600 / 7200 s, product_moisture = 0.13")
+    0.575
+    >>> progress_fraction("open loop: t = 7200 / 7200 s, product_moisture = 0.13")
+    1.0
+    """
+    text = str(message)
+    if text.startswith("steady state"):
+        return 0.0
+    if text.startswith("identification: step of "):
+        name = text.rsplit(" ", 1)[-1]
+        return round(0.35 + 0.03 * (_ID_STEPS.index(name) if name in _ID_STEPS else 0), 4)
+    m = _LOOP.match(text)
+    if m is None:
+        return None
+    done = min(1.0, max(0.0, float(m.group(2)) / max(float(m.group(3)), 1e-9)))
+    if not open_loop:
+        return round(0.45 + 0.55 * done, 4)
+    return round((0.45 if m.group(1) == "closed" else 0.75) + 0.25 * done, 4)

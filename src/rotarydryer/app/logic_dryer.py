@@ -1,11 +1,11 @@
 """Logic of the "Whole dryer" page: plain functions returning numbers, tables and PNG bytes.
 
 No Streamlit here (testable directly, cached by the page) and no physics: every number comes
-from :class:`rotarydryer.simulation.Simulation` (the coupled heat-and-mass steady state,
-``ThermalSteadyState``) and every figure from :mod:`rotarydryer.report.plots`. Inputs go to the
+from `rotarydryer.simulation.Simulation` (the coupled heat-and-mass steady state,
+``ThermalSteadyState``) and every figure from `rotarydryer.report.plots`. Inputs go to the
 model as the case's own override keys (``--set`` of the CLI), so bad values are refused with
 the CLI's messages (the case schema and the model's checks). A case is a built-in name or an
-uploaded file staged by :func:`rotarydryer.app.logic.stage_case_file` (never a path).
+uploaded file staged by `rotarydryer.app.logic.stage_case_file` (never a path).
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ def operating_inputs(case: str, test: int | None = None) -> list[dict]:
     """The main operating variables of a case (feed rate, speed, feed moisture, feed temperature,
     gas inlet temperature, gas flow) as input specs: ``key`` (override key of the case's schema),
     ``label``, ``value`` (the case's, at plant test ``test`` for Ajayi's MMG case), widget bounds
-    ``min``/``max``/``step``. Raises :class:`NoThermalModel` for a case without heat and mass
+    ``min``/``max``/``step``. Raises `NoThermalModel` for a case without heat and mass
     transfer. Ajayi's feed moisture is the test's (no override key): change the test."""
     from ..cases.build import operating_point
 
@@ -102,7 +102,7 @@ def _step(value) -> float:
 
 def _case_bounds(c, specs: list[dict]) -> list[dict]:
     """Fill the widget bounds ``min``/``max`` of ``specs`` from the case schema's range of each key
-    (:func:`rotarydryer.app.logic.schema_bounds`; the speed also below the critical speed of the
+    (`rotarydryer.app.logic.schema_bounds`; the speed also below the critical speed of the
     case's drum), widened to contain the case's value: no fixed limits, and the case's value is
     always inside its widget (None: no bound on that side)."""
     from ..geometry.drum import critical_speed
@@ -123,7 +123,7 @@ def _case_bounds(c, specs: list[dict]) -> list[dict]:
 
 
 def study_inputs(case: str) -> list[dict]:
-    """Inputs a study may vary on a case: :func:`operating_inputs` plus model parameters (drum
+    """Inputs a study may vary on a case: `operating_inputs` plus model parameters (drum
     slope, area scale, gas inlet humidity, insulation thickness), each with a default study
     range ``low``/``high`` around the case's value (within the widget bounds)."""
     c = _load(case)
@@ -223,14 +223,50 @@ def _profiles_csv(th) -> str:
     return buf.getvalue()
 
 
+def profile_rows(profiles: dict, measured: dict | None = None, co_current: bool = True) -> list[dict]:
+    """The axial profiles of ``profiles`` (``ThermalSteadyState.profiles()``) as long-format rows
+    for an interactive chart: ``{"quantity": "temperature" | "moisture" | "humidity", "series",
+    "section", "position_m", "value", "measured": bool}`` (gas temperature and humidity per gas
+    stage; solids temperature and moisture per tank, one series per phase: bed, passive, active);
+    with ``measured`` (`_measured`), the plant's values at the ends as in the PNG figure (gas
+    in and out, product temperature, feed and product moisture)."""
+    p = profiles
+    rows = []
+
+    def add(quantity, series, section, x, y, meas=False):
+        y = float(y)
+        if math.isfinite(y):
+            rows.append({"quantity": quantity, "series": series, "section": str(section),
+                         "position_m": float(x), "value": y, "measured": meas})
+
+    for x, t, w in zip(p["gas_position"], p["gas_temperature_degC"], p["gas_humidity"]):
+        add("temperature", "gas", "", x, t)
+        add("humidity", "gas", "", x, w)
+    for x, ph, sec, t, m in zip(p["position"], p["phase"], p["section"], p["solids_temperature_degC"],
+                                p["moisture_wet"]):
+        add("temperature", f"solids ({ph})", sec, x, t)
+        add("moisture", f"solids ({ph})", sec, x, m)
+    if measured:
+        x0, x1 = float(np.min(p["position"])), float(np.max(p["position"]))
+        g_in, g_out = (x0, x1) if co_current else (x1, x0)
+        lab = f"measured (test {measured['test']})"
+        for quantity, x, key in (("temperature", g_in, "gas_in_c"), ("temperature", g_out, "gas_out_c"),
+                                 ("temperature", x1, "product_c"), ("moisture", x0, "moisture_in"),
+                                 ("moisture", x1, "moisture_out")):
+            if measured.get(key) is not None:
+                add(quantity, lab, "", x, measured[key], meas=True)
+    return rows
+
+
 def dryer_view(case: str, overrides: dict | None = None, images: bool = True) -> dict:
     """Coupled steady state of the whole dryer at ``overrides`` (override keys, e.g. those of
-    :func:`operating_inputs`).
+    `operating_inputs`).
 
     Returns ``{"summary": SteadyResult.summary(), "metrics": {...}, "energy_terms_w": {...},
     "energy_table": [...], "measured": {...} or None, "has_burner": bool, "profiles_csv": str,
-    "profiles": png, "waterfall": png}``. Raises ``ValueError`` with the CLI's message on a bad
-    value and :class:`NoThermalModel` for a case without heat and mass transfer."""
+    "profiles": png, "waterfall": png, "profile_rows": rows for an interactive chart
+    (`profile_rows`)}``. Raises ``ValueError`` with the CLI's message on a bad
+    value and `NoThermalModel` for a case without heat and mass transfer."""
     from ..cases.build import has_burner
     from ..report.plots import plot_energy_waterfall
 
@@ -240,6 +276,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     s = steady.summary()
     burner = has_burner(c)
     fuel = s.get("fuel_rate_kg_s")
+    measured = _measured(c)
     metrics = {
         "product_moisture_kg_kg": s["product_moisture_kg_kg"],
         "product_temperature_degC": s["product_temperature_degC"],
@@ -252,9 +289,10 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
         "fuel_rate_kg_h": None if fuel is None else fuel * 3600.0,
     }
     out = {"summary": s, "metrics": metrics, "energy_terms_w": th.energy_terms_w,
-           "energy_table": energy_table(th.energy_terms_w), "measured": _measured(c), "has_burner": burner,
+           "energy_table": energy_table(th.energy_terms_w), "measured": measured, "has_burner": burner,
            "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),
-           "title": getattr(c.meta, "title", "") or ""}
+           "title": getattr(c.meta, "title", "") or "",
+           "profile_rows": profile_rows(th.profiles(), measured, th.dryer.settings.gas_direction == "co-current")}
     if images:
         # drawn at about the width of the page's main area on a laptop (900 px): shown unscaled
         out["profiles"] = png(_profiles_figure(th, out["measured"]), dpi=100)
@@ -263,7 +301,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
 
 
 def results_of(case: str, overrides: dict | None = None):
-    """:class:`rotarydryer.results.Results` of the case at ``overrides`` (transport, tracer RTD
+    """`rotarydryer.results.Results` of the case at ``overrides`` (transport, tracer RTD
     and the coupled heat and mass steady state): what the downloads hold."""
     from ..simulation import run_case
 

@@ -6,7 +6,7 @@ kept in memory and parsed by the library's in-memory readers: nothing is written
 size-limited, docs/app_threat_model.md) or a built-in example made by the library (a synthetic
 rig run, a rendered photograph, series mimicking Ajayi's Table 4.11, a simulated step test of
 Song's pilot dryer).  Options are checked by the same functions as the command line
-(:mod:`rotarydryer.services.lab`), so a bad value gives the CLI's message.
+(`rotarydryer.services.lab`), so a bad value gives the CLI's message.
 """
 
 from __future__ import annotations
@@ -65,8 +65,8 @@ def decode_upload(content: bytes, what: str = "uploaded file") -> str:
 # ---------------------------------------------------------------------------------------------- rig
 @functools.lru_cache(maxsize=1)
 def rig_example() -> str:
-    """CSV text (``time_s,mass_kg``) of a synthetic rig run (:data:`RIG_EXAMPLE`,
-    :func:`rotarydryer.lab.flight_rig.synthetic_run`, as ``examples/lab_rig.py``)."""
+    """CSV text (``time_s,mass_kg``) of a synthetic rig run (`RIG_EXAMPLE`,
+    `rotarydryer.lab.flight_rig.synthetic_run`, as ``examples/lab_rig.py``)."""
     from ..lab import flight_rig as fr
 
     e = RIG_EXAMPLE
@@ -82,7 +82,7 @@ def rig_example() -> str:
 def rig_view(text: str | None = None, name: str = "example rig run", *, flight="alternative", rpm=2.0,
              start_angle=93.5, bulk_density=1474.0, length=1.0, repose_angle=None, repose_sd=0.0, cutoff=1.5,
              phase="zero", fit_bulk_density=False, images=True) -> dict:
-    """``rotarydryer lab rig`` on a load-cell CSV (``text``; None: :func:`rig_example`): start of
+    """``rotarydryer lab rig`` on a load-cell CSV (``text``; None: `rig_example`): start of
     unloading, fitted repose angle with its CI, Lee's band and the fraction of samples inside it."""
     from ..lab import flight_rig as fr
 
@@ -107,8 +107,8 @@ def rig_view(text: str | None = None, name: str = "example rig run", *, flight="
 # ---------------------------------------------------------------------------------------------- photographs
 @functools.lru_cache(maxsize=1)
 def image_example() -> tuple[bytes, dict]:
-    """PNG bytes of a synthetic photograph (:data:`IMAGE_EXAMPLE`,
-    :func:`rotarydryer.lab.images.render_cross_section`) and its settings: ``centre`` (column,
+    """PNG bytes of a synthetic photograph (`IMAGE_EXAMPLE`,
+    `rotarydryer.lab.images.render_cross_section`) and its settings: ``centre`` (column,
     row px), ``px_per_m``, ``mirror``, ``reference_angle``, ``true_fuf_cm2``, ``true_tp_cm2``."""
     import io
 
@@ -136,7 +136,7 @@ def image_view(content: bytes | None = None, name: str = "example photograph", *
                reference_angle=90.0, channel=0, threshold="168,177", airborne_threshold="104,120",
                smooth_sigma=0.0, images=True) -> dict:
     """``rotarydryer lab image`` on a photograph (``content``: image file bytes; None:
-    :func:`image_example`): areas per flight, FUF, UHD, LHD, TP and airborne (cm^2), and the
+    `image_example`): areas per flight, FUF, UHD, LHD, TP and airborne (cm^2), and the
     annotated picture.  Needs the ``lab`` extra (scikit-image, shapely): without it the error names
     the extra to install."""
     from ..lab import images as im
@@ -162,7 +162,7 @@ def image_view(content: bytes | None = None, name: str = "example photograph", *
 @functools.lru_cache(maxsize=1)
 def design_load_example() -> str:
     """CSV text (``condition,loading_kg,FUF_area_cm2``) of series mimicking each row of Ajayi's
-    (2011) Table 4.11 (:func:`rotarydryer.lab.design_load_fit.mimic_ajayi_series`, seeded): 11
+    (2011) Table 4.11 (`rotarydryer.lab.design_load_fit.mimic_ajayi_series`, seeded): 11
     loadings x 5 photographs per condition."""
     from ..lab import design_load_fit as dl
 
@@ -179,7 +179,7 @@ def design_load_example() -> str:
 def design_load_view(text: str | None = None, name: str = "example series", *, loading_column="loading_kg",
                      area_column="FUF_area_cm2", group_column: str | None = "condition", confidence=0.95,
                      images=True) -> dict:
-    """``rotarydryer lab design-load`` on a table (``text``; None: :func:`design_load_example`):
+    """``rotarydryer lab design-load`` on a table (``text``; None: `design_load_example`):
     design load = break point of FUF area against loading per group, with its intervals."""
     from ..lab import design_load_fit as dl
     from ..rtd._datafile import text_lines
@@ -221,7 +221,7 @@ def design_load_view(text: str | None = None, name: str = "example series", *, l
 @functools.lru_cache(maxsize=1)
 def steps_example() -> str:
     """CSV text of Song's up/down feed step test (Table 4.1 run 2, Appendix A line 1551) simulated
-    on the transport dynamics of his pilot dryer (:func:`rotarydryer.studies.song_pilot.step_test`,
+    on the transport dynamics of his pilot dryer (`rotarydryer.studies.song_pilot.step_test`,
     5 s samples): ``time_s,feed_kg_min,discharged_kg``."""
     import numpy as np
 
@@ -235,7 +235,7 @@ def steps_example() -> str:
 
 def steps_view(text: str | None = None, name: str = "example step test", *, step_times: str | None = None,
                threshold=0.1, plateau=0.2, tolerance=0.05, initial_holdup=0.0, images=True) -> dict:
-    """``rotarydryer lab steps`` on a feed/discharge record (``text``; None: :func:`steps_example`):
+    """``rotarydryer lab steps`` on a feed/discharge record (``text``; None: `steps_example`):
     holdup after each step, tau = H/F, H1 vs H2 and the closure (Song 2003, Eq. 4.1, Table 4.2)."""
     from ..lab import steps as sm
 

@@ -2,10 +2,10 @@
 (Sobol / Monte Carlo) sensitivity study of a case; plain functions, no Streamlit.
 
 No physics here: each point is ``Simulation(case, overrides).steady_state().summary()`` and the
-sensitivity study is :func:`rotarydryer.studies.sensitivity.sobol_study` (SALib), with its
-figure :func:`~rotarydryer.studies.sensitivity.plot_sensitivity`. The inputs a study may vary
-are those of :func:`rotarydryer.app.logic_dryer.study_inputs` (override keys of the case). The
-page's runs are capped (:data:`MAX_POINTS`, :data:`MAX_RUNS`) so that one study takes well under
+sensitivity study is `rotarydryer.studies.sensitivity.sobol_study` (SALib), with its
+figure `plot_sensitivity`. The inputs a study may vary
+are those of `rotarydryer.app.logic_dryer.study_inputs` (override keys of the case). The
+page's runs are capped (`MAX_POINTS`, `MAX_RUNS`) so that one study takes well under
 a minute; ``rotarydryer sweep`` and ``rotarydryer sensitivity`` have no such cap.
 """
 
@@ -83,14 +83,16 @@ def _outputs_for(case: str) -> list[tuple]:
     return [o for o in STUDY_OUTPUTS if o[0] != "fuel_rate_kg_s" or burner]
 
 
-def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, images: bool = True) -> dict:
+def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, images: bool = True,
+                progress=None) -> dict:
     """Steady state of the whole dryer at ``points`` values of one input ``key`` (evenly spaced
     on [low, high]; the other inputs at the case's values).
 
     Both ends are checked first (the CLI's messages); a point the model cannot solve (e.g. an
     overfilled drum) is kept as a row with its ``error`` and left out of the plot. Returns
     ``{"rows": [{key, output columns..., error}], "outputs": [(name, column, label, unit, factor)], "csv": str,
-    "plot": png, "failed": n}``."""
+    "plot": png, "failed": n}``.  ``progress(done, total)`` is called before the first point and
+    after each."""
     spec = _input_spec(case, key)
     points = _check_count("points", points, 2, MAX_POINTS)
     _check_range(key, low, high)
@@ -101,8 +103,10 @@ def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, i
         values = np.unique(np.round(values))
     outs = _outputs_for(case)
     rows = []
+    if progress:
+        progress(0, len(values))
     for v in values:
-        row = {key: float(v)}
+        row: dict[str, float | str | None] = {key: float(v)}
         try:
             s = _summary(case, {key: float(v)})
             for name, col, _, _, f in outs:
@@ -113,6 +117,8 @@ def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, i
             row.update({col: None for _, col, *_ in outs})
             row["error"] = " ".join(str(exc).split())
         rows.append(row)
+        if progress:
+            progress(len(rows), len(values))
     failed = sum(1 for r in rows if r["error"])
     if failed == len(rows):
         raise ValueError(f"no point of {key} in [{float(low):g}, {float(high):g}] could be solved; first: "
@@ -159,8 +165,8 @@ def sensitivity_view(case: str, params: dict, samples: int = 8, seed: int = 0, p
                      images: bool = True) -> dict:
     """Sobol first- and total-order indices (95 % bootstrap intervals) and Monte Carlo output
     distributions of the case's outputs for uniform inputs ``params = {key: (low, high)}``
-    (:func:`rotarydryer.studies.sensitivity.sobol_study`, one process, warm starts for a built-in
-    case). At most :data:`MAX_PARAMS` inputs and :data:`MAX_RUNS` runs (``samples * (inputs + 2)``).
+    (`rotarydryer.studies.sensitivity.sobol_study`, one process, warm starts for a built-in
+    case). At most `MAX_PARAMS` inputs and `MAX_RUNS` runs (``samples * (inputs + 2)``).
 
     Returns ``{"data": SensitivityResult.to_dict(), "table": [...], "distributions": [...],
     "runs_csv": str, "plots": [png per two outputs]}``."""

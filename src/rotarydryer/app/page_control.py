@@ -4,19 +4,33 @@ Sidebar: a case with the heat-and-mass model (built-in or uploaded), the disturb
 controller settings; the runs (identification, closed loop, open loop) start with the button.
 Shown: controlled and manipulated variables closed vs open loop, IAE, maximum deviation,
 settling time, the SIMC tuning.  Bad input gives the CLI's messages
-(:mod:`rotarydryer.app.logic_control`).
+(`rotarydryer.app.logic_control`).
 """
 
 import streamlit as st
 
 from . import logic_control as L
-from ._ui import case_picker, heavy, number, plain, refuse
+from ._runs import Kept
+from ._ui import case_picker, heavy, number, plain, progress_box, refuse
+
+#: finished runs of every session (not ``st.cache_data``: the progress bar drawn during a run)
+_KEPT = Kept(8)
 
 
-@st.cache_data(show_spinner=False, max_entries=8)
 def _control(case, overrides, kwargs):
-    with heavy():
-        return L.control_view(case, dict(overrides) or None, **dict(kwargs))
+    """The run of these inputs: kept, or computed with a progress bar (about 1 s per 4 simulated
+    minutes, plus 10-15 s for the steady state and the identification)."""
+    key = (case, overrides, kwargs)
+    r = _KEPT.get(key)
+    if r is not None:
+        return r
+    open_loop = bool(dict(kwargs).get("open_loop", True))
+    with progress_box("Steady state, step-response identification, closed " + ("and open loop" if open_loop else "loop"),
+                      lambda m: L.progress_fraction(m, open_loop)) as report:
+        with heavy():
+            r = L.control_view(case, dict(overrides) or None, progress=report, **dict(kwargs))
+    _KEPT.put(key, r)
+    return r
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -101,8 +115,7 @@ def render():
     if args != (case, shown, overrides, kwargs):
         st.caption("The inputs changed: press **Run closed and open loop** to run again. Shown: the last run.")
     try:
-        with st.spinner("Identifying step responses, then running the closed and the open loop ..."):
-            r = _control(args[0], args[2], args[3])
+        r = _control(args[0], args[2], args[3])
     except Exception as exc:
         refuse("Cannot run", exc)
     p, o, t = r["performance"], r["open"], r["tuning"]

@@ -4,24 +4,36 @@ Sidebar: a preset duty and its fields, the constraints and the search effort; th
 when the button is pressed (a few seconds; "full" is the CLI's search).  Shown: diameter,
 length, flights, speed, the binding constraints, every constraint with its slack, the ranked
 designs, the drawn cross-section and (optionally) the coupled-model check.  Bad input and an
-infeasible duty give the CLI's messages (:mod:`rotarydryer.app.logic_design`).
+infeasible duty give the CLI's messages (`rotarydryer.app.logic_design`).
 """
 
 import streamlit as st
 
 from . import logic_design as L
-from ._ui import heavy, number, plain, refuse
+from ._runs import Kept
+from ._ui import PERSIST, heavy, number, plain, progress_box, refuse
+
+#: finished searches of every session (not ``st.cache_data``: the progress bar drawn during a search)
+_KEPT = Kept(16)
 
 
-@st.cache_data(show_spinner=False, max_entries=16)
 def _design(preset, kwargs):
-    with heavy():
-        return L.design_view(preset, **dict(kwargs))
+    """The search of these inputs: kept, or run with a progress bar (quick: 1-5 s; full and the
+    coupled-model check: up to a minute)."""
+    key = (preset, kwargs)
+    r = _KEPT.get(key)
+    if r is not None:
+        return r
+    with progress_box("Differential-evolution search", L.progress_fraction) as report:
+        with heavy():
+            r = L.design_view(preset, progress=report, **dict(kwargs))
+    _KEPT.put(key, r)
+    return r
 
 
 def _inputs():
     side = st.sidebar
-    preset = side.selectbox("Preset duty", list(L.DESIGN_PRESETS), key="design_preset",
+    preset = side.selectbox("Preset duty", list(L.DESIGN_PRESETS), key="design_preset", persist_state=PERSIST,
                             help="raw_sugar: 20 kg/s, 1.0 -> 0.1 %, air 100 degC, 22 kg/s; mmg: Ajayi (2011) Test 4. "
                                  "The fields below override it (rotarydryer design --duty ...)")
     d = L.duty_defaults(preset)
@@ -103,8 +115,7 @@ def render():
     if (shown_preset, shown_args) != (preset, args):
         st.caption("The inputs changed: press **Size the dryer** to search again. Shown: the last search.")
     try:
-        with st.spinner("Searching (differential evolution) ..."):
-            r = _design(shown_preset, shown_args)
+        r = _design(shown_preset, shown_args)
     except Exception as exc:
         refuse("No design", exc)
     b = r["best"]

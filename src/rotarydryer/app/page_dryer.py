@@ -2,16 +2,20 @@
 case at changed operating variables -> product moisture and temperature, gas outlet, specific
 energy, thermal efficiency, fuel rate (cases with a burner), residence time; temperature and
 moisture profiles (with the measured plant values where the case has them), the energy
-balance waterfall; downloads (profiles CSV, results netCDF, HTML report).
+balance waterfall; downloads (profiles CSV, results netCDF, HTML report). Below, two run
+panels on the same case and operating variables: "Target" (the input that meets a target on
+an output, ``rotarydryer target``) and "Schedule" (an input schedule from the steady state:
+steps, ramps, a burner trip, ``rotarydryer dynamics``); their results are kept in the session
+(a rerun shows them again without recomputing; a progress bar is never inside st.cache_data).
 
-Logic: :mod:`rotarydryer.app.logic_dryer` (no Streamlit). Errors: the CLI's messages
-(:func:`rotarydryer.app._ui.refuse`).
+Logic: `rotarydryer.app.logic_dryer` and `rotarydryer.app.logic_dryer_runs` (no Streamlit). Errors: the CLI's messages
+(`rotarydryer.app._ui.refuse`).
 """
 
 import streamlit as st
 
-from . import logic_dryer
-from ._ui import case_picker, deferred, heavy, number, plain, refuse
+from . import logic_dryer, logic_dryer_runs
+from ._ui import case_picker, deferred, heavy, number, plain, progress_box, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=32)
@@ -28,6 +32,53 @@ def _tests(case):
 def _view(case, overrides):
     with heavy():
         return logic_dryer.dryer_view(case, dict(overrides))
+
+
+def _stem(case):
+    return "uploaded_case" if case.startswith("uploaded_case_") else case
+
+
+#: the interactive profile charts: (quantity of logic_dryer.profile_rows, y axis title, read-out format)
+_PROFILE_CHARTS = [("temperature", "temperature (°C)", ".1f"), ("moisture", "solids moisture (kg/kg wet)", ".4f"),
+                   ("humidity", "gas humidity (kg/kg dry gas)", ".4f")]
+
+
+#: colours of the profile series, as in the PNG figure (gas red, solids bed black, passive blue, active cyan)
+_SERIES_COLOURS = {"gas": "#d62728", "solids (bed)": "#222222", "solids (passive)": "#1f77b4",
+                   "solids (active)": "#17becf"}
+
+
+def _colour_scale(series):
+    """The series' fixed colours (`_SERIES_COLOURS`, others grey: the measured values), the
+    same on every chart."""
+    import altair as alt
+
+    known = [n for n in _SERIES_COLOURS if n in set(series)]
+    names = known + sorted(set(series) - set(known))
+    return alt.Scale(domain=names, range=[_SERIES_COLOURS.get(n, "#555555") for n in names])
+
+
+def _profile_chart(rows, title, fmt):
+    """An Altair line chart of one quantity along the dryer (one colour per series, a line per
+    section; measured values as squares) with a read-out: pointing at it marks the nearest
+    position with a rule and shows the series' values there in a tooltip."""
+    import altair as alt
+    import pandas as pd
+
+    df = pd.DataFrame(rows)
+    hover = alt.selection_point(fields=["position_m"], nearest=True, on="mouseover", clear="mouseout", empty=False)
+    x = alt.X("position_m:Q", title="axial position from the feed end (m)")
+    base = alt.Chart(df).encode(x=x, y=alt.Y("value:Q", title=title, scale=alt.Scale(zero=False)),
+                                color=alt.Color("series:N", title=None, scale=_colour_scale(df["series"]),
+                                                legend=alt.Legend(orient="right")))
+    lines = base.transform_filter("!datum.measured").mark_line().encode(detail="section:N")
+    measured = base.transform_filter("datum.measured").mark_square(size=90, filled=False, strokeWidth=2)
+    points = base.mark_circle(size=70).encode(
+        opacity=alt.condition(hover, alt.value(1.0), alt.value(0.0)),
+        tooltip=[alt.Tooltip("series:N", title="series"), alt.Tooltip("position_m:Q", title="position (m)", format=".2f"),
+                 alt.Tooltip("value:Q", title=title, format=fmt)]).add_params(hover)
+    rule = alt.Chart(df).mark_rule(color="gray", strokeDash=[4, 3]).encode(x=x).transform_filter(hover)
+    return alt.layer(lines, measured, points, rule).properties(height=240).interactive(bind_y=False)
 
 
 def _fmt(v, spec):
@@ -97,8 +148,15 @@ def render():
     tabs = st.tabs(["Temperature and moisture profiles", "Energy balance"]
                    + ([f"Model and plant data (test {r['measured']['test']})"] if r["measured"] else []))
     with tabs[0]:
-        st.image(r["profiles"], caption="Gas and solids temperature, solids moisture and gas humidity along the dryer"
-                 + (f" (squares: measured, test {r['measured']['test']})" if r["measured"] else ""))
+        st.caption("Gas and solids temperature, solids moisture and gas humidity along the dryer"
+                   + (f" (squares: measured, test {r['measured']['test']})" if r["measured"] else "")
+                   + ". Point at a curve for the values at that position; drag to pan, scroll to zoom.")
+        for quantity, title, fmt in _PROFILE_CHARTS:
+            rows = [row for row in r["profile_rows"] if row["quantity"] == quantity]
+            if rows:
+                st.altair_chart(_profile_chart(rows, title, fmt), width="stretch", key=f"dryer_chart_{quantity}")
+        st.download_button("Download the profiles figure (PNG)", r["profiles"], file_name=f"{_stem(case)}_profiles.png",
+                           mime="image/png", key="dryer_dl_png")
     with tabs[1]:
         st.image(r["waterfall"], caption="Energy balance: streams in (red) and out (blue); enthalpies relative to "
                                          "the model's reference state; the last bar is the closure (in - out)")
@@ -116,7 +174,7 @@ def render():
                                                         f"{mm.get('gas_out_c', float('nan')):.1f}"]})
             st.caption("Measured: Ajayi (2011) Tables 3.5-3.11 (PI means of the test); the model runs at the "
                        "operating variables in the sidebar.")
-    stem = "uploaded_case" if case.startswith("uploaded_case_") else case
+    stem = _stem(case)
     ov = dict(overrides)
     d1, d2, d3 = st.columns(3)
     d1.download_button("Download profiles (CSV)", r["profiles_csv"], file_name=f"{stem}_profiles.csv",
@@ -125,3 +183,141 @@ def render():
                        file_name=f"{stem}.nc", mime="application/x-netcdf", key="dryer_dl_nc")
     d3.download_button("Download HTML report", deferred(logic_dryer.report_html, case, ov), file_name=f"{stem}.html",
                        mime="text/html", key="dryer_dl_html")
+    st.subheader("Runs on this case")
+    t_target, t_sched = st.tabs(["Target: find the input that meets a target",
+                                 "Schedule: run an input schedule (steps, ramps, a burner trip)"])
+    with t_target:
+        _target_panel(case, shown, overrides, r["summary"])
+    with t_sched:
+        _schedule_panel(case, shown, overrides)
+
+
+#: default target values of the outputs (when the steady state has none)
+_TARGET_DEFAULTS = {"product_moisture_kg_kg": 0.12, "product_temperature_degC": 60.0,
+                    "gas_outlet_temperature_degC": 120.0, "gas_outlet_dew_point_margin_K": 20.0,
+                    "fill_fraction": 0.1}
+
+
+def _kept(name, key):
+    """The result of the panel ``name`` kept in the session for the inputs ``key`` (or None)."""
+    kept = st.session_state.get(f"dryer_{name}_result")
+    return kept[1] if kept is not None and kept[0] == key else None
+
+
+def _keep(name, key, value):
+    st.session_state[f"dryer_{name}_result"] = (key, value)
+
+
+def _target_panel(case, shown, overrides, summary):
+    st.caption("One free input varied in its bounds (blank: the default span around the case's value) until "
+               "the output meets the condition, at the other operating variables of the sidebar "
+               "(rotarydryer target --find KEY=LO,HI --such-that OUTPUT=V).")
+    c = st.columns(3)
+    find = c[0].selectbox("Free input", logic_dryer_runs.TARGET_INPUTS, key="dryer_target_find")
+    lo = c[1].number_input("Lower bound (blank: default)", value=None, format="%.6g", key="dryer_target_lo")
+    hi = c[2].number_input("Upper bound (blank: default)", value=None, format="%.6g", key="dryer_target_hi")
+    c = st.columns(3)
+    output = c[0].selectbox("Output", logic_dryer_runs.TARGET_OUTPUTS, key="dryer_target_output")
+    op = c[1].selectbox("Operator", logic_dryer_runs.TARGET_OPERATORS, key="dryer_target_op")
+    default = summary.get(output) if isinstance(summary.get(output), float) else None
+    value = c[2].number_input("Value", value=float(_TARGET_DEFAULTS.get(output, default or 0.0)),
+                              format="%.6g", key=f"dryer_target_value__{output}")
+    key = (case, tuple(sorted(overrides.items())), find, lo, hi, output, op, float(value))
+    if st.button("Find the input", key="dryer_target_run", type="primary"):
+        try:
+            with st.status(f"Finding {find} such that {output}{op}{value:g} ...", expanded=False) as box:
+                with heavy():
+                    res = logic_dryer_runs.run_target_view(case, dict(overrides), find, lo, hi, output, op,
+                                                           value)
+                box.update(label="Target study done", state="complete")
+        except logic_dryer.NoThermalModel as exc:
+            st.info(plain(f"{shown}: {exc}; the target and schedule panels need a gas"))
+            return
+        except ValueError as exc:
+            refuse("Target refused", exc, stop=False)
+            return
+        except Exception as exc:  # noqa: BLE001 - shown as a generic sentence, logged
+            refuse("Target failed", exc, stop=False)
+            return
+        _keep("target", key, res)
+    res = _kept("target", key)
+    if res is None:
+        return
+    if res["found"]:
+        u = f" {res['unit']}" if res["unit"] else ""
+        m = st.columns(3)
+        m[0].metric(res["find"], f"{res['value']:.6g}{u}")
+        m[1].metric(res["output_name"], f"{res['output']:.6g}")
+        m[2].metric("active", res["active"])
+    else:
+        st.warning(plain(res["message"]))
+    st.code(res["text"], language=None)
+
+
+def _schedule_chart(rows, quantity, title):
+    """An Altair line chart of the schedule's ``quantity`` rows against time (min), with a tooltip
+    at the nearest time; drag to pan, scroll to zoom."""
+    import altair as alt
+    import pandas as pd
+
+    df = pd.DataFrame([r for r in rows if r["quantity"] == quantity])
+    hover = alt.selection_point(fields=["time_min"], nearest=True, on="mouseover", clear="mouseout", empty=False)
+    x = alt.X("time_min:Q", title="time (min)")
+    base = alt.Chart(df).encode(x=x, y=alt.Y("value:Q", title=title, scale=alt.Scale(zero=False)),
+                                color=alt.Color("series:N", title=None, legend=alt.Legend(orient="right")))
+    lines = base.mark_line()
+    points = base.mark_circle(size=60).encode(
+        opacity=alt.condition(hover, alt.value(1.0), alt.value(0.0)),
+        tooltip=[alt.Tooltip("series:N", title="series"), alt.Tooltip("time_min:Q", title="time (min)", format=".1f"),
+                 alt.Tooltip("value:Q", title=title, format=".3f")]).add_params(hover)
+    rule = alt.Chart(df).mark_rule(color="gray", strokeDash=[4, 3]).encode(x=x).transform_filter(hover)
+    return alt.layer(lines, points, rule).properties(height=240).interactive(bind_y=False)
+
+
+def _schedule_panel(case, shown, overrides):
+    st.caption("The dynamic dryer from the steady state of the sidebar's operating variables under an input "
+               "schedule (rotarydryer dynamics --schedule). A CSV has a time_s column and one column per "
+               "input (gas_inlet_temperature, feed_rate, feed_moisture, rpm, gas_flow, ...).")
+    preset = st.selectbox("Schedule", logic_dryer_runs.SCHEDULE_PRESETS, key="dryer_sched_preset")
+    csv_bytes = None
+    if preset == logic_dryer_runs.CUSTOM_CSV:
+        up = st.file_uploader("Schedule CSV", type=["csv"], key="dryer_sched_csv", max_upload_size=1)
+        csv_bytes = None if up is None else up.getvalue()
+    c = st.columns(2)
+    t_end = c[0].number_input("Run time t_end (s)", min_value=60.0, max_value=7 * 86400.0, value=7200.0,
+                              step=600.0, format="%.0f", key="dryer_sched_t_end")
+    dt = c[1].number_input("Report interval dt (s)", min_value=1.0, max_value=7 * 86400.0, value=60.0,
+                           step=10.0, format="%.0f", key="dryer_sched_dt")
+    import hashlib
+
+    digest = None if csv_bytes is None else hashlib.sha256(csv_bytes).hexdigest()
+    key = (case, tuple(sorted(overrides.items())), preset, digest, float(t_end), float(dt))
+    if st.button("Run the schedule", key="dryer_sched_run", type="primary"):
+        try:
+            with progress_box("Running the schedule", fraction=logic_dryer_runs.schedule_fraction) as report:
+                with heavy():
+                    res = logic_dryer_runs.run_schedule_view(case, dict(overrides), preset, t_end, dt,
+                                                             csv_bytes, progress=report)
+        except logic_dryer.NoThermalModel as exc:
+            st.info(plain(f"{shown}: {exc}; the target and schedule panels need a gas"))
+            return
+        except ValueError as exc:
+            refuse("Schedule refused", exc, stop=False)
+            return
+        except Exception as exc:  # noqa: BLE001 - shown as a generic sentence, logged
+            refuse("Schedule failed", exc, stop=False)
+            return
+        _keep("schedule", key, res)
+    res = _kept("schedule", key)
+    if res is None:
+        return
+    st.markdown(f"Product moisture: {res['start_moisture_pct']:.2f} % wet at the start, maximum "
+                f"**{res['max_moisture_pct']:.2f} %** at {res['max_moisture_min']:.1f} min, "
+                f"{res['final_moisture_pct']:.2f} % at the end; above the start for "
+                f"{res['time_above_start_min']:.1f} min.")
+    st.altair_chart(_schedule_chart(res["rows"], "moisture", "product moisture (% wet)"), width="stretch",
+                    key="dryer_sched_chart_moisture")
+    st.altair_chart(_schedule_chart(res["rows"], "temperature", "temperature (°C)"), width="stretch",
+                    key="dryer_sched_chart_temperature")
+    st.download_button("Download the schedule run (CSV)", res["csv"], file_name=f"{_stem(case)}_schedule.csv",
+                       mime="text/csv", key="dryer_sched_dl_csv")

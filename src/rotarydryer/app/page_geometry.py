@@ -2,14 +2,14 @@
 summary table, design loads, cross-section and unloading profile (Lee (2008) ch. 4).
 
 Widget bounds: the dryer schema's range of the matching case key, or the range the geometry
-checks allow (:func:`rotarydryer.app.logic.geometry_range`), always containing the preset's
-value; a value the model refuses gives its message (:func:`rotarydryer.app._ui.refuse`).
+checks allow (`rotarydryer.app.logic.geometry_range`), always containing the preset's
+value; a value the model refuses gives its message (`rotarydryer.app._ui.refuse`).
 """
 
 import streamlit as st
 
 from . import logic
-from ._ui import metric_row, number, refuse
+from ._ui import PERSIST, metric_row, number, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=64)
@@ -32,7 +32,7 @@ def _num(container, label, name, value, step, **kwargs):
 def render():
     st.title("Flight geometry explorer")
     presets = logic.presets()
-    name = st.sidebar.selectbox("Drum preset", list(presets), key="preset")
+    name = st.sidebar.selectbox("Drum preset", list(presets), key="preset", persist_state=PERSIST)
     e = presets[name]
     st.caption(e["description"])
     side = st.sidebar

@@ -3,7 +3,7 @@ design-load series and Song's step tests, one tab each.
 
 Each tab analyses a built-in example (made by the library; downloadable, to show the format) or
 the visitor's upload: kept in memory only and size-limited (docs/app_threat_model.md).  Bad input
-gives the CLI's messages (:mod:`rotarydryer.app.logic_lab`).
+gives the CLI's messages (`rotarydryer.app.logic_lab`).
 """
 
 import streamlit as st
@@ -18,7 +18,7 @@ class _Refused(Exception):
 
 
 def refuse(what, exc):
-    """Show why ``what`` failed (as :func:`rotarydryer.app._ui.refuse`) and end this tab only."""
+    """Show why ``what`` failed (as `rotarydryer.app._ui.refuse`) and end this tab only."""
     if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
         log.error("%s", what, exc_info=exc)
     st.error(f"{plain(what)}: {plain(visitor_message(exc))}")

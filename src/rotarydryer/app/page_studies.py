@@ -7,13 +7,14 @@
   on a button press.
 
 Both are capped (points, runs) so that a study stays well under a minute; the limits are
-in the widgets. Logic: :mod:`rotarydryer.app.logic_studies` (no Streamlit).
+in the widgets. Logic: `rotarydryer.app.logic_studies` (no Streamlit).
 """
 
 import streamlit as st
 
 from . import logic_dryer, logic_studies
-from ._ui import case_picker, heavy, plain, refuse
+from ._runs import Kept
+from ._ui import case_picker, heavy, plain, progress_box, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -21,10 +22,23 @@ def _specs(case):
     return logic_studies.study_inputs(case)
 
 
-@st.cache_data(show_spinner=False, max_entries=32)
+#: finished what-if studies of every session (not ``st.cache_data``: the progress bar drawn meanwhile)
+_WHATIF = Kept(32)
+
+
 def _whatif(case, key, low, high, points):
-    with heavy():
-        return logic_studies.whatif_view(case, key, low, high, points)
+    """The what-if study of these inputs: kept, or solved with a progress bar (0.3-1 s a point)."""
+    sig = (case, key, low, high, points)
+    w = _WHATIF.get(sig)
+    if w is not None:
+        return w
+    with progress_box(f"Solving {points} steady states") as report:
+        with heavy():
+            w = logic_studies.whatif_view(case, key, low, high, points,
+                                          progress=lambda done, n: report(f"{done} of {n} steady states solved",
+                                                                          done / max(n, 1)))
+    _WHATIF.put(sig, w)
+    return w
 
 
 def _sensitivity(case, params, samples, seed, progress=None):
@@ -67,8 +81,7 @@ def _whatif_section(case, specs, by_key):
                                   help=f"at most {logic_studies.MAX_POINTS} points (about 0.3-1 s each); "
                                        "rotarydryer sweep has no limit")
     try:
-        with st.spinner(f"Solving {int(points)} steady states ..."):
-            w = _whatif(case, key, float(low), float(high), int(points))
+        w = _whatif(case, key, float(low), float(high), int(points))
     except Exception as exc:
         refuse("What-if study refused", exc, stop=False)
         return

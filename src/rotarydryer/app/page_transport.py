@@ -4,8 +4,8 @@ HTML report; fit a reference RTD model (tanks in series, axial dispersion, Song'
 with dead zones), optionally with a fitted constant background, to a shipped or uploaded tracer CSV.
 
 Widget bounds: the case schema's range of each key (the speed also below the critical speed of
-the case's drum), always containing the case's value (:func:`rotarydryer.app.logic.input_range`).
-The model runs are heavy runs (:mod:`rotarydryer.app._runs`).
+the case's drum), always containing the case's value (`rotarydryer.app.logic.input_range`).
+The model runs are heavy runs (`rotarydryer.app._runs`).
 """
 
 import math
@@ -13,7 +13,7 @@ import math
 import streamlit as st
 
 from . import logic
-from ._ui import case_number, case_picker, deferred, heavy, metric_row, plain, refuse
+from ._ui import PERSIST, case_number, case_picker, deferred, heavy, metric_row, plain, refuse
 
 
 @st.cache_data(show_spinner=False, max_entries=16)
@@ -95,8 +95,14 @@ def render():
 
     src_col, model_col = st.columns(2)
     sources = logic.tracer_sources()
-    source = src_col.selectbox("Published tracer curve", sources, index=sources.index("ajayi2011_test4"),
-                               key="tracer_source")
+    try:
+        own = logic.case_tracer_dataset(case)
+    except Exception:  # noqa: BLE001 - the case loaded above; any trouble here: the first curve
+        own = sources[0]
+    # keyed by the case: the default follows the case chosen in the sidebar (its own data set)
+    source = src_col.selectbox("Published tracer curve", sources, index=sources.index(own),
+                               key=f"tracer_source__{case}", persist_state=PERSIST,
+                               help="default: the tracer data set of the case (tracer.dataset), else the first")
     model = model_col.selectbox("RTD model", list(logic.tracer_models()), key="rtd_model",
                                 help="tanks in series, axial dispersion, or Song (2003) Eq. 2.10-2.16 cells: "
                                      "interactive mixers, with dead zones (cholette_cloutier); N scanned")

@@ -1,9 +1,15 @@
 """Streamlit script of the rotarydryer web app (run with ``rotarydryer app``).
 
-The pages are modules of :mod:`rotarydryer.app` with a ``render()`` (:data:`PAGES`): flight
+The pages are modules of `rotarydryer.app` with a ``render()`` (`rotarydryer.app.PAGES`): flight
 geometry (``page_geometry``), transport and RTD (``page_transport``), whole dryer, studies,
-design, control and lab data.  This script draws the sidebar's page choice and calls the chosen
-page inside the one failure boundary of the app.
+design, control and lab data.  Each page has its own address (``st.navigation`` with one
+``st.Page`` per page: /transport, /whole_dryer, /studies, /design, /control, /lab; the flight
+geometry, the landing page, at /), so a page can be bookmarked or linked and the browser's Back
+and Forward buttons move between pages.  The page files are in `rotarydryer.app.entries`
+(one line each: the page module's ``render()``).  This script draws the navigation and the
+sidebar's shared caption and runs the chosen page inside the one failure boundary of the app.
+The session (its state, its kept results) is the same on every page; a page's widgets keep
+their values when the visitor comes back to it (``persist_state="session"`` on the main ones).
 
 Visitors' input (docs/app_threat_model.md): uploads are size-limited and kept in memory
 only; an uploaded case may name shipped data sets only; every error is caught here and shown
@@ -11,12 +17,12 @@ as its message (input errors) or as a generic sentence (anything else; the trace
 to the server log), never with a traceback or a file's content.
 """
 
-import importlib
 import logging
+from pathlib import Path
 
 import streamlit as st
 
-from rotarydryer.app import logic
+from rotarydryer.app import PAGES, logic
 from rotarydryer.app._ui import plain
 
 # no exception types, messages or tracebacks in the browser, even for an error this script
@@ -24,11 +30,10 @@ from rotarydryer.app._ui import plain
 st.set_option("client.showErrorDetails", "none")
 st.set_page_config(page_title="rotarydryer", page_icon=":material/autorenew:", layout="wide")
 
-#: page title -> module of :mod:`rotarydryer.app` with a ``render()``
-PAGES = {"Flight geometry": "page_geometry", "Transport and RTD": "page_transport", "Whole dryer": "page_dryer",
-         "Studies and sensitivity": "page_studies", "Design": "page_design", "Control": "page_control",
-         "Lab data": "page_lab"}
-page = st.sidebar.radio("Page", list(PAGES), key="page")
+ENTRIES = Path(__file__).with_name("entries")
+
+page = st.navigation([st.Page(ENTRIES / f"{url}.py", title=title, url_path=url, icon=icon, default=i == 0)
+                      for i, (title, (_, url, icon)) in enumerate(PAGES.items())])
 st.sidebar.caption("rotarydryer: flighted rotary dryer simulator. Units: SI, angles in deg.")
 
 # The one failure boundary of every page: an exception a page does not catch itself shows an
@@ -36,8 +41,8 @@ st.sidebar.caption("rotarydryer: flighted rotary dryer simulator. Units: SI, ang
 # traceback goes to the server log), never a traceback or a dead page.  st.stop() and st.rerun()
 # raise BaseExceptions (not Exception) and pass through.
 try:
-    importlib.import_module(f"rotarydryer.app.{PAGES[page]}").render()
+    page.run()
 except Exception as exc:  # noqa: BLE001 - the boundary
     if not isinstance(exc, ValueError) or isinstance(exc, UnicodeError):
-        logging.getLogger("rotarydryer.app").error("page %s failed", page, exc_info=exc)
-    st.error(plain(f"The page {page} could not be shown: {' '.join(logic.visitor_message(exc).split())}"))
+        logging.getLogger("rotarydryer.app").error("page %s failed", page.title, exc_info=exc)
+    st.error(plain(f"The page {page.title} could not be shown: {' '.join(logic.visitor_message(exc).split())}"))

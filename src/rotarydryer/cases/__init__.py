@@ -567,7 +567,7 @@ def _length_problem(case) -> str | None:
 
 def _cells_problem(case) -> str | None:
     """The total number of cells and finite volumes of a sectioned case (an auto-discretised
-    unflighted section counts with its maximum) against :data:`MAX_CELLS`."""
+    unflighted section counts with its maximum) against `MAX_CELLS`."""
     total = thermal = 0
     tr = case.transport
     th_cells = case.thermal.unflighted_cells      # the heat-and-mass model's volumes (default: the transport's)
@@ -600,7 +600,7 @@ def valid_override_keys(case_cls) -> list[str]:
 
 @cache
 def _override_keys(case_cls) -> tuple[str, ...]:
-    """:func:`valid_override_keys`, computed once per class (every case load needs them)."""
+    """`valid_override_keys`, computed once per class (every case load needs them)."""
     import typing
 
     def block(annotation):
@@ -627,7 +627,7 @@ def _override_keys(case_cls) -> tuple[str, ...]:
 
 
 def _decode(content: bytes, shown: str) -> str:
-    """UTF-8 text of a case file of at most :data:`MAX_CASE_BYTES` bytes, else ``ValueError``."""
+    """UTF-8 text of a case file of at most `MAX_CASE_BYTES` bytes, else ``ValueError``."""
     if len(content) > MAX_CASE_BYTES:
         raise ValueError(f"{shown}: the case file is larger than the limit of {MAX_CASE_BYTES} bytes")
     try:
@@ -638,7 +638,7 @@ def _decode(content: bytes, shown: str) -> str:
 
 def _source(name: str) -> tuple[str, str]:
     """(TOML text, display name) of a packaged case or a .toml path (a regular file of at most
-    :data:`MAX_CASE_BYTES` bytes)."""
+    `MAX_CASE_BYTES` bytes)."""
     p = Path(name)
     if p.suffix == ".toml" and p.exists():
         if not p.is_file():
@@ -713,7 +713,7 @@ _ENTRY_KEYS = {"parameter_sets": "transport", "sections": "transport"}
 
 
 def _limit_key(loc: tuple) -> str | None:
-    """The :data:`rotarydryer._limits.LIMITS` key of an error location, if it has one."""
+    """The `rotarydryer._limits.LIMITS` key of an error location, if it has one."""
     dotted = ".".join(str(x) for x in loc)
     if dotted in LIMITS:
         return dotted
@@ -763,7 +763,7 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
 def load_case_text(text: str | bytes, name: str = "uploaded case", overrides: dict[str, Any] | None = None):
     """Validate a case given as TOML text (or UTF-8 bytes), e.g. a case file uploaded to the
     web app: nothing is written to or read from disk except the shipped data the case names.
-    ``name`` is the display name in messages. Same checks and result as :func:`load_case`."""
+    ``name`` is the display name in messages. Same checks and result as `load_case`."""
     if isinstance(text, (bytes, bytearray)):
         text = _decode(bytes(text), name)
     elif len(text.encode("utf-8", "surrogatepass")) > MAX_CASE_BYTES:
@@ -784,7 +784,7 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
     Returns
     -------
     DryerCase (pydantic model, SI units): the one specification; files of the plant formats
-    (``kind = "lee2008"``, ``"ajayi2011"``) are translated by :mod:`rotarydryer.cases.readers`.
+    (``kind = "lee2008"``, ``"ajayi2011"``) are translated by `rotarydryer.cases.readers`.
     """
     text, shown = _source(name)
     return _validate(text, shown, name, overrides)
@@ -879,7 +879,7 @@ def _schema_default(cls, key: str):
 
 
 def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -> None:
-    """Apply the case's [[calibrations]] to ``raw`` (:func:`rotarydryer.cases.calibration.apply_calibrations`);
+    """Apply the case's [[calibrations]] to ``raw`` (`rotarydryer.cases.calibration.apply_calibrations`);
     a malformed record is refused naming its entry and key."""
     recs = raw.get("calibrations")
     if not isinstance(recs, list):
@@ -913,11 +913,11 @@ def _toml_value(text: str):
 def measured_rtd(case):
     """Measured tracer curve of a case as (time s since injection start, signal), or None.
 
-    Uses the shipped dataset of :mod:`rotarydryer.rtd` (``tracer.dataset``; ``{test}`` is
+    Uses the shipped dataset of [`rotarydryer.rtd`][rotarydryer.rtd] (``tracer.dataset``; ``{test}`` is
     replaced by ``operating.test``) when available, else the CSV named by
     ``tracer.measured``.  The signal is E(t) in 1/s for a normalised curve (Lee), else
     the raw concentration (Ajayi: ppm, no baseline subtraction); normalise by its
-    integral (see :func:`measured_rtd_moments`)."""
+    integral (see `measured_rtd_moments`)."""
     import numpy as np
 
     tr = case.tracer
@@ -953,7 +953,7 @@ def measured_rtd(case):
 
 def measured_rtd_moments(case):
     """Mean and SD (s) of the case's measured RTD, with the case's baseline method
-    (``tracer.baseline``), by :func:`rotarydryer.rtd.rtd_moments`. Returns a dict or None."""
+    (``tracer.baseline``), by [`rotarydryer.rtd.rtd_moments`][rotarydryer.rtd.rtd_moments]. Returns a dict or None."""
     data = measured_rtd(case)
     if data is None:
         return None
@@ -967,7 +967,7 @@ def measured_rtd_moments(case):
 
 def measured_exit_age(case):
     """The case's measured tracer curve as E(t): (time s since injection start, E 1/s) with the
-    case's baseline removed (:func:`measured_rtd_moments`), clipped at 0 and normalised by its
+    case's baseline removed (`measured_rtd_moments`), clipped at 0 and normalised by its
     area over the measured window; None without a measured curve. The curve every model-data
     comparison of E(t) uses (R^2 of the report, the calibration, the validation suite)."""
     data = measured_rtd(case)

@@ -1,20 +1,20 @@
 """From a validated case to model inputs: the only place that reads case objects.
 
-* :func:`build_model` - the solids-transport model (:class:`~rotarydryer.transport.TransportModel`)
-  of any case kind; every kind ends in :func:`rotarydryer.transport.sections.build_sections`,
+* [`build_model`][rotarydryer.cases.build.build_model] - the solids-transport model ([`TransportModel`][rotarydryer.transport.TransportModel])
+  of any case kind; every kind ends in [`rotarydryer.transport.sections.build_sections`][rotarydryer.transport.sections.build_sections],
   and the model keeps its section specs (``model.specs``);
-* :func:`thermal_inputs` - what the heat-and-mass model adds to those sections: thermal
+* [`thermal_inputs`][rotarydryer.cases.build.thermal_inputs] - what the heat-and-mass model adds to those sections: thermal
   settings, per-section heat-transfer data, the material, feed moisture and the changes to the
   transport sections (thermal discretisation, moisture-dependent properties);
-* :func:`check_inputs` and :func:`check_feasible` - physical feasibility of a case, with
+* [`check_inputs`][rotarydryer.cases.build.check_inputs] and [`check_feasible`][rotarydryer.cases.build.check_feasible] - physical feasibility of a case, with
   messages that name the case key, its value, the limit and the unit: drum dimensions finite
   and positive, flights that fit the drum, a bulk density of a granular solid, the drum speed
-  below the critical speed 42.3/sqrt(D) rev/min (:func:`rotarydryer.geometry.check_speed`; a
-  :class:`~rotarydryer.geometry.CriticalSpeedWarning` above half of it) and, at the steady
-  state, a solids fill of at most :data:`FILL_LIMIT` of the drum volume (whole drum and every
-  section). :func:`build_model` runs both (the fill check on every steady state of the model).
+  below the critical speed 42.3/sqrt(D) rev/min ([`rotarydryer.geometry.check_speed`][rotarydryer.geometry.check_speed]; a
+  [`CriticalSpeedWarning`][rotarydryer.geometry.CriticalSpeedWarning] above half of it) and, at the steady
+  state, a solids fill of at most `FILL_LIMIT` of the drum volume (whole drum and every
+  section). [`build_model`][rotarydryer.cases.build.build_model] runs both (the fill check on every steady state of the model).
 
-Models (``transport``, ``thermal``) never import this module; :class:`rotarydryer.Simulation`
+Models (``transport``, ``thermal``) never import this module; [`rotarydryer.Simulation`][rotarydryer.simulation.Simulation]
 and the other entry points do.
 """
 
@@ -59,7 +59,7 @@ __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_
 
 
 def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):
-    """Exact flight geometry (:class:`rotarydryer.geometry.FlightedDrum`) of a two-section flight.
+    """Exact flight geometry ([`rotarydryer.geometry.FlightedDrum`][rotarydryer.geometry.FlightedDrum]) of a two-section flight.
 
     A geometry that cannot be built raises ``ValueError`` naming the case keys (``drum.radius``,
     ``n_flights_key``, ``<where>.s1`` ...) with their values."""
@@ -75,7 +75,7 @@ def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_f
 
 
 def material_of(case):
-    """The :class:`rotarydryer.properties.materials.Material` of a case."""
+    """The [`rotarydryer.properties.materials.Material`][rotarydryer.properties.materials.Material] of a case."""
 
     spec = case.material
     if spec is None:
@@ -104,11 +104,11 @@ def model_name(case) -> str:
 
 
 def build_model(case, inputs: dict | None = None):
-    """The :class:`rotarydryer.transport.TransportModel` of a validated case (``inputs``: its
-    :func:`transport_inputs`, when the caller has them).
+    """The [`rotarydryer.transport.TransportModel`][rotarydryer.transport.TransportModel] of a validated case (``inputs``: its
+    [`transport_inputs`][rotarydryer.cases.build.transport_inputs], when the caller has them).
 
-    The case is checked first (:func:`check_inputs`) and every steady state of the model is
-    checked for its fill of the drum (:func:`check_feasible`)."""
+    The case is checked first ([`check_inputs`][rotarydryer.cases.build.check_inputs]) and every steady state of the model is
+    checked for its fill of the drum ([`check_feasible`][rotarydryer.cases.build.check_feasible])."""
     if not isinstance(case, DryerCase):
         raise ValueError(f"case of type {type(case).__name__} is not supported (load it with "
                          "rotarydryer.cases.load_case)")
@@ -197,10 +197,10 @@ def check_inputs(case) -> None:
     value, the allowed range and the unit.
 
     * ``drum.radius``, ``drum.slope`` and the feed rate in their declared ranges
-      (:data:`rotarydryer._limits.LIMITS`), section lengths finite and > 0;
+      (`rotarydryer._limits.LIMITS`), section lengths finite and > 0;
     * the drum speed below the critical speed N_c = 42.3/sqrt(D)
-      rev/min (:func:`rotarydryer.geometry.check_speed`; a warning above half of it);
-    * the material's bulk density at the feed moisture in :data:`BULK_DENSITY_RANGE`;
+      rev/min ([`rotarydryer.geometry.check_speed`][rotarydryer.geometry.check_speed]; a warning above half of it);
+    * the material's bulk density at the feed moisture in `BULK_DENSITY_RANGE`;
     * each flight fits the drum: its base shorter than the radius.
     """
 
@@ -265,15 +265,21 @@ def _holdup_hint(case) -> str:
 
 
 def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
-    """Refuse a steady state whose solids fill more than ``limit`` (:data:`FILL_LIMIT`) of the drum
+    """Refuse a steady state whose solids fill more than ``limit`` (`FILL_LIMIT`) of the drum
     volume pi R^2 L, over the whole drum or in any section (bulk volume = holdup / bulk density of
     each cell). The ``ValueError`` names the fill (%), the limit and the keys to change. Returns the
-    fill fractions (:meth:`rotarydryer.transport.results.SteadyState.fill_fractions`)."""
+    fill fractions ([`rotarydryer.transport.results.SteadyState.fill_fractions`][rotarydryer.transport.results.SteadyState.fill_fractions])."""
     fills = steady_state.fill_fractions(case.drum.radius, _bed_density(case))
     _check_fill(case, fills, limit)
     if case.transport.parameter_source == "predictive":      # a feasible run: is it inside the calibration?
         warn_predictive_range(case, fills["total"])
     return fills
+
+
+def drum_fill_fraction(case, steady_state) -> float:
+    """Bulk volume of the solids over the drum volume pi R^2 L (-), as
+    [`check_feasible`][rotarydryer.cases.build.check_feasible] measures it (NaN where no bulk density is known)."""
+    return float(steady_state.fill_fractions(case.drum.radius, _bed_density(case))["total"])
 
 
 def _check_fill(case, fills, limit) -> None:
@@ -320,7 +326,7 @@ def predictive_range(case, fill: float) -> list[str]:
 
 
 def warn_predictive_range(case, fill: float) -> None:
-    """:class:`~rotarydryer.cases.calibration.PredictiveRangeWarning` for :func:`predictive_range`."""
+    """`PredictiveRangeWarning` for [`predictive_range`][rotarydryer.cases.build.predictive_range]."""
     out = predictive_range(case, fill)
     if out:
         mat = material_of(case)
@@ -341,7 +347,7 @@ def transport_coefficients(case, n_cells=None) -> dict:
     """(kiln_time s, backmix, drag_reduction) of the lee2008-type sections of a case: the explicit
     ``transport.*`` values, else the ``[[parameter_sets]]`` row of ``n_cells`` (default
     ``transport.n_cells``; Lee (2008) Table 7.2 in the Invicta case), else, for a case without
-    parameter sets, :data:`_NEUTRAL_COEFFICIENTS`."""
+    parameter sets, `_NEUTRAL_COEFFICIENTS`."""
     t = case.transport
     n = t.n_cells if n_cells is None else n_cells
     sets = getattr(case, "parameter_sets", [])
@@ -395,7 +401,7 @@ def cascade_law(case, model: str) -> bool:
 def forward_step_of(case, model: str | None = None) -> str:
     """The forward step of a case's flighted sections of ``model`` (default ``transport.model``):
     ``transport.forward_step``, always "trajectory" under the predictive cascade law (nothing fitted
-    to a tracer; :func:`cascade_law`)."""
+    to a tracer; [`cascade_law`][rotarydryer.cases.build.cascade_law])."""
     t = case.transport
     return "trajectory" if cascade_law(case, model or t.model) else t.forward_step
 
@@ -418,7 +424,7 @@ def predictive_lee_coefficients(case) -> dict:
 
 
 def curtain_gas(case, particle_diameter=None):
-    """The :class:`~rotarydryer.transport.forward_step.CurtainGas` of a Lee or general case for the
+    """The [`CurtainGas`][rotarydryer.transport.forward_step.CurtainGas] of a Lee or general case for the
     trajectory forward step: the gas inlet flow, temperature and humidity ([gas]) over the drum
     cross-section, the material's particle size and density, ``transport.curtain_velocity_ratio``."""
 
@@ -462,7 +468,7 @@ def _check_entrainment(case, gas, row) -> None:
 def _with_core(case, model):
     """The model with the case's near-stagnant core of the passive phase of every cell
     (``transport.core`` = "first_order" or "diffusive", ``core_fraction``, ``core_time``; Lee and
-    general cases): :func:`rotarydryer.transport.core_variants.add_stagnant_core` (docs/rtd_spread.md)."""
+    general cases): [`rotarydryer.transport.core_variants.add_stagnant_core`][rotarydryer.transport.core_variants.add_stagnant_core] (docs/rtd_spread.md)."""
     tr = case.transport
     core = getattr(tr, "core", "none")
     if core == "none":
@@ -505,9 +511,9 @@ def solids_transport(case) -> tuple[dict, dict, object]:
 
     ``transport.solids_velocity`` / ``transport.dispersion`` when given; else, with
     ``transport.parameter_source = "predictive"``, per-section values from
-    :func:`rotarydryer.transport.ajayi_predictive.predictive_transport` at the operating point;
+    `rotarydryer.transport.ajayi_predictive.predictive_transport` at the operating point;
     else the selected test's fitted values (Ajayi (2011) Table 5.2 in the MMG case); else
-    :data:`_NEUTRAL_BED`."""
+    `_NEUTRAL_BED`."""
     tr = case.transport
     names = [s.name for s in case.sections]
     pred = None
@@ -536,7 +542,7 @@ def _needs_bed_parameters(case) -> bool:
 
 
 def _predictive(case):
-    """:class:`~rotarydryer.transport.ajayi_predictive.PredictiveTransport` at the case's operating point."""
+    """`PredictiveTransport` at the case's operating point."""
 
     tr = case.transport
     material = material_of(case)
@@ -622,7 +628,7 @@ def _flighted_moisture(case, x_in, x_out):
 
 
 def _dryer_specs(case: DryerCase, material, bed):
-    """The section specs of a case; ``bed`` = :func:`solids_transport` of the case."""
+    """The section specs of a case; ``bed`` = [`solids_transport`][rotarydryer.cases.build.solids_transport] of the case."""
 
     tr = case.transport
     x_in, x_out = moisture_ends(case, material)
@@ -670,12 +676,12 @@ def _dryer_specs(case: DryerCase, material, bed):
 
 
 def transport_inputs(case) -> dict:
-    """What :func:`rotarydryer.transport.sections.build_sections` builds a case's network from:
+    """What [`rotarydryer.transport.sections.build_sections`][rotarydryer.transport.sections.build_sections] builds a case's network from:
     ``sections`` (the SectionSpecs), ``material``, ``feed_rate``, ``rpm``, ``slope``, ``inlet``,
     ``tracer_input``, ``name`` and ``parameters`` (the model choices recorded with a model; the
     predictive transport's, if any, under ``predictive``). The case is checked first
-    (:func:`check_inputs`). The heat-and-mass model builds its own network from these without the
-    transport-only one (:meth:`rotarydryer.Simulation.thermal_dryer`)."""
+    ([`check_inputs`][rotarydryer.cases.build.check_inputs]). The heat-and-mass model builds its own network from these without the
+    transport-only one ([`rotarydryer.Simulation.thermal_dryer`][rotarydryer.simulation.Simulation.thermal_dryer])."""
     check_inputs(case)
     material = material_of(case)
     F, rpm, _, _ = operating_point(case)
@@ -772,7 +778,7 @@ _MISSING = object()
 
 def takes_as_parameters(old, new) -> bool:
     """Can the heat-and-mass model built for case ``old`` run case ``new`` with new parameter values
-    (no rebuild)? True when every changed key is one of :data:`PARAMETER_KEYS` and none of them
+    (no rebuild)? True when every changed key is one of `PARAMETER_KEYS` and none of them
     changes the section specs: not the speed (and, with unflighted beds, the feed) with
     ``transport.parameter_source = "predictive"``, not the gas with a trajectory forward step."""
     keys = changed_keys(old, new)
@@ -804,7 +810,7 @@ def has_burner(case) -> bool:
 
 
 def burner_of(case):
-    """:class:`~rotarydryer.thermal.burner.Burner` of the case, or None."""
+    """[`Burner`][rotarydryer.thermal.burner.Burner] of the case, or None."""
 
     b = _burner_block(case)
     if b is None:
@@ -815,7 +821,7 @@ def burner_of(case):
 
 
 def thermal_settings(case):
-    """:class:`~rotarydryer.thermal.dryer.ThermalSettings` of a case: [gas], [shell], [thermal], the
+    """[`ThermalSettings`][rotarydryer.thermal.dryer.ThermalSettings] of a case: [gas], [shell], [thermal], the
     operating point and the selected test (gas flow and inlet temperature where the case leaves them
     to the test); ``thermal.mode_values`` of the chosen mode replace gas.flow / thermal.area_scale."""
 

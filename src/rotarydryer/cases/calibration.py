@@ -1,6 +1,6 @@
 """Calibrations as data: fitted values tied to the model configuration and the data they came from.
 
-A case's ``[[calibrations]]`` entries (:class:`CalibrationRecord`) hold fitted values of case keys,
+A case's ``[[calibrations]]`` entries (`CalibrationRecord`) hold fitted values of case keys,
 their 95 % intervals and correlation, the data sets (with their weights) they were fitted to, the
 model configuration they hold for (``configuration``: case keys and their values, e.g.
 ``"geometry.method" = "exact"``), the software version and the date. A thesis's published
@@ -11,7 +11,7 @@ When a case is loaded, the records that set the same keys form a group, and of e
 record applies, whole: the one whose configuration the run has (after the ``--set`` overrides; of
 several, the last in the file, so that an appended calibration supersedes). A key given as an
 override keeps the override. When no record of a group matches, the closest one (fewest differing
-configuration keys) is used and a :class:`CalibrationWarning` names the keys that differ and
+configuration keys) is used and a `CalibrationWarning` names the keys that differ and
 ``rotarydryer calibrate``: the run is outside the configuration its coefficients were fitted in.
 A record fitted under the other transport law (its ``transport.parameter_source`` differs from the
 run's) is never used: its values are coefficients of a law the run does not evaluate.
@@ -288,11 +288,11 @@ def select_calibrations(records: list[CalibrationRecord], raw: dict, defaults):
 def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, file_raw: dict | None = None) -> list[str]:
     """Write the values of the case's calibrations into ``raw`` (a loaded case document with its
     overrides applied): of each group of records that set the same keys, the one whose
-    configuration the run has (the last of several), else the closest one with a :class:`CalibrationWarning` naming the
+    configuration the run has (the last of several), else the closest one with a `CalibrationWarning` naming the
     keys that differ. A record applies whole; keys in ``overrides`` keep their override. Returns the
     names of the records applied. ``defaults(key)`` gives a key's schema default. With ``file_raw``
     (the document without the overrides), a group whose record the overrides change (e.g. --set
-    geometry.method selects the thesis's calibration) is named in a :class:`CalibrationWarning` too:
+    geometry.method selects the thesis's calibration) is named in a `CalibrationWarning` too:
     the run's coefficients are then not the case's default calibration."""
     records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
     given = set(overrides or {})

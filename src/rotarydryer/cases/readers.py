@@ -1,20 +1,20 @@
 """Readers of the plant case formats: each translates its file into the one dryer specification.
 
-Below the readers every layer sees one schema, :class:`rotarydryer.cases.DryerSpec`
+Below the readers every layer sees one schema, `rotarydryer.cases.DryerSpec`
 (``kind = "dryer"``). The older formats of the thesis plants stay readable so that old case
 files load:
 
 * ``kind = "lee2008"`` (Lee (2008), one flighted drum: ``[solids]`` bulk density and dry-basis
-  moisture, ``[[parameter_sets]]`` of Table 7.2) -> :func:`lee2008_to_spec`;
+  moisture, ``[[parameter_sets]]`` of Table 7.2) -> `lee2008_to_spec`;
 * ``kind = "ajayi2011"`` (Ajayi (2011), the MMG dryer: ``[[tests]]`` with Table 5.2 fits, the gas
-  and shell in ``[thermal]``) -> :func:`ajayi2011_to_spec`.
+  and shell in ``[thermal]``) -> `ajayi2011_to_spec`.
 
 A reader first validates the file in its own format (messages name the keys of that file),
-then returns the ``kind = "dryer"`` document that :class:`~rotarydryer.cases.DryerSpec`
+then returns the ``kind = "dryer"`` document that `DryerSpec`
 validates. Nothing else in the package knows these formats.
 
 Keys of the old formats that a rewritten shipped case no longer has still work as overrides
-(``--set``): :data:`LEGACY_KEYS` maps each to its replacement, with a ``FutureWarning`` (shown to users by default, the CLI prints it as a ``warning:`` line)
+(``--set``): `LEGACY_KEYS` maps each to its replacement, with a ``FutureWarning`` (shown to users by default, the CLI prints it as a ``warning:`` line)
 naming it.
 """
 
@@ -66,7 +66,7 @@ __all__ = ["lee2008_to_spec", "ajayi2011_to_spec", "LEGACY_KEYS", "translate_leg
 # Their numeric bounds are those of the keys they become (rotarydryer._limits.LIMITS), so a value the old
 # format accepts is never refused for its range after the translation into the one specification.
 def _positive(key: str) -> dict:
-    """:func:`field_bounds` of ``key`` with its lower end open at 0 (the old formats' gas flows: the
+    """`field_bounds` of ``key`` with its lower end open at 0 (the old formats' gas flows: the
     heat-and-mass model needs a gas flow; the one specification allows 0 for transport-only runs)."""
     b = field_bounds(key)
     b.pop("ge", None)
@@ -299,7 +299,7 @@ def _same_law(mat, key: str, a: float, b: float) -> bool:
 
 def check_lee2008(case) -> None:
     """Checks of a ``kind = "lee2008"`` file in its own keys: ``solids.bulk_density`` in
-    :data:`BULK_DENSITY_RANGE`, ``solids.repose_angle`` in (0, 90) deg, and the dry-basis moistures
+    `BULK_DENSITY_RANGE`, ``solids.repose_angle`` in (0, 90) deg, and the dry-basis moistures
     ``solids.moisture_inlet`` / ``moisture_outlet`` inside the material's range."""
     lo, hi = BULK_DENSITY_RANGE
     check_range("solids.bulk_density", case.solids.bulk_density, lo, hi, low_inclusive=True, high_inclusive=True,
@@ -523,7 +523,7 @@ LEGACY_KEYS: dict[str, tuple[str, Callable | None, str]] = {
 
 def translate_legacy_overrides(overrides: dict | None, valid: set[str] | list[str]) -> dict:
     """``overrides`` with the keys of the old formats that a ``kind = "dryer"`` case does not have
-    replaced by their :data:`LEGACY_KEYS` replacements (a ``FutureWarning`` names each)."""
+    replaced by their `LEGACY_KEYS` replacements (a ``FutureWarning`` names each)."""
     if not overrides:
         return dict(overrides or {})
     valid = set(valid)

@@ -1,7 +1,7 @@
 """Command-line interface: ``rotarydryer COMMAND ...``.
 
 Each command lives in its own module in this package and registers itself on
-:data:`app`; this file only creates the app and imports the command modules.
+`app`; this file only creates the app and imports the command modules.
 Heavy libraries (SciPy, Matplotlib) are imported inside the commands so that
 ``rotarydryer --help`` starts fast.
 """
@@ -122,6 +122,7 @@ from . import (  # noqa: E402,F401,E501
     correlations,
     dem,
     design,
+    dynamics,
     fit,
     flight,
     fmu,

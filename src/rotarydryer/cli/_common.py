@@ -77,3 +77,69 @@ def stderr_progress(msg: str) -> None:
     """Progress lines of the long commands (design, control, fmu) on stderr: the library takes a
     ``progress`` callback and never prints."""
     print(msg, file=sys.stderr, flush=True)
+
+
+class Progress:
+    """The one progress style of the long commands (fit, design, sweep), on stderr so that stdout
+    stays clean for --json and tables.
+
+    ``label k/n[: note]``: on a terminal one line updated in place (with a bar when the total is
+    known), ended by a newline on `close`; otherwise (a pipe, a log file, CI) one plain line per
+    step; nothing at all with ``quiet``.
+
+        >>> with Progress("run", total=3, quiet=True) as p:
+        ...     p.advance()
+    """
+
+    def __init__(self, label: str, total: Optional[int] = None, *, quiet: bool = False, stream=None):
+        self.label, self.total, self.quiet = label, total, bool(quiet)
+        self.stream = stream if stream is not None else sys.stderr
+        self.done = 0
+        try:
+            self.tty = bool(self.stream.isatty())
+        except (AttributeError, ValueError):
+            self.tty = False
+        self._open = False
+
+    def _write(self, text: str) -> None:
+        if self.quiet:
+            return
+        if self.tty:
+            self.stream.write("\r\x1b[2K" + text)
+            self._open = True
+        else:
+            self.stream.write(text + "\n")
+        self.stream.flush()
+
+    def update(self, k: int, n: Optional[int] = None, note: str = "", label: Optional[str] = None) -> None:
+        """Step ``k`` of ``n`` (default the total) is done; ``note``: a few words after it."""
+        n = self.total if n is None else n
+        self.done = k
+        name = self.label if label is None else label
+        count = f"{k}/{n}" if n else f"{k}"
+        bar = ""
+        if self.tty and n:
+            full = int(round(20 * min(max(k / n, 0.0), 1.0)))
+            bar = " [" + "#" * full + "-" * (20 - full) + "]"
+        self._write(f"{name} {count}{bar}" + (f": {note}" if note else ""))
+
+    def advance(self, steps: int = 1) -> None:
+        """``steps`` more done (the ``progress(n)`` callback of `rotarydryer.cli.sweep.run_sweep`)."""
+        self.update(self.done + int(steps))
+
+    def message(self, text: str) -> None:
+        """A progress message of the library (e.g. ``design: generation 5/60, ...``), as it is."""
+        self._write(str(text))
+
+    def close(self) -> None:
+        if self._open and not self.quiet:
+            self.stream.write("\n")
+            self.stream.flush()
+        self._open = False
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False

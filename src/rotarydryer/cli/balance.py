@@ -10,7 +10,7 @@ from .._io import json_text
 from . import app
 
 
-@app.command("balance")
+@app.command("balance", short_help="Gas flow that closes a plant test's energy balance.")
 def balance(
     ajayi_test: Optional[int] = typer.Option(None, "--ajayi-test",
                                              help="Take the measured values of Ajayi's PI test 1-6 (MMG Karumba); "
@@ -33,9 +33,10 @@ def balance(
 
     Any energy-conserving dryer model obeys this balance (rotarydryer.thermal.consistency).
 
-    Examples: rotarydryer balance --ajayi-test 6 --shell-loss 0.38e6
-
-    rotarydryer balance --ajayi-test 6 --gas-flow 16.25 --shell-loss 0.38e6
+    \b
+    Examples:
+      rotarydryer balance --ajayi-test 6 --shell-loss 0.38e6
+      rotarydryer balance --ajayi-test 6 --gas-flow 16.25 --shell-loss 0.38e6
     """
     import math
 

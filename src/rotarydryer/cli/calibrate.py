@@ -40,7 +40,7 @@ def _sigmas(items: Optional[list[str]]) -> dict:
     return out
 
 
-@app.command("calibrate")
+@app.command("calibrate", short_help="Calibrate case keys to the measurements of many tests.")
 def calibrate_command(
     case: str = typer.Argument(..., help="Built-in case name or a case .toml file."),
     param: list[str] = typer.Option(..., "--param", "-p", help="Case key to fit (repeat); tests.N.FIELD or "
@@ -65,11 +65,10 @@ def calibrate_command(
     temperatures and product moisture of one or many tests at once, and write the calibration
     record (values, 95 % intervals, correlation, data and weights, model configuration).
 
-    Example: rotarydryer calibrate ajayi2011_mmg -p "tests.*.solids_velocity" -p "tests.*.dispersion"
-    --tests 2,4,5,6 -r tracer -r mrt --out cal
-
-    Example: rotarydryer calibrate ajayi2011_mmg -p thermal.area_scale -p "tests.*.gas_flow"
-    -p thermal.discharge_cooling_ntu --tests 2,3,4,5,6
+    \b
+    Examples:
+      rotarydryer calibrate ajayi2011_mmg -p "tests.*.solids_velocity" -p "tests.*.dispersion" --tests 2,4,5,6 -r tracer -r mrt --out cal
+      rotarydryer calibrate ajayi2011_mmg -p thermal.area_scale -p "tests.*.gas_flow" -p thermal.discharge_cooling_ntu --tests 2,3,4,5,6
     """
     import warnings
 

@@ -13,7 +13,7 @@ from . import app
 from ._common import check_out_dir, parse_sets, stderr_progress
 
 
-@app.command("control")
+@app.command("control", short_help="Closed-loop run (PI + feed-forward) under a disturbance or a schedule.")
 def control(
     case: str = typer.Argument(..., help="Case name (ajayi2011_mmg, ...) or a .toml file with a [gas] block."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. operating.test=4."),
@@ -41,6 +41,8 @@ def control(
     gas_t_max: float = typer.Option(600.0, help="Upper limit of the gas inlet temperature, degC."),
     gas_t_min: Optional[float] = typer.Option(None, help="Lower limit of the gas inlet temperature, degC."),
     feed_min_fraction: float = typer.Option(0.5, help="Lowest feed rate, fraction of the case's feed."),
+    schedule: Optional[Path] = typer.Option(None, "--schedule", help="Disturbance schedule (.csv or .toml, the "
+                                            "format of the dynamics command) in place of --scenario."),
     open_loop: bool = typer.Option(True, "--open-loop/--no-open-loop", help="Also run the uncontrolled plant."),
     out: Optional[Path] = typer.Option(None, help="Directory for control.json, control.csv and control.png."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
@@ -51,7 +53,17 @@ def control(
     Ch. 7), manipulating the gas inlet temperature and, in split range, the feed rate. Prints
     IAE, maximum deviation, overshoot and settling time, closed vs open loop; progress on stderr.
 
-    Example: rotarydryer control ajayi2011_mmg --set operating.test=4 --duration 7200 --out ctrl
+    \b
+    Examples:
+      rotarydryer control ajayi2011_mmg --set operating.test=4 --duration 7200 --out ctrl
+      rotarydryer control ajayi2011_mmg --set operating.test=4 --duration 3600 --schedule moisture.toml
+
+    \b
+    A feed moisture step, moisture.toml:
+      [[step]]
+      input = "feed_moisture"
+      at_s = 600
+      value = 0.17
     """
     from .. import control as C
     from ..simulation import Simulation
@@ -66,7 +78,7 @@ def control(
                                  dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
                                  tau_c=tau_c, feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
                                  gas_t_max=gas_t_max, gas_t_min=gas_t_min, feed_min_fraction=feed_min_fraction,
-                                 open_loop=open_loop, progress=stderr_progress)
+                                 open_loop=open_loop, progress=stderr_progress, schedule=schedule)
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:
@@ -85,7 +97,9 @@ def control(
     cp = closed.performance
     scale, unit = (100.0, "pp") if measured == "product_moisture" else (1.0, "K")
     t = closed.tuning
-    typer.echo(f"{case}: {scenario} ({magnitude:+g}) at t = {step_time:g} s, {measured} setpoint "
+    what = f"schedule {schedule.name}" if schedule is not None else f"{scenario} ({magnitude:+g})"
+    step_time = closed.scenario["t_step_s"]
+    typer.echo(f"{case}: {what} at t = {step_time:g} s, {measured} setpoint "
                f"{closed.setpoint:.4g}, sample {sample_time:g} s, dead time {dead_time:g} s")
     typer.echo(f"  tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, "
                f"gain margin {t['gain_margin']:.2f}, feed-forward {t['feedforward']} (delay {t['feedforward_delay_s']:.0f} s)")

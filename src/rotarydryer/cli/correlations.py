@@ -10,7 +10,7 @@ from .._io import json_text
 from . import app
 
 
-@app.command("mrt")
+@app.command("mrt", short_help="Mean residence time by the published correlations.")
 def mrt(
     length: float = typer.Option(..., help="Dryer length L, m."),
     diameter: float = typer.Option(..., help="Dryer diameter D, m."),
@@ -26,8 +26,9 @@ def mrt(
 ):
     """Mean residence time (s and min) by every correlation the inputs allow (Song 2003 ch. 2 and 4).
 
-    Example: rotarydryer mrt --length 3.05 --diameter 0.305 --slope 0.083 --rpm 5
-    --particle-size 444e-6 --gas-mass-flux 0.5 --solids-mass-flux 0.7
+    \b
+    Example:
+      rotarydryer mrt --length 3.05 --diameter 0.305 --slope 0.083 --rpm 5 --particle-size 444e-6 --gas-mass-flux 0.5 --solids-mass-flux 0.7
     """
     import warnings
 

@@ -9,7 +9,8 @@ import typer
 
 from . import app
 
-dem_app = typer.Typer(help="DEM (LIGGGHTS 3.8) slices of a flighted drum: export a deck, run it, read the "
+dem_app = typer.Typer(short_help="DEM (LIGGGHTS 3.8) slices of a flighted drum.",
+                      help="DEM (LIGGGHTS 3.8) slices of a flighted drum: export a deck, run it, read the "
                            "flight holdup from its dumps and compare it with the geometric model.",
                       no_args_is_help=True)
 app.add_typer(dem_app, name="dem")
@@ -55,7 +56,7 @@ def _case_drum(case_name: str, section: Optional[str]):
     return drum, float(rpm), d_p, desc
 
 
-@dem_app.command("export")
+@dem_app.command("export", short_help="Write a LIGGGHTS deck for a thin slice of a drum.")
 def export(
     out: Path = typer.Argument(..., help="Folder for the deck (in.drum, shell.stl, flights.stl, deck.json)."),
     case: Optional[str] = typer.Option(None, help="Take drum, flights and speed from this case (name or .toml)."),
@@ -91,7 +92,11 @@ def export(
 ):
     """Write a runnable LIGGGHTS 3.8 deck for a thin periodic slice of a flighted drum.
 
-    Example: rotarydryer dem export slice/ --radius 0.2 --n-flights 10 --s1 0.05 --s2 0.05 --rpm 6.7 --diameter 0.01 --loading 1
+    \b
+    Examples:
+      rotarydryer dem export slice/ --radius 0.2 --n-flights 10 --s1 0.05 --s2 0.05 --rpm 6.7 --diameter 0.01 --loading 1
+      rotarydryer dem run slice/
+      rotarydryer dem holdup slice/ --plot holdup.png
     """
     import math
 
@@ -159,14 +164,19 @@ def export(
     typer.echo(f"run it: rotarydryer dem run {files.folder} --np 2")
 
 
-@dem_app.command("run")
+@dem_app.command("run", short_help="Run a deck with LIGGGHTS.")
 def run(
     folder: Path = typer.Argument(..., help="Deck folder written by rotarydryer dem export."),
     np_: int = typer.Option(1, "--np", help="MPI ranks (mpirun -np N); 1 runs plain liggghts."),
     quiet: bool = typer.Option(False, "--quiet", help="No progress lines."),
     timeout: Optional[float] = typer.Option(None, help="Stop after this many seconds."),
 ):
-    """Run a deck with LIGGGHTS (progress on stderr); dumps go to FOLDER/post/."""
+    """Run a deck with LIGGGHTS (progress on stderr); dumps go to FOLDER/post/.
+
+    \b
+    Example:
+      rotarydryer dem run slice/ --np 4
+    """
     from ..dem.run import run_deck
 
     if timeout is not None:
@@ -184,7 +194,7 @@ def run(
                f"next: rotarydryer dem holdup {folder}")
 
 
-@dem_app.command("holdup")
+@dem_app.command("holdup", short_help="Flight holdup from DEM dumps vs the geometric model.")
 def holdup(
     folder: Path = typer.Argument(..., help="Run folder (deck.json and post/particles.dump)."),
     csv: Optional[Path] = typer.Option(None, help="Write the reduced profile (CSV with the deck in its header)."),
@@ -195,7 +205,12 @@ def holdup(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ):
     """Flight holdup versus flight angle from the dumps, packing fraction, dynamic repose angle,
-    airborne fraction; RMS and bias of the geometric model (plain and corrected) in % of a full flight."""
+    airborne fraction; RMS and bias of the geometric model (plain and corrected) in % of a full flight.
+
+    \b
+    Example:
+      rotarydryer dem holdup slice/ --csv holdup.csv --plot holdup.png
+    """
     from .._io import json_text, output_set
     from .._validation import check_range
     from ..dem.holdup import analyse_run, compare, plot_comparison, write_reduced_csv

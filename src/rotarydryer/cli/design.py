@@ -11,10 +11,10 @@ import typer
 from .._io import json_text
 from ..services.design import design_duty, design_limits
 from . import app
-from ._common import check_out_dir, stderr_progress
+from ._common import Progress, check_out_dir
 
 
-@app.command("design")
+@app.command("design", short_help="Size a dryer for a drying duty (or check a plant).")
 def design_cmd(
     duty: Optional[str] = typer.Option(None, help="Preset duty: raw_sugar (20 kg/s, 1.0 -> 0.1 %, air 100 degC, "
                                                   "22 kg/s) | mmg (Ajayi Test 4); the options below override it."),
@@ -49,6 +49,7 @@ def design_cmd(
     out: Optional[Path] = typer.Option(None, help="Directory for design.json, design_report.md and "
                                                   "design_cross_section.png."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Find drum diameter, length, slope, speed and flights (number, base and tip lengths, tip
     angle) that dry a duty to its target moisture with the flights at design load, within the
@@ -60,11 +61,11 @@ def design_cmd(
     Exit codes: 0 done, 1 the design's verification (coupled model) failed or missed the target,
     2 bad input or an infeasible duty.
 
-    Examples: rotarydryer design --duty raw_sugar
-
-    rotarydryer design --duty mmg --ua-factor 1.84 --out mmg_design
-
-    rotarydryer design --check ajayi2011_mmg
+    \b
+    Examples:
+      rotarydryer design --duty raw_sugar
+      rotarydryer design --duty mmg --ua-factor 1.84 --no-verify --out mmg_design
+      rotarydryer design --check ajayi2011_mmg
     """
     from .. import design as D
 
@@ -72,10 +73,20 @@ def design_cmd(
     limits = design_limits(objective, speed_fraction, entrainment_fraction, gas_velocity_max, fill_max,
                            design_load_tolerance, ld_min, ld_max, d_min, d_max, ua_factor, top, rounds)
     check_out_dir("--out", out)
+    with Progress("design", quiet=quiet) as bar:
+        return _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow,
+                       ntu, direction, feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json)
+
+
+def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow, ntu, direction,
+            feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json):
+    """The body of ``rotarydryer design`` (``bar``: its `Progress`, closed before the results print)."""
+    progress = bar.message
     if check is not None:
         if check not in D.PLANTS:
             raise ValueError(f"--check = {check!r} is not one of {', '.join(D.PLANTS)}")
-        res = D.check_plant(check, limits, objective=objective, progress=stderr_progress)
+        res = D.check_plant(check, limits, objective=objective, progress=progress)
+        bar.close()
         res["wall_time_s"] = time.perf_counter() - t0
         if out is not None:
             from .._io import write_text_atomic
@@ -104,10 +115,11 @@ def design_cmd(
     d = design_duty(duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow, ntu, direction,
                     feed_temperature, max_fuel)
     if verify:
-        res, ver = D.design_verified(d, limits, objective=objective, rounds=rounds, progress=stderr_progress,
+        res, ver = D.design_verified(d, limits, objective=objective, rounds=rounds, progress=progress,
                                      top=top)
     else:
-        res, ver = D.design(d, limits, objective=objective, progress=stderr_progress, top=top), None
+        res, ver = D.design(d, limits, objective=objective, progress=progress, top=top), None
+    bar.close()
     summary = dict(res.summary(), table=res.table(top))
     if ver is not None:
         summary["verification"] = ver
@@ -128,7 +140,7 @@ def design_cmd(
             fig = draw_cross_section(drum, D._DutyModel(d).repose)
             save_figure(fig, files[2], dpi=100)
         summary["files"] = [str(f) for f in files]
-    failed = _verification_failure(summary.get("verification"), d.moisture_out)
+    failed = _verification_failure(summary.get("verification"), d.moisture_out, res.best)
     if as_json:
         typer.echo(json_text(summary))
         if failed:
@@ -139,7 +151,7 @@ def design_cmd(
     ver = summary.get("verification")
     if ver is not None:
         if "error" in ver:
-            typer.echo(f"verification (coupled model) failed: {ver['error']}")
+            typer.echo(f"verification (coupled model) failed: {_probe_infeasible(res.best, ver['error'])}")
         else:
             if len(ver["rounds"]) > 1:
                 typer.echo("verification rounds (Ua factor -> product moisture): " + ", ".join(
@@ -149,7 +161,8 @@ def design_cmd(
                        f"{'met' if ver['target_met'] else 'NOT met'}), exhaust {ver['gas_outlet_temperature_degC']:.1f} "
                        f"degC, holdup {ver['total_holdup_kg']:.0f} kg")
             if "next_round_infeasible" in ver:
-                typer.echo(f"  with the Ua lowered to what the coupled model achieves: {ver['next_round_infeasible']}")
+                typer.echo("  with the Ua lowered to what the coupled model achieves, the next search found no "
+                           f"feasible probe: {_search_infeasible(ver['next_round_infeasible'])}")
     if out is not None:
         typer.echo(f"files: {', '.join(summary['files'])}")
     if failed:
@@ -157,13 +170,35 @@ def design_cmd(
         raise typer.Exit(1)
 
 
-def _verification_failure(ver, target) -> str:
+def _probe_text(b) -> str:
+    """``probe at D=2.1 m, L=12.3 m, ...``: the design point an optimiser step evaluated."""
+    return (f"probe at D={b.diameter_m:.3g} m, L={b.length_m:.3g} m, slope={b.slope_deg:.3g} deg, "
+            f"rpm={b.rpm:.3g}, flights={b.n_flights}")
+
+
+def _probe_infeasible(b, error) -> str:
+    """A failure of the model at a design point the search chose, worded as the search's (not as a
+    bad input of the user's): ``probe at D=... infeasible: <reason>``."""
+    reason = " ".join(str(error).split())
+    return f"{_probe_text(b)} infeasible: {reason}" if b is not None else reason
+
+
+def _search_infeasible(error) -> str:
+    """The InfeasibleDuty of a later search round without its 'infeasible duty: ' lead (the duty the
+    user gave was feasible in the first round; the lowered Ua factor is the search's own)."""
+    text = " ".join(str(error).split())
+    return text[len("infeasible duty: "):] if text.startswith("infeasible duty: ") else text
+
+
+def _verification_failure(ver, target, best=None) -> str:
     """The one-line reason the coupled-model verification of a design failed (it could not run, or
-    the design misses the target moisture), or '' (passed, or not verified: --no-verify)."""
+    the design misses the target moisture), or '' (passed, or not verified: --no-verify);
+    ``best``: the verified design (its point is named: the failure is the search's, not the input's)."""
     if ver is None:
         return ""
     if "error" in ver:
-        return f"the design's verification (coupled model) failed: {' '.join(str(ver['error']).split())}"
+        msg = f"the design's verification (coupled model) failed: {' '.join(str(ver['error']).split())}"
+        return msg + (f" ({_probe_text(best)} infeasible)" if best is not None else "")
     if not ver.get("target_met", True):
         return (f"the design's verification (coupled model) failed: product moisture "
                 f"{ver.get('product_moisture_kg_kg', float('nan')):.4g} kg/kg wet misses the target {target:g} "

@@ -8,10 +8,10 @@ from typing import Optional
 import typer
 
 from . import app
-from ._common import check_option, check_out_dir, load_tracer, parse_sets
+from ._common import Progress, check_option, check_out_dir, load_tracer, parse_sets
 
 
-@app.command("fit")
+@app.command("fit", short_help="Fit case parameters to a tracer curve.")
 def fit_command(
     case: str = typer.Argument(..., help="Built-in case name or a case .toml file."),
     data: str = typer.Argument(..., help="Tracer CSV (time_s|time_min|time_h, signal) or a built-in data set name."),
@@ -28,15 +28,14 @@ def fit_command(
                                                  "needs --profile)."),
     out: Optional[Path] = typer.Option(None, help="Directory for fit.png and fit.json (and profile.png)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Fit case parameters to a tracer curve, with 95 % confidence intervals.
 
-    Example: rotarydryer fit lee2008_invicta lee2008_invicta -p transport.kiln_time
-    -p transport.backmix -p transport.drag_reduction --set transport.n_cells=35
-    --set geometry.method=lee2008_regressions
-
-    Example: rotarydryer fit ajayi2011_mmg ajayi2011_test4 -p transport.solids_velocity
-    -p transport.dispersion --set operating.test=4 --scale fit --baseline fit --profile
+    \b
+    Examples:
+      rotarydryer fit lee2008_invicta lee2008_invicta -p transport.kiln_time -p transport.backmix -p transport.drag_reduction --set transport.n_cells=35 --set geometry.method=lee2008_regressions
+      rotarydryer fit ajayi2011_mmg ajayi2011_test4 -p transport.solids_velocity -p transport.dispersion --set operating.test=4 --scale fit --baseline fit --profile
     """
     import warnings
 
@@ -56,19 +55,15 @@ def fit_command(
         base = parse_sets(set_)
         tracer = load_tracer(data)
 
-        def progress(k, n, best):
-            typer.echo(f"start {k}/{n} done, best objective {best:.6g}", err=True)
-
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), Progress("start", starts, quiet=quiet) as bar:
             warnings.simplefilter("ignore")
             cf = fit_case_to_tracer(case, tracer, param, base_overrides=base, n_starts=starts, scale=scale,
-                                    method=method, progress=progress, baseline=baseline)
+                                    method=method, baseline=baseline,
+                                    progress=lambda k, n, best: bar.update(k, n, f"best objective {best:.6g}"))
             profiles = {}
             if profile:
-                def done(name, k, n):
-                    typer.echo(f"profile {k}/{n} ({name}) done", err=True)
-
-                profiles = profile_case_fit(cf, n_points=profile_points or 11, progress=done)
+                profiles = profile_case_fit(cf, n_points=profile_points or 11,
+                                            progress=lambda name, k, n: bar.update(k, n, name, label="profile"))
     except (ValueError, FitError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
@@ -135,10 +130,12 @@ def fit_command(
     typer.echo(f"fit of {case} to {data}: objective {r.objective:.6g}, R^2 {r.r_squared:.4f}, "
                f"{r.n_evaluations} model evaluations, {r.seconds:.1f} s")
     w = max(len(k) for k in r.parameters)
-    head = f"  {'parameter':<{w}}  {'estimate':>12}  {'95% CI (Wald)':>29}"
+    units = {k: parameter_unit(k) for k in r.parameters}
+    wu = max(4, *(len(u) for u in units.values()))
+    head = f"  {'parameter':<{w}}  {'unit':<{wu}}  {'estimate':>12}  {'95% CI (Wald)':>29}"
     typer.echo(head + (f"  {'95% CI (profile likelihood)':>29}" if profiles else ""))
     for k, p in r.parameters.items():
-        line = f"  {k:<{w}}  {p.value:12.6g}  [{p.ci_low:12.6g}, {p.ci_high:12.6g}]"
+        line = f"  {k:<{w}}  {units[k]:<{wu}}  {p.value:12.6g}  [{p.ci_low:12.6g}, {p.ci_high:12.6g}]"
         if k in profiles:
             pr = profiles[k]
             line += (f"  [{pr.ci_low:12.6g}{'-' if pr.open_low else ''}, {pr.ci_high:12.6g}"
@@ -152,6 +149,27 @@ def fit_command(
         typer.echo(f"  {k:<{w}}  " + " ".join(f"{x:+.3f}" for x in row))
     for msg in r.warnings:
         typer.echo(f"warning: {msg}")
+
+
+#: units of the fit parameters that are not case keys, and of the [[tests]] fields
+_OTHER_UNITS = {"scale": "signal x s", "baseline": "signal", "gas_flow": "kg/s", "fouling": "-"}
+
+
+def parameter_unit(name: str) -> str:
+    """The unit of a fitted parameter: a case key's (`rotarydryer._limits.LIMITS`; ``-`` for a
+    dimensionless key), a ``tests.N.FIELD`` the key FIELD sets, the tracer scale or baseline."""
+    from .._limits import LIMITS
+
+    field = name.split(".")[-1]
+    for key in (name, f"transport.{field}" if name.startswith("tests.") else None):
+        if key in LIMITS:
+            return LIMITS[key].unit or "-"
+    if field in _OTHER_UNITS:
+        return _OTHER_UNITS[field]
+    for key, lim in LIMITS.items():      # e.g. a key declared in another block
+        if key.endswith("." + field) and lim.unit:
+            return lim.unit
+    return "?"
 
 
 def _profile_figure(plt, profiles, r):

@@ -48,7 +48,7 @@ def _check_options(dims, *, repose_angle, rpm, slope, loading_factor, bulk_densi
     check_range(_opt("angle"), angle, unit="deg")
 
 
-@app.command("flight")
+@app.command("flight", short_help="Flight-unloading summary of a drum (Lee 2008).")
 def flight(
     drum: str = typer.Option("invicta", help="Built-in drum (see --list-drums); explicit dimensions below override it."),
     radius: Optional[float] = typer.Option(None, help="Drum radius R, m."),
@@ -74,7 +74,9 @@ def flight(
     """Flight-unloading summary (Lee 2008 ch. 4) for a drum: geometry, transition angles,
     mass-averaged cascade, cycle times and design loads; optionally save plots.
 
-    Example: rotarydryer flight --drum invicta --repose-angle 50 --out out/
+    \b
+    Example:
+      rotarydryer flight --drum invicta --repose-angle 50 --out out/
     """
     from .._validation import fmt_number
     from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight, check_speed

@@ -11,7 +11,7 @@ from . import app
 from ._common import check_out_file, parse_sets, stderr_progress
 
 
-@app.command("fmu")
+@app.command("fmu", short_help="Export the dynamic model as an FMI 2.0 FMU.")
 def fmu_cmd(
     case: str = typer.Argument(..., help="Case name (ajayi2011_mmg, ...) or a .toml file with a [gas] block."),
     out: Path = typer.Option(Path("dryer.fmu"), "-o", "--out", help="FMU file to write (.fmu)."),
@@ -22,7 +22,9 @@ def fmu_cmd(
     product_temperature, exhaust_temperature, exhaust_humidity, holdup; it starts from the case's
     steady state. The FMU runs on a Python environment with rotarydryer installed (this one).
 
-    Example: rotarydryer fmu ajayi2011_mmg --set operating.test=4 -o dryer.fmu
+    \b
+    Example:
+      rotarydryer fmu ajayi2011_mmg --set operating.test=4 -o dryer.fmu
     """
     from ..fmu import build_fmu
 

@@ -22,6 +22,7 @@ from ._common import check_option, check_out_dir, check_out_file
 
 lab_app = typer.Typer(
     name="lab",
+    short_help="Laboratory data: rig runs, photographs, design loads.",
     help="Laboratory data: flight-unloading rig runs (Lee 2008 ch. 5), drum photographs and "
     "design-load break-point fits (Ajayi 2011 ch. 4).",
     no_args_is_help=True,
@@ -34,7 +35,7 @@ def _fail(exc: Exception):
     raise typer.Exit(2)
 
 
-@lab_app.command("rig")
+@lab_app.command("rig", short_help="Analyse one flight-unloading rig run.")
 def rig(
     run_csv: Path = typer.Argument(..., help="Load-cell CSV: time (s), then one or more load-cell columns (kg), summed."),
     flight: str = typer.Option("alternative", help="Rig flight (Lee 2008 Table 5.1): alternative | half_scale | full_scale | lee_code."),
@@ -53,7 +54,9 @@ def rig(
     """Analyse one flight-unloading rig run: filter, discharge rate, start of unloading, repose-angle
     fit with its CI, and Lee's +/- 2 SD band comparison.
 
-    Example: rotarydryer lab rig run.csv --rpm 2 --start-angle 93.5 --bulk-density 1474 --repose-sd 1.7
+    \b
+    Example:
+      rotarydryer lab rig run.csv --rpm 2 --start-angle 93.5 --bulk-density 1474 --repose-sd 1.7
     """
     from ..lab import flight_rig as fr
 
@@ -105,7 +108,7 @@ def rig(
 
 def _write_rig_outputs(fr, a, run_csv, out: Path) -> list:
     """rig.png and rig_aligned.csv in ``out``, rendered in memory first and written as one set
-    (:func:`rotarydryer._io.output_set`): if either write fails, the previous pair is kept."""
+    (`rotarydryer._io.output_set`): if either write fails, the previous pair is kept."""
     import io
 
     from .._io import output_set, write_bytes_atomic, write_text_atomic
@@ -128,7 +131,7 @@ def _write_rig_outputs(fr, a, run_csv, out: Path) -> list:
     return [str(png), str(csv_path)]
 
 
-@lab_app.command("image")
+@lab_app.command("image", short_help="Measure solids areas in a drum photograph.")
 def image(
     photo: Path = typer.Argument(..., help="Photograph of the drum cross-section (PNG, JPEG, TIFF)."),
     drum: str = typer.Option("ajayi_pilot", help="Built-in drum (rotarydryer flight --list-drums)."),
@@ -148,7 +151,9 @@ def image(
     """Measure flight-borne (per flight, FUF, UHD, LHD, TP) and airborne solids areas in a photograph
     (Ajayi 2011 section 4.3); optionally write an annotated image to check the segmentation.
 
-    Example: rotarydryer lab image photo.png --centre 970,970 --known-length-px 1900 --known-length-m 0.75 --mirror --out checked.png
+    \b
+    Example:
+      rotarydryer lab image photo.png --centre 970,970 --known-length-px 1900 --known-length-m 0.75 --mirror --out checked.png
     """
     from ..lab import images as im
 
@@ -181,7 +186,7 @@ def image(
         typer.echo(f"  annotated image: {out}")
 
 
-@lab_app.command("design-load")
+@lab_app.command("design-load", short_help="Design load from FUF area against loading.")
 def design_load(
     table: Path = typer.Argument(..., help="CSV with one row per photograph: loading and FUF area columns."),
     loading_column: str = typer.Option("loading_kg", help="Column with the drum loading, kg."),
@@ -193,7 +198,9 @@ def design_load(
     """Design load = break point of a linear-plateau fit of FUF area against loading (Ajayi 2011
     Appendix D), with delta-method, profile-likelihood and corrected Appendix E intervals.
 
-    Example: rotarydryer lab design-load loading_series.csv --group-column condition
+    \b
+    Example:
+      rotarydryer lab design-load loading_series.csv --group-column condition
     """
     try:
         check_option("--confidence", confidence, 0, 1)
@@ -224,7 +231,7 @@ def design_load(
 def _read_design_table(table: Path, loading_column: str, area_column: str, group_column) -> dict:
     """{group: [(loading, area), ...]} from a design-load CSV, read line by line (UTF-8, at most
     200 000 rows); errors name the file, the line and the column
-    (:func:`rotarydryer.lab.design_load_fit.read_design_rows`)."""
+    (`rotarydryer.lab.design_load_fit.read_design_rows`)."""
     from ..lab.design_load_fit import read_design_rows
     from ..rtd._datafile import data_lines
 
@@ -232,7 +239,7 @@ def _read_design_table(table: Path, loading_column: str, area_column: str, group
                             group_column)
 
 
-@lab_app.command("steps")
+@lab_app.command("steps", short_help="Holdup by Song's dynamic step method.")
 def steps(
     data: Path = typer.Argument(..., help="CSV record: time_s|time_min|time_h, feed_kg_s|feed_kg_min|feed_kg_h|fed_kg, discharge_kg_s|discharge_kg_min|discharge_kg_h|discharged_kg."),
     step_times: Optional[str] = typer.Option(None, "--steps", help="Step times, comma-separated, in the unit of the time column (default: detected from the feed; give them for speed or gas steps)."),
@@ -247,7 +254,9 @@ def steps(
     and discharge records, mean residence time tau = H/F (Eq. 4.1), up/down agreement H1 = H2 and the
     closure of a record that starts and ends empty (Table 4.2), reconciled.
 
-    Example: rotarydryer lab steps run.csv --out results
+    \b
+    Example:
+      rotarydryer lab steps steps_run.csv --out results
     """
     from ..lab import steps as sm
 
@@ -304,7 +313,7 @@ def steps(
 
 def _write_steps_outputs(sm, rec, a, out: Path) -> list:
     """steps.png and steps.csv in ``out``, rendered in memory first and written as one set
-    (:func:`rotarydryer._io.output_set`): if either write fails, the previous pair is kept."""
+    (`rotarydryer._io.output_set`): if either write fails, the previous pair is kept."""
     import io
 
     from .._io import output_set, write_bytes_atomic, write_text_atomic

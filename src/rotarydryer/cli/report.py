@@ -13,7 +13,7 @@ from . import app
 from ._common import parse_sets
 
 
-@app.command("report")
+@app.command("report", short_help="Write a self-contained HTML report.")
 def report(
     source: str = typer.Argument(..., help="Saved results (.nc), case name (lee2008_invicta, ajayi2011_mmg), "
                                            "case .toml file, or drum preset (invicta, mmg_B, ...)."),
@@ -28,15 +28,17 @@ def report(
 ):
     """Write a self-contained HTML report (pictures embedded).
 
-    Contents: dryer to scale, flight cross-section and unloading profile, design loads and,
-    for cases and results, key results, holdup profile, RTD against data with classical
-    model fits, and loading state per section.
+    Contents: the dryer (one drawing), flight cross-section and unloading profile, design loads
+    and, for cases and results, key results, holdup profile, RTD against data with classical
+    model fits, loading state per section and, with heat and mass transfer, the heat duties (kW).
 
+    \b
     Examples:
       rotarydryer report lee2008_invicta --out invicta.html
       rotarydryer report ajayi2011_mmg --set operating.test=4 --save test4.nc
       rotarydryer report test4.nc -o test4.html
       rotarydryer report invicta --repose-angle 50
+
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
     from .._io import output_set

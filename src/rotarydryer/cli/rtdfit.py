@@ -1,6 +1,6 @@
 """``rotarydryer rtd-moments`` and ``rotarydryer rtd-fit``: measured tracer curves.
 
-DATA is a tracer CSV file (format in :mod:`rotarydryer.rtd.tracer_data`) or the
+DATA is a tracer CSV file (format in `rotarydryer.rtd.tracer_data`) or the
 name of a shipped data set (``lee2008_invicta``, ``ajayi2011_test1`` ... ``6``).
 """
 
@@ -60,7 +60,7 @@ def _choice(option: str, value: str, choices) -> str:
     return value
 
 
-@app.command("rtd-moments")
+@app.command("rtd-moments", short_help="Moments of a measured tracer curve.")
 def rtd_moments_cmd(
     data: str = typer.Argument(..., help="Tracer CSV file or shipped data-set name."),
     baseline: str = typer.Option("none", help="none | leading | trailing | linear | a number (signal unit)."),
@@ -71,7 +71,9 @@ def rtd_moments_cmd(
 ):
     """Moments of a measured tracer curve: mean, SD, skewness, recovery, tail report.
 
-    Example: rotarydryer rtd-moments lee2008_invicta --json
+    \b
+    Example:
+      rotarydryer rtd-moments lee2008_invicta --json
     """
     from ..rtd._datafile import fmt
 
@@ -119,7 +121,7 @@ def rtd_moments_cmd(
     )
 
 
-@app.command("rtd-fit")
+@app.command("rtd-fit", short_help="Fit a reference RTD model to a tracer curve.")
 def rtd_fit_cmd(
     data: str = typer.Argument(..., help="Tracer CSV file or shipped data-set name."),
     model: str = typer.Option("tanks_in_series", help="tanks_in_series | dispersion_closed | dispersion_open | "
@@ -142,9 +144,10 @@ def rtd_fit_cmd(
     dispersion, or Song's (2003) Eq. 2.10-2.16 cells (interactive mixers; with dead zones,
     cholette_cloutier); optionally with a fitted constant background (--baseline fit).
 
-    Example: rotarydryer rtd-fit lee2008_invicta --model dispersion_open --delay --json
-
-    Example: rotarydryer rtd-fit ajayi2011_test4 --model interactive_mixers --baseline fit
+    \b
+    Examples:
+      rotarydryer rtd-fit lee2008_invicta --model dispersion_open --delay --json
+      rotarydryer rtd-fit ajayi2011_test4 --model interactive_mixers --baseline fit
     """
     import numpy as np
 

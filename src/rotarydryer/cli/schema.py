@@ -12,7 +12,7 @@ from . import app
 
 
 def case_schema(kind: Optional[str] = None) -> dict:
-    """JSON Schema (draft 2020-12, from the pydantic models in :mod:`rotarydryer.cases`) of
+    """JSON Schema (draft 2020-12, from the pydantic models in `rotarydryer.cases`) of
     all case kinds (discriminated by ``kind``) or of one kind."""
     from typing import Annotated, Union
 
@@ -32,15 +32,16 @@ def case_schema(kind: Optional[str] = None) -> dict:
     return schema
 
 
-@app.command("schema")
+@app.command("schema", short_help="Print the JSON Schema of case files.")
 def schema(
     kind: Optional[str] = typer.Option(None, help="Only this case kind: dryer | lee2008 | ajayi2011 (default: all)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write to this file instead of stdout."),
 ):
     """Print the JSON Schema of case files (for editors and validators).
 
+    \b
     Examples:
-      rotarydryer schema > case.schema.json
+      rotarydryer schema -o case.schema.json
       rotarydryer schema --kind lee2008 -o lee.schema.json
     """
     try:
@@ -61,11 +62,13 @@ def schema(
         typer.echo(f"schema: {out}")
 
 
-@app.command("cases")
+@app.command("cases", short_help="List the built-in cases (name, kind, title).")
 def cases(as_json: bool = typer.Option(False, "--json", help="Print a JSON list.")):
     """List the built-in cases (name, kind, title).
 
-    Example: rotarydryer cases
+    \b
+    Example:
+      rotarydryer cases
     """
     import tomllib
     from importlib import resources
@@ -84,7 +87,7 @@ def cases(as_json: bool = typer.Option(False, "--json", help="Print a JSON list.
         typer.echo(f"{r['name']:<{w}}  {r['kind']:<10s} {r['title']}")
 
 
-@app.command("new")
+@app.command("new", short_help="Write an annotated case template.")
 def new(
     case_name: str = typer.Argument(..., help="Name of the new case (file CASE_NAME.toml)."),
     base: str = typer.Option("template", "--from", help="'template' (a commented general dryer) or a built-in case (see `rotarydryer cases`)."),
@@ -95,10 +98,12 @@ def new(
 
     The template is a copy of a built-in case with its unit comments and citations.
 
+    \b
     Examples:
       rotarydryer new mydryer                       # the commented general template
       rotarydryer new plant2 --from ajayi2011_mmg
       rotarydryer simulate mydryer.toml --set operating.rpm=4
+
     Exit codes: 0 written, 1 file exists (use --force), 2 bad name or base.
     """
     import re

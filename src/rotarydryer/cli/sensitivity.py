@@ -32,7 +32,7 @@ def _text_table(res) -> str:
     return "\n".join(lines) + "\n"
 
 
-@app.command("sensitivity")
+@app.command("sensitivity", short_help="Sobol sensitivity indices of a case.")
 def sensitivity(
     case: str = typer.Argument(..., help="Case name or .toml file."),
     param: Optional[list[str]] = typer.Option(None, "--param", help="Uncertain input KEY=LOW,HIGH (uniform); repeat."),
@@ -52,12 +52,12 @@ def sensitivity(
     """Global sensitivity (Sobol first- and total-order indices with 95 % confidence intervals)
     and Monte Carlo output distributions of a case.
 
+    \b
     Examples:
-      rotarydryer sensitivity lee2008_invicta --set thermal.enabled=false \\
-          --param operating.rpm=2,4 --param operating.feed_rate=20,30 --samples 64
-      rotarydryer sensitivity ajayi2011_mmg --param operating.feed_rate=3,4 \\
-          --param transport.kiln_time=5,10 --samples 256 --workers 0 --out study/
+      rotarydryer sensitivity lee2008_invicta --set thermal.enabled=false --param operating.rpm=2,4 --param operating.feed_rate=20,30 --samples 64
+      rotarydryer sensitivity ajayi2011_mmg --param operating.feed_rate=3,4 --param transport.kiln_time=5,10 --samples 32 --workers 0 --out study/
       rotarydryer report ajayi2011_mmg --sensitivity study/sensitivity.json
+
     Failed runs (infeasible points) are recorded and left out of the indices block-wise.
     Exit codes: 0 done, 1 every run failed, 2 bad input, 3 SALib or Dask not installed.
     """

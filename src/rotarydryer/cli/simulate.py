@@ -45,7 +45,7 @@ def _save_last_thermal_state(exc, out, diagnostics=None) -> Optional[str]:
         return f"the solver's last state could not be saved: {exc2}"
 
 
-@app.command("simulate")
+@app.command("simulate", short_help="Steady state of a dryer: transport, heat and mass.")
 def simulate(
     case: str = typer.Argument(..., help="Case name (lee2008_invicta, ajayi2011_mmg) or a .toml file."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. transport.n_cells=33."),
@@ -60,7 +60,9 @@ def simulate(
     transfer (product moisture and temperature, gas outlet, evaporation, shell loss, balances;
     fuel rate where the case has a burner). Outputs are named with their unit.
 
-    Example: rotarydryer simulate lee2008_invicta --set geometry.method=lee2008_regressions
+    \b
+    Example:
+      rotarydryer simulate lee2008_invicta --set geometry.method=lee2008_regressions
     """
     from ..simulation import Simulation
 
@@ -109,34 +111,36 @@ def simulate(
     if as_json:
         typer.echo(json_text(result))
         return
-    typer.echo(f"{case}: {model.name}, feed {result['feed_rate_kg_s']:.3f} kg/s"
+    from .._display import fmt, fmt_error, fmt_moisture
+
+    typer.echo(f"{case}: {model.name}, feed {fmt(result['feed_rate_kg_s'])} kg/s"
                + (" (transport, heat and mass)" if thermal_on else " (solids transport only)"))
     rows = [
         ("total holdup", f"{result['total_holdup_kg']:,.0f} kg"),
         ("  active (curtain)", f"{result['active_holdup_kg']:,.0f} kg"),
         ("  passive (flights + floor)", f"{result['passive_holdup_kg']:,.0f} kg"),
         ("  unflighted bed", f"{result['bed_holdup_kg']:,.0f} kg"),
-        ("outlet flow", f"{result['outlet_flow_kg_s']:.4f} kg/s"),
+        ("outlet flow", f"{fmt(result['outlet_flow_kg_s'])} kg/s"),
         ("mean residence time H/F", f"{result['mean_residence_time_s'] / 60:.2f} min"),
         ("tracer mean / SD", f"{result['tracer_mean_s'] / 60:.2f} / {result['tracer_std_s'] / 60:.2f} min"),
     ]
     if not thermal_on:
-        rows.append(("mass balance error", f"{ss.mass_balance_error:.1e}"))
+        rows.append(("mass balance error", f"{fmt_error(ss.mass_balance_error)} (relative)"))
     for name, h in ss.section_holdups().items():
         rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
     if thermal is not None:
         rows += [
-            ("product moisture", f"{result['product_moisture_kg_kg']:.4f} kg/kg wet"),
+            ("product moisture", f"{fmt_moisture(result['product_moisture_kg_kg'])} % wet basis"),
             ("product temperature", f"{result['product_temperature_degC']:.1f} degC"),
             ("gas outlet temperature", f"{result['gas_outlet_temperature_degC']:.1f} degC"),
             ("evaporation", f"{result['evaporation_kg_s']:.4g} kg/s"),
             ("shell heat loss", f"{result['shell_heat_loss_W'] / 1e3:.0f} kW"),
-            ("energy / water balance error", f"{result['energy_balance_error']:.1e} / "
-                                              f"{result['water_balance_error']:.1e}"),
+            ("energy / water balance error", f"{fmt_error(result['energy_balance_error'])} / "
+                                              f"{fmt_error(result['water_balance_error'])} (relative)"),
         ]
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"
-                         if result["fuel_rate_kg_s"] is None else f"{result['fuel_rate_kg_s'] * 3600:.0f} kg/h"))
+                         if result["fuel_rate_kg_s"] is None else f"{fmt(result['fuel_rate_kg_s'] * 3600)} kg/h"))
     states = ss.loading_state
     rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
                                             f"{states.count('under')}"))
@@ -152,7 +156,7 @@ def simulate(
         typer.echo(f"files: {', '.join(result['files'])}")
 
 
-@app.command("rtd")
+@app.command("rtd", short_help="Simulated tracer pulse (RTD) at the steady state.")
 def rtd(
     case: str = typer.Argument(..., help="Case name or .toml file."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE."),
@@ -163,7 +167,9 @@ def rtd(
     """Tracer pulse at the steady state: E(t), mean, SD, recovery; plot against the
     case's measured RTD when it has one.
 
-    Example: rotarydryer rtd lee2008_invicta --set geometry.method=lee2008_regressions --out out/
+    \b
+    Example:
+      rotarydryer rtd lee2008_invicta --set geometry.method=lee2008_regressions --out out/
     """
     try:
         from ..cases import measured_rtd

@@ -118,13 +118,13 @@ def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Opt
 
 
 def rows_to_csv(rows: list[dict]) -> str:
-    """CSV text of sweep rows, the ``error`` column last (:func:`rotarydryer._io.csv_text`)."""
+    """CSV text of sweep rows, the ``error`` column last (`rotarydryer._io.csv_text`)."""
     from .._io import csv_text
 
     return csv_text(rows, last=("error",))
 
 
-@app.command("sweep")
+@app.command("sweep", short_help="Run a case over a grid or list of overrides.")
 def sweep(
     case: str = typer.Argument(..., help="Case name or .toml file."),
     grid: Optional[list[str]] = typer.Option(None, "--grid", help="KEY=V1,V2,...; several --grid: all combinations."),
@@ -135,22 +135,26 @@ def sweep(
     rtd: bool = typer.Option(True, "--rtd/--no-rtd", help="Also simulate the tracer pulse (RTD SD, tracer mean)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the table (CSV) here."),
     as_json: bool = typer.Option(False, "--json", help="Print the rows as a JSON list."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Run a case over a grid or list of overrides; one table (CSV) out.
 
+    \b
     Examples:
       rotarydryer sweep lee2008_invicta --grid operating.rpm=2,3,4 --grid operating.feed_rate=20,27.2
       rotarydryer sweep ajayi2011_mmg --grid operating.test=2,3,4,5,6 --workers 0 -o tests.csv
-      rotarydryer sweep lee2008_invicta --list runs.csv --scheduler tcp://cluster:8786
+
+    A list of runs is a CSV file whose header names the case keys, one row per run
+    (--list runs.csv); --scheduler tcp://HOST:8786 runs the points on a Dask cluster.
+
     Exit codes: 0 all runs succeeded, 1 some runs failed (see the error column), 2 bad
     input, 3 Dask requested but not installed.
     """
     import os
-    import sys
 
     from .._io import check_output_target, write_text_atomic
     from ..services._options import check_scheduler, check_workers
-    from ._common import parse_sets
+    from ._common import Progress, parse_sets
 
     try:
         base = parse_sets(set_)
@@ -181,12 +185,8 @@ def sweep(
     rows: list = [None] * len(points)
     interrupted = False
     try:
-        if as_json or len(points) < 2:
-            run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, rows=rows)
-        else:
-            with typer.progressbar(length=len(points), label=f"{len(points)} runs", file=sys.stderr,
-                                   hidden=not sys.stderr.isatty()) as bar:
-                run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, progress=bar.update, rows=rows)
+        with Progress("run", len(points), quiet=quiet or len(points) < 2) as bar:
+            run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, progress=bar.advance, rows=rows)
     except ImportError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(3)

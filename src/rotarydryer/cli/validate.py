@@ -18,7 +18,7 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(parts) if parts else type(exc).__name__
 
 
-@app.command("validate")
+@app.command("validate", short_help="Compare cases with measured and published numbers.")
 def validate(
     cases: Optional[list[str]] = typer.Argument(None, metavar="CASE",
                                                help="Case names or .toml files (default: every shipped case)."),
@@ -36,7 +36,10 @@ def validate(
     Exit codes: 0 every item within its tolerance (known misses aside), 1 an item outside it,
     2 bad input (unknown case, bad --set key or value, bad --out).
 
-    Example: rotarydryer validate ajayi2011_mmg --set thermal.area_scale=3
+    \b
+    Example:
+      rotarydryer validate ajayi2011_mmg --out validation/
+      rotarydryer validate lee2008_invicta --json
     """
     from ..validate import run_validation
 

@@ -13,7 +13,7 @@ import typer
 from . import app
 
 
-@app.command("app")
+@app.command("app", short_help="Start the web app (Streamlit).")
 def run_app(
     port: int = typer.Option(8501, help="TCP port."),
     host: str = typer.Option("127.0.0.1", help="Address to listen on (0.0.0.0: reachable from other machines)."),
@@ -25,9 +25,12 @@ def run_app(
 
     Needs Streamlit: pip install streamlit (or the "app" extra of rotarydryer).
 
+    \b
     Examples:
       rotarydryer app                      # http://127.0.0.1:8501
       rotarydryer app --port 8600 --browser
+      rotarydryer app --print-command
+
     Stopping it (Ctrl+C, SIGTERM, SIGHUP) stops the server.
     Exit codes: 0 stopped normally, 2 bad option, 3 Streamlit not installed, else the server's
     (128 + N when signal N ended it).
@@ -62,7 +65,7 @@ def serve(cmd: list[str]) -> int:
     SIGTERM, SIGINT and SIGHUP sent to this process are forwarded to the server, so stopping
     ``rotarydryer app`` (Ctrl+C, ``kill``, a service manager) stops the server too; when this
     process leaves for any other reason the server is terminated (killed after
-    :data:`STOP_TIMEOUT_S` s). Only the main thread can install signal handlers; elsewhere the
+    `STOP_TIMEOUT_S` s). Only the main thread can install signal handlers; elsewhere the
     signals are not forwarded (the clean-up still runs)."""
     import signal
     import subprocess

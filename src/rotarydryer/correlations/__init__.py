@@ -9,7 +9,7 @@ Modules
 -------
 residence_time
     Mean residence time (MRT) and holdup correlations reviewed by Song (2003)
-    ch. 2 and 4 and Lee (2008) ch. 2; dispatcher :func:`mean_residence_time`.
+    ch. 2 and 4 and Lee (2008) ch. 2; dispatcher [`mean_residence_time`][rotarydryer.correlations.mean_residence_time].
 heat_transfer
     Volumetric coefficients Ua (Song 2003 Table 3.1), particle Nusselt
     correlations (Song 2003 Table 3.2, Ajayi 2011 Eq. 6.41), Song's estimation
@@ -22,7 +22,7 @@ trajectory
     counter-current gas stream: fall time and axial displacement.
 
 Inputs outside the range a correlation was fitted on give a
-:class:`CorrelationRangeWarning`; non-physical inputs raise ``ValueError``.
+`CorrelationRangeWarning`; non-physical inputs raise ``ValueError``.
 Design-load models (Porter, Kelly, Baker, Ajayi's modified Baker) live in
 ``rotarydryer.geometry.design_load`` because they need the flight geometry.
 """

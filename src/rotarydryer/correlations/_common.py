@@ -22,7 +22,7 @@ def warn_outside(
     source: str = "",
     stacklevel: int = 3,
 ) -> None:
-    """Warn with :class:`CorrelationRangeWarning` if any element of ``value`` is outside [low, high].
+    """Warn with `CorrelationRangeWarning` if any element of ``value`` is outside [low, high].
 
     The message names the argument, the offending value(s), the fitted range and the source.
     """

@@ -1,7 +1,7 @@
 r"""Single-particle drag coefficients and terminal velocity (Lee 2008 ch. 2 and 6).
 
-Drag force (Lee 2008 Eq. 6.3): :math:`F_D = \tfrac12 C_D \rho A v^2` with
-:math:`Re = \rho v d/\mu` (Lee 2008 l.1858-1870). All functions are vectorised
+Drag force (Lee 2008 Eq. 6.3): $F_D = \tfrac12 C_D \rho A v^2$ with
+$Re = \rho v d/\mu$ (Lee 2008 l.1858-1870). All functions are vectorised
 over their array arguments.
 """
 
@@ -34,7 +34,7 @@ def _re(reynolds):
 
 
 def reynolds_number(velocity, diameter, density, viscosity):
-    r"""Particle Reynolds number :math:`Re = \rho |v| d/\mu` (Lee 2008 l.1870).
+    r"""Particle Reynolds number $Re = \rho |v| d/\mu$ (Lee 2008 l.1870).
 
     Parameters
     ----------
@@ -85,19 +85,19 @@ def _cd_lee_2008(re, a):
 
 
 def _haider_levenspiel_params(sphericity, coefficient="published"):
-    """Checked (phi, c) of :func:`haider_levenspiel_1989`."""
+    """Checked (phi, c) of [`haider_levenspiel_1989`][rotarydryer.correlations.drag.haider_levenspiel_1989]."""
     phi = check_range("sphericity", sphericity, 0.0, 1.0, high_inclusive=True)
     check_choice("coefficient", coefficient, ("published", "lee_2008_print"))
     return phi, (12.5584 if coefficient == "published" else 12.5284)
 
 
 def _lee_2008_params(prefactor=24.0):
-    """Checked numerator a of :func:`lee_2008`."""
+    """Checked numerator a of [`lee_2008`][rotarydryer.correlations.drag.lee_2008]."""
     return check_positive("prefactor", prefactor)
 
 
 def stokes_drag(reynolds):
-    r"""Stokes drag coefficient of a sphere, :math:`C_D = 24/Re` (creeping flow, Re < 0.1).
+    r"""Stokes drag coefficient of a sphere, $C_D = 24/Re$ (creeping flow, Re < 0.1).
 
     Examples
     --------
@@ -112,8 +112,9 @@ def stokes_drag(reynolds):
 def schiller_naumann_1933(reynolds):
     r"""Drag coefficient of a sphere, Schiller & Naumann (1933).
 
-    .. math::
-        C_D = \frac{24}{Re}\left(1 + 0.15\,Re^{0.687}\right) \quad (Re \le 1000), \qquad C_D = 0.44 \quad (Re > 1000)
+    $$
+    C_D = \frac{24}{Re}\left(1 + 0.15\,Re^{0.687}\right) \quad (Re \le 1000), \qquad C_D = 0.44 \quad (Re > 1000)
+    $$
 
     Lee (2008) Eq. 2.13 (body stripped in the extracted text; this is the
     standard form, the one CFX uses in Lee's ch. 6 CFD, Eq. 6.15). The upper
@@ -143,10 +144,11 @@ def schiller_naumann_1933(reynolds):
 def haider_levenspiel_1989(reynolds, sphericity, coefficient="published"):
     r"""Drag coefficient of a non-spherical particle, Haider & Levenspiel (1989).
 
-    .. math::
-        C_D = \frac{24}{Re}\left[1 + e^{2.3288 - 6.4581\phi + 2.4486\phi^2} Re^{0.0964 + 0.5565\phi}\right]
-            + \frac{Re\, e^{4.905 - 13.8944\phi + 18.4222\phi^2 - 10.2599\phi^3}}
-                   {Re + e^{1.4681 + 12.5584\phi - 20.7322\phi^2 + 15.8855\phi^3}}
+    $$
+    C_D = \frac{24}{Re}\left[1 + e^{2.3288 - 6.4581\phi + 2.4486\phi^2} Re^{0.0964 + 0.5565\phi}\right]
+    + \frac{Re\, e^{4.905 - 13.8944\phi + 18.4222\phi^2 - 10.2599\phi^3}}
+    {Re + e^{1.4681 + 12.5584\phi - 20.7322\phi^2 + 15.8855\phi^3}}
+    $$
 
     Lee (2008) Eq. 6.1 (l.8028-8072). φ is the sphericity: surface of the
     volume-equivalent sphere / actual surface.
@@ -191,7 +193,7 @@ def haider_levenspiel_1989(reynolds, sphericity, coefficient="published"):
 
 
 def modified_schiller_naumann(reynolds, a, b, n):
-    r"""General Schiller-Naumann form :math:`C_D = (a/Re)(1 + b\,Re^{n})`, Lee (2008) Eq. 6.5.
+    r"""General Schiller-Naumann form $C_D = (a/Re)(1 + b\,Re^{n})$, Lee (2008) Eq. 6.5.
 
     Parameters
     ----------
@@ -215,8 +217,9 @@ def modified_schiller_naumann(reynolds, a, b, n):
 def lee_2008(reynolds, prefactor=24.0):
     r"""Drag coefficient of a falling raw-sugar crystal, Lee (2008) Eq. 6.6 ("modified Schiller-Naumann").
 
-    .. math::
-        C_D = \frac{a}{Re}\left(1 + 0.004\,Re^{0.9968}\right), \qquad a = 24 \text{ (assumed)}
+    $$
+    C_D = \frac{a}{Re}\left(1 + 0.004\,Re^{0.9968}\right), \qquad a = 24 \text{ (assumed)}
+    $$
 
     **Reading of the garbled equation.** The extracted text, identical at
     l.8284, l.8381 and l.11345 of the thesis, is ``( )0.9968 / 1 0.004Re /
@@ -233,7 +236,7 @@ def lee_2008(reynolds, prefactor=24.0):
     an rms error of 0.26 for Schiller-Naumann. A numerator a ≈ 60 would
     reproduce that rms (0.26) but not the Haider-Levenspiel rms (0.51); no
     single a fits both, so the true constant cannot be recovered from the text.
-    Use with care, and prefer :func:`schiller_naumann_1933` (which Lee's own CFD
+    Use with care, and prefer [`schiller_naumann_1933`][rotarydryer.correlations.drag.schiller_naumann_1933] (which Lee's own CFD
     uses) until the original figure is checked.
 
     Parameters
@@ -323,7 +326,7 @@ def drag_coefficient(reynolds, method: str = "schiller_naumann_1933", sphericity
 
 
 def _drag_kernel(method, sphericity=None, **kwargs):
-    """Check a drag correlation and its parameters once, as :func:`drag_coefficient` does
+    """Check a drag correlation and its parameters once, as [`drag_coefficient`][rotarydryer.correlations.drag.drag_coefficient] does
     (same errors), and return ``cd(re, index)``: C_D of the float array ``re`` from the
     unchecked kernel, without input checks or range warnings, for use inside iterations.
 
@@ -362,9 +365,10 @@ def terminal_velocity(particle_diameter, particle_density, gas_density, gas_visc
 
     Solves the steady force balance (Lee 2008 Eq. 6.2 with a = 0 and Eq. 6.3)
 
-    .. math::
-        C_D(Re)\, Re^2 = \frac43\, Ar, \qquad Ar = \frac{g\, d^3 \rho_g (\rho_p - \rho_g)}{\mu^2},
-        \qquad v_t = \frac{Re\, \mu}{\rho_g d}
+    $$
+    C_D(Re)\, Re^2 = \frac43\, Ar, \qquad Ar = \frac{g\, d^3 \rho_g (\rho_p - \rho_g)}{\mu^2},
+    \qquad v_t = \frac{Re\, \mu}{\rho_g d}
+    $$
 
     for Re by a vectorised safeguarded Newton iteration in log Re (bounded
     number of iterations; it never hangs). Where the drag law has a jump
@@ -381,7 +385,7 @@ def terminal_velocity(particle_diameter, particle_density, gas_density, gas_visc
     gas_viscosity : array_like
         μ, Pa s.
     method, sphericity, **kwargs
-        Drag correlation, as :func:`drag_coefficient`.
+        Drag correlation, as [`drag_coefficient`][rotarydryer.correlations.drag.drag_coefficient].
     gravity : float
         g, m/s².
 

@@ -2,20 +2,22 @@ r"""Gas-solids heat-transfer correlations for rotary dryers.
 
 Volumetric coefficients (Song 2003 Eq. 3.2, Table 3.1):
 
-.. math::
-    U_a = K\, f(\phi)\, G^{c}\, D^{d}
+$$
+U_a = K\, f(\phi)\, G^{c}\, D^{d}
+$$
 
 with Ua in W/(m³ K), G the gas mass flux in kg/(m² s) and D the dryer diameter
 in m (Song converted every row to these SI units, L1006).
 
 Particle Nusselt correlations (Song 2003 Eq. 3.6, Table 3.2):
 
-.. math::
-    Nu_p = \frac{U d_p}{k} = b + c\, Re_p^{d}\, Pr^{e}, \qquad Re_p = \frac{G d_p}{\mu}
+$$
+Nu_p = \frac{U d_p}{k} = b + c\, Re_p^{d}\, Pr^{e}, \qquad Re_p = \frac{G d_p}{\mu}
+$$
 
 and Ajayi (2011) Eq. 6.41, Nu = 0.33 Re^0.6. Ambiguity: Song (L1034) says k
 is the conductivity of the *solids*; in the Nu-Re-Pr correlations it is the
-*gas* conductivity, which is what :func:`heat_transfer_coefficient` expects
+*gas* conductivity, which is what [`heat_transfer_coefficient`][rotarydryer.correlations.heat_transfer.heat_transfer_coefficient] expects
 (Ajayi 2011 Eq. 6.41 also uses k_g).
 """
 
@@ -72,9 +74,10 @@ def _g_d(gas_mass_flux, diameter):
 def miller_1942_ua(gas_mass_flux, diameter, n_flights=6, twelve_flight_factor="ditto"):
     r"""Volumetric heat-transfer coefficient, Miller et al. (1942).
 
-    .. math::
-        U_a = 89\,(N_f - 1)\,G^{0.46}/D \quad (6\ \text{flights}), \qquad
-        U_a = 62\,(N_f - 1)\,G^{0.60}/D \quad (12\ \text{flights})
+    $$
+    U_a = 89\,(N_f - 1)\,G^{0.46}/D \quad (6\ \text{flights}), \qquad
+    U_a = 62\,(N_f - 1)\,G^{0.60}/D \quad (12\ \text{flights})
+    $$
 
     Song (2003) Table 3.1 rows L994-995 in Eq. 3.2. The printed "(N_r − 1)" is
     read as (N_f − 1), N_f the number of flights.
@@ -117,8 +120,9 @@ def miller_1942_ua(gas_mass_flux, diameter, n_flights=6, twelve_flight_factor="d
 def friedman_marshall_1949_ua(gas_mass_flux, diameter, gas_flow="counter-current", constant=None):
     r"""Volumetric heat-transfer coefficient, Friedman & Marshall (1949).
 
-    .. math::
-        U_a = K\, G^{c}/D, \quad K = 10,\ c = 0.16\ \text{(counter-current)}; \quad c = 0.40\ \text{(co-current)}
+    $$
+    U_a = K\, G^{c}/D, \quad K = 10,\ c = 0.16\ \text{(counter-current)}; \quad c = 0.40\ \text{(co-current)}
+    $$
 
     Song (2003) Table 3.1 rows L996-997. The co-current constant K is not given
     in Song, so it must be passed as ``constant`` (W/(m³ K) per unit G^0.40/D).
@@ -155,7 +159,7 @@ def friedman_marshall_1949_ua(gas_mass_flux, diameter, gas_flow="counter-current
 
 
 def mccormick_1962_ua(gas_mass_flux, diameter):
-    r"""Volumetric heat-transfer coefficient, McCormick (1962): :math:`U_a = 237\,G^{0.67}/D`.
+    r"""Volumetric heat-transfer coefficient, McCormick (1962): $U_a = 237\,G^{0.67}/D$.
 
     Song (2003) Table 3.1 L998; recommended for US industrial design (Treybal
     1980, via Song L1010). G in kg/(m² s), D in m; returns Ua in W/(m³ K).
@@ -170,7 +174,7 @@ def mccormick_1962_ua(gas_mass_flux, diameter):
 
 
 def myklestad_1963_ua(gas_mass_flux, diameter=None):
-    r"""Volumetric heat-transfer coefficient, Myklestad (1963a): :math:`U_a = 423\,G^{0.80}`.
+    r"""Volumetric heat-transfer coefficient, Myklestad (1963a): $U_a = 423\,G^{0.80}$.
 
     Song (2003) Table 3.1 L999 (exponent d = 0: no diameter dependence;
     ``diameter`` is accepted and ignored for a uniform signature). G in
@@ -186,7 +190,7 @@ def myklestad_1963_ua(gas_mass_flux, diameter=None):
 
 
 def sharples_1964_ua(gas_mass_flux, rpm, constant):
-    r"""Volumetric heat-transfer coefficient, Sharples et al. (1964): :math:`U_a = K\,n\,G^{0.5}`.
+    r"""Volumetric heat-transfer coefficient, Sharples et al. (1964): $U_a = K\,n\,G^{0.5}$.
 
     Song (2003) Table 3.1 L1000; K is not given in Song and must be supplied.
     G in kg/(m² s), n in rev/min; returns Ua in W/(m³ K).
@@ -205,8 +209,9 @@ def sharples_1964_ua(gas_mass_flux, rpm, constant):
 def douglas_1993_ua(gas_mass_flux, holdup, solids_density, dryer_volume, constant, exponent):
     r"""Volumetric heat-transfer coefficient, Douglas et al. (1993).
 
-    .. math::
-        U_a = K\,\left(\frac{100\,H}{\rho_s V}\right)^{\beta} G^{0.16}
+    $$
+    U_a = K\,\left(\frac{100\,H}{\rho_s V}\right)^{\beta} G^{0.16}
+    $$
 
     Song (2003) Table 3.1 L1001; printed "(H100/ρ_s V)^β", read as the percent
     volumetric holdup to a power β (not the Cholette-Cloutier β). K and β are not
@@ -248,7 +253,7 @@ _AS_UA = {"saw dust": (271.0, 0.719), "sand": (276.0, 0.828), "soya meal": (283.
 
 
 def alvarez_shene_1994_ua(gas_mass_flux, diameter, material="sand"):
-    r"""Volumetric heat-transfer coefficient, Alvarez & Shene (1994): :math:`U_a = K\,G^{c}/D`.
+    r"""Volumetric heat-transfer coefficient, Alvarez & Shene (1994): $U_a = K\,G^{c}/D$.
 
     Song (2003) Table 3.1 L1002-1004: K = 271, 276, 283 and c = 0.719, 0.828,
     0.834 for saw dust, sand and soya meal. G in kg/(m² s), D in m; returns Ua in
@@ -338,7 +343,7 @@ def _re_pr(reynolds, prandtl, need_pr=True):
 
 
 def van_krevelen_hoftijzer_nu(reynolds, prandtl):
-    r"""Particle Nusselt number, Van Krevelen & Hoftijzer (via Mujumdar 1995): :math:`Nu = Re^{0.5} Pr^{0.33}`.
+    r"""Particle Nusselt number, Van Krevelen & Hoftijzer (via Mujumdar 1995): $Nu = Re^{0.5} Pr^{0.33}$.
 
     Song (2003) Table 3.2 L1040 (constant-rate drying period). Re_p = G d_p/μ.
 
@@ -352,7 +357,7 @@ def van_krevelen_hoftijzer_nu(reynolds, prandtl):
 
 
 def mcadams_1951_nu(reynolds, prandtl=None):
-    r"""Particle Nusselt number, McAdams (1951): :math:`Nu = 0.33\,Re^{0.6}`.
+    r"""Particle Nusselt number, McAdams (1951): $Nu = 0.33\,Re^{0.6}$.
 
     Song (2003) Table 3.2 L1041 (no Pr dependence).
 
@@ -366,7 +371,7 @@ def mcadams_1951_nu(reynolds, prandtl=None):
 
 
 def ranz_marshall_1952_nu(reynolds, prandtl, particle_diameter=None):
-    r"""Particle Nusselt number, Ranz & Marshall (1952): :math:`Nu = 2 + 0.6\,Re^{1/2} Pr^{1/3}`.
+    r"""Particle Nusselt number, Ranz & Marshall (1952): $Nu = 2 + 0.6\,Re^{1/2} Pr^{1/3}$.
 
     Song (2003) Table 3.2 L1042, noted there for large particles, d_p > 1.4 mm;
     also Ajayi (2011) Eq. 6.37 (not used by Ajayi). If ``particle_diameter``
@@ -386,7 +391,7 @@ def ranz_marshall_1952_nu(reynolds, prandtl, particle_diameter=None):
 
 
 def kunii_levenspiel_1977_nu(reynolds, prandtl=None):
-    r"""Particle Nusselt number, Kunii & Levenspiel (1977): :math:`Nu = 0.03\,Re^{1.3}`.
+    r"""Particle Nusselt number, Kunii & Levenspiel (1977): $Nu = 0.03\,Re^{1.3}$.
 
     Song (2003) Table 3.2 L1045 (small particles; no numeric range given).
 
@@ -402,8 +407,9 @@ def kunii_levenspiel_1977_nu(reynolds, prandtl=None):
 def tscheng_watkinson_1979_solids_nu(reynolds, rotational_reynolds, fill_fraction, prandtl=None):
     r"""Gas-to-solids Nusselt number, Tscheng & Watkinson (1979).
 
-    .. math::
-        Nu = 0.46\, Re^{0.535}\, Re_T^{0.104}\, f^{-0.341}
+    $$
+    Nu = 0.46\, Re^{0.535}\, Re_T^{0.104}\, f^{-0.341}
+    $$
 
     Song (2003) Table 3.2 L1046; Re_T is the rotational Reynolds number and f
     the fraction of solid fill (Song nomenclature L221, L249).
@@ -420,7 +426,7 @@ def tscheng_watkinson_1979_solids_nu(reynolds, rotational_reynolds, fill_fractio
 
 
 def tscheng_watkinson_1979_wall_nu(reynolds, rotational_reynolds, prandtl=None):
-    r"""Gas-to-wall Nusselt number, Tscheng & Watkinson (1979): :math:`Nu = 1.54\,Re^{0.575} Re_T^{-0.292}`.
+    r"""Gas-to-wall Nusselt number, Tscheng & Watkinson (1979): $Nu = 1.54\,Re^{0.575} Re_T^{-0.292}$.
 
     Song (2003) Table 3.2 L1047; the b and e cells are blank and read as 0.
 
@@ -435,7 +441,7 @@ def tscheng_watkinson_1979_wall_nu(reynolds, rotational_reynolds, prandtl=None):
 
 
 def chang_1994_nu(reynolds, prandtl=None):
-    r"""Particle Nusselt number, Chang (1994): :math:`Nu = 0.019\,Re^{1.358}`.
+    r"""Particle Nusselt number, Chang (1994): $Nu = 0.019\,Re^{1.358}$.
 
     Song (2003) Table 3.2 L1048.
 
@@ -452,7 +458,7 @@ _AS_NU = {"saw dust": (0.065, 0.638), "sand": (0.0908, 0.394), "soya meal": (0.0
 
 
 def alvarez_shene_1994_nu(reynolds, material="sand", prandtl=None):
-    r"""Particle Nusselt number, Alvarez & Shene (1994): :math:`Nu = c\,Re^{d}`.
+    r"""Particle Nusselt number, Alvarez & Shene (1994): $Nu = c\,Re^{d}$.
 
     Song (2003) Table 3.2 L1049-1051: (c, d) = (0.065, 0.638) saw dust,
     (0.0908, 0.394) sand, (0.0219, 0.825) soya meal; regressed on their own dryer.
@@ -469,7 +475,7 @@ def alvarez_shene_1994_nu(reynolds, material="sand", prandtl=None):
 
 
 def ajayi_2011_nu(reynolds, prandtl=None):
-    r"""Particle Nusselt number used by Ajayi (2011) Eq. 6.41: :math:`Nu = 0.33\,Re^{0.6}`.
+    r"""Particle Nusselt number used by Ajayi (2011) Eq. 6.41: $Nu = 0.33\,Re^{0.6}$.
 
     Flow over spheres (Kelly 1987; Didriksen 2002; Raffak et al. 2008 via Ajayi);
     the same constants as McAdams (1951) in Song's Table 3.2. Ajayi evaluates Re
@@ -547,7 +553,7 @@ def nusselt_number(reynolds, prandtl=None, method: str = "ranz_marshall_1952", *
 
 
 def heat_transfer_coefficient(nusselt, thermal_conductivity, particle_diameter):
-    r"""Film heat-transfer coefficient from a Nusselt number, :math:`U = Nu\,k/d_p`, W/(m² K).
+    r"""Film heat-transfer coefficient from a Nusselt number, $U = Nu\,k/d_p$, W/(m² K).
 
     Song (2003) Eq. 3.6; Ajayi (2011) Eq. 6.41 (h_c = Nu k_g/d_p).
 
@@ -575,7 +581,7 @@ def heat_transfer_coefficient(nusselt, thermal_conductivity, particle_diameter):
 
 
 def log_mean_temperature_difference(delta_in, delta_out):
-    r"""Log-mean of two temperature differences, K: :math:`(\Delta_1-\Delta_2)/\ln(\Delta_1/\Delta_2)`.
+    r"""Log-mean of two temperature differences, K: $(\Delta_1-\Delta_2)/\ln(\Delta_1/\Delta_2)$.
 
     Song (2003) Eqs. 3.1 and 3.9. Both differences must be positive (same sign
     convention at both ends); equal differences return that difference.
@@ -598,8 +604,9 @@ def ua_from_drying_data(dry_solids_rate, moisture_in, moisture_out, dryer_volume
                         gas_in, gas_out, solids_in, solids_out, latent_heat=2.5e6):
     r"""Volumetric heat-transfer coefficient estimated from dryer data, Song (2003) Eq. 3.9.
 
-    .. math::
-        U_a = \frac{F\,\lambda\,(X_{in} - X_{out})}{V\,(T_g - T_s)_{LM}}
+    $$
+    U_a = \frac{F\,\lambda\,(X_{in} - X_{out})}{V\,(T_g - T_s)_{LM}}
+    $$
 
     All heat lost by the gas is assumed to evaporate water (no losses, no
     sensible heating of the solids); co-current log mean over the two ends.
@@ -644,8 +651,9 @@ def chilton_colburn_mass_transfer_coefficient(ua, gas_density, gas_heat_capacity
                                               gas_temperature, water_molar_mass=0.018015):
     r"""Volumetric mass-transfer coefficient from Ua by the Chilton-Colburn analogy, Song (2003) Eq. 3.8.
 
-    .. math::
-        K_m a = \frac{U_a\, M}{\rho_g\, c_p\, (Sc/Pr)^{2/3}\, R_0\, T}
+    $$
+    K_m a = \frac{U_a\, M}{\rho_g\, c_p\, (Sc/Pr)^{2/3}\, R_0\, T}
+    $$
 
     Song prints ρ_s; read here as the **gas** density ρ_g, because only that
     reproduces Song's Table 3.3 Chilton-Colburn column (notes/song.md §5.4).

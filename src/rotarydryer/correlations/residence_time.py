@@ -1,7 +1,7 @@
 r"""Mean residence time (MRT) and holdup correlations for rotary dryers.
 
 All functions take SI arguments and return the mean residence time
-:math:`\tau` in **seconds**:
+$\tau$ in **seconds**:
 
 * ``length``, ``diameter`` in m; ``slope`` in m/m (rise over run, the tangent of
   the inclination); ``rpm`` in revolutions per minute;
@@ -13,8 +13,9 @@ All functions take SI arguments and return the mean residence time
 
 The Friedman-Marshall family (Song 2003 Eqs. 2.2-2.5 = 4.2-4.5) shares the form
 
-.. math::
-    \tau = \frac{a\,L}{s\,n^{p}\,D} \pm \frac{b}{D_p^{0.5}}\,\frac{L\,G}{F}
+$$
+\tau = \frac{a\,L}{s\,n^{p}\,D} \pm \frac{b}{D_p^{0.5}}\,\frac{L\,G}{F}
+$$
 
 with + for counter-current and - for co-current gas (Song 2003 L652, L1399).
 The constants are Song's rescaled values for τ in seconds, which is what Song
@@ -109,8 +110,9 @@ def _friedman_marshall_form(
 def sullivan_1927(length, diameter, slope, rpm, repose_angle):
     r"""Mean residence time of a rotary kiln (no flights), Sullivan, Maier & Ralston (1927).
 
-    .. math::
-        \tau = \frac{106.2\, L\, \gamma^{0.5}}{\tan^{-1}(s)\; n\; D}
+    $$
+    \tau = \frac{106.2\, L\, \gamma^{0.5}}{\tan^{-1}(s)\; n\; D}
+    $$
 
     Song (2003) Eq. 2.1 (L642), constant rescaled by Song for τ in seconds
     (106.2 = 1.77 × 60).
@@ -135,7 +137,7 @@ def sullivan_1927(length, diameter, slope, rpm, repose_angle):
 
     Notes
     -----
-    Ambiguity: Song does not state the unit of :math:`\tan^{-1}(s)`. It is read
+    Ambiguity: Song does not state the unit of $\tan^{-1}(s)$. It is read
     here in **degrees** (the original Sullivan slope is in degrees), because only
     then does Eq. 2.1 with γ = 40° agree with Friedman & Marshall's restatement
     Eq. 2.2 (106.2·√40/57.30 = 11.7 against 10.58, 11 % apart); radians would
@@ -156,8 +158,9 @@ def sullivan_1927(length, diameter, slope, rpm, repose_angle):
 def sullivan_friedman_marshall_1949(length, diameter, slope, rpm):
     r"""Sullivan's kiln equation as restated by Friedman & Marshall (1949), no gas term.
 
-    .. math::
-        \tau = \frac{10.58\, L}{s\, n^{0.9}\, D}
+    $$
+    \tau = \frac{10.58\, L}{s\, n^{0.9}\, D}
+    $$
 
     Song (2003) Eq. 2.2 (L646): slope in m/m, exponent 0.9 on n, angle of
     repose 40° assumed.
@@ -191,8 +194,9 @@ def friedman_marshall_1949(
 ):
     r"""Mean residence time, Friedman & Marshall (1949).
 
-    .. math::
-        \tau = \frac{10.58\, L}{s\, n^{0.9}\, D} \pm \frac{608.3}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
+    \tau = \frac{10.58\, L}{s\, n^{0.9}\, D} \pm \frac{608.3}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
 
     Song (2003) Eq. 2.3 = Eq. 4.2 (L650, L1397); + counter-current, − co-current.
     D_p in µm (Song's nomenclature; the ch. 2 print says d_p but the constant
@@ -216,7 +220,7 @@ def friedman_marshall_1949(
     allow_nonpositive : bool
         If False (default) a co-current gas term that makes τ ≤ 0 raises
         ``ValueError``; if True the raw formula value is returned with a
-        :class:`~rotarydryer.correlations.CorrelationRangeWarning` (used to
+        `CorrelationRangeWarning` (used to
         reproduce Song's evaluation of the printed formulas).
 
     Returns
@@ -254,13 +258,14 @@ def foust_1960(
 ):
     r"""Mean residence time, Friedman-Marshall as reported by Foust et al. (1960).
 
-    .. math::
-        \tau = \frac{21\, L}{s\, n^{0.9}\, D} \pm \frac{614.2}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
+    \tau = \frac{21\, L}{s\, n^{0.9}\, D} \pm \frac{614.2}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
 
     Song (2003) Eq. 2.4 = Eq. 4.3 (L654, L1401). Song (L652, after Renaud et
     al. 2000) explains that the first term is inflated by 98.5 % through a
     missing 0.6 unit factor; on Song's data it over-predicts. Arguments and
-    units as :func:`friedman_marshall_1949`; returns τ in s.
+    units as [`friedman_marshall_1949`][rotarydryer.correlations.residence_time.friedman_marshall_1949]; returns τ in s.
 
     Examples
     --------
@@ -282,8 +287,9 @@ def perry_green_1984(
 ):
     r"""Mean residence time, Friedman-Marshall as reported by Perry & Green (1984).
 
-    .. math::
-        \tau = \frac{13.8\, L}{s\, n^{0.9}\, D} \pm \frac{590.6}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
+    \tau = \frac{13.8\, L}{s\, n^{0.9}\, D} \pm \frac{590.6}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
 
     Song (2003) Eq. 2.5 = Eq. 4.4 (L658, L1405): the first constant of Eq. 2.3
     raised by 30 %, the mean error Friedman & Marshall observed. This is the form
@@ -292,7 +298,7 @@ def perry_green_1984(
     literature in notes/lee_models.md §1 is not used. The second constant 590.6
     differs from 608.3 without explanation in Song. Best of the three literature
     forms on Song's pilot data. Arguments and units as
-    :func:`friedman_marshall_1949`; returns τ in s.
+    [`friedman_marshall_1949`][rotarydryer.correlations.residence_time.friedman_marshall_1949]; returns τ in s.
 
     Examples
     --------
@@ -316,17 +322,18 @@ def song_2003(
 ):
     r"""Mean residence time, Song & Thibault correlation (Song 2003 Eq. 4.5).
 
-    .. math::
-        \tau = \frac{14.3\, L}{s\, n\, D} - \frac{354}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
+    \tau = \frac{14.3\, L}{s\, n\, D} - \frac{354}{D_p^{0.5}}\,\frac{L\, G}{F}
+    $$
 
     Song (2003) Eq. 4.5 (L1411), fitted to all 73 Ottawa pilot-dryer runs
     (0.305 m × 3.05 m, 9 lifters, co-current, dry sand D_p = 444 µm). Unit
     exponent on n (Song L1421). Arguments and units as
-    :func:`friedman_marshall_1949`; returns τ in s.
+    [`friedman_marshall_1949`][rotarydryer.correlations.residence_time.friedman_marshall_1949]; returns τ in s.
 
     Fitted range (Song 2003 Appendix A.1): n = 3-8 rpm, s = 0.067-0.117 m/m,
     G/F = 0-3.19, D_p = 444 µm (a single sand), co-current gas only. Outside it
-    a :class:`~rotarydryer.correlations.CorrelationRangeWarning` is issued. For
+    a `CorrelationRangeWarning` is issued. For
     counter-current gas the sign of the gas term is taken as + (the convention of
     the family it extends); Song never fitted that case and a warning says so.
 
@@ -382,10 +389,13 @@ def _bed_angle_from_holdup(fill):
 def sai_1990(length, diameter, slope, rpm, solids_mass_flux, holdup, bulk_density):
     r"""Mean residence time of a rotary kiln from its holdup, Sai et al. (1990).
 
-    .. math::
-        H = \rho L r^2 (\theta - \sin\theta)/2, \qquad h = r\,[1 - \cos(\theta/2)]
+    $$
+    H = \rho L r^2 (\theta - \sin\theta)/2, \qquad h = r\,[1 - \cos(\theta/2)]
+    $$
 
-        \tau = \frac{78912\, h^{0.24}}{[\tan^{-1}(s)]^{1.02}\; n^{0.88}\; (\pi r^2 F)^{0.072}}
+    $$
+    \tau = \frac{78912\, h^{0.24}}{[\tan^{-1}(s)]^{1.02}\; n^{0.88}\; (\pi r^2 F)^{0.072}}
+    $$
 
     Song (2003) Eqs. 2.6-2.8 (L660-670). A flat, symmetric bed of uniform depth
     is assumed; θ (rad) is the angle the bed subtends at the axis and h (m) its
@@ -413,9 +423,9 @@ def sai_1990(length, diameter, slope, rpm, solids_mass_flux, holdup, bulk_densit
 
     Notes
     -----
-    Ambiguity: Song gives no units for :math:`\tan^{-1}(s)` or π r² F. Read
+    Ambiguity: Song gives no units for $\tan^{-1}(s)$ or π r² F. Read
     here, following Song's nomenclature: angle in **degrees** (as in Sullivan's
-    Eq. 2.1, see :func:`sullivan_1927`), π r² F in **kg/h** (F in kg/(h m²)), h
+    Eq. 2.1, see [`sullivan_1927`][rotarydryer.correlations.residence_time.sullivan_1927]), π r² F in **kg/h** (F in kg/(h m²)), h
     in m and τ in s. This reading is unverified: Song did not evaluate Eq. 2.8
     and gives no published value; the rotary-kiln range of Sai et al. is not
     given, so no range warning is issued.
@@ -448,10 +458,11 @@ def sai_1990(length, diameter, slope, rpm, solids_mass_flux, holdup, bulk_densit
 def alvarez_shene_1994(diameter, slope, rpm, particle_size, particle_density, solids_mass_flux, gas_mass_flux):
     r"""Mean residence time, Alvarez & Shene (1994), usable at zero slope.
 
-    .. math::
-        \tau = \frac{7856\, d_p^{0.032} \rho^{0.956}}{\pi r^2 F n (18.95 s + 1)}
-             + \frac{1009\, d_p^{-0.065} \rho^{0.002}}{27.22 s + 1}
-             - \frac{0.108\, G^{0.5}}{29.19 s + 1}
+    $$
+    \tau = \frac{7856\, d_p^{0.032} \rho^{0.956}}{\pi r^2 F n (18.95 s + 1)}
+    + \frac{1009\, d_p^{-0.065} \rho^{0.002}}{27.22 s + 1}
+    - \frac{0.108\, G^{0.5}}{29.19 s + 1}
+    $$
 
     Song (2003) Eq. 2.9 (L672-674); Lee (2008) Eq. 2.8 (body stripped there).
 
@@ -511,8 +522,9 @@ def saeman_mitchell_1954(length, diameter, slope, rpm, gas_velocity, cascade_fac
                          gas_flow="co-current"):
     r"""Mean residence time, Saeman & Mitchell (1954) cascade form.
 
-    .. math::
-        \tau = \frac{L}{f(H)\, D\, n\, (s \pm m' v_g)}
+    $$
+    \tau = \frac{L}{f(H)\, D\, n\, (s \pm m' v_g)}
+    $$
 
     **Not in the seed documents**: Song (2003) cites Saeman & Mitchell only for
     two-humped RTDs; the form is the general-literature one quoted (and flagged
@@ -562,8 +574,9 @@ def saeman_mitchell_1954(length, diameter, slope, rpm, gas_velocity, cascade_fac
 def miller_1942(length, diameter, slope, rpm, flight_solids_volume, k, m):
     r"""Mean residence time, Miller, Smith & Schuette (1942), as reviewed by Lee (2008).
 
-    .. math::
-        \tau = \frac{k\, L}{s\, D\, \omega} + m\, \forall_{solids}
+    $$
+    \tau = \frac{k\, L}{s\, D\, \omega} + m\, \forall_{solids}
+    $$
 
     Lee (2008) Eq. 2.4 (l.890-919). k depends on the number and shape of flights
     and m on the gas flow; both must be fitted to each dryer (Lee), so they are
@@ -711,7 +724,7 @@ def mean_residence_time(method: str | None = None, **inputs):
     Parameters
     ----------
     method : str, optional
-        One of :data:`MEAN_RESIDENCE_TIME_METHODS`. If omitted, the first of
+        One of `MEAN_RESIDENCE_TIME_METHODS`. If omitted, the first of
         ``mean_residence_time_methods(check_ranges=True, **inputs)`` is used
         (Song's Eq. 4.5 inside its fitted range, else Perry & Green).
     **inputs

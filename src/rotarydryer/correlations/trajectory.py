@@ -5,23 +5,25 @@ positive toward the discharge end, and *y* perpendicular to the axis in the
 vertical plane, positive downward. With drum inclination θ (degrees at the API)
 gravity, reduced by buoyancy, has components
 
-.. math::
-    g_x = g \sin\theta\,(1 - \rho_g/\rho_p), \qquad g_y = g \cos\theta\,(1 - \rho_g/\rho_p).
+$$
+g_x = g \sin\theta\,(1 - \rho_g/\rho_p), \qquad g_y = g \cos\theta\,(1 - \rho_g/\rho_p).
+$$
 
 The gas moves along the axis with velocity u (+ co-current, − counter-current).
 Newton's law for the particle (Lee 2008 Eqs. 6.2-6.3, drag
-:math:`F_D = \tfrac12 C_D \rho_g A |w| w` on the slip velocity w = v − u) is
+$F_D = \tfrac12 C_D \rho_g A |w| w$ on the slip velocity w = v − u) is
 
-.. math::
-    \frac{dw}{dt} = g' - \frac{w}{\tau_r}, \qquad
-    \tau_r = \frac{4 \rho_p d}{3 \rho_g C_D(Re) |w|},
+$$
+\frac{dw}{dt} = g' - \frac{w}{\tau_r}, \qquad
+\tau_r = \frac{4 \rho_p d}{3 \rho_g C_D(Re) |w|},
+$$
 
 integrated with an exponential (exact for frozen τ_r) midpoint scheme, which is
 stable for any step, until the particle has fallen the fall height (measured
 perpendicular to the axis, as the flight-geometry chord is). This is the
 single-particle drag analysis of Schofield & Glikin (1962) reviewed by Lee
 (2008) §2.4 (Eq. 2.9, body stripped in the text) and Song (2003) §2.5, with
-the drag correlations of :mod:`rotarydryer.correlations.drag`. Lee and Baker
+the drag correlations of [`rotarydryer.correlations.drag`][rotarydryer.correlations.drag]. Lee and Baker
 found isolated-particle drag over-predicts the gas effect on real curtains
 (Lee 2008 l.1919-1933; ch. 6 CFD): treat the gas part of the displacement as an
 upper bound.
@@ -50,7 +52,7 @@ __all__ = [
 
 @dataclass(frozen=True)
 class CascadeTrajectory:
-    """Result of :func:`cascade_trajectory` (arrays broadcast over the inputs).
+    """Result of [`cascade_trajectory`][rotarydryer.correlations.trajectory.cascade_trajectory] (arrays broadcast over the inputs).
 
     Attributes
     ----------
@@ -76,10 +78,11 @@ class CascadeTrajectory:
 def forward_step_without_gas(fall_height, inclination):
     r"""Axial displacement of a drag-free particle falling without gas, m.
 
-    .. math::
-        d_0 = h_\perp \tan\theta = h_{vert} \sin\theta
+    $$
+    d_0 = h_\perp \tan\theta = h_{vert} \sin\theta
+    $$
 
-    Lee (2008) Eq. 3.7 numerator (:math:`d_0 = h_m \sin\theta` with h_m the
+    Lee (2008) Eq. 3.7 numerator ($d_0 = h_m \sin\theta$ with h_m the
     true vertical height); here the fall height is measured perpendicular to the
     drum axis, h⊥ = h_vert cos θ.
 
@@ -131,7 +134,7 @@ def cascade_trajectory(fall_height, particle_diameter, particle_density, gas_den
     initial_axial_velocity, initial_normal_velocity : array_like
         Particle velocity at release, m/s (axial + toward discharge, normal + downward).
     method, sphericity, **drag_kwargs
-        Drag correlation, as :func:`rotarydryer.correlations.drag_coefficient`.
+        Drag correlation, as [`rotarydryer.correlations.drag_coefficient`][rotarydryer.correlations.drag_coefficient].
     n_steps : int
         Time steps per characteristic fall time (≥ 50). Default 400 gives
         better than 0.1 % on the fall time.
@@ -262,8 +265,9 @@ def cascade_trajectory(fall_height, particle_diameter, particle_density, gas_den
 def cascade_residence_time(length, fall_time, flight_time, axial_displacement):
     r"""Mean residence time from the cascade cycle, Schofield & Glikin (1962) structure.
 
-    .. math::
-        \tau = \frac{L}{d_{step}}\,(t_{fall} + t_{flight})
+    $$
+    \tau = \frac{L}{d_{step}}\,(t_{fall} + t_{flight})
+    $$
 
     Lee (2008) Eq. 2.9 (body stripped; structure from Lee's description,
     l.1064-1100): the number of cascades needed to travel the dryer length times
@@ -294,15 +298,16 @@ def cascade_residence_time(length, fall_time, flight_time, axial_displacement):
 
 def gas_forward_step_factor(fall_height, particle_diameter, particle_density, gas_density, gas_viscosity,
                             gas_velocity, gas_flow="counter-current", inclination=2.8, **kwargs):
-    r"""Gas-solids interaction factor on the forward step, :math:`C_F^G` of Lee (2008) Eq. 3.8, from physics.
+    r"""Gas-solids interaction factor on the forward step, $C_F^G$ of Lee (2008) Eq. 3.8, from physics.
 
-    .. math::
-        C_F^G = \frac{x(\text{gas, drag})}{h_\perp \tan\theta}, \qquad C_F = C_F^0\, C_F^G
+    $$
+    C_F^G = \frac{x(\text{gas, drag})}{h_\perp \tan\theta}, \qquad C_F = C_F^0\, C_F^G
+    $$
 
-    Lee's zero-gas forward coefficient :math:`C_F^0 = h_m \sin\theta/(L/N)`
+    Lee's zero-gas forward coefficient $C_F^0 = h_m \sin\theta/(L/N)$
     (Eq. 3.7) uses the drag-free step; this ratio replaces the fitted
-    :math:`C_F^G` (Lee ch. 7) by the single-particle trajectory of
-    :func:`cascade_trajectory`. A value < 0 means the gas carries the particle
+    $C_F^G$ (Lee ch. 7) by the single-particle trajectory of
+    [`cascade_trajectory`][rotarydryer.correlations.trajectory.cascade_trajectory]. A value < 0 means the gas carries the particle
     backwards (backmixing, Lee's C_B). Lee's ch. 6 CFD found that dense curtains
     shield most particles from the gas, so this isolated-particle value is an
     upper bound on the gas effect.
@@ -310,11 +315,11 @@ def gas_forward_step_factor(fall_height, particle_diameter, particle_density, ga
     Parameters
     ----------
     fall_height, particle_diameter, particle_density, gas_density, gas_viscosity, gas_velocity, gas_flow
-        As :func:`cascade_trajectory`.
+        As [`cascade_trajectory`][rotarydryer.correlations.trajectory.cascade_trajectory].
     inclination : array_like
         Drum inclination θ, degrees (must be non-zero).
     **kwargs
-        Passed to :func:`cascade_trajectory`.
+        Passed to [`cascade_trajectory`][rotarydryer.correlations.trajectory.cascade_trajectory].
 
     Returns
     -------
@@ -337,15 +342,16 @@ def gas_forward_step_factor(fall_height, particle_diameter, particle_density, ga
 def sherritt_curtain_velocity_ratio(fall_height, solids_rate, length):
     r"""Ratio of the gas velocity inside a curtain to the bulk gas velocity, Sherritt et al. (1993).
 
-    .. math::
-        c_v = \frac{U_c}{U_g} = 1.546\, h_f^{-0.76}\, F^{-0.86}\, L^{0.44}
+    $$
+    c_v = \frac{U_c}{U_g} = 1.546\, h_f^{-0.76}\, F^{-0.86}\, L^{0.44}
+    $$
 
     Lee (2008) Eq. 2.14 (l.1951-1965), reconstructed from garbled text: the two
     minus signs are assigned to the first two exponents by their position, and
     the meanings of h_f (read as the fall height), F (read as the solids release
     rate) and L (read as a length) and their units are **not** defined in Lee.
     Unverified: no number is printed to check it against. The trajectory forward step
-    of the transport models (:mod:`rotarydryer.transport.forward_step`) reads F as the
+    of the transport models ([`rotarydryer.transport.forward_step`][rotarydryer.transport.forward_step]) reads F as the
     release rate of a curtain L metres long and, a drum's curtain being continuous along
     the axis, evaluates it per metre of drum (F = q x 1 m, L = 1 m; docs/transport.md).
 

@@ -6,7 +6,7 @@ TRACER_PREFIX = "tracer_"
 
 
 def tracer_dataset_names() -> list[str]:
-    """Names of the shipped tracer curves (:func:`rotarydryer.rtd.tracer_datasets`), without importing
+    """Names of the shipped tracer curves (`rotarydryer.rtd.tracer_datasets`), without importing
     the RTD package (the case loader checks ``tracer.dataset`` with it on every run)."""
 
     root = resources.files(__name__)

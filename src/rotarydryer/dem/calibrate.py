@@ -8,7 +8,7 @@ and 0.025, the range of Ajayi's pilot drum to the Invicta and MMG dryers). The d
 a few flight bases (s1/R = 0.20-0.40) so that a few thousand particles fill it. Runs ``fit`` are
 used to calibrate the finite-particle correction, the others are held out.
 
-Regenerate (needs LIGGGHTS; about an hour on two cores)::
+Regenerate (needs LIGGGHTS; about an hour on two cores):
 
     python -m rotarydryer.dem.calibrate --work dem_work --np 1 --jobs 2
     python examples/dem_calibration.py dem_work --run          (the same)
@@ -62,7 +62,7 @@ RUNS = (
 
 
 def campaign_deck(run: CampaignRun):
-    """The :class:`~rotarydryer.dem.deck.SliceDeck` of a campaign run."""
+    """The `SliceDeck` of a campaign run."""
     from ..geometry import FlightedDrum, TwoSectionFlight
     from .deck import Particles, build_slice
 

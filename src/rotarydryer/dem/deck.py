@@ -2,7 +2,7 @@
 
 The slice is ``n_layers`` particle diameters thick in the axial direction ``z`` (periodic), the
 drum axis is the ``z`` axis, gravity points along ``-y`` and the drum turns anticlockwise seen
-from ``+z`` (the convention of :mod:`rotarydryer.geometry.drum`: the root of the flight at
+from ``+z`` (the convention of `rotarydryer.geometry.drum`: the root of the flight at
 ``psi`` sits at ``(R sin psi, -R cos psi)``). Shell and flights are written as ASCII STL by
 NumPy: the shell is a polygon of facets at most ``facet_size`` particle diameters long (the
 chord error of the polygon is below 0.1 % of the radius), each flight is two plates (base and
@@ -215,11 +215,11 @@ class SliceDeck:
 def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading: float | None = None,
                 fill_fraction: float | None = None, repose_guess: float = 35.0, packing_guess: float = 0.6,
                 source: str = "cli dimensions", **kw) -> SliceDeck:
-    """A :class:`SliceDeck` for a drum, particles and either a dryer ``loading`` (ratio to the geometric
+    """A `SliceDeck` for a drum, particles and either a dryer ``loading`` (ratio to the geometric
     design load, Lee (2008) Eq. 4.20, at ``repose_guess``) or a ``fill_fraction`` of the drum
     cross-section (bulk solids).
 
-    Refuses particles larger than :data:`MAX_DIAMETER_FRACTION` of the flight base and speeds at or
+    Refuses particles larger than `MAX_DIAMETER_FRACTION` of the flight base and speeds at or
     above the critical speed."""
 
     d = particles.diameter
@@ -272,8 +272,8 @@ def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading
 
 
 def facet_count(s: SliceDeck) -> int:
-    """Triangles of ``shell.stl`` and ``flights.stl`` together (as :func:`shell_facets` and
-    :func:`flight_facets` make them, one axial cell), without building them."""
+    """Triangles of ``shell.stl`` and ``flights.stl`` together (as `shell_facets` and
+    `flight_facets` make them, one axial cell), without building them."""
     facet = s.facet_size * s.particles.diameter
     n = 2 * max(48, int(math.ceil(2.0 * math.pi * s.radius / facet)))
     per_flight = sum(2 * max(1, int(math.ceil(seg / facet))) for seg in (s.s1, s.s2) if seg > 1e-12)
@@ -282,8 +282,8 @@ def facet_count(s: SliceDeck) -> int:
 
 def check_deck_size(s: SliceDeck) -> None:
     """Refuse (ValueError naming the option and the bound) a deck whose meshes, dump interval or
-    dump volume is beyond the documented limits (:data:`MAX_FACETS`, one time step per dump,
-    :data:`MAX_DUMP_ROWS`), before anything is written."""
+    dump volume is beyond the documented limits (`MAX_FACETS`, one time step per dump,
+    `MAX_DUMP_ROWS`), before anything is written."""
     nf = facet_count(s)
     if nf > MAX_FACETS:
         raise ValueError(f"particle diameter (--diameter) = {fmt_number(s.particles.diameter)} m gives STL meshes of "

@@ -2,7 +2,7 @@
 
 ``k`` minimises the sum over the fit runs of the squared model-minus-DEM holdup differences (in
 % of a full flight) over each run's unloading range, at each run's measured repose angle
-(:func:`rotarydryer.dem.holdup.compare`); the held-out runs are only evaluated. Golden-section
+(`rotarydryer.dem.holdup.compare`); the held-out runs are only evaluated. Golden-section
 search on [0, 6] (the error is smooth and unimodal in k).
 """
 
@@ -30,7 +30,7 @@ MIN_REPOSE_SAMPLES = 40
 
 
 def assign_repose_angles(runs: dict[str, DemHoldup]) -> None:
-    """Runs whose repose angle rests on fewer than :data:`MIN_REPOSE_SAMPLES` flight surfaces (pockets
+    """Runs whose repose angle rests on fewer than `MIN_REPOSE_SAMPLES` flight surfaces (pockets
     only a few particles wide) are compared at the angle measured in the run with the same particles
     and Froude number (within 5 %) that has the most surfaces (``extra["repose_angle_used_deg"]`` and
     ``extra["repose_angle_source"]``)."""
@@ -122,7 +122,7 @@ def _mouth(r: DemHoldup) -> float:
 
 def fit_report(folder=None) -> str:
     """Fit ``k`` on the "fit" runs, (a) all of them (the calibration) and (b) those whose pocket mouth
-    is at least :data:`~rotarydryer.dem.deck.ARCHING_MOUTH_DIAMETERS` wide (narrower mouths arch), and
+    is at least `ARCHING_MOUTH_DIAMETERS` wide (narrower mouths arch), and
     tabulate every run at both (Markdown)."""
     runs = load_campaign(folder)
     fit_all = [r for r in runs.values() if r.extra.get("role") == "fit"]

@@ -3,7 +3,7 @@
 For every recorded frame and every flight (root at ``psi_i = theta + i psi_fl``, ``theta`` the drum
 angle): the particles whose centres lie in the flight's pocket (the region between this flight, the
 next flight, the shell and the chord through both tips, Lee (2008) Eq. 4.8; the polygon of
-:meth:`rotarydryer.geometry.FlightedDrum.pocket_polygon`) and that move with it (speed relative to
+`rotarydryer.geometry.FlightedDrum.pocket_polygon`) and that move with it (speed relative to
 the rigid rotation below ``max(omega R, sqrt(g d))``) are counted. Their solid volume divided by
 the packing fraction of the bulk and the slice thickness is the holdup area, m^2 per m of flight,
 the quantity of Lee (2008) Eq. 4.14-4.17.
@@ -21,7 +21,7 @@ Measured beside it:
 * **airborne fraction**: particles outside every pocket falling faster than ``sqrt(4 g d)``
   (the speed after a free fall of two diameters), averaged over the frames.
 
-The comparison (:func:`compare`) evaluates the geometric model at the measured repose angle with
+The comparison (`compare`) evaluates the geometric model at the measured repose angle with
 and without the finite-particle correction, capped at the measured plateau (an under-loaded flight
 holds ``f H0`` until ``H_max`` falls below it, Lee (2008) section 4.4.2), over the unloading range
 (from the measured start of unloading to the later of the measured end and psi5): RMS and bias
@@ -488,7 +488,7 @@ def write_reduced_csv(res: DemHoldup, path, *, role: str = "") -> Path:
 
 
 def read_reduced_csv(path) -> DemHoldup:
-    """A :class:`DemHoldup` from a reduced CSV (:func:`write_reduced_csv`)."""
+    """A `DemHoldup` from a reduced CSV (`write_reduced_csv`)."""
     path = Path(path)
     text = path.read_text("utf-8")
     meta = deck = None

@@ -72,11 +72,11 @@ def _rejected_command(log: Path, deck: Path) -> str:
 
 def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = None, timeout: float | None = None,
              stream=None) -> dict:
-    """Run ``in.drum`` in ``folder`` (written by :func:`rotarydryer.dem.deck.export_deck`).
+    """Run ``in.drum`` in ``folder`` (written by `rotarydryer.dem.deck.export_deck`).
 
     ``np > 1`` uses ``mpirun -np N``. Progress (step / total, %) is printed to ``stream``
     (stderr) when ``progress``. Returns ``{"seconds": ..., "steps": ..., "command": [...]}``.
-    Raises :class:`LiggghtsMissing` (with how to install it) or :class:`LiggghtsFailed` (naming the
+    Raises `LiggghtsMissing` (with how to install it) or `LiggghtsFailed` (naming the
     rejected command of the deck and the log)."""
     folder = Path(folder)
     deck = folder / "in.drum"

@@ -8,15 +8,15 @@ one test (``tests.4.solids_velocity``: that test's fitted or unmeasured input, e
 that was not metered); ``tests.*.gas_flow`` stands for the key of every selected test.
 
 Weights: each response's residuals are divided by its measurement standard deviation
-(:data:`DEFAULT_SIGMA`, or the caller's): the weighted least-squares estimate with Wald 95 %
-intervals (and profile-likelihood intervals on request) from :func:`rotarydryer.estimation.fit`,
+(`DEFAULT_SIGMA`, or the caller's): the weighted least-squares estimate with Wald 95 %
+intervals (and profile-likelihood intervals on request) from `rotarydryer.estimation.fit`,
 which also reports non-identifiable parameters. The result converts to a
-:class:`rotarydryer.cases.calibration.CalibrationRecord` (:meth:`CaseCalibration.record`) that holds
+`rotarydryer.cases.calibration.CalibrationRecord` (`CaseCalibration.record`) that holds
 the values, intervals, correlation, the data and weights, the model configuration of the fit, the
 software version and the date.
 
 Each test's heat-and-mass model is built once: an evaluation that changes only parameter values
-(gas flow, area scale, ... :data:`rotarydryer.cases.build.PARAMETER_KEYS`) reuses it, warm-started
+(gas flow, area scale, ... `rotarydryer.cases.build.PARAMETER_KEYS`) reuses it, warm-started
 from that test's previous state.
 """
 
@@ -159,7 +159,7 @@ def measurements(case_name: str, tests: Sequence[int] | None = None, responses: 
     """The measured responses of a case's tests (its ``[[tests]]`` rows and tracer curves).
 
     ``tests`` default every row of the case (a case without rows: its one operating point);
-    ``responses`` default every response in :data:`RESPONSES` the data have (with ``strict`` a
+    ``responses`` default every response in `RESPONSES` the data have (with ``strict`` a
     requested response a test lacks is an error, naming the test and the row field)."""
     base = dict(base_overrides or {})
     case = load_case(case_name, base)
@@ -380,7 +380,7 @@ class _Model:
 
 @dataclass
 class CaseCalibration:
-    """Result of :func:`calibrate`: the fit, its data and what it was run on."""
+    """Result of `calibrate`: the fit, its data and what it was run on."""
 
     case: str
     case_title: str
@@ -472,9 +472,9 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     """Fit case keys ``parameters`` to the measured responses of ``tests`` at once (module docstring).
 
     ``parameters``: case keys (shared) and ``tests.<test>.<field>`` / ``tests.*.<field>`` (per test).
-    ``responses``: names of :data:`RESPONSES` (default: every one the data have that the parameters
+    ``responses``: names of `RESPONSES` (default: every one the data have that the parameters
     can move: transport keys move the transport responses; thermal keys the thermal ones).
-    ``sigmas``: {response: standard deviation} replacing :data:`DEFAULT_SIGMA`. ``profile``: True
+    ``sigmas``: {response: standard deviation} replacing `DEFAULT_SIGMA`. ``profile``: True
     or the keys to profile (likelihood intervals; each point re-fits the others).
     ``progress(stage, k, n)`` after each start / profile."""
     t0 = time.perf_counter()

@@ -1,6 +1,6 @@
 """Fit case parameters, named by their override keys, to measured tracer curves.
 
-Example::
+Example:
 
     from rotarydryer.estimation.cases import fit_case_to_tracer
     from rotarydryer.rtd import load_tracer_dataset
@@ -11,7 +11,7 @@ Example::
     res.fit.parameters["transport.backmix"].ci_low
 
 The model of a parameter vector is: the case with the overrides as a
-:class:`rotarydryer.Simulation`, its transport steady state, simulate the tracer response to the case's
+[`rotarydryer.Simulation`][rotarydryer.simulation.Simulation], its transport steady state, simulate the tracer response to the case's
 tracer input, and interpolate E(t) (1/s) at the measured times (measured from the
 start of injection). A signal in 1/h is converted to 1/s; a raw concentration
 (``scale="fit"``) is matched by the best scale factor for each parameter vector
@@ -86,7 +86,7 @@ def _current_value(case, key: str) -> float:
 
 def case_parameter(case_name: str, key: str, base_overrides: dict | None = None, *, initial=None,
                    lower=None, upper=None, log=None) -> Parameter:
-    """A :class:`Parameter` for override key ``key``: start from the case's value unless given.
+    """A [`Parameter`][rotarydryer.estimation.cases.Parameter] for override key ``key``: start from the case's value unless given.
 
     Raises ``ValueError`` for a key the case does not have (naming the valid keys) or a
     non-numeric one.
@@ -126,9 +126,9 @@ def _relative_times(data, scale: str = "known"):
 
 def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | None = None, scale: str = "known",
                  observed: np.ndarray | None = None, dt: float | None = None, with_holdup: bool = False):
-    """Model callable ``values -> E(t)`` at ``times`` (s since injection) for :func:`fit`;
+    """Model callable ``values -> E(t)`` at ``times`` (s since injection) for [`fit`][rotarydryer.estimation.cases.fit];
     with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``. A value
-    :data:`BASELINE` in ``values`` (a fitted constant background, signal unit) is added to the
+    `BASELINE` in ``values`` (a fitted constant background, signal unit) is added to the
     curve (with ``scale="fit"`` the scale is matched to the observed signal minus it)."""
     from ..simulation import Simulation
 
@@ -196,10 +196,10 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
                        seed: int = 0, scale: str = "known", progress=None,
                        reference: dict | None = None, holdup: tuple[float, float] | None = None,
                        tracer_sigma: float | None = None, baseline: str = "none") -> CaseFit:
-    """Fit override keys of a case to a measured tracer curve (:class:`rotarydryer.rtd.TracerData`).
+    """Fit override keys of a case to a measured tracer curve ([`rotarydryer.rtd.TracerData`][rotarydryer.rtd.TracerData]).
 
     ``keys`` are override keys (start values and bounds from the case and
-    :data:`DEFAULT_BOUNDS`) or ready :class:`Parameter` objects. ``scale="fit"`` for a raw
+    `DEFAULT_BOUNDS`) or ready [`Parameter`][rotarydryer.estimation.cases.Parameter] objects. ``scale="fit"`` for a raw
     concentration of unknown scale or recovery. ``reference`` (values for the same keys,
     e.g. published estimates) is evaluated with the same model and weights and reported
     as ``reference_objective``.
@@ -209,9 +209,9 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
     the raw signal with ``scale="fit"``) so that the two are weighted against each other
     (``method="ml"`` estimates both variances instead).
 
-    ``baseline="fit"`` adds a constant background of the signal (:data:`BASELINE`, signal unit:
+    ``baseline="fit"`` adds a constant background of the signal (`BASELINE`, signal unit:
     1/s for E(t), ppm for Ajayi's raw lithium) as one more fitted parameter
-    (:func:`baseline_parameter`): y = A E(t) + b.
+    ([`baseline_parameter`][rotarydryer.estimation.cases.baseline_parameter]): y = A E(t) + b.
     """
     check_choice("scale", scale, ("known", "fit"))
     check_choice("baseline", baseline, BASELINE_CHOICES)
@@ -245,7 +245,7 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
 
 
 def baseline_parameter(observed) -> Parameter:
-    """The fitted constant background :data:`BASELINE` (signal unit) for an observed tracer
+    """The fitted constant background `BASELINE` (signal unit) for an observed tracer
     signal: start at the median of the lowest quarter of the samples (the background before the
     tracer arrives and after it has left), bounds +/- the largest |signal|."""
     y = np.asarray(observed, dtype=float)
@@ -258,8 +258,8 @@ def baseline_parameter(observed) -> Parameter:
 
 def profile_case_fit(case_fit: CaseFit, names: Sequence[str] | None = None, *, n_points: int = 11,
                      span: float = 4.0, progress=None) -> dict:
-    """Profile likelihood (:func:`rotarydryer.estimation.profile_likelihood`) of the parameters
-    ``names`` (default all) of a :class:`CaseFit`: {name: ProfileResult}. Each profile point
+    """Profile likelihood ([`rotarydryer.estimation.profile_likelihood`][rotarydryer.estimation.profile_likelihood]) of the parameters
+    ``names`` (default all) of a [`CaseFit`][rotarydryer.estimation.cases.CaseFit]: {name: ProfileResult}. Each profile point
     re-fits the other parameters with the parameter held fixed, on a grid of ``n_points``
     values within +/- ``span`` Wald standard errors; the 95 % interval is where the objective
     rises by less than chi2(0.95, 1) = 3.84 (in units of the residual variance for wls).

@@ -3,17 +3,18 @@
 The model is any callable ``model(values) -> predictions`` where ``values`` maps
 parameter names to floats and ``predictions`` maps data-set names to arrays shaped
 like the data (a bare array is accepted when there is one data set). The
-estimation layer knows nothing about dryers: :mod:`rotarydryer.estimation.cases`
+estimation layer knows nothing about dryers: [`rotarydryer.estimation.cases`][rotarydryer.estimation.cases]
 (when present) wraps case overrides into such a model.
 
 Estimators
 ----------
 ``method="wls"``
-    Weighted least squares: minimise ``sum ((y - f)/sigma)^2`` with the given
+:   Weighted least squares: minimise ``sum ((y - f)/sigma)^2`` with the given
     standard deviations ``sigma`` (1 when not given, the residual variance then
     estimated from the fit as ``SSE/(n - p)``).
+
 ``method="ml"``
-    Maximum likelihood with Gaussian errors whose variance is unknown and
+:   Maximum likelihood with Gaussian errors whose variance is unknown and
     estimated per data set (as gPROMS does): ``variance="constant"``
     (``sigma_k``) or ``variance="power"`` (``sigma_k |f_i|^gamma``, heteroscedastic,
     ``gamma`` given per data set). Solved by iteratively re-weighted least squares
@@ -23,7 +24,7 @@ Estimators
 Uncertainty: covariance ``s^2 (J^T J)^{-1}`` from the Jacobian of the weighted
 residuals at the optimum (Gauss-Newton Fisher information), 95 % intervals from the
 t distribution (in log space, hence asymmetric, for log-transformed parameters),
-correlation matrix; :func:`profile_likelihood` and :func:`bootstrap` for the
+correlation matrix; [`profile_likelihood`][rotarydryer.estimation.fit.profile_likelihood] and [`bootstrap`][rotarydryer.estimation.fit.bootstrap] for the
 non-linear cases. Non-identifiability is reported, with the reason, from the
 singular values of the scaled Jacobian and from parameter correlations.
 """
@@ -173,7 +174,7 @@ class StartResult:
 
 @dataclass
 class FitResult:
-    """Result of :func:`fit`. ``objective`` is the weighted sum of squares (wls) or the
+    """Result of [`fit`][rotarydryer.estimation.fit.fit]. ``objective`` is the weighted sum of squares (wls) or the
     negative log-likelihood (ml) at the optimum."""
 
     parameters: dict[str, ParameterEstimate]

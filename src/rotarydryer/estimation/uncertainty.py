@@ -1,28 +1,30 @@
 r"""Linearised (Gauss-Newton) parameter uncertainty of a least-squares fit.
 
-For residuals :math:`r(\theta)` (n values) with Jacobian :math:`J = \partial r/\partial\theta`
-(n x p) at the least-squares estimate :math:`\hat\theta`, the asymptotic covariance is
+For residuals $r(\theta)$ (n values) with Jacobian $J = \partial r/\partial\theta$
+(n x p) at the least-squares estimate $\hat\theta$, the asymptotic covariance is
 
-.. math:: \operatorname{Cov}\hat\theta \approx s^2 (J^T J)^{-1},
-          \qquad s^2 = \frac{\sum_i r_i^2}{n - p}
+$$
+\operatorname{Cov}\hat\theta \approx s^2 (J^T J)^{-1},
+\qquad s^2 = \frac{\sum_i r_i^2}{n - p}
+$$
 
 (Bates & Watts (1988) *Nonlinear Regression Analysis and Its Applications*, section 2.3;
 Seber & Wild (1989) *Nonlinear Regression*, section 2.1 and Eq. 5.1): ``s^2`` is the
 residual variance estimated from the fit, or 1 when the residuals were divided by known
 standard deviations (``sigma_known=True``, the inverse Fisher information). Standard errors
-are :math:`\sqrt{\operatorname{diag}\,\mathrm{Cov}}`, the ``confidence`` intervals
-:math:`\hat\theta_j \pm t_{1-\alpha/2,\,n-p}\,\mathrm{SE}_j` (exact for a linear model
+are $\sqrt{\operatorname{diag}\,\mathrm{Cov}}$, the ``confidence`` intervals
+$\hat\theta_j \pm t_{1-\alpha/2,\,n-p}\,\mathrm{SE}_j$ (exact for a linear model
 with Gaussian errors), and the correlation matrix
-:math:`\mathrm{Cov}_{jk}/(\mathrm{SE}_j\,\mathrm{SE}_k)`.
+$\mathrm{Cov}_{jk}/(\mathrm{SE}_j\,\mathrm{SE}_k)$.
 
 Everything is in the units of the Jacobian's columns: a fit in transformed parameters (for
 example log-parameters) gets its covariance in that space and transforms afterwards.
 
-A rank-deficient or near-singular :math:`J^T J` (a parameter combination the data do not
-determine) is flagged from the singular values of :math:`J`, whose squares are the
-eigenvalues of :math:`J^T J` (Seber & Wild (1989) section 3.4); the covariance is then a
+A rank-deficient or near-singular $J^T J$ (a parameter combination the data do not
+determine) is flagged from the singular values of $J$, whose squares are the
+eigenvalues of $J^T J$ (Seber & Wild (1989) section 3.4); the covariance is then a
 Moore-Penrose pseudo-inverse, whose standard errors are **not** meaningful along
-:attr:`LinearisedUncertainty.null_direction`. The caller words the warnings.
+`LinearisedUncertainty.null_direction`. The caller words the warnings.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ INVERSE_METHODS = ("pinv", "inv")
 
 @dataclass(frozen=True, eq=False)
 class LinearisedUncertainty:
-    """Result of :func:`linearised_uncertainty` (p = number of parameters).
+    """Result of [`linearised_uncertainty`][rotarydryer.estimation.uncertainty.linearised_uncertainty] (p = number of parameters).
 
     Attributes
     ----------

@@ -1,6 +1,6 @@
 """Flight geometry and unloading (Lee (2008) ch. 4).
 
-Public API::
+Public API:
 
     from rotarydryer.geometry import TwoSectionFlight, FlightedDrum
     flight = TwoSectionFlight(s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0)

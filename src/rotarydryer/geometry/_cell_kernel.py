@@ -1,4 +1,4 @@
-"""Compiled form of :meth:`rotarydryer.geometry.tabulated.GeometryTable.cell_values` (numba, optional).
+"""Compiled form of `rotarydryer.geometry.tabulated.GeometryTable.cell_values` (numba, optional).
 
 One pass per cell through what a flighted cell's coefficients need from its drum's tables: the
 design load (Lee (2008) Eq. 4.20-4.21 from the tabulated holdups), the loading factor (Lee (2008)
@@ -6,7 +6,7 @@ Eq. 4.22 inverted, with the thermal model's smoothing of its kinks) and the casc
 Eq. 3.3-3.6 from the tabulated splines, passive time Lee (2008) Eq. 3.4). The NumPy reference is the
 composition of the table's own methods (``GeometryTable.cell_values`` without numba); both give
 the same numbers to rounding (``tests/geometry/test_cell_kernel.py``). Plain loops, so the
-module imports without numba; it is only called compiled (:mod:`rotarydryer._jit`).
+module imports without numba; it is only called compiled (`rotarydryer._jit`).
 """
 
 from __future__ import annotations

@@ -9,18 +9,22 @@ by bulk density (kg/m^3) and length (m) for kg.
 Methods (``method=``), all evaluated with the exact flight geometry:
 
 ``"lee2008"`` (default)
-    Geometric, first-unloading-flight method with vertical symmetry, Lee (2008)
+:   Geometric, first-unloading-flight method with vertical symmetry, Lee (2008)
     Eq. 4.20-4.21: ``A_des = H0 + 2 sum_{i=1}^{n} H_max(psi_0 + i psi_fl)`` over the
     upper-half flights (``n = ceil(N_F/2) - 1``; ``N_F/2 - 1`` for even ``N_F``).
+
 ``"baker1988"``
-    Baker (1988) as given by Ajayi (2011) Eq. 2.4, ``2 sum_{i=f}^{n} M_i - M_FUF``:
+:   Baker (1988) as given by Ajayi (2011) Eq. 2.4, ``2 sum_{i=f}^{n} M_i - M_FUF``:
     algebraically identical to ``"lee2008"``; kept under its own name.
+
 ``"porter1963"``
-    Porter's assumption, Lee (2008) Eq. 4.19 / Ajayi (2011) Eq. 2.2: ``N_F H0 / 2``.
+:   Porter's assumption, Lee (2008) Eq. 4.19 / Ajayi (2011) Eq. 2.2: ``N_F H0 / 2``.
+
 ``"kelly1977"``
-    Kelly & O'Donnell (1977), Ajayi (2011) Eq. 2.3: ``(N_F + 1) H0 / 2``.
+:   Kelly & O'Donnell (1977), Ajayi (2011) Eq. 2.3: ``(N_F + 1) H0 / 2``.
+
 ``"ajayi2011"``
-    Ajayi's modified Baker model, Ajayi (2011) Eq. 4.19 / 5.16: ``1.24 x Baker``,
+:   Ajayi's modified Baker model, Ajayi (2011) Eq. 4.19 / 5.16: ``1.24 x Baker``,
     the factor correcting Baker's mean under-prediction (-24.3 %) of his pilot-drum
     design loads.
 
@@ -71,7 +75,7 @@ def _upper_flight_holdups(drum: FlightedDrum, phi, convention, particle_diameter
     """H0 (FUF) and holdups of the upper-half flights at design, m^2. Shapes (...), (..., n).
 
     With a ``particle_diameter`` (m) the holdups carry the finite-particle correction
-    (:func:`rotarydryer.geometry.drum.finite_particle_correction`)."""
+    ([`rotarydryer.geometry.drum.finite_particle_correction`][rotarydryer.geometry.drum.finite_particle_correction])."""
     c = drum._c
     delta = None if particle_diameter is None else drum._layer(particle_diameter)
     psi0 = first_unloading_angle(drum, convention)
@@ -108,7 +112,7 @@ def design_load_area(drum: FlightedDrum, repose_angle, *, method: str = "lee2008
 
 
 def design_load_mass(drum: FlightedDrum, repose_angle, bulk_density, length, **kwargs):  # noqa: D417
-    """Design load in kg: :func:`design_load_area` x bulk density (kg/m^3) x length (m)."""
+    """Design load in kg: [`design_load_area`][rotarydryer.geometry.design_load.design_load_area] x bulk density (kg/m^3) x length (m)."""
     rho = check_range("bulk_density", bulk_density, 0.0, math.inf, unit="kg/m^3")
     ell = check_range("length", length, 0.0, math.inf, unit="m")
     return design_load_area(drum, repose_angle, **kwargs) * rho * ell
@@ -125,7 +129,7 @@ def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, conventio
     (a flight never holds more than its design load; the excess kilns).
     Vectorised over both arguments. ``dryer_loading`` must be >= 0. ``particle_diameter`` (m,
     optional): finite-particle correction of the holdups (``docs/dem.md``). ``smoothing`` > 0 rounds
-    the kinks of ``f(d)`` over that width of ``d`` (see :func:`_invert_eq_4_22`).
+    the kinks of ``f(d)`` over that width of ``d`` (see `_invert_eq_4_22`).
     """
     d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
     phi = check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg")
@@ -136,7 +140,7 @@ def loading_factor(drum: FlightedDrum, dryer_loading, repose_angle, *, conventio
 
 def _invert_eq_4_22(d, h0, hi, smoothing=0.0):
     """``f`` from the dryer loading ``d`` and the design holdups ``H0`` (...) and ``H_i`` (..., n):
-    Lee (2008) Eq. 4.22 inverted segment by segment (see :func:`loading_factor`).
+    Lee (2008) Eq. 4.22 inverted segment by segment (see [`loading_factor`][rotarydryer.geometry.design_load.loading_factor]).
 
     ``smoothing`` > 0 rounds every kink of the piecewise-linear ``f(d)`` (where a flight fills, and
     ``f = 1`` from ``d = 1``) over that width of ``d``: ``max(0, x)`` becomes
@@ -187,7 +191,7 @@ def loading_state(dryer_loading, tolerance: float = 0.02):
     """Classify ``d_load = M_p/M_p,des``: under-, design- or over-loaded (Lee (2008) section 3.2).
 
     ``|d - 1| <= tolerance`` counts as design-loaded. Returns an array of strings
-    from :data:`LOADING_STATES`.
+    from `LOADING_STATES`.
     """
     d = check_range("dryer_loading", dryer_loading, 0.0, math.inf, low_inclusive=True)
     tol = float(check_range("tolerance", tolerance, 0.0, 1.0, low_inclusive=True))

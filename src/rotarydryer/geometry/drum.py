@@ -57,8 +57,8 @@ def check_speed(key: str, rpm, radius, *, radius_key: str = "drum.radius", warn:
     """Check a drum speed (rev/min) against the critical speed of a drum of ``radius`` (m).
 
     At or above the critical speed ``N_c`` it raises ``ValueError`` naming ``key``, the speed and
-    the critical speed (with ``refuse=False`` it only warns, :class:`CriticalSpeedWarning`); between
-    :data:`CRITICAL_SPEED_WARN_FRACTION` of it and ``N_c`` it warns when ``warn``. Returns the
+    the critical speed (with ``refuse=False`` it only warns, [`CriticalSpeedWarning`][rotarydryer.geometry.drum.CriticalSpeedWarning]); between
+    `CRITICAL_SPEED_WARN_FRACTION` of it and ``N_c`` it warns when ``warn``. Returns the
     largest speed as a float."""
 
     n = float(np.max(check_range(key, rpm, 0.0, math.inf, unit="rev/min")))
@@ -249,7 +249,7 @@ class FlightedDrum:
 
     @property
     def critical_speed(self) -> float:
-        """Critical speed N_c = 42.3/sqrt(D) of the drum, rev/min (:func:`critical_speed`)."""
+        """Critical speed N_c = 42.3/sqrt(D) of the drum, rev/min ([`critical_speed`][rotarydryer.geometry.drum.critical_speed])."""
         return critical_speed(self.radius)
 
     @property
@@ -300,8 +300,8 @@ class FlightedDrum:
             Dynamic angle of repose, deg, in (0, 90). Broadcasts with ``psi``.
         particle_diameter : float, optional
             Particle diameter ``d``, m: adds the finite-particle correction
-            (:func:`finite_particle_correction`; ``docs/dem.md``), a surface layer of
-            ``surface_layer`` diameters (default :data:`SURFACE_LAYER`, calibrated on DEM).
+            ([`finite_particle_correction`][rotarydryer.geometry.drum.finite_particle_correction]; ``docs/dem.md``), a surface layer of
+            ``surface_layer`` diameters (default `SURFACE_LAYER`, calibrated on DEM).
             ``None`` (default) is Lee's continuum model, unchanged.
 
         Notes
@@ -318,7 +318,7 @@ class FlightedDrum:
         return _holdup_fp(self._c, psi, phi, self._layer(particle_diameter, surface_layer))
 
     def holdup_slope(self, psi, repose_angle, particle_diameter=None, *, surface_layer=None) -> np.ndarray:
-        """Derivative dH/dpsi of :meth:`holdup_area`, m^2 per degree (<= 0): analytic for the
+        """Derivative dH/dpsi of [`holdup_area`][rotarydryer.geometry.drum.FlightedDrum.holdup_area], m^2 per degree (<= 0): analytic for the
         continuum model, a central difference (1e-4 deg) with a ``particle_diameter``."""
         psi, phi = _prepare(psi, repose_angle)
         if particle_diameter is None:
@@ -347,7 +347,7 @@ class FlightedDrum:
     # ------------------------------------------------------------------ unloading, design load
     def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, fall_height="chord",
                 passive_time_branch="eq3.4", convention="root", drag=None, particle_diameter=None):
-        """Mass-averaged cascade properties; see :func:`rotarydryer.geometry.unloading.cascade`."""
+        """Mass-averaged cascade properties; see [`rotarydryer.geometry.unloading.cascade`][rotarydryer.geometry.unloading.cascade]."""
         from .unloading import cascade
 
         return cascade(self, repose_angle, loading_factor, rpm=rpm, slope=slope,
@@ -357,7 +357,7 @@ class FlightedDrum:
     def design_load_area(self, repose_angle, *, method="lee2008", convention="root", particle_diameter=None):
         """Design-load area of passive solids in the drum cross-section, m^2.
 
-        See :func:`rotarydryer.geometry.design_load.design_load_area`.
+        See [`rotarydryer.geometry.design_load.design_load_area`][rotarydryer.geometry.design_load.design_load_area].
         """
         from .design_load import design_load_area
 
@@ -368,7 +368,7 @@ class FlightedDrum:
                        smoothing=0.0):
         """Flight loading factor from the dryer loading (Lee (2008) Eq. 4.22, solved exactly).
 
-        See :func:`rotarydryer.geometry.design_load.loading_factor`.
+        See [`rotarydryer.geometry.design_load.loading_factor`][rotarydryer.geometry.design_load.loading_factor].
         """
         from .design_load import loading_factor
 
@@ -404,7 +404,7 @@ class FlightedDrum:
         """Polygon (m) of the solids held by the flight at ``psi`` for a repose angle (deg).
 
         The pocket polygon clipped by the half-plane below the material surface through
-        the tip. Used for drawings; :meth:`holdup_area` is the exact area.
+        the tip. Used for drawings; [`holdup_area`][rotarydryer.geometry.drum.FlightedDrum.holdup_area] is the exact area.
         """
         _check_repose(repose_angle)
         psi = float(psi) % 360.0
@@ -680,7 +680,7 @@ def _fp_from(c, psi, phi, delta, h, sl, idx):
 
 
 def _holdup_fp(c: _Consts, psi, phi, delta):
-    """Holdup with the finite-particle correction, m^2 (:func:`finite_particle_correction`)."""
+    """Holdup with the finite-particle correction, m^2 ([`finite_particle_correction`][rotarydryer.geometry.drum.finite_particle_correction])."""
     if delta == 0.0:
         return _holdup(c, psi, phi)
     psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
@@ -707,7 +707,7 @@ _FD_STEP = 1e-4  # deg
 
 
 def _holdup_slope_fp(c: _Consts, psi, phi, delta):
-    """Slope of :func:`_holdup_fp`, m^2/deg (central difference, <= 0)."""
+    """Slope of `_holdup_fp`, m^2/deg (central difference, <= 0)."""
     if delta == 0.0:
         return _holdup_slope(c, psi, phi)
     psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))

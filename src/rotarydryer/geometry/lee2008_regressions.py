@@ -2,7 +2,7 @@ r"""Lee (2008) regression surrogates of the geometric flight-unloading model.
 
 Lee (2008) could not call his geometric unloading model (Ch. 4) from gPROMS, so he
 fitted polynomial regressions to it over a grid of dynamic angle of repose
-:math:`\phi` and flight loading factor :math:`f` (Lee (2008) Eq. 4.24-4.28; the
+$\phi$ and flight loading factor $f$ (Lee (2008) Eq. 4.24-4.28; the
 full-precision coefficients are those of the gPROMS Geometry model, Appendix I,
 source lines 12152-12249 of ``000_fc0990cb8ea413f0.txt``).  They are valid
 **only for the CSR Invicta Mill dryer No. 2 flights** (R = 2.5 m, s1 = 0.195 m,
@@ -14,9 +14,9 @@ block cites its source line.  The same numbers are in
 ``/work/shared/data/lee_gproms_geometry_regressions.csv``.
 
 The class implements the "cell geometry model" interface used by
-:mod:`rotarydryer.transport` (shared with the exact
-``rotarydryer.geometry.FlightedDrum``): :meth:`cascade`,
-:meth:`design_load_area` and :meth:`loading_factor`.
+[`rotarydryer.transport`][rotarydryer.transport] (shared with the exact
+``rotarydryer.geometry.FlightedDrum``): [`cascade`][rotarydryer.geometry.lee2008_regressions.Lee2008Regressions.cascade],
+[`design_load_area`][rotarydryer.geometry.lee2008_regressions.Lee2008Regressions.design_load_area] and [`loading_factor`][rotarydryer.geometry.lee2008_regressions.Lee2008Regressions.loading_factor].
 """
 
 from __future__ import annotations
@@ -76,7 +76,7 @@ _PHI_RANGE = (20.0, 70.0)
 
 def invicta_tip_radius(radius=2.5, s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0) -> float:
     r"""Flight-tip radius R_F (m) of a two-section flight, Lee (2008) Eq. 4.1-4.6, by
-    :meth:`rotarydryer.geometry.TwoSectionFlight.tip_radius` (the flight is validated there).
+    [`rotarydryer.geometry.TwoSectionFlight.tip_radius`][rotarydryer.geometry.flights.TwoSectionFlight.tip_radius] (the flight is validated there).
     Lengths in m, angles in deg. Invicta (defaults) gives 2.22789 m.
     """
 

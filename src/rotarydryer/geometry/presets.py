@@ -20,7 +20,7 @@ def drum_presets() -> dict[str, dict]:
 
 
 def preset_drum(name: str) -> tuple[FlightedDrum, dict]:
-    """Build the :class:`FlightedDrum` of a preset; returns ``(drum, entry)``."""
+    """Build the [`FlightedDrum`][rotarydryer.geometry.presets.FlightedDrum] of a preset; returns ``(drum, entry)``."""
     presets = drum_presets()
     if name not in presets:
         raise ValueError(f"drum = {name!r} is not a built-in drum; choose one of {', '.join(presets)}")

@@ -1,6 +1,6 @@
 """Exact flight geometry at surrogate cost: per-drum tables of what the transport models need.
 
-The exact flight model (:class:`~rotarydryer.geometry.FlightedDrum`, Lee (2008) ch. 4) costs
+The exact flight model (`FlightedDrum`, Lee (2008) ch. 4) costs
 about 20 us per (repose angle, loading) pair: a bisection for the discharge start angle
 (Lee (2008) Eq. 4.22) and Gauss-Legendre quadrature of the mass averages (Lee (2008)
 Eq. 3.3-3.6) phase by phase. Lee's regressions (Lee (2008) Eq. 4.24-4.28) and Ajayi's
@@ -12,7 +12,7 @@ geometry is instead computed once per drum on a grid and interpolated:
   (interpolating, not-a-knot) on a uniform (phi, f) grid; rpm and slope enter analytically
   (passive time Lee (2008) Eq. 3.4 from the release angle; fall height over ``cos(slope)``,
   fall time over ``sqrt(cos(slope))`` and axial step ``h tan(slope)``, as in
-  :func:`rotarydryer.geometry.unloading.cascade`);
+  `rotarydryer.geometry.unloading.cascade`);
 - the holdups behind the design load and the loading factor (the first-unloading-flight holdup
   ``H0`` and the upper-half flight holdups ``H_i``, Lee (2008) Eq. 4.20-4.22) against
   ``phi`` as cubic splines split at every phase boundary of every flight, so each piece is
@@ -29,18 +29,18 @@ exactly, so the table never extrapolates. Tables are cached per drum (geometry, 
 fall-height definition), so every cell and every solver iteration of
 a dryer shares one.
 
-On-disk cache (:func:`cache_directory`): the exact geometry on the cascade grid (what costs the
+On-disk cache (`cache_directory`): the exact geometry on the cascade grid (what costs the
 0.5 s build; the splines are rebuilt from it in about 0.1 s) is stored per drum as one ``.npz``
-file. Its name is a sha256 of the entry's record (:func:`_entry_meta`: the drum key, the digest of
-the code that computes a table, which covers the grid parameters, and :data:`CACHE_FORMAT`); the
+file. Its name is a sha256 of the entry's record (`_entry_meta`: the drum key, the digest of
+the code that computes a table, which covers the grid parameters, and `CACHE_FORMAT`); the
 file holds that record (``meta``) and a sha256 of the record and of every grid array's name,
 dtype, shape and bytes (``sha256``), next to the arrays, so data and check are replaced together.
 A file is used only if it is a regular ``.npz`` of exactly these arrays with the expected dtypes
 and shapes, its record is this entry's, its sha256 matches, its values are finite and its grid is
 the drum's; any other file (changed, e.g. values multiplied by 3, non-finite, truncated, not an
-archive, another program's or another entry's) is ignored with one :class:`GeometryCacheWarning`
+archive, another program's or another entry's) is ignored with one `GeometryCacheWarning`
 naming it and the reason, and the table is rebuilt and written over it with
-:func:`rotarydryer._io.atomic_output` (a temporary file renamed onto it, so concurrent processes
+`rotarydryer._io.atomic_output` (a temporary file renamed onto it, so concurrent processes
 writing the same entry and readers only ever see whole files). The checks cost about 1 ms per
 entry (mostly the sha256 of its 0.9 MB). The hash detects accidental and naive changes; it is not
 a signature (whoever can write the cache directory can also write a matching hash).
@@ -107,7 +107,7 @@ def _powers(t):
 class _PiecewiseTensorSpline:
     """Interpolating bicubic tensor-product splines of several quantities, one per piece of x
     between ``edges``, each on its own uniform grid ``xs[k]`` times the common uniform ``y``
-    (not-a-knot, :class:`scipy.interpolate.RectBivariateSpline`). Stored as one cubic per grid
+    (not-a-knot, `scipy.interpolate.RectBivariateSpline`). Stored as one cubic per grid
     cell in the power basis, all quantities of a cell side by side, so a point costs one
     contiguous gather of 16 q coefficients and two Horner passes (no Python loop over pieces)."""
 
@@ -172,7 +172,7 @@ class _Breaks:
 
 
 def _ppoly(p, breaks, x):
-    """``p(x)`` of a cubic :class:`scipy.interpolate.PPoly` with vector values (Horner, one gather
+    """``p(x)`` of a cubic `scipy.interpolate.PPoly` with vector values (Horner, one gather
     of the interval's coefficients, kept contiguous in ``p.rows``)."""
     i = breaks(x)
     c = p.rows.take(i, axis=0).reshape(x.size, 4, -1)  # highest power first
@@ -210,7 +210,7 @@ class GeometryTable:
     ----------
     drum : FlightedDrum
     convention, fall_height : str
-        As in :func:`rotarydryer.geometry.unloading.cascade`.
+        As in `rotarydryer.geometry.unloading.cascade`.
     phi_range : (float, float)
         Repose angles (deg) covered by the tables; outside, the exact geometry is computed.
     """
@@ -275,7 +275,7 @@ class GeometryTable:
 
     # ----------------------------------------------------------------- holdups, design load
     def upper_flight_holdups(self, phi):
-        """``(H0, H_i)`` at design (m^2), as :func:`rotarydryer.geometry.design_load._upper_flight_holdups`."""
+        """``(H0, H_i)`` at design (m^2), as `rotarydryer.geometry.design_load._upper_flight_holdups`."""
         phi = np.asarray(phi, dtype=float)
         flat = phi.ravel()
         y = np.empty((flat.size, self.n_upper + 1))
@@ -292,7 +292,7 @@ class GeometryTable:
         return y[..., 0], y[..., 1:]
 
     def design_load_area(self, repose_angle, *, method="lee2008"):
-        """Design-load area, m^2 (:func:`rotarydryer.geometry.design_load.design_load_area`)."""
+        """Design-load area, m^2 (`rotarydryer.geometry.design_load.design_load_area`)."""
         check_choice("method", method, DESIGN_LOAD_METHODS)
         phi = np.asarray(repose_angle, dtype=float)
         flat = phi.ravel()
@@ -308,7 +308,7 @@ class GeometryTable:
 
     def loading_factor(self, dryer_loading, repose_angle, smoothing=0.0):
         """Flight loading factor (Lee (2008) Eq. 4.22 inverted exactly, as
-        :func:`rotarydryer.geometry.design_load.loading_factor`) from tabulated holdups."""
+        `rotarydryer.geometry.design_load.loading_factor`) from tabulated holdups."""
 
         d, phi = np.broadcast_arrays(np.asarray(dryer_loading, float), np.asarray(repose_angle, float))
         if not np.all(d >= 0.0):
@@ -318,7 +318,7 @@ class GeometryTable:
 
     # ----------------------------------------------------------------- cascade
     def cascade(self, repose_angle, loading_factor=1.0, *, rpm, slope=0.0, passive_time_branch="eq3.4"):
-        """Mass-averaged cascade properties (free fall), as :func:`rotarydryer.geometry.unloading.cascade`;
+        """Mass-averaged cascade properties (free fall), as `rotarydryer.geometry.unloading.cascade`;
         the discharge start angle and initial holdup are not tabulated (NaN, as in Lee's regressions)."""
         check_choice("passive_time_branch", passive_time_branch, PASSIVE_TIME_BRANCHES)
         if not (isinstance(rpm, (int, float)) and 0.0 < rpm < math.inf):   # plain floats: the solvers' calls
@@ -362,12 +362,12 @@ class GeometryTable:
 
         Design load ``rho L A_des(phi) (1 - fouling)`` (kg; Lee (2008) Eq. 4.20-4.21), loading
         factor at the dryer loading ``M_P / M_des`` (Lee (2008) Eq. 4.22 inverted, ``smoothing``
-        as in :meth:`loading_factor`, clipped to [1e-6, 1]), and the cascade at that loading
-        (passive time s, fall height m, fall time s; :meth:`cascade`), for 1-D arrays of repose
+        as in `loading_factor`, clipped to [1e-6, 1]), and the cascade at that loading
+        (passive time s, fall height m, fall time s; `cascade`), for 1-D arrays of repose
         angle, bulk density and passive mass (``fixed_loading``: full flights, f = 1). The same
-        numbers, to rounding, as :meth:`design_load_area`, :meth:`loading_factor` and
-        :meth:`cascade` in turn (their NumPy composition is the reference). None when the
-        compiled kernels are off (:mod:`rotarydryer._jit`), a repose angle lies outside the
+        numbers, to rounding, as `design_load_area`, `loading_factor` and
+        `cascade` in turn (their NumPy composition is the reference). None when the
+        compiled kernels are off (`rotarydryer._jit`), a repose angle lies outside the
         table, or an input or result is not finite: the caller then composes those methods,
         which check their inputs and name what is wrong."""
         phi = np.asarray(repose_angle, dtype=float)
@@ -475,7 +475,7 @@ def _source_digest() -> str:
 
 def _entry_meta(key) -> str:
     """The record of what an entry is built from: the drum key (dimensions, convention, fall
-    height), the code digest (:func:`_source_digest`, which covers the grid parameters) and the
+    height), the code digest (`_source_digest`, which covers the grid parameters) and the
     entry format. It names the file and is stored in it, so a file of another entry is not ours."""
     return json.dumps({"format": CACHE_FORMAT, "code": _source_digest(), "key": list(key)}, separators=(",", ":"))
 
@@ -551,7 +551,7 @@ def _check_grid(f, meta):
 
 def _load_disk(path, key, drum, convention, fall_height):
     """``(table, None)`` from a valid entry file; ``(None, None)`` when there is none; ``(None,
-    reason)`` when the file at ``path`` is not a valid entry (see :func:`_check_grid`; also not
+    reason)`` when the file at ``path`` is not a valid entry (see `_check_grid`; also not
     a regular file, too large, not an ``.npz`` archive, truncated or unreadable)."""
     if path is None:
         return None, None
@@ -583,7 +583,7 @@ def _load_disk(path, key, drum, convention, fall_height):
 
 
 def _warn_bad_file(path, reason):
-    """One :class:`GeometryCacheWarning` per bad file (the same file found again, e.g. when it
+    """One `GeometryCacheWarning` per bad file (the same file found again, e.g. when it
     cannot be replaced, is not reported twice by a process)."""
     try:
         st = path.stat()
@@ -599,7 +599,7 @@ def _warn_bad_file(path, reason):
 
 
 def _save_disk(path, table, key):
-    """Write the table's entry to ``path`` atomically (:func:`rotarydryer._io.atomic_output`: a
+    """Write the table's entry to ``path`` atomically (`rotarydryer._io.atomic_output`: a
     reader, or another process writing the same entry, only ever sees a whole file); a grid with
     non-finite values is not stored."""
     if path is None:
@@ -623,12 +623,12 @@ def _key(drum, *, convention="root", fall_height="chord") -> tuple:
 
 
 def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryTable:
-    """The :class:`GeometryTable` of ``drum``, built once and cached (keyed by the drum's
+    """The `GeometryTable` of ``drum``, built once and cached (keyed by the drum's
     dimensions, the convention and the fall-height definition): in memory for the process and on
-    disk (:func:`cache_directory`; tables of other code versions are never read), so a command
+    disk (`cache_directory`; tables of other code versions are never read), so a command
     line run does not pay the 0.5-1 s build of each drum again. An on-disk entry is used only if
     it passes its checks (its record, array shapes, sha256 and finite values); a file that does
-    not is rebuilt and replaced, with one :class:`GeometryCacheWarning`."""
+    not is rebuilt and replaced, with one `GeometryCacheWarning`."""
     key = _key(drum, convention=convention, fall_height=fall_height)
     with _lock:
         table = _cache.get(key)

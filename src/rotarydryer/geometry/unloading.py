@@ -12,17 +12,19 @@ angle psi5 at which it is empty (Lee (2008) Eq. 3.3 and 3.5; notes section 6.6):
 Fall-height definitions (Lee's two readings are incompatible, notes section 6.6):
 
 ``"chord"`` (default)
-    The particle falls vertically from the tip circle to where it crosses the tip
+:   The particle falls vertically from the tip circle to where it crosses the tip
     circle again at the bottom: ``h = 2 R_F |cos(psi + psi_ft)| / cos(slope)``.
     This is the geometry behind Lee (2008) Eq. 4.26 and the physical reading of
     Lee's Ch. 3 statement that solids rejoin the passive phase at the flight-tip
     radius. Chosen as default because it is the only one consistent with a
     vertical fall and with Eq. 4.26.
+
 ``"eq3.5"``
-    Lee (2008) Eq. 3.5 taken literally: from the release height to the lowest
+:   Lee (2008) Eq. 3.5 taken literally: from the release height to the lowest
     point of the tip circle, ``h = R_F (1 - cos(psi + psi_ft)) / cos(slope)``.
+
 ``"ajayi2011"``
-    Ajayi (2011) Eq. 4.20: the chord plus half the flight depth
+:   Ajayi (2011) Eq. 4.20: the chord plus half the flight depth
     ``(R - R_F)/2`` ("judgement-based" landing on the bed).
 
 The fall time is the free-fall time ``sqrt(2 h / g)`` (zero initial velocity, no
@@ -33,10 +35,11 @@ printed is ``sqrt(2 h_m / g)``.
 Passive-time branches (Lee (2008) Eq. 3.4; notes section 5.6):
 
 ``"eq3.4"`` (default)
-    ``t_p = (2 psi_m - 180) / omega``: the arc from the landing point
+:   ``t_p = (2 psi_m - 180) / omega``: the arc from the landing point
     ``180 - psi_m`` (vertically below the release point) back to ``psi_m``.
+
 ``"lee2008_ch7"``
-    One revolution minus that arc, ``t_p = (540 - 2 psi_m) / omega``. With Lee's
+:   One revolution minus that arc, ``t_p = (540 - 2 psi_m) / omega``. With Lee's
     regressions this is what reproduces his Ch. 7 tables (Table 7.6); it is
     offered for comparison, not as physics.
 """
@@ -98,7 +101,7 @@ class CascadeSummary:
     mean_axial_step : ndarray
         Mass-averaged axial advance of a cascade towards the discharge, m: ``h tan(slope)``
         for a free fall (Lee (2008) Eq. 3.7, d_0 = h_m sin(theta) with h_m vertical), or from
-        the particle trajectory through the gas with a :class:`CascadeDrag` (negative when a
+        the particle trajectory through the gas with a [`CascadeDrag`][rotarydryer.geometry.unloading.CascadeDrag] (negative when a
         counter-current gas blows the solids back).
     """
 
@@ -142,10 +145,10 @@ class CascadeSummary:
 
 @dataclass(frozen=True)
 class CascadeDrag:
-    """Particles and gas for a fall with drag (instead of free fall) in :func:`cascade`.
+    """Particles and gas for a fall with drag (instead of free fall) in [`cascade`][rotarydryer.geometry.unloading.cascade].
 
     The fall of each released element is integrated through the axial gas stream by
-    :func:`rotarydryer.correlations.cascade_trajectory` (isolated-particle drag, Lee (2008)
+    [`rotarydryer.correlations.cascade_trajectory`][rotarydryer.correlations.cascade_trajectory] (isolated-particle drag, Lee (2008)
     ch. 6): fall time and axial displacement. Lee's CFD shows that particles inside a
     curtain feel a reduced gas velocity, so ``gas_velocity`` is the velocity *in the
     curtain* (an upper bound when the bulk velocity is used).

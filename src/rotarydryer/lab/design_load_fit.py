@@ -6,11 +6,11 @@ loading until the flight is full at the 9 o'clock position, then stays constant;
 loading at the break is the **design load**. He fitted D'Errico's SLM spline (Appendix D:
 ``slmengine(x, y, 'knots', 3, 'rightslope', 0, 'degree', 1, 'interiorknots', 'free')``),
 i.e. a continuous piecewise-linear function with one free interior knot and zero slope
-to its right::
+to its right:
 
     area(x) = c + a * min(x, B)          (a: left slope, B: break point = design load)
 
-which is what :func:`fit_break_point` fits, by exact least squares (the residual sum of
+which is what [`fit_break_point`][rotarydryer.lab.design_load_fit.fit_break_point] fits, by exact least squares (the residual sum of
 squares is profiled over B, linear in a and c for fixed B).
 
 Confidence interval of the break point
@@ -39,7 +39,7 @@ intervals available here (``methods=``):
   For comparison only: it is wrong.
 
 The raw loading-area points behind Ajayi's Table 4.11 are not published (the notes,
-section 3.4). :func:`mimic_ajayi_series` generates synthetic series whose plateau and
+section 3.4). [`mimic_ajayi_series`][rotarydryer.lab.design_load_fit.mimic_ajayi_series] generates synthetic series whose plateau and
 break point are Table 4.11's and whose noise and slope reproduce his printed CIs, so
 that the fit can be checked against his design loads.
 """
@@ -78,7 +78,7 @@ def hinge(loading, break_point, slope, intercept):
 
 @dataclass(frozen=True)
 class BreakPointFit:
-    """Result of :func:`fit_break_point`.
+    """Result of [`fit_break_point`][rotarydryer.lab.design_load_fit.fit_break_point].
 
     ``break_point`` (the design load, loading units), ``slope`` (area per loading unit),
     ``intercept`` and ``plateau`` (area units); ``ci``/``stderr`` per method
@@ -136,7 +136,7 @@ def fit_break_point(loading, area, *, confidence: float = 0.95, methods=CI_METHO
     confidence : float
         Confidence level of the intervals (0.95 = Ajayi's "95 %").
     methods : iterable of str
-        Interval methods, from :data:`CI_METHODS` (see the module notes).
+        Interval methods, from `CI_METHODS` (see the module notes).
     min_left, min_right : int
         Minimum number of *distinct* loadings on each side of the break.
     """
@@ -284,7 +284,7 @@ def mimic_ajayi_series(design_load: float, design_load_ci: float, plateau_area: 
     is set so that the plateau's 95 % half-width equals ``plateau_ci`` (cm^2), and the
     left slope so that the delta-method 95 % half-width of the break equals
     ``design_load_ci`` (kg), both for the sampling design used (see
-    :func:`synthetic_loading_series`). Returns ``(loading, area, truth)`` with ``truth``
+    [`synthetic_loading_series`][rotarydryer.lab.design_load_fit.synthetic_loading_series]). Returns ``(loading, area, truth)`` with ``truth``
     a dict of ``design_load``, ``plateau``, ``slope``, ``noise_sd``.
     """
     B = float(check_positive("design_load", design_load, "kg"))
@@ -318,8 +318,8 @@ def ajayi_table_4_11() -> list[dict]:
 def read_design_rows(numbered_lines, name: str, loading_column: str = "loading_kg",
                      area_column: str = "FUF_area_cm2", group_column: Optional[str] = None) -> dict:
     """{group: [(loading, area), ...]} from the numbered lines of a design-load CSV (one row per
-    photograph; ``rotarydryer lab design-load``): from :func:`rotarydryer.rtd._datafile.data_lines`
-    (a file) or :func:`~rotarydryer.rtd._datafile.text_lines` (text in memory). At most
+    photograph; ``rotarydryer lab design-load``): from `rotarydryer.rtd._datafile.data_lines`
+    (a file) or `text_lines` (text in memory). At most
     200 000 rows; errors name ``name``, the line and the column (and the command-line option)."""
     from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, fmt, parse_number, too_many_rows
 

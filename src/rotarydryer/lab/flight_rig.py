@@ -19,7 +19,7 @@ Choices where the sources disagree or are wrong
 * **Cut-off frequency.** The text (Lee (2008) l.5871) says 3 Hz; the code
   ``fir1(200, 0.03)`` normalises the cut-off to the Nyquist frequency (50 Hz), which is
   **1.5 Hz**. The code is what produced the thesis figures, so the default is
-  :data:`LEE_CUTOFF_CODE` = 1.5 Hz; ``cutoff=LEE_CUTOFF_TEXT`` (3 Hz) gives the text
+  [`LEE_CUTOFF_CODE`][rotarydryer.lab.flight_rig.LEE_CUTOFF_CODE] = 1.5 Hz; ``cutoff=LEE_CUTOFF_TEXT`` (3 Hz) gives the text
   reading. The filter is designed exactly as ``fir1``: 201 taps, Hamming window,
   unit gain at DC (``scipy.signal.firwin``).
 * **Group delay.** Lee's ``conv`` output is delayed by 100 samples (1.0 s) and was not
@@ -53,14 +53,14 @@ Choices where the sources disagree or are wrong
 
 Model
 -----
-Accumulated discharged mass (Lee (2008) Appendix II, ``am = m(1) - m``; section 5.4.3)::
+Accumulated discharged mass (Lee (2008) Appendix II, ``am = m(1) - m``; section 5.4.3):
 
     m(t) = m_off + rho_b L [H(psi_0, phi) - H(psi(t), phi)],
     psi(t) = psi_0 + omega (t - t_0) for t > t_0, psi_0 before,
 
-with ``H`` the exact held area of :meth:`FlightedDrum.holdup_area` (Lee (2008)
+with ``H`` the exact held area of [`FlightedDrum.holdup_area`][rotarydryer.geometry.drum.FlightedDrum.holdup_area] (Lee (2008)
 Eq. 4.14-4.17; for the single rig flight only phases III and IV matter, the
-"drum" radius being the flight's radius of curvature, see :func:`rig_drum`).
+"drum" radius being the flight's radius of curvature, see [`rig_drum`][rotarydryer.lab.flight_rig.rig_drum]).
 """
 
 from __future__ import annotations
@@ -183,7 +183,7 @@ def read_rig_csv(path, *, time_column: int = 0, max_rows: Optional[int] = None) 
     sum of the four load cells), as in Lee's Matlab input (column 1 time, column 2 summed mass).
 
     The file is read line by line (UTF-8, at most 64 MB) and refused beyond ``max_rows``
-    (default :data:`MAX_RIG_ROWS`, 200 000 samples = 33 min at 100 Hz). Errors name the file,
+    (default [`MAX_RIG_ROWS`][rotarydryer.lab.flight_rig.MAX_RIG_ROWS], 200 000 samples = 33 min at 100 Hz). Errors name the file,
     the line and the column: ``rig.csv line 17: 'abc' is not a number in column time_s``;
     times must be finite, strictly increasing and uniformly sampled.
     """
@@ -195,7 +195,7 @@ def read_rig_csv(path, *, time_column: int = 0, max_rows: Optional[int] = None) 
 
 def parse_rig_text(text: str, name: str = "<string>", *, time_column: int = 0,
                    max_rows: Optional[int] = None) -> RigRun:
-    """:func:`read_rig_csv` of the text of a load-cell CSV held in memory (e.g. an upload to the
+    """[`read_rig_csv`][rotarydryer.lab.flight_rig.read_rig_csv] of the text of a load-cell CSV held in memory (e.g. an upload to the
     web app; nothing is written to disk); messages name ``name`` as they name the file."""
     from ..rtd._datafile import text_lines
 
@@ -353,8 +353,8 @@ def detect_unloading_start(time, mass, *, method: str = "hinge", cutoff: float =
                            numtaps: int = LEE_NUMTAPS, phase: str = "zero", window: Optional[float] = None) -> float:
     """Time (s) at which unloading starts, from a raw accumulated-mass record (kg).
 
-    The record is filtered with :func:`lowpass` (``cutoff`` Hz, ``phase``) and
-    differentiated (:func:`mass_rate`). Methods:
+    The record is filtered with [`lowpass`][rotarydryer.lab.flight_rig.lowpass] (``cutoff`` Hz, ``phase``) and
+    differentiated ([`mass_rate`][rotarydryer.lab.flight_rig.mass_rate]). Methods:
 
     * ``"hinge"`` (default): least-squares fit, on the *filtered* mass, of the
       *filtered* model "constant, then a cubic in (t - t_s)" (a hinge: the rate jumps
@@ -434,7 +434,7 @@ def detect_unloading_start(time, mass, *, method: str = "hinge", cutoff: float =
 
 # ---------------------------------------------------------------------------- geometric model
 def rig_drum(flight: str = "alternative", *, flat_radius: float = _FLAT_RADIUS) -> FlightedDrum:
-    """A :class:`FlightedDrum` representing one of Lee's rig flights (Lee (2008) Table 5.1).
+    """A [`FlightedDrum`][rotarydryer.lab.flight_rig.FlightedDrum] representing one of Lee's rig flights (Lee (2008) Table 5.1).
 
     The "drum radius" is the radius of curvature of the flight back (Full Scale
     2.5 m, Half Scale 1.25 m); the flat-backed Alternative flight ("No Curve") uses
@@ -619,7 +619,7 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
                      signal: str = "raw", cutoff: float = LEE_CUTOFF_CODE) -> RigFit:
     """Fit the dynamic angle of repose (deg) to a rig run by least squares, with a confidence interval.
 
-    Model: :func:`accumulated_mass`. Free parameters: ``repose_angle`` and
+    Model: [`accumulated_mass`][rotarydryer.lab.flight_rig.accumulated_mass]. Free parameters: ``repose_angle`` and
     ``mass_offset`` always; ``start_time`` if ``fit_start_time`` (otherwise
     ``start_time`` must be given, s); ``bulk_density`` if ``fit_bulk_density``
     (``bulk_density`` is then the starting value). ``start_angle`` (deg) is the flight
@@ -833,7 +833,7 @@ def fraction_inside(values, low, high) -> float:
 
 @dataclass(frozen=True)
 class RigAnalysis:
-    """Result of :func:`analyse_run`: filtered signals, alignment and the band comparison."""
+    """Result of [`analyse_run`][rotarydryer.lab.flight_rig.analyse_run]: filtered signals, alignment and the band comparison."""
 
     time: np.ndarray  # s, aligned: 0 at the detected start of unloading
     mass: np.ndarray  # kg, filtered, offset removed
@@ -853,8 +853,8 @@ def analyse_run(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle: flo
                 fit: bool = True, k: float = 2.0) -> RigAnalysis:
     """Lee's analysis of one run (Lee (2008) section 5.4), optionally with a repose-angle fit.
 
-    Filters (:func:`lowpass`), differentiates (:func:`mass_rate`), detects the start
-    of unloading (:func:`detect_unloading_start`) and removes the pre-start offset;
+    Filters ([`lowpass`][rotarydryer.lab.flight_rig.lowpass]), differentiates ([`mass_rate`][rotarydryer.lab.flight_rig.mass_rate]), detects the start
+    of unloading ([`detect_unloading_start`][rotarydryer.lab.flight_rig.detect_unloading_start]) and removes the pre-start offset;
     fits the repose angle if ``fit`` (used for the band when ``repose_angle`` is None);
     and reports the fraction of the filtered mass and rate samples (from the start of
     unloading on) inside the model band at ``repose_angle +/- k repose_sd``.

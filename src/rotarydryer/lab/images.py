@@ -10,24 +10,24 @@ diameter (950 px radius, 25.33 px/cm).
 This module does the same with scikit-image, but places the regions from the flight
 geometry instead of hard-coded pixel rectangles:
 
-* :class:`ImageCalibration` - drum centre (px), pixel scale (px/m) from a known length,
+* [`ImageCalibration`][rotarydryer.lab.images.ImageCalibration] - drum centre (px), pixel scale (px/m) from a known length,
   and the viewing side (``mirror=True`` when the drum turns clockwise in the picture,
   as Ajayi's did; the geometry's convention is anticlockwise).
-* :func:`region_labels` - a label image from the flight geometry: pixel -> the pocket of
+* [`region_labels`][rotarydryer.lab.images.region_labels] - a label image from the flight geometry: pixel -> the pocket of
   flight k (between flight k, flight k+1, the wall and the tip-tip chord, Lee (2008)
   Eq. 4.8), the airborne region inside the tip polygon (Ajayi's "AP", inside the
   flight-tip circle), or outside the drum. Each solids pixel is assigned to the flight
   whose pocket contains it.
-* :func:`segment` - threshold one channel (Ajayi used channel 1, red) with a fixed
+* [`segment`][rotarydryer.lab.images.segment] - threshold one channel (Ajayi used channel 1, red) with a fixed
   threshold (Ajayi's 168/177, upper/lower half) or Otsu's; separate thresholds for
   flight-borne and airborne solids; optional Gaussian smoothing (a stand-in for
   ImageJ's sigma filter) and removal of specks smaller than ``min_size`` pixels.
-* :func:`measure` - areas (m^2, per m of drum length: a cross-section area) per flight,
+* [`measure`][rotarydryer.lab.images.measure] - areas (m^2, per m of drum length: a cross-section area) per flight,
   first unloading flight (FUF), upper and lower half (UHD, LHD; split by the horizontal
   through the centre, Ajayi's Fig. 4.3), total passive TP = UHD + LHD, and airborne.
-* :func:`annotate` - a PNG with the segmentation and the per-flight areas drawn over
+* [`annotate`][rotarydryer.lab.images.annotate] - a PNG with the segmentation and the per-flight areas drawn over
   the photograph, for the user to check.
-* :func:`render_cross_section` - a synthetic photograph from the exact geometry (held
+* [`render_cross_section`][rotarydryer.lab.images.render_cross_section] - a synthetic photograph from the exact geometry (held
   polygons of every flight, Lee (2008) Eq. 4.14-4.17, plus vertical curtains from the
   discharging tips) with the true visible areas computed exactly with shapely: the
   test bed for the measurement.
@@ -112,7 +112,7 @@ class ImageCalibration:
         return np.stack([self.centre[0] + x * self.px_per_m, self.centre[1] - y * self.px_per_m], axis=-1)
 
     def to_metres(self, colrow) -> np.ndarray:
-        """Inverse of :meth:`to_pixels`."""
+        """Inverse of [`to_pixels`][rotarydryer.lab.images.ImageCalibration.to_pixels]."""
         cr = np.asarray(colrow, dtype=float)
         x = (cr[..., 0] - self.centre[0]) / self.px_per_m
         y = -(cr[..., 1] - self.centre[1]) / self.px_per_m
@@ -177,7 +177,7 @@ class SyntheticImage:
     """A rendered cross-section: ``image`` (uint8, rows x columns x 3), its ``calibration``,
     the ``reference_angle`` (deg) and the exact visible areas (m^2): ``flight_areas``
     (per flight, in flight order), ``airborne_area``; ``model_areas`` are the geometric
-    holdups (:meth:`FlightedDrum.holdup_area`) of the same flights."""
+    holdups ([`FlightedDrum.holdup_area`][rotarydryer.geometry.drum.FlightedDrum.holdup_area]) of the same flights."""
 
     image: np.ndarray = field(repr=False)
     calibration: ImageCalibration
@@ -309,7 +309,7 @@ MAX_IMAGE_FILE_BYTES = 512_000_000
 MIN_DRUM_RADIUS_PX = 20.0
 """Smallest drum radius in the image, px: below it the flight pockets are a few pixels wide."""
 ANNOTATE_MAX_PIXELS = 12_000_000
-"""Largest annotated picture drawn by :func:`annotate`, pixels; a larger photograph is drawn at a
+"""Largest annotated picture drawn by [`annotate`][rotarydryer.lab.images.annotate], pixels; a larger photograph is drawn at a
 reduced resolution (every k-th pixel)."""
 DRUM_EDGE_TOLERANCE = 0.05
 """The drum circle may extend beyond the image edge by this fraction of its radius (a photo
@@ -326,7 +326,7 @@ def load_image(path, *, max_pixels: Optional[int] = None) -> np.ndarray:
     """Read an image file (PNG, JPEG, TIFF, ...) as a uint8 array (rows x columns [x channels]).
 
     The pixel count is read from the file header and checked against ``max_pixels`` (default
-    :data:`MAX_IMAGE_PIXELS`) *before* the image is decoded. Only the first frame of a multi-frame
+    [`MAX_IMAGE_PIXELS`][rotarydryer.lab.images.MAX_IMAGE_PIXELS]) *before* the image is decoded. Only the first frame of a multi-frame
     file is read. 16-bit images are scaled to 8 bits; palette, bilevel and CMYK images are
     converted to grey or RGB. Errors are ``ValueError`` naming the file.
     """
@@ -338,7 +338,7 @@ def load_image(path, *, max_pixels: Optional[int] = None) -> np.ndarray:
 
 
 def load_image_bytes(data: bytes, name: str = "<image>", *, max_pixels: Optional[int] = None) -> np.ndarray:
-    """:func:`load_image` of the bytes of an image file held in memory (e.g. an upload to the web
+    """[`load_image`][rotarydryer.lab.images.load_image] of the bytes of an image file held in memory (e.g. an upload to the web
     app; nothing is written to disk), with the same checks (pixel count from the header before
     decoding); messages name ``name`` as they name the file."""
     import io
@@ -422,8 +422,8 @@ def check_drum_in_image(shape, drum: FlightedDrum, calibration: ImageCalibration
     """Raise ``ValueError`` unless the drum (centre and radius, px) lies in an image of ``shape``.
 
     The centre must be a pixel of the image; the drum circle must fit within the image up to
-    :data:`DRUM_EDGE_TOLERANCE` of its radius, and its radius must be at least
-    :data:`MIN_DRUM_RADIUS_PX`. ``centre_name``/``scale_name`` name what the user set (the
+    [`DRUM_EDGE_TOLERANCE`][rotarydryer.lab.images.DRUM_EDGE_TOLERANCE] of its radius, and its radius must be at least
+    [`MIN_DRUM_RADIUS_PX`][rotarydryer.lab.images.MIN_DRUM_RADIUS_PX]. ``centre_name``/``scale_name`` name what the user set (the
     command-line options) in the messages.
     """
     h, w = int(shape[0]), int(shape[1])
@@ -590,8 +590,8 @@ def measure(image, drum: FlightedDrum, calibration: ImageCalibration, *, referen
 
     ``reference_angle``: root angle (deg, geometry convention: from the drum bottom in
     the direction of rotation) of one flight, called flight 0; read it off the photograph.
-    Pixel areas are converted with ``calibration.px_per_m``. See :func:`segment` for the
-    thresholds and :func:`region_labels` for the assignment of pixels to flights.
+    Pixel areas are converted with ``calibration.px_per_m``. See [`segment`][rotarydryer.lab.images.segment] for the
+    thresholds and [`region_labels`][rotarydryer.lab.images.region_labels] for the assignment of pixels to flights.
     """
     img = np.asarray(image)
     if img.ndim not in (2, 3):
@@ -624,7 +624,7 @@ def annotate(image, measurement: ImageMeasurement, path=None, *, dpi: int = 100,
     Flight-borne solids are tinted orange (the first unloading flight red), airborne
     solids cyan, pocket boundaries thin white. Returns the Matplotlib figure; saves it
     to ``path`` if given (atomically; the format from the suffix, PNG by default). A photograph
-    larger than :data:`ANNOTATE_MAX_PIXELS` is drawn at a reduced resolution.
+    larger than [`ANNOTATE_MAX_PIXELS`][rotarydryer.lab.images.ANNOTATE_MAX_PIXELS] is drawn at a reduced resolution.
     """
     from .._plotting import pyplot
 

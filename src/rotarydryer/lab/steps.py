@@ -5,13 +5,15 @@ F -> 0, or between levels) and records the inlet rate F_i(t) and the discharge F
 time derivative of the mass on a balance under the outlet). The holdup after each step is the
 area between the two curves (the analogue of the step-tracer F curve, Levenspiel 1972 p. 257):
 
-.. math::
-    \Delta H_k = \int_{t_k}^{t_{k+1}} (F_i - F_o)\, dt, \qquad H_k = H_0 + \sum_{j \le k} \Delta H_j,
+$$
+\Delta H_k = \int_{t_k}^{t_{k+1}} (F_i - F_o)\, dt, \qquad H_k = H_0 + \sum_{j \le k} \Delta H_j,
+$$
 
 and the mean residence time at the plateau reached after step k is (Song (2003) Eq. 4.1)
 
-.. math::
-    \tau = \frac{H}{F} = \frac{H_1}{F} = \frac{H_2}{F},
+$$
+\tau = \frac{H}{F} = \frac{H_1}{F} = \frac{H_2}{F},
+$$
 
 with H_1 the area after the up-step from an empty dryer and H_2 the area after the down-step
 to zero feed: the same holdup twice (Song's up/down agreement within 3 %, Table 4.1). Over a
@@ -19,13 +21,14 @@ record that starts and ends empty the areas sum to zero (the **closure** of Tabl
 reconciled the residual R = sum Delta H_j "by redistributing proportionally the residual
 hold-up to each area" (L1342), read here as
 
-.. math::
-    \Delta H_k^{rec} = \Delta H_k - R\, \frac{|\Delta H_k|}{\sum_j |\Delta H_j|}
+$$
+\Delta H_k^{rec} = \Delta H_k - R\, \frac{|\Delta H_k|}{\sum_j |\Delta H_j|}
+$$
 
 (notes song.md 6.3, [UNSURE] there). Steps in speed, gas or slope (Figs. 4.6-4.7) do not show in
 the feed record: give their times (``steps=``).
 
-Records (:func:`read_step_csv`): a CSV with a header whose names carry their units -- time
+Records (`read_step_csv`): a CSV with a header whose names carry their units -- time
 ``time_s`` | ``time_min`` | ``time_h``; feed as a rate ``feed_kg_s`` | ``feed_kg_min`` |
 ``feed_kg_h`` or the cumulative mass fed ``fed_kg``; discharge as a rate ``discharge_kg_s`` |
 ``discharge_kg_min`` | ``discharge_kg_h`` or the cumulative mass on the balance ``discharged_kg``
@@ -35,7 +38,7 @@ value before and after the step), which the trapezoidal rule then integrates exa
 between two samples dt apart is integrated as a ramp (the mass fed is then uncertain by up to
 0.5 dF dt).
 
-Units: SI (kg, s, kg/s) in every result; :meth:`StepAnalysis.as_dict` names carry them.
+Units: SI (kg, s, kg/s) in every result; `StepAnalysis.as_dict` names carry them.
 """
 
 from __future__ import annotations
@@ -124,7 +127,7 @@ def _unique_last(t):
 
 
 def step_record(time_s, feed=None, discharge=None, *, fed=None, discharged=None, name="record") -> StepRecord:
-    """A :class:`StepRecord` from arrays: ``time_s`` (s), the feed as a rate ``feed`` (kg/s) or a
+    """A `StepRecord` from arrays: ``time_s`` (s), the feed as a rate ``feed`` (kg/s) or a
     cumulative mass ``fed`` (kg), the discharge as ``discharge`` (kg/s) or ``discharged`` (kg).
     ``ValueError`` names the argument for non-finite, negative or decreasing values."""
     t = np.asarray(check_range("time_s", time_s, unit="s"), float).ravel()
@@ -174,7 +177,7 @@ def _check_times(t, name, lines):
 
 def read_step_csv(path) -> StepRecord:
     """Read a feed/discharge record (module docstring for the columns). The file is read line by
-    line (:mod:`rotarydryer.rtd._datafile`: UTF-8, at most 64 MB and 200 000 rows); lines
+    line (`rotarydryer.rtd._datafile`: UTF-8, at most 64 MB and 200 000 rows); lines
     starting with ``#`` are skipped; the first other line is the header. Errors name the file,
     the line and the column."""
     from ..rtd._datafile import data_lines
@@ -184,7 +187,7 @@ def read_step_csv(path) -> StepRecord:
 
 
 def parse_step_text(text: str, name: str = "<string>") -> StepRecord:
-    """:func:`read_step_csv` of the text of a record held in memory (e.g. an upload to the web
+    """`read_step_csv` of the text of a record held in memory (e.g. an upload to the web
     app; nothing is written to disk); messages name ``name`` as they name the file."""
     from ..rtd._datafile import text_lines
 
@@ -243,7 +246,7 @@ def _read_step_lines(numbered_lines, name: str) -> StepRecord:
 
 
 def _check_magnitude(v: float, role: str, col: str, name: str, lineno: int) -> None:
-    """Refuse a value beyond :data:`MAX_TIME_S`, :data:`MAX_FLOW_KG_S` or :data:`MAX_MASS_KG` (in the
+    """Refuse a value beyond `MAX_TIME_S`, `MAX_FLOW_KG_S` or `MAX_MASS_KG` (in the
     column's own unit), naming the file, line, column and the bound."""
     if role == "time":
         limit, unit = MAX_TIME_S / TIME_COLUMNS[col], col.split("_", 1)[1]
@@ -261,7 +264,7 @@ def _check_magnitude(v: float, role: str, col: str, name: str, lineno: int) -> N
 
 
 def _first_fall(c):
-    """Index of the first sample where a cumulative mass falls by more than :data:`CUMULATIVE_NOISE`
+    """Index of the first sample where a cumulative mass falls by more than `CUMULATIVE_NOISE`
     of its range below the running maximum, or None."""
     c = np.asarray(c, float)
     span = float(np.max(c) - np.min(c)) if c.size else 0.0
@@ -336,7 +339,7 @@ def reconcile(areas, initial_holdup: float = 0.0):
 
 @dataclass
 class StepAnalysis:
-    """Result of :func:`analyse_steps`.
+    """Result of `analyse_steps`.
 
     ``segments``: one dict per interval between steps (``start_s``, ``end_s``, ``feed_kg_s`` mean
     feed = mass fed / duration, ``feed_end_kg_s`` the last feed sample, ``plateau_kg_s`` mean
@@ -372,7 +375,7 @@ def analyse_steps(record: StepRecord, steps=None, *, threshold: float = 0.1, pla
     ----------
     record : StepRecord
     steps : array_like, optional
-        Step times, s (increasing, inside the record); default :func:`detect_steps` on the feed.
+        Step times, s (increasing, inside the record); default `detect_steps` on the feed.
     threshold : float
         Step detection: smallest feed change, as a fraction of the largest feed (0, 1).
     plateau : float

@@ -1,13 +1,13 @@
 """Compiled forms of the physics every residual of the dryer calls (numba, optional).
 
-* Humid-air transport properties (:func:`rotarydryer.properties.humid_air._transport`: Lemmon &
+* Humid-air transport properties (`rotarydryer.properties.humid_air._transport`: Lemmon &
   Jacobsen (2004) dilute air, IAPWS (2008, 2011) dilute water vapour, Wilke (1950) / Mason-Saxena
   mixing, Poling et al. (2001) Eqs. 9-5.13, 10-6.1), the humid heat and the enthalpy parts (NASA
   polynomials, McBride et al. 2002), the Wagner & Pruss (1993) saturation pressure, the Marrero &
   Mason (1972) diffusivity and the Smith, Shen & Friedman (1982) WSGG emissivity;
-* the gas -> solids transfer of a set of gas stages (:func:`rotarydryer.thermal.balances._stage_transfer`,
+* the gas -> solids transfer of a set of gas stages (`rotarydryer.thermal.balances._stage_transfer`,
   physical mode) and the shell-loss network with its shell temperature solved
-  (:func:`rotarydryer.thermal.shell.shell_heat_loss`), built from the scalar forms above.
+  (`rotarydryer.thermal.shell.shell_heat_loss`), built from the scalar forms above.
 
 Each is one compiled loop per element instead of dozens of NumPy calls on small arrays. The NumPy
 functions stay the references: the same equations with the same coefficients (packed from the
@@ -15,7 +15,7 @@ reference tables by the ``pack*`` functions), the same numbers to rounding, and 
 same root to its 1e-9 K tolerance (``tests/properties/test_property_kernels.py``,
 ``tests/thermal/test_compiled_physics.py``). One module: numba's disk cache tracks the file of a
 compiled function, not the files of the functions it calls. Plain loops, so the module imports
-without numba; :func:`compiled` returns None when the kernels are off (:mod:`rotarydryer._jit`)
+without numba; `compiled` returns None when the kernels are off (`rotarydryer._jit`)
 and the callers then take their NumPy path.
 """
 
@@ -102,7 +102,7 @@ def _transport_at(t, y, c):
 
 
 def _transport_loop(t, y, c, mu, k):
-    """:func:`_transport_at` over flat arrays."""
+    """`_transport_at` over flat arrays."""
     for i in range(t.size):
         mu[i], k[i] = _transport_at(t[i], y[i], c)
 
@@ -154,8 +154,8 @@ def _heat_loop(t, y, c, humid_heat, air_enthalpy, vapour_enthalpy):
 def _wsgg_at(tt, h, co, length, c):
     """Smith, Shen & Friedman (1982) WSGG emissivity at tt K of a gas with H2O and CO2 partial pressures
     h, co (atm) over the path ``length`` (m), interpolated in the CO2 fraction between the anchor sets
-    (:func:`rotarydryer.thermal.radiation._emissivity`); c: per anchor set its CO2 fraction, then
-    kappa_1..3 and b_ij (i = 1..3, j = 1..4) (:func:`pack_wsgg`)."""
+    (`rotarydryer.thermal.radiation._emissivity`); c: per anchor set its CO2 fraction, then
+    kappa_1..3 and b_ij (i = 1..3, j = 1..4) (`pack_wsgg`)."""
     pa = h + co
     fc = co / pa if pa > 0 else 0.0
     k = 0
@@ -181,13 +181,13 @@ def _wsgg_at(tt, h, co, length, c):
 
 
 def _wsgg_loop(t, ph, pc, length, c, out):
-    """:func:`_wsgg_at` over flat arrays."""
+    """`_wsgg_at` over flat arrays."""
     for i in range(t.size):
         out[i] = _wsgg_at(t[i], ph[i], pc[i], length[i], c)
 
 
 def pack_wsgg(anchors):
-    """WSGG coefficients for :func:`_wsgg_loop`: per anchor set (in the order of their CO2 fractions)
+    """WSGG coefficients for `_wsgg_loop`: per anchor set (in the order of their CO2 fractions)
     ``(co2_fraction, (kappa_1..3), ((b_1j), (b_2j), (b_3j)))``."""
     rows = []
     for fc, kappa, b in anchors:
@@ -200,8 +200,8 @@ def pack_wsgg(anchors):
 @_helper
 def _psat_at(x, c):
     """Wagner & Pruss (1993) Eq. 2.5 saturation pressure over liquid water (x >= 273.16 K), IAPWS R14-08
-    (2011) Eq. 6 sublimation pressure below, Pa, at x K (:func:`rotarydryer.properties.water._saturation_pressure`);
-    c: Tc, pc, Tt, pt, a_1..6, their exponents, then the ice a_1..3 and b_1..3 (:func:`pack_psat`)."""
+    (2011) Eq. 6 sublimation pressure below, Pa, at x K (`rotarydryer.properties.water._saturation_pressure`);
+    c: Tc, pc, Tt, pt, a_1..6, their exponents, then the ice a_1..3 and b_1..3 (`pack_psat`)."""
     tc, pc, tt, pt = c[0], c[1], c[2], c[3]
     if x >= tt:
         tau = 1.0 - x / tc
@@ -217,13 +217,13 @@ def _psat_at(x, c):
 
 
 def _psat_loop(t, c, out):
-    """:func:`_psat_at` over flat arrays."""
+    """`_psat_at` over flat arrays."""
     for i in range(t.size):
         out[i] = _psat_at(t[i], c)
 
 
 def pack_psat(tc, pc, tt, pt, a, exponents, ice_a, ice_b):
-    """Coefficients of :func:`_psat_loop`."""
+    """Coefficients of `_psat_loop`."""
     c = np.concatenate([[tc, pc, tt, pt], a, exponents, ice_a, ice_b]).astype(float)
     assert c.size == 22
     return c
@@ -232,7 +232,7 @@ def pack_psat(tc, pc, tt, pt, a, exponents, ice_a, ice_b):
 @_helper
 def _diffusivity_at(x, p_atm, switch_k, blend_k):
     """Marrero & Mason (1972) water-vapour diffusivity in air, m2/s, at x K and p atm, the two power laws
-    blended over switch_k +- blend_k (:func:`rotarydryer.properties.humid_air._water_vapour_diffusivity`)."""
+    blended over switch_k +- blend_k (`rotarydryer.properties.humid_air._water_vapour_diffusivity`)."""
     low = 1.87e-10 * x ** 2.072
     high = 2.75e-9 * x ** 1.632
     s = min(max((x - (switch_k - blend_k)) / (2.0 * blend_k), 0.0), 1.0)
@@ -246,7 +246,7 @@ def _diffusivity_at(x, p_atm, switch_k, blend_k):
 
 
 def _diffusivity_loop(t, p_atm, switch_k, blend_k, out):
-    """:func:`_diffusivity_at` over flat arrays."""
+    """`_diffusivity_at` over flat arrays."""
     for i in range(t.size):
         out[i] = _diffusivity_at(t[i], p_atm[i], switch_k, blend_k)
 
@@ -263,7 +263,7 @@ def pack_shell(ambient_c, co2_partial_atm, inner_radius, outer_radius, outside_r
                scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity, inner_emissivity,
                outer_emissivity, wind_speed, ambient_humidity, pressure, steel_k0, steel_k1, sigma, gravity,
                beam_length, xtol):
-    """Parameters of :func:`_shell_loop` (one drum and its surroundings), in the order of the ``_SH_`` offsets."""
+    """Parameters of `_shell_loop` (one drum and its surroundings), in the order of the ``_SH_`` offsets."""
     return np.array([ambient_c, co2_partial_atm, inner_radius, outer_radius, outside_radius, exposed_radius,
                      scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity,
                      inner_emissivity, outer_emissivity, wind_speed, ambient_humidity, pressure, steel_k0, steel_k1,
@@ -300,7 +300,7 @@ def _shell_outside(to, q, c):
 def _shell_inner(to, tg, q, c, cond):
     """(inner surface temperature, outside loss W per metre) at outer temperature ``to``: conduction
     ln(r2/r1)/(2 pi k) per layer, the steel's k = k0 - k1 T at the mean steel temperature (3 passes);
-    ``cond``: (ln(r_o/r_i) of the steel, the scale's and the insulation's resistance), :func:`_shell_layers`."""
+    ``cond``: (ln(r_o/r_i) of the steel, the scale's and the insulation's resistance), `_shell_layers`."""
     qp = _shell_outside(to, q, c) * 2 * math.pi * q[_SH_ROUT]
     twi = to
     for _ in range(3):
@@ -316,7 +316,7 @@ def _shell_inner(to, tg, q, c, cond):
 
 @_helper
 def _shell_layers(q):
-    """What :func:`_shell_inner` needs of the drum's layers, computed once per solve."""
+    """What `_shell_inner` needs of the drum's layers, computed once per solve."""
     r_sc = math.log(q[_SH_RI] / q[_SH_REXP]) / (2 * math.pi * q[_SH_KSC]) if q[_SH_DSC] > 0 else 0.0
     r_ins = math.log(q[_SH_ROUT] / q[_SH_RO]) / (2 * math.pi * q[_SH_KINS]) if q[_SH_DINS] > 0 else 0.0
     return math.log(q[_SH_RO] / q[_SH_RI]), r_sc, r_ins
@@ -352,10 +352,10 @@ def _shell_residual(to, tg, y, st, mu, k_g, eg, ph, q, c, w, cond):
 
 def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_out):
     """Shell heat loss (W per segment) and outer surface temperature (°C) per element, the outer
-    temperature the root of inside = outside flux per metre (:func:`rotarydryer.thermal.shell.shell_heat_loss`):
+    temperature the root of inside = outside flux per metre (`rotarydryer.thermal.shell.shell_heat_loss`):
     Newton's method from ``guess`` (NaN: none) until a step is below the tolerance (12 steps at most; each
     element on its own, so one more evaluation costs little), else the Illinois iteration of
-    :func:`rotarydryer.thermal._roots.illinois` on [ambient, gas]. The first slope is ``slope_guess`` (the
+    `rotarydryer.thermal._roots.illinois` on [ambient, gas]. The first slope is ``slope_guess`` (the
     last slope of a previous solve, ``slope_out``; NaN: a forward difference), then the secant through the
     last two iterates. False if an element is not finite or its gas is below ambient (the caller then
     takes the checked NumPy path)."""
@@ -457,8 +457,8 @@ KINETICS_CODES = {"ajayi2011": 0.0, "constant_falling": 1.0, "characteristic_cur
 
 def pack_transfer(radius, pressure, co2_partial_atm, beam_length, solids_emissivity, dry_guard, sigma, method,
                   equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k, diffusivity_blend_k):
-    """Parameters of :func:`_transfer_loop`, in the order of the ``_TR_`` offsets (``method``: a key of
-    :data:`KINETICS_CODES`)."""
+    """Parameters of `_transfer_loop`, in the order of the ``_TR_`` offsets (``method``: a key of
+    `KINETICS_CODES`)."""
     return np.array([radius, pressure, co2_partial_atm, beam_length, solids_emissivity, dry_guard, sigma,
                      KINETICS_CODES[method], equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k,
                      diffusivity_blend_k], dtype=float)
@@ -550,7 +550,7 @@ def shaped(shape, *flat_arrays):
 
 
 def evaluate(name, inputs, params, n_out):
-    """Kernel ``name`` elementwise over ``inputs`` (broadcast to one shape, :func:`flat`) with the
+    """Kernel ``name`` elementwise over ``inputs`` (broadcast to one shape, `flat`) with the
     scalars or coefficient arrays ``params``: its ``n_out`` results in that shape, or None (kernels
     off, numba failed, or the kernel declined its inputs: the caller takes its NumPy path). The
     kernels' arguments are the flat inputs, then ``params``, then the output arrays."""

@@ -1,23 +1,24 @@
 r"""Ideal-gas properties of combustion gases and their mixtures (N2, O2, Ar, CO2, H2O, SO2), 0-600 °C.
 
 Used for the hot gas leaving Ajayi's combustion chamber (Ajayi 2011 Appendix A) and,
-through :mod:`rotarydryer.properties.humid_air`, for dry air and water vapour.
+through [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air], for dry air and water vapour.
 
 Sources
 -------
 Heat capacity and enthalpy
-    NASA 7-coefficient polynomials, range 200-1000 K: McBride, Zehe & Gordon (2002),
+:   NASA 7-coefficient polynomials, range 200-1000 K: McBride, Zehe & Gordon (2002),
     NASA/TP-2002-211556 (N2, O2, Ar, CO2, H2O; the CO2, H2O and O2 sets are the ones
     distributed with GRI-Mech 3.0). SO2: Shomate equation of the NIST Chemistry WebBook
     (Chase 1998, NIST-JANAF 4th ed.), 298-1200 K. Checked in the tests against the
     ideal-gas heat capacities of CoolProp's reference equations of state (< 0.4 %).
 
-    .. math::
-        c_p/R = a_1 + a_2 T + a_3 T^2 + a_4 T^3 + a_5 T^4,\qquad
-        h/(RT) = a_1 + a_2 T/2 + a_3 T^2/3 + a_4 T^3/4 + a_5 T^4/5 + a_6/T
+    $$
+    c_p/R = a_1 + a_2 T + a_3 T^2 + a_4 T^3 + a_5 T^4,\qquad
+    h/(RT) = a_1 + a_2 T/2 + a_3 T^2/3 + a_4 T^3/4 + a_5 T^4/5 + a_6/T
+    $$
 
 Viscosity and thermal conductivity of a mixture
-    Pure species in the dilute-gas limit: N2, O2, Ar (and air) by Lemmon & Jacobsen
+:   Pure species in the dilute-gas limit: N2, O2, Ar (and air) by Lemmon & Jacobsen
     (2004, Int. J. Thermophys. 25, 21) Eqs. 2-5; water vapour by IAPWS (2008) Eq. 11
     and IAPWS (2011) Eq. 16; CO2 and SO2 by Chapman-Enskog with the Neufeld et al.
     (1972) collision integral and Lennard-Jones parameters of Poling, Prausnitz &
@@ -32,7 +33,7 @@ Viscosity and thermal conductivity of a mixture
 Temperatures are in K inside the module functions that say so and in °C at the public
 API where documented (argument names end in ``_c`` or the docstring says °C).
 Compositions are mole fractions in a dict ``{"N2": ..., "O2": ..., ...}`` or an array
-whose last axis follows :data:`SPECIES`.
+whose last axis follows `SPECIES`.
 """
 
 from __future__ import annotations
@@ -153,7 +154,7 @@ def species_heat_capacity(species: str, temperature_c):
 
 
 def _species_heat_capacity(species, t_c):
-    """Unchecked kernel of :func:`species_heat_capacity` (``t_c`` °C, already validated)."""
+    """Unchecked kernel of [`species_heat_capacity`][rotarydryer.properties.combustion.species_heat_capacity] (``t_c`` °C, already validated)."""
     return _cp_molar_k(species, np.asarray(t_c, dtype=float) + 273.15) / MOLAR_MASS[species]
 
 
@@ -171,7 +172,7 @@ def species_enthalpy(species: str, temperature_c, reference_c: float = 0.0):
 
 
 def _species_enthalpy(species, t_c, reference_c=0.0):
-    """Unchecked kernel of :func:`species_enthalpy` (``t_c``, ``reference_c`` °C, already validated)."""
+    """Unchecked kernel of [`species_enthalpy`][rotarydryer.properties.combustion.species_enthalpy] (``t_c``, ``reference_c`` °C, already validated)."""
     t = np.asarray(t_c, dtype=float) + 273.15
     return (_h_molar_k(species, t) - _h_reference(species, reference_c)) / MOLAR_MASS[species]
 
@@ -189,7 +190,7 @@ def _h_reference(species, reference_c):
 
 
 def composition_array(composition) -> np.ndarray:
-    """Mole fractions as an array whose last axis follows :data:`SPECIES`; must sum to 1 (1e-6)."""
+    """Mole fractions as an array whose last axis follows `SPECIES`; must sum to 1 (1e-6)."""
     if isinstance(composition, dict):
         unknown = set(composition) - set(SPECIES)
         if unknown:
@@ -218,21 +219,21 @@ def mixture_molar_mass(composition):
 
 
 def mass_fractions(composition):
-    """Mass fractions (array, last axis :data:`SPECIES`) from mole fractions."""
+    """Mass fractions (array, last axis `SPECIES`) from mole fractions."""
     x = composition_array(composition)
     m = x * _molar_masses()
     return m / m.sum(axis=-1, keepdims=True)
 
 
 def mole_fractions_from_mass(mass_fraction):
-    """Mole fractions (array, last axis :data:`SPECIES`) from mass fractions."""
+    """Mole fractions (array, last axis `SPECIES`) from mass fractions."""
     w = composition_array(mass_fraction)
     n = w / _molar_masses()
     return n / n.sum(axis=-1, keepdims=True)
 
 
 def heat_capacity(temperature_c, composition):
-    r"""Mixture specific heat capacity :math:`c_p=\sum_i w_i c_{p,i}`, J/(kg K), ideal gas.
+    r"""Mixture specific heat capacity $c_p=\sum_i w_i c_{p,i}$, J/(kg K), ideal gas.
 
     ``temperature_c`` in °C (-73 to 727 °C) broadcasts against the leading axes of
     ``composition``.
@@ -256,7 +257,7 @@ def enthalpy(temperature_c, composition, reference_c: float = 0.0):
 
 
 def density(temperature_c, composition, pressure=STANDARD_PRESSURE):
-    r"""Ideal-gas density :math:`\rho = P M/(R T)`, kg/m³; T in °C, P in Pa."""
+    r"""Ideal-gas density $\rho = P M/(R T)$, kg/m³; T in °C, P in Pa."""
     t = _t_kelvin("temperature_c", temperature_c)
     p = check_positive("pressure", pressure, unit="Pa")
     return p * mixture_molar_mass(composition) / (GAS_CONSTANT * t)
@@ -307,7 +308,7 @@ def lemmon_jacobsen_viscosity(fluid: str, t):
 
 def lemmon_jacobsen_conductivity(fluid: str, t, viscosity=None):
     """Dilute-gas thermal conductivity, W/(m K), of air, N2, O2 or Ar; Lemmon & Jacobsen (2004) Eq. 5; T in K.
-    ``viscosity``: :func:`lemmon_jacobsen_viscosity` at ``t`` if already evaluated."""
+    ``viscosity``: [`lemmon_jacobsen_viscosity`][rotarydryer.properties.combustion.lemmon_jacobsen_viscosity] at ``t`` if already evaluated."""
     _, _, _, tc, n1, n2, t2, n3, t3 = _LEMMON_JACOBSEN[fluid]
     tau = tc / t
     mu = lemmon_jacobsen_viscosity(fluid, t) if viscosity is None else viscosity
@@ -370,7 +371,7 @@ def mixture_transport(t_kelvin, x, conductivity=False):
     standard air composition: mixing N2, O2, Ar individually under-predicts the
     conductivity of air by 1.5 %, this keeps air (and excess-air flue gas) at reference
     accuracy; a pure N2, O2 or Ar stream then carries that 1.5 % (use
-    :func:`species_conductivity` for pure species).
+    [`species_conductivity`][rotarydryer.properties.combustion.species_conductivity] for pure species).
     """
     idx = {s: i for i, s in enumerate(SPECIES)}
     t = np.asarray(t_kelvin, float)

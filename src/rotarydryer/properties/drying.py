@@ -1,31 +1,35 @@
 r"""Drying-rate kinetics of a material, selectable per material (the unhindered evaporation flux
 and the falling-rate period); the gas-solids coefficients and Song's (2003) pilot Ua estimates
-are in :mod:`rotarydryer.thermal.drying`.
+are in [`rotarydryer.thermal.drying`][rotarydryer.thermal.drying].
 
 Unhindered (surface-saturated) evaporation flux - Ajayi (2011) Eqs. 6.32-6.49
 ---------------------------------------------------------------------------
-.. math::
-    R_w = h_m A_s (P_w(T_s) - P_v),\qquad
-    h_m = \frac{h_c}{c_{p,g}}\Big(\frac{Pr}{Sc}\Big)^{2/3}\frac{1}{P_{ref}}
+
+$$
+R_w = h_m A_s (P_w(T_s) - P_v),\qquad
+h_m = \frac{h_c}{c_{p,g}}\Big(\frac{Pr}{Sc}\Big)^{2/3}\frac{1}{P_{ref}}
+$$
 
 (Eq. 6.47 with Eq. 6.48 substituted: St v_g ρ_g = h_c/c_p, so velocity and density
-cancel). What :math:`P_{ref}` is decides the physics (notes ajayi_energy.md §1.8, §5.12
+cancel). What $P_{ref}$ is decides the physics (notes ajayi_energy.md §1.8, §5.12
 item 11):
 
 ``basis="ajayi2011"``
-    :math:`P_{ref} = P_v`, the vapour partial pressure in the gas, as printed in
+:   $P_{ref} = P_v$, the vapour partial pressure in the gas, as printed in
     Eq. 6.46-6.47 and coded (``hm = (rho_g/Pw_air) St v_g (Pr/Sc)^(2/3)``). The rate
     is then ∝ (P_w/P_v - 1) and diverges for dry gas (y_w → 0): kept only to
     reproduce the thesis; raises for P_v = 0.
+
 ``basis="concentration"`` (default, physically consistent)
-    Chilton-Colburn for the vapour concentration: flux = k_c (ρ_v,s - ρ_v,∞) with
-    :math:`k_c = h_c/(\rho c_p)\,(Pr/Sc)^{2/3}` and ρ_v = p M_w/(R T) at the film
-    temperature, i.e. :math:`P_{ref} = P\,M_g/M_w` (Bird, Stewart & Lightfoot 2002
+:   Chilton-Colburn for the vapour concentration: flux = k_c (ρ_v,s - ρ_v,∞) with
+    $k_c = h_c/(\rho c_p)\,(Pr/Sc)^{2/3}$ and ρ_v = p M_w/(R T) at the film
+    temperature, i.e. $P_{ref} = P\,M_g/M_w$ (Bird, Stewart & Lightfoot 2002
     §22.3; Incropera et al. 2007 Eq. 6.92). With ``high_flux=True`` (default) the
     stagnant-film (Stefan) correction multiplies the flux by
-    :math:`\ln[(P-p_{v})/(P-p_{w})]\,P/(p_w - p_v)` (Bird et al. 2002 Eq. 22.8-22).
+    $\ln[(P-p_{v})/(P-p_{w})]\,P/(p_w - p_v)$ (Bird et al. 2002 Eq. 22.8-22).
+
 ``basis="total_pressure"``
-    :math:`P_{ref} = P`: Eq. 6.47 read with the total pressure (a common textbook
+:   $P_{ref} = P$: Eq. 6.47 read with the total pressure (a common textbook
     slip; differs from the consistent form by M_w/M_g = 0.62).
 
 Moisture dependence (selectable per material)
@@ -36,11 +40,11 @@ moisture, no sorption isotherm; Sec. 6.1.1.4).
 rate to the equilibrium moisture X_e (Mujumdar 2006, Handbook of Industrial Drying ch. 1;
 Song 2003 §3.4 describes the periods qualitatively).
 ``"characteristic_curve"``: van Meel (1958) / Keey (1992) characteristic drying curve
-:math:`f(\Phi) = \Phi^n`, :math:`\Phi = (X - X_e)/(X_{cr} - X_e)` clipped to [0, 1], or
+$f(\Phi) = \Phi^n$, $\Phi = (X - X_e)/(X_{cr} - X_e)$ clipped to [0, 1], or
 a tabulated curve ``curve=(Phi_points, f_points)`` interpolated linearly.
 
 Moisture in these kinetics is on a **dry basis** X (kg water/kg dry solid); Ajayi's
-x_w is wet basis - convert with :func:`dry_basis` / :func:`wet_basis`.
+x_w is wet basis - convert with [`dry_basis`][rotarydryer.properties.drying.dry_basis] / [`wet_basis`][rotarydryer.properties.drying.wet_basis].
 
 Condensation (P_w < P_v) gives a negative rate; ``condensation="allow"`` (default)
 returns it, ``"zero"`` clips, ``"raise"`` raises ``ValueError`` ("gas too cold to dry").
@@ -99,7 +103,7 @@ def mass_transfer_coefficient(heat_transfer_coefficient, gas_temperature_c, gas_
     ----------
     heat_transfer_coefficient : array_like
         Gas-solids h_c, W/(m² K) (e.g. Ajayi's Nu = 0.33 Re^0.6 via
-        :func:`rotarydryer.correlations.heat_transfer.heat_transfer_coefficient`).
+        [`rotarydryer.correlations.heat_transfer.heat_transfer_coefficient`][rotarydryer.correlations.heat_transfer.heat_transfer_coefficient]).
     gas_temperature_c, gas_humidity : array_like
         °C and kg/kg dry gas.
     solids_temperature_c : array_like, optional
@@ -121,7 +125,7 @@ def mass_transfer_coefficient(heat_transfer_coefficient, gas_temperature_c, gas_
 
 def _mass_transfer_inputs(heat_transfer_coefficient, gas_temperature_c, gas_humidity, solids_temperature_c,
                           pressure, basis, gas_heat_capacity=None, prandtl=None, schmidt=None):
-    """Checks of :func:`mass_transfer_coefficient`; returns (hc, tg, y, ts, p, cp, pr, sc) as arrays
+    """Checks of [`mass_transfer_coefficient`][rotarydryer.properties.drying.mass_transfer_coefficient]; returns (hc, tg, y, ts, p, cp, pr, sc) as arrays
     (ts, cp, pr, sc None when not given)."""
     check_choice("basis", basis, BASES)
     hc = check_range("heat_transfer_coefficient", heat_transfer_coefficient, 0.0, np.inf, low_inclusive=True,
@@ -139,7 +143,7 @@ def _mass_transfer_inputs(heat_transfer_coefficient, gas_temperature_c, gas_humi
 
 
 def _mass_transfer_coefficient(hc, tg, y, ts, p, cp, pr, sc, basis):
-    """Unchecked kernel of :func:`mass_transfer_coefficient` (arguments as returned by its checks)."""
+    """Unchecked kernel of [`mass_transfer_coefficient`][rotarydryer.properties.drying.mass_transfer_coefficient] (arguments as returned by its checks)."""
     film = 0.5 * (tg + (tg if ts is None else ts))
     # the film properties evaluated once (ha._prandtl_number and ha._schmidt_number would each
     # evaluate the mixture viscosity again): the same expressions, the same numbers
@@ -188,7 +192,7 @@ def unhindered_drying_flux(heat_transfer_coefficient, solids_temperature_c, gas_
 def _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_temperature_c, gas_humidity, pressure,
                         basis, saturation_method, condensation, gas_heat_capacity=None, prandtl=None,
                         schmidt=None) -> tuple[Any, ...]:
-    """Checks of :func:`unhindered_drying_flux`; returns (hc, ts, tg, y, p, cp, pr, sc) for the kernel."""
+    """Checks of [`unhindered_drying_flux`][rotarydryer.properties.drying.unhindered_drying_flux]; returns (hc, ts, tg, y, p, cp, pr, sc) for the kernel."""
     check_choice("condensation", condensation, ("allow", "zero", "raise"))
     ts = check_range("solids_temperature_c", solids_temperature_c, 0.0, 150.0, low_inclusive=True,
                      high_inclusive=True, unit="degC")
@@ -199,7 +203,7 @@ def _drying_flux_inputs(heat_transfer_coefficient, solids_temperature_c, gas_tem
 
 
 def _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, basis, saturation_method, high_flux, condensation):
-    """Unchecked kernel of :func:`unhindered_drying_flux` (arguments as returned by its checks)."""
+    """Unchecked kernel of [`unhindered_drying_flux`][rotarydryer.properties.drying.unhindered_drying_flux] (arguments as returned by its checks)."""
     hm = _mass_transfer_coefficient(hc, tg, y, ts, p, cp, pr, sc, basis)
     pw = water._saturation_pressure(ts, saturation_method)
     pv = ha._vapour_partial_pressure(y, p)
@@ -255,13 +259,13 @@ class DryingKinetics:
     ``exponent`` / ``curve`` for the characteristic curve; ``basis`` and
     ``saturation_method`` of the unhindered flux.
 
-    Below the equilibrium moisture (Φ < 0) the rate of :meth:`rate` continues linearly in
+    Below the equilibrium moisture (Φ < 0) the rate of [`rate`][rotarydryer.properties.drying.DryingKinetics.rate] continues linearly in
     Φ = (X - X_e)/(X_cr - X_e): the solids take up water from an unsaturated gas at a rate that
     grows with their distance from equilibrium (sorption towards X_e). The rate is therefore
     continuous with a slope through X_e; a rate that stopped dead at X_e left the steady-state
     Newton iteration of a dryer whose product reaches equilibrium (long residence times) without a
     slope there, and it cycled. Steady states with X >= X_e (drying) are the same as with a rate
-    clipped at zero. :meth:`factor` and :func:`falling_rate_factor` stay the characteristic curve
+    clipped at zero. [`factor`][rotarydryer.properties.drying.DryingKinetics.factor] and [`falling_rate_factor`][rotarydryer.properties.drying.falling_rate_factor] stay the characteristic curve
     itself, in [0, 1].
     """
 
@@ -300,14 +304,14 @@ class DryingKinetics:
         return self._rate(a, moisture, *args, condensation=condensation)
 
     def _rate(self, area, moisture, hc, ts, tg, y, p, cp=None, pr=None, sc=None, condensation="allow"):
-        """Unchecked kernel of :meth:`rate` (area, hc, ts, tg, y, p validated arrays; ts 0-150 °C)."""
+        """Unchecked kernel of [`rate`][rotarydryer.properties.drying.DryingKinetics.rate] (area, hc, ts, tg, y, p validated arrays; ts 0-150 °C)."""
         flux = _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, self.basis, self.saturation_method, True,
                                        condensation)
         f = self._factor(moisture)
         return area * np.where(flux > 0, f * flux, flux)
 
     def _factor(self, moisture):
-        """Unchecked :meth:`factor`, continued linearly below the equilibrium moisture (class docstring)."""
+        """Unchecked [`factor`][rotarydryer.properties.drying.DryingKinetics.factor], continued linearly below the equilibrium moisture (class docstring)."""
         if self.method == "ajayi2011":
             return 1.0
         xe, xcr = self.equilibrium_moisture, self.critical_moisture

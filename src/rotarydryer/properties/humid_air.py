@@ -1,29 +1,29 @@
 r"""Humid-air properties for the drying gas, 0-600 °C, humidity 0-0.3 kg/kg dry air, vectorised.
 
 State variables: temperature ``temperature_c`` (°C), humidity ratio ``humidity``
-:math:`Y` (kg water vapour per kg **dry** air) and total pressure ``pressure`` (Pa,
+$Y$ (kg water vapour per kg **dry** air) and total pressure ``pressure`` (Pa,
 default 101325). Ajayi (2011) writes gas humidity as a mass fraction (kg water/kg
-wet gas, his ``H``/``y_w``): convert with :func:`humidity_from_mass_fraction`.
+wet gas, his ``H``/``y_w``): convert with [`humidity_from_mass_fraction`][rotarydryer.properties.humid_air.humidity_from_mass_fraction].
 
 Model: ideal mixture of dry air and water vapour (no enhancement factor).
 
 * Heat capacity, enthalpy: NASA polynomials (McBride et al. 2002) for N2, O2, Ar and
   H2O; dry air = 78.12 % N2, 20.96 % O2, 0.92 % Ar (mole). Enthalpy per kg dry air
   relative to dry air at 0 °C and liquid water at 0.01 °C (the ASHRAE/CoolProp
-  convention): :math:`h = h_a(T) + Y\,[\Delta h_v(0.01\,°C) + h_v(T) - h_v(0.01\,°C)]`
+  convention): $h = h_a(T) + Y\,[\Delta h_v(0.01\,°C) + h_v(T) - h_v(0.01\,°C)]$
   (ASHRAE Handbook Fundamentals 2017 ch. 1 Eq. 30 with exact property functions).
-* Density: ideal gas, :math:`\rho = P M_a (1+Y)/(R T (1 + Y M_a/M_w))`, per m³ of humid air.
+* Density: ideal gas, $\rho = P M_a (1+Y)/(R T (1 + Y M_a/M_w))$, per m³ of humid air.
 * Viscosity and conductivity: dry air by Lemmon & Jacobsen (2004) (dilute gas), water
   vapour by IAPWS (2008, 2011) (dilute gas); Wilke (1950) / Wassiljewa-Mason-Saxena
   mixing (Poling et al. 2001 Eqs. 9-5.13, 10-6.1).
 * Water-vapour diffusivity in air: Marrero & Mason (1972) fit as given by Mills (2001,
-  Heat Transfer, Table 3.1 note): :math:`D = 1.87\times10^{-10}T^{2.072}/P` (280-450 K),
-  :math:`2.75\times10^{-9}T^{1.632}/P` (450-1070 K), P in atm, D in m²/s. Below
+  Heat Transfer, Table 3.1 note): $D = 1.87\times10^{-10}T^{2.072}/P$ (280-450 K),
+  $2.75\times10^{-9}T^{1.632}/P$ (450-1070 K), P in atm, D in m²/s. Below
   280 K (down to 0 °C) the first branch is extrapolated (≈1 % uncertainty). The two
   branches are blended smoothly over 449.5-450.5 K (they differ there by 2e-4 in value and a
   quarter in slope; the kink made Newton's method cycle), each used unchanged outside.
 * Saturation, relative humidity, dew point, wet bulb: Wagner-Pruss saturation
-  pressure (:mod:`.water`); the wet-bulb temperature is the adiabatic-saturation
+  pressure ([`.water`][rotarydryer.properties.humid_air.water]); the wet-bulb temperature is the adiabatic-saturation
   (thermodynamic) wet bulb, ASHRAE (2017) ch. 1 Eq. 33, solved by bisection.
 
 Validation (tests/properties/test_humid_air.py): against CoolProp ``HAPropsSI`` (valid to
@@ -37,8 +37,8 @@ CoolProp pure-fluid values (0.5 %, 20-600 °C) and against HAPropsSI at 100 °C 
 Relative humidity and wet bulb against psychrolib (10-90 °C: 0.5 %, 0.1 K); wet bulb
 against CoolProp within 0.15 K (0-350 °C).
 
-Compatibility option ``method="ajayi2011"`` on :func:`density`, :func:`viscosity`
-and :func:`thermal_conductivity`: the dry-air polynomials of Ajayi (2011) Appendix F
+Compatibility option ``method="ajayi2011"`` on [`density`][rotarydryer.properties.humid_air.density], [`viscosity`][rotarydryer.properties.humid_air.viscosity]
+and [`thermal_conductivity`][rotarydryer.properties.humid_air.thermal_conductivity]: the dry-air polynomials of Ajayi (2011) Appendix F
 (L3825-L3829; fits to Incropera & DeWitt tables, T in °C), independent of humidity.
 """
 
@@ -168,7 +168,7 @@ def humidity_from_vapour_pressure(vapour_pressure, pressure=STANDARD_PRESSURE):
 
 
 def gas_composition(humidity):
-    """Mole fractions of humid air as a dict for :mod:`rotarydryer.properties.combustion`."""
+    """Mole fractions of humid air as a dict for [`rotarydryer.properties.combustion`][rotarydryer.properties.combustion]."""
     xw = water_mole_fraction(humidity)
     comp = {s: DRY_AIR_COMPOSITION[s] * (1.0 - xw) for s in ("N2", "O2", "Ar", "CO2", "SO2")}
     comp["H2O"] = xw
@@ -194,13 +194,13 @@ def _dry_air_enthalpy(t):
 
 def _heat_terms(t, y=0.0):
     """``(_humid_heat(t, y), _dry_air_enthalpy(t), _vapour_enthalpy(t))`` in one compiled pass
-    (:mod:`._kernels`), or None when the kernels are off."""
+    (`._kernels`), or None when the kernels are off."""
     return _kernels.evaluate("heat", (t, y), (_KERNEL_COEFFICIENTS,), 3)
 
 
 def _enthalpy_parts(t):
     """``(_dry_air_enthalpy(t), _vapour_enthalpy(t))`` of humid air at t °C (unchecked): the parts
-    of :func:`enthalpy` = air + Y vapour."""
+    of [`enthalpy`][rotarydryer.properties.humid_air.enthalpy] = air + Y vapour."""
     fast = _heat_terms(t)
     if fast is not None:
         return fast[1:]
@@ -208,7 +208,7 @@ def _enthalpy_parts(t):
 
 
 def humid_heat(temperature_c, humidity):
-    """Humid heat c_s = c_pa + Y c_pv, J/(K kg dry air) (= ∂h/∂T of :func:`enthalpy` at constant Y)."""
+    """Humid heat c_s = c_pa + Y c_pv, J/(K kg dry air) (= ∂h/∂T of [`enthalpy`][rotarydryer.properties.humid_air.enthalpy] at constant Y)."""
     y = _humidity(humidity)
     return _humid_heat(_temperature(temperature_c), y)
 
@@ -239,7 +239,7 @@ _LATENT_REF = float(water.latent_heat(0.01))
 
 
 def _vapour_enthalpy(t):
-    """Water vapour at t °C relative to liquid water at 0.01 °C, J/kg (= ∂h/∂Y of :func:`enthalpy`)."""
+    """Water vapour at t °C relative to liquid water at 0.01 °C, J/kg (= ∂h/∂Y of [`enthalpy`][rotarydryer.properties.humid_air.enthalpy])."""
     return _LATENT_REF + _species_enthalpy("H2O", t, 0.01)
 
 
@@ -253,7 +253,7 @@ def enthalpy(temperature_c, humidity):
 
 
 def _enthalpy(t, y):
-    """Unchecked kernel of :func:`enthalpy` (t °C in 0-600, y in 0-0.3)."""
+    """Unchecked kernel of [`enthalpy`][rotarydryer.properties.humid_air.enthalpy] (t °C in 0-600, y in 0-0.3)."""
     air, vapour = _enthalpy_parts(t)
     return air + y * vapour
 
@@ -324,13 +324,13 @@ def _viscosity(t, y, ajayi2011=False):
 
 def _transport(t, y):
     """Viscosity (Wilke) and thermal conductivity (Mason-Saxena) of humid air, unchecked: (mu, k);
-    one compiled pass when the kernels are on (:mod:`._kernels`), else :func:`_transport_numpy`."""
+    one compiled pass when the kernels are on (`._kernels`), else `_transport_numpy`."""
     fast = _kernels.evaluate("transport", (t, y), (_KERNEL_COEFFICIENTS,), 2)
     return _transport_numpy(t, y) if fast is None else fast
 
 
 def _transport_numpy(t, y):
-    """:func:`_transport` in NumPy (the reference of the compiled kernel)."""
+    """`_transport` in NumPy (the reference of the compiled kernel)."""
     mu_a, mu_v, k_a, k_v = _air_and_vapour(t)
     xa = 1.0 - _water_mole_fraction(y)
     return (_wilke_binary(xa, mu_a, mu_v, mu_a, mu_v, MOLAR_MASS_DRY_AIR, MOLAR_MASS["H2O"]),
@@ -408,7 +408,7 @@ def _water_vapour_diffusivity(t_c, p):
 
 
 def _water_vapour_diffusivity_numpy(t_c, p):
-    """:func:`_water_vapour_diffusivity` in NumPy (the reference of the compiled kernel)."""
+    """`_water_vapour_diffusivity` in NumPy (the reference of the compiled kernel)."""
     t = t_c + 273.15
     p_atm = p / STANDARD_PRESSURE
     low = 1.87e-10 * t**2.072
@@ -483,7 +483,7 @@ def dew_point(humidity, pressure=STANDARD_PRESSURE):
 def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     r"""Thermodynamic (adiabatic-saturation) wet-bulb temperature, °C.
 
-    Solves :math:`h(T,Y) + (Y_s(T_{wb}) - Y)\,h_w(T_{wb}) = h(T_{wb}, Y_s(T_{wb}))`
+    Solves $h(T,Y) + (Y_s(T_{wb}) - Y)\,h_w(T_{wb}) = h(T_{wb}, Y_s(T_{wb}))$
     (ASHRAE 2017 ch. 1 Eq. 33) by vectorised bisection to 1e-9 K; h_w is the liquid
     enthalpy from the DIPPR heat capacity, below 0 °C that of ice (ASHRAE 2017 ch. 1 Eq. 34:
     the ice-bulb temperature, over the frost-point vapour pressure). A wet bulb below

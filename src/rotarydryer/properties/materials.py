@@ -1,26 +1,28 @@
 """Materials library: citable solids data (``rotarydryer/data/materials/*.toml``) and a small API.
 
-A :class:`Material` carries the moisture laws of its source (repose angle and bulk density,
+A [`Material`][rotarydryer.properties.materials.Material] carries the moisture laws of its source (repose angle and bulk density,
 linear in moisture on the source's own basis), the range where they hold, thermal data and
 the drying kinetics. Moisture given to the methods is always **wet basis** (kg water/kg wet
-solid); :meth:`Material.to_basis` converts it to the basis of the laws. The property methods
-are unchecked vectorised kernels; validate once with :meth:`Material.check_moisture`.
+solid); [`Material.to_basis`][rotarydryer.properties.materials.Material.to_basis] converts it to the basis of the laws. The property methods
+are unchecked vectorised kernels; validate once with [`Material.check_moisture`][rotarydryer.properties.materials.Material.check_moisture].
 
 Library (every number is cited in its TOML file; "choice" marks values the sources do not give)
 ----------------------------------------------------------------------------------------------
 ``zinc_concentrate_ajayi2011``
-    Wet basis; Ajayi (2011) Eq. 3.2 ``phi = 419.6 x - 7.801`` and Eq. 3.4 as coded
+:   Wet basis; Ajayi (2011) Eq. 3.2 ``phi = 419.6 x - 7.801`` and Eq. 3.4 as coded
     ``rho_b = 2043.81 - 3095.24 x``; x = 0.08-0.19 (the thermal model's transport range);
     cp 505 J/(kg K), rho_p 2800 kg/m^3 (App. F code); d_p 0.012 m by default, per section
     A-E 0.02, 0.015, 0.012, 0.008, 0.007 m (l.2255, ``particle_diameter_by_section``);
     kinetics ``"ajayi2011"`` (unhindered rate).
+
 ``raw_sugar_lee2008``
-    Dry basis (Lee's w); Lee (2008) Eq. 7.2 ``phi = 1222.2 w + 34.5``, rho_b 940 kg/m^3
+:   Dry basis (Lee's w); Lee (2008) Eq. 7.2 ``phi = 1222.2 w + 34.5``, rho_b 940 kg/m^3
     (code); w = 0-0.04 (choice, covers Lee's profile 0.002-0.02); d_p 850 um (l.9280);
     cp 1250 J/(kg K) and rho_p 1588 kg/m^3 (sucrose; choices); constant + falling rate
     with X_cr = 0.01, X_e = 0.0005 kg/kg dry (choices).
+
 ``ottawa_sand_song2003``
-    Wet basis; d_p 444 um and bulk density 1650 kg/m^3 (Song (2003) L1283); repose angle
+:   Wet basis; d_p 444 um and bulk density 1650 kg/m^3 (Song (2003) L1283); repose angle
     33 deg constant (choice, dry river sand of Lee (2008) Table 5.2); rho_p 2650 kg/m^3,
     cp 830 J/(kg K), x = 0-0.2, X_cr = 0.005, X_e = 0 (choices).
 
@@ -31,6 +33,7 @@ Library (every number is cited in its TOML file; "choice" marks values the sourc
 
 from __future__ import annotations
 
+import copy
 import math
 import os
 import tomllib
@@ -45,7 +48,7 @@ import numpy as np
 from .._limits import LIMITS, check_key, describe_limit
 from .drying import DryingKinetics
 
-__all__ = ["Material", "load_material", "list_materials"]
+__all__ = ["Material", "load_material", "list_materials", "library_table"]
 
 _LIBRARY = resources.files("rotarydryer.data") / "materials"
 _TABLES = ("repose_angle", "bulk_density", "kinetics", "particle_diameter_by_section", "transport")
@@ -152,6 +155,23 @@ def list_materials() -> list[str]:
 @cache
 def _library_table(name: str) -> dict:
     return tomllib.loads((_LIBRARY / f"{name}.toml").read_text(encoding="utf-8"))
+
+
+def library_table(name: str) -> dict:
+    """The TOML table of library material ``name`` as a dict, a fresh copy to edit freely: a
+    starting point for a material of one's own, which [`load_material`][rotarydryer.properties.materials.load_material] takes as a dict.
+
+    Raises ``ValueError`` for a name that is not in the library (see
+    [`list_materials`][rotarydryer.properties.materials.list_materials]).
+
+    >>> table = library_table("ottawa_sand_song2003")
+    >>> table["name"], load_material(table).name
+    ('ottawa_sand_song2003', 'ottawa_sand_song2003')
+    """
+    names = list_materials()
+    if name not in names:
+        raise ValueError(f"material = {name!r} is not in the materials library ({', '.join(names)})")
+    return copy.deepcopy(_library_table(name))
 
 
 @cache

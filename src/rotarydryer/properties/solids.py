@@ -3,18 +3,19 @@
 Moisture ``x`` is in kg water per kg (as each source defines it: wet basis for
 Ajayi's zinc concentrate, as coded by Lee for raw sugar). Inside the range the
 correlation was fitted on the functions are silent; outside it they warn
-(:class:`PropertyRangeWarning`), and where the result would be non-physical
+([`PropertyRangeWarning`][rotarydryer.properties.solids.PropertyRangeWarning]), and where the result would be non-physical
 (repose angle outside (0, 90) deg, density <= 0) they raise ``ValueError``.
 
 Materials
 ---------
 ``"zinc_concentrate_ajayi2011"``
-    MMG Karumba zinc concentrate. Repose angle Ajayi (2011) Eq. 3.2,
+:   MMG Karumba zinc concentrate. Repose angle Ajayi (2011) Eq. 3.2,
     ``phi = 419.6 x - 7.801`` deg (Table 3.3, x = 0.120-0.166 kg/kg wet, pilot drum,
     ImageJ); consolidated (tapped) bulk density Ajayi (2011) Eq. 3.4,
     ``rho_b = 2043.8 - 3095.2 x`` kg/m^3 (Table 3.4).
+
 ``"raw_sugar_lee2008"``
-    CSR raw sugar. Repose angle Lee (2008) Eq. 7.2 (after Britton et al. 2006),
+:   CSR raw sugar. Repose angle Lee (2008) Eq. 7.2 (after Britton et al. 2006),
     ``phi = 1222.2 w + 34.5`` deg with ``w`` in kg/kg as in Lee's gPROMS code
     (w = 0.02 -> 0.002 along the dryer; the text's "0.2 -> 0.02 wt %" differs by a
     factor of 10 and is taken as a typo, notes lee_models.md section 5.5). Bulk density

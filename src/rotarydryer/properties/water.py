@@ -2,32 +2,33 @@ r"""Water and steam properties needed by the dryer: vapour pressure, latent heat
 
 Temperatures are in °C at the API (argument ``temperature_c``), pressures in Pa, SI otherwise.
 
-Saturation (vapour) pressure, :func:`saturation_pressure`
-    ``"wagner_pruss"`` (default)
-        Wagner & Pruss (1993), J. Phys. Chem. Ref. Data 22, 783, Eq. 2.5 - the
+Saturation (vapour) pressure, [`saturation_pressure`][rotarydryer.properties.water.saturation_pressure]
+:   ``"wagner_pruss"`` (default)
+    :   Wagner & Pruss (1993), J. Phys. Chem. Ref. Data 22, 783, Eq. 2.5 - the
         auxiliary equation of IAPWS-95 (IAPWS SR1-86(1992)), 0.01-373.946 °C;
         below 0.01 °C the sublimation pressure over ice, IAPWS R14-08(2011) Eq. 6
         (Wagner, Riethmann, Feistel & Harvey 2011). Agrees with IAPWS-95 within
         0.01 % (tests against CoolProp).
+
     ``"antoine_ajayi2011"``
-        Ajayi (2011) Eq. 6.33 (after Felder & Rousseau 2005) as coded in his
-        Appendix F (L4000): :math:`P = \exp(23.56143 - 4030.182/(T + 235))`, T in °C,
+    :   Ajayi (2011) Eq. 6.33 (after Felder & Rousseau 2005) as coded in his
+        Appendix F (L4000): $P = \exp(23.56143 - 4030.182/(T + 235))$, T in °C,
         P in Pa (the text prints 23.561). Within 0.4 % of IAPWS over 0-100 °C,
         drifting to 4 % at 200 °C.
 
-Latent heat of vaporisation, :func:`latent_heat`
-    ``"clapeyron_wagner_pruss"`` (default): Clausius-Clapeyron
-    :math:`\Delta h = T\,(dp/dT)\,(1/\rho'' - 1/\rho')` with the Wagner & Pruss
-    (1993) auxiliary equations for :math:`p_s`, :math:`\rho'` (Eq. 2.6) and
-    :math:`\rho''` (Eq. 2.7); within 0.1 % of IAPWS-95 from 0 to 300 °C.
+Latent heat of vaporisation, [`latent_heat`][rotarydryer.properties.water.latent_heat]
+:   ``"clapeyron_wagner_pruss"`` (default): Clausius-Clapeyron
+    $\Delta h = T\,(dp/dT)\,(1/\rho'' - 1/\rho')$ with the Wagner & Pruss
+    (1993) auxiliary equations for $p_s$, $\rho'$ (Eq. 2.6) and
+    $\rho''$ (Eq. 2.7); within 0.1 % of IAPWS-95 from 0 to 300 °C.
     ``"ajayi2011"``: the constant 2257 kJ/kg of Ajayi's code (L3184; value at 100 °C).
     ``"song2003"``: the constant 2500 kJ/kg of Song (2003) L952 (value at 0 °C).
 
 Heat capacities
-    Liquid, :func:`liquid_heat_capacity`: ``"dippr"`` (default) DIPPR equation 100
+:   Liquid, [`liquid_heat_capacity`][rotarydryer.properties.water.liquid_heat_capacity]: ``"dippr"`` (default) DIPPR equation 100
     for water as tabulated in Perry's Chemical Engineers' Handbook (8th ed.,
     Table 2-153), 0-260 °C at saturation; ``"ajayi2011"`` the constant 4182 J/(kg K).
-    Vapour (ideal gas), :func:`vapour_heat_capacity`: ``"nasa"`` (default) NASA
+    Vapour (ideal gas), [`vapour_heat_capacity`][rotarydryer.properties.water.vapour_heat_capacity]: ``"nasa"`` (default) NASA
     polynomial (McBride et al. 2002); ``"ajayi2011"`` Ajayi's cubic in T+273
     (Appendix F L3833) read in kJ/(kg K) and returned in J/(kg K) (the physically
     consistent reading); ``"ajayi2011_as_coded"`` the same number used directly as
@@ -126,7 +127,7 @@ def saturation_pressure(temperature_c, method: str = "wagner_pruss"):
 
 
 def _saturation_pressure(temperature_c, method="wagner_pruss"):
-    """Unchecked kernel of :func:`saturation_pressure` (inputs already validated)."""
+    """Unchecked kernel of [`saturation_pressure`][rotarydryer.properties.water.saturation_pressure] (inputs already validated)."""
     if method == "antoine_ajayi2011":
         a, b, c = _ANTOINE_AJAYI
         return np.exp(a - b / (np.asarray(temperature_c, dtype=float) + c))
@@ -154,7 +155,7 @@ def saturation_pressure_derivative(temperature_c):
 def saturation_temperature(pressure):
     """Saturation (boiling or frost) temperature, °C, at vapour pressure ``pressure`` Pa.
 
-    Inverse of :func:`saturation_pressure` (Wagner-Pruss / IAPWS ice), solved by a
+    Inverse of [`saturation_pressure`][rotarydryer.properties.water.saturation_pressure] (Wagner-Pruss / IAPWS ice), solved by a
     vectorised Newton iteration on ln p (converges to 1e-10 K in < 10 steps).
     Range 0.0015 Pa (-100 °C) to 22.064 MPa.
 
@@ -210,7 +211,7 @@ def liquid_heat_capacity(temperature_c, method: str = "dippr"):
     """Specific heat capacity of liquid water, J/(kg K), 0-260 °C.
 
     ``"dippr"``: Perry's Handbook (8th ed.) Table 2-153, DIPPR Eq. 100,
-    :math:`c_p = (276370 - 2090.1T + 8.125T^2 - 0.014116T^3 + 9.3701\\times10^{-6}T^4)/M`
+    $c_p = (276370 - 2090.1T + 8.125T^2 - 0.014116T^3 + 9.3701\\times10^{-6}T^4)/M$
     J/(kmol K), T in K, M = 18.015 kg/kmol. ``"ajayi2011"``: 4182 J/(kg K) (L3181).
 
     >>> round(float(liquid_heat_capacity(25.0)), 0)

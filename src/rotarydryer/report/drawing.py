@@ -57,7 +57,7 @@ def _arrow(x1, y, x2, cls, colour, width=2.0) -> str:
 
 
 def dryer_svg(inputs: dict, *, width: int = 820) -> str:
-    """SVG text of the dryer of ``inputs`` (see :func:`dryer_layout`): drum with its sections
+    """SVG text of the dryer of ``inputs`` (see `dryer_layout`): drum with its sections
     (flighted shaded with flights, unflighted plain with a bed), slope, feed inlet and product
     outlet, gas arrows in the gas direction, the burner at the gas inlet end, D and L labelled."""
     lay = dryer_layout(inputs)

@@ -1,4 +1,4 @@
-"""Figures drawn from a :class:`rotarydryer.results.Results` (no physics recomputed) and
+"""Figures drawn from a `rotarydryer.results.Results` (no physics recomputed) and
 the geometry of a case.
 
 Matplotlib is imported inside the functions (Agg backend when none is chosen).
@@ -68,7 +68,7 @@ def _axial_sections(results):
 def plot_holdup_profile(results, ax=None):
     """Holdup per metre (kg/m) along the dryer from a Results: airborne, flight-borne (up to
     the design load), kilning bed, unflighted bed.  Returns the figure (drawn by
-    :func:`rotarydryer.transport.plots.holdup_profile_figure`)."""
+    `rotarydryer.transport.plots.holdup_profile_figure`)."""
     from ..transport.plots import holdup_profile_figure
 
     nodes, secs, s = results.nodes, results.sections, results.scalars
@@ -81,7 +81,7 @@ def plot_holdup_profile(results, ax=None):
 def plot_rtd(results, ax=None):
     """Simulated E(t) (1/min) against time (min) with the measured curve, normalised by its
     trapezoidal integral, when the Results hold one.  Returns the figure (or None without RTD;
-    drawn by :func:`rotarydryer.transport.plots.rtd_figure`)."""
+    drawn by `rotarydryer.transport.plots.rtd_figure`)."""
     if results.rtd is None:
         return None
     from ..transport.plots import rtd_figure

@@ -9,19 +9,19 @@ One HTML file, no external resources: pictures are base64 PNG ``<img>`` elements
 style sheet is inline.  Sections (each when its data exist):
 
 * summary in sentences, then the operating conditions with an SVG drawing of the dryer
-  (:mod:`rotarydryer.report.drawing`; gas direction, burner);
-* model against measured with the error wherever data exist (:mod:`rotarydryer.report.manager`),
+  (`rotarydryer.report.drawing`; gas direction, burner);
+* model against measured with the error wherever data exist (`rotarydryer.report.manager`),
   in captions that state each figure's key numbers;
-* dryer drawn to scale (sections, flights, curtains);
+* the heat duties, kW (heat input, evaporation, heating of solids, shell loss, exhaust; `heat_duties`);
 * flight cross-section and unloading profile of each flighted section (Lee (2008) ch. 4);
 * design-load table (Lee (2008) Eq. 4.19-4.21; Ajayi (2011) Eq. 2.2-2.4, 4.19) next to the
   transport model's design load;
 * key results, holdup profile, RTD against data, loading state per cell and per section;
 * the inputs and model choices (JSON), the case's data sources and the full references
-  (:mod:`rotarydryer.report.references`).
+  (`rotarydryer.report.references`).
 
 A view only: geometry pictures are computed by the geometry package, everything else
-is read from the :class:`rotarydryer.results.Results`.
+is read from the `rotarydryer.results.Results`.
 """
 
 from __future__ import annotations
@@ -35,11 +35,12 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
+from .._display import fmt, fmt_angle, fmt_error, fmt_moisture
 from .._io import write_text_atomic
 
 __all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source",
            "case_validation", "validation_section",
-           "sensitivity_section", "load_sensitivity"]
+           "sensitivity_section", "load_sensitivity", "heat_duties"]
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:0;color:#222;background:#fafafa}
@@ -77,7 +78,7 @@ _FIG_MARK = "@@FIGURE-NUMBER@@"
 
 def _img(fig, alt: str, caption: str | None = None) -> str:
     """A figure with a numbered caption (numbers are assigned in reading order by
-    :func:`_number_figures` once the report is assembled).  ``caption``: plain text stating
+    `_number_figures` once the report is assembled).  ``caption``: plain text stating
     what the figure shows and its key numbers (default: ``alt``)."""
     if fig is None:
         return ""
@@ -118,13 +119,10 @@ class _Raw(str):
 
 
 def _fmt(v, digits=4) -> str:
-    if isinstance(v, float):
-        if not np.isfinite(v):
-            return str(v)
-        if abs(v) >= 1000:
-            return f"{v:,.0f}"
-        return f"{v:.{digits}g}"
-    return str(v)
+    """The report's number format: `rotarydryer._display.fmt` (engineering rounding)."""
+    if isinstance(v, str):
+        return v
+    return fmt(v, digits)
 
 
 def _geometry_sections(drums, results) -> str:
@@ -144,12 +142,12 @@ def _geometry_sections(drums, results) -> str:
             ("flights N_F", f"{drum.n_flights}"),
             ("flight s1 / s2", f"{drum.flight.s1:g} m / {drum.flight.s2:g} m"),
             ("alpha1 / alpha2", f"{drum.flight.alpha1:g} / {drum.flight.alpha2:g} deg"),
-            ("flight-tip radius R_F (Lee (2008) Eq. 4.6)", f"{drum.tip_radius:.4f} m"),
-            ("full-flight holdup (Eq. 4.8)", f"{drum.full_holdup_area * 1e4:.1f} cm2 per m"),
-            ("repose angle used", f"{phi:.2f} deg"),
+            ("flight-tip radius R_F (Lee (2008) Eq. 4.6)", f"{_fmt(drum.tip_radius)} m"),
+            ("full-flight holdup (Eq. 4.8)", f"{_fmt(drum.full_holdup_area * 1e4)} cm2 per m"),
+            ("repose angle used", f"{fmt_angle(phi)} deg"),
             ("transition angles psi1-psi5 (Eq. 4.9-4.13)", ", ".join(f"{float(a):.1f}" for a in tr) + " deg"),
-            ("mean fall height (design loading)", f"{float(cs.mean_fall_height):.3f} m"),
-            ("passive / active time", f"{float(cs.passive_time):.2f} s / {float(cs.mean_fall_time):.3f} s"),
+            ("mean fall height (design loading)", f"{_fmt(float(cs.mean_fall_height), 3)} m"),
+            ("passive / active time", f"{_fmt(float(cs.passive_time), 3)} s / {_fmt(float(cs.mean_fall_time), 3)} s"),
         ]
         rho, length = float(d["bulk_density"]), float(d["length"])
         where = "the dryer" if d["name"] == "dryer" else f"section {d['name']}"
@@ -162,7 +160,7 @@ def _geometry_sections(drums, results) -> str:
         dl_rows = []
         for m in DESIGN_LOAD_METHODS:
             a = float(drum.design_load_area(phi, method=m))
-            dl_rows.append((m, f"{a:.4f}", f"{a * rho * length:,.0f}"))
+            dl_rows.append((m, f"{a:.4g}", f"{a * rho * length:,.0f}"))
         model_des = ""
         if results is not None and results.flighted_cells is not None:
             sel = results.flighted_cells.section.values == d["name"]
@@ -186,7 +184,7 @@ No measured design load for this section is in the case data.</p>{model_des}</di
 
 
 def _transport_sections(results) -> str:
-    from .figures import draw_dryer_side_view, plot_holdup_profile, plot_loading_state, plot_rtd
+    from .figures import plot_holdup_profile, plot_loading_state, plot_rtd
 
     s = results.scalars
     key = [
@@ -199,22 +197,17 @@ def _transport_sections(results) -> str:
         ("unflighted bed", s.get("bed_holdup_kg"), "kg"),
         ("mean residence time H/F", (s.get("mean_residence_time_s") or np.nan) / 60, "min"),
         ("RTD standard deviation", (s.get("rtd_std_s") or np.nan) / 60, "min"),
-        ("mass balance error", s.get("mass_balance_error"), "-"),
     ]
     key_rows = [(k, _fmt(float(v)) if v is not None else "-", u) for k, v, u in key if v is not None]
+    if s.get("mass_balance_error") is not None:
+        key_rows.append(("mass balance error", fmt_error(s["mass_balance_error"]), "relative"))
     note = ""
     if results.model_choices.get("datasets") == "coupled heat-and-mass steady state":
         note = ('<p class="note">Key results, the holdup profile, RTD and loading-state figures and tables are '
                 'those of the coupled transport, heat and mass steady state (the names and values of '
                 '<code>rotarydryer simulate --json</code>): one state, one number per quantity.</p>')
-    from .drawing import dryer_layout
     from .manager import holdup_comparison, rtd_comparison
 
-    lay = dryer_layout(results.inputs)
-    n_fl = sum(1 for sec in lay["sections"] if sec[1] == "flighted")
-    cap_dryer = (f"dryer drawn to scale: L = {lay['length']:g} m, D = {lay['diameter']:g} m, slope {lay['slope']:g} deg, "
-                 f"{n_fl} flighted and {len(lay['sections']) - n_fl} unflighted section(s); flights and curtains "
-                 "schematic")
     tot, mrt = s.get("total_holdup_kg", np.nan), s.get("mean_residence_time_s", np.nan) / 60
     cap_hold = (f"holdup along the dryer: {_fmt(tot)} kg in total (airborne {_fmt(s.get('active_holdup_kg', np.nan))} kg, "
                 f"flight-borne {_fmt(s.get('passive_holdup_kg', np.nan))} kg), mean residence time H/F {mrt:.1f} min")
@@ -229,8 +222,7 @@ def _transport_sections(results) -> str:
         hold_mvm = ('<p class="mvm">No measured holdup is available for this run, so the holdup profile is a model '
                     'prediction only.</p>')
     parts = [f"""<section id="summary"><h2>Key results</h2>
-{_table(('quantity', 'value', 'unit'), key_rows)}{note}</section>
-<section id="dryer"><h2>Dryer to scale</h2>{_img(draw_dryer_side_view(results), 'dryer to scale', cap_dryer)}</section>"""]
+{_table(('quantity', 'value', 'unit'), key_rows)}{note}</section>"""]
     parts.append(f'<section id="holdup"><h2>Holdup profile</h2>'
                  f'{_img(plot_holdup_profile(results), "holdup profile", cap_hold)}{hold_mvm}</section>')
     if results.rtd is not None:
@@ -296,14 +288,16 @@ def _fit_table(results) -> str:
         return ""
     rows = []
     for i, m in enumerate(f.model.values):
+        first = True
         for j, p in enumerate(f.parameter.values):
             v = float(f.value.values[i, j])
             if not np.isfinite(v):
                 continue
-            rows.append((str(m) if j == 0 else "", str(p), f"{v:.5g}", f"{float(f.std_error.values[i, j]):.3g}",
-                         f"{float(f.ci_low.values[i, j]):.5g} - {float(f.ci_high.values[i, j]):.5g}",
-                         f"{float(f.r_squared.values[i]):.4f}" if j == 0 else "",
-                         f"{float(f.outlet_mean.values[i]) / 60:.2f}" if j == 0 else ""))
+            rows.append((str(m), str(p), _fmt(v), _fmt(float(f.std_error.values[i, j]), 3),
+                         f"{_fmt(float(f.ci_low.values[i, j]))} - {_fmt(float(f.ci_high.values[i, j]))}",
+                         f"{float(f.r_squared.values[i]):.3f}" if first else "",
+                         _fmt(float(f.outlet_mean.values[i]) / 60) if first else ""))
+            first = False
     return ("<h3>Classical RTD models fitted to the measured curve</h3>"
             + _table(("model", "parameter", "value", "std. error", "95 % interval", "R2", "outlet mean (min)"),
                      rows, left_cols=2)
@@ -318,55 +312,78 @@ def _section_lengths(results):
 
 def _thermal_section(results) -> str:
     """Energy balance (waterfall), key thermal results and axial profiles from the thermal
-    datasets of a :class:`rotarydryer.results.Results` (cases with a heat and mass transfer
-    model; see :func:`rotarydryer.results.add_thermal`)."""
+    datasets of a `rotarydryer.results.Results` (cases with a heat and mass transfer
+    model; see `rotarydryer.results.add_thermal`)."""
     from .plots import plot_energy_waterfall, plot_thermal_profiles, thermal_profiles_from_results
 
     sc = results.scalars
-    labels = (("product_moisture_kg_kg", "product moisture", "kg/kg wet", 1.0),
-              ("product_temperature_degC", "product temperature", "degC", 1.0),
-              ("gas_outlet_temperature_degC", "gas outlet temperature", "degC", 1.0),
-              ("evaporation_kg_s", "evaporation", "kg/s", 1.0),
-              ("fuel_rate_kg_s", "fuel rate (burner, App. A)", "kg/h", 3600.0),
-              ("shell_heat_loss_W", "shell heat loss", "kW", 1e-3),
-              ("heat_input_W", "heat put into the gas", "kW", 1e-3),
-              ("specific_energy_kJ_kg_water", "specific energy", "kJ per kg water evaporated", 1.0),
-              ("thermal_efficiency", "thermal efficiency (evaporation heat / heat input)", "-", 1.0),
-              ("energy_balance_error", "energy balance error", "-", 1.0),
-              ("water_balance_error", "water balance error", "-", 1.0))
+    labels = (("product_moisture_kg_kg", "product moisture", "% wet basis", fmt_moisture),
+              ("product_temperature_degC", "product temperature", "degC", _fmt),
+              ("gas_outlet_temperature_degC", "gas outlet temperature", "degC", _fmt),
+              ("evaporation_kg_s", "evaporation", "kg/s", _fmt),
+              ("fuel_rate_kg_s", "fuel rate (burner, App. A)", "kg/h", lambda v: _fmt(3600.0 * v)),
+              ("shell_heat_loss_W", "shell heat loss", "kW", lambda v: _fmt(1e-3 * v)),
+              ("heat_input_W", "heat put into the gas", "kW", lambda v: _fmt(1e-3 * v)),
+              ("specific_energy_kJ_kg_water", "specific energy", "kJ per kg water evaporated", _fmt),
+              ("thermal_efficiency", "thermal efficiency (evaporation heat / heat input)", "%",
+               lambda v: _fmt(100.0 * v, 3)),
+              ("energy_balance_error", "energy balance error", "relative", fmt_error),
+              ("water_balance_error", "water balance error", "relative", fmt_error))
     rows = [("model", str(results.model_choices.get("thermal_mode", "")), "-")]
-    rows += [(label, _fmt(sc[key] * factor), unit) for key, label, unit, factor in labels if key in sc]
+    rows += [(label, show(sc[key]), unit) for key, label, unit, show in labels if key in sc]
     if results.model_choices.get("fuel_rate_error") and "fuel_rate_kg_s" not in sc:
         rows.append(("fuel rate (burner, App. A)", "n/a: " + str(results.model_choices["fuel_rate_error"]), "kg/h"))
-    eb = results.datasets["energy_balance"]
-    terms = {"in": {}, "out": {}}
-    for name, direction, power in zip(eb.stream.values, eb.direction.values, eb.power.values):
-        terms[str(direction)][str(name)] = float(power)
-    t_rows = [(f"{name} ({d})", f"{w / 1e6:.3f}") for d in ("in", "out") for name, w in terms[d].items()]
-    total_in = sum(terms["in"].values())
-    cap_e = f"energy balance: {total_in / 1e6:.2f} MW in"
-    if "heat_input_W" in sc:
-        cap_e += f"; heat put into the gas {sc['heat_input_W'] / 1e6:.2f} MW"
+    terms = heat_duties(results)
+    t_rows = [(f"{name} ({d})", _fmt(w / 1e3)) for d in ("in", "out") for name, w in terms[d].items()]
+    q_in = sum(terms["in"].values())
+    cap_e = f"heat duties: {_fmt(q_in / 1e3)} kW put into the gas"
     if "specific_energy_kJ_kg_water" in sc:
         cap_e += (f", {_fmt(sc['specific_energy_kJ_kg_water'])} kJ per kg of water evaporated, thermal efficiency "
                   f"{100 * sc.get('thermal_efficiency', np.nan):.1f} %")
-    if "shell_heat_loss_W" in sc:
-        cap_e += f"; shell loss {sc['shell_heat_loss_W'] / 1e3:,.0f} kW"
+    cap_e += "; " + ", ".join(f"{name} {_fmt(w / 1e3)} kW" for name, w in terms["out"].items())
     e_mvm = ('<p class="mvm">The heat input, the fuel rate and the shell loss were not measured; the energy balance is '
              'a model result only.</p>')
     cap_t, t_mvm = _thermal_comparison_html(results)
     return (f'<section id="energy"><h2>Heat and mass transfer</h2>'
             f'{_table(("quantity", "value", "unit"), rows)}'
-            f'<h3>Energy balance</h3>{_img(plot_energy_waterfall(terms), "energy balance waterfall", cap_e)}'
-            f'{_table(("stream", "MW"), t_rows)}'
-            f'<p class="note">Enthalpies relative to the model reference state; the closure bar is in - out.</p>{e_mvm}'
+            f'<h3>Heat duties</h3>'
+            f'{_img(plot_energy_waterfall(terms, unit="kW", title="Heat duties"), "energy balance waterfall", cap_e)}'
+            f'{_table(("duty", "kW"), t_rows)}'
+            f'<p class="note">{_DUTIES_NOTE}</p>{e_mvm}'
             f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(thermal_profiles_from_results(results), sections=_section_lengths(results)), "thermal profiles", cap_t)}'
             f'{t_mvm}</section>')
 
 
+_DUTIES_NOTE = (
+    "Heat duties, kW: heat input = the heat the burner or heater puts into the gas (its enthalpy above "
+    "the same gas at ambient temperature); evaporation = evaporation rate x latent heat at the product "
+    "temperature; heating of solids = product enthalpy - feed enthalpy (solids and the water they keep); "
+    "shell loss = heat lost through the shell; exhaust = the rest, the sensible heat the exhaust gas and "
+    "vapour carry out above ambient. The energy balance error above states how well the model's "
+    "balance closes.")
+
+
+def heat_duties(results) -> dict:
+    """``{"in": {name: W}, "out": {name: W}}``: the heat duties of a thermal result (heat input;
+    evaporation, heating of solids, shell loss, exhaust), from its scalars and its energy-balance
+    streams (``results.datasets["energy_balance"]``, enthalpies against the model reference,
+    whose differences are reference-free). The exhaust is the rest, so in = out."""
+    sc = results.scalars
+    eb = results.datasets["energy_balance"]
+    streams = {str(n): float(w) for n, w in zip(eb.stream.values, eb.power.values)}
+    q_in = float(sc.get("heat_input_W", streams.get("hot gas", 0.0)))
+    eff = sc.get("thermal_efficiency")
+    evap = float(eff) * q_in if eff is not None and np.isfinite(eff) else 0.0
+    solids = streams.get("product", 0.0) - streams.get("wet feed", 0.0)
+    shell = float(sc.get("shell_heat_loss_W", streams.get("shell loss", 0.0)))
+    return {"in": {"heat input": q_in},
+            "out": {"evaporation": evap, "heating of solids": solids, "shell loss": shell,
+                    "exhaust": q_in - evap - solids - shell}}
+
+
 def _thermal_comparison_html(results) -> tuple[str, str]:
     """Caption of the thermal-profile figure and the model-versus-measured statement (with a
-    table of the measured points) from :func:`rotarydryer.report.manager.thermal_comparison`."""
+    table of the measured points) from `rotarydryer.report.manager.thermal_comparison`."""
     from .manager import thermal_comparison
 
     sc = results.scalars
@@ -474,12 +491,12 @@ def _executive_summary(results) -> str:
         lines.append(f"<li>Model against the measured tracer curve: mean {_fmt(s['tracer_mean_s'] / 60)} against "
                      f"{_fmt(s['measured_mean_s'] / 60)} min ({err:+.1f} %).</li>")
     if "product_moisture_kg_kg" in s:
-        lines.append(f"<li>Product moisture <b>{_fmt(100 * s['product_moisture_kg_kg'])} %</b> (wet basis) at "
+        lines.append(f"<li>Product moisture <b>{fmt_moisture(s['product_moisture_kg_kg'])} %</b> (wet basis) at "
                      f"{_fmt(s.get('product_temperature_degC', float('nan')))} degC; exhaust gas "
                      f"{_fmt(s.get('gas_outlet_temperature_degC', float('nan')))} degC.</li>")
     if "specific_energy_kJ_kg_water" in s:
         lines.append(f"<li>Each kg of water evaporated costs <b>{_fmt(s['specific_energy_kJ_kg_water'])} kJ</b> of heat "
-                     f"in the gas (thermal efficiency {_fmt(100 * s.get('thermal_efficiency', float('nan')))} %; "
+                     f"in the gas (thermal efficiency {_fmt(100 * s.get('thermal_efficiency', float('nan')), 3)} %; "
                      "direct dryers typically run at 3 000-6 000 kJ/kg).</li>")
     if s.get("fuel_rate_kg_s") is not None:
         lines.append(f"<li>The burner needs {_fmt(3600 * s['fuel_rate_kg_s'])} kg/h of fuel.</li>")
@@ -511,7 +528,7 @@ def _operating_section(results) -> str:
 
 def _references_section(body: str) -> str:
     """Full references of every source cited (author-year) in ``body`` (HTML), from the
-    project's bibliography (:mod:`rotarydryer.report.references`)."""
+    project's bibliography (`rotarydryer.report.references`)."""
     from .references import cited_keys, format_reference
 
     keys = cited_keys(html.unescape(body))
@@ -528,9 +545,16 @@ def validation_section(report) -> str:
     rows, misses = [], []
     for it in report.items:
         status = it.status + (" (known miss)" if it.known_miss and it.status == "pass" else "")
+        if it.kind == "relative":   # relative errors and tolerances in %
+            err = f"{_fmt(100 * it.error, 3)} %" if it.error is not None else "-"
+            tol = f"relative {_fmt(100 * it.tolerance, 3)} %"
+        else:
+            err = _fmt(it.error, 3) if it.error is not None else "-"
+            tol = f"{it.kind} {_fmt(it.tolerance)}"
+        show = fmt_error if "balance error" in (it.description or it.id) else _fmt
         rows.append([html.escape(it.description or it.id), _fmt(it.measured) if it.measured is not None else "-",
-                     _fmt(it.model) if it.model is not None else "-", _fmt(it.error) if it.error is not None else "-",
-                     f"{it.kind} {_fmt(it.tolerance)}", html.escape(it.unit), html.escape(status)])
+                     show(it.model) if it.model is not None else "-", err, tol, html.escape(it.unit),
+                     html.escape(status)])
         if it.status != "pass" and (it.known_miss or it.message):
             misses.append(f"<li><b>{html.escape(it.id)}</b>: {html.escape(it.known_miss or it.message)}</li>")
     head = (f"<p>{s['n_items']} items of the case as its file gives it (the run's --set overrides not applied): "
@@ -552,11 +576,11 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
     results : rotarydryer.results.Results, optional
         Transport results (their inputs also give the flight geometry).
     drums : list of dict, optional
-        Flighted sections to draw (see :func:`rotarydryer.report.figures.case_drums`);
+        Flighted sections to draw (see `rotarydryer.report.figures.case_drums`);
         default: those of ``results.inputs``.
     title, subtitle : str
     validation : rotarydryer.validate.ValidationReport, optional
-        The case's validation (:func:`validation_section`).
+        The case's validation (`validation_section`).
     """
     from .figures import case_drums
 
@@ -609,7 +633,7 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
 
     ``repose_angle`` (deg, in (0, 90); checked before a case is run) is the repose angle of
     the flight pictures of every section; default: the case's mean per section
-    (``drums`` is then None, see :func:`render_report`), 45 deg for a drum preset.
+    (``drums`` is then None, see `render_report`), 45 deg for a drum preset.
     """
     from .._validation import check_range
     from ..cases import list_cases
@@ -640,7 +664,7 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
 
 def _case_drums_at(results, repose_angle):
     """The flighted sections of ``results`` drawn at ``repose_angle`` deg (None: None, i.e.
-    the default of :func:`render_report`)."""
+    the default of `render_report`)."""
     if repose_angle is None:
         return None
     from .figures import case_drums
@@ -652,13 +676,13 @@ def _case_drums_at(results, repose_angle):
 
 
 def build_report(source: str, overrides: dict | None = None, *, repose_angle: float | None = None) -> str:
-    """HTML text of the report of ``source`` (see :func:`resolve_source`)."""
+    """HTML text of the report of ``source`` (see `resolve_source`)."""
     results, drums, title = resolve_source(source, overrides, repose_angle=repose_angle)
     return render_report(results, drums=drums, title=title, validation=case_validation(source, results))
 
 
 def case_validation(source: str, results):
-    """The validation (:func:`rotarydryer.validate.run_validation`) of the case a report shows: the
+    """The validation (`rotarydryer.validate.run_validation`) of the case a report shows: the
     case ``source`` names, or a saved result's case when it is a packaged case or a case file; None
     for a drum preset or a result of an unknown case."""
     if results is None:

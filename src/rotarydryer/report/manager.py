@@ -1,4 +1,4 @@
-"""Numbers for the plant manager's report, read from a :class:`rotarydryer.results.Results`:
+"""Numbers for the plant manager's report, read from a `rotarydryer.results.Results`:
 the operating conditions of the run and the model-versus-measured comparisons (RTD, holdup,
 outlet and axial temperatures and moistures), each with its error.
 

@@ -109,7 +109,7 @@ def draw_cross_section(drum: FlightedDrum, repose_angle: float, *, angle: float 
 
 
 def draw_flight_conventions(drum: FlightedDrum, repose_angle: float = 45.0, *, psi: float = 120.0, ax=None):
-    """Close-up of one flight with the conventions of :mod:`rotarydryer.geometry` labelled.
+    """Close-up of one flight with the conventions of `rotarydryer.geometry` labelled.
 
     Shows root, bend and tip, ``s1``, ``s2``, ``alpha1`` (inside the pocket), ``alpha2``,
     the material surface at the repose angle through the tip and the held solids.
@@ -164,9 +164,9 @@ def draw_flight_conventions(drum: FlightedDrum, repose_angle: float = 45.0, *, p
     return fig
 
 
-def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"):
-    """Waterfall of an energy balance, MW (kW below 1 MW of input): inputs stacked up, outputs
-    stepped down.
+def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance", unit: str | None = None):
+    """Waterfall of an energy balance, MW (kW below 1 MW of input; ``unit`` "kW" or "MW" fixes
+    it): inputs stacked up, outputs stepped down.
 
     ``terms = {"in": {name: W}, "out": {name: W}}`` (e.g.
     ``ThermalSteadyState.energy_terms_w``). The last bar is the closure (in - out), which is
@@ -179,7 +179,11 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
         fig = ax.figure
     # MW for plants, kW below 1 MW of input (a pilot drum's terms would all read 0.00 MW)
     total_in = sum(terms["in"].values())
-    scale, unit = (1e6, "MW") if total_in >= 1e6 else (1e3, "kW")
+    if unit is None:
+        unit = "MW" if total_in >= 1e6 else "kW"
+    if unit not in ("MW", "kW"):
+        raise ValueError(f"unit = {unit!r}: give 'MW' or 'kW'")
+    scale = 1e6 if unit == "MW" else 1e3
     names, bottoms, heights, colours = [], [], [], []
     level = 0.0
     for name, w in terms["in"].items():
@@ -201,7 +205,7 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
     x = np.arange(len(names))
     ax.bar(x, heights, bottom=bottoms, color=colours, edgecolor="k", linewidth=0.5)
     for xi, b, h in zip(x, bottoms, heights):
-        ax.text(xi, b + h + 0.01 * max(1e-9, max(bottoms) + max(heights)), f"{h:.2f}", ha="center", va="bottom",
+        ax.text(xi, b + h + 0.01 * max(1e-9, max(bottoms) + max(heights)), f"{h:,.0f}" if abs(h) >= 100 else f"{h:.2f}", ha="center", va="bottom",
                 fontsize=8)
     ax.set_xticks(x, names, rotation=20, ha="right")
     ax.set_ylabel(unit)
@@ -210,8 +214,8 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
 
 
 def thermal_profiles_from_results(results) -> dict:
-    """The ``profiles`` arrays of :func:`plot_thermal_profiles` from a
-    :class:`rotarydryer.results.Results` with thermal datasets."""
+    """The ``profiles`` arrays of `plot_thermal_profiles` from a
+    `rotarydryer.results.Results` with thermal datasets."""
     sol, gas = results.datasets["thermal_solids"], results.datasets["thermal_gas"]
     return dict(position=sol.position.values, phase=sol.phase.values, section=sol.section.values,
                 solids_temperature_degC=sol.temperature.values, moisture_wet=sol.moisture.values,

@@ -4,10 +4,10 @@ and their fitting to tracer data.
 
 Units: time in s, E(t) in 1/s. See ``docs/rtd.md`` for a walk-through.
 
-Modules: :mod:`.analysis` (moments, E, F, baseline, tails),
-:mod:`.pulses` (tracer inputs, convolution), :mod:`.models` (TiS, ADM, cells),
-:mod:`.fitting` (least squares with confidence intervals),
-:mod:`.tracer_data` (measured-data CSV format).
+Modules: [`.analysis`][rotarydryer.rtd.analysis] (moments, E, F, baseline, tails),
+[`.pulses`][rotarydryer.rtd.pulses] (tracer inputs, convolution), [`.models`][rotarydryer.rtd.models] (TiS, ADM, cells),
+[`.fitting`][rotarydryer.rtd.fitting] (least squares with confidence intervals),
+[`.tracer_data`][rotarydryer.rtd.tracer_data] (measured-data CSV format).
 """
 
 from .analysis import BASELINE_METHODS, TAIL_METHODS, RTDMoments, exit_age_curve, rtd_moments, subtract_baseline

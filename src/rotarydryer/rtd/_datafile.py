@@ -1,14 +1,14 @@
 """Reading user data files (tracer curves, flight-rig records, design-load tables) safely.
 
-Every measured-data file is read through :func:`data_lines`, which
+Every measured-data file is read through `data_lines`, which
 
 * refuses a missing path, a directory, a device or FIFO, and a file larger than
-  :data:`MAX_DATA_FILE_BYTES` (checked with ``stat`` before reading, and again while reading);
+  `MAX_DATA_FILE_BYTES` (checked with ``stat`` before reading, and again while reading);
 * reads line by line (the file is never held in memory as a whole) and refuses a line longer
-  than :data:`MAX_LINE_CHARS`, NUL bytes (a binary file) and bytes that are not UTF-8, naming
+  than `MAX_LINE_CHARS`, NUL bytes (a binary file) and bytes that are not UTF-8, naming
   the file and the line;
-* leaves the row count to the parser, which stops at :data:`MAX_DATA_ROWS` data rows
-  (:func:`too_many_rows` gives the message), so a runaway file fails after reading at most that
+* leaves the row count to the parser, which stops at `MAX_DATA_ROWS` data rows
+  (`too_many_rows` gives the message), so a runaway file fails after reading at most that
   many rows.
 
 All errors are ``ValueError`` whose message starts with the file name (and the line where there
@@ -115,7 +115,7 @@ def data_lines(path, what: str = "data file", max_bytes: int = MAX_DATA_FILE_BYT
 
 
 def text_lines(text: str) -> Iterator[tuple[int, str]]:
-    """``(line number, text)`` of the lines of a string (the same interface as :func:`data_lines`)."""
+    """``(line number, text)`` of the lines of a string (the same interface as `data_lines`)."""
     for k, line in enumerate(text.splitlines(), start=1):
         if k == 1 and line.startswith("\ufeff"):
             line = line[1:]
@@ -143,7 +143,7 @@ def parse_number(raw: str, name: str, lineno: int, column: str, *, finite: bool 
 
 
 def csv_rows(lines, name: str, *, skip_comments: bool = True) -> Iterator[tuple[int, list]]:
-    """CSV rows of numbered ``lines`` (from :func:`data_lines` or :func:`text_lines`) as
+    """CSV rows of numbered ``lines`` (from `data_lines` or `text_lines`) as
     ``(line number, fields)``; blank rows (and ``#`` rows with ``skip_comments``) are skipped, a
     malformed row names the file and line."""
 

@@ -4,11 +4,11 @@ Definitions (Levenspiel 1999 ch. 11; Lee (2008) Eq. 2.2–2.3; Ajayi (2011)
 Eq. 3.5–3.8): for an outlet tracer signal c(t) after a pulse injected at the
 time origin,
 
-.. math::
-
-    A = \int c\,dt,\quad E(t) = c(t)/A,\quad F(t) = \int_0^t E\,dt',\quad
-    \bar t = \int t\,E\,dt,\quad \sigma^2 = \int (t-\bar t)^2 E\,dt,\quad
-    \gamma = \frac{\int (t-\bar t)^3 E\,dt}{\sigma^3}.
+$$
+A = \int c\,dt,\quad E(t) = c(t)/A,\quad F(t) = \int_0^t E\,dt',\quad
+\bar t = \int t\,E\,dt,\quad \sigma^2 = \int (t-\bar t)^2 E\,dt,\quad
+\gamma = \frac{\int (t-\bar t)^3 E\,dt}{\sigma^3}.
+$$
 
 All integrals use the trapezoidal rule on the samples as given (this is what
 Ajayi (2011) Eq. 3.7–3.8 prescribes and it reproduces Lee (2008) Table 7.3 on
@@ -35,7 +35,7 @@ Treatment of measured curves, in this order:
 3. **Truncated tail**: the curve counts as truncated when its last value is
    above ``tail_threshold`` × peak (after baseline removal). This is always
    reported. With ``tail="exponential"`` (always) or ``tail="auto"`` (only
-   when truncated), an exponential :math:`c = c_T e^{-k(t-T)}` fitted by
+   when truncated), an exponential $c = c_T e^{-k(t-T)}$ fitted by
    linear least squares to log c of the last ``tail_points`` positive samples
    after the peak (default 5) is appended from the last
    sample time T to infinity; its contributions to A and to the moments are
@@ -359,7 +359,7 @@ def exit_age_curve(
 ):
     """E(t) and F(t) of a tracer curve on its own samples.
 
-    Same preprocessing as :func:`rtd_moments` (time origin, baseline, clipping);
+    Same preprocessing as [`rtd_moments`][rotarydryer.rtd.analysis.rtd_moments] (time origin, baseline, clipping);
     E = c / ∫c dt (trapezoidal), F = cumulative trapezoid of E (F(t_last) = 1).
 
     Returns
@@ -384,7 +384,7 @@ def subtract_baseline(
     breakthrough_fraction: float = 0.05,
     clip_negative: bool = True,
 ):
-    """Remove a background from a tracer curve (methods as :func:`rtd_moments`).
+    """Remove a background from a tracer curve (methods as [`rtd_moments`][rotarydryer.rtd.analysis.rtd_moments]).
 
     Returns
     -------

@@ -2,12 +2,14 @@ r"""Least-squares fitting of the reference RTD models to a tracer curve.
 
 Model of the measured outlet signal (Levenspiel 1999 ch. 11 convolution):
 
-.. math:: y(t) = A\,(E_\vartheta * u)(t - t_0 - \delta) + b
+$$
+y(t) = A\,(E_\vartheta * u)(t - t_0 - \delta) + b
+$$
 
 with E the tanks-in-series (Lee (2008) Eq. 2.11), axial-dispersion or cell RTD
 (interactive mixers with dead zones, Song (2003) Eq. 2.10-2.16) of
-:mod:`rotarydryer.rtd.models`, u the normalised tracer input
-(:func:`~rotarydryer.rtd.pulse_input`, Dirac by default), A an optional
+[`rotarydryer.rtd.models`][rotarydryer.rtd.models], u the normalised tracer input
+([`pulse_input`][rotarydryer.rtd.pulse_input], Dirac by default), A an optional
 unknown scale (the area of a raw concentration curve, signal unit × s; fixed
 to 1 when the signal already is E in 1/s), δ an optional dead time (s) and b an
 optional constant background (``fit_baseline``, signal unit; e.g. the lithium
@@ -24,7 +26,7 @@ starts scattered around it and keeps the best (all objectives reported).
 
 Uncertainty: the Jacobian J of the residuals with respect to the natural
 parameters is recomputed at the optimum by central differences; the
-covariance is :math:`s^2 (J^T J)^{-1}` with :math:`s^2 = \sum r_i^2/(n-p)`
+covariance is $s^2 (J^T J)^{-1}$ with $s^2 = \sum r_i^2/(n-p)$
 (the residual variance is estimated from the fit, i.e. σ_i are relative
 weights, as ``curve_fit(absolute_sigma=False)``); 95 % intervals are
 est ± t(0.975, n-p)·SE; the correlation matrix is cov_ij/√(cov_ii cov_jj).
@@ -99,7 +101,7 @@ def _make_model(kind, values, n_cells=None):
 
 @dataclass(frozen=True, eq=False)
 class RTDFit:
-    """Result of :func:`fit_rtd_model`.
+    """Result of [`fit_rtd_model`][rotarydryer.rtd.fitting.fit_rtd_model].
 
     Attributes
     ----------
@@ -279,7 +281,7 @@ def fit_rtd_model(
     model : one of ``RTD_FIT_MODELS``: ``"tanks_in_series"``, ``"dispersion_closed"``,
         ``"dispersion_open"``, ``"interactive_mixers"`` (Song (2003) Section 2.7 model 1:
         N, k) or ``"cholette_cloutier"`` (Song Eq. 2.10-2.16: N, k, alpha, beta).
-    pulse : tracer input (:func:`pulse_input`), default Dirac.
+    pulse : tracer input ([`pulse_input`][rotarydryer.rtd.fitting.pulse_input]), default Dirac.
     time_origin_s : start of the injection on the ``time_s`` clock (s).
     fit_scale : fit an unknown scale A (raw concentration / incomplete recovery).
     fit_delay : fit a dead time δ (s) >= 0 (plug-flow delay before the vessel).
@@ -664,7 +666,7 @@ def _integer_minimum(f, n0: int, n_max: int) -> int:
 
 
 def fit_tracer_data(data, model: str = "tanks_in_series", **kwargs) -> RTDFit:
-    """Fit a :class:`~rotarydryer.rtd.TracerData` curve.
+    """Fit a [`TracerData`][rotarydryer.rtd.TracerData] curve.
 
     Uses the file's ``time_origin_s`` and tracer input (``pulse_kind``,
     ``pulse_duration_s``) unless given. A signal in a normalised unit (1/s,

@@ -6,28 +6,32 @@ array arguments) and as small frozen model objects used by the fitting code:
 * **Tanks in series** (TiS), integer or extended (gamma) N, Lee (2008) Eq. 2.11
   (Martin's extended form):
 
-  .. math:: E(t) = \frac{N^N t^{N-1}}{\Gamma(N)\,\tau^N} e^{-N t/\tau}
+    $$
+    E(t) = \frac{N^N t^{N-1}}{\Gamma(N)\,\tau^N} e^{-N t/\tau}
+    $$
 
-  mean :math:`\tau`, variance :math:`\tau^2/N`, skewness :math:`2/\sqrt N`.
+  mean $\tau$, variance $\tau^2/N$, skewness $2/\sqrt N$.
   Identical to the integer TiS model for integer N. N is restricted to
-  :math:`N \ge 1` so that E(0) stays finite (N < 1 would be an integrable
+  $N \ge 1$ so that E(0) stays finite (N < 1 would be an integrable
   singularity at t = 0, which least-squares fitting cannot handle).
 
-* **Axial dispersion model** (ADM), Péclet number :math:`Pe = uL/D`,
-  space time :math:`\tau = L/u`, two boundary-condition choices (Levenspiel,
+* **Axial dispersion model** (ADM), Péclet number $Pe = uL/D$,
+  space time $\tau = L/u$, two boundary-condition choices (Levenspiel,
   *Chemical Reaction Engineering*, 3rd ed. 1999, ch. 13; Wehner & Wilhelm 1956):
 
   - ``"open"`` (open-open, flux-averaged outlet), closed form
-    :math:`E(\theta) = \sqrt{Pe/(4\pi\theta)}\,\exp[-Pe(1-\theta)^2/(4\theta)]`,
-    :math:`\theta = t/\tau`; mean :math:`\tau(1 + 2/Pe)`, variance
-    :math:`\tau^2 (2/Pe + 8/Pe^2)`. It is the size-biased inverse-Gaussian
+    $E(\theta) = \sqrt{Pe/(4\pi\theta)}\,\exp[-Pe(1-\theta)^2/(4\theta)]$,
+    $\theta = t/\tau$; mean $\tau(1 + 2/Pe)$, variance
+    $\tau^2 (2/Pe + 8/Pe^2)$. It is the size-biased inverse-Gaussian
     distribution (mean 1, shape Pe/2), which also gives the skewness used here.
-  - ``"closed"`` (closed-closed, Danckwerts conditions), mean :math:`\tau`,
-    variance :math:`\tau^2 [2/Pe - 2/Pe^2 (1 - e^{-Pe})]`. E(t) has no closed
+  - ``"closed"`` (closed-closed, Danckwerts conditions), mean $\tau$,
+    variance $\tau^2 [2/Pe - 2/Pe^2 (1 - e^{-Pe})]$. E(t) has no closed
     form; it is the inverse of the Wehner–Wilhelm transfer function
 
-    .. math:: G(s) = \frac{4q\,e^{Pe/2}}{(1+q)^2 e^{qPe/2} - (1-q)^2 e^{-qPe/2}},
-              \quad q = \sqrt{1 + 4 s\tau / Pe}.
+    $$
+    G(s) = \frac{4q\,e^{Pe/2}}{(1+q)^2 e^{qPe/2} - (1-q)^2 e^{-qPe/2}},
+    \quad q = \sqrt{1 + 4 s\tau / Pe}.
+    $$
 
     For Pe < 100 it is inverted numerically with the fixed Talbot method
     (Abate & Valkó 2004, 24 nodes, contour shifted by -Pe/4 so that all poles
@@ -153,7 +157,7 @@ def tanks_in_series_e(time_s, mean_residence_time_s, n_tanks):
     r"""Exit-age distribution E(t) (1/s) of N tanks in series.
 
     Lee (2008) Eq. 2.11 (extended TiS, Martin 2000):
-    :math:`E(t) = N^N t^{N-1} e^{-Nt/\tau} / (\Gamma(N)\tau^N)`; E = 0 for t < 0.
+    $E(t) = N^N t^{N-1} e^{-Nt/\tau} / (\Gamma(N)\tau^N)$; E = 0 for t < 0.
 
     Parameters
     ----------
@@ -180,9 +184,9 @@ def tanks_in_series_e(time_s, mean_residence_time_s, n_tanks):
 def tanks_in_series_f(time_s, mean_residence_time_s, n_tanks):
     r"""Cumulative distribution F(t) (-) of N tanks in series.
 
-    Integral of Lee (2008) Eq. 2.11: :math:`F(t) = P(N, N t/\tau)`, the regularised
+    Integral of Lee (2008) Eq. 2.11: $F(t) = P(N, N t/\tau)$, the regularised
     lower incomplete gamma function. F = 0 for t <= 0.
-    Units and ranges as :func:`tanks_in_series_e`.
+    Units and ranges as [`tanks_in_series_e`][rotarydryer.rtd.models.tanks_in_series_e].
     """
     from scipy.special import gammainc
 
@@ -300,18 +304,18 @@ def axial_dispersion_e(time_s, space_time_s, peclet, boundary: str = "closed"):
 def axial_dispersion_moments(space_time_s, peclet, boundary: str = "closed") -> AnalyticMoments:
     r"""Analytic moments of the axial dispersion model (Levenspiel 1999 ch. 13).
 
-    * closed-closed: mean τ, variance :math:`\tau^2[2/Pe - 2/Pe^2(1-e^{-Pe})]`
+    * closed-closed: mean τ, variance $\tau^2[2/Pe - 2/Pe^2(1-e^{-Pe})]$
       (van der Laan 1958); third central moment
-      :math:`\mu_3/\tau^3 = 12/Pe^2 + 12e^{-Pe}/Pe^2 - 24(1-e^{-Pe})/Pe^3`, the
-      third cumulant :math:`-d^3 \ln G/ds^3|_0` of the Wehner–Wilhelm transfer
+      $\mu_3/\tau^3 = 12/Pe^2 + 12e^{-Pe}/Pe^2 - 24(1-e^{-Pe})/Pe^3$, the
+      third cumulant $-d^3 \ln G/ds^3|_0$ of the Wehner–Wilhelm transfer
       function (derived for this package, not taken from a printed source;
       checked against a Cauchy-integral differentiation of ln G and against
       quadrature of E in tests/test_rtd_models.py).
-    * open-open: mean :math:`\tau(1+2/Pe)`, variance :math:`\tau^2(2/Pe + 8/Pe^2)`;
+    * open-open: mean $\tau(1+2/Pe)$, variance $\tau^2(2/Pe + 8/Pe^2)$;
       skewness from the raw moments of the size-biased inverse Gaussian
-      (shape λ = Pe/2): :math:`m_k = E[X^{k+1}]` with
-      :math:`E[X^2]=1+1/λ`, :math:`E[X^3]=1+3/λ+3/λ^2`,
-      :math:`E[X^4]=1+6/λ+15/λ^2+15/λ^3`.
+      (shape λ = Pe/2): $m_k = E[X^{k+1}]$ with
+      $E[X^2]=1+1/λ$, $E[X^3]=1+3/λ+3/λ^2$,
+      $E[X^4]=1+6/λ+15/λ^2+15/λ^3$.
 
     τ in s (> 0), Pe dimensionless in (0, 1e9].
     """
@@ -556,12 +560,12 @@ def cholette_cloutier_e(time_s, n_cells, conductance_per_s, active_fraction=1.0,
 
 
 def cholette_cloutier_moments(n_cells, conductance_per_s, active_fraction=1.0, exchange_ratio=1.0) -> AnalyticMoments:
-    r"""Analytic moments of :func:`cholette_cloutier_e` (Song (2003) Eq. 2.10-2.16).
+    r"""Analytic moments of [`cholette_cloutier_e`][rotarydryer.rtd.models.cholette_cloutier_e] (Song (2003) Eq. 2.10-2.16).
 
     mean = N(N+1)/(2 k alpha), variance = S_2/k^2 [(1+c)^2 + 2c^2/beta], third central
     moment S_3/k^3 [2(1+c)^3 + 6(1+c)c^2/beta + 6c^3/beta^2] with c = (1 - alpha)/alpha,
     S_2 = N(N+1)(2N+1)/6, S_3 = [N(N+1)/2]^2 (cumulants of the cell transfer functions,
-    derived for this package). Arguments broadcast; units as :func:`cholette_cloutier_e`.
+    derived for this package). Arguments broadcast; units as [`cholette_cloutier_e`][rotarydryer.rtd.models.cholette_cloutier_e].
     """
     n, k, a, b = _check_cells(n_cells, conductance_per_s, active_fraction, exchange_ratio)
     n, k, a, b = np.broadcast_arrays(n, k, a, b)
@@ -606,7 +610,7 @@ class CholetteCloutier:
         return self._curve(check_finite("time_s", time_s), cumulative=True)
 
     def _curve(self, t, **kw):
-        """:func:`_cells_curve` of this model's parameters at the times ``t`` (same shape; a float for
+        """`_cells_curve` of this model's parameters at the times ``t`` (same shape; a float for
         a scalar)."""
         flat = np.ravel(t).astype(float)
         par = [np.full(flat.shape, float(v)) for v in (self.n_cells, self.conductance_per_s,
@@ -616,10 +620,10 @@ class CholetteCloutier:
 
     def outlet(self, time_s, pulse):
         """Outlet response (1/s) at ``time_s`` (s after the input start) to a normalised input
-        ``pulse`` (:func:`rotarydryer.rtd.pulse_input`), an exact convolution for a Dirac or
-        rectangular input of duration d: [F(t) - F(t - d)]/d (:meth:`cdf`) for N <= 20, the
+        ``pulse`` ([`rotarydryer.rtd.pulse_input`][rotarydryer.rtd.pulse_input]), an exact convolution for a Dirac or
+        rectangular input of duration d: [F(t) - F(t - d)]/d ([`cdf`][rotarydryer.rtd.models.CholetteCloutier.cdf]) for N <= 20, the
         inverse of G(s) (1 - e^{-sd})/(sd) for more cells; other inputs (or d below 1e-3 of
-        the SD) by quadrature (:func:`rotarydryer.rtd.convolve_rtd`)."""
+        the SD) by quadrature ([`rotarydryer.rtd.convolve_rtd`][rotarydryer.rtd.convolve_rtd])."""
         from .pulses import convolve_rtd
 
         t = check_finite("time_s", time_s)

@@ -4,11 +4,13 @@ A measured outlet curve is the convolution of the vessel's RTD E(t) with the
 normalised shape u(t) of the tracer input (Levenspiel 1999 ch. 11,
 "convolution integral"):
 
-.. math:: c_{out}(t) = \int_0^t u(s)\,E(t-s)\,ds,\qquad \int u\,dt = 1.
+$$
+c_{out}(t) = \int_0^t u(s)\,E(t-s)\,ds,\qquad \int u\,dt = 1.
+$$
 
 For a convolution the means and variances (and third central moments) add:
-:math:`\bar t_{out} = \bar t_E + \bar t_u`, :math:`\sigma^2_{out} = \sigma^2_E +
-\sigma^2_u` (:func:`convolved_moments`). Examples: Lee (2008) App. I Experiment
+$\bar t_{out} = \bar t_E + \bar t_u$, $\sigma^2_{out} = \sigma^2_E +
+\sigma^2_u$ ([`convolved_moments`][rotarydryer.rtd.pulses.convolved_moments]). Examples: Lee (2008) App. I Experiment
 entity injects a 39.6 s rectangular pulse (mean 19.8 s, variance 130.68 s²);
 Ajayi (2011) §4.4 simulates test 4 with a 60 s rectangular pulse.
 
@@ -46,7 +48,7 @@ _N_NODES = 16  # Gauss-Legendre nodes over a rectangular/gaussian pulse
 class TracerPulse:
     """Normalised tracer input u(t) (1/s) with its moments.
 
-    Build with :func:`pulse_input`. ``duration_s`` is the support length (s);
+    Build with [`pulse_input`][rotarydryer.rtd.pulses.pulse_input]. ``duration_s`` is the support length (s);
     ``mean_s``, ``variance_s2`` and ``third_central_moment_s3`` are the moments
     of u (s, s², s³).
     """
@@ -87,7 +89,7 @@ class TracerPulse:
         return s, ww / ww.sum()
 
     def moments(self) -> AnalyticMoments:
-        """Moments of the input shape as :class:`AnalyticMoments`."""
+        """Moments of the input shape as [`AnalyticMoments`][rotarydryer.rtd.pulses.AnalyticMoments]."""
         v = self.variance_s2
         sk = self.third_central_moment_s3 / v**1.5 if v > 0 else 0.0
         return AnalyticMoments(mean_s=self.mean_s, variance_s2=v, skewness=sk)
@@ -163,7 +165,7 @@ def convolve_rtd(e_of_t: Callable, time_s, pulse: TracerPulse):
     ----------
     e_of_t : callable, vectorised E(t) (1/s) of the vessel, E = 0 for t < 0.
     time_s : array, times (s) after the start of the input.
-    pulse : :class:`TracerPulse`.
+    pulse : [`TracerPulse`][rotarydryer.rtd.pulses.TracerPulse].
 
     The convolution integral is evaluated by quadrature over the pulse
     (16-point Gauss–Legendre for rectangular/gaussian, 3 points per interval of
@@ -208,7 +210,7 @@ def convolved_moments(rtd_moments, pulse: TracerPulse) -> AnalyticMoments:
     """Moments of an RTD convolved with an input: means, variances and μ3 add.
 
     ``rtd_moments`` is any object with ``mean_s``, ``variance_s2`` and
-    optionally ``skewness`` (e.g. :class:`AnalyticMoments` or RTDMoments).
+    optionally ``skewness`` (e.g. [`AnalyticMoments`][rotarydryer.rtd.pulses.AnalyticMoments] or RTDMoments).
     Skewness of the result is None if the RTD's skewness is None.
     """
     m = rtd_moments.mean_s + pulse.mean_s

@@ -1,6 +1,6 @@
 """Measured tracer-curve file format and loader.
 
-Format (CSV, UTF-8)::
+Format (CSV, UTF-8):
 
     # source: Lee (2008) PhD thesis, Appendix I ...   <- optional metadata lines
     # signal_unit: 1/h                                 <- "# key: value"
@@ -23,7 +23,7 @@ Recognised metadata keys (all optional): ``source``, ``signal_unit``
 (``kg/kg``, ``ppm``, ``mg/kg``, ``1/s``, ``1/min``, ``1/h``),
 ``tracer_mass_kg``, ``feed_rate_kg_s``, ``time_origin_s`` (injection start on
 the file's clock, in s), ``pulse_kind`` and ``pulse_duration_s`` (the tracer
-input, see :func:`rotarydryer.rtd.pulse_input`).
+input, see [`rotarydryer.rtd.pulse_input`][rotarydryer.rtd.pulse_input]).
 
 Validation (``ValueError`` naming the file, the line and the problem): missing
 or unknown time column, missing signal column, non-numeric or NaN values,
@@ -31,7 +31,7 @@ negative time or signal, unsorted or duplicate times, fewer than 5 points, a
 signal that is 0 everywhere, non-numeric or out-of-range numeric metadata, an
 unknown ``pulse_kind``, a ``time_origin_s`` at or after the last sample (or after
 all the non-zero signal). Limits: a file is read line by line, must be UTF-8
-text, at most 64 MB and :data:`MAX_TRACER_ROWS` (200 000) data rows.
+text, at most 64 MB and [`MAX_TRACER_ROWS`][rotarydryer.rtd.tracer_data.MAX_TRACER_ROWS] (200 000) data rows.
 """
 
 from __future__ import annotations
@@ -139,7 +139,7 @@ class TracerData:
         return None
 
     def moments(self, **kwargs):
-        """:func:`rotarydryer.rtd.rtd_moments` of this curve, with the file's time
+        """[`rotarydryer.rtd.rtd_moments`][rotarydryer.rtd.rtd_moments] of this curve, with the file's time
         origin and expected area as defaults (override with keyword arguments)."""
 
         kwargs.setdefault("time_origin_s", self.time_origin_s)
@@ -192,8 +192,8 @@ def parse_tracer_text(text: str, name: str = "<string>", *, max_rows: int | None
 
 
 def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> TracerData:
-    """Parse ``(line number, text)`` pairs (see :func:`parse_tracer_text`); stops with an error
-    after ``max_rows`` (default :data:`MAX_TRACER_ROWS`) data rows."""
+    """Parse ``(line number, text)`` pairs (see [`parse_tracer_text`][rotarydryer.rtd.tracer_data.parse_tracer_text]); stops with an error
+    after ``max_rows`` (default [`MAX_TRACER_ROWS`][rotarydryer.rtd.tracer_data.MAX_TRACER_ROWS]) data rows."""
     limit = MAX_TRACER_ROWS if max_rows is None else int(max_rows)
     metadata: dict[str, Any] = {}
     meta_lines: dict[str, int] = {}
@@ -294,7 +294,7 @@ def load_tracer_csv(path, *, max_rows: int | None = None) -> TracerData:
 
     Parameters
     ----------
-    path : str or Path of the CSV file (UTF-8; at most :data:`MAX_TRACER_ROWS` data rows and
+    path : str or Path of the CSV file (UTF-8; at most [`MAX_TRACER_ROWS`][rotarydryer.rtd.tracer_data.MAX_TRACER_ROWS] data rows and
         64 MB, read line by line).
 
     Returns
@@ -339,7 +339,7 @@ def tracer_datasets() -> list[str]:
 
 
 def load_tracer_dataset(name: str) -> TracerData:
-    """Load a shipped tracer curve by name (see :func:`tracer_datasets`)."""
+    """Load a shipped tracer curve by name (see [`tracer_datasets`][rotarydryer.rtd.tracer_data.tracer_datasets])."""
 
     names = tracer_datasets()
     if name not in names:

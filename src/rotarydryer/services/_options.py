@@ -1,5 +1,5 @@
 """Option checking of the front ends: a value with its option name, range and unit, or a
-one-line ``ValueError`` naming them (import-light: :mod:`math` only)."""
+one-line ``ValueError`` naming them (import-light: `math` only)."""
 
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ def usable_cpus() -> int:
 def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--workers") -> tuple[int, list[str]]:
     """``(local worker processes, warnings)`` of ``--workers`` (0: one per usable core) for a job of
     ``n_runs`` runs: a ``ValueError`` naming the option below 0 or not an integer; clamped (with a
-    warning naming the option and the bound) to the usable CPU cores (:func:`usable_cpus`) and to
+    warning naming the option and the bound) to the usable CPU cores (`usable_cpus`) and to
     ``n_runs``. With a Dask ``scheduler`` the local count is not used (the cluster has its own)."""
     if isinstance(workers, bool) or not isinstance(workers, int):
         raise ValueError(f"{option} = {workers!r} is not an integer; allowed: 0 (one per core) to the CPU count")

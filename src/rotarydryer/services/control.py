@@ -3,6 +3,7 @@ PI + feed-forward, on a dryer's dynamic model)."""
 
 from __future__ import annotations
 
+from ..thermal.schedule import InputSchedule, load_schedule
 from ._options import check_option
 
 __all__ = ["check_control_options", "run_control"]
@@ -60,11 +61,13 @@ def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration
 
 def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_time, dead_time, measured, setpoint,
                 kc, tau_i, tau_c, feedforward, feedback, feed_backup, gas_t_max, gas_t_min, feed_min_fraction,
-                open_loop, progress=None):
+                open_loop, progress=None, schedule=None):
     """The runs of ``rotarydryer control`` (and of the web app's control page) on ``sim``, a
-    :class:`~rotarydryer.simulation.Simulation` of ``case``, with options already checked by
-    :func:`check_control_options`: steady state, FOPDT models, the closed loop and, with
-    ``open_loop``, the uncontrolled plant. Returns ``(closed, opened or None)``."""
+    `Simulation` of ``case``, with options already checked by
+    `check_control_options`: steady state, FOPDT models, the closed loop and, with
+    ``open_loop``, the uncontrolled plant; ``schedule`` (an
+    [`InputSchedule`][rotarydryer.thermal.schedule.InputSchedule] or a .csv/.toml path) replaces the
+    scenario. Returns ``(closed, opened or None)``."""
     from .. import control as C
 
     if not sim.thermal_enabled:
@@ -79,9 +82,14 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
                           feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
                           gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
                           feed_min_fraction=feed_min_fraction).validate()
+    if schedule is not None and not isinstance(schedule, InputSchedule):
+        schedule = load_schedule(schedule)
     kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg,
-              progress=progress)
-    C.check_scenario(dryer, scenario, magnitude, duration, step_time)
+              progress=progress, schedule=schedule)
+    if schedule is None:
+        C.check_scenario(dryer, scenario, magnitude, duration, step_time)
+    else:       # the schedule's own checks before the identification runs
+        C.check_schedule(dryer, schedule, duration, True)
     models = C.identify(dryer, steady, progress=progress)
     closed = C.closed_loop(dryer, steady, models=models, **kw)
     opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None

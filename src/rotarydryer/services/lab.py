@@ -136,8 +136,8 @@ def image_options(centre, drum="ajayi_pilot", px_per_m=None, known_length_px=Non
 
 def measure_image(img, name, d, cal, scale_name, reference_angle=90.0, channel=0, threshold="168,177",
                   airborne_threshold="104,120", smooth_sigma=0.0):
-    """Measure a photograph (an array from :func:`rotarydryer.lab.images.load_image`) as
-    ``rotarydryer lab image`` does, after :func:`image_options` (``name`` names it in messages)."""
+    """Measure a photograph (an array from `rotarydryer.lab.images.load_image`) as
+    ``rotarydryer lab image`` does, after `image_options` (``name`` names it in messages)."""
     from ..lab import images as im
 
     nch = 1 if img.ndim == 2 else img.shape[2]

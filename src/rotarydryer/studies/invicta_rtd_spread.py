@@ -8,18 +8,18 @@ comes from the 4 % of the tracer that leaves after 20 min, a slowly decaying tai
 well-mixed cells, cannot produce. The body of the curve (to 20 min) has SD 2.46 min,
 close to Lee's model.
 
-The model code of the variant lives in :mod:`rotarydryer.transport.core_variants`
+The model code of the variant lives in `rotarydryer.transport.core_variants`
 (``add_stagnant_core``, ``lee2008_stagnant_core``, ``stagnant_core_moments``,
 ``core_layer_widths``, ``diffusive_core_equivalent_time``, ``slowest_time_constant``);
-this study module (it loads the Invicta case and fits with :mod:`rotarydryer.estimation`)
+this study module (it loads the Invicta case and fits with `rotarydryer.estimation`)
 provides
 
-* data diagnostics: :func:`tail_share`, :func:`truncated_moments`,
-  :func:`tail_decay_time`, :func:`tail_power_exponent`;
-* :func:`invicta_model`, :func:`fit_invicta`, :func:`invicta_window_moments` and the
-  fitted sets :data:`INVICTA_FITS`: the Invicta case (Lee's regressions, N = 35, Lee's
+* data diagnostics: `tail_share`, `truncated_moments`,
+  `tail_decay_time`, `tail_power_exponent`;
+* `invicta_model`, `fit_invicta`, `invicta_window_moments` and the
+  fitted sets `INVICTA_FITS`: the Invicta case (Lee's regressions, N = 35, Lee's
   39.6 s pulse) for Lee's model and the core variants, fitted with
-  :func:`rotarydryer.estimation.fit` with Lee's unit weights or relative weights.
+  `rotarydryer.estimation.fit` with Lee's unit weights or relative weights.
 
 The variant proposed in docs/rtd_spread.md fits t_kiln, beta and t_D (3 parameters,
 like Lee) with the curtain's gas corrections at their no-drag values (C_B = 0,
@@ -270,7 +270,7 @@ def fit_invicta(keys, *, fixed: dict | None = None, start: dict | None = None, w
         the log transform is the robust equivalent.) ``objective`` and ``r_squared``
         of the result are then in log space.
 
-    core_model, n_layers : see :func:`add_stagnant_core`.
+    core_model, n_layers : see `add_stagnant_core`.
     solver : {"expm", "bdf2"}
         Tracer response: exact matrix exponential on the 10 s data grid (dense; slow
         when the BLAS is multi-threaded on a busy machine, set OPENBLAS_NUM_THREADS=1)

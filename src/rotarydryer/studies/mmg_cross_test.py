@@ -2,22 +2,22 @@ r"""Study: the predictive MMG transport across Ajayi's six tracer tests (issue 1
 
 The case ``ajayi2011_mmg`` with ``transport.parameter_source = "predictive"`` takes the solids
 velocity and dispersion of every section from the operating point with two coefficients, c_u and
-c_D (:mod:`rotarydryer.transport.ajayi_predictive`). This study calibrates the two on one test and
+c_D (`rotarydryer.transport.ajayi_predictive`). This study calibrates the two on one test and
 predicts the others:
 
-* **measured E(t)** (:func:`measured_curve`): Ajayi (2011) Appendix B (``load_tracer_dataset``),
+* **measured E(t)** (`measured_curve`): Ajayi (2011) Appendix B (``load_tracer_dataset``),
   background removed with the case's ``tracer.baseline`` ("leading": median before breakthrough),
   normalised to unit area on the samples (Ajayi (2011) Eq. 3.5-3.6, trapezoidal rule);
-* **model E(t)** (:func:`predict`): the case's 60 s tracer pulse simulated at the transport steady
+* **model E(t)** (`predict`): the case's 60 s tracer pulse simulated at the transport steady
   state, read at the sample times and normalised on the same samples (both curves see the same
   window); its tracer mean and SD are the analytic moments from the injection start
   (``rotarydryer rtd ... --json``: ``tracer_mean_s``, ``tracer_std_s``);
 * **R^2** = 1 - sum (E_meas - E_model)^2 / sum (E_meas - mean E_meas)^2 over the samples; the MRT
   error is against Ajayi's published first moment (Table 3.13, ``ajayi_rtd_tests_summary.csv``);
-* **calibration** (:func:`calibrate`): unweighted least squares of E(t) by
-  :func:`rotarydryer.estimation.fit` (c_u, c_D log-transformed) from a start whose c_u matches the
+* **calibration** (`calibrate`): unweighted least squares of E(t) by
+  `rotarydryer.estimation.fit` (c_u, c_D log-transformed) from a start whose c_u matches the
   measured mean;
-* :func:`cross_test` - the matrix "calibrated on test i, predicted test j"; :func:`markdown` - the
+* `cross_test` - the matrix "calibrated on test i, predicted test j"; `markdown` - the
   tables of docs/mmg_cross_test.md (``examples/mmg_cross_test.py`` writes them).
 
 Everything is computed from shipped data (tracer files, the test summary, the case file).
@@ -207,10 +207,10 @@ def _start_velocity(test, cu, cd, law, extra) -> float:
 
 def calibrate(test: int, *, law: str = "friedman_marshall", start: tuple[float, float] | None = None,
               overrides: dict | None = None) -> Calibration:
-    """c_u and c_D that fit ``test``'s measured E(t) (unweighted least squares, :func:`rotarydryer.estimation.fit`).
+    """c_u and c_D that fit ``test``'s measured E(t) (unweighted least squares, `rotarydryer.estimation.fit`).
 
     ``start`` (c_u, c_D): default the case file's calibration; c_u is first moved to match the
-    measured mean (:func:`_start_velocity`)."""
+    measured mean (`_start_velocity`)."""
     from ..cases import load_case
     from ..estimation import Dataset, Parameter, fit
 
@@ -301,7 +301,7 @@ def markdown(cross: CrossTest, alternatives: dict | None = None, fouling: dict |
     """The tables of docs/mmg_cross_test.md: the test data, the row calibrated on Test 4 (or the
     first calibration), the R^2 and MRT-error matrices; ``alternatives``: label -> CrossTest
     calibrated on the same test, shown as extra rows; ``fouling``: transport.fouling -> Prediction
-    of Test 3 with that calibration; ``consistency``: :func:`table_5_2_consistency`."""
+    of Test 3 with that calibration; ``consistency``: `table_5_2_consistency`."""
     tests = sorted({j for row in cross.predictions.values() for j in row})
     ref = 4 if 4 in cross.calibrations else next(iter(cross.calibrations))
     out = []

@@ -1,28 +1,28 @@
 r"""Study: the predictive transport law across operating points and dryers (docs/predictive_transport.md).
 
-The law is case keys (``transport.parameter_source = "predictive"``; :mod:`rotarydryer.cases.build`):
+The law is case keys (``transport.parameter_source = "predictive"``; `rotarydryer.cases.build`):
 lee2008-type flighted sections take the forward step of a cascade from particle trajectories through
-the local gas (:mod:`rotarydryer.transport.forward_step`: drag, Sherritt's in-curtain velocity with
+the local gas (`rotarydryer.transport.forward_step`: drag, Sherritt's in-curtain velocity with
 ``transport.curtain_coefficient``, the landing's own advance ``transport.step_factor``) and move the
 excess over the design load at the cascade speed (``kiln_law = "cascade"``); Ajayi's (2011) sections
 and the unflighted beds take the Friedman-Marshall kiln velocity and a particle Peclet number
-(:mod:`rotarydryer.transport.ajayi_predictive`). The coefficients are calibration records of the
+(`rotarydryer.transport.ajayi_predictive`). The coefficients are calibration records of the
 cases and ``[transport]`` tables of the materials (the material class).
 
 This module computes the tables of the page from the shipped cases: each prediction is
 ``Simulation(case, overrides)``, i.e. what ``rotarydryer rtd CASE --set KEY=VALUE ...`` prints, and
-each calibration is :func:`rotarydryer.estimation.calibrate.calibrate` (``rotarydryer calibrate``).
+each calibration is `rotarydryer.estimation.calibrate.calibrate` (``rotarydryer calibrate``).
 Nothing published is typed in: measured values come from the cases' ``[[tests]]`` rows, tracer
 curves and the package data.
 
-* :func:`song_runs`, :func:`song_splits`, :func:`song_predict`, :func:`song_cross_validation`:
+* `song_runs`, `song_splits`, `song_predict`, `song_cross_validation`:
   Song's (2003) 73 Appendix A runs (tests 1-73 of ``song2003_ottawa``), odd/even halves and
   base (5 rpm, 0.083 m/m) -> the 20 speed and slope runs.
-* :func:`trend_table`: MRT against speed, slope and feed for every shipped case and the template.
-* :func:`invicta_table`: Lee's Invicta dryer, fitted against predictive, speed 1.5-5 rpm.
-* :func:`mmg_leave_one_out`: MMG, calibrate on one test, predict the five others.
-* :func:`cross_dryer`: the coefficients of one dryer's material class used on the others.
-* :func:`pearson_table`: Ajayi's Table 5.3 (Pearson r of u_s and D against speed, diameter and
+* `trend_table`: MRT against speed, slope and feed for every shipped case and the template.
+* `invicta_table`: Lee's Invicta dryer, fitted against predictive, speed 1.5-5 rpm.
+* `mmg_leave_one_out`: MMG, calibrate on one test, predict the five others.
+* `cross_dryer`: the coefficients of one dryer's material class used on the others.
+* `pearson_table`: Ajayi's Table 5.3 (Pearson r of u_s and D against speed, diameter and
   inlet repose angle) from his Table 5.2 and from the predictive law.
 
 Units: SI (s, kg, m) unless a name says otherwise.
@@ -240,7 +240,7 @@ def _mmg_predict(test: int, values: dict, overrides: dict | None = None) -> dict
 
 
 def mmg_leave_one_out(tests=(1, 2, 3, 4, 5, 6), keys=MMG_KEYS, overrides: dict | None = None) -> dict:
-    """Calibrate ``keys`` (default c_0 and c_D, :data:`MMG_KEYS`) on the tracer curve E(t) of one test
+    """Calibrate ``keys`` (default c_0 and c_D, `MMG_KEYS`) on the tracer curve E(t) of one test
     (``rotarydryer calibrate ajayi2011_mmg -p ... --tests i -r tracer --set
     transport.parameter_source=predictive``, default geometry) and predict the others. Returns
     ``calibrations`` {i: values}, ``predictions`` {i: {j: dict(mrt_s, std_s, r_squared, ...)}},

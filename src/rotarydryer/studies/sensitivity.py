@@ -90,7 +90,7 @@ def parse_param(item: str) -> tuple[str, tuple[float, float]]:
 
 
 def check_params(params) -> dict[str, tuple[float, float]]:
-    """``{key: (low, high)}`` checked: 1 to :data:`MAX_PARAMS` keys, finite numbers, low < high."""
+    """``{key: (low, high)}`` checked: 1 to `MAX_PARAMS` keys, finite numbers, low < high."""
     if isinstance(params, Mapping):
         items = list(params.items())
     else:
@@ -120,8 +120,8 @@ def check_params(params) -> dict[str, tuple[float, float]]:
 
 
 def check_samples(samples, n_params: int) -> int:
-    """Base sample count: an integer in [1, :data:`MAX_SAMPLES`] whose design has at most
-    :data:`MAX_RUNS` runs."""
+    """Base sample count: an integer in [1, `MAX_SAMPLES`] whose design has at most
+    `MAX_RUNS` runs."""
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
         try:
             f = float(samples)
@@ -150,7 +150,7 @@ MAX_SEED = 2**32 - 1
 
 
 def check_seed(seed, option: str = "--seed") -> int:
-    """The seed as an int in [0, :data:`MAX_SEED`], or a ``ValueError`` naming ``option``."""
+    """The seed as an int in [0, `MAX_SEED`], or a ``ValueError`` naming ``option``."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= int(seed) <= MAX_SEED:
         raise ValueError(f"{option} = {seed!r} is outside the allowed range: an integer from 0 to {MAX_SEED}")
     return int(seed)
@@ -192,9 +192,9 @@ def _check_case(case, base: dict, params: dict) -> None:
 
 def _steady_summary(case, overrides: dict, warm=None, outputs=None):
     """``(summary dict, warm-start data or None)`` of one run, started from ``warm`` (the data of
-    a nearby run, :meth:`rotarydryer.simulation.Simulation.steady_state`: the same steady state, on
+    a nearby run, `rotarydryer.simulation.Simulation.steady_state`: the same steady state, on
     its heat-and-mass model when only parameter values differ); ``outputs``: the names wanted
-    (:meth:`SteadyResult.summary`)."""
+    (`SteadyResult.summary`)."""
     from ..simulation import Simulation
 
     res = Simulation(case, overrides).steady_state(warm=warm)
@@ -442,7 +442,7 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
         Uniform uncertain inputs (override keys).
     samples : int
         Base samples N, a power of 2 (others are refused); the design has ``N * (D + 2)`` runs.
-    outputs : names of the outputs (default :data:`OUTPUTS`).
+    outputs : names of the outputs (default `OUTPUTS`).
     workers, scheduler : local processes, or a Dask scheduler address.
     base_overrides : overrides applied to every run (``--set``).
     progress : called with the number of runs finished.

@@ -15,7 +15,7 @@ trajectories through the co-current air, Sherritt's curtain velocity with the co
 excess over the design load kilned at the cascade speed, ``kiln_law = "cascade"``, the
 flights' loading factor fixed at 1; docs/predictive_transport.md). The two coefficients are
 fitted here by cross-validation, and the out-of-sample error is compared with the
-correlations of :mod:`rotarydryer.correlations` (docs/song_pilot.md).
+correlations of `rotarydryer.correlations` (docs/song_pilot.md).
 
 Air: Song's conversion of Ori_G (m^3/s) to kg with 1.1774 kg/m^3 (notes song.md 7.2), at
 26.85 degC (dry air of 1.1774 kg/m^3 at 101325 Pa).
@@ -135,7 +135,7 @@ class Coefficients:
     """The two global coefficients of the predictive law: ``step_factor`` c_0 (-, case key
     ``transport.step_factor``), advance of a cascade without gas over the drag-free fall
     h_m sin(theta); ``curtain_coefficient`` K (``transport.curtain_coefficient``), Sherritt's
-    constant of :func:`curtain_velocity_ratio` (h in m, q in kg/(s m))."""
+    constant of `curtain_velocity_ratio` (h in m, q in kg/(s m))."""
 
     step_factor: float
     curtain_coefficient: float
@@ -147,11 +147,12 @@ class Coefficients:
 
 def curtain_velocity_ratio(fall_height, release_rate, coefficient):
     r"""Gas velocity inside a curtain over the bulk gas velocity, Sherritt's form (Lee (2008) Eq. 2.14),
-    with checked inputs: :func:`rotarydryer.transport.forward_step.sherritt_form`, the curtain law of
+    with checked inputs: `rotarydryer.transport.forward_step.sherritt_form`, the curtain law of
     the network.
 
-    .. math::
-        c_v = \min(1,\ K\, h^{-0.76} q^{-0.86})
+    $$
+    c_v = \min(1,\ K\, h^{-0.76} q^{-0.86})
+    $$
 
     Parameters
     ----------
@@ -233,7 +234,7 @@ class PilotModel:
     Parameters
     ----------
     runs : PilotRuns, optional
-        Default :func:`pilot_runs` (all 73).
+        Default `pilot_runs` (all 73).
     case : str
         Case name or file (default ``song2003_ottawa``).
 
@@ -275,7 +276,7 @@ class PilotModel:
                 "gas.inlet_temperature": AIR_TEMPERATURE, "transport.parameter_source": "predictive"}
 
     def overrides(self, i: int, coefficients: Coefficients) -> dict:
-        """Complete case overrides of run ``i``: :meth:`base_overrides` plus the two coefficients
+        """Complete case overrides of run ``i``: `base_overrides` plus the two coefficients
         (``rotarydryer rtd song2003_ottawa --set KEY=VALUE ...`` reproduces the prediction)."""
         c = coefficients if isinstance(coefficients, Coefficients) else Coefficients(*coefficients)
         ov = self.base_overrides(i)
@@ -326,7 +327,7 @@ class PilotModel:
 def fit_coefficients(model: PilotModel, idx=None, start=(2.45, 0.093)) -> tuple[Coefficients, dict]:
     """Least-squares fit of the two coefficients to the runs ``idx`` (default all): residuals
     ln(tau_model/tau_measured), i.e. relative errors, equally weighted; parameters on a log scale;
-    every evaluation is :meth:`PilotModel.predict` (one Simulation per run, about 1 s for 73 runs;
+    every evaluation is `PilotModel.predict` (one Simulation per run, about 1 s for 73 runs;
     a fit takes 10-40 of them). Returns the coefficients and ``dict(cost, nfev, success)``."""
     from scipy.optimize import least_squares
 
@@ -368,7 +369,7 @@ def split_extrapolation(runs: PilotRuns):
 
 
 def cross_validate(model: PilotModel, start=None) -> dict:
-    """Two-fold cross-validation on :func:`split_halves`: fit on one half, predict the other,
+    """Two-fold cross-validation on `split_halves`: fit on one half, predict the other,
     and the reverse. Returns per fold (key: the training half) the coefficients, the fit summary,
     the out-of-sample prediction and its errors, and ``tau_out`` (s): every run predicted by the
     fit that did not see it, with ``errors`` over all 73."""
@@ -385,7 +386,7 @@ def cross_validate(model: PilotModel, start=None) -> dict:
 
 
 def extrapolate(model: PilotModel, start=None) -> dict:
-    """Fit on the ``base`` runs of :func:`split_extrapolation`, predict the speed and slope series:
+    """Fit on the ``base`` runs of `split_extrapolation`, predict the speed and slope series:
     ``coefficients``, ``fit``, ``prediction`` and ``errors`` (on the 20 ``other`` runs)."""
     sp = split_extrapolation(model.runs)
     coef, info = fit_coefficients(model, sp["base"], start=start or SONG_PILOT_FITS["base"])
@@ -402,7 +403,7 @@ def _fluxes(runs: PilotRuns, area: float):
 def correlation_predictions(runs: PilotRuns, length=3.05, diameter=0.305, particle_size=444e-6) -> dict:
     """Mean residence time (s) of every run by the correlations Song evaluates (Song (2003) Eq.
     4.2-4.5: Friedman & Marshall, Foust et al., Perry & Green, Song & Thibault) from
-    :mod:`rotarydryer.correlations`, co-current, G/F as the mass-flux ratio (notes song.md 7.3)."""
+    `rotarydryer.correlations`, co-current, G/F as the mass-flux ratio (notes song.md 7.3)."""
     from .. import correlations as co
 
     g, f = _fluxes(runs, math.pi * diameter**2 / 4)
@@ -440,15 +441,15 @@ PER_TEST_SETTINGS = {"transport.parameter_source": "per_test", "transport.forwar
 def baseline_predictions(model: PilotModel) -> dict:
     """Mean residence time (s) of every run by the case's network with nothing fitted here:
 
-    * ``"case"``: the case's fitted-step settings (:data:`PER_TEST_SETTINGS`:
+    * ``"case"``: the case's fitted-step settings (`PER_TEST_SETTINGS`:
       ``transport.parameter_source = "per_test"``, Lee's step C_F^G = ``drag_reduction`` = 1,
       kilning time 10 s, loading from the state), the configuration of the case before the
       predictive law, at the run's conditions;
     * ``"trajectory"``: the same with ``transport.forward_step = "trajectory"`` and Sherritt's curtain
       velocity as printed (``step_factor`` 1, ``curtain_coefficient`` 1.546; Lee (2008) Eq. 2.14;
-      :mod:`rotarydryer.transport.forward_step`);
+      `rotarydryer.transport.forward_step`);
     * ``"predictive"``: the case as shipped, the predictive law with the coefficients of its
-      ``[[calibrations]]`` record (fitted to all 73 runs: in sample), i.e. :meth:`PilotModel.base_overrides`."""
+      ``[[calibrations]]`` record (fitted to all 73 runs: in sample), i.e. `PilotModel.base_overrides`."""
     from ..transport.forward_step import SHERRITT_COEFFICIENT
 
     out = {}
@@ -465,14 +466,14 @@ def baseline_predictions(model: PilotModel) -> dict:
 def comparison_table(model: PilotModel, cv: dict | None = None, extrapolation: dict | None = None,
                      baselines: dict | None = None) -> list[dict]:
     """Rows comparing the predictive law with the correlations, each with ``errors`` on all 73
-    runs and ``errors_other`` on the 20 speed/slope runs of :func:`split_extrapolation`:
+    runs and ``errors_other`` on the 20 speed/slope runs of `split_extrapolation`:
 
-    * the predictive law, cross-validated (:func:`cross_validate`; ``errors_other``: fitted on the
-      53 base runs only, :func:`extrapolate`);
+    * the predictive law, cross-validated (`cross_validate`; ``errors_other``: fitted on the
+      53 base runs only, `extrapolate`);
     * Song's Eq. 4.5 form with its two constants refitted the same ways;
     * the published correlations as printed (Song's Eq. 4.5 was fitted by Song on these very runs:
       in sample; the others' constants come from other dryers);
-    * the case's network with nothing fitted here (:func:`baseline_predictions`; ``baselines`` reuses
+    * the case's network with nothing fitted here (`baseline_predictions`; ``baselines`` reuses
       them): the former fitted-step settings, the trajectory step with Sherritt's constant as printed,
       and the case as shipped (the predictive law with its calibration record, in sample)."""
     runs = model.runs
@@ -529,7 +530,7 @@ def run_transport_model(model: PilotModel, i: int, coefficients: Coefficients):
 
 def simulate_steps(segments, dt: float = 1.0, settle: float = 1e-7, max_duration: float = 86400.0) -> dict:
     """Feed and discharge records of a step experiment on the transport network (the mass dynamics
-    dM/dt of :meth:`rotarydryer.transport.network.Network.simulate_masses`, BDF, rtol 1e-10).
+    dM/dt of `rotarydryer.transport.network.Network.simulate_masses`, BDF, rtol 1e-10).
 
     ``segments``: list of ``(transport_model, feed_kg_s)`` in order, all with the same nodes (one
     case; a new model is a step of speed, slope or gas, a new feed a feed step). The dryer starts
@@ -592,7 +593,7 @@ def simulate_steps(segments, dt: float = 1.0, settle: float = 1e-7, max_duration
 
 
 def record_of(rec: dict, name: str = "simulated record"):
-    """:class:`rotarydryer.lab.steps.StepRecord` of a :func:`simulate_steps` record: the feed rate
+    """`rotarydryer.lab.steps.StepRecord` of a `simulate_steps` record: the feed rate
     and the mass on the balance (as Song recorded)."""
     from ..lab import steps as sm
 
@@ -612,7 +613,7 @@ def step_record_csv(rec: dict, note: str = "") -> str:
 def step_test(model: PilotModel, i: int, coefficients: Coefficients, dt: float = 1.0) -> dict:
     """Song's up/down step test (Fig. 4.2-4.3) simulated on run ``i``: empty dryer, feed 0 -> F
     until steady, then F -> 0 until empty; the record analysed by
-    :func:`rotarydryer.lab.steps.analyse_steps`. Returns ``record`` (:func:`simulate_steps`),
+    `rotarydryer.lab.steps.analyse_steps`. Returns ``record`` (`simulate_steps`),
     ``analysis``, ``steady_holdup_kg`` (the model's steady state) and ``feed_kg_s``."""
     from ..lab import steps as sm
 
@@ -624,11 +625,11 @@ def step_test(model: PilotModel, i: int, coefficients: Coefficients, dt: float =
 
 
 def table41_comparison(model: PilotModel | None = None, fits: dict | None = None, dt: float = 1.0) -> list[dict]:
-    """Song's Table 4.1 against the simulated step test of each run (:func:`step_test`).
+    """Song's Table 4.1 against the simulated step test of each run (`step_test`).
 
     Runs 2-5 take the conditions of their Appendix A row (``appendix_src_line``) and the
     coefficients of the cross-validation half that did *not* contain that row (``fits``: {"odd",
-    "even", "all"} -> Coefficients, default :data:`SONG_PILOT_FITS`); run 1 has no Appendix A row
+    "even", "all"} -> Coefficients, default `SONG_PILOT_FITS`); run 1 has no Appendix A row
     and is simulated at run 2's speed, slope and no gas (an assumption) with Song's feed 5.40 kg/min
     and the coefficients fitted to all 73 runs."""
     from ..published import read_published_csv
@@ -713,7 +714,7 @@ def series_of(runs: PilotRuns) -> list[str]:
 def command_line(model: PilotModel, i: int, coefficients: Coefficients) -> str:
     """The ``rotarydryer rtd`` command that reproduces the prediction of run ``i``: a run of the
     case's ``[[tests]]`` by its row (``--set operating.test=N``) and the two coefficients, any other
-    run by all of :meth:`PilotModel.overrides`."""
+    run by all of `PilotModel.overrides`."""
     c = coefficients if isinstance(coefficients, Coefficients) else Coefficients(*coefficients)
     ov: dict = ({"operating.test": model.tests[i], "transport.step_factor": float(c.step_factor),
                  "transport.curtain_coefficient": float(c.curtain_coefficient)} if model.tests[i] is not None

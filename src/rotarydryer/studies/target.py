@@ -11,12 +11,12 @@ One free input (a numeric case key, e.g. ``operating.feed_rate``, ``gas.inlet_te
 ``gas.flow``, ``operating.rpm``) is varied in ``bounds = (lo, hi)``; every evaluation is the
 steady state ``Simulation(case, {**overrides, key: x}).steady_state().summary()[output]``, started
 from the previous evaluation's state and on its heat-and-mass model where only parameter values
-change (as :meth:`rotarydryer.simulation.Simulation.sweep`).
+change (as `rotarydryer.simulation.Simulation.sweep`).
 
-The condition is on one output of :meth:`~rotarydryer.simulation.SteadyResult.summary`:
+The condition is on one output of `summary`:
 
 - ``output = value``: the input where the output equals the value (Brent's method,
-  :func:`scipy.optimize.brentq`, on the sign change between the bounds); no sign change is
+  `scipy.optimize.brentq`, on the sign change between the bounds); no sign change is
   "no solution in [lo, hi]".
 - ``output <= value`` or ``output >= value``: the extreme input of the bounds that still meets it,
   the end of the part of ``[lo, hi]`` that meets it toward which the output approaches the value
@@ -28,7 +28,7 @@ The condition is on one output of :meth:`~rotarydryer.simulation.SteadyResult.su
   bound that comes closest.
 
 A steady state that fails at a bound (infeasible fill, no coupled steady state) moves that bound
-toward the other one (at most :data:`SHRINK_STEPS` times, halving the distance), and the result
+toward the other one (at most `SHRINK_STEPS` times, halving the distance), and the result
 says so in ``notes``; a failure inside the bracket during the root search is an error naming the
 input value and the reason. The output tolerance ``tol`` (absolute, in the output's unit) ends
 the search when ``|output - value| <= tol``.
@@ -48,7 +48,7 @@ from ..cases import load_case, valid_override_keys
 from ..cases.build import test_row
 from ..simulation import Simulation
 
-__all__ = ["target", "TargetResult", "parse_such_that", "parse_find", "default_bounds", "check_bounds",
+__all__ = ["target", "TargetResult", "solve_targets", "optimum", "TargetSetResult", "TargetError", "parse_such_that", "parse_find", "default_bounds", "check_bounds",
            "OPERATORS", "SHRINK_STEPS", "DEFAULT_SPAN"]
 
 #: the conditions a target may put on its output
@@ -59,6 +59,16 @@ SHRINK_STEPS = 5
 DEFAULT_SPAN = (0.25, 4.0)
 #: most steady states of one target (bounds, shrinking and the root search)
 MAX_EVALUATIONS = 80
+
+class TargetError(ValueError):
+    """A target that cannot be answered: ``reason`` ``"no_steady_state"`` (a steady state failed
+    inside the bounds: the solver's answer, exit code 1) or ``"unreachable"`` / ``"bad_input"``
+    (exit code 2)."""
+
+    def __init__(self, message, reason="bad_input"):
+        super().__init__(message)
+        self.reason = reason
+
 
 _LABELS = {"find": "find", "such_that": "such_that", "bounds": "bounds"}
 _SUCH_THAT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=|==|=)\s*(\S.*?)\s*$")
@@ -192,7 +202,7 @@ def _limit_text(key) -> str:
 
 def check_bounds(key: str, bounds, label: str = "find") -> tuple[float, float]:
     """``(lo, hi)`` of ``key`` as floats: finite, ``lo < hi``, both inside the key's schema limit
-    (:data:`rotarydryer._limits.LIMITS`, where declared); else ``ValueError`` naming ``label``,
+    (`rotarydryer._limits.LIMITS`, where declared); else ``ValueError`` naming ``label``,
     the values and the allowed range."""
     try:
         lo, hi = (float(b) for b in bounds)
@@ -236,7 +246,7 @@ def case_value(case, key: str):
 
 
 def default_bounds(case, key: str, label: str = "find") -> tuple[float, float]:
-    """:data:`DEFAULT_SPAN` times the case's value of ``key``, clipped to the key's schema limit."""
+    """`DEFAULT_SPAN` times the case's value of ``key``, clipped to the key's schema limit."""
     v = case_value(case, key)
     if v is None or not math.isfinite(v) or v <= 0:
         raise ValueError(f"{label} {key}: the case has no positive value of {key} to bracket "
@@ -272,7 +282,7 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
     Parameters
     ----------
     case : str, path or Simulation
-        Case name or ``.toml`` file (a :class:`~rotarydryer.simulation.Simulation` of one: its
+        Case name or ``.toml`` file (a `Simulation` of one: its
         case and overrides).
     find : str
         The free input, a numeric case key (``"operating.feed_rate"``); ``"KEY=LO,HI"`` gives the
@@ -280,7 +290,7 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
     such_that : str or (name, op, value)
         ``"product_moisture_kg_kg=0.12"``, ``"...<=0.12"`` or ``"...>=0.12"``.
     bounds : (lo, hi), optional
-        Bracket of the input (SI); default :data:`DEFAULT_SPAN` times the case's value, clipped to
+        Bracket of the input (SI); default `DEFAULT_SPAN` times the case's value, clipped to
         the key's schema limit.
     overrides : dict, optional
         Further case overrides (``--set``), applied at every evaluation.
@@ -393,8 +403,8 @@ def _usable_end(evaluate, end, other, side, key, unit, notes, label):
         y, _ = evaluate(x)
     u = f" {unit}" if unit else ""
     if y is None:
-        raise ValueError(f"{label} {key}: no steady state at the bound {side} = {fmt_number(end)}{u} nor at "
-                         f"{k} points toward {fmt_number(other)} ({reason}); give narrower bounds")
+        raise TargetError(f"{label} {key}: no steady state at the bound {side} = {fmt_number(end)}{u} nor at "
+                          f"{k} points toward {fmt_number(other)} ({reason}); give narrower bounds", "no_steady_state")
     if x != end:
         notes.append(f"bound {side} moved from {fmt_number(end)} to {fmt_number(x)}{u}: no steady state at "
                      f"{fmt_number(end)} ({reason})")
@@ -417,9 +427,363 @@ def _root(evaluate, lo, hi, y_target, tol, key, unit, label):
         return float(hit.x), float(hit.y)
     except _Failed as bad:
         u = f" {unit}" if unit else ""
-        raise ValueError(f"{label} {key}: no steady state at {fmt_number(bad.x)}{u} inside the bracket "
-                         f"[{fmt_number(lo)}, {fmt_number(hi)}] ({bad.reason}); give bounds on one side of it") from None
+        raise TargetError(f"{label} {key}: no steady state at {fmt_number(bad.x)}{u} inside the bracket "
+                          f"[{fmt_number(lo)}, {fmt_number(hi)}] ({bad.reason}); give bounds on one side of it",
+                          "no_steady_state") from None
     y, reason = evaluate(x)
     if y is None:
-        raise ValueError(f"{label} {key}: no steady state at {fmt_number(x)} ({reason})")
+        raise TargetError(f"{label} {key}: no steady state at {fmt_number(x)} ({reason})", "no_steady_state")
     return float(x), float(y)
+
+
+# ---------------------------------------------------------------------------------------------- several targets
+@dataclass
+class TargetSetResult:
+    """The answer of several targets ([`solve_targets`][rotarydryer.studies.target.solve_targets]) or of an
+    optimum ([`optimum`][rotarydryer.studies.target.optimum]).
+
+    ``values``: input key -> value (SI); ``outputs``: output name -> value there (every output a
+    condition or the objective names); ``conditions``: one dict per condition (``such_that``,
+    ``output``, ``met``, ``active``: an inequality holding with equality within its tolerance, or an
+    equality); ``active_bounds``: input key -> ``"lo"``/``"hi"`` where an input sits on a bound."""
+
+    case: str
+    kind: str
+    values: dict
+    outputs: dict
+    conditions: list
+    active_bounds: dict
+    bounds: dict
+    evaluations: int
+    found: bool
+    objective: str | None = None
+    sense: str | None = None
+    notes: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return {"case": self.case, "kind": self.kind, "found": self.found, "objective": self.objective,
+                "sense": self.sense, **{k: v for k, v in self.values.items()}, "values": dict(self.values),
+                "outputs": dict(self.outputs), "conditions": list(self.conditions),
+                "active_bounds": dict(self.active_bounds), "bounds": {k: list(v) for k, v in self.bounds.items()},
+                "evaluations": self.evaluations, "notes": list(self.notes)}
+
+    def text(self) -> str:
+        head = (f"{self.sense} {self.objective}" if self.objective else "targets") + f" of {self.case}"
+        lines = [head + ("" if self.found else ": no solution in the bounds")]
+        for k, v in self.values.items():
+            lo, hi = self.bounds[k]
+            u = LIMITS[k].unit if k in LIMITS else ""
+            side = self.active_bounds.get(k)
+            lines.append(f"  {k} = {fmt_number(v)}{' ' + u if u else ''} in [{fmt_number(lo)}, {fmt_number(hi)}]"
+                         + (f" (bound {side} binds)" if side else ""))
+        for c in self.conditions:
+            state = "active" if c["active"] else ("met" if c["met"] else "NOT met")
+            lines.append(f"  {c['such_that']}: {c['output_name']} = {_shown(c['output'])} ({state})")
+        lines += [f"note: {n}" for n in self.notes]
+        lines.append(f"{self.evaluations} steady states")
+        return "\n".join(lines)
+
+
+class _Evaluator:
+    """Steady-state outputs at input values (dict key -> x), cached, warm-started from the last run."""
+
+    def __init__(self, case_name, overrides, names, such_that_label):
+        self.case_name, self.overrides, self.names, self.label = case_name, overrides, names, such_that_label
+        self.cache: dict = {}
+        self.warm = None
+        self.count = 0
+
+    def __call__(self, values: dict):
+        key = tuple(sorted((k, float(v)) for k, v in values.items()))
+        if key in self.cache:
+            return self.cache[key]
+        if self.count >= MAX_EVALUATIONS:
+            raise TargetError(f"no answer in {MAX_EVALUATIONS} steady states", "unreachable")
+        self.count += 1
+        try:
+            res = Simulation(self.case_name, {**self.overrides, **values}).steady_state(warm=self.warm)
+            out = res.summary()
+        except (ValueError, ArithmeticError) as exc:
+            self.cache[key] = (None, " ".join(str(exc).split()) or type(exc).__name__)
+            return self.cache[key]
+        self.warm = res.warm_data() or self.warm
+        ys = {}
+        for name in self.names:
+            y = out.get(name)
+            if name not in out or isinstance(y, bool) or not isinstance(y, (int, float)):
+                numeric = sorted(k for k, v in out.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
+                what = "is not an output of the case" if name not in out else "is not a number in this run"
+                raise TargetError(f"{self.label}: {name!r} {what}; outputs: {', '.join(numeric)}")
+            ys[name] = float(y)
+        self.cache[key] = (ys, "")
+        return self.cache[key]
+
+
+def _prepare(case, finds, such_thats, overrides, tol, labels, need):
+    lab = {**_LABELS, **(labels or {})}
+    if isinstance(case, Simulation):
+        overrides = {**case.overrides, **(overrides or {})}
+        case = case.case_name
+    case_name, overrides = str(case), dict(overrides or {})
+    finds = [finds] if isinstance(finds, str) else list(finds)
+    if isinstance(such_thats, (str, tuple)) and not (isinstance(such_thats, tuple) and such_thats
+                                                     and isinstance(such_thats[0], (str, tuple)) and len(such_thats) != 3):
+        such_thats = [such_thats]
+    such_thats = list(such_thats or [])
+    if not finds:
+        raise TargetError(f"{lab['find']}: give at least one free input")
+    base = load_case(case_name, overrides)
+    keys, bounds = [], {}
+    for f in finds:
+        key, given = parse_find(f, lab["find"])
+        if key in keys:
+            raise TargetError(f"{lab['find']} {key}: the same free input given twice")
+        if key in overrides:
+            raise TargetError(f"{lab['find']} {key}: the key is also set as an override ({key}={overrides[key]}); "
+                              "the free input cannot be fixed")
+        if key not in valid_override_keys(type(base)):
+            raise TargetError(f"{lab['find']} {key!r}: not a key of the case; numeric keys with limits: "
+                              f"{', '.join(sorted(LIMITS))}")
+        bounds[key] = default_bounds(base, key, lab["find"]) if given is None else check_bounds(key, given, lab["find"])
+        keys.append(key)
+    conds = [parse_such_that(s, lab["such_that"]) for s in such_thats]
+    seen: dict = {}
+    for name, op, v in conds:
+        if op == "=" and name in seen and seen[name] != v:
+            raise TargetError(f"{lab['such_that']}: conflicting targets {name}={fmt_number(seen[name])} and "
+                              f"{name}={fmt_number(v)} (one output cannot take two values)")
+        if op == "=":
+            seen[name] = v
+    if need == "square":
+        if len(conds) != len(keys):
+            raise TargetError(f"{len(keys)} free input(s) ({lab['find']}) for {len(conds)} target(s) "
+                              f"({lab['such_that']}): several targets need as many free inputs; for a maximum or "
+                              "minimum under conditions use --maximize/--minimize")
+        if any(op != "=" for _, op, _ in conds):
+            raise TargetError(f"{lab['such_that']}: several targets are equalities OUTPUT=VALUE; inequalities are the "
+                              "conditions of --maximize/--minimize")
+    tols = [1e-4 * max(abs(v), 1e-5) if tol is None else float(tol) for _, _, v in conds]
+    if any(not (math.isfinite(t) and t > 0) for t in tols):
+        raise TargetError(f"tol = {tol!r} is not a positive number")
+    start = {}
+    for k in keys:
+        v = case_value(base, k)
+        lo, hi = bounds[k]
+        start[k] = 0.5 * (lo + hi) if v is None or not lo <= v <= hi else v
+    return lab, case_name, overrides, keys, bounds, conds, tols, start
+
+
+def _conditions(conds, tols, ys):
+    out = []
+    for (name, op, v), t in zip(conds, tols):
+        y = None if ys is None else ys[name]
+        met = y is not None and (y <= v + t if op == "<=" else y >= v - t if op == ">=" else abs(y - v) <= t)
+        out.append(dict(such_that=f"{name}{op}{fmt_number(v)}", output_name=name, output=y, met=bool(met),
+                        active=bool(y is not None and abs(y - v) <= t)))
+    return out
+
+
+def _at_bounds(values, bounds):
+    sides = {}
+    for k, x in values.items():
+        lo, hi = bounds[k]
+        span = hi - lo
+        if x <= lo + 1e-9 * span:
+            sides[k] = "lo"
+        elif x >= hi - 1e-9 * span:
+            sides[k] = "hi"
+    return sides
+
+
+def solve_targets(case, finds, such_thats, *, overrides=None, tol=None, labels=None,
+                  max_iterations=25) -> TargetSetResult:
+    """The values of as many free inputs as equality targets (``finds`` = ``["operating.feed_rate",
+    "gas.inlet_temperature=400,600"]``, ``such_thats`` = ``["product_moisture_kg_kg=0.12",
+    "gas_outlet_temperature_degC=130"]``): Newton's method on the steady states, the Jacobian by
+    forward differences (1e-4 of each bracket) at every iterate, steps kept inside the bounds and
+    halved until the scaled residual falls (a damped Newton). One free input is
+    [`target`][rotarydryer.studies.target.target]'s bracketing search. ``TargetError`` when the targets
+    conflict, the Jacobian is singular (a target does not depend on the inputs) or no point in the
+    bounds meets them."""
+    import numpy as np
+
+    lab, case_name, overrides, keys, bounds, conds, tols, start = _prepare(case, finds, such_thats, overrides, tol,
+                                                                            labels, "square")
+    names = [c[0] for c in conds]
+    ev = _Evaluator(case_name, overrides, names, lab["such_that"])
+    lo = np.array([bounds[k][0] for k in keys])
+    span = np.array([bounds[k][1] - bounds[k][0] for k in keys])
+    target_v = np.array([c[2] for c in conds])
+    tol_v = np.array(tols)
+    scale = np.maximum(np.abs(target_v), 1e4 * tol_v)
+
+    def at(u):
+        vals = {k: float(lo[i] + span[i] * u[i]) for i, k in enumerate(keys)}
+        ys, reason = ev(vals)
+        if ys is None:
+            return vals, None, reason
+        return vals, np.array([ys[n] for n in names]), ""
+
+    u = np.array([(start[k] - lo[i]) / span[i] for i, k in enumerate(keys)])
+    vals, y, reason = at(u)
+    if y is None:
+        raise TargetError(f"{lab['find']}: no steady state at the start {_fmt_values(vals)} ({reason})", "no_steady_state")
+    notes: list[str] = []
+    for _ in range(max_iterations):
+        r = (y - target_v) / scale
+        if np.all(np.abs(y - target_v) <= tol_v):
+            break
+        h = 1e-4
+        J = np.empty((len(names), len(keys)))
+        for j in range(len(keys)):
+            du = h if u[j] + h <= 1 else -h
+            uj = u.copy()
+            uj[j] += du
+            _, yj, reason = at(uj)
+            if yj is None:
+                raise TargetError(f"{lab['find']}: no steady state near {_fmt_values(vals)} ({reason})", "no_steady_state")
+            J[:, j] = (yj - y) / scale / du
+        if not np.all(np.isfinite(J)) or np.linalg.matrix_rank(J, tol=1e-10 * max(1.0, np.abs(J).max())) < len(keys):
+            dead = [names[i] for i in range(len(names)) if np.all(np.abs(J[i]) < 1e-12)]
+            why = f"{', '.join(dead)} does not depend on the free inputs" if dead else \
+                "the targets are not independent (two of them move together)"
+            raise TargetError(f"{lab['such_that']}: conflicting or redundant targets: {why}; change the free inputs "
+                              f"({lab['find']}) or the targets", "bad_input")
+        step = np.linalg.solve(J, -r)
+        lam, accepted = 1.0, False
+        for _half in range(8):
+            un = np.clip(u + lam * step, 0.0, 1.0)
+            vn, yn, reason = at(un)
+            if yn is not None and np.linalg.norm((yn - target_v) / scale) < np.linalg.norm(r):
+                u, vals, y, accepted = un, vn, yn, True
+                break
+            lam *= 0.5
+        if not accepted:
+            break
+    found = bool(np.all(np.abs(y - target_v) <= tol_v))
+    ys = {n: float(v) for n, v in zip(names, y)}
+    if not found:
+        notes.append("Newton's method stalled: the targets are not met inside the bounds (the closest point found "
+                     "is shown)")
+    return TargetSetResult(case=case_name, kind="targets", values=vals, outputs=ys, conditions=_conditions(conds, tols, ys),
+                           active_bounds=_at_bounds(vals, bounds), bounds=bounds, evaluations=ev.count, found=found,
+                           notes=notes)
+
+
+def _fmt_values(vals):
+    return ", ".join(f"{k}={fmt_number(v)}" for k, v in vals.items())
+
+
+def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=None, tol=None,
+            labels=None) -> TargetSetResult:
+    """The largest (``sense="max"``) or smallest (``"min"``) ``objective`` (a free input's key or an
+    output name) over the free inputs ``finds`` in their bounds, subject to the conditions
+    ``such_thats`` (``<=``, ``>=`` or ``=`` on outputs), e.g. the largest feed rate with
+    ``product_moisture_kg_kg<=0.12`` and ``gas_outlet_dew_point_margin_K>=10``.
+
+    One free input and an objective that is that input: each condition's crossing by
+    [`target`][rotarydryer.studies.target.target] (Brent on the steady states; each output taken
+    monotone over the bounds, as there), the feasible intervals intersected, and the end of the
+    intersection in the objective's direction returned, with the conditions that bind there.
+    Otherwise SLSQP (`scipy.optimize.minimize`) on the inputs scaled to their bounds, finite-
+    difference gradients of 1e-4 of each bracket, started from the case's values."""
+    import numpy as np
+    from scipy.optimize import minimize
+
+    if sense not in ("max", "min"):
+        raise TargetError(f"sense = {sense!r}: use max or min")
+    lab, case_name, overrides, keys, bounds, conds, tols, start = _prepare(case, finds, such_thats, overrides, tol,
+                                                                            labels, "any")
+    objective = str(objective).strip()
+    names = list(dict.fromkeys([c[0] for c in conds] + ([] if objective in keys else [objective])))
+    if len(keys) == 1 and objective == keys[0]:
+        return _optimum_1d(case_name, overrides, keys[0], bounds[keys[0]], conds, tols, sense, lab)
+    ev = _Evaluator(case_name, overrides, names, lab["such_that"])
+    lo = np.array([bounds[k][0] for k in keys])
+    span = np.array([bounds[k][1] - bounds[k][0] for k in keys])
+    sign = -1.0 if sense == "max" else 1.0
+    failed: list = []
+
+    def values(u):
+        return {k: float(lo[i] + span[i] * np.clip(u[i], 0, 1)) for i, k in enumerate(keys)}
+
+    def outputs(u):
+        ys, reason = ev(values(u))
+        if ys is None:
+            failed.append((values(u), reason))
+            raise TargetError(f"{lab['find']}: no steady state at {_fmt_values(values(u))} ({reason})", "no_steady_state")
+        return ys
+
+    y0 = None
+
+    def f(u):
+        nonlocal y0
+        v = values(u)[objective] if objective in keys else outputs(u)[objective]
+        y0 = abs(v) if y0 is None else y0
+        return sign * v / max(y0, 1e-12)
+
+    cons = []
+    for (name, op, v), t in zip(conds, tols):
+        s = max(abs(v), 1e4 * t)
+        if op == "=":
+            cons.append({"type": "eq", "fun": lambda u, n=name, v=v, s=s: (outputs(u)[n] - v) / s})
+        else:
+            sg = 1.0 if op == ">=" else -1.0
+            cons.append({"type": "ineq", "fun": lambda u, n=name, v=v, s=s, sg=sg: sg * (outputs(u)[n] - v) / s})
+    u0 = np.array([(start[k] - lo[i]) / span[i] for i, k in enumerate(keys)])
+    res = minimize(f, u0, method="SLSQP", bounds=[(0.0, 1.0)] * len(keys), constraints=cons,
+                   options={"eps": 1e-4, "maxiter": 40, "ftol": 1e-8})
+    vals = values(res.x)
+    ys = outputs(res.x)
+    conditions = _conditions(conds, tols, ys)
+    found = bool(all(c["met"] for c in conditions))
+    notes = [] if res.success else [f"SLSQP: {res.message}"]
+    outs = {n: ys[n] for n in names}
+    return TargetSetResult(case=case_name, kind="optimum", values=vals, outputs=outs, conditions=conditions,
+                           active_bounds=_at_bounds(vals, bounds), bounds=bounds, evaluations=ev.count, found=found,
+                           objective=objective, sense=sense, notes=notes)
+
+
+def _optimum_1d(case_name, overrides, key, bounds, conds, tols, sense, lab):
+    """One input maximised or minimised under conditions on outputs (see `optimum`)."""
+    lo, hi = bounds
+    feasible = [lo, hi]
+    binding: list[str] = []
+    notes: list[str] = []
+    evaluations = 0
+    for (name, op, v), t in zip(conds, tols):
+        r = target(case_name, f"{key}={lo!r},{hi!r}", (name, op, v), overrides=overrides, tol=t, labels=lab)
+        evaluations += r.evaluations
+        notes += r.notes
+        if r.value is None:
+            raise TargetError(f"{lab['such_that']} {r.such_that}: met nowhere for {key} in [{fmt_number(lo)}, "
+                              f"{fmt_number(hi)}] ({name} = {_shown(r.outputs_at_bounds['lo'])} at lo, "
+                              f"{_shown(r.outputs_at_bounds['hi'])} at hi)", "unreachable")
+        ylo = r.outputs_at_bounds["lo"]
+        meets_lo = ylo is not None and (ylo <= v + t if op == "<=" else ylo >= v - t if op == ">=" else abs(ylo - v) <= t)
+        if op == "=":
+            interval = (r.value, r.value)
+        elif r.active.startswith("bound"):
+            interval = (r.bounds[0], r.bounds[1])           # the whole (usable) bracket meets it
+        elif meets_lo:
+            interval = (r.bounds[0], r.value)
+        else:
+            interval = (r.value, r.bounds[1])
+        feasible = [max(feasible[0], interval[0]), min(feasible[1], interval[1])]
+    if feasible[0] > feasible[1] + 1e-12 * (hi - lo):
+        raise TargetError(f"{lab['such_that']}: the conditions exclude each other for {key} in [{fmt_number(lo)}, "
+                          f"{fmt_number(hi)}] (no value meets them all)", "unreachable")
+    x = feasible[1] if sense == "max" else feasible[0]
+    ev = _Evaluator(case_name, overrides, [c[0] for c in conds], lab["such_that"])
+    ys, reason = ev({key: x})
+    evaluations += ev.count
+    if ys is None:
+        raise TargetError(f"{lab['find']}: no steady state at {key}={fmt_number(x)} ({reason})", "no_steady_state")
+    conditions = _conditions(conds, tols, ys)
+    binding = [c["such_that"] for c in conditions if c["active"]]
+    if binding:
+        notes.append(f"binding: {', '.join(binding)}")
+    return TargetSetResult(case=case_name, kind="optimum", values={key: x}, outputs=ys, conditions=conditions,
+                           active_bounds=_at_bounds({key: x}, {key: bounds}), bounds={key: bounds},
+                           evaluations=evaluations, found=all(c["met"] for c in conditions), objective=key,
+                           sense=sense, notes=notes)

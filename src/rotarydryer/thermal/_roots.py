@@ -54,7 +54,7 @@ def newton_from_guess(func, x0, lo, hi, xtol=1e-9, max_iter=12, delta=1e-3):
     evaluated in one call (forward-difference slope). Returns the roots once every step is below
     ``xtol``, or once the contraction of the last two steps puts the estimated distance left
     below ``xtol`` / 10 (one evaluation fewer from a nearby guess), or None (no finite slope,
-    or not settled in ``max_iter`` steps): then the caller brackets the root (:func:`illinois`).
+    or not settled in ``max_iter`` steps): then the caller brackets the root (`illinois`).
     From the root of a nearby state it takes 2-3 steps.
     """
     lo = np.asarray(lo, dtype=float)

@@ -1,46 +1,46 @@
 r"""Moisture and energy balances of the solids and the gas, per cell (issue 6).
 
-Pure, vectorised building blocks used by :mod:`rotarydryer.thermal.dryer`:
+Pure, vectorised building blocks used by [`rotarydryer.thermal.dryer`][rotarydryer.thermal.dryer]:
 
 * **Stream enthalpies** with two selectable accountings (``enthalpy=``):
 
   ``"physical"`` (default)
-      gas: humid-air enthalpy per kg dry gas from :func:`rotarydryer.properties.humid_air.enthalpy`
+      gas: humid-air enthalpy per kg dry gas from [`rotarydryer.properties.humid_air.enthalpy`][rotarydryer.properties.humid_air.enthalpy]
       (NASA-polynomial heat capacities, latent heat at 0.01 °C); vapour leaving wet
-      solids at T_s carries :math:`h_v(T_s) = \lambda_0 + \int_0^{T_s} c_{p,v}dT`, the
+      solids at T_s carries $h_v(T_s) = \lambda_0 + \int_0^{T_s} c_{p,v}dT$, the
       same function, so the gas and solids balances are mutually conservative.
   ``"ajayi2011"``
       Ajayi (2011) Eq. 6.7 exactly as coded (App. F L3729-L3760): per kg wet gas
-      :math:`h = (1-y)c_{p,g}100 + y c_{p,w}100 + y\lambda + (1-y)c_{p,g}(T-100) + y c_{p,v}(T-100)`
+      $h = (1-y)c_{p,g}100 + y c_{p,w}100 + y\lambda + (1-y)c_{p,g}(T-100) + y c_{p,v}(T-100)$
       with c_p,g = 1070 J/(kg K), λ = 2257 kJ/kg and Ajayi's c_p,v polynomial **in kJ/(kg K)**
       (the units error of notes ajayi_energy.md §1.11, kept for reproduction); the
-      evaporation source is :math:`R_w(\lambda + c_{p,w}T_s)` (Eqs. 6.4, 6.7).
+      evaporation source is $R_w(\lambda + c_{p,w}T_s)$ (Eqs. 6.4, 6.7).
 
-  Wet solids (both accountings): :math:`h_s = ((1-x)c_{p,s} + x c_{p,w})T` per kg wet
-  solid, i.e. per kg dry solid :math:`(c_{p,s} + X c_{p,w})T` (Ajayi (2011) Eq. 6.3,
+  Wet solids (both accountings): $h_s = ((1-x)c_{p,s} + x c_{p,w})T$ per kg wet
+  solid, i.e. per kg dry solid $(c_{p,s} + X c_{p,w})T$ (Ajayi (2011) Eq. 6.3,
   reference 0 °C), c_p,s = 505, c_p,w = 4182 J/(kg K) (App. F L3181-L3182).
 
 * **Contact area** (drying only where the solids meet the gas):
 
   - curtain (active phase of a flighted cell), Ajayi (2011) Eq. 6.62-6.63:
-    :math:`A_a = \theta_a m_a\,3/(d_p\rho_p)` (half of each particle surface exposed);
+    $A_a = \theta_a m_a\,3/(d_p\rho_p)$ (half of each particle surface exposed);
   - active layer of a rolling bed (unflighted sections), Eq. 6.56-6.61:
-    bed segment area :math:`A_{kiln} = m/(\rho_b\Delta z) = R^2(\theta_k - \sin\theta_k)/2`,
-    chord :math:`L_c = 2R\sin(\theta_k/2)`, active-layer mass
-    :math:`M_{AL} = L_c d_p/A_{kiln}\cdot m`, area
-    :math:`A = \theta_{AL}M_{AL}\,3/(d_p\rho_p) = 3\theta_{AL}L_c\rho_b\Delta z/\rho_p`.
+    bed segment area $A_{kiln} = m/(\rho_b\Delta z) = R^2(\theta_k - \sin\theta_k)/2$,
+    chord $L_c = 2R\sin(\theta_k/2)$, active-layer mass
+    $M_{AL} = L_c d_p/A_{kiln}\cdot m$, area
+    $A = \theta_{AL}M_{AL}\,3/(d_p\rho_p) = 3\theta_{AL}L_c\rho_b\Delta z/\rho_p$.
     Ajayi evaluates θ_k once per section at the outlet holdup; here it is evaluated per
     slice from the local holdup and local bulk density (the evident intent).
 
   θ_a, θ_AL are the area correction factors (Ajayi (2011) l.2278: A 2.4, B 1.2, C 0.6,
   D 0.42, E 1.4).
 
-* **Transfer rates** gas -> solids in one gas stage (:func:`stage_transfer`):
-  convection :math:`Q_c = h_cA(T_g - T_s)` with Ajayi's :math:`Nu = 0.33Re^{0.6}` (Eq. 6.41,
+* **Transfer rates** gas -> solids in one gas stage ([`stage_transfer`][rotarydryer.thermal.balances.stage_transfer]):
+  convection $Q_c = h_cA(T_g - T_s)$ with Ajayi's $Nu = 0.33Re^{0.6}$ (Eq. 6.41,
   superficial gas velocity over the drum cross-section), radiation gas -> solids
   (Eq. 6.42; ``"ajayi2011"``: ε_s σ A (T_g⁴ - T_s⁴); physical: grey exchange with the WSGG
-  gas emissivity), evaporation :math:`R_w = A\,f(X)\,N_w` with the kinetics of
-  :mod:`rotarydryer.thermal.drying` (Chilton-Colburn analogy, Eq. 6.45-6.49). Transfer is
+  gas emissivity), evaporation $R_w = A\,f(X)\,N_w$ with the kinetics of
+  [`rotarydryer.thermal.drying`][rotarydryer.thermal.drying] (Chilton-Colburn analogy, Eq. 6.45-6.49). Transfer is
   evaluated at the stage (= outlet) gas temperature as in Ajayi's code (well-mixed stage).
 
 Temperatures in °C (enthalpy reference 0 °C), humidity Y in kg water/kg dry gas, moisture
@@ -94,7 +94,7 @@ _ajayi_cpv = water._ajayi_vapour_cp_kj   # Ajayi's vapour c_p cubic as coded (L3
 def gas_enthalpy(temperature_c, humidity, method: str = "physical"):
     r"""Specific enthalpy of the dryer gas, J per kg **dry** gas.
 
-    ``method="physical"``: :func:`rotarydryer.properties.humid_air.enthalpy` (reference dry
+    ``method="physical"``: [`rotarydryer.properties.humid_air.enthalpy`][rotarydryer.properties.humid_air.enthalpy] (reference dry
     air at 0 °C, liquid water at 0.01 °C). ``"ajayi2011"``: Ajayi (2011) Eq. 6.7 as coded, per
     kg wet gas times (1 + Y) (c_p,v in kJ/(kg K) as coded - see module docstring).
     Outside the 0-600 °C property range (solver trial states) the enthalpy is continued linearly.
@@ -107,7 +107,7 @@ def gas_enthalpy(temperature_c, humidity, method: str = "physical"):
 
 
 def _gas_enthalpy(temperature_c, humidity, method):
-    """Unchecked kernel of :func:`gas_enthalpy`."""
+    """Unchecked kernel of [`gas_enthalpy`][rotarydryer.thermal.balances.gas_enthalpy]."""
     t_raw = np.asarray(temperature_c, dtype=float)
     t = _tc(t_raw)
     y = _yc(humidity)
@@ -139,22 +139,22 @@ def _extension(t_raw, t, y):
 
 
 def _physical_enthalpy(t_raw, t, air, vapour, y):
-    """Humid-air enthalpy (:func:`rotarydryer.properties.humid_air.enthalpy` from its dry-air and
-    vapour parts at the clipped temperature ``t``) plus :func:`_extension`."""
+    """Humid-air enthalpy ([`rotarydryer.properties.humid_air.enthalpy`][rotarydryer.properties.humid_air.enthalpy] from its dry-air and
+    vapour parts at the clipped temperature ``t``) plus `_extension`."""
     return air + y * vapour + _extension(t_raw, t, y)
 
 
 def gas_heat_capacity(temperature_c, humidity, method: str = "physical"):
-    """∂h/∂T of :func:`gas_enthalpy` at constant Y within 0-600 °C, J/(kg dry gas K).
+    """∂h/∂T of [`gas_enthalpy`][rotarydryer.thermal.balances.gas_enthalpy] at constant Y within 0-600 °C, J/(kg dry gas K).
 
-    ``"physical"``: exact, the humid heat :func:`rotarydryer.properties.humid_air.humid_heat`;
+    ``"physical"``: exact, the humid heat [`rotarydryer.properties.humid_air.humid_heat`][rotarydryer.properties.humid_air.humid_heat];
     ``"ajayi2011"``: central difference over ±0.05 K."""
     _check_gas_state(temperature_c, humidity, method)
     return _gas_heat_capacity(temperature_c, humidity, method)
 
 
 def _gas_heat_capacity(temperature_c, humidity, method):
-    """Unchecked kernel of :func:`gas_heat_capacity`."""
+    """Unchecked kernel of [`gas_heat_capacity`][rotarydryer.thermal.balances.gas_heat_capacity]."""
     if method == "physical":
         return ha._humid_heat(_tc(temperature_c), _yc(humidity))
     t = np.clip(np.asarray(temperature_c, dtype=float), _T_LO + 0.05, _T_HI - 0.05)
@@ -164,8 +164,8 @@ def _gas_heat_capacity(temperature_c, humidity, method):
 def vapour_source_enthalpy(solids_temperature_c, method: str = "physical"):
     r"""Enthalpy carried by 1 kg of water evaporated from solids at T_s into the gas, J/kg.
 
-    ``"physical"``: :math:`\lambda(0.01\,°C) + \Delta h_{vap}(0.01 \to T_s)` consistent with
-    :func:`gas_enthalpy`; ``"ajayi2011"``: :math:`\lambda + c_{p,w}T_s` (Ajayi (2011) Eq. 6.4, 6.7).
+    ``"physical"``: $\lambda(0.01\,°C) + \Delta h_{vap}(0.01 \to T_s)$ consistent with
+    [`gas_enthalpy`][rotarydryer.thermal.balances.gas_enthalpy]; ``"ajayi2011"``: $\lambda + c_{p,w}T_s$ (Ajayi (2011) Eq. 6.4, 6.7).
     """
     check_choice("method", method, ENTHALPY_METHODS)
     if method == "physical":
@@ -174,7 +174,7 @@ def vapour_source_enthalpy(solids_temperature_c, method: str = "physical"):
 
 
 def _vapour_source_enthalpy(solids_temperature_c, method):
-    """Unchecked kernel of :func:`vapour_source_enthalpy`."""
+    """Unchecked kernel of [`vapour_source_enthalpy`][rotarydryer.thermal.balances.vapour_source_enthalpy]."""
     t = _tc(solids_temperature_c)
     if method == "ajayi2011":
         return AJAYI_LATENT_HEAT + AJAYI_CP_WATER * t
@@ -182,7 +182,7 @@ def _vapour_source_enthalpy(solids_temperature_c, method):
 
 
 def solids_enthalpy(temperature_c, moisture_dry, cp_solids=AJAYI_CP_SOLIDS, cp_water=AJAYI_CP_WATER):
-    r"""Enthalpy of wet solids per kg **dry** solid, J/kg: :math:`(c_{p,s} + Xc_{p,w})T` (Ajayi (2011) Eq. 6.3).
+    r"""Enthalpy of wet solids per kg **dry** solid, J/kg: $(c_{p,s} + Xc_{p,w})T$ (Ajayi (2011) Eq. 6.3).
 
     >>> float(solids_enthalpy(10.0, 0.25))
     15505.0
@@ -199,7 +199,7 @@ _SEG_GRID = (_THETA_GRID - np.sin(_THETA_GRID)) / (2 * math.pi)   # fill fractio
 def kilning_angle(fill_fraction):
     r"""Central angle θ_k (rad) of a bed filling ``fill_fraction`` of the drum cross-section.
 
-    Inverts :math:`f = (\theta_k - \sin\theta_k)/(2\pi)` (Ajayi (2011) Eq. 6.56 divided by πR²),
+    Inverts $f = (\theta_k - \sin\theta_k)/(2\pi)$ (Ajayi (2011) Eq. 6.56 divided by πR²),
     by interpolation on a 4001-point table (error < 1e-6 rad away from f = 0).
 
     >>> round(float(kilning_angle(0.5)), 6)
@@ -215,7 +215,7 @@ def active_layer_area(holdup, bulk_density, slice_length, radius, particle_diame
 
     Parameters: holdup kg per slice; bulk density kg/m³; slice length m; drum radius m;
     particle diameter m; area factor θ_AL (-); particle density kg/m³ (2800, L3185).
-    :math:`A = 3\theta_{AL}L_c\rho_b\Delta z/\rho_p` with the chord L_c of the bed surface.
+    $A = 3\theta_{AL}L_c\rho_b\Delta z/\rho_p$ with the chord L_c of the bed surface.
 
     >>> round(float(active_layer_area(600.0, 1540.0, 0.105, 1.95, 0.02, 2.4)), 3)
     1.546
@@ -229,7 +229,7 @@ def active_layer_area(holdup, bulk_density, slice_length, radius, particle_diame
 
 
 def curtain_area(active_holdup, particle_diameter, area_factor, particle_density=2800.0):
-    r"""Gas-exposed area of airborne (active) solids, m²: :math:`\theta_a m_a 3/(d_p\rho_p)` (Ajayi (2011) Eq. 6.63).
+    r"""Gas-exposed area of airborne (active) solids, m²: $\theta_a m_a 3/(d_p\rho_p)$ (Ajayi (2011) Eq. 6.63).
 
     >>> round(float(curtain_area(100.0, 0.015, 1.2)), 3)
     8.571
@@ -242,8 +242,8 @@ def gas_solids_coefficient(gas_mass_flow, temperature_c, humidity, particle_diam
                            properties: str = "physical"):
     r"""Convective gas-solids coefficient h_c, W/(m² K), and Re: Ajayi (2011) Eq. 6.41, Nu = 0.33 Re^0.6.
 
-    Re on the particle diameter with the superficial velocity :math:`v_g = F_g/(\rho_g\pi R^2)`;
-    properties from :mod:`rotarydryer.properties.humid_air` (``"physical"``) or Ajayi's air
+    Re on the particle diameter with the superficial velocity $v_g = F_g/(\rho_g\pi R^2)$;
+    properties from [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air] (``"physical"``) or Ajayi's air
     polynomials (``"ajayi2011"``). Since ρ_g v_g = F_g/(πR²), Re does not depend on the density.
     """
     t = _tc(temperature_c)
@@ -254,7 +254,7 @@ def gas_solids_coefficient(gas_mass_flow, temperature_c, humidity, particle_diam
 
 
 def _gas_solids_coefficient(gas_mass_flow, t, y, particle_diameter, radius, properties):
-    """Unchecked kernel of :func:`gas_solids_coefficient` (t, y clipped to the property range)."""
+    """Unchecked kernel of [`gas_solids_coefficient`][rotarydryer.thermal.balances.gas_solids_coefficient] (t, y clipped to the property range)."""
     if properties == "ajayi2011":
         mu, k = ha._viscosity(t, y, True), ha._thermal_conductivity(t, y, True)
     else:
@@ -269,7 +269,7 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
                    pressure=101325.0, co2_mole_fraction=0.011, solids_emissivity=0.9, dry_guard=2e-3):
     r"""Gas -> solids transfer in a set of gas stages: (R_w kg/s, Q_conv W, Q_rad W), arrays.
 
-    * R_w: evaporation, ``kinetics.rate`` (:mod:`rotarydryer.thermal.drying`; Ajayi (2011)
+    * R_w: evaporation, ``kinetics.rate`` ([`rotarydryer.thermal.drying`][rotarydryer.thermal.drying]; Ajayi (2011)
       Eq. 6.32-6.49) times a guard min(1, X/``dry_guard``) that stops evaporation of the
       last traces of water (X in kg/kg dry; kinetics without a falling rate would otherwise
       drive the moisture negative). Solids temperature is clipped to 0-99 °C for the
@@ -277,7 +277,7 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
     * Q_conv = h_c A (T_g - T_s) (Eq. 6.40-6.41).
     * Q_rad: ``mode="ajayi2011"`` ε_s σ A (T_g⁴ - T_s⁴) (Eq. 6.42 as coded); ``"physical"``
       grey exchange with the WSGG emissivity of the H2O/CO2 gas over the mean beam length
-      0.95 D (:mod:`rotarydryer.thermal.radiation`).
+      0.95 D ([`rotarydryer.thermal.radiation`][rotarydryer.thermal.radiation]).
 
     Checks: clipped gas temperature, humidity and solids temperature finite; area >= 0;
     gas_mass_flow >= 0; particle_diameter, radius > 0; pressure 5e4-2e5 Pa; CO2 partial
@@ -304,8 +304,8 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
 def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
                              particle_diameter, radius, kinetics, pressure, co2_mole_fraction, solids_emissivity,
                              dry_guard, beam_length):
-    """:func:`_stage_transfer` of the physical mode in one compiled pass per stage
-    (:mod:`rotarydryer.properties._kernels`), or None: kernels off, a mass-transfer basis other than
+    """`_stage_transfer` of the physical mode in one compiled pass per stage
+    (`rotarydryer.properties._kernels`), or None: kernels off, a mass-transfer basis other than
     ``"concentration"`` or a saturation pressure other than Wagner-Pruss, or solids at the boiling point
     (the NumPy form then names it), per-stage arrays of the scalar parameters, or a subclass of
     DryingKinetics (which may override its rate). The same equations, the same numbers to rounding."""
@@ -335,7 +335,7 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
 def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
                     particle_diameter, radius, kinetics, mode, pressure, co2_mole_fraction, solids_emissivity,
                     dry_guard, beam_length):
-    """Unchecked kernel of :func:`stage_transfer` (``beam_length`` = mean beam length, m, physical mode)."""
+    """Unchecked kernel of [`stage_transfer`][rotarydryer.thermal.balances.stage_transfer] (``beam_length`` = mean beam length, m, physical mode)."""
     if mode != "ajayi2011":
         fast = _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity,
                                         gas_mass_flow, particle_diameter, radius, kinetics, pressure,

@@ -5,10 +5,10 @@ After Ajayi (2011) Appendix A (MMG Karumba dryer), made complete and energy-cons
 What Ajayi gives (notes ajayi_energy.md §3) and how it is read here
 -------------------------------------------------------------------
 * Fan curves (Eqs. A1, A2), fan opening x in %, flow in Nm³/h:
-  dilution :math:`\dot V = 951.5x + 8662`, combustion :math:`\dot V = 209.95x + 6283.4`.
+  dilution $\dot V = 951.5x + 8662$, combustion $\dot V = 209.95x + 6283.4$.
   Table A1 lists 88050 Nm³/h (dilution, 83.43 %) and 23698 Nm³/h (combustion, 15.80 %);
   the second number is A1 evaluated at 15.80 %, not A2 (which gives 9601). Both
-  readings are selectable in :func:`fan_flow` (``curve="as_labelled"`` default,
+  readings are selectable in [`fan_flow`][rotarydryer.thermal.burner.fan_flow] (``curve="as_labelled"`` default,
   ``"a1_for_both"`` reproduces Table A1). kmol/h = Nm³/h / 22.414 (0 °C, 1 atm).
 * Fuel (Table A2, recycled fuel oil): water 0.35 wt %, sulphur 0.95 wt %, C:H = 7.6
   printed "mol/mol". Default reading: **mass** ratio (C 87.2 wt %, H 11.5 wt %, typical
@@ -16,18 +16,19 @@ What Ajayi gives (notes ajayi_energy.md §3) and how it is read here
   (``FuelOil(ratio_basis="molar")``).
 * Element balances (Eqs. A5-A9) and closure (A10): the printed closure has no O2 in
   the hot gas although the air is ~14x stoichiometric; here O2 is a product
-  (:math:`x_{O_2}` = supplied - consumed), which closes every element balance exactly.
+  ($x_{O_2}$ = supplied - consumed), which closes every element balance exactly.
 * Ajayi writes no energy balance (the hot-gas temperature is read from PI). Here the
   adiabatic (or lossy) chamber energy balance fixes the temperature:
 
-  .. math::
-      \sum_{prod} \dot n_i\,[\bar h_i(T) - \bar h_i(T_0)] =
-      \sum_{air} \dot n_j\,[\bar h_j(T_{air}) - \bar h_j(T_0)]
-      + \dot m_f c_{p,f}(T_f - T_0) + (1-f_{loss})\,\dot m_f\,LHV,\quad T_0 = 25\,°C
+    $$
+    \sum_{prod} \dot n_i\,[\bar h_i(T) - \bar h_i(T_0)] =
+    \sum_{air} \dot n_j\,[\bar h_j(T_{air}) - \bar h_j(T_0)]
+    + \dot m_f c_{p,f}(T_f - T_0) + (1-f_{loss})\,\dot m_f\,LHV,\quad T_0 = 25\,°C
+    $$
 
-  with ideal-gas enthalpies from :mod:`rotarydryer.properties.combustion` and the
+  with ideal-gas enthalpies from [`rotarydryer.properties.combustion`][rotarydryer.properties.combustion] and the
   lower heating value from the Channiwala & Parikh (2002, Fuel 81, 1051) HHV
-  correlation, :math:`HHV = 0.3491C + 1.1783H + 0.1005S` MJ/kg (wt %), minus the latent
+  correlation, $HHV = 0.3491C + 1.1783H + 0.1005S$ MJ/kg (wt %), minus the latent
   heat at 25 °C (2.442 MJ/kg) of the water formed and the fuel moisture. For Ajayi's
   fuel: HHV 44.1 MJ/kg, LHV 41.6 MJ/kg.
 
@@ -149,7 +150,7 @@ class Burner:
 
     combustion_air_share : fraction of the air (combustion + dilution) that goes through the burner
     (Ajayi (2011) Table A1: 23 698 of 111 748 kg/h at Karumba). heat_loss_fraction : share of the
-    fuel's heat lost by the combustion chamber. fuel : :class:`FuelOil`.
+    fuel's heat lost by the combustion chamber. fuel : [`FuelOil`][rotarydryer.thermal.burner.FuelOil].
     The fuel rate is what heats the case's gas flow (air at ambient) to the gas inlet temperature.
     """
 
@@ -198,7 +199,7 @@ class HotGas:
     """Hot gas leaving the combustion chamber (all SI; flows per second).
 
     Attributes: ``mass_flow`` kg/s, ``molar_flow`` kmol/s, ``composition`` mole
-    fractions (dict, keys of :data:`rotarydryer.properties.combustion.SPECIES`),
+    fractions (dict, keys of `rotarydryer.properties.combustion.SPECIES`),
     ``temperature_c`` °C, ``humidity`` kg water/kg of the other gases (the dryer's
     "dry gas" basis), ``heat_release`` W (LHV x burnt fuel x (1 - loss)),
     ``heat_loss`` W, ``excess_oxygen_ratio`` = O2 supplied by the combustion air /
@@ -251,7 +252,7 @@ def _products(fuel_rate, air_c, air_d, fuel: FuelOil):
 
 def _chamber_inputs(fuel_rate, combustion_air, dilution_air, air_temperature_c, air_humidity, fuel_temperature_c,
                     heat_loss_fraction):
-    """The checks of :func:`combustion_chamber`: (f, ac, ad, ta, y) broadcast, tf, loss."""
+    """The checks of [`combustion_chamber`][rotarydryer.thermal.burner.combustion_chamber]: (f, ac, ad, ta, y) broadcast, tf, loss."""
     f = check_range("fuel_rate", fuel_rate, 0.0, np.inf, low_inclusive=True, unit="kg/s")
     ac = check_range("combustion_air", combustion_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
     ad = check_range("dilution_air", dilution_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
@@ -276,7 +277,7 @@ def combustion_chamber(fuel_rate, combustion_air, dilution_air, air_temperature_
     fuel_rate : array_like
         Fuel oil mass flow, kg/s (Ajayi's typical 750 kg/h = 0.2083 kg/s, L2426).
     combustion_air, dilution_air : array_like
-        Humid-air mass flows, kg/s (see :func:`fan_flow` and :func:`normal_volume_to_mass`).
+        Humid-air mass flows, kg/s (see [`fan_flow`][rotarydryer.thermal.burner.fan_flow] and [`normal_volume_to_mass`][rotarydryer.thermal.burner.normal_volume_to_mass]).
     air_temperature_c : array_like
         Temperature of both air streams, °C (Ajayi's ambient 26 °C, L3231).
     air_humidity : array_like
@@ -396,7 +397,7 @@ def fuel_rate_for_temperature(target_temperature_c, combustion_air, dilution_air
 
 def _fuel_rate_linear(target_c, combustion_air, dilution_air, fuel=AJAYI_FUEL_OIL, air_temperature_c=26.0,
                       air_humidity=AJAYI_AIR_HUMIDITY, fuel_temperature_c=25.0, heat_loss_fraction=0.0):
-    """Fuel rate (kg/s) whose products leave :func:`combustion_chamber` at ``target_c`` °C, in closed form.
+    """Fuel rate (kg/s) whose products leave [`combustion_chamber`][rotarydryer.thermal.burner.combustion_chamber] at ``target_c`` °C, in closed form.
 
     At a given gas temperature the chamber's energy balance is linear in the fuel rate f: the
     product moles are n(f) = n(0) + f dn (``_products``), the heat in is h_air + f (c_p,fuel

@@ -4,18 +4,18 @@ The gas flow through an industrial dryer is rarely metered (Ajayi (2011) App. A:
 inferred from fan openings and fan curves; the per-test openings are not published). The
 overall steady balance of a test, written on its *measured* inlets and outlets,
 
-.. math::
+$$
+\dot H_{g,in}(G) + \dot H_{s,in} = \dot H_{g,out}(G) + \dot H_{s,out} + Q_{loss},
+$$
 
-    \dot H_{g,in}(G) + \dot H_{s,in} = \dot H_{g,out}(G) + \dot H_{s,out} + Q_{loss},
-
-(enthalpies of :mod:`rotarydryer.thermal.streams`; Ajayi (2011) Eq. 6.3 and 6.7 with physical
+(enthalpies of [`rotarydryer.thermal.streams`][rotarydryer.thermal.streams]; Ajayi (2011) Eq. 6.3 and 6.7 with physical
 humid-air enthalpies) has one unknown, the gas flow G, once the shell loss is given: this
-module solves it (:func:`implied_gas_flow`), and, the other way round, the gas outlet
-temperature that a given gas flow allows (:func:`balance_gas_outlet_temperature`). Any model
+module solves it ([`implied_gas_flow`][rotarydryer.thermal.consistency.implied_gas_flow]), and, the other way round, the gas outlet
+temperature that a given gas flow allows ([`balance_gas_outlet_temperature`][rotarydryer.thermal.consistency.balance_gas_outlet_temperature]). Any model
 that conserves energy obeys these relations, whatever its transfer coefficients, so they
-bound what such a model can predict (:func:`max_gas_outlet_temperature`).
+bound what such a model can predict ([`max_gas_outlet_temperature`][rotarydryer.thermal.consistency.max_gas_outlet_temperature]).
 
-:func:`measured_balances` applies them to Ajayi's PI data (Tables 3.5-3.11). Findings
+[`measured_balances`][rotarydryer.thermal.consistency.measured_balances] applies them to Ajayi's PI data (Tables 3.5-3.11). Findings
 (``docs/thermal_dryer.md``): the six tests imply gas flows from 14 to 24 kg/s, so the gas
 flow was not constant between tests, and the measured product temperatures (45-50 °C) lie
 below the dew point of the exhaust that the measured balance implies (56-62 °C).
@@ -73,7 +73,7 @@ def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_i
     heat_loss : float
         Shell heat loss, W (>= 0).
     method : {"physical", "ajayi2011", "ajayi2011_as_coded"}
-        Gas enthalpy accounting (:func:`rotarydryer.thermal.streams.gas_stream_enthalpy`).
+        Gas enthalpy accounting ([`rotarydryer.thermal.streams.gas_stream_enthalpy`][rotarydryer.thermal.streams.gas_stream_enthalpy]).
 
     Raises
     ------
@@ -109,7 +109,7 @@ def balance_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rat
                                    solids_in_c, solids_out_c, heat_loss=0.0, method: str = "physical") -> float:
     """Gas outlet temperature, °C, at which the overall energy balance closes for a given gas flow.
 
-    Same arguments as :func:`implied_gas_flow`, with ``gas_flow`` (kg/s wet) given and the gas
+    Same arguments as [`implied_gas_flow`][rotarydryer.thermal.consistency.implied_gas_flow], with ``gas_flow`` (kg/s wet) given and the gas
     outlet temperature solved. Every energy-conserving model with these inlets and outlets
     (product moisture and temperature) predicts this gas outlet temperature.
 
@@ -181,7 +181,7 @@ def pi_test_conditions(test: int) -> dict:
 
 @dataclasses.dataclass(frozen=True)
 class TestBalance:
-    """Overall balance of one measured test (see :func:`measured_balances`)."""
+    """Overall balance of one measured test (see [`measured_balances`][rotarydryer.thermal.consistency.measured_balances])."""
 
     test: int
     evaporation: float             # kg/s, from feed and moisture in/out

@@ -5,7 +5,7 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
 * **Solids tanks**: unflighted slices (rolling-bed finite volumes) and, per flighted
   cell, a passive (flight/floor-borne) and an active (airborne curtain) tank. Each tank has
   dry solids S (kg), water W (kg) and temperature T (°C) as states. The wet-solids flows are
-  those of the transport model (:mod:`rotarydryer.transport.ajayi`, Ajayi (2011)
+  those of the transport model ([`rotarydryer.transport.ajayi`][rotarydryer.transport.ajayi], Ajayi (2011)
   Eq. 5.1-5.3, 5.17-5.19; bed: dispersed plug flow Eq. 5.9 by finite volumes, closed
   (Danckwerts) inlet so that every balance closes) and carry the composition and enthalpy of
   their source tank (Eq. 6.1-6.4, 6.8-6.11). Differences from the thesis, chosen for
@@ -13,11 +13,11 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
   Eq. 5.1 does not subtract evaporation, notes §5.12 item 7); the design-load cap
   min(m_p, m_des) may be smoothed (``design_load_smoothing``, 0.1 % of m_des in the MMG case).
 * **Transport coupled to moisture**: the solids states ride on the nodes of the dryer's
-  transport network (:func:`rotarydryer.transport.sections.build_sections`: any sequence of
+  transport network ([`rotarydryer.transport.sections.build_sections`][rotarydryer.transport.sections.build_sections]: any sequence of
   flighted and unflighted sections), whose edge families give the flows. A family of a
   flighted section re-evaluates its coefficient and design load through the section law at
   the *computed* passive moisture: repose angle and bulk density come from the material
-  (:mod:`rotarydryer.properties.materials`), as in Ajayi's code (L3608-3618). Outside the
+  ([`rotarydryer.properties.materials`][rotarydryer.properties.materials]), as in Ajayi's code (L3608-3618). Outside the
   material's moisture range the moisture is clipped for the transport properties only and
   the steady state reports ``transport_moisture_clipped``. ``moisture_coupling=False`` uses
   the transport model's assumed profile instead (the transport-only model).
@@ -32,7 +32,7 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
 
   ``"physical"`` (default)
       physical humid-air enthalpies, WSGG gas radiation, shell loss with the shell
-      temperature solved (:func:`rotarydryer.thermal.shell.shell_heat_loss`), Chilton-Colburn
+      temperature solved ([`rotarydryer.thermal.shell.shell_heat_loss`][rotarydryer.thermal.shell.shell_heat_loss]), Chilton-Colburn
       on a concentration basis; the gas flow is a parameter (tuned on Test 4, see
       ``cases/ajayi2011_mmg.toml`` [thermal]) and the fuel rate follows from the burner.
   ``"ajayi2011"`` (compatibility)
@@ -53,7 +53,7 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
   evaluation instead of 15 for MMG); the shell temperatures of the previous shell solve start the
   next one (Newton, same root).
 
-Bad input raises :class:`DryerError` (a ``ValueError``) saying which and why; solver failures
+Bad input raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (a ``ValueError``) saying which and why; solver failures
 keep the last iterate on ``exc.state``.
 """
 
@@ -159,17 +159,17 @@ class ThermalDryer:
     Parameters
     ----------
     model : TransportModel
-        Built by :func:`rotarydryer.transport.sections.build_sections` (any sequence of
+        Built by [`rotarydryer.transport.sections.build_sections`][rotarydryer.transport.sections.build_sections] (any sequence of
         flighted and unflighted sections; closed inlet). Its nodes carry the solids states,
         its edge families the flows; the families of flighted sections re-evaluate their
         coefficients and design loads at the computed moisture through their section law.
     material : Material
         Repose angle, bulk density, heat capacity, particle density and size, drying kinetics,
-        and the moisture range where they hold (:mod:`rotarydryer.properties.materials`).
+        and the moisture range where they hold ([`rotarydryer.properties.materials`][rotarydryer.properties.materials]).
     feed_rate : wet solids, kg/s. feed_moisture : kg/kg wet (inside the material's range).
     rpm : rev/min. radius : drum radius, m.
-    sections : dict section name -> :class:`SectionThermal` (missing: defaults).
-    settings : :class:`ThermalSettings`.
+    sections : dict section name -> [`SectionThermal`][rotarydryer.thermal.dryer.SectionThermal] (missing: defaults).
+    settings : [`ThermalSettings`][rotarydryer.thermal.dryer.ThermalSettings].
     """
 
     def __init__(self, model, *, material, feed_rate, feed_moisture, rpm, radius, sections=None,
@@ -202,7 +202,7 @@ class ThermalDryer:
 
     def _check_shell(self):
         """The scale layer fits inside the shell (checked when the dryer is built and when a study
-        changes its settings, :func:`rotarydryer.thermal.studies.perturbed`)."""
+        changes its settings, [`rotarydryer.thermal.studies.perturbed`][rotarydryer.thermal.studies.perturbed])."""
         s = self.settings
         if s.mode == "physical" and not s.scale_thickness < 0.5 * self.shell_inner_radius:
             raise ValueError(f"shell.scale_thickness = {s.scale_thickness:g} m must be below half the shell inner "
@@ -216,7 +216,7 @@ class ThermalDryer:
 
     @property
     def shell_thickness(self) -> float:
-        """Steel wall of the shell, m: ``settings.shell_thickness``, or :data:`SHELL_THICKNESS_RATIO` times
+        """Steel wall of the shell, m: ``settings.shell_thickness``, or `SHELL_THICKNESS_RATIO` times
         the inner radius."""
         d = self.settings.shell_thickness
         return SHELL_THICKNESS_RATIO * self.shell_inner_radius if d is None else float(d)
@@ -379,7 +379,7 @@ class ThermalDryer:
         return h / (hot + leak)
 
     def _inlet_enthalpy(self):
-        """:meth:`gas_inlet_enthalpy` of the current settings, re-evaluated only when they change."""
+        """[`gas_inlet_enthalpy`][rotarydryer.thermal.dryer.ThermalDryer.gas_inlet_enthalpy] of the current settings, re-evaluated only when they change."""
         s = self.settings
         key = (s.mode, s.gas_flow, s.gas_inlet_temperature, s.gas_inlet_humidity, s.leak_air_flow,
                s.ambient_temperature, s.ambient_humidity)
@@ -459,7 +459,7 @@ class ThermalDryer:
         moisture differs from it (a Jacobian's perturbations move a few cells of each state; the same
         numbers as evaluating every law on the whole batch and filling family by family). None where
         that does not apply (no single state evaluated since, a law that couples its cells, changed
-        settings): :meth:`flows` then evaluates the laws on the whole batch."""
+        settings): [`flows`][rotarydryer.thermal.dryer.ThermalDryer.flows] then evaluates the laws on the whole batch."""
         base = self._edge_base
         if base is None:
             return None
@@ -498,7 +498,7 @@ class ThermalDryer:
 
     def _edge_plan_laws(self):
         """Per section law: (family name, its first edge, its first capped or excess edge or None) of each
-        of its families in :meth:`_edge_plan` of all families (edge j of a family is the law's cell j)."""
+        of its families in `_edge_plan` of all families (edge j of a family is the law's cell j)."""
         plan = self._plans.get("laws")
         if plan is None:
             slices = self._edge_plan(self.families)[-1]
@@ -538,7 +538,7 @@ class ThermalDryer:
         The finite-difference Jacobian perturbs groups of unknowns; most groups leave a given
         section's passive masses and moisture unchanged (temperatures, gas, other sections), so
         its coefficients are those of the base state: exact reuse, the same numbers. A batch (k, n)
-        is evaluated whole (a Jacobian's batch normally takes :meth:`_edge_values_batch` instead)."""
+        is evaluated whole (a Jacobian's batch normally takes `_edge_values_batch` instead)."""
         if mp.ndim == 2:
             return law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=self.settings.design_load_smoothing)
         cache = self._law_cache.setdefault(id(law), [])
@@ -556,7 +556,7 @@ class ThermalDryer:
     def _kiln_bed_area(self, W, m):
         """Gas-exposed area (m^2) per gas stage of the kiln beds of the flighted cells: the passive
         mass above the design load, max(M_P - M_des, 0) smoothed over the case's design-load width,
-        as a rolling bed's active layer (:func:`rotarydryer.thermal.balances.active_layer_area`)."""
+        as a rolling bed's active layer ([`rotarydryer.thermal.balances.active_layer_area`][rotarydryer.thermal.balances.active_layer_area])."""
         s = self.settings
         out = np.zeros(m.shape[:-1] + (self.n_gas,))
         passive, _ = self._passive(W, m, [law for law, _ in self._kiln_plan])
@@ -753,7 +753,7 @@ class ThermalDryer:
         return plan
 
     def _flat_index(self, index, rows, n):
-        """``index`` offset by n per row for ``rows`` stacked rows (:func:`_scatter_rows`), cached for the
+        """``index`` offset by n per row for ``rows`` stacked rows (`_scatter_rows`), cached for the
         network's own index arrays."""
         key = (id(index), rows, n)
         hit = self._flat.get(key)
@@ -765,7 +765,7 @@ class ThermalDryer:
 
     def freeze_shell(self, z):
         """Evaluate the shell-loss network exactly at ``z`` and use it as a lagged UA coefficient
-        (W/K per stage) until :meth:`unfreeze_shell`; the physical network solves the shell
+        (W/K per stage) until `unfreeze_shell`; the physical network solves the shell
         temperature iteratively, which would dominate every residual evaluation."""
         self._shell_ua = None
         S, W, T, Tg, Y = self.split(z)
@@ -786,7 +786,7 @@ class ThermalDryer:
     def _refreeze_shell(self, z, f):
         """Freeze the shell loss at ``z`` and return ``f`` (the residual at z with the previous
         coefficient, or unfrozen) corrected to the new coefficient: only the gas temperature
-        rows change, by the change of the loss over M_g c_s (:meth:`rhs`)."""
+        rows change, by the change of the loss over M_g c_s ([`rhs`][rotarydryer.thermal.dryer.ThermalDryer.rhs])."""
         old = self._shell_ua
         self.freeze_shell(z)
         if old is None:
@@ -804,10 +804,10 @@ class ThermalDryer:
 
     def with_parameters(self, settings=None, feed_rate=None, rpm=None, feed_moisture=None):
         """A copy of this dryer on the same network with new parameter values: ``settings`` (a whole
-        :class:`ThermalSettings`), the wet feed rate (kg/s), the drum speed (rev/min), the feed moisture
+        [`ThermalSettings`][rotarydryer.thermal.dryer.ThermalSettings]), the wet feed rate (kg/s), the drum speed (rev/min), the feed moisture
         (kg/kg wet); checked as at construction, caches cleared. The network, the section laws and the
         layout are shared (nothing is rebuilt): a study's or sweep's run re-evaluates the coefficients
-        at its own values (:func:`rotarydryer.thermal.studies.perturbed`, :meth:`rotarydryer.Simulation.steady_state`)."""
+        at its own values ([`rotarydryer.thermal.studies.perturbed`][rotarydryer.thermal.studies.perturbed], [`rotarydryer.Simulation.steady_state`][rotarydryer.simulation.Simulation.steady_state])."""
         d = copy.copy(self)
         d.settings = copy.copy(self.settings) if settings is None else self._completed(settings)
         for name, value in (("feed_rate", feed_rate), ("rpm", rpm), ("feed_moisture", feed_moisture)):
@@ -844,7 +844,7 @@ class ThermalDryer:
         return self._rhs(z)
 
     def _rhs(self, z):
-        """:meth:`rhs` of one state (n,) or of a batch with the states as rows, (k, n)."""
+        """[`rhs`][rotarydryer.thermal.dryer.ThermalDryer.rhs] of one state (n,) or of a batch with the states as rows, (k, n)."""
         s = self.settings
         d = self.terms(z, products=False)
         S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
@@ -975,13 +975,13 @@ class ThermalDryer:
     def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=None, factorization=None,
                      progress=None, march=True):
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring); where
-        that fails (and ``march``), a transient march (BDF with error control, :meth:`simulate`) over
+        that fails (and ``march``), a transient march (BDF with error control, [`simulate`][rotarydryer.thermal.dryer.ThermalDryer.simulate]) over
         MARCH_HORIZONS solids residence times from the same start, then Newton again from the
         marched state.
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
-        close; raises :class:`DryerError` (reason ``"no_steady_state"``) with ``state`` = last iterate
-        of the first attempt. The other arguments are those of :meth:`_pseudo_transient`.
+        close; raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (reason ``"no_steady_state"``) with ``state`` = last iterate
+        of the first attempt. The other arguments are those of `_pseudo_transient`.
         """
         try:
             return self._polished(self._pseudo_transient(z0, max_iter, tol, dt0, verbose, factorization, progress),
@@ -1024,8 +1024,8 @@ class ThermalDryer:
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring).
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
-        close; raises :class:`DryerError` (reason ``"no_steady_state"``) with ``state`` = last iterate.
-        ``factorization``: the :attr:`ThermalSteadyState.factorization` of a nearby steady state
+        close; raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (reason ``"no_steady_state"``) with ``state`` = last iterate.
+        ``factorization``: the `ThermalSteadyState.factorization` of a nearby steady state
         (same network, e.g. the previous run of a study, with ``z0`` its state): chord steps with
         it while the residual falls at least fourfold per step, then the solver's own Jacobians.
         The converged state is the same; only the path changes. ``progress(iteration, scaled
@@ -1148,7 +1148,7 @@ class ThermalDryer:
         return zn
 
     def _state_bounds(self):
-        """(solids T low, high, gas T low, high, humidity high) of :meth:`_admissible`, each a
+        """(solids T low, high, gas T low, high, humidity high) of `_admissible`, each a
         rounding inside (degC, kg/kg)."""
         s = self.settings
         eps = 1e-9
@@ -1161,7 +1161,7 @@ class ThermalDryer:
         from a warm feed cools towards its adiabatic saturation temperature, below both), and inside
         the humid-air range. The margin is wide: the drying laws cool wet solids, and the gas with
         them, below the inlet gas's wet bulb (16 K below in a sampled Invicta case); the bound only
-        keeps the iterates physical (:meth:`_bounded_step`)."""
+        keeps the iterates physical (`_bounded_step`)."""
         s = self.settings
         key = (s.ambient_temperature, s.solids_inlet_temperature, s.gas_inlet_temperature, self.gas_inlet_Y)
         if self._floor_memo is None or self._floor_memo[0] != key:

@@ -1,6 +1,6 @@
 r"""Gas-solids transfer estimates of the dryers: Ajayi's (2011) gas-solids coefficient (Eq. 6.41)
 and Song's (2003) pilot Ua estimates. The drying kinetics of a material (unhindered flux, falling
-rate, :class:`DryingKinetics`) are in :mod:`rotarydryer.properties.drying` and importable from here
+rate, [`DryingKinetics`][rotarydryer.thermal.drying.DryingKinetics]) are in [`rotarydryer.properties.drying`][rotarydryer.properties.drying] and importable from here
 as before.
 """
 
@@ -49,11 +49,11 @@ def ajayi2011_gas_solids_coefficient(gas_mass_flow, gas_temperature_c, particle_
                                      drum_radius=1.95, properties: str = "physical"):
     r"""Gas-solids convective coefficient h_c, W/(m² K), as Ajayi (2011) Eq. 6.41.
 
-    :math:`h_c = 0.33\,Re^{0.6} k_g/d_p`, :math:`Re = v_g \rho_g d_p/\mu_g` with the superficial
-    velocity over the full drum cross-section :math:`v_g = F_g/(\rho_g \pi R^2)` (code:
+    $h_c = 0.33\,Re^{0.6} k_g/d_p$, $Re = v_g \rho_g d_p/\mu_g$ with the superficial
+    velocity over the full drum cross-section $v_g = F_g/(\rho_g \pi R^2)$ (code:
     ``v_g = A_in/(rho_g*3.142*1.95^2)``), gas properties at the gas temperature.
     ``properties="ajayi2011"`` uses his air polynomials (humidity ignored); ``"physical"``
-    the humid-air model. Nu from :func:`rotarydryer.correlations.heat_transfer.ajayi_2011_nu`.
+    the humid-air model. Nu from [`rotarydryer.correlations.heat_transfer.ajayi_2011_nu`][rotarydryer.correlations.heat_transfer.ajayi_2011_nu].
     Returns (h_c, Re, v_g).
 
     >>> h, re, v = ajayi2011_gas_solids_coefficient(31.3, 500.0, 0.02, properties="ajayi2011")
@@ -93,15 +93,16 @@ def song_pilot_Ua(gas_in_c, gas_out_c, solids_in_c, solids_out_c, moisture_in, m
                   water_removal: str = "feed_wet_basis"):
     r"""Volumetric heat-transfer coefficient from pilot data, Song (2003) Eq. 3.9, W/(m³ K).
 
-    .. math::
-        U_a = \frac{\dot m_{evap}\,\lambda}{V\,(T_g - T_s)_{LM}}
+    $$
+    U_a = \frac{\dot m_{evap}\,\lambda}{V\,(T_g - T_s)_{LM}}
+    $$
 
     (co-current log mean over the two ends; all heat given up by the gas assumed to
     evaporate water, no losses).
 
     Reading chosen (``water_removal="feed_wet_basis"``, default): Song's Table 3.3 moisture
     X (kg/kg dry) converted to wet basis x = X/(1+X) and multiplied by the **wet** feed
-    rate 67.5 kg/h: :math:`\dot m_{evap} = F_{wet}(x_{in} - x_{out})`. With λ at the mean
+    rate 67.5 kg/h: $\dot m_{evap} = F_{wet}(x_{in} - x_{out})$. With λ at the mean
     solids temperature (IAPWS, ``latent_heat=None``) this reproduces the printed 225.3,
     194.1, 196.5 W/(m³ K) within 1 %; with Song's stated λ = 2500 kJ/kg within 2.5 %.
     The physically exact water removal, F_dry (X_in - X_out) (``"dry_basis"``), gives

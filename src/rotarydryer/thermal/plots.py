@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from .._plotting import pyplot as _plt
+from .schedule import OUTLETS, SCHEDULE_INPUTS
 
-__all__ = ["plot_thermal_profiles", "plot_thermal_steady_state"]
+__all__ = ["plot_thermal_profiles", "plot_thermal_steady_state", "plot_schedule_result"]
 
 
 def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
@@ -16,8 +17,8 @@ def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
     ``profiles``: arrays ``position``, ``phase`` (bed, passive, active), ``section``,
     ``solids_temperature_degC``, ``moisture_wet`` per tank and ``gas_position``,
     ``gas_temperature_degC``, ``gas_humidity`` per gas stage, as
-    :meth:`rotarydryer.thermal.dryer.ThermalSteadyState.profiles` gives them (or
-    :func:`thermal_profiles_from_results` from saved results). ``sections``: (name, length m)
+    `rotarydryer.thermal.dryer.ThermalSteadyState.profiles` gives them (or
+    `thermal_profiles_from_results` from saved results). ``sections``: (name, length m)
     pairs in order, drawn as boundaries.
     """
     plt = _plt()
@@ -62,10 +63,40 @@ def plot_thermal_profiles(profiles: dict, *, title: str = "", sections=()):
 
 def plot_thermal_steady_state(steady):
     """Figure: gas and solids temperature (top) and solids moisture / gas humidity (bottom) along
-    the dryer for a :class:`rotarydryer.thermal.dryer.ThermalSteadyState`
-    (:func:`plot_thermal_profiles` of ``steady.profiles()``, titled with the product state and
-    with the section boundaries). Also importable from :mod:`rotarydryer.report.plots`."""
+    the dryer for a `rotarydryer.thermal.dryer.ThermalSteadyState`
+    (`plot_thermal_profiles` of ``steady.profiles()``, titled with the product state and
+    with the section boundaries). Also importable from `rotarydryer.report.plots`."""
     title = (f"{steady.dryer.settings.mode} model: product {steady.product_moisture:.3f} kg/kg, "
              f"{steady.product_temperature_degC:.1f} °C; gas out {steady.gas_outlet_temperature_degC:.0f} °C")
     return plot_thermal_profiles(steady.profiles(), title=title,
                                  sections=[(sd["name"], sd["length"]) for sd in steady.dryer.model.sections])
+
+
+def plot_schedule_result(result, *, title: str = ""):
+    """Figure of a scheduled dynamic run
+    ([`ScheduleResult`][rotarydryer.thermal.schedule.ScheduleResult]): the scheduled inputs (held
+    over each interval, drawn as steps) above the product moisture, product and exhaust
+    temperatures versus time (min)."""
+    plt = _plt()
+    t_min = np.asarray(result.time_s) / 60.0
+    n_in = max(1, len(result.inputs))
+    fig, axes = plt.subplots(n_in + 2, 1, figsize=(8.0, 2.0 * (n_in + 2)), sharex=True)
+    for ax, (name, values) in zip(axes[:n_in], result.inputs.items()):
+        ax.step(t_min, values, where="post", color="tab:red")
+        ax.set_ylabel(f"{name}\n{SCHEDULE_INPUTS[name][1]}", fontsize=8)
+    if not result.inputs:
+        axes[0].text(0.5, 0.5, "no scheduled input (the case's own)", ha="center", va="center",
+                     transform=axes[0].transAxes)
+    ax = axes[n_in]
+    ax.plot(t_min, 100.0 * np.asarray(result.outlets["product_moisture"]), color="tab:blue")
+    ax.set_ylabel("product moisture\n% wet basis", fontsize=8)
+    ax = axes[n_in + 1]
+    ax.plot(t_min, result.outlets["product_temperature"], label="product")
+    ax.plot(t_min, result.outlets["exhaust_temperature"], label="exhaust gas")
+    ax.set_ylabel(f"temperature\n{OUTLETS['product_temperature']}", fontsize=8)
+    ax.legend(fontsize=8)
+    ax.set_xlabel("time, min")
+    if title:
+        axes[0].set_title(title)
+    fig.tight_layout()
+    return fig

@@ -3,9 +3,10 @@ r"""Gas radiation in the drum: H2O/CO2 emissivity and gas-wall / gas-solids exch
 Gas emissivity: weighted sum of grey gases (WSGG) of Smith, Shen & Friedman (1982),
 J. Heat Transfer 104, 602, Table 2 - three grey gases plus a clear gas,
 
-.. math::
-    \varepsilon_g = \sum_{i=1}^{3} a_i(T_g)\,[1 - \exp(-\kappa_i\,p_a L)],\qquad
-    a_i(T) = \sum_{j=1}^{4} b_{ij} T^{j-1},\qquad p_a = p_{H_2O} + p_{CO_2}\ \text{(atm)}
+$$
+\varepsilon_g = \sum_{i=1}^{3} a_i(T_g)\,[1 - \exp(-\kappa_i\,p_a L)],\qquad
+a_i(T) = \sum_{j=1}^{4} b_{ij} T^{j-1},\qquad p_a = p_{H_2O} + p_{CO_2}\ \text{(atm)}
+$$
 
 for the coefficient sets p_w/p_c = 1 and 2, pure CO2 (p_c → 0) and pure H2O (p_w → 0).
 Other ratios: the emissivity is interpolated linearly in the CO2 fraction
@@ -14,7 +15,7 @@ and 1 (CO2) - a documented simplification; for pure H2O or CO2 sets the partial 
 of that gas alone is used. Fitted for 600-2400 K and p_a L = 0.001-10 atm m; the dryer
 gas (370-870 K) is partly below this range (extrapolation, flagged in the docstring;
 the a_i stay positive down to 300 K). Absorptivity for wall radiation at T_w:
-:math:`\alpha_g = \sum a_i(T_w)[1-\exp(-\kappa_i p_a L)]` (standard WSGG practice,
+$\alpha_g = \sum a_i(T_w)[1-\exp(-\kappa_i p_a L)]$ (standard WSGG practice,
 Modest 2013 §19.4).
 
 Mean beam length of the freeboard: L_m = 0.95 D for an infinite cylinder radiating to
@@ -23,11 +24,11 @@ its wall (Hottel; Incropera et al. 2007 Table 13.4; Modest 2013 Table 19.5 gives
 Exchange:
 
 * gas-wall (Hottel's effective wall emissivity, Hottel & Sarofim 1967; Incropera Eq. 13.x):
-  :math:`q = \sigma\,\frac{\varepsilon_w + 1}{2}\,(\varepsilon_g T_g^4 - \alpha_g T_w^4)` W/m²;
+  $q = \sigma\,\frac{\varepsilon_w + 1}{2}\,(\varepsilon_g T_g^4 - \alpha_g T_w^4)$ W/m²;
 * gas-solids (``method="grey_exchange"``, default): grey gas between two grey surfaces,
-  :math:`q = \sigma (T_g^4 - T_s^4)/(1/\varepsilon_s + 1/\varepsilon_g - 1)`;
-  ``method="ajayi2011"``: Ajayi's Eq. 6.42 as coded, :math:`q = \varepsilon_s \sigma
-  (T_g^4 - T_s^4)` (gas treated as black; overestimates by 1/ε_g for a thin gas).
+  $q = \sigma (T_g^4 - T_s^4)/(1/\varepsilon_s + 1/\varepsilon_g - 1)$;
+  ``method="ajayi2011"``: Ajayi's Eq. 6.42 as coded, $q = \varepsilon_s \sigma
+  (T_g^4 - T_s^4)$ (gas treated as black; overestimates by 1/ε_g for a thin gas).
 
 Temperatures in °C at the API; fluxes in W/m² of receiving surface.
 """
@@ -83,7 +84,7 @@ def mean_beam_length(diameter, factor: float = 0.95):
 
 def _wsgg(set_name, t_weights, absorption):
     """Smith et al. (1982) WSGG sum: temperature weights a_i(T) times the gray gases' absorption
-    factors 1 - exp(-kappa_i p L) (:func:`_wsgg_paths`)."""
+    factors 1 - exp(-kappa_i p L) (`_wsgg_paths`)."""
     _, b = _SMITH[set_name]
     eps = 0.0
     for bi, absorbed in zip(b, absorption):
@@ -96,7 +97,7 @@ _KERNEL_COEFFICIENTS = _kernels.pack_wsgg([(x, *_SMITH[name]) for name, x in _AN
 
 
 def _wsgg_compiled(t_k, p_h2o, p_co2, path_length):
-    """:func:`_emissivity` in one compiled pass (:mod:`rotarydryer.properties._kernels`), or None."""
+    """`_emissivity` in one compiled pass (`rotarydryer.properties._kernels`), or None."""
     fast = _kernels.evaluate("wsgg", (t_k, np.asarray(p_h2o, dtype=float) / ATM,
                                       np.asarray(p_co2, dtype=float) / ATM, path_length), (_KERNEL_COEFFICIENTS,), 1)
     return None if fast is None else fast[0]
@@ -141,7 +142,7 @@ def _emissivity(t_weights_k, p_h2o, p_co2, path_length):
 
 
 def _emissivity_at(t_weights_k, paths):
-    """WSGG emissivity at temperatures ``t_weights_k`` (K) of the gas of ``paths`` (:func:`_wsgg_paths`)."""
+    """WSGG emissivity at temperatures ``t_weights_k`` (K) of the gas of ``paths`` (`_wsgg_paths`)."""
     fc, used, absorption, raw = paths
     if fc is None:          # the compiled kernel's paths: its inputs only
         fast = _wsgg_compiled(t_weights_k, *raw)
@@ -209,7 +210,7 @@ def gas_wall_radiation_flux(gas_temperature_c, wall_temperature_c, gas_emissivit
 
 
 def _gas_wall_flux(tg_k, tw_k, eg, ag, ew):
-    """Unchecked kernel of :func:`gas_wall_radiation_flux` (temperatures in K)."""
+    """Unchecked kernel of [`gas_wall_radiation_flux`][rotarydryer.thermal.radiation.gas_wall_radiation_flux] (temperatures in K)."""
     return STEFAN_BOLTZMANN * 0.5 * (ew + 1.0) * (eg * tg_k**4 - ag * tw_k**4)
 
 

@@ -1,8 +1,8 @@
-"""Settings of the heat-and-mass model: the thermal parameters of a dryer (:class:`ThermalSettings`),
-the heat-transfer data of a section (:class:`SectionThermal`) and the model's error (:class:`DryerError`).
+"""Settings of the heat-and-mass model: the thermal parameters of a dryer ([`ThermalSettings`][rotarydryer.thermal.settings.ThermalSettings]),
+the heat-transfer data of a section ([`SectionThermal`][rotarydryer.thermal.settings.SectionThermal]) and the model's error ([`DryerError`][rotarydryer.thermal.settings.DryerError]).
 
-Every plant number is case data (:func:`rotarydryer.cases.build.thermal_settings` fills these from a
-case); the defaults here are neutral. :meth:`ThermalSettings.ajayi2011` gives the settings of the
+Every plant number is case data ([`rotarydryer.cases.build.thermal_settings`][rotarydryer.cases.build.thermal_settings] fills these from a
+case); the defaults here are neutral. [`ThermalSettings.ajayi2011`][rotarydryer.thermal.settings.ThermalSettings.ajayi2011] gives the settings of the
 thesis code (Ajayi (2011) App. F).
 """
 
@@ -64,7 +64,7 @@ class ThermalSettings:
     scale_thickness, scale_conductivity, insulation_thickness, insulation_conductivity : shell
     network of the physical mode (m, W/(m K)).
     shell_inner_radius, shell_thickness : steel shell of the physical mode, m (None: the drum radius,
-    and :data:`SHELL_THICKNESS_RATIO` times the inner radius).
+    and `SHELL_THICKNESS_RATIO` times the inner radius).
     fouling : fraction (0-0.95) of flight loading capacity lost to scale (Ajayi Ch. 5 Eq. 5.21,
     Ch. 7 "scaling 0-80 %"; Test 3 was modelled with 80 %, l.1715): multiplies the design load by (1 - fouling).
     leak_air_flow : ambient air leaking into the drum at the gas inlet end (seals, feed chute), kg/s
@@ -77,7 +77,7 @@ class ThermalSettings:
     gas_direction : "co-current" | "counter-current".
     design_load_smoothing : width of the smoothed design-load switch min(M_P, M_des), relative
     to M_des (0 = exact, as the transport network; 1e-3 in the MMG case, as before).
-    burner : :class:`~rotarydryer.thermal.burner.Burner` that makes the gas (None = the gas comes
+    burner : [`Burner`][rotarydryer.thermal.burner.Burner] that makes the gas (None = the gas comes
     from elsewhere, e.g. steam-heated air; no fuel rate).
     kiln_bed_area : physical mode: the passive solids of a flighted cell above its design load (a kiln
     bed on the drum floor: overloaded or fouled flights) exchange with the gas through the active
@@ -85,7 +85,7 @@ class ThermalSettings:
     (the thesis's model: only curtains and unflighted beds).
     discharge_cooling_ntu : transfer units of the product's cooling by ambient air between the drum
     outlet and a product temperature sensor downstream
-    (:func:`~rotarydryer.thermal.streams.discharge_cooling`; 0 = the sensor at the drum outlet).
+    ([`discharge_cooling`][rotarydryer.thermal.streams.discharge_cooling]; 0 = the sensor at the drum outlet).
     """
 
     gas_flow: float

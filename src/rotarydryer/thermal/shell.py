@@ -1,23 +1,23 @@
 r"""Heat loss through the drum shell with the shell temperature solved, vectorised over axial positions.
 
-Network per unit drum length (radii: exposed inner surface :math:`r_e = r_i - \delta_{sc}`,
-steel :math:`r_i \to r_o = r_i + \delta_s`, insulation :math:`r_o \to r_{out} = r_o + \delta_{ins}`)::
+Network per unit drum length (radii: exposed inner surface $r_e = r_i - \delta_{sc}$,
+steel $r_i \to r_o = r_i + \delta_s$, insulation $r_o \to r_{out} = r_o + \delta_{ins}$):
 
     gas --[inside convection || gas radiation]--> inner surface (T_wi)
         --[scale]--[steel]--[insulation]--> outer surface (T_o)
         --[natural (+ forced) convection || radiation]--> ambient
 
 * Inside convection: Sieder & Tate (1936), as Ajayi (2011) Eq. 6.52,
-  :math:`Nu = 0.027 Re^{0.8} Pr^{1/3} (\mu/\mu_s)^{0.14}` on the inner diameter, gas
-  properties from :mod:`rotarydryer.properties.humid_air` at the gas temperature, μ_s at
+  $Nu = 0.027 Re^{0.8} Pr^{1/3} (\mu/\mu_s)^{0.14}$ on the inner diameter, gas
+  properties from [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air] at the gas temperature, μ_s at
   the solved inner-surface temperature. The drum is not a smooth pipe (flights,
   curtains): this is the thesis's choice, kept.
 * Gas → wall radiation: WSGG H2O/CO2 emissivity over the mean beam length 0.95 D and
-  Hottel's effective wall emissivity (:mod:`.radiation`). Ajayi (Eq. 6.53) used a
+  Hottel's effective wall emissivity ([`.radiation`][rotarydryer.thermal.radiation]). Ajayi (Eq. 6.53) used a
   black gas with ε = 0.79, which over-predicts it ~3-4x for this thin gas.
-* Conduction: :math:`\ln(r_2/r_1)/(2\pi k)` per layer (the printed Eq. 6.51 has
-  :math:`r_{in}` in the denominator - dimensionally wrong; the code's form is used).
-  Steel conductivity :math:`k_s = 54 - 0.0333\,T` W/(m K), T in °C (Ajayi App. F L3903),
+* Conduction: $\ln(r_2/r_1)/(2\pi k)$ per layer (the printed Eq. 6.51 has
+  $r_{in}$ in the denominator - dimensionally wrong; the code's form is used).
+  Steel conductivity $k_s = 54 - 0.0333\,T$ W/(m K), T in °C (Ajayi App. F L3903),
   evaluated at the mean steel temperature. Optional scale (fouling) layer - Ajayi has
   none (notes §1.9); zinc-concentrate scale conductivity is not published, default
   1.0 W/(m K) (order of sintered mineral deposits; pass your own). Optional insulation
@@ -25,21 +25,21 @@ steel :math:`r_i \to r_o = r_i + \delta_s`, insulation :math:`r_o \to r_{out} = 
 * Outside: natural convection on a horizontal cylinder, Churchill & Chu (1975), as Ajayi
   Eq. 6.54, with air properties at the film temperature and β = 1/T_film (Ajayi used
   the gas inlet temperature for β and fixed shell temperatures); optional wind by
-  Churchill & Bernstein (1977), combined as :math:`Nu^3 = Nu_N^3 + Nu_F^3` (Churchill
-  1977 mixed-convection rule). Radiation :math:`\varepsilon_o \sigma (T_o^4 - T_\infty^4)`
+  Churchill & Bernstein (1977), combined as $Nu^3 = Nu_N^3 + Nu_F^3$ (Churchill
+  1977 mixed-convection rule). Radiation $\varepsilon_o \sigma (T_o^4 - T_\infty^4)$
   to surroundings at ambient temperature (Ajayi Eq. 6.55, ε = 0.79).
 * Not modelled (as in Ajayi): conduction from the wall into the solids it touches. In
   the real drum this contact cools the wall, which is why Ajayi's measured/coded shell
   temperatures (65-145 °C) are far below what the gas alone would impose.
 
-The shell temperature is the root of :math:`q'_{in}(T_{wi}(T_o)) = q'_{out}(T_o)`, solved by
-a vectorised Illinois (regula falsi) iteration on :math:`T_o \in [T_\infty, T_g]` (the
+The shell temperature is the root of $q'_{in}(T_{wi}(T_o)) = q'_{out}(T_o)$, solved by
+a vectorised Illinois (regula falsi) iteration on $T_o \in [T_\infty, T_g]$ (the
 residual is monotone);
 the returned ``energy_balance_error`` is the relative mismatch (< 1e-9).
 
-Compatibility: :func:`ajayi2011_heat_loss` reproduces the thesis code (fixed shell
+Compatibility: [`ajayi2011_heat_loss`][rotarydryer.thermal.shell.ajayi2011_heat_loss] reproduces the thesis code (fixed shell
 temperatures, Ajayi's property polynomials, black-gas radiation, loss factor
-:math:`\theta_{loss}` = 15, Eq. 6.50). The notes (ajayi_energy.md §2.2) show the factor
+$\theta_{loss}$ = 15, Eq. 6.50). The notes (ajayi_energy.md §2.2) show the factor
 compensates a gas-side energy excess of ~6.8 MW: it does **not** represent shell physics
 and does not close an energy balance with the physical gas flow.
 """
@@ -91,7 +91,7 @@ def _churchill_bernstein(re, pr):
 
 @dataclass(frozen=True)
 class ShellHeatLoss:
-    """Result of :func:`shell_heat_loss` (arrays broadcast over the inputs).
+    """Result of [`shell_heat_loss`][rotarydryer.thermal.shell.shell_heat_loss] (arrays broadcast over the inputs).
 
     heat_loss W (per segment of length ``length``); heat_loss_per_length W/m;
     outer_surface_temperature_c, inner_surface_temperature_c °C; h_inside_convection,
@@ -306,10 +306,10 @@ def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_tempe
                          insulation_thickness, insulation_conductivity, pressure, inner_emissivity=0.79,
                          outer_emissivity=0.79, wind_speed=0.0, ambient_humidity=0.015, outer_guess=None,
                          slope_guess=None):
-    """``(heat_loss W, outer surface temperature °C, slope)`` of :func:`shell_heat_loss` with the steel of
-    :func:`steel_conductivity_ajayi2011` and the WSGG gas emissivity, each element solved in one compiled
-    pass (:mod:`rotarydryer.properties._kernels`), or None (kernels off, or an input it declines: the
-    caller then calls :func:`shell_heat_loss`). For the dryer's own calls: the settings validated once,
+    """``(heat_loss W, outer surface temperature °C, slope)`` of [`shell_heat_loss`][rotarydryer.thermal.shell.shell_heat_loss] with the steel of
+    [`steel_conductivity_ajayi2011`][rotarydryer.thermal.shell.steel_conductivity_ajayi2011] and the WSGG gas emissivity, each element solved in one compiled
+    pass (`rotarydryer.properties._kernels`), or None (kernels off, or an input it declines: the
+    caller then calls [`shell_heat_loss`][rotarydryer.thermal.shell.shell_heat_loss]). For the dryer's own calls: the settings validated once,
     scalars except the per-stage gas state and lengths. The same root to the 1e-9 K tolerance: Newton's
     method from ``outer_guess`` stops per element rather than for all elements at once. ``slope``: the
     last slope of each element's Newton iteration (W/(m K); NaN where the root was bracketed), the
@@ -350,8 +350,8 @@ def ajayi2011_heat_loss(gas_temperature_c, gas_mass_flow, shell_temperature_c, l
                         ambient_temperature_c=26.0, loss_factor=15.0, gas_inlet_temperature_c=None):
     r"""Shell heat loss exactly as Ajayi's gPROMS ``Air_phase`` model (App. F L3729-L3905), W.
 
-    :math:`Q = \theta_{loss}(T_g - T_{amb})/\sum R` (Eq. 6.50) with the resistance network of
-    Eq. 6.51 evaluated at a **fixed** shell temperature (:data:`AJAYI_SHELL_TEMPERATURES`),
+    $Q = \theta_{loss}(T_g - T_{amb})/\sum R$ (Eq. 6.50) with the resistance network of
+    Eq. 6.51 evaluated at a **fixed** shell temperature (`AJAYI_SHELL_TEMPERATURES`),
     his air-property polynomials, Pr = 0.70752, black-gas wall radiation with ε = 0.79,
     β = 1/(T_g,in + 273) and r_in = 1.90 m, R_out = 1.95 m. ``loss_factor`` = 15 is the
     thesis value (0 = insulated scenario of Sec. 7.2). Documented compatibility option

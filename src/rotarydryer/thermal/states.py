@@ -1,6 +1,6 @@
-"""States of the heat-and-mass model: a converged steady state (:class:`ThermalSteadyState`), the
-same state seen as a transport steady state (:class:`CoupledTransportState`) and a dynamic run
-(:class:`DynamicResult`). Temperatures in degC, names ending in ``_degC``."""
+"""States of the heat-and-mass model: a converged steady state ([`ThermalSteadyState`][rotarydryer.thermal.states.ThermalSteadyState]), the
+same state seen as a transport steady state ([`CoupledTransportState`][rotarydryer.thermal.states.CoupledTransportState]) and a dynamic run
+([`DynamicResult`][rotarydryer.thermal.states.DynamicResult]). Temperatures in degC, names ending in ``_degC``."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._display import html_table, outputs_dataframe, short_repr
+from ..properties.humid_air import dew_point
 from ..properties.water import latent_heat
 from ..transport.network import tracer_system_from_flows
 from ..transport.results import SteadyState
@@ -28,7 +29,7 @@ __all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult", "fuel
 def fuel_rate_note(summary: dict) -> str:
     """One line saying why a run has no fuel rate although its case has a burner (the burner cannot
     reach the set gas inlet temperature) and what was simulated instead, or '' when it has one
-    (``summary``: :meth:`ThermalSteadyState.summary`, or any dict with ``fuel_rate_error``). The
+    (``summary``: [`ThermalSteadyState.summary`][rotarydryer.thermal.states.ThermalSteadyState.summary], or any dict with ``fuel_rate_error``). The
     steady state is still valid for the set temperature: the gas the burner cannot deliver."""
     err = summary.get("fuel_rate_error")
     if not err:
@@ -156,7 +157,7 @@ class ThermalSteadyState:
         return float(np.sum(self.holdup))
 
     def transport_state(self):
-        """This state as a transport steady state (:class:`CoupledTransportState`) on the
+        """This state as a transport steady state ([`CoupledTransportState`][rotarydryer.thermal.states.CoupledTransportState]) on the
         heat-and-mass model's network: the coupled holdups and flows, the design loads and per-cell
         coefficients at the computed moisture. Its totals, section holdups, cell table and tracer
         moments are this state's, so every view (``simulate --json`` ``sections``/``cells``, the
@@ -195,7 +196,7 @@ class ThermalSteadyState:
         """Fuel rate (kg/s) that the case's burner (``ThermalSettings.burner``, Ajayi (2011) App. A
         combustion chamber) needs to heat this gas flow to the inlet temperature (air at ambient,
         humidity of the gas). ``fuel_heat_loss_fraction`` replaces the burner's. Raises
-        :class:`DryerError` if the case has no burner or it cannot reach the set temperature."""
+        [`DryerError`][rotarydryer.thermal.settings.DryerError] if the case has no burner or it cannot reach the set temperature."""
 
         dr = self.dryer
         s = dr.settings
@@ -252,7 +253,7 @@ class ThermalSteadyState:
         return html_table(self.summary(with_fuel=False), caption=f"heat-and-mass steady state ({self.dryer.model.name})")
 
     def to_dataframe(self):
-        """Named outputs (:meth:`summary`) as a pandas DataFrame (value, unit)."""
+        """Named outputs ([`summary`][rotarydryer.thermal.states.ThermalSteadyState.summary]) as a pandas DataFrame (value, unit)."""
 
         return outputs_dataframe(self.summary(with_fuel=False))
 
@@ -271,7 +272,7 @@ class ThermalSteadyState:
     @property
     def thermal_efficiency(self):
         """Heat that evaporated water (evaporation x latent heat at the product temperature, Watson/
-        Clapeyron) over :attr:`heat_input_w` (-); the usual dryer efficiency (Kemp, Handbook of
+        Clapeyron) over [`heat_input_w`][rotarydryer.thermal.states.ThermalSteadyState.heat_input_w] (-); the usual dryer efficiency (Kemp, Handbook of
         Industrial Drying, 'energy efficiency')."""
 
         q = self.heat_input_w
@@ -284,6 +285,11 @@ class ThermalSteadyState:
         """Outputs of the state, named with their unit (the names of ``simulate --json``, sweeps,
         Results and the report). Balance errors are relative; ``thermal_mode`` the model mode."""
         kind, hold = self.dryer.kind, self.holdup
+        y_out = float(self.gas_outlet_humidity)
+        try:        # None for a gas too dry for the saturation curve's range (dew point below about -60 degC)
+            dew = float(dew_point(y_out, self.dryer.settings.pressure)) if y_out > 0 else None
+        except ValueError:
+            dew = None
         out = dict(
             thermal_mode=self.dryer.settings.mode,
             total_holdup_kg=self.total_holdup, active_holdup_kg=float(np.sum(hold[kind == 2])),
@@ -294,6 +300,9 @@ class ThermalSteadyState:
             product_temperature_degC=float(self.product_temperature_degC),
             gas_outlet_temperature_degC=self.gas_outlet_temperature_degC,
             gas_outlet_humidity_kg_kg=self.gas_outlet_humidity,
+            gas_outlet_dew_point_degC=dew,
+            # how far the exhaust is above its dew point (condensation in the ducts and bag filter below 0)
+            gas_outlet_dew_point_margin_K=None if dew is None else self.gas_outlet_temperature_degC - dew,
             evaporation_kg_s=self.evaporation_rate,
             heat_input_W=self.heat_input_w,
             specific_energy_kJ_kg_water=(self.heat_input_w / self.evaporation_rate / 1e3
@@ -330,8 +339,8 @@ class ThermalSteadyState:
 
 
 class CoupledTransportState(SteadyState):
-    """A coupled steady state seen as a transport :class:`~rotarydryer.transport.results.SteadyState`
-    (:meth:`ThermalSteadyState.transport_state`): wet-solids holdups and flows of the heat-and-mass
+    """A coupled steady state seen as a transport [`SteadyState`][rotarydryer.transport.results.SteadyState]
+    ([`ThermalSteadyState.transport_state`][rotarydryer.thermal.states.ThermalSteadyState.transport_state]): wet-solids holdups and flows of the heat-and-mass
     model, its tracer system, and the mass balance with the evaporation."""
 
     def __init__(self, thermal: ThermalSteadyState, model, masses, **kw):

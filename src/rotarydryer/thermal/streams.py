@@ -3,29 +3,31 @@ r"""Enthalpy of gas and solids streams and the overall (outlet-data) energy bala
 Reference state (as Ajayi 2011, L1885-L1887): liquid water at 0 °C (0.01 °C for the
 IAPWS-based physical model), dry gas and dry solids at 0 °C.
 
-Gas stream, :func:`gas_stream_enthalpy` (W = kg/s x J/kg):
+Gas stream, [`gas_stream_enthalpy`][rotarydryer.thermal.streams.gas_stream_enthalpy] (W = kg/s x J/kg):
 
 ``method="physical"`` (default)
-    humid-air enthalpy of :mod:`rotarydryer.properties.humid_air` (NASA ideal-gas
+:   humid-air enthalpy of [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air] (NASA ideal-gas
     heat capacities, latent heat at 0.01 °C), times the dry-gas flow.
+
 ``method="ajayi2011"``
-    Ajayi's Eq. 6.7 path (heat liquid to 100 °C, evaporate at λ = 2257 kJ/kg, superheat):
-    :math:`h_g = (1-y)c_{p,g}100 + y c_{p,w}100 + y\lambda + (1-y)c_{p,g}(T-100) + y c_{p,v}(T-100)`
+:   Ajayi's Eq. 6.7 path (heat liquid to 100 °C, evaporate at λ = 2257 kJ/kg, superheat):
+    $h_g = (1-y)c_{p,g}100 + y c_{p,w}100 + y\lambda + (1-y)c_{p,g}(T-100) + y c_{p,v}(T-100)$
     per kg wet gas, y = mass fraction, c_pg = 1070, c_pw = 4182, c_pv from his cubic read in
     kJ/(kg K) (x 1000: the consistent reading).
-``method="ajayi2011_as_coded"``
-    the same with c_pv used as printed (≈ 2 "J/(kg K)", vapour superheat ~1000x too small).
 
-Solids stream, :func:`solids_stream_enthalpy`: Ajayi Eq. 6.3,
-:math:`h_s = (x c_{p,w} + (1-x) c_{p,s})\,T` per kg wet solids, x wet basis
+``method="ajayi2011_as_coded"``
+:   the same with c_pv used as printed (≈ 2 "J/(kg K)", vapour superheat ~1000x too small).
+
+Solids stream, [`solids_stream_enthalpy`][rotarydryer.thermal.streams.solids_stream_enthalpy]: Ajayi Eq. 6.3,
+$h_s = (x c_{p,w} + (1-x) c_{p,s})\,T$ per kg wet solids, x wet basis
 (c_pw = 4182, c_ps = 505 J/(kg K) for zinc concentrate, L3181-L3182).
 
-:func:`implied_heat_loss` closes the overall balance on measured outlet data: the heat
+[`implied_heat_loss`][rotarydryer.thermal.streams.implied_heat_loss] closes the overall balance on measured outlet data: the heat
 that must leave through the shell for the measured outlets to be consistent. For Ajayi's
 Test 4 with his gas flow F_ain it is 6.8 MW (notes ajayi_energy.md §2.2; both Cp_v
 readings) - the imbalance his θ_loss = 15 absorbs. With the gas flow that his burner
 (Appendix A, 750 kg/h fuel) can actually heat to 500 °C it is ~1 MW, of the order of the
-physical shell loss (:mod:`.shell`).
+physical shell loss ([`.shell`][rotarydryer.thermal.shell]).
 """
 
 from __future__ import annotations
@@ -143,17 +145,17 @@ def discharge_cooling(temperature_c, moisture_wet, ntu, ambient_c, ambient_humid
     the combined heat and mass transfer is the enthalpy difference of saturated air at the solids
     temperature and the ambient air (Merkel 1925, as in cooling-tower design; Mujumdar (2006)
     Handbook of Industrial Drying ch. 1), so the solids temperature relaxes towards the ambient
-    wet-bulb temperature :math:`T_{wb}`:
+    wet-bulb temperature $T_{wb}$:
 
-    .. math::
-
-        T_{sensor} = T_{wb} + (T_p - T_{wb})\,e^{-NTU}
+    $$
+    T_{sensor} = T_{wb} + (T_p - T_{wb})\,e^{-NTU}
+    $$
 
     where NTU = h a t / c of the exposure (h a: transfer coefficient times area per kg of dry
     solids, t: the time to the sensor, c: the wet solids' heat capacity per kg of dry solids). The
-    heat released, :math:`c (T_p - T_{sensor})`, evaporates the share
-    :math:`1 - c_h (\bar T - T_a)/(h_s(\bar T) - h_a)` of it (the sensible part of the Merkel driving
-    force at the mean temperature :math:`\bar T`, c_h the humid heat of the ambient air).
+    heat released, $c (T_p - T_{sensor})$, evaporates the share
+    $1 - c_h (\bar T - T_a)/(h_s(\bar T) - h_a)$ of it (the sensible part of the Merkel driving
+    force at the mean temperature $\bar T$, c_h the humid heat of the ambient air).
 
     Parameters: product temperature °C and moisture kg/kg wet at the drum outlet; NTU (-, >= 0);
     ambient temperature °C and humidity kg/kg dry air; heat capacities J/(kg K) of the dry solids

@@ -1,16 +1,16 @@
 r"""Studies with the thermal dryer model: sensitivity indices, fouling, insulation and fuel, step responses.
 
-* :func:`relative_index` - Ajayi (2011) Eq. 7.1 (after Duchesne et al. 1997):
-  :math:`\eta = \dfrac{(\psi-\psi_{ref})/\psi_{ref}}{(\chi-\chi_{ref})/\chi_{ref}}`, outputs ψ =
+* [`relative_index`][rotarydryer.thermal.studies.relative_index] - Ajayi (2011) Eq. 7.1 (after Duchesne et al. 1997):
+  $\eta = \dfrac{(\psi-\psi_{ref})/\psi_{ref}}{(\chi-\chi_{ref})/\chi_{ref}}$, outputs ψ =
   product moisture (kg/kg wet) and product temperature **in °C** (as the thesis), inputs χ in
   the thesis's units (°C, kg/kg, rpm, kg/s).
-* :func:`sensitivity_table` - Tables 7.1-7.5 of Ajayi (2011): the input changes of l.2364-2366
+* [`sensitivity_table`][rotarydryer.thermal.studies.sensitivity_table] - Tables 7.1-7.5 of Ajayi (2011): the input changes of l.2364-2366
   (gas inlet T +10 %, gas inlet humidity -30 %, speed -30 %, solids inlet T +30 %, feed -20 %)
   at fouling 0/40/60/80 % (fraction of flight loading capacity lost, see
-  :class:`~rotarydryer.thermal.dryer.ThermalSettings`) and the overloaded feed 63.89 kg/s.
-* :func:`fouling_study`, :func:`insulation_study` (Ajayi (2011) Sec. 7.2: lagging, then a lower gas
+  [`ThermalSettings`][rotarydryer.thermal.dryer.ThermalSettings]) and the overloaded feed 63.89 kg/s.
+* [`fouling_study`][rotarydryer.thermal.studies.fouling_study], [`insulation_study`][rotarydryer.thermal.studies.insulation_study] (Ajayi (2011) Sec. 7.2: lagging, then a lower gas
   inlet temperature for the same product moisture -> fuel saved, with the burner of App. A).
-* :func:`step_response` and :func:`fopdt_fit` - gain K, dead time θ and time constant τ of a
+* [`step_response`][rotarydryer.thermal.studies.step_response] and [`fopdt_fit`][rotarydryer.thermal.studies.fopdt_fit] - gain K, dead time θ and time constant τ of a
   first-order-plus-dead-time description (two-point method: θ = t(5 %) , τ = t(63.2 %) - θ,
   times from the step; Seborg et al. 2011 §7.2 use t28/t63 - the 5 % point is used here because
   the responses are S-shaped with a long transport delay).
@@ -59,7 +59,7 @@ def _get(dryer, name):
 
 
 def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
-    """A copy of ``dryer`` with inputs changed (names of :data:`INPUTS` or ThermalSettings fields)."""
+    """A copy of ``dryer`` with inputs changed (names of `INPUTS` or ThermalSettings fields)."""
     settings = copy.copy(dryer.settings)
     values = {}
     for k, v in changes.items():

@@ -1,6 +1,6 @@
 """Solids transport in flighted rotary dryers (compartment and dispersion models).
 
-Public API::
+Public API:
 
     from rotarydryer.transport import lee2008, lee2008_repose_profile
     from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions
@@ -10,8 +10,8 @@ Public API::
     ss = model.steady_state()          # holdups (kg), flows (kg/s)
     rtd = ss.rtd(t_end=3600, dt=10)     # analytic moments + simulated curve
 
-See :mod:`rotarydryer.transport.network` for the engine and
-:mod:`rotarydryer.transport.models` for the models.
+See [`rotarydryer.transport.network`][rotarydryer.transport.network] for the engine and
+[`rotarydryer.transport.models`][rotarydryer.transport.models] for the models.
 """
 
 from .models import (

@@ -33,7 +33,7 @@ cell -> E (unflighted) -> outlet.
   D's last passive tank and the forward flow of its last active tank and feeds E.
 
 Geometry per flighted section is injected (same interface as Lee's model):
-:class:`AjayiRegressions` (Ajayi's gPROMS regressions, per section) or the exact
+[`AjayiRegressions`][rotarydryer.transport.ajayi.AjayiRegressions] (Ajayi's gPROMS regressions, per section) or the exact
 ``rotarydryer.geometry.FlightedDrum``.
 """
 
@@ -87,14 +87,14 @@ def mmg_repose_angle(moisture):
     """Dynamic angle of repose (deg) of zinc concentrate, Ajayi (2011) Eq. 3.2: 419.6 x_w - 7.801.
 
     Unchecked (inner loops of the solvers); the checked, range-warning version is
-    :func:`rotarydryer.properties.solids.repose_angle`, from whose table the coefficients come."""
+    [`rotarydryer.properties.solids.repose_angle`][rotarydryer.properties.solids.repose_angle], from whose table the coefficients come."""
     a, b = _ZINC["repose"]
     return a * np.asarray(moisture, dtype=float) + b
 
 
 def mmg_bulk_density(moisture):
     """Consolidated bulk density (kg/m^3), Ajayi (2011) Eq. 3.4 with the code's coefficients
-    2043.81 - 3095.24 x_w (text: 2043.8 - 3095.2). Unchecked, as :func:`mmg_repose_angle`."""
+    2043.81 - 3095.24 x_w (text: 2043.8 - 3095.2). Unchecked, as [`mmg_repose_angle`][rotarydryer.transport.ajayi.mmg_repose_angle]."""
     a, b = _ZINC["density_code"]
     return a + b * np.asarray(moisture, dtype=float)
 
@@ -106,7 +106,7 @@ class AjayiRegressions:
 
     * design load m_load = 1.24 rho_b dl A_s(phi) with the 6th-order Baker-area
       polynomial A_s (m^2; code l.4972-4974 etc.) and Ajayi's CFD factor 1.24
-      (Ajayi (2011) Section 4.5, l.1498, 1667); :meth:`design_load_area` returns
+      (Ajayi (2011) Section 4.5, l.1498, 1667); [`design_load_area`][rotarydryer.transport.ajayi.AjayiRegressions.design_load_area] returns
       ``design_load_factor * A_s``;
     * mass-averaged fall time maft(phi, U) (s), U = 1 - load;
     * fall height maf_h = g maft^2 / 2 (m);
@@ -114,7 +114,7 @@ class AjayiRegressions:
       the *drum* radius R as coded (Eq. 4.22 of the thesis writes R_F; the code is
       followed because it produced the published fits);
     * loading: Ajayi's code uses the dryer loading directly, load = min(m_p/m_load, 1),
-      so :meth:`loading_factor` is min(d, 1).
+      so [`loading_factor`][rotarydryer.transport.ajayi.AjayiRegressions.loading_factor] is min(d, 1).
 
     Parameters
     ----------
@@ -280,7 +280,7 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
     kiln_velocity : float or dict
         u_s (m/s): unflighted-bed velocity and kilning velocity of the flighted
         cells (Ajayi's code uses one value, Eq. 5.19); or a dict section name -> u_s
-        (the predictive parameterisation, :mod:`rotarydryer.transport.ajayi_predictive`,
+        (the predictive parameterisation, `rotarydryer.transport.ajayi_predictive`,
         gives each section its own).
     dispersion : float or dict
         Axial dispersion coefficient of the unflighted sections, m^2/s (>= 0); or a dict
@@ -291,11 +291,11 @@ def ajayi2011(*, sections, feed_rate, rpm, slope, radius, kiln_velocity, dispers
         Factor on Eq. 3.1 (or on the test profile of ``moisture_ends``).
     moisture_ends : (float, float), optional
         Inlet and product moisture (kg/kg wet) of the test: the flighted cells' moisture is then
-        :func:`mmg_test_moisture_profile` (times ``moisture_scale``) instead of Eq. 3.1.
+        [`mmg_test_moisture_profile`][rotarydryer.transport.ajayi.mmg_test_moisture_profile] (times ``moisture_scale``) instead of Eq. 3.1.
     inlet : {"ajayi", "danckwerts"}
         Inlet condition of a first unflighted section (module docstring).
     unflighted_cells : int, optional
-        Finite volumes per unflighted section; default :func:`unflighted_cells_auto`.
+        Finite volumes per unflighted section; default [`unflighted_cells_auto`][rotarydryer.transport.ajayi.unflighted_cells_auto].
     gas_flow : str
         Recorded only: Ajayi's model has no gas drag on the solids.
     fouling : float

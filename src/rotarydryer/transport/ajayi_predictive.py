@@ -9,10 +9,10 @@ slope and diameter, solids moisture, feed rate) with two coefficients, calibrate
 **Velocity** (each section k, unflighted bed velocity and flighted kilning velocity alike, as
 Ajayi's Eq. 5.19 uses one u_s for both):
 
-.. math::
-
-    u_k = c_u\,\frac{\tan\alpha\;N^{0.9}\,D_{drum}}{K_{FM}}\sqrt{\frac{\beta_{ref}}{\beta_k}},
-    \qquad K_{FM} = 10.58\ \mathrm{s\,rpm^{0.9}},\ \beta_{ref} = 40^\circ
+$$
+u_k = c_u\,\frac{\tan\alpha\;N^{0.9}\,D_{drum}}{K_{FM}}\sqrt{\frac{\beta_{ref}}{\beta_k}},
+\qquad K_{FM} = 10.58\ \mathrm{s\,rpm^{0.9}},\ \beta_{ref} = 40^\circ
+$$
 
 the kiln equation of Sullivan et al. (1927), tau = 106.2 L beta^0.5 / (alpha_deg N D) (Song (2003)
 Eq. 1, l.640-642 of the seed text), in the form Friedman & Marshall (1949) gave it (Song (2003)
@@ -22,16 +22,16 @@ fixed at beta = 40 deg. Here the repose angle is kept through Sullivan's tau ~ s
 (Friedman & Marshall's 10.58 at beta = 40 deg), u = L / tau. N in rev/min, D_drum in m, tau in s.
 beta_k is the dynamic angle of repose of the solids (zinc concentrate: Ajayi (2011) Eq. 3.2,
 through the material law) at the section's mean moisture on the test's moisture profile
-(:func:`rotarydryer.transport.ajayi.mmg_test_moisture_profile`). The feed rate does not enter the
+(`rotarydryer.transport.ajayi.mmg_test_moisture_profile`). The feed rate does not enter the
 kiln velocity (Sullivan's kiln: the holdup is proportional to the feed); it enters the flighted
 sections through their loading, and fouling through the flights' design load (Ajayi (2011) Eq.
 5.21, in the model).
 
 **Dispersion** (unflighted sections):
 
-.. math::
-
-    D_k = c_D\,u_k\,d_{p,k}
+$$
+D_k = c_D\,u_k\,d_{p,k}
+$$
 
 a constant particle Peclet number Pe_p = u d_p / D = 1/c_D, with Ajayi's section particle sizes
 (Ajayi (2011) l.2255: A 0.020 m ... E 0.007 m).
@@ -40,10 +40,10 @@ a constant particle Peclet number Pe_p = u d_p / D = 1/c_D, with Ajayi's section
 flat rolling bed of Kramers & Croockewit (1952) / Saeman (1951) (notes ajayi_transport.md Section
 2.3: not in Ajayi's thesis),
 
-.. math::
-
-    Q_v = c_u\,\tfrac43 \pi n R^3 \frac{\tan\alpha}{\sin\beta}\Big(\frac{2h}{R}-\frac{h^2}{R^2}\Big)^{3/2},
-    \qquad Q_v = F/\rho_b,\ u = Q_v / A(h)
+$$
+Q_v = c_u\,\tfrac43 \pi n R^3 \frac{\tan\alpha}{\sin\beta}\Big(\frac{2h}{R}-\frac{h^2}{R^2}\Big)^{3/2},
+\qquad Q_v = F/\rho_b,\ u = Q_v / A(h)
+$$
 
 (n in rev/s, dh/dz = 0): the bed depth h follows from the feed, so u depends on the feed
 (a deeper bed moves slower: u -> 2 pi n R tan(alpha)/sin(beta) for a shallow bed).

@@ -3,11 +3,11 @@ r"""Stagnant-core variants of the transport models (mobile-immobile exchange).
 Lee's (2008) fitted slice model matches the mean of the Invicta tracer curve but not its
 standard deviation; ``docs/rtd_spread.md`` explains why (a slowly decaying tail that a
 chain of fast well-mixed cells cannot produce) and the study
-:mod:`rotarydryer.studies.invicta_rtd_spread` fits the variants below to the data.
+`rotarydryer.studies.invicta_rtd_spread` fits the variants below to the data.
 
 This module holds the pure model code:
 
-* :func:`add_stagnant_core` / :func:`lee2008_stagnant_core`: Lee's model plus a
+* [`add_stagnant_core`][rotarydryer.transport.core_variants.add_stagnant_core] / [`lee2008_stagnant_core`][rotarydryer.transport.core_variants.lee2008_stagnant_core]: Lee's model plus a
   *near-stagnant core* of the passive phase in every cell (mobile-immobile exchange),
   either one well-mixed core (``core_model="first_order"``, mean stay t_c) or a
   slab renewed by diffusion from the surface (``"diffusive"``, t_D = d^2/D), both with
@@ -15,9 +15,9 @@ This module holds the pure model code:
   The DEM remark quoted by Lee (2008) Section 7.1.2 (l.10404-10412, Jones et al.) is the
   physical basis: a kilning bed holds a bulk with negligible axial velocity that
   exchanges with a thin fast surface layer;
-* :func:`stagnant_core_moments`, :func:`diffusive_core_equivalent_time`: exact moments
+* [`stagnant_core_moments`][rotarydryer.transport.core_variants.stagnant_core_moments], [`diffusive_core_equivalent_time`][rotarydryer.transport.core_variants.diffusive_core_equivalent_time]: exact moments
   of a passive tank with a core (compound Poisson sojourns), used in the tests;
-* :func:`slowest_time_constant` of a built model (tail e-folding time, s).
+* [`slowest_time_constant`][rotarydryer.transport.core_variants.slowest_time_constant] of a built model (tail e-folding time, s).
 
 Units: SI (kg, s, kg/s).
 """
@@ -57,7 +57,7 @@ def core_layer_widths(n_layers: int, layer_ratio: float = 1.0) -> np.ndarray:
 
     Note: when the surface exchange flow 2 beta M_P / (t_D w_0) exceeds the feed by many
     decades, the engine's steady-state tolerance is set by the rounding of those flows (its
-    floor, :attr:`Network.FLOW_ROUNDING` times the gross flow through a node) rather than by
+    floor, `Network.FLOW_ROUNDING` times the gross flow through a node) rather than by
     1e-13 of the feed; such a core is in equilibrium with its cell anyway (t_D far below the
     residence time)."""
     n = int(check_range("n_layers", n_layers, 1, 200, low_inclusive=True, high_inclusive=True))
@@ -104,7 +104,7 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     the core at rate beta/t_c (1/s) and stays there an exponential time of mean
     t_c; the core adds beta T_P to the mean residence time (T_P = time spent in
     P) and 2 beta t_c E[T_P] to the variance when the visits are rare
-    (:func:`stagnant_core_moments`). This is the classical mobile-immobile
+    ([`stagnant_core_moments`][rotarydryer.transport.core_variants.stagnant_core_moments]). This is the classical mobile-immobile
     ("dead-zone") model of chromatography and of Villermaux's RTD analysis, applied to
     the kilning bed of a flighted drum as suggested by the DEM picture that Lee
     (2008) quotes (Section 7.1.2, l.10404: "the bulk of the material exists in a
@@ -116,7 +116,7 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     exchange is fast near the surface and slow at depth, so one pair (beta,
     t_D = d^2/D_core) gives a *spectrum* of exchange times instead of one. The slab
     is discretised in ``n_layers`` finite volumes of relative thickness w_k
-    (:func:`core_layer_widths`, growing by ``layer_ratio`` from the surface; masses
+    ([`core_layer_widths`][rotarydryer.transport.core_variants.core_layer_widths], growing by ``layer_ratio`` from the surface; masses
     beta M_P w_k); the surface exchange (half a layer) carries
     Q_0 = 2 beta M_P / (t_D w_0) each way and the interface between layers k, k+1
     Q_k = 2 beta M_P / (t_D (w_k + w_{k+1})) (kg/s), no flux at the bottom. The
@@ -129,7 +129,7 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
     Parameters
     ----------
     model : TransportModel
-        A built model (e.g. :func:`rotarydryer.transport.lee2008`).
+        A built model (e.g. [`rotarydryer.transport.lee2008`][rotarydryer.transport.lee2008]).
     core_fraction : float
         beta = M_C / M_P (-), in [0, 10]. 0 returns the model unchanged (same
         network object).
@@ -213,12 +213,12 @@ def add_stagnant_core(model: TransportModel, core_fraction, core_time, *, core_m
 
 
 def lee2008_stagnant_core(*, geometry, core_fraction, core_time, **lee_kwargs) -> TransportModel:
-    r"""Lee (2008) slice model (:func:`rotarydryer.transport.lee2008`) with a near-stagnant
-    core in the passive phase of every cell (:func:`add_stagnant_core`).
+    r"""Lee (2008) slice model ([`rotarydryer.transport.lee2008`][rotarydryer.transport.lee2008]) with a near-stagnant
+    core in the passive phase of every cell ([`add_stagnant_core`][rotarydryer.transport.core_variants.add_stagnant_core]).
 
     ``core_fraction`` beta (-) = core mass / mobile passive mass of the cell (flights
     + moving kilning bed), ``core_time`` t_c or t_D (s); ``core_model``, ``n_layers``,
-    ``layer_ratio`` as :func:`add_stagnant_core`; other keywords as ``lee2008``
+    ``layer_ratio`` as [`add_stagnant_core`][rotarydryer.transport.core_variants.add_stagnant_core]; other keywords as ``lee2008``
     (kiln_time, backmix, drag_reduction, n_cells, ...)."""
 
     name = lee_kwargs.pop("name", "lee2008_stagnant_core")

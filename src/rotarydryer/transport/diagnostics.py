@@ -1,10 +1,10 @@
 """Per-cell flows and holdup decomposition of a steady state (what makes a trend).
 
-:func:`cell_flows` lists, for every cell of the flighted sections, the flows of Lee (2008)
+[`cell_flows`][rotarydryer.transport.diagnostics.cell_flows] lists, for every cell of the flighted sections, the flows of Lee (2008)
 Ch. 3 (flight discharge, forward step, return, backmix, kilning; kg/s) and the net axial
 transport of the curtain across the cell's downstream boundary, forward_i - backmix_{i+1}
 (negative: the flights carry solids net *backwards*, Lee (2008) Table 7.5: backmix >
-forward in the first cell for every N). :func:`holdup_parts` splits the holdup into the
+forward in the first cell for every N). [`holdup_parts`][rotarydryer.transport.diagnostics.holdup_parts] splits the holdup into the
 solids borne by the flights (min(M_P, M_des)), the kilning bed (M_P - M_des > 0), the
 curtains and the unflighted beds (kg).
 """
@@ -28,7 +28,7 @@ def _family_per_cell(ss, name, section, passive):
 
 
 def cell_flows(ss, section=None) -> dict:
-    """Per-cell flows of a flighted section of a :class:`~rotarydryer.transport.results.SteadyState`.
+    """Per-cell flows of a flighted section of a [`SteadyState`][rotarydryer.transport.results.SteadyState].
 
     Returns a dict of arrays (one value per cell, kg/s unless stated): ``discharge_kg_s``
     (P -> A), ``forward_kg_s`` (A_i -> P_{i+1}), ``return_kg_s``, ``backmix_kg_s`` (A_i -> cell

@@ -3,7 +3,7 @@ r"""Forward step of a cascade from particle trajectories (``transport.forward_st
 Lee (2008) Eq. 3.7-3.8 split the curtain of cell i into forward, return and backmix parts
 with C_F = C_F^G h_m sin(theta)/dL, where C_F^G is *fitted* (Table 7.2). Here the mean axial
 advance of a cascade, d, comes from the fall of a particle through the axial gas stream
-(:func:`rotarydryer.correlations.cascade_trajectory`: drag, buoyancy, slope; Lee (2008) §2.7,
+([`rotarydryer.correlations.cascade_trajectory`][rotarydryer.correlations.cascade_trajectory]: drag, buoyancy, slope; Lee (2008) §2.7,
 the Schofield & Glikin analysis of Eq. 2.9) and C_F = d/dL; the effective drag factor is
 C_F^G = d/(h_m sin(theta)) (1 without gas: a particle falling from rest through still gas
 moves on a straight line, d = h_perp tan(theta) = h_m sin(theta)).
@@ -83,9 +83,9 @@ class CurtainGas:
     velocity_ratio : float or None
         Fixed c_v = U_c/U_g in [0, 1]; None: Sherritt's Lee (2008) Eq. 2.14.
     method : str
-        Drag correlation (:func:`rotarydryer.correlations.drag_coefficient`).
+        Drag correlation ([`rotarydryer.correlations.drag_coefficient`][rotarydryer.correlations.drag_coefficient]).
     curtain_coefficient : float
-        K of :func:`sherritt_form` (default Sherritt's 1.546).
+        K of [`sherritt_form`][rotarydryer.transport.forward_step.sherritt_form] (default Sherritt's 1.546).
     step_factor : float
         c_0, the advance of a cascade without gas over the drag-free fall h_m sin(theta) (1: a straight
         fall; > 1: bouncing and rolling where the particles land, Song (2003) L600-618). The step is
@@ -122,7 +122,7 @@ class CurtainGas:
                       particle_density, velocity_ratio=None, method="schiller_naumann_1933",
                       curtain_coefficient=SHERRITT_COEFFICIENT, step_factor=1.0):
         """From the gas flow (kg/s wet), temperature (degC) and water mass fraction (kg/kg wet gas):
-        density (ideal gas) and viscosity (Wilke) of humid air, :mod:`rotarydryer.properties.humid_air`."""
+        density (ideal gas) and viscosity (Wilke) of humid air, [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air]."""
         from ..properties import humid_air as ha
 
         t = float(check_range("gas.inlet_temperature", temperature_degC, 0.0, 600.0, low_inclusive=True,
@@ -144,7 +144,7 @@ class CurtainGas:
 class ForwardStepTable:
     """Axial advance (m) of a particle falling a height h (perpendicular to the drum axis, m)
     through gas of axial speed u (m/s), tabulated on [0, h_max] x [0, u_max] and interpolated
-    bilinearly; exact (h tan(theta)) at u = 0. Build with :func:`forward_step_table`."""
+    bilinearly; exact (h tan(theta)) at u = 0. Build with [`forward_step_table`][rotarydryer.transport.forward_step.forward_step_table]."""
 
     def __init__(self, gas: CurtainGas, slope: float, n_height: int = 33, n_velocity: int = 17, n_steps: int = 50):
         from ..correlations.trajectory import cascade_trajectory
@@ -185,13 +185,13 @@ class ForwardStepTable:
 
 @lru_cache(maxsize=64)
 def forward_step_table(gas: CurtainGas, slope: float) -> ForwardStepTable:
-    """The (cached) :class:`ForwardStepTable` of a gas/particle set and a drum slope (deg)."""
+    """The (cached) [`ForwardStepTable`][rotarydryer.transport.forward_step.ForwardStepTable] of a gas/particle set and a drum slope (deg)."""
     return ForwardStepTable(gas, float(slope))
 
 
 def curtain_velocity_ratio(gas: CurtainGas, fall_height, release_rate_per_length):
     """c_v = U_c/U_g of the curtains, in [0, 1]: ``gas.velocity_ratio`` when fixed, else Sherritt's
-    Lee (2008) Eq. 2.14 with F = q x 1 m and L = 1 m (module docstring): :func:`sherritt_form`,
+    Lee (2008) Eq. 2.14 with F = q x 1 m and L = 1 m (module docstring): [`sherritt_form`][rotarydryer.transport.forward_step.sherritt_form],
     K h^-0.76 q^-0.86 with K = ``gas.curtain_coefficient``, h in m, q in kg/(s m)."""
     h = np.maximum(np.asarray(fall_height, float), 1e-9)
     q = np.asarray(release_rate_per_length, float)

@@ -1,15 +1,15 @@
 r"""Compartment models of flighted rotary dryers built on the network engine.
 
-* :func:`lee2008` - Lee (2008) Ch. 3 slice model as coded in Appendix I: per cell a
+* [`lee2008`][rotarydryer.transport.models.lee2008] - Lee (2008) Ch. 3 slice model as coded in Appendix I: per cell a
   passive and an active phase; flight discharge capped at the design load
   (Eq. 3.2), active outflow split into forward / return / backmix (Eq. 3.7-3.8),
   kilning of the excess over the design load (Eq. 3.9).  Per-cell coefficients
   come from an injected *cell geometry model* (exact geometry
   ``rotarydryer.geometry.FlightedDrum`` or the surrogates
-  :class:`rotarydryer.geometry.lee2008_regressions.Lee2008Regressions`).
-* :func:`sheehan2005_model2` - Sheehan et al. (2005) "Model 2" (pseudo-physical):
+  [`rotarydryer.geometry.lee2008_regressions.Lee2008Regressions`][rotarydryer.geometry.lee2008_regressions.Lee2008Regressions]).
+* [`sheehan2005_model2`][rotarydryer.transport.models.sheehan2005_model2] - Sheehan et al. (2005) "Model 2" (pseudo-physical):
   the same slice structure with backmix into the *previous active* phase.
-* :func:`sheehan2005_model1` - Sheehan et al. (2005) "Model 1" (empirical; Lee et
+* [`sheehan2005_model1`][rotarydryer.transport.models.sheehan2005_model1] - Sheehan et al. (2005) "Model 1" (empirical; Lee et
   al.): global transport coefficients, axial transport through the passive phase.
 
 Conventions: SI units (kg, m, s); angles in degrees at the interface.  Errors
@@ -90,7 +90,7 @@ class NetworkBuilder:
     def add_cell_pairs(self, section, phases, positions):
         """Nodes of ``len(positions)`` cells with two phases each, interleaved (cell 0 phase 0, cell 0
         phase 1, cell 1 phase 0, ...: a banded matrix): the index arrays of each phase. The same nodes
-        and labels as :meth:`add_nodes` called per cell and phase, in one step."""
+        and labels as `add_nodes` called per cell and phase, in one step."""
         pos = np.asarray(positions, dtype=float).ravel()
         k = pos.size
         first = np.arange(self.n, self.n + 2 * k, 2)
@@ -154,7 +154,7 @@ def lee2008(*, geometry, n_cells, feed_rate, length, rpm, slope, bulk_density, r
     bulk_density : float
         rho_b, kg/m^3 (Lee's code uses 940).
     repose_angle : float or array of n_cells
-        Dynamic angle of repose per cell, deg (Lee's Invicta profile: :func:`lee2008_repose_profile`,
+        Dynamic angle of repose per cell, deg (Lee's Invicta profile: [`lee2008_repose_profile`][rotarydryer.transport.models.lee2008_repose_profile],
         Eq. 7.2-7.3). Every plant quantity is an argument: the Invicta values are case data
         (``rotarydryer.cases.load_case("lee2008_invicta")``).
     kiln_time : float
@@ -177,12 +177,12 @@ def lee2008(*, geometry, n_cells, feed_rate, length, rpm, slope, bulk_density, r
         previous active phase (Sheehan et al. 2005 Model 2; Britton et al. 2006).
     gas_flow : {"counter-current", "co-current"}
     tracer_input : TracerInput, optional
-        Default injection for :meth:`SteadyState.rtd` (default a 60 s pulse of 1e-4 of the feed,
-        as :func:`~rotarydryer.transport.sections.build_sections`).
+        Default injection for [`SteadyState.rtd`][rotarydryer.transport.results.SteadyState.rtd] (default a 60 s pulse of 1e-4 of the feed,
+        as [`build_sections`][rotarydryer.transport.sections.build_sections]).
     forward_step : {"fitted", "trajectory"}
         "fitted": C_F = C_F^G h_m sin(theta)/dL with the fitted ``drag_reduction`` (Lee (2008)
         Eq. 3.7-3.8); "trajectory": C_F = d/dL with d the mean axial advance of a particle
-        falling h_m through the gas ``gas`` (:mod:`rotarydryer.transport.forward_step`;
+        falling h_m through the gas ``gas`` ([`rotarydryer.transport.forward_step`][rotarydryer.transport.forward_step];
         ``drag_reduction`` unused, a negative d goes to the backmix edge).
     gas : CurtainGas, optional
         Gas stream and particles; required by ``forward_step = "trajectory"``, its direction
@@ -254,7 +254,7 @@ def sheehan2005_model2(*, geometry, **kwargs):
     bed") - a constant kilning time ``kiln_time`` (s) on the excess, as in Lee
     (2008) Eq. 3.9; the first cell's backmix - returned to its own passive phase;
     the residence-time sub-model - the injected ``geometry`` (as Lee).  Keyword
-    arguments are those of :func:`lee2008`.
+    arguments are those of [`lee2008`][rotarydryer.transport.models.lee2008].
     """
     kwargs.setdefault("name", "sheehan2005_model2")
     return lee2008(geometry=geometry, backmix_to="active", **kwargs)

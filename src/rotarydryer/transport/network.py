@@ -92,7 +92,7 @@ class EdgeFamily:
         Name of the dryer section the edges belong to (for reporting).
     law : object, optional
         The section law whose coefficient and design load this family takes at any moisture
-        (:class:`rotarydryer.transport.sections.FlightedSectionLaw`); None = constant.
+        ([`rotarydryer.transport.sections.FlightedSectionLaw`][rotarydryer.transport.sections.FlightedSectionLaw]); None = constant.
     """
 
     name: str
@@ -167,7 +167,7 @@ class TracerInput:
 
     ``breakpoints`` (s, increasing, length m+1) and ``rates`` (kg/s, length m): the
     tracer mass flow is ``rates[j]`` on ``[breakpoints[j], breakpoints[j+1])`` and
-    0 elsewhere.  :meth:`pulse` builds a square pulse.
+    0 elsewhere.  [`pulse`][rotarydryer.transport.network.TracerInput.pulse] builds a square pulse.
     """
 
     breakpoints: tuple
@@ -240,7 +240,7 @@ class TracerResponse:
 
     def moments(self):
         """Trapezoidal (recovery, mean s, std s, standardised skewness) of the curve, by
-        :func:`rotarydryer.rtd.rtd_moments` (the curve is already E(t), no baseline)."""
+        [`rotarydryer.rtd.rtd_moments`][rotarydryer.rtd.rtd_moments] (the curve is already E(t), no baseline)."""
         from ..rtd import rtd_moments
 
         m = rtd_moments(self.time, self.exit_age, clip_negative=False)
@@ -591,20 +591,20 @@ class Network:
 
     def tolerance(self, M, tol: float = 1e-13):
         """Per-node steady-state tolerance on |dM/dt| (kg/s) at masses M: ``tol`` times the total
-        feed, with the floor :attr:`FLOW_ROUNDING` times the node's gross flow (so that small
+        feed, with the floor `FLOW_ROUNDING` times the node's gross flow (so that small
         feeds through dryers with a large internal circulation converge)."""
         _, G = self.residual_and_gross(M)
         return np.maximum(tol * float(self.feed.sum()), self.FLOW_ROUNDING * G)
 
     def steady_state(self, tol: float = 1e-13, max_iter: int = 100):
         """Steady masses M (kg) with |dM/dt| <= max(tol * total feed, 64 eps * gross flow of the
-        node) at every node (:meth:`tolerance`).
+        node) at every node ([`tolerance`][rotarydryer.transport.network.Network.tolerance]).
 
         Semismooth Newton with backtracking line search (see module docstring).  If
         Newton stalls (state-dependent coefficients with kinks far from the start),
         pseudo-transient continuation: the mass dynamics are integrated with BDF
         towards the steady state and Newton polishes the result.  Raises
-        :class:`NoSteadyStateError` (a ``ValueError``) when no steady state exists
+        [`NoSteadyStateError`][rotarydryer.transport.network.NoSteadyStateError] (a ``ValueError``) when no steady state exists
         (singular Jacobian: overloaded compartments that cannot pass the excess on;
         or no convergence)."""
         scale = max(float(self.feed.sum()), 1e-300)
@@ -700,7 +700,7 @@ class Network:
 
     def boundary_flow(self, M, dst: int = -1, flows=None):
         """Total flow leaving through a boundary, kg/s: the outlet (``dst = -1``) or the
-        other open boundaries (``dst = -2``). ``flows`` (from :meth:`family_flows`) avoids
+        other open boundaries (``dst = -2``). ``flows`` (from [`family_flows`][rotarydryer.transport.network.Network.family_flows]) avoids
         recomputing them."""
         flows = self.family_flows(M) if flows is None else flows
         return float(sum(np.sum(F[f.dst == dst]) for f, F in zip(self.families, flows)))

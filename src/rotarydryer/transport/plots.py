@@ -1,9 +1,9 @@
 """Plots of transport results: holdup profile along the dryer and RTD against data.
 
-The one drawing of each figure: :func:`rotarydryer.report.figures.plot_holdup_profile` and
-:func:`~rotarydryer.report.figures.plot_rtd` (from a saved
-:class:`rotarydryer.results.Results`) and the functions here (from a live steady state or
-tracer RTD) pass their arrays to :func:`holdup_profile_figure` and :func:`rtd_figure`.
+The one drawing of each figure: `rotarydryer.report.figures.plot_holdup_profile` and
+`plot_rtd` (from a saved
+[`rotarydryer.results.Results`][rotarydryer.results.Results]) and the functions here (from a live steady state or
+tracer RTD) pass their arrays to [`holdup_profile_figure`][rotarydryer.transport.plots.holdup_profile_figure] and [`rtd_figure`][rotarydryer.transport.plots.rtd_figure].
 
 Matplotlib is imported inside the functions (Agg backend when none is chosen).
 Views only: nothing here recomputes physics.
@@ -94,7 +94,7 @@ def holdup_profile_figure(sections, position, phase, section, holdup, design_loa
 def rtd_figure(time_s, exit_age_per_s, mean_s, std_s, *, measured=None, baseline=0.0, label="model", ax=None):
     """E(t) (1/min) against time (min) of a simulated tracer curve (legend: ``label``, mean
     and SD), with the measured points ``measured = (t s, signal)`` if given (see
-    :func:`plot_measured_rtd`).  Returns the figure."""
+    [`plot_measured_rtd`][rotarydryer.transport.plots.plot_measured_rtd]).  Returns the figure."""
     plt = _plt()
     fig, ax = (ax.figure, ax) if ax is not None else plt.subplots(figsize=(7, 3.6), constrained_layout=True)
     ax.plot(np.asarray(time_s, float) / 60, np.asarray(exit_age_per_s, float) * 60,
@@ -111,7 +111,7 @@ def rtd_figure(time_s, exit_age_per_s, mean_s, std_s, *, measured=None, baseline
 def plot_measured_rtd(ax, time_s, signal, baseline=0.0, **style):
     """Measured tracer points on ``ax`` as E(t) (1/min): ``baseline`` (signal units) removed,
     normalised by the area; the legend gives the mean and SD from
-    :func:`rotarydryer.rtd.rtd_moments` (the same moments as ``rotarydryer rtd``)."""
+    [`rotarydryer.rtd.rtd_moments`][rotarydryer.rtd.rtd_moments] (the same moments as ``rotarydryer rtd``)."""
     from ..rtd import rtd_moments
 
     t = np.asarray(time_s, float)

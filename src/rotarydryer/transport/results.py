@@ -50,7 +50,7 @@ class TransportModel:
     tracer_inlet : (n_nodes,) array, optional
         Where injected tracer enters (default: feed nodes in proportion to feed; an
         open Dirichlet inlet admits more than the nominal amount, see
-        :mod:`rotarydryer.transport.ajayi`).
+        [`rotarydryer.transport.ajayi`][rotarydryer.transport.ajayi]).
     """
 
     name: str
@@ -72,7 +72,7 @@ class TransportModel:
     material: Any = None
 
     def steady_state(self) -> SteadyState:
-        """Solve the steady state (see :meth:`Network.steady_state`) and run :attr:`checks`."""
+        """Solve the steady state (see [`Network.steady_state`][rotarydryer.transport.network.Network.steady_state]) and run `checks`."""
         M = self.network.steady_state()
         ss = SteadyState(self, M)
         for check in self.checks:
@@ -109,7 +109,7 @@ class TransportModel:
 
 
 class SteadyState:
-    """Steady-state holdups and flows of a :class:`TransportModel`."""
+    """Steady-state holdups and flows of a [`TransportModel`][rotarydryer.transport.results.TransportModel]."""
 
     def __init__(self, model: TransportModel, masses: np.ndarray, *, flows=None, design_load=None, cell_info=None):
         self.model = model
@@ -220,7 +220,7 @@ class SteadyState:
     # -- volume ------------------------------------------------------------------------
     def solids_volume(self, bed_density=None) -> np.ndarray:
         """Bulk volume of the solids of every node, m^3 (mass / bulk density,
-        :meth:`TransportModel.node_bulk_density`)."""
+        [`TransportModel.node_bulk_density`][rotarydryer.transport.results.TransportModel.node_bulk_density])."""
         return self.masses / self.model.node_bulk_density(bed_density)
 
     def fill_fractions(self, radius: float, bed_density=None) -> dict:
@@ -252,9 +252,9 @@ class SteadyState:
             method: str = "auto", simulate: bool = True, check_window: bool = True) -> RTDResult:
         """Tracer RTD at this steady state: analytic moments and (optionally) the simulated curve.
 
-        With ``check_window`` an :class:`RTDWindowWarning` says when the simulated curve does not
+        With ``check_window`` an [`RTDWindowWarning`][rotarydryer.transport.results.RTDWindowWarning] says when the simulated curve does not
         represent the RTD (window ``t_end`` too short: recovery below the analytic one by more than
-        :data:`RECOVERY_TOLERANCE`; or ``dt`` too coarse: mean off the analytic one); callers that
+        `RECOVERY_TOLERANCE`; or ``dt`` too coarse: mean off the analytic one); callers that
         want a truncated curve on purpose (fits on the data's time span) pass False."""
         inp = tracer_input or self.model.tracer_input or TracerInput.pulse(1.0, 0.0)
         ts = self.tracer_system()
@@ -271,7 +271,7 @@ class SteadyState:
         (position, passive and active masses, design load, loading state, repose angle and the
         per-cell coefficients) and every finite volume of the unflighted ones (``kind`` =
         "unflighted": its rolling-bed mass, NaN for the flight quantities). ``holdup_kg`` is the
-        cell's whole holdup, so the rows add up to :attr:`total_holdup`."""
+        cell's whole holdup, so the rows add up to [`total_holdup`][rotarydryer.transport.results.SteadyState.total_holdup]."""
         a_of = {(s, c): i for i, (s, c, ph) in enumerate(zip(self.section, self.cell, self.phase)) if ph == "active"}
         info = self.cell_info
         kiln, loading, state = self.kiln_bed, self.dryer_loading, self.loading_state  # once, not per row
@@ -376,7 +376,7 @@ class RTDResult:
 
     def window_problem(self) -> str | None:
         """Why the simulated curve misrepresents the analytic RTD, or None: its recovery is below
-        the analytic one by more than :data:`RECOVERY_TOLERANCE` (the window ``t_end`` ends before
+        the analytic one by more than `RECOVERY_TOLERANCE` (the window ``t_end`` ends before
         the tracer has left), or its mean is off the analytic mean by more than 1 % of the SD and
         0.1 % of the mean (the step ``dt`` is too coarse). A recovery lost with a window past the tracer
         mean + 10 SD and a step above a tenth of the SD is the coarse step's."""
@@ -405,7 +405,7 @@ class RTDResult:
                 f"{max(an_std / 10.0, 1e-3):.3g} s (a tenth of the SD), or the analytic moments")
 
     def check_window(self, stacklevel: int = 2) -> bool:
-        """Warn (:class:`RTDWindowWarning`) when :meth:`window_problem` finds one; returns True if
+        """Warn ([`RTDWindowWarning`][rotarydryer.transport.results.RTDWindowWarning]) when [`window_problem`][rotarydryer.transport.results.RTDResult.window_problem] finds one; returns True if
         the curve is fine."""
         msg = self.window_problem()
         if msg is not None:

@@ -1,7 +1,7 @@
 r"""One builder for any sequence of dryer sections on the sparse transport network.
 
 A dryer is a list of sections in solids-flow order. Each section adds its nodes to one
-:class:`~rotarydryer.transport.network.Network` and joins the next section's entry node:
+[`Network`][rotarydryer.transport.network.Network] and joins the next section's entry node:
 
 * **flighted** sections: per cell a passive node P (flights, floor, kilning bed) and an
   active node A (curtain). Flows (Lee (2008) Ch. 3; Ajayi (2011) Eq. 5.17-5.19):
@@ -11,20 +11,20 @@ A dryer is a list of sections in solids-flow order. Each section adds its nodes 
     (A_i -> P_i) and backmix C_B (A_i -> P_{i-1}, or A_{i-1} for Sheehan et al. (2005)
     Model 2); C_F = C_F^G h_m sin(theta)/dL (Lee (2008) Eq. 3.7-3.8; C_F^G = 1 and C_B = 0
     in Ajayi's model), or, with ``forward_step = "trajectory"``, C_F = d/dL with d the mean
-    axial advance of a particle falling h_m through the gas (:mod:`.forward_step`; a negative
+    axial advance of a particle falling h_m through the gas ([`.forward_step`][rotarydryer.transport.forward_step]; a negative
     d adds -d/dL to the backmix);
   - kilning P_i -> P_{i+1}: on the excess over the design load, (M_P - M_des)/t_kiln (Lee
     (2008) Eq. 3.9, ``kilning="excess"``), or on the whole passive mass at the kilning
     velocity u_s/dL (Ajayi (2011) Eq. 5.19, ``kilning="velocity"``);
 
   The repose angle and bulk density of each cell come from the **material** at a moisture
-  (:class:`FlightedSectionLaw`); the transport-only network uses an assumed moisture
-  profile, the heat-and-mass model (:mod:`rotarydryer.thermal.dryer`) the computed one,
+  ([`FlightedSectionLaw`][rotarydryer.transport.sections.FlightedSectionLaw]); the transport-only network uses an assumed moisture
+  profile, the heat-and-mass model ([`rotarydryer.thermal.dryer`][rotarydryer.thermal.dryer]) the computed one,
   through the same law.
   - or Sheehan et al. (2005) "Model 1" (``kilning="empirical"``): global coefficients (1/s)
     passive -> next passive k_PP M_P, passive -> active k_PA min(M_P, M_des), active -> passive
     k_AP M_A and kilning k_K max(M_P - M_des, 0) (notes lee_models.md Section 4.2), with
-    M_des from the geometry and the material as above (:class:`EmpiricalSectionLaw`);
+    M_des from the geometry and the material as above ([`EmpiricalSectionLaw`][rotarydryer.transport.sections.EmpiricalSectionLaw]);
 * **unflighted** sections (rolling bed): axially dispersed plug flow by conservative
   finite volumes (Ajayi (2011) Eq. 5.4-5.14; central differencing where the cell Peclet
   number u dz/D <= 2, upwind otherwise). The first section may have Ajayi's Dirichlet inlet
@@ -64,7 +64,7 @@ class SectionSpec:
     """One section of a dryer (SI, degrees).
 
     kind : "flighted" | "unflighted". n_cells : cells (flighted) or finite volumes
-    (unflighted; None = :func:`unflighted_cells_auto`). geometry : cell geometry model
+    (unflighted; None = [`unflighted_cells_auto`][rotarydryer.transport.sections.unflighted_cells_auto]). geometry : cell geometry model
     (``cascade``, ``design_load_area``, ``loading_factor``). kilning : "excess" (Lee),
     "velocity" (Ajayi) or "empirical" (Sheehan et al. (2005) Model 1 with the ``rates``
     ``passive_rate``, ``exchange_rate``, ``return_rate``, ``kiln_rate``, 1/s).
@@ -73,7 +73,7 @@ class SectionSpec:
     network). fouling : fraction of the design load lost to scale (Ajayi (2011) Eq. 5.21).
     forward_step : "fitted" (C_F = drag_reduction h_m sin(theta)/dL, Lee (2008) Eq. 3.7-3.8) or
     "trajectory" (C_F from the fall through ``gas``, a
-    :class:`~rotarydryer.transport.forward_step.CurtainGas`; ``drag_reduction`` is then unused).
+    [`CurtainGas`][rotarydryer.transport.forward_step.CurtainGas]; ``drag_reduction`` is then unused).
     kiln_law (``kilning = "excess"``): "fixed" (the excess over the design load leaves a cell at
     1/``kiln_time``, Lee (2008) Eq. 3.9) or "cascade" (it moves at the axial speed of the
     flight-borne solids without gas, c_0 h_m sin(theta)/(t_p + t_a), so
@@ -107,12 +107,12 @@ class SectionSpec:
 
 
 class ExactGeometry:
-    """Cell geometry of the exact flight model (:class:`rotarydryer.geometry.FlightedDrum`) with a
+    """Cell geometry of the exact flight model ([`rotarydryer.geometry.FlightedDrum`][rotarydryer.geometry.FlightedDrum]) with a
     chosen design-load method: ``"lee2008"`` (Lee (2008) Eq. 4.20-4.21) or ``"ajayi2011"`` (1.24 x
     Baker, Ajayi (2011) Section 4.5); ``passive_time_branch`` as in ``FlightedDrum.cascade``.
 
     ``tabulated=True`` (default) evaluates the geometry from the drum's cached
-    :class:`rotarydryer.geometry.tabulated.GeometryTable` (within 1e-7 of the direct evaluation,
+    `rotarydryer.geometry.tabulated.GeometryTable` (within 1e-7 of the direct evaluation,
     at the cost of Lee's regressions); ``False`` computes it directly every call."""
 
     def __init__(self, drum, passive_time_branch=None, design_load_method="lee2008", particle_diameter=None,
@@ -131,7 +131,7 @@ class ExactGeometry:
 
     @property
     def table(self):
-        """The drum's :class:`~rotarydryer.geometry.tabulated.GeometryTable` (built on first use, cached)."""
+        """The drum's `GeometryTable` (built on first use, cached)."""
         if self._table is None:
             from ..geometry.tabulated import geometry_table
 
@@ -155,7 +155,7 @@ class ExactGeometry:
     def cell_values(self, phi, rho, mp, *, length, fouling, smoothing, rpm, slope=0.0, passive_time_branch=None,
                     fixed_loading=False):
         """Design load, loading factor, passive time, fall height and fall time of cells in one
-        compiled pass (:meth:`GeometryTable.cell_values`), or None where that does not apply (no
+        compiled pass (`GeometryTable.cell_values`), or None where that does not apply (no
         compiled kernels, a direct evaluation, a repose angle outside the table)."""
         if not self.tabulated:
             return None
@@ -177,7 +177,7 @@ class ExactGeometry:
 class FlightedSectionLaw:
     """Per-cell coefficients of one flighted section at a given passive mass and moisture.
 
-    :meth:`evaluate` returns, for every flow family of the section, the coefficient k (1/s)
+    [`evaluate`][rotarydryer.transport.sections.FlightedSectionLaw.evaluate] returns, for every flow family of the section, the coefficient k (1/s)
     and the design load M_des (kg) at wet passive masses ``mp`` and wet-basis moistures ``x``
     of the passive nodes. Repose angle and bulk density follow the material (or the fixed
     values of the spec); M_des = rho_b dL A_des(phi) (1 - fouling) (Lee (2008) Eq. 4.20-4.21;
@@ -312,15 +312,15 @@ class FlightedSectionLaw:
         return self.spec.drag_reduction * h * self.sin_t / self.dl
 
     def _kernel_applies(self):
-        """Can :meth:`ExactGeometry.cell_values` give this law's cells (tabulated exact geometry,
+        """Can [`ExactGeometry.cell_values`][rotarydryer.transport.sections.ExactGeometry.cell_values] give this law's cells (tabulated exact geometry,
         fitted forward step, compiled kernels on)?"""
         g = self.spec.geometry
         return _jit.enabled() and not self.trajectory and isinstance(g, ExactGeometry) and g.tabulated
 
     def _compiled(self, mp, phi, rho, rpm, fouling, smoothing):
-        """:meth:`evaluate`'s design load, loading factor, passive time, fall height and fall time in
-        one compiled pass (:meth:`ExactGeometry.cell_values`), or None where that does not apply (1-D
-        arrays; evaluate() has checked :meth:`_kernel_applies`)."""
+        """[`evaluate`][rotarydryer.transport.sections.FlightedSectionLaw.evaluate]'s design load, loading factor, passive time, fall height and fall time in
+        one compiled pass ([`ExactGeometry.cell_values`][rotarydryer.transport.sections.ExactGeometry.cell_values]), or None where that does not apply (1-D
+        arrays; evaluate() has checked `_kernel_applies`)."""
         return self.spec.geometry.cell_values(
             phi, rho, mp, length=self.dl, fouling=self.spec.fouling if fouling is None else fouling,
             smoothing=smoothing, rpm=self.rpm if rpm is None else rpm, slope=self.slope,
@@ -349,12 +349,12 @@ class FlightedSectionLaw:
         return self.rates_of(self.cascade(phi, f, rpm, flight_mass))
 
     def _fitted_rates(self, tp, ta, h):
-        """:meth:`rates_of` of :meth:`_fitted_step` (the same numbers, without the cascade dict)."""
+        """[`rates_of`][rotarydryer.transport.sections.FlightedSectionLaw.rates_of] of `_fitted_step` (the same numbers, without the cascade dict)."""
         cf = self._fitted_forward(h)
         return self._rates(tp, ta, cf, float(self.spec.backmix), 1.0 - cf - self.spec.backmix, h)
 
     def rates_of(self, c):
-        """Coefficients (1/s) of each family from a :meth:`cascade` result."""
+        """Coefficients (1/s) of each family from a [`cascade`][rotarydryer.transport.sections.FlightedSectionLaw.cascade] result."""
         out = self._rates(c["tp"], c["ta"], c["CF"], c["CB"], c["CR"], c["h"])
         if "CF2" in c:      # the trajectory step's reach into the second cell (cascade)
             out.update(forward_far=c["CF2"] / c["ta"], backmix_far=c["CB2"] / c["ta"])
@@ -398,9 +398,9 @@ class FlightedSectionLaw:
         """dict family name -> coefficient (1/s), plus ``"design_load"`` (kg) and the properties,
         at wet passive masses ``mp`` (kg) and wet-basis moisture ``x``; ``rpm`` and ``fouling``
         replace the section's values (studies that change them); ``smoothing``: see
-        :meth:`loading_factor`. ``mp`` (and ``x``) may carry a leading batch axis, shape (k, n): the
+        [`loading_factor`][rotarydryer.transport.sections.FlightedSectionLaw.loading_factor]. ``mp`` (and ``x``) may carry a leading batch axis, shape (k, n): the
         coefficients of k states at once (the heat-and-mass model's finite-difference Jacobian).
-        ``cells`` (1-D, :attr:`cellwise` laws only): ``mp`` and ``x`` hold the cells of these indices
+        ``cells`` (1-D, [`cellwise`][rotarydryer.transport.sections.FlightedSectionLaw.cellwise] laws only): ``mp`` and ``x`` hold the cells of these indices
         only, one element each (the cells a Jacobian's perturbation changed)."""
         mp = np.asarray(mp, dtype=float)
         if cells is not None and not self.cellwise:
@@ -509,7 +509,7 @@ _CASCADE_INFO = (("passive_time_s", "tp"), ("fall_time_s", "ta"), ("fall_height_
 
 
 def cell_info_at(law: FlightedSectionLaw, moisture, rpm=None) -> tuple[np.ndarray, dict]:
-    """Design load (kg per cell) and the per-cell quantities that :func:`build_sections` reports
+    """Design load (kg per cell) and the per-cell quantities that [`build_sections`][rotarydryer.transport.sections.build_sections] reports
     (moisture, repose angle, bulk density, passive and fall times, fall height, C_F, C_R and the
     trajectory step's), of a section law at wet-basis ``moisture`` per cell: the heat-and-mass
     model's cells at their computed moisture (the transport model reports them at its assumed one).
@@ -548,14 +548,14 @@ def _check_flighted(spec: SectionSpec, where: str):
 
 def build_sections(sections, *, material, feed_rate, rpm, slope, inlet="danckwerts", tracer_input=None,
                    name="dryer", parameters=None) -> TransportModel:
-    """Transport model of a dryer made of ``sections`` (list of :class:`SectionSpec`, flow order).
+    """Transport model of a dryer made of ``sections`` (list of [`SectionSpec`][rotarydryer.transport.sections.SectionSpec], flow order).
 
     ``material`` gives repose angle and bulk density versus moisture (used where a section has
     no fixed values). ``inlet`` is the inlet condition of a first unflighted section
     ("ajayi": Dirichlet m(0) = F/u_s with an open dispersive boundary, Ajayi (2011) Eq.
     5.11-5.13; "danckwerts": closed). The model also carries ``specs`` (the sections it was built
     from) and ``cell_length`` (axial extent of each node, m); the families of flighted sections
-    carry their :class:`FlightedSectionLaw` (``family.law``).
+    carry their [`FlightedSectionLaw`][rotarydryer.transport.sections.FlightedSectionLaw] (``family.law``).
     """
     if not sections:
         raise ValueError("sections = [] is empty: a dryer needs at least one section")

@@ -1,0 +1,107 @@
+"""``rotarydryer dynamics``: the dynamic response of a dryer from its steady state under an input
+schedule (steps, ramps, a burner trip and restart of any input)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from .._io import json_text
+from ..services.dynamics import dynamics_summary, parse_above, run_dynamics
+from . import app
+from ._common import check_out_dir, parse_sets
+
+
+def _progress_printer(quiet: bool):
+    if quiet:
+        return None
+    last = [-1]
+
+    def show(msg: str):
+        if msg.startswith("t = "):      # one line per tenth of the run
+            done, total = (float(x) for x in msg[4:-2].split(" / "))
+            tenth = int(10 * done / total)
+            if tenth == last[0]:
+                return
+            last[0] = tenth
+        typer.echo(f"dynamics: {msg}", err=True)
+    return show
+
+
+@app.command("dynamics", short_help="Dynamic response to an input schedule: steps, ramps, a burner trip.")
+def dynamics_cmd(
+    case: str = typer.Argument(..., help="Case name or .toml file (with a [gas] block)."),
+    schedule: Optional[Path] = typer.Option(None, "--schedule", help="Input schedule, .csv (time_s and one column "
+                                            "per input) or .toml ([[step]], [[ramp]], [[trip]], [[point]]); "
+                                            "without it the case's own inputs."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE (several allowed)."),
+    t_end: float = typer.Option(7200.0, "--t-end", help="Simulated time, s."),
+    dt: float = typer.Option(60.0, "--dt", help="Reporting (communication) interval, s; inputs are held over each."),
+    above: Optional[str] = typer.Option(None, "--above", help="OUTLET=VALUE: also report the time the outlet "
+                                        "spends above VALUE, e.g. product_moisture=0.13."),
+    out: Optional[Path] = typer.Option(None, "--out", help="Directory for dynamics.csv, dynamics.json and "
+                                       "dynamics.png."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object (the summary)."),
+    quiet: bool = typer.Option(False, "--quiet", help="No progress lines on stderr."),
+):
+    """Simulate the coupled heat-and-mass model from the case's steady state under an input
+    schedule: gas inlet temperature or burner fuel, feed rate, feed moisture, drum speed, gas
+    flow, gas humidity, feed temperature, fouling. Each interval of --dt (and each step of an
+    input) holds the inputs at its start, as an FMU importer does (the FMU of `rotarydryer fmu`
+    driven with the same schedule gives the same series).
+
+    \b
+    Examples:
+      rotarydryer dynamics ajayi2011_mmg --set operating.test=4 --t-end 3600
+      rotarydryer dynamics ajayi2011_mmg --set operating.test=4 --schedule trip.toml --above product_moisture=0.13 --out trip
+
+    \b
+    A burner trip, trip.toml:
+      [[trip]]
+      input = "gas_inlet_temperature"
+      at_s = 600
+      duration_s = 600
+      value = 100
+    """
+    from ..simulation import Simulation
+
+    threshold = parse_above(above)
+    check_out_dir("--out", out)
+    sim = Simulation(case, parse_sets(set_))
+    result = run_dynamics(sim, schedule, t_end=t_end, dt=dt, progress=_progress_printer(quiet))
+    summary = dynamics_summary(result, case, threshold)
+    if out is not None:
+        from .._io import csv_text, output_set, save_figure, write_text_atomic
+        from ..thermal.plots import plot_schedule_result
+
+        cols = result.columns()
+        rows = [{k: float(v[i]) for k, v in cols.items()} for i in range(result.time_s.size)]
+        files = [out / "dynamics.csv", out / "dynamics.json", out / "dynamics.png"]
+        with output_set(out):                    # all files or none
+            write_text_atomic(files[0], csv_text(rows))
+            write_text_atomic(files[1], json_text(dict(summary, series={k: list(map(float, v)) for k, v in cols.items()}),
+                                                  indent=1))
+            save_figure(plot_schedule_result(result, title=f"{case}: {schedule.name if schedule else 'case inputs'}"),
+                        files[2], dpi=110)
+        summary["files"] = [str(f) for f in files]
+    if as_json:
+        typer.echo(json_text(summary))
+        return
+    src = schedule.name if schedule else "the case's own inputs"
+    typer.echo(f"{case}: {summary['t_end_s']:g} s from the steady state, {src} "
+               f"({', '.join(summary['scheduled_inputs']) or 'no input changed'}); {summary['points']} points, "
+               f"{summary['integrations']} integration(s), {summary['seconds']:.1f} s")
+    units = {"product_moisture_kg_kg": (100.0, "% wet"), "product_temperature_degC": (1.0, "degC"),
+             "exhaust_temperature_degC": (1.0, "degC"), "exhaust_humidity_kg_kg": (1.0, "kg/kg"),
+             "holdup_kg": (1.0, "kg")}
+    for name, s in summary["outlets"].items():
+        f, u = units[name]
+        typer.echo(f"  {name:<26} start {f * s['start']:.4g}, final {f * s['final']:.4g}, max {f * s['max']:.4g} "
+                   f"at {s['max_time_s'] / 60:.1f} min, min {f * s['min']:.4g} at {s['min_time_s'] / 60:.1f} min ({u})")
+    if threshold is not None:
+        ta = summary["time_above"]
+        typer.echo(f"  {ta['outlet']} above {ta['threshold']:g}: {ta['seconds'] / 60:.1f} min")
+    if out is not None:
+        typer.echo(f"files: {', '.join(summary['files'])}")

@@ -1,0 +1,519 @@
+"""Input schedules for the dynamic dryer: steps, ramps, a trip and restart of any input.
+
+A schedule gives, for some of the dryer's inputs (`SCHEDULE_INPUTS`),
+points ``(time s, value)``. Its value at time ``t`` is that of the case until the input's first
+point, the points' value from then on, linear between points, held after the last; two points at
+one time are a step (the value after it applies from that time on). This is the table of an FMI
+co-simulation input (`fmpy.simulate_fmu(input=...)`): [`InputSchedule.signals`][rotarydryer.thermal.schedule.InputSchedule.signals]
+writes it, and [`simulate_schedule`][rotarydryer.thermal.schedule.simulate_schedule] applies it as
+an FMU importer does: each communication interval of ``dt`` (and each step time) holds the inputs
+at its start (zero-order hold), and the integration restarts only where the inputs changed.
+
+Files (``load_schedule``):
+
+- CSV: a ``time_s`` column and one column per input (an empty cell: no point of that input at
+  that time); a time written twice is a step.
+- TOML: ``[[step]]`` (``input``, ``at_s``, ``value``), ``[[ramp]]`` (``input``, ``from_s``,
+  ``to_s``, ``value`` reached at ``to_s``), ``[[trip]]`` (``input``, default the gas inlet
+  temperature; ``at_s``, ``duration_s``, ``value`` during the trip, ``restart_s`` the ramp back to
+  the value before the trip, 0 = a step back), ``[[point]]`` (``input``, ``at_s``, ``value``).
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import dataclasses
+import math
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from .._limits import LIMITS, describe_limit
+from .._validation import check_range
+from .burner import combustion_chamber, fuel_rate_for_temperature
+from .settings import DryerError
+from .states import DynamicResult
+
+__all__ = ["SCHEDULE_INPUTS", "InputSchedule", "load_schedule", "apply_inputs", "base_inputs", "burner_fuel_rate", "check_applicable", "outlets",
+           "DryerIntegrator", "ScheduleResult", "simulate_schedule", "OUTLETS"]
+
+#: schedulable inputs: name -> (case key whose range applies, unit, meaning)
+SCHEDULE_INPUTS: dict[str, tuple[str, str, str]] = {
+    "gas_inlet_temperature": ("gas.inlet_temperature", "degC", "gas temperature at the drum inlet"),
+    "burner_fuel_rate": ("", "kg/s", "fuel of the case's burner (sets the gas inlet temperature)"),
+    "feed_rate": ("operating.feed_rate", "kg/s", "wet solids feed"),
+    "feed_moisture": ("operating.feed_moisture", "kg/kg wet", "feed moisture"),
+    "rpm": ("operating.rpm", "rev/min", "drum speed"),
+    "gas_flow": ("gas.flow", "kg/s", "wet gas into the drum"),
+    "gas_inlet_humidity": ("gas.inlet_humidity", "kg/kg wet gas", "gas humidity at the drum inlet"),
+    "feed_temperature": ("operating.feed_temperature", "degC", "solids feed temperature"),
+    "fouling": ("thermal.fouling", "", "fouling of the flights (heat-transfer area lost)"),
+}
+
+#: the outlet series of a scheduled run and their units
+OUTLETS = {"product_moisture": "kg/kg wet", "product_temperature": "degC", "exhaust_temperature": "degC",
+           "exhaust_humidity": "kg/kg dry gas", "holdup": "kg"}
+
+_TOML_EVENTS = ("step", "ramp", "trip", "point")
+
+
+def _fuel_limit_message(name, value):
+    return f"schedule {name}={value!r}: a fuel rate must be a finite number >= 0 kg/s"
+
+
+@dataclasses.dataclass(frozen=True)
+class InputSchedule:
+    """Points ``(time_s, value)`` per input name (times non-decreasing; a repeated time is a step).
+    ``source``: where it was read from (error messages)."""
+
+    points: dict[str, tuple[tuple[float, float], ...]]
+    source: str = "schedule"
+
+    # ------------------------------------------------------------------------------------ readers
+    @classmethod
+    def from_csv(cls, path) -> InputSchedule:
+        """Read a CSV schedule: ``time_s`` and one column per input of `SCHEDULE_INPUTS`."""
+        path = Path(path)
+        with path.open(newline="", encoding="utf-8") as fh:
+            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
+        if not rows:
+            raise ValueError(f"{path}: empty schedule (a header time_s,<input>,... and rows are needed)")
+        header = [h.strip() for h in rows[0]]
+        if not header or header[0] not in ("time_s", "time"):
+            raise ValueError(f"{path}: the first column must be time_s (got {header[0] if header else ''!r})")
+        pts: dict[str, list[tuple[float, float]]] = {h: [] for h in header[1:]}
+        for line, row in enumerate(rows[1:], start=2):
+            if len(row) > len(header):
+                raise ValueError(f"{path} line {line}: {len(row)} cells for {len(header)} columns")
+            t = _number(row[0], f"{path} line {line} time_s")
+            for name, cell in zip(header[1:], row[1:]):
+                if cell.strip():
+                    pts[name].append((t, _number(cell, f"{path} line {line} {name}")))
+        return cls({k: tuple(v) for k, v in pts.items() if v}, str(path))._checked_names()
+
+    @classmethod
+    def from_toml(cls, path) -> InputSchedule:
+        """Read a TOML schedule of ``[[step]]``, ``[[ramp]]``, ``[[trip]]`` and ``[[point]]`` tables."""
+        path = Path(path)
+        try:
+            doc = tomllib.loads(path.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise ValueError(f"{path}: not valid TOML: {exc}") from None
+        return cls.from_events(doc, str(path))
+
+    @classmethod
+    def from_events(cls, doc: dict, source: str = "schedule", base: dict | None = None) -> InputSchedule:
+        """A schedule from event tables (as the TOML file: ``{"step": [{...}], "trip": [...]}``).
+        The value before a trip or ramp is the previous event's, or the case's (``base``, or
+        resolved when the schedule is applied: a ramp or trip from the case's value)."""
+        unknown = set(doc) - set(_TOML_EVENTS)
+        if unknown:
+            raise ValueError(f"{source}: unknown table(s) {sorted(unknown)}; use {', '.join(_TOML_EVENTS)}")
+        events = []
+        for kind in _TOML_EVENTS:
+            for i, ev in enumerate(doc.get(kind, [])):
+                where = f"{source} [[{kind}]] #{i + 1}"
+                if not isinstance(ev, dict):
+                    raise ValueError(f"{where}: must be a table")
+                allowed = {"step": {"input", "at_s", "value"}, "point": {"input", "at_s", "value"},
+                           "ramp": {"input", "from_s", "to_s", "value"},
+                           "trip": {"input", "at_s", "duration_s", "value", "restart_s"}}[kind]
+                extra = set(ev) - allowed
+                if extra:
+                    raise ValueError(f"{where}: unknown key(s) {sorted(extra)}; use {', '.join(sorted(allowed))}")
+                name = ev.get("input", "gas_inlet_temperature" if kind == "trip" else None)
+                if name is None:
+                    raise ValueError(f"{where}: input is required (one of {', '.join(SCHEDULE_INPUTS)})")
+                need = sorted(allowed - {"input", "restart_s"} - set(ev))
+                if need:
+                    raise ValueError(f"{where}: missing key(s) {need}")
+                t0 = _number(ev.get("at_s", ev.get("from_s")), f"{where} {'at_s' if 'at_s' in ev else 'from_s'}")
+                events.append((t0, kind, name, ev, where))
+        events.sort(key=lambda e: e[0])
+        pts: dict[str, list[tuple[float, float]]] = {}
+        for t0, kind, name, ev, where in events:
+            p = pts.setdefault(name, [])
+            value = _number(ev["value"], f"{where} value")
+            before = p[-1][1] if p else (None if base is None else base.get(name))
+            if p and t0 < p[-1][0]:
+                raise ValueError(f"{where}: starts at {t0:g} s, before the end ({p[-1][0]:g} s) of the "
+                                 f"previous event of {name}")
+            if kind == "point":
+                p.append((t0, value))
+            elif kind == "step":
+                p += [(t0, math.nan if before is None else before), (t0, value)]
+            elif kind == "ramp":
+                t1 = _number(ev["to_s"], f"{where} to_s")
+                if t1 <= t0:
+                    raise ValueError(f"{where}: to_s={t1:g} must be after from_s={t0:g}")
+                p += [(t0, math.nan if before is None else before), (t1, value)]
+            else:   # trip
+                dur = _number(ev["duration_s"], f"{where} duration_s")
+                back = _number(ev.get("restart_s", 0.0), f"{where} restart_s")
+                if dur <= 0 or back < 0:
+                    raise ValueError(f"{where}: duration_s={dur:g} must be > 0 and restart_s={back:g} >= 0")
+                prior = math.nan if before is None else before
+                p += [(t0, prior), (t0, value), (t0 + dur, value)]
+                p += [(t0 + dur, prior)] if back == 0 else [(t0 + dur + back, prior)]
+        return cls({k: tuple(v) for k, v in pts.items()}, source)._checked_names()
+
+    def _checked_names(self) -> InputSchedule:
+        for name, p in self.points.items():
+            if name not in SCHEDULE_INPUTS:
+                raise ValueError(f"{self.source}: unknown input {name!r}; use one of {', '.join(SCHEDULE_INPUTS)}")
+            times = [t for t, _ in p]
+            if any(b < a for a, b in zip(times, times[1:])):
+                raise ValueError(f"{self.source}: the times of {name} must not decrease")
+            if sum(1 for a, b in zip(times, times[1:]) if a == b) and any(
+                    times.count(t) > 2 for t in set(times)):
+                raise ValueError(f"{self.source}: {name} has more than two points at one time (one step per time)")
+        if "burner_fuel_rate" in self.points and "gas_inlet_temperature" in self.points:
+            raise ValueError(f"{self.source}: schedule either gas_inlet_temperature or burner_fuel_rate, not both "
+                             "(the burner's fuel sets the gas inlet temperature)")
+        return self
+
+    # ------------------------------------------------------------------------------------ values
+    def resolved(self, base: dict) -> InputSchedule:
+        """The schedule with a ramp's or trip's 'value before' (NaN until the case is known) set to
+        the case's value ``base[name]``."""
+        pts = {k: tuple((t, base[k] if math.isnan(v) else v) for t, v in p) for k, p in self.points.items()}
+        return InputSchedule(pts, self.source)
+
+    def check(self, base: dict, t_end_s: float, burner: bool = True) -> InputSchedule:
+        """Checked against a run: inputs the case has, times in [0, ``t_end_s``], values in their
+        ranges (the case key's of `SCHEDULE_INPUTS`). Returns the resolved schedule."""
+        if not burner and "burner_fuel_rate" in self.points:
+            raise ValueError(f"{self.source}: burner_fuel_rate needs a case with a [burner] block; schedule "
+                             "gas_inlet_temperature instead")
+        s = self.resolved(base)
+        for name, p in s.points.items():
+            key, unit, _ = SCHEDULE_INPUTS[name]
+            for t, v in p:
+                if not math.isfinite(t) or t < 0 or t > t_end_s:
+                    raise ValueError(f"{self.source}: {name} at time {t:g} s is outside the run's time grid "
+                                     f"[0, {t_end_s:g}] s (lengthen --t-end or drop the point)")
+                if key:
+                    lim = LIMITS[key]
+                    low_ok = v > lim.low or (lim.low_inclusive and v == lim.low)
+                    high_ok = v < lim.high or (lim.high_inclusive and v == lim.high)
+                    if not (math.isfinite(v) and low_ok and high_ok):
+                        raise ValueError(f"{self.source}: {name}={v:g} at {t:g} s is outside {key} "
+                                         f"{describe_limit(key)}")
+                elif not (math.isfinite(v) and v >= 0):
+                    raise ValueError(_fuel_limit_message(name, v))
+        return s
+
+    def value_at(self, name: str, t: float, base: float, left: bool = False) -> float:
+        """Value of ``name`` at ``t`` (after a step there; ``left=True``: before it)."""
+        p = self.points.get(name)
+        if not p:
+            return float(base)
+        times = np.array([q[0] for q in p])
+        vals = np.array([q[1] for q in p])
+        i = int(np.searchsorted(times, t, side="left" if left else "right"))   # points at or before t
+        if i == 0:
+            return float(base)
+        if i == len(times):
+            return float(vals[-1])
+        t0, t1 = times[i - 1], times[i]
+        if t1 == t0:
+            return float(vals[i])
+        return float(vals[i - 1] + (vals[i] - vals[i - 1]) * (t - t0) / (t1 - t0))
+
+    def inputs_at(self, t: float, base: dict) -> dict:
+        """Every scheduled input's value at ``t`` (after a step there)."""
+        return {k: self.value_at(k, t, base[k]) for k in self.points}
+
+    def step_times(self, base: dict) -> list[float]:
+        """Times > 0 where a scheduled input jumps (a repeated time, or an input's first point
+        away from the case's value)."""
+        out = set()
+        for k, p in self.points.items():
+            for t in {q[0] for q in p}:
+                if t > 0 and self.value_at(k, t, base[k], left=True) != self.value_at(k, t, base[k]):
+                    out.add(float(t))
+        return sorted(out)
+
+    def signals(self, base: dict, t_end_s: float):
+        """The schedule as an FMI input table: a NumPy structured array with ``time`` and one
+        column per scheduled input (a step: two rows at its time), for ``fmpy.simulate_fmu(input=)``."""
+        s = self.resolved(base)
+        names = list(s.points)
+        times = sorted({0.0, float(t_end_s), *(t for p in s.points.values() for t, _ in p if t <= t_end_s)})
+        steps = set(s.step_times(base))
+        rows = []
+        for t in times:
+            if t in steps:
+                rows.append((t, *[s.value_at(k, t, base[k], left=True) for k in names]))
+            rows.append((t, *[s.value_at(k, t, base[k]) for k in names]))
+        return np.array(rows, dtype=[("time", float)] + [(k, float) for k in names])
+
+
+def _number(text, where) -> float:
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: {text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{where}: {text!r} must be a finite number")
+    return value
+
+
+def load_schedule(path) -> InputSchedule:
+    """A schedule file: ``.csv`` or ``.toml``."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"--schedule {str(path)!r}: no such file")
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        return InputSchedule.from_csv(path)
+    if suffix == ".toml":
+        return InputSchedule.from_toml(path)
+    raise ValueError(f"--schedule {str(path)!r}: a schedule is a .csv or .toml file")
+
+
+# ---------------------------------------------------------------------------------------------- the plant
+def _fuel_temperature(dryer, fuel_rate):
+    """Gas inlet temperature (degC) the case's burner makes from ``fuel_rate`` kg/s."""
+    s = dryer.settings
+    b = s.burner
+    gas = combustion_chamber(fuel_rate, s.gas_flow * b.combustion_air_share, s.gas_flow * (1 - b.combustion_air_share),
+                             air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y, fuel=b.fuel,
+                             heat_loss_fraction=b.heat_loss_fraction)
+    return float(gas.temperature_c)
+
+
+def burner_fuel_rate(dryer) -> float:
+    """Fuel rate (kg/s) the case's burner needs for the dryer's gas inlet temperature."""
+    s = dryer.settings
+    b = s.burner
+    return float(fuel_rate_for_temperature(s.gas_inlet_temperature, s.gas_flow * b.combustion_air_share,
+                                           s.gas_flow * (1 - b.combustion_air_share),
+                                           air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y,
+                                           fuel=b.fuel, heat_loss_fraction=b.heat_loss_fraction))
+
+
+def base_inputs(dryer, names=None) -> dict:
+    """The dryer's values of the schedulable inputs ``names`` (all but the fuel when None)."""
+    s = dryer.settings
+    values = dict(gas_inlet_temperature=s.gas_inlet_temperature, feed_rate=dryer.feed_rate,
+                  feed_moisture=dryer.feed_moisture, rpm=dryer.rpm, gas_flow=s.gas_flow,
+                  gas_inlet_humidity=s.gas_inlet_humidity, feed_temperature=s.solids_inlet_temperature,
+                  fouling=s.fouling)
+    if names is not None and "burner_fuel_rate" in names and s.burner is not None:
+        values["burner_fuel_rate"] = burner_fuel_rate(dryer)
+    return {k: float(v) for k, v in values.items() if names is None or k in names}
+
+
+_SETTING = {"gas_inlet_temperature": "gas_inlet_temperature", "gas_flow": "gas_flow",
+            "gas_inlet_humidity": "gas_inlet_humidity", "feed_temperature": "solids_inlet_temperature",
+            "fouling": "fouling"}
+
+
+def apply_inputs(dryer, values: dict):
+    """A copy of ``dryer`` with the schedulable inputs ``values`` (names of `SCHEDULE_INPUTS`)."""
+    settings = copy.copy(dryer.settings)
+    for k, v in values.items():
+        if k in _SETTING:
+            setattr(settings, _SETTING[k], float(v))
+    if "burner_fuel_rate" in values:
+        settings.gas_inlet_temperature = _fuel_temperature(dryer, float(values["burner_fuel_rate"]))
+    kw = {k: float(values[k]) for k in ("feed_rate", "rpm", "feed_moisture") if k in values}
+    return dryer.with_parameters(settings=settings, **kw)
+
+
+def check_applicable(dryer, schedule: InputSchedule) -> None:
+    """Every point of a (resolved) ``schedule`` applied alone to ``dryer`` (the case's and the
+    material's checks, e.g. a feed wetter than the material's laws allow), before a run starts:
+    the error names the schedule, the input, the value and its time."""
+    for name, p in schedule.points.items():
+        for t, v in sorted(set(p)):
+            try:
+                apply_inputs(dryer, {name: v})
+            except ValueError as exc:
+                raise ValueError(f"{schedule.source}: {name}={v:g} at {t:g} s: {' '.join(str(exc).split())}") from None
+
+
+def outlets(dryer, z) -> dict:
+    """Outlet values of state ``z``: product moisture (kg/kg wet) and temperature (degC), exhaust
+    temperature (degC) and humidity (kg/kg dry gas), total holdup (kg)."""
+    s = dryer.settings
+    pS, pW, pH = dryer.product_stream(z)
+    S, W, T, Tg, Y = dryer.split(z)
+    k = dryer.gas_outlet_stage
+    return dict(product_moisture=float(pW / (pS + pW)),
+                product_temperature=float(pH / (pS * s.cp_solids + pW * s.cp_water)),
+                exhaust_temperature=float(Tg[k]), exhaust_humidity=float(Y[k]),
+                holdup=float(np.sum(S + W)))
+
+
+# ---------------------------------------------------------------------------------------------- integration
+class DryerIntegrator:
+    """BDF integration of a dryer advanced from one communication point to the next.
+
+    While the inputs do not change the same solver carries on (its step size and Jacobian kept,
+    outputs interpolated at the points, as ``solve_ivp`` with ``t_eval``); `restart` starts
+    it again from the current state on a dryer with new inputs. The shell-loss coefficient is
+    lagged as in [`ThermalDryer.simulate`][rotarydryer.thermal.dryer.ThermalDryer.simulate]."""
+
+    def __init__(self, dryer, z0, t0=0.0, rtol=1e-5, atol=None, shell_refresh=60.0):
+        self.rtol, self.atol, self.shell_refresh = rtol, atol, shell_refresh
+        self.t = float(t0)
+        self.z = np.asarray(z0, float).copy()
+        self.nfev = 0
+        self.restarts = 0
+        self._solver = None
+        self.dryer = dryer
+
+    def restart(self, dryer):
+        """Carry on from the current state with ``dryer`` (new inputs)."""
+        if self._solver is not None:
+            self.dryer.unfreeze_shell()
+        self.dryer = dryer
+        self._solver = None
+
+    def _start(self):
+        from scipy.integrate import BDF
+
+        d = self.dryer
+        atol = d._scale() * 1e-7 if self.atol is None else self.atol
+        d.freeze_shell(self.z)
+        last = [self.t]
+        refresh = self.shell_refresh
+
+        def fun(t, z):
+            if z.shape[1] == 1 and abs(t - last[0]) > refresh:
+                d.freeze_shell(z[:, 0])
+                last[0] = t
+            return d.rhs(t, z)
+
+        self._solver = BDF(fun, self.t, self.z, np.inf, rtol=self.rtol, atol=atol, jac_sparsity=d.sparsity(),
+                           vectorized=True)
+        self.restarts += 1
+
+    def advance(self, t_next: float) -> np.ndarray:
+        """The state at ``t_next`` (> the current time)."""
+        if t_next <= self.t:
+            return self.z
+        if self._solver is None:
+            self._start()
+        sol = self._solver
+        while sol.t < t_next:
+            msg = sol.step()
+            if sol.status == "failed":
+                self.close()
+                raise DryerError(f"dynamic integration failed at t = {sol.t:.6g} s: {msg}", reason="integration",
+                                 state=self.z)
+        self.nfev = sol.nfev
+        self.z = sol.y.copy() if sol.t == t_next else sol.dense_output()(t_next)
+        self.t = float(t_next)
+        return self.z
+
+    def close(self):
+        if self._solver is not None:
+            self.dryer.unfreeze_shell()
+            self._solver = None
+
+
+@dataclasses.dataclass
+class ScheduleResult:
+    """A scheduled dynamic run: ``time_s`` (communication points), ``states`` (n x points),
+    ``inputs`` (name -> value held over the interval starting at each point; the last point repeats
+    the last interval's), ``outlets`` (name of `OUTLETS` -> series), ``restarts`` (integrations
+    started), ``seconds`` (wall time)."""
+
+    time_s: np.ndarray
+    states: np.ndarray
+    inputs: dict
+    outlets: dict
+    restarts: int
+    seconds: float
+    dryer: object = None
+
+    def dynamic_result(self) -> DynamicResult:
+        """As a [`DynamicResult`][rotarydryer.thermal.states.DynamicResult] on the base dryer."""
+        return DynamicResult(self.dryer, self.time_s, self.states, self.seconds, 0)
+
+    def columns(self) -> dict:
+        """Series with unit-suffixed names (CSV columns)."""
+        cols = {"time_s": self.time_s}
+        for k, v in self.inputs.items():
+            cols[f"{k}_{_suffix(SCHEDULE_INPUTS[k][1])}".rstrip("_")] = v
+        for k, v in self.outlets.items():
+            cols[f"{k}_{_suffix(OUTLETS[k])}"] = v
+        return cols
+
+    def summary(self) -> dict:
+        """Start, final, minimum and maximum (with its time) of every outlet series (unit-suffixed names)."""
+        out = {}
+        for k, v in self.outlets.items():
+            name = f"{k}_{_suffix(OUTLETS[k])}"
+            i, j = int(np.argmin(v)), int(np.argmax(v))
+            out[name] = dict(start=float(v[0]), final=float(v[-1]), min=float(v[i]), min_time_s=float(self.time_s[i]),
+                             max=float(v[j]), max_time_s=float(self.time_s[j]))
+        return out
+
+    def time_above(self, outlet: str, threshold: float) -> float:
+        """Time (s) with ``outlet`` above ``threshold``, from the series linearly interpolated."""
+        t, y = self.time_s, self.outlets[outlet] - threshold
+        total = 0.0
+        for a, b, ya, yb in zip(t[:-1], t[1:], y[:-1], y[1:]):
+            if ya > 0 and yb > 0:
+                total += b - a
+            elif ya > 0 or yb > 0:
+                total += (b - a) * max(ya, yb) / abs(yb - ya)
+        return float(total)
+
+
+def _suffix(unit: str) -> str:
+    return {"degC": "degC", "kg/s": "kg_s", "kg/kg wet": "kg_kg", "kg/kg wet gas": "kg_kg", "kg/kg dry gas": "kg_kg",
+            "rev/min": "rpm", "kg": "kg", "": ""}[unit]
+
+
+def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float, dt_s: float = 60.0,
+                      rtol: float = 1e-5, progress=None) -> ScheduleResult:
+    """Run ``dryer`` from state ``z0`` for ``t_end_s`` s under ``schedule`` (None: the dryer's own
+    inputs), reporting every ``dt_s`` s and at each step of an input. Each interval holds the
+    inputs at its start (FMI co-simulation semantics); the integration carries on across intervals
+    whose inputs did not change. ``progress(done_s, total_s)`` is called after each point."""
+    t_end_s = float(check_range("--t-end", t_end_s, 0.0, 30 * 86400.0, low_inclusive=False, unit="s"))
+    dt_s = float(check_range("--dt", dt_s, 0.0, t_end_s, low_inclusive=False, unit="s"))
+    if t_end_s / dt_s > 100000:
+        raise ValueError(f"--dt {dt_s:g} s: {t_end_s / dt_s:.0f} points in {t_end_s:g} s, at most 100000")
+    t_start = time.perf_counter()
+    schedule = schedule or InputSchedule({})
+    names = list(schedule.points)
+    base = base_inputs(dryer, names + ["burner_fuel_rate"] if "burner_fuel_rate" in names else None)
+    schedule = schedule.check(base, t_end_s, burner=dryer.settings.burner is not None)
+    check_applicable(dryer, schedule)
+    n = int(math.floor(t_end_s / dt_s + 1e-9))
+    grid = sorted({*(k * dt_s for k in range(n + 1)), t_end_s, *schedule.step_times(base)})
+    integ = DryerIntegrator(dryer, z0, rtol=rtol)
+    applied = {k: base[k] for k in names}      # the dryer's own values: no restart until one changes
+    states = [np.asarray(z0, float).copy()]
+    held: dict[str, list[float]] = {k: [] for k in names}
+    outs = {k: [v] for k, v in outlets(dryer, z0).items()}
+    try:
+        for t0, t1 in zip(grid[:-1], grid[1:]):
+            u = schedule.inputs_at(t0, base)
+            if u != applied:
+                integ.restart(apply_inputs(dryer, u) if u else dryer)
+                applied = u
+            for k in names:
+                held[k].append(u[k])
+            z = integ.advance(t1)
+            states.append(z.copy())
+            for k, v in outlets(integ.dryer, z).items():
+                outs[k].append(v)
+            if progress:
+                progress(t1, t_end_s)
+    finally:
+        integ.close()
+    for k in names:
+        held[k].append(held[k][-1] if held[k] else base[k])
+    return ScheduleResult(np.array(grid), np.column_stack(states), {k: np.array(v) for k, v in held.items()},
+                          {k: np.array(v) for k, v in outs.items()}, integ.restarts, time.perf_counter() - t_start,
+                          dryer)

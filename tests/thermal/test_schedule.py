@@ -1,0 +1,184 @@
+"""Input schedules of the dynamic dryer (issue 31): readers, values, FMI input table, checks, and
+the scheduled run against the plain dynamics."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rotarydryer import Simulation
+from rotarydryer.thermal.schedule import (
+    InputSchedule,
+    apply_inputs,
+    base_inputs,
+    load_schedule,
+    simulate_schedule,
+)
+
+CASE, SETS = "ajayi2011_mmg", {"operating.test": 4}
+
+
+@pytest.fixture(scope="module")
+def steady():
+    return Simulation(CASE, SETS).thermal_steady_state()
+
+
+def _write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return p
+
+
+def test_csv_and_toml_trip_are_the_same_schedule(tmp_path):
+    csv = load_schedule(_write(tmp_path, "trip.csv", "time_s,gas_inlet_temperature\n0,500\n600,500\n600,100\n"
+                                                     "1200,100\n1200,500\n"))
+    toml = load_schedule(_write(tmp_path, "trip.toml", '[[trip]]\nat_s = 600\nduration_s = 600\nvalue = 100\n'))
+    base = {"gas_inlet_temperature": 500.0}
+    for t in (0, 599.9, 600, 900, 1199.9, 1200, 5000):
+        assert csv.value_at("gas_inlet_temperature", t, 500.0) == toml.resolved(base).value_at(
+            "gas_inlet_temperature", t, 500.0)
+    assert csv.value_at("gas_inlet_temperature", 600, 500.0) == 100.0           # the value after the step
+    assert csv.value_at("gas_inlet_temperature", 600, 500.0, left=True) == 500.0
+    assert csv.step_times(base) == toml.resolved(base).step_times(base) == [600.0, 1200.0]
+
+
+def test_ramp_is_linear_and_held_after_its_end():
+    s = InputSchedule.from_events({"ramp": [{"input": "feed_rate", "from_s": 100, "to_s": 300, "value": 40}]},
+                                  base={"feed_rate": 20.0})
+    assert [s.value_at("feed_rate", t, 20.0) for t in (0, 100, 200, 300, 1e4)] == [20, 20, 30, 40, 40]
+    assert s.step_times({"feed_rate": 20.0}) == []
+
+
+def test_trip_with_restart_ramp():
+    s = InputSchedule.from_events({"trip": [{"at_s": 60, "duration_s": 120, "value": 100, "restart_s": 240}]})
+    r = s.resolved({"gas_inlet_temperature": 500.0})
+    assert [r.value_at("gas_inlet_temperature", t, 500.0) for t in (59, 60, 180, 300, 420, 900)] == [
+        500, 100, 100, 300, 500, 500]
+
+
+def test_csv_first_point_away_from_the_case_value_is_a_step():
+    s = InputSchedule({"feed_rate": ((600.0, 25.0),)})
+    assert s.value_at("feed_rate", 599.0, 29.0) == 29.0 and s.value_at("feed_rate", 600.0, 29.0) == 25.0
+    assert s.step_times({"feed_rate": 29.0}) == [600.0]
+    sig = s.signals({"feed_rate": 29.0}, 1200.0)
+    assert sig["time"].tolist() == [0, 600, 600, 1200] and sig["feed_rate"].tolist() == [29, 29, 25, 25]
+
+
+@pytest.mark.parametrize("text, match", [
+    ("time_s,oven_temperature\n0,1\n", "unknown input 'oven_temperature'"),
+    ("when,feed_rate\n0,1\n", "first column must be time_s"),
+    ("time_s,feed_rate\n0,abc\n", "line 2 feed_rate: 'abc' is not a number"),
+    ("time_s,feed_rate\n10,1\n5,2\n", "must not decrease"),
+    ("time_s,gas_inlet_temperature,burner_fuel_rate\n0,500,0.2\n", "not both"),
+    ("", "empty schedule"),
+])
+def test_bad_csv_schedules(tmp_path, text, match):
+    with pytest.raises(ValueError, match=match):
+        load_schedule(_write(tmp_path, "s.csv", text))
+
+
+@pytest.mark.parametrize("text, match", [
+    ("[[stop]]\nat_s = 1\n", "unknown table"),
+    ("[[step]]\nat_s = 1\nvalue = 2\n", "input is required"),
+    ('[[step]]\ninput = "feed_rate"\nvalue = 2\n', r"missing key\(s\) \['at_s'\]"),
+    ('[[ramp]]\ninput = "feed_rate"\nfrom_s = 10\nto_s = 5\nvalue = 2\n', "must be after"),
+    ('[[trip]]\nat_s = 10\nduration_s = -5\nvalue = 2\n', "must be > 0"),
+    ('[[step]]\ninput = "feed_rate"\nat_s = 1\nvalue = 2\nspeed = 3\n', "unknown key"),
+    ("[[step]\n", "not valid TOML"),
+])
+def test_bad_toml_schedules(tmp_path, text, match):
+    with pytest.raises(ValueError, match=match):
+        load_schedule(_write(tmp_path, "s.toml", text))
+
+
+def test_schedule_file_errors(tmp_path):
+    with pytest.raises(ValueError, match="no such file"):
+        load_schedule(tmp_path / "missing.csv")
+    with pytest.raises(ValueError, match=r"\.csv or \.toml"):
+        load_schedule(_write(tmp_path, "s.txt", "x"))
+
+
+def test_check_names_the_time_grid_and_the_input_range():
+    base = {"gas_inlet_temperature": 500.0, "feed_moisture": 0.15}
+    with pytest.raises(ValueError, match=r"outside the run's time grid \[0, 3600\] s"):
+        InputSchedule({"feed_moisture": ((4000.0, 0.2),)}).check(base, 3600.0)
+    with pytest.raises(ValueError, match=r"gas_inlet_temperature=900 .* outside gas.inlet_temperature \(0, 600\] degC"):
+        InputSchedule({"gas_inlet_temperature": ((60.0, 900.0),)}).check(base, 3600.0)
+    with pytest.raises(ValueError, match="needs a case with a \\[burner\\] block"):
+        InputSchedule({"burner_fuel_rate": ((60.0, 0.1),)}).check(base, 3600.0, burner=False)
+
+
+def test_no_schedule_is_the_plain_dynamics(steady):
+    d, z0 = steady.dryer, steady.state
+    r = simulate_schedule(d, z0, None, 3600.0, 60.0)
+    plain = d.simulate(z0, 3600.0, t_eval=np.arange(0.0, 3601.0, 60.0))
+    assert r.restarts == 1
+    np.testing.assert_allclose(r.states, plain.states, rtol=1e-10, atol=0)
+
+
+def test_step_at_zero_is_the_plain_dynamics_of_the_new_inputs(steady):
+    d, z0 = steady.dryer, steady.state
+    s = InputSchedule({"gas_inlet_temperature": ((0.0, 450.0),)})
+    r = simulate_schedule(d, z0, s, 1800.0, 60.0)
+    plain = apply_inputs(d, {"gas_inlet_temperature": 450.0}).simulate(z0, 1800.0, t_eval=np.arange(0.0, 1801.0, 60.0))
+    # one integration from t = 0 in both; the plain run's steps are clipped at its end: the integrator's tolerance
+    np.testing.assert_allclose(r.states, plain.states, rtol=1e-5, atol=0)
+    assert r.inputs["gas_inlet_temperature"].tolist() == [450.0] * r.time_s.size
+
+
+def test_burner_trip_wets_the_product_and_recovers(steady):
+    d, z0 = steady.dryer, steady.state
+    s = InputSchedule.from_events({"trip": [{"at_s": 600, "duration_s": 600, "value": 100}]})
+    r = simulate_schedule(d, z0, s, 7200.0, 60.0)
+    pm = r.outlets["product_moisture"]
+    assert r.restarts == 3                                  # start, trip, restart: nothing else restarted
+    assert pm.max() > pm[0] + 0.02                          # the trip wets the product
+    assert abs(pm[-1] - pm[0]) < 2e-3                       # and it recovers in the 100 min after
+    assert r.time_above("product_moisture", pm[0] + 0.01) > 600.0
+    held = r.inputs["gas_inlet_temperature"]
+    assert held[r.time_s.tolist().index(600.0)] == 100.0 and held[r.time_s.tolist().index(1200.0)] == 500.0
+
+
+def test_off_grid_step_adds_a_communication_point(steady):
+    d, z0 = steady.dryer, steady.state
+    s = InputSchedule({"feed_rate": ((90.0, d.feed_rate * 0.9),)})
+    r = simulate_schedule(d, z0, s, 300.0, 60.0)
+    assert r.time_s.tolist() == [0, 60, 90, 120, 180, 240, 300]
+
+
+def test_every_schedulable_input_applies(steady):
+    d = steady.dryer
+    base = base_inputs(d)
+    for name, value in base.items():
+        new = value * 0.9 if value else 0.1
+        d2 = apply_inputs(d, {name: new})
+        assert base_inputs(d2)[name] == pytest.approx(new), name
+
+
+@settings(max_examples=8, deadline=None, derandomize=True)
+@given(t_step=st.sampled_from([0.0, 60.0, 150.0]), frac=st.floats(0.7, 1.3))
+def test_scheduled_run_conserves_the_solids(steady, t_step, frac):
+    """Dry solids held at the end - at the start = dry solids fed - dry solids discharged over the
+    run (the feed exact, piecewise constant; the discharge by the trapezoid rule on 10 s points)."""
+    d, z0 = steady.dryer, steady.state
+    s = InputSchedule({"feed_rate": ((t_step, d.feed_rate * frac),)})
+    r = simulate_schedule(d, z0, s, 600.0, 10.0)
+    assert np.all(np.isfinite(r.states))
+    held = [float(np.sum(d.split(r.states[:, j])[0])) for j in (0, -1)]
+    dt = np.diff(r.time_s)
+    fed = float(np.sum(r.inputs["feed_rate"][:-1] * (1 - d.feed_moisture) * dt))
+    out = np.array([d.product_stream(r.states[:, j])[0] for j in range(r.time_s.size)])
+    discharged = float(np.sum(0.5 * (out[1:] + out[:-1]) * dt))
+    assert held[1] - held[0] == pytest.approx(fed - discharged, rel=0.02, abs=1e-4 * held[0])
+
+
+def test_burner_fuel_rate_sets_the_gas_inlet_temperature(steady):
+    d = steady.dryer
+    assert d.settings.burner is not None
+    fuel = base_inputs(d, ["burner_fuel_rate"])["burner_fuel_rate"]
+    same = apply_inputs(d, {"burner_fuel_rate": fuel})
+    assert same.settings.gas_inlet_temperature == pytest.approx(d.settings.gas_inlet_temperature, abs=0.05)
+    less = apply_inputs(d, {"burner_fuel_rate": 0.8 * fuel})
+    assert less.settings.gas_inlet_temperature < d.settings.gas_inlet_temperature - 20
