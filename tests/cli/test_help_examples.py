@@ -122,6 +122,8 @@ def _skip_reason(argv: list[str], ran: set) -> str:
         return f"needs the user's measurement file {argv[2]!r}"
     if argv[:2] == ["dem", "run"] and shutil.which("liggghts") is None:
         return "LIGGGHTS is not installed"
+    if argv[:2] == ["dem", "run"] and not any(r.startswith("dem export") for r in ran):
+        return "needs the deck of `rotarydryer dem export` (a slice of the user's drum)"
     if argv[:2] == ["dem", "holdup"] and not any(r.startswith("dem run") for r in ran):
         return "needs the dumps of `rotarydryer dem run`"
     for module, what in (("pythonfmu", "fmu"), ("SALib", "sensitivity"), ("streamlit", "app")):
