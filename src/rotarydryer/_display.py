@@ -13,18 +13,25 @@ import math
 __all__ = ["fmt", "fmt_error", "fmt_angle", "fmt_moisture", "short_repr", "html_table", "outputs_dataframe"]
 
 
+def _finite(v) -> tuple[float | None, str]:
+    """``(float(v), "")`` for a finite number, else ``(None, the text shown)``: ``str(v)`` for what
+    is not a number, ``'inf'`` / ``'nan'`` for those."""
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return None, str(v)
+    return (x, "") if math.isfinite(x) else (None, str(x))
+
+
 def fmt(v, digits: int = 4) -> str:
     """A number as people write it (``digits`` significant digits, 4 by default; thousands
     separated from 1 000 to 1e6, exponent outside 1e-3 to 1e6), else str. The one number
     format of the text surfaces (CLI tables, the report, reprs)."""
     if isinstance(v, bool) or v is None:
         return str(v)
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        return str(v)
-    if not math.isfinite(x):
-        return str(x)
+    x, text = _finite(v)
+    if x is None:
+        return text
     if x != 0 and (abs(x) >= 1e6 or abs(x) < 1e-3):
         return f"{x:.{digits}g}"
     if abs(x) >= 1000:
@@ -35,12 +42,9 @@ def fmt(v, digits: int = 4) -> str:
 def fmt_error(v, floor: float = 1e-9) -> str:
     """A relative balance error: ``< 1e-9`` below ``floor`` (round-off, the balance closes),
     else two significant digits (``6.9e-06``, ``0.012``)."""
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        return str(v)
-    if not math.isfinite(x):
-        return str(x)
+    x, text = _finite(v)
+    if x is None:
+        return text
     if abs(x) < floor:
         return f"< {floor:.0e}".replace("e-0", "e-")
     return f"{x:.2g}"
@@ -48,23 +52,18 @@ def fmt_error(v, floor: float = 1e-9) -> str:
 
 def fmt_angle(v) -> str:
     """An angle in degrees to 0.1 deg (``44.2``)."""
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        return str(v)
-    return f"{x:.1f}" if math.isfinite(x) else str(x)
+    x, text = _finite(v)
+    return text if x is None else f"{x:.1f}"
 
 
 def fmt_moisture(v, digits: int = 4) -> str:
     """A moisture content given in kg/kg as a percentage (the display unit of moisture on the
     text surfaces, % wet basis for a wet-basis value): ``digits`` significant digits, ``< 0.001``
     below 1e-5 kg/kg."""
-    try:
-        x = 100.0 * float(v)
-    except (TypeError, ValueError):
-        return str(v)
-    if not math.isfinite(x):
-        return str(x)
+    x, text = _finite(v)
+    if x is None:
+        return text
+    x *= 100.0
     if abs(x) < 1e-3:
         return "< 0.001" if x > 0 else "0"
     return f"{x:.{digits}g}"

@@ -42,11 +42,7 @@ class DryerStepper:
         from .simulation import Simulation
         from .thermal.schedule import DryerIntegrator, base_inputs
 
-        sim = Simulation(case, overrides or {})
-        if not sim.thermal_enabled:
-            raise ValueError(f"case {case!r} has no [gas] block: the FMU needs the heat-and-mass model")
-        sim.transport_steady_state()
-        steady = sim.thermal_steady_state()
+        steady = Simulation(case, overrides or {}).dynamic_start("the FMU")
         self.base = steady.dryer
         self.dryer = self.base
         self.z = np.asarray(steady.state, float)

@@ -255,6 +255,17 @@ class Simulation:
         d2 = perturbed(d, **changes) if changes else d
         return d2.simulate(ss.state, t_end, t_eval=np.arange(0.0, t_end + dt / 2, dt))
 
+    def dynamic_start(self, run: str = "a dynamic run", progress=None):
+        """The coupled steady state a dynamic run (``run``: its name in the message) starts from; a
+        case without a gas is refused, the transport's feasibility (critical speed, fill) checked
+        first. ``progress("steady state ...")`` before the solve."""
+        if not self.thermal_enabled:
+            raise ValueError(f"case {self.case_name!r} has no [gas] block: {run} needs the heat-and-mass model")
+        if progress:
+            progress("steady state ...")
+        self.transport_steady_state()
+        return self.thermal_steady_state()
+
     def run_schedule(self, schedule=None, t_end=7200.0, dt=60.0, progress=None):
         """Response from the coupled steady state to an input ``schedule`` (an
         [`InputSchedule`][rotarydryer.thermal.schedule.InputSchedule], a .csv/.toml path, or None for
@@ -262,12 +273,7 @@ class Simulation:
         [`ScheduleResult`][rotarydryer.thermal.schedule.ScheduleResult] of ``rotarydryer dynamics``."""
         if schedule is not None and not isinstance(schedule, InputSchedule):
             schedule = load_schedule(schedule)
-        if not self.thermal_enabled:
-            raise ValueError(f"case {self.case_name!r} has no [gas] block: dynamics needs the heat-and-mass model")
-        if progress:
-            progress("steady state ...")
-        self.transport_steady_state()    # feasibility (critical speed, fill) first
-        steady = self.thermal_steady_state()
+        steady = self.dynamic_start("dynamics", progress)
         step = None
         if progress is not None:
             def step(done, total):

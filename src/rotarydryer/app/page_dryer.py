@@ -12,6 +12,8 @@ Logic: `rotarydryer.app.logic_dryer` and `rotarydryer.app.logic_dryer_runs` (no 
 (`rotarydryer.app._ui.refuse`).
 """
 
+import hashlib
+
 import streamlit as st
 
 from . import logic_dryer, logic_dryer_runs
@@ -204,6 +206,20 @@ def _kept(name, key):
     return kept[1] if kept is not None and kept[0] == key else None
 
 
+def _guarded_run(what, shown, run):
+    """``run()`` inside the panels' failure boundary: its result, or None once the reason is shown
+    (no gas: a note; bad input: the refusal; anything else: a generic failure, logged)."""
+    try:
+        return run()
+    except logic_dryer.NoThermalModel as exc:
+        st.info(plain(f"{shown}: {exc}; the target and schedule panels need a gas"))
+    except ValueError as exc:
+        refuse(f"{what} refused", exc, stop=False)
+    except Exception as exc:  # noqa: BLE001 - shown as a generic sentence, logged
+        refuse(f"{what} failed", exc, stop=False)
+    return None
+
+
 def _keep(name, key, value):
     st.session_state[f"dryer_{name}_result"] = (key, value)
 
@@ -224,20 +240,15 @@ def _target_panel(case, shown, overrides, summary):
                               format="%.6g", key=f"dryer_target_value__{output}")
     key = (case, tuple(sorted(overrides.items())), find, lo, hi, output, op, float(value))
     if st.button("Find the input", key="dryer_target_run", type="primary"):
-        try:
+        def run():
             with st.status(f"Finding {find} such that {output}{op}{value:g} ...", expanded=False) as box:
                 with heavy():
-                    res = logic_dryer_runs.run_target_view(case, dict(overrides), find, lo, hi, output, op,
-                                                           value)
+                    out = logic_dryer_runs.run_target_view(case, dict(overrides), find, lo, hi, output, op, value)
                 box.update(label="Target study done", state="complete")
-        except logic_dryer.NoThermalModel as exc:
-            st.info(plain(f"{shown}: {exc}; the target and schedule panels need a gas"))
-            return
-        except ValueError as exc:
-            refuse("Target refused", exc, stop=False)
-            return
-        except Exception as exc:  # noqa: BLE001 - shown as a generic sentence, logged
-            refuse("Target failed", exc, stop=False)
+            return out
+
+        res = _guarded_run("Target", shown, run)
+        if res is None:
             return
         _keep("target", key, res)
     res = _kept("target", key)
@@ -288,24 +299,17 @@ def _schedule_panel(case, shown, overrides):
                               step=600.0, format="%.0f", key="dryer_sched_t_end")
     dt = c[1].number_input("Report interval dt (s)", min_value=1.0, max_value=7 * 86400.0, value=60.0,
                            step=10.0, format="%.0f", key="dryer_sched_dt")
-    import hashlib
-
     digest = None if csv_bytes is None else hashlib.sha256(csv_bytes).hexdigest()
     key = (case, tuple(sorted(overrides.items())), preset, digest, float(t_end), float(dt))
     if st.button("Run the schedule", key="dryer_sched_run", type="primary"):
-        try:
+        def run():
             with progress_box("Running the schedule", fraction=logic_dryer_runs.schedule_fraction) as report:
                 with heavy():
-                    res = logic_dryer_runs.run_schedule_view(case, dict(overrides), preset, t_end, dt,
-                                                             csv_bytes, progress=report)
-        except logic_dryer.NoThermalModel as exc:
-            st.info(plain(f"{shown}: {exc}; the target and schedule panels need a gas"))
-            return
-        except ValueError as exc:
-            refuse("Schedule refused", exc, stop=False)
-            return
-        except Exception as exc:  # noqa: BLE001 - shown as a generic sentence, logged
-            refuse("Schedule failed", exc, stop=False)
+                    return logic_dryer_runs.run_schedule_view(case, dict(overrides), preset, t_end, dt, csv_bytes,
+                                                              progress=report)
+
+        res = _guarded_run("Schedule", shown, run)
+        if res is None:
             return
         _keep("schedule", key, res)
     res = _kept("schedule", key)

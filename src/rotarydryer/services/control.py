@@ -70,12 +70,7 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
     scenario. Returns ``(closed, opened or None)``."""
     from .. import control as C
 
-    if not sim.thermal_enabled:
-        raise ValueError(f"case {case!r} has no [gas] block: control needs the heat-and-mass model")
-    if progress:
-        progress("steady state ...")
-    sim.transport_steady_state()   # feasibility (critical speed, fill) first
-    steady = sim.thermal_steady_state()
+    steady = sim.dynamic_start("control", progress)
     dryer = steady.dryer
     cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
                           measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,

@@ -327,35 +327,14 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
         raise ValueError(f"tol = {tol!r} is not a positive number")
     unit = LIMITS[key].unit if key in LIMITS else ""
 
-    points: list = []
-    cache: dict = {}
-    warm = [None]
+    ev = _Evaluator(case_name, overrides, [name], f"{lab['such_that']} = {str(such_that)!r}",
+                    budget_message=f"target {key} such that {name}{op}{fmt_number(y_target)}: no answer in "
+                                   f"{MAX_EVALUATIONS} steady states")
+    points = ev.points       # (input, output or None, error) of every steady state, in order
 
     def evaluate(x):
-        x = float(x)
-        if x in cache:
-            return cache[x]
-        if len(points) >= MAX_EVALUATIONS:
-            raise ValueError(f"target {key} such that {name}{op}{fmt_number(y_target)}: no answer in "
-                             f"{MAX_EVALUATIONS} steady states")
-        try:
-            res = Simulation(case_name, {**overrides, key: x}).steady_state(warm=warm[0])
-            out = res.summary()
-        except (ValueError, ArithmeticError) as exc:
-            reason = " ".join(str(exc).split()) or type(exc).__name__
-            points.append((x, None, reason))
-            cache[x] = (None, reason)
-            return cache[x]
-        warm[0] = res.warm_data() or warm[0]
-        y = out.get(name)
-        if name not in out or isinstance(y, bool) or not isinstance(y, (int, float)):
-            numeric = sorted(k for k, v in out.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
-            what = "is not an output of the case" if name not in out else "is not a number in this run"
-            raise ValueError(f"{lab['such_that']} = {str(such_that)!r}: {name!r} {what}; "
-                             f"outputs: {', '.join(numeric)}")
-        points.append((x, float(y), ""))
-        cache[x] = (float(y), "")
-        return cache[x]
+        ys, reason = ev({key: float(x)})
+        return (None, reason) if ys is None else (ys[name], "")
 
     notes: list[str] = []
     lo, hi = _usable_end(evaluate, lo, hi, "lo", key, unit, notes, lab["find"])
@@ -487,24 +466,30 @@ class TargetSetResult:
 class _Evaluator:
     """Steady-state outputs at input values (dict key -> x), cached, warm-started from the last run."""
 
-    def __init__(self, case_name, overrides, names, such_that_label):
+    def __init__(self, case_name, overrides, names, such_that_label, budget_message=None):
         self.case_name, self.overrides, self.names, self.label = case_name, overrides, names, such_that_label
+        self.budget_message = budget_message or f"no answer in {MAX_EVALUATIONS} steady states"
         self.cache: dict = {}
         self.warm = None
         self.count = 0
+        #: every steady state in order: (the input's value for one input, else the values dict;
+        #: the output for one name, else the outputs dict, None where it failed; the error or "")
+        self.points: list = []
 
     def __call__(self, values: dict):
         key = tuple(sorted((k, float(v)) for k, v in values.items()))
         if key in self.cache:
             return self.cache[key]
         if self.count >= MAX_EVALUATIONS:
-            raise TargetError(f"no answer in {MAX_EVALUATIONS} steady states", "unreachable")
+            raise TargetError(self.budget_message, "unreachable")
         self.count += 1
+        at = float(next(iter(values.values()))) if len(values) == 1 else dict(values)
         try:
             res = Simulation(self.case_name, {**self.overrides, **values}).steady_state(warm=self.warm)
             out = res.summary()
         except (ValueError, ArithmeticError) as exc:
             self.cache[key] = (None, " ".join(str(exc).split()) or type(exc).__name__)
+            self.points.append((at, None, self.cache[key][1]))
             return self.cache[key]
         self.warm = res.warm_data() or self.warm
         ys = {}
@@ -516,6 +501,7 @@ class _Evaluator:
                 raise TargetError(f"{self.label}: {name!r} {what}; outputs: {', '.join(numeric)}")
             ys[name] = float(y)
         self.cache[key] = (ys, "")
+        self.points.append((at, ys[self.names[0]] if len(self.names) == 1 else dict(ys), ""))
         return self.cache[key]
 
 

@@ -23,7 +23,7 @@ from .streams import discharge_cooling
 if TYPE_CHECKING:
     from .dryer import ThermalDryer
 
-__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult", "fuel_rate_note"]
+__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult", "fuel_rate_note", "outlets"]
 
 
 def fuel_rate_note(summary: dict) -> str:
@@ -358,6 +358,19 @@ class CoupledTransportState(SteadyState):
         return self.thermal.tracer_system()
 
 
+def outlets(dryer, z) -> dict:
+    """Outlet values of state ``z``: product moisture (kg/kg wet) and temperature (degC), exhaust
+    temperature (degC) and humidity (kg/kg dry gas), total holdup (kg)."""
+    s = dryer.settings
+    pS, pW, pH = dryer.product_stream(z)
+    S, W, T, Tg, Y = dryer.split(z)
+    k = dryer.gas_outlet_stage
+    return dict(product_moisture=float(pW / (pS + pW)),
+                product_temperature=float(pH / (pS * s.cp_solids + pW * s.cp_water)),
+                exhaust_temperature=float(Tg[k]), exhaust_humidity=float(Y[k]),
+                holdup=float(np.sum(S + W)))
+
+
 class DynamicResult:
     """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series
     (``product_moisture``, ``product_temperature_degC``, ``gas_outlet_temperature_degC``)."""
@@ -382,13 +395,7 @@ class DynamicResult:
 
     def __init__(self, dryer, t, y, seconds, nfev):
         self.dryer, self.time, self.states, self.seconds, self.nfev = dryer, t, y, seconds, nfev
-        pm, pt, tg = [], [], []
-        s = dryer.settings
-        for j in range(y.shape[1]):
-            pS, pW, pH = dryer.product_stream(y[:, j])
-            pm.append(pW / (pS + pW))
-            pt.append(pH / (pS * s.cp_solids + pW * s.cp_water))
-            tg.append(dryer.split(y[:, j])[3][dryer.gas_outlet_stage])
-        self.product_moisture = np.array(pm)
-        self.product_temperature_degC = np.array(pt)
-        self.gas_outlet_temperature_degC = np.array(tg)
+        o = [outlets(dryer, y[:, j]) for j in range(y.shape[1])]
+        self.product_moisture = np.array([v["product_moisture"] for v in o])
+        self.product_temperature_degC = np.array([v["product_temperature"] for v in o])
+        self.gas_outlet_temperature_degC = np.array([v["exhaust_temperature"] for v in o])
