@@ -27,7 +27,7 @@ def test_burner_trip_from_toml_writes_csv_json_png(tmp_path):
     rows = list(csv.DictReader((tmp_path / "o" / "dynamics.csv").open()))
     assert len(rows) == 61 and float(rows[10]["gas_inlet_temperature_degC"]) == 100.0
     assert float(rows[20]["gas_inlet_temperature_degC"]) == 500.0
-    assert {"time_s", "product_moisture_kg_kg", "exhaust_temperature_degC", "holdup_kg"} <= set(rows[0])
+    assert {"time_s", "product_moisture_kg_kg", "gas_outlet_temperature_degC", "total_holdup_kg"} <= set(rows[0])
     assert (tmp_path / "o" / "dynamics.png").stat().st_size > 1000
 
 

@@ -143,7 +143,6 @@ def run_schedule_view(case: str, overrides: dict, preset: str, t_end: float = 72
     """A scheduled run from the steady state: ``{"csv": str, "rows": long-format chart rows
     (time_min, quantity "moisture"/"temperature", series, value), "summary": ScheduleResult.summary(),
     "max_moisture_pct", "max_moisture_min", "final_moisture_pct", "inputs": names}``."""
-    from .._io import csv_text
     from ..simulation import Simulation
 
     t_end, dt = float(t_end), float(dt)
@@ -156,10 +155,7 @@ def run_schedule_view(case: str, overrides: dict, preset: str, t_end: float = 72
     c = _check_thermal(case, overrides)
     schedule = preset_schedule(preset, case, overrides, csv_bytes)
     res = Simulation(c).run_schedule(schedule, t_end=t_end, dt=dt, progress=progress)
-    cols = res.columns()
-    names = list(cols)
     n = len(res.time_s)
-    table = [{k: float(cols[k][i]) for k in names} for i in range(n)]
     rows = []
     o = res.outlets
     for i, t in enumerate(res.time_s):
@@ -172,7 +168,7 @@ def run_schedule_view(case: str, overrides: dict, preset: str, t_end: float = 72
                      "value": float(o["exhaust_temperature"][i])})
     s = res.summary()
     pm = s["product_moisture_kg_kg"]
-    return {"csv": csv_text(table), "rows": rows, "summary": s, "inputs": list(res.inputs),
+    return {"csv": res.csv_text(), "rows": rows, "summary": s, "inputs": list(res.inputs),
             "max_moisture_pct": 100.0 * pm["max"], "max_moisture_min": pm["max_time_s"] / 60.0,
             "start_moisture_pct": 100.0 * pm["start"], "final_moisture_pct": 100.0 * pm["final"],
             "time_above_start_min": res.time_above("product_moisture", pm["start"] + 1e-4) / 60.0,

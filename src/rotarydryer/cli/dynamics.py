@@ -73,14 +73,13 @@ def dynamics_cmd(
     result = run_dynamics(sim, schedule, t_end=t_end, dt=dt, progress=_progress_printer(quiet))
     summary = dynamics_summary(result, case, threshold)
     if out is not None:
-        from .._io import csv_text, output_set, save_figure, write_text_atomic
+        from .._io import output_set, save_figure, write_text_atomic
         from ..thermal.plots import plot_schedule_result
 
         cols = result.columns()
-        rows = [{k: float(v[i]) for k, v in cols.items()} for i in range(result.time_s.size)]
         files = [out / "dynamics.csv", out / "dynamics.json", out / "dynamics.png"]
         with output_set(out):                    # all files or none
-            write_text_atomic(files[0], csv_text(rows))
+            write_text_atomic(files[0], result.csv_text())
             write_text_atomic(files[1], json_text(dict(summary, series={k: list(map(float, v)) for k, v in cols.items()}),
                                                   indent=1))
             save_figure(plot_schedule_result(result, title=f"{case}: {schedule.name if schedule else 'case inputs'}"),
@@ -94,8 +93,8 @@ def dynamics_cmd(
                f"({', '.join(summary['scheduled_inputs']) or 'no input changed'}); {summary['points']} points, "
                f"{summary['integrations']} integration(s), {summary['seconds']:.1f} s")
     units = {"product_moisture_kg_kg": (100.0, "% wet"), "product_temperature_degC": (1.0, "degC"),
-             "exhaust_temperature_degC": (1.0, "degC"), "exhaust_humidity_kg_kg": (1.0, "kg/kg"),
-             "holdup_kg": (1.0, "kg")}
+             "gas_outlet_temperature_degC": (1.0, "degC"), "gas_outlet_humidity_kg_kg": (1.0, "kg/kg"),
+             "total_holdup_kg": (1.0, "kg")}
     for name, s in summary["outlets"].items():
         f, u = units[name]
         typer.echo(f"  {name:<26} start {f * s['start']:.4g}, final {f * s['final']:.4g}, max {f * s['max']:.4g} "

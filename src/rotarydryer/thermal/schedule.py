@@ -31,14 +31,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .._io import csv_text
 from .._limits import LIMITS, describe_limit
 from .._validation import check_range
 from .burner import combustion_chamber, fuel_rate_for_temperature
 from .settings import DryerError
-from .states import DynamicResult
+from .states import DynamicResult, outlets
 
 __all__ = ["SCHEDULE_INPUTS", "InputSchedule", "load_schedule", "apply_inputs", "base_inputs", "burner_fuel_rate", "check_applicable", "outlets",
-           "DryerIntegrator", "ScheduleResult", "simulate_schedule", "OUTLETS"]
+           "DryerIntegrator", "ScheduleResult", "simulate_schedule", "OUTLETS", "OUTLET_NAMES"]
 
 #: schedulable inputs: name -> (case key whose range applies, unit, meaning)
 SCHEDULE_INPUTS: dict[str, tuple[str, str, str]] = {
@@ -56,6 +57,12 @@ SCHEDULE_INPUTS: dict[str, tuple[str, str, str]] = {
 #: the outlet series of a scheduled run and their units
 OUTLETS = {"product_moisture": "kg/kg wet", "product_temperature": "degC", "exhaust_temperature": "degC",
            "exhaust_humidity": "kg/kg dry gas", "holdup": "kg"}
+
+#: the names of the outlet series on every surface (CSV, JSON): those of the steady-state summary
+#: (`ThermalSteadyState.summary`) for the same quantities
+OUTLET_NAMES = {"product_moisture": "product_moisture_kg_kg", "product_temperature": "product_temperature_degC",
+                "exhaust_temperature": "gas_outlet_temperature_degC", "exhaust_humidity": "gas_outlet_humidity_kg_kg",
+                "holdup": "total_holdup_kg"}
 
 _TOML_EVENTS = ("step", "ramp", "trip", "point")
 
@@ -337,19 +344,6 @@ def check_applicable(dryer, schedule: InputSchedule) -> None:
                 raise ValueError(f"{schedule.source}: {name}={v:g} at {t:g} s: {' '.join(str(exc).split())}") from None
 
 
-def outlets(dryer, z) -> dict:
-    """Outlet values of state ``z``: product moisture (kg/kg wet) and temperature (degC), exhaust
-    temperature (degC) and humidity (kg/kg dry gas), total holdup (kg)."""
-    s = dryer.settings
-    pS, pW, pH = dryer.product_stream(z)
-    S, W, T, Tg, Y = dryer.split(z)
-    k = dryer.gas_outlet_stage
-    return dict(product_moisture=float(pW / (pS + pW)),
-                product_temperature=float(pH / (pS * s.cp_solids + pW * s.cp_water)),
-                exhaust_temperature=float(Tg[k]), exhaust_humidity=float(Y[k]),
-                holdup=float(np.sum(S + W)))
-
-
 # ---------------------------------------------------------------------------------------------- integration
 class DryerIntegrator:
     """BDF integration of a dryer advanced from one communication point to the next.
@@ -443,14 +437,19 @@ class ScheduleResult:
         for k, v in self.inputs.items():
             cols[f"{k}_{_suffix(SCHEDULE_INPUTS[k][1])}".rstrip("_")] = v
         for k, v in self.outlets.items():
-            cols[f"{k}_{_suffix(OUTLETS[k])}"] = v
+            cols[OUTLET_NAMES[k]] = v
         return cols
+
+    def csv_text(self) -> str:
+        """[`columns`][rotarydryer.thermal.schedule.ScheduleResult.columns] as CSV text, a row per point."""
+        cols = self.columns()
+        return csv_text([{k: float(v[i]) for k, v in cols.items()} for i in range(self.time_s.size)])
 
     def summary(self) -> dict:
         """Start, final, minimum and maximum (with its time) of every outlet series (unit-suffixed names)."""
         out = {}
         for k, v in self.outlets.items():
-            name = f"{k}_{_suffix(OUTLETS[k])}"
+            name = OUTLET_NAMES[k]
             i, j = int(np.argmin(v)), int(np.argmax(v))
             out[name] = dict(start=float(v[0]), final=float(v[-1]), min=float(v[i]), min_time_s=float(self.time_s[i]),
                              max=float(v[j]), max_time_s=float(self.time_s[j]))
@@ -469,8 +468,8 @@ class ScheduleResult:
 
 
 def _suffix(unit: str) -> str:
-    return {"degC": "degC", "kg/s": "kg_s", "kg/kg wet": "kg_kg", "kg/kg wet gas": "kg_kg", "kg/kg dry gas": "kg_kg",
-            "rev/min": "rpm", "kg": "kg", "": ""}[unit]
+    return {"degC": "degC", "kg/s": "kg_s", "kg/kg wet": "kg_kg", "kg/kg wet gas": "kg_kg", "rev/min": "rpm",
+            "": ""}[unit]
 
 
 def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float, dt_s: float = 60.0,
