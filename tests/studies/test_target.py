@@ -240,3 +240,32 @@ def test_issue31_acceptance_target_then_simulate_gives_the_moisture():
     sim = runner.invoke(app, ["simulate", CASE, "--set", "operating.test=4", "--set", f"{FEED}={feed!r}", "--json"])
     assert sim.exit_code == 0, sim.output
     assert abs(json.loads(sim.stdout)[MOISTURE] - 0.12) <= 1e-4
+
+
+def test_condition_forms_of_the_library():
+    """``optimum`` without conditions, and three conditions as a tuple (review of issue 31)."""
+    from rotarydryer.studies.target import _prepare
+
+    for conds, n in ((), 0, ), (("a=1", "b<=2", "c>=3"), 3), (("a", "<=", 2.0), 1), ([("a", "=", 1.0)] * 1, 1):
+        assert len(_prepare(CASE, [FEED], conds, None, None, None, "any")[5]) == n
+
+
+def test_slsqp_probe_without_a_steady_state_does_not_abort(monkeypatch):
+    """A failing probe inside SLSQP does not abort the run (review of issue 31)."""
+    import rotarydryer.studies.target as T
+    from rotarydryer.thermal.settings import DryerError
+
+    class Failing(T.Simulation):
+        def steady_state(self, *a, **k):
+            if self.overrides.get("gas.inlet_temperature", 0.0) > 590.0:
+                raise DryerError("no steady state (test)", reason="no_steady_state")
+            return super().steady_state(*a, **k)
+
+    monkeypatch.setattr(T, "Simulation", Failing)
+    res = optimum(CASE, [f"{FEED}=20,60", "gas.inlet_temperature=350,600"], FEED, [f"{MOISTURE}<=0.12"],
+                  overrides={"operating.test": 4})
+    # no exception: the probes without a steady state count as violating the conditions
+    assert res.evaluations > 1
+    assert all(c["met"] for c in res.conditions) if res.found else res.notes
+    if res.found:
+        assert res.values["gas.inlet_temperature"] <= 590.0

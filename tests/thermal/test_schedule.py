@@ -182,3 +182,48 @@ def test_burner_fuel_rate_sets_the_gas_inlet_temperature(steady):
     assert same.settings.gas_inlet_temperature == pytest.approx(d.settings.gas_inlet_temperature, abs=0.05)
     less = apply_inputs(d, {"burner_fuel_rate": 0.8 * fuel})
     assert less.settings.gas_inlet_temperature < d.settings.gas_inlet_temperature - 20
+
+
+@pytest.mark.parametrize("events, t, expected", [
+    ({"ramp": [{"input": "feed_rate", "from_s": 0, "to_s": 100, "value": 30}],
+      "step": [{"input": "feed_rate", "at_s": 100, "value": 20}]}, (50, 99.9, 100, 200), (25, 29.99, 20, 20)),
+    ({"trip": [{"at_s": 100, "duration_s": 50, "value": 100}, {"at_s": 150, "duration_s": 50, "value": 200}]},
+     (99, 100, 149, 150, 199, 200), (500, 100, 100, 200, 200, 500)),
+    ({"trip": [{"at_s": 100, "duration_s": 50, "value": 100}],
+      "step": [{"input": "gas_inlet_temperature", "at_s": 150, "value": 450}]}, (120, 150, 300), (100, 450, 450)),
+    ({"point": [{"input": "feed_rate", "at_s": 100, "value": 10}],
+      "ramp": [{"input": "feed_rate", "from_s": 100, "to_s": 200, "value": 30}]}, (100, 150, 200), (10, 20, 30)),
+])
+def test_back_to_back_events(events, t, expected):
+    """Events of one input that meet at one time (review of issue 31: refused before)."""
+    base = {"feed_rate": 20.0, "gas_inlet_temperature": 500.0}
+    s = InputSchedule.from_events(events).resolved(base)
+    name = next(iter(s.points))
+    assert [s.value_at(name, ti, base[name]) for ti in t] == pytest.approx(list(expected))
+
+
+def test_ramp_end_is_not_a_step():
+    s = InputSchedule({"feed_rate": ((0.0, 0.2), (100.0, 0.6))})
+    assert s.step_times({"feed_rate": 0.2}) == []                    # no one-ulp 'step' at the ramp's end
+
+
+def test_bom_and_single_bracket_table(tmp_path):
+    p = tmp_path / "s.csv"
+    p.write_bytes("\ufefftime_s,feed_rate\n0,30\n".encode("utf-8"))
+    assert load_schedule(p).points == {"feed_rate": ((0.0, 30.0),)}
+    q = tmp_path / "s.toml"
+    q.write_text('[step]\ninput = "feed_rate"\nat_s = 1\nvalue = 2\n', encoding="utf-8")
+    with pytest.raises(ValueError, match=r"must be written \[\[step\]\]"):
+        load_schedule(q)
+
+
+def test_fuel_and_gas_flow_together_use_the_new_air_flow(steady):
+    d = steady.dryer
+    fuel = base_inputs(d, ["burner_fuel_rate"])["burner_fuel_rate"]
+    more_air = apply_inputs(d, {"burner_fuel_rate": fuel, "gas_flow": 1.5 * d.settings.gas_flow})
+    assert more_air.settings.gas_inlet_temperature < d.settings.gas_inlet_temperature - 50
+
+
+def test_short_run_grid_ends_at_t_end(steady):
+    r = simulate_schedule(steady.dryer, steady.state, None, 0.3, 0.1)
+    assert r.time_s[-1] == 0.3 and len(r.time_s) == 4

@@ -21,8 +21,11 @@ def _progress_printer(quiet: bool):
 
     def show(msg: str):
         if msg.startswith("t = "):      # one line per tenth of the run
-            done, total = (float(x) for x in msg[4:-2].split(" / "))
-            tenth = int(10 * done / total)
+            try:
+                done, total = (float(x) for x in msg[4:-2].split(" / "))
+                tenth = int(10 * done / total) if total > 0 else 10
+            except ValueError:
+                tenth = -2
             if tenth == last[0]:
                 return
             last[0] = tenth

@@ -40,7 +40,8 @@ import math
 import re
 from dataclasses import dataclass, field
 
-from scipy.optimize import brentq
+import numpy as np
+from scipy.optimize import brentq, minimize
 
 from .._limits import LIMITS
 from .._validation import fmt_number
@@ -57,8 +58,10 @@ OPERATORS = ("=", "<=", ">=")
 SHRINK_STEPS = 5
 #: default bracket around the case's value: (lo factor, hi factor)
 DEFAULT_SPAN = (0.25, 4.0)
-#: most steady states of one target (bounds, shrinking and the root search)
+#: most steady states of one target (bounds, shrinking and the root search) or one Newton solve
 MAX_EVALUATIONS = 80
+#: most steady states of one SLSQP optimum (finite-difference gradients: about n + 2 per iteration)
+OPTIMUM_EVALUATIONS = 300
 
 class TargetError(ValueError):
     """A target that cannot be answered: ``reason`` ``"no_steady_state"`` (a steady state failed
@@ -466,9 +469,10 @@ class TargetSetResult:
 class _Evaluator:
     """Steady-state outputs at input values (dict key -> x), cached, warm-started from the last run."""
 
-    def __init__(self, case_name, overrides, names, such_that_label, budget_message=None):
+    def __init__(self, case_name, overrides, names, such_that_label, budget_message=None, budget=MAX_EVALUATIONS):
         self.case_name, self.overrides, self.names, self.label = case_name, overrides, names, such_that_label
-        self.budget_message = budget_message or f"no answer in {MAX_EVALUATIONS} steady states"
+        self.budget = budget
+        self.budget_message = budget_message or f"no answer in {budget} steady states (the study's budget)"
         self.cache: dict = {}
         self.warm = None
         self.count = 0
@@ -480,7 +484,7 @@ class _Evaluator:
         key = tuple(sorted((k, float(v)) for k, v in values.items()))
         if key in self.cache:
             return self.cache[key]
-        if self.count >= MAX_EVALUATIONS:
+        if self.count >= self.budget:
             raise TargetError(self.budget_message, "unreachable")
         self.count += 1
         at = float(next(iter(values.values()))) if len(values) == 1 else dict(values)
@@ -512,10 +516,9 @@ def _prepare(case, finds, such_thats, overrides, tol, labels, need):
         case = case.case_name
     case_name, overrides = str(case), dict(overrides or {})
     finds = [finds] if isinstance(finds, str) else list(finds)
-    if isinstance(such_thats, (str, tuple)) and not (isinstance(such_thats, tuple) and such_thats
-                                                     and isinstance(such_thats[0], (str, tuple)) and len(such_thats) != 3):
-        such_thats = [such_thats]
-    such_thats = list(such_thats or [])
+    one = isinstance(such_thats, str) or (isinstance(such_thats, tuple) and len(such_thats) == 3
+                                          and isinstance(such_thats[0], str) and such_thats[1] in OPERATORS + ("==",))
+    such_thats = [such_thats] if one else list(such_thats or [])
     if not finds:
         raise TargetError(f"{lab['find']}: give at least one free input")
     base = load_case(case_name, overrides)
@@ -591,7 +594,6 @@ def solve_targets(case, finds, such_thats, *, overrides=None, tol=None, labels=N
     [`target`][rotarydryer.studies.target.target]'s bracketing search. ``TargetError`` when the targets
     conflict, the Jacobian is singular (a target does not depend on the inputs) or no point in the
     bounds meets them."""
-    import numpy as np
 
     lab, case_name, overrides, keys, bounds, conds, tols, start = _prepare(case, finds, such_thats, overrides, tol,
                                                                             labels, "square")
@@ -673,8 +675,6 @@ def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=Non
     intersection in the objective's direction returned, with the conditions that bind there.
     Otherwise SLSQP (`scipy.optimize.minimize`) on the inputs scaled to their bounds, finite-
     difference gradients of 1e-4 of each bracket, started from the case's values."""
-    import numpy as np
-    from scipy.optimize import minimize
 
     if sense not in ("max", "min"):
         raise TargetError(f"sense = {sense!r}: use max or min")
@@ -684,19 +684,18 @@ def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=Non
     names = list(dict.fromkeys([c[0] for c in conds] + ([] if objective in keys else [objective])))
     if len(keys) == 1 and objective == keys[0]:
         return _optimum_1d(case_name, overrides, keys[0], bounds[keys[0]], conds, tols, sense, lab)
-    ev = _Evaluator(case_name, overrides, names, lab["such_that"])
+    ev = _Evaluator(case_name, overrides, names, lab["such_that"], budget=OPTIMUM_EVALUATIONS)
     lo = np.array([bounds[k][0] for k in keys])
     span = np.array([bounds[k][1] - bounds[k][0] for k in keys])
     sign = -1.0 if sense == "max" else 1.0
-    failed: list = []
-
     def values(u):
         return {k: float(lo[i] + span[i] * np.clip(u[i], 0, 1)) for i, k in enumerate(keys)}
 
-    def outputs(u):
+    def outputs(u, strict=True):
         ys, reason = ev(values(u))
+        if ys is None and not strict:
+            return None
         if ys is None:
-            failed.append((values(u), reason))
             raise TargetError(f"{lab['find']}: no steady state at {_fmt_values(values(u))} ({reason})", "no_steady_state")
         return ys
 
@@ -704,7 +703,13 @@ def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=Non
 
     def f(u):
         nonlocal y0
-        v = values(u)[objective] if objective in keys else outputs(u)[objective]
+        if objective in keys:
+            v = values(u)[objective]
+        else:
+            ys = outputs(u, strict=False)
+            if ys is None:            # no steady state at a probe: a poor objective, the step is retried shorter
+                return 1e3
+            v = ys[objective]
         y0 = abs(v) if y0 is None else y0
         return sign * v / max(y0, 1e-12)
 
@@ -712,22 +717,55 @@ def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=Non
     for (name, op, v), t in zip(conds, tols):
         s = max(abs(v), 1e4 * t)
         if op == "=":
-            cons.append({"type": "eq", "fun": lambda u, n=name, v=v, s=s: (outputs(u)[n] - v) / s})
+            cons.append({"type": "eq", "fun": lambda u, n=name, v=v, s=s: _scaled(outputs(u, False), n, v, s, 1.0)})
         else:
             sg = 1.0 if op == ">=" else -1.0
-            cons.append({"type": "ineq", "fun": lambda u, n=name, v=v, s=s, sg=sg: sg * (outputs(u)[n] - v) / s})
+            cons.append({"type": "ineq", "fun": lambda u, n=name, v=v, s=s, sg=sg: _scaled(outputs(u, False), n, v,
+                                                                                           s, sg)})
     u0 = np.array([(start[k] - lo[i]) / span[i] for i, k in enumerate(keys)])
-    res = minimize(f, u0, method="SLSQP", bounds=[(0.0, 1.0)] * len(keys), constraints=cons,
-                   options={"eps": 1e-4, "maxiter": 40, "ftol": 1e-8})
-    vals = values(res.x)
-    ys = outputs(res.x)
+    notes: list[str] = []
+    try:
+        res = minimize(f, u0, method="SLSQP", bounds=[(0.0, 1.0)] * len(keys), constraints=cons,
+                       options={"eps": 1e-4, "maxiter": 40, "ftol": 1e-8})
+        x_best = res.x
+        if not res.success:
+            notes.append(f"SLSQP: {res.message}")
+    except TargetError as exc:     # a probe without a steady state (or the budget): the best point met so far
+        x_best = _best_feasible(ev, keys, lo, span, objective, sign, conds, tols)
+        if x_best is None:
+            raise
+        notes.append(f"SLSQP stopped ({' '.join(str(exc).split())}); the best point evaluated that meets the "
+                     "conditions is shown")
+    vals = values(x_best)
+    ys = outputs(x_best)
     conditions = _conditions(conds, tols, ys)
     found = bool(all(c["met"] for c in conditions))
-    notes = [] if res.success else [f"SLSQP: {res.message}"]
     outs = {n: ys[n] for n in names}
     return TargetSetResult(case=case_name, kind="optimum", values=vals, outputs=outs, conditions=conditions,
                            active_bounds=_at_bounds(vals, bounds), bounds=bounds, evaluations=ev.count, found=found,
                            objective=objective, sense=sense, notes=notes)
+
+
+def _scaled(ys, name, value, scale, sign):
+    """A condition as SLSQP's constraint function (>= 0 met); a point without a steady state
+    counts as violating it (-1)."""
+    return -1.0 if ys is None else sign * (ys[name] - value) / scale
+
+
+def _best_feasible(ev, keys, lo, span, objective, sign, conds, tols):
+    """Scaled inputs of the best evaluated point that meets every condition (None: none does)."""
+
+    best, best_f = None, math.inf
+    for key, (ys, _) in ev.cache.items():
+        if ys is None:
+            continue
+        x = dict(key)
+        if not all(c["met"] for c in _conditions(conds, tols, ys)):
+            continue
+        fv = sign * (x[objective] if objective in x else ys[objective])
+        if fv < best_f:
+            best, best_f = np.array([(x[k] - lo[i]) / span[i] for i, k in enumerate(keys)]), fv
+    return best
 
 
 def _optimum_1d(case_name, overrides, key, bounds, conds, tols, sense, lab):

@@ -84,7 +84,7 @@ class InputSchedule:
     def from_csv(cls, path) -> InputSchedule:
         """Read a CSV schedule: ``time_s`` and one column per input of `SCHEDULE_INPUTS`."""
         path = Path(path)
-        with path.open(newline="", encoding="utf-8") as fh:
+        with path.open(newline="", encoding="utf-8-sig") as fh:      # -sig: a spreadsheet's byte-order mark
             rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
         if not rows:
             raise ValueError(f"{path}: empty schedule (a header time_s,<input>,... and rows are needed)")
@@ -121,6 +121,8 @@ class InputSchedule:
             raise ValueError(f"{source}: unknown table(s) {sorted(unknown)}; use {', '.join(_TOML_EVENTS)}")
         events = []
         for kind in _TOML_EVENTS:
+            if not isinstance(doc.get(kind, []), list):
+                raise ValueError(f"{source}: [{kind}] must be written [[{kind}]] (an array of tables, one per event)")
             for i, ev in enumerate(doc.get(kind, [])):
                 where = f"{source} [[{kind}]] #{i + 1}"
                 if not isinstance(ev, dict):
@@ -139,7 +141,7 @@ class InputSchedule:
                     raise ValueError(f"{where}: missing key(s) {need}")
                 t0 = _number(ev.get("at_s", ev.get("from_s")), f"{where} {'at_s' if 'at_s' in ev else 'from_s'}")
                 events.append((t0, kind, name, ev, where))
-        events.sort(key=lambda e: e[0])
+        events.sort(key=lambda e: (e[0], 0 if e[1] in ("point", "step") else 1))   # a point or step before a ramp from it
         pts: dict[str, list[tuple[float, float]]] = {}
         for t0, kind, name, ev, where in events:
             p = pts.setdefault(name, [])
@@ -151,21 +153,21 @@ class InputSchedule:
             if kind == "point":
                 p.append((t0, value))
             elif kind == "step":
-                p += [(t0, math.nan if before is None else before), (t0, value)]
+                p += _start(p, t0, before) + [(t0, value)]
             elif kind == "ramp":
                 t1 = _number(ev["to_s"], f"{where} to_s")
                 if t1 <= t0:
                     raise ValueError(f"{where}: to_s={t1:g} must be after from_s={t0:g}")
-                p += [(t0, math.nan if before is None else before), (t1, value)]
+                p += _start(p, t0, before) + [(t1, value)]
             else:   # trip
                 dur = _number(ev["duration_s"], f"{where} duration_s")
                 back = _number(ev.get("restart_s", 0.0), f"{where} restart_s")
                 if dur <= 0 or back < 0:
                     raise ValueError(f"{where}: duration_s={dur:g} must be > 0 and restart_s={back:g} >= 0")
                 prior = math.nan if before is None else before
-                p += [(t0, prior), (t0, value), (t0 + dur, value)]
+                p += _start(p, t0, before) + [(t0, value), (t0 + dur, value)]
                 p += [(t0 + dur, prior)] if back == 0 else [(t0 + dur + back, prior)]
-        return cls({k: tuple(v) for k, v in pts.items()}, source)._checked_names()
+        return cls({k: _collapsed(v) for k, v in pts.items()}, source)._checked_names()
 
     def _checked_names(self) -> InputSchedule:
         for name, p in self.points.items():
@@ -226,8 +228,10 @@ class InputSchedule:
         if i == len(times):
             return float(vals[-1])
         t0, t1 = times[i - 1], times[i]
-        if t1 == t0:
+        if t1 == t0 or t == t1:
             return float(vals[i])
+        if t == t0:
+            return float(vals[i - 1])
         return float(vals[i - 1] + (vals[i] - vals[i - 1]) * (t - t0) / (t1 - t0))
 
     def inputs_at(self, t: float, base: dict) -> dict:
@@ -259,6 +263,26 @@ class InputSchedule:
         return np.array(rows, dtype=[("time", float)] + [(k, float) for k in names])
 
 
+def _collapsed(points) -> tuple:
+    """Points with each run at one time reduced to its first and last (back-to-back events: the
+    value before the first and after the last)."""
+    out: list = []
+    for q in points:
+        if len(out) >= 2 and out[-1][0] == out[-2][0] == q[0]:
+            out[-1] = q
+        else:
+            out.append(q)
+    return tuple(out)
+
+
+def _start(points, t0, before):
+    """The point that starts an event at ``t0`` from the value ``before`` (NaN: the case's), none
+    when the previous event of the input already ends there (back-to-back events)."""
+    if points and points[-1][0] == t0:
+        return []
+    return [(t0, math.nan if before is None else before)]
+
+
 def _number(text, where) -> float:
     try:
         value = float(text)
@@ -283,9 +307,10 @@ def load_schedule(path) -> InputSchedule:
 
 
 # ---------------------------------------------------------------------------------------------- the plant
-def _fuel_temperature(dryer, fuel_rate):
-    """Gas inlet temperature (degC) the case's burner makes from ``fuel_rate`` kg/s."""
-    s = dryer.settings
+def _fuel_temperature(dryer, fuel_rate, settings=None):
+    """Gas inlet temperature (degC) the case's burner makes from ``fuel_rate`` kg/s (with the air
+    flows and ambient of ``settings``, default the dryer's)."""
+    s = dryer.settings if settings is None else settings
     b = s.burner
     gas = combustion_chamber(fuel_rate, s.gas_flow * b.combustion_air_share, s.gas_flow * (1 - b.combustion_air_share),
                              air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y, fuel=b.fuel,
@@ -327,7 +352,7 @@ def apply_inputs(dryer, values: dict):
         if k in _SETTING:
             setattr(settings, _SETTING[k], float(v))
     if "burner_fuel_rate" in values:
-        settings.gas_inlet_temperature = _fuel_temperature(dryer, float(values["burner_fuel_rate"]))
+        settings.gas_inlet_temperature = _fuel_temperature(dryer, float(values["burner_fuel_rate"]), settings)
     kw = {k: float(values[k]) for k in ("feed_rate", "rpm", "feed_moisture") if k in values}
     return dryer.with_parameters(settings=settings, **kw)
 
@@ -489,7 +514,7 @@ def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float,
     schedule = schedule.check(base, t_end_s, burner=dryer.settings.burner is not None)
     check_applicable(dryer, schedule)
     n = int(math.floor(t_end_s / dt_s + 1e-9))
-    grid = sorted({*(k * dt_s for k in range(n + 1)), t_end_s, *schedule.step_times(base)})
+    grid = sorted({*(k * dt_s for k in range(n + 1) if k * dt_s < t_end_s), t_end_s, *schedule.step_times(base)})
     integ = DryerIntegrator(dryer, z0, rtol=rtol)
     applied = {k: base[k] for k in names}      # the dryer's own values: no restart until one changes
     states = [np.asarray(z0, float).copy()]
