@@ -253,10 +253,18 @@ def test_calibrate_command_writes_the_record_and_the_calibrated_case(tmp_path):
                               "--tests", "5", "-r", "tracer", "-r", "mrt", "--out", str(out), "--json"])
     assert res.exit_code == 0, res.output
     d = json.loads(res.stdout)
-    assert set(d["record"]["values"]) == {"tests.5.solids_velocity", "tests.5.dispersion"}
+    rec = d["record"]
+    assert set(rec["values"]) - set(rec["held"]) == {"tests.5.solids_velocity", "tests.5.dispersion"}
+    # the record supersedes the case's per-test record (a record applies whole): it holds the other
+    # tests' values at the run's, so appending it changes test 5 only
+    assert "tests.4.solids_velocity" in rec["held"] and "tests.5.dispersion" not in rec["held"]
     assert (out / "calibration.toml").is_file() and (out / "calibration.json").is_file()
     case = load_case(str(out / f"{MMG}_calibrated.toml"), {"operating.test": 5})
-    assert next(t for t in case.tests if t.test == 5).solids_velocity == d["record"]["values"]["tests.5.solids_velocity"]
+    before = load_case(MMG, {"operating.test": 5})
+    assert next(t for t in case.tests if t.test == 5).solids_velocity == rec["values"]["tests.5.solids_velocity"]
+    for t in (1, 4, 6):
+        assert next(r for r in case.tests if r.test == t).solids_velocity == \
+            next(r for r in before.tests if r.test == t).solids_velocity
 
 
 @pytest.mark.parametrize("args, message", [
@@ -342,3 +350,19 @@ def test_the_shipped_records_are_reproduced_by_their_script(tmp_path):
             for key, value in rec.values.items():
                 old = shipped[rec.name].values[key]
                 assert value == pytest.approx(old, rel=0.02, abs=1e-6), f"{case} {rec.name}: {key} {value} vs {old}"
+
+
+def test_a_calibration_of_one_key_of_a_record_keeps_the_record_s_other_keys(tmp_path):
+    """thermal.area_scale alone, where the case's applied record sets it with gas.flow and the per-test
+    gas flows: the new record holds those at the run's values, so the calibrated case still has its
+    gas flow (it was refused as 'gas.flow is missing' when the new record replaced the old one whole)."""
+    out = tmp_path / "cal"
+    res = runner.invoke(app, ["calibrate", MMG, "-p", "thermal.area_scale", "--tests", "4,5", "-r",
+                              "gas_outlet_temperature", "--out", str(out), "--json", "-q"])
+    assert res.exit_code == 0, res.output
+    rec = json.loads(res.stdout)["record"]
+    assert "gas.flow" in rec["held"] and "thermal.area_scale" not in rec["held"]
+    before = load_case(MMG, {"operating.test": 4})
+    after = load_case(str(out / f"{MMG}_calibrated.toml"), {"operating.test": 4})
+    assert after.gas.flow == before.gas.flow
+    assert after.thermal.area_scale == pytest.approx(rec["values"]["thermal.area_scale"])

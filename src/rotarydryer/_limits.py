@@ -29,7 +29,8 @@ import numpy as np
 from ._docblocks import sync_doc_block
 from ._validation import _interval, check_range
 
-__all__ = ["Limit", "LIMITS", "field_bounds", "check_key", "describe_limit", "limits_table", "DOC_BEGIN", "DOC_END"]
+__all__ = ["Limit", "LIMITS", "field_bounds", "check_key", "describe_limit", "limits_table", "key_unit", "DOC_BEGIN",
+           "DOC_END"]
 
 
 @dataclass(frozen=True)
@@ -171,3 +172,27 @@ if __name__ == "__main__":      # python -m rotarydryer._limits --update-docs [d
         print(limits_table(), end="")
     else:
         print(_update_docs(args[1] if len(args) > 1 else "docs/errors.md"))
+
+
+#: units of fitted parameters that are not case keys, and of the [[tests]] fields
+_OTHER_UNITS = {"scale": "signal x s", "baseline": "signal", "gas_flow": "kg/s", "fouling": "-"}
+
+
+def key_unit(name: str) -> str:
+    """The unit of a case key or fitted parameter (the tables of ``fit`` and ``calibrate``): a case
+    key's (`LIMITS`; ``-`` for a dimensionless key), a ``tests.N.FIELD`` the key FIELD sets, the
+    tracer scale or baseline; ``?`` where none is declared.
+
+    >>> key_unit("gas.flow"), key_unit("tests.4.solids_velocity"), key_unit("tests.*.fouling")
+    ('kg/s', 'm/s', '-')
+    """
+    field = name.split(".")[-1]
+    for key in (name, f"transport.{field}" if name.startswith("tests.") else None):
+        if key in LIMITS:
+            return LIMITS[key].unit or "-"
+    if field in _OTHER_UNITS:
+        return _OTHER_UNITS[field]
+    for key, lim in LIMITS.items():      # e.g. a key declared in another block
+        if key.endswith("." + field) and lim.unit:
+            return lim.unit
+    return "?"

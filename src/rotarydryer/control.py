@@ -546,13 +546,16 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             F_in = Fd + float(np.clip(v - v_T, vF[0], vF[1])) / mF.gain if cfg.feed_backup else Fd
             return T0 + v_T / mT.gain, F_in, vF
 
-        def ff_value(x, Fd, f):
-            """Feed-forward v for measured feed moisture x and feed rate Fd."""
+        def ff_value(x, Fd, f, extra=()):
+            """Feed-forward v for measured feed moisture x and feed rate Fd; ``extra``: the other
+            measured (scheduled) inputs, ``((plant name, value), ...)`` - drum speed, gas flow, gas
+            humidity, feed temperature - which the model-based feed-forward's steady states take too
+            (the linear one has no gains for them)."""
             dX = _dry_basis(x) - _dry_basis(base["feed_moisture"])
             v_lin = -(mX.gain * dX + mF.gain * (Fd - F0))
-            if cfg.feedforward != "model" or (abs(dX) < 1e-9 and abs(Fd - F0) < 1e-9 * F0):
+            if cfg.feedforward != "model" or (abs(dX) < 1e-9 and abs(Fd - F0) < 1e-9 * F0 and not extra):
                 return v_lin
-            key = (round(x, 9), round(Fd, 9))
+            key = (round(x, 9), round(Fd, 9), extra)
             if key not in ff_cache:   # steady-state (model-based) feed-forward: Brent on v for the setpoint
                 if progress:
                     progress(f"feed-forward: steady state for feed moisture {x:.4g}, feed rate {Fd:.4g} kg/s")
@@ -562,7 +565,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                     nonlocal zs
                     T_in, F_in, _ = split(v, Fd)
                     st = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x,
-                               fouling=base["fouling"]).steady_state(z0=zs)
+                               fouling=base["fouling"], **dict(extra)).steady_state(z0=zs)
                     zs = st.state
                     return outputs_of(st.dryer, st.state)[cv] - sp
                 tol = 0.05 * (cfg.tolerance or TOLERANCE[cv])
@@ -576,10 +579,14 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                     if abs(g_lin) < tol:
                         ff_cache[key] = v_lin
                     else:
-                        g_0 = g(0.0)
-                        a, ga, b, gb = 0.0, g_0, v_lin, g_lin
-                        limit = (hi_all if v_lin > 0 else lo_all)
-                        while ga * gb > 0.0 and abs(b) < abs(limit):
+                        g_0 = g_lin if v_lin == 0.0 else g(0.0)
+                        # a disturbance without a linear gain (a scheduled gas flow, speed...): v is a shift
+                        # in y-units, so -(y - setpoint) is the first-order guess
+                        b = v_lin if v_lin != 0.0 else -g_0
+                        gb = g_lin if v_lin != 0.0 else g(b)
+                        a, ga = 0.0, g_0
+                        limit = (hi_all if b > 0 else lo_all)
+                        while ga * gb > 0.0 and 0.0 < abs(b) < abs(limit):
                             a, ga, b = b, gb, float(np.clip(2.0 * b, min(limit, 0.0), max(limit, 0.0)))
                             gb = g(b)
                         if ga * gb > 0.0:   # out of range: the actuators' limit
@@ -587,8 +594,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                         else:
                             from scipy.optimize import brentq
 
-                            ff_cache[key] = brentq(g, min(a, b), max(a, b), xtol=1e-3 * abs(v_lin) + 1e-12,
-                                                   maxiter=30)
+                            ff_cache[key] = brentq(g, min(a, b), max(a, b), xtol=1e-3 * abs(b) + 1e-12, maxiter=30)
                 except ValueError:   # no steady state at these inputs: fall back to the linear feed-forward
                     ff_cache[key] = v_lin
             return ff_cache[key]
@@ -619,8 +625,8 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         if controlled:
             v_ff = 0.0
             if cfg.feedforward != "off":
-                ff_buf.append((x, Fd))
-                v_ff = ff_value(*ff_buf[max(0, len(ff_buf) - 1 - int(round(ff_delay / ts)))], f)
+                ff_buf.append((x, Fd, f, tuple(sorted((k, round(float(v), 12)) for k, v in extra.items()))))
+                v_ff = ff_value(*ff_buf[max(0, len(ff_buf) - 1 - int(round(ff_delay / ts)))])
             vF = split(0.0, Fd)[2]
             lo, hi = vT[0] + vF[0], vT[1] + vF[1]
             if pi is not None:

@@ -21,8 +21,8 @@ from .apptest_support import goto, open_app  # noqa: E402
 SHIPPED = ["ajayi2011_mmg", "lee2008_invicta", "song2003_ottawa"]
 #: page -> the key of its case selectbox (pages without a case: None)
 CASE_PAGES = {"Transport and RTD": "case", "Whole dryer": "dryer_case", "Studies and sensitivity": "studies_case",
-              "Control": "control_case"}
-CASE_PICKER_PAGES = ("page_transport", "page_dryer", "page_studies", "page_control")
+              "Control": "control_case", "Calibration": "calibration_case"}
+CASE_PICKER_PAGES = ("page_transport", "page_dryer", "page_studies", "page_control", "page_calibration")
 
 
 def test_every_shipped_case_is_tested():
@@ -88,6 +88,8 @@ def _exercise(at, page, where, buttons=False):
         at.button(key="control_run").click().run()
         _ok(at, where)
         assert any(m.label.startswith("Peak error, closed") for m in at.metric), where
+    elif page == "Calibration":
+        assert at.info and at.sidebar.multiselect, where     # "press Run ..." and the choices
     elif page == "Design":
         if not buttons:
             assert at.info, where

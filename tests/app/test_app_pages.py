@@ -17,16 +17,16 @@ from .apptest_support import goto, open_app  # noqa: E402
 HEADINGS = {"Flight geometry": "Flight geometry explorer", "Transport and RTD": "Solids transport and residence time",
             "Whole dryer": "Whole dryer", "Studies and sensitivity": "Studies and sensitivity",
             "Design": "Size a dryer for a duty", "Control": "Control: closed loop on the dynamic model",
-            "Lab data": "Laboratory data"}
+            "Calibration": "Calibration: fit case keys to the plant data", "Lab data": "Laboratory data"}
 
 
 def test_every_page_has_its_own_address():
     assert [url for _, url, _ in PAGES.values()] == ["geometry", "transport", "whole_dryer", "studies", "design",
-                                                    "control", "lab"]
+                                                    "control", "calibration", "lab"]
     assert list(PAGES) == list(HEADINGS)
     at = open_app(timeout=300)
     assert [t.value for t in at.title] == ["Flight geometry explorer"]          # the landing page
-    for title in ("Design", "Lab data", "Flight geometry", "Control"):
+    for title in ("Design", "Lab data", "Flight geometry", "Control", "Calibration"):
         goto(at, title)
         assert not at.exception, (title, [e.value for e in at.exception])
         assert [t.value for t in at.title] == [HEADINGS[title]]                # only this page's widgets

@@ -28,11 +28,11 @@ def test_whatif_points_are_the_library_steady_states():
         s = Simulation("ajayi2011_mmg", {"operating.feed_rate": row["operating.feed_rate"]}).steady_state().summary()
         assert row["product_moisture_kg_kg"] == pytest.approx(s["product_moisture_kg_kg"], rel=1e-9)
         assert row["gas_outlet_temperature_degC"] == pytest.approx(s["gas_outlet_temperature_degC"], rel=1e-9)
-        assert row["fuel_rate_kg_h"] == pytest.approx(s["fuel_rate_kg_s"] * 3600, rel=1e-9)
-        assert row["mean_residence_time_min"] == pytest.approx(s["mean_residence_time_s"] / 60, rel=1e-9)
+        assert row["fuel_rate_kg_s"] == pytest.approx(s["fuel_rate_kg_s"], rel=1e-9)   # the summary's names, SI
+        assert row["mean_residence_time_s"] == pytest.approx(s["mean_residence_time_s"], rel=1e-9)
     assert w["rows"][1]["product_moisture_kg_kg"] > w["rows"][0]["product_moisture_kg_kg"]
     header = w["csv"].splitlines()[0].split(",")
-    assert header[0] == "operating.feed_rate" and header[-1] == "error" and "fuel_rate_kg_h" in header
+    assert header[0] == "operating.feed_rate" and header[-1] == "error" and "fuel_rate_kg_s" in header
 
 
 def test_whatif_limits_and_cli_messages():

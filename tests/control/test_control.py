@@ -78,15 +78,20 @@ def test_acceptance_feed_moisture_step_closed_vs_open(mmg):
     assert max(cl.series["gas_inlet_temperature_degC"]) <= 600.0
 
 
+def _models(feed_moisture_lag=(700.0, 200.0)):
+    """Hand-set FOPDT models of MMG test 4 (gains of `C.identify`'s order; dead time, time constant s)."""
+    return {"gas_inlet_temperature": {k: C.FOPDT(g, 400.0, 300.0) for k, g in
+                                      (("product_moisture", -1.2e-4), ("exhaust_temperature", 0.13))},
+            "feed_rate": {k: C.FOPDT(g, 400.0, 400.0) for k, g in
+                          (("product_moisture", 1.1e-3), ("exhaust_temperature", -2.0))},
+            "feed_moisture_dry": {k: C.FOPDT(g, *feed_moisture_lag) for k, g in
+                                  (("product_moisture", 0.76), ("exhaust_temperature", 110.0))}}
+
+
 def test_closed_loop_short_run_and_warning(mmg):
     """A short run with a hand-set gain beyond the FOPDT+PI stability limit warns; the limits hold."""
     d, ss = mmg
-    models = {"gas_inlet_temperature": {k: C.FOPDT(g, 400.0, 300.0) for k, g in
-                                        (("product_moisture", -1.2e-4), ("exhaust_temperature", 0.13))},
-              "feed_rate": {k: C.FOPDT(g, 400.0, 400.0) for k, g in
-                            (("product_moisture", 1.1e-3), ("exhaust_temperature", -2.0))},
-              "feed_moisture_dry": {k: C.FOPDT(g, 700.0, 200.0) for k, g in
-                                    (("product_moisture", 0.76), ("exhaust_temperature", 110.0))}}
+    models = _models()
     cfg = C.ControlConfig(kc=50.0, feedforward="linear", sample_time_s=120.0)
     with pytest.warns(C.ControlWarning, match="unstable"):
         r = C.closed_loop(d, ss, scenario="feed_rate_step", magnitude=0.1, t_end_s=600.0, t_step_s=0.0,
@@ -134,3 +139,23 @@ def test_schedule_in_place_of_a_scenario_is_the_same_run(mmg):
     assert by_schedule.series["product_moisture_kg_kg"][-1] > by_schedule.series["product_moisture_kg_kg"][0]
     with pytest.raises(ValueError, match="manipulated input"):
         C.closed_loop(d, ss, schedule=InputSchedule({"gas_inlet_temperature": ((60.0, 400.0),)}), t_end_s=600.0)
+
+
+def test_model_feedforward_sees_a_scheduled_gas_flow(mmg):
+    """A scheduled step of the gas flow (a measured disturbance with no FOPDT gain): the model-based
+    feed-forward moves the gas temperature at once by its steady state with the new flow (the
+    linear one has no gain for it and stays at zero; review of issue 31)."""
+    from rotarydryer.thermal.schedule import InputSchedule
+
+    d, ss = mmg
+    models = _models(feed_moisture_lag=(400.0, 300.0))
+    sched = InputSchedule.from_events({"step": [{"input": "gas_flow", "at_s": 120,
+                                                 "value": 0.8 * d.settings.gas_flow}]})
+    runs = {}
+    for ff in ("model", "linear"):
+        cfg = C.ControlConfig(feedforward=ff, feedback=False, sample_time_s=120.0, measurement_dead_time_s=0.0)
+        runs[ff] = C.closed_loop(d, ss, schedule=sched, t_end_s=360.0, t_step_s=120.0, models=models, config=cfg)
+    t_gas = runs["model"].series["gas_inlet_temperature_degC"]
+    assert t_gas[0] == pytest.approx(d.settings.gas_inlet_temperature)
+    assert t_gas[-1] > d.settings.gas_inlet_temperature + 5.0          # less gas: hotter to keep the moisture
+    np.testing.assert_allclose(runs["linear"].series["gas_inlet_temperature_degC"], d.settings.gas_inlet_temperature)

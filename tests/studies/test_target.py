@@ -269,3 +269,72 @@ def test_slsqp_probe_without_a_steady_state_does_not_abort(monkeypatch):
     assert all(c["met"] for c in res.conditions) if res.found else res.notes
     if res.found:
         assert res.values["gas.inlet_temperature"] <= 590.0
+
+
+def test_default_tolerance_has_an_absolute_floor_for_a_target_of_zero():
+    """A target of 0 (a dew-point margin of 0 K, 0 degC) is met within the quantity's floor, not 1e-9."""
+    from rotarydryer.studies.target import ABSOLUTE_TOL, default_tol
+
+    assert default_tol("gas_outlet_dew_point_margin_K", 0.0) == ABSOLUTE_TOL["temperature_difference"]
+    assert default_tol("product_temperature_degC", 0.0) == ABSOLUTE_TOL["temperature"]
+    assert default_tol(MOISTURE, 0.0) == ABSOLUTE_TOL["moisture"]
+    assert default_tol("fill_fraction", 0.0) == 1e-9
+    assert default_tol(MOISTURE, 0.12) == pytest.approx(1.2e-5)           # 1e-4 of the value above the floor
+    assert default_tol("shell_heat_loss_W", 0.0) == ABSOLUTE_TOL["power"]
+
+
+class _Analytic:
+    """Steady states of an analytic plant: y1 = a + b, y2 = a - b (a = feed rate, b = gas temperature / 100)."""
+
+    def __init__(self, case, overrides):
+        self.overrides = dict(overrides)
+
+    def steady_state(self, warm=None):
+        a = self.overrides.get(FEED, 30.0)
+        b = self.overrides.get("gas.inlet_temperature", 500.0) / 100.0
+        out = {"y1_kg": a + b, "y2_kg": a - b}
+
+        class R:
+            def summary(self):
+                return out
+
+            def warm_data(self):
+                return None
+        return R()
+
+
+def test_projected_newton_keeps_an_input_at_its_bound_and_moves_the_others(monkeypatch):
+    """The targets' solution lies outside the bounds of the gas temperature (b = 7, bound 6): projected
+    Newton holds b at its bound and finds the least-squares a of the residuals scaled by the targets
+    ((a + 6 - 30) / 30, (a - 6 - 16) / 16: a = 22.443), where a clipped step bends the direction."""
+    import rotarydryer.studies.target as T
+
+    monkeypatch.setattr(T, "Simulation", _Analytic)
+    res = solve_targets(CASE, [f"{FEED}=10,40", "gas.inlet_temperature=300,600"], ["y1_kg=30", "y2_kg=16"])
+    assert not res.found and res.active_bounds == {"gas.inlet_temperature": "hi"}
+    assert res.values["gas.inlet_temperature"] == pytest.approx(600.0)
+    a = (24 / 30**2 + 22 / 16**2) / (1 / 30**2 + 1 / 16**2)
+    assert res.values[FEED] == pytest.approx(a, abs=1e-6)
+    # inside the bounds the same iteration meets both
+    ok = solve_targets(CASE, [f"{FEED}=10,40", "gas.inlet_temperature=300,600"], ["y1_kg=30", "y2_kg=20"])
+    assert ok.found and ok.values[FEED] == pytest.approx(25.0) and ok.values["gas.inlet_temperature"] == pytest.approx(500.0)
+
+
+def test_one_input_optimum_shares_its_steady_states(monkeypatch):
+    """Every condition's search and the answer run on one evaluator: the bounds' steady states are
+    computed once (two conditions, the same bracket) and the answer is warm-started."""
+    import rotarydryer.studies.target as T
+
+    calls = []
+
+    class Counting(_Analytic):
+        def steady_state(self, warm=None):
+            calls.append((self.overrides[FEED], warm))
+            return super().steady_state(warm)
+
+    monkeypatch.setattr(T, "Simulation", Counting)
+    res = optimum(CASE, [f"{FEED}=10,40"], FEED, ["y1_kg<=30", "y2_kg<=40"])
+    assert res.found and res.values[FEED] == pytest.approx(25.0, abs=1e-6)
+    feeds = [f for f, _ in calls]
+    assert feeds.count(10.0) == 1 and feeds.count(40.0) == 1
+    assert res.evaluations == len(calls)

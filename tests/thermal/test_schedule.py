@@ -70,6 +70,8 @@ def test_csv_first_point_away_from_the_case_value_is_a_step():
     ("time_s,oven_temperature\n0,1\n", "unknown input 'oven_temperature'"),
     ("when,feed_rate\n0,1\n", "first column must be time_s"),
     ("time_s,feed_rate\n0,abc\n", "line 2 feed_rate: 'abc' is not a number"),
+    # the file's own line number, comment and blank lines counted
+    ("# a burner trip\ntime_s,feed_rate\n\n# first point\n0,30\n60,abc\n", "line 6 feed_rate: 'abc' is not a number"),
     ("time_s,feed_rate\n10,1\n5,2\n", "must not decrease"),
     ("time_s,gas_inlet_temperature,burner_fuel_rate\n0,500,0.2\n", "not both"),
     ("", "empty schedule"),

@@ -30,6 +30,7 @@ PAGES = {"Flight geometry": ("page_geometry", "geometry", ":material/donut_large
          "Studies and sensitivity": ("page_studies", "studies", ":material/query_stats:"),
          "Design": ("page_design", "design", ":material/architecture:"),
          "Control": ("page_control", "control", ":material/tune:"),
+         "Calibration": ("page_calibration", "calibration", ":material/straighten:"),
          "Lab data": ("page_lab", "lab", ":material/science:")}
 
 

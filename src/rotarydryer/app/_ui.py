@@ -15,6 +15,7 @@ from typing import Literal
 
 import streamlit as st
 
+from .._display import display_units, show_output
 from . import logic
 
 log = logging.getLogger("rotarydryer.app")
@@ -126,10 +127,11 @@ def case_number(container, label: str, case: str, case_key: str, value, step=Non
 
 
 def metric_row(spec: list[tuple[str, str]], values: dict) -> None:
-    """One row of metrics across the page: a column for each ``(label, template)`` of ``spec``,
-    showing ``template.format(**values)`` (``"{holdup_kg:,.0f} kg"``)."""
-    for col, (label, template) in zip(st.columns(len(spec)), spec):
-        col.metric(label, template.format(**values))
+    """One row of metrics across the page: a column for each ``(label, what)`` of ``spec``: an
+    output name of ``values`` (shown in its display unit, `rotarydryer._display.show_output`), or a
+    template with braces, ``template.format(**values)``."""
+    for col, (label, what) in zip(st.columns(len(spec)), spec):
+        col.metric(label, what.format(**values) if "{" in what else show_output(what, values[what]))
 
 
 @contextmanager
@@ -158,3 +160,11 @@ def progress_box(label: str, fraction=None):
         raise
     bar.progress(1.0, text="done")
     box.update(label=f"{label} done in {time.monotonic() - t0:.0f} s", state="complete", expanded=False)
+
+
+def display_note() -> str:
+    """The display units of the text (``moisture %, fuel kg/h, ...``; ``ROTARYDRYER_UNITS`` or the
+    config file's ``[display]``, `rotarydryer._display`), for the sidebar."""
+    u = display_units()
+    return ", ".join(f"{q.replace('_', ' ')} {u[q]}" for q in ("moisture", "temperature", "mass_flow", "fuel_flow",
+                                                              "power", "time"))

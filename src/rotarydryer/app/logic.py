@@ -14,8 +14,11 @@ from __future__ import annotations
 import hashlib
 import io
 import math
+import tempfile
 import threading
 from collections import OrderedDict
+from contextlib import contextmanager
+from pathlib import Path
 
 import numpy as np
 
@@ -175,6 +178,24 @@ def _load(case: str, overrides: dict | None = None):
     return load_case(case, overrides)
 
 
+@contextmanager
+def case_source(case: str):
+    """``with case_source(case) as src:`` a name or path the library's loaders read: a built-in
+    name as it is, an uploaded case as a temporary .toml file (removed afterwards)."""
+    if not _is_upload(case):
+        _load(case)                 # a known built-in name (refuses anything else)
+        yield case
+        return
+    with _staged_lock:
+        text = _staged.get(case)
+    if text is None:
+        raise ValueError("the uploaded case file is no longer held by the server; upload it again")
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "uploaded_case.toml"
+        path.write_text(text, encoding="utf-8")
+        yield str(path)
+
+
 def _check_builtin(case) -> None:
     from ..cases import list_cases
 
@@ -316,8 +337,8 @@ def transport_view(case: str, feed_rate: float, rpm: float, slope: float, images
         "results": res,
         "metrics": {
             "total_holdup_kg": s["total_holdup_kg"],
-            "mean_residence_time_min": s["mean_residence_time_s"] / 60.0,
-            "rtd_std_min": s["rtd_std_s"] / 60.0,
+            "mean_residence_time_s": s["mean_residence_time_s"],
+            "rtd_std_s": s["rtd_std_s"],
             "cells_over": int(s["cells_over"]), "cells_design": int(s["cells_design"]),
             "cells_under": int(s["cells_under"]),
         },

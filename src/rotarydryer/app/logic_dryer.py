@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from .._display import to_display
 from .logic import _load, png
 
 __all__ = ["NoThermalModel", "operating_inputs", "study_inputs", "plant_tests", "dryer_view", "results_of",
@@ -226,7 +227,7 @@ def _profiles_csv(th) -> str:
 def profile_rows(profiles: dict, measured: dict | None = None, co_current: bool = True) -> list[dict]:
     """The axial profiles of ``profiles`` (``ThermalSteadyState.profiles()``) as long-format rows
     for an interactive chart: ``{"quantity": "temperature" | "moisture" | "humidity", "series",
-    "section", "position_m", "value", "measured": bool}`` (gas temperature and humidity per gas
+    "section", "position_m", "value" (in its display unit, `rotarydryer._display`), "measured": bool}`` (gas temperature and humidity per gas
     stage; solids temperature and moisture per tank, one series per phase: bed, passive, active);
     with ``measured`` (`_measured`), the plant's values at the ends as in the PNG figure (gas
     in and out, product temperature, feed and product moisture)."""
@@ -234,7 +235,7 @@ def profile_rows(profiles: dict, measured: dict | None = None, co_current: bool 
     rows = []
 
     def add(quantity, series, section, x, y, meas=False):
-        y = float(y)
+        y = to_display(y, quantity)         # the display unit of the quantity (rotarydryer._display)
         if math.isfinite(y):
             rows.append({"quantity": quantity, "series": series, "section": str(section),
                          "position_m": float(x), "value": y, "measured": meas})
@@ -275,19 +276,10 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     th = steady.thermal
     s = steady.summary()
     burner = has_burner(c)
-    fuel = s.get("fuel_rate_kg_s")
     measured = _measured(c)
-    metrics = {
-        "product_moisture_kg_kg": s["product_moisture_kg_kg"],
-        "product_temperature_degC": s["product_temperature_degC"],
-        "gas_outlet_temperature_degC": s["gas_outlet_temperature_degC"],
-        "specific_energy_kJ_kg_water": s["specific_energy_kJ_kg_water"],
-        "thermal_efficiency": s["thermal_efficiency"],
-        "mean_residence_time_min": s["mean_residence_time_s"] / 60.0,
-        "evaporation_kg_s": s["evaporation_kg_s"],
-        "heat_input_kW": s["heat_input_W"] / 1e3,
-        "fuel_rate_kg_h": None if fuel is None else fuel * 3600.0,
-    }
+    metrics = {k: s.get(k) for k in ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
+                                      "specific_energy_kJ_kg_water", "thermal_efficiency", "mean_residence_time_s",
+                                      "evaporation_kg_s", "heat_input_W", "fuel_rate_kg_s")}
     out = {"summary": s, "metrics": metrics, "energy_terms_w": th.energy_terms_w,
            "energy_table": energy_table(th.energy_terms_w), "measured": measured, "has_burner": burner,
            "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import math
 import tempfile
-from contextlib import contextmanager
 from pathlib import Path
 
-from .logic import _is_upload, _load, _staged, _staged_lock
+from .._display import to_display
+from .logic import _load, case_source
 
 __all__ = ["TARGET_INPUTS", "TARGET_OUTPUTS", "TARGET_OPERATORS", "SCHEDULE_PRESETS", "CUSTOM_CSV", "find_spec",
            "run_target_view", "preset_schedule", "run_schedule_view", "schedule_fraction"]
@@ -33,24 +33,6 @@ CUSTOM_CSV = "Custom CSV upload"
 SCHEDULE_PRESETS = [TRIP, FEED_STEP, CUSTOM_CSV]
 #: bytes of an uploaded schedule CSV
 MAX_SCHEDULE_BYTES = 200_000
-
-
-@contextmanager
-def case_source(case: str):
-    """``with case_source(case) as src:`` a name or path the library's loaders read: a built-in
-    name as it is, an uploaded case as a temporary .toml file (removed afterwards)."""
-    if not _is_upload(case):
-        _load(case)                 # a known built-in name (refuses anything else)
-        yield case
-        return
-    with _staged_lock:
-        text = _staged.get(case)
-    if text is None:
-        raise ValueError("the uploaded case file is no longer held by the server; upload it again")
-    with tempfile.TemporaryDirectory() as d:
-        path = Path(d) / "uploaded_case.toml"
-        path.write_text(text, encoding="utf-8")
-        yield str(path)
 
 
 def _check_thermal(case: str, overrides: dict):
@@ -141,8 +123,9 @@ def schedule_fraction(message: str) -> float | None:
 def run_schedule_view(case: str, overrides: dict, preset: str, t_end: float = 7200.0, dt: float = 60.0,
                       csv_bytes: bytes | None = None, progress=None) -> dict:
     """A scheduled run from the steady state: ``{"csv": str, "rows": long-format chart rows
-    (time_min, quantity "moisture"/"temperature", series, value), "summary": ScheduleResult.summary(),
-    "max_moisture_pct", "max_moisture_min", "final_moisture_pct", "inputs": names}``."""
+    (time, quantity "moisture"/"temperature", series, value; in the display units of `rotarydryer._display`),
+    "summary": ScheduleResult.summary(), "start_moisture_kg_kg", "max_moisture_kg_kg", "max_moisture_time_s",
+    "final_moisture_kg_kg", "time_above_start_s", "inputs": names}``."""
     from ..simulation import Simulation
 
     t_end, dt = float(t_end), float(dt)
@@ -158,18 +141,18 @@ def run_schedule_view(case: str, overrides: dict, preset: str, t_end: float = 72
     n = len(res.time_s)
     rows = []
     o = res.outlets
-    for i, t in enumerate(res.time_s):
-        tm = float(t) / 60.0
-        rows.append({"time_min": tm, "quantity": "moisture", "series": "product moisture",
-                     "value": 100.0 * float(o["product_moisture"][i])})
-        rows.append({"time_min": tm, "quantity": "temperature", "series": "product",
-                     "value": float(o["product_temperature"][i])})
-        rows.append({"time_min": tm, "quantity": "temperature", "series": "exhaust gas",
-                     "value": float(o["exhaust_temperature"][i])})
+    for i, t in enumerate(res.time_s):       # the chart's values in the display units (_display)
+        tm = to_display(t, "time")
+        rows.append({"time": tm, "quantity": "moisture", "series": "product moisture",
+                     "value": to_display(o["product_moisture"][i], "moisture")})
+        rows.append({"time": tm, "quantity": "temperature", "series": "product",
+                     "value": to_display(o["product_temperature"][i], "temperature")})
+        rows.append({"time": tm, "quantity": "temperature", "series": "exhaust gas",
+                     "value": to_display(o["exhaust_temperature"][i], "temperature")})
     s = res.summary()
     pm = s["product_moisture_kg_kg"]
     return {"csv": res.csv_text(), "rows": rows, "summary": s, "inputs": list(res.inputs),
-            "max_moisture_pct": 100.0 * pm["max"], "max_moisture_min": pm["max_time_s"] / 60.0,
-            "start_moisture_pct": 100.0 * pm["start"], "final_moisture_pct": 100.0 * pm["final"],
-            "time_above_start_min": res.time_above("product_moisture", pm["start"] + 1e-4) / 60.0,
+            "max_moisture_kg_kg": pm["max"], "max_moisture_time_s": pm["max_time_s"],
+            "start_moisture_kg_kg": pm["start"], "final_moisture_kg_kg": pm["final"],
+            "time_above_start_s": res.time_above("product_moisture", pm["start"] + 1e-4),
             "points": n, "seconds": float(res.seconds)}

@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from .._display import UNITS, quantity_of, unit_of
 from .._io import csv_text
 from .logic import _is_upload, _load, png
 from .logic_dryer import _check_thermal, study_inputs
@@ -31,16 +32,25 @@ MAX_PARAMS = 4
 #: base sample counts offered (powers of 2, as Saltelli's design wants)
 SAMPLE_CHOICES = (4, 8, 16, 32)
 
-#: outputs of the studies: (summary name, column of the what-if table, label, unit shown, factor
-#: from the summary's unit to the column's)
+#: outputs of the studies: (summary name, label); the what-if rows and CSV keep the summary's names
+#: and SI values, the page's table and figure show them in the display units (rotarydryer._display)
 STUDY_OUTPUTS = (
-    ("product_moisture_kg_kg", "product_moisture_kg_kg", "product moisture", "kg/kg wet", 1.0),
-    ("gas_outlet_temperature_degC", "gas_outlet_temperature_degC", "gas outlet temperature", "degC", 1.0),
-    ("fuel_rate_kg_s", "fuel_rate_kg_h", "fuel rate", "kg/h", 3600.0),
-    ("mean_residence_time_s", "mean_residence_time_min", "mean residence time", "min", 1 / 60.0),
-    ("product_temperature_degC", "product_temperature_degC", "product temperature", "degC", 1.0),
-    ("specific_energy_kJ_kg_water", "specific_energy_kJ_kg_water", "specific energy", "kJ/kg water", 1.0),
+    ("product_moisture_kg_kg", "product moisture (wet)"),
+    ("gas_outlet_temperature_degC", "gas outlet temperature"),
+    ("fuel_rate_kg_s", "fuel rate"),
+    ("mean_residence_time_s", "mean residence time"),
+    ("product_temperature_degC", "product temperature"),
+    ("specific_energy_kJ_kg_water", "specific energy (per kg of water)"),
 )
+
+
+def display_column(name: str, label: str) -> tuple[str, float, float]:
+    """``(column title with its display unit, scale, offset)`` of a study output: the display value
+    is SI x scale + offset (`rotarydryer._display`)."""
+    quantity, factor = quantity_of(name)
+    unit = unit_of(quantity)
+    scale, offset = UNITS[quantity][unit]
+    return f"{label} ({unit})", scale * factor, offset
 
 
 def _input_spec(case: str, key: str) -> dict:
@@ -90,7 +100,7 @@ def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, i
 
     Both ends are checked first (the CLI's messages); a point the model cannot solve (e.g. an
     overfilled drum) is kept as a row with its ``error`` and left out of the plot. Returns
-    ``{"rows": [{key, output columns..., error}], "outputs": [(name, column, label, unit, factor)], "csv": str,
+    ``{"rows": [{key, outputs by their summary names (SI)..., error}], "outputs": [(name, label)], "csv": str,
     "plot": png, "failed": n}``.  ``progress(done, total)`` is called before the first point and
     after each."""
     spec = _input_spec(case, key)
@@ -109,12 +119,12 @@ def whatif_view(case: str, key: str, low: float, high: float, points: int = 5, i
         row: dict[str, float | str | None] = {key: float(v)}
         try:
             s = _summary(case, {key: float(v)})
-            for name, col, _, _, f in outs:
+            for name, _ in outs:
                 val = s.get(name)
-                row[col] = None if val is None else float(val) * f
+                row[name] = None if val is None else float(val)
             row["error"] = ""
         except (ValueError, ArithmeticError) as exc:     # one bad point never ends the study
-            row.update({col: None for _, col, *_ in outs})
+            row.update({name: None for name, _ in outs})
             row["error"] = " ".join(str(exc).split())
         rows.append(row)
         if progress:
@@ -138,11 +148,12 @@ def _whatif_figure(rows, key, label, outs):
     nrow = int(math.ceil(n / ncol))
     fig, axes = plt.subplots(nrow, ncol, figsize=(10, 2.6 * nrow + 0.4), squeeze=False, constrained_layout=True)
     x = np.array([r[key] for r in rows], float)
-    for ax, (_, col, lab, unit, _) in zip(axes.flat, outs):
-        y = np.array([np.nan if r.get(col) is None else r[col] for r in rows], float)
+    for ax, (name, lab) in zip(axes.flat, outs):
+        title, scale, offset = display_column(name, lab)
+        y = np.array([np.nan if r.get(name) is None else r[name] * scale + offset for r in rows], float)
         ok = np.isfinite(y)
         ax.plot(x[ok], y[ok], "o-", ms=4)
-        ax.set_title(f"{lab} ({unit})", fontsize=9)
+        ax.set_title(title, fontsize=9)
         ax.set_xlabel(label, fontsize=8)
         ax.tick_params(labelsize=8)
         ax.grid(alpha=0.3)

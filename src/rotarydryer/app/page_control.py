@@ -9,6 +9,7 @@ settling time, the SIMC tuning.  Bad input gives the CLI's messages
 
 import streamlit as st
 
+from .._display import show, show_delta, unit_of
 from . import logic_control as L
 from ._runs import Kept
 from ._ui import case_picker, heavy, number, plain, progress_box, refuse
@@ -119,28 +120,32 @@ def render():
     except Exception as exc:
         refuse("Cannot run", exc)
     p, o, t = r["performance"], r["open"], r["tuning"]
-    scale, unit = (100.0, "pp") if r["measured"] == "product_moisture" else (1.0, "K")
+    quantity = "moisture" if r["measured"] == "product_moisture" else "temperature"
+    unit = show_delta(0.0, quantity).split(" ", 1)[1]      # pp, kg/kg, K or degF (rotarydryer._display)
+    t_unit = unit_of("time")
 
     def settle(x):
-        return "never" if x["settling_time_s"] is None else f"{x['settling_time_s'] / 60:.0f}"
-    st.caption(plain(f"{args[1]}: setpoint {r['setpoint']:.4g}, disturbance at {r['step_time_s']:g} s; "
-                     f"tolerance +-{scale * p['tolerance']:g} {unit}"))
+        return "never" if x["settling_time_s"] is None else show(x["settling_time_s"], "time", with_unit=False)
+    st.caption(plain(f"{args[1]}: setpoint {show(r['setpoint'], quantity)}, disturbance at {r['step_time_s']:g} s; "
+                     f"tolerance +-{show_delta(p['tolerance'], quantity)}"))
     c = st.columns(5)
-    c[0].metric(f"Peak error, closed ({unit})", f"{scale * p['max_abs_deviation']:.3g}",
+    c[0].metric(f"Peak error, closed ({unit})", show_delta(p["max_abs_deviation"], quantity, with_unit=False),
                 help="largest |measured - setpoint| after the disturbance")
-    c[1].metric(f"Peak error, open ({unit})", "-" if o is None else f"{scale * o['max_abs_deviation']:.3g}")
-    c[2].metric("Settling, closed (min)", settle(p),
+    c[1].metric(f"Peak error, open ({unit})", "-" if o is None else show_delta(o["max_abs_deviation"], quantity,
+                                                                               with_unit=False))
+    c[2].metric(f"Settling, closed ({t_unit})", settle(p),
                 help="time after the disturbance until the deviation stays within the tolerance")
-    c[3].metric("Settling, open (min)", "-" if o is None else settle(o))
+    c[3].metric(f"Settling, open ({t_unit})", "-" if o is None else settle(o))
     c[4].metric("Controller gain Kc", f"{t['kc']:.3g}", help=f"{t['rule']}; tau_I = {t['tau_i_s']:.0f} s, "
                                                             f"gain margin {t['gain_margin']:.2f}")
     iae = f"IAE closed loop {p['iae']:.4g}" + ("" if o is None else f", open loop {o['iae']:.4g}") + ". "
     st.markdown(plain(iae + f"Tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, gain margin "
                       f"{t['gain_margin']:.2f}, feed-forward {t['feedforward']} (delay "
                       f"{t['feedforward_delay_s']:.0f} s). Manipulated: gas inlet "
-                      f"{r['ranges']['gas_inlet_temperature_degC'][0]:.0f}-"
-                      f"{r['ranges']['gas_inlet_temperature_degC'][1]:.0f} degC, feed "
-                      f"{r['ranges']['feed_rate_kg_s'][0]:.2f}-{r['ranges']['feed_rate_kg_s'][1]:.2f} kg/s."))
+                      f"{show(r['ranges']['gas_inlet_temperature_degC'][0], 'temperature', with_unit=False)}-"
+                      f"{show(r['ranges']['gas_inlet_temperature_degC'][1], 'temperature')}, feed "
+                      f"{show(r['ranges']['feed_rate_kg_s'][0], 'mass_flow', with_unit=False)}-"
+                      f"{show(r['ranges']['feed_rate_kg_s'][1], 'mass_flow')}."))
     for w in r["warnings"]:
         st.warning(plain(w))
     st.image(r["plot"], caption="Controlled variable, product temperature and manipulated variables "

@@ -9,6 +9,7 @@ infeasible duty give the CLI's messages (`rotarydryer.app.logic_design`).
 
 import streamlit as st
 
+from .._display import show
 from . import logic_design as L
 from ._runs import Kept
 from ._ui import PERSIST, heavy, number, plain, progress_box, refuse
@@ -128,16 +129,17 @@ def render():
     c[4].metric("Drum volume", f"{b['volume_m3']:.1f} m3")
     st.markdown(f"**Binding constraints** (slack under 3 %): {plain(', '.join(r['binding']) or 'none')}. "
                 f"Slope {b['slope_deg']:.2f} deg; fuel {b['fuel_per_kg_water_MJ']:.2f} MJ/kg water; gas "
-                f"{b['gas_flow_kg_s']:.2f} kg/s, exhaust {b['gas_outlet_temperature_degC']:.1f} degC; "
+                f"{show(b['gas_flow_kg_s'], 'mass_flow')}, exhaust {show(b['gas_outlet_temperature_degC'], 'temperature')}; "
                 f"{r['evaluations']} evaluations in {r['seconds']:.1f} s.")
     ver = r.get("verification")
     if ver is not None:
         if "error" in ver:
             st.warning(f"Coupled-model check failed: {plain(ver['error'])}")
         else:
-            msg = (f"Coupled model (Lee 2008 transport): product moisture {ver['product_moisture_kg_kg']:.4g} kg/kg "
-                   f"wet, target {r['duty']['moisture_out']:g}: {'met' if ver['target_met'] else 'NOT met'}; "
-                   f"exhaust {ver['gas_outlet_temperature_degC']:.1f} degC, holdup {ver['total_holdup_kg']:.0f} kg.")
+            msg = (f"Coupled model (Lee 2008 transport): product moisture {show(ver['product_moisture_kg_kg'], 'moisture')} "
+                   f"wet, target {show(r['duty']['moisture_out'], 'moisture')}: "
+                   f"{'met' if ver['target_met'] else 'NOT met'}; exhaust "
+                   f"{show(ver['gas_outlet_temperature_degC'], 'temperature')}, holdup {show(ver['total_holdup_kg'], 'mass')}.")
             (st.success if ver["target_met"] else st.warning)(msg)
             if "next_round_infeasible" in ver:
                 st.caption(plain("With the Ua lowered to what the coupled model achieves: "

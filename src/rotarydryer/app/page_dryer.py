@@ -16,6 +16,7 @@ import hashlib
 
 import streamlit as st
 
+from .._display import show, show_output, unit_of
 from . import logic_dryer, logic_dryer_runs
 from ._ui import case_picker, deferred, heavy, number, plain, progress_box, refuse
 
@@ -41,8 +42,8 @@ def _stem(case):
 
 
 #: the interactive profile charts: (quantity of logic_dryer.profile_rows, y axis title, read-out format)
-_PROFILE_CHARTS = [("temperature", "temperature (°C)", ".1f"), ("moisture", "solids moisture (kg/kg wet)", ".4f"),
-                   ("humidity", "gas humidity (kg/kg dry gas)", ".4f")]
+_PROFILE_CHARTS = [("temperature", "temperature ({})", ".1f"), ("moisture", "solids moisture ({} wet)", ".4g"),
+                   ("humidity", "gas humidity ({} dry gas)", ".4g")]
 
 
 #: colours of the profile series, as in the PNG figure (gas red, solids bed black, passive blue, active cyan)
@@ -132,21 +133,23 @@ def render():
         st.caption(plain(r["title"]))
     m = r["metrics"]
     c = st.columns(4)
-    c[0].metric("Product moisture", f"{m['product_moisture_kg_kg']:.4f} kg/kg", help="wet basis")
-    c[1].metric("Product temperature", f"{m['product_temperature_degC']:.1f} °C")
-    c[2].metric("Gas outlet temperature", f"{m['gas_outlet_temperature_degC']:.1f} °C")
-    c[3].metric("Mean residence time", f"{m['mean_residence_time_min']:.2f} min", help="holdup / product flow")
+    c[0].metric("Product moisture", show_output("product_moisture_kg_kg", m["product_moisture_kg_kg"]), help="wet basis")
+    c[1].metric("Product temperature", show_output("product_temperature_degC", m["product_temperature_degC"]))
+    c[2].metric("Gas outlet temperature", show_output("gas_outlet_temperature_degC", m["gas_outlet_temperature_degC"]))
+    c[3].metric("Mean residence time", show_output("mean_residence_time_s", m["mean_residence_time_s"]),
+                help="holdup / product flow")
     c = st.columns(4)
-    c[0].metric("Specific energy", _fmt(m["specific_energy_kJ_kg_water"], "{:,.0f} kJ/kg"),
+    c[0].metric("Specific energy", show_output("specific_energy_kJ_kg_water", m["specific_energy_kJ_kg_water"]),
                 help="heat put into the gas per kg of water evaporated")
     c[1].metric("Thermal efficiency", _fmt(m["thermal_efficiency"], "{:.1%}"),
                 help="evaporation x latent heat / heat put into the gas")
-    c[2].metric("Evaporation", f"{m['evaporation_kg_s']:.4g} kg/s")
+    c[2].metric("Evaporation", show_output("evaporation_kg_s", m["evaporation_kg_s"]))
     if r["has_burner"]:
-        c[3].metric("Fuel rate", _fmt(m["fuel_rate_kg_h"], "{:,.0f} kg/h"),
+        c[3].metric("Fuel rate", show_output("fuel_rate_kg_s", m["fuel_rate_kg_s"]),
                     help=r["fuel_rate_error"] or "fuel the case's burner needs to heat the gas to its inlet temperature")
     else:
-        c[3].metric("Heat input", f"{m['heat_input_kW']:,.1f} kW", help="no burner in this case: heat put into the gas")
+        c[3].metric("Heat input", show_output("heat_input_W", m["heat_input_W"]),
+                    help="no burner in this case: heat put into the gas")
     tabs = st.tabs(["Temperature and moisture profiles", "Energy balance"]
                    + ([f"Model and plant data (test {r['measured']['test']})"] if r["measured"] else []))
     with tabs[0]:
@@ -156,7 +159,8 @@ def render():
         for quantity, title, fmt in _PROFILE_CHARTS:
             rows = [row for row in r["profile_rows"] if row["quantity"] == quantity]
             if rows:
-                st.altair_chart(_profile_chart(rows, title, fmt), width="stretch", key=f"dryer_chart_{quantity}")
+                st.altair_chart(_profile_chart(rows, title.format(unit_of(quantity)), fmt), width="stretch",
+                                key=f"dryer_chart_{quantity}")
         st.download_button("Download the profiles figure (PNG)", r["profiles"], file_name=f"{_stem(case)}_profiles.png",
                            mime="image/png", key="dryer_dl_png")
     with tabs[1]:
@@ -167,13 +171,12 @@ def render():
     if r["measured"]:
         with tabs[2]:
             mm, s = r["measured"], r["summary"]
-            st.table({"quantity": ["product moisture (kg/kg wet)", "product temperature (°C)",
-                                   "gas outlet temperature (°C)"],
-                      "model": [f"{s['product_moisture_kg_kg']:.4f}", f"{s['product_temperature_degC']:.1f}",
-                                f"{s['gas_outlet_temperature_degC']:.1f}"],
-                      f"measured (test {mm['test']})": [f"{mm.get('moisture_out', float('nan')):.4f}",
-                                                        f"{mm.get('product_c', float('nan')):.1f}",
-                                                        f"{mm.get('gas_out_c', float('nan')):.1f}"]})
+            names = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC")
+            plant = (mm.get("moisture_out", float("nan")), mm.get("product_c", float("nan")),
+                     mm.get("gas_out_c", float("nan")))
+            st.table({"quantity": ["product moisture (wet)", "product temperature", "gas outlet temperature"],
+                      "model": [show_output(n, s[n]) for n in names],
+                      f"measured (test {mm['test']})": [show_output(n, v) for n, v in zip(names, plant)]})
             st.caption("Measured: Ajayi (2011) Tables 3.5-3.11 (PI means of the test); the model runs at the "
                        "operating variables in the sidebar.")
     stem = _stem(case)
@@ -272,14 +275,15 @@ def _schedule_chart(rows, quantity, title):
     import pandas as pd
 
     df = pd.DataFrame([r for r in rows if r["quantity"] == quantity])
-    hover = alt.selection_point(fields=["time_min"], nearest=True, on="mouseover", clear="mouseout", empty=False)
-    x = alt.X("time_min:Q", title="time (min)")
+    t_unit = unit_of("time")
+    hover = alt.selection_point(fields=["time"], nearest=True, on="mouseover", clear="mouseout", empty=False)
+    x = alt.X("time:Q", title=f"time ({t_unit})")
     base = alt.Chart(df).encode(x=x, y=alt.Y("value:Q", title=title, scale=alt.Scale(zero=False)),
                                 color=alt.Color("series:N", title=None, legend=alt.Legend(orient="right")))
     lines = base.mark_line()
     points = base.mark_circle(size=60).encode(
         opacity=alt.condition(hover, alt.value(1.0), alt.value(0.0)),
-        tooltip=[alt.Tooltip("series:N", title="series"), alt.Tooltip("time_min:Q", title="time (min)", format=".1f"),
+        tooltip=[alt.Tooltip("series:N", title="series"), alt.Tooltip("time:Q", title=f"time ({t_unit})", format=".1f"),
                  alt.Tooltip("value:Q", title=title, format=".3f")]).add_params(hover)
     rule = alt.Chart(df).mark_rule(color="gray", strokeDash=[4, 3]).encode(x=x).transform_filter(hover)
     return alt.layer(lines, points, rule).properties(height=240).interactive(bind_y=False)
@@ -315,13 +319,13 @@ def _schedule_panel(case, shown, overrides):
     res = _kept("schedule", key)
     if res is None:
         return
-    st.markdown(f"Product moisture: {res['start_moisture_pct']:.2f} % wet at the start, maximum "
-                f"**{res['max_moisture_pct']:.2f} %** at {res['max_moisture_min']:.1f} min, "
-                f"{res['final_moisture_pct']:.2f} % at the end; above the start for "
-                f"{res['time_above_start_min']:.1f} min.")
-    st.altair_chart(_schedule_chart(res["rows"], "moisture", "product moisture (% wet)"), width="stretch",
-                    key="dryer_sched_chart_moisture")
-    st.altair_chart(_schedule_chart(res["rows"], "temperature", "temperature (°C)"), width="stretch",
-                    key="dryer_sched_chart_temperature")
+    st.markdown(f"Product moisture: {show(res['start_moisture_kg_kg'], 'moisture')} wet at the start, maximum "
+                f"**{show(res['max_moisture_kg_kg'], 'moisture')}** at {show(res['max_moisture_time_s'], 'time')}, "
+                f"{show(res['final_moisture_kg_kg'], 'moisture')} at the end; above the start for "
+                f"{show(res['time_above_start_s'], 'time')}.")
+    st.altair_chart(_schedule_chart(res["rows"], "moisture", f"product moisture ({unit_of('moisture')} wet)"),
+                    width="stretch", key="dryer_sched_chart_moisture")
+    st.altair_chart(_schedule_chart(res["rows"], "temperature", f"temperature ({unit_of('temperature')})"),
+                    width="stretch", key="dryer_sched_chart_temperature")
     st.download_button("Download the schedule run (CSV)", res["csv"], file_name=f"{_stem(case)}_schedule.csv",
                        mime="text/csv", key="dryer_sched_dl_csv")

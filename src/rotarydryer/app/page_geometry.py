@@ -18,7 +18,7 @@ def _geometry(*args):
 
 
 #: the row of metrics: (label, template of the value, formatted with the view's "metrics")
-_METRICS = [("Design load (Lee 2008)", "{design_load_kg:,.0f} kg"),
+_METRICS = [("Design load (Lee 2008)", "design_load_kg"),
             ("Mean fall height", "{mean_fall_height_m:.3f} m"),
             ("Mean fall time", "{mean_fall_time_s:.3f} s"),
             ("Passive time", "{passive_time_s:.2f} s")]

@@ -56,8 +56,9 @@ def _sensitivity(case, params, samples, seed, progress=None):
 
 def _rows_table(rows, key, outs):
     table = {key: [f"{r[key]:.5g}" for r in rows]}
-    for _, col, label, unit, _ in outs:
-        table[f"{label} ({unit})"] = ["-" if r.get(col) is None else f"{r[col]:.5g}" for r in rows]
+    for name, label in outs:
+        title, scale, offset = logic_studies.display_column(name, label)
+        table[title] = ["-" if r.get(name) is None else f"{r[name] * scale + offset:.5g}" for r in rows]
     if any(r["error"] for r in rows):
         table["error"] = [r["error"] for r in rows]
     return table

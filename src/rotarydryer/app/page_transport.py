@@ -24,10 +24,10 @@ def _transport(case, feed, rpm, slope):
     return out  # the report and the netCDF file are built only when downloaded
 
 
-#: the row of metrics: (label, template of the value, formatted with the view's "metrics")
-_METRICS = [("Total holdup", "{total_holdup_kg:,.0f} kg"),
-            ("Mean residence time H/F", "{mean_residence_time_min:.2f} min"),
-            ("RTD standard deviation", "{rtd_std_min:.2f} min"),
+#: the row of metrics: (label, output name of the view's "metrics" or a template of them)
+_METRICS = [("Total holdup", "total_holdup_kg"),
+            ("Mean residence time H/F", "mean_residence_time_s"),
+            ("RTD standard deviation", "rtd_std_s"),
             ("Cells over / design / under", "{cells_over} / {cells_design} / {cells_under}")]
 
 

@@ -2,8 +2,8 @@
 
 The pages are modules of `rotarydryer.app` with a ``render()`` (`rotarydryer.app.PAGES`): flight
 geometry (``page_geometry``), transport and RTD (``page_transport``), whole dryer, studies,
-design, control and lab data.  Each page has its own address (``st.navigation`` with one
-``st.Page`` per page: /transport, /whole_dryer, /studies, /design, /control, /lab; the flight
+design, control, calibration and lab data.  Each page has its own address (``st.navigation`` with one
+``st.Page`` per page: /transport, /whole_dryer, /studies, /design, /control, /calibration, /lab; the flight
 geometry, the landing page, at /), so a page can be bookmarked or linked and the browser's Back
 and Forward buttons move between pages.  The page files are in `rotarydryer.app.entries`
 (one line each: the page module's ``render()``).  This script draws the navigation and the
@@ -23,7 +23,7 @@ from pathlib import Path
 import streamlit as st
 
 from rotarydryer.app import PAGES, logic
-from rotarydryer.app._ui import plain
+from rotarydryer.app._ui import display_note, plain
 
 # no exception types, messages or tracebacks in the browser, even for an error this script
 # does not catch (also set on the command line of ``rotarydryer app``)
@@ -34,7 +34,7 @@ ENTRIES = Path(__file__).with_name("entries")
 
 page = st.navigation([st.Page(ENTRIES / f"{url}.py", title=title, url_path=url, icon=icon, default=i == 0)
                       for i, (title, (_, url, icon)) in enumerate(PAGES.items())])
-st.sidebar.caption("rotarydryer: flighted rotary dryer simulator. Units: SI, angles in deg.")
+st.sidebar.caption(f"rotarydryer: flighted rotary dryer simulator. Display units: {display_note()}; angles in deg.")
 
 # The one failure boundary of every page: an exception a page does not catch itself shows an
 # error box with a one-line reason (the message of an input error, else a generic sentence; the

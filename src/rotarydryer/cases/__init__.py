@@ -25,12 +25,12 @@ from typing import Annotated, Any, Literal, Optional
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from .._limits import LIMITS, describe_limit, field_bounds
-from .calibration import CalibrationRecord, apply_calibrations, record_problems
+from .calibration import CalibrationRecord, applied_calibrations, apply_calibrations, record_problems
 
 __all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
            "valid_override_keys", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
-           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES"]
+           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations"]
 
 # ---- ceilings of the model size (docs/app_threat_model.md) -------------------------------
 #: cells + finite volumes of one case, all sections together (transport model)
@@ -876,6 +876,12 @@ def _schema_default(cls, key: str):
     for part in rest:
         value = getattr(value, part, None)
     return value
+
+
+def case_calibrations(case) -> list[CalibrationRecord]:
+    """The ``[[calibrations]]`` records that apply to a validated case (one of each group of records
+    setting overlapping keys; `rotarydryer.cases.calibration`)."""
+    return applied_calibrations(case, lambda key: _schema_default(DryerCase, key))
 
 
 def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -> None:

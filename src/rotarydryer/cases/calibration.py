@@ -30,7 +30,7 @@ from typing import Any, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-__all__ = ["CalibrationRecord", "CalibrationData", "CalibrationWarning", "apply_calibrations",
+__all__ = ["CalibrationRecord", "CalibrationData", "CalibrationWarning", "apply_calibrations", "applied_calibrations",
            "configuration_value", "select_calibrations", "PredictiveRangeWarning", "TEST_KEY_PREFIX", "record_problems"]
 
 #: prefix of a record value that sets a field of one [[tests]] row: tests.<test>.<field>
@@ -86,6 +86,9 @@ class CalibrationRecord(_Strict):
                                                    "the calibration holds for (e.g. geometry.method = 'exact')")
     values: dict[str, Union[bool, float, str]] = Field(min_length=1, max_length=1000, description="fitted values of case keys "
                                      "(tests.<test>.<field> for a [[tests]] row)")
+    held: list[str] = Field(default=[], max_length=1000, description="keys of values that were not fitted but held "
+                            "at the run's value (those of the calibration this one supersedes): a record applies "
+                            "whole, so it carries every key of its group")
     intervals: dict[str, list[float]] = Field(default={}, max_length=1000, description="95 % interval [low, high] of values")
     interval_method: str = Field(default="", max_length=100, description="wald | profile | published")
     correlation: Optional[Correlation] = None
@@ -117,6 +120,9 @@ class CalibrationRecord(_Strict):
         extra = sorted(set(self.intervals) - set(self.values))
         if extra:
             raise ValueError(f"intervals of {', '.join(extra)} but no value of them in values")
+        extra = sorted(set(self.held) - set(self.values))
+        if extra:
+            raise ValueError(f"held keys {', '.join(extra)} are not keys of values")
         if self.correlation is not None:
             extra = sorted(set(self.correlation.keys) - set(self.values))
             if extra:
@@ -283,6 +289,13 @@ def select_calibrations(records: list[CalibrationRecord], raw: dict, defaults):
         best = min(group, key=lambda i: (len(diffs[i]), -i))
         chosen.append((records[best], diffs[best]))
     return chosen
+
+
+def applied_calibrations(case, defaults) -> list[CalibrationRecord]:
+    """The records of a validated ``case`` that apply to it (`select_calibrations` on its values):
+    one of each group of records setting overlapping keys. ``defaults(key)``: a key's schema default."""
+    raw = case.model_dump()
+    return [rec for rec, _ in select_calibrations(list(case.calibrations), raw, defaults)]
 
 
 def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, file_raw: dict | None = None) -> list[str]:

@@ -45,9 +45,21 @@ def main(
     version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                  help="Print the version and exit."),
     debug: bool = typer.Option(False, "--debug", help="Show Python tracebacks (for developers)."),
+    units: str = typer.Option(None, "--units", metavar="QUANTITY=UNIT,...",
+                              help="Display units of the text output, e.g. moisture=kg/kg,mass_flow=t/h,power=MW "
+                                   "(also ROTARYDRYER_UNITS or [display] in ~/.config/rotarydryer/config.toml; "
+                                   "JSON and CSV stay SI)."),
 ):
     """Flighted rotary dryer simulator (rotarydryer)."""
     DEBUG["on"] = bool(debug) or bool(os.environ.get("ROTARYDRYER_DEBUG"))
+    from .._display import display_units, set_display_units
+
+    try:        # checked once, before any command: a bad choice is refused even where only JSON is printed
+        set_display_units(units)
+        display_units()
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
 
 
 def error_message(exc: BaseException) -> str:

@@ -73,14 +73,9 @@ def check_out_file(option: str, out, suffixes=None) -> None:
         raise ValueError(f"{option} {str(p)!r}: cannot create the file, {str(q)!r} is a file")
 
 
-def stderr_progress(msg: str) -> None:
-    """Progress lines of the long commands (design, control, fmu) on stderr: the library takes a
-    ``progress`` callback and never prints."""
-    print(msg, file=sys.stderr, flush=True)
-
-
 class Progress:
-    """The one progress style of the long commands (fit, design, sweep), on stderr so that stdout
+    """The one progress style of the long commands (fit, calibrate, design, sweep, sensitivity, dynamics,
+    control, validate, fmu), on stderr so that stdout
     stays clean for --json and tables.
 
     ``label k/n[: note]``: on a terminal one line updated in place (with a bar when the total is

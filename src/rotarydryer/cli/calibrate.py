@@ -7,37 +7,9 @@ from typing import Optional
 
 import typer
 
+from .._limits import key_unit
 from . import app
-from ._common import check_out_dir, parse_sets, stderr_progress
-
-
-def _tests(text: Optional[str]):
-    if text is None:
-        return None
-    out = []
-    for part in text.split(","):
-        part = part.strip()
-        if not part.lstrip("-").isdigit():
-            raise ValueError(f"--tests {text!r}: expected test numbers separated by commas, e.g. 2,3,4")
-        out.append(int(part))
-    if not out:
-        raise ValueError("--tests: give at least one test number")
-    return out
-
-
-def _sigmas(items: Optional[list[str]]) -> dict:
-    out = {}
-    for item in items or []:
-        if "=" not in item:
-            raise ValueError(f"--sigma {item!r}: expected RESPONSE=VALUE, e.g. gas_outlet_temperature=5")
-        k, v = (s.strip() for s in item.split("=", 1))
-        try:
-            out[k] = float(v)
-        except ValueError:
-            raise ValueError(f"--sigma {item!r}: {v!r} is not a number") from None
-        if not out[k] > 0 or out[k] != out[k] or out[k] == float("inf"):
-            raise ValueError(f"--sigma {k} = {v}: a standard deviation must be a finite number > 0")
-    return out
+from ._common import Progress, check_out_dir, parse_sets
 
 
 @app.command("calibrate", short_help="Calibrate case keys to the measurements of many tests.")
@@ -60,6 +32,7 @@ def calibrate_command(
     out: Optional[Path] = typer.Option(None, help="Directory for calibration.toml (the record), "
                                        "calibration.json and CASE_calibrated.toml (the case with the record)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Calibrate case keys to tracer curves, residence times, holdups, exhaust and product
     temperatures and product moisture of one or many tests at once, and write the calibration
@@ -70,47 +43,25 @@ def calibrate_command(
       rotarydryer calibrate ajayi2011_mmg -p "tests.*.solids_velocity" -p "tests.*.dispersion" --tests 2,4,5,6 -r tracer -r mrt --out cal
       rotarydryer calibrate ajayi2011_mmg -p thermal.area_scale -p "tests.*.gas_flow" -p thermal.discharge_cooling_ntu --tests 2,3,4,5,6
     """
-    import warnings
-
     from .._io import json_text, output_set, write_text_atomic
     from ..estimation import FitError
-    from ..estimation.calibrate import calibrate, record_toml
+    from ..services.calibration import parse_sigmas, parse_tests, run_calibration
 
     try:
         check_out_dir("--out", out)
         base = parse_sets(set_)
-        sel = _tests(tests)
-        sig = _sigmas(sigma)
-        if name is not None and not 0 < len(name.strip()) <= 200:
-            raise ValueError("--name must have 1-200 characters")
+        sel = parse_tests(tests)
+        sig = parse_sigmas(sigma)
 
-        def progress(stage, k, n):
-            stderr_progress(f"{stage} {k}/{n} done")
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            cal = calibrate(case, param, tests=sel, responses=response or None, base_overrides=base, sigmas=sig,
-                            n_starts=starts, profile=profile, progress=progress)
-            record = cal.record(name=name)
-            text = record_toml(record)
-            calibrated = None
-            if out is not None:
-                src = Path(case)
-                if src.suffix == ".toml" and src.exists():
-                    case_text = src.read_text("utf-8")
-                else:
-                    from importlib import resources
-
-                    case_text = (resources.files("rotarydryer.cases") / f"{case}.toml").read_text("utf-8")
-                calibrated = case_text.rstrip("\n") + "\n\n# ---- appended by rotarydryer calibrate ----\n" + text
-                from ..cases import load_case_text
-
-                load_case_text(calibrated, "the calibrated case")      # the new file loads, or nothing is written
+        with Progress("calibrate", quiet=quiet) as bar:
+            run = run_calibration(case, param, tests=sel, responses=response or None, base_overrides=base,
+                                  sigmas=sig, starts=starts, profile=profile, name=name,
+                                  progress=lambda stage, k, n: bar.update(k, n or None, label=stage))
     except (ValueError, FitError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
-    result = cal.to_dict()
-    result["record"] = record.model_dump(exclude_none=True)
+    cal, text, calibrated = run.calibration, run.record_text, run.calibrated_case_text
+    result = run.to_dict()
     if out is not None:
         stem = Path(case).stem
         try:
@@ -131,12 +82,14 @@ def calibrate_command(
                f"({sum(m.y.size for m in cal.data)} values), objective {r.objective:.6g}, "
                f"{r.n_evaluations} evaluations, {cal.seconds:.1f} s")
     w = max(len(k) for k in cal.keys)
-    typer.echo(f"  {'parameter':<{w}}  {'estimate':>12}  {'95% interval':>29}")
+    units = {k: key_unit(k) for k in cal.keys}
+    wu = max(4, *(len(u) for u in units.values()))
+    typer.echo(f"  {'parameter':<{w}}  {'unit':<{wu}}  {'estimate':>12}  {'95% interval':>29}")
     for k in cal.keys:
         p = r.parameters[k]
         lo, hi = (cal.profiles[k].ci_low, cal.profiles[k].ci_high) if cal.profiles.get(k) is not None else \
             (p.ci_low, p.ci_high)
-        typer.echo(f"  {k:<{w}}  {p.value:12.6g}  [{lo:12.6g}, {hi:12.6g}]")
+        typer.echo(f"  {k:<{w}}  {units[k]:<{wu}}  {p.value:12.6g}  [{lo:12.6g}, {hi:12.6g}]")
     typer.echo("fit to the data:")
     for row in cal.comparison():
         if row["response"] == "tracer":

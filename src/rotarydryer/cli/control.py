@@ -7,10 +7,11 @@ from typing import Optional
 
 import typer
 
+from .._display import show, show_delta
 from .._io import json_text
 from ..services.control import check_control_options, run_control
 from . import app
-from ._common import check_out_dir, parse_sets, stderr_progress
+from ._common import Progress, check_out_dir, parse_sets
 
 
 @app.command("control", short_help="Closed-loop run (PI + feed-forward) under a disturbance or a schedule.")
@@ -46,12 +47,13 @@ def control(
     open_loop: bool = typer.Option(True, "--open-loop/--no-open-loop", help="Also run the uncontrolled plant."),
     out: Optional[Path] = typer.Option(None, help="Directory for control.json, control.csv and control.png."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Closed-loop simulation of the dynamic coupled model under a disturbance: PI feedback
     (velocity form, anti-windup, SIMC tuning from identified FOPDT step-response models,
     Skogestad 2003) and feed-forward from the measured feed moisture and feed rate (Ajayi 2011
     Ch. 7), manipulating the gas inlet temperature and, in split range, the feed rate. Prints
-    IAE, maximum deviation, overshoot and settling time, closed vs open loop; progress on stderr.
+    IAE, maximum deviation, overshoot and settling time, closed vs open loop; progress on stderr (--quiet: none).
 
     \b
     Examples:
@@ -73,12 +75,13 @@ def control(
                                       feed_min_fraction)
     check_out_dir("--out", out)
 
-    closed, opened = run_control(Simulation(case, parse_sets(set_)), case, scenario=scenario, magnitude=magnitude,
-                                 duration=duration, step_time=step_time, sample_time=sample_time,
-                                 dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
-                                 tau_c=tau_c, feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
-                                 gas_t_max=gas_t_max, gas_t_min=gas_t_min, feed_min_fraction=feed_min_fraction,
-                                 open_loop=open_loop, progress=stderr_progress, schedule=schedule)
+    with Progress("control", quiet=quiet) as bar:
+        closed, opened = run_control(Simulation(case, parse_sets(set_)), case, scenario=scenario, magnitude=magnitude,
+                                     duration=duration, step_time=step_time, sample_time=sample_time,
+                                     dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
+                                     tau_c=tau_c, feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
+                                     gas_t_max=gas_t_max, gas_t_min=gas_t_min, feed_min_fraction=feed_min_fraction,
+                                     open_loop=open_loop, progress=bar.message, schedule=schedule)
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:
@@ -95,24 +98,24 @@ def control(
         typer.echo(json_text(result))
         return
     cp = closed.performance
-    scale, unit = (100.0, "pp") if measured == "product_moisture" else (1.0, "K")
+    quantity = "moisture" if measured == "product_moisture" else "temperature"
     t = closed.tuning
     what = f"schedule {schedule.name}" if schedule is not None else f"{scenario} ({magnitude:+g})"
     step_time = closed.scenario["t_step_s"]
-    typer.echo(f"{case}: {what} at t = {step_time:g} s, {measured} setpoint "
-               f"{closed.setpoint:.4g}, sample {sample_time:g} s, dead time {dead_time:g} s")
+    typer.echo(f"{case}: {what} at t = {show(step_time, 'time')}, {measured} setpoint "
+               f"{show(closed.setpoint, quantity)}, sample {sample_time:g} s, dead time {dead_time:g} s")
     typer.echo(f"  tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, "
                f"gain margin {t['gain_margin']:.2f}, feed-forward {t['feedforward']} (delay {t['feedforward_delay_s']:.0f} s)")
     for name, p in (("closed loop", cp), ("open loop", opened.performance if opened is not None else None)):
         if p is None:
             continue
-        st = "never" if p["settling_time_s"] is None else f"{p['settling_time_s']:.0f} s"
-        typer.echo(f"  {name:<11}  max |e| {scale * p['max_abs_deviation']:.3g} {unit}, IAE {p['iae']:.4g}, "
-                   f"overshoot {p['overshoot_pct']:.0f} %, settling {st}, within +-{scale * p['tolerance']:g} {unit}: "
+        st = "never" if p["settling_time_s"] is None else show(p["settling_time_s"], "time")
+        typer.echo(f"  {name:<11}  max |e| {show_delta(p['max_abs_deviation'], quantity)}, IAE {p['iae']:.4g}, "
+                   f"overshoot {p['overshoot_pct']:.0f} %, settling {st}, within +-{show_delta(p['tolerance'], quantity)}: "
                    f"{'yes' if p['within_tolerance'] else 'no'}")
     s = closed.series
-    typer.echo(f"  manipulated: gas inlet T {min(s['gas_inlet_temperature_degC']):.0f}-"
-               f"{max(s['gas_inlet_temperature_degC']):.0f} degC, feed {min(s['feed_rate_kg_s']):.2f}-"
-               f"{max(s['feed_rate_kg_s']):.2f} kg/s")
+    typer.echo(f"  manipulated: gas inlet T {show(min(s['gas_inlet_temperature_degC']), 'temperature', with_unit=False)}-"
+               f"{show(max(s['gas_inlet_temperature_degC']), 'temperature')}, feed "
+               f"{show(min(s['feed_rate_kg_s']), 'mass_flow', with_unit=False)}-{show(max(s['feed_rate_kg_s']), 'mass_flow')}")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")

@@ -8,6 +8,7 @@ from typing import Optional
 
 import typer
 
+from .._display import show
 from .._io import json_text
 from ..services.design import design_duty, design_limits
 from . import app
@@ -155,11 +156,13 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
         else:
             if len(ver["rounds"]) > 1:
                 typer.echo("verification rounds (Ua factor -> product moisture): " + ", ".join(
-                    f"{r['ua_factor']:.3g} -> {r.get('product_moisture_kg_kg', float('nan')):.4g}" for r in ver["rounds"]))
+                    f"{r['ua_factor']:.3g} -> {show(r.get('product_moisture_kg_kg', float('nan')), 'moisture')}"
+                    for r in ver["rounds"]))
             typer.echo(f"verification (coupled model, Lee 2008 transport): product moisture "
-                       f"{ver['product_moisture_kg_kg']:.4g} kg/kg wet (target {d.moisture_out:g}: "
-                       f"{'met' if ver['target_met'] else 'NOT met'}), exhaust {ver['gas_outlet_temperature_degC']:.1f} "
-                       f"degC, holdup {ver['total_holdup_kg']:.0f} kg")
+                       f"{show(ver['product_moisture_kg_kg'], 'moisture')} wet (target {show(d.moisture_out, 'moisture')}: "
+                       f"{'met' if ver['target_met'] else 'NOT met'}), exhaust "
+                       f"{show(ver['gas_outlet_temperature_degC'], 'temperature')}, holdup "
+                       f"{show(ver['total_holdup_kg'], 'mass')}")
             if "next_round_infeasible" in ver:
                 typer.echo("  with the Ua lowered to what the coupled model achieves, the next search found no "
                            f"feasible probe: {_search_infeasible(ver['next_round_infeasible'])}")
@@ -201,14 +204,16 @@ def _verification_failure(ver, target, best=None) -> str:
         return msg + (f" ({_probe_text(best)} infeasible)" if best is not None else "")
     if not ver.get("target_met", True):
         return (f"the design's verification (coupled model) failed: product moisture "
-                f"{ver.get('product_moisture_kg_kg', float('nan')):.4g} kg/kg wet misses the target {target:g} "
+                f"{show(ver.get('product_moisture_kg_kg', float('nan')), 'moisture')} wet misses the target "
+                f"{show(target, 'moisture')} "
                 f"after {len(ver.get('rounds', []))} round(s) (--rounds); the design does not meet the duty")
     return ""
 
 
 def _table_text(d, res, wall):
-    lines = [f"duty: {d.material}, {d.feed_rate:g} kg/s, {d.moisture_in:g} -> {d.moisture_out:g} kg/kg wet, gas "
-             f"{d.gas_inlet_temperature:g} degC {d.direction}; objective {res.objective}; "
+    lines = [f"duty: {d.material}, {show(d.feed_rate, 'mass_flow')}, {show(d.moisture_in, 'moisture', with_unit=False)} -> "
+             f"{show(d.moisture_out, 'moisture')} wet, gas {show(d.gas_inlet_temperature, 'temperature')} {d.direction}; "
+             f"objective {res.objective}; "
              f"{res.evaluations} evaluations in {wall:.1f} s",
              f"{'#':>2} {'D m':>5} {'L m':>6} {'slope':>5} {'rpm':>5} {'Nf':>3} {'s1 m':>5} {'s2 m':>5} {'a2':>4} "
              f"{'V m3':>7} {'MJ/kg':>6} {'u m/s':>5} {'fill':>5} {'H/DL':>5}  binding"]
@@ -227,8 +232,9 @@ def _report(d, res, summary):
     rows = "\n".join(f"| {k} | {c[0]:.4g} | {c[2]} {c[1]:.4g} | {-c[3]:.1%} |" for k, c in b.constraints.items())
     return f"""# Dryer design report
 
-Duty: {d.material}, feed {d.feed_rate:g} kg/s wet, moisture {d.moisture_in:g} -> {d.moisture_out:g} kg/kg wet,
-gas {d.gas_inlet_temperature:g} degC {d.direction}, gas flow {v['gas_flow_kg_s']:.2f} kg/s.
+Duty: {d.material}, feed {show(d.feed_rate, 'mass_flow')} wet, moisture {show(d.moisture_in, 'moisture', with_unit=False)} ->
+{show(d.moisture_out, 'moisture')} wet, gas {show(d.gas_inlet_temperature, 'temperature')} {d.direction}, gas flow
+{show(v['gas_flow_kg_s'], 'mass_flow')}.
 Objective: {res.objective}. Search: SciPy differential evolution ({res.evaluations} evaluations) + Nelder-Mead.
 
 ## Best design
@@ -237,11 +243,11 @@ Drum D = {b.diameter_m:.2f} m, L = {b.length_m:.2f} m (L/D {b.length_m / b.diame
 {b.rpm:.2f} rpm ({v['speed_over_critical']:.0%} of the critical {v['critical_speed_rpm']:.1f} rpm);
 {b.n_flights} two-section flights s1 = {b.s1_m:.3f} m, s2 = {b.s2_m:.3f} m, alpha1 = 90 deg, alpha2 = {b.alpha2_deg:.0f} deg.
 
-Volume {v['volume_m3']:.1f} m3; evaporation {v['evaporation_kg_s']:.3f} kg/s; heat input {v['heat_input_W'] / 1e6:.2f} MW
-({v['heat_input_per_kg_water_J'] / 1e6:.2f} MJ/kg water); exhaust {v['gas_outlet_temperature_degC']:.1f} degC;
-Ua {v['volumetric_ua_W_m3K']:.0f} W/(m3 K) (McCormick 1962, Perry Sec. 12); mean residence time
-{v['mean_residence_time_s'] / 60:.1f} min (Perry & Green 1984); holdup {v['holdup_kg']:.0f} kg, design load
-{v['design_load_kg']:.0f} kg.
+Volume {v['volume_m3']:.1f} m3; evaporation {show(v['evaporation_kg_s'], 'mass_flow')}; heat input
+{show(v['heat_input_W'], 'power')} ({show(v['heat_input_per_kg_water_J'], 'specific_energy')} water); exhaust
+{show(v['gas_outlet_temperature_degC'], 'temperature')}; Ua {v['volumetric_ua_W_m3K']:.0f} W/(m3 K) (McCormick 1962,
+Perry Sec. 12); mean residence time {show(v['mean_residence_time_s'], 'time')} (Perry & Green 1984); holdup
+{show(v['holdup_kg'], 'mass')}, design load {show(v['design_load_kg'], 'mass')}.
 
 Binding constraints: {', '.join(b.binding()) or 'none'}.
 

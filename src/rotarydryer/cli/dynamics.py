@@ -8,14 +8,17 @@ from typing import Optional
 
 import typer
 
+from .._display import show, show_output
 from .._io import json_text
 from ..services.dynamics import dynamics_summary, parse_above, run_dynamics
 from . import app
-from ._common import check_out_dir, parse_sets
+from ._common import Progress, check_out_dir, parse_sets
 
 
-def _progress_printer(quiet: bool):
-    if quiet:
+def _progress_printer(bar: Progress):
+    """The run's progress messages through the one progress style (`Progress`), a line per tenth
+    of the simulated time where stderr is not a terminal."""
+    if bar.quiet:
         return None
     last = [-1]
 
@@ -26,10 +29,10 @@ def _progress_printer(quiet: bool):
                 tenth = int(10 * done / total) if total > 0 else 10
             except ValueError:
                 tenth = -2
-            if tenth == last[0]:
+            if tenth == last[0] and not bar.tty:
                 return
             last[0] = tenth
-        typer.echo(f"dynamics: {msg}", err=True)
+        bar.message(f"dynamics: {msg}")
     return show
 
 
@@ -73,7 +76,8 @@ def dynamics_cmd(
     threshold = parse_above(above)
     check_out_dir("--out", out)
     sim = Simulation(case, parse_sets(set_))
-    result = run_dynamics(sim, schedule, t_end=t_end, dt=dt, progress=_progress_printer(quiet))
+    with Progress("dynamics", quiet=quiet) as bar:
+        result = run_dynamics(sim, schedule, t_end=t_end, dt=dt, progress=_progress_printer(bar))
     summary = dynamics_summary(result, case, threshold)
     if out is not None:
         from .._io import output_set, save_figure, write_text_atomic
@@ -95,15 +99,12 @@ def dynamics_cmd(
     typer.echo(f"{case}: {summary['t_end_s']:g} s from the steady state, {src} "
                f"({', '.join(summary['scheduled_inputs']) or 'no input changed'}); {summary['points']} points, "
                f"{summary['integrations']} integration(s), {summary['seconds']:.1f} s")
-    units = {"product_moisture_kg_kg": (100.0, "% wet"), "product_temperature_degC": (1.0, "degC"),
-             "gas_outlet_temperature_degC": (1.0, "degC"), "gas_outlet_humidity_kg_kg": (1.0, "kg/kg"),
-             "total_holdup_kg": (1.0, "kg")}
     for name, s in summary["outlets"].items():
-        f, u = units[name]
-        typer.echo(f"  {name:<26} start {f * s['start']:.4g}, final {f * s['final']:.4g}, max {f * s['max']:.4g} "
-                   f"at {s['max_time_s'] / 60:.1f} min, min {f * s['min']:.4g} at {s['min_time_s'] / 60:.1f} min ({u})")
+        typer.echo(f"  {name:<26} start {show_output(name, s['start'])}, final {show_output(name, s['final'])}, "
+                   f"max {show_output(name, s['max'])} at {show(s['max_time_s'], 'time')}, "
+                   f"min {show_output(name, s['min'])} at {show(s['min_time_s'], 'time')}")
     if threshold is not None:
         ta = summary["time_above"]
-        typer.echo(f"  {ta['outlet']} above {ta['threshold']:g}: {ta['seconds'] / 60:.1f} min")
+        typer.echo(f"  {ta['outlet']} above {ta['threshold']:g}: {show(ta['seconds'], 'time')}")
     if out is not None:
         typer.echo(f"files: {', '.join(summary['files'])}")

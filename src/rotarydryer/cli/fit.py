@@ -7,6 +7,7 @@ from typing import Optional
 
 import typer
 
+from .._limits import key_unit
 from . import app
 from ._common import Progress, check_option, check_out_dir, load_tracer, parse_sets
 
@@ -130,7 +131,7 @@ def fit_command(
     typer.echo(f"fit of {case} to {data}: objective {r.objective:.6g}, R^2 {r.r_squared:.4f}, "
                f"{r.n_evaluations} model evaluations, {r.seconds:.1f} s")
     w = max(len(k) for k in r.parameters)
-    units = {k: parameter_unit(k) for k in r.parameters}
+    units = {k: key_unit(k) for k in r.parameters}
     wu = max(4, *(len(u) for u in units.values()))
     head = f"  {'parameter':<{w}}  {'unit':<{wu}}  {'estimate':>12}  {'95% CI (Wald)':>29}"
     typer.echo(head + (f"  {'95% CI (profile likelihood)':>29}" if profiles else ""))
@@ -149,27 +150,6 @@ def fit_command(
         typer.echo(f"  {k:<{w}}  " + " ".join(f"{x:+.3f}" for x in row))
     for msg in r.warnings:
         typer.echo(f"warning: {msg}")
-
-
-#: units of the fit parameters that are not case keys, and of the [[tests]] fields
-_OTHER_UNITS = {"scale": "signal x s", "baseline": "signal", "gas_flow": "kg/s", "fouling": "-"}
-
-
-def parameter_unit(name: str) -> str:
-    """The unit of a fitted parameter: a case key's (`rotarydryer._limits.LIMITS`; ``-`` for a
-    dimensionless key), a ``tests.N.FIELD`` the key FIELD sets, the tracer scale or baseline."""
-    from .._limits import LIMITS
-
-    field = name.split(".")[-1]
-    for key in (name, f"transport.{field}" if name.startswith("tests.") else None):
-        if key in LIMITS:
-            return LIMITS[key].unit or "-"
-    if field in _OTHER_UNITS:
-        return _OTHER_UNITS[field]
-    for key, lim in LIMITS.items():      # e.g. a key declared in another block
-        if key.endswith("." + field) and lim.unit:
-            return lim.unit
-    return "?"
 
 
 def _profile_figure(plt, profiles, r):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 from typing import Optional
 
@@ -48,6 +47,7 @@ def sensitivity(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Folder for sensitivity.json, the CSV tables "
                                                                 "and sensitivity.png."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as one JSON object."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Global sensitivity (Sobol first- and total-order indices with 95 % confidence intervals)
     and Monte Carlo output distributions of a case.
@@ -64,7 +64,7 @@ def sensitivity(
     from .._io import csv_text, json_text, output_set, save_figure, write_text_atomic
     from ..services._options import check_scheduler, check_workers
     from ..studies import sensitivity as sens
-    from ._common import check_out_dir, parse_sets
+    from ._common import Progress, check_out_dir, parse_sets
 
     try:
         sens.require_salib()
@@ -91,10 +91,9 @@ def sensitivity(
         typer.echo(f"warning: {note}", err=True)
     n_runs = n_samples * (len(params) + 2)
     try:
-        with typer.progressbar(length=n_runs, label=f"{n_runs} runs", file=sys.stderr,
-                               hidden=as_json or not sys.stderr.isatty()) as bar:
+        with Progress("run", n_runs, quiet=quiet) as bar:
             res = sens.sobol_study(case, params, n_samples, outputs, workers=n_workers, scheduler=scheduler,
-                                   base_overrides=base, seed=seed, warm_start=warm_start, progress=bar.update)
+                                   base_overrides=base, seed=seed, warm_start=warm_start, progress=bar.advance)
     except ImportError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(3)

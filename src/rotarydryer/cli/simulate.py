@@ -111,36 +111,37 @@ def simulate(
     if as_json:
         typer.echo(json_text(result))
         return
-    from .._display import fmt, fmt_error, fmt_moisture
+    from .._display import fmt_error, show, show_output
 
-    typer.echo(f"{case}: {model.name}, feed {fmt(result['feed_rate_kg_s'])} kg/s"
+    typer.echo(f"{case}: {model.name}, feed {show(result['feed_rate_kg_s'], 'mass_flow')}"
                + (" (transport, heat and mass)" if thermal_on else " (solids transport only)"))
     rows = [
-        ("total holdup", f"{result['total_holdup_kg']:,.0f} kg"),
-        ("  active (curtain)", f"{result['active_holdup_kg']:,.0f} kg"),
-        ("  passive (flights + floor)", f"{result['passive_holdup_kg']:,.0f} kg"),
-        ("  unflighted bed", f"{result['bed_holdup_kg']:,.0f} kg"),
-        ("outlet flow", f"{fmt(result['outlet_flow_kg_s'])} kg/s"),
-        ("mean residence time H/F", f"{result['mean_residence_time_s'] / 60:.2f} min"),
-        ("tracer mean / SD", f"{result['tracer_mean_s'] / 60:.2f} / {result['tracer_std_s'] / 60:.2f} min"),
+        ("total holdup", show_output("total_holdup_kg", result["total_holdup_kg"])),
+        ("  active (curtain)", show_output("active_holdup_kg", result["active_holdup_kg"])),
+        ("  passive (flights + floor)", show_output("passive_holdup_kg", result["passive_holdup_kg"])),
+        ("  unflighted bed", show_output("bed_holdup_kg", result["bed_holdup_kg"])),
+        ("outlet flow", show_output("outlet_flow_kg_s", result["outlet_flow_kg_s"])),
+        ("mean residence time H/F", show_output("mean_residence_time_s", result["mean_residence_time_s"])),
+        ("tracer mean / SD", f"{show(result['tracer_mean_s'], 'time', with_unit=False)} / "
+                             f"{show(result['tracer_std_s'], 'time')}"),
     ]
     if not thermal_on:
         rows.append(("mass balance error", f"{fmt_error(ss.mass_balance_error)} (relative)"))
     for name, h in ss.section_holdups().items():
-        rows.append((f"section {name}", f"{h['total_kg']:,.0f} kg"))
+        rows.append((f"section {name}", show(h["total_kg"], "mass")))
     if thermal is not None:
         rows += [
-            ("product moisture", f"{fmt_moisture(result['product_moisture_kg_kg'])} % wet basis"),
-            ("product temperature", f"{result['product_temperature_degC']:.1f} degC"),
-            ("gas outlet temperature", f"{result['gas_outlet_temperature_degC']:.1f} degC"),
-            ("evaporation", f"{result['evaporation_kg_s']:.4g} kg/s"),
-            ("shell heat loss", f"{result['shell_heat_loss_W'] / 1e3:.0f} kW"),
+            ("product moisture", f"{show_output('product_moisture_kg_kg', result['product_moisture_kg_kg'])} wet basis"),
+            ("product temperature", show_output("product_temperature_degC", result["product_temperature_degC"])),
+            ("gas outlet temperature", show_output("gas_outlet_temperature_degC", result["gas_outlet_temperature_degC"])),
+            ("evaporation", show_output("evaporation_kg_s", result["evaporation_kg_s"])),
+            ("shell heat loss", show_output("shell_heat_loss_W", result["shell_heat_loss_W"])),
             ("energy / water balance error", f"{fmt_error(result['energy_balance_error'])} / "
                                               f"{fmt_error(result['water_balance_error'])} (relative)"),
         ]
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"
-                         if result["fuel_rate_kg_s"] is None else f"{fmt(result['fuel_rate_kg_s'] * 3600)} kg/h"))
+                         if result["fuel_rate_kg_s"] is None else show_output("fuel_rate_kg_s", result["fuel_rate_kg_s"])))
     states = ss.loading_state
     rows.append(("cells over / design / under", f"{states.count('over')} / {states.count('design')} / "
                                             f"{states.count('under')}"))

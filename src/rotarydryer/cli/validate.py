@@ -9,7 +9,7 @@ import typer
 
 from .._io import json_text
 from . import app
-from ._common import check_out_dir, parse_sets, stderr_progress
+from ._common import Progress, check_out_dir, parse_sets
 
 
 def _one_line(exc: BaseException) -> str:
@@ -26,6 +26,7 @@ def validate(
                                              "overrides, e.g. thermal.area_scale=2.6."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for validation.json and validation.md."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Compare cases with every measured or published number they have, each against a tolerance
     written beforehand (rotarydryer/data/validation.toml: tolerance, kind, reason, source).
@@ -46,7 +47,8 @@ def validate(
     try:
         sets = parse_sets(set_)
         check_out_dir("--out", out)
-        report = run_validation(cases or None, sets, progress=stderr_progress)
+        with Progress("validate", quiet=quiet) as bar:
+            report = run_validation(cases or None, sets, progress=bar.message)
     except ValueError as exc:
         typer.echo(f"error: {_one_line(exc)}", err=True)
         raise typer.Exit(2)

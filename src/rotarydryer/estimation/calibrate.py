@@ -33,6 +33,7 @@ import numpy as np
 from .. import __version__
 from .._threads import single_threaded
 from ..cases import (
+    case_calibrations,
     exit_age_r_squared,
     load_case,
     measured_exit_age,
@@ -312,8 +313,9 @@ def _run_overrides(base: dict, values: Mapping[str, float], test: int | None) ->
 class _Model:
     """values -> {measurement name: prediction}; one warm heat-and-mass model per test."""
 
-    def __init__(self, case_name: str, base: dict, data: list[Measurement]):
+    def __init__(self, case_name: str, base: dict, data: list[Measurement], on_solve: Callable | None = None):
         self.case_name, self.base, self.data = case_name, base, data
+        self.on_solve = on_solve          # called with the count after each model run (progress)
         self.tests = list(dict.fromkeys(m.test for m in data))
         self.warm: dict = {}
         self.n_solves = 0
@@ -337,7 +339,7 @@ class _Model:
         if need_transport:
             sim = Simulation(self.case_name, ov)
             ss = sim.transport_steady_state()
-            self.n_solves += 1
+            self._solved()
             r = None
             for m in need_transport:
                 if m.response in ("tracer", "mrt") and r is None:
@@ -358,7 +360,7 @@ class _Model:
             sim = Simulation(self.case_name, ov)
             res = sim.steady_state(warm=self.warm.get(test))
             self.warm[test] = res.warm_data()
-            self.n_solves += 1
+            self._solved()
             s = res.summary()
             for m in need_thermal:
                 if m.response == "moisture_profile":
@@ -370,6 +372,11 @@ class _Model:
                 v = s.get(key, s["product_temperature_degC"] if m.response == "product_temperature" else None)
                 out[m.name] = np.array([float(v)])
         return out
+
+    def _solved(self):
+        self.n_solves += 1
+        if self.on_solve is not None:
+            self.on_solve(self.n_solves)
 
     def __call__(self, values):
         out = {}
@@ -409,10 +416,37 @@ class CaseCalibration:
             rows.append(row)
         return rows
 
+    def held_values(self) -> tuple[dict, list[str]]:
+        """``({key: value}, [record names])`` of the keys this calibration holds but did not fit: the
+        other keys of the records it supersedes (those applied to the run that set a fitted key), at
+        the run's values. A record applies whole (`rotarydryer.cases.calibration`), so the new one
+        carries them: appending it changes only the fitted keys."""
+        case = load_case(self.case, self.base_overrides)
+        held: dict = {}
+        names = []
+        for rec in case_calibrations(case):
+            if not set(rec.values) & set(self.keys):
+                continue
+            names.append(rec.name)
+            for k in rec.values:
+                if k in self.keys or k in held:
+                    continue
+                if k.startswith(TEST_KEY_PREFIX):
+                    _, t, fld = k.split(".")
+                    row = next((r for r in case.tests if r.test == int(t)), None)
+                    v = getattr(row, fld, None)
+                else:
+                    v = _get(case, k)
+                if v is not None:
+                    held[k] = v if isinstance(v, (bool, str)) else float(v)
+        return held, names
+
     def record(self, name: str | None = None, description: str = "") -> CalibrationRecord:
-        """The calibration record (values, intervals, correlation, data, configuration, version, date)."""
+        """The calibration record (values, intervals, correlation, data, configuration, version, date);
+        with the held values of the records it supersedes (`held_values`)."""
         p = self.fit.parameters
         values = {k: float(p[k].value) for k in self.keys}
+        held, superseded = self.held_values()
         prof = {k: v for k, v in self.profiles.items() if v is not None}
         intervals = {}
         for k in self.keys:
@@ -428,11 +462,16 @@ class CaseCalibration:
         data = [dict(name=m.name, response=m.response, sigma=float(m.sigma.flat[0]), unit=RESPONSES[m.response][1],
                      n_points=int(m.y.size), source=m.source) for m in self.data]
         tests = ", ".join(str(t) for t in self.tests if t is not None)
+        if not description:
+            description = (f"{', '.join(self.keys[:6])}{' ...' if len(self.keys) > 6 else ''} fitted to "
+                           f"{len(self.data)} data sets{f' of tests {tests}' if tests else ''}")
+            if held:
+                description += (f"; held at the run's values: {', '.join(list(held)[:6])}"
+                                f"{' ...' if len(held) > 6 else ''} (of {'; '.join(superseded)})")
         return CalibrationRecord.model_validate(dict(
             name=name or f"rotarydryer calibrate {self.case_title or self.case}"[:200],
-            description=description or (f"{', '.join(self.keys[:6])}{' ...' if len(self.keys) > 6 else ''} fitted "
-                                         f"to {len(self.data)} data sets{f' of tests {tests}' if tests else ''}"),
-            case=self.case_title, configuration=self.configuration, values=values, intervals=intervals,
+            description=description[:2000], case=self.case_title, configuration=self.configuration,
+            values={**values, **held}, held=list(held), intervals=intervals,
             interval_method="profile" if prof else "wald", correlation=correlation, data=data,
             method=f"weighted least squares ({self.fit.method}), {len(self.fit.starts)} start(s)",
             objective=float(self.fit.objective), n_evaluations=int(self.fit.n_evaluations),
@@ -476,7 +515,8 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     can move: transport keys move the transport responses; thermal keys the thermal ones).
     ``sigmas``: {response: standard deviation} replacing `DEFAULT_SIGMA`. ``profile``: True
     or the keys to profile (likelihood intervals; each point re-fits the others).
-    ``progress(stage, k, n)`` after each start / profile."""
+    ``progress(stage, k, n)`` after each start / profile (``stage`` "start", "profile") and after each
+    model run (``"model run", k, 0``: k runs so far, no total known)."""
     t0 = time.perf_counter()
     base = dict(base_overrides or {})
     if not parameters:
@@ -502,7 +542,7 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     if n <= len(params):
         raise ValueError(f"{n} measured values for {len(params)} parameters: give more data (--tests, --response) "
                          "or fewer parameters")
-    model = _Model(case_name, base, data)
+    model = _Model(case_name, base, data, on_solve=None if progress is None else lambda k: progress("model run", k, 0))
     datasets = [Dataset(m.name, m.y, m.sigma) for m in data]
 
     def on_start(k, total, best):

@@ -27,6 +27,7 @@ is read from the `rotarydryer.results.Results`.
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import io
 import json
@@ -35,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from .._display import fmt, fmt_angle, fmt_error, fmt_moisture
+from .._display import fmt, fmt_angle, fmt_error, output_cells, show, show_delta, show_output, unit_of
 from .._io import write_text_atomic
 
 __all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source",
@@ -118,6 +119,12 @@ class _Raw(str):
     """Trusted HTML fragment for a table cell."""
 
 
+def _signed(v, quantity: str) -> str:
+    """A signed difference of an SI ``quantity`` in its display unit (``+1,234 kg``, ``-0.52 min``)."""
+    text = show_delta(v, quantity, 4)
+    return text if text.startswith("-") or not text[:1].isdigit() else "+" + text
+
+
 def _fmt(v, digits=4) -> str:
     """The report's number format: `rotarydryer._display.fmt` (engineering rounding)."""
     if isinstance(v, str):
@@ -188,17 +195,17 @@ def _transport_sections(results) -> str:
 
     s = results.scalars
     key = [
-        ("feed rate", s.get("feed_rate_kg_s"), "kg/s"),
-        ("outlet flow", s.get("outlet_flow_kg_s"), "kg/s"),
-        ("total holdup", s.get("total_holdup_kg"), "kg"),
-        ("airborne (active) holdup", s.get("active_holdup_kg"), "kg"),
-        ("flight-borne (passive) holdup", s.get("passive_holdup_kg"), "kg"),
-        ("kilning bed", s.get("kiln_bed_holdup_kg"), "kg"),
-        ("unflighted bed", s.get("bed_holdup_kg"), "kg"),
-        ("mean residence time H/F", (s.get("mean_residence_time_s") or np.nan) / 60, "min"),
-        ("RTD standard deviation", (s.get("rtd_std_s") or np.nan) / 60, "min"),
+        ("feed rate", "feed_rate_kg_s"),
+        ("outlet flow", "outlet_flow_kg_s"),
+        ("total holdup", "total_holdup_kg"),
+        ("airborne (active) holdup", "active_holdup_kg"),
+        ("flight-borne (passive) holdup", "passive_holdup_kg"),
+        ("kilning bed", "kiln_bed_holdup_kg"),
+        ("unflighted bed", "bed_holdup_kg"),
+        ("mean residence time H/F", "mean_residence_time_s"),
+        ("RTD standard deviation", "rtd_std_s"),
     ]
-    key_rows = [(k, _fmt(float(v)) if v is not None else "-", u) for k, v, u in key if v is not None]
+    key_rows = [(label, *output_cells(name, float(s[name]))) for label, name in key if s.get(name) is not None]
     if s.get("mass_balance_error") is not None:
         key_rows.append(("mass balance error", fmt_error(s["mass_balance_error"]), "relative"))
     note = ""
@@ -208,16 +215,18 @@ def _transport_sections(results) -> str:
                 '<code>rotarydryer simulate --json</code>): one state, one number per quantity.</p>')
     from .manager import holdup_comparison, rtd_comparison
 
-    tot, mrt = s.get("total_holdup_kg", np.nan), s.get("mean_residence_time_s", np.nan) / 60
-    cap_hold = (f"holdup along the dryer: {_fmt(tot)} kg in total (airborne {_fmt(s.get('active_holdup_kg', np.nan))} kg, "
-                f"flight-borne {_fmt(s.get('passive_holdup_kg', np.nan))} kg), mean residence time H/F {mrt:.1f} min")
+    mass = functools.partial(show, quantity="mass")
+    tot = s.get("total_holdup_kg", np.nan)
+    cap_hold = (f"holdup along the dryer: {mass(tot)} in total (airborne {mass(s.get('active_holdup_kg', np.nan))}, "
+                f"flight-borne {mass(s.get('passive_holdup_kg', np.nan))}), mean residence time H/F "
+                f"{show(s.get('mean_residence_time_s', np.nan), 'time')}")
     hc = holdup_comparison(results)
     if hc is not None:
-        cap_hold += (f"; measured {_fmt(hc['measured_kg'])} kg in Test {hc['test']} (error {hc['error_kg']:+,.0f} kg, "
+        cap_hold += (f"; measured {mass(hc['measured_kg'])} in Test {hc['test']} (error {_signed(hc['error_kg'], 'mass')}, "
                      f"{hc['error_pct']:+.1f} %)")
-        hold_mvm = (f'<p class="mvm"><b>Model against measured:</b> total holdup {_fmt(hc["model_kg"])} kg against '
-                    f'{_fmt(hc["measured_kg"])} kg measured in Test {hc["test"]} (feed x measured mean residence time, '
-                    f'Ajayi (2011) Table 3.14): error {hc["error_kg"]:+,.0f} kg ({hc["error_pct"]:+.1f} %).</p>')
+        hold_mvm = (f'<p class="mvm"><b>Model against measured:</b> total holdup {mass(hc["model_kg"])} against '
+                    f'{mass(hc["measured_kg"])} measured in Test {hc["test"]} (feed x measured mean residence time, '
+                    f'Ajayi (2011) Table 3.14): error {_signed(hc["error_kg"], "mass")} ({hc["error_pct"]:+.1f} %).</p>')
     else:
         hold_mvm = ('<p class="mvm">No measured holdup is available for this run, so the holdup profile is a model '
                     'prediction only.</p>')
@@ -228,21 +237,22 @@ def _transport_sections(results) -> str:
     if results.rtd is not None:
         meas = "" if results.rtd_measured is None else " against the measured tracer curve"
         rc = rtd_comparison(results)
-        m_mean = s.get("tracer_mean_s", s.get("simulated_mean_s", np.nan)) / 60
-        m_std = s.get("tracer_std_s", s.get("simulated_std_s", np.nan)) / 60
+        m_mean = s.get("tracer_mean_s", s.get("simulated_mean_s", np.nan))
+        m_std = s.get("tracer_std_s", s.get("simulated_std_s", np.nan))
+        t = functools.partial(show, quantity="time")
         if rc is not None:
-            d_mean, d_std = (rc["model_mean_s"] - rc["measured_mean_s"]) / 60, (rc["model_std_s"] - rc["measured_std_s"]) / 60
-            cap_rtd = (f"residence-time distribution: model mean {m_mean:.2f} min, SD {m_std:.2f} min against "
-                       f"measured {rc['measured_mean_s'] / 60:.2f} min, SD {rc['measured_std_s'] / 60:.2f} min "
-                       f"(mean error {d_mean:+.2f} min, R2 {rc['r_squared']:.2f})")
-            rtd_mvm = (f'<p class="mvm"><b>Model against measured:</b> mean residence time {m_mean:.2f} min against '
-                       f'{rc["measured_mean_s"] / 60:.2f} min measured, error {d_mean:+.2f} min '
-                       f'({100 * d_mean * 60 / rc["measured_mean_s"]:+.1f} %); spread (standard deviation) '
-                       f'{m_std:.2f} against {rc["measured_std_s"] / 60:.2f} min, error {d_std:+.2f} min '
-                       f'({100 * d_std * 60 / rc["measured_std_s"]:+.1f} %); R2 of the model E(t) against the '
+            d_mean, d_std = rc["model_mean_s"] - rc["measured_mean_s"], rc["model_std_s"] - rc["measured_std_s"]
+            cap_rtd = (f"residence-time distribution: model mean {t(m_mean)}, SD {t(m_std)} against "
+                       f"measured {t(rc['measured_mean_s'])}, SD {t(rc['measured_std_s'])} "
+                       f"(mean error {_signed(d_mean, 'time')}, R2 {rc['r_squared']:.2f})")
+            rtd_mvm = (f'<p class="mvm"><b>Model against measured:</b> mean residence time {t(m_mean)} against '
+                       f'{t(rc["measured_mean_s"])} measured, error {_signed(d_mean, "time")} '
+                       f'({100 * d_mean / rc["measured_mean_s"]:+.1f} %); spread (standard deviation) '
+                       f'{t(m_std)} against {t(rc["measured_std_s"])}, error {_signed(d_std, "time")} '
+                       f'({100 * d_std / rc["measured_std_s"]:+.1f} %); R2 of the model E(t) against the '
                        f'{rc["n_points"]} measured points {rc["r_squared"]:.3f}.</p>')
         else:
-            cap_rtd = f"residence-time distribution of the model: mean {m_mean:.2f} min, SD {m_std:.2f} min"
+            cap_rtd = f"residence-time distribution of the model: mean {t(m_mean)}, SD {t(m_std)}"
             rtd_mvm = ('<p class="mvm">No measured tracer curve is available for this run, so the RTD is a model '
                        'prediction only.</p>')
         parts.append(f'<section id="rtd"><h2>Residence-time distribution{meas}</h2>'
@@ -317,45 +327,48 @@ def _thermal_section(results) -> str:
     from .plots import plot_energy_waterfall, plot_thermal_profiles, thermal_profiles_from_results
 
     sc = results.scalars
-    labels = (("product_moisture_kg_kg", "product moisture", "% wet basis", fmt_moisture),
-              ("product_temperature_degC", "product temperature", "degC", _fmt),
-              ("gas_outlet_temperature_degC", "gas outlet temperature", "degC", _fmt),
-              ("evaporation_kg_s", "evaporation", "kg/s", _fmt),
-              ("fuel_rate_kg_s", "fuel rate (burner, App. A)", "kg/h", lambda v: _fmt(3600.0 * v)),
-              ("shell_heat_loss_W", "shell heat loss", "kW", lambda v: _fmt(1e-3 * v)),
-              ("heat_input_W", "heat put into the gas", "kW", lambda v: _fmt(1e-3 * v)),
-              ("specific_energy_kJ_kg_water", "specific energy", "kJ per kg water evaporated", _fmt),
-              ("thermal_efficiency", "thermal efficiency (evaporation heat / heat input)", "%",
-               lambda v: _fmt(100.0 * v, 3)),
-              ("energy_balance_error", "energy balance error", "relative", fmt_error),
-              ("water_balance_error", "water balance error", "relative", fmt_error))
+    labels = (("product_moisture_kg_kg", "product moisture (wet basis)"),
+              ("product_temperature_degC", "product temperature"),
+              ("gas_outlet_temperature_degC", "gas outlet temperature"),
+              ("evaporation_kg_s", "evaporation"),
+              ("fuel_rate_kg_s", "fuel rate (burner, App. A)"),
+              ("shell_heat_loss_W", "shell heat loss"),
+              ("heat_input_W", "heat put into the gas"),
+              ("specific_energy_kJ_kg_water", "specific energy (per kg of water evaporated)"))
     rows = [("model", str(results.model_choices.get("thermal_mode", "")), "-")]
-    rows += [(label, show(sc[key]), unit) for key, label, unit, show in labels if key in sc]
+    rows += [(label, *output_cells(key, sc[key])) for key, label in labels if key in sc]
+    if "thermal_efficiency" in sc:
+        rows.append(("thermal efficiency (evaporation heat / heat input)", _fmt(100.0 * sc["thermal_efficiency"], 3), "%"))
+    rows += [(label, fmt_error(sc[key]), "relative") for key, label in
+             (("energy_balance_error", "energy balance error"), ("water_balance_error", "water balance error"))
+             if key in sc]
     if results.model_choices.get("fuel_rate_error") and "fuel_rate_kg_s" not in sc:
-        rows.append(("fuel rate (burner, App. A)", "n/a: " + str(results.model_choices["fuel_rate_error"]), "kg/h"))
+        rows.append(("fuel rate (burner, App. A)", "n/a: " + str(results.model_choices["fuel_rate_error"]),
+                     unit_of("fuel_flow")))
     terms = heat_duties(results)
-    t_rows = [(f"{name} ({d})", _fmt(w / 1e3)) for d in ("in", "out") for name, w in terms[d].items()]
+    power = unit_of("power")
+    t_rows = [(f"{name} ({d})", show(w, "power", with_unit=False)) for d in ("in", "out") for name, w in terms[d].items()]
     q_in = sum(terms["in"].values())
-    cap_e = f"heat duties: {_fmt(q_in / 1e3)} kW put into the gas"
+    cap_e = f"heat duties: {show(q_in, 'power')} put into the gas"
     if "specific_energy_kJ_kg_water" in sc:
-        cap_e += (f", {_fmt(sc['specific_energy_kJ_kg_water'])} kJ per kg of water evaporated, thermal efficiency "
-                  f"{100 * sc.get('thermal_efficiency', np.nan):.1f} %")
-    cap_e += "; " + ", ".join(f"{name} {_fmt(w / 1e3)} kW" for name, w in terms["out"].items())
+        cap_e += (f", {show_output('specific_energy_kJ_kg_water', sc['specific_energy_kJ_kg_water'])} of water "
+                  f"evaporated, thermal efficiency {100 * sc.get('thermal_efficiency', np.nan):.1f} %")
+    cap_e += "; " + ", ".join(f"{name} {show(w, 'power')}" for name, w in terms["out"].items())
     e_mvm = ('<p class="mvm">The heat input, the fuel rate and the shell loss were not measured; the energy balance is '
              'a model result only.</p>')
     cap_t, t_mvm = _thermal_comparison_html(results)
     return (f'<section id="energy"><h2>Heat and mass transfer</h2>'
             f'{_table(("quantity", "value", "unit"), rows)}'
             f'<h3>Heat duties</h3>'
-            f'{_img(plot_energy_waterfall(terms, unit="kW", title="Heat duties"), "energy balance waterfall", cap_e)}'
-            f'{_table(("duty", "kW"), t_rows)}'
+            f'{_img(plot_energy_waterfall(terms, unit=power, title="Heat duties"), "energy balance waterfall", cap_e)}'
+            f'{_table(("duty", power), t_rows)}'
             f'<p class="note">{_DUTIES_NOTE}</p>{e_mvm}'
             f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(thermal_profiles_from_results(results), sections=_section_lengths(results)), "thermal profiles", cap_t)}'
             f'{t_mvm}</section>')
 
 
 _DUTIES_NOTE = (
-    "Heat duties, kW: heat input = the heat the burner or heater puts into the gas (its enthalpy above "
+    "Heat duties: heat input = the heat the burner or heater puts into the gas (its enthalpy above "
     "the same gas at ambient temperature); evaporation = evaporation rate x latent heat at the product "
     "temperature; heating of solids = product enthalpy - feed enthalpy (solids and the water they keep); "
     "shell loss = heat lost through the shell; exhaust = the rest, the sensible heat the exhaust gas and "
@@ -387,9 +400,9 @@ def _thermal_comparison_html(results) -> tuple[str, str]:
     from .manager import thermal_comparison
 
     sc = results.scalars
-    cap = (f"temperature and moisture along the dryer: product {100 * sc.get('product_moisture_kg_kg', np.nan):.2f} % "
-           f"moisture (wet basis) at {sc.get('product_temperature_degC', np.nan):.1f} degC, exhaust gas "
-           f"{sc.get('gas_outlet_temperature_degC', np.nan):.1f} degC")
+    cap = (f"temperature and moisture along the dryer: product {show(sc.get('product_moisture_kg_kg', np.nan), 'moisture')} "
+           f"moisture (wet basis) at {show(sc.get('product_temperature_degC', np.nan), 'temperature')}, exhaust gas "
+           f"{show(sc.get('gas_outlet_temperature_degC', np.nan), 'temperature')}")
     tc = thermal_comparison(results)
     if not tc["points"]:
         return cap + "; no measured values for this run", f'<p class="mvm">{html.escape(tc["reason"])}</p>'
@@ -468,12 +481,12 @@ def _executive_summary(results) -> str:
     facts = []
     feed = s.get("feed_rate_kg_s", op.get("feed_rate"))
     if feed is not None:
-        facts.append(f"feed {_fmt(float(feed))} kg/s of wet solids")
+        facts.append(f"feed {show(float(feed), 'mass_flow')} of wet solids")
     if op.get("rpm") is not None:
         facts.append(f"{_fmt(float(op['rpm']))} rev/min")
     if gas.get("inlet_temperature") is not None:
-        facts.append(f"{gas.get('direction', '')} gas at {_fmt(float(gas['inlet_temperature']))} degC"
-                     + (f", {_fmt(float(gas['flow']))} kg/s" if gas.get("flow") is not None else ""))
+        facts.append(f"{gas.get('direction', '')} gas at {show(float(gas['inlet_temperature']), 'temperature')}"
+                     + (f", {show(float(gas['flow']), 'mass_flow')}" if gas.get("flow") is not None else ""))
     from .manager import MODEL_SOURCES
 
     model = str(results.model_choices.get("model", ""))
@@ -484,22 +497,22 @@ def _executive_summary(results) -> str:
              f"{thermal}), operating point: "
              f"{html.escape(', '.join(facts) or 'as in the case file')}.</p><ul>"]
     if "mean_residence_time_s" in s:
-        lines.append(f"<li>The solids stay <b>{_fmt(s['mean_residence_time_s'] / 60)} min</b> on average; the drum "
-                     f"holds {_fmt(s.get('total_holdup_kg', float('nan')))} kg.</li>")
+        lines.append(f"<li>The solids stay <b>{show(s['mean_residence_time_s'], 'time')}</b> on average; the drum "
+                     f"holds {show(s.get('total_holdup_kg', float('nan')), 'mass')}.</li>")
     if "measured_mean_s" in s and "tracer_mean_s" in s and s["measured_mean_s"]:
         err = 100 * (s["tracer_mean_s"] / s["measured_mean_s"] - 1)
-        lines.append(f"<li>Model against the measured tracer curve: mean {_fmt(s['tracer_mean_s'] / 60)} against "
-                     f"{_fmt(s['measured_mean_s'] / 60)} min ({err:+.1f} %).</li>")
+        lines.append(f"<li>Model against the measured tracer curve: mean {show(s['tracer_mean_s'], 'time')} against "
+                     f"{show(s['measured_mean_s'], 'time')} ({err:+.1f} %).</li>")
     if "product_moisture_kg_kg" in s:
-        lines.append(f"<li>Product moisture <b>{fmt_moisture(s['product_moisture_kg_kg'])} %</b> (wet basis) at "
-                     f"{_fmt(s.get('product_temperature_degC', float('nan')))} degC; exhaust gas "
-                     f"{_fmt(s.get('gas_outlet_temperature_degC', float('nan')))} degC.</li>")
+        lines.append(f"<li>Product moisture <b>{show(s['product_moisture_kg_kg'], 'moisture')}</b> (wet basis) at "
+                     f"{show(s.get('product_temperature_degC', float('nan')), 'temperature')}; exhaust gas "
+                     f"{show(s.get('gas_outlet_temperature_degC', float('nan')), 'temperature')}.</li>")
     if "specific_energy_kJ_kg_water" in s:
-        lines.append(f"<li>Each kg of water evaporated costs <b>{_fmt(s['specific_energy_kJ_kg_water'])} kJ</b> of heat "
+        lines.append(f"<li>Evaporating the water costs <b>{show_output('specific_energy_kJ_kg_water', s['specific_energy_kJ_kg_water'])}</b> of heat "
                      f"in the gas (thermal efficiency {_fmt(100 * s.get('thermal_efficiency', float('nan')), 3)} %; "
                      "direct dryers typically run at 3 000-6 000 kJ/kg).</li>")
     if s.get("fuel_rate_kg_s") is not None:
-        lines.append(f"<li>The burner needs {_fmt(3600 * s['fuel_rate_kg_s'])} kg/h of fuel.</li>")
+        lines.append(f"<li>The burner needs {show_output('fuel_rate_kg_s', s['fuel_rate_kg_s'])} of fuel.</li>")
     elif results.model_choices.get("fuel_rate_error"):
         from ..thermal.states import fuel_rate_note
 

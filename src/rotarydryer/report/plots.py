@@ -165,7 +165,7 @@ def draw_flight_conventions(drum: FlightedDrum, repose_angle: float = 45.0, *, p
 
 
 def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance", unit: str | None = None):
-    """Waterfall of an energy balance, MW (kW below 1 MW of input; ``unit`` "kW" or "MW" fixes
+    """Waterfall of an energy balance, MW (kW below 1 MW of input; ``unit`` "W", "kW" or "MW" fixes
     it): inputs stacked up, outputs stepped down.
 
     ``terms = {"in": {name: W}, "out": {name: W}}`` (e.g.
@@ -181,9 +181,10 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
     total_in = sum(terms["in"].values())
     if unit is None:
         unit = "MW" if total_in >= 1e6 else "kW"
-    if unit not in ("MW", "kW"):
-        raise ValueError(f"unit = {unit!r}: give 'MW' or 'kW'")
-    scale = 1e6 if unit == "MW" else 1e3
+    scales = {"MW": 1e6, "kW": 1e3, "W": 1.0}
+    if unit not in scales:
+        raise ValueError(f"unit = {unit!r}: give 'MW', 'kW' or 'W'")
+    scale = scales[unit]
     names, bottoms, heights, colours = [], [], [], []
     level = 0.0
     for name, w in terms["in"].items():

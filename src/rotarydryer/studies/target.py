@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, minimize
 
+from .._display import UNITS, quantity_of, show_output, unit_of
 from .._limits import LIMITS
 from .._validation import fmt_number
 from ..cases import load_case, valid_override_keys
@@ -133,22 +134,47 @@ class TargetResult:
         lo, hi = self.bounds
         ylo, yhi = self.outputs_at_bounds["lo"], self.outputs_at_bounds["hi"]
         lines = [f"target of {self.case}: {self.find} such that {self.such_that}",
-                 f"bounds: [{fmt_number(lo)}, {fmt_number(hi)}]{u}; {self.output_name} = {_shown(ylo)} at lo, "
-                 f"{_shown(yhi)} at hi"]
+                 f"bounds: [{fmt_number(lo)}, {fmt_number(hi)}]{u}; {self.output_name} = {_shown(ylo, self.output_name)} at lo, "
+                 f"{_shown(yhi, self.output_name)} at hi"]
         if self.found:
             lines.append(f"{self.find} = {fmt_number(self.value)}{u} ({self.active}); "
-                         f"{self.output_name} = {_shown(self.output)}")
+                         f"{self.output_name} = {_shown(self.output, self.output_name)}")
         else:
             lines.append(f"{self.active}: {self.output_name} {self.operator} {fmt_number(self.target_value)} "
                          f"is met nowhere; bound {self.closest} comes closest ({self.output_name} = "
-                         f"{_shown(self.outputs_at_bounds[self.closest])})")
+                         f"{_shown(self.outputs_at_bounds[self.closest], self.output_name)})")
         lines += [f"note: {n}" for n in self.notes]
         lines.append(f"{self.evaluations} steady states")
         return "\n".join(lines)
 
 
-def _shown(y) -> str:
-    return "n/a" if y is None else fmt_number(y)
+#: absolute floor of the default output tolerance by quantity (SI, the output names' units): a target of
+#: 0 (a dew-point margin of 0 K, 0 degC) is met within these; elsewhere 1e-4 of the value is larger
+ABSOLUTE_TOL = {"temperature": 1e-3, "temperature_difference": 1e-3, "moisture": 1e-7, "humidity": 1e-7,
+                "mass_flow": 1e-6, "fuel_flow": 1e-7, "mass": 1e-3, "power": 1.0, "time": 1e-2, "length": 1e-6,
+                "specific_energy": 1.0}
+#: the floor of a dimensionless output (a fraction, an efficiency)
+ABSOLUTE_TOL_DIMENSIONLESS = 1e-9
+
+
+def default_tol(name: str, value: float) -> float:
+    """The default tolerance of a target ``name = value``: ``1e-4 * |value|``, at least the absolute
+    floor of the output's quantity (`ABSOLUTE_TOL`, by its unit suffix)."""
+    q = quantity_of(name)
+    floor = ABSOLUTE_TOL_DIMENSIONLESS if q is None else ABSOLUTE_TOL.get(q[0], ABSOLUTE_TOL_DIMENSIONLESS) / q[1]
+    return max(1e-4 * abs(float(value)), floor)
+
+
+def _shown(y, name: str | None = None) -> str:
+    """An output's value as named (SI, by its unit suffix) and, where the display unit of its quantity
+    differs, in that unit too: ``0.12 (12 %)``."""
+    if y is None:
+        return "n/a"
+    text = fmt_number(y)
+    q = quantity_of(name) if name else None
+    if q is not None and (q[1] != 1.0 or UNITS[q[0]][unit_of(q[0])] != (1.0, 0.0)):
+        text += f" ({show_output(name, y)})"
+    return text
 
 
 def parse_such_that(text, label: str = "such_that") -> tuple[str, str, float]:
@@ -279,7 +305,8 @@ class _Failed(Exception):
         self.x, self.reason = x, reason
 
 
-def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labels=None) -> TargetResult:
+def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labels=None,
+           _evaluator=None) -> TargetResult:
     """The value of the case input ``find`` in ``bounds`` that meets ``such_that`` (module docstring).
 
     Parameters
@@ -298,7 +325,8 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
     overrides : dict, optional
         Further case overrides (``--set``), applied at every evaluation.
     tol : float, optional
-        Absolute tolerance on the output; default ``1e-4 * |value|`` (at least 1e-9).
+        Absolute tolerance on the output; default `default_tol` (``1e-4 * |value|``, at least an
+        absolute floor of the output's quantity: 1e-3 K, 1e-7 kg/kg ...).
     labels : dict, optional
         Names of ``find``, ``such_that`` and ``bounds`` in the error messages (the CLI's options).
 
@@ -325,15 +353,17 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
         raise ValueError(f"{lab['find']} {key!r}: not a key of the case; numeric keys with limits: "
                          f"{', '.join(sorted(LIMITS))}")
     lo, hi = default_bounds(base, key, lab["find"]) if bounds is None else check_bounds(key, bounds, lab["find"])
-    tol = 1e-4 * max(abs(y_target), 1e-5) if tol is None else float(tol)
+    tol = default_tol(name, y_target) if tol is None else float(tol)
     if not (math.isfinite(tol) and tol > 0):
         raise ValueError(f"tol = {tol!r} is not a positive number")
     unit = LIMITS[key].unit if key in LIMITS else ""
 
-    ev = _Evaluator(case_name, overrides, [name], f"{lab['such_that']} = {str(such_that)!r}",
-                    budget_message=f"target {key} such that {name}{op}{fmt_number(y_target)}: no answer in "
-                                   f"{MAX_EVALUATIONS} steady states")
-    points = ev.points       # (input, output or None, error) of every steady state, in order
+    ev = _evaluator
+    if ev is None:
+        ev = _Evaluator(case_name, overrides, [name], f"{lab['such_that']} = {str(such_that)!r}",
+                        budget_message=f"target {key} such that {name}{op}{fmt_number(y_target)}: no answer in "
+                                       f"{MAX_EVALUATIONS} steady states")
+    first = len(ev.points)      # an evaluator shared with other searches: this search's steady states follow
 
     def evaluate(x):
         ys, reason = ev({key: float(x)})
@@ -348,7 +378,13 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
         return y <= y_target + tol if op == "<=" else y >= y_target - tol if op == ">=" else abs(y - y_target) <= tol
 
     result = dict(case=case_name, find=key, output_name=name, operator=op, target_value=y_target, bounds=(lo, hi),
-                  outputs_at_bounds={"lo": ylo, "hi": yhi}, tol=tol, unit=unit, notes=notes, points=points)
+                  outputs_at_bounds={"lo": ylo, "hi": yhi}, tol=tol, unit=unit, notes=notes)
+
+    def answer(**kw) -> TargetResult:
+        # (input, output or None, error) of every steady state of this search, in order
+        points = [(at, y[name] if isinstance(y, dict) else y, err) for at, y, err in ev.points[first:]]
+        return TargetResult(evaluations=len(points), points=points, **kw, **result)
+
     glo, ghi = ylo - y_target, yhi - y_target
     if abs(glo) <= tol or abs(ghi) <= tol or glo * ghi < 0:
         if abs(glo) <= tol or abs(ghi) <= tol:
@@ -361,17 +397,16 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
         both = op != "=" and meets(ylo) and meets(yhi)
         if both:               # at a bound within tol, the whole bracket meeting it: that bound binds
             side = "lo" if x == lo else "hi"
-            return TargetResult(value=x, output=y, active=f"bound {side} binds", evaluations=len(points),
-                                **result)
-        return TargetResult(value=x, output=y, active="target met with equality", evaluations=len(points), **result)
+            return answer(value=x, output=y, active=f"bound {side} binds")
+        return answer(value=x, output=y, active="target met with equality")
     # no crossing in the bracket
     worse = "hi" if (yhi > ylo) == (op == "<=") else "lo"     # the side where the output nears the value
     if op != "=" and meets(ylo) and meets(yhi):
         x, y = (lo, ylo) if worse == "lo" else (hi, yhi)
-        return TargetResult(value=x, output=y, active=f"bound {worse} binds", evaluations=len(points), **result)
+        return answer(value=x, output=y, active=f"bound {worse} binds")
     closest = "lo" if abs(glo) <= abs(ghi) else "hi"
-    return TargetResult(value=None, output=None, active=f"no solution in [{fmt_number(lo)}, {fmt_number(hi)}]",
-                        closest=closest, evaluations=len(points), **result)
+    return answer(value=None, output=None, active=f"no solution in [{fmt_number(lo)}, {fmt_number(hi)}]",
+                  closest=closest)
 
 
 def _usable_end(evaluate, end, other, side, key, unit, notes, label):
@@ -460,7 +495,7 @@ class TargetSetResult:
                          + (f" (bound {side} binds)" if side else ""))
         for c in self.conditions:
             state = "active" if c["active"] else ("met" if c["met"] else "NOT met")
-            lines.append(f"  {c['such_that']}: {c['output_name']} = {_shown(c['output'])} ({state})")
+            lines.append(f"  {c['such_that']}: {c['output_name']} = {_shown(c['output'], c['output_name'])} ({state})")
         lines += [f"note: {n}" for n in self.notes]
         lines.append(f"{self.evaluations} steady states")
         return "\n".join(lines)
@@ -551,7 +586,7 @@ def _prepare(case, finds, such_thats, overrides, tol, labels, need):
         if any(op != "=" for _, op, _ in conds):
             raise TargetError(f"{lab['such_that']}: several targets are equalities OUTPUT=VALUE; inequalities are the "
                               "conditions of --maximize/--minimize")
-    tols = [1e-4 * max(abs(v), 1e-5) if tol is None else float(tol) for _, _, v in conds]
+    tols = [default_tol(name, v) if tol is None else float(tol) for name, _, v in conds]
     if any(not (math.isfinite(t) and t > 0) for t in tols):
         raise TargetError(f"tol = {tol!r} is not a positive number")
     start = {}
@@ -638,6 +673,13 @@ def solve_targets(case, finds, such_thats, *, overrides=None, tol=None, labels=N
             raise TargetError(f"{lab['such_that']}: conflicting or redundant targets: {why}; change the free inputs "
                               f"({lab['find']}) or the targets", "bad_input")
         step = np.linalg.solve(J, -r)
+        # projected Newton (Bertsekas (1982) SIAM J. Control Optim. 20, 221): an input at its bound that the
+        # step would push outside stays there, and the others take the least-squares step with it fixed
+        # (clipping the full step instead bends its direction, and the line search can stall on it)
+        out = ((u <= 0.0) & (step < 0.0)) | ((u >= 1.0) & (step > 0.0))
+        if np.any(out) and not np.all(out):
+            step = np.zeros_like(step)
+            step[~out] = np.linalg.lstsq(J[:, ~out], -r, rcond=None)[0]
         lam, accepted = 1.0, False
         for _half in range(8):
             un = np.clip(u + lam * step, 0.0, 1.0)
@@ -774,11 +816,14 @@ def _optimum_1d(case_name, overrides, key, bounds, conds, tols, sense, lab):
     feasible = [lo, hi]
     binding: list[str] = []
     notes: list[str] = []
-    evaluations = 0
+    # one evaluator for every condition's search and the answer: each steady state once (the bounds are
+    # every search's), each warm-started from the last, the answer too
+    ev = _Evaluator(case_name, overrides, list(dict.fromkeys(c[0] for c in conds)), lab["such_that"],
+                    budget=MAX_EVALUATIONS * len(conds) + 1)
     for (name, op, v), t in zip(conds, tols):
-        r = target(case_name, f"{key}={lo!r},{hi!r}", (name, op, v), overrides=overrides, tol=t, labels=lab)
-        evaluations += r.evaluations
-        notes += r.notes
+        r = target(case_name, f"{key}={lo!r},{hi!r}", (name, op, v), overrides=overrides, tol=t, labels=lab,
+                   _evaluator=ev)
+        notes += [n for n in r.notes if n not in notes]       # a moved bound is every search's
         if r.value is None:
             raise TargetError(f"{lab['such_that']} {r.such_that}: met nowhere for {key} in [{fmt_number(lo)}, "
                               f"{fmt_number(hi)}] ({name} = {_shown(r.outputs_at_bounds['lo'])} at lo, "
@@ -798,9 +843,8 @@ def _optimum_1d(case_name, overrides, key, bounds, conds, tols, sense, lab):
         raise TargetError(f"{lab['such_that']}: the conditions exclude each other for {key} in [{fmt_number(lo)}, "
                           f"{fmt_number(hi)}] (no value meets them all)", "unreachable")
     x = feasible[1] if sense == "max" else feasible[0]
-    ev = _Evaluator(case_name, overrides, [c[0] for c in conds], lab["such_that"])
     ys, reason = ev({key: x})
-    evaluations += ev.count
+    evaluations = ev.count
     if ys is None:
         raise TargetError(f"{lab['find']}: no steady state at {key}={fmt_number(x)} ({reason})", "no_steady_state")
     conditions = _conditions(conds, tols, ys)

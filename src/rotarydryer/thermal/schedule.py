@@ -85,14 +85,18 @@ class InputSchedule:
         """Read a CSV schedule: ``time_s`` and one column per input of `SCHEDULE_INPUTS`."""
         path = Path(path)
         with path.open(newline="", encoding="utf-8-sig") as fh:      # -sig: a spreadsheet's byte-order mark
-            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
+            reader = csv.reader(fh)
+            # (line number in the file, cells) of every row that is not blank or a comment
+            numbered = [(reader.line_num, r) for r in reader]
+        numbered = [(n, r) for n, r in numbered if r and not r[0].lstrip().startswith("#")]
+        rows = [r for _, r in numbered]
         if not rows:
             raise ValueError(f"{path}: empty schedule (a header time_s,<input>,... and rows are needed)")
         header = [h.strip() for h in rows[0]]
         if not header or header[0] not in ("time_s", "time"):
             raise ValueError(f"{path}: the first column must be time_s (got {header[0] if header else ''!r})")
         pts: dict[str, list[tuple[float, float]]] = {h: [] for h in header[1:]}
-        for line, row in enumerate(rows[1:], start=2):
+        for line, row in numbered[1:]:
             if len(row) > len(header):
                 raise ValueError(f"{path} line {line}: {len(row)} cells for {len(header)} columns")
             t = _number(row[0], f"{path} line {line} time_s")
