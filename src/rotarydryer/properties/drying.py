@@ -295,8 +295,8 @@ class DryingKinetics:
     ajayi2011; thin_layer takes no critical moisture); ``exponent`` / ``curve`` for the
     characteristic curve; ``basis`` and ``saturation_method`` of the unhindered flux.
 
-    Thin-layer laws (``method="thin_layer"``, module docstring): ``model`` (a name of
-    [`thin_layer.MODELS`][rotarydryer.properties.thin_layer.MODELS]), ``parameters`` ((name, value)
+    Thin-layer laws (``method="thin_layer"``, module docstring): ``model`` (a law of
+    [`thin_layer`][rotarydryer.properties.thin_layer]: ``"lewis"``, ``"page"``, ...), ``parameters`` ((name, value)
     pairs, the rate constants at ``reference_temperature_K``, time in s), ``activation_energy``
     J/mol, ``reference_temperature_K`` K, ``initial_moisture`` X_0 of the lab curves and
     ``equilibrium_moisture`` X_e, kg/kg dry, and ``solids_per_area`` ρ_p d_p/3, kg/m² (a
