@@ -123,6 +123,8 @@ def test_few_points_skip_laws_and_one_temperature_has_no_activation_energy():
     assert any("one air temperature" in n for n in f.notes)
     with pytest.raises(ValueError, match="no thin-layer law could be fitted"):
         dc.fit_models(dc.drying_curves(t[:3], x[:3], 60.0), ["page"])
+    with pytest.raises(ValueError, match="reference_temperature_K = 100 K is outside"):
+        dc.fit_models(c, reference_temperature_K=100.0)
 
 
 def test_material_round_trip_through_the_dryer_model(example_fit, tmp_path):

@@ -638,6 +638,8 @@ def fit_models(curves: DryingCurves, models: Sequence[str] | None = None, refere
     than parameters, or whose fit does not converge, is skipped with the reason; ``ValueError``
     when none can be fitted."""
     models = list(tl.MODELS) if models is None else [check_choice("model", m, tl.MODELS) for m in models]
+    if reference_temperature_K is not None:       # checked once here: a bad value is not a law's skip reason
+        check_range("reference_temperature_K", reference_temperature_K, 200.0, 1000.0, unit="K")
     fits, skipped = {}, {}
     for m in models:
         try:
