@@ -47,7 +47,7 @@ _EXIT = re.compile(r"^\s*<!--\s*ci-exit-code:\s*(?P<code>\d+)\s*-->\s*$")
 # (page relative to the repository, start of the block's first line) -> reason. Only for pages
 # whose owner has not added a ``<!-- skip-ci: ... -->`` marker; prefer the marker.
 _EXTERNAL_SKIPS: dict[tuple[str, str], str] = {
-    ("README.md", "rotarydryer lab rig RUN.csv"): "placeholder file names (RUN.csv, PHOTO.png, series.csv)",
+    ("README.md", "rotarydryer lab rig RUN.csv"): "placeholder file names (RUN.csv, PHOTO.png, series.csv, CURVES.csv)",
     ("docs/lab.md", "from rotarydryer.lab import flight_rig as fr"): "placeholder file name (run.csv)",
     ("docs/lab.md", "from rotarydryer.geometry.presets import preset_drum"): "placeholder file name (photo.png)",
     ("docs/lab.md", "from rotarydryer.lab import design_load_fit as dl"):

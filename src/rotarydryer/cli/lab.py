@@ -1,4 +1,5 @@
-"""``rotarydryer lab``: laboratory data tools (flight-unloading rig, photographs, design-load fits)."""
+"""``rotarydryer lab``: laboratory data tools (flight-unloading rig, photographs, design-load fits, step
+tests, drying curves)."""
 
 from __future__ import annotations
 
@@ -9,9 +10,11 @@ from typing import Optional
 import typer
 
 from ..services.lab import (
+    check_drying_options,
     check_rig_options,
     check_steps_options,
     design_load_fits,
+    drying_analysis,
     image_options,
     measure_image,
     rig_analysis,
@@ -22,9 +25,10 @@ from ._common import check_option, check_out_dir, check_out_file
 
 lab_app = typer.Typer(
     name="lab",
-    short_help="Laboratory data: rig runs, photographs, design loads.",
+    short_help="Laboratory data: rig runs, photographs, design loads, drying.",
     help="Laboratory data: flight-unloading rig runs (Lee 2008 ch. 5), drum photographs and "
-    "design-load break-point fits (Ajayi 2011 ch. 4).",
+    "design-load break-point fits (Ajayi 2011 ch. 4), step tests (Song 2003 ch. 4) and thin-layer "
+    "drying laws from lab drying curves.",
     no_args_is_help=True,
 )
 app.add_typer(lab_app, name="lab")
@@ -331,3 +335,139 @@ def _write_steps_outputs(sm, rec, a, out: Path) -> list:
         write_bytes_atomic(png, buf.getvalue())
         write_text_atomic(csv_path, table)
     return [str(png), str(csv_path)]
+
+
+@lab_app.command("drying", short_help="Thin-layer drying laws from lab drying curves.")
+def drying(
+    curves_csv: Path = typer.Argument(..., help="CSV: time_s|time_min|time_h, moisture_kg_kg_dry|moisture_kg_kg_wet, air_temperature_degC; optional curve and equilibrium_moisture_kg_kg_dry|_wet."),
+    model: Optional[str] = typer.Option(None, help="Law to plot and write: lewis | page | henderson_pabis | logarithmic | two_term | midilli (default: the lowest AICc of the drying laws)."),
+    equilibrium_moisture: Optional[float] = typer.Option(None, help="X_e of every curve, kg/kg dry, for a file without an equilibrium column (default 0)."),
+    reference_temperature: Optional[float] = typer.Option(None, help="Temperature of the fitted rate constants, degC (default: the mean of the curves')."),
+    out: Optional[Path] = typer.Option(None, help="Directory for drying_fit.png (curves and law) and drying_models.csv (the ranking)."),
+    material_out: Optional[Path] = typer.Option(None, help="Material file to write (.toml): the law as the kinetics of a copy of --base-material."),
+    base_material: Optional[str] = typer.Option(None, help="Library material whose other properties the new material takes (with --material-out)."),
+    material_name: Optional[str] = typer.Option(None, help="Name of the new material (default BASE_MODEL)."),
+    particle_diameter: Optional[float] = typer.Option(None, help="Particle diameter of the lab sample, m (default the base material's)."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
+    """Fit the thin-layer laws (Lewis, Page, Henderson-Pabis, logarithmic, two-term, Midilli) with
+    Arrhenius rate constants to all drying curves at once, rank them (AICc; AIC, BIC, RMSE, R^2),
+    give 95 % intervals, and write the chosen law into a material file the dryer model reads.
+
+    \b
+    Example:
+      rotarydryer lab drying curves.csv --out results --material-out my_ore.toml --base-material ottawa_sand_song2003
+    """
+    from .._io import json_text, output_set, write_bytes_atomic, write_text_atomic
+    from ..lab import drying_curves as dc
+
+    try:
+        check_drying_options(model, equilibrium_moisture, reference_temperature, material_out, base_material,
+                             material_name, particle_diameter)
+        check_out_dir("--out", out)
+        check_out_file("--material-out", material_out, ("toml",))
+        if material_out is not None and material_out.exists() and curves_csv.exists() and \
+                material_out.resolve() == curves_csv.resolve():
+            raise ValueError(f"--material-out {str(material_out)!r} is the drying-curve file itself; give another name")
+        curves = dc.read_drying_csv(curves_csv, equilibrium_moisture)
+        result, chosen = drying_analysis(curves, model, reference_temperature)
+        table = text = None
+        if material_out is not None:
+            table = dc.material_table(result, chosen, str(base_material), name=material_name,
+                                      particle_diameter=particle_diameter)
+            text = dc.material_toml(table, _material_header(curves_csv, chosen, material_out))
+        files = _drying_files(dc, result, chosen) if out is not None else {}
+        written = []
+        if files or text is not None:
+            with output_set(out):
+                for fname, data in files.items():
+                    write_bytes_atomic(out / fname, data)   # type: ignore[operator]
+                    written.append(str(out / fname))       # type: ignore[operator]
+                if text is not None:
+                    write_text_atomic(material_out, text)
+    except (ValueError, OSError) as exc:
+        _fail(exc)
+    res = result.as_dict()
+    res["chosen"] = chosen
+    if written:
+        res["outputs"] = written
+    if material_out is not None:
+        res["material_file"] = str(material_out)
+        res["material_name"] = table["name"]     # type: ignore[index]
+    if as_json:
+        typer.echo(json_text(res))
+        return
+    _print_drying(curves, result, chosen, written, material_out, table)
+
+
+def _material_header(curves_csv: Path, model: str, material_out: Path) -> list:
+    return [f"Material written by `rotarydryer lab drying {curves_csv.name}`: the {model} thin-layer law fitted to",
+            "those drying curves as the kinetics of a copy of the base library material (see [material.kinetics]).",
+            f"Python: rotarydryer.properties.materials.load_material({str(material_out)!r}).",
+            "In a case file: replace the case's [material] block (and its sub-tables) by the tables below.",
+            ""]
+
+
+def _drying_files(dc, result, chosen) -> dict:
+    """{file name: bytes} of ``--out``: the figure of the chosen law and the ranking table."""
+    import io
+
+    from .._io import csv_text
+    from .._plotting import pyplot
+
+    fig = dc.plot_fit(result, chosen)
+    buf = io.BytesIO()
+    try:
+        fig.savefig(buf, format="png", dpi=110)
+    finally:
+        pyplot().close(fig)
+    rows = []
+    for i, (m, f) in enumerate(result.fits.items()):
+        row = {"rank": i + 1, "model": m, "n_parameters": f.n_parameters, "n_points": f.n_points, "sse": f.sse,
+               "rmse": f.rmse, "r_squared": f.r_squared, "aic": f.aic, "aicc": f.aicc, "bic": f.bic,
+               "delta_aicc": result.delta_aicc(m), "akaike_weight": result.akaike_weight(m),
+               "activation_energy_J_mol": f.activation_energy_value}
+        for k, e in f.parameters.items():
+            row[k] = e.value
+        rows.append(row)
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    table = csv_text([{k: r.get(k, "") for k in keys} for r in rows])
+    return {"drying_fit.png": buf.getvalue(), "drying_models.csv": table.encode("utf-8")}
+
+
+def _print_drying(curves, result, chosen, written, material_out, table) -> None:
+    from ..properties.thin_layer import MODELS
+
+    temps = ", ".join(f"{t:g}" for t in curves.air_temperature_degC)
+    typer.echo(f"drying curves {curves.name}: {len(curves.ids)} curves at {temps} degC, {curves.time_s.size} rows "
+               f"({int((curves.time_s > 0).sum())} fitted after time 0)")
+    typer.echo(f"  moisture ratio MR = (X - X_e)/(X_0 - X_e); rate constants at T_ref = "
+               f"{result.reference_temperature_K:.2f} K ({result.reference_temperature_K - 273.15:.2f} degC), Arrhenius")
+    typer.echo("  rank  model              p    RMSE      R^2       AIC      AICc       BIC   dAICc  weight")
+    for i, (m, f) in enumerate(result.fits.items(), start=1):
+        finite = f.aicc != float("inf")
+        aicc = f"{f.aicc:9.1f}" if finite else "        -"
+        delta = f"{result.delta_aicc(m):6.2f}" if finite else "     -"
+        typer.echo(f"  {i:<4d}  {m:<17s} {f.n_parameters:2d}  {f.rmse:8.5f}  {f.r_squared:8.5f}  {f.aic:8.1f} {aicc}"
+                   f"  {f.bic:8.1f}  {delta}  {result.akaike_weight(m):6.3f}")
+    for m, why in result.skipped.items():
+        typer.echo(f"  skipped {m}: {why}")
+    f = result.fits[chosen]
+    for m, g in result.fits.items():
+        if g.law_problem is not None:
+            typer.echo(f"  not a drying law, not chosen: {m} ({g.law_problem})")
+    how = ("lowest AICc" if chosen == result.best.model else "--model" if result.best_law is None
+           or chosen != result.best_law.model else "lowest AICc of the drying laws")
+    typer.echo(f"  chosen: {chosen} ({how}), {MODELS[chosen].equation}; 95 % intervals:")
+    for k, e in f.parameters.items():
+        typer.echo(f"    {k:4s} = {e.value:.5g} {e.unit:6s} [{e.ci_low:.5g}, {e.ci_high:.5g}]")
+    if f.activation_energy is not None:
+        e = f.activation_energy
+        typer.echo(f"    Ea   = {e.value / 1e3:.4g} kJ/mol [{e.ci_low / 1e3:.4g}, {e.ci_high / 1e3:.4g}]")
+    for note in f.notes:
+        typer.echo(f"  note: {note}")
+    if written:
+        typer.echo(f"  outputs: {', '.join(written)}")
+    if material_out is not None:
+        typer.echo(f"  material {table['name']!r} written to {material_out} (kinetics method thin_layer, model "
+                   f"{chosen}); use it in a case in place of the [material] block")

@@ -271,7 +271,7 @@ class _Problem:
             pred[d.name] = f
         return pred
 
-    def scale(self, d: Dataset, f: np.ndarray, power_ref=None) -> np.ndarray:
+    def scale(self, d: Dataset, f: np.ndarray, power_ref=None) -> np.ndarray | float:
         s = d.sigma if (d.sigma is not None and self.method == "wls") else 1.0
         if self.method == "ml" and d.variance == "power":
             ref = np.abs(f if power_ref is None else power_ref)
@@ -550,6 +550,7 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     for i, j, r in unc.correlated_pairs:
         notes.append(f"{names[i]} and {names[j]} are correlated {r:+.3f}: one may not be identifiable")
     est = {}
+    assert unc.ci_low is not None and unc.ci_high is not None     # estimates were given
     lo_b = np.array([q.z_bounds[0] for q in params])
     hi_b = np.array([q.z_bounds[1] for q in params])
     for i, q in enumerate(params):
@@ -734,7 +735,7 @@ def bootstrap(model, parameters, data, result: FitResult, *, n_boot: int = 100, 
     data = [data] if isinstance(data, Dataset) else list(data)
     params = [Parameter(p.name, float(np.clip(result.values[p.name], p.lower, p.upper)), p.lower, p.upper, p.log)
               for p in parameters]
-    samples = {p.name: [] for p in params}
+    samples: dict[str, list[float]] = {p.name: [] for p in params}
     failed = 0
     for _ in range(int(n_boot)):
         boot = []

@@ -12,6 +12,10 @@
   (Appendix E's propagation corrected).
 * `rotarydryer.lab.steps` - Song (2003) ch. 4 dynamic step method: holdup from feed and
   discharge records of step tests, with the closure reconciliation (Eq. 4.1).
+* [`rotarydryer.lab.drying_curves`][rotarydryer.lab.drying_curves] - drying curves (moisture against time at a few
+  air temperatures): the six thin-layer laws with Arrhenius rate constants fitted to all
+  curves at once, ranked (AICc, AIC, BIC, RMSE), with 95 % intervals, and the chosen law
+  written into a material file the dryer model reads.
 
 Submodules are imported lazily so that ``import rotarydryer.lab`` stays cheap.
 """
@@ -20,7 +24,7 @@ from __future__ import annotations
 
 import importlib
 
-__all__ = ["flight_rig", "images", "design_load_fit", "steps"]
+__all__ = ["flight_rig", "images", "design_load_fit", "steps", "drying_curves"]
 
 
 def __getattr__(name):

@@ -42,6 +42,39 @@ Song 2003 §3.4 describes the periods qualitatively).
 ``"characteristic_curve"``: van Meel (1958) / Keey (1992) characteristic drying curve
 $f(\Phi) = \Phi^n$, $\Phi = (X - X_e)/(X_{cr} - X_e)$ clipped to [0, 1], or
 a tabulated curve ``curve=(Phi_points, f_points)`` interpolated linearly.
+``"thin_layer"``: a thin-layer law fitted to lab drying curves (Lewis, Page, Henderson-Pabis,
+logarithmic, two-term, Midilli with Arrhenius rate constants;
+[`rotarydryer.properties.thin_layer`][rotarydryer.properties.thin_layer], ``rotarydryer lab drying``), below.
+
+Thin-layer laws in the dryer
+----------------------------
+The law gives the drying rate per kg of dry solid, $r = -dX/dt$ (kg water/(kg dry solid s)), at
+the local moisture and the **gas** temperature (the lab's air temperature; the equivalent-time
+form of [`thin_layer.drying_rate`][rotarydryer.properties.thin_layer.drying_rate]). The dryer asks
+for an evaporation rate from a gas-contact area A (curtains: $A = \theta\,m\,3/(d_p\rho_p)$,
+Ajayi (2011) Eq. 6.63, m the wet mass), so the law becomes a flux per unit of that area,
+
+$$
+N_{law} = r\,\frac{\rho_p d_p}{3(1 + X)}
+$$
+
+(``solids_per_area`` $= \rho_p d_p/3$, kg of wet solids per m² of contact area, from the
+material's particle density and diameter): a curtain with area factor θ = 1 then dries at the
+lab's rate per kg, $R_w = A N_{law} = \theta\,S\,r$ (S dry solids). The rate is the smaller
+of the law and the unhindered (external, heat-and-mass-transfer-limited) flux,
+
+$$
+R_w = A\,\min(N_w, N_{law})\quad(N_w > 0),
+$$
+
+so the law holds where the solids control the rate (the falling-rate regime that thin-layer
+tests measure) and the gas-side transfer caps it where the law asks for more than the gas can
+supply (the start of a law with n < 1, whose rate is infinite at t = 0). Assumptions: the
+particles are the lab's size (``particle_diameter`` of the material; a section with another
+diameter changes its area, and so its rate per kg, in proportion to d_p,material/d_p,section),
+the law's temperature is the local gas temperature, and the lab's air velocity and humidity do
+not matter (a thin-layer law has no such terms). Solids in the passive phase do not dry, as
+with every kinetics of this module (no contact area).
 
 Moisture in these kinetics is on a **dry basis** X (kg water/kg dry solid); Ajayi's
 x_w is wet basis - convert with [`dry_basis`][rotarydryer.properties.drying.dry_basis] / [`wet_basis`][rotarydryer.properties.drying.wet_basis].
@@ -59,6 +92,7 @@ import numpy as np
 
 from .._validation import check_choice, check_positive, check_range
 from . import humid_air as ha
+from . import thin_layer as tl
 from . import water
 
 __all__ = [
@@ -77,7 +111,9 @@ __all__ = [
     "AJAYI_PRESSURE",
 ]
 
-MOISTURE_METHODS = ("ajayi2011", "constant_falling", "characteristic_curve")
+MOISTURE_METHODS = ("ajayi2011", "constant_falling", "characteristic_curve", "thin_layer")
+#: kelvin at 0 degC
+_KELVIN = 273.15
 BASES = ("concentration", "ajayi2011", "total_pressure")
 AJAYI_PRESSURE = 101045.0  # Pa, Ajayi code L3186
 
@@ -254,10 +290,17 @@ def falling_rate_factor(moisture, critical_moisture, equilibrium_moisture=0.0, e
 class DryingKinetics:
     """Drying kinetics of one material.
 
-    ``method``: one of ``"ajayi2011"``, ``"constant_falling"``, ``"characteristic_curve"``;
-    ``critical_moisture``, ``equilibrium_moisture`` kg/kg dry (not needed for ajayi2011);
-    ``exponent`` / ``curve`` for the characteristic curve; ``basis`` and
-    ``saturation_method`` of the unhindered flux.
+    ``method``: one of ``"ajayi2011"``, ``"constant_falling"``, ``"characteristic_curve"``,
+    ``"thin_layer"``; ``critical_moisture``, ``equilibrium_moisture`` kg/kg dry (not needed for
+    ajayi2011; thin_layer takes no critical moisture); ``exponent`` / ``curve`` for the
+    characteristic curve; ``basis`` and ``saturation_method`` of the unhindered flux.
+
+    Thin-layer laws (``method="thin_layer"``, module docstring): ``model`` (a law of
+    [`thin_layer`][rotarydryer.properties.thin_layer]: ``"lewis"``, ``"page"``, ...), ``parameters`` ((name, value)
+    pairs, the rate constants at ``reference_temperature_K``, time in s), ``activation_energy``
+    J/mol, ``reference_temperature_K`` K, ``initial_moisture`` X_0 of the lab curves and
+    ``equilibrium_moisture`` X_e, kg/kg dry, and ``solids_per_area`` ρ_p d_p/3, kg/m² (a
+    material fills it from its particle density and diameter).
 
     Below the equilibrium moisture (Φ < 0) the rate of [`rate`][rotarydryer.properties.drying.DryingKinetics.rate] continues linearly in
     Φ = (X - X_e)/(X_cr - X_e): the solids take up water from an unsaturated gas at a rate that
@@ -277,18 +320,73 @@ class DryingKinetics:
     basis: str = "concentration"
     saturation_method: str = "wagner_pruss"
     source: str = ""
+    model: str = ""
+    parameters: tuple = ()
+    activation_energy: float = 0.0
+    reference_temperature_K: float | None = None
+    initial_moisture: float | None = None
+    solids_per_area: float | None = None
 
     def __post_init__(self):
         check_choice("method", self.method, MOISTURE_METHODS)
         check_choice("basis", self.basis, BASES)
         check_choice("saturation_method", self.saturation_method, water.SATURATION_METHODS)
+        if self.method == "thin_layer":
+            self._check_thin_layer()
+            return
         if self.method != "ajayi2011" and self.critical_moisture is None:
             raise ValueError(f"method={self.method!r} needs critical_moisture (kg/kg dry)")
         if self.method != "ajayi2011":      # the curve's checks once here: _rate evaluates it unchecked
             self.factor(np.array([0.0, float(self.critical_moisture)]))
 
+    def _check_thin_layer(self):
+        check_choice("model", self.model, tl.MODELS)
+        try:
+            pairs = dict(self.parameters)
+        except (TypeError, ValueError):
+            raise ValueError(f"parameters = {self.parameters!r} must be (name, value) pairs") from None
+        law = tl.check_law(self.model, pairs)
+        object.__setattr__(self, "parameters", tuple((k, law[k]) for k in tl.MODELS[self.model].parameters))
+        check_range("activation_energy", self.activation_energy, 0.0, 1e6, low_inclusive=True, unit="J/mol")
+        if self.reference_temperature_K is None:
+            raise ValueError("method='thin_layer' needs reference_temperature_K (K, the temperature of the "
+                             "rate constants)")
+        check_range("reference_temperature_K", self.reference_temperature_K, 200.0, 1000.0, unit="K")
+        check_range("equilibrium_moisture", self.equilibrium_moisture, 0.0, 10.0, low_inclusive=True,
+                    unit="kg/kg dry")
+        if self.initial_moisture is None:
+            raise ValueError("method='thin_layer' needs initial_moisture (kg/kg dry, X_0 of the lab curves)")
+        check_range("initial_moisture", self.initial_moisture, float(self.equilibrium_moisture), 10.0,
+                    unit="kg/kg dry (above equilibrium_moisture)")
+        if self.solids_per_area is None:
+            raise ValueError("method='thin_layer' needs solids_per_area (kg/m2, rho_p d_p / 3; a material "
+                             "sets it from its particle density and diameter)")
+        check_range("solids_per_area", self.solids_per_area, 0.0, 1e4, unit="kg/m2")
+
+    def law_rate(self, moisture, gas_temperature_c):
+        """Thin-layer drying rate -dX/dt, kg water/(kg dry solid s), at dry-basis ``moisture`` in gas
+        at ``gas_temperature_c`` (°C): the law alone, without the external-transfer cap of
+        [`rate`][rotarydryer.properties.drying.DryingKinetics.rate] (``method="thin_layer"`` only)."""
+        if self.method != "thin_layer":
+            raise ValueError(f"law_rate needs method='thin_layer' (this kinetics is {self.method!r})")
+        x = check_range("moisture", moisture, unit="kg/kg dry")
+        tg = check_range("gas_temperature_c", gas_temperature_c, -_KELVIN, 2000.0, unit="degC")
+        return self._law_rate(x, tg)
+
+    def _law_rate(self, moisture, gas_temperature_c):
+        """Unchecked [`law_rate`][rotarydryer.properties.drying.DryingKinetics.law_rate]."""
+        p = tl._at_temperature(self.model, dict(self.parameters), np.asarray(gas_temperature_c, float) + _KELVIN,
+                               self.activation_energy, self.reference_temperature_K)
+        return tl._drying_rate(self.model, moisture, p, float(self.initial_moisture),
+                               float(self.equilibrium_moisture))
+
     def factor(self, moisture):
-        """Falling-rate factor (1 = unhindered) at dry-basis moisture."""
+        """Falling-rate factor (1 = unhindered) at dry-basis moisture (not for thin-layer laws,
+        whose rate does not scale the unhindered flux: see
+        [`law_rate`][rotarydryer.properties.drying.DryingKinetics.law_rate])."""
+        if self.method == "thin_layer":
+            raise ValueError("a thin-layer law has no falling-rate factor: its rate is the law capped by the "
+                             "unhindered flux (DryingKinetics.rate, .law_rate)")
         if self.method == "ajayi2011":
             return np.ones_like(np.asarray(moisture, float))
         n = 1.0 if self.method == "constant_falling" else self.exponent
@@ -307,6 +405,10 @@ class DryingKinetics:
         """Unchecked kernel of [`rate`][rotarydryer.properties.drying.DryingKinetics.rate] (area, hc, ts, tg, y, p validated arrays; ts 0-150 °C)."""
         flux = _unhindered_drying_flux(hc, ts, tg, y, p, cp, pr, sc, self.basis, self.saturation_method, True,
                                        condensation)
+        if self.method == "thin_layer":
+            x = np.asarray(moisture, dtype=float)
+            law = self._law_rate(x, tg) * float(self.solids_per_area) / (1.0 + np.maximum(x, 0.0))
+            return area * np.where(flux > 0, np.minimum(flux, law), flux)
         f = self._factor(moisture)
         return area * np.where(flux > 0, f * flux, flux)
 

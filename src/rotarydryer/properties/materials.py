@@ -66,7 +66,8 @@ CALIBRATED_RANGES = {"calibrated_rpm": ("drum speed", "rev/min"), "calibrated_fr
                      "calibrated_fill": ("solids fill of the drum volume", "-"),
                      "calibrated_moisture": ("feed moisture", "kg/kg wet")}
 _KINETICS = {"method", "critical_moisture", "equilibrium_moisture", "exponent", "curve", "basis",
-             "saturation_method", "source"}
+             "saturation_method", "source", "model", "parameters", "activation_energy", "reference_temperature_K",
+             "initial_moisture"}
 _TOL = 1e-12  # kg/kg: a range end recomputed from the other basis still counts as inside
 
 
@@ -197,16 +198,22 @@ def load_material(spec) -> Material:
         return _library_material(spec)
     if isinstance(spec, (str, os.PathLike)) and os.fspath(spec).endswith(".toml") and os.path.isfile(spec):
         try:
-            return _build(tomllib.loads(Path(spec).read_text(encoding="utf-8-sig")))   # BOM dropped
+            table = tomllib.loads(Path(spec).read_text(encoding="utf-8-sig"))   # BOM dropped
         except tomllib.TOMLDecodeError as exc:
             raise ValueError(f"material = {os.fspath(spec)!r} is not valid TOML: {exc}") from None
+        if set(table) == {"material"} and isinstance(table["material"], dict):
+            return load_material(table["material"])     # a case file's [material] block (rotarydryer lab drying)
+        return _build(table)
     raise ValueError(f"material = {spec!r} is not in the materials library ({', '.join(names)}) nor a .toml file")
 
 
 def _merge(base: dict, override: dict) -> dict:
     out = dict(base)
     for key, val in override.items():
-        if key in _TABLES and isinstance(val, dict) and isinstance(base.get(key), dict):
+        if (key == "kinetics" and isinstance(val, dict) and isinstance(base.get(key), dict)
+                and val.get("method", base[key].get("method")) != base[key].get("method")):
+            out[key] = {"source": "case-file override", **val}     # another method: its own fields only
+        elif key in _TABLES and isinstance(val, dict) and isinstance(base.get(key), dict):
             out[key] = {**base[key], **val}
             if key != "particle_diameter_by_section" and "source" not in val:
                 out[key]["source"] = "case-file override"
@@ -301,34 +308,58 @@ def _build(d: dict) -> Material:
             if hi_r < lo_r:
                 _fail(f"transport.{k}", list(v), "[low, high] with low <= high")
             ranges.append((k, (lo_r, hi_r)))
-    kin = d["kinetics"]
+    particle_density = _number("particle_density", d["particle_density"], 0.0, 25000.0, "kg/m3")
+    particle_diameter = _number("particle_diameter", d["particle_diameter"], 0.0, 0.2, "m")
+    kinetics = _kinetics(d["kinetics"], particle_density, particle_diameter)
+    return Material(
+        name=d["name"], title=d["title"], citations=cites, moisture_basis=basis, moisture_range=(lo, hi),
+        repose_angle_law=repose, bulk_density_law=density,
+        heat_capacity=_number("heat_capacity", d["heat_capacity"], 0.0, 1e4, "J/(kg K)"),
+        particle_density=particle_density,
+        particle_diameter=particle_diameter,
+        kinetics=kinetics,
+        water_heat_capacity=_number("water_heat_capacity", d.get("water_heat_capacity", 4182.0), 0.0, 1e4,
+                                    "J/(kg K)"),
+        repose_angle_source=repose_src, bulk_density_source=density_src, particle_diameter_by_section=sections,
+        transport_coefficients=coeffs, transport_source=str(tr.get("source", "")), transport_ranges=tuple(ranges))
+
+
+def _kinetics(kin: Any, particle_density: float, particle_diameter: float) -> DryingKinetics:
+    """``material.kinetics`` checked into a `DryingKinetics`; a thin-layer law takes its
+    ``solids_per_area`` (rho_p d_p / 3, kg/m2) from the material's particle density and diameter."""
     if not isinstance(kin, dict):
         raise ValueError(f"material.kinetics = {kin!r} must be a table (method, critical_moisture, ...)")
     if set(kin) - _KINETICS:
         raise ValueError(f"material.kinetics.{sorted(set(kin) - _KINETICS)[0]} is not a field "
                          f"(allowed: {', '.join(sorted(_KINETICS))})")
     kin = dict(kin)
-    for key, hi_k, unit in (("critical_moisture", 10, "kg/kg dry"), ("equilibrium_moisture", 10, "kg/kg dry"),
-                            ("exponent", 20, "")):
+    thin = kin.get("method") == "thin_layer"
+    if thin:
+        ignored = sorted({"critical_moisture", "exponent", "curve"} & set(kin))
+        if ignored:
+            raise ValueError(f"material.kinetics.{ignored[0]} is not a field of a thin-layer law (method = "
+                             "'thin_layer' takes model, parameters, activation_energy, reference_temperature_K, "
+                             "initial_moisture, equilibrium_moisture)")
+        if not isinstance(kin.get("parameters"), dict):
+            _fail("kinetics.parameters", kin.get("parameters"), "{a table of the law's parameters, e.g. "
+                  "{k = 2e-3, n = 0.9}}")
+        kin["parameters"] = tuple(kin["parameters"].items())
+        kin["solids_per_area"] = particle_density * particle_diameter / 3.0
+    for key, lo_k, hi_k, unit, closed in (
+            ("critical_moisture", 0.0, 10, "kg/kg dry", False), ("equilibrium_moisture", 0.0, 10, "kg/kg dry", True),
+            ("exponent", 0.0, 20, "", False), ("initial_moisture", 0.0, 10, "kg/kg dry", False),
+            ("activation_energy", 0.0, 1e6, "J/mol", True), ("reference_temperature_K", 200.0, 1000.0, "K", False)):
         if key in kin:
-            kin[key] = _number(f"kinetics.{key}", kin[key], 0.0, hi_k, unit, lo_closed=key[0] == "e")
+            kin[key] = _number(f"kinetics.{key}", kin[key], lo_k, hi_k, unit, lo_closed=closed)
     if "critical_moisture" in kin and kin["critical_moisture"] <= kin.get("equilibrium_moisture", 0.0):
         _fail("kinetics.critical_moisture", kin["critical_moisture"],
+              f"(equilibrium_moisture = {kin.get('equilibrium_moisture', 0.0):g}, 10) kg/kg dry")
+    if "initial_moisture" in kin and kin["initial_moisture"] <= kin.get("equilibrium_moisture", 0.0):
+        _fail("kinetics.initial_moisture", kin["initial_moisture"],
               f"(equilibrium_moisture = {kin.get('equilibrium_moisture', 0.0):g}, 10) kg/kg dry")
     try:
         if "curve" in kin:
             kin["curve"] = tuple(tuple(float(v) for v in c) for c in kin["curve"])
-        kinetics = DryingKinetics(**kin)
+        return DryingKinetics(**kin)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"material.kinetics.{exc}") from None
-    return Material(
-        name=d["name"], title=d["title"], citations=cites, moisture_basis=basis, moisture_range=(lo, hi),
-        repose_angle_law=repose, bulk_density_law=density,
-        heat_capacity=_number("heat_capacity", d["heat_capacity"], 0.0, 1e4, "J/(kg K)"),
-        particle_density=_number("particle_density", d["particle_density"], 0.0, 25000.0, "kg/m3"),
-        particle_diameter=_number("particle_diameter", d["particle_diameter"], 0.0, 0.2, "m"),
-        kinetics=kinetics,
-        water_heat_capacity=_number("water_heat_capacity", d.get("water_heat_capacity", 4182.0), 0.0, 1e4,
-                                    "J/(kg K)"),
-        repose_angle_source=repose_src, bulk_density_source=density_src, particle_diameter_by_section=sections,
-        transport_coefficients=coeffs, transport_source=str(tr.get("source", "")), transport_ranges=tuple(ranges))

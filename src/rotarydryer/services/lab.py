@@ -1,14 +1,16 @@
-"""Options and analyses of ``rotarydryer lab rig|image|design-load|steps`` and of the web app's
-Lab data page (flight-unloading rig runs, drum photographs, design-load fits, Song's step tests)."""
+"""Options and analyses of ``rotarydryer lab rig|image|design-load|steps|drying`` and of the web app's
+Lab data page (flight-unloading rig runs, drum photographs, design-load fits, Song's step tests,
+thin-layer drying laws from drying curves)."""
 
 from __future__ import annotations
 
 import math
+import re
 
 from ._options import check_option
 
 __all__ = ["check_rig_options", "rig_analysis", "image_options", "measure_image", "design_load_fits",
-           "check_steps_options", "steps_analysis"]
+           "check_steps_options", "steps_analysis", "check_drying_options", "drying_analysis"]
 
 
 def _pair(text: str, name: str):
@@ -210,3 +212,59 @@ def steps_analysis(rec, name, step_times=None, threshold=0.1, plateau=0.2, toler
     a = sm.analyse_steps(rec, times, threshold=threshold, plateau=plateau, tolerance=tolerance,
                          initial_holdup=initial_holdup)
     return a
+
+
+def check_drying_options(model=None, equilibrium_moisture=None, reference_temperature=None, material_out=None,
+                         base_material=None, material_name=None, particle_diameter=None):
+    """Check the options of ``rotarydryer lab drying`` before any file is read (``ValueError`` naming
+    the option, the value and the allowed range)."""
+    from ..properties.materials import list_materials
+    from ..properties.thin_layer import MODELS
+
+    if model is not None:
+        _choice("--model", model, tuple(MODELS))
+    if equilibrium_moisture is not None:
+        check_option("--equilibrium-moisture", equilibrium_moisture, 0, 50, low_inclusive=True, unit="kg/kg dry")
+    if reference_temperature is not None:
+        check_option("--reference-temperature", reference_temperature, 0, 400, low_inclusive=True,
+                     high_inclusive=True, unit="degC")
+    if particle_diameter is not None:
+        check_option("--particle-diameter", particle_diameter, 0, 0.2, unit="m")
+    extra = [o for o, v in (("--base-material", base_material), ("--material-name", material_name),
+                            ("--particle-diameter", particle_diameter)) if v is not None]
+    if material_out is None:
+        if extra:
+            raise ValueError(f"{extra[0]} is given without --material-out; it describes the material file to write")
+        return
+    if not str(material_out).lower().endswith(".toml"):
+        raise ValueError(f"--material-out {str(material_out)!r} is not a .toml file name (e.g. my_material.toml)")
+    names = list_materials()
+    if base_material is None:
+        raise ValueError("--material-out needs --base-material NAME: the library material whose repose angle, bulk "
+                         f"density, heat capacity and particle data the new material takes ({', '.join(names)})")
+    _choice("--base-material", base_material, tuple(names))
+    if material_name is not None:
+        if not re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.\-]{0,99}", material_name):
+            raise ValueError(f"--material-name = {material_name!r} is not a plain name (letters, digits, '_', '-', "
+                             "'.', at most 100 characters)")
+        if material_name in names:
+            raise ValueError(f"--material-name = {material_name!r} is a library material; give the new material its "
+                             "own name")
+
+
+def drying_analysis(curves, model=None, reference_temperature=None):
+    """The thin-layer laws fitted to ``curves`` as ``rotarydryer lab drying`` fits them: returns
+    ``(DryingFit, chosen law name)``: ``model`` (``--model``, which must be one that could be fitted),
+    else the lowest AICc among the fits that are drying laws."""
+    from ..lab import drying_curves as dc
+
+    t_ref = None if reference_temperature is None else float(reference_temperature) + 273.15
+    result = dc.fit_models(curves, reference_temperature_K=t_ref)
+    if model is not None:
+        if model not in result.fits:
+            raise ValueError(f"--model = {model!r} could not be fitted to {curves.name}: {result.skipped[model]}")
+        return result, model
+    if result.best_law is None:
+        why = "; ".join(f"{m}: {f.law_problem}" for m, f in result.fits.items())
+        raise ValueError(f"{curves.name}: no fitted law is a drying law ({why})")
+    return result, result.best_law.model

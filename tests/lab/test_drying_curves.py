@@ -1,0 +1,231 @@
+"""Thin-layer drying laws from lab drying curves (rotarydryer.lab.drying_curves, ``rotarydryer lab drying``)."""
+
+import json
+import re
+import warnings
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import rotarydryer.cli.lab  # noqa: F401  (registers the sub-app)
+from rotarydryer.cli import app
+from rotarydryer.lab import drying_curves as dc
+from rotarydryer.properties import thin_layer as tl
+from rotarydryer.properties.materials import load_material
+from rotarydryer.thermal import balances
+
+runner = CliRunner()
+TRUE = {"k": 7.5e-3, "n": 0.7}
+TRUE_EA = 30e3
+
+
+@pytest.fixture(scope="module")
+def example_fit():
+    return dc.fit_models(dc.load_example())
+
+
+def test_shipped_example_is_the_generator_output():
+    assert dc.example_path().read_text() == dc._example_text()
+    c = dc.load_example()
+    assert c.ids == ("50", "65", "80") and c.time_unit == "min"
+    np.testing.assert_allclose(c.equilibrium_moisture, [0.015, 0.010, 0.007])
+    assert dc.EXAMPLE_LAW["parameters"] == TRUE and dc.EXAMPLE_LAW["activation_energy"] == TRUE_EA
+
+
+def test_example_recovers_the_known_law_within_its_intervals(example_fit):
+    f = example_fit.fits["page"]
+    assert f.reference_temperature_K == pytest.approx(338.15)       # the mean of 50, 65, 80 degC
+    for k, v in TRUE.items():
+        e = f.parameters[k]
+        assert e.ci_low <= v <= e.ci_high, (k, e)
+    ea = f.activation_energy
+    assert ea.ci_low <= TRUE_EA <= ea.ci_high
+    assert f.rmse == pytest.approx(0.005, rel=0.15)                  # the generator's noise
+    assert f.notes == []                                              # k centred: no identifiability warning
+
+
+def test_example_ranking_chooses_page(example_fit):
+    ranked = list(example_fit.fits)
+    assert ranked[0] == "page"
+    assert ranked[-3:] == ["logarithmic", "henderson_pabis", "lewis"]     # the exponentials cannot bend like t^0.7
+    assert example_fit.delta_aicc("lewis") > 100
+    mid = example_fit.fits["midilli"]
+    assert any("the page law (a = 1, b = 0) lies inside the 95 % intervals" in n for n in mid.notes)
+    w = sum(example_fit.akaike_weight(m) for m in ranked)
+    assert w == pytest.approx(1.0)
+    f = example_fit.best
+    assert f.aic < f.aicc and f.bic > f.aic                                # n = 90: ln 90 > 2
+
+
+def test_recovery_and_ranking_over_seeds():
+    """Coverage of the 95 % intervals and how often AIC picks the generating law (or Midilli with the
+    Page values inside its intervals), over 20 seeds of the example's design."""
+    covered = {"k": 0, "n": 0, "Ea": 0}
+    chose = 0
+    for seed in range(100, 120):
+        c = dc.synthetic_drying_curves("page", TRUE, temperatures_degC=(50, 65, 80),
+                                       times_s=np.arange(0, 151, 5) * 60.0, initial_moisture=0.3,
+                                       equilibrium_moisture=(0.015, 0.01, 0.007), noise_sd=0.005, seed=seed)
+        r = dc.fit_models(c, ["page", "midilli", "two_term"])
+        f = r.fits["page"]
+        for k, v in TRUE.items():
+            covered[k] += f.parameters[k].ci_low <= v <= f.parameters[k].ci_high
+        covered["Ea"] += f.activation_energy.ci_low <= TRUE_EA <= f.activation_energy.ci_high
+        chose += r.best.model == "page" or (r.best.model == "midilli" and any("page law" in n for n in r.best.notes))
+    assert min(covered.values()) >= 17, covered       # 95 % intervals: 19 of 20 expected
+    assert chose >= 14, chose                           # AIC's false choice of 2 nested extras: P(chi2_2 > 4) = 13.5 %
+
+
+@pytest.mark.parametrize("model, p", [
+    ("lewis", {"k": 1e-3}), ("henderson_pabis", {"a": 0.95, "k": 1e-3}),
+    ("logarithmic", {"a": 0.9, "k": 1e-3, "c": 0.05}), ("two_term", {"a": 0.7, "k0": 3e-3, "b": 0.3, "k1": 2e-4}),
+    ("midilli", {"a": 0.98, "k": 5e-3, "n": 0.75, "b": -5e-6}),
+])
+def test_each_law_recovered_from_its_own_curves(model, p):
+    c = dc.synthetic_drying_curves(model, p, times_s=np.arange(0, 151, 5) * 60.0, equilibrium_moisture=0.03,
+                                   noise_sd=0.002, seed=7)
+    f = dc.fit_model(c, model, n_starts=6)
+    for k, v in p.items():
+        e = f.parameters[k]
+        assert e.ci_low <= v <= e.ci_high, (k, v, e)
+    assert f.activation_energy.ci_low <= TRUE_EA <= f.activation_energy.ci_high
+
+
+def test_reader_units_bases_and_curves():
+    text = ("# two replicates at 60 degC, wet basis, hours\n"
+            "time_h,moisture_kg_kg_wet,air_temperature_degC,curve,note\n"
+            "0,0.5,60,A,x\n0.5,0.4,60.5,A,x\n1,0.3,60,A,x\n"
+            "0,0.5,60,B,y\n0.5,0.41,60,B,y\n1,0.31,61,B,y\n")
+    c = dc.parse_drying_text(text, "lab.csv", equilibrium_moisture=0.02)
+    assert c.ids == ("A", "B") and c.time_unit == "h"
+    np.testing.assert_allclose(c.time_s[:3], [0, 1800, 3600])
+    np.testing.assert_allclose(c.moisture[:3], [1.0, 0.4 / 0.6, 0.3 / 0.7])
+    np.testing.assert_allclose(c.air_temperature_degC, [60.5 / 3 + 40, 181 / 3])
+    np.testing.assert_allclose(c.equilibrium_moisture, 0.02)
+    assert c.n_temperatures == 1
+    # without a curve column the rows of one air temperature are one curve
+    c = dc.parse_drying_text("time_s,moisture_kg_kg_dry,air_temperature_degC\n0,1,40\n0,1,60\n60,0.8,40\n60,0.7,60\n"
+                             "120,0.6,40\n120,0.5,60\n", "t.csv")
+    assert c.ids == ("40", "60") and c.n_temperatures == 2
+    np.testing.assert_allclose(c.moisture_ratio, [1, 0.8, 0.6, 1, 0.7, 0.5])
+
+
+def test_few_points_skip_laws_and_one_temperature_has_no_activation_energy():
+    t = np.array([0, 600, 1200, 1800, 2400.0])
+    x = 0.3 * np.exp(-1e-3 * t)
+    c = dc.drying_curves(t, x, 60.0)
+    r = dc.fit_models(c)
+    assert set(r.skipped) == {"two_term", "midilli"}
+    assert "4 points after time 0 for 4 parameters" in r.skipped["two_term"]
+    f = r.fits["lewis"]
+    assert f.activation_energy is None and f.parameters["k"].value == pytest.approx(1e-3, rel=1e-6)
+    assert any("one air temperature" in n for n in f.notes)
+    with pytest.raises(ValueError, match="no thin-layer law could be fitted"):
+        dc.fit_models(dc.drying_curves(t[:3], x[:3], 60.0), ["page"])
+    with pytest.raises(ValueError, match="reference_temperature_K = 100 K is outside"):
+        dc.fit_models(c, reference_temperature_K=100.0)
+
+
+def test_material_round_trip_through_the_dryer_model(example_fit, tmp_path):
+    """Written -> loaded -> the dryer's stage transfer: at the lab's air temperature a curtain (area factor 1)
+    of 1 kg dry solids evaporates what the fitted law says, while the gas can supply more."""
+    table = dc.material_table(example_fit, "page", "ottawa_sand_song2003", name="my_ore", particle_diameter=5e-4)
+    p = tmp_path / "my_ore.toml"
+    p.write_text(dc.material_toml(table, ["test"]))
+    m = load_material(str(p))
+    k = m.kinetics
+    f = example_fit.fits["page"]
+    assert (k.method, k.model, m.name, m.particle_diameter) == ("thin_layer", "page", "my_ore", 5e-4)
+    assert dict(k.parameters) == pytest.approx(f.values) and k.activation_energy == pytest.approx(f.activation_energy.value)
+    assert k.initial_moisture == pytest.approx(0.3) and k.equilibrium_moisture == pytest.approx(0.032 / 3)
+    x = np.array([0.25, 0.15, 0.06])
+    for temp in (50.0, 65.0, 80.0):
+        law = tl.drying_rate("page", x, temp + 273.15, f.values, activation_energy=f.activation_energy.value,
+                             reference_temperature_K=f.reference_temperature_K, initial_moisture=0.3,
+                             equilibrium_moisture=k.equilibrium_moisture)
+        area = balances.curtain_area((1.0 + x), m.particle_diameter, 1.0, m.particle_density)
+        rw, _, _ = balances.stage_transfer(area, x, 40.0, temp, 0.005, 60.0, m.particle_diameter, 1.0, k)
+        np.testing.assert_allclose(rw, law, rtol=1e-10)
+        # and the law follows the curve it was fitted to: -dX/dt = -(X_0 - X_e) dMR/dt at the equivalent time
+        mr = (x - k.equilibrium_moisture) / (0.3 - k.equilibrium_moisture)
+        t_eq = (-np.log(mr) / (f.values["k"] * np.exp(-f.activation_energy.value / tl.GAS_CONSTANT
+                                                        * (1 / (temp + 273.15) - 1 / f.reference_temperature_K)))) ** (1 / f.values["n"])
+        np.testing.assert_allclose(law, -(0.3 - k.equilibrium_moisture) * tl.moisture_ratio_rate(
+            "page", t_eq, f.values, temp + 273.15, f.activation_energy.value, f.reference_temperature_K), rtol=1e-9)
+
+
+def test_material_table_refuses_what_is_not_a_drying_law():
+    t = np.arange(0, 61, 5) * 60.0                     # a curve that turns up at the end (within the noise allowance)
+    mr = tl._mr("midilli", t, {"a": 1.0, "k": 5e-3, "n": 0.75, "b": 2e-5})
+    c = dc.drying_curves(t, 0.3 * mr, 60.0)
+    r = dc.fit_models(c, ["midilli"])
+    assert r.fits["midilli"].parameters["b"].value > 0
+    with pytest.raises(ValueError, match=r"the midilli law cannot be written as a material: material.kinetics.parameters.b"):
+        dc.material_table(r, "midilli", "ottawa_sand_song2003")
+    with pytest.raises(ValueError, match="base material 'sand' is not in the materials library"):
+        dc.material_table(r, "midilli", "sand")
+
+
+def test_plot(example_fit):
+    from rotarydryer._plotting import pyplot
+
+    fig = dc.plot_fit(example_fit)
+    assert len(fig.axes) == 2 and "Page" in fig.axes[0].get_title()
+    pyplot().close(fig)
+
+
+# ------------------------------------------------------------------ command line
+def _example(tmp_path):
+    p = tmp_path / "curves.csv"
+    p.write_text(dc.example_path().read_text())
+    return p
+
+
+def test_cli_json_outputs_and_material(tmp_path):
+    p = _example(tmp_path)
+    mat = tmp_path / "mat" / "my_ore.toml"
+    res = runner.invoke(app, ["lab", "drying", str(p), "--json", "--out", str(tmp_path / "res"), "--material-out",
+                              str(mat), "--base-material", "ottawa_sand_song2003", "--material-name", "my_ore"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    assert out["chosen"] == out["best"] == "page" and out["reference_temperature_K"] == pytest.approx(338.15)
+    assert [m["model"] for m in out["models"]][0] == "page" and out["models"][0]["rank"] == 1
+    page = out["models"][0]
+    assert page["parameters"]["k"]["unit"] == "1/s^n" and page["activation_energy_J_mol"]["unit"] == "J/mol"
+    assert page["parameters"]["n"]["ci_low"] <= 0.7 <= page["parameters"]["n"]["ci_high"]
+    assert {"aic", "aicc", "bic", "rmse", "r_squared", "delta_aicc", "akaike_weight"} <= set(page)
+    assert page["drying_law"] is True and page["law_problem"] is None and out["best_drying_law"] == "page"
+    assert out["curves"][0]["initial_moisture_kg_kg_dry"] == 0.3
+    assert sorted((tmp_path / "res").iterdir()) == [tmp_path / "res" / "drying_fit.png",
+                                                    tmp_path / "res" / "drying_models.csv"]
+    assert (tmp_path / "res" / "drying_fit.png").stat().st_size > 20_000
+    assert (tmp_path / "res" / "drying_models.csv").read_text().splitlines()[1].startswith("1,page,3,90,")
+    assert load_material(str(mat)).kinetics.model == "page" and out["material_name"] == "my_ore"
+
+
+def test_cli_text_and_model_option(tmp_path):
+    p = _example(tmp_path)
+    res = runner.invoke(app, ["lab", "drying", str(p), "--model", "midilli", "--reference-temperature", "60"])
+    assert res.exit_code == 0, res.output
+    assert "chosen: midilli (--model)" in res.output and "T_ref = 333.15 K" in res.output
+    assert re.search(r"1\s+page\s+3", res.output) and "the page law (a = 1, b = 0) lies inside" in res.output
+
+
+def test_cli_material_runs_in_a_new_case(tmp_path, monkeypatch):
+    """The material file in place of the [material] block of a `rotarydryer new` case: simulate runs with it."""
+    monkeypatch.chdir(tmp_path)
+    p = _example(tmp_path)
+    assert runner.invoke(app, ["new", "mycase"]).exit_code == 0
+    res = runner.invoke(app, ["lab", "drying", str(p), "--material-out", "ore.toml", "--base-material",
+                              "ottawa_sand_song2003"])
+    assert res.exit_code == 0, res.output
+    case = (tmp_path / "mycase.toml").read_text()
+    case = re.sub(r"(?ms)^\[material\]\n.*?(?=^\[)", "", case) + "\n" + (tmp_path / "ore.toml").read_text()
+    (tmp_path / "mine.toml").write_text(case)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = runner.invoke(app, ["simulate", "mine.toml", "--json", "--set", "operating.feed_moisture=0.15"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output[res.output.index("{"):])
+    assert 0.0 < out["product_moisture_kg_kg"] < 0.15
