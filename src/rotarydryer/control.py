@@ -1,9 +1,9 @@
 r"""Closed-loop control of the dynamic coupled dryer model (PI feedback + feed-forward).
 
-The plant is `ThermalDryer`: it is integrated over one sample
-interval at a time (``dryer.simulate(z, dt_sample)``) and its inputs are changed between
-intervals (`perturbed`), keeping the state, so the controller
-sees a sampled, dead-time-delayed measurement of the nonlinear model.
+The plant is `ThermalDryer`: one BDF integration runs the whole closed loop
+([`DryerIntegrator`][rotarydryer.thermal.schedule.DryerIntegrator]), stopping at every sample, where
+the controller's new inputs (`perturbed`) take over with the integrator's history kept (no restart
+per sample), so the controller sees a sampled, dead-time-delayed measurement of the nonlinear model.
 
 Structure (Ajayi (2011) Ch. 7 targets: product moisture at most 12 % wet basis, product
 temperature 45-50 degC; the plant's DCS uses a *feed-forward* on the water to remove):
@@ -64,7 +64,7 @@ from typing import Optional
 import numpy as np
 
 from ._validation import check_choice, check_range
-from .thermal.schedule import base_inputs, burner_fuel_rate, check_applicable, outlets
+from .thermal.schedule import DryerIntegrator, base_inputs, burner_fuel_rate, check_applicable, outlets
 
 __all__ = ["ControlWarning", "check_schedule", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
            "ControlConfig", "identify", "check_scenario", "closed_loop", "ClosedLoopResult", "SCENARIOS",
@@ -606,7 +606,11 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                            "exhaust_humidity_kg_kg", "holdup_kg", "measured", "gas_inlet_temperature_degC",
                            "feed_rate_kg_s", "feed_moisture_kg_kg", "fouling", "fuel_rate_kg_s", "controller_output")}
     times = []
-    d_cur = dryer
+    # a copy of the dryer (caches cleared: the run does not depend on what the caller solved before)
+    d_cur = plant(dryer, gas_inlet_temperature=T0, feed_rate=F0, feed_moisture=base["feed_moisture"],
+                  fouling=base["fouling"])
+    integ = DryerIntegrator(d_cur, z)    # one integration, continued across the samples
+    last_applied = (T0, F0, base["feed_moisture"], base["fouling"], ())
     v_fb = 0.0
     for k in range(n + 1):
         t = k * ts
@@ -634,7 +638,11 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             v = float(np.clip(v_fb + v_ff, lo, hi))
             # split range: the gas temperature first, the rest by the feed rate
             T_in, F_in, _ = split(v, Fd)
-        d_cur = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x, fouling=f, **extra)
+        applied = (T_in, F_in, x, f, tuple(sorted(extra.items())))
+        if applied != last_applied:       # the same inputs: the integration carries on as it is
+            d_cur = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x, fouling=f, **extra)
+            integ.restart(d_cur)
+            last_applied = applied
         times.append(t)
         for key, val in (("product_moisture_kg_kg", y["product_moisture"]),
                          ("product_temperature_degC", y["product_temperature"]),
@@ -649,7 +657,8 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         if progress and k % 10 == 0:
             progress(f"{'closed' if controlled else 'open'} loop: t = {t:.0f} / {t_end_s:.0f} s, "
                      f"{cv} = {y[cv]:.4g}")
-        z = d_cur.simulate(z, ts).states[:, -1]
+        z = integ.advance(t + ts)
+    integ.close()
     series = {k: np.asarray(v, dtype=float if k != "fuel_rate_kg_s" else object) for k, v in rec.items()}
     tol = cfg.tolerance if cfg.tolerance is not None else TOLERANCE[cv]
     yk = "product_moisture_kg_kg" if cv == "product_moisture" else "exhaust_temperature_degC"

@@ -98,7 +98,8 @@ def dynamics_cmd(
     src = schedule.name if schedule else "the case's own inputs"
     typer.echo(f"{case}: {summary['t_end_s']:g} s from the steady state, {src} "
                f"({', '.join(summary['scheduled_inputs']) or 'no input changed'}); {summary['points']} points, "
-               f"{summary['integrations']} integration(s), {summary['seconds']:.1f} s")
+               f"{summary['integrations']} integration(s), {summary['input_changes']} input change(s), "
+               f"{summary['seconds']:.1f} s")
     for name, s in summary["outlets"].items():
         typer.echo(f"  {name:<26} start {show_output(name, s['start'])}, final {show_output(name, s['final'])}, "
                    f"max {show_output(name, s['max'])} at {show(s['max_time_s'], 'time')}, "

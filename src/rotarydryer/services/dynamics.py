@@ -50,7 +50,7 @@ def dynamics_summary(result, case: str, above=None) -> dict:
     """The JSON summary of a run: the scheduled inputs, every outlet's start, final, minimum and
     maximum, the run's cost and, with ``above`` = (outlet, value), the time above that value."""
     out = dict(case=case, t_end_s=float(result.time_s[-1]), points=int(result.time_s.size),
-               scheduled_inputs=sorted(result.inputs), integrations=result.restarts,
+               scheduled_inputs=sorted(result.inputs), integrations=result.restarts, input_changes=result.changes,
                seconds=round(result.seconds, 3), outlets=result.summary())
     if above is not None:
         name, value = above

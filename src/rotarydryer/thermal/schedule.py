@@ -377,10 +377,17 @@ def check_applicable(dryer, schedule: InputSchedule) -> None:
 class DryerIntegrator:
     """BDF integration of a dryer advanced from one communication point to the next.
 
-    While the inputs do not change the same solver carries on (its step size and Jacobian kept,
-    outputs interpolated at the points, as ``solve_ivp`` with ``t_eval``); `restart` starts
-    it again from the current state on a dryer with new inputs. The shell-loss coefficient is
-    lagged as in [`ThermalDryer.simulate`][rotarydryer.thermal.dryer.ThermalDryer.simulate]."""
+    One BDF solver (`scipy.integrate.BDF`) runs the whole time. `advance` steps it past the
+    point and interpolates there (its dense output, as ``solve_ivp`` with ``t_eval``); `restart`
+    hands it a dryer with new inputs at the current point: the solver goes back to that point
+    (the part of its last step beyond it belonged to the old inputs) and carries on from the
+    interpolated state at order 1 - the backward differences of the old inputs' solution do not
+    hold across the step in the inputs - with its step size and its Jacobian kept: a warm restart.
+    A new solver per input change (a sampled controller changes an input at every sample) paid
+    each time for an initial-step search, tiny first steps and a new Jacobian. The shell-loss
+    coefficient is lagged as in [`ThermalDryer.simulate`][rotarydryer.thermal.dryer.ThermalDryer.simulate],
+    and refreshed at each input change. ``restarts``: solvers started (1 per run); ``changes``:
+    input changes taken over."""
 
     def __init__(self, dryer, z0, t0=0.0, rtol=1e-5, atol=None, shell_refresh=60.0):
         self.rtol, self.atol, self.shell_refresh = rtol, atol, shell_refresh
@@ -388,15 +395,38 @@ class DryerIntegrator:
         self.z = np.asarray(z0, float).copy()
         self.nfev = 0
         self.restarts = 0
+        self.changes = 0
         self._solver = None
+        self._refreshed = self.t
         self.dryer = dryer
 
     def restart(self, dryer):
-        """Carry on from the current state with ``dryer`` (new inputs)."""
-        if self._solver is not None:
-            self.dryer.unfreeze_shell()
+        """Carry on from the current state with ``dryer`` (new inputs, the same network)."""
+        self.dryer.unfreeze_shell()
         self.dryer = dryer
-        self._solver = None
+        self.changes += 1
+        sol = self._solver
+        if sol is None:
+            return
+        dryer.freeze_shell(self.z)
+        self._refreshed = self.t
+        # scipy's BDF state as after __init__ (y, D, order, n_equal_steps, LU) at the current point, with
+        # the step size it last chose and the Jacobian of the old inputs (recomputed when Newton stalls)
+        sol.t, sol.y = self.t, self.z.copy()
+        sol.D[:] = 0.0
+        sol.D[0] = sol.y
+        sol.D[1] = sol.fun(sol.t, sol.y) * sol.h_abs * sol.direction
+        sol.order, sol.n_equal_steps, sol.LU = 1, 0, None
+        sol.h_abs_old = sol.error_norm_old = None
+        sol.t_old = None
+
+    def _fun(self, t, z):
+        # vectorized: z (n, k); k = 1 except in the Jacobian's batch of perturbations
+        d = self.dryer
+        if z.shape[1] == 1 and abs(t - self._refreshed) > self.shell_refresh:
+            d.freeze_shell(z[:, 0])
+            self._refreshed = t
+        return d.rhs(t, z)
 
     def _start(self):
         from scipy.integrate import BDF
@@ -404,17 +434,9 @@ class DryerIntegrator:
         d = self.dryer
         atol = d._scale() * 1e-7 if self.atol is None else self.atol
         d.freeze_shell(self.z)
-        last = [self.t]
-        refresh = self.shell_refresh
-
-        def fun(t, z):
-            if z.shape[1] == 1 and abs(t - last[0]) > refresh:
-                d.freeze_shell(z[:, 0])
-                last[0] = t
-            return d.rhs(t, z)
-
-        self._solver = BDF(fun, self.t, self.z, np.inf, rtol=self.rtol, atol=atol, jac_sparsity=d.sparsity(),
-                           vectorized=True)
+        self._refreshed = self.t
+        self._solver = BDF(self._fun, self.t, self.z, np.inf, rtol=self.rtol, atol=atol,
+                           jac_sparsity=d.sparsity(), vectorized=True)
         self.restarts += 1
 
     def advance(self, t_next: float) -> np.ndarray:
@@ -436,9 +458,8 @@ class DryerIntegrator:
         return self.z
 
     def close(self):
-        if self._solver is not None:
-            self.dryer.unfreeze_shell()
-            self._solver = None
+        self.dryer.unfreeze_shell()
+        self._solver = None
 
 
 @dataclasses.dataclass
@@ -446,7 +467,7 @@ class ScheduleResult:
     """A scheduled dynamic run: ``time_s`` (communication points), ``states`` (n x points),
     ``inputs`` (name -> value held over the interval starting at each point; the last point repeats
     the last interval's), ``outlets`` (name of `OUTLETS` -> series), ``restarts`` (integrations
-    started), ``seconds`` (wall time)."""
+    started: 1, `DryerIntegrator`), ``seconds`` (wall time), ``changes`` (input changes)."""
 
     time_s: np.ndarray
     states: np.ndarray
@@ -455,6 +476,7 @@ class ScheduleResult:
     restarts: int
     seconds: float
     dryer: object = None
+    changes: int = 0
 
     def dynamic_result(self) -> DynamicResult:
         """As a [`DynamicResult`][rotarydryer.thermal.states.DynamicResult] on the base dryer."""
@@ -544,4 +566,4 @@ def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float,
         held[k].append(held[k][-1] if held[k] else base[k])
     return ScheduleResult(np.array(grid), np.column_stack(states), {k: np.array(v) for k, v in held.items()},
                           {k: np.array(v) for k, v in outs.items()}, integ.restarts, time.perf_counter() - t_start,
-                          dryer)
+                          dryer, integ.changes)
