@@ -59,3 +59,10 @@ def test_regressions_refuse_a_polygonal_flight(tmp_path):
     p = _case(tmp_path, THREE)
     with pytest.raises(ValueError, match="lee2008_regressions"):
         ajayi_geometries(load_case(str(p), {"geometry.method": "lee2008_regressions"}))
+
+
+def test_report_draws_polygonal_flights(tmp_path):
+    from rotarydryer.report.figures import case_drums
+
+    drums = case_drums(load_case(str(_case(tmp_path, THREE))).model_dump())
+    assert [d["drum"].geometry for d in drums] == ["polygon"]

@@ -136,7 +136,7 @@ class _PiecewiseTensorSpline:
             u = x - (self.x0[0] + i * self.hx[0])
             cell = i * self.ny
         else:
-            k = (x[:, None] >= self.edges[None, 1:-1]).sum(1)
+            k = np.searchsorted(self.edges[1:-1], x, side="right")     # pieces below x (as many as edges <= x)
             x0, hx = self.x0[k], self.hx[k]
             i = np.clip(((x - x0) / hx).astype(np.intp), 0, self.nx[k] - 1)
             u = x - (x0 + i * hx)
