@@ -1,5 +1,7 @@
 import json
+from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from rotarydryer.cli import app
@@ -35,3 +37,55 @@ def test_flight_bad_input_exit_code():
 def test_list_drums():
     res = runner.invoke(app, ["flight", "--list-drums"])
     assert res.exit_code == 0 and "invicta" in res.output and "mmg_B" in res.output
+
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "three_section_flight.toml"
+
+
+def test_flight_profile_file(tmp_path):
+    """``--profile``: a flight of any shape, summary with the final discharge angle and the curtain, drawings."""
+    res = runner.invoke(app, ["flight", "--profile", str(EXAMPLE), "--repose-angle", "40", "--json", "--out",
+                              str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    assert data["geometry"] == "polygon" and len(data["flight_sections"]) == 3
+    assert data["final_discharge_angle_deg"] == pytest.approx(220.0)
+    assert 0.0 < data["curtain"]["cv_per_degree"] < 1.0 and sum(data["curtain"]["fraction"]) == pytest.approx(1.0)
+    assert data["design_load_kg"]["lee2008"] > 0
+    assert (tmp_path / "cross_section.png").stat().st_size > 10_000
+    res = runner.invoke(app, ["flight", "--profile", str(EXAMPLE), "--repose-angle", "40"])
+    assert res.exit_code == 0 and "final discharge angle" in res.output and "3 sections, polygon" in res.output
+
+
+def test_flight_builtin_profiles_and_two_section_unchanged():
+    res = runner.invoke(app, ["flight", "--list-drums"])
+    assert "invicta_ead" in res.output and "invicta_three_section" in res.output
+    res = runner.invoke(app, ["flight", "--drum", "invicta_ead", "--json"])
+    assert res.exit_code == 0 and json.loads(res.output)["geometry"] == "polygon"
+    res = runner.invoke(app, ["flight", "--drum", "invicta", "--json"])
+    assert json.loads(res.output)["geometry"] == "lee2008"
+
+
+@pytest.mark.parametrize("text,words", [
+    ("segments = [[0.195, 90.0], [0.1, 20.0], [0.1, 20.0]]", ["segments", "intersects itself"]),
+    ("vertices = [[0.01, 0.0], [0.0, 0.2]]", ["vertices[0]", "open"]),
+    ("segments = [[1.5, 90.0], [1.5, 150.0]]\nradius = 2.5", ["centre"]),
+    ("segments = [[0.195, 90.0], [0.0, 150.0]]", ["segments[1].length", "(0, inf) m"]),
+    ("segment = [[0.195, 90.0]]", ["segment is not a key"]),
+    ("radius = 2.5", ["segments (or vertices) is missing"]),
+    ("segments = [[0.195, 90.0]", ["not valid TOML"]),
+])
+def test_flight_bad_profile(tmp_path, text, words):
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    res = runner.invoke(app, ["flight", "--profile", str(p)])
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.output.strip().splitlines() if ln]
+    assert len(lines) == 1 and lines[0].startswith("error:") and all(w in lines[0] for w in words), res.output
+
+
+def test_flight_profile_and_two_section_options_conflict(tmp_path):
+    res = runner.invoke(app, ["flight", "--profile", str(EXAMPLE), "--s1", "0.2"])
+    assert res.exit_code == 2 and "--profile and --s1" in res.output
+    res = runner.invoke(app, ["flight", "--profile", str(tmp_path / "missing.toml")])
+    assert res.exit_code == 2 and "no such file" in res.output

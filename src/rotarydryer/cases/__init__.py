@@ -25,6 +25,7 @@ from typing import Annotated, Any, Literal, Optional
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from .._limits import LIMITS, describe_limit, field_bounds
+from ..geometry.flights import MAX_SEGMENTS
 from .calibration import CalibrationRecord, applied_calibrations, apply_calibrations, record_problems
 
 __all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
@@ -139,6 +140,51 @@ class Flight(_Strict):
     s2: float = Field(ge=0, description="m, flight tip")
     alpha1: float = Field(gt=0, lt=180, description="deg")
     alpha2: float = Field(gt=0, lt=180, description="deg")
+
+
+#: a section of a polygonal flight: [length m, angle deg] (first: base to wall; then interior angles at the bends)
+FlightSection = tuple[Annotated[float, Field(gt=0, le=100)], Annotated[float, Field(gt=0, lt=360)]]
+#: a vertex of a polygonal flight in its own frame: [x m (forward along the wall), y m (inward)]
+FlightVertex = tuple[Annotated[float, Field(ge=-100, le=100)], Annotated[float, Field(ge=-100, le=100)]]
+#: the two-section keys of a flight
+TWO_SECTION_KEYS = ("s1", "s2", "alpha1", "alpha2")
+#: the polygonal-flight keys (one of them describes the whole flight)
+POLYGON_KEYS = ("segments", "vertices")
+
+
+def _flight_problem(where: str, block) -> str | None:
+    """A flight block gives the two-section keys or one polygonal description, not both."""
+    poly = [k for k in POLYGON_KEYS if getattr(block, k, None) is not None]
+    two = [k for k in TWO_SECTION_KEYS if getattr(block, k, None) is not None]
+    if len(poly) > 1:
+        return f"{where}: segments and vertices are both given; give the flight one way"
+    if poly and two:
+        return (f"{where}: {poly[0]} and {', '.join(two)} are both given; a polygonal flight ({poly[0]}) "
+                "replaces s1, s2, alpha1 and alpha2")
+    return None
+
+
+class DryerFlight(_Strict):
+    """The flights of a dryer: a two-section flight (``s1``, ``s2``, ``alpha1``, ``alpha2``; Lee (2008)
+    Fig. 4.2) or a polygonal flight of any shape (``segments`` or ``vertices``,
+    `rotarydryer.geometry.PolygonFlight`)."""
+    s1: Optional[float] = Field(default=None, gt=0, description="m, flight base")
+    s2: Optional[float] = Field(default=None, ge=0, description="m, flight tip")
+    alpha1: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
+    alpha2: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
+    segments: Optional[list[FlightSection]] = Field(default=None, min_length=1, max_length=MAX_SEGMENTS, description=(
+        "a flight of any shape: [[length m, angle deg], ...] from the root (first angle: base to wall, 90 = radial; "
+        "then the interior angle at each bend, 180 = straight on, < 180 bent forward); replaces s1, s2, alpha1, alpha2"))
+    vertices: Optional[list[FlightVertex]] = Field(default=None, min_length=2, max_length=MAX_SEGMENTS + 1, description=(
+        "a flight of any shape: [[x m, y m], ...] from the root [0, 0] in the flight's frame (x forward along the "
+        "wall, y inward); replaces s1, s2, alpha1, alpha2"))
+
+    @model_validator(mode="after")
+    def _one_way(self):
+        problem = _flight_problem("flight", self)
+        if problem:
+            raise ValueError(problem)
+        return self
 
 
 #: stagnant-core variants of ``transport.core`` (rotarydryer.transport.core_variants, docs/rtd_spread.md)
@@ -425,6 +471,10 @@ class DryerSection(_Strict):
     s2: Optional[float] = Field(default=None, ge=0, description="m, flight tip")
     alpha1: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
     alpha2: Optional[float] = Field(default=None, gt=0, lt=180, description="deg")
+    segments: Optional[list[FlightSection]] = Field(default=None, min_length=1, max_length=MAX_SEGMENTS, description=(
+        "this section's flights of any shape, as flight.segments (replaces the [flight] and s1..alpha2)"))
+    vertices: Optional[list[FlightVertex]] = Field(default=None, min_length=2, max_length=MAX_SEGMENTS + 1, description=(
+        "this section's flights of any shape, as flight.vertices"))
     area_factor: float = Field(default=1.0, ge=0, description="exposed-area factor of the heat/mass transfer")
     particle_diameter: Optional[float] = Field(default=None, gt=0, description="m; default the material's")
     shell_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC (thermal.mode = ajayi2011)")
@@ -443,7 +493,7 @@ class DryerCase(_Strict):
     kind: Literal["dryer"]
     meta: Meta = Meta()
     drum: DryerDrum
-    flight: Optional[Flight] = None
+    flight: Optional[DryerFlight] = None
     operating: DryerOperating
     material: Material
     transport: DryerTransport = DryerTransport()
@@ -496,9 +546,19 @@ class DryerCase(_Strict):
             if self.geometry.method == "ajayi2011_regressions":
                 problems += regression_problems(where, sec)
                 continue
-            for key in ("s1", "s2", "alpha1", "alpha2"):
+            problem = _flight_problem(where, sec)
+            if problem:
+                problems.append(problem)
+                continue
+            if any(getattr(sec, k) is not None for k in POLYGON_KEYS):
+                continue                                  # the section's own polygonal flight
+            own = any(getattr(sec, k) is not None for k in TWO_SECTION_KEYS)
+            if not own and self.flight is not None and any(getattr(self.flight, k) is not None for k in POLYGON_KEYS):
+                continue                                  # the [flight] polygonal flight
+            for key in TWO_SECTION_KEYS:
                 if getattr(sec, key) is None and (self.flight is None or getattr(self.flight, key, None) is None):
-                    problems.append(f"{where}.{key} is missing (and no [flight] default)")
+                    problems.append(f"{where}.{key} is missing (and no [flight] default"
+                                    f"{': [flight] gives a polygonal flight, a section that sets s1..alpha2 gives all four' if own and self.flight is not None and any(getattr(self.flight, k) is not None for k in POLYGON_KEYS) else ''})")
         if self.thermal.enabled:
             row = next((t for t in self.tests if t.test == self.operating.test), None)
             missing = (["gas"] if self.gas is None else

@@ -27,7 +27,7 @@ import warnings
 import numpy as np
 
 from rotarydryer.correlations.drag import terminal_velocity
-from rotarydryer.geometry import FlightedDrum, TwoSectionFlight, check_speed
+from rotarydryer.geometry import FlightedDrum, PolygonFlight, TwoSectionFlight, check_speed
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
 from rotarydryer.properties.materials import CALIBRATED_RANGES, load_material
 from rotarydryer.properties.solids import lee2008_moisture_profile
@@ -53,17 +53,29 @@ FILL_LIMIT = 0.30
 BULK_DENSITY_RANGE = (1.0, 23000.0)
 
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
-           "exact_drum", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
+           "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
            "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
 
 
-def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_flights_key="drum.n_flights"):
-    """Exact flight geometry ([`rotarydryer.geometry.FlightedDrum`][rotarydryer.geometry.FlightedDrum]) of a two-section flight.
+def exact_drum(radius, n_flights, s1=None, s2=None, alpha1=None, alpha2=None, *, segments=None, vertices=None,
+               where="flight", n_flights_key="drum.n_flights"):
+    """Exact flight geometry ([`rotarydryer.geometry.FlightedDrum`][rotarydryer.geometry.FlightedDrum]) of a two-section flight
+    (``s1``, ``s2``, ``alpha1``, ``alpha2``) or of a polygonal flight (``segments`` or ``vertices``,
+    [`rotarydryer.geometry.PolygonFlight`][rotarydryer.geometry.PolygonFlight]).
 
     A geometry that cannot be built raises ``ValueError`` naming the case keys (``drum.radius``,
-    ``n_flights_key``, ``<where>.s1`` ...) with their values."""
+    ``n_flights_key``, ``<where>.s1`` ... or ``<where>.segments``) with their values."""
 
+    if segments is not None or vertices is not None:
+        key = f"{where}.{'segments' if segments is not None else 'vertices'}"
+        try:
+            flight = (PolygonFlight(segments, key=key) if segments is not None
+                      else PolygonFlight(vertices=vertices, key=key))
+            return FlightedDrum(radius=radius, n_flights=n_flights, flight=flight)
+        except ValueError as exc:
+            raise ValueError(f"flight geometry (drum.radius = {fmt_number(radius)} m, {n_flights_key} = "
+                             f"{fmt_number(n_flights)}): {exc}") from None
     try:
         return FlightedDrum(radius=radius, n_flights=n_flights,
                             flight=TwoSectionFlight(s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2))
@@ -72,6 +84,24 @@ def exact_drum(radius, n_flights, s1, s2, alpha1, alpha2, *, where="flight", n_f
                 f"{where}.s1 = {fmt_number(s1)} m, {where}.s2 = {fmt_number(s2)} m, "
                 f"{where}.alpha1 = {fmt_number(alpha1)} deg, {where}.alpha2 = {fmt_number(alpha2)} deg")
         raise ValueError(f"flight geometry ({keys}): {exc}") from None
+
+
+def section_flight(case, s, where: str) -> tuple[dict, str]:
+    """The flight of flighted section ``s`` as keyword arguments of [`exact_drum`][rotarydryer.cases.build.exact_drum] and
+    the prefix of its keys: the section's own ``segments``/``vertices``, else its ``s1``..``alpha2`` completed
+    from ``[flight]``, else ``[flight]``'s flight."""
+    for k in ("segments", "vertices"):
+        if getattr(s, k, None) is not None:
+            return {k: getattr(s, k)}, where
+    fl = getattr(case, "flight", None)
+    own = any(getattr(s, k, None) is not None for k in ("s1", "s2", "alpha1", "alpha2"))
+    if not own and fl is not None:
+        for k in ("segments", "vertices"):
+            if getattr(fl, k, None) is not None:
+                return {k: getattr(fl, k)}, "flight"
+    g = {k: getattr(s, k) if getattr(s, k, None) is not None else getattr(fl, k, None)
+         for k in ("s1", "s2", "alpha1", "alpha2")}
+    return g, where if getattr(s, "s1", None) is not None else "flight"
 
 
 def material_of(case):
@@ -219,11 +249,10 @@ def check_inputs(case) -> None:
     flights = []
     for k, s in enumerate(case.sections):
         if s.kind == "flighted":
-            own = getattr(s, "s1", None)
-            if own is None and case.flight is None:
-                continue        # regressions: no flight dimensions
-            flights.append((f"sections[{k}] ({s.name})" if own is not None else "flight",
-                            own if own is not None else case.flight.s1))
+            g, where = section_flight(case, s, f"sections[{k}] ({s.name})")
+            if g.get("s1") is None:
+                continue        # regressions (no flight dimensions), or a polygonal flight (checked when built)
+            flights.append((where, g["s1"]))
     for where, s1 in flights:
         s1 = float(check_range(f"{where}.s1", s1, 0.0, math.inf, unit="m"))
         if s1 >= R:
@@ -574,8 +603,10 @@ def _section_geometry(case, s, where, material):
     """The cell geometry model of flighted section ``s`` (``geometry.method``)."""
 
     tr = case.transport
-    g = {k: getattr(s, k) if getattr(s, k) is not None else getattr(case.flight, k)
-         for k in ("s1", "s2", "alpha1", "alpha2")}
+    g, fwhere = section_flight(case, s, where)
+    if case.geometry.method == "lee2008_regressions" and "s1" not in g:
+        raise ValueError(f"geometry.method = 'lee2008_regressions' is fitted to the Invicta two-section flight; "
+                         f"{fwhere} gives a polygonal flight: use geometry.method = 'exact'")
     if case.geometry.method == "ajayi2011_regressions":
 
         reg = s.regression or {}
@@ -583,8 +614,7 @@ def _section_geometry(case, s, where, material):
     if case.geometry.method == "lee2008_regressions":
 
         return Lee2008Regressions(tip_radius=invicta_tip_radius(case.drum.radius, *g.values()))
-    drum = exact_drum(case.drum.radius, s.n_flights or case.drum.n_flights, **g,
-                      where=where if s.s1 is not None else "flight",
+    drum = exact_drum(case.drum.radius, s.n_flights or case.drum.n_flights, **g, where=fwhere,
                       n_flights_key=f"{where}.n_flights" if s.n_flights else "drum.n_flights")
     dp = None
     if case.geometry.finite_particle:

@@ -19,7 +19,7 @@ app.add_typer(dem_app, name="dem")
 def _case_drum(case_name: str, section: Optional[str]):
     """(drum, rpm, particle diameter or None, description) of a case (and section)."""
     from ..cases import load_case
-    from ..cases.build import exact_drum, material_of, operating_point
+    from ..cases.build import exact_drum, material_of, operating_point, section_flight
 
     case = load_case(case_name)
     _, rpm, _, _ = operating_point(case)
@@ -34,12 +34,10 @@ def _case_drum(case_name: str, section: Optional[str]):
         if sec is None:
             raise ValueError(f"--section = {section!r} is not a flighted section of case {case_name!r}; "
                              f"choose one of {', '.join(names)}")
-        flight = getattr(case, "flight", None)
-        g = {k: getattr(sec, k) if getattr(sec, k) is not None else getattr(flight, k, None)
-             for k in ("s1", "s2", "alpha1", "alpha2")}
         nf = sec.n_flights or getattr(case.drum, "n_flights", None)
         where = f"sections[{case.sections.index(sec)}] ({sec.name})"
-        drum = exact_drum(case.drum.radius, nf, **g, where=where, n_flights_key=f"{where}.n_flights")
+        g, fwhere = section_flight(case, sec, where)
+        drum = exact_drum(case.drum.radius, nf, **g, where=fwhere, n_flights_key=f"{where}.n_flights")
         d_p = sec.particle_diameter
         desc = f"case {case_name}, section {sec.name}"
     else:
@@ -67,6 +65,9 @@ def export(
     s2: Optional[float] = typer.Option(None, help="Flight tip, m."),
     alpha1: float = typer.Option(90.0, help="Base-to-wall angle, deg."),
     alpha2: float = typer.Option(120.0, help="Base-to-tip angle, deg."),
+    profile: Optional[Path] = typer.Option(None, help="Flight-profile file (TOML) of a flight of any shape (segments or "
+                                           "vertices; radius and n_flights from it or --radius --n-flights), instead "
+                                           "of --s1 --s2 --alpha1 --alpha2."),
     rpm: Optional[float] = typer.Option(None, help="Drum speed, rev/min (default the case's)."),
     scale: float = typer.Option(1.0, help="Scale the case's drum and flights by this factor (the speed keeps the "
                                             "Froude number: rpm / sqrt(scale))."),
@@ -103,7 +104,8 @@ def export(
     from .._io import json_text
     from .._validation import check_range
     from ..dem.deck import Particles, build_slice, export_deck
-    from ..geometry import FlightedDrum, TwoSectionFlight
+    from ..geometry import FlightedDrum, PolygonFlight, TwoSectionFlight
+    from ..geometry.presets import read_profile
 
     check_range("--scale (scale)", scale, 0.0, 100.0, unit="-")
     for key, v in (("--layers (layers)", layers), ("--settle-time (settle_time)", settle_time),
@@ -116,14 +118,32 @@ def export(
                     high_inclusive=True)
     check_range("--timestep-fraction (timestep_fraction)", timestep_fraction, 0.0, 0.5, high_inclusive=True)
     dims = dict(radius=radius, n_flights=n_flights, s1=s1, s2=s2)
-    if case is not None:
+    if profile is not None:
+        if case is not None or s1 is not None or s2 is not None:
+            raise ValueError("--profile gives the flight: not with --case or --s1 --s2")
+        prof = read_profile(profile)
+        R_ = radius if radius is not None else prof.get("radius")
+        N_ = n_flights if n_flights is not None else prof.get("n_flights")
+        if R_ is None or N_ is None:
+            raise ValueError(f"{profile}: radius and n_flights are not in the profile: give --radius and --n-flights")
+        check_range("--radius (radius)", R_, 0.0, 20.0, unit="m")
+        if N_ < 2 or N_ > 400:
+            raise ValueError(f"--n-flights (n_flights) = {N_} is outside the allowed range: an integer from 2 to 400")
+        drum = FlightedDrum(R_, N_, prof["flight"])
+        rpm_ = rpm if rpm is not None else prof.get("rpm")
+        if rpm_ is None:
+            raise ValueError("--rpm is needed (rev/min): the profile gives no rpm")
+        d = 0.01 if diameter is None else diameter
+        desc = f"profile {profile}"
+    elif case is not None:
         if any(v is not None for v in dims.values()):
             raise ValueError("give either --case (and --section) or the dimensions --radius --n-flights --s1 --s2, not both")
         drum, rpm_case, d_case, desc = _case_drum(case, section)
         if scale != 1.0:
             f = drum.flight
-            drum = FlightedDrum(drum.radius * scale, drum.n_flights,
-                                TwoSectionFlight(f.s1 * scale, f.s2 * scale, f.alpha1, f.alpha2))
+            scaled = (TwoSectionFlight(f.s1 * scale, f.s2 * scale, f.alpha1, f.alpha2) if isinstance(f, TwoSectionFlight)
+                      else PolygonFlight([(a * scale, b) for a, b in f.segments]))
+            drum = FlightedDrum(drum.radius * scale, drum.n_flights, scaled)
             rpm_case = rpm_case / math.sqrt(scale)
             desc += f", scaled x{scale:g}"
         rpm_ = rpm if rpm is not None else rpm_case

@@ -67,6 +67,9 @@ def flight(
     bulk_density: Optional[float] = typer.Option(None, help="Bulk density, kg/m^3, for design loads in kg."),
     length: Optional[float] = typer.Option(None, help="Drum length, m, for design loads in kg."),
     angle: float = typer.Option(90.0, help="Root angle of the reference flight in the drawing, deg."),
+    profile: Optional[Path] = typer.Option(None, help="Flight-profile file (TOML): a flight of any shape as segments = "
+                                           "[[length_m, angle_deg], ...] or vertices = [[x_m, y_m], ...], optionally "
+                                           "radius and n_flights (else the --drum's); see docs/guide/design_flights.md."),
     out: Optional[Path] = typer.Option(None, help="Directory for the plots (flight_profile.png, cross_section.png)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object instead of the table."),
     list_drums: bool = typer.Option(False, "--list-drums", help="List the built-in drums and exit."),
@@ -74,28 +77,62 @@ def flight(
     """Flight-unloading summary (Lee 2008 ch. 4) for a drum: geometry, transition angles,
     mass-averaged cascade, cycle times and design loads; optionally save plots.
 
+    A flight of any shape (straight sections from the root to the tip, each [length m, angle deg]:
+    the base-to-wall angle, then the interior angle at each bend) is given by a flight-profile file
+    (radius and n_flights optional, else the --drum's; docs/guide/design_flights.md).
+
     \b
     Example:
       rotarydryer flight --drum invicta --repose-angle 50 --out out/
+      rotarydryer flight --profile three_section.toml --repose-angle 40 --out out/
+
+    \b
+    A three-section flight, three_section.toml:
+      segments = [[0.195, 90.0], [0.10, 135.0], [0.09, 135.0]]
+      radius = 2.5
+      n_flights = 28
     """
     from .._validation import fmt_number
-    from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight, check_speed
-    from ..geometry.presets import drum_presets, preset_drum
+    from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight, check_speed, curtain_distribution
+    from ..geometry.presets import drum_presets, flight_profiles, preset_drum, read_profile
 
     if list_drums:
         for name, e in drum_presets().items():
-            typer.echo(f"{name:14s} {e['description']}")
+            typer.echo(f"{name:22s} {e['description']}")
+        for name, e in flight_profiles().items():
+            typer.echo(f"{name:22s} {e['description']}")
         raise typer.Exit(0)
     try:
         base, entry = preset_drum(drum)
         dims = dict(radius=radius, n_flights=n_flights, s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2)
         _check_options(dims, repose_angle=repose_angle, rpm=rpm, slope=slope, loading_factor=loading_factor,
                        bulk_density=bulk_density, length=length, angle=angle)
-        if any(v is not None for v in dims.values()):
-            p = {k: (v if v is not None else entry[k]) for k, v in dims.items()}
+        two = {k: v for k, v in dims.items() if k in ("s1", "s2", "alpha1", "alpha2") and v is not None}
+        source = f"the {drum!r} drum's"
+        if profile is not None:
+            if two:
+                raise ValueError(f"--profile and {', '.join('--' + k for k in two)}: give the flight either as a profile "
+                                 "file or as the two-section dimensions --s1 --s2 --alpha1 --alpha2, not both")
+            prof = read_profile(profile)
+            entry = {**entry, **{k: v for k, v in prof.items() if k in ("rpm", "slope", "length", "bulk_density")}}
+            R_ = radius if radius is not None else prof.get("radius", base.radius)
+            N_ = n_flights if n_flights is not None else prof.get("n_flights", base.n_flights)
             try:
-                d = FlightedDrum(p["radius"], p["n_flights"],
-                                 TwoSectionFlight(p["s1"], p["s2"], p["alpha1"], p["alpha2"]))
+                d = FlightedDrum(R_, N_, prof["flight"])
+            except ValueError as exc:
+                raise ValueError(f"{profile} (radius = {fmt_number(R_)} m, n_flights = {N_}): {exc}") from None
+            source = f"the profile's or the {drum!r} drum's"
+        elif any(v is not None for v in dims.values()):
+            if two and "s1" not in entry and len(two) < 4:
+                raise ValueError(f"the {drum!r} drum has a polygonal flight: give all of --s1 --s2 --alpha1 --alpha2 "
+                                 "(or --profile) to change it")
+            if two or "s1" in entry:
+                fl = TwoSectionFlight(*(two[k] if k in two else entry[k] for k in ("s1", "s2", "alpha1", "alpha2")))
+            else:
+                fl = base.flight
+            p = {k: (v if v is not None else getattr(base, k)) for k, v in dims.items() if k in ("radius", "n_flights")}
+            try:
+                d = FlightedDrum(p["radius"], p["n_flights"], fl)
             except ValueError as exc:
                 given = ", ".join(f"--{k.replace('_', '-')} {fmt_number(v)}"
                                   for k, v in dims.items() if v is not None)
@@ -106,19 +143,23 @@ def flight(
         slope_ = entry["slope"] if slope is None else slope
         rho = entry["bulk_density"] if bulk_density is None else bulk_density
         ell = entry["length"] if length is None else length
-        check_speed(_opt("rpm") if rpm is not None else f"the {drum!r} drum's speed", rpm_, d.radius,
-                    radius_key=_opt("radius") if radius is not None else f"the {drum!r} drum's radius")
+        check_speed(_opt("rpm") if rpm is not None else f"{source} speed", rpm_, d.radius,
+                    radius_key=_opt("radius") if radius is not None else f"{source} radius")
         cs = d.cascade(repose_angle, loading_factor, rpm=rpm_, slope=slope_, fall_height=fall_height,
                        passive_time_branch=passive_branch, convention=convention)
         tr = d.transition_angles(repose_angle)
         loads = {m: float(d.design_load_area(repose_angle, method=m, convention=convention)) for m in DESIGN_LOAD_METHODS}
+        curtain = curtain_distribution(d, repose_angle, loading_factor, convention=convention)
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    psi5 = float(tr.psi5)
     result = {
-        "drum": drum,
+        "drum": drum if profile is None else str(profile),
         "radius_m": d.radius,
         "n_flights": d.n_flights,
+        "flight_sections": [[float(a), float(b)] for a, b in d.profile.segments],
+        "geometry": d.geometry,
         "tip_radius_m": d.tip_radius,
         "tip_angle_deg": d.tip_angle,
         "flight_spacing_deg": d.flight_spacing,
@@ -128,6 +169,10 @@ def flight(
         "slope_deg": slope_,
         "loading_factor": loading_factor,
         "transition_angles_deg": [float(a) for a in tr],
+        "unloading_events_deg": [repose_angle + o for o in d.unloading_events],
+        "final_discharge_angle_deg": psi5,
+        "final_discharge_tip_angle_deg": psi5 + d.tip_angle,
+        "curtain": curtain.to_dict(),
         "discharge_start_angle_deg": float(cs.discharge_start_angle),
         "mean_release_angle_deg": float(cs.mean_release_angle),
         "mean_fall_height_m": float(cs.mean_fall_height),
@@ -157,14 +202,19 @@ def flight(
     if as_json:
         typer.echo(json.dumps(result))
         return
+    sections = ", ".join(f"{a:g} m at {b:g} deg" for a, b in d.profile.segments)
     rows = [
-        ("drum", f"{drum}: R = {d.radius:g} m, {d.n_flights} flights"),
+        ("drum", f"{drum if profile is None else profile}: R = {d.radius:g} m, {d.n_flights} flights"),
+        (f"flight ({d.profile.n_segments} section{'s' if d.profile.n_segments > 1 else ''}, {d.geometry})", sections),
         ("flight-tip radius R_F (Eq. 4.6)", f"{d.tip_radius:.5f} m"),
         ("tip angle psi_ft (Eq. 4.7)", f"{d.tip_angle:.4f} deg"),
         ("flight spacing psi_fl (Eq. 4.5)", f"{d.flight_spacing:.4f} deg"),
         ("full-flight holdup (Eq. 4.8)", f"{d.full_holdup_area * 1e4:.2f} cm2 per m"),
         ("transition angles psi1-5 (Eq. 4.9-4.13)", ", ".join(f"{float(a):.1f}" for a in tr) + " deg"),
         ("discharge into curtain starts at", f"{float(cs.discharge_start_angle):.1f} deg"),
+        ("final discharge angle psi5 (root / tip)", f"{psi5:.1f} / {psi5 + d.tip_angle:.1f} deg"),
+        ("curtain: span across the drum", f"{curtain.span_m[0]:+.3f} to {curtain.span_m[1]:+.3f} m from the axis"),
+        ("curtain: CV per degree / across span", f"{curtain.cv_per_degree:.3f} / {curtain.cv_across_span:.3f}"),
         ("mean release angle psi_m (Eq. 3.3)", f"{float(cs.mean_release_angle):.1f} deg"),
         (f"mean fall height h_m ({fall_height})", f"{float(cs.mean_fall_height):.3f} m"),
         ("mean fall time = active time", f"{float(cs.mean_fall_time):.3f} s"),

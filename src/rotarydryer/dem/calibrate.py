@@ -15,6 +15,14 @@ Regenerate (needs LIGGGHTS; about an hour on two cores):
 
 This exports every deck into ``dem_work/<run>/``, runs it, reduces the dumps to
 ``src/rotarydryer/data/dem/<run>.csv`` (``--data`` to write elsewhere) and prints the fit.
+
+Polygonal flights (issue 34): two more slices, ``POLYGON_RUNS``, of flights that are not two-section
+flights (a three-section flight and the equal-angular-distribution flight of the presets, their
+sections in proportion to the base), validate the exact polygon holdup with the finite-particle
+correction fitted above (no refit). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
+from the calibration campaign:
+
+    python -m rotarydryer.dem.calibrate --polygon --work dem_work --np 1
 """
 
 from __future__ import annotations
@@ -24,7 +32,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["CampaignRun", "RUNS", "campaign_deck", "main"]
+__all__ = ["CampaignRun", "RUNS", "campaign_deck", "PolygonRun", "POLYGON_RUNS", "POLYGON_SHAPES", "polygon_deck",
+           "main"]
 
 D = 0.01  # m, particle diameter of the campaign
 FROUDE = {"low": 0.01, "high": 0.025}
@@ -77,6 +86,54 @@ def campaign_deck(run: CampaignRun):
                        timestep_fraction=0.2, source=f"campaign {run.name} ({run.role})")
 
 
+#: flight shapes of the polygon runs: (length / base length, angle deg) per section, from the root
+POLYGON_SHAPES = {
+    # the three-section preset's shape (presets.toml: invicta_three_section): radial base, two 45 deg bends
+    "3S": ((1.0, 90.0), (0.5, 135.0), (0.45, 135.0)),
+    # the equal-angular-distribution preset's shape (profiles.toml: invicta_ead), lengths over its 0.068 m base
+    "EAD": ((1.0, 90.0), (0.04 / 0.068, 170.0), (0.04 / 0.068, 154.5), (0.24 / 0.068, 170.0)),
+}
+
+
+@dataclass(frozen=True)
+class PolygonRun:
+    name: str
+    shape: str
+    s1_in_d: float
+    radius: float
+    n_flights: int
+    loading: float
+    froude: str
+    seed: int = 5778
+    role: str = "validation"
+    spinup_revolutions: float = 1.0
+    record_revolutions: float = 0.5
+
+
+POLYGON_RUNS = (
+    PolygonRun("p1_3S_d0125_over_highFr", "3S", 8, 0.32, 8, 1.3, "high"),
+    PolygonRun("p2_EAD_d020_over_highFr", "EAD", 5, 0.40, 8, 1.3, "high"),
+    PolygonRun("p3_3S_d0125_over2_highFr", "3S", 8, 0.32, 8, 2.0, "high"),
+    PolygonRun("p4_EAD_d020_over2_highFr", "EAD", 5, 0.40, 8, 2.0, "high"),
+)
+
+
+def polygon_deck(run: PolygonRun):
+    """The `SliceDeck` of a polygon run."""
+    from ..geometry import FlightedDrum, PolygonFlight
+    from .deck import Particles, build_slice
+
+    s1 = run.s1_in_d * D
+    flight = PolygonFlight([(k * s1, a) for k, a in POLYGON_SHAPES[run.shape]])
+    drum = FlightedDrum(run.radius, run.n_flights, flight)
+    fr = FROUDE[run.froude]
+    rpm = math.sqrt(fr * 9.81 / run.radius) * 60.0 / (2.0 * math.pi)
+    return build_slice(drum, Particles(diameter=D), rpm=rpm, loading=run.loading, settle_time=0.6,
+                       spinup_revolutions=run.spinup_revolutions, record_revolutions=run.record_revolutions,
+                       dump_every_deg=1.0, timestep_fraction=0.2, seed=run.seed,
+                       source=f"polygon run {run.name} ({run.role}; python -m rotarydryer.dem.calibrate --polygon)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--work", default="dem_work", help="folder for the decks and dumps")
@@ -87,7 +144,10 @@ def main(argv=None):
     ap.add_argument("--reduce-only", action="store_true", help="do not run LIGGGHTS, reduce existing dumps")
     ap.add_argument("--export-only", action="store_true", help="only write the decks")
     ap.add_argument("--plots", default=None, help="folder for one comparison plot per run (PNG)")
+    ap.add_argument("--polygon", action="store_true", help="the polygonal-flight runs (POLYGON_RUNS) instead")
     a = ap.parse_args(argv)
+    if a.polygon:
+        return _main_polygon(a)
     from concurrent.futures import ThreadPoolExecutor
 
     from .deck import export_deck
@@ -123,6 +183,28 @@ def main(argv=None):
     from .fit import fit_report
 
     print(fit_report(data))
+    return 0
+
+
+def _main_polygon(a) -> int:
+    from .deck import export_deck
+    from .holdup import analyse_run, write_reduced_csv
+    from .run import run_deck
+
+    work = Path(a.work)
+    data = Path(a.data) if a.data else Path(__file__).resolve().parents[1] / "data" / "dem" / "polygon"
+    runs = [r for r in POLYGON_RUNS if not a.only or r.name in a.only]
+    for r in runs:
+        if not a.reduce_only:
+            export_deck(polygon_deck(r), work / r.name)
+    if a.export_only:
+        return 0
+    for r in runs:
+        if not a.reduce_only:
+            run_deck(work / r.name, np=a.np, progress=True, label=r.name)
+        res = analyse_run(work / r.name)
+        write_reduced_csv(res, data / f"{r.name}.csv", role=r.role)
+        print(f"{r.name}: {res.summary_line()}")
     return 0
 
 

@@ -5,8 +5,9 @@ drum axis is the ``z`` axis, gravity points along ``-y`` and the drum turns anti
 from ``+z`` (the convention of `rotarydryer.geometry.drum`: the root of the flight at
 ``psi`` sits at ``(R sin psi, -R cos psi)``). Shell and flights are written as ASCII STL by
 NumPy: the shell is a polygon of facets at most ``facet_size`` particle diameters long (the
-chord error of the polygon is below 0.1 % of the radius), each flight is two plates (base and
-tip) cut into facets of the same size. Walls and particles share one material (atom types 1 and
+chord error of the polygon is below 0.1 % of the radius), each flight is one plate per section
+(base and tip of a two-section flight, every section of a polygonal flight) cut into facets of the
+same size. Walls and particles share one material (atom types 1 and
 2 carry the same properties; the wall friction may differ).
 
 The run: particles are poured in passes into a box inside the tip circle (``fix insert/pack``, at
@@ -35,7 +36,7 @@ import numpy as np
 
 from .._io import json_text, output_set, write_text_atomic
 from .._validation import check_range, fmt_number
-from ..geometry import FlightedDrum, TwoSectionFlight
+from ..geometry import FlightedDrum, PolygonFlight, TwoSectionFlight
 from ..geometry.drum import check_speed
 
 __all__ = ["Particles", "SliceDeck", "DeckFiles", "export_deck", "build_slice", "rayleigh_time", "pocket_mouth_width",
@@ -105,10 +106,10 @@ def pocket_mouth_width(drum: FlightedDrum) -> float:
     """Width of a flight pocket's mouth, m: the distance from the tip to the next flight (its base or
     tip plate). Below about five particle diameters the particles arch across it (as in a hopper
     outlet) and the flight holds its load longer than any surface-angle model says."""
-    tip = drum.flight_outline(0.0)[2]
+    tip = drum.flight_outline(0.0)[-1]
     nxt = drum.flight_outline(drum.flight_spacing)
     out = math.inf
-    for a, b in ((nxt[0], nxt[1]), (nxt[1], nxt[2])):
+    for a, b in zip(nxt[:-1], nxt[1:]):
         ab = b - a
         t = min(max(float((tip - a) @ ab) / float(ab @ ab), 0.0), 1.0) if float(ab @ ab) > 0 else 0.0
         out = min(out, float(np.linalg.norm(tip - a - t * ab)))
@@ -127,7 +128,11 @@ def rayleigh_time(p: Particles) -> float:
 
 @dataclass(frozen=True)
 class SliceDeck:
-    """Everything a slice deck is made of (also written to ``deck.json`` beside the deck)."""
+    """Everything a slice deck is made of (also written to ``deck.json`` beside the deck).
+
+    ``segments`` (``[[length_m, angle_deg], ...]``, a [`PolygonFlight`][rotarydryer.geometry.flights.PolygonFlight]) describes a
+    flight of any shape; ``s1``, ``s2``, ``alpha1``, ``alpha2`` then repeat its first two sections. None:
+    the two-section flight ``s1``, ``s2``, ``alpha1``, ``alpha2``."""
 
     radius: float
     n_flights: int
@@ -152,10 +157,21 @@ class SliceDeck:
     extra: dict = field(default_factory=dict)
     #: the step counts written into deck.json at export (the reader uses them, not a recomputation)
     recorded_steps: dict | None = field(default=None, compare=False)
+    #: a polygonal flight, ``[[length_m, angle_deg], ...]`` from the root; None: the two-section flight
+    segments: list | None = None
 
     @property
     def drum(self) -> FlightedDrum:
+        if self.segments is not None:
+            return FlightedDrum(self.radius, self.n_flights, PolygonFlight([tuple(x) for x in self.segments]))
         return FlightedDrum(self.radius, self.n_flights, TwoSectionFlight(self.s1, self.s2, self.alpha1, self.alpha2))
+
+    @property
+    def flight_text(self) -> str:
+        """The flight for a deck's header and for messages."""
+        if self.segments is not None:
+            return "sections " + ", ".join(f"({fmt_number(a)} m, {fmt_number(b)} deg)" for a, b in self.segments)
+        return f"s1 = {self.s1:g} m, s2 = {self.s2:g} m, alpha1 = {self.alpha1:g} deg, alpha2 = {self.alpha2:g} deg"
 
     @property
     def length(self) -> float:
@@ -191,6 +207,8 @@ class SliceDeck:
     def to_dict(self) -> dict:
         d = asdict(self)
         d.pop("recorded_steps", None)
+        if d.get("segments") is None:
+            d.pop("segments", None)          # a two-section flight: deck.json as before polygonal flights
         d["particles"] = asdict(self.particles)
         d["format"] = DECK_FORMAT
         d["derived"] = {"timestep_s": self.timestep, "period_s": self.period, "froude": self.froude,
@@ -263,8 +281,14 @@ def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading
     if n < 1:
         raise ValueError(f"the slice would hold {n} particles: increase loading (--loading) or fill (--fill)")
     f = drum.flight
-    deck = SliceDeck(radius=drum.radius, n_flights=drum.n_flights, s1=f.s1, s2=f.s2, alpha1=f.alpha1,
-                     alpha2=f.alpha2, rpm=float(rpm), particles=particles, n_particles=n, source=source,
+    if isinstance(f, TwoSectionFlight):
+        dims = dict(s1=f.s1, s2=f.s2, alpha1=f.alpha1, alpha2=f.alpha2, segments=None)
+    else:
+        segs = [[float(a), float(b)] for a, b in f.segments]
+        two = segs[1] if len(segs) > 1 else [0.0, 180.0]
+        dims = dict(s1=segs[0][0], s2=two[0], alpha1=segs[0][1], alpha2=two[1], segments=segs)
+    deck = SliceDeck(radius=drum.radius, n_flights=drum.n_flights, **dims, rpm=float(rpm), particles=particles,
+                     n_particles=n, source=source,
                      loading=None if loading is None else float(loading),
                      fill_fraction=None if fill_fraction is None else float(fill_fraction), **kw)
     check_deck_size(deck)
@@ -276,7 +300,8 @@ def facet_count(s: SliceDeck) -> int:
     `flight_facets` make them, one axial cell), without building them."""
     facet = s.facet_size * s.particles.diameter
     n = 2 * max(48, int(math.ceil(2.0 * math.pi * s.radius / facet)))
-    per_flight = sum(2 * max(1, int(math.ceil(seg / facet))) for seg in (s.s1, s.s2) if seg > 1e-12)
+    lengths = [a for a, _ in s.segments] if s.segments is not None else [s.s1, s.s2]
+    per_flight = sum(2 * max(1, int(math.ceil(seg / facet))) for seg in lengths if seg > 1e-12)
     return n + s.n_flights * per_flight
 
 
@@ -329,15 +354,17 @@ def shell_facets(radius: float, length: float, facet: float, nz: int = 1) -> np.
 
 
 def flight_facets(drum: FlightedDrum, length: float, facet: float, nz: int = 1, inset: float = 0.0) -> np.ndarray:
-    """Facets of all flights (two plates each, base and tip), at drum angle 0, shape (k, 3, 3).
+    """Facets of all flights (one plate per section: base and tip, or every section of a polygonal
+    flight), at drum angle 0, shape (k, 3, 3).
 
     ``inset`` moves the root inward by that much (m) so that the plate does not touch the shell."""
     out = []
     for i in range(drum.n_flights):
-        root, bend, tip = drum.flight_outline(i * drum.flight_spacing)
+        pts = drum.flight_outline(i * drum.flight_spacing)
         if inset:
-            root = root - inset * root / np.linalg.norm(root)
-        for p, q in ((root, bend), (bend, tip)):
+            pts = pts.copy()
+            pts[0] = pts[0] - inset * pts[0] / np.linalg.norm(pts[0])
+        for p, q in zip(pts[:-1], pts[1:]):
             seg = float(np.linalg.norm(q - p))
             if seg <= 1e-12:
                 continue
@@ -392,7 +419,11 @@ def insertion_passes(s: SliceDeck) -> list[int]:
 def _insertion_radius(s: SliceDeck) -> float:
     d = s.particles.diameter
     drum = s.drum
-    return max(min(drum.tip_radius, s.radius - drum.flight.s1) - 1.0 * d, 2 * d)
+    if s.segments is None:
+        inner = min(drum.tip_radius, s.radius - drum.flight.s1)
+    else:                                   # the flights' innermost point
+        inner = float(np.min(np.hypot(*drum.flight_outline(0.0).T)))
+    return max(inner - 1.0 * d, 2 * d)
 
 
 def _fall_steps(s: SliceDeck) -> int:
@@ -431,8 +462,8 @@ def deck_text(s: SliceDeck) -> str:
     thermo = max(1, st["total"] // 200)
     insertion = _insertion_text(s, r_ins)
     return f"""# LIGGGHTS 3.8 deck written by rotarydryer.dem (format {DECK_FORMAT})
-# flighted drum slice: R = {R:g} m, {s.n_flights} flights (s1 = {s.s1:g} m, s2 = {s.s2:g} m, alpha1 = {s.alpha1:g} deg,
-# alpha2 = {s.alpha2:g} deg), {s.rpm:.6g} rev/min (Froude number {s.froude:.4g}), {s.n_particles} spheres of
+# flighted drum slice: R = {R:g} m, {s.n_flights} flights ({s.flight_text}),
+# {s.rpm:.6g} rev/min (Froude number {s.froude:.4g}), {s.n_particles} spheres of
 # d = {d:g} m (d/s1 = {d / s.s1:.4g}), slice {s.n_layers:g} d thick (periodic in z)
 atom_style      granular
 atom_modify     map array

@@ -261,7 +261,7 @@ def analyse_frames(deck: SliceDeck, frames: DumpFrames) -> DemHoldup:
                     t2 = math.radians(theta[f] + k * c.psi_fl)
                     rot = np.array([[math.cos(t2), -math.sin(t2)], [math.sin(t2), math.cos(t2)]])
                     o = outline0 @ rot.T
-                    walls += [(o[0], o[1]), (o[1], o[2])]
+                    walls += list(zip(o[:-1], o[1:]))
                 ang = _surface_angle(x[held], y[held], d, walls, R)
                 if ang is not None:
                     reps.append(ang)
@@ -329,7 +329,7 @@ def _bulk_packing(x, y, drum, theta, d, r_p, Lz, vp, outline0, cKDTree):
         t = math.radians(theta + i * drum.flight_spacing)
         rot = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
         pts = outline0 @ rot.T
-        for a, b in ((pts[0], pts[1]), (pts[1], pts[2])):
+        for a, b in zip(pts[:-1], pts[1:]):
             dmin = np.minimum(dmin, _point_segment_dist(px, py, a, b))
     keep = dmin > r_p
     if not np.any(keep):

@@ -2,8 +2,9 @@
 
 Public API:
 
-    from rotarydryer.geometry import TwoSectionFlight, FlightedDrum
+    from rotarydryer.geometry import TwoSectionFlight, PolygonFlight, FlightedDrum
     flight = TwoSectionFlight(s1=0.195, s2=0.183, alpha1=90.0, alpha2=117.0)
+    # or any shape: PolygonFlight([(0.195, 90.0), (0.10, 135.0), (0.09, 135.0)])
     drum = FlightedDrum(radius=2.5, n_flights=28, flight=flight)
     drum.holdup_area(psi, repose_angle)     # m^2, vectorised
     drum.holdup_area(psi, repose_angle, particle_diameter=0.01)  # with the finite-particle correction
@@ -11,8 +12,11 @@ Public API:
     drum.cascade(repose_angle, loading_factor, rpm=3.0)   # CascadeSummary
     drum.design_load_area(repose_angle, method="lee2008") # m^2 of drum cross-section
     drum.loading_factor(dryer_loading, repose_angle)      # f_load, Eq. 4.22
+    drum.final_discharge_angle(repose_angle)              # psi5, deg
+    curtain_distribution(drum, repose_angle)              # where the curtain falls across the drum
 """
 
+from .curtain import CurtainDistribution, curtain_distribution, final_discharge_angle
 from .design_load import (
     DESIGN_LOAD_METHODS,
     LOADING_STATES,
@@ -34,7 +38,7 @@ from .drum import (
 from .drum import (
     SURFACE_LAYER as SURFACE_LAYER_DEFAULT,
 )
-from .flights import TwoSectionFlight
+from .flights import PolygonFlight, TwoSectionFlight
 from .unloading import (
     FALL_HEIGHT_DEFINITIONS,
     PASSIVE_TIME_BRANCHES,
@@ -61,7 +65,11 @@ __all__ = [
     "PASSIVE_TIME_BRANCHES",
     "TransitionAngles",
     "TwoSectionFlight",
+    "PolygonFlight",
     "cascade",
+    "CurtainDistribution",
+    "curtain_distribution",
+    "final_discharge_angle",
     "design_load_mass",
     "design_load_area",
     "design_load_methods",

@@ -11,6 +11,12 @@ that it turns **anticlockwise**: the root is at ``(R sin psi, -R cos psi)``.
 The flight tip leads the root by the tip angle ``psi_ft`` (Lee (2008) Eq. 4.7),
 so the tip sits at ``psi + psi_ft`` on the flight-tip circle of radius ``R_F``.
 
+Two computations of the held area, chosen by ``geometry=``: Lee's closed forms for a two-section
+flight (``"lee2008"``, Lee (2008) Eq. 4.14-4.17) and the exact clipping of the pocket for a flight of
+any polygonal shape (``"polygon"``, `rotarydryer.geometry.polygon`). ``"auto"`` (default) takes
+the closed forms for a two-section flight and the clipping for any other; both agree on a
+two-section flight to about 1e-14 of a full flight (``tests/geometry/test_polygon.py``).
+
 The material held by a flight is bounded by the flight, the drum wall, the next
 flight and a plane surface through the flight tip inclined at the dynamic angle
 of repose ``repose_angle`` to the horizontal (Lee (2008) section 4.2; free-flowing
@@ -26,13 +32,18 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validation import check_range, fmt_number
-from .flights import TwoSectionFlight
+from .._validation import check_choice, check_range, fmt_number
+from . import polygon as _poly
+from .flights import PolygonFlight, TwoSectionFlight
+from .polygon import PocketGeometry, pocket_geometry
 
-__all__ = ["FlightedDrum", "TransitionAngles", "CriticalSpeedWarning", "critical_speed", "check_speed",
+__all__ = ["FlightedDrum", "TransitionAngles", "GEOMETRY_PATHS", "CriticalSpeedWarning", "critical_speed", "check_speed",
            "CRITICAL_SPEED_WARN_FRACTION", "SURFACE_LAYER", "finite_particle_correction", "surface_layer_thickness"]
 
 _DEG = math.pi / 180.0
+
+#: the held-area computations of `FlightedDrum` (``geometry=``): "auto", Lee's closed forms, polygon clipping
+GEOMETRY_PATHS = ("auto", "lee2008", "polygon")
 
 #: above this fraction of the critical speed (Froude number omega^2 R / g = 0.25) :func:`check_speed`
 #: warns: the gravity-only unloading model (Lee (2008) Ch. 4) neglects the centrifugal force
@@ -127,6 +138,11 @@ class _Consts:
     area_tri_ft: float  # triangle (tip, next tip, next bend)
     area_const3: float  # the two constant triangles of Eq. 4.16
 
+    @property
+    def breaks(self) -> tuple[float, ...]:
+        """Offsets (deg) of the phase boundaries from the repose angle, psi1 to psi5 (Lee (2008) Eq. 4.9-4.13)."""
+        return (self.off1, self.off2, self.off3, self.off4, self.off5)
+
 
 class FlightedDrum:
     """A drum of radius ``radius`` with ``n_flights`` identical, equally spaced flights.
@@ -137,8 +153,13 @@ class FlightedDrum:
         Drum (inner shell) radius ``R``, m.
     n_flights : int
         Number of flights around the circumference ``N_F`` (>= 2).
-    flight : TwoSectionFlight
+    flight : TwoSectionFlight or PolygonFlight
         The flight shape.
+    geometry : str, keyword only
+        ``"auto"`` (default): Lee's closed forms (Lee (2008) Eq. 4.14-4.17) for a two-section flight,
+        the exact clipping of the pocket (`rotarydryer.geometry.polygon`) for any other; ``"lee2008"``
+        or ``"polygon"`` to choose. A `PolygonFlight` of two sections outside Lee's four-phase model
+        (e.g. a tip bent backwards) takes the clipping under ``"auto"``.
 
     Examples
     --------
@@ -152,23 +173,60 @@ class FlightedDrum:
     [19.4, 34.1, 58.7, 150.4, 183.0]
     """
 
-    def __init__(self, radius: float, n_flights: int, flight: TwoSectionFlight):
+    _c: _Consts | PocketGeometry
+
+    def __init__(self, radius: float, n_flights: int, flight: TwoSectionFlight | PolygonFlight, *,
+                 geometry: str = "auto"):
         R = float(check_range("radius", radius, 0.0, math.inf, unit="m"))
         if isinstance(n_flights, bool) or int(n_flights) != n_flights or n_flights < 2:
             raise ValueError(
                 f"n_flights = {fmt_number(n_flights) if isinstance(n_flights, (int, float)) else repr(n_flights)} "
                 "is not allowed; it must be an integer >= 2"
             )
-        if not isinstance(flight, TwoSectionFlight):
-            raise ValueError(f"flight must be a TwoSectionFlight, got {type(flight).__name__}")
+        if isinstance(flight, TwoSectionFlight):
+            two: TwoSectionFlight | None = flight
+        elif isinstance(flight, PolygonFlight):
+            two = flight.as_two_section()
+        else:
+            raise ValueError(f"flight must be a TwoSectionFlight or a PolygonFlight, got {type(flight).__name__}")
+        check_choice("geometry", geometry, GEOMETRY_PATHS)
         self.radius = R
         self.n_flights = int(n_flights)
         self.flight = flight
-        self._c = self._fixed_geometry()
+        self._two = two
+        if geometry == "lee2008" and two is None:
+            raise ValueError(f"geometry = 'lee2008' (Lee's closed forms) needs a flight of one or two sections "
+                             f"with alpha2 <= 180 deg; this flight has {flight.n_segments} sections: use "  # type: ignore[union-attr]
+                             "geometry = 'polygon' (or 'auto')")
+        if geometry == "polygon" or two is None:
+            self._c = pocket_geometry(R, self.n_flights, self.profile)
+            self.geometry = "polygon"
+            return
+        try:
+            self._c = self._fixed_geometry()
+        except ValueError:
+            if geometry == "lee2008" or isinstance(flight, TwoSectionFlight):
+                raise
+            self._c = pocket_geometry(R, self.n_flights, self.profile)   # outside Lee's four phases
+            self.geometry = "polygon"
+            return
+        self.geometry = "lee2008"
+
+    @property
+    def profile(self) -> PolygonFlight:
+        """The flight as a [`PolygonFlight`][rotarydryer.geometry.flights.PolygonFlight] (a two-section flight converted)."""
+        f = self.flight
+        return f.to_polygon() if isinstance(f, TwoSectionFlight) else f
+
+    @property
+    def is_polygon(self) -> bool:
+        """Whether the held area is computed by clipping the pocket (``geometry == "polygon"``)."""
+        return isinstance(self._c, PocketGeometry)
 
     # ------------------------------------------------------------------ fixed geometry
     def _fixed_geometry(self) -> _Consts:
-        f = self.flight
+        f = self._two
+        assert f is not None
         R, N = self.radius, self.n_flights
         s1, s2 = f.s1, f.effective_s2
         a1p, a2 = f.equivalent_alpha1, f.effective_alpha2
@@ -224,7 +282,7 @@ class FlightedDrum:
                 "flight geometry not supported by Lee's four-phase unloading model: the "
                 f"transition points are out of order (offsets {', '.join(f'{o:.2f}' for o in offs)} "
                 "deg from the repose angle); check that the flights do not overlap and that "
-                "alpha2 bends the tip forward"
+                "alpha2 bends the tip forward (a PolygonFlight of the same sections is computed by clipping)"
             )
         if root_tip <= 0.0:
             raise ValueError("flight has zero length")
@@ -241,6 +299,9 @@ class FlightedDrum:
 
     def __repr__(self) -> str:
         f = self.flight
+        if not isinstance(f, TwoSectionFlight) or self.geometry != "lee2008":
+            extra = ", geometry='polygon'" if self.is_polygon and self._two is not None else ""
+            return f"FlightedDrum(radius={self.radius!r}, n_flights={self.n_flights!r}, flight={f!r}{extra})"
         return (
             f"FlightedDrum(radius={self.radius!r}, n_flights={self.n_flights!r}, "
             f"flight=TwoSectionFlight(s1={f.s1!r}, s2={f.s2!r}, alpha1={f.alpha1!r}, "
@@ -281,11 +342,26 @@ class FlightedDrum:
         """Transition angles psi1..psi5 for a dynamic angle of repose (deg), Lee (2008) Eq. 4.9-4.13.
 
         All five shift one-for-one with the repose angle. Returns arrays shaped like
-        ``repose_angle``.
+        ``repose_angle``. For a polygonal flight: psi1 discharge starts (the surface leaves the tip
+        chord), psi2 the surface passes the next flight's last bend, psi3 the next flight's root,
+        psi4 this flight's root, psi5 empty (the surface along the last section); the other
+        corners of the pocket are in `unloading_events`.
         """
         phi = _check_repose(repose_angle)
         c = self._c
         return TransitionAngles(phi + c.off1, phi + c.off2, phi + c.off3, phi + c.off4, phi + c.off5)
+
+    def final_discharge_angle(self, repose_angle) -> np.ndarray:
+        """Root angle at which the flight is empty, psi5, deg (Lee (2008) Eq. 4.13; for any flight,
+        where the surface through the tip lies along its last section)."""
+        return self.transition_angles(repose_angle).psi5
+
+    @property
+    def unloading_events(self) -> tuple[float, ...]:
+        """Offsets from the repose angle (deg) of every angle at which the held area changes form,
+        from psi1 (discharge starts) to psi5 (empty): Lee's transition points (Lee (2008) Eq. 4.9-4.13)
+        for a two-section flight, the surface passing each corner of the pocket for a polygonal one."""
+        return tuple(float(v) for v in self._c.breaks)
 
     # ------------------------------------------------------------------ holdup
     def holdup_area(self, psi, repose_angle, particle_diameter=None, *, surface_layer=None) -> np.ndarray:
@@ -377,11 +453,15 @@ class FlightedDrum:
 
     # ------------------------------------------------------------------ coordinates
     def flight_outline(self, psi: float) -> np.ndarray:
-        """Points (root, bend, tip) of the flight whose root is at ``psi`` deg, shape (3, 2), m.
+        """Points (root, bend(s), tip) of the flight whose root is at ``psi`` deg, m: shape (3, 2) for
+        a two-section flight under Lee's closed forms, (n_segments + 1, 2) for a polygonal flight.
 
         Origin at the drum centre, y up, drum turning anticlockwise.
         """
-        f = self.flight
+        if self.is_polygon:
+            return _poly._flight_points(self.profile, self.radius, float(psi))
+        f = self._two
+        assert f is not None
         p = math.radians(float(psi))
         R = self.radius
         root = np.array([R * math.sin(p), -R * math.cos(p)])
@@ -410,10 +490,42 @@ class FlightedDrum:
         psi = float(psi) % 360.0
         if psi >= float(self.transition_angles(repose_angle).psi5):
             return np.empty((0, 2))
-        tip = self.flight_outline(psi)[2]
+        if self.is_polygon:
+            return self._held_polygon_ray(psi, float(repose_angle), n_arc)
+        tip = self.flight_outline(psi)[-1]
         phi = math.radians(float(repose_angle))
         normal = np.array([-math.sin(phi), math.cos(phi)])  # points above the surface
         return _clip_halfplane(self.pocket_polygon(psi, n_arc), tip, normal)
+
+    def _held_polygon_ray(self, psi: float, phi: float, n_arc: int) -> np.ndarray:
+        """Held solids of a polygonal flight: the surface from the tip to where it first meets the
+        pocket, and the pocket's boundary from there round to the tip (`rotarydryer.geometry.polygon`)."""
+        c = self._c
+        pts = self.pocket_polygon(psi, n_arc)
+        if psi - phi < c.off1:
+            return pts
+        it = len(self.flight_outline(psi)) - 1
+        order = np.roll(np.arange(len(pts)), -it)            # from the tip round the pocket
+        ring = pts[order]
+        T = ring[0]
+        e = np.array([math.cos(math.radians(phi)), math.sin(math.radians(phi))])
+        best, hit = math.inf, None
+        for k in range(1, len(ring) - 1):                    # edges not through the tip
+            p, q = ring[k], ring[k + 1]
+            d = q - p
+            den = e[0] * d[1] - e[1] * d[0]
+            if abs(den) < 1e-15:
+                continue
+            w = p - T
+            r = (w[0] * d[1] - w[1] * d[0]) / den
+            t = (w[0] * e[1] - w[1] * e[0]) / den
+            if r > 1e-12 * self.radius and -1e-12 <= t <= 1.0 + 1e-12 and r < best:
+                best, hit = r, (k, min(max(t, 0.0), 1.0))
+        if hit is None:
+            return np.empty((0, 2))
+        k, t = hit
+        H = ring[k] + t * (ring[k + 1] - ring[k])
+        return np.vstack([H, ring[k + 1:], T[None, :]])
 
 
 # ---------------------------------------------------------------------- internals
@@ -507,8 +619,37 @@ def _evaluate(c: _Consts, psi, phi, slope: bool):
     return np.clip(out, 0.0, c.full_area)
 
 
-def _holdup(c: _Consts, psi, phi):
+def _holdup(c, psi, phi):
+    if isinstance(c, PocketGeometry):
+        return _poly_evaluate(c, psi, phi, slope=False)
     return _evaluate(c, psi, phi, slope=False)
+
+
+def _poly_evaluate(c: PocketGeometry, psi, phi, slope: bool):
+    """Holdup (or its slope, per degree) of a polygonal flight: full before psi1, the clipped pocket
+    (`rotarydryer.geometry.polygon.area_and_slope`) until psi5, empty from psi5 on."""
+    psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
+    x = psi - phi
+    act = (x >= c.off1) & (x < c.off5)
+    out = np.zeros(psi.shape) if slope else np.where(x < c.off1, c.full_area, 0.0)
+    if act.any():
+        a, sl = _poly.area_and_slope(c, x[act], slope=slope)
+        out[act] = sl if slope else a
+    if slope:
+        return np.minimum(out, 0.0)
+    return np.clip(out, 0.0, c.full_area)
+
+
+def _poly_both(c: PocketGeometry, psi, phi):
+    """Holdup (m^2) and slope (m^2/deg) of a polygonal flight in one pass, and the active mask."""
+    psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
+    x = psi - phi
+    act = (x >= c.off1) & (x < c.off5)
+    h = np.where(x < c.off1, c.full_area, 0.0)
+    sl = np.zeros(psi.shape)
+    if act.any():
+        h[act], sl[act] = _poly.area_and_slope(c, x[act], slope=True)
+    return np.clip(h, 0.0, c.full_area), np.minimum(sl, 0.0), act
 
 
 # ---------------------------------------------------------------------- finite-particle correction
@@ -621,8 +762,13 @@ def _hL_IV(c: _Consts, psi, phi):
 _HL = (_hL_I, _hL_II, _hL_III, _hL_IV)
 
 
-def _holdup_and_slope(c: _Consts, psi, phi):
-    """Holdup (m^2), its slope (m^2/deg) and the phase index in one pass over the phases."""
+def _holdup_and_slope(c, psi, phi):
+    """Holdup (m^2), its slope (m^2/deg) and the phase index in one pass over the phases (for a
+    polygonal flight the index is 1 between psi1 and psi5, else 0 before and 5 after)."""
+    if isinstance(c, PocketGeometry):
+        h, sl, act = _poly_both(c, psi, phi)
+        x = np.asarray(psi, dtype=float) - np.asarray(phi, dtype=float)
+        return h, sl, np.where(act, 1, np.where(x < c.off1, 0, 5)).astype(np.int8)
     psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
     idx = _phase_index(c, psi, phi)
     h = np.zeros(psi.shape)
@@ -636,7 +782,7 @@ def _holdup_and_slope(c: _Consts, psi, phi):
     return np.clip(h, 0.0, c.full_area), np.minimum(sl, 0.0), idx
 
 
-def _strip_area(c: _Consts, w, h, L, delta):
+def _strip_area(c, w, h, L, delta):
     """The correction dA for wedge angles ``w`` (rad), holdups ``h`` (m^2) and surface chords ``L`` (m)."""
     with np.errstate(all="ignore"):
         de = np.fmin(delta, h / L)
@@ -679,10 +825,19 @@ def _fp_from(c, psi, phi, delta, h, sl, idx):
     return da
 
 
-def _holdup_fp(c: _Consts, psi, phi, delta):
+def _holdup_fp(c, psi, phi, delta):
     """Holdup with the finite-particle correction, m^2 ([`finite_particle_correction`][rotarydryer.geometry.drum.finite_particle_correction])."""
     if delta == 0.0:
         return _holdup(c, psi, phi)
+    if isinstance(c, PocketGeometry):
+        h, sl, act = _poly_both(c, psi, phi)
+        x = np.broadcast_to(np.asarray(psi, dtype=float) - np.asarray(phi, dtype=float), h.shape)
+        out = h.copy()
+        if act.any():
+            ha = h[act]
+            L = np.sqrt(sl[act] * (-2.0 / _DEG))      # L^2/2 = -dH/dpsi per radian
+            out[act] = ha + _strip_area(c, (x[act] - c.off1) * _DEG, ha, L, delta)
+        return out
     psi, phi = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(phi, dtype=float))
     x = psi - phi
     idx = _phase_index(c, psi, phi)
@@ -706,7 +861,7 @@ def _holdup_fp(c: _Consts, psi, phi, delta):
 _FD_STEP = 1e-4  # deg
 
 
-def _holdup_slope_fp(c: _Consts, psi, phi, delta):
+def _holdup_slope_fp(c, psi, phi, delta):
     """Slope of `_holdup_fp`, m^2/deg (central difference, <= 0)."""
     if delta == 0.0:
         return _holdup_slope(c, psi, phi)
@@ -716,21 +871,23 @@ def _holdup_slope_fp(c: _Consts, psi, phi, delta):
     return np.minimum((hp - hm) / (2.0 * _FD_STEP), 0.0)
 
 
-def _H(c: _Consts, psi, phi, delta=None):
+def _H(c, psi, phi, delta=None):
     """Holdup for the internal callers: the continuum model for ``delta is None``."""
     if delta is None:
         return _holdup(c, psi, phi)
     return _holdup_fp(c, psi, phi, delta)
 
 
-def _S(c: _Consts, psi, phi, delta=None):
+def _S(c, psi, phi, delta=None):
     """Holdup slope for the internal callers: the continuum model for ``delta is None``."""
     if delta is None:
         return _holdup_slope(c, psi, phi)
     return _holdup_slope_fp(c, psi, phi, delta)
 
 
-def _holdup_slope(c: _Consts, psi, phi):
+def _holdup_slope(c, psi, phi):
+    if isinstance(c, PocketGeometry):
+        return _poly_evaluate(c, psi, phi, slope=True)
     return _evaluate(c, psi, phi, slope=True)
 
 

@@ -136,7 +136,7 @@ class _PiecewiseTensorSpline:
             u = x - (self.x0[0] + i * self.hx[0])
             cell = i * self.ny
         else:
-            k = (x[:, None] >= self.edges[None, 1:-1]).sum(1)
+            k = np.searchsorted(self.edges[1:-1], x, side="right")     # pieces below x (as many as edges <= x)
             x0, hx = self.x0[k], self.hx[k]
             i = np.clip(((x - x0) / hx).astype(np.intp), 0, self.nx[k] - 1)
             u = x - (x0 + i * hx)
@@ -197,7 +197,7 @@ def _holdup_breaks(drum, lo, hi, convention):
     psi0 = first_unloading_angle(drum, convention)
     n = math.ceil(drum.n_flights / 2) - 1
     psi = psi0 + c.psi_fl * np.arange(0, n + 1)
-    offs = np.array([0.0, c.off2, c.off3, c.off4, c.off5])
+    offs = np.array([0.0, *c.breaks[1:]])
     b = (psi[:, None] - offs[None, :]).ravel()
     b = np.unique(np.round(b, 12))
     return b[(b > lo) & (b < hi)]
@@ -227,7 +227,7 @@ class GeometryTable:
 
         c = drum._c
         psi0 = first_unloading_angle(drum, convention)
-        kinks = [psi0 - o for o in (c.off2, c.off3, c.off4, c.off5)]
+        kinks = [psi0 - o for o in c.breaks[1:]]
         self._phi_edges = np.array([lo] + sorted(k for k in kinks if lo < k < hi) + [hi])
         # the table's second axis is s = (2/pi) asin(sqrt(f)): the averages go like sqrt(f) for nearly
         # empty flights and like sqrt(1 - f) for nearly full ones (the first unloading flight starts
@@ -467,7 +467,7 @@ def _source_digest() -> str:
 
     h = hashlib.sha256()
     here = Path(__file__).parent
-    for name in ("tabulated.py", "drum.py", "unloading.py", "design_load.py", "flights.py"):
+    for name in ("tabulated.py", "drum.py", "unloading.py", "design_load.py", "flights.py", "polygon.py"):
         h.update((here / name).read_bytes())
     h.update(repr((PHI_RANGE, N_PHI_PER_DEG, N_F, N_HOLDUP_PER_DEG)).encode())
     return h.hexdigest()[:16]
@@ -616,10 +616,10 @@ def _save_disk(path, table, key):
 
 
 def _key(drum, *, convention="root", fall_height="chord") -> tuple:
-    """What a table is computed from: the drum's dimensions, the convention and the fall height."""
-    fl = drum.flight
-    return (float(drum.radius), int(drum.n_flights), float(fl.s1), float(fl.s2), float(fl.alpha1),
-            float(fl.alpha2), convention, fall_height)
+    """What a table is computed from: the drum's dimensions, its flight (sections as used: a serrated
+    tip by its effective length) and held-area computation, the convention and the fall height."""
+    segs = ";".join(f"{float(a)!r},{float(b)!r}" for a, b in drum.profile.segments)
+    return (float(drum.radius), int(drum.n_flights), segs, drum.geometry, convention, fall_height)
 
 
 def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryTable:

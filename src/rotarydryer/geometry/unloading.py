@@ -288,8 +288,9 @@ def cascade(
                                       particle_diameter=particle_diameter)
     phi = np.broadcast_to(check_range("repose_angle", repose_angle, 0.0, 90.0), start.shape)
     psi5 = phi + c.off5
-    # integration breakpoints: phase boundaries and the chord kink at tip angle 270
-    cuts = [phi + c.off2, phi + c.off3, phi + c.off4, np.full_like(phi, 270.0 - c.psi_ft)]
+    # integration breakpoints: phase boundaries (every event of a polygonal flight) and the chord kink
+    # at tip angle 270
+    cuts = [phi + o for o in c.breaks[1:-1]] + [np.full_like(phi, 270.0 - c.psi_ft)]
     edges = np.sort(np.stack([start] + [np.clip(x, start, psi5) for x in cuts] + [psi5], axis=-1), axis=-1)
     acc = {"w": 0.0, "psi": 0.0, "h": 0.0, "t": 0.0, "x": 0.0}
     tan_s = np.tan(np.radians(slope))

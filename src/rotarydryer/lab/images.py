@@ -249,7 +249,7 @@ def render_cross_section(drum: FlightedDrum, repose_angle: float, *, reference_a
     held_sh = [Polygon(h).buffer(0) if len(h) >= 3 else Polygon() for h in held]
     outlines = [drum.flight_outline(p) for p in roots]
     plates = unary_union([LineString(o).buffer(th / 2.0, cap_style=2, join_style=2) for o in outlines]) if th > 0 else Polygon()
-    tips = np.array([o[2] for o in outlines])
+    tips = np.array([o[-1] for o in outlines])
     inner = Polygon(tips)  # airborne region: inside the tip-tip chord polygon
     curt = []
     if curtains and cw > 0:

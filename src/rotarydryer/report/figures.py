@@ -24,7 +24,7 @@ def case_drums(inputs: dict, results=None) -> list[dict]:
     ``results`` when available (they vary with moisture along the dryer), else the
     case's constant values, else 45 deg and 1000 kg/m3 (shown as such in the report).
     """
-    from ..geometry import FlightedDrum, TwoSectionFlight
+    from ..geometry import FlightedDrum, PolygonFlight, TwoSectionFlight
 
     cells = results.flighted_cells if results is not None else None
     params = (results.model_choices.get("parameters", {}) if results is not None else {})
@@ -45,11 +45,19 @@ def case_drums(inputs: dict, results=None) -> list[dict]:
     for sec in inputs.get("sections", []):
         if sec["kind"] != "flighted":
             continue
-        g = {k: sec.get(k) if sec.get(k) is not None else shared.get(k)
-             for k in ("n_flights", "s1", "s2", "alpha1", "alpha2")}
-        if any(v is None for v in g.values()):
-            continue        # no flight dimensions (regression geometry only)
-        drum = FlightedDrum(d["radius"], g["n_flights"], TwoSectionFlight(g["s1"], g["s2"], g["alpha1"], g["alpha2"]))
+        nf = sec.get("n_flights") or shared.get("n_flights")
+        own = any(sec.get(k) is not None for k in ("s1", "s2", "alpha1", "alpha2"))
+        poly = next(((k, src[k]) for src in ((sec,) if own else (sec, shared)) for k in ("segments", "vertices")
+                     if src.get(k) is not None), None)
+        if poly is not None and nf is not None:      # a flight of any shape (segments or vertices)
+            flight = (PolygonFlight(poly[1]) if poly[0] == "segments" else PolygonFlight(vertices=poly[1]))
+            drum = FlightedDrum(d["radius"], nf, flight)
+        else:
+            g = {k: sec.get(k) if sec.get(k) is not None else shared.get(k)
+                 for k in ("n_flights", "s1", "s2", "alpha1", "alpha2")}
+            if any(v is None for v in g.values()):
+                continue        # no flight dimensions (regression geometry only)
+            drum = FlightedDrum(d["radius"], g["n_flights"], TwoSectionFlight(g["s1"], g["s2"], g["alpha1"], g["alpha2"]))
         out.append(dict(name=sec["name"], drum=drum, length=sec["length"], slope=d["slope"], rpm=rpm,
                         bulk_density=_mean(sec["name"], "bulk_density", 1000.0),
                         repose_angle=_mean(sec["name"], "repose_angle", 45.0)))

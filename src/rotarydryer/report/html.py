@@ -147,8 +147,10 @@ def _geometry_sections(drums, results) -> str:
         geo_rows = [
             ("drum radius R", f"{drum.radius:g} m"),
             ("flights N_F", f"{drum.n_flights}"),
-            ("flight s1 / s2", f"{drum.flight.s1:g} m / {drum.flight.s2:g} m"),
-            ("alpha1 / alpha2", f"{drum.flight.alpha1:g} / {drum.flight.alpha2:g} deg"),
+            *([("flight s1 / s2", f"{drum.flight.s1:g} m / {drum.flight.s2:g} m"),
+               ("alpha1 / alpha2", f"{drum.flight.alpha1:g} / {drum.flight.alpha2:g} deg")]
+              if hasattr(drum.flight, "s2") else
+              [("flight sections (length, angle)", ", ".join(f"{a:g} m / {b:g} deg" for a, b in drum.profile.segments))]),
             ("flight-tip radius R_F (Lee (2008) Eq. 4.6)", f"{_fmt(drum.tip_radius)} m"),
             ("full-flight holdup (Eq. 4.8)", f"{_fmt(drum.full_holdup_area * 1e4)} cm2 per m"),
             ("repose angle used", f"{fmt_angle(phi)} deg"),

@@ -95,7 +95,10 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
     if len(secs) == 1:
         f = inp.get("flight") or {}
         nf = drum.get("n_flights")
-        desc = f"{nf} two-section flights" if nf else "flighted"
+        desc = (f"{nf} {'polygonal' if f.get('segments') or f.get('vertices') else 'two-section'} flights"
+                if nf else "flighted")
+        if f.get("segments"):
+            desc += ", sections " + ", ".join(f"{a:g} m / {b:g} deg" for a, b in f["segments"])
         if f.get("s1") is not None:
             desc += f", s1 {f['s1']:g} m / s2 {f['s2']:g} m, {f['alpha1']:g} / {f['alpha2']:g} deg"
         rows.append(("flights", desc, ""))
@@ -105,8 +108,15 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
             if sec["kind"] == "flighted":
                 g = {k: sec.get(k) if sec.get(k) is not None else shared.get(k)
                      for k in ("n_flights", "s1", "s2", "alpha1", "alpha2")}
-                d = (f"section {sec['name']} ({sec['length']:g} m): {g['n_flights']} flights, s1 {g['s1']:g} m / "
-                     f"s2 {g['s2']:g} m, {g['alpha1']:g} / {g['alpha2']:g} deg")
+                own = any(sec.get(k) is not None for k in ("s1", "s2", "alpha1", "alpha2"))
+                segs = sec.get("segments") or (None if own else shared.get("segments"))
+                d = f"section {sec['name']} ({sec['length']:g} m): {g['n_flights']} flights"
+                if segs:
+                    d += ", sections " + ", ".join(f"{a:g} m / {b:g} deg" for a, b in segs)
+                elif sec.get("vertices") or (not own and shared.get("vertices")):
+                    d += ", polygonal (vertices)"
+                elif all(g[k] is not None for k in ("s1", "s2", "alpha1", "alpha2")):
+                    d += f", s1 {g['s1']:g} m / s2 {g['s2']:g} m, {g['alpha1']:g} / {g['alpha2']:g} deg"
             else:
                 d = f"section {sec['name']} ({sec['length']:g} m): unflighted"
             rows.append(("flights" if sec is inp["sections"][0] else "", d, ""))

@@ -80,7 +80,7 @@ def draw_cross_section(drum: FlightedDrum, repose_angle: float, *, angle: float 
         ax.plot(pts[:, 0], pts[:, 1], color="#333333", lw=1.6, solid_capstyle="round")
         tip_angle = psi + drum.tip_angle
         if show_curtain and 90.0 < tip_angle < 270.0 and psi < psi5:
-            rates.append((pts[2], float(drum.discharge_rate(psi, repose_angle, 1.0))))
+            rates.append((pts[-1], float(drum.discharge_rate(psi, repose_angle, 1.0))))
     if rates:
         top = max(r for _, r in rates) or 1.0
         for tip, r in rates:

@@ -1,0 +1,141 @@
+"""The DEM bridge for flights of any shape (issue 34 item 1): polygon decks, the holdup reduction on their
+pockets, and the shipped LIGGGHTS slices of a three-section and an EAD flight against the exact polygon
+holdup with the finite-particle correction (no refit), within the correction's held-out accuracy."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from rotarydryer.cli import app
+from rotarydryer.dem.calibrate import POLYGON_RUNS, polygon_deck
+from rotarydryer.dem.deck import Particles, SliceDeck, build_slice, export_deck, facet_count, flight_facets
+from rotarydryer.dem.fit import campaign_table, data_folder, load_campaign
+from rotarydryer.dem.holdup import analyse_run, compare, read_reduced_csv
+from rotarydryer.geometry import FlightedDrum, PolygonFlight
+from rotarydryer.geometry import drum as drum_mod
+
+from .test_dem import _synthetic_run
+
+THREE = [(0.06, 90.0), (0.03, 135.0), (0.027, 135.0)]
+
+
+@pytest.fixture(scope="module")
+def poly_drum():
+    return FlightedDrum(0.25, 8, PolygonFlight(THREE))
+
+
+def test_polygon_deck_exports_every_section(tmp_path, poly_drum):
+    s = build_slice(poly_drum, Particles(diameter=0.01), rpm=8.0, loading=1.0)
+    assert s.segments == [[a, b] for a, b in THREE]
+    files = export_deck(s, tmp_path / "deck")
+    meta = json.loads(files.meta.read_text())
+    assert meta["segments"] == [[a, b] for a, b in THREE]
+    assert "sections (0.06 m, 90 deg), (0.03 m, 135 deg), (0.027 m, 135 deg)" in files.input.read_text()
+    facet = s.facet_size * 0.01
+    fl = flight_facets(poly_drum, s.length, facet)
+    outline = [poly_drum.flight_outline(i * poly_drum.flight_spacing) for i in range(poly_drum.n_flights)]
+    assert fl.shape[0] == sum(2 * math.ceil(np.linalg.norm(o[k + 1] - o[k]) / facet)
+                              for o in outline for k in range(len(o) - 1))
+    shell = 2 * max(48, math.ceil(2 * math.pi * 0.25 / facet))
+    assert abs(facet_count(s) - shell - fl.shape[0]) <= 2 * poly_drum.n_flights * len(THREE)   # the size check's count
+    # every facet lies on a flight section of the drum at angle 0
+    segs = [(o[k], o[k + 1]) for o in outline for k in range(len(o) - 1)]
+    pts = fl[:, :, :2].reshape(-1, 2)
+    dist = np.min([np.abs(np.cross(b - a, pts - a)) / np.linalg.norm(b - a) for a, b in segs], axis=0)
+    assert dist.max() < 1e-9
+    back = SliceDeck.from_dict(json.loads(json.dumps(s.to_dict())))
+    assert back.drum.profile.segments == poly_drum.profile.segments and back.drum.geometry == "polygon"
+
+
+def test_two_section_deck_json_unchanged(tmp_path):
+    from rotarydryer.geometry import TwoSectionFlight
+
+    s = build_slice(FlightedDrum(0.2, 10, TwoSectionFlight(0.05, 0.05, 90.0, 120.0)), Particles(diameter=0.01),
+                    rpm=6.0, fill_fraction=0.1)
+    assert "segments" not in s.to_dict()
+
+
+def test_dem_export_profile_cli(tmp_path):
+    prof = tmp_path / "f.toml"
+    prof.write_text("segments = [[0.06, 90.0], [0.03, 135.0], [0.027, 135.0]]\nradius = 0.25\nn_flights = 8\n")
+    res = CliRunner().invoke(app, ["dem", "export", str(tmp_path / "deck"), "--profile", str(prof), "--rpm", "8",
+                                   "--diameter", "0.01", "--json"])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.output)["segments"] == [[a, b] for a, b in THREE]
+    res = CliRunner().invoke(app, ["dem", "export", str(tmp_path / "d2"), "--profile", str(prof), "--s1", "0.1"])
+    assert res.exit_code == 2 and "--profile" in res.output
+
+
+def test_reduction_on_synthetic_polygon_dumps(tmp_path, poly_drum):
+    folder, _ = _synthetic_run(tmp_path, FlightedDrum(0.3, 8, PolygonFlight([(0.07, 90.0), (0.035, 135.0),
+                                                                             (0.03, 135.0)])))
+    res = analyse_run(folder)
+    assert res.deck.drum.geometry == "polygon"
+    c = compare(res, repose_angle=35.0, steady=False)
+    assert c["plain"]["rms_pct"] < 6.0
+
+
+# ------------------------------------------------------------------ shipped LIGGGHTS slices
+def _polygon_runs():
+    folder = data_folder() / "polygon"
+    return {p.stem: read_reduced_csv(p) for p in sorted(folder.glob("*.csv"))}
+
+
+def test_polygon_runs_are_the_declared_decks():
+    runs = _polygon_runs()
+    assert {r.name for r in POLYGON_RUNS} == set(runs)
+    for r in POLYGON_RUNS:
+        shipped = runs[r.name].deck
+        made = polygon_deck(r)
+        assert shipped.segments == made.segments and shipped.n_particles == made.n_particles
+        assert shipped.seed == made.seed and runs[r.name].liggghts_version.startswith("LIGGGHTS")
+
+
+def _held_out():
+    """Pooled and worst corrected RMS (% of a full flight) of the two-section campaign's held-out runs."""
+    held = [r for r in campaign_table(load_campaign(), drum_mod.SURFACE_LAYER) if r["role"] == "held-out"]
+    rms = [r["rms_corrected_pct"] for r in held]
+    return math.sqrt(sum(v * v for v in rms) / len(rms)), max(rms)
+
+
+def _rms(shape):
+    runs = _polygon_runs()
+    out = {}
+    for r in POLYGON_RUNS:
+        if r.shape == shape:
+            res = runs[r.name]
+            assert res.deck.drum.geometry == "polygon" and res.deck.drum.profile.n_segments >= 3
+            c = compare(res)
+            assert c["corrected"]["n_samples"] > 200
+            assert c["corrected"]["rms_pct"] < c["plain"]["rms_pct"]      # the correction helps on every run
+            out[r.name] = c["corrected"]["rms_pct"]
+    assert len(out) >= 2
+    return out
+
+
+def test_three_section_runs_within_the_held_out_accuracy():
+    """The exact polygon holdup with the finite-particle correction (k fitted on two-section flights only)
+    matches the three-section slices better than the two-section held-out pool (docs/dem.md)."""
+    pool, _ = _held_out()
+    rms = _rms("3S")
+    assert max(rms.values()) <= pool, (rms, pool)
+
+
+@pytest.mark.xfail(strict=True, reason="known miss (docs/dem.md): EAD runs 4.3 % (p4) and 5.2 % (p2) of a full "
+                                       "flight, the worst two-section held-out run 5.0 %, pooled 4.7 % against 3.7 %")
+def test_ead_runs_within_the_held_out_accuracy():
+    pool, worst = _held_out()
+    rms = _rms("EAD")
+    assert max(rms.values()) <= worst and math.sqrt(sum(v * v for v in rms.values()) / len(rms)) <= pool, rms
+
+
+def test_ead_runs_figures():
+    """The EAD slices' figures as documented (a regression guard on the miss above)."""
+    rms = _rms("EAD")
+    assert rms["p4_EAD_d020_over2_highFr"] == pytest.approx(4.26, abs=0.01)
+    assert rms["p2_EAD_d020_over_highFr"] == pytest.approx(5.17, abs=0.01)

@@ -1,0 +1,68 @@
+"""A case's flights of any shape (issue 34 item 1): ``[flight] segments`` / ``vertices`` and per section."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+from rotarydryer.cases import load_case
+from rotarydryer.cases.build import ajayi_geometries
+from rotarydryer.simulation import Simulation
+
+TEMPLATE = Path(__file__).resolve().parents[1] / "src" / "rotarydryer" / "cases" / "templates" / "dryer.toml"
+THREE = "segments = [[0.15, 90.0], [0.06, 150.0], [0.05, 150.0]]"
+
+
+def _case(tmp_path, flight_block, section_extra=""):
+    text = TEMPLATE.read_text()
+    text = re.sub(r"\[flight\].*?\n\n", f"[flight]\n{flight_block}\n\n", text, count=1, flags=re.S)
+    if section_extra:
+        text = text.replace('name = "flighted"\nkind = "flighted"', f'name = "flighted"\nkind = "flighted"\n{section_extra}')
+    p = tmp_path / "poly.toml"
+    p.write_text(text)
+    return p
+
+
+def test_flight_segments_run_a_dryer(tmp_path):
+    p = _case(tmp_path, THREE)
+    case = load_case(str(p))
+    g = ajayi_geometries(case)["flighted"]
+    assert g.drum.geometry == "polygon" and g.drum.profile.n_segments == 3
+    s = Simulation(str(p)).steady_state().summary()
+    assert s["total_holdup_kg"] > 0
+
+
+def test_section_vertices_override_the_flight(tmp_path):
+    p = _case(tmp_path, "s1 = 0.15\ns2 = 0.10\nalpha1 = 90.0\nalpha2 = 120.0",
+              "vertices = [[0.0, 0.0], [0.0, 0.15], [0.05, 0.2], [0.1, 0.2]]")
+    drum = ajayi_geometries(load_case(str(p)))["flighted"].drum
+    assert drum.profile.n_segments == 3 and drum.geometry == "polygon"
+
+
+@pytest.mark.parametrize("flight,section,words", [
+    (THREE + "\ns1 = 0.1", "", ["flight", "segments and s1"]),
+    ("segments = [[0.15, 90.0], [0.1, 20.0], [0.1, 20.0]]", "", ["flight.segments", "intersects itself"]),
+    ("segments = [[0.15, 90.0], [-0.1, 150.0]]", "", ["flight.segments"]),
+    ("segments = [[0.6, 90.0], [0.6, 150.0], [0.5, 150.0]]", "", ["flight.segments", "centre"]),
+    (THREE, "s1 = 0.2", ["sections[1] (flighted).s2 is missing"]),
+])
+def test_bad_polygon_flights_name_the_key(tmp_path, flight, section, words):
+    p = _case(tmp_path, flight, section)
+    with pytest.raises(ValueError) as exc:
+        case = load_case(str(p))
+        ajayi_geometries(case)
+    msg = str(exc.value)
+    assert all(w in msg for w in words), msg
+
+
+def test_regressions_refuse_a_polygonal_flight(tmp_path):
+    p = _case(tmp_path, THREE)
+    with pytest.raises(ValueError, match="lee2008_regressions"):
+        ajayi_geometries(load_case(str(p), {"geometry.method": "lee2008_regressions"}))
+
+
+def test_report_draws_polygonal_flights(tmp_path):
+    from rotarydryer.report.figures import case_drums
+
+    drums = case_drums(load_case(str(_case(tmp_path, THREE))).model_dump())
+    assert [d["drum"].geometry for d in drums] == ["polygon"]
