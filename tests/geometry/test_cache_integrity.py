@@ -37,7 +37,7 @@ def cache(monkeypatch, tmp_path):
 
     class Counting(T.GeometryTable):
         def __init__(self, *args, **kwargs):
-            built.append(kwargs.get("_grid") is None)
+            built.append(kwargs.get("_fitted") is None)
             super().__init__(*args, **kwargs)
 
     monkeypatch.setattr(T, "GeometryTable", Counting)
@@ -146,17 +146,17 @@ def test_valid_file_is_loaded_not_rebuilt(cache, invicta, clean_entries):
 def test_tampered_values_times_3_are_rebuilt(cache, invicta, clean_entries):
     path, clean = _entry(cache, invicta, clean_entries)
     a = _arrays(path)
-    a["values"] = a["values"] * 3.0      # a valid .npz, its stored sha256 left as it was
+    a["blocks"] = a["blocks"] * 3.0      # a valid .npz, its stored sha256 left as it was
     np.savez(path, **a)
     _rebuilt(cache, invicta, path, "sha256", clean)
 
 
-@pytest.mark.parametrize("what", ["phi", "phi_range", "sizes"])
+@pytest.mark.parametrize("what", ["edges", "phi_range", "nx", "holdup_coef", "y_grid"])
 def test_any_changed_array_is_detected(cache, invicta, clean_entries, what):
     path, clean = _entry(cache, invicta, clean_entries)
     a = _arrays(path)
-    if what == "sizes":
-        a["sizes"] = a["sizes"][::-1].copy()
+    if what == "nx":
+        a["nx"] = a["nx"][::-1].copy()
     else:
         a[what] = np.nextafter(a[what], np.inf)     # one ulp
     np.savez(path, **a)
@@ -166,13 +166,13 @@ def test_any_changed_array_is_detected(cache, invicta, clean_entries, what):
 def test_nan_values_are_rebuilt(cache, invicta, clean_entries):
     path, clean = _entry(cache, invicta, clean_entries)
     a = _arrays(path)
-    a["values"][:, 5:9, 10:20] = np.nan
+    a["blocks"][5:9, 10:20] = np.nan
     np.savez(path, **a)
     _rebuilt(cache, invicta, path, "sha256", clean)
     # the same with a matching sha256: the finite check on its own
     cache.forget()
     a = _arrays(path)
-    a["values"][1, 3, 4] = np.inf
+    a["holdup_coef"][1, 3, 0] = np.inf
     np.savez(path, **_rehash(a))
     _rebuilt(cache, invicta, path, "non-finite", clean)
 
@@ -180,17 +180,17 @@ def test_nan_values_are_rebuilt(cache, invicta, clean_entries):
 def test_wrong_shapes_or_grid_with_a_matching_hash_are_rebuilt(cache, invicta, clean_entries):
     path, clean = _entry(cache, invicta, clean_entries)
     a = _arrays(path)
-    a["values"] = a["values"][:, :, :-1].copy()
+    a["blocks"] = a["blocks"][:, :-1].copy()
     np.savez(path, **_rehash(a))
     _rebuilt(cache, invicta, path, "wrong shapes", clean)
     cache.forget()
     a = _arrays(path)
-    a["values"] = a["values"].astype(np.float32)
+    a["blocks"] = a["blocks"].astype(np.float32)
     np.savez(path, **_rehash(a))
     _rebuilt(cache, invicta, path, "float32|<f4", clean)
     cache.forget()
     a = _arrays(path)
-    a["phi"] = a["phi"] + 0.25             # finite, right shapes, not the drum's grid
+    a["edges"] = a["edges"] + 0.25         # finite, right shapes, not the drum's grid
     np.savez(path, **_rehash(a))
     _rebuilt(cache, invicta, path, "grid does not fit", clean)
     cache.forget()
@@ -230,7 +230,7 @@ def test_foreign_npz_is_rebuilt(cache, invicta, clean_entries):
     # an entry without its record and hash (the previous format)
     cache.forget()
     a = _arrays(path)
-    np.savez(path, **{k: a[k] for k in T._GRID_ARRAYS})
+    np.savez(path, **{k: a[k] for k in T._TABLE_ARRAYS})
     _rebuilt(cache, invicta, path, "not a geometry table", clean)
 
 
@@ -339,7 +339,7 @@ def test_tampered_cache_does_not_change_a_shipped_case(cache):
     assert files
     for p in files:
         a = _arrays(p)
-        a["values"] = a["values"] * 3.0
+        a["blocks"] = a["blocks"] * 3.0
         np.savez(p, **a)
     cache.forget()
     with pytest.warns(GeometryCacheWarning, match="sha256"):

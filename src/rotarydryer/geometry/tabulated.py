@@ -29,11 +29,11 @@ exactly, so the table never extrapolates. Tables are cached per drum (geometry, 
 fall-height definition), so every cell and every solver iteration of
 a dryer shares one.
 
-On-disk cache (`cache_directory`): the exact geometry on the cascade grid (what costs the
-0.5 s build; the splines are rebuilt from it in about 0.1 s) is stored per drum as one ``.npz``
-file. Its name is a sha256 of the entry's record (`_entry_meta`: the drum key, the digest of
+On-disk cache (`cache_directory`): the fitted table (the cascade splines' cell polynomials and the
+holdup pieces: what costs the 0.5-2 s build) is stored per drum as one ``.npz`` file, so a table
+loads in milliseconds without SciPy's interpolation package. Its name is a sha256 of the entry's record (`_entry_meta`: the drum key, the digest of
 the code that computes a table, which covers the grid parameters, and `CACHE_FORMAT`); the
-file holds that record (``meta``) and a sha256 of the record and of every grid array's name,
+file holds that record (``meta``) and a sha256 of the record and of every table array's name,
 dtype, shape and bytes (``sha256``), next to the arrays, so data and check are replaced together.
 A file is used only if it is a regular ``.npz`` of exactly these arrays with the expected dtypes
 and shapes, its record is this entry's, its sha256 matches, its values are finite and its grid is
@@ -111,10 +111,24 @@ class _PiecewiseTensorSpline:
     cell in the power basis, all quantities of a cell side by side, so a point costs one
     contiguous gather of 16 q coefficients and two Horner passes (no Python loop over pieces)."""
 
-    def __init__(self, edges, xs, y, values):
-        from scipy.interpolate import RectBivariateSpline
+    #: the arrays that are the spline (what the on-disk cache stores; `fitted` makes them, `__init__` takes them)
+    ARRAYS = ("edges", "blocks", "cell_off", "x0", "hx", "nx", "y_grid")
 
+    def __init__(self, edges, blocks, cell_off, x0, hx, nx, y_grid):
         self.edges = np.asarray(edges, dtype=float)
+        self.blocks = np.ascontiguousarray(blocks, dtype=float)  # (cells, q * 16)
+        self.q = self.blocks.shape[1] // 16
+        self.cell_off = np.asarray(cell_off, dtype=np.int64)
+        self.x0, self.hx, self.nx = np.asarray(x0, float), np.asarray(hx, float), np.asarray(nx, np.int64)
+        self.y_grid = np.asarray(y_grid, dtype=float)        # (y0, hy, ny)
+        self.y0, self.hy, self.ny = float(y_grid[0]), float(y_grid[1]), int(y_grid[2])
+
+    @classmethod
+    def fitted(cls, edges, xs, y, values):
+        """The splines of ``values`` (per piece: q arrays on ``xs[k]`` x ``y``), fitted by
+        `scipy.interpolate.RectBivariateSpline`."""
+        from scipy.interpolate import RectBivariateSpline      # only where a table is built (LAZY)
+
         blocks, cell_off, gx = [], [], []
         n = 0
         for x, vals in zip(xs, values):
@@ -124,11 +138,11 @@ class _PiecewiseTensorSpline:
             cell_off.append(n)
             gx.append((float(x[0]), float(x[1] - x[0]), x.size - 1))
             n += blocks[-1].shape[0]
-        self.q = len(values[0])
-        self.blocks = np.ascontiguousarray(np.concatenate(blocks))  # (cells, q * 16)
-        self.cell_off = np.array(cell_off)
-        self.x0, self.hx, self.nx = (np.array(v) for v in zip(*gx))
-        self.y0, self.hy, self.ny = float(y[0]), float(y[1] - y[0]), y.size - 1
+        x0, hx, nx = (np.array(v) for v in zip(*gx))
+        return cls(edges, np.concatenate(blocks), cell_off, x0, hx, nx, (float(y[0]), float(y[1] - y[0]), y.size - 1))
+
+    def arrays(self) -> dict:
+        return {k: np.asarray(getattr(self, k)) for k in self.ARRAYS}
 
     def __call__(self, x, y):
         if self.cell_off.size == 1:
@@ -169,6 +183,16 @@ class _Breaks:
             if not step.any():
                 return i
             i = i + step
+
+
+class _Cubic:
+    """Cubic pieces with vector values, in `scipy.interpolate.PPoly`'s layout: coefficients ``c``
+    (4, intervals, q), highest power first, breakpoints ``x``; ``rows`` the coefficients of each
+    interval side by side (one contiguous gather per point, `_ppoly`)."""
+
+    def __init__(self, c, x):
+        self.c, self.x = np.asarray(c, dtype=float), np.asarray(x, dtype=float)
+        self.rows = np.ascontiguousarray(np.moveaxis(self.c, 1, 0).reshape(self.c.shape[1], -1))
 
 
 def _ppoly(p, breaks, x):
@@ -215,9 +239,7 @@ class GeometryTable:
         Repose angles (deg) covered by the tables; outside, the exact geometry is computed.
     """
 
-    def __init__(self, drum, *, convention="root", fall_height="chord", phi_range=PHI_RANGE, _grid=None):
-        from scipy.interpolate import CubicSpline, PPoly
-
+    def __init__(self, drum, *, convention="root", fall_height="chord", phi_range=PHI_RANGE, _fitted=None):
         self.drum = drum
         self.convention, self.fall_height = convention, fall_height
         lo, hi = (float(v) for v in phi_range)
@@ -232,20 +254,31 @@ class GeometryTable:
         # the table's second axis is s = (2/pi) asin(sqrt(f)): the averages go like sqrt(f) for nearly
         # empty flights and like sqrt(1 - f) for nearly full ones (the first unloading flight starts
         # discharging with dH/dpsi = 0), both smooth in s
+        if _fitted is None:     # the exact geometry on the grids, fitted: the costly part (the on-disk cache keeps it)
+            self._cascade, coef, brk = self._fit(drum, convention, fall_height, lo, hi)
+        else:
+            self._cascade = _PiecewiseTensorSpline(*(_fitted[k] for k in _PiecewiseTensorSpline.ARRAYS))
+            coef, brk = _fitted["holdup_coef"], _fitted["holdup_breaks"]
+        self._holdups = _Cubic(coef, brk)
+        self.n_upper = coef.shape[-1] - 1
+        # (H0, H0 + 2 sum H_i): what the design-load methods need (Lee (2008) Eq. 4.20)
+        self._design = _Cubic(np.stack([coef[..., 0], coef[..., 0] + 2.0 * coef[..., 1:].sum(-1)], axis=-1), brk)
+        self._breaks = _Breaks(brk)
+
+    def _fit(self, drum, convention, fall_height, lo, hi):
+        """(cascade splines, holdup spline coefficients, their breakpoints) from the exact geometry."""
+        from scipy.interpolate import CubicSpline        # only where a table is built (LAZY)
+
         root_f = np.linspace(0.0, 1.0, N_F + 1)
         f = np.sin(0.5 * np.pi * root_f) ** 2
-        if _grid is None:   # the exact geometry on the grid: the costly part (the on-disk cache keeps it)
-            xs, vals = [], []
-            for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
-                phi = _phi_grid(a, b)
-                pp, ff = np.meshgrid(phi, f, indexing="ij")
-                cs = drum.cascade(pp, ff, rpm=1.0, slope=0.0, fall_height=fall_height, convention=convention)
-                xs.append(phi)
-                vals.append([cs.mean_release_angle, cs.mean_fall_height, cs.mean_fall_time])
-        else:
-            xs, vals = _grid
-        self._grid = (xs, vals)
-        self._cascade = _PiecewiseTensorSpline(self._phi_edges, xs, root_f, vals)
+        xs, vals = [], []
+        for a, b in zip(self._phi_edges[:-1], self._phi_edges[1:]):
+            phi = _phi_grid(a, b)
+            pp, ff = np.meshgrid(phi, f, indexing="ij")
+            cs = drum.cascade(pp, ff, rpm=1.0, slope=0.0, fall_height=fall_height, convention=convention)
+            xs.append(phi)
+            vals.append([cs.mean_release_angle, cs.mean_fall_height, cs.mean_fall_time])
+        cascade = _PiecewiseTensorSpline.fitted(self._phi_edges, xs, root_f, vals)
         # holdups H0 and H_i against phi, split at the phase boundaries
         edges = np.concatenate([[lo], _holdup_breaks(drum, lo, hi, convention), [hi]])
         xs, cs_ = [], []
@@ -257,15 +290,7 @@ class GeometryTable:
             p = CubicSpline(x, y, axis=0, bc_type="not-a-knot")
             xs.append(p.x[:-1])
             cs_.append(p.c)
-        coef, brk = np.concatenate(cs_, axis=1), np.concatenate(xs + [[hi]])
-        self._holdups = PPoly(coef, brk, extrapolate=True)
-        self.n_upper = coef.shape[-1] - 1
-        # (H0, H0 + 2 sum H_i): what the design-load methods need (Lee (2008) Eq. 4.20)
-        self._design = PPoly(np.stack([coef[..., 0], coef[..., 0] + 2.0 * coef[..., 1:].sum(-1)], axis=-1), brk,
-                             extrapolate=True)
-        self._breaks = _Breaks(brk)
-        for p in (self._holdups, self._design):
-            p.rows = np.ascontiguousarray(np.moveaxis(p.c, 1, 0).reshape(p.c.shape[1], -1))
+        return cascade, np.concatenate(cs_, axis=1), np.concatenate(xs + [[hi]])
 
     def __repr__(self):
         return f"GeometryTable({self.drum!r}, phi {self.phi_range[0]:g}-{self.phi_range[1]:g} deg)"
@@ -432,12 +457,14 @@ MAX_TABLES = 32
 #: environment variable naming the directory of the on-disk table cache; "off" disables it
 CACHE_ENV = "ROTARYDRYER_CACHE_DIR"
 #: version of the on-disk entry format (part of each entry's key and of its stored record)
-CACHE_FORMAT = 2
-#: the arrays of an entry's grid: dtype and number of dimensions
-_GRID_ARRAYS = {"phi": ("<f8", 1), "sizes": ("<i8", 1), "values": ("<f8", 3), "phi_range": ("<f8", 1)}
-#: every array of an entry file: the grid, its record (``meta``: what it was built from) and the
+CACHE_FORMAT = 3
+#: the arrays of an entry's fitted table: dtype and number of dimensions
+_TABLE_ARRAYS = {"edges": ("<f8", 1), "blocks": ("<f8", 2), "cell_off": ("<i8", 1), "x0": ("<f8", 1),
+                 "hx": ("<f8", 1), "nx": ("<i8", 1), "y_grid": ("<f8", 1), "holdup_coef": ("<f8", 3),
+                 "holdup_breaks": ("<f8", 1), "phi_range": ("<f8", 1)}
+#: every array of an entry file: the table, its record (``meta``: what it was built from) and the
 #: sha256 of both (``sha256``)
-_FILE_ARRAYS = frozenset(_GRID_ARRAYS) | {"meta", "sha256"}
+_FILE_ARRAYS = frozenset(_TABLE_ARRAYS) | {"meta", "sha256"}
 #: larger files are not ours (an entry is about 1 MB) and are not read
 _MAX_FILE_BYTES = 64 << 20
 #: bad files already reported by this process: (path, inode, size, mtime) -> one warning per file
@@ -481,10 +508,10 @@ def _entry_meta(key) -> str:
 
 
 def _content_digest(meta: str, arrays) -> str:
-    """sha256 of an entry: its record and every grid array (name, dtype, shape and bytes)."""
+    """sha256 of an entry: its record and every table array (name, dtype, shape and bytes)."""
     h = hashlib.sha256(b"rotarydryer.geometry.tabulated\0")
     h.update(meta.encode())
-    for name in sorted(_GRID_ARRAYS):
+    for name in sorted(_TABLE_ARRAYS):
         a = np.ascontiguousarray(arrays[name])
         h.update(f"\0{name}:{a.dtype.str}:{a.shape}\0".encode())
         h.update(a.data)   # the buffer itself, no copy
@@ -492,22 +519,16 @@ def _content_digest(meta: str, arrays) -> str:
 
 
 def _to_arrays(t: GeometryTable) -> dict:
-    """The exact geometry on the table's grid (what costs the build), as plain arrays."""
-    xs, vals = t._grid
-    return {"phi": np.concatenate(xs).astype("<f8"), "sizes": np.array([x.size for x in xs], dtype="<i8"),
-            "values": np.concatenate([np.stack(v) for v in vals], axis=1).astype("<f8"),
-            "phi_range": np.array(t.phi_range, dtype="<f8")}
+    """The fitted table (the cascade splines and the holdup pieces: what costs the build), as plain arrays."""
+    a = t._cascade.arrays()
+    a.update(holdup_coef=t._holdups.c, holdup_breaks=t._holdups.x, phi_range=np.array(t.phi_range))
+    return {k: np.ascontiguousarray(a[k], dtype=_TABLE_ARRAYS[k][0]) for k in _TABLE_ARRAYS}
 
 
 def _from_arrays(drum, a, convention, fall_height) -> GeometryTable:
-    cuts = np.cumsum(a["sizes"])[:-1]
-    xs = np.split(a["phi"], cuts)
-    vals = [list(v) for v in np.split(a["values"], cuts, axis=1)]
     table = GeometryTable(drum, convention=convention, fall_height=fall_height,
-                          phi_range=tuple(float(v) for v in a["phi_range"]), _grid=(xs, vals))
-    edges = table._phi_edges
-    if len(xs) != edges.size - 1 or not all(np.array_equal(x, _phi_grid(lo, hi))
-                                            for x, lo, hi in zip(xs, edges[:-1], edges[1:])):
+                          phi_range=tuple(float(v) for v in a["phi_range"]), _fitted=a)
+    if not np.array_equal(table._phi_edges, a["edges"]):
         raise ValueError("its grid does not fit the drum")
     return table
 
@@ -520,8 +541,8 @@ def _disk_path(key):
     return d / f"{hashlib.sha256(_entry_meta(key).encode()).hexdigest()[:32]}.npz"
 
 
-def _check_grid(f, meta):
-    """The grid arrays of the open entry ``f``, and None; or None and why the file is not a valid
+def _check_table(f, meta):
+    """The table arrays of the open entry ``f``, and None; or None and why the file is not a valid
     entry (wrong arrays, dtypes or shapes, another entry's record, a content hash that does not
     match, non-finite values)."""
     names = set(f.files)
@@ -530,18 +551,24 @@ def _check_grid(f, meta):
     stored_meta, stored_hash = f["meta"], f["sha256"]
     if stored_meta.shape != () or stored_meta.dtype.kind != "U" or str(stored_meta[()]) != meta:
         return None, "not this entry (written for another drum, convention or code version)"
-    a = {k: f[k] for k in _GRID_ARRAYS}
-    for k, (dtype, ndim) in _GRID_ARRAYS.items():
+    a = {k: f[k] for k in _TABLE_ARRAYS}
+    for k, (dtype, ndim) in _TABLE_ARRAYS.items():
         if a[k].dtype.str != dtype or a[k].ndim != ndim:
             return None, f"array {k!r} is {a[k].dtype.str} with shape {a[k].shape}, not {ndim}-d {dtype}"
-    n = a["phi"].size
-    if (a["values"].shape != (3, n, N_F + 1) or a["phi_range"].shape != (2,) or a["sizes"].size < 1
-            or np.any(a["sizes"] < 2) or int(a["sizes"].sum()) != n):
-        return None, (f"wrong shapes (phi {a['phi'].shape}, sizes {a['sizes'].tolist()}, "
-                      f"values {a['values'].shape}, phi_range {a['phi_range'].shape})")
     if (stored_hash.shape != () or stored_hash.dtype.kind != "U"
             or not hmac.compare_digest(str(stored_hash[()]), _content_digest(meta, a))):
         return None, "its content does not match its sha256 (changed after it was written)"
+    pieces = a["x0"].size
+    ny = a["y_grid"][2] if a["y_grid"].size == 3 else -1
+    ok = (pieces >= 1 and a["edges"].size == pieces + 1 and a["hx"].size == pieces and a["nx"].size == pieces
+          and a["cell_off"].size == pieces and ny == N_F and np.all(a["nx"] >= 1)
+          and a["blocks"].shape == (int(np.sum(a["nx"])) * N_F, 3 * 16)
+          and a["holdup_coef"].shape[:1] == (4,) and a["holdup_coef"].shape[1] + 1 == a["holdup_breaks"].size
+          and a["phi_range"].shape == (2,))
+    if not ok:
+        return None, ("wrong shapes (" + ", ".join(f"{k} {a[k].shape}" for k in ("edges", "blocks", "nx", "y_grid",
+                                                                                  "holdup_coef", "holdup_breaks"))
+                      + ")")
     if not all(np.isfinite(v).all() for v in a.values()):
         return None, "it holds non-finite values"
     if tuple(a["phi_range"].tolist()) != PHI_RANGE:
@@ -551,7 +578,7 @@ def _check_grid(f, meta):
 
 def _load_disk(path, key, drum, convention, fall_height):
     """``(table, None)`` from a valid entry file; ``(None, None)`` when there is none; ``(None,
-    reason)`` when the file at ``path`` is not a valid entry (see `_check_grid`; also not
+    reason)`` when the file at ``path`` is not a valid entry (see `_check_table`; also not
     a regular file, too large, not an ``.npz`` archive, truncated or unreadable)."""
     if path is None:
         return None, None
@@ -571,7 +598,7 @@ def _load_disk(path, key, drum, convention, fall_height):
                 return None, "it is not an .npz archive"
             fh.seek(0)
             with np.load(fh, allow_pickle=False) as f:
-                a, reason = _check_grid(f, _entry_meta(key))
+                a, reason = _check_table(f, _entry_meta(key))
     except Exception as exc:   # noqa: BLE001 - a truncated or damaged archive fails in many ways
         return None, f"it is truncated or unreadable ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
     if a is None:
