@@ -127,7 +127,7 @@ class _PiecewiseTensorSpline:
     def fitted(cls, edges, xs, y, values):
         """The splines of ``values`` (per piece: q arrays on ``xs[k]`` x ``y``), fitted by
         `scipy.interpolate.RectBivariateSpline`."""
-        from scipy.interpolate import RectBivariateSpline      # only where a table is built (LAZY)
+        from scipy.interpolate import RectBivariateSpline  # only where a table is built (LAZY)
 
         blocks, cell_off, gx = [], [], []
         n = 0
@@ -267,7 +267,7 @@ class GeometryTable:
 
     def _fit(self, drum, convention, fall_height, lo, hi):
         """(cascade splines, holdup spline coefficients, their breakpoints) from the exact geometry."""
-        from scipy.interpolate import CubicSpline        # only where a table is built (LAZY)
+        from scipy.interpolate import CubicSpline  # only where a table is built (LAZY)
 
         root_f = np.linspace(0.0, 1.0, N_F + 1)
         f = np.sin(0.5 * np.pi * root_f) ** 2
