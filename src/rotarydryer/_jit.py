@@ -1,13 +1,24 @@
-"""Optional compiled kernels (numba, ``pip install 'rotarydryer[fast]'``).
+"""Optional compiled kernels (numba, ``pip install 'rotarydryer[fast]'``), for the runs that pay for them.
 
 The hot loops of the heat-and-mass residual have a compiled form: the tabulated flight geometry
 of every cell (`rotarydryer.geometry._cell_kernel`), the gas properties, the gas-solids
 transfer and the shell network (`rotarydryer.properties._kernels`). Each has a NumPy
 reference that gives the same numbers to rounding (the shell: the same root to its tolerance;
-tested against each other) and that runs whenever numba is not installed, or when
-``ROTARYDRYER_JIT=0``. The compiled functions are cached on disk by numba (``cache=True``): the
-first use in a fresh installation compiles them (about 8 s); later processes load them (about
-0.9 s with numba's import).
+tested against each other) and that runs whenever the compiled kernels are not in use. The
+compiled functions are cached on disk by numba (``cache=True``): the first use in a fresh
+installation compiles them (about 8 s); later processes load them (about 0.6-0.9 s with numba's
+import), which a one-off steady state (0.1-0.3 s of solving) does not win back.
+
+``ROTARYDRYER_JIT`` chooses:
+
+* ``auto`` (default): the compiled kernels serve the **long runs** - a process that declares one
+  (`long_runs`: sweeps, sensitivity studies, dynamics, control, design searches, fits and
+  calibrations, validation, the executor's workers, the web app) imports numba then, once; a
+  one-off command (``simulate``, ``rtd``, ``report``) never imports it;
+* ``1`` / ``on``: always (numba imported at the first residual);
+* ``0`` / ``off``: never.
+
+numba is imported only when a kernel is first needed, never at import time.
 """
 
 from __future__ import annotations
@@ -15,41 +26,72 @@ from __future__ import annotations
 import os
 import warnings
 
-__all__ = ["ENV", "disable", "enabled", "kernel"]
+__all__ = ["ENV", "available", "disable", "enabled", "kernel", "long_runs", "mode"]
 
-#: environment variable: "0", "off", "no" or "false" disables the compiled kernels
+#: environment variable: "auto" (default), "1"/"on" (always) or "0"/"off" (never)
 ENV = "ROTARYDRYER_JIT"
+
+_OFF = ("0", "off", "no", "false")
+_ON = ("1", "on", "yes", "true")
+
+_NUMBA = None          # the numba module once imported (None: not yet, or not usable)
+_TRIED = False         # numba's import attempted in this process
+_DISABLED = False      # a kernel failed to compile or run here: NumPy for the rest of the process
+_LONG = False          # this process declared long runs (the auto mode uses the kernels then)
+
+
+def mode() -> str:
+    """``"auto"``, ``"on"`` or ``"off"`` from ``ROTARYDRYER_JIT`` (anything else: auto)."""
+    v = os.environ.get(ENV, "").strip().lower()
+    return "off" if v in _OFF else "on" if v in _ON else "auto"
 
 
 def _numba():
-    if os.environ.get(ENV, "").strip().lower() in ("0", "off", "no", "false"):
-        return None
+    """numba, imported on the first call (None: not installed, unusable, or NUMBA_DISABLE_JIT=1)."""
+    global _NUMBA, _TRIED
+    if _TRIED:
+        return _NUMBA
+    _TRIED = True
     try:
-        import numba
+        import numba  # start-up: 0.2-0.6 s; only for the runs that use the kernels
     except ImportError:
         return None
     except Exception as exc:     # installed but unusable here (llvmlite: no executable memory, no library)
-
         warnings.warn(f"rotarydryer: numba cannot be imported ({type(exc).__name__}: {exc}); using NumPy",
-                      RuntimeWarning, stacklevel=2)
+                      RuntimeWarning, stacklevel=3)
         return None
     if getattr(numba.config, "DISABLE_JIT", False):   # NUMBA_DISABLE_JIT=1: njit would return plain Python
         return None
-    return numba
+    _NUMBA = numba
+    return _NUMBA
 
 
-_NUMBA = _numba()
+def long_runs() -> None:
+    """Declare that this process runs long work (many solves or a long integration): in the auto
+    mode the compiled kernels are used from now on. Sticky for the process."""
+    global _LONG
+    _LONG = True
+
+
+def available() -> bool:
+    """Could the compiled kernels be used here (numba installed and usable, not ``ROTARYDRYER_JIT=0``)?
+    Imports numba."""
+    return mode() != "off" and not _DISABLED and _numba() is not None
 
 
 def enabled() -> bool:
-    """Are compiled kernels in use (numba installed and not disabled by ``ROTARYDRYER_JIT``)?"""
-    return _NUMBA is not None
+    """Are compiled kernels in use now: ``ROTARYDRYER_JIT=1``, or the auto mode after `long_runs`,
+    with numba available?"""
+    m = mode()
+    if m == "off" or _DISABLED or (m == "auto" and not _LONG):
+        return False
+    return _numba() is not None
 
 
 def kernel(fn):
-    """``numba.njit(cache=True, nogil=True)`` of ``fn`` when numba is in use, else None (the caller
+    """``numba.njit(cache=True, nogil=True)`` of ``fn`` when the kernels are in use, else None (the caller
     then takes its NumPy reference path). Division by zero gives inf or NaN, as in NumPy."""
-    if _NUMBA is None:
+    if not enabled():
         return None
     try:
         return _NUMBA.njit(cache=True, nogil=True, error_model="numpy")(fn)
@@ -60,8 +102,7 @@ def kernel(fn):
 def disable(reason: str):
     """Stop using the compiled kernels in this process (one that failed to compile or run), with a
     warning naming ``reason``; the NumPy references give the same results."""
-    global _NUMBA
-    if _NUMBA is not None:
-
+    global _DISABLED
+    if not _DISABLED and _NUMBA is not None:
         warnings.warn(f"rotarydryer: compiled kernels disabled ({reason}); using NumPy", RuntimeWarning, stacklevel=3)
-    _NUMBA = None
+    _DISABLED = True

@@ -45,6 +45,7 @@ from typing import Any, Literal, Optional, Union
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from . import _jit
 from .cases import list_cases, load_case, measured_rtd_moments
 from .cases.build import thermal_enabled
 from .published import read_published_csv
@@ -763,6 +764,7 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
     -------
     ValidationReport
     """
+    _jit.long_runs()        # every case and test: many steady states, the compiled kernels pay
     t0 = time.perf_counter()
     spec = load_tolerances(tolerances)
     shipped = list_cases()

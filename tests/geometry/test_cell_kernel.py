@@ -22,7 +22,7 @@ from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
 from rotarydryer.geometry.presets import drum_presets
 from rotarydryer.geometry.tabulated import PHI_RANGE, geometry_table
 
-pytestmark = pytest.mark.skipif(not _jit.enabled(), reason="compiled kernels off (numba not installed, or ROTARYDRYER_JIT=0)")
+pytestmark = pytest.mark.skipif(not _jit.available(), reason="compiled kernels off (numba not installed, or ROTARYDRYER_JIT=0)")
 
 PRESETS = drum_presets()
 METHODS = ("lee2008", "ajayi2011", "porter1963", "kelly1977")
@@ -147,8 +147,8 @@ def test_a_kernel_that_fails_falls_back_to_numpy_with_a_warning(monkeypatch):
 
     def broken(*args):
         raise RuntimeError("no LLVM here\nmore detail")
-    monkeypatch.setattr(_cell_kernel, "cell_values", broken)
-    monkeypatch.setattr(_jit, "_NUMBA", _jit._NUMBA)          # restored after the test
+    monkeypatch.setattr(_cell_kernel, "compiled", lambda: broken)
+    monkeypatch.setattr(_jit, "_DISABLED", _jit._DISABLED)    # restored after the test
     with pytest.warns(RuntimeWarning, match="compiled kernels disabled .RuntimeError: no LLVM here.; using NumPy"):
         got = law.evaluate(mp, x, rpm=d.rpm)
     assert not _jit.enabled()

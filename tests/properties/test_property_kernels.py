@@ -13,7 +13,7 @@ from rotarydryer.properties import _kernels, water
 from rotarydryer.properties import humid_air as ha
 from rotarydryer.thermal import radiation as rad
 
-pytestmark = pytest.mark.skipif(not _jit.enabled(), reason="compiled kernels off (no numba or ROTARYDRYER_JIT=0)")
+pytestmark = pytest.mark.skipif(not _jit.available(), reason="compiled kernels off (no numba or ROTARYDRYER_JIT=0)")
 
 T = st.floats(0.0, 600.0)
 Y = st.floats(0.0, 0.3)
@@ -95,7 +95,7 @@ def test_a_failing_kernel_falls_back_to_numpy_with_a_warning(monkeypatch):
 
     def broken(*args):
         raise RuntimeError("no LLVM here")
-    monkeypatch.setattr(_jit, "_NUMBA", _jit._NUMBA)          # restored after the test
+    monkeypatch.setattr(_jit, "_DISABLED", _jit._DISABLED)          # restored after the test
     monkeypatch.setitem(_kernels._compiled, "transport", broken)
     with pytest.warns(RuntimeWarning, match="compiled kernels disabled .RuntimeError: no LLVM here.; using NumPy"):
         got = ha._transport(t, y)

@@ -17,7 +17,7 @@ from rotarydryer.thermal import balances as bal
 from rotarydryer.thermal import shell as sh
 from rotarydryer.thermal.drying import DryingKinetics
 
-pytestmark = pytest.mark.skipif(not _jit.enabled(), reason="compiled kernels off (no numba or ROTARYDRYER_JIT=0)")
+pytestmark = pytest.mark.skipif(not _jit.available(), reason="compiled kernels off (no numba or ROTARYDRYER_JIT=0)")
 
 KINETICS = (DryingKinetics("ajayi2011"),
             DryingKinetics("constant_falling", critical_moisture=0.1, equilibrium_moisture=0.01),
@@ -116,7 +116,7 @@ def test_failing_shell_kernel_falls_back_with_a_warning(monkeypatch):
 
     def broken(*args):
         raise RuntimeError("no LLVM here")
-    monkeypatch.setattr(_jit, "_NUMBA", _jit._NUMBA)
+    monkeypatch.setattr(_jit, "_DISABLED", _jit._DISABLED)
     monkeypatch.setitem(_kernels._compiled, "shell", broken)
     with pytest.warns(RuntimeWarning, match="compiled kernels disabled"):
         got = d.physical_shell_loss(Tg, Y)

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import streamlit as st
 
+from rotarydryer import _jit
 from rotarydryer.app import PAGES, logic
 from rotarydryer.app._ui import display_note, plain
 
@@ -31,6 +32,7 @@ st.set_option("client.showErrorDetails", "none")
 st.set_page_config(page_title="rotarydryer", page_icon=":material/autorenew:", layout="wide")
 
 ENTRIES = Path(__file__).with_name("entries")
+_jit.long_runs()        # a server: many runs in one process, the compiled kernels pay (rotarydryer._jit)
 
 page = st.navigation([st.Page(ENTRIES / f"{url}.py", title=title, url_path=url, icon=icon, default=i == 0)
                       for i, (title, (_, url, icon)) in enumerate(PAGES.items())])

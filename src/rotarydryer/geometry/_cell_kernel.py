@@ -17,10 +17,15 @@ import numpy as np
 
 from .._jit import kernel
 
+#: the functions the kernel calls, by name: compiled with it (`compiled`)
+_HELPERS: dict = {}
+
 
 def _helper(fn):
-    """A function the kernel calls: compiled with it (plain Python without numba, never called then)."""
-    return kernel(fn) or fn
+    """A function the kernel calls: plain Python until `compiled` puts its compiled form in this
+    module's namespace (numba resolves the kernel's globals when it compiles it)."""
+    _HELPERS[fn.__name__] = fn
+    return fn
 
 
 @_helper
@@ -163,4 +168,16 @@ def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, br
     return True
 
 
-cell_values = kernel(_cell_values)
+_COMPILED: list = []
+
+
+def compiled():
+    """The compiled `_cell_values` (its helpers compiled first), or None when the kernels are off."""
+    if not _COMPILED:
+        fn = kernel(_cell_values)
+        if fn is None:
+            return None
+        for name, py in _HELPERS.items():
+            globals()[name] = kernel(py) or py
+        _COMPILED.append(fn)
+    return _COMPILED[0]

@@ -429,7 +429,10 @@ class GeometryTable:
         out = np.empty((5, n))
         try:
             # False: a repose angle outside the table, or an input or result not finite
-            ok = _cell_kernel().cell_values(np.ascontiguousarray(phi), np.ascontiguousarray(rho), np.ascontiguousarray(mp),
+            fn = module.compiled()
+            if fn is None:
+                return None
+            ok = fn(np.ascontiguousarray(phi), np.ascontiguousarray(rho), np.ascontiguousarray(mp),
                                             float(length), 1.0 - float(fouling), a_h0, a_baker, float(smoothing),
                                             bool(fixed_loading), *tables, 6.0 * rpm, *tail, out)
         except Exception as exc:    # a numba that cannot compile here: the NumPy composition instead
@@ -440,16 +443,6 @@ class GeometryTable:
         return tuple(out)
 
 
-def _cell_kernel():
-    """The compiled cell kernel's module (imported on first use: it imports numba)."""
-    global _CELL_KERNEL
-    if _CELL_KERNEL is None:
-
-        _CELL_KERNEL = module
-    return _CELL_KERNEL
-
-
-_CELL_KERNEL = None
 _cache: OrderedDict = OrderedDict()
 _lock = threading.Lock()
 #: drums whose tables are kept (least recently used dropped first)

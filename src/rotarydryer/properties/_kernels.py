@@ -55,9 +55,15 @@ def pack(lemmon_air, lj_b, iapws_h, iapws_l, molar_mass_air, molar_mass_h2o, nas
     return c
 
 
+#: the functions the kernels call, by name: compiled with the first kernel (`compiled`)
+_HELPERS: dict = {}
+
+
 def _helper(fn):
-    """A function the kernels call: compiled with them (plain Python without numba, never called then)."""
-    return _jit.kernel(fn) or fn
+    """A function the kernels call: plain Python until the first kernel is compiled, when `compiled`
+    puts its compiled form in this module's namespace (numba resolves the kernels' globals then)."""
+    _HELPERS[fn.__name__] = fn
+    return fn
 
 
 @_helper
@@ -566,6 +572,7 @@ def evaluate(name, inputs, params, n_out):
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,
           "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop}
 _compiled: dict = {}
+_HELPERS_COMPILED: list = []
 
 
 def compiled(name):
@@ -574,6 +581,10 @@ def compiled(name):
         return None
     fn = _compiled.get(name)
     if fn is None:
+        if not _HELPERS_COMPILED:   # the helpers first: the kernels' globals must be compiled functions
+            for helper, py in _HELPERS.items():
+                globals()[helper] = _jit.kernel(py) or py
+            _HELPERS_COMPILED.append(True)
         fn = _jit.kernel(_LOOPS[name])
         if fn is None:
             return None

@@ -3,7 +3,6 @@ PI + feed-forward, on a dryer's dynamic model)."""
 
 from __future__ import annotations
 
-from ..thermal.schedule import InputSchedule, load_schedule
 from ._options import check_option
 
 __all__ = ["check_control_options", "run_control"]
@@ -77,6 +76,8 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
                           feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
                           gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
                           feed_min_fraction=feed_min_fraction).validate()
+    from ..thermal.schedule import InputSchedule, load_schedule  # the model stack: not at the CLI's start-up
+
     if schedule is not None and not isinstance(schedule, InputSchedule):
         schedule = load_schedule(schedule)
     kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg,

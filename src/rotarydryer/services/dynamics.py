@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 
-from ..thermal.schedule import OUTLETS
 from ._options import check_option
 
 __all__ = ["run_dynamics", "parse_above", "dynamics_summary"]
@@ -22,6 +21,8 @@ def parse_above(text: str | None):
         return None
     name, sep, value = text.partition("=")
     name = name.strip().removesuffix("_kg_kg").removesuffix("_degC").removesuffix("_kg")
+    from ..thermal.schedule import OUTLETS  # the model stack: not at the CLI's start-up
+
     if not sep or name not in OUTLETS:
         raise ValueError(f"--above {text!r}: write OUTLET=VALUE with OUTLET one of {', '.join(OUTLETS)}")
     try:

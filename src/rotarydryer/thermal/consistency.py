@@ -30,7 +30,6 @@ import dataclasses
 from collections.abc import Sequence
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .._validation import check_range
 from ..properties import humid_air as ha
@@ -102,6 +101,8 @@ def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_i
     if f_hi < 0.0:
         raise ValueError(f"no gas flow up to {max_gas_flow} kg/s supplies the heat the outlets and "
                          f"heat_loss = {heat_loss:.4g} W take (gas {float(t_in)} -> {float(t_out)} degC)")
+    from scipy.optimize import brentq  # start-up: scipy.optimize costs 0.4-0.7 s to import
+
     return float(brentq(resid, g_lo, max_gas_flow, xtol=1e-10, rtol=1e-12))
 
 
@@ -133,6 +134,8 @@ def balance_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rat
                          "need more than cooling the gas to 0 degC gives")
     if r_hi > 0.0:
         raise ValueError("the balance needs a gas outlet above 600 degC")
+    from scipy.optimize import brentq  # start-up: scipy.optimize costs 0.4-0.7 s to import
+
     return float(brentq(resid, 0.0, 600.0, xtol=1e-9, rtol=1e-12))
 
 

@@ -69,6 +69,7 @@ import warnings
 import numpy as np
 import scipy.sparse as sp
 
+from .. import _jit
 from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 from .._validation import check_range
 from ..properties import humid_air as ha
@@ -1188,6 +1189,7 @@ class ThermalDryer:
         of simulated time (the shell network's own dynamics are not modelled)."""
         from scipy.integrate import solve_ivp
 
+        _jit.long_runs()        # an integration: thousands of residuals, the compiled kernels pay
         t0 = time.perf_counter()
         if atol is None:
             atol = self._scale() * 1e-7

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import _jit
 from .._io import csv_text
 from .._limits import LIMITS, describe_limit
 from .._validation import check_range
@@ -390,6 +391,7 @@ class DryerIntegrator:
     input changes taken over."""
 
     def __init__(self, dryer, z0, t0=0.0, rtol=1e-5, atol=None, shell_refresh=60.0):
+        _jit.long_runs()        # an integration: thousands of residuals, the compiled kernels pay
         self.rtol, self.atol, self.shell_refresh = rtol, atol, shell_refresh
         self.t = float(t0)
         self.z = np.asarray(z0, float).copy()
