@@ -13,6 +13,7 @@ skip_without_browser()
 pytest.importorskip("SALib")
 from .browser_support import DOCS_IMG, SHOTS, browser, choose, enter, expect, metric, new_page, server  # noqa: E402,F401
 from .browser_support import metric_locator as _value  # noqa: E402
+from rotarydryer._display import show_output  # noqa: E402
 
 
 def _images_loaded(page):
@@ -27,7 +28,8 @@ def test_whole_dryer_page_in_browser(server, browser):
 
     x0 = Simulation("ajayi2011_mmg").steady_state().summary()["product_moisture_kg_kg"]
     moisture = _value(page, "Product moisture")
-    expect(moisture).to_have_text(f"{x0:.4f} kg/kg")          # Ajayi (2011) test 4: 0.124 measured
+    expect(moisture).to_have_text(show_output("product_moisture_kg_kg", x0))     # in its display unit, %
+    assert show_output("product_moisture_kg_kg", x0).endswith(" %")             # Ajayi (2011) test 4: 12.4 % measured
     expect(_value(page, "Fuel rate")).to_be_visible()
     gas_before = metric(page, "Gas outlet temperature")
     imgs = page.locator('[data-testid="stImage"] img')
