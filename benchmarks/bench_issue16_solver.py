@@ -21,7 +21,7 @@ from scipy.sparse.linalg import splu
 from threadpoolctl import threadpool_limits
 
 import rotarydryer
-from rotarydryer import Simulation
+from rotarydryer import Simulation, _jit
 
 CASES = (("mmg4", ("ajayi2011_mmg", {"operating.test": 4})),
          ("mmg4_regressions", ("ajayi2011_mmg", {"operating.test": 4, "geometry.method": "ajayi2011_regressions"})),
@@ -35,6 +35,9 @@ def best(fn, n):
         out = fn()
         ts.append(time.perf_counter() - t)
     return min(ts), out
+
+
+_jit.long_runs()      # many solves: the compiled kernels (ROTARYDRYER_JIT=auto, rotarydryer._jit)
 
 
 def main(out="states.npz"):

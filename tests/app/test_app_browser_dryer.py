@@ -11,9 +11,10 @@ from .browser_support import skip_without_browser
 
 skip_without_browser()
 pytest.importorskip("SALib")
+from rotarydryer._display import show_output  # noqa: E402
+
 from .browser_support import DOCS_IMG, SHOTS, browser, choose, enter, expect, metric, new_page, server  # noqa: E402,F401
 from .browser_support import metric_locator as _value  # noqa: E402
-from rotarydryer._display import show_output  # noqa: E402
 
 
 def _images_loaded(page):

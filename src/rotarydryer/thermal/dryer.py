@@ -955,11 +955,18 @@ class ThermalDryer:
     def initial_state(self):
         """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
         s = self.settings
-        try:
-            m = self.model.network.steady_state(tol=START_TOLERANCE)
-        except ValueError as exc:
-            raise DryerError(f"no transport steady state for the start: {exc}", reason="no_steady_state") from exc
-        m = m * (self.feed_rate / max(self.model.feed_rate, 1e-300))
+        net = self.model.network
+        # the network's own steady state (its coefficients are fixed): one solve for every dryer on it
+        # (a study's or a sweep's runs share the network, ThermalDryer.with_parameters)
+        start = getattr(net, "_thermal_start", None)
+        if start is None:
+            try:
+                start = net.steady_state(tol=START_TOLERANCE)
+            except ValueError as exc:
+                raise DryerError(f"no transport steady state for the start: {exc}", reason="no_steady_state") from exc
+            start.setflags(write=False)
+            net._thermal_start = start
+        m = start * (self.feed_rate / max(self.model.feed_rate, 1e-300))
         x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04,
                                                                                0.5 * self.feed_moisture)])
         S = np.maximum(m * (1 - x), 1e-6 * self.feed_rate)

@@ -293,7 +293,7 @@ class FlightedSectionLaw:
         CF = np.where(xf > 1.0, 2.0 - xf, xf)
         CB = s.backmix + np.where(xb > 1.0, 2.0 - xb, xb)
         zero = h * self.sin_t
-        cfg = np.divide(d, zero, out=np.full(self.n, np.nan), where=zero > 0)
+        cfg = np.divide(d, zero, out=np.full(np.shape(d), np.nan), where=zero > 0)
         out = dict(tp=tp, ta=ta, h=h, CF=CF, CR=1.0 - CF - CB - CF2 - CB2, CB=CB, step=d, step_free=free, CFG=cfg,
                    cv=step["curtain_velocity_ratio"])
         if far:
@@ -391,8 +391,10 @@ class FlightedSectionLaw:
     @property
     def cellwise(self) -> bool:
         """Are the coefficients of a cell a function of its own passive mass and moisture only (so a
-        subset of the cells can be evaluated alone, ``evaluate(..., cells=...)``)?"""
-        return not self.trajectory
+        subset of the cells can be evaluated alone, ``evaluate(..., cells=...)``)? Yes: the fitted
+        step's from the cell's fall height, the trajectory step's from the cell's fall height and its
+        own discharge (Sherritt's curtain velocity ratio) in the gas of the drum's inlet conditions."""
+        return True
 
     def evaluate(self, mp, x, rpm=None, fouling=None, smoothing=0.0, cells=None):
         """dict family name -> coefficient (1/s), plus ``"design_load"`` (kg) and the properties,
@@ -403,12 +405,6 @@ class FlightedSectionLaw:
         ``cells`` (1-D, [`cellwise`][rotarydryer.transport.sections.FlightedSectionLaw.cellwise] laws only): ``mp`` and ``x`` hold the cells of these indices
         only, one element each (the cells a Jacobian's perturbation changed)."""
         mp = np.asarray(mp, dtype=float)
-        if cells is not None and not self.cellwise:
-            raise ValueError("the trajectory forward step couples the cells: evaluate whole states")
-        if mp.ndim == 2 and self.trajectory:     # the trajectory step works cell by cell: row by row
-            xs = np.broadcast_to(np.asarray(x, dtype=float), mp.shape)
-            rows = [self.evaluate(mp[i], xs[i], rpm, fouling, smoothing) for i in range(mp.shape[0])]
-            return {k: np.stack([np.broadcast_to(r[k], (self.n,)) for r in rows]) for k in rows[0]}
         phi, rho = self.properties(x, cells)
         shape = mp.shape if mp.shape == phi.shape else np.broadcast_shapes(phi.shape, mp.shape)
         fast = self._compiled(*(a.ravel() if a.shape == shape else np.broadcast_to(a, shape).ravel()
