@@ -102,6 +102,11 @@ LIMITS: dict[str, Limit] = {
     # rotarydryer.transport (models, sections, forward_step, core_variants, ajayi, ajayi_predictive) read these
     "transport.fouling": _c(0, 0.95),
     "transport.n_cells": _c(1, 100000),
+    "particle_size.classes": _c(1, 20),
+    "particle_size.d63": Limit(0.0, 0.2, False, True, "m"),
+    "particle_size.spread": _c(0.1, 20),
+    "particle_size.d50": Limit(0.0, 0.2, False, True, "m"),
+    "particle_size.sigma_g": Limit(1.0, 10.0, False, True),
     "transport.unflighted_cells": _c(2, 100000),
     "transport.kiln_time": Limit(0.0, math.inf, False, True, "s"),   # inf: no kilning (library callers only)
     "transport.backmix": _c(0, 1),

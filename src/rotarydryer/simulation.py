@@ -45,6 +45,7 @@ from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_tr
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
 from .thermal.schedule import InputSchedule, load_schedule, simulate_schedule
+from .thermal.states import check_entrainment
 from .thermal.studies import perturbed
 from .transport.plots import plot_holdup_profile
 from .transport.sections import build_sections
@@ -218,6 +219,7 @@ class Simulation:
             self.transport_steady_state()           # an impossible dryer is refused with its physical reason
             raise
         check_feasible(self.case, thermal.transport_state())
+        check_entrainment(thermal)
         return SteadyResult(self, None, thermal)
 
     #: width of the smoothed design-load switch of the start model when the coupled Newton chatters

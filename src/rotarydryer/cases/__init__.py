@@ -488,6 +488,49 @@ class DryerTracer(_TracerSource):
     dt: float = Field(default=10.0, gt=0, description="s")
 
 
+#: shipped sieve analyses of ``[particle_size] dataset``: name -> column of lee_particle_size_distribution.csv
+PSD_DATASETS = {"lee2008_filter_sand": "filter_sand_wt_pct_passing", "lee2008_zeolite": "zeolite_wt_pct_passing",
+                "lee2008_fine_river_sand": "fine_river_sand_wt_pct_passing"}
+
+
+class ParticleSize(_Strict):
+    """The feed's particle size distribution, cut into size classes (rotarydryer.properties.psd): a
+    shipped sieve analysis (``dataset``), a sieve table (``sieve_m``, ``passing_pct``) or a named
+    distribution; without this block the model has one class of the material's diameter."""
+    classes: int = Field(default=5, **field_bounds("particle_size.classes"), description="equal-mass size classes")
+    dataset: Optional[str] = Field(default=None, description="shipped sieve analysis: " + ", ".join(PSD_DATASETS)
+                                   + " (Lee (2008) Table 5.3)")
+    sieve_m: Optional[list[float]] = Field(default=None, max_length=100, description="sieve openings, m, ascending")
+    passing_pct: Optional[list[float]] = Field(default=None, max_length=100, description="cumulative mass % passing "
+                                               "each sieve (non-decreasing, 100 at the coarsest)")
+    distribution: Optional[Literal["rosin_rammler", "lognormal"]] = Field(default=None, description="a named "
+                                                                          "distribution in place of sieve data")
+    d63: Optional[float] = Field(default=None, **field_bounds("particle_size.d63"), description="m, Rosin-Rammler size")
+    spread: Optional[float] = Field(default=None, **field_bounds("particle_size.spread"), description="Rosin-Rammler n")
+    d50: Optional[float] = Field(default=None, **field_bounds("particle_size.d50"), description="m, log-normal median")
+    sigma_g: Optional[float] = Field(default=None, **field_bounds("particle_size.sigma_g"),
+                                     description="log-normal geometric standard deviation")
+    entrainment: bool = Field(default=True, description="the gas carries fines out of the curtains (dust) where it "
+                                                        "is faster than their terminal velocity")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        given = [k for k, v in (("dataset", self.dataset), ("sieve_m", self.sieve_m),
+                                ("distribution", self.distribution)) if v is not None]
+        if len(given) != 1:
+            raise ValueError(f"give one of particle_size.dataset, particle_size.sieve_m (with passing_pct) or "
+                             f"particle_size.distribution (got {', '.join(given) or 'none'})")
+        if self.dataset is not None and self.dataset not in PSD_DATASETS:
+            raise ValueError(f"particle_size.dataset = {self.dataset!r} is not one of {', '.join(PSD_DATASETS)}")
+        if (self.sieve_m is None) != (self.passing_pct is None):
+            raise ValueError("particle_size.sieve_m and particle_size.passing_pct go together")
+        need = {"rosin_rammler": ("d63", "spread"), "lognormal": ("d50", "sigma_g")}.get(self.distribution or "", ())
+        missing = [f"particle_size.{k}" for k in need if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"particle_size.distribution = {self.distribution!r} needs {', '.join(missing)}")
+        return self
+
+
 class DryerCase(_Strict):
     """One schema for any flighted rotary dryer (``kind = "dryer"``)."""
     kind: Literal["dryer"]
@@ -502,6 +545,7 @@ class DryerCase(_Strict):
     gas: Optional[Gas] = None
     shell: Shell = Shell()
     thermal: ThermalModel = ThermalModel()
+    particle_size: Optional[ParticleSize] = None
     tracer: DryerTracer = DryerTracer()
     parameter_sets: list[ParameterSet] = Field(default=[], max_length=MAX_ENTRIES, description="fitted transport "
                                                "coefficients per transport.n_cells (e.g. Lee (2008) Table 7.2)")

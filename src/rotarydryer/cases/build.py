@@ -30,6 +30,7 @@ from rotarydryer.correlations.drag import terminal_velocity
 from rotarydryer.geometry import FlightedDrum, PolygonFlight, TwoSectionFlight, check_speed
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
 from rotarydryer.properties.materials import CALIBRATED_RANGES, load_material
+from rotarydryer.properties.psd import from_sieve, lognormal, rosin_rammler
 from rotarydryer.properties.solids import lee2008_moisture_profile
 from rotarydryer.thermal.burner import Burner, FuelOil
 from rotarydryer.thermal.settings import SectionThermal, ThermalSettings
@@ -42,7 +43,8 @@ from rotarydryer.transport.sections import ExactGeometry, SectionSpec, build_sec
 
 from .._limits import check_key
 from .._validation import check_range, fmt_number
-from . import DryerCase
+from ..published import read_published_csv
+from . import PSD_DATASETS, DryerCase
 from .calibration import PredictiveRangeWarning
 
 #: largest solids fill of the drum volume (whole drum and each section) of a feasible steady state:
@@ -113,6 +115,37 @@ def material_of(case):
                          "(rotarydryer.properties.materials.list_materials()) in [material]")
     d = spec.model_dump()
     return load_material(d["name"] if set(d) == {"name"} else d)
+
+
+def size_classes_of(case):
+    """The feed's [`SizeClasses`][rotarydryer.properties.psd.SizeClasses] of a case's ``[particle_size]``,
+    or None (one class of the material's diameter). A class larger than the flights' pocket (the flight
+    base s1 of any flighted section) is refused, naming it."""
+    ps = case.particle_size
+    if ps is None:
+        return None
+    if ps.dataset is not None:
+        rows = read_published_csv("lee_particle_size_distribution.csv")
+        col = PSD_DATASETS[ps.dataset]
+        sieve = [float(r["sieve_size_micron"]) * 1e-6 for r in rows][::-1]
+        passing = [float(r[col]) for r in rows][::-1]
+        classes = from_sieve(sieve, passing, ps.classes, source=f"{ps.dataset} (Lee (2008) Table 5.3)")
+    elif ps.sieve_m is not None:
+        classes = from_sieve(ps.sieve_m, ps.passing_pct, ps.classes)
+    elif ps.distribution == "rosin_rammler":
+        classes = rosin_rammler(ps.d63, ps.spread, ps.classes)
+    else:
+        classes = lognormal(ps.d50, ps.sigma_g, ps.classes)
+    for i, sec in enumerate(case.sections):
+        if sec.kind != "flighted":
+            continue
+        g, where = section_flight(case, sec, f"sections[{i}]")
+        s1 = g.get("s1") if "s1" in g else (g["segments"][0][0] if "segments" in g else None)
+        if s1 is not None and classes.edges[-1] >= s1:
+            raise ValueError(f"particle_size: the coarsest class reaches {classes.edges[-1]:.4g} m, not smaller than "
+                             f"the flight base {where}.s1 = {s1:g} m of section {sec.name!r}: the flights' pocket "
+                             "cannot hold such particles")
+    return classes
 
 
 def _tracer_pulse(case, feed_rate):
@@ -874,7 +907,9 @@ def thermal_settings(case):
               shell_inner_radius=sh.inner_radius, shell_thickness=sh.thickness,
               leak_air_flow=g.leak_air_flow, moisture_coupling=th.moisture_coupling,
               design_load_smoothing=th.design_load_smoothing, gas_direction=g.direction, fouling=fouling_of(case),
-              discharge_cooling_ntu=th.discharge_cooling_ntu, kiln_bed_area=th.kiln_bed_area)
+              discharge_cooling_ntu=th.discharge_cooling_ntu, kiln_bed_area=th.kiln_bed_area,
+              size_classes=size_classes_of(case),
+              entrainment=case.particle_size.entrainment if case.particle_size is not None else True)
     return ThermalSettings.ajayi2011(**kw) if th.mode == "ajayi2011" else ThermalSettings(**kw)
 
 

@@ -72,7 +72,9 @@ import scipy.sparse as sp
 from .. import _jit
 from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 from .._validation import check_range
+from ..correlations.drag import terminal_velocity
 from ..properties import humid_air as ha
+from ..properties.psd import single_class
 from . import balances as bal
 from . import radiation as rad
 from .consistency import pi_operating_conditions  # noqa: F401  (re-exported)
@@ -322,7 +324,6 @@ class ThermalDryer:
         up[self.gas_order[1:]] = self.gas_order[:-1]
         self.gas_up = up
         self.gas_outlet_stage = int(self.gas_order[-1])
-        self.n = 3 * self.n_tanks + 2 * self.n_gas
         self._beam_length = rad.mean_beam_length(2 * self.radius)   # gas radiation to the solids
         self._pattern = None
         self._groups = None
@@ -337,12 +338,113 @@ class ThermalDryer:
         self._clipped = False
         self._plans = {}             # family set -> edges end to end (_edge_plan)
         self._flat = {}              # stacked bincount indices (_flat_index)
+        self._layout_classes()
+        self.n = 3 * self.n_classes * self.n_tanks + 2 * self.n_gas
+
+    def _layout_classes(self):
+        """The size classes ([`SizeClasses`][rotarydryer.properties.psd.SizeClasses] of the settings, or
+        one of the material's diameter): their diameter at each gas stage (a section's own particle
+        diameter shifts every class by its ratio to the material's: the size change along the dryer
+        that Ajayi (2011) l.1571 observed), their share of the feed, and - with entrainment - each
+        class's terminal velocity at the inlet gas (module docstring, "Size classes")."""
+        s = self.settings
+        d_mat = float(self.material.particle_diameter)
+        sc = s.size_classes
+        if sc is None:
+            sc = single_class(d_mat, "the material's particle diameter")
+        self.size_classes = sc
+        self.n_classes = sc.n
+        self.class_diameter = np.asarray(sc.diameters, dtype=float)
+        self.class_feed = np.asarray(sc.fractions, dtype=float)
+        # (classes, stages): one class of the material's diameter gives gas_dp itself (ratio 1)
+        self.class_dp = self.gas_dp[None, :] * (self.class_diameter / d_mat)[:, None]
+        self.dusty = bool(s.entrainment and sc.n > 1)
+        self._dust_plan = None
+        if self.dusty:
+            self._layout_dust()
+        # the trajectory step's laws: each class's own curtain coefficients (its diameter in the section)
+        self._class_laws = []
+        if sc.n > 1:
+            slices = self._edge_plan(self.families)[-1]
+            for law in self.laws:
+                if getattr(law, "trajectory", False) and law.spec.gas is not None:
+                    sec = self.section_thermal.get(law.spec.name, SectionThermal())
+                    d_sec = sec.particle_diameter if sec.particle_diameter is not None else d_mat
+                    fams = [(f.name, edges) for f, (edges, _) in zip(self.families, slices)
+                            if f.law is law and f.name in law.CURTAIN_FAMILIES]
+                    self._class_laws.append((law, self.class_diameter * (d_sec / d_mat), fams))
+
+    def _layout_dust(self):
+        """What the dust needs, fixed by the network: the curtain (active) tanks of the flighted sections,
+        their gas stage, the edges leaving them, and each class's terminal velocity at each stage (its
+        diameter there; gas density and viscosity at the inlet gas, Lee (2008) Eq. 6.2-6.3)."""
+        s = self.settings
+        src = self._edge_plan(self.families)[0]
+        stage_of = np.full(self.n_tanks, -1)
+        stage_of[self.gas_tank] = np.arange(self.n_gas)
+        active = np.flatnonzero((self.kind == 2) & (stage_of >= 0))
+        tank_pos = np.full(self.n_tanks, -1)
+        tank_pos[active] = np.arange(active.size)
+        out_edges = np.flatnonzero(tank_pos[src] >= 0)        # the curtains' outflows (forward, return, backmix)
+        y_in = min(max(self.gas_inlet_Y, 0.0), ha.Y_MAX)
+        t_in = min(s.gas_inlet_temperature, ha.T_MAX_C)
+        rho_g = float(ha.density(t_in, y_in, s.pressure))
+        mu_g = float(ha.viscosity(t_in, y_in))
+        dp = self.class_dp[:, stage_of[active]]                    # (classes, curtains)
+        u_t = terminal_velocity(dp, s.particle_density, rho_g, mu_g)
+        self._dust_plan = (active, stage_of[active], out_edges, tank_pos[src[out_edges]], np.asarray(u_t, float))
+        self._dust_sum = np.zeros((out_edges.size, active.size))
+        self._dust_sum[np.arange(out_edges.size), tank_pos[src[out_edges]]] = 1.0
+
+    def dust_fraction(self, Tg, Y):
+        """Share of each class's curtain the gas carries away as dust, per curtain tank (..., classes,
+        curtains): 0 where the local superficial gas velocity u_g is at most the class's terminal velocity
+        u_t (the elutriation criterion: a particle is carried when the gas is faster than it settles,
+        Kunii & Levenspiel (1991) Ch. 7), then s^2/(1 + s^2) with s = u_g/u_t - 1: smooth at u_t (the
+        Newton solver's Jacobian is continuous), a half at twice u_t, all of it as u_g >> u_t (a choice:
+        no source gives this share for a curtain). u_g at the stage's gas temperature and humidity; u_t at
+        the inlet gas (`_layout_dust`)."""
+        active, stages, _, _, u_t = self._dust_plan
+        s = self.settings
+        tg = np.clip(Tg[..., stages], ha.T_MIN_C, ha.T_MAX_C)
+        y = np.clip(Y[..., stages], 0.0, ha.Y_MAX)
+        u_g = self.dry_gas_flow * (1.0 + y) / (ha.density(tg, y, s.pressure) * math.pi * self.radius**2)
+        x = np.maximum(u_g[..., None, :] / u_t - 1.0, 0.0) ** 2
+        return x / (1.0 + x)
+
+    def _dusty_flows(self, src, dst, F, Tg, Y):
+        """The flows with the dust: each curtain's outflows of class c keep (1 - e_c) and a dust edge to
+        the exhaust (dst = -3) takes e_c of them (`dust_fraction`), after the network's edges."""
+        active, _, out_edges, pos, _ = self._dust_plan
+        e = self.dust_fraction(Tg, Y)                                   # (..., classes, curtains)
+        F = F.copy()
+        lost = F[..., out_edges] * e[..., pos]
+        F[..., out_edges] -= lost
+        dust = lost @ self._dust_sum                                  # per curtain: the sum of its edges' losses
+        return (np.concatenate([src, active]), np.concatenate([dst, np.full(active.size, -3)]),
+                np.concatenate([F, dust], axis=-1))
 
     # ------------------------------------------------------------------ state helpers
+    def split_classes(self, z):
+        """(S, W, T, T_g, Y) of state(s) ``z``: the solids per class and tank, shape (..., classes, tanks)
+        (views into ``z``), the gas per stage."""
+        nt, ng, c = self.n_tanks, self.n_gas, self.n_classes
+        k = c * nt
+        lead = z.shape[:-1]
+        return (z[..., :k].reshape(lead + (c, nt)), z[..., k:2 * k].reshape(lead + (c, nt)),
+                z[..., 2 * k:3 * k].reshape(lead + (c, nt)), z[..., 3 * k:3 * k + ng], z[..., 3 * k + ng:])
+
     def split(self, z):
-        nt, ng = self.n_tanks, self.n_gas
-        return (z[..., :nt], z[..., nt:2 * nt], z[..., 2 * nt:3 * nt], z[..., 3 * nt:3 * nt + ng],
-                z[..., 3 * nt + ng:])
+        """(S, W, T, T_g, Y) of state(s) ``z``, the solids of each tank as one mixture (the sums of the
+        classes' dry solids and water, the temperature of their enthalpy): per tank (..., tanks)."""
+        S, W, T, Tg, Y = self.split_classes(z)
+        if self.n_classes == 1:
+            return S[..., 0, :], W[..., 0, :], T[..., 0, :], Tg, Y
+        s = self.settings
+        C = S * s.cp_solids + W * s.cp_water
+        Ct = C.sum(axis=-2)
+        Tm = np.where(Ct > 0, (C * T).sum(axis=-2) / np.where(Ct > 0, Ct, 1.0), T.mean(axis=-2))
+        return S.sum(axis=-2), W.sum(axis=-2), Tm, Tg, Y
 
     @property
     def hot_gas_Y(self):
@@ -388,17 +490,24 @@ class ThermalDryer:
             self._inlet_h = (key, self.gas_inlet_enthalpy())
         return self._inlet_h[1]
 
-    def flows(self, S, W, T, families=None):
-        """Wet-solids edge flows: (src, dst, flow kg/s) arrays incl. the outlet edges (dst = -1).
+    def flows(self, S, W, T, families=None, gas=None):
+        """Wet-solids edge flows per size class: (src, dst, flow kg/s) with the flows (..., classes,
+        edges), incl. the outlet edges (dst = -1) and, with entrainment, the dust edges (dst = -3).
 
-        The network's families with their flow rules; a family of a flighted section takes its
-        coefficient and design load from the section law at the passive moisture (computed, or
-        the assumed transport profile when ``moisture_coupling`` is off). ``families``: only these
-        (default all). S, W, T may carry a leading batch axis (k, n): then the flows are (k, e)."""
+        The network's families with their flow rules, on each tank's solids as one mixture: a family of
+        a flighted section takes its coefficient and design load from the section law at the passive
+        mixture's moisture (computed, or the assumed transport profile when ``moisture_coupling`` is
+        off), and a capped or excess flow min(M, M_des) is the mixture's. A class moves with its share of
+        the source tank's solids; the curtains' forward step is the class's own (trajectory step) and the
+        gas carries part of a fine class's curtain away (`_dust`). ``families``: only these (default
+        all). S, W, T are per class, (..., classes, tanks), with an optional leading batch axis; ``gas``:
+        (T_g, Y) of the stages, which set the dust's share (without it: no dust)."""
         everything = families is None
         families = self.families if everything else families
         s = self.settings
-        m = S + W
+        mc = S + W
+        m = mc.sum(axis=-2)
+        W = W.sum(axis=-2)
         # all edges end to end: one gather, one coefficient array, one smoothed cap for the capped and
         # excess edges (the same operations per edge as family by family)
         src, dst, capped, excess, in_ce, slices = self._edge_plan(families)
@@ -430,7 +539,18 @@ class ThermalDryer:
             b = ms.copy()
             b[..., capped[0]] = sm[..., capped[1]]
             b[..., excess[0]] = ms[..., excess[0]] - sm[..., excess[1]]
-        return src, dst, k * b
+        # each class its share of the source's mixture (a single class: share 1 exactly, F = k b)
+        F = (k * b)[..., None, :] * (mc[..., src] / np.maximum(ms, 1e-300)[..., None, :])
+        if everything and self._class_laws:      # the curtains' forward step of each class's own size
+            for (law, diameters, fams), (mp, xp) in zip(self._class_laws,
+                                                        self._passive(W, m, [c[0] for c in self._class_laws])[0]):
+                rates = law.class_rates(mp, xp, diameters, rpm=self.rpm, fouling=s.fouling,
+                                        smoothing=s.design_load_smoothing)
+                for name, edges in fams:
+                    F[..., :, edges] = rates[name] * mc[..., :, src[edges]]
+        if self.dusty and everything and gas is not None:
+            return self._dusty_flows(src, dst, F, *gas)
+        return src, dst, F
 
     def _passive(self, W, m, laws):
         """Per law (its passive nodes' wet masses, their wet-basis moisture clipped to the material's
@@ -557,7 +677,8 @@ class ThermalDryer:
     def _kiln_bed_area(self, W, m):
         """Gas-exposed area (m^2) per gas stage of the kiln beds of the flighted cells: the passive
         mass above the design load, max(M_P - M_des, 0) smoothed over the case's design-load width,
-        as a rolling bed's active layer ([`rotarydryer.thermal.balances.active_layer_area`][rotarydryer.thermal.balances.active_layer_area])."""
+        as a rolling bed's active layer ([`rotarydryer.thermal.balances.active_layer_area`][rotarydryer.thermal.balances.active_layer_area]).
+        ``W``, ``m``: the tanks' mixtures (..., tanks)."""
         s = self.settings
         out = np.zeros(m.shape[:-1] + (self.n_gas,))
         passive, _ = self._passive(W, m, [law for law, _ in self._kiln_plan])
@@ -573,48 +694,61 @@ class ThermalDryer:
         return out
 
     def _transfer(self, S, W, T, Tg, Y):
+        """Gas -> solids transfer per size class and gas stage: (area, R_w, Q_conv, Q_rad), each
+        (..., classes, stages), [`rotarydryer.thermal.balances.stage_transfer`][rotarydryer.thermal.balances.stage_transfer] on each class's own
+        moisture, temperature and diameter. A curtain's area is each class's own (Ajayi (2011) Eq. 6.63,
+        m_c / d_c); a rolling bed's (and a kiln bed's) area is the mixture's, shared by the classes in
+        proportion to their surface, m_c / d_c (a single class: the whole)."""
         s = self.settings
-        m = S + W
+        mc = S + W
+        m, Wt = mc.sum(axis=-2), W.sum(axis=-2)
         X = W / np.maximum(S, 1e-12)
-        area = np.empty(S.shape[:-1] + (self.n_gas,))
         tk = self.gas_tank
+        dp = self.class_dp
+        shape = S.shape[:-1] + (self.n_gas,)
+        area = np.empty(shape)
         bed = self.is_bed_stage
+        surface = mc[..., tk] / dp                  # each class's share of a bed's surface: m_c / d_c
+        surface = surface / surface.sum(axis=-2, keepdims=True)
         if np.any(bed):
             tb = tk[bed]
-            xw = np.clip(W[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0, 0.3)
-            area[..., bed] = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
-                                                   self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
-                                                   s.particle_density)
+            xw = np.clip(Wt[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0, 0.3)
+            a_bed = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
+                                          self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
+                                          s.particle_density)
+            area[..., bed] = a_bed[..., None, :] * surface[..., bed]
         act = ~bed
-        area[..., act] = bal.curtain_area(m[..., tk[act]], self.gas_dp[act], s.area_scale * self.gas_theta[act],
+        area[..., act] = bal.curtain_area(mc[..., tk[act]], dp[:, act], s.area_scale * self.gas_theta[act],
                                           s.particle_density)
         if s.kiln_bed_area and s.mode == "physical" and self._kiln_plan:
-            area = area + self._kiln_bed_area(W, m)
-        fg = self.dry_gas_flow * (1.0 + Y)
+            area = area + self._kiln_bed_area(Wt, m)[..., None, :] * surface
+        fg = np.broadcast_to((self.dry_gas_flow * (1.0 + Y))[..., None, :], shape)
+        tg, y = np.broadcast_to(Tg[..., None, :], shape), np.broadcast_to(Y[..., None, :], shape)
         xs, ts = X[..., tk], T[..., tk]
         # the transfer of a stage depends on that stage's inputs only: a batch (the Jacobian's perturbed
-        # states) evaluates only the (state, stage) pairs whose inputs differ from the last single state
+        # states) evaluates only the (state, class, stage) triples whose inputs differ from the last single state
         base = self._transfer_base
         key = (s.kinetics, s.mode, s.pressure, s.co2_mole_fraction, self.radius, self.dry_gas_flow)
-        if S.ndim == 2 and base is not None and base[2] == key and base[0][0].shape == area.shape[1:]:
+        if S.ndim == 3 and base is not None and base[2] == key and base[0][0].shape == area.shape[1:]:
             changed = np.zeros(area.shape, dtype=bool)
-            for now, then in zip((area, xs, ts, Tg, Y), base[0]):
+            for now, then in zip((area, xs, ts, tg, y), base[0]):
                 changed |= now != then
-            rows, st = np.nonzero(changed)
+            rows, cls, st = np.nonzero(changed)
             out = [_filled(b, area.shape) for b in base[1]]
             if rows.size:
-                sub = bal._stage_transfer(area[rows, st], xs[rows, st], ts[rows, st], Tg[rows, st], Y[rows, st],
-                                          fg[rows, st], self.gas_dp[st], self.radius, s.kinetics, s.mode, s.pressure,
-                                          s.co2_mole_fraction, 0.9, 2e-3, self._beam_length)
+                sub = bal._stage_transfer(area[rows, cls, st], xs[rows, cls, st], ts[rows, cls, st], tg[rows, cls, st],
+                                          y[rows, cls, st], fg[rows, cls, st], dp[cls, st], self.radius, s.kinetics,
+                                          s.mode, s.pressure, s.co2_mole_fraction, 0.9, 2e-3, self._beam_length)
                 for a, v in zip(out, sub):
-                    a[rows, st] = v
+                    a[rows, cls, st] = v
             return (area, *out)
         # unchecked kernel of bal.stage_transfer: the inputs are clipped there, the parameters checked at construction
-        rw, qc, qr = bal._stage_transfer(area, xs, ts, Tg, Y, fg, self.gas_dp, self.radius, s.kinetics,
-                                         s.mode, s.pressure, s.co2_mole_fraction, 0.9, 2e-3, self._beam_length)
-        if S.ndim == 1:
-            self._transfer_base = ((area.copy(), xs, ts, np.array(Tg), np.array(Y)), (rw.copy(), qc.copy(), qr.copy()),
-                                   key)
+        rw, qc, qr = (np.reshape(v, shape) for v in bal._stage_transfer(
+            area, xs, ts, tg, y, fg, np.broadcast_to(dp, shape), self.radius, s.kinetics, s.mode, s.pressure,
+            s.co2_mole_fraction, 0.9, 2e-3, self._beam_length))
+        if S.ndim == 2:
+            self._transfer_base = ((area.copy(), xs, ts, np.array(tg), np.array(y)),
+                                   (rw.copy(), qc.copy(), qr.copy()), key)
         return area, rw, qc, qr
 
     def _shell_loss(self, Tg, Y, Tg_up):
@@ -681,16 +815,17 @@ class ThermalDryer:
     def _solids_streams(self, z, families=None):
         """(S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet): the state on the nearest physical
         state (trial states of the solvers may leave the physical domain; conservation is
-        unaffected at physical states), the edge flows and what each flow carries."""
+        unaffected at physical states), the edge flows and what each flow carries, per size class
+        (solids arrays (..., classes, tanks), flows (..., classes, edges))."""
         if not np.all(np.isfinite(z)):
             raise DryerError("state became non-finite (solver diverged)", reason="diverged", state=z)
         s = self.settings
-        S, W, T, Tg, Y = self.split(z)
+        S, W, T, Tg, Y = self.split_classes(z)
         S = np.maximum(S, 1e-15 * self.feed_rate)
         W = np.maximum(W, 0.0)
         T = np.clip(T, -20.0, self._solids_temperature_ceiling())
         m = S + W
-        src, dst, F = self.flows(S, W, T, families)
+        src, dst, F = self.flows(S, W, T, families, gas=(Tg, Y))
         ms = np.maximum(m[..., src], 1e-12)
         frac_s = S[..., src] / ms
         frac_w = W[..., src] / ms
@@ -708,12 +843,18 @@ class ThermalDryer:
         """Dry solids (kg/s), water (kg/s) and enthalpy (W) leaving with the product at state ``z``
         (solids flows only: no heat-transfer or shell terms)."""
         *_, dst, F, frac_s, frac_w, h_wet = self._solids_streams(z, self._outlet_families)
-        out = dst < 0
-        return float(np.sum((F * frac_s)[out])), float(np.sum((F * frac_w)[out])), float(np.sum((F * h_wet)[out]))
+        out = dst == -1
+        return float(np.sum((F * frac_s)[..., out])), float(np.sum((F * frac_w)[..., out])), \
+            float(np.sum((F * h_wet)[..., out]))
 
     def terms(self, z, products=True):
         """All balance terms at state ``z`` (dict of arrays, W and kg/s); ``products``: with the product
-        stream's dry solids, water and enthalpy (``product_S``, ``product_W``, ``product_H``)."""
+        stream's dry solids, water and enthalpy (``product_S``, ``product_W``, ``product_H``), and with
+        size classes per class too (``product_S_c``, ... (classes,)) and the dust's (``dust_S``, ``dust_W``,
+        ``dust_H``; 0 without entrainment). The solids per class are ``Sc``, ``Wc``, ``Tc`` (..., classes,
+        tanks), the transfer per class ``rw_c``, ``qc_c``, ``qr_c``, ``area_c``, ``hv_c`` (..., classes,
+        stages); ``S``, ``W``, ``T``, ``rw``, ``qc``, ``qr``, ``area`` are the tanks' mixtures and the stages'
+        sums (`split`)."""
         s = self.settings
         S, W, T, Tg, Y, src, dst, F, frac_s, frac_w, h_wet = self._solids_streams(z)
         nt = self.n_tanks
@@ -724,9 +865,10 @@ class ThermalDryer:
                                       lambda rows: self._flat_index(di, rows, nt))
         outS, outW, outH = _scatter_rows(src, [Fs, Fw, Fh], nt, lambda rows: self._flat_index(src, rows, nt))
         fS, fW = self.feed_rate * (1 - self.feed_moisture), self.feed_rate * self.feed_moisture
-        inS[..., self.entry] += fS
-        inW[..., self.entry] += fW
-        inH[..., self.entry] += (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
+        share = self.class_feed
+        inS[..., self.entry] += fS * share
+        inW[..., self.entry] += fW * share
+        inH[..., self.entry] += (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature * share
         area, rw, qc, qr = self._transfer(S, W, T, Tg, Y)
         Ts_c = T[..., self.gas_tank]
         hv = bal._vapour_source_enthalpy(Ts_c, s.mode)
@@ -734,21 +876,29 @@ class ThermalDryer:
         Tg_up = np.where(up >= 0, Tg[..., np.maximum(up, 0)], s.gas_inlet_temperature)
         Y_up = np.where(up >= 0, Y[..., np.maximum(up, 0)], self.gas_inlet_Y)
         qloss = self._shell_loss(Tg, Y, Tg_up)
-        d = dict(S=S, W=W, T=T, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW, outH=outH,
-                 area=area, rw=rw, qc=qc, qr=qr, hv=hv, qloss=qloss, Tg_up=Tg_up, Y_up=Y_up, src=src, dst=dst, F=F)
+        Sm, Wm, Tm, _, _ = self.split(z) if self.n_classes > 1 else (S[..., 0, :], W[..., 0, :], T[..., 0, :], 0, 0)
+        d = dict(Sc=S, Wc=W, Tc=T, S=Sm, W=Wm, T=Tm, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW,
+                 outH=outH, area_c=area, rw_c=rw, qc_c=qc, qr_c=qr, hv_c=hv, area=area.sum(axis=-2),
+                 rw=rw.sum(axis=-2), qc=qc.sum(axis=-2), qr=qr.sum(axis=-2), qloss=qloss, Tg_up=Tg_up, Y_up=Y_up,
+                 src=src, dst=dst, Fc=F, F=F.sum(axis=-2))
         if products:
-            prod = [np.sum(x[..., out], axis=-1) for x in (Fs, Fw, Fh)]
-            if F.ndim == 1:
-                prod = [float(x) for x in prod]
-            d.update(product_S=prod[0], product_W=prod[1], product_H=prod[2])
+            for name, mask in (("product", dst == -1), ("dust", dst == -3)):
+                per = [np.sum(x[..., mask], axis=-1) for x in (Fs, Fw, Fh)]       # (..., classes)
+                tot = [x.sum(axis=-1) for x in per]
+                if F.ndim == 2:
+                    tot = [float(x) for x in tot]
+                d.update({f"{name}_S": tot[0], f"{name}_W": tot[1], f"{name}_H": tot[2],
+                          f"{name}_S_c": per[0], f"{name}_W_c": per[1], f"{name}_H_c": per[2]})
         return d
 
     def _inner_edges(self):
         """(mask of the edges that end in a tank, their destination tanks, mask of the outlet edges) of all
-        families (fixed by the network)."""
+        families and, with entrainment, the dust edges after them (fixed by the network)."""
         plan = self._plans.get("inner")
         if plan is None:
             dst = self._edge_plan(self.families)[1]
+            if self.dusty:
+                dst = np.concatenate([dst, np.full(self._dust_plan[0].size, -3)])
             inner = dst >= 0
             plan = self._plans["inner"] = (inner, dst[inner], ~inner)
         return plan
@@ -769,7 +919,7 @@ class ThermalDryer:
         (W/K per stage) until `unfreeze_shell`; the physical network solves the shell
         temperature iteratively, which would dominate every residual evaluation."""
         self._shell_ua = None
-        S, W, T, Tg, Y = self.split(z)
+        *_, Tg, Y = self.split_classes(z)
         up = self.gas_up
         Tg_up = np.where(up >= 0, Tg[np.maximum(up, 0)], self.settings.gas_inlet_temperature)
         q = self._shell_loss_exact(Tg, Y, Tg_up)
@@ -792,12 +942,12 @@ class ThermalDryer:
         self.freeze_shell(z)
         if old is None:
             return self.rhs(0.0, z)
-        S, W, T, Tg, Y = self.split(z)
+        *_, Tg, Y = self.split_classes(z)
         s = self.settings
         dq = (self._shell_ua - old) * (Tg - s.ambient_temperature)
         f = f.copy()
-        nt, ng = self.n_tanks, self.n_gas
-        f[3 * nt:3 * nt + ng] -= dq / (self.gas_holdup * bal._gas_heat_capacity(Tg, Y, s.mode))
+        k, ng = 3 * self.n_classes * self.n_tanks, self.n_gas
+        f[k:k + ng] -= dq / (self.gas_holdup * bal._gas_heat_capacity(Tg, Y, s.mode))
         return f
 
     def unfreeze_shell(self):
@@ -848,64 +998,87 @@ class ThermalDryer:
         """[`rhs`][rotarydryer.thermal.dryer.ThermalDryer.rhs] of one state (n,) or of a batch with the states as rows, (k, n)."""
         s = self.settings
         d = self.terms(z, products=False)
-        S, W, T, Tg, Y = d["S"], d["W"], d["T"], d["Tg"], d["Y"]
+        S, W, T, Tg, Y = d["Sc"], d["Wc"], d["Tc"], d["Tg"], d["Y"]
         nt = self.n_tanks
         tk = self.gas_tank
-        rw_t, qh_t = _scatter_rows(tk, [d["rw"], d["qc"] + d["qr"] - d["rw"] * d["hv"]], nt,
+        rw, hv = d["rw_c"], d["hv_c"]
+        rw_t, qh_t = _scatter_rows(tk, [rw, d["qc_c"] + d["qr_c"] - rw * hv], nt,
                                    lambda rows: self._flat_index(tk, rows, nt))
         dS = d["inS"] - d["outS"]
         dW = d["inW"] - d["outW"] - rw_t
         dU = d["inH"] - d["outH"] + qh_t
         # an empty tank (a cell the cascade overshoots, S -> 0) has no temperature of its own: a virtual
-        # heat capacity of EMPTY_TANK_MASS x feed rate x 1 s exchanging with the nearest gas stage at a
-        # 1 s time constant defines it (the gas temperature); it fades as (virtual/actual heat capacity)^2,
-        # so in a tank holding solids its heat flow moves no reported number
-        ce = EMPTY_TANK_MASS * self.feed_rate * s.cp_solids
+        # heat capacity of EMPTY_TANK_MASS x (the class's share of the) feed rate x 1 s exchanging with the
+        # nearest gas stage at a 1 s time constant defines it (the gas temperature); it fades as (virtual/
+        # actual heat capacity)^2, so in a tank holding solids its heat flow moves no reported number
+        ce = (EMPTY_TANK_MASS * self.feed_rate * s.cp_solids) * self.class_feed[:, None]
         C = S * s.cp_solids + W * s.cp_water
         ce = ce / (1.0 + (C / ce) ** 2)          # fades as (ce/C)^2 once the tank holds solids
         C = C + ce
-        dT = (dU - T * (s.cp_solids * dS + s.cp_water * dW) + ce * (Tg[..., self._tank_stage] - T)) / C
+        dT = (dU - T * (s.cp_solids * dS + s.cp_water * dW) + ce * (Tg[..., None, self._tank_stage] - T)) / C
         Fd = self.dry_gas_flow
         Mg = self.gas_holdup
-        dYm = Fd * (d["Y_up"] - Y) + d["rw"]
+        rw_g = rw.sum(axis=-2)
+        dYm = Fd * (d["Y_up"] - Y) + rw_g
         h, h_wetter = bal._gas_enthalpy_pair(Tg, Y, 1e-4, s.mode)
         h_up = h[..., np.maximum(self.gas_up, 0)]       # the upstream stage's enthalpy (elementwise identical)
         h_up[..., self.gas_order[0]] = self._inlet_enthalpy()
-        dH = Fd * (h_up - h) + d["rw"] * d["hv"] - d["qc"] - d["qr"] - d["qloss"]
+        dH = Fd * (h_up - h) + (rw * hv).sum(axis=-2) - d["qc"] - d["qr"] - d["qloss"]
         cs = bal._gas_heat_capacity(Tg, Y, s.mode)
         dhdY = (h_wetter - h) / 1e-4
         dY = dYm / Mg
         dTg = (dH / Mg - dhdY * dY) / cs
-        return np.concatenate([dS, dW, dT, dTg, dY], axis=-1)
+        lead = dS.shape[:-2]
+        return np.concatenate([dS.reshape(lead + (-1,)), dW.reshape(lead + (-1,)), dT.reshape(lead + (-1,)), dTg, dY],
+                              axis=-1)
 
     # ------------------------------------------------------------------ jacobian
     def sparsity(self):
-        """Jacobian sparsity pattern (csr, n x n) from the network's edge families and gas stages."""
+        """Jacobian sparsity pattern (csr, n x n) from the network's edge families and gas stages, per size
+        class: a class's flow on an edge depends on its own solids at the source and, where the flow or its
+        coefficient is the mixture's (a capped or excess flow min(M, M_des), a section law at the passive
+        mixture's mass and moisture), on every class there; a tank's classes depend on each other (the
+        bed's area shared by surface) and on the gas of their stage, which depends on them all."""
         if self._pattern is not None:
             return self._pattern
-        nt, ng = self.n_tanks, self.n_gas
-        a_list, b_list = [np.arange(nt)], [np.arange(nt)]
+        nt, ng, nc = self.n_tanks, self.n_gas, self.n_classes
+        kk = nc * nt
+        own_a, own_b = [np.arange(nt)], [np.arange(nt)]        # node pairs, class by class
+        mix_a, mix_b = [], []                                  # node pairs, every class with every class
         for f in self.families:
             inside = f.dst >= 0
-            a_list += [f.src[inside], f.dst[inside]]
-            b_list += [f.dst[inside], f.src[inside]]
+            pairs = (own_a, own_b) if f.kind == "linear" and f.law is None else (mix_a, mix_b)
+            pairs[0].extend([f.src[inside], f.dst[inside]])
+            pairs[1].extend([f.dst[inside], f.src[inside]])
+            if f.kind != "linear":          # the source's mixture sets its classes' shares
+                mix_a.append(f.src)
+                mix_b.append(f.src)
             law = f.law
             if law is not None:      # the coefficient depends on the control (passive) node's mass and moisture
                 ctrl = np.broadcast_to(law.P, f.src.shape)
                 for node in (f.src, f.dst):
                     ok = node >= 0
-                    a_list += [node[ok], ctrl[ok]]
-                    b_list += [ctrl[ok], node[ok]]
-        ta, tb = np.concatenate(a_list), np.concatenate(b_list)
+                    mix_a.extend([node[ok], ctrl[ok]])
+                    mix_b.extend([ctrl[ok], node[ok]])
         rows, cols = [], []
-        for i in range(3):            # S, W, T of a node depend on S, W, T of the linked node
-            for j in range(3):
-                rows.append(i * nt + ta)
-                cols.append(j * nt + tb)
+
+        def tank_links(ta, tb, classes):
+            for i in range(3):            # S, W, T of a node depend on S, W, T of the linked node
+                for j in range(3):
+                    for c1, c2 in classes:
+                        rows.append(i * kk + c1 * nt + ta)
+                        cols.append(j * kk + c2 * nt + tb)
+        same = [(c, c) for c in range(nc)]
+        every = [(c1, c2) for c1 in range(nc) for c2 in range(nc)]
+        tank_links(np.concatenate(own_a), np.concatenate(own_b), same)
+        if mix_a:
+            tank_links(np.concatenate(mix_a), np.concatenate(mix_b), every)
+        if nc > 1:              # a tank's classes: the bed's surface shares, the dust's share of a curtain
+            tank_links(np.arange(nt), np.arange(nt), every)
         k = np.arange(ng)
         tk = self.gas_tank
-        gvars = [3 * nt + k, 3 * nt + ng + k]
-        tvars = [tk, nt + tk, 2 * nt + tk]
+        gvars = [3 * kk + k, 3 * kk + ng + k]
+        tvars = [v * kk + c * nt + tk for v in range(3) for c in range(nc)]
         for g in gvars:
             for h in gvars:
                 rows.append(g), cols.append(h)
@@ -914,13 +1087,26 @@ class ThermalDryer:
                 cols += [t, g]
         for law, stages in self._kiln_plan:      # a kiln bed's area: the passive node's mass and moisture
             act = tk[stages]
-            for col in (law.P, nt + law.P):
-                for row in (3 * nt + stages, 3 * nt + ng + stages, act, nt + act, 2 * nt + act):
+            for col in [v * kk + c * nt + law.P for v in (0, 1) for c in range(nc)]:
+                for row in [3 * kk + stages, 3 * kk + ng + stages] + [v * kk + c * nt + act for v in range(3)
+                                                                      for c in range(nc)]:
                     rows.append(row), cols.append(col)
         has_up = self.gas_up >= 0
         for g in gvars:
-            for h in (3 * nt + self.gas_up[has_up], 3 * nt + ng + self.gas_up[has_up]):
+            for h in (3 * kk + self.gas_up[has_up], 3 * kk + ng + self.gas_up[has_up]):
                 rows.append(g[has_up]), cols.append(h)
+        if self.dusty:      # a curtain's outflows keep 1 - e(gas of the curtain's stage): their destinations too
+            active, stages, out_edges, pos, _ = self._dust_plan
+            src_all, dst_all = self._edge_plan(self.families)[:2]
+            dst_t = dst_all[out_edges]
+            inside = dst_t >= 0
+            for g in (3 * kk + stages[pos][inside], 3 * kk + ng + stages[pos][inside]):
+                for v in range(3):
+                    for c in range(nc):
+                        rows.append(v * kk + c * nt + dst_t[inside]), cols.append(g)
+        if nc > 1:          # an empty tank's temperature anchor: the nearest stage's gas (every tank)
+            for c in range(nc):
+                rows.append(2 * kk + c * nt + np.arange(nt)), cols.append(3 * kk + self._tank_stage)
         r, c = np.concatenate(rows), np.concatenate(cols)
         pat = sp.csr_matrix((np.ones(r.size), (r, c)), shape=(self.n, self.n))
         pat.data[:] = 1.0
@@ -941,14 +1127,18 @@ class ThermalDryer:
 
     def jacobian(self, z, f0=None):
         self.sparsity()
-        step = np.maximum(np.abs(z) * 1e-7, self._scale() * 1e-8)
+        floor = self._scale() * 1e-8
+        if self.n_classes > 1:      # a class's tanks may hold traces only (the fines a curtain loses as dust): a
+            k = 2 * self.n_classes * self.n_tanks       # step of its own size for their solids and water
+            floor[:k] *= 1e-6
+        step = np.maximum(np.abs(z) * 1e-7, floor)
         return sparse_fd_jacobian(lambda x: self.rhs(0.0, x), z, self._fd_plan, step=step, f0=f0,
                                   vectorized=True)
 
     def _scale(self):
-        nt, ng = self.n_tanks, self.n_gas
+        k, ng = self.n_classes * self.n_tanks, self.n_gas
         msc = np.maximum(self.feed_rate * 10.0, 1.0)
-        return np.concatenate([np.full(nt, msc), np.full(nt, msc * 0.2), np.full(nt, 100.0), np.full(ng, 100.0),
+        return np.concatenate([np.full(k, msc), np.full(k, msc * 0.2), np.full(k, 100.0), np.full(ng, 100.0),
                                np.full(ng, 0.05)])
 
     # ------------------------------------------------------------------ initial guess
@@ -973,6 +1163,8 @@ class ThermalDryer:
         W = m * x
         T = np.interp(self.position, [0, 0.3 * self.length, self.length],
                       [s.solids_inlet_temperature, 40.0, 45.0])
+        share = self.class_feed[:, None]        # every class in the tanks as in the feed
+        S, W, T = (S * share).ravel(), (W * share).ravel(), np.tile(T, self.n_classes)
         gp = self.gas_position if s.gas_direction == "co-current" else self.length - self.gas_position
         Tout = max(s.solids_inlet_temperature + 20.0, 0.3 * s.gas_inlet_temperature)
         Tg = np.interp(gp, [0, self.length], [s.gas_inlet_temperature, Tout])
@@ -999,7 +1191,7 @@ class ThermalDryer:
                 raise
             first = exc
         start = self.initial_state() if z0 is None else np.array(z0, dtype=float)
-        mrt = float(np.sum(start[:2 * self.n_tanks])) / max(self.feed_rate, 1e-300)
+        mrt = float(np.sum(start[:2 * self.n_classes * self.n_tanks])) / max(self.feed_rate, 1e-300)
         for horizon in MARCH_HORIZONS:
             try:
                 marched = self.simulate(start, max(horizon * mrt, 60.0))
@@ -1122,12 +1314,12 @@ class ThermalDryer:
         heat-flow residual, W, of a nearly empty tank is what its balance can resolve; its K/s is a
         ratio of two vanishing numbers). At any tank holding solids the test is the plain one."""
         r = np.abs(f) / sc
-        nt = self.n_tanks
-        S, W = z[:nt], z[nt:2 * nt]
+        k = self.n_classes * self.n_tanks
+        S, W = z[:k], z[k:2 * k]
         s = self.settings
-        c_floor = EMPTY_TANK_MASS_NORM * self.feed_rate * s.cp_solids
+        c_floor = EMPTY_TANK_MASS_NORM * self.feed_rate * s.cp_solids      # of the whole feed, for every class
         w = np.minimum(1.0, np.maximum(S * s.cp_solids + W * s.cp_water, 0.0) / c_floor)
-        r[2 * nt:3 * nt] *= w
+        r[2 * k:3 * k] *= w
         return float(np.max(r))
 
     def _bounded_step(self, z, dz):
@@ -1141,8 +1333,8 @@ class ThermalDryer:
         with an empty tank (a cell the cascade overshoots) or a dry product lies on that boundary: the
         iterates approach it geometrically instead of stalling on rejected steps."""
         zn = z + dz
-        S, W, T, Tg, Y = self.split(z)
-        Sn, Wn, Tn, Tgn, Yn = self.split(zn)
+        S, W, T, Tg, Y = self.split_classes(z)
+        Sn, Wn, Tn, Tgn, Yn = self.split_classes(zn)
         np.maximum(Sn, 0.2 * S, out=Sn)
         np.maximum(Wn, np.minimum(0.2 * W, W) - 0.5e-9 * self.feed_rate, out=Wn)
         np.maximum(Yn, 0.0, out=Yn)      # a humidity may reach zero (dry gas, nothing evaporates)
@@ -1182,7 +1374,7 @@ class ThermalDryer:
         return self._floor_memo[1]
 
     def _admissible(self, z):
-        S, W, T, Tg, Y = self.split(z)
+        S, W, T, Tg, Y = self.split_classes(z)
         # the extremes against the bounds (a NaN fails every comparison, as with np.all)
         lo_t, hi_t, lo_g, hi_g, hi_y = self._state_bounds()
         return bool(S.min() > 0 and W.min() > -1e-9 * self.feed_rate and T.min() > lo_t and T.max() < hi_t

@@ -16,6 +16,7 @@ import numpy as np
 from .._limits import check_key
 from .._validation import check_choice, check_range
 from ..properties.drying import DryingKinetics
+from ..properties.psd import SizeClasses
 from . import balances as bal
 from .burner import Burner
 
@@ -86,6 +87,11 @@ class ThermalSettings:
     discharge_cooling_ntu : transfer units of the product's cooling by ambient air between the drum
     outlet and a product temperature sensor downstream
     ([`discharge_cooling`][rotarydryer.thermal.streams.discharge_cooling]; 0 = the sensor at the drum outlet).
+    size_classes : [`SizeClasses`][rotarydryer.properties.psd.SizeClasses] of the feed (None: one class of
+    the material's particle diameter): the solids of every tank are carried per class (module
+    `rotarydryer.thermal.dryer`, "Size classes").
+    entrainment : with size classes, the gas carries the fines out of the curtains where it is faster
+    than their terminal velocity (dust to the exhaust); False: no dust.
     """
 
     gas_flow: float
@@ -117,6 +123,8 @@ class ThermalSettings:
     burner: Optional[Burner] = None
     discharge_cooling_ntu: float = 0.0
     kiln_bed_area: bool = True
+    size_classes: Optional[SizeClasses] = None
+    entrainment: bool = True
 
     @classmethod
     def ajayi2011(cls, **kw):

@@ -11,6 +11,7 @@ import numpy as np
 
 from .._display import html_table, outputs_dataframe, short_repr
 from ..properties.humid_air import dew_point
+from ..properties.psd import percentile_diameter
 from ..properties.water import latent_heat
 from ..transport.network import tracer_system_from_flows
 from ..transport.results import SteadyState
@@ -23,7 +24,41 @@ from .streams import discharge_cooling
 if TYPE_CHECKING:
     from .dryer import ThermalDryer
 
-__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult", "fuel_rate_note", "outlets"]
+__all__ = ["ThermalSteadyState", "CoupledTransportState", "DynamicResult", "fuel_rate_note", "outlets",
+           "EntrainmentWarning", "check_entrainment", "DUST_WARN_FRACTION", "DUST_REFUSE_FRACTION"]
+
+#: a steady state losing more than this share of the feed's dry solids as dust is reported (a warning)
+DUST_WARN_FRACTION = 0.5
+#: ... and refused beyond this share: nothing left to call a product
+DUST_REFUSE_FRACTION = 0.99
+
+
+class EntrainmentWarning(UserWarning):
+    """Most of the feed, or a whole size class, leaves the dryer as dust with the exhaust gas."""
+
+
+def check_entrainment(thermal) -> None:
+    """Warn (`EntrainmentWarning`) where a steady state loses more than `DUST_WARN_FRACTION` of the feed
+    or a whole size class as dust, and refuse (``ValueError``) one losing more than
+    `DUST_REFUSE_FRACTION`: each message names the classes, the gas flow and the keys to change."""
+    dr = thermal.dryer
+    if not dr.dusty:
+        return
+    rows = thermal.size_class_table()
+    lost = sum(r["lost_as_dust"] * r["feed_fraction"] for r in rows)
+    gone = [f"{r['diameter_m'] * 1e6:.0f} um" for r in rows if r["lost_as_dust"] > 0.999]
+    g = dr.settings.gas_flow
+    if lost > DUST_REFUSE_FRACTION:
+        raise DryerError(f"entrainment: {lost:.1%} of the feed leaves as dust with the exhaust at gas.flow = {g:g} "
+                         "kg/s: nothing is left as a product; lower gas.flow or give a coarser particle_size",
+                         reason="entrained", state=thermal)
+    if lost > DUST_WARN_FRACTION:
+        warnings.warn(f"entrainment: {lost:.1%} of the feed leaves as dust with the exhaust at gas.flow = {g:g} kg/s "
+                      f"(size classes {', '.join(gone) or 'partly'}); lower gas.flow or give a coarser particle_size",
+                      EntrainmentWarning, stacklevel=3)
+    elif gone:
+        warnings.warn(f"entrainment: the size class(es) {', '.join(gone)} leave(s) entirely as dust at gas.flow = "
+                      f"{g:g} kg/s", EntrainmentWarning, stacklevel=3)
 
 
 def fuel_rate_note(summary: dict) -> str:
@@ -110,6 +145,9 @@ class ThermalSteadyState:
         self.gas_outlet_temperature_degC = float(Tg[k])
         self.gas_outlet_humidity = float(Y[k])
         pS, pW, pH = d["product_S"], d["product_W"], d["product_H"]
+        dS, dW, dH = d["dust_S"], d["dust_W"], d["dust_H"]
+        #: dust carried to the exhaust, kg/s wet (size classes with entrainment; else 0)
+        self.dust_rate = dS + dW
         self.product_rate = pS + pW
         self.product_moisture = pW / (pS + pW)
         self.product_temperature_degC = pH / (pS * s.cp_solids + pW * s.cp_water)
@@ -118,16 +156,16 @@ class ThermalSteadyState:
         fS, fW = dryer.feed_rate * (1 - dryer.feed_moisture), dryer.feed_rate * dryer.feed_moisture
         Yin = dryer.gas_inlet_Y
         w_in = fW + Fd * Yin
-        w_out = pW + Fd * Y[k]
+        w_out = pW + dW + Fd * Y[k]
         # relative to the water in; a bone-dry feed in dry gas: to 1e-9 of the mass flows
         self.water_balance_error = abs(w_in - w_out) / max(w_in, 1e-9 * (dryer.feed_rate + Fd))
-        self.solids_balance_error = abs(fS - pS) / fS
+        self.solids_balance_error = abs(fS - pS - dS) / fS
         hs_in = (fS * s.cp_solids + fW * s.cp_water) * s.solids_inlet_temperature
         # the solver's states are checked (the unchecked enthalpy; the inlet's remembered per settings)
         hg_in = Fd * dryer._inlet_enthalpy()
         hg_out = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], s.mode))
         e_in = hs_in + hg_in
-        e_out = pH + hg_out + self.shell_heat_loss_w
+        e_out = pH + dH + hg_out + self.shell_heat_loss_w
         self.energy_in_w = e_in
         # relative to the energy in; a dryer whose streams all enter near the reference 0 degC: to
         # their heat capacity flow x 100 K (the solver's temperature scale, ThermalDryer._scale)
@@ -138,6 +176,8 @@ class ThermalSteadyState:
             "in": {"hot gas": float(hg_in), "wet feed": float(hs_in)},
             "out": {"exhaust gas": float(hg_out), "product": float(pH), "shell loss": float(self.shell_heat_loss_w)},
         }
+        if dryer.dusty:
+            self.energy_terms_w["out"]["dust"] = float(dH)
         # the same streams with physical enthalpies (closes only in the physical mode)
         if s.mode == "physical":
             hg_in_p, hg_out_p = hg_in, hg_out
@@ -147,9 +187,9 @@ class ThermalSteadyState:
             hg_out_p = Fd * float(bal._gas_enthalpy(Tg[k], Y[k], "physical"))
             self.physical_shell_loss_w = float(np.sum(dryer.physical_shell_loss(Tg, Y)))
         e_in_p = hs_in + hg_in_p
-        self.physical_energy_balance_error = (e_in_p - (pH + hg_out_p + self.physical_shell_loss_w)) / max(
+        self.physical_energy_balance_error = (e_in_p - (pH + dH + hg_out_p + self.physical_shell_loss_w)) / max(
             abs(e_in_p), e_ref)
-        self.physical_implied_shell_loss_w = e_in_p - pH - hg_out_p
+        self.physical_implied_shell_loss_w = e_in_p - pH - dH - hg_out_p
         self.gas_heat_duty_w = hg_in - hg_out
 
     @property
@@ -167,7 +207,8 @@ class ThermalSteadyState:
             dr, d = self.dryer, self.terms
             model = dr.model
             m = d["S"] + d["W"]
-            flows = np.split(np.asarray(d["F"], dtype=float), np.cumsum([f.src.size for f in dr.families])[:-1])
+            sizes = [f.src.size for f in dr.families]         # the network's edges (the dust edges after them)
+            flows = np.split(np.asarray(d["F"], dtype=float)[:sum(sizes)], np.cumsum(sizes)[:-1])
             design = np.array(model.design_load, dtype=float)
             per_node = {k: np.full(m.size, np.nan) for k in model.cell_info}
             passive, _ = dr._passive(d["W"], m, dr.laws)
@@ -183,14 +224,18 @@ class ThermalSteadyState:
                                                           cell_info=cell_info)
         return self._transport_state
 
-    def tracer_system(self):
+    def tracer_system(self, size_class: int | None = None):
         """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
-        so RTD moments agree with the holdups of this state."""
+        so RTD moments agree with the holdups of this state; ``size_class``: a tracer of that class's size
+        (its own holdups and flows; the part the gas carries away as dust is lost to the product's curve)."""
 
         d = self.terms
         inlet = np.zeros(d["S"].size)
         inlet[self.dryer.entry] = 1.0
-        return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
+        if size_class is None:
+            return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
+        c = int(size_class)
+        return tracer_system_from_flows(d["Sc"][c] + d["Wc"][c], d["src"], d["dst"], d["Fc"][c], inlet)
 
     def fuel_rate(self, fuel_heat_loss_fraction=None):
         """Fuel rate (kg/s) that the case's burner (``ThermalSettings.burner``, Ajayi (2011) App. A
@@ -258,6 +303,43 @@ class ThermalSteadyState:
         return outputs_dataframe(self.summary(with_fuel=False))
 
     @property
+    def product_d50(self) -> float:
+        """Mass-median diameter of the product (m): its class masses on the feed's class edges
+        ([`percentile_diameter`][rotarydryer.properties.psd.percentile_diameter]); one class: its diameter."""
+        dr = self.dryer
+        sc = dr.size_classes
+        return percentile_diameter(sc.edges, np.atleast_1d(self.terms["product_S_c"]), 0.5, sc.diameters)
+
+    def size_class_table(self) -> list[dict]:
+        """One row per size class: its diameter at the feed (m), its mass fraction of the feed, of the
+        product and of the dust (dry solids), its share of the feed lost as dust, its product moisture
+        (kg/kg wet), its holdup (kg) and its mean residence time: dry holdup over the class's dry feed (s;
+        what a tracer of its size would show, the lost part included), and the mean of its product's residence
+        time distribution (``rtd_mean_s``: the impulse response at the product outlet of a tracer of its size,
+        `tracer_system`)."""
+        dr, d = self.dryer, self.terms
+        pS, pW = np.atleast_1d(d["product_S_c"]), np.atleast_1d(d["product_W_c"])
+        dS = np.atleast_1d(d["dust_S_c"])
+        fS = dr.feed_rate * (1.0 - dr.feed_moisture) * dr.class_feed
+        hold = (d["Sc"] + d["Wc"]).sum(axis=-1)
+        dry = d["Sc"].sum(axis=-1)
+        rows = []
+        for c in range(dr.n_classes):
+            flow = pS[c] + pW[c]
+            rows.append(dict(size_class=c, diameter_m=float(dr.class_diameter[c]), feed_fraction=float(dr.class_feed[c]),
+                             product_fraction=float(pS[c] / max(pS.sum(), 1e-300)),
+                             dust_fraction=float(dS[c] / dS.sum()) if dS.sum() > 0 else 0.0,
+                             lost_as_dust=float(dS[c] / fS[c]) if fS[c] > 0 else 0.0,
+                             product_moisture_kg_kg=float(pW[c] / flow) if flow > 0 else None,
+                             holdup_kg=float(hold[c]), mean_residence_time_s=float(dry[c] / fS[c]) if fS[c] > 0 else None,
+                             rtd_mean_s=self._class_rtd_mean(c) if flow > 0 else None))
+        return rows
+
+    def _class_rtd_mean(self, c: int) -> float | None:
+        m = self.tracer_system(c).moments()
+        return float(m["mean"]) if m["recovery"] > 1e-9 and np.isfinite(m["mean"]) else None
+
+    @property
     def heat_input_w(self):
         """Heat put into the drying gas (W): the entering gas's enthalpy above that of the same gas
         at ambient temperature (what a burner or heater supplies to it), mode-consistent."""
@@ -316,8 +398,10 @@ class ThermalSteadyState:
             water_balance_error=float(self.water_balance_error),
             solids_balance_error=float(self.solids_balance_error),
             # wet solids: feed = product + evaporation (the transport model's mass balance, with drying)
-            mass_balance_error=abs(self.dryer.feed_rate - float(self.product_rate) - self.evaporation_rate)
-            / self.dryer.feed_rate,
+            mass_balance_error=abs(self.dryer.feed_rate - float(self.product_rate) - self.evaporation_rate
+                                   - float(self.dust_rate)) / self.dryer.feed_rate,
+            dust_rate_kg_s=float(self.dust_rate),
+            product_d50_m=self.product_d50,
             physical_energy_balance_error=float(self.physical_energy_balance_error),
             physical_shell_loss_W=float(self.physical_shell_loss_w),
             transport_moisture_clipped=self.transport_moisture_clipped,

@@ -37,6 +37,7 @@ have constant coefficients.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -257,7 +258,7 @@ class FlightedSectionLaw:
         """Do the coefficients depend on the flight discharge (Sherritt's curtain velocity ratio)?"""
         return self.trajectory and self.spec.gas.velocity_ratio is None
 
-    def cascade(self, phi, f, rpm=None, flight_mass=None):
+    def cascade(self, phi, f, rpm=None, flight_mass=None, gas=None):
         """Cycle times, fall height and the forward/return/backmix split C_F, C_R, C_B per cell (Lee
         (2008) Eq. 3.3-3.8). ``flight_mass`` (kg per cell, default f x the design load at the assumed
         moisture) is the mass the flights discharge, used by the trajectory forward step only."""
@@ -276,7 +277,7 @@ class FlightedSectionLaw:
         if flight_mass is None:
             flight_mass = np.asarray(f, float) * self._reference_design_load()
         q = np.asarray(flight_mass, float) / tp / self.dl          # release per metre of drum, kg/(s m)
-        step = trajectory_forward_step(s.gas, self.slope, h, q)
+        step = trajectory_forward_step(s.gas if gas is None else gas, self.slope, h, q)
         free = step["step_m"]
         # a step longer than the cell minus backmix is capped there (C_R >= 0): the nearest-neighbour
         # structure (Lee (2008) Fig. 3.4) cannot carry solids further. build_sections refuses a
@@ -347,6 +348,30 @@ class FlightedSectionLaw:
     def rates(self, phi, f, rpm=None, flight_mass=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
         return self.rates_of(self.cascade(phi, f, rpm, flight_mass))
+
+    #: the families whose coefficients the curtain's forward step sets (a particle's own with the trajectory step)
+    CURTAIN_FAMILIES = ("forward", "return", "backmix", "forward_far", "backmix_far")
+
+    def class_rates(self, mp, x, diameters, rpm=None, fouling=None, smoothing=0.0):
+        """The curtain families' coefficients (1/s) of particles of each of ``diameters`` (m) in the cells'
+        curtains: ``{family: (..., classes, cells)}``, the trajectory step of each size through the gas
+        (the flights' discharge, fall heights and times are the mixture's, at wet passive masses ``mp`` and
+        moisture ``x``, as in `evaluate`). Without the trajectory step, None: the fitted step does not
+        depend on the particle size."""
+        if not self.trajectory or self.spec.gas is None:
+            return None
+        mp = np.asarray(mp, dtype=float)
+        phi, rho = self.properties(x)
+        des = self.design_load(phi, rho, fouling)
+        f = self.loading_factor(mp, des, phi, smoothing)
+        flight_mass = np.minimum(mp, des)
+        out: dict = {}
+        for d in diameters:
+            r = self.rates_of(self.cascade(phi, f, rpm, flight_mass, gas=_with_diameter(self.spec.gas, float(d))))
+            for name in self.CURTAIN_FAMILIES:
+                if name in r:
+                    out.setdefault(name, []).append(np.broadcast_to(r[name], np.shape(phi)))
+        return {k: np.stack(v, axis=-2) for k, v in out.items()}
 
     def _fitted_rates(self, tp, ta, h):
         """[`rates_of`][rotarydryer.transport.sections.FlightedSectionLaw.rates_of] of `_fitted_step` (the same numbers, without the cascade dict)."""
@@ -419,6 +444,11 @@ class FlightedSectionLaw:
         out = self.rates(phi, f, rpm, np.minimum(mp, des) if self.trajectory else None)
         out.update(design_load=des, repose_angle=phi, bulk_density=rho)
         return out
+
+
+def _with_diameter(gas, diameter):
+    """``gas`` (a frozen `CurtainGas`) with another particle diameter (its forward-step table is cached per gas)."""
+    return gas if gas.particle_diameter == diameter else dataclasses.replace(gas, particle_diameter=diameter)
 
 
 class EmpiricalSectionLaw(FlightedSectionLaw):
