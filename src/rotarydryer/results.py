@@ -587,6 +587,35 @@ def add_thermal(res: Results, steady) -> Results:
         },
         coords={"stream": ("stream", np.array(names))},
     )
+    if steady.dryer.n_classes > 1:       # size classes: one row each (particle_size in the case)
+        rows = steady.size_class_table()
+        d = steady.terms
+
+        def col(key):
+            return np.array([np.nan if r[key] is None else r[key] for r in rows], float)
+        res.datasets["size_classes"] = xr.Dataset(
+            {
+                "diameter": _var(col("diameter_m"), "m", "class diameter at the feed (mass median)", "size_class"),
+                "feed_fraction": _var(col("feed_fraction"), "-", "mass fraction of the feed", "size_class"),
+                "product_fraction": _var(col("product_fraction"), "-", "mass fraction of the product", "size_class"),
+                "dust_fraction": _var(col("dust_fraction"), "-", "mass fraction of the dust", "size_class"),
+                "lost_as_dust": _var(col("lost_as_dust"), "-", "share of the class's feed leaving as dust",
+                                     "size_class"),
+                "product_moisture": _var(col("product_moisture_kg_kg"), "kg/kg", "product moisture, wet basis",
+                                         "size_class"),
+                "mean_residence_time": _var(col("mean_residence_time_s"), "s", "dry holdup / dry feed of the class",
+                                            "size_class"),
+                "holdup": _var(np.asarray(d["Sc"] + d["Wc"], float), "kg", "wet solids holdup per node",
+                               ("size_class", "node")),
+                "moisture": _var(np.asarray(d["Wc"] / (d["Sc"] + d["Wc"]), float), "kg/kg",
+                                 "solids moisture per node, wet basis", ("size_class", "node")),
+                "temperature": _var(np.asarray(d["Tc"], float), "degC", "solids temperature per node",
+                                    ("size_class", "node")),
+            },
+            coords={"size_class": ("size_class", np.arange(len(rows), dtype=np.int64)),
+                    "node": ("node", np.arange(d["Sc"].shape[-1], dtype=np.int64)),
+                    "edge": ("edge", np.asarray(steady.dryer.size_classes.edges, float))},
+        )
     s = steady.summary(with_fuel=False)
     res.scalars.update(_numbers(s))
     res.model_choices["thermal_mode"] = s["thermal_mode"]

@@ -28,7 +28,8 @@ MAX_STARTS = 4
 #: response -> label on the page
 RESPONSE_LABELS = {"tracer": "tracer curves (E(t))", "mrt": "mean residence times", "holdup": "holdups",
                    "gas_outlet_temperature": "exhaust gas temperatures", "product_moisture": "product moistures",
-                   "product_temperature": "product temperatures", "moisture_profile": "moisture profiles"}
+                   "product_temperature": "product temperatures", "moisture_profile": "moisture profiles",
+                   "product_d50": "product d50 (size classes)", "dust_rate": "dust rates (size classes)"}
 
 
 def calibration_defaults(case: str, overrides: dict | None = None) -> dict:

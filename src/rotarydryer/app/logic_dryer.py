@@ -285,6 +285,12 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
            "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),
            "title": getattr(c.meta, "title", "") or "",
            "profile_rows": profile_rows(th.profiles(), measured, th.dryer.settings.gas_direction == "co-current")}
+    if th.dryer.n_classes > 1:        # [particle_size]: a row per size class and the distributions
+        out["size_classes"] = th.size_class_table()
+        if images:
+            from ..thermal.plots import plot_size_distributions
+
+            out["size_plot"] = png(plot_size_distributions(th), dpi=100)
     if images:
         # drawn at about the width of the page's main area on a laptop (900 px): shown unscaled
         out["profiles"] = png(_profiles_figure(th, out["measured"]), dpi=100)

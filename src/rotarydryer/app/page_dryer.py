@@ -150,8 +150,10 @@ def render():
     else:
         c[3].metric("Heat input", show_output("heat_input_W", m["heat_input_W"]),
                     help="no burner in this case: heat put into the gas")
+    sizes = r.get("size_classes")
     tabs = st.tabs(["Temperature and moisture profiles", "Energy balance"]
-                   + ([f"Model and plant data (test {r['measured']['test']})"] if r["measured"] else []))
+                   + ([f"Model and plant data (test {r['measured']['test']})"] if r["measured"] else [])
+                   + (["Particle sizes"] if sizes else []))
     with tabs[0]:
         st.caption("Gas and solids temperature, solids moisture and gas humidity along the dryer"
                    + (f" (squares: measured, test {r['measured']['test']})" if r["measured"] else "")
@@ -179,6 +181,24 @@ def render():
                       f"measured (test {mm['test']})": [show_output(n, v) for n, v in zip(names, plant)]})
             st.caption("Measured: Ajayi (2011) Tables 3.5-3.11 (PI means of the test); the model runs at the "
                        "operating variables in the sidebar.")
+    if sizes:
+        with tabs[-1]:
+            st.caption(plain(f"{len(sizes)} size classes of equal feed mass; product d50 "
+                             f"{show_output('product_d50_m', r['summary']['product_d50_m'])}, dust to the exhaust "
+                             f"{show_output('dust_rate_kg_s', r['summary']['dust_rate_kg_s'])}"))
+            st.table({"class diameter (um)": [f"{x['diameter_m'] * 1e6:.4g}" for x in sizes],
+                      "feed fraction": [f"{x['feed_fraction']:.3g}" for x in sizes],
+                      "product fraction": [f"{x['product_fraction']:.3g}" for x in sizes],
+                      "lost as dust": [f"{100 * x['lost_as_dust']:.3g} %" for x in sizes],
+                      "product moisture": ["-" if x["product_moisture_kg_kg"] is None
+                                           else show_output("product_moisture_kg_kg", x["product_moisture_kg_kg"])
+                                           for x in sizes],
+                      "mean residence time": ["-" if x["mean_residence_time_s"] is None
+                                              else show_output("mean_residence_time_s", x["mean_residence_time_s"])
+                                              for x in sizes]})
+            if r.get("size_plot") is not None:
+                st.image(r["size_plot"], caption="Cumulative size distributions of the feed, the product and the dust; "
+                                                 "each class's product moisture and share lost as dust")
     stem = _stem(case)
     ov = dict(overrides)
     d1, d2, d3 = st.columns(3)

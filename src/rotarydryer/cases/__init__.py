@@ -395,6 +395,8 @@ class OperatingTest(_Strict):
     moisture_profile: Optional[str] = Field(default=None, max_length=200, description="shipped CSV of solids moisture samples along the drum at this test (columns position_m, moisture_kg_per_kg_wet; a bare file name in rotarydryer/data)")
     gas_outlet_temperature: Optional[float] = Field(default=None, gt=-40, lt=1000, description="degC, measured exhaust gas temperature")
     product_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC, measured product temperature (at the plant's sensor: thermal.discharge_cooling_ntu)")
+    product_d50: Optional[float] = Field(default=None, gt=0, le=0.2, description="m, measured mass-median size of the product (a sieve analysis; needs [particle_size])")
+    dust_rate: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s, measured dust carried to the exhaust (a baghouse catch; needs [particle_size])")
     source: str = ""
 
     @field_validator("moisture_profile")
@@ -944,6 +946,8 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             value = None
         elif isinstance(value, str) and key.startswith("material.") and key != "material.name":
             value = _toml_value(value)      # material fields are free-form: read "0.0006" as TOML would
+        elif isinstance(value, str) and value.strip().startswith("[") and value.strip().endswith("]"):
+            value = _toml_value(value)      # a list from the command line ("[1e-4, 2e-4]"), read as TOML
         node = raw
         for part in path:       # copy on write: the parsed document is shared by every load of the text
             nxt = node.get(part)

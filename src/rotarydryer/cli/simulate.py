@@ -91,6 +91,9 @@ def simulate(
         result[key] = result.pop(key)
     result.update({"case": case, "parameters": model.parameters})
     thermal_on = thermal is not None
+    classes = thermal_on and thermal.dryer.n_classes > 1
+    if classes:           # [particle_size]: a row per size class
+        result["size_classes"] = thermal.size_class_table()
     if out is not None:
         from .._io import output_set, save_figure, write_text_atomic
         from ..report.plots import plot_thermal_steady_state
@@ -104,6 +107,11 @@ def simulate(
                 if thermal is not None:
                     files.append(out / "thermal_profiles.png")
                     save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
+                if classes:
+                    from ..thermal.plots import plot_size_distributions
+
+                    files.append(out / "size_distributions.png")
+                    save_figure(plot_size_distributions(thermal, title=case), files[-1], dpi=120)
         except OSError as exc:
             typer.echo(f"error: --out {out}: {exc}", err=True)
             raise typer.Exit(2)
@@ -139,6 +147,10 @@ def simulate(
             ("energy / water balance error", f"{fmt_error(result['energy_balance_error'])} / "
                                               f"{fmt_error(result['water_balance_error'])} (relative)"),
         ]
+        if classes:
+            rows += [("product d50", f"{result['product_d50_m'] * 1e6:.4g} um ({thermal.dryer.n_classes} size classes)"),
+                     ("dust to the exhaust", f"{show_output('dust_rate_kg_s', result['dust_rate_kg_s'])} "
+                                             f"({result['dust_rate_kg_s'] / result['feed_rate_kg_s']:.1%} of the feed)")]
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"
                          if result["fuel_rate_kg_s"] is None else show_output("fuel_rate_kg_s", result["fuel_rate_kg_s"])))

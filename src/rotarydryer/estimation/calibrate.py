@@ -60,9 +60,12 @@ RESPONSES: dict[str, tuple[str, str, str | None]] = {
     "product_moisture": ("product moisture", "kg/kg wet", "product_moisture"),
     "product_temperature": ("product temperature at the plant's sensor", "degC", "product_temperature"),
     "moisture_profile": ("solids moisture along the drum", "kg/kg wet", "moisture_profile"),
+    "product_d50": ("mass-median size of the product", "m", "product_d50"),
+    "dust_rate": ("dust carried to the exhaust (wet)", "kg/s", "dust_rate"),
 }
 _TRANSPORT = ("tracer", "mrt", "holdup")
-_THERMAL = ("gas_outlet_temperature", "product_moisture", "product_temperature", "moisture_profile")
+_THERMAL = ("gas_outlet_temperature", "product_moisture", "product_temperature", "moisture_profile", "product_d50",
+            "dust_rate")
 
 #: measurement standard deviations (the weights 1/sigma^2), chosen for plant data of this kind:
 #: ``("absolute", s)`` in the response's unit or ``("relative", f)`` of the measured value; the
@@ -82,6 +85,10 @@ DEFAULT_SIGMA: dict[str, tuple[str, float]] = {
     "product_temperature": ("absolute", 2.0),
     # oven-dried samples along the stopped drum (Ajayi (2011) l.802-806), as the product's
     "moisture_profile": ("absolute", 0.005),
+    # a sieve analysis of the product: +/- 5 % of its d50
+    "product_d50": ("relative", 0.05),
+    # a baghouse catch weighed over a test: +/- 10 %
+    "dust_rate": ("relative", 0.10),
 }
 
 #: case keys whose values make the model configuration a calibration holds for
@@ -368,7 +375,8 @@ class _Model:
                     continue
                 key = {"gas_outlet_temperature": "gas_outlet_temperature_degC",
                        "product_moisture": "product_moisture_kg_kg",
-                       "product_temperature": "product_temperature_at_sensor_degC"}[m.response]
+                       "product_temperature": "product_temperature_at_sensor_degC",
+                       "product_d50": "product_d50_m", "dust_rate": "dust_rate_kg_s"}[m.response]
                 v = s.get(key, s["product_temperature_degC"] if m.response == "product_temperature" else None)
                 out[m.name] = np.array([float(v)])
         return out

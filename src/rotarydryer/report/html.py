@@ -317,6 +317,34 @@ def _fit_table(results) -> str:
               f'scale {html.escape(str(f.attrs.get("scale")))}; units: the suffix of the parameter name.</p>')
 
 
+def _size_section(results) -> str:
+    """Feed, product and dust size distributions and a row per size class (a case with
+    ``[particle_size]``: `rotarydryer.results.add_thermal`'s ``size_classes`` dataset)."""
+    from ..thermal.plots import plot_size_classes
+
+    ds = results.datasets["size_classes"]
+    sc = results.scalars
+    feed, prod, dust = (np.asarray(ds[k].values, float) for k in ("feed_fraction", "product_fraction", "dust_fraction"))
+    moist = [None if not np.isfinite(v) else float(v) for v in ds["product_moisture"].values]
+    lost = np.asarray(ds["lost_as_dust"].values, float)
+    dia = np.asarray(ds["diameter"].values, float)
+    dust_rate = float(sc.get("dust_rate_kg_s", 0.0))
+    feed_rate = float(sc.get("feed_rate_kg_s", np.nan))
+    cap = (f"particle sizes: {dia.size} classes; product d50 {show_output('product_d50_m', sc.get('product_d50_m'))}, "
+           f"dust to the exhaust {show_output('dust_rate_kg_s', dust_rate)} ({dust_rate / feed_rate:.1%} of the feed)")
+    fig = plot_size_classes(np.asarray(ds["edge"].values, float), dia, feed, prod, dust if dust.sum() > 0 else dust,
+                            moist, lost)
+    rows = [(f"{d * 1e6:.4g}", _fmt(f, 3), _fmt(p, 3), _fmt(100 * lo, 3), "-" if m is None else show(m, "moisture"),
+             show(t, "time")) for d, f, p, lo, m, t in zip(dia, feed, prod, lost, moist, ds["mean_residence_time"].values)]
+    table = _table(("class diameter (um)", "feed fraction", "product fraction", "lost as dust (%)", "product moisture",
+                    "mean residence time"), rows)
+    note = ('<p class="note">Classes of equal feed mass (rotarydryer.properties.psd); each class dries with its own '
+            'area and moves with its own forward step where the transport law is the trajectory step; the gas carries '
+            'a curtain\'s fines away where it is faster than their terminal velocity.</p>')
+    return (f'<section id="particle-sizes"><h2>Particle sizes</h2>{_img(fig, "size distributions", cap)}'
+            f'{table}{note}</section>')
+
+
 def _section_lengths(results):
     sec = results.datasets.get("sections")
     return [] if sec is None else list(zip(sec.section.values, sec.length.values))
@@ -612,6 +640,8 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
         body.append(_transport_sections(results))
     if results is not None and "energy_balance" in results.datasets:
         body.append(_thermal_section(results))
+    if results is not None and "size_classes" in results.datasets:
+        body.append(_size_section(results))
     body.append(_geometry_sections(drums, results))
     if sensitivity is not None:
         body.append(sensitivity_section(sensitivity))

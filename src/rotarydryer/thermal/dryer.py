@@ -395,6 +395,26 @@ class ThermalDryer:
         self._dust_plan = (active, stage_of[active], out_edges, tank_pos[src[out_edges]], np.asarray(u_t, float))
         self._dust_sum = np.zeros((out_edges.size, active.size))
         self._dust_sum[np.arange(out_edges.size), tank_pos[src[out_edges]]] = 1.0
+        self._refuse_all_entrained()
+
+    def _refuse_all_entrained(self):
+        """Refuse, before any solve, a dryer whose gas would carry away at least half of even the coarsest
+        class's curtain in every flighted cell at the slowest the gas can be (its inlet humidity, cooled to
+        the coldest of the feed, the inlet gas and the ambient air): each cascade then loses half of what
+        is left and nothing reaches the discharge (`dust_fraction`)."""
+        s = self.settings
+        t_lo = min(s.solids_inlet_temperature, s.gas_inlet_temperature, s.ambient_temperature)
+        n = self._dust_plan[0].size
+        e = self.dust_fraction(np.full(self.n_gas, t_lo), np.full(self.n_gas, max(self.gas_inlet_Y, 0.0)))
+        if n and float(np.min(e[-1])) >= 0.5:
+            u_t = float(np.max(self._dust_plan[-1][-1]))
+            y = min(max(self.gas_inlet_Y, 0.0), ha.Y_MAX)
+            u_g = self.dry_gas_flow * (1.0 + y) / (float(ha.density(t_lo, y, s.pressure)) * math.pi * self.radius**2)
+            raise DryerError(
+                f"entrainment: at gas.flow = {s.gas_flow:g} kg/s the gas moves at {u_g:.3g} m/s or more, above twice "
+                f"the terminal velocity of the coarsest size class ({self.class_diameter[-1] * 1e6:.0f} um: "
+                f"{u_t:.3g} m/s): the whole feed would leave as dust and nothing is left as a product; lower "
+                "gas.flow or give a coarser particle_size", reason="entrained")
 
     def dust_fraction(self, Tg, Y):
         """Share of each class's curtain the gas carries away as dust, per curtain tank (..., classes,
@@ -969,6 +989,8 @@ class ThermalDryer:
         d._check_shell()
         d._reset_caches()
         d._check_gas_can_dry()
+        if d.dusty:
+            d._layout_dust()         # terminal velocities at the new inlet gas; the up-front refusal
         return d
 
     def _reset_caches(self):

@@ -100,3 +100,61 @@ def plot_schedule_result(result, *, title: str = ""):
         axes[0].set_title(title)
     fig.tight_layout()
     return fig
+
+
+def cumulative_passing(edges, fractions, diameters):
+    """``(sizes m, % passing)`` of classes (edges, masses, medians): the points of
+    `rotarydryer.properties.psd.percentile_diameter`'s curve, for a plot."""
+    e = np.asarray(edges, float)
+    w = np.asarray(fractions, float)
+    total = float(w.sum())
+    if total <= 0:
+        return np.array([]), np.array([])
+    cum = np.concatenate([[0.0], np.cumsum(w) / total])
+    x = np.empty(2 * w.size + 1)
+    y = np.empty_like(x)
+    x[0::2], y[0::2] = e, cum
+    x[1::2], y[1::2] = np.asarray(diameters, float), 0.5 * (cum[:-1] + cum[1:])
+    return x, 100.0 * y
+
+
+def plot_size_distributions(steady, *, title: str = ""):
+    """Feed, product and dust size distributions of a steady state with size classes
+    (`plot_size_classes`)."""
+    dr = steady.dryer
+    rows = steady.size_class_table()
+    d = steady.terms
+    return plot_size_classes(dr.size_classes.edges, dr.size_classes.diameters, dr.class_feed,
+                             np.atleast_1d(d["product_S_c"]), np.atleast_1d(d["dust_S_c"]),
+                             [r["product_moisture_kg_kg"] for r in rows], [r["lost_as_dust"] for r in rows], title=title)
+
+
+def plot_size_classes(edges, diameters, feed, product, dust, moisture, lost, *, title: str = ""):
+    """Feed, product and dust size distributions (cumulative mass % passing against size, log axis;
+    class masses on the feed's class ``edges`` with their median ``diameters``, m) and each class's
+    product moisture (kg/kg wet, None where it has no product) and share lost as dust (-)."""
+    plt = _plt()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
+    for label, w, style in (("feed", feed, "k-"), ("product", product, "b-"), ("dust", dust, "r--")):
+        x, y = cumulative_passing(edges, w, diameters)
+        if x.size:
+            a1.plot(x * 1e6, y, style, label=label)
+    a1.set_xscale("log")
+    a1.set_xlabel("particle size (um)")
+    a1.set_ylabel("cumulative mass passing (%)")
+    a1.set_ylim(0, 100)
+    a1.grid(alpha=0.3, which="both")
+    a1.legend(fontsize=8)
+    dia = np.asarray(diameters, float) * 1e6
+    a2.plot(dia, [np.nan if m is None else 100 * m for m in moisture], "bo-")
+    a2.set_xscale("log")
+    a2.set_xlabel("class diameter (um)")
+    a2.set_ylabel("product moisture (% wet)", color="b")
+    a3 = a2.twinx()
+    a3.plot(dia, 100 * np.asarray(lost, float), "rs--")
+    a3.set_ylabel("lost as dust (% of the class)", color="r")
+    a3.set_ylim(-2, 102)
+    a2.grid(alpha=0.3, which="both")
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return fig

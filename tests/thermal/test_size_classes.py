@@ -1,0 +1,213 @@
+"""Particle size classes through the whole dryer (issue 33): one class is today's model, splitting a
+class changes nothing, the balances close per class, and the sand dryer's dust, residence times and
+moistures order as the physics says."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from rotarydryer import Simulation
+from rotarydryer.cli import app
+from rotarydryer.properties import psd
+from rotarydryer.thermal.dryer import ThermalDryer
+from rotarydryer.thermal.states import EntrainmentWarning
+
+SHIPPED = [("ajayi2011_mmg", {"operating.test": 4}), ("lee2008_invicta", {}), ("song2003_ottawa", {})]
+SAND = {"particle_size.dataset": "lee2008_fine_river_sand", "particle_size.classes": 5}
+
+
+def _with_classes(d, classes, entrainment=True):
+    s = dataclasses.replace(d.settings, size_classes=classes, entrainment=entrainment)
+    return ThermalDryer(d.model, material=d.material, feed_rate=d.feed_rate, feed_moisture=d.feed_moisture, rpm=d.rpm,
+                        radius=d.radius, sections=d.section_thermal, settings=s)
+
+
+@pytest.mark.parametrize("case, ov", SHIPPED)
+def test_one_class_of_the_material_is_the_model_without_classes(case, ov):
+    """The default (no [particle_size]) and one explicit class of the material's diameter: the same
+    steady state, bit for bit (the acceptance's 1e-10 with margin)."""
+    d = Simulation(case, ov).thermal_dryer()
+    one = _with_classes(d, psd.single_class(d.material.particle_diameter))
+    a, b = d.steady_state(), one.steady_state()
+    assert d.n_classes == one.n_classes == 1 and not one.dusty
+    np.testing.assert_array_equal(a.state, b.state)
+
+
+@pytest.mark.parametrize("case, ov", SHIPPED)
+def test_splitting_a_class_into_several_of_its_size_changes_nothing(case, ov):
+    d = Simulation(case, ov).thermal_dryer()
+    dp = d.material.particle_diameter
+    three = _with_classes(d, psd.SizeClasses((dp, dp, dp), (0.2, 0.3, 0.5), (dp,) * 4))
+    a, b = d.steady_state().summary(False), three.steady_state().summary(False)
+    for key in ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC", "total_holdup_kg",
+                "evaporation_kg_s", "shell_heat_loss_W", "mean_residence_time_s"):
+        assert b[key] == pytest.approx(a[key], rel=1e-10, abs=1e-12), key
+    assert b["dust_rate_kg_s"] == 0.0          # the material's size: slower to fall than the gas nowhere here
+
+
+def _sand(**ov):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return Simulation("song2003_ottawa", {**SAND, **ov}).steady_state()
+
+
+@pytest.mark.parametrize("gas", [0.03, 0.07])
+def test_balances_close_per_class_and_in_total(gas):
+    r = _sand(**{"gas.flow": gas})
+    th, s = r.thermal, r.summary()
+    for k in ("energy_balance_error", "water_balance_error", "solids_balance_error", "mass_balance_error"):
+        assert s[k] < 1e-9, k
+    d, dr = th.terms, th.dryer
+    fS = dr.feed_rate * (1 - dr.feed_moisture) * dr.class_feed
+    fW = dr.feed_rate * dr.feed_moisture * dr.class_feed
+    evap = d["rw_c"].sum(axis=-1)
+    np.testing.assert_allclose(d["product_S_c"] + d["dust_S_c"], fS, rtol=1e-9)
+    np.testing.assert_allclose(d["product_W_c"] + d["dust_W_c"] + evap, fW, rtol=1e-8, atol=1e-12 * dr.feed_rate)
+    assert s["dust_rate_kg_s"] == pytest.approx(float(d["dust_S_c"].sum() + d["dust_W_c"].sum()), rel=1e-12)
+
+
+def test_dust_rises_from_zero_once_the_finest_class_is_lifted():
+    """Rising gas flow through Song's pilot drum with Lee's fine river sand: no dust while the gas is
+    slower than the finest class's terminal velocity everywhere, then a dust rate that rises
+    monotonically with the gas flow."""
+    rates, lifted = [], []
+    for g in (0.01, 0.03, 0.045, 0.06, 0.08, 0.1):
+        th = _sand(**{"gas.flow": g}).thermal
+        e = th.dryer.dust_fraction(th.terms["Tg"], th.terms["Y"])        # (classes, curtains)
+        lifted.append(bool(np.any(e[0] > 0)))
+        rates.append(th.summary(False)["dust_rate_kg_s"])
+    assert rates[0] == 0.0 and not lifted[0] and lifted[-1]
+    for a, b, up in zip(rates[:-1], rates[1:], lifted[1:]):
+        assert b >= a and (b > 0) == up
+
+
+@pytest.mark.parametrize("direction, fines_faster", [("co-current", True), ("counter-current", False)])
+def test_fines_residence_time_against_the_coarse_by_gas_direction(direction, fines_faster):
+    rows = _sand(**{"gas.flow": 0.03, "gas.direction": direction}).thermal.size_class_table()
+    mrt = [r["rtd_mean_s"] for r in rows]
+    assert all(r["lost_as_dust"] == 0.0 for r in rows)
+    if fines_faster:
+        assert all(a < b for a, b in zip(mrt[:-1], mrt[1:]))
+    else:
+        assert all(a > b for a, b in zip(mrt[:-1], mrt[1:]))
+
+
+def test_fines_dry_more_than_the_coarse():
+    rows = _sand(**{"gas.flow": 0.03}).thermal.size_class_table()
+    moist = [r["product_moisture_kg_kg"] for r in rows]
+    assert all(a < b for a, b in zip(moist[:-1], moist[1:]))
+
+
+def test_product_d50_rises_as_the_fines_leave():
+    d50 = [_sand(**{"gas.flow": g}).summary()["product_d50_m"] for g in (0.03, 0.08)]
+    feed = psd.median_diameter(*(lambda c: (c.edges, c.fractions, c.diameters))(
+        Simulation("song2003_ottawa", SAND).dryer().size_classes))
+    assert d50[0] == pytest.approx(feed, rel=0.02) and d50[1] > d50[0]
+
+
+def test_entrainment_warns_then_refuses():
+    with pytest.warns(EntrainmentWarning, match="of the feed leaves as dust"):
+        Simulation("song2003_ottawa", {**SAND, "gas.flow": 0.182}).steady_state()
+    with pytest.raises(ValueError, match="nothing is left as a product"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            Simulation("song2003_ottawa", {"particle_size.distribution": "rosin_rammler", "particle_size.d63": 60e-6,
+                                           "particle_size.spread": 4.0, "gas.flow": 0.2}).steady_state()
+
+
+# ----------------------------------------------------------------------------- PSD input
+@settings(max_examples=40, deadline=None)
+@given(st.floats(1e-5, 0.05), st.floats(0.5, 6.0), st.integers(1, 12))
+def test_rosin_rammler_classes_are_equal_mass_and_ordered(d63, n, k):
+    c = psd.rosin_rammler(d63, n, k)
+    assert c.n == k and sum(c.fractions) == pytest.approx(1.0)
+    e, d = np.array(c.edges), np.array(c.diameters)
+    assert np.all(np.diff(e) > 0) and np.all((d > e[:-1]) & (d < e[1:]))
+    assert psd.median_diameter(c.edges, c.fractions, c.diameters) == pytest.approx(
+        d63 * np.log(2.0) ** (1.0 / n), rel=1e-9 if k % 2 == 0 else 0.6)
+
+
+def test_lee_fine_river_sand_classes():
+    """Lee (2008) Table 5.3: 15.4 % passes 150 um and 73.5 % passes 300 um: the d50 lies between."""
+    d = Simulation("song2003_ottawa", SAND).dryer()
+    c = d.size_classes
+    assert c.n == 5 and 150e-6 < psd.median_diameter(c.edges, c.fractions, c.diameters) < 300e-6
+    assert "Lee (2008) Table 5.3" in c.source
+
+
+@pytest.mark.parametrize("ov, match", [
+    ({"particle_size.sieve_m": [1e-4, 2e-4], "particle_size.passing_pct": [40, 90]}, "must reach 100 %"),
+    ({"particle_size.sieve_m": [1e-4, 2e-4, 3e-4], "particle_size.passing_pct": [40, 30, 100]}, "does not decrease"),
+    ({"particle_size.sieve_m": [-1e-4, 2e-4], "particle_size.passing_pct": [40, 100]}, "finite size > 0"),
+    ({"particle_size.dataset": "lee2008_fine_river_sand", "particle_size.classes": 50}, r"particle_size.classes"),
+    ({"particle_size.distribution": "rosin_rammler", "particle_size.d63": 0.05, "particle_size.spread": 3.0},
+     "flights' pocket"),
+    ({"particle_size.distribution": "lognormal", "particle_size.d50": 1e-4}, "needs particle_size.sigma_g"),
+    ({"particle_size.dataset": "beach_sand"}, "is not one of"),
+])
+def test_bad_size_distributions_name_the_key(ov, match):
+    with pytest.raises(ValueError, match=match):
+        Simulation("song2003_ottawa", ov).thermal_dryer()
+
+
+def test_bad_size_distribution_on_the_command_line():
+    r = CliRunner().invoke(app, ["simulate", "song2003_ottawa", "--set", "particle_size.sieve_m=[1e-4,2e-4]",
+                                 "--set", "particle_size.passing_pct=[40,90]", "--json"])
+    assert r.exit_code == 2 and "must reach 100 %" in r.output and "Traceback" not in r.output
+
+
+# ----------------------------------------------------------------------------- surfaces
+def test_simulate_json_and_figure(tmp_path):
+    r = CliRunner().invoke(app, ["simulate", "song2003_ottawa", "--set", "particle_size.dataset=lee2008_fine_river_sand",
+                                 "--set", "gas.flow=0.06", "--json", "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    data = json.loads(r.stdout)
+    rows = data["size_classes"]
+    assert len(rows) == 5 and rows[0]["lost_as_dust"] > 0 and data["dust_rate_kg_s"] > 0
+    assert sum(x["product_fraction"] for x in rows) == pytest.approx(1.0)
+    assert (tmp_path / "size_distributions.png").is_file()
+    plain = json.loads(CliRunner().invoke(app, ["simulate", "song2003_ottawa", "--json"]).stdout)
+    assert "size_classes" not in plain and plain["dust_rate_kg_s"] == 0.0
+
+
+def test_results_file_has_a_size_class_dimension(tmp_path):
+    from rotarydryer.results import Results
+    from rotarydryer.simulation import run_case
+
+    res = run_case("song2003_ottawa", {**SAND, "gas.flow": 0.06})
+    path = tmp_path / "r.nc"
+    res.save(path)
+    back = Results.load(path)
+    ds = back.datasets["size_classes"]
+    assert ds.sizes["size_class"] == 5 and ds["holdup"].dims == ("size_class", "node")
+    assert back.scalars["product_d50_m"] == pytest.approx(res.scalars["product_d50_m"])
+
+
+def test_calibration_fits_the_gas_flow_to_a_measured_dust_rate_and_product_d50(tmp_path):
+    """A case with size classes and a [[tests]] row that measured the dust and the product's d50: the
+    calibration finds the gas flow that made them (synthetic data from gas.flow = 0.07 kg/s)."""
+    from importlib import resources
+
+    from rotarydryer.estimation.calibrate import calibrate
+
+    truth = _sand(**{"gas.flow": 0.07}).summary()
+    src = (resources.files("rotarydryer.cases") / "song2003_ottawa.toml").read_text("utf-8")
+    row = "[[tests]]\ntest = 0\n"
+    assert src.count(row) == 1
+    measured = f"dust_rate = {truth['dust_rate_kg_s']!r}\nproduct_d50 = {truth['product_d50_m']!r}\n"
+    case = tmp_path / "sand.toml"
+    case.write_text(src.replace(row, row + measured) + '\n[particle_size]\ndataset = "lee2008_fine_river_sand"\n'
+                    "classes = 5\n", encoding="utf-8")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate(str(case), ["gas.flow"], tests=[0], responses=["dust_rate", "product_d50"],
+                        base_overrides={"gas.flow": 0.06})
+    assert cal.fit.parameters["gas.flow"].value == pytest.approx(0.07, rel=0.01)
