@@ -393,6 +393,15 @@ class ThermalDryer:
         dp = self.class_dp[:, stage_of[active]]                    # (classes, curtains)
         u_t = terminal_velocity(dp, s.particle_density, rho_g, mu_g)
         self._dust_plan = (active, stage_of[active], out_edges, tank_pos[src[out_edges]], np.asarray(u_t, float))
+        # the gas's free cross-section at each curtain: the drum's less the solids of its section (bed, flights
+        # and curtains at the transport start, at the feed's bulk density, per metre of the section; a choice:
+        # the mean over the section, fixed by the layout)
+        vol = self._transport_start() / float(self.material.bulk_density(self.feed_moisture))
+        drum = math.pi * self.radius**2
+        length = {sec["name"]: float(sec["length"]) for sec in self.model.sections}
+        solids = {sec: float(vol[self.tank_section == sec].sum()) / length[sec] for sec in set(self.tank_section[active])}
+        self._dust_area = np.array([max(drum - solids[sec], 0.5 * drum) for sec in self.tank_section[active]])
+        self._dust_edges = {}        # id(src) -> (src, src + dust sources, dst + dust edges)
         self._dust_sum = np.zeros((out_edges.size, active.size))
         self._dust_sum[np.arange(out_edges.size), tank_pos[src[out_edges]]] = 1.0
         self._refuse_all_entrained()
@@ -409,7 +418,7 @@ class ThermalDryer:
         if n and float(np.min(e[-1])) >= 0.5:
             u_t = float(np.max(self._dust_plan[-1][-1]))
             y = min(max(self.gas_inlet_Y, 0.0), ha.Y_MAX)
-            u_g = self.dry_gas_flow * (1.0 + y) / (float(ha.density(t_lo, y, s.pressure)) * math.pi * self.radius**2)
+            u_g = self.dry_gas_flow * (1.0 + y) / (float(ha.density(t_lo, y, s.pressure)) * float(self._dust_area.max()))
             raise DryerError(
                 f"entrainment: at gas.flow = {s.gas_flow:g} kg/s the gas moves at {u_g:.3g} m/s or more, above twice "
                 f"the terminal velocity of the coarsest size class ({self.class_diameter[-1] * 1e6:.0f} um: "
@@ -418,7 +427,8 @@ class ThermalDryer:
 
     def dust_fraction(self, Tg, Y):
         """Share of each class's curtain the gas carries away as dust, per curtain tank (..., classes,
-        curtains): 0 where the local superficial gas velocity u_g is at most the class's terminal velocity
+        curtains): 0 where the local gas velocity u_g (through the free cross-section, `_layout_dust`) is at
+        most the class's terminal velocity
         u_t (the elutriation criterion: a particle is carried when the gas is faster than it settles,
         Kunii & Levenspiel (1991) Ch. 7), then s^2/(1 + s^2) with s = u_g/u_t - 1: smooth at u_t (the
         Newton solver's Jacobian is continuous), a half at twice u_t, all of it as u_g >> u_t (a choice:
@@ -428,7 +438,7 @@ class ThermalDryer:
         s = self.settings
         tg = np.clip(Tg[..., stages], ha.T_MIN_C, ha.T_MAX_C)
         y = np.clip(Y[..., stages], 0.0, ha.Y_MAX)
-        u_g = self.dry_gas_flow * (1.0 + y) / (ha.density(tg, y, s.pressure) * math.pi * self.radius**2)
+        u_g = self.dry_gas_flow * (1.0 + y) / (ha.density(tg, y, s.pressure) * self._dust_area)
         x = np.maximum(u_g[..., None, :] / u_t - 1.0, 0.0) ** 2
         return x / (1.0 + x)
 
@@ -441,8 +451,11 @@ class ThermalDryer:
         lost = F[..., out_edges] * e[..., pos]
         F[..., out_edges] -= lost
         dust = lost @ self._dust_sum                                  # per curtain: the sum of its edges' losses
-        return (np.concatenate([src, active]), np.concatenate([dst, np.full(active.size, -3)]),
-                np.concatenate([F, dust], axis=-1))
+        hit = self._dust_edges.get(id(src))
+        if hit is None or hit[0] is not src:       # the same arrays every call: `_flat_index` caches by them
+            hit = self._dust_edges[id(src)] = (src, np.concatenate([src, active]),
+                                                np.concatenate([dst, np.full(active.size, -3)]))
+        return hit[1], hit[2], np.concatenate([F, dust], axis=-1)
 
     # ------------------------------------------------------------------ state helpers
     def split_classes(self, z):
@@ -1164,12 +1177,11 @@ class ThermalDryer:
                                np.full(ng, 0.05)])
 
     # ------------------------------------------------------------------ initial guess
-    def initial_state(self):
-        """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
-        s = self.settings
+    def _transport_start(self):
+        """The transport model's steady holdups per tank at this dryer's feed rate, kg: the network's own
+        steady state (its coefficients are fixed), solved once for every dryer on it (a study's or a
+        sweep's runs share the network, ThermalDryer.with_parameters)."""
         net = self.model.network
-        # the network's own steady state (its coefficients are fixed): one solve for every dryer on it
-        # (a study's or a sweep's runs share the network, ThermalDryer.with_parameters)
         start = getattr(net, "_thermal_start", None)
         if start is None:
             try:
@@ -1178,7 +1190,12 @@ class ThermalDryer:
                 raise DryerError(f"no transport steady state for the start: {exc}", reason="no_steady_state") from exc
             start.setflags(write=False)
             net._thermal_start = start
-        m = start * (self.feed_rate / max(self.model.feed_rate, 1e-300))
+        return start * (self.feed_rate / max(self.model.feed_rate, 1e-300))
+
+    def initial_state(self):
+        """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
+        s = self.settings
+        m = self._transport_start()
         x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04,
                                                                                0.5 * self.feed_moisture)])
         S = np.maximum(m * (1 - x), 1e-6 * self.feed_rate)

@@ -155,6 +155,19 @@ def plot_size_classes(edges, diameters, feed, product, dust, moisture, lost, *, 
     a3.set_ylabel("lost as dust (% of the class)", color="r")
     a3.set_ylim(-2, 102)
     a2.grid(alpha=0.3, which="both")
+    for ax in (a1, a2):
+        plain_log_ticks(ax)
     if title:
         fig.suptitle(title, fontsize=10)
     return fig
+
+
+def plain_log_ticks(ax) -> None:
+    """Label a log x axis with plain numbers (150, 200, 300) rather than powers of ten; the minor
+    ticks only where the axis spans less than a decade (call after plotting)."""
+    from matplotlib.ticker import FuncFormatter, NullFormatter
+
+    fmt = FuncFormatter(lambda v, _pos: f"{v:g}")
+    lo, hi = ax.get_xlim()
+    ax.xaxis.set_major_formatter(fmt)
+    ax.xaxis.set_minor_formatter(fmt if 0 < lo and hi < 10 * lo else NullFormatter())
