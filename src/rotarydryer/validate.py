@@ -72,6 +72,8 @@ DERIVED_QUANTITIES = {
     "product_moisture": "kg/kg",      # wet basis
     "gas_outlet_temperature": "degC",
     "product_temperature": "degC",
+    "product_d50": "m",               # mass-median diameter of the product (a case with [particle_size])
+    "dust_rate": "kg/s",              # solids and water carried to the exhaust (a case with [particle_size])
     "energy_balance_error": "-",      # relative error of the coupled steady state
 }
 
@@ -84,11 +86,13 @@ _DERIVED_TEXT = {
     "product_moisture": "product moisture (wet basis)",
     "gas_outlet_temperature": "gas outlet temperature",
     "product_temperature": "product temperature",
+    "product_d50": "product d50 (mass median diameter)",
+    "dust_rate": "dust rate to the exhaust",
     "energy_balance_error": "energy balance error of the coupled steady state",
 }
 
 _THERMAL_FIELDS = {"product_moisture": "product_moisture", "gas_outlet_temperature": "gas_outlet_temperature",
-                   "product_temperature": "product_temperature"}
+                   "product_temperature": "product_temperature", "product_d50": "product_d50", "dust_rate": "dust_rate"}
 
 
 # ---------------------------------------------------------------------------------- data file
@@ -716,6 +720,10 @@ def _derived_items(ctx: _Context, case: str, loaded, shipped: bool) -> list[Vali
                 sensor = loaded.thermal.discharge_cooling_ntu > 0
                 add(prefix, "product_temperature", measured["product_temperature"], product_t, ov, run,
                     where + (" (at the sensor)" if sensor else " (at the drum outlet)"))
+            for key, out_key in (("product_d50", "product_d50_m"), ("dust_rate", "dust_rate_kg_s")):
+                if key in measured:
+                    add(prefix, key, measured[key],
+                        lambda r=run, k=out_key, t=_DERIVED_TEXT[key]: _need(r.summary().get(k), t), ov, run, where)
             add(prefix, "energy_balance_error", None,
                 lambda r=run: _need(r.summary().get("energy_balance_error"), "energy balance error"), ov, run, where)
     if not loaded.tests and has_curve:
