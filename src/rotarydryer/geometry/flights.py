@@ -209,7 +209,9 @@ class PolygonFlight:
     A polyline that does not start at the root (open: it does not close the pocket against the wall),
     that crosses itself, or whose sections are not > 0 long raises ``ValueError`` naming the key,
     the value and the allowed range. Whether it fits a drum (inside the shell, not past the axis,
-    clear of the next flight) is checked by [`FlightedDrum`][rotarydryer.geometry.drum.FlightedDrum].
+    clear of the next flight, a pocket the tip sees whole: its last bend not bent backwards) is checked
+    by [`FlightedDrum`][rotarydryer.geometry.drum.FlightedDrum]; a bend of 180 deg is no bend there (the
+    flight holds exactly what the merged section holds).
 
     Examples
     --------

@@ -30,6 +30,15 @@ Eq. 4.9: discharge starts), zero once it lies along the flight's last section (p
 final discharge angle; from there on, as in Lee's model, empty: refilling at the bottom is not part
 of it) and smooth between the angles at which the surface passes a vertex of the pocket (the
 *events*; psi1-psi5 for a two-section flight).
+
+Every accepted pocket is seen whole from the tip between psi1 and psi5 (else the held area would jump
+somewhere: a hidden corner, a last bend bent backwards, a pocket reaching past the tip chord; refused),
+so its boundary, from the next flight's tip ``T'`` round to this flight's last bend, turns one way about
+the tip: the element (edge or arc) the surface meets at ``x`` is the one whose angular span holds ``x``
+(a search in the sorted events). No intersection is tested against an edge's ends, which is
+ill-conditioned where the surface grazes a nearly straight bend or an edge seen end-on. Straight bends
+(interior angle within ``_STRAIGHT_TOL`` of 180 deg) are merged first: a polyline with a straight bend
+is the pocket of the merged section, with the same holdup, slope and events.
 """
 
 from __future__ import annotations
@@ -48,6 +57,9 @@ _DEG = math.pi / 180.0
 #: largest jump of the held area at an event, fraction of a full flight (a corner of the pocket
 #: hiding part of it from the tip: the area would jump)
 _JUMP_TOL = 1e-9
+#: a bend whose interior angle is within this of 180 deg (deg) is straight: its two sections are merged
+#: (moving the bend onto the merged section changes the pocket by < 1e-10 of its area)
+_STRAIGHT_TOL = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,7 +69,9 @@ class PocketGeometry:
     ``off1``..``off5`` are offsets of the root angle from the repose angle (``psi = phi + off``): discharge
     starts (``off1``), the surface passes the next flight's last bend (``off2``), the next flight's root
     (``off3``), this flight's root (``off4``), and the flight is empty (``off5``). ``breaks`` holds every
-    event from ``off1`` to ``off5``; the area is smooth between neighbouring breaks."""
+    event from ``off1`` to ``off5``; the area is smooth between neighbouring breaks. ``bounds`` are the
+    events of the boundary's vertices in traversal order (non-decreasing, ``off1`` to ``off5``): element
+    ``i`` (edge or arc) is the one the surface meets for ``bounds[i] <= x < bounds[i + 1]``."""
 
     R: float
     RF: float
@@ -81,11 +95,23 @@ class PocketGeometry:
     arc_whole: float = 0.0                       # Green integral of the whole arc (root' to root)
     orient: float = 1.0                          # +1: the boundary runs anticlockwise
     beta: float = 0.0                            # arc span, rad (root' at a = beta back to root at a = 0)
+    bounds: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))   # element spans, deg
 
 
 def _flight_points(flight: PolygonFlight, R: float, psi_deg: float) -> np.ndarray:
     """Vertices of ``flight`` with its root at ``psi`` (deg), drum frame (m)."""
-    v = flight.vertices
+    return _placed(flight.vertices, R, psi_deg)
+
+
+def _corners(flight: PolygonFlight) -> np.ndarray:
+    """The flight's vertices without its straight bends (interior angle within ``_STRAIGHT_TOL`` of 180
+    deg): the root, the real bends and the tip, flight frame (m)."""
+    keep = np.abs(flight.angles[1:] - 180.0) > _STRAIGHT_TOL
+    return flight.vertices[np.concatenate([[True], keep, [True]])]
+
+
+def _placed(v: np.ndarray, R: float, psi_deg: float) -> np.ndarray:
+    """Flight-frame points ``v`` (m) with the root at ``psi`` (deg), drum frame (m)."""
     p = math.radians(psi_deg)
     c, s = math.cos(p), math.sin(p)
     x, y = v[:, 0], v[:, 1] - R
@@ -95,19 +121,20 @@ def _flight_points(flight: PolygonFlight, R: float, psi_deg: float) -> np.ndarra
 def pocket_geometry(radius: float, n_flights: int, flight: PolygonFlight) -> PocketGeometry:
     """The [`PocketGeometry`][rotarydryer.geometry.polygon.PocketGeometry] of ``n_flights`` flights of shape ``flight`` in a drum of
     ``radius`` (m). Raises ``ValueError`` (naming the flight key, the value and the allowed range) for a
-    flight that leaves the drum or reaches past its axis, overlaps its neighbours, or whose pocket
-    hides a corner from its tip (the held area would jump)."""
+    flight that leaves the drum or reaches past its axis, overlaps its neighbours, or whose pocket the
+    tip does not see whole (a hidden corner, a last bend bent backwards, a pocket reaching past the tip
+    chord: the held area would jump). Straight bends are merged (`_corners`)."""
     R = float(radius)
     N = int(n_flights)
     key = flight.key
     psi_fl = 360.0 / N                                   # Lee (2008) Eq. 4.5
-    local = flight.vertices
+    local = _corners(flight)                             # straight bends merged
     if np.any(local[1:, 1] >= R):
         k = int(np.argmax(local[1:, 1] >= R)) + 1
         raise ValueError(f"{key}: vertex {k} of the flight is {fmt_number(local[k, 1])} m from the wall along the radius "
                          f"through the root; the allowed range is below radius = {fmt_number(R)} m (a flight must not "
                          "reach past the drum centre)")
-    here = _flight_points(flight, R, 0.0)
+    here = _placed(local, R, 0.0)
     r = np.hypot(here[:, 0], here[:, 1])
     if np.any(r[1:] >= R * (1.0 - 1e-12)):
         k = int(np.argmax(r[1:] >= R * (1.0 - 1e-12))) + 1
@@ -117,8 +144,8 @@ def pocket_geometry(radius: float, n_flights: int, flight: PolygonFlight) -> Poc
     T = here[-1]
     RF = float(np.hypot(*T))
     psi_ft = math.degrees(math.atan2(T[0], -T[1]))     # Lee (2008) Eq. 4.7 (the tip's lead)
-    _check_neighbours(flight, R, N, here, key)
-    nxt = _flight_points(flight, R, psi_fl)
+    _check_neighbours(flight, R, N, _flight_points(flight, R, 0.0), key)
+    nxt = _placed(local, R, psi_fl)
     # the pocket's chain: root -> ... -> T -> T' -> ... -> root' (then the shell arc back to the root)
     chain = np.vstack([here, nxt[::-1]])
     _check_chain(chain, key)
@@ -162,9 +189,21 @@ def pocket_geometry(radius: float, n_flights: int, flight: PolygonFlight) -> Poc
     inner = np.sort(events[(events > off1 + 1e-9) & (events < off5 - 1e-9)])
     inner = inner[np.concatenate([[True], np.diff(inner) > 1e-9])] if inner.size else inner
     last_bend_next = nxt[-2] if len(nxt) > 2 else nxt[-1]    # a straight flight: its tip
+    # the event of each vertex of the boundary in traversal order (T', the next flight, root', root, this
+    # flight to its last bend), followed continuously along it from off1: a straight edge turns the surface
+    # by the angle it subtends at the tip (signed, < 180 deg), the arc clockwise round the tip. Seen whole
+    # from the tip they rise from off1 to off5 (_check_visible); each element's span runs from one to the
+    # next (rounding evened out: clipped to [off1, off5], non-decreasing)
+    V = np.vstack([nxt[::-1], here[:-1]]) - T
+    turn = -np.degrees(np.arctan2(V[:-1, 0] * V[1:, 1] - V[:-1, 1] * V[1:, 0],
+                                  V[:-1, 0] * V[1:, 0] + V[:-1, 1] * V[1:, 1]))
+    turn[n_next] = (event(here[0]) - event(nxt[0])) % 360.0        # the arc, root' -> root
+    ev = off1 + np.concatenate([[0.0], np.cumsum(turn)])
+    bounds = np.maximum.accumulate(np.clip(ev, off1, off5))
+    bounds[0], bounds[-1] = off1, off5
     geom = _replace(geom, off2=min(event(last_bend_next), off5), off3=min(event(nxt[0]), off5),
-                    off4=min(event(here[0]), off5), breaks=(off1, *inner.tolist(), off5))
-    _check_continuous(geom, key)
+                    off4=min(event(here[0]), off5), breaks=(off1, *inner.tolist(), off5), bounds=bounds)
+    _check_visible(geom, ev, flight)
     return geom
 
 
@@ -209,18 +248,44 @@ def _replace(g: PocketGeometry, **kw) -> PocketGeometry:
     return PocketGeometry(**d)
 
 
-def _check_continuous(geom: PocketGeometry, key: str) -> None:
-    """Refuse a pocket with a corner the tip cannot see past (a hook): as the surface passes it the held
-    area would jump, which the surface-through-the-tip model does not describe."""
-    inner = np.asarray(geom.breaks[1:-1])
-    if inner.size == 0:
-        return
-    eps = 1e-7
-    a_lo, s_lo = area_and_slope(geom, inner - eps)
-    a_hi, s_hi = area_and_slope(geom, inner + eps)
-    jump = np.abs(a_hi - a_lo - (s_lo + s_hi) * eps) > _JUMP_TOL * geom.full_area
-    if jump.any():
-        at = float(inner[int(np.argmax(jump))])
+def _check_visible(geom: PocketGeometry, ev: np.ndarray, flight: PolygonFlight) -> None:
+    """Refuse a pocket the tip cannot see whole, in order, from the start of discharge to psi5: somewhere the
+    held area would jump, which the surface-through-the-tip model does not describe. ``ev`` are the events
+    of the boundary's vertices in traversal order, followed continuously from the next flight's tip ``T'``
+    (``off1``) to the last bend (``off5``); they must rise from one to the other (module docstring):
+
+    * an event before ``off1``: the pocket reaches past the chord through the two tips (the next flight's
+      tip is a reflex corner of it); the part beyond would be lost the moment discharge starts;
+    * an event after ``off5``: the last section is bent backwards (or a corner hides part of the pocket):
+      the solids behind it would still be held when the surface lies along it and vanish at psi5;
+    * an event going back: a corner hides part of the pocket from the tip (a hook).
+
+    "Before", "after" and "back" by more than ``tol``: the area such a turn could hide, ``(2R)^2/2`` per
+    radian, below ``_JUMP_TOL`` of a full flight."""
+    key = flight.key
+    tol = math.degrees(_JUMP_TOL * geom.full_area / (2.0 * geom.R * geom.R))
+    off1, off5 = geom.off1, geom.off5
+    if np.any(ev < off1 - tol):
+        lost = 1.0 - float(area_and_slope(geom, [off1 + 1e-7], slope=False)[0][0]) / geom.full_area
+        raise ValueError(f"{key}: the flight pocket reaches past the chord through the two flight tips (seen from "
+                         f"the tip a corner of it lies {off1 - float(np.min(ev)):.3g} deg beyond the chord; the "
+                         f"allowed range is 0 deg: on the chord or inside it): as discharge starts (psi - phi = "
+                         f"{off1:.4g} deg) the held area would jump by {lost:.2g} of a full flight, which Lee's model "
+                         "(full up to the tip chord, Eq. 4.8) does not describe; use a shorter flight or a base angle "
+                         "closer to 90 deg")
+    bends = np.nonzero(np.abs(flight.angles[1:] - 180.0) > _STRAIGHT_TOL)[0] + 1
+    if np.any(ev > off5 + tol) and bends.size and flight.angles[bends[-1]] > 180.0:
+        k = int(bends[-1])
+        held = float(area_and_slope(geom, [off5 - 1e-7], slope=False)[0][0]) / geom.full_area
+        a = fmt_number(flight.angles[k])
+        name = f"{key}[{k}].angle = {a} deg" if "segments" in key else f"the interior angle {a} deg at {key}[{k}]"
+        raise ValueError(f"{key}: {name} bends the flight's last section backwards; the allowed range of the last "
+                         f"bend is (0, 180] deg: the solids behind it ({held:.2g} of a full flight) would still be held "
+                         f"when the surface through the tip lies along it (psi - phi = {off5:.4g} deg, psi5) and "
+                         "vanish there, which Lee's model (surface through the tip) does not describe")
+    back = np.nonzero(np.diff(ev) < -tol)[0]
+    if back.size or np.any(ev > off5 + tol):
+        at = float(ev[back[0]]) if back.size else off5
         raise ValueError(f"{key}: a corner of the flight pocket hides part of it from the tip (at psi - phi = "
                          f"{at:.4g} deg the surface through the tip passes it and the held area jumps): Lee's model "
                          "(surface through the tip) does not describe a flight with a hook; bend its sections so "
@@ -230,39 +295,37 @@ def _check_continuous(geom: PocketGeometry, key: str) -> None:
 def area_and_slope(g: PocketGeometry, x_deg, slope: bool = True):
     """Held area (m^2) and, with ``slope``, its derivative dA/dx (m^2 per degree) at offsets ``x = psi - phi`` (deg)
     in [off1, off5] (module docstring): the surface from the tip along ``e = (cos x, -sin x)`` (flight frame)
-    to the first point ``H`` of the pocket's boundary, and the Green sum from ``H`` round to ``T``."""
-    x = np.radians(np.asarray(x_deg, dtype=float)).ravel()
+    to the point ``H`` where it meets the element of the pocket's boundary whose span holds ``x``, and the
+    Green sum from ``H`` round to ``T``."""
+    xd = np.asarray(x_deg, dtype=float).ravel()
+    x = np.radians(xd)
     s, c = np.sin(x), np.cos(x)
-    m = x.size
     Tx, Ty = float(g.tip[0]), float(g.tip[1])
     R = g.R
-    # straight edges: the ray T + r e meets p + t D where r = (p x D) / (e x D), t = (p x e) / (e x D)
-    exD = c[:, None] * g.dy + s[:, None] * g.dx
-    pxe = -(g.px * s[:, None]) - g.py * c[:, None]
+    n_elem = g.bounds.size - 1
+    elem = np.clip(np.searchsorted(g.bounds, xd, side="right") - 1, 0, n_elem - 1)
+    on_arc = elem == g.n_next
+    # straight edges: the ray T + r e meets p + t D at t = (p x e) / (e x D); t is clipped to the edge (an
+    # edge seen nearly end-on has p x D ~ 0, so an ill-conditioned t moves the area by at most that)
+    j = np.where(elem < g.n_next, elem, elem - 1)
+    j = np.where(on_arc, 0, j)
+    px, py, dx, dy, k = g.px[j], g.py[j], g.dx[j], g.dy[j], g.k[j]
+    exD = c * dy + s * dx
+    pxe = -(px * s) - py * c
     with np.errstate(divide="ignore", invalid="ignore"):
-        r = g.k / exD
         t = pxe / exD
-    tiny = 1e-12 * R
-    r = np.where((r > tiny) & (t >= -1e-12) & (t <= 1.0 + 1e-12), r, np.inf)
-    j = np.argmin(r, axis=1)
-    rows = np.arange(m)
-    r_edge = r[rows, j]
-    # the shell: |T + r e| = R, the positive root; its root angle must lie on the pocket's arc [0, beta]
-    te = Tx * c - Ty * s
-    r_arc = -te + np.sqrt(te * te + R * R - (Tx * Tx + Ty * Ty))
-    hx, hy = Tx + r_arc * c, Ty - r_arc * s
-    a_h = np.arctan2(hx, -hy)
-    on_arc = (a_h >= -1e-12) & (a_h <= g.beta + 1e-12) & (r_arc < r_edge)
-    t_h = np.clip(t[rows, j], 0.0, 1.0)
-    # element index in the traversal: next-flight edges 0..n_next-1, the arc n_next, then this flight
-    elem = np.where(j < g.n_next, j, j + 1)
-    two_a = (1.0 - t_h) * g.k[j] + g.rest[elem]
+    t = np.where(np.isnan(t), 0.0, np.clip(t, 0.0, 1.0))
+    two_a = (1.0 - t) * k + g.rest[elem]
+    L = np.hypot(px + t * dx, py + t * dy)
     if on_arc.any():
-        a = np.clip(a_h[on_arc], 0.0, g.beta)
-        part = R * R * (0.0 - a) + R * (Tx * (1.0 - np.cos(a)) + Ty * (0.0 - np.sin(a)))
-        two_a[on_arc] = part + g.rest[g.n_next]
+        # the shell: |T + r e| = R, the positive root; its root angle lies on the pocket's arc [0, beta]
+        ca, sa = c[on_arc], s[on_arc]
+        te = Tx * ca - Ty * sa
+        r_arc = -te + np.sqrt(te * te + R * R - (Tx * Tx + Ty * Ty))
+        a = np.clip(np.arctan2(Tx + r_arc * ca, -(Ty - r_arc * sa)), 0.0, g.beta)
+        two_a[on_arc] = R * R * (0.0 - a) + R * (Tx * (1.0 - np.cos(a)) + Ty * (0.0 - np.sin(a))) + g.rest[g.n_next]
+        L[on_arc] = r_arc
     area = (g.orient * 0.5 * two_a).reshape(np.shape(x_deg))
     if not slope:
         return area, None
-    L = np.where(on_arc, r_arc, r_edge)
     return area, (-0.5 * L * L * _DEG).reshape(np.shape(x_deg))
