@@ -211,3 +211,28 @@ def test_calibration_fits_the_gas_flow_to_a_measured_dust_rate_and_product_d50(t
         cal = calibrate(str(case), ["gas.flow"], tests=[0], responses=["dust_rate", "product_d50"],
                         base_overrides={"gas.flow": 0.06})
     assert cal.fit.parameters["gas.flow"].value == pytest.approx(0.07, rel=0.01)
+
+
+def test_validation_compares_a_measured_dust_rate_and_product_d50(tmp_path):
+    """A [[tests]] row with dust_rate and product_d50 gets validation items with their tolerances: the
+    model's own values pass, values 50 % off fail."""
+    from importlib import resources
+
+    from rotarydryer.validate import run_validation
+
+    truth = _sand(**{"gas.flow": 0.07}).summary()
+    src = (resources.files("rotarydryer.cases") / "song2003_ottawa.toml").read_text("utf-8")
+    row = "[[tests]]\ntest = 0\n"
+    for name, factor in (("same", 1.0), ("off", 1.5)):
+        measured = (f"dust_rate = {truth['dust_rate_kg_s'] * factor!r}\nproduct_d50 = "
+                    f"{truth['product_d50_m'] * factor!r}\ngas_flow = 0.07\n")
+        case = tmp_path / f"{name}.toml"
+        case.write_text(src.replace(row, row + measured) + '\n[particle_size]\ndataset = "lee2008_fine_river_sand"\n',
+                        encoding="utf-8")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rep = run_validation([str(case)])
+        items = {i.quantity: i for i in rep.items if i.id.split("/")[1] == "test0"}
+        assert {"dust_rate", "product_d50"} <= set(items)
+        want = "pass" if factor == 1.0 else "fail"
+        assert items["dust_rate"].status == want and items["product_d50"].status == want
