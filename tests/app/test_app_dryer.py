@@ -195,3 +195,17 @@ def test_downloads_hold_the_changed_operating_point():
     res = logic_dryer.results_of("song2003_ottawa", ov)
     ref = logic_dryer.dryer_view("song2003_ottawa", ov, images=False)["summary"]
     assert res.scalars["gas_outlet_temperature_degC"] == pytest.approx(ref["gas_outlet_temperature_degC"], rel=1e-9)
+
+
+def test_uploaded_case_with_size_classes_has_the_particle_sizes_view():
+    """A `rotarydryer new` template with its [particle_size] block uncommented, uploaded: a row per size
+    class (the library's table) and the size-distribution figure for the "Particle sizes" tab."""
+    text = (resources.files("rotarydryer") / "cases" / "templates" / "dryer.toml").read_text("utf-8")
+    for line in ("[particle_size]", "classes = 5", "sieve_m =", "passing_pct ="):
+        text = text.replace("# " + line, line, 1)
+    staged = logic.stage_case_file(text.encode())
+    v = logic_dryer.dryer_view(staged)
+    rows = v["size_classes"]
+    assert len(rows) == 5 and sum(r["feed_fraction"] for r in rows) == pytest.approx(1.0)
+    assert v["summary"]["product_d50_m"] > 0 and v["size_plot"][:8] == b"\x89PNG\r\n\x1a\n"
+    assert "size_classes" not in logic_dryer.dryer_view("song2003_ottawa", images=False)
