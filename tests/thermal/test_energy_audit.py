@@ -209,3 +209,13 @@ def test_hot_dry_solids_at_altitude_stay_below_the_local_boiling_point():
     s = _steady(TEMPLATE, {"site.altitude": 1500.0}).summary()
     assert s0["product_temperature_degC"] > 100.0 and s["product_temperature_degC"] > 100.0
     assert _closure(s) < 1e-9 and s["gas_outlet_dew_point_degC"] < s0["gas_outlet_dew_point_degC"]
+
+
+def test_the_audit_of_an_unconverged_state_still_reads():
+    """The CLI saves a failed solve's last iterate with its summary (rotarydryer simulate --diagnostics):
+    the audit's outputs of any state are numbers, never an exception."""
+    from rotarydryer.thermal.states import ThermalSteadyState
+
+    d = Simulation("ajayi2011_mmg", {"shell.ambient_temperature": -30.0}).dryer()
+    s = ThermalSteadyState(d, d.initial_state()).summary(with_fuel=False)
+    assert math.isfinite(s["heat_release_W"]) and math.isfinite(s["shell_max_wall_temperature_degC"])

@@ -182,7 +182,8 @@ def shell_profile(steady: ThermalSteadyState) -> dict:
                             shell_thickness=dr.shell_thickness, scale_thickness=s.scale_thickness,
                             scale_conductivity=s.scale_conductivity, insulation_thickness=s.insulation_thickness,
                             insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
-                            ambient_humidity=s.ambient_humidity, outer_guess=dr._shell_outer)
+                            ambient_humidity=s.ambient_humidity, outer_guess=dr._shell_outer,
+                            _trusted=True)     # the model's own call (its settings checked once; any gas state)
         surface = np.asarray(r.outer_surface_temperature_c, dtype=float)
         wall = np.asarray(r.inner_surface_temperature_c, dtype=float)
         if s.scale_thickness > 0:       # the steel's inside face lies under the scale layer
