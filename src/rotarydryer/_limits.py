@@ -85,6 +85,10 @@ LIMITS: dict[str, Limit] = {
     "gas.inlet_humidity": _co(0, 0.2, "kg/kg wet gas"),
     "gas.leak_air_flow": _c(0, 1000, "kg/s"),
     "gas.feed_temperature": _co(0, 99, "degC"),
+    "gas.recycle_fraction": _co(0, 1),
+    # site: altitude of the standard atmosphere (rotarydryer.properties.humid_air.standard_atmosphere_pressure),
+    # inside the pressure range of the humid-air properties (50-200 kPa: 5000 m gives 54 kPa)
+    "site.altitude": _c(-500, 5000, "m"),
     # shell
     "shell.ambient_temperature": _o(-40, 60, "degC"),
     "shell.ambient_humidity": _c(0, 0.3, "kg/kg dry air"),
@@ -93,6 +97,7 @@ LIMITS: dict[str, Limit] = {
     "shell.loss_factor": _c(0, 1000),
     "shell.inner_radius": _oc(0, 20, "m"),
     "shell.thickness": _oc(0, 0.5, "m"),
+    "shell.max_temperature": _oc(0, 1500, "degC"),
     # heat-and-mass model
     "thermal.area_scale": _c(0, 100),
     "thermal.design_load_smoothing": _c(0, 0.1),

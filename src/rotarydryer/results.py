@@ -552,9 +552,11 @@ def _numbers(d: dict) -> dict:
 def add_thermal(res: Results, steady) -> Results:
     """Add a coupled heat and mass transfer steady state
     ([`rotarydryer.thermal.dryer.ThermalSteadyState`][rotarydryer.thermal.dryer.ThermalSteadyState]) to ``res``: datasets
-    ``thermal_solids`` (per node: the nodes of ``nodes``, one dimension name), ``thermal_gas`` (per gas stage), ``energy_balance``
-    (streams, W) and the key scalars (product moisture, temperatures, fuel, shell loss,
-    balance errors)."""
+    ``thermal_solids`` (per node: the nodes of ``nodes``, one dimension name), ``thermal_gas`` (per gas stage, with
+    the shell's loss and temperatures), ``energy_balance`` (streams, W), the energy audit's ``heat_duties`` (W;
+    ``part``: the duties that add up to ``heat_release_W``) and ``shell_sections`` (per section: shell loss,
+    hottest surface and wall), and the key scalars (product moisture, temperatures, fuel, shell loss,
+    balance errors, heat duties)."""
     xr = _xr()
     prof = steady.profiles()
     res.datasets["thermal_solids"] = xr.Dataset(
@@ -616,9 +618,45 @@ def add_thermal(res: Results, steady) -> Results:
                     "node": ("node", np.arange(d["Sc"].shape[-1], dtype=np.int64)),
                     "edge": ("edge", np.asarray(steady.dryer.size_classes.edges, float))},
         )
+    from .thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS, shell_sections  # start-up (LAZY)
+
+    # the energy audit (rotarydryer.thermal.audit): the heat duties (they add up to the release) and the shell
+    duties = steady.heat_duties_w()
+    names = ["heat_release_W", *HEAT_DUTY_PARTS, "heat_duty_exhaust_latent_W"]
+    res.datasets["heat_duties"] = xr.Dataset(
+        {
+            "power": _var(np.array([duties[k] for k in names], float), "W", "heat duty", "duty"),
+            "part": _var(np.array([k in HEAT_DUTY_PARTS for k in names]), "-",
+                         "one of the duties that add up to heat_release_W", "duty"),
+            "label": _var(np.array([HEAT_DUTY_LABELS[k] for k in names]), "-", "short label", "duty"),
+        },
+        coords={"duty": ("duty", np.array(names))},
+    )
+    shell = steady.shell_profile()
+    gas = res.datasets["thermal_gas"]
+    gas["shell_loss"] = _var(np.asarray(shell["shell_heat_loss_W"], float), "W", "shell heat loss of the stage", "stage")
+    gas["shell_surface_temperature"] = _var(np.asarray(shell["surface_temperature_degC"], float), "degC",
+                                            "shell outer surface temperature", "stage")
+    gas["shell_wall_temperature"] = _var(np.asarray(shell["wall_temperature_degC"], float), "degC",
+                                         "hottest steel temperature of the shell wall", "stage")
+    rows = shell_sections(steady)
+    res.datasets["shell_sections"] = xr.Dataset(
+        {
+            "length": _var(np.array([r["length_m"] for r in rows], float), "m", "section length", "section"),
+            "shell_loss": _var(np.array([r["shell_heat_loss_W"] for r in rows], float), "W", "shell heat loss",
+                               "section"),
+            "max_surface_temperature": _var(np.array([r["max_surface_temperature_degC"] for r in rows], float),
+                                            "degC", "hottest shell outer surface", "section"),
+            "max_wall_temperature": _var(np.array([r["max_wall_temperature_degC"] for r in rows], float), "degC",
+                                         "hottest steel temperature", "section"),
+        },
+        coords={"section": ("section", np.array([r["section"] for r in rows]))},
+    )
     s = steady.summary(with_fuel=False)
     res.scalars.update(_numbers(s))
     res.model_choices["thermal_mode"] = s["thermal_mode"]
+    if s.get("shell_temperature_limit_exceeded") is not None:     # a flag (the scalars hold numbers only)
+        res.model_choices["shell_temperature_limit_exceeded"] = bool(s["shell_temperature_limit_exceeded"])
     return res
 
 

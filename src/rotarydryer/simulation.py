@@ -42,6 +42,7 @@ from .cases.build import (
     transport_inputs,
 )
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
+from .thermal.audit import shell_sections, warn_shell_limit
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
 from .thermal.schedule import InputSchedule, load_schedule, simulate_schedule
@@ -220,6 +221,7 @@ class Simulation:
             raise
         check_feasible(self.case, thermal.transport_state())
         check_entrainment(thermal)
+        warn_shell_limit(thermal)           # a shell hotter than shell.max_temperature: a warning, not an error
         return SteadyResult(self, None, thermal)
 
     #: width of the smoothed design-load switch of the start model when the coupled Newton chatters
@@ -491,6 +493,7 @@ class SteadyResult:
         out = self.merged(out)
         if self.thermal is not None:      # the transport-only model's total, under its own name
             out["transport_only_total_holdup_kg"] = self.simulation.transport_steady_state().total_holdup
+            out["shell_sections"] = shell_sections(self.thermal)    # the shell's loss and temperatures per section
         return out
 
     def tracer_system(self):

@@ -66,15 +66,21 @@ def test_page_profile_charts_have_a_read_out(at):
     assert "Download the profiles figure (PNG)" in [b.label for b in at.get("download_button")]
 
 
-def test_energy_waterfall_terms_close_the_balance(mmg):
-    terms = mmg["energy_terms_w"]
-    e_in, e_out = sum(terms["in"].values()), sum(terms["out"].values())
-    assert abs(e_in - e_out) / e_in < 1e-6
-    assert abs(e_in - e_out) / e_in == pytest.approx(mmg["summary"]["energy_balance_error"], abs=1e-12)
-    table = mmg["energy_table"]
-    assert table[-1][0].startswith("closure") and abs(table[-1][2]) < 1e-6 * e_in / 1e3
-    assert {t[0] for t in table[:-1]} == {*terms["in"], *terms["out"]}
-    assert sum(t[2] for t in table[:-1] if t[1] == "in") == pytest.approx(e_in / 1e3)
+def test_energy_tab_shows_the_heat_duties(mmg):
+    """Issue 34: the Energy tab shows the energy audit's heat duties (the summary's, in the display unit
+    of power, kW by default; they add up to the release), not enthalpies against a reference."""
+    from rotarydryer.thermal.audit import HEAT_DUTY_PARTS
+
+    s = mmg["summary"]
+    rows = {t["name"]: t for t in mmg["duties"]}
+    assert list(rows) == ["heat_release_W", *HEAT_DUTY_PARTS, "heat_duty_exhaust_latent_W"]
+    for k, t in rows.items():
+        assert t["value"] == pytest.approx(s[k] / 1e3, rel=1e-12), k
+    assert sum(rows[k]["value"] for k in HEAT_DUTY_PARTS) == pytest.approx(rows["heat_release_W"]["value"], rel=1e-9)
+    assert sum(t["share_pct"] for t in mmg["duties"] if t["part"]) == pytest.approx(100.0, rel=1e-9)
+    assert rows["heat_duty_exhaust_latent_W"]["share_pct"] is None and not rows["heat_duty_exhaust_latent_W"]["part"]
+    assert [x["section"] for x in mmg["shell_sections"]] == ["A", "B", "C", "D", "E"]
+    assert "energy_terms_w" not in mmg and "energy_table" not in mmg
 
 
 def test_measured_plant_values_of_the_test(mmg):

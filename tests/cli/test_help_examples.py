@@ -26,7 +26,7 @@ runner = CliRunner()
 _HELP_FILES = ("trip.toml", "moisture.toml", "three_section.toml")
 
 #: commands whose examples take more than a few seconds (the ``slow`` test)
-_SLOW = {("calibrate",), ("design",), ("fit",), ("sensitivity",), ("sweep",), ("report",), ("validate",),
+_SLOW = {("audit",), ("calibrate",), ("design",), ("fit",), ("sensitivity",), ("sweep",), ("report",), ("validate",),
          ("control",), ("target",), ("fmu",), ("dynamics",)}
 
 

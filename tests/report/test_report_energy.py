@@ -9,22 +9,45 @@ pytest.importorskip("xarray")
 from rotarydryer.report.html import build_report  # noqa: E402
 
 
-def test_ajayi_report_has_energy_balance_section():
+def test_ajayi_report_has_the_energy_audit():
+    """Issue 34: the report's energy audit shows the model's heat duties (they add up to the release), the
+    exhaust's dew-point margin and the shell per section, in the display units."""
+    from rotarydryer.simulation import Simulation
+    from rotarydryer.thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS
+
     text = build_report("ajayi2011_mmg", {"operating.test": 4})
     section = text[text.index('id="energy"'):]
-    assert "energy balance waterfall" in section
-    assert "thermal profiles" in section
-    # the heat-duty table (kW): the heat input and where it goes (evaporation, heating of solids,
-    # shell loss, exhaust), which add up to it
-    rows = dict(re.findall(r"<td[^>]*>([a-z ]+ \((?:in|out)\))</td><td[^>]*>([-0-9.,]+)</td>", section))
-    kw = {k: float(v.replace(",", "")) for k, v in rows.items()}
-    assert set(kw) == {"heat input (in)", "evaporation (out)", "heating of solids (out)", "shell loss (out)",
-                       "exhaust (out)"}
-    ins = sum(v for k, v in kw.items() if k.endswith("(in)"))
-    outs = sum(v for k, v in kw.items() if k.endswith("(out)"))
-    assert ins > 5000 and abs(ins - outs) < 0.01 * ins
+    assert "energy audit waterfall" in section and "thermal profiles" in section
+    rows = dict(re.findall(r'<td class="l">\s*([a-z() ]+)</td><td class="">([-0-9.,e+]+)</td>', section))
+    kw = {k.strip(): float(v.replace(",", "")) for k, v in rows.items()}
+    s = Simulation("ajayi2011_mmg", {"operating.test": 4}).steady_state().summary()
+    # the same numbers as the summary (kW, 4 significant digits) and they add up to the release
+    for k in ("heat_release_W", *HEAT_DUTY_PARTS):
+        if abs(s[k]) > 1e3:
+            assert kw[HEAT_DUTY_LABELS[k]] == pytest.approx(s[k] / 1e3, rel=1e-3), k
+    parts = sum(kw[HEAT_DUTY_LABELS[k]] for k in HEAT_DUTY_PARTS)
+    assert parts == pytest.approx(kw[HEAT_DUTY_LABELS["heat_release_W"]], rel=1e-3)
+    assert "Exhaust dew point:" in section and f"{s['gas_outlet_dew_point_margin_K']:.1f} K above it" in section
+    assert "<h4>Shell</h4>" in section and "no limit set" in section
     words = re.sub(r'src="data:[^"]*"', "", section.split("<h3>Temperature")[0])
-    assert "MW" not in words and "(kW)" not in words and "<th class=\"\">kW</th>" in words  # duties in kW
+    assert "MW" not in words and '<th class="">kW</th>' in words  # duties in the display unit (kW)
+
+
+def test_report_shows_the_saved_audits_savings(tmp_path):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    r = CliRunner().invoke(app, ["audit", "ajayi2011_mmg", "--recycle", "0.2", "--out", str(tmp_path / "a")])
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "r.html"
+    r = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--audit", str(tmp_path / "a" / "audit.json"),
+                                 "--set", "shell.max_temperature=200", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    text = out.read_text(encoding="utf-8")
+    assert "What-if savings" in text and "exhaust recycle 20 %" in text and "<b>exceeded</b>" in text
+    bad = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--audit", str(out), "--out", str(tmp_path / "x.html")])
+    assert bad.exit_code == 2 and "not a JSON file" in bad.output and not (tmp_path / "x.html").exists()
 
 
 def test_lee_report_has_an_energy_section():

@@ -20,7 +20,7 @@ from .._display import to_display
 from .logic import _load, png
 
 __all__ = ["NoThermalModel", "operating_inputs", "study_inputs", "plant_tests", "dryer_view", "results_of",
-           "report_html", "netcdf_bytes", "energy_table"]
+           "report_html", "netcdf_bytes", "duty_table"]
 
 
 class NoThermalModel(ValueError):
@@ -168,11 +168,20 @@ def _steady(case: str, overrides: dict):
     return c, sim, sim.steady_state()
 
 
-def energy_table(terms: dict) -> list[tuple[str, str, float]]:
-    """``[(stream, "in"/"out", kW)]`` of ``ThermalSteadyState.energy_terms_w`` and the closure."""
-    rows = [(name, d, w / 1e3) for d in ("in", "out") for name, w in terms[d].items()]
-    closure = sum(terms["in"].values()) - sum(terms["out"].values())
-    return rows + [("closure (in - out)", "-", closure / 1e3)]
+def duty_table(summary: dict) -> list[dict]:
+    """The energy audit's heat duties of a steady state's ``summary`` (`rotarydryer.thermal.audit`): one
+    row per duty, ``{"duty": label, "name": summary name, "value": in the display unit of power,
+    "share_pct": % of the release (None for the release and the exhaust's latent heat, which is part of
+    the evaporation's heat), "part": whether it is one of the duties that add up to the release}``."""
+    from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS
+
+    release = summary["heat_release_W"]
+    rows = []
+    for k in ("heat_release_W", *HEAT_DUTY_PARTS, "heat_duty_exhaust_latent_W"):
+        part = k in HEAT_DUTY_PARTS
+        rows.append({"duty": HEAT_DUTY_LABELS[k], "name": k, "value": to_display(summary[k], "power"),
+                     "share_pct": 100.0 * summary[k] / release if part and release else None, "part": part})
+    return rows
 
 
 def _measured(c) -> dict | None:
@@ -263,13 +272,15 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     """Coupled steady state of the whole dryer at ``overrides`` (override keys, e.g. those of
     `operating_inputs`).
 
-    Returns ``{"summary": SteadyResult.summary(), "metrics": {...}, "energy_terms_w": {...},
-    "energy_table": [...], "measured": {...} or None, "has_burner": bool, "profiles_csv": str,
-    "profiles": png, "waterfall": png, "profile_rows": rows for an interactive chart
-    (`profile_rows`)}``. Raises ``ValueError`` with the CLI's message on a bad
-    value and `NoThermalModel` for a case without heat and mass transfer."""
+    Returns ``{"summary": SteadyResult.summary(), "metrics": {...}, "duties": rows of `duty_table` (the
+    energy audit's heat duties in the display unit of power), "shell_sections": the shell per section
+    (loss W, hottest surface and steel degC), "measured": {...} or None, "has_burner": bool,
+    "profiles_csv": str, "profiles": png, "waterfall": png (the heat duties), "profile_rows": rows
+    for an interactive chart (`profile_rows`)}``. Raises ``ValueError`` with the CLI's message on a
+    bad value and `NoThermalModel` for a case without heat and mass transfer."""
     from ..cases.build import has_burner
-    from ..report.plots import plot_energy_waterfall
+    from ..report.plots import plot_heat_duties
+    from ..thermal.audit import shell_sections
 
     overrides = dict(overrides or {})
     c, sim, steady = _steady(case, overrides)
@@ -280,8 +291,8 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     metrics = {k: s.get(k) for k in ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
                                       "specific_energy_kJ_kg_water", "thermal_efficiency", "mean_residence_time_s",
                                       "evaporation_kg_s", "heat_input_W", "fuel_rate_kg_s")}
-    out = {"summary": s, "metrics": metrics, "energy_terms_w": th.energy_terms_w,
-           "energy_table": energy_table(th.energy_terms_w), "measured": measured, "has_burner": burner,
+    out = {"summary": s, "metrics": metrics, "duties": duty_table(s), "shell_sections": shell_sections(th),
+           "measured": measured, "has_burner": burner,
            "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),
            "title": getattr(c.meta, "title", "") or "",
            "profile_rows": profile_rows(th.profiles(), measured, th.dryer.settings.gas_direction == "co-current")}
@@ -294,7 +305,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     if images:
         # drawn at about the width of the page's main area on a laptop (900 px): shown unscaled
         out["profiles"] = png(_profiles_figure(th, out["measured"]), dpi=100)
-        out["waterfall"] = png(plot_energy_waterfall(th.energy_terms_w, title="Energy balance (MW)"), dpi=110)
+        out["waterfall"] = png(plot_heat_duties(s), dpi=110)
     return out
 
 

@@ -2,7 +2,8 @@
 case at changed operating variables -> product moisture and temperature, gas outlet, specific
 energy, thermal efficiency, fuel rate (cases with a burner), residence time; temperature and
 moisture profiles (with the measured plant values where the case has them), the energy
-balance waterfall; downloads (profiles CSV, results netCDF, HTML report). Below, two run
+audit (heat duties in the display unit of power, the exhaust's dew point, the shell per
+section); downloads (profiles CSV, results netCDF, HTML report). Below, two run
 panels on the same case and operating variables: "Target" (the input that meets a target on
 an output, ``rotarydryer target``) and "Schedule" (an input schedule from the steady state:
 steps, ramps, a burner trip, ``rotarydryer dynamics``); their results are kept in the session
@@ -16,6 +17,7 @@ import hashlib
 
 import streamlit as st
 
+from .._display import fmt as fmt_value
 from .._display import show, show_output, unit_of
 from . import logic_dryer, logic_dryer_runs
 from ._ui import case_picker, deferred, heavy, number, plain, progress_box, refuse
@@ -151,7 +153,7 @@ def render():
         c[3].metric("Heat input", show_output("heat_input_W", m["heat_input_W"]),
                     help="no burner in this case: heat put into the gas")
     sizes = r.get("size_classes")
-    tabs = st.tabs(["Temperature and moisture profiles", "Energy balance"]
+    tabs = st.tabs(["Temperature and moisture profiles", "Energy"]
                    + ([f"Model and plant data (test {r['measured']['test']})"] if r["measured"] else [])
                    + (["Particle sizes"] if sizes else []))
     with tabs[0]:
@@ -166,10 +168,31 @@ def render():
         st.download_button("Download the profiles figure (PNG)", r["profiles"], file_name=f"{_stem(case)}_profiles.png",
                            mime="image/png", key="dryer_dl_png")
     with tabs[1]:
-        st.image(r["waterfall"], caption="Energy balance: streams in (red) and out (blue); enthalpies relative to "
-                                         "the model's reference state; the last bar is the closure (in - out)")
-        st.table({"stream": [t[0] for t in r["energy_table"]], "direction": [t[1] for t in r["energy_table"]],
-                  "kW": [f"{t[2]:,.1f}" for t in r["energy_table"]]})
+        power, temp = unit_of("power"), unit_of("temperature")
+        st.image(r["waterfall"], caption="Heat duties: where the heat release goes (they add up to it; the last "
+                                         "bar, the balance closure, is rounding). Relative to the ambient air and "
+                                         "the feed; the exhaust's latent heat is part of the evaporation's heat.")
+        st.table({"heat duty": [t["duty"] for t in r["duties"]],
+                  power: [fmt_value(t["value"]) for t in r["duties"]],      # already in the display unit
+                  "% of release": ["" if t["share_pct"] is None else f"{t['share_pct']:.1f}" for t in r["duties"]]})
+        s = r["summary"]
+        if s.get("gas_outlet_dew_point_margin_K") is not None:
+            st.caption(f"Exhaust dew point {show_output('gas_outlet_dew_point_degC', s['gas_outlet_dew_point_degC'])} "
+                       f"at {s['gas_pressure_Pa'] / 1e3:.1f} kPa: the exhaust is "
+                       f"{show_output('gas_outlet_dew_point_margin_K', s['gas_outlet_dew_point_margin_K'])} above it"
+                       + ("" if s["gas_outlet_dew_point_margin_K"] > 0 else " (condensation in the ducts and filter)"))
+        limit = s.get("shell_temperature_limit_degC")
+        st.table({"section": [x["section"] for x in r["shell_sections"]],
+                  f"shell loss ({power})": [show(x["shell_heat_loss_W"], "power", with_unit=False)
+                                            for x in r["shell_sections"]],
+                  f"hottest surface ({temp})": [show(x["max_surface_temperature_degC"], "temperature", with_unit=False)
+                                                for x in r["shell_sections"]],
+                  f"hottest steel ({temp})": [show(x["max_wall_temperature_degC"], "temperature", with_unit=False)
+                                              for x in r["shell_sections"]]})
+        st.caption("Shell: " + ("no limit set (shell.max_temperature, e.g. 593 degC for mild steel)" if limit is None
+                                else f"limit {show_output('shell_temperature_limit_degC', limit)}: "
+                                + ("EXCEEDED" if s.get("shell_temperature_limit_exceeded") else "met"))
+                   + ". What-if savings (recycle, preheating, insulation): rotarydryer audit.")
     if r["measured"]:
         with tabs[2]:
             mm, s = r["measured"], r["summary"]

@@ -293,6 +293,7 @@ class Gas(_Strict):
     leak_air_flow: float = Field(default=0.0, **field_bounds("gas.leak_air_flow"), description="kg/s ambient air leaking in at the gas inlet")
     feed_temperature: Optional[float] = Field(default=None, **field_bounds("gas.feed_temperature"), description="degC of the wet feed (plant cases without [operating] feed_temperature)")
     burner: Optional[Burner] = Field(default=None, description="burner making the gas; gives the fuel rate (none: the gas is heated elsewhere)")
+    recycle_fraction: float = Field(default=0.0, **field_bounds("gas.recycle_fraction"), description="fraction of the exhaust (dry gas) returned to the burner and mixed with the fresh air; the drum's dry gas flow and gas.inlet_temperature stay, the burner heats the mix (docs/guide/energy_audit.md)")
 
 
 class Shell(_Strict):
@@ -304,6 +305,13 @@ class Shell(_Strict):
     loss_factor: float = Field(default=15.0, **field_bounds("shell.loss_factor"), description="theta_loss (thermal.mode = ajayi2011 only)")
     inner_radius: Optional[float] = Field(default=None, **field_bounds("shell.inner_radius"), description="m, inner radius of the steel shell; default the drum radius")
     thickness: Optional[float] = Field(default=None, **field_bounds("shell.thickness"), description="m, steel shell wall; default 2.63 % of the inner radius (Ajayi's 0.05 m at 1.90 m)")
+    max_temperature: Optional[float] = Field(default=None, **field_bounds("shell.max_temperature"), description="degC, highest allowed steel wall temperature (e.g. 593, the mild-steel limit Ajayi (2011) Ch. 7 quotes from API 521): a warning and shell_temperature_limit_exceeded when the model's wall is hotter; default none")
+
+
+class Site(_Strict):
+    """The site's atmosphere: its pressure, from the altitude (the ambient temperature and humidity are
+    [shell] ambient_temperature and ambient_humidity)."""
+    altitude: float = Field(default=0.0, **field_bounds("site.altitude"), description="m above sea level: the pressure of the gas, the combustion and the outside air is the ISO 2533 standard atmosphere's there (0 m: 101325 Pa; 2000 m: 79.5 kPa)")
 
 
 class ThermalModel(_Strict):
@@ -546,6 +554,7 @@ class DryerCase(_Strict):
     sections: list[DryerSection] = Field(max_length=MAX_ENTRIES)
     gas: Optional[Gas] = None
     shell: Shell = Shell()
+    site: Site = Site()
     thermal: ThermalModel = ThermalModel()
     particle_size: Optional[ParticleSize] = None
     tracer: DryerTracer = DryerTracer()

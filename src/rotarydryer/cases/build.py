@@ -29,6 +29,7 @@ import numpy as np
 from rotarydryer.correlations.drag import terminal_velocity
 from rotarydryer.geometry import FlightedDrum, PolygonFlight, TwoSectionFlight, check_speed
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
+from rotarydryer.properties.humid_air import STANDARD_PRESSURE, standard_atmosphere_pressure
 from rotarydryer.properties.materials import CALIBRATED_RANGES, load_material
 from rotarydryer.properties.psd import from_sieve, lognormal, rosin_rammler
 from rotarydryer.properties.solids import lee2008_moisture_profile
@@ -57,7 +58,8 @@ BULK_DENSITY_RANGE = (1.0, 23000.0)
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
-           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas"]
+           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
+           "site_pressure"]
 
 
 def exact_drum(radius, n_flights, s1=None, s2=None, alpha1=None, alpha2=None, *, segments=None, vertices=None,
@@ -507,7 +509,7 @@ def curtain_gas(case, particle_diameter=None):
                                     particle_density=mat.particle_density,
                                     velocity_ratio=case.transport.curtain_velocity_ratio,
                                     curtain_coefficient=law_coefficient(case, "curtain_coefficient"),
-                                    step_factor=law_coefficient(case, "step_factor"))
+                                    step_factor=law_coefficient(case, "step_factor"), pressure=site_pressure(case))
     if direction == "counter-current" and gas.gas_mass_flow > 0:
         _check_entrainment(case, gas, row)
     return gas
@@ -799,7 +801,8 @@ def _build_dryer(case: DryerCase, inputs: dict | None = None):
 #: ThermalSettings, its feed rate or its speed, never its network or section specs
 PARAMETER_KEYS = ("operating.feed_rate", "operating.rpm", "operating.feed_temperature", "gas.flow",
                   "gas.inlet_temperature", "gas.inlet_humidity", "gas.leak_air_flow", "gas.burner.",
-                  "thermal.area_scale", "thermal.design_load_smoothing", "thermal.discharge_cooling_ntu", "shell.")
+                  "gas.recycle_fraction", "thermal.area_scale", "thermal.design_load_smoothing",
+                  "thermal.discharge_cooling_ntu", "shell.", "site.")
 #: of those, the keys the section specs also depend on in some configurations: the operating point
 #: (the predictive kilning velocity and dispersion) and the gas (the trajectory forward step's curtains)
 _OPERATING_KEYS = ("operating.feed_rate", "operating.rpm")
@@ -852,7 +855,7 @@ def takes_as_parameters(old, new) -> bool:
         # the cascade law's kilning and the beds' velocity follow the speed; the beds' law the feed
         if "operating.rpm" in keys or (_needs_bed_parameters(new) and "operating.feed_rate" in keys):
             return False
-    return not (_any_trajectory(new) and any(k.startswith("gas.") for k in keys))
+    return not (_any_trajectory(new) and any(k.startswith(("gas.", "site.")) for k in keys))
 
 
 # ---- heat and mass transfer ----------------------------------------------------------------
@@ -909,8 +912,21 @@ def thermal_settings(case):
               design_load_smoothing=th.design_load_smoothing, gas_direction=g.direction, fouling=fouling_of(case),
               discharge_cooling_ntu=th.discharge_cooling_ntu, kiln_bed_area=th.kiln_bed_area,
               size_classes=size_classes_of(case),
-              entrainment=case.particle_size.entrainment if case.particle_size is not None else True)
-    return ThermalSettings.ajayi2011(**kw) if th.mode == "ajayi2011" else ThermalSettings(**kw)
+              entrainment=case.particle_size.entrainment if case.particle_size is not None else True,
+              recycle_fraction=g.recycle_fraction, shell_max_temperature=sh.max_temperature)
+    if th.mode == "ajayi2011":      # the thesis's drum pressure (101045 Pa), in proportion at altitude
+        st = ThermalSettings.ajayi2011(**kw)
+        st.pressure = st.pressure * (site_pressure(case) / STANDARD_PRESSURE)
+        return st
+    return ThermalSettings(**kw, pressure=site_pressure(case))
+
+
+def site_pressure(case) -> float:
+    """Pressure of the case's site, Pa: the ISO 2533 standard atmosphere at ``site.altitude``
+    ([`standard_atmosphere_pressure`][rotarydryer.properties.humid_air.standard_atmosphere_pressure]; 101325 Pa at 0 m). The gas
+    properties, the drying (saturation, dew point) and the shell's outside air take it."""
+    site = getattr(case, "site", None)
+    return float(standard_atmosphere_pressure(0.0 if site is None else site.altitude))
 
 
 settings_from_case = thermal_settings

@@ -128,6 +128,7 @@ def _guard_all(typer_app):
 
 # Command modules (each registers its commands on ``app`` at import time).
 from . import (  # noqa: E402,F401,E501
+    audit,
     balance,
     calibrate,
     control,

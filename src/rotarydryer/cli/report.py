@@ -25,12 +25,16 @@ def report(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (path, size, seconds)."),
     sensitivity: Optional[Path] = typer.Option(None, "--sensitivity", help="Include a saved sensitivity study "
                                                "(DIR/sensitivity.json of rotarydryer sensitivity)."),
+    audit: Optional[Path] = typer.Option(None, "--audit", help="Include the what-if savings of a saved energy "
+                                         "audit (DIR/audit.json of rotarydryer audit --out DIR)."),
 ):
     """Write a self-contained HTML report (pictures embedded).
 
     Contents: the dryer (one drawing), flight cross-section and unloading profile, design loads
     and, for cases and results, key results, holdup profile, RTD against data with classical
-    model fits, loading state per section and, with heat and mass transfer, the heat duties (kW).
+    model fits, loading state per section and, with heat and mass transfer, the energy audit (heat
+    duties in the display unit of power, the exhaust's dew-point margin, the shell against its limit;
+    with --audit DIR/audit.json of ``rotarydryer audit --out DIR``, the what-if savings).
 
     \b
     Examples:
@@ -42,13 +46,14 @@ def report(
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
     from .._io import output_set
-    from ..report.html import case_validation, load_sensitivity, render_report, resolve_source, write_html
+    from ..report.html import case_validation, load_audit, load_sensitivity, render_report, resolve_source, write_html
 
     t0 = time.perf_counter()
     try:
         import sys
 
         sens = load_sensitivity(sensitivity) if sensitivity is not None else None
+        saved_audit = load_audit(audit) if audit is not None else None
         with typer.progressbar(length=2, label="report", file=sys.stderr,
                                hidden=as_json or not sys.stderr.isatty()) as bar:
             results, drums, title = resolve_source(source, parse_sets(set_), repose_angle=repose_angle)
@@ -56,7 +61,7 @@ def report(
             if save is not None and results is None:
                 raise ValueError(f"--save needs a case or results source, got the drum {source!r}")
             html_text = render_report(results, drums=drums, title=title, sensitivity=sens,
-                                      validation=case_validation(source, results))
+                                      validation=case_validation(source, results), audit=saved_audit)
             bar.update(1)
         with output_set():                  # the report and --save: both or neither
             if save is not None:

@@ -87,8 +87,9 @@ def simulate(
         raise typer.Exit(1 if solver_failed else 2)
     ss = steady.state        # the one state every output shows (the coupled one with heat and mass)
     result = steady.to_dict()
-    for key in ("sections", "cells"):       # keep the JSON's order: tables, then case and parameters
-        result[key] = result.pop(key)
+    for key in ("sections", "cells", "shell_sections"):   # keep the JSON's order: tables, then case and parameters
+        if key in result:
+            result[key] = result.pop(key)
     result.update({"case": case, "parameters": model.parameters})
     thermal_on = thermal is not None
     classes = thermal_on and thermal.dryer.n_classes > 1
@@ -151,6 +152,7 @@ def simulate(
             rows += [("product d50", f"{result['product_d50_m'] * 1e6:.4g} um ({thermal.dryer.n_classes} size classes)"),
                      ("dust to the exhaust", f"{show_output('dust_rate_kg_s', result['dust_rate_kg_s'])} "
                                              f"({result['dust_rate_kg_s'] / result['feed_rate_kg_s']:.1%} of the feed)")]
+        rows += _audit_rows(result)
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"
                          if result["fuel_rate_kg_s"] is None else show_output("fuel_rate_kg_s", result["fuel_rate_kg_s"])))
@@ -167,6 +169,32 @@ def simulate(
         typer.echo(f"warning: {note}")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")
+
+
+def _audit_rows(result: dict) -> list[tuple[str, str]]:
+    """The energy audit's rows of the text output: the heat duties (display unit of power, share of
+    the release), the exhaust's dew-point margin and the hottest shell against its limit."""
+    from .._display import show, show_delta, show_output
+    from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS
+
+    release = result["heat_release_W"]
+    rows = [("heat release" + (" (fuel x LHV)" if result.get("fuel_rate_kg_s") else " (heat put into the gas)"),
+             show_output("heat_release_W", release))]
+    for k in HEAT_DUTY_PARTS:
+        share = f" ({100 * result[k] / release:.1f} %)" if release else ""
+        rows.append((f"  {HEAT_DUTY_LABELS[k]}", show_output(k, result[k]) + share))
+    rows.append(("  (exhaust latent heat)", show_output("heat_duty_exhaust_latent_W", result["heat_duty_exhaust_latent_W"])
+                 + " - part of the evaporation's heat"))
+    margin = result.get("gas_outlet_dew_point_margin_K")
+    if margin is not None:
+        rows.append(("exhaust dew point / margin", f"{show(result['gas_outlet_dew_point_degC'], 'temperature')} / "
+                     f"{show_delta(margin, 'temperature')}" + ("" if margin > 0 else " (condensation)")))
+    limit = result.get("shell_temperature_limit_degC")
+    rows.append(("hottest shell surface / steel", f"{show(result['shell_max_surface_temperature_degC'], 'temperature')} / "
+                 f"{show(result['shell_max_wall_temperature_degC'], 'temperature')}"
+                 + ("" if limit is None else f" (limit {show(limit, 'temperature')}: "
+                    + ("exceeded)" if result.get("shell_temperature_limit_exceeded") else "met)"))))
+    return rows
 
 
 @app.command("rtd", short_help="Simulated tracer pulse (RTD) at the steady state.")

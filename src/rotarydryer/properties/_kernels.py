@@ -456,18 +456,20 @@ def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_
 # ----------------------------------------------------------------------------------------------------
 # gas -> solids transfer of a set of gas stages (rotarydryer.thermal.balances._stage_transfer, physical mode)
 _TR_RADIUS, _TR_P, _TR_PC, _TR_BEAM, _TR_ES, _TR_GUARD, _TR_SIGMA, _TR_METHOD, _TR_XE, _TR_XCR, _TR_EXP = range(11)
-_TR_DSWITCH, _TR_DBLEND = 11, 12
+_TR_DSWITCH, _TR_DBLEND, _TR_TSMAX = 11, 12, 13
 #: drying-kinetics methods of the kernel (DryingKinetics.method)
 KINETICS_CODES = {"ajayi2011": 0.0, "constant_falling": 1.0, "characteristic_curve": 2.0}
 
 
 def pack_transfer(radius, pressure, co2_partial_atm, beam_length, solids_emissivity, dry_guard, sigma, method,
-                  equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k, diffusivity_blend_k):
+                  equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k, diffusivity_blend_k,
+                  solids_ceiling=99.0):
     """Parameters of `_transfer_loop`, in the order of the ``_TR_`` offsets (``method``: a key of
-    `KINETICS_CODES`)."""
+    `KINETICS_CODES`; ``solids_ceiling``: the solids temperature's clip, degC,
+    `rotarydryer.thermal.balances.solids_temperature_ceiling`)."""
     return np.array([radius, pressure, co2_partial_atm, beam_length, solids_emissivity, dry_guard, sigma,
                      KINETICS_CODES[method], equilibrium_moisture, critical_moisture, exponent, diffusivity_switch_k,
-                     diffusivity_blend_k], dtype=float)
+                     diffusivity_blend_k, solids_ceiling], dtype=float)
 
 
 def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y, c, w, ps, rw, qc, qr):
@@ -482,7 +484,7 @@ def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y,
     xe, xcr = q[_TR_XE], q[_TR_XCR]
     for i in range(a.size):
         tg = min(max(tg_raw[i], -40.0), 600.0)   # humid_air.T_MIN_C, T_MAX_C
-        ts = min(max(ts_raw[i], 0.0), 99.0)
+        ts = min(max(ts_raw[i], 0.0), q[_TR_TSMAX])
         y = min(max(y_raw[i], 1e-6), 1.0)    # humid_air.Y_MAX
         # gas-solids coefficient at the gas temperature
         mu, k = _transport_at(tg, y, c)

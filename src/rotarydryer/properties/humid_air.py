@@ -22,6 +22,8 @@ Model: ideal mixture of dry air and water vapour (no enhancement factor).
   280 K (down to 0 °C) the first branch is extrapolated (≈1 % uncertainty). The two
   branches are blended smoothly over 449.5-450.5 K (they differ there by 2e-4 in value and a
   quarter in slope; the kink made Newton's method cycle), each used unchanged outside.
+* Site pressure: [`standard_atmosphere_pressure`][rotarydryer.properties.humid_air.standard_atmosphere_pressure], the
+  ISO 2533 (ICAO) standard atmosphere's pressure at an altitude (a case's ``site.altitude``).
 * Saturation, relative humidity, dew point, wet bulb: Wagner-Pruss saturation
   pressure ([`.water`][rotarydryer.properties.humid_air.water]); the wet-bulb temperature is the adiabatic-saturation
   (thermodynamic) wet bulb, ASHRAE (2017) ch. 1 Eq. 33, solved by bisection.
@@ -84,6 +86,7 @@ __all__ = [
     "humidity_from_relative_humidity",
     "dew_point",
     "wet_bulb_temperature",
+    "standard_atmosphere_pressure",
 ]
 
 STANDARD_PRESSURE = 101325.0
@@ -101,6 +104,25 @@ T_MIN_C = -40.0
 #: evaporation-condensation loop (water evaporated at the hot end, condensed on the cold feed and
 #: carried back by the solids) holds more than 0.3 kg/kg inside the drum
 Y_MAX = 1.0
+
+
+#: ISO 2533:1975 (ICAO) standard atmosphere, troposphere: sea-level pressure (Pa) and temperature (K),
+#: temperature lapse rate (K/m) and the exponent g0 M / (R L) of the pressure law
+_ISA_P0, _ISA_T0, _ISA_LAPSE, _ISA_EXPONENT = 101325.0, 288.15, 0.0065, 5.25588
+
+
+def standard_atmosphere_pressure(altitude_m):
+    r"""Pressure of the standard atmosphere at an altitude, Pa (ISO 2533:1975, the ICAO standard
+    atmosphere, troposphere): $p = p_0 (1 - L h / T_0)^{g_0 M / (R L)}$ with $p_0$ = 101 325 Pa,
+    $T_0$ = 288.15 K, $L$ = 0.0065 K/m and the exponent 5.25588; ``altitude_m`` in m above sea
+    level (-2000 to 11 000 m, the troposphere of the standard). The mean pressure of a site: the
+    weather moves it by about +-3 %. At 0 m exactly 101 325 Pa.
+
+    >>> float(standard_atmosphere_pressure(0.0)), round(float(standard_atmosphere_pressure(2000.0)))
+    (101325.0, 79495)
+    """
+    h = check_range("altitude_m", altitude_m, -2000.0, 11000.0, low_inclusive=True, high_inclusive=True, unit="m")
+    return _ISA_P0 * (1.0 - _ISA_LAPSE * h / _ISA_T0) ** _ISA_EXPONENT
 
 
 def _temperature(temperature_c, name="temperature_c", high=T_MAX_C):

@@ -350,11 +350,13 @@ def _section_lengths(results):
     return [] if sec is None else list(zip(sec.section.values, sec.length.values))
 
 
-def _thermal_section(results) -> str:
-    """Energy balance (waterfall), key thermal results and axial profiles from the thermal
-    datasets of a `rotarydryer.results.Results` (cases with a heat and mass transfer
-    model; see `rotarydryer.results.add_thermal`)."""
-    from .plots import plot_energy_waterfall, plot_thermal_profiles, thermal_profiles_from_results
+def _thermal_section(results, audit: dict | None = None) -> str:
+    """Key thermal results, the energy audit (heat duties: waterfall and table in the display unit of
+    power; the exhaust's dew-point margin; the shell against its limit; with ``audit``, the what-if
+    savings of ``rotarydryer audit``) and the axial profiles, from the thermal datasets of a
+    `rotarydryer.results.Results` (cases with a heat and mass transfer model; see
+    `rotarydryer.results.add_thermal`)."""
+    from .plots import plot_thermal_profiles, thermal_profiles_from_results
 
     sc = results.scalars
     labels = (("product_moisture_kg_kg", "product moisture (wet basis)"),
@@ -375,53 +377,148 @@ def _thermal_section(results) -> str:
     if results.model_choices.get("fuel_rate_error") and "fuel_rate_kg_s" not in sc:
         rows.append(("fuel rate (burner, App. A)", "n/a: " + str(results.model_choices["fuel_rate_error"]),
                      unit_of("fuel_flow")))
-    terms = heat_duties(results)
-    power = unit_of("power")
-    t_rows = [(f"{name} ({d})", show(w, "power", with_unit=False)) for d in ("in", "out") for name, w in terms[d].items()]
-    q_in = sum(terms["in"].values())
-    cap_e = f"heat duties: {show(q_in, 'power')} put into the gas"
-    if "specific_energy_kJ_kg_water" in sc:
-        cap_e += (f", {show_output('specific_energy_kJ_kg_water', sc['specific_energy_kJ_kg_water'])} of water "
-                  f"evaporated, thermal efficiency {100 * sc.get('thermal_efficiency', np.nan):.1f} %")
-    cap_e += "; " + ", ".join(f"{name} {show(w, 'power')}" for name, w in terms["out"].items())
-    e_mvm = ('<p class="mvm">The heat input, the fuel rate and the shell loss were not measured; the energy balance is '
-             'a model result only.</p>')
     cap_t, t_mvm = _thermal_comparison_html(results)
     return (f'<section id="energy"><h2>Heat and mass transfer</h2>'
             f'{_table(("quantity", "value", "unit"), rows)}'
-            f'<h3>Heat duties</h3>'
-            f'{_img(plot_energy_waterfall(terms, unit=power, title="Heat duties"), "energy balance waterfall", cap_e)}'
-            f'{_table(("duty", power), t_rows)}'
-            f'<p class="note">{_DUTIES_NOTE}</p>{e_mvm}'
+            f'{_energy_audit_html(results, audit)}'
             f'<h3>Temperature and moisture along the dryer</h3>{_img(plot_thermal_profiles(thermal_profiles_from_results(results), sections=_section_lengths(results)), "thermal profiles", cap_t)}'
             f'{t_mvm}</section>')
 
 
 _DUTIES_NOTE = (
-    "Heat duties: heat input = the heat the burner or heater puts into the gas (its enthalpy above "
-    "the same gas at ambient temperature); evaporation = evaporation rate x latent heat at the product "
-    "temperature; heating of solids = product enthalpy - feed enthalpy (solids and the water they keep); "
-    "shell loss = heat lost through the shell; exhaust = the rest, the sensible heat the exhaust gas and "
-    "vapour carry out above ambient. The energy balance error above states how well the model's "
-    "balance closes.")
+    "Heat duties (rotarydryer.thermal.audit), relative to the ambient air and the feed: heat release = fuel x "
+    "lower heating value where the case has a burner, else the heat put into the gas; burner loss = release - "
+    "heat put into the gas (the chamber's wall loss and the combustion products' enthalpy beyond the model's "
+    "humid-air gas); evaporation = each stage's evaporation x the latent heat at its solids temperature; "
+    "solids heating = the dry solids from feed to product temperature; water heating = the water kept, from feed "
+    "to product temperature, and the water evaporated, from feed to evaporation temperature; shell loss = heat "
+    "lost through the shell; exhaust (sensible) = the exhaust leaving the plant (with recycle, its unrecycled "
+    "part) above ambient, the evaporated vapour from its evaporation temperature; air leaks = leak air heated "
+    "from ambient to the exhaust temperature; balance closure = release - the others (the balance residual). "
+    "They add up to the release. The exhaust's latent heat (the evaporated water's at ambient temperature, at "
+    "most what a condenser would recover) is part of the evaporation's heat, not added.")
 
 
-def heat_duties(results) -> dict:
-    """``{"in": {name: W}, "out": {name: W}}``: the heat duties of a thermal result (heat input;
-    evaporation, heating of solids, shell loss, exhaust), from its scalars and its energy-balance
-    streams (``results.datasets["energy_balance"]``, enthalpies against the model reference,
-    whose differences are reference-free). The exhaust is the rest, so in = out."""
+def heat_duties(results) -> dict | None:
+    """``{name: W}``: the energy audit's heat duties of a thermal result (``results.datasets["heat_duties"]``,
+    [`rotarydryer.thermal.audit.heat_duties`][rotarydryer.thermal.audit.heat_duties]): ``heat_release_W``, the duties that add
+    up to it (`rotarydryer.thermal.audit.HEAT_DUTY_PARTS`) and ``heat_duty_exhaust_latent_W``; None for
+    a result saved before the energy audit (no such dataset)."""
+    ds = results.datasets.get("heat_duties")
+    if ds is None:
+        return None
+    return {str(n): float(w) for n, w in zip(ds.duty.values, ds.power.values)}
+
+
+def _energy_audit_html(results, audit: dict | None = None) -> str:
+    """The report's "Energy audit": heat-duty waterfall and table, dew-point margin, shell per section
+    against the limit, and (``audit``: `rotarydryer.studies.energy.EnergyAudit.to_dict`) the what-ifs."""
+    from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS
+    from .plots import plot_heat_duties
+
+    duties = heat_duties(results)
+    if duties is None:
+        return ('<h3>Energy audit</h3><p class="note">These results were saved before the energy audit (no heat '
+                'duties): rerun the case for them.</p>')
     sc = results.scalars
-    eb = results.datasets["energy_balance"]
-    streams = {str(n): float(w) for n, w in zip(eb.stream.values, eb.power.values)}
-    q_in = float(sc.get("heat_input_W", streams.get("hot gas", 0.0)))
-    eff = sc.get("thermal_efficiency")
-    evap = float(eff) * q_in if eff is not None and np.isfinite(eff) else 0.0
-    solids = streams.get("product", 0.0) - streams.get("wet feed", 0.0)
-    shell = float(sc.get("shell_heat_loss_W", streams.get("shell loss", 0.0)))
-    return {"in": {"heat input": q_in},
-            "out": {"evaporation": evap, "heating of solids": solids, "shell loss": shell,
-                    "exhaust": q_in - evap - solids - shell}}
+    power = unit_of("power")
+    release = duties["heat_release_W"]
+    t_rows = [(HEAT_DUTY_LABELS["heat_release_W"], show(release, "power", with_unit=False), "100")]
+    t_rows += [(f"  {HEAT_DUTY_LABELS[k]}", show(duties[k], "power", with_unit=False),
+                f"{100 * duties[k] / release:.1f}" if release else "") for k in HEAT_DUTY_PARTS]
+    t_rows.append((HEAT_DUTY_LABELS["heat_duty_exhaust_latent_W"],
+                   show(duties["heat_duty_exhaust_latent_W"], "power", with_unit=False), ""))
+    big = sorted(((duties[k], HEAT_DUTY_LABELS[k]) for k in HEAT_DUTY_PARTS), reverse=True)[:3]
+    cap_e = (f"heat duties: a heat release of {show(release, 'power')}"
+             + (" (fuel x lower heating value)" if "fuel_rate_kg_s" in sc else " (the heat put into the gas)")
+             + "; the largest: " + ", ".join(f"{name} {show(w, 'power')}" for w, name in big))
+    if "specific_energy_kJ_kg_water" in sc:
+        cap_e += (f"; {show_output('specific_energy_kJ_kg_water', sc['specific_energy_kJ_kg_water'])} of water "
+                  f"evaporated, thermal efficiency {100 * sc.get('thermal_efficiency', np.nan):.1f} %")
+    parts = [f'<h3>Energy audit</h3>'
+             f'{_img(plot_heat_duties(duties, unit=power), "energy audit waterfall", cap_e)}'
+             f'{_table(("heat duty", power, "% of release"), t_rows)}'
+             f'<p class="note">{html.escape(_DUTIES_NOTE)}</p>'
+             '<p class="mvm">The heat release, the fuel rate and the shell loss were not measured; the heat duties '
+             'are model results only.</p>']
+    dew, margin = sc.get("gas_outlet_dew_point_degC"), sc.get("gas_outlet_dew_point_margin_K")
+    if dew is not None and margin is not None:
+        p_kpa = sc.get("gas_pressure_Pa", 101325.0) / 1e3
+        parts.append(f'<p><b>Exhaust dew point:</b> {show(dew, "temperature")} at {_fmt(p_kpa)} kPa; the exhaust, '
+                     f'at {show(sc["gas_outlet_temperature_degC"], "temperature")}, is {show_delta(margin, "temperature")} '
+                     + ("above it." if margin > 0 else "below it: water condenses in the ducts and the bag filter.")
+                     + "</p>")
+    parts.append(_shell_html(results))
+    if audit is not None:
+        parts.append(_savings_html(audit))
+    return "".join(parts)
+
+
+def _shell_html(results) -> str:
+    """The shell per section (loss, hottest surface and steel) against ``shell.max_temperature``."""
+    ds = results.datasets.get("shell_sections")
+    if ds is None:
+        return ""
+    sc = results.scalars
+    limit = sc.get("shell_temperature_limit_degC")
+    exceeded = results.model_choices.get("shell_temperature_limit_exceeded")
+    rows = [(str(sec), show(float(q), "power", with_unit=False), show(float(ts), "temperature", with_unit=False),
+             show(float(tw), "temperature", with_unit=False))
+            for sec, q, ts, tw in zip(ds.section.values, ds.shell_loss.values, ds.max_surface_temperature.values,
+                                      ds.max_wall_temperature.values)]
+    t_unit = unit_of("temperature")
+    verdict = ("no limit set (shell.max_temperature; e.g. 593 degC, the mild-steel limit Ajayi (2011) Ch. 7 "
+               "quotes from API 521)" if limit is None else
+               f"limit shell.max_temperature = {show(limit, 'temperature')}: "
+               + ("<b>exceeded</b>" if exceeded else "met"))
+    return ("<h4>Shell</h4>"
+            + _table(("section", f"shell loss ({unit_of('power')})", f"hottest outer surface ({t_unit})",
+                      f"hottest steel ({t_unit})"), rows)
+            + f'<p class="note">Hottest steel {show(sc.get("shell_max_wall_temperature_degC", np.nan), "temperature")} '
+              f"(its inside face), hottest outer surface {show(sc.get('shell_max_surface_temperature_degC', np.nan), 'temperature')}; "
+              f"{verdict}. Lagging cools the outside and heats the steel.</p>")
+
+
+def _savings_html(audit: dict) -> str:
+    """The what-ifs of a saved energy audit (``rotarydryer audit --out DIR``: DIR/audit.json)."""
+    rows = []
+    for w in audit.get("savings", []):
+        if w.get("error"):
+            rows.append((w["label"], "no steady state", "", "", "", ""))
+            continue
+        held = w.get("held") or {}
+        fuel = w.get("fuel_saved_kg_s")
+        rows.append((w["label"], show(w["heat_saved_W"], "power", with_unit=False),
+                     "" if fuel is None else show(fuel, "fuel_flow", with_unit=False),
+                     show_delta(w["product_moisture_change_kg_kg"], "moisture", with_unit=False),
+                     show(held["heat_saved_W"], "power", with_unit=False) if held else "",
+                     show(held["gas_inlet_temperature_degC"], "temperature", with_unit=False) if held else ""))
+    if not rows:
+        return ""
+    note = ("Each what-if is a coupled steady state of the case with one change (rotarydryer audit). At the same gas "
+            "inlet temperature a measure also dries the product further (the change of product moisture); the held "
+            "columns give the saving at the base product moisture, the gas inlet temperature found by the target "
+            "solver. Feed preheating takes its own heat (from waste heat) outside the dryer.")
+    return ("<h4>What-if savings</h4>"
+            + _table(("measure", f"heat saved ({unit_of('power')})", f"fuel saved ({unit_of('fuel_flow')})",
+                      "product moisture change" + (" (pp)" if unit_of("moisture") == "%" else f" ({unit_of('moisture')})"),
+                      f"heat saved, held moisture ({unit_of('power')})", f"gas inlet, held ({unit_of('temperature')})"),
+                     rows)
+            + f'<p class="note">{html.escape(note)}</p>')
+
+
+def load_audit(path) -> dict:
+    """A saved energy audit (``rotarydryer audit --out DIR``: DIR/audit.json)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ValueError(f"--audit {str(p)!r}: not a file (give DIR/audit.json of rotarydryer audit --out DIR)")
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"--audit {str(p)!r}: not a JSON file ({exc})") from None
+    if not isinstance(data, dict) or data.get("kind") != "energy_audit" or not isinstance(data.get("savings"), list):
+        raise ValueError(f"--audit {str(p)!r}: not an energy audit (no kind = energy_audit)")
+    return data
 
 
 def _thermal_comparison_html(results) -> tuple[str, str]:
@@ -611,7 +708,7 @@ def validation_section(report) -> str:
 
 
 def render_report(results=None, *, drums=None, title: str | None = None, subtitle: str = "",
-                  sensitivity: dict | None = None, validation=None) -> str:
+                  sensitivity: dict | None = None, validation=None, audit: dict | None = None) -> str:
     """HTML text of the report.
 
     Parameters
@@ -624,6 +721,8 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
     title, subtitle : str
     validation : rotarydryer.validate.ValidationReport, optional
         The case's validation (`validation_section`).
+    audit : dict, optional
+        A saved energy audit (`load_audit`): its what-if savings join the energy audit.
     """
     from .figures import case_drums
 
@@ -639,7 +738,7 @@ def render_report(results=None, *, drums=None, title: str | None = None, subtitl
         body.append(_operating_section(results))
         body.append(_transport_sections(results))
     if results is not None and "energy_balance" in results.datasets:
-        body.append(_thermal_section(results))
+        body.append(_thermal_section(results, audit))
     if results is not None and "size_classes" in results.datasets:
         body.append(_size_section(results))
     body.append(_geometry_sections(drums, results))

@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._display import UNITS, fmt, unit_of
 from .._plotting import pyplot as _plt
 from ..geometry import FlightedDrum, first_unloading_angle
+from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS
 from ..thermal.plots import plot_thermal_profiles, plot_thermal_steady_state
 
 __all__ = ["plot_unloading_profile", "draw_cross_section", "draw_flight_conventions", "plot_energy_waterfall",
-           "plot_thermal_profiles", "thermal_profiles_from_results", "plot_thermal_steady_state"]
+           "plot_heat_duties", "plot_thermal_profiles", "thermal_profiles_from_results", "plot_thermal_steady_state"]
 
 
 
@@ -211,6 +213,42 @@ def plot_energy_waterfall(terms: dict, *, ax=None, title: str = "Energy balance"
     ax.set_xticks(x, names, rotation=20, ha="right")
     ax.set_ylabel(unit)
     ax.set_title(title)
+    return fig
+
+
+def plot_heat_duties(duties: dict, *, ax=None, title: str = "Heat duties", unit: str | None = None):
+    """Waterfall of the energy audit's heat duties ([`rotarydryer.thermal.audit.heat_duties`][rotarydryer.thermal.audit.heat_duties],
+    ``{name: W}``) in ``unit`` (a display unit of power, default the chosen one, `rotarydryer._display`):
+    the heat release, then each duty of `rotarydryer.thermal.audit.HEAT_DUTY_PARTS` stepping down to
+    zero (the last, the balance closure, is rounding); the exhaust's latent heat (part of the
+    evaporation's heat, not a step) is written in the title."""
+    plt = _plt()
+    u = unit or unit_of("power")
+    scale = UNITS["power"][u][0]
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(7.5, 3.8), constrained_layout=True)
+    else:
+        fig = ax.figure
+    names = [HEAT_DUTY_LABELS["heat_release_W"]]
+    bottoms, heights, colours = [0.0], [duties["heat_release_W"] * scale], ["#c0392b"]
+    level = heights[0]
+    for k in HEAT_DUTY_PARTS:
+        v = duties[k] * scale
+        level -= v
+        names.append(HEAT_DUTY_LABELS[k])
+        bottoms.append(level)
+        heights.append(v)
+        colours.append("#7f8c8d" if k == "heat_duty_closure_W" else "#2e86c1")
+    x = np.arange(len(names))
+    ax.bar(x, heights, bottom=bottoms, color=colours, edgecolor="k", linewidth=0.5)
+    top = max(b + h for b, h in zip(bottoms, heights))
+    for xi, b, h in zip(x, bottoms, heights):
+        ax.text(xi, max(b, b + h) + 0.01 * top, fmt(h, 3), ha="center", va="bottom", fontsize=8)
+    ax.set_xticks(x, names, rotation=25, ha="right")
+    ax.set_ylabel(u)
+    latent = duties.get("heat_duty_exhaust_latent_W")
+    ax.set_title(title if latent is None else f"{title} (exhaust latent heat {fmt(latent * scale, 3)} {u}, "
+                                              "part of the evaporation)", fontsize=10)
     return fig
 
 

@@ -49,6 +49,7 @@ X in kg water/kg dry solid (Ajayi's x_w = X/(1+X) wet basis at the public API).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -61,7 +62,7 @@ from . import radiation as rad
 
 __all__ = ["ENTHALPY_METHODS", "AJAYI_CP_SOLIDS", "AJAYI_CP_WATER", "AJAYI_CP_GAS", "AJAYI_LATENT_HEAT",
            "gas_enthalpy", "gas_heat_capacity", "vapour_source_enthalpy", "solids_enthalpy", "kilning_angle",
-           "active_layer_area", "curtain_area", "gas_solids_coefficient", "stage_transfer"]
+           "active_layer_area", "curtain_area", "gas_solids_coefficient", "stage_transfer", "solids_temperature_ceiling"]
 
 ENTHALPY_METHODS = ("physical", "ajayi2011")
 AJAYI_CP_SOLIDS = 505.0      # J/(kg K), zinc concentrate, App. F L3182
@@ -272,8 +273,9 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
     * R_w: evaporation, ``kinetics.rate`` ([`rotarydryer.thermal.drying`][rotarydryer.thermal.drying]; Ajayi (2011)
       Eq. 6.32-6.49) times a guard min(1, X/``dry_guard``) that stops evaporation of the
       last traces of water (X in kg/kg dry; kinetics without a falling rate would otherwise
-      drive the moisture negative). Solids temperature is clipped to 0-99 °C for the
-      surface-evaporation model (boiling is outside its range).
+      drive the moisture negative). Solids temperature is clipped to 0 °C -
+      [`solids_temperature_ceiling`][rotarydryer.thermal.balances.solids_temperature_ceiling] (99 °C, lower at
+      altitude) for the surface-evaporation model (boiling is outside its range).
     * Q_conv = h_c A (T_g - T_s) (Eq. 6.40-6.41).
     * Q_rad: ``mode="ajayi2011"`` ε_s σ A (T_g⁴ - T_s⁴) (Eq. 6.42 as coded); ``"physical"``
       grey exchange with the WSGG emissivity of the H2O/CO2 gas over the mean beam length
@@ -301,6 +303,26 @@ def stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, 
                            dry_guard, beam)
 
 
+@functools.lru_cache(maxsize=64)
+def _ceiling(pressure: float) -> float:
+    return min(99.0, float(water.saturation_temperature(0.99 * pressure)))
+
+
+def solids_temperature_ceiling(pressure):
+    """Highest solids temperature of the surface-evaporation model, degC: 99 °C, or where water boils
+    lower (a site at altitude, [`rotarydryer.properties.humid_air.standard_atmosphere_pressure`][rotarydryer.properties.humid_air.standard_atmosphere_pressure])
+    the temperature whose saturation pressure is 99 % of ``pressure`` (Pa). 99 °C down to 98.75 kPa
+    (about 220 m above sea level); 98.0 °C at 500 m, 93.0 °C at 2000 m. Hotter solids (dry, above the
+    local boiling point) evaporate at the ceiling's rate (their water is held by the dry guard).
+
+    >>> solids_temperature_ceiling(101325.0), round(solids_temperature_ceiling(79495.2), 1)
+    (99.0, 93.0)
+    """
+    if np.ndim(pressure) == 0:
+        return _ceiling(float(pressure))
+    return np.minimum(99.0, water.saturation_temperature(0.99 * np.asarray(pressure, dtype=float)))
+
+
 def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
                              particle_diameter, radius, kinetics, pressure, co2_mole_fraction, solids_emissivity,
                              dry_guard, beam_length):
@@ -326,7 +348,7 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
               else (np.ascontiguousarray(curve[0], dtype=float), np.ascontiguousarray(curve[1], dtype=float)))
     q = _kernels.pack_transfer(float(radius), p, float(co2_mole_fraction) * p / rad.ATM, float(beam_length),
                                float(solids_emissivity), float(dry_guard), SIGMA, kinetics.method, xe, xcr,
-                               float(kinetics.exponent), ha._D_SWITCH_K, ha._D_BLEND_K)
+                               float(kinetics.exponent), ha._D_SWITCH_K, ha._D_BLEND_K, solids_temperature_ceiling(p))
     return _kernels.evaluate("transfer", (area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity,
                                           gas_mass_flow, particle_diameter),
                              (q, cx, cy, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS, water._PSAT_COEFFICIENTS), 3)
@@ -343,7 +365,7 @@ def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c,
         if fast is not None:
             return fast
     tg = _tc(gas_temperature_c)
-    ts = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, 99.0)
+    ts = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, solids_temperature_ceiling(pressure))
     y = _yc(humidity, 1e-6)
     a = np.asarray(area, dtype=float)
     props = "ajayi2011" if mode == "ajayi2011" else "physical"

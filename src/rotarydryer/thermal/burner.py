@@ -62,6 +62,7 @@ __all__ = [
     "normal_volume_to_mass",
     "combustion_chamber",
     "fuel_rate_for_temperature",
+    "fuel_rate_with_recycle",
     "AJAYI_AIR_HUMIDITY",
 ]
 
@@ -417,6 +418,61 @@ def _fuel_rate_linear(target_c, combustion_air, dilution_air, fuel=AJAYI_FUEL_OI
     dhp = sum((n1[s] - n0[s]) * hk[s] for s in comb.SPECIES) * 1000.0
     heat_per_fuel = fuel.heat_capacity * (fuel_temperature_c - REFERENCE_C) + (1.0 - heat_loss_fraction) * fuel.lhv
     return float((h_air - hp0) / (dhp - heat_per_fuel))
+
+
+def fuel_rate_with_recycle(target_temperature_c, combustion_air, dilution_air, recycle_gas, recycle_temperature_c,
+                           recycle_humidity, *, air_temperature_c=26.0, air_humidity=AJAYI_AIR_HUMIDITY,
+                           fuel: FuelOil = AJAYI_FUEL_OIL, fuel_temperature_c=25.0, heat_loss_fraction=0.0):
+    """Fuel rate, kg/s, that brings combustion air, dilution air (both humid air at
+    ``air_temperature_c`` and ``air_humidity``) and recycled dryer exhaust (``recycle_gas`` kg/s of
+    humid gas at ``recycle_temperature_c`` °C and ``recycle_humidity`` kg/kg dry gas, taken as humid
+    air as the dryer model takes its gas) to ``target_temperature_c`` °C.
+
+    The chamber balance of [`combustion_chamber`][rotarydryer.thermal.burner.combustion_chamber] with a third
+    stream entering at its own temperature; at the products' temperature it is linear in the fuel rate
+    (as `_fuel_rate_linear`), solved in closed form. The recycled gas joins the dilution side: the
+    flame burns in the combustion air. Raises ``ValueError`` when no fuel rate in [0, the combustion
+    air's stoichiometric limit] gives the target (the streams alone are hotter, or the flame would
+    need more oxygen) or when ``dilution_air`` < 0 (the recycle leaves too little fresh air).
+
+    >>> air_d, air_c = normal_volume_to_mass(88050.0), normal_volume_to_mass(23698.0)
+    >>> f0 = fuel_rate_for_temperature(500.0, air_c, air_d)
+    >>> f1 = fuel_rate_with_recycle(500.0, air_c, air_d - 5.0, 5.0, 120.0, 0.08)
+    >>> round(f0 * 3600), round(f1 * 3600)      # kg/h: 5 kg/s of the dilution air from a 120 degC exhaust
+    (1767, 1733)
+    """
+    target = float(check_range("target_temperature_c", target_temperature_c, -20.0, 726.0, unit="degC"))
+    ac = float(check_range("combustion_air", combustion_air, 0.0, np.inf, unit="kg/s"))
+    if not float(dilution_air) >= 0.0:
+        raise ValueError(f"dilution air {float(dilution_air):.4g} kg/s < 0: the recycled exhaust leaves less fresh "
+                         "air than the burner's combustion air")
+    _chamber_inputs(0.0, ac, dilution_air, air_temperature_c, air_humidity, fuel_temperature_c, heat_loss_fraction)
+    rg = float(check_range("recycle_gas", recycle_gas, 0.0, np.inf, low_inclusive=True, unit="kg/s"))
+    tr = float(check_range("recycle_temperature_c", recycle_temperature_c, -20.0, 726.0, unit="degC"))
+    yr = float(check_range("recycle_humidity", recycle_humidity, 0.0, 1.0, low_inclusive=True, high_inclusive=True,
+                           unit="kg/kg dry gas"))
+    ta, y = float(air_temperature_c), float(air_humidity)
+    air_c, air_d, rec = _air_moles(ac, y), _air_moles(float(dilution_air), y), _air_moles(rg, yr)
+    side = {sp: air_d[sp] + rec[sp] for sp in air_d}      # dilution and recycle: one stream of products
+    n0, _ = _products(0.0, air_c, side, fuel)
+    n1, _ = _products(1.0, air_c, side, fuel)
+
+    def h(species, t):   # kJ/kmol relative to 25 degC, as _h_molar (unchecked)
+        return comb._species_enthalpy(species, t, REFERENCE_C) * comb.MOLAR_MASS[species]
+    h_in = sum((air_c[sp] + air_d[sp]) * h(sp, ta) + rec[sp] * h(sp, tr) for sp in ("N2", "O2", "Ar", "H2O")) * 1000.0
+    hk = {sp: h(sp, target) for sp in comb.SPECIES}
+    hp0 = sum(n0[sp] * hk[sp] for sp in comb.SPECIES) * 1000.0
+    dhp = sum((n1[sp] - n0[sp]) * hk[sp] for sp in comb.SPECIES) * 1000.0
+    heat_per_fuel = fuel.heat_capacity * (float(fuel_temperature_c) - REFERENCE_C) + (1.0 - heat_loss_fraction) * fuel.lhv
+    f = float((h_in - hp0) / (dhp - heat_per_fuel))
+    f_max = air_c["O2"] / fuel.stoichiometric_oxygen()
+    if not f >= 0.0:
+        raise ValueError(f"target_temperature_c = {target:g} degC is below the temperature of the air and recycled "
+                         "gas mixed: no fuel rate gives it")
+    if f > f_max:
+        raise ValueError(f"burner cannot reach target_temperature_c = {target:g} degC: it needs {f * 3600:.4g} kg/h "
+                         f"of fuel, above the {f_max * 3600:.4g} kg/h the combustion air's oxygen burns")
+    return f
 
 
 def _fuel_rate_scalar(target_temperature_c, combustion_air, dilution_air, max_fuel_rate=None, **chamber_kwargs):

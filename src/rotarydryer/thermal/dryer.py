@@ -248,13 +248,13 @@ class ThermalDryer:
                 f"{s.gas_inlet_temperature:g} degC is not above "
                 f"the solids inlet temperature {s.solids_inlet_temperature:g} degC, so the gas cannot supply the "
                 f"latent heat", reason="gas_too_cold")
-        rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3)))
+        rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3), s.pressure))
         if rh >= 1.0:
             raise DryerError(f"gas too cold to dry: the inlet gas is saturated (gas.inlet_humidity = "
                              f"{s.gas_inlet_humidity:g} kg/kg wet gas at gas.inlet_temperature = "
                              f"{s.gas_inlet_temperature:g} degC: relative humidity {rh:.2f})", reason="gas_too_cold")
         if self.feed_moisture > 0:
-            wb = float(ha.wet_bulb_temperature(min(s.gas_inlet_temperature, 600.0), min(y, ha.Y_MAX)))
+            wb = float(ha.wet_bulb_temperature(min(s.gas_inlet_temperature, 600.0), min(y, ha.Y_MAX), s.pressure))
             if wb < 0.0:
                 raise DryerError(
                     f"gas too cold to dry: gas.inlet_temperature = {s.gas_inlet_temperature:g} degC with "
@@ -326,6 +326,7 @@ class ThermalDryer:
         self.gas_outlet_stage = int(self.gas_order[-1])
         self._beam_length = rad.mean_beam_length(2 * self.radius)   # gas radiation to the solids
         self._pattern = None
+        self._pattern_recycle = False    # the pattern holds the recycle's entries (sparsity)
         self._groups = None
         self._shell_ua = None
         self._shell_outer = None     # outer shell temperatures of the last shell solve (a warm start)
@@ -500,7 +501,8 @@ class ThermalDryer:
 
     @property
     def gas_inlet_Y(self):
-        """Humidity of the gas entering the first stage (after mixing with leak air), kg/kg dry gas."""
+        """Humidity of the gas entering the first stage (the burner gas mixed with the leak air), kg/kg dry
+        gas, without exhaust recycle (with it: [`inlet_gas`][rotarydryer.thermal.dryer.ThermalDryer.inlet_gas])."""
         hot, leak = self._flows_in
         return (hot * self.hot_gas_Y + leak * self.settings.ambient_humidity) / (hot + leak)
 
@@ -520,8 +522,29 @@ class ThermalDryer:
         key = (s.mode, s.gas_flow, s.gas_inlet_temperature, s.gas_inlet_humidity, s.leak_air_flow,
                s.ambient_temperature, s.ambient_humidity)
         if self._inlet_h is None or self._inlet_h[0] != key:
-            self._inlet_h = (key, self.gas_inlet_enthalpy())
+            self._inlet_h = (key, self.gas_inlet_enthalpy(),
+                             float(bal.gas_enthalpy(s.gas_inlet_temperature, self.hot_gas_Y, s.mode)))
         return self._inlet_h[1]
+
+    def inlet_gas(self, Y):
+        """(humidity kg/kg dry gas, enthalpy J/kg dry gas) of the gas entering the first stage, at the
+        stages' gas humidities ``Y`` ((n_gas,) or a batch (k, n_gas): then arrays (k,)).
+
+        The burner gas (dry flow ``hot``) mixed adiabatically with the leak air (``leak``): without
+        recycle, [`gas_inlet_Y`][rotarydryer.thermal.dryer.ThermalDryer.gas_inlet_Y] and
+        [`gas_inlet_enthalpy`][rotarydryer.thermal.dryer.ThermalDryer.gas_inlet_enthalpy], whatever ``Y``. With
+        ``recycle_fraction`` r the burner heats fresh air (hot - r F_d, at the burner gas's humidity Y_h)
+        and the fraction r of the exhaust (r F_d, F_d = hot + leak, at the outlet stage's humidity Y_out)
+        to the inlet temperature T_in; the enthalpy being linear in the humidity,
+        Y_in = Y_in,0 + r (Y_out - Y_h) and h_in = h_in,0 + r (h(T_in, Y_out) - h(T_in, Y_h))."""
+        r = self.settings.recycle_fraction
+        h0 = self._inlet_enthalpy()
+        if r == 0:
+            return self.gas_inlet_Y, h0
+        s = self.settings
+        y_out = np.asarray(Y, dtype=float)[..., self.gas_outlet_stage]
+        h_recycled = bal._gas_enthalpy(s.gas_inlet_temperature, y_out, s.mode)     # at the inlet temperature
+        return self.gas_inlet_Y + r * (y_out - self.hot_gas_Y), h0 + r * (h_recycled - self._inlet_h[2])
 
     def flows(self, S, W, T, families=None, gas=None):
         """Wet-solids edge flows per size class: (src, dst, flow kg/s) with the flows (..., classes,
@@ -907,13 +930,14 @@ class ThermalDryer:
         hv = bal._vapour_source_enthalpy(Ts_c, s.mode)
         up = self.gas_up
         Tg_up = np.where(up >= 0, Tg[..., np.maximum(up, 0)], s.gas_inlet_temperature)
-        Y_up = np.where(up >= 0, Y[..., np.maximum(up, 0)], self.gas_inlet_Y)
+        Y_in, h_in = self.inlet_gas(Y)      # the gas entering the first stage (with recycle: of this state)
+        Y_up = np.where(up >= 0, Y[..., np.maximum(up, 0)], Y_in if np.ndim(Y_in) == 0 else Y_in[..., None])
         qloss = self._shell_loss(Tg, Y, Tg_up)
         Sm, Wm, Tm, _, _ = self.split(z) if self.n_classes > 1 else (S[..., 0, :], W[..., 0, :], T[..., 0, :], 0, 0)
         d = dict(Sc=S, Wc=W, Tc=T, S=Sm, W=Wm, T=Tm, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW,
                  outH=outH, area_c=area, rw_c=rw, qc_c=qc, qr_c=qr, hv_c=hv, area=area.sum(axis=-2),
                  rw=rw.sum(axis=-2), qc=qc.sum(axis=-2), qr=qr.sum(axis=-2), qloss=qloss, Tg_up=Tg_up, Y_up=Y_up,
-                 src=src, dst=dst, Fc=F, F=F.sum(axis=-2))
+                 Y_in=Y_in, h_in=h_in, src=src, dst=dst, Fc=F, F=F.sum(axis=-2))
         if products:
             for name, mask in (("product", dst == -1), ("dust", dst == -3)):
                 per = [np.sum(x[..., mask], axis=-1) for x in (Fs, Fw, Fh)]       # (..., classes)
@@ -1057,7 +1081,7 @@ class ThermalDryer:
         dYm = Fd * (d["Y_up"] - Y) + rw_g
         h, h_wetter = bal._gas_enthalpy_pair(Tg, Y, 1e-4, s.mode)
         h_up = h[..., np.maximum(self.gas_up, 0)]       # the upstream stage's enthalpy (elementwise identical)
-        h_up[..., self.gas_order[0]] = self._inlet_enthalpy()
+        h_up[..., self.gas_order[0]] = d["h_in"]
         dH = Fd * (h_up - h) + (rw * hv).sum(axis=-2) - d["qc"] - d["qr"] - d["qloss"]
         cs = bal._gas_heat_capacity(Tg, Y, s.mode)
         dhdY = (h_wetter - h) / 1e-4
@@ -1073,8 +1097,9 @@ class ThermalDryer:
         class: a class's flow on an edge depends on its own solids at the source and, where the flow or its
         coefficient is the mixture's (a capped or excess flow min(M, M_des), a section law at the passive
         mixture's mass and moisture), on every class there; a tank's classes depend on each other (the
-        bed's area shared by surface) and on the gas of their stage, which depends on them all."""
-        if self._pattern is not None:
+        bed's area shared by surface) and on the gas of their stage, which depends on them all (with exhaust recycle, the inlet stage's gas reads the outlet stage's humidity)."""
+        recycle = self.settings.recycle_fraction > 0
+        if self._pattern is not None and self._pattern_recycle == recycle:
             return self._pattern
         nt, ng, nc = self.n_tanks, self.n_gas, self.n_classes
         kk = nc * nt
@@ -1142,6 +1167,10 @@ class ThermalDryer:
         if nc > 1:          # an empty tank's temperature anchor: the nearest stage's gas (every tank)
             for c in range(nc):
                 rows.append(2 * kk + c * nt + np.arange(nt)), cols.append(3 * kk + self._tank_stage)
+        if recycle:      # the inlet gas's humidity and enthalpy follow the exhaust humidity (inlet_gas)
+            first = self.gas_order[0]
+            rows.append(np.array([3 * kk + first, 3 * kk + ng + first]))
+            cols.append(np.full(2, 3 * kk + ng + self.gas_outlet_stage))
         r, c = np.concatenate(rows), np.concatenate(cols)
         pat = sp.csr_matrix((np.ones(r.size), (r, c)), shape=(self.n, self.n))
         pat.data[:] = 1.0
@@ -1156,6 +1185,7 @@ class ThermalDryer:
             while len(_GROUPS_CACHE) > 16:
                 _GROUPS_CACHE.pop(next(iter(_GROUPS_CACHE)))
         self._pattern = pat
+        self._pattern_recycle = recycle
         self._groups = groups
         self._fd_plan = FDPlan(pat, groups)
         return pat
@@ -1402,11 +1432,11 @@ class ThermalDryer:
         them, below the inlet gas's wet bulb (16 K below in a sampled Invicta case); the bound only
         keeps the iterates physical (`_bounded_step`)."""
         s = self.settings
-        key = (s.ambient_temperature, s.solids_inlet_temperature, s.gas_inlet_temperature, self.gas_inlet_Y)
+        key = (s.ambient_temperature, s.solids_inlet_temperature, s.gas_inlet_temperature, self.gas_inlet_Y, s.pressure)
         if self._floor_memo is None or self._floor_memo[0] != key:
             try:
                 wb = float(ha.wet_bulb_temperature(min(s.gas_inlet_temperature, ha.T_MAX_C),
-                                                   min(max(self.gas_inlet_Y, 0.0), ha.Y_MAX)))
+                                                   min(max(self.gas_inlet_Y, 0.0), ha.Y_MAX), s.pressure))
             except ValueError:
                 wb = ha.T_MIN_C
             self._floor_memo = (key, max(ha.T_MIN_C + 1.0, min(s.ambient_temperature, s.solids_inlet_temperature, wb) - 30.0))

@@ -92,6 +92,14 @@ class ThermalSettings:
     `rotarydryer.thermal.dryer`, "Size classes").
     entrainment : with size classes, the gas carries the fines out of the curtains where it is faster
     than their terminal velocity (dust to the exhaust); False: no dust.
+    recycle_fraction : fraction r of the exhaust's dry gas returned to the burner, in [0, 1). The drum's
+    dry gas flow (``gas_flow`` at ``gas_inlet_humidity``) and its inlet temperature stay: the burner
+    heats fresh air (the rest of that flow, at ``gas_inlet_humidity``) and the recycled exhaust (at the
+    exhaust's humidity, from its temperature) to the inlet temperature, so the inlet gas is more humid
+    and the fuel lower ([`ThermalDryer.inlet_gas`][rotarydryer.thermal.dryer.ThermalDryer.inlet_gas]). 0 = none.
+    shell_max_temperature : highest allowed steel wall temperature, degC (None: no limit), e.g. 593
+    (mild steel, API 521, as Ajayi (2011) Ch. 7 quotes): reported against the model's hottest wall
+    ([`rotarydryer.thermal.audit`][rotarydryer.thermal.audit]); never an error.
     """
 
     gas_flow: float
@@ -125,6 +133,8 @@ class ThermalSettings:
     kiln_bed_area: bool = True
     size_classes: Optional[SizeClasses] = None
     entrainment: bool = True
+    recycle_fraction: float = 0.0
+    shell_max_temperature: Optional[float] = None
 
     @classmethod
     def ajayi2011(cls, **kw):
@@ -150,8 +160,20 @@ class ThermalSettings:
                            ("gas.leak_air_flow", self.leak_air_flow), ("shell.ambient_humidity", self.ambient_humidity),
                            ("shell.scale_thickness", self.scale_thickness),
                            ("shell.insulation_thickness", self.insulation_thickness),
-                           ("thermal.design_load_smoothing", self.design_load_smoothing)):
+                           ("thermal.design_load_smoothing", self.design_load_smoothing),
+                           ("gas.recycle_fraction", self.recycle_fraction)):
             check_key(key, value)
+        if self.shell_max_temperature is not None:
+            check_key("shell.max_temperature", self.shell_max_temperature)
+        check_range("pressure", self.pressure, 5e4, 2e5, low_inclusive=True, high_inclusive=True, unit="Pa")
+        hot = self.gas_flow * (1.0 - self.gas_inlet_humidity)
+        leak = self.leak_air_flow / (1.0 + self.ambient_humidity)
+        if self.recycle_fraction > 0 and not self.recycle_fraction * (hot + leak) < hot:
+            raise DryerError(
+                f"gas.recycle_fraction = {self.recycle_fraction:g} returns {self.recycle_fraction * (hot + leak):.4g} "
+                f"kg/s of exhaust dry gas, not less than the burner's dry gas {hot:.4g} kg/s (the leak air "
+                f"gas.leak_air_flow = {self.leak_air_flow:g} kg/s is in the exhaust too): no fresh air would be left; "
+                f"give gas.recycle_fraction below {hot / (hot + leak):.4g}")
         check_range("shell.scale_conductivity", self.scale_conductivity, 0.0, np.inf, unit="W/(m K)")
         check_range("shell.insulation_conductivity", self.insulation_conductivity, 0.0, np.inf, unit="W/(m K)")
         if self.shell_inner_radius is not None:

@@ -120,16 +120,17 @@ class CurtainGas:
     @classmethod
     def at_conditions(cls, *, gas_mass_flow, temperature_degC, humidity, radius, gas_flow, particle_diameter,
                       particle_density, velocity_ratio=None, method="schiller_naumann_1933",
-                      curtain_coefficient=SHERRITT_COEFFICIENT, step_factor=1.0):
-        """From the gas flow (kg/s wet), temperature (degC) and water mass fraction (kg/kg wet gas):
-        density (ideal gas) and viscosity (Wilke) of humid air, [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air]."""
+                      curtain_coefficient=SHERRITT_COEFFICIENT, step_factor=1.0, pressure=101325.0):
+        """From the gas flow (kg/s wet), temperature (degC), water mass fraction (kg/kg wet gas) and
+        pressure (Pa; the site's, a case's ``site.altitude``): density (ideal gas) and viscosity
+        (Wilke) of humid air, [`rotarydryer.properties.humid_air`][rotarydryer.properties.humid_air]."""
         from ..properties import humid_air as ha
 
         t = float(check_range("gas.inlet_temperature", temperature_degC, 0.0, 600.0, low_inclusive=True,
                               high_inclusive=True, unit="degC"))
         y = float(check_key("gas.inlet_humidity", humidity))
         Y = float(ha.humidity_from_mass_fraction(y))
-        return cls(gas_mass_flow=float(gas_mass_flow), gas_density=float(ha.density(t, Y)),
+        return cls(gas_mass_flow=float(gas_mass_flow), gas_density=float(ha.density(t, Y, pressure)),
                    gas_viscosity=float(ha.viscosity(t, Y)), radius=float(radius), gas_flow=gas_flow,
                    particle_diameter=float(particle_diameter), particle_density=float(particle_density),
                    velocity_ratio=None if velocity_ratio is None else float(velocity_ratio), method=method,

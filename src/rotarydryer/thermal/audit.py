@@ -1,0 +1,249 @@
+r"""Energy audit of a coupled steady state: where the heat goes, the exhaust's dew point, the shell.
+
+**Heat duties** ([`heat_duties`][rotarydryer.thermal.audit.heat_duties]), W, at a converged
+[`ThermalSteadyState`][rotarydryer.thermal.states.ThermalSteadyState]. They add up to the **heat
+release** ``heat_release_W``: the fuel's heat, fuel rate x lower heating value, where the case has a
+burner whose fuel rate the model gives; else the heat put into the gas (``heat_input_W``). The
+reference is the site's ambient air (``shell.ambient_temperature``; its humidity for the leak air)
+and the feed's temperature for the solids, so that the identity is exact in the model's own
+enthalpies (those of its mode, ``thermal.mode``), term by term:
+
+``heat_duty_burner_loss_W``
+    release - heat input: the chamber's wall loss (``gas.burner.heat_loss_fraction``) and what the
+    combustion products hold beyond the model's humid-air gas at the same temperature (their CO2
+    and the water formed, the fuel's mass; about 2.5 % of the release for the MMG burner). 0
+    without a burner.
+``heat_duty_evaporation_W``
+    $\sum_i R_{w,i}\,\lambda(T_{s,i})$: each stage's evaporation rate times the latent heat at the
+    temperature of the solids it evaporates from (the model's latent heat $h_v(T_s) - c_{p,w}T_s$,
+    [`rotarydryer.thermal.balances.vapour_source_enthalpy`][rotarydryer.thermal.balances.vapour_source_enthalpy]; Ajayi (2011) Eq. 6.4, 6.7).
+``heat_duty_solids_heating_W``
+    the dry solids from the feed to the product temperature, $S\,c_{p,s}(T_p - T_f)$.
+``heat_duty_water_heating_W``
+    the liquid water: the water that stays, from the feed to the product temperature, and the
+    water evaporated, from the feed temperature to the temperature it evaporates at.
+``shell_heat_loss_W``
+    through the shell (per section: [`shell_sections`][rotarydryer.thermal.audit.shell_sections]).
+``heat_duty_exhaust_sensible_W``
+    the exhaust that leaves the plant (with recycle r, the fraction 1 - r): its dry gas and the
+    vapour the fresh gas brought above ambient, and the evaporated water's vapour from the
+    temperature it evaporated at to the exhaust temperature.
+``heat_duty_leak_air_W``
+    the leak air (``gas.leak_air_flow``) heated from ambient to the exhaust temperature.
+``heat_duty_closure_W``
+    release minus the terms above: the balance residual of the converged state (below 1e-9 of the
+    release; the steady-state test polishes the balances to 1e-10).
+
+``heat_duty_dust_W``
+    the dust (fines the gas carries out of the curtains, a case with ``[particle_size]``): its
+    solids and water from the feed temperature to the temperature they leave their curtains at
+    (0 without dust).
+
+Reported beside them, not added (it is part of the evaporation's heat, carried out by the exhaust):
+``heat_duty_exhaust_latent_W``, the latent heat of the evaporated water at ambient temperature,
+$\dot m_{evap}(h_v(T_{amb}) - c_{p,w}T_{amb})$ - at most what a condenser cooling the exhaust to
+ambient would recover.
+
+Why the identity holds: the gas enthalpy of both modes is linear in the humidity,
+$h(T, Y) = h_a(T) + Y h_v(T)$, so the exhaust splits exactly into its dry gas, the vapour it
+brought and the water evaporated; with the steady state's water and energy balances the terms
+above add up to the heat input (derivation in ``docs/guide/energy_audit.md``).
+
+**Shell** ([`shell_profile`][rotarydryer.thermal.audit.shell_profile]): the outer surface
+temperature (what an infrared gun reads) and the hottest steel temperature (the steel's inside
+face, under the scale layer) per gas stage, from the shell network the model solves
+([`rotarydryer.thermal.shell.shell_heat_loss`][rotarydryer.thermal.shell.shell_heat_loss]; the fixed shell temperatures of the
+``ajayi2011`` mode there). A case's ``shell.max_temperature`` (e.g. 593 degC, the mild-steel limit
+of API 521 that Ajayi (2011) Ch. 7 quotes for an insulated shell) is compared with the hottest wall:
+a `ShellTemperatureWarning`, never an error.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from . import balances as bal
+from .shell import shell_heat_loss
+
+if TYPE_CHECKING:
+    from .states import ThermalSteadyState
+
+__all__ = ["HEAT_DUTY_PARTS", "HEAT_DUTY_LABELS", "ShellTemperatureWarning", "heat_duties", "shell_profile",
+           "shell_sections", "shell_temperatures", "shell_limit_message", "warn_shell_limit"]
+
+#: the heat duties that add up to ``heat_release_W`` (summary names, W), in the order of a waterfall
+HEAT_DUTY_PARTS = ("heat_duty_burner_loss_W", "heat_duty_evaporation_W", "heat_duty_solids_heating_W",
+                   "heat_duty_water_heating_W", "heat_duty_dust_W", "shell_heat_loss_W", "heat_duty_exhaust_sensible_W",
+                   "heat_duty_leak_air_W", "heat_duty_closure_W")
+
+#: short labels of the duties for the tables and figures of the text surfaces
+HEAT_DUTY_LABELS = {
+    "heat_release_W": "heat release",
+    "heat_duty_burner_loss_W": "burner loss",
+    "heat_duty_evaporation_W": "evaporation",
+    "heat_duty_solids_heating_W": "solids heating",
+    "heat_duty_water_heating_W": "water heating",
+    "heat_duty_dust_W": "dust",
+    "shell_heat_loss_W": "shell loss",
+    "heat_duty_exhaust_sensible_W": "exhaust (sensible)",
+    "heat_duty_leak_air_W": "air leaks",
+    "heat_duty_closure_W": "balance closure",
+    "heat_duty_exhaust_latent_W": "exhaust latent heat (part of evaporation)",
+}
+
+
+class ShellTemperatureWarning(UserWarning):
+    """The model's hottest shell wall is above the case's ``shell.max_temperature``."""
+
+
+def heat_duties(steady: ThermalSteadyState, fuel_rate: float | None = None) -> dict:
+    """The heat duties of a converged steady state (module docstring), W: ``heat_release_W``, the
+    parts `HEAT_DUTY_PARTS` (which add up to it) and ``heat_duty_exhaust_latent_W``.
+
+    ``fuel_rate`` (kg/s) of the case's burner: the release is fuel rate x LHV; None (no burner, or a
+    burner that cannot reach the set temperature): the release is the heat put into the gas."""
+    dr = steady.dryer
+    s = dr.settings
+    d = steady.terms
+    mode = s.mode
+    hot, leak = dr._flows_in
+    r = s.recycle_fraction
+    back = r * (hot + leak)                  # recycled exhaust, kg/s dry gas (0 without recycle)
+    fresh = hot - back                       # fresh air through the burner, kg/s dry gas
+    ta, tf = s.ambient_temperature, s.solids_inlet_temperature
+    k = dr.gas_outlet_stage
+    t_out = float(d["Tg"][k])
+    yh, ya = dr.hot_gas_Y, s.ambient_humidity
+
+    def h(t, y):
+        return float(bal._gas_enthalpy(t, y, mode))
+
+    q_in = float(steady.heat_input_w)
+    b = s.burner
+    release = q_in if fuel_rate is None or b is None else float(fuel_rate) * b.fuel.lhv
+    # solids: dry solids and the water they keep, from the feed to the product temperature
+    cps, cpw = s.cp_solids, s.cp_water
+    assert cps is not None          # the material's, filled in when the dryer was built
+    pS, pW = float(d["product_S"]), float(d["product_W"])
+    tp = float(steady.product_temperature_degC)
+    dS, dW, dH = float(d["dust_S"]), float(d["dust_W"]), float(d["dust_H"])
+    # evaporation per gas stage and size class at the temperature of the class's solids there (the
+    # model's vapour enthalpy hv)
+    rw = np.asarray(d["rw_c"], dtype=float)
+    ts = np.asarray(d["Tc"], dtype=float)[..., dr.gas_tank]
+    hv = np.asarray(d["hv_c"], dtype=float)
+    vapour_out = h(t_out, 1.0) - h(t_out, 0.0)      # h_v(T_out): the gas enthalpy is linear in Y
+    evaporation = float(np.sum(rw * (hv - cpw * ts)))
+    parts = {
+        "heat_duty_burner_loss_W": release - q_in,
+        "heat_duty_evaporation_W": evaporation,
+        "heat_duty_solids_heating_W": pS * cps * (tp - tf),
+        "heat_duty_water_heating_W": pW * cpw * (tp - tf) + float(np.sum(rw * cpw * (ts - tf))),
+        "heat_duty_dust_W": dH - (dS * cps + dW * cpw) * tf,
+        "shell_heat_loss_W": float(np.sum(d["qloss"])),
+        "heat_duty_exhaust_sensible_W": fresh * (h(t_out, yh) - h(ta, yh)) + float(np.sum(rw * (vapour_out - hv))),
+        "heat_duty_leak_air_W": leak * (h(t_out, ya) - h(ta, ya)),
+    }
+    parts["heat_duty_closure_W"] = release - math.fsum(parts.values())
+    out = {"heat_release_W": release, **parts}
+    evaporated = float(np.sum(rw))
+    out["heat_duty_exhaust_latent_W"] = evaporated * (h(ta, 1.0) - h(ta, 0.0) - cpw * ta)
+    return out
+
+
+def evaporation_temperature(steady: ThermalSteadyState) -> float | None:
+    """Evaporation-weighted mean temperature of the solids water evaporates from, degC (None where
+    nothing evaporates)."""
+    d = steady.terms
+    rw = np.asarray(d["rw"], dtype=float)
+    total = float(np.sum(rw))
+    if not total > 1e-12 * steady.dryer.feed_rate:
+        return None
+    return float(np.sum(rw * np.asarray(d["T"], dtype=float)[steady.dryer.gas_tank]) / total)
+
+
+def shell_profile(steady: ThermalSteadyState) -> dict:
+    """Per gas stage (arrays): ``section``, ``position_m``, ``length_m``, ``shell_heat_loss_W`` (the
+    model's), ``surface_temperature_degC`` (outer surface: the lagging's where the shell is insulated)
+    and ``wall_temperature_degC`` (the steel's hottest face, its inside, under the scale). Physical
+    mode: the shell network at the stage's gas temperature and humidity (at the edge of the
+    near-ambient band, 1 K above ambient, for gas colder than that); ``ajayi2011`` mode: the fixed
+    shell temperatures of the sections (Ajayi's code)."""
+    dr = steady.dryer
+    s = dr.settings
+    d = steady.terms
+    tg, y = np.asarray(d["Tg"], dtype=float), np.asarray(d["Y"], dtype=float)
+    if s.mode == "ajayi2011":
+        surface = wall = np.asarray(dr.shell_T, dtype=float).copy()
+    else:
+        band = 1.0      # ThermalDryer's SHELL_LINEAR_BAND_K (the loss is linear in T_g - T_amb below it)
+        r = shell_heat_loss(np.clip(tg, s.ambient_temperature + band, 600.0), dr.dry_gas_flow * (1.0 + y), dr.gas_len,
+                            s.ambient_temperature, gas_humidity=np.clip(y, 0.0, 1.0),
+                            co2_mole_fraction=s.co2_mole_fraction, inner_radius=dr.shell_inner_radius,
+                            shell_thickness=dr.shell_thickness, scale_thickness=s.scale_thickness,
+                            scale_conductivity=s.scale_conductivity, insulation_thickness=s.insulation_thickness,
+                            insulation_conductivity=s.insulation_conductivity, pressure=s.pressure,
+                            ambient_humidity=s.ambient_humidity, outer_guess=dr._shell_outer,
+                            _trusted=True)     # the model's own call (its settings checked once; any gas state)
+        surface = np.asarray(r.outer_surface_temperature_c, dtype=float)
+        wall = np.asarray(r.inner_surface_temperature_c, dtype=float)
+        if s.scale_thickness > 0:       # the steel's inside face lies under the scale layer
+            ri = dr.shell_inner_radius
+            r_scale = math.log(ri / (ri - s.scale_thickness)) / (2.0 * math.pi * s.scale_conductivity)
+            wall = wall - np.asarray(r.heat_loss_per_length, dtype=float) * r_scale
+    return dict(section=np.asarray(dr.gas_section), position_m=np.asarray(dr.gas_position, dtype=float),
+                length_m=np.asarray(dr.gas_len, dtype=float), shell_heat_loss_W=np.asarray(d["qloss"], dtype=float),
+                surface_temperature_degC=surface, wall_temperature_degC=wall)
+
+
+def shell_sections(steady: ThermalSteadyState) -> list[dict]:
+    """One row per section (in the order along the drum): ``section``, ``length_m``,
+    ``shell_heat_loss_W``, ``max_surface_temperature_degC``, ``max_wall_temperature_degC``."""
+    p = steady.shell_profile()
+    names = list(dict.fromkeys(str(x) for x in p["section"]))
+    rows = []
+    for name in names:
+        m = np.asarray([str(x) == name for x in p["section"]])
+        rows.append(dict(section=name, length_m=float(np.sum(p["length_m"][m])),
+                         shell_heat_loss_W=float(np.sum(p["shell_heat_loss_W"][m])),
+                         max_surface_temperature_degC=float(np.max(p["surface_temperature_degC"][m])),
+                         max_wall_temperature_degC=float(np.max(p["wall_temperature_degC"][m]))))
+    return rows
+
+
+def shell_temperatures(steady: ThermalSteadyState) -> dict:
+    """The shell's summary outputs: ``shell_max_surface_temperature_degC``,
+    ``shell_max_wall_temperature_degC``, the case's limit ``shell_temperature_limit_degC`` (None: none)
+    and ``shell_temperature_limit_exceeded`` (None without a limit)."""
+    p = steady.shell_profile()
+    limit = steady.dryer.settings.shell_max_temperature
+    wall = float(np.max(p["wall_temperature_degC"]))
+    return dict(shell_max_surface_temperature_degC=float(np.max(p["surface_temperature_degC"])),
+                shell_max_wall_temperature_degC=wall, shell_temperature_limit_degC=limit,
+                shell_temperature_limit_exceeded=None if limit is None else bool(wall > limit))
+
+
+def shell_limit_message(steady: ThermalSteadyState) -> str | None:
+    """One line when the hottest wall exceeds ``shell.max_temperature`` (where, by how much), else None."""
+    limit = steady.dryer.settings.shell_max_temperature
+    if limit is None:
+        return None
+    p = steady.shell_profile()
+    i = int(np.argmax(p["wall_temperature_degC"]))
+    wall = float(p["wall_temperature_degC"][i])
+    if not wall > limit:
+        return None
+    return (f"the shell wall reaches {wall:.1f} degC in section {p['section'][i]} ({p['position_m'][i]:.3g} m from the "
+            f"feed end), above shell.max_temperature = {limit:g} degC (steel strength; Ajayi (2011) Ch. 7 quotes "
+            "593 degC for mild steel): less insulation, a lower gas inlet temperature or another steel")
+
+
+def warn_shell_limit(steady: ThermalSteadyState) -> None:
+    """A `ShellTemperatureWarning` when `shell_limit_message` has one."""
+    msg = shell_limit_message(steady)
+    if msg:
+        warnings.warn(msg, ShellTemperatureWarning, stacklevel=2)

@@ -1,0 +1,67 @@
+"""``rotarydryer audit`` (issue 34 item 3): the heat duties, the dew point, the shell and the what-if
+savings, in text (display units) and JSON (SI)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+from typer.testing import CliRunner
+
+from rotarydryer.cli import app
+from rotarydryer.thermal.audit import HEAT_DUTY_PARTS
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def mmg_audit():
+    res = runner.invoke(app, ["audit", "ajayi2011_mmg", "--recycle", "0.2", "--preheat", "20", "--insulation", "0.1",
+                              "--set", "shell.max_temperature=400", "--json"])
+    assert res.exit_code == 0, res.output
+    return json.loads(res.stdout)
+
+
+def test_json_duties_add_up_to_the_release(mmg_audit):
+    d = mmg_audit["heat_duties"]
+    assert mmg_audit["duty_parts"] == list(HEAT_DUTY_PARTS)
+    closure = abs(d["heat_release_W"] - math.fsum(d[k] for k in HEAT_DUTY_PARTS if k != "heat_duty_closure_W"))
+    assert closure < 1e-9 * d["heat_release_W"]
+    out = mmg_audit["outputs"]
+    assert out["gas_outlet_dew_point_margin_K"] == pytest.approx(
+        out["gas_outlet_temperature_degC"] - out["gas_outlet_dew_point_degC"], abs=1e-9)
+    assert [r["section"] for r in mmg_audit["shell_sections"]] == ["A", "B", "C", "D", "E"]
+
+
+def test_what_ifs_are_coupled_runs(mmg_audit):
+    by = {w["measure"]: w for w in mmg_audit["savings"]}
+    rec, pre, ins = by["recycle"], by["preheat"], by["insulation"]
+    assert rec["overrides"] == {"gas.recycle_fraction": 0.2} and rec["fuel_saved_kg_s"] > 0
+    # at the same gas inlet temperature the heat input is fixed by the gas: preheating and lagging dry more
+    assert abs(pre["heat_saved_W"]) < 1e-6 * mmg_audit["heat_duties"]["heat_release_W"]
+    assert pre["product_moisture_change_kg_kg"] < 0 and ins["product_moisture_change_kg_kg"] < 0
+    assert pre["preheat_duty_W"] > 0 and pre["overrides"]["operating.feed_temperature"] == pytest.approx(48.0)
+    # 0.1 m of lagging: the outside cools, the steel heats past the 400 degC limit
+    assert ins["outputs"]["shell_heat_loss_W"] < 0.2 * mmg_audit["heat_duties"]["shell_heat_loss_W"]
+    assert ins["outputs"]["shell_temperature_limit_exceeded"] is True
+    assert mmg_audit["outputs"]["shell_temperature_limit_exceeded"] is False
+
+
+def test_text_in_the_display_unit_of_power_and_out_files(tmp_path):
+    res = runner.invoke(app, ["--units", "power=MW", "audit", "ajayi2011_mmg", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    assert "heat release" in res.output and " MW" in res.output and " kW" not in res.output
+    assert "dew point" in res.output and "section E" in res.output
+    data = json.loads((tmp_path / "audit.json").read_text())
+    assert data["kind"] == "energy_audit" and (tmp_path / "heat_duties.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_held_moisture_finds_the_inlet_temperature():
+    res = runner.invoke(app, ["audit", "ajayi2011_mmg", "--preheat", "20", "--hold-moisture", "--json"])
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.stdout)
+    held = data["savings"][0]["held"]
+    # at the base product moisture a preheated feed needs a cooler gas: heat and fuel saved
+    assert held["product_moisture_kg_kg"] == pytest.approx(data["outputs"]["product_moisture_kg_kg"], abs=1e-4)
+    assert held["gas_inlet_temperature_degC"] < 500.0 and held["heat_saved_W"] > 0 and held["fuel_saved_kg_s"] > 0
