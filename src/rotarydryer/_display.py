@@ -49,6 +49,7 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "mass": {"kg": (1.0, 0.0), "t": (1e-3, 0.0)},
     "time": {"min": (1.0 / 60.0, 0.0), "s": (1.0, 0.0), "h": (1.0 / 3600.0, 0.0)},
     "length": {"m": (1.0, 0.0), "mm": (1000.0, 0.0)},
+    "particle_size": {"um": (1e6, 0.0), "mm": (1e3, 0.0), "m": (1.0, 0.0)},
     "specific_energy": {"kJ/kg": (1e-3, 0.0), "MJ/kg": (1e-6, 0.0)},
 }
 
@@ -56,7 +57,7 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
 DEFAULT_UNITS: dict[str, str] = {
     "moisture": "%", "humidity": "kg/kg", "temperature": "degC", "temperature_difference": "K",
     "mass_flow": "kg/s", "fuel_flow": "kg/h", "power": "kW", "mass": "kg", "time": "min", "length": "m",
-    "specific_energy": "kJ/kg",
+    "specific_energy": "kJ/kg", "particle_size": "um",
 }
 
 #: the choice of this process (``--units``), over the environment and the file; None: not set
@@ -272,6 +273,8 @@ def quantity_of(name: str) -> tuple[str, float] | None:
                 quantity = "humidity" if "humidity" in name else "moisture"
             elif quantity == "mass_flow" and "fuel" in name:
                 quantity = "fuel_flow"
+            elif quantity == "length" and ("d50" in name or "diameter" in name):
+                quantity = "particle_size"
             return quantity, factor
     return None
 

@@ -209,7 +209,8 @@ def render():
             st.caption(plain(f"{len(sizes)} size classes of equal feed mass; product d50 "
                              f"{show_output('product_d50_m', r['summary']['product_d50_m'])}, dust to the exhaust "
                              f"{show_output('dust_rate_kg_s', r['summary']['dust_rate_kg_s'])}"))
-            st.table({"class diameter (um)": [f"{x['diameter_m'] * 1e6:.4g}" for x in sizes],
+            st.table({f"class diameter ({unit_of('particle_size')})": [show(x["diameter_m"], "particle_size",
+                                                                               with_unit=False) for x in sizes],
                       "feed fraction": [f"{x['feed_fraction']:.3g}" for x in sizes],
                       "product fraction": [f"{x['product_fraction']:.3g}" for x in sizes],
                       "lost as dust": [f"{100 * x['lost_as_dust']:.3g} %" for x in sizes],

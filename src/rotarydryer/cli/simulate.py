@@ -149,7 +149,8 @@ def simulate(
                                               f"{fmt_error(result['water_balance_error'])} (relative)"),
         ]
         if classes:
-            rows += [("product d50", f"{result['product_d50_m'] * 1e6:.4g} um ({thermal.dryer.n_classes} size classes)"),
+            rows += [("product d50", f"{show_output('product_d50_m', result['product_d50_m'])} "
+                                     f"({thermal.dryer.n_classes} size classes)"),
                      ("dust to the exhaust", f"{show_output('dust_rate_kg_s', result['dust_rate_kg_s'])} "
                                              f"({result['dust_rate_kg_s'] / result['feed_rate_kg_s']:.1%} of the feed)")]
         rows += _audit_rows(result)

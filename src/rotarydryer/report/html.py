@@ -334,9 +334,9 @@ def _size_section(results) -> str:
            f"dust to the exhaust {show_output('dust_rate_kg_s', dust_rate)} ({dust_rate / feed_rate:.1%} of the feed)")
     fig = plot_size_classes(np.asarray(ds["edge"].values, float), dia, feed, prod, dust if dust.sum() > 0 else dust,
                             moist, lost)
-    rows = [(f"{d * 1e6:.4g}", _fmt(f, 3), _fmt(p, 3), _fmt(100 * lo, 3), "-" if m is None else show(m, "moisture"),
+    rows = [(show(d, "particle_size", with_unit=False), _fmt(f, 3), _fmt(p, 3), _fmt(100 * lo, 3), "-" if m is None else show(m, "moisture"),
              show(t, "time")) for d, f, p, lo, m, t in zip(dia, feed, prod, lost, moist, ds["mean_residence_time"].values)]
-    table = _table(("class diameter (um)", "feed fraction", "product fraction", "lost as dust (%)", "product moisture",
+    table = _table((f"class diameter ({unit_of('particle_size')})", "feed fraction", "product fraction", "lost as dust (%)", "product moisture",
                     "mean residence time"), rows)
     note = ('<p class="note">Classes of equal feed mass (rotarydryer.properties.psd); each class dries with its own '
             'area and moves with its own forward step where the transport law is the trajectory step; the gas carries '
@@ -507,18 +507,25 @@ def _savings_html(audit: dict) -> str:
             + f'<p class="note">{html.escape(note)}</p>')
 
 
-def load_audit(path) -> dict:
-    """A saved energy audit (``rotarydryer audit --out DIR``: DIR/audit.json)."""
+def _load_saved(path, option: str, kind: str, key: str, key_type, what: str, hint: str) -> dict:
+    """A saved result of another command (JSON with ``kind`` = ``kind`` and a ``key`` of ``key_type``),
+    or ``ValueError`` naming ``option``, the file and what is wrong (``hint``: how to make one)."""
     p = Path(path)
     if not p.is_file():
-        raise ValueError(f"--audit {str(p)!r}: not a file (give DIR/audit.json of rotarydryer audit --out DIR)")
+        raise ValueError(f"{option} {str(p)!r}: not a file ({hint})")
     try:
         data = json.loads(p.read_text(encoding="utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"--audit {str(p)!r}: not a JSON file ({exc})") from None
-    if not isinstance(data, dict) or data.get("kind") != "energy_audit" or not isinstance(data.get("savings"), list):
-        raise ValueError(f"--audit {str(p)!r}: not an energy audit (no kind = energy_audit)")
+        raise ValueError(f"{option} {str(p)!r}: not a JSON file ({exc})") from None
+    if not isinstance(data, dict) or data.get("kind") != kind or not isinstance(data.get(key), key_type):
+        raise ValueError(f"{option} {str(p)!r}: not {what} (no kind = {kind})")
     return data
+
+
+def load_audit(path) -> dict:
+    """A saved energy audit (``rotarydryer audit --out DIR``: DIR/audit.json)."""
+    return _load_saved(path, "--audit", "energy_audit", "savings", list, "an energy audit",
+                       "give DIR/audit.json of rotarydryer audit --out DIR")
 
 
 def _thermal_comparison_html(results) -> tuple[str, str]:
@@ -564,16 +571,8 @@ def _thermal_comparison_html(results) -> tuple[str, str]:
 
 def load_sensitivity(path) -> dict:
     """A saved sensitivity study (``rotarydryer sensitivity --out DIR``: DIR/sensitivity.json)."""
-    p = Path(path)
-    if not p.is_file():
-        raise ValueError(f"--sensitivity {str(p)!r}: not a file (give DIR/sensitivity.json of rotarydryer sensitivity)")
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"--sensitivity {str(p)!r}: not a JSON file ({exc})") from None
-    if not isinstance(data, dict) or data.get("kind") != "sobol_sensitivity" or not isinstance(data.get("indices"), dict):
-        raise ValueError(f"--sensitivity {str(p)!r}: not a sensitivity result (no kind = sobol_sensitivity)")
-    return data
+    return _load_saved(path, "--sensitivity", "sobol_sensitivity", "indices", dict, "a sensitivity result",
+                       "give DIR/sensitivity.json of rotarydryer sensitivity")
 
 
 def sensitivity_section(data: dict) -> str:
