@@ -46,6 +46,9 @@ def mode() -> str:
     return "off" if v in _OFF else "on" if v in _ON else "auto"
 
 
+_STATE: dict = {}      # (_LONG, _DISABLED) -> enabled(): a residual asks once per kernel call
+
+
 def _numba():
     """numba, imported on the first call (None: not installed, unusable, or NUMBA_DISABLE_JIT=1)."""
     global _NUMBA, _TRIED
@@ -81,11 +84,16 @@ def available() -> bool:
 
 def enabled() -> bool:
     """Are compiled kernels in use now: ``ROTARYDRYER_JIT=1``, or the auto mode after `long_runs`,
-    with numba available?"""
-    m = mode()
-    if m == "off" or _DISABLED or (m == "auto" and not _LONG):
-        return False
-    return _numba() is not None
+    with numba available? The answer is remembered for the process's declarations (`long_runs`,
+    `disable`): a residual asks once per kernel call, thousands of times a second, so
+    ``ROTARYDRYER_JIT`` is read when a process first asks (set it before the process starts)."""
+    key = (_LONG, _DISABLED)
+    hit = _STATE.get(key)
+    if hit is None:
+        m = mode()
+        hit = not (m == "off" or _DISABLED or (m == "auto" and not _LONG)) and _numba() is not None
+        _STATE[key] = hit
+    return hit
 
 
 def kernel(fn):

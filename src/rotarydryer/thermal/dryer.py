@@ -480,6 +480,11 @@ class ThermalDryer:
         Tm = np.where(Ct > 0, (C * T).sum(axis=-2) / np.where(Ct > 0, Ct, 1.0), T.mean(axis=-2))
         return S.sum(axis=-2), W.sum(axis=-2), Tm, Tg, Y
 
+    def class_sum(self, x):
+        """The sum over the size classes (axis -2) of ``x`` (..., classes, n): a view of the one class
+        where there is one (the default model pays no reduction)."""
+        return x[..., 0, :] if self.n_classes == 1 else x.sum(axis=-2)
+
     @property
     def hot_gas_Y(self):
         """Humidity of the burner gas, kg/kg dry gas."""
@@ -756,30 +761,36 @@ class ThermalDryer:
         m_c / d_c); a rolling bed's (and a kiln bed's) area is the mixture's, shared by the classes in
         proportion to their surface, m_c / d_c (a single class: the whole)."""
         s = self.settings
+        one = self.n_classes == 1
         mc = S + W
-        m, Wt = mc.sum(axis=-2), W.sum(axis=-2)
+        m, Wt = self.class_sum(mc), self.class_sum(W)
         X = W / np.maximum(S, 1e-12)
         tk = self.gas_tank
         dp = self.class_dp
         shape = S.shape[:-1] + (self.n_gas,)
         area = np.empty(shape)
         bed = self.is_bed_stage
-        surface = mc[..., tk] / dp                  # each class's share of a bed's surface: m_c / d_c
-        surface = surface / surface.sum(axis=-2, keepdims=True)
+        surface = None
+        if not one:
+            surface = mc[..., tk] / dp                  # each class's share of a bed's surface: m_c / d_c
+            surface = surface / surface.sum(axis=-2, keepdims=True)
         if np.any(bed):
             tb = tk[bed]
             xw = np.clip(Wt[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0, 0.3)
             a_bed = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
                                           self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
                                           s.particle_density)
-            area[..., bed] = a_bed[..., None, :] * surface[..., bed]
+            area[..., bed] = a_bed[..., None, :] if one else a_bed[..., None, :] * surface[..., bed]
         act = ~bed
         area[..., act] = bal.curtain_area(mc[..., tk[act]], dp[:, act], s.area_scale * self.gas_theta[act],
                                           s.particle_density)
         if s.kiln_bed_area and s.mode == "physical" and self._kiln_plan:
-            area = area + self._kiln_bed_area(Wt, m)[..., None, :] * surface
-        fg = np.broadcast_to((self.dry_gas_flow * (1.0 + Y))[..., None, :], shape)
-        tg, y = np.broadcast_to(Tg[..., None, :], shape), np.broadcast_to(Y[..., None, :], shape)
+            kiln = self._kiln_bed_area(Wt, m)[..., None, :]
+            area = area + (kiln if one else kiln * surface)
+        fg = (self.dry_gas_flow * (1.0 + Y))[..., None, :]
+        tg, y = Tg[..., None, :], Y[..., None, :]
+        if not one:                  # one class: (..., 1, stages) is the shape already
+            fg, tg, y = (np.broadcast_to(v, shape) for v in (fg, tg, y))
         xs, ts = X[..., tk], T[..., tk]
         # the transfer of a stage depends on that stage's inputs only: a batch (the Jacobian's perturbed
         # states) evaluates only the (state, class, stage) triples whose inputs differ from the last single state
@@ -935,13 +946,16 @@ class ThermalDryer:
         qloss = self._shell_loss(Tg, Y, Tg_up)
         Sm, Wm, Tm, _, _ = self.split(z) if self.n_classes > 1 else (S[..., 0, :], W[..., 0, :], T[..., 0, :], 0, 0)
         d = dict(Sc=S, Wc=W, Tc=T, S=Sm, W=Wm, T=Tm, Tg=Tg, Y=Y, inS=inS, inW=inW, inH=inH, outS=outS, outW=outW,
-                 outH=outH, area_c=area, rw_c=rw, qc_c=qc, qr_c=qr, hv_c=hv, area=area.sum(axis=-2),
-                 rw=rw.sum(axis=-2), qc=qc.sum(axis=-2), qr=qr.sum(axis=-2), qloss=qloss, Tg_up=Tg_up, Y_up=Y_up,
-                 Y_in=Y_in, h_in=h_in, src=src, dst=dst, Fc=F, F=F.sum(axis=-2))
+                 outH=outH, area_c=area, rw_c=rw, qc_c=qc, qr_c=qr, hv_c=hv, area=self.class_sum(area),
+                 rw=self.class_sum(rw), qc=self.class_sum(qc), qr=self.class_sum(qr), qloss=qloss, Tg_up=Tg_up,
+                 Y_up=Y_up, Y_in=Y_in, h_in=h_in, src=src, dst=dst, Fc=F, F=self.class_sum(F))
         if products:
             for name, mask in (("product", dst == -1), ("dust", dst == -3)):
-                per = [np.sum(x[..., mask], axis=-1) for x in (Fs, Fw, Fh)]       # (..., classes)
-                tot = [x.sum(axis=-1) for x in per]
+                if name == "dust" and not self.dusty:
+                    per = [np.zeros(F.shape[:-1]) for _ in range(3)]
+                else:
+                    per = [np.sum(x[..., mask], axis=-1) for x in (Fs, Fw, Fh)]       # (..., classes)
+                tot = [x[..., 0] if self.n_classes == 1 else x.sum(axis=-1) for x in per]
                 if F.ndim == 2:
                     tot = [float(x) for x in tot]
                 d.update({f"{name}_S": tot[0], f"{name}_W": tot[1], f"{name}_H": tot[2],
@@ -1077,12 +1091,12 @@ class ThermalDryer:
         dT = (dU - T * (s.cp_solids * dS + s.cp_water * dW) + ce * (Tg[..., None, self._tank_stage] - T)) / C
         Fd = self.dry_gas_flow
         Mg = self.gas_holdup
-        rw_g = rw.sum(axis=-2)
+        rw_g = d["rw"]
         dYm = Fd * (d["Y_up"] - Y) + rw_g
         h, h_wetter = bal._gas_enthalpy_pair(Tg, Y, 1e-4, s.mode)
         h_up = h[..., np.maximum(self.gas_up, 0)]       # the upstream stage's enthalpy (elementwise identical)
         h_up[..., self.gas_order[0]] = d["h_in"]
-        dH = Fd * (h_up - h) + (rw * hv).sum(axis=-2) - d["qc"] - d["qr"] - d["qloss"]
+        dH = Fd * (h_up - h) + self.class_sum(rw * hv) - d["qc"] - d["qr"] - d["qloss"]
         cs = bal._gas_heat_capacity(Tg, Y, s.mode)
         dhdY = (h_wetter - h) / 1e-4
         dY = dYm / Mg
