@@ -272,7 +272,7 @@ def quantity_of(name: str) -> tuple[str, float] | None:
                 quantity = "humidity" if "humidity" in name else "moisture"
             elif quantity == "mass_flow" and "fuel" in name:
                 quantity = "fuel_flow"
-            return quantity, factor
+            return (quantity, factor) if quantity is not None else None
     return None
 
 
