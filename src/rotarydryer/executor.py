@@ -413,6 +413,14 @@ class Executor:
         elif self.backend == "dask":
             _release(_dask_client(self.scheduler, self.cluster_workers))
 
+    def independent_chunks(self, n: int) -> list[slice]:
+        """Chunks of ``n`` items whose results do not depend on the chunking (each item computed on its
+        own, e.g. from a cold start): one chunk serially, two per worker on the local pool (dynamic
+        balance at little dispatch), `TARGET_CHUNKS` on Dask (whose worker count may change)."""
+        if self.backend == "serial":
+            return split(n, chunks=1)
+        return split(n, chunks=2 * self.workers if self.backend == "local" else TARGET_CHUNKS)
+
     # ------------------------------------------------------------------ batches
     def map_chunks(self, fn: Callable, items: Sequence, *, chunks=None, args: tuple = (), warm=(),
                    progress: Optional[Callable[[int], Any]] = None, results: Optional[list] = None) -> list:
