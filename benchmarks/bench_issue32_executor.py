@@ -7,7 +7,10 @@
    and its children (``resource.getrusage(RUSAGE_CHILDREN)``) plus, for ``--scheduler``, the
    cluster's processes (psutil); wall time; the machine load (``os.getloadavg``) before and after.
    The CSVs of the "after" backends are compared text for text.
-2. A Sobol study of 8 inputs on the same model (``benchmarks/bench_sensitivity.py``'s inputs) with 2
+2. The same 200 points from Python, ``run_sweep`` called twice in one process: the first call
+   pays the workers' start-up, the second what long-lived workers cost (CPU of this process, its
+   live and ended children; with ``--scheduler`` the cluster's CPU over both calls is shown apart).
+3. A Sobol study of 8 inputs on the same model (``benchmarks/bench_sensitivity.py``'s inputs) with 2
    local workers, ``--sobol-samples`` base samples (x 10 runs); the time of 10^4 runs is projected
    linearly from it (wall x 10^4 / runs: the start-up is counted in full, so the projection is high).
 
@@ -46,6 +49,44 @@ cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashbo
 print(cluster.scheduler_address, flush=True)
 sys.stdin.read()
 cluster.close()
+"""
+LIBRARY = """
+import json, os, resource, sys, time
+import psutil
+sys.path.insert(0, {bench!r})
+from bench_issue32_executor import library_points
+points = library_points()
+mode, address = {mode!r}, {address!r}
+after = {after!r}
+if after:
+    from rotarydryer.executor import Executor
+    from rotarydryer.studies.sweep import run_sweep
+    ex = {{"serial": Executor(), "local": Executor(workers=2), "dask": Executor(cluster="local:2"),
+           "scheduler": Executor(scheduler=address)}}[mode]
+    call = lambda: run_sweep("ajayi2011_mmg", points, executor=ex)
+else:
+    from rotarydryer.cli.sweep import run_sweep
+    kw = {{"serial": dict(workers=1), "local": dict(workers=2), "scheduler": dict(scheduler=address)}}[mode]
+    call = lambda: run_sweep("ajayi2011_mmg", points, **kw)
+me = psutil.Process()
+
+def cpu():
+    live = 0.0
+    for p in me.children(recursive=True):
+        try:
+            t = p.cpu_times()
+            live += t.user + t.system
+        except psutil.NoSuchProcess:
+            pass
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + live + r.ru_utime + r.ru_stime
+
+out = []
+for _ in range(2):
+    c, t = cpu(), time.perf_counter()
+    rows = call()
+    out.append(dict(wall=time.perf_counter() - t, cpu=cpu() - c, failed=sum(bool(r["error"]) for r in rows)))
+print(json.dumps(out))
 """
 SOBOL = """
 import sys, time
@@ -138,6 +179,43 @@ def sweep_table(before: Path, after: Path, out_dir: Path, repeat: int) -> tuple[
     return rows, csvs
 
 
+def library_points() -> list:
+    """The 200 points of the sweep as override dicts (the library calls)."""
+    feed = [float(v) for v in FEED.split(",")]
+    speed = [float(v) for v in SPEED.split(",")]
+    return [{"operating.test": 4, "operating.feed_rate": f, "operating.rpm": n} for f in feed for n in speed]
+
+
+def library_table(before: Path, after: Path) -> list:
+    """Two calls of the 200-point sweep in one process: the first pays the workers' start-up, the
+    second shows what long-lived workers cost per call (extra scheduler CPU counted as above)."""
+    import json
+
+    rows = []
+    clusters = {"before": Cluster(before), "after": Cluster(after)}
+    try:
+        for label, src, modes in (("before", before, ("serial", "local", "scheduler")),
+                                  ("after", after, ("serial", "local", "dask", "scheduler"))):
+            for mode in modes:
+                pid = clusters[label].proc.pid if mode == "scheduler" else None
+                x0 = _tree_cpu(pid) if pid else 0.0
+                code = LIBRARY.format(bench=str(HERE), mode=mode, address=clusters[label].address,
+                                      after=label == "after")
+                load0 = os.getloadavg()[0]
+                proc = subprocess.run([sys.executable, "-c", code], env=_env(src), capture_output=True, text=True)
+                if proc.returncode:
+                    raise RuntimeError(proc.stderr[-2000:])
+                calls = json.loads(proc.stdout.strip().splitlines()[-1])
+                extra = (_tree_cpu(pid) - x0) if pid else 0.0     # the external cluster's CPU, both calls
+                rows.append(dict(tree=label, mode=mode, calls=calls, cluster_cpu=extra,
+                                 load=(load0, os.getloadavg()[0])))
+                print(f"# library {label} {mode}: {calls} cluster CPU {extra:.2f}", file=sys.stderr, flush=True)
+    finally:
+        for c in clusters.values():
+            c.close()
+    return rows
+
+
 def sobol_run(src: Path, samples: int) -> dict:
     load0 = os.getloadavg()[0]
     cpu0 = _children_cpu()
@@ -158,7 +236,7 @@ def main(argv=None):
     ap.add_argument("--after", type=Path, default=AFTER)
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--sobol-samples", type=int, default=128)
-    ap.add_argument("--skip", default="", help="comma list: sweep, sobol")
+    ap.add_argument("--skip", default="", help="comma list: sweep, library, sobol")
     a = ap.parse_args(argv)
     skip = set(filter(None, a.skip.split(",")))
     print(f"# {datetime.datetime.now():%Y-%m-%d %H:%M} {platform.node()} {platform.machine()}, {os.cpu_count()} cores, "
@@ -181,6 +259,18 @@ def main(argv=None):
             same_before = len(set(before.values())) == 1
             print(f"\nCSV text identical across the backends: after {'yes' if same_after else 'NO'} "
                   f"({len(after)} backends); before {'yes' if same_before else 'no'} ({len(before)} backends)")
+    if "library" not in skip:
+        rows = library_table(a.before, a.after)
+        print("\n## 200-point MMG sweep from Python, two calls in one process (`run_sweep`)\n")
+        print("| tree | backend | 1st call wall s | 1st call CPU s | 2nd call wall s | 2nd call CPU s | "
+              "2nd call CPU / serial | 2nd call speed-up vs serial | scheduler CPU (both calls) | load |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        for r in rows:
+            ref = next(x for x in rows if x["tree"] == r["tree"] and x["mode"] == "serial")["calls"][1]
+            one, two = r["calls"]
+            print(f"| {r['tree']} | {r['mode']} | {one['wall']:.2f} | {one['cpu']:.2f} | {two['wall']:.2f} | "
+                  f"{two['cpu']:.2f} | {two['cpu'] / ref['cpu']:.3f} | {ref['wall'] / two['wall']:.2f} | "
+                  f"{r['cluster_cpu']:.2f} | {r['load'][0]:.2f} -> {r['load'][1]:.2f} |", flush=True)
     if "sobol" not in skip:
         print(f"\n## Sobol study, 8 inputs, {a.sobol_samples} base samples, 2 local workers (one process each)\n")
         print("| tree | runs | failed | wall s | CPU s | CPU ms per run | projected 10^4 runs, wall s | load before -> after |")

@@ -58,7 +58,7 @@ from typing import Any, Optional
 from ._threads import limit_worker_threads
 
 __all__ = ["BACKENDS", "TARGET_CHUNKS", "CONNECT_TIMEOUT_S", "START_METHOD_ENV", "MAX_LOCAL_WORKERS", "Executor",
-           "RunFailure", "map_like", "one_line", "parse_cluster", "split", "shutdown_all", "worker_info"]
+           "RunFailure", "one_line", "parse_cluster", "split", "shutdown_all", "worker_info"]
 
 #: backends of `Executor`
 BACKENDS = ("serial", "local", "dask")
@@ -226,10 +226,10 @@ class _Box:
         self.value = value
 
     def __getstate__(self):
-        return self.value
+        return (self.value,)        # never a false state (pickle would skip __setstate__)
 
-    def __setstate__(self, value):
-        self.value = value
+    def __setstate__(self, state):
+        self.value = state[0]
 
 
 def _run_boxed(box: _Box):
@@ -517,18 +517,3 @@ class Executor:
         finally:
             _release(client)
 
-
-def map_like(executor: Optional[Executor], *, warm=(), chunks=None):
-    """A ``map(func, iterable) -> list`` callable over ``executor`` (SciPy's ``workers=`` argument,
-    e.g. `scipy.optimize.differential_evolution`); an item that raises re-raises its message as a
-    ``RuntimeError`` (SciPy expects a value per item)."""
-    ex = executor or Executor()
-
-    def _map(func, iterable):
-        out = ex.map(func, list(iterable), warm=warm, chunks=chunks)
-        for r in out:
-            if isinstance(r, RunFailure):
-                raise RuntimeError(r.error)
-        return out
-
-    return _map
