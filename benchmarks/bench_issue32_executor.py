@@ -42,6 +42,11 @@ FEED = ",".join(f"{36 + 9 * i / 19:.3f}" for i in range(20))
 SPEED = ",".join(f"{2.7 + 0.6 * i / 9:.3f}" for i in range(10))
 SWEEP = ["sweep", "ajayi2011_mmg", "--set", "operating.test=4", "--grid", f"operating.feed_rate={FEED}",
          "--grid", f"operating.rpm={SPEED}", "-q"]
+
+
+def set_speeds(n: int) -> None:
+    """``n`` speeds instead of 10 (a sweep of 20 n points; the CLI table only)."""
+    SWEEP[7] = "operating.rpm=" + ",".join(f"{2.7 + 0.6 * i / (n - 1):.4f}" for i in range(n))
 CLUSTER = """
 import sys, time
 from dask.distributed import LocalCluster
@@ -237,14 +242,17 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--sobol-samples", type=int, default=128)
     ap.add_argument("--skip", default="", help="comma list: sweep, library, sobol")
+    ap.add_argument("--speeds", type=int, default=10, help="speeds of the CLI sweep (20 x speeds points)")
     a = ap.parse_args(argv)
     skip = set(filter(None, a.skip.split(",")))
+    if a.speeds != 10:
+        set_speeds(a.speeds)
     print(f"# {datetime.datetime.now():%Y-%m-%d %H:%M} {platform.node()} {platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}; load at start {os.getloadavg()[0]:.2f}")
     if "sweep" not in skip:
         with tempfile.TemporaryDirectory() as tmp:
             rows, csvs = sweep_table(a.before, a.after, Path(tmp), a.repeat)
-        print("\n## 200-point MMG sweep (`rotarydryer sweep`, fresh process each)\n")
+        print(f"\n## {20 * a.speeds}-point MMG sweep (`rotarydryer sweep`, fresh process each)\n")
         print("| tree | backend | wall s | CPU s | CPU / --workers 1 | wall speed-up vs --workers 1 | load before -> after |")
         print("|---|---|---|---|---|---|---|")
         for r in rows:

@@ -373,8 +373,9 @@ class Simulation:
         points = grid_points(grid)
         ex = executor or Executor(workers=max(1, int(workers)), scheduler=scheduler, cluster=cluster)
         chunks = split(len(points), min_size=SWEEP_MIN_CHUNK, max_size=SWEEP_MAX_CHUNK)
+        warm = ((_sweep_warm, (self.case_name, {**self.overrides, **points[0]})),) if points else ()
         rows = ex.map_chunks(_sweep_chunk, points, chunks=chunks, args=(self.case_name, self.overrides, outputs),
-                             progress=progress)
+                             warm=warm, progress=progress)
         return [{**ov, "error": r.error} if isinstance(r, RunFailure) else r for ov, r in zip(points, rows)]
 
 
@@ -384,6 +385,15 @@ class Simulation:
 SWEEP_MIN_CHUNK = 5
 #: most points of a sweep chunk (a long sweep keeps many chunks to share among workers)
 SWEEP_MAX_CHUNK = 32
+
+
+def _sweep_warm(case_name, overrides: dict) -> None:
+    """A worker's warm-up before its first chunk of `Simulation.sweep`: imports, compiled kernels,
+    geometry tables, one model built and solved (its errors are the runs' to report)."""
+    try:
+        Simulation(case_name, overrides).steady_state()
+    except (ValueError, ArithmeticError):
+        pass
 
 
 def _sweep_chunk(points, case_name, base: dict, outputs):

@@ -312,7 +312,8 @@ class PilotModel:
         items = [(self.overrides(int(i), coefficients), bool(self.runs.gas_flow[i] > 0)) for i in idx]
         ex = self.executor
         # each run starts cold: the chunking does not change the results
-        rows = ex.map(_predict_run, items, args=(self.case, c0), chunks=ex.independent_chunks(len(items)))
+        warm = ((_predict_run, (items[0], self.case, c0)),) if items else ()     # imports, kernels, one run
+        rows = ex.map(_predict_run, items, args=(self.case, c0), chunks=ex.independent_chunks(len(items)), warm=warm)
         for k, row in enumerate(rows):
             if isinstance(row, RunFailure):
                 raise ValueError(f"run {int(idx[k])} of {self.case}: {row.error}")
