@@ -93,7 +93,6 @@ def sweep(
 
     from .._io import check_output_target, write_text_atomic
     from ..services._options import executor_from_options
-    from ..studies.sweep import run_sweep, warm_up
     from ._common import Progress, connect_executor, parse_sets
 
     try:
@@ -119,6 +118,8 @@ def sweep(
     except (ValueError, OSError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    from ..studies.sweep import run_sweep, warm_up  # the model stack: not before the options are checked
+
     connect_executor(executor, warm=((warm_up, (case, points[0])),))   # an unreachable scheduler: refused now
     for note in worker_notes:
         typer.echo(f"warning: {note}", err=True)
