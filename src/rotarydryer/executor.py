@@ -304,9 +304,13 @@ def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
                 raise ValueError(f"--scheduler = {scheduler!r}: no Dask scheduler answered within "
                                  f"{CONNECT_TIMEOUT_S:g} s ({one_line(exc)})") from None
         else:
+            import dask  # optional: only when a cluster is asked for
+
             try:
-                cluster = LocalCluster(n_workers=int(n_local or 1), threads_per_worker=1, processes=True,
-                                       dashboard_address=None)
+                # the workers' statistical profiler samples every thread's stack every 10 ms (a few % of the runs)
+                with dask.config.set({"distributed.worker.profile.enabled": False}):
+                    cluster = LocalCluster(n_workers=int(n_local or 1), threads_per_worker=1, processes=True,
+                                           dashboard_address=None)
             except (OSError, RuntimeError) as exc:
                 raise ValueError(f"--cluster = 'local:{n_local}': the Dask LocalCluster did not start "
                                  f"({one_line(exc)})") from None
@@ -501,9 +505,9 @@ class Executor:
         tag = f"rotarydryer-{getattr(fn, '__name__', 'run')}-{uuid.uuid4().hex[:12]}"
         futures = {}
         try:
-            for i, sl in enumerate(slices):
-                box = _Box((fn, items[sl], args, warm, origin))
-                futures[client.submit(_run_boxed, box, key=f"{tag}-{i}")] = sl
+            boxes = [_Box((fn, items[sl], args, warm, origin)) for sl in slices]
+            submitted = client.map(_run_boxed, boxes, key=[f"{tag}-{i}" for i in range(len(slices))])
+            futures = dict(zip(submitted, slices))        # one message to the scheduler for the batch
             for f in as_completed(list(futures), loop=client.loop):
                 sl = futures[f]
                 try:
