@@ -15,8 +15,8 @@ import time
 
 from rotarydryer import Simulation
 from rotarydryer._threads import single_threaded
-from rotarydryer.cli.sweep import _solve_point
 from rotarydryer.studies.sensitivity import OUTPUTS, _steady_summary
+from rotarydryer.studies.sweep import _solve_point
 
 CASES = {"MMG": ("ajayi2011_mmg", {"operating.test": 4}, "operating.feed_rate", 40.0),
          "Invicta": ("lee2008_invicta", {}, "operating.feed_rate", 27.0),

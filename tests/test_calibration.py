@@ -366,3 +366,16 @@ def test_a_calibration_of_one_key_of_a_record_keeps_the_record_s_other_keys(tmp_
     after = load_case(str(out / f"{MMG}_calibrated.toml"), {"operating.test": 4})
     assert after.gas.flow == before.gas.flow
     assert after.thermal.area_scale == pytest.approx(rec["values"]["thermal.area_scale"])
+
+
+def test_calibration_starts_on_worker_processes_give_the_serial_record():
+    """Issue 32: two starts of a thermal calibration (warm models per test) on 2 local workers give
+    the serial calibration bit for bit: each start runs on a fresh copy of the model."""
+    from rotarydryer.executor import Executor
+
+    kw = dict(tests=[4], responses=["gas_outlet_temperature", "product_moisture"], n_starts=2)
+    serial = calibrate(MMG, ["thermal.area_scale"], **kw)
+    pooled = calibrate(MMG, ["thermal.area_scale"], executor=Executor(workers=2), **kw)
+    assert pooled.fit.values == serial.fit.values and pooled.fit.objective == serial.fit.objective
+    assert [s.objective for s in pooled.fit.starts] == [s.objective for s in serial.fit.starts]
+    assert pooled.n_solves == serial.n_solves

@@ -5,7 +5,8 @@ its reason: a measured start-up cost (the time ``import <module>`` gains when it
 imports move to the top, fresh interpreter, 2026-12-02, best of 3), an import cycle between two
 modules of one package, or a front end (the CLI, the web app and their shared services import what
 a command runs, so that ``rotarydryer --help`` starts in about 0.15 s). Third-party modules
-(matplotlib, SALib, scikit-image, Dask, ...) may be imported where they are used.
+(matplotlib, SALib, scikit-image, ...) may be imported where they are used; an optional one that is
+not a dependency (Dask) only in the modules of ``OPTIONAL_IMPORTS``, inside functions.
 """
 
 import ast
@@ -51,6 +52,13 @@ LAZY = {
     "rotarydryer.transport.network": "start-up: rotarydryer.rtd (+0.4 s) for the moments of a simulated curve",
     "rotarydryer.transport.plots": "start-up: +560 ms (matplotlib)",
     "rotarydryer.transport.sections": "start-up: +59 ms",
+}
+
+#: optional third-party packages (not dependencies): the only modules that import them, each with its
+#: reason; always inside a function, so that the package imports without them
+OPTIONAL_IMPORTS = {
+    "dask": {"rotarydryer.executor": "only where a Dask cluster is asked for (--scheduler, --cluster local:N); "
+                                     "dask[distributed] is not a dependency"},
 }
 
 
@@ -102,3 +110,28 @@ def test_the_check_sees_function_local_imports(tmp_path, source, expected):
     p = tmp_path / "m.py"
     p.write_text(source)
     assert _local_internal_imports(p) == expected
+
+
+def _imports_of(path: Path, package: str) -> list[tuple[int, bool]]:
+    """(line, at module level) of every import of ``package`` (or a submodule) in ``path``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    top = {id(m) for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom)) for m in ast.walk(n)}
+    out = []
+    for n in ast.walk(tree):
+        names = [a.name for a in n.names] if isinstance(n, ast.Import) else \
+            [n.module or ""] if isinstance(n, ast.ImportFrom) and not n.level else []
+        if any(x == package or x.startswith(package + ".") for x in names):
+            out.append((n.lineno, id(n) in top))
+    return out
+
+
+@pytest.mark.parametrize("package", sorted(OPTIONAL_IMPORTS))
+def test_optional_packages_only_where_listed_and_inside_functions(package):
+    allowed = OPTIONAL_IMPORTS[package]
+    found = {m: hits for m, p in _library_modules() if (hits := _imports_of(p, package))}
+    for p in sorted(SRC.rglob("*.py")):
+        if p.relative_to(SRC).parts[0] in FRONT_ENDS and (hits := _imports_of(p, package)):
+            found[_module(p)] = hits
+    assert set(found) <= set(allowed), f"{package} imported outside {sorted(allowed)}: {sorted(set(found) - set(allowed))}"
+    assert not [m for m, hits in found.items() if any(top for _, top in hits)], f"{package} imported at module level"
+    assert set(allowed) <= set(found), f"stale OPTIONAL_IMPORTS entries for {package}: {sorted(set(allowed) - set(found))}"

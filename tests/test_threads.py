@@ -42,8 +42,8 @@ def test_bad_limit():
 
 
 def test_sweep_point_runs_single_threaded(monkeypatch):
-    from rotarydryer.cli.sweep import run_point
     from rotarydryer.simulation import Simulation
+    from rotarydryer.studies.sweep import run_point
 
     seen = []
 

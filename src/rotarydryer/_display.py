@@ -275,7 +275,7 @@ def quantity_of(name: str) -> tuple[str, float] | None:
                 quantity = "fuel_flow"
             elif quantity == "length" and ("d50" in name or "diameter" in name):
                 quantity = "particle_size"
-            return quantity, factor
+            return (quantity, factor) if quantity is not None else None
     return None
 
 

@@ -46,6 +46,7 @@ from typing import Optional
 import numpy as np
 
 from ._validation import check_choice, check_range
+from .executor import Executor, RunFailure
 
 __all__ = ["Duty", "Limits", "Design", "DesignResult", "InfeasibleDuty", "design", "evaluate", "check_plant",
            "verify", "design_verified", "OBJECTIVES", "raw_sugar_duty", "mmg_duty"]
@@ -412,9 +413,39 @@ def _decode(x, limits, dm):
                 n_flights=int(round(n)), s1_m=float(s1f * R), s2_m=float(s2r * s1f * R), alpha2_deg=float(a2))
 
 
+class _Objective:
+    """The search's objective of a parameter vector (a class, so that it pickles for worker processes):
+    ``score(x)`` -> (value minimised, evaluated design or None, total constraint violation)."""
+
+    def __init__(self, dm: _DutyModel, limits: Limits, objective: str):
+        self.dm, self.limits, self.objective = dm, limits, objective
+
+    def score(self, x):
+        try:
+            des = evaluate(self.dm, self.limits, objective=self.objective, **_decode(x, self.limits, self.dm))
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return 1e9, None, math.inf
+        viol = sum(max(0.0, c[3]) for c in des.constraints.values())
+        if viol <= 1e-9:
+            return math.log(des.objective), des, 0.0
+        return 50.0 + 100.0 * viol, des, viol
+
+    def __call__(self, x):
+        return self.score(x)[0]
+
+
+def _score(x, objective: _Objective):
+    """One evaluation of a population (top-level, for the executor)."""
+    return objective.score(x)
+
+
 def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter=60, popsize=12, seed=1,
-           progress=None, top=10) -> DesignResult:
+           progress=None, top=10, executor=None) -> DesignResult:
     """Search the geometry that meets ``duty`` at the least ``objective`` (`OBJECTIVES`).
+
+    Each generation's population is evaluated through ``executor`` (`rotarydryer.executor.Executor`,
+    default serial) as SciPy's ``workers`` map; the results come back in population order, so the
+    search is the same for a seed on every backend.
 
     Raises `InfeasibleDuty` naming the constraint that blocks the least-infeasible design."""
     from scipy.optimize import differential_evolution
@@ -430,20 +461,28 @@ def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter
     archive = []
     least = [None, math.inf]
     count = [0]
+    scorer = _Objective(dm, limits, objective)
+    ex = executor or Executor()
+
+    def record(result):
+        value, des, viol = result
+        count[0] += 1
+        if des is not None and viol <= 1e-9:
+            archive.append(des)
+        elif des is not None and viol < least[1]:
+            least[0], least[1] = des, viol
+        return value
 
     def f(x):
-        count[0] += 1
-        try:
-            des = evaluate(dm, limits, objective=objective, **_decode(x, limits, dm))
-        except (ValueError, ZeroDivisionError, OverflowError):
-            return 1e9
-        viol = sum(max(0.0, c[3]) for c in des.constraints.values())
-        if viol <= 1e-9:
-            archive.append(des)
-            return math.log(des.objective)
-        if viol < least[1]:
-            least[0], least[1] = des, viol
-        return 50.0 + 100.0 * viol
+        return record(scorer.score(x))
+
+    def population(func, xs):
+        """SciPy's map over a generation (``func`` is its wrapper of the objective, ``scorer``): the
+        scores through the executor, in population order, the designs kept here."""
+        xs = [np.asarray(x, dtype=float) for x in xs]
+        # independent evaluations: the chunking does not change the results
+        out = ex.map(_score, xs, args=(scorer,), chunks=ex.independent_chunks(len(xs)))
+        return [record((1e9, None, math.inf) if isinstance(r, RunFailure) else r) for r in out]
 
     it = [0]
 
@@ -453,9 +492,9 @@ def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter
             best = min(archive, key=lambda d: d.objective).objective if archive else math.nan
             progress(f"design: generation {it[0]}/{maxiter}, {count[0]} evaluations, {len(archive)} feasible, "
                      f"best {objective} {best:.4g}")
-    differential_evolution(f, bounds, integrality=[False, False, False, False, True, False, False, False],
-                           maxiter=maxiter,
-                           popsize=popsize, seed=seed, polish=False, tol=1e-7, callback=cb, updating="deferred")
+    differential_evolution(scorer, bounds, integrality=[False, False, False, False, True, False, False, False],
+                           maxiter=maxiter, popsize=popsize, seed=seed, polish=False, tol=1e-7, callback=cb,
+                           updating="deferred", workers=population)
     if archive:   # local refinement of the best (Nelder-Mead on the continuous variables, flights fixed)
         from scipy.optimize import minimize
 

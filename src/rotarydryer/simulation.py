@@ -41,6 +41,7 @@ from .cases.build import (
     tracer_pulse,
     transport_inputs,
 )
+from .executor import Executor, RunFailure, split
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.audit import shell_sections, warn_shell_limit
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
@@ -360,21 +361,60 @@ class Simulation:
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
         return calibrate(self.case_name, list(parameters), base_overrides=base or None, **kwargs)
 
-    def sweep(self, grid, outputs=None):
+    def sweep(self, grid, outputs=None, *, workers: int = 1, scheduler=None, cluster=None, executor=None,
+              progress=None):
         """Steady state over a grid of overrides on top of this Simulation's: a list of override
         dicts, or the CLI's form, a dict ``{key: [values]}`` or ``["key=v1,v2", ...]`` (the cartesian
         product). Returns one dict per point: its overrides and [`SteadyResult.summary`][rotarydryer.simulation.SteadyResult.summary]
-        (``outputs``: only these names). Each point is warm-started from the previous one: the same
-        steady state, on the previous point's heat-and-mass model when only parameter values differ."""
-        rows, warm = [], None
-        for ov in grid_points(grid):      # each point starts from the previous one (and its model, when it can)
-            sim = Simulation(self.case_name, {**self.overrides, **ov})
-            res = sim.steady_state(warm=warm)
-            warm = res.warm_data()
-            row = dict(ov)
-            row.update(res.summary(outputs))
-            rows.append({k: row[k] for k in (outputs or row)})
-        return rows
+        (``outputs``: only these names); a point that fails is its overrides and ``error`` (one line).
+
+        The points run through the one executor ([`rotarydryer.executor.Executor`][rotarydryer.executor.Executor]: ``executor``, or one
+        of ``workers`` local processes, a Dask ``scheduler`` address or a ``cluster`` "local:N"), in
+        chunks that depend on the number of points only; in a chunk each point is warm-started from
+        the one before it (the same steady state, on the previous point's heat-and-mass model when
+        only parameter values differ). Every backend gives the same rows, bit for bit.
+        ``progress(n)`` after each chunk of ``n`` points."""
+        points = grid_points(grid)
+        ex = executor or Executor(workers=max(1, int(workers)), scheduler=scheduler, cluster=cluster)
+        chunks = split(len(points), min_size=SWEEP_MIN_CHUNK, max_size=SWEEP_MAX_CHUNK)
+        warm = ((_sweep_warm, (self.case_name, {**self.overrides, **points[0]})),) if points else ()
+        rows = ex.map_chunks(_sweep_chunk, points, chunks=chunks, args=(self.case_name, self.overrides, outputs),
+                             warm=warm, progress=progress)
+        return [{**ov, "error": r.error} if isinstance(r, RunFailure) else r for ov, r in zip(points, rows)]
+
+
+#: fewest points of a sweep chunk (`Simulation.sweep`, `rotarydryer.studies.sweep`): a chunk of warm-started
+#: coupled runs (about 20 ms each) then costs at least 20 times the dispatch of a Dask task (about 5 ms of CPU;
+#: the local pool's is 0.2 ms)
+SWEEP_MIN_CHUNK = 5
+#: most points of a sweep chunk (a long sweep keeps many chunks to share among workers)
+SWEEP_MAX_CHUNK = 32
+
+
+def _sweep_warm(case_name, overrides: dict) -> None:
+    """A worker's warm-up before its first chunk of `Simulation.sweep`: imports, compiled kernels,
+    geometry tables, one model built and solved (its errors are the runs' to report)."""
+    try:
+        Simulation(case_name, overrides).steady_state()
+    except (ValueError, ArithmeticError):
+        pass
+
+
+def _sweep_chunk(points, case_name, base: dict, outputs):
+    """Rows of a chunk of `Simulation.sweep`, in order, each point warm-started from the last converged
+    one before it in the chunk (the first cold). Top-level, so that it pickles for worker processes."""
+    rows, warm = [], None
+    for ov in points:
+        try:
+            res = Simulation(case_name, {**base, **ov}).steady_state(warm=warm)
+        except (ValueError, ArithmeticError) as exc:     # one bad point never ends the sweep
+            rows.append({**ov, "error": " ".join(str(exc).split()) or type(exc).__name__})
+            continue
+        warm = res.warm_data() or warm
+        row = dict(ov)
+        row.update(res.summary(outputs))
+        rows.append({k: row[k] for k in (outputs or row)})
+    return rows
 
 
 def check_finite(outputs: dict, case_name: str) -> None:

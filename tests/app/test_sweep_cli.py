@@ -76,20 +76,68 @@ def test_parse_grid_product():
 
 
 def test_dask_scheduler_gives_same_table():
-    """The Dask path (in-process LocalCluster) gives the local table: the same rows, keys and
-    strings, numbers to the solver's tolerance (the serial sweep starts each point from the last)."""
+    """The Dask path (an in-process LocalCluster behind --scheduler) gives the serial table, text for text."""
     distributed = pytest.importorskip("dask.distributed")
-    args = ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3,4", "--no-rtd", "--json"]
-    local = json.loads(runner.invoke(cli, args).stdout)
+    args = ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3,4", "--no-rtd"]
+    local = runner.invoke(cli, args).stdout
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
                                   dashboard_address=None) as cluster:
         res = runner.invoke(cli, [*args, "--scheduler", cluster.scheduler_address])
     assert res.exit_code == 0, res.output
-    remote = json.loads(res.stdout)
-    assert [list(r) for r in remote] == [list(r) for r in local]
-    for r, q in zip(remote, local):
-        for k, v in r.items():
-            if k.endswith("_error") and isinstance(v, float):     # round-off of a converged state
-                assert v < 1e-9 and q[k] < 1e-9, k
-                continue
-            assert v == (pytest.approx(q[k], rel=1e-9, abs=1e-12) if isinstance(v, float) else q[k]), k
+    assert res.stdout == local
+
+
+MMG_GRID = ["sweep", "ajayi2011_mmg", "--set", "operating.test=4", "--grid", "operating.feed_rate=38,40,42,44",
+            "--grid", "operating.rpm=2.9,3.0,3.1"]
+
+
+def test_serial_local_pool_and_dask_cluster_give_the_same_csv(tmp_path):
+    """Issue 32: a coupled sweep (12 points, 2 chunks) gives the same CSV text serially, on 2 local
+    worker processes and on a Dask LocalCluster of 2 worker processes; a failed point is a row."""
+    pytest.importorskip("dask.distributed")
+    tables = {}
+    for name, extra in (("serial", []), ("local", ["--workers", "2"]), ("dask", ["--cluster", "local:2"])):
+        out = tmp_path / f"{name}.csv"
+        res = runner.invoke(cli, [*MMG_GRID, "-o", str(out), "-q", *extra])
+        assert res.exit_code == 0, res.output
+        tables[name] = out.read_text()
+    assert tables["local"] == tables["serial"] and tables["dask"] == tables["serial"]
+    rows = list(csv.DictReader(io.StringIO(tables["serial"])))
+    assert len(rows) == 12 and all(r["error"] == "" for r in rows)
+
+
+def test_a_failing_point_is_a_row_on_every_backend(tmp_path):
+    runs = tmp_path / "runs.csv"
+    runs.write_text("operating.test,operating.rpm\n" + "".join(f"4,{r}\n" for r in (2.9, 3.0, 3.1, 3.2, 3.3))
+                    + "4,-1\n" + "".join(f"4,{r}\n" for r in (2.8, 2.7, 2.6, 2.5)))
+    want = runner.invoke(cli, ["sweep", "ajayi2011_mmg", "--list", str(runs), "-q"])
+    got = runner.invoke(cli, ["sweep", "ajayi2011_mmg", "--list", str(runs), "-q", "--workers", "2"])
+    assert want.exit_code == got.exit_code == 1
+    assert got.stdout == want.stdout
+    rows = list(csv.DictReader(io.StringIO(got.stdout)))
+    assert [bool(r["error"]) for r in rows] == [False] * 5 + [True] + [False] * 4
+    assert "operating.rpm" in rows[5]["error"]
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["--cluster", "local:0"], ["--cluster", "local:0", "allowed range [1,"]),
+    (["--cluster", "foo"], ["--cluster", "'foo'", "local:N"]),
+    (["--cluster", "local:2", "--scheduler", "tcp://127.0.0.1:8786"], ["--scheduler", "--cluster", "not both"]),
+    (["--workers", "-1"], ["--workers = -1", "allowed range [0,"]),
+])
+def test_bad_executor_options_exit_2(args, fragments):
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3", "--no-rtd", *args])
+    assert res.exit_code == 2, res.output
+    errors = [ln for ln in res.output.splitlines() if ln.startswith("error:")]
+    assert len(errors) == 1 and all(f in errors[0] for f in fragments), res.output
+
+
+def test_unreachable_scheduler_exit_2_nothing_written(tmp_path, monkeypatch):
+    pytest.importorskip("dask.distributed")
+    from rotarydryer import executor
+
+    monkeypatch.setattr(executor, "CONNECT_TIMEOUT_S", 1.0)
+    out = tmp_path / "t.csv"
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3", "--no-rtd",
+                              "--scheduler", "tcp://127.0.0.1:1", "-o", str(out)])
+    assert res.exit_code == 2 and "--scheduler = 'tcp://127.0.0.1:1'" in res.output and not out.exists()

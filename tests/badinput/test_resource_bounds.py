@@ -258,3 +258,42 @@ def test_control_duration_bound_documented():
 
     text = (Path(__file__).parents[2] / "docs" / "errors.md").read_text(encoding="utf-8")
     assert "--duration" in text and "86400 s" in text and "1440 sampling intervals" in text
+
+
+# ------------------------------------------------------------------------------ --cluster, and the options together
+EXECUTOR_COMMANDS = {
+    "sweep": ["sweep", "song2003_ottawa", "--grid", "operating.rpm=3,4", *FAST],
+    "sensitivity": ["sensitivity", "song2003_ottawa", "--set", "thermal.enabled=false", "--param", "operating.rpm=3,5",
+                    "--samples", "4"],
+    "calibrate": ["calibrate", "ajayi2011_mmg", "-p", "thermal.area_scale", "--tests", "4", "--starts", "2"],
+    "fit": ["fit", "ajayi2011_mmg", "ajayi2011_test4", "-p", "transport.solids_velocity", "--set", "operating.test=4",
+            "--scale", "fit"],
+    "design": ["design", "--duty", "raw_sugar", "--no-verify"],
+}
+EXECUTOR_BAD = [
+    ("cluster-zero", ["--cluster", "local:0"], ["--cluster", "local:0", "allowed range [1,"]),
+    ("cluster-word", ["--cluster", "foo"], ["--cluster", "'foo'", "local:N"]),
+    ("both", ["--cluster", "local:2", "--scheduler", "tcp://127.0.0.1:8786"], ["--scheduler", "--cluster", "not both"]),
+    ("workers-negative", ["--workers", "-1"], ["--workers = -1", "allowed range [0,"]),
+]
+
+
+@pytest.mark.parametrize("extra,fragments", [c[1:] for c in EXECUTOR_BAD], ids=[c[0] for c in EXECUTOR_BAD])
+@pytest.mark.parametrize("cmd", list(EXECUTOR_COMMANDS.values()), ids=list(EXECUTOR_COMMANDS))
+def test_bad_executor_options_refused_at_once(tmp_path, cmd, extra, fragments):
+    t0 = time.perf_counter()
+    res = run_cli([*cmd, *extra, "--out", str(tmp_path / "out")] if cmd[0] != "sweep" else [*cmd, *extra])
+    assert time.perf_counter() - t0 < 30
+    assert_bad(res, *fragments)
+    assert len([ln for ln in res.output.splitlines() if ln.startswith("error:")]) == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_cluster_above_the_cores_is_clamped_with_a_warning(monkeypatch):
+    from rotarydryer.services._options import check_cluster
+
+    monkeypatch.setattr(_options, "usable_cpus", lambda: 2)
+    assert check_cluster("local:2") == (2, [])
+    n, notes = check_cluster("local:64")
+    assert n == 2 and "--cluster = local:64 is more than the 2 usable CPU cores; using local:2" in notes[0]
+    assert check_cluster(None) == (None, [])

@@ -60,3 +60,15 @@ def test_design_cli(tmp_path):
     assert out["binding_constraints"] and out["table"][0]["rank"] == 1
     assert out["wall_time_s"] < 60
     assert {p.name for p in tmp_path.iterdir()} == {"design.json", "design_report.md", "design_cross_section.png"}
+
+
+def test_search_population_on_worker_processes_is_the_serial_search():
+    """Issue 32: each generation is evaluated through the executor; in population order, so the
+    search (designs, ranking, evaluations) is the same for a seed on 2 local workers."""
+    from rotarydryer.executor import Executor
+
+    duty = D.raw_sugar_duty()
+    a = D.design(duty, maxiter=15)
+    b = D.design(duty, maxiter=15, executor=Executor(workers=2))
+    assert b.evaluations == a.evaluations and b.best.row() == a.best.row()
+    assert [d.row() for d in b.designs] == [d.row() for d in a.designs]

@@ -106,8 +106,8 @@ def test_cli_simulate_json_names(tmp_path):
 
 def test_one_name_one_value_in_every_view():
     """simulate --json, Results (report, app) and sweep rows give the same value for each name."""
-    from rotarydryer.cli.sweep import run_point
     from rotarydryer.simulation import run_case
+    from rotarydryer.studies.sweep import run_point
 
     ov = {"operating.test": 5}
     r = runner.invoke(app, ["simulate", "ajayi2011_mmg", "--set", "operating.test=5", "--json"])

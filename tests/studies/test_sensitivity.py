@@ -141,3 +141,20 @@ def test_cli_without_salib_exit_3(monkeypatch):
     monkeypatch.setitem(sys.modules, "SALib", None)
     r = CliRunner().invoke(app, ["sensitivity", "song2003_ottawa", "--param", "operating.rpm=3,5"])
     assert r.exit_code == 3 and "rotarydryer[sensitivity]" in r.output
+
+
+def test_coupled_study_same_indices_on_every_backend():
+    """Issue 32: serial, 2 local workers and a Dask LocalCluster of 2 workers run the same chunks
+    (warm-start chains included) and give the same runs and Sobol indices, bit for bit."""
+    pytest.importorskip("dask.distributed")
+    params = {"operating.feed_rate": (39.0, 42.0), "operating.rpm": (2.9, 3.1)}
+    base = {"operating.test": 4}
+    kw = dict(outputs=["product_moisture_kg_kg", "gas_outlet_temperature_degC"], base_overrides=base,
+              num_resamples=20)
+    serial = sobol_study("ajayi2011_mmg", params, 4, **kw)
+    local = sobol_study("ajayi2011_mmg", params, 4, workers=2, **kw)
+    dask = sobol_study("ajayi2011_mmg", params, 4, cluster="local:2", **kw)
+    assert serial.n_failed == 0
+    for other in (local, dask):
+        np.testing.assert_array_equal(other.Y, serial.Y)
+        assert other.indices == serial.indices

@@ -8,6 +8,27 @@ from typing import Optional
 
 from ..services._options import check_option  # noqa: F401  (re-exported: the commands' range checks)
 
+#: help of the executor options every many-run command shares (`rotarydryer.services._options.executor_from_options`)
+WORKERS_HELP = "Local worker processes (0: one per core)."
+SCHEDULER_HELP = "Dask scheduler address, e.g. tcp://10.0.0.5:8786."
+CLUSTER_HELP = "local:N: a Dask LocalCluster of N worker processes here."
+
+
+def connect_executor(executor, warm=()) -> None:
+    """Start the local pool, reach the Dask scheduler or start the LocalCluster of ``executor`` now,
+    before anything runs or is written: exit 3 (one line) when Dask is not installed, exit 2 when
+    the scheduler does not answer or the cluster does not start."""
+    import typer
+
+    try:
+        executor.connect(warm)
+    except ImportError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(3)
+    except (ValueError, OSError) as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+
 
 def parse_sets(sets: Optional[list[str]]) -> dict:
     """``["operating.rpm=4", ...]`` -> ``{"operating.rpm": "4"}``; the case model converts the

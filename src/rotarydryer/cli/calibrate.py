@@ -9,7 +9,7 @@ import typer
 
 from .._limits import key_unit
 from . import app
-from ._common import Progress, check_out_dir, parse_sets
+from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP, Progress, check_out_dir, connect_executor, parse_sets
 
 
 @app.command("calibrate", short_help="Calibrate case keys to the measurements of many tests.")
@@ -28,6 +28,9 @@ def calibrate_command(
                                               "(repeat; in the response's unit; tracer: of E(t), 1/s)."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
     starts: int = typer.Option(1, help="Number of starts (the case values plus sampled ones), 1-100."),
+    workers: int = typer.Option(1, help=WORKERS_HELP + " Runs the starts."),
+    scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),
+    cluster: Optional[str] = typer.Option(None, help=CLUSTER_HELP),
     profile: bool = typer.Option(False, "--profile", help="Also profile-likelihood 95 % intervals."),
     name: Optional[str] = typer.Option(None, help="Name of the calibration record."),
     out: Optional[Path] = typer.Option(None, help="Directory for calibration.toml (the record), "
@@ -43,9 +46,13 @@ def calibrate_command(
     Examples:
       rotarydryer calibrate ajayi2011_mmg -p "tests.*.solids_velocity" -p "tests.*.dispersion" --tests 2,4,5,6 -r tracer -r mrt --out cal
       rotarydryer calibrate ajayi2011_mmg -p thermal.area_scale -p "tests.*.gas_flow" -p thermal.discharge_cooling_ntu --tests 2,3,4,5,6
+
+    Several --starts run on --workers local processes or a Dask --cluster local:N / --scheduler, each
+    from the case's cold state: the same calibration on every backend.
     """
     from .._io import json_text, output_set, write_text_atomic
     from ..estimation import FitError
+    from ..services._options import executor_from_options
     from ..services.calibration import parse_sigmas, parse_tests, run_calibration
 
     try:
@@ -53,10 +60,17 @@ def calibrate_command(
         base = parse_sets(set_)
         sel = parse_tests(tests)
         sig = parse_sigmas(sigma)
-
+        executor, notes = executor_from_options(workers, max(1, starts), scheduler=scheduler, cluster=cluster)
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
+    for note in notes:
+        typer.echo(f"warning: {note}", err=True)
+    connect_executor(executor)
+    try:
         with Progress("calibrate", quiet=quiet) as bar:
             run = run_calibration(case, param, tests=sel, responses=response or None, base_overrides=base,
-                                  sigmas=sig, starts=starts, profile=profile, name=name,
+                                  sigmas=sig, starts=starts, profile=profile, name=name, executor=executor,
                                   progress=lambda stage, k, n: bar.update(k, n or None, label=stage))
     except (ValueError, FitError) as exc:
         typer.echo(f"error: {exc}", err=True)

@@ -12,7 +12,7 @@ from .._display import show
 from .._io import json_text
 from ..services.design import design_duty, design_limits
 from . import app
-from ._common import Progress, check_out_dir
+from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP, Progress, check_out_dir, connect_executor
 
 
 @app.command("design", short_help="Size a dryer for a drying duty (or check a plant).")
@@ -49,6 +49,9 @@ def design_cmd(
                                                    "ajayi2011_mmg (its geometry under its duty vs the optimum)."),
     out: Optional[Path] = typer.Option(None, help="Directory for design.json, design_report.md and "
                                                   "design_cross_section.png."),
+    workers: int = typer.Option(1, help=WORKERS_HELP + " Evaluate each generation of the search."),
+    scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),
+    cluster: Optional[str] = typer.Option(None, help=CLUSTER_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
@@ -69,24 +72,30 @@ def design_cmd(
       rotarydryer design --check ajayi2011_mmg
     """
     from .. import design as D
+    from ..services._options import executor_from_options
 
     t0 = time.perf_counter()
     limits = design_limits(objective, speed_fraction, entrainment_fraction, gas_velocity_max, fill_max,
                            design_load_tolerance, ld_min, ld_max, d_min, d_max, ua_factor, top, rounds)
     check_out_dir("--out", out)
+    executor, notes = executor_from_options(workers, 12 * 8, scheduler=scheduler, cluster=cluster)  # a generation: 96
+    for note in notes:
+        typer.echo(f"warning: {note}", err=True)
+    connect_executor(executor)
     with Progress("design", quiet=quiet) as bar:
         return _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow,
-                       ntu, direction, feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json)
+                       ntu, direction, feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json,
+                       executor)
 
 
 def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow, ntu, direction,
-            feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json):
+            feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json, executor=None):
     """The body of ``rotarydryer design`` (``bar``: its `Progress`, closed before the results print)."""
     progress = bar.message
     if check is not None:
         if check not in D.PLANTS:
             raise ValueError(f"--check = {check!r} is not one of {', '.join(D.PLANTS)}")
-        res = D.check_plant(check, limits, objective=objective, progress=progress)
+        res = D.check_plant(check, limits, objective=objective, progress=progress, executor=executor)
         bar.close()
         res["wall_time_s"] = time.perf_counter() - t0
         if out is not None:
@@ -117,9 +126,9 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
                     feed_temperature, max_fuel)
     if verify:
         res, ver = D.design_verified(d, limits, objective=objective, rounds=rounds, progress=progress,
-                                     top=top)
+                                     top=top, executor=executor)
     else:
-        res, ver = D.design(d, limits, objective=objective, progress=progress, top=top), None
+        res, ver = D.design(d, limits, objective=objective, progress=progress, top=top, executor=executor), None
     bar.close()
     summary = dict(res.summary(), table=res.table(top))
     if ver is not None:

@@ -9,7 +9,17 @@ import typer
 
 from .._limits import key_unit
 from . import app
-from ._common import Progress, check_option, check_out_dir, load_tracer, parse_sets
+from ._common import (
+    CLUSTER_HELP,
+    SCHEDULER_HELP,
+    WORKERS_HELP,
+    Progress,
+    check_option,
+    check_out_dir,
+    connect_executor,
+    load_tracer,
+    parse_sets,
+)
 
 
 @app.command("fit", short_help="Fit case parameters to a tracer curve.")
@@ -19,6 +29,9 @@ def fit_command(
     param: list[str] = typer.Option(..., "--param", "-p", help="Override key to estimate (repeat)."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
     starts: int = typer.Option(2, help="Number of starts (the case values plus sampled ones), 1-100."),
+    workers: int = typer.Option(1, help=WORKERS_HELP + " Runs the starts."),
+    scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),
+    cluster: Optional[str] = typer.Option(None, help=CLUSTER_HELP),
     scale: str = typer.Option("known", help="'known': the signal is E(t); 'fit': raw concentration, unknown scale."),
     method: str = typer.Option("wls", help="wls | ml"),
     baseline: str = typer.Option("none", help="none | fit: fit a constant tracer background (signal unit) "
@@ -42,6 +55,7 @@ def fit_command(
 
     from ..estimation import FitError
     from ..estimation.cases import BASELINE_CHOICES, fit_case_to_tracer, profile_case_fit
+    from ..services._options import executor_from_options
 
     try:
         if baseline not in BASELINE_CHOICES:
@@ -55,11 +69,15 @@ def fit_command(
         check_out_dir("--out", out)
         base = parse_sets(set_)
         tracer = load_tracer(data)
+        executor, notes = executor_from_options(workers, starts, scheduler=scheduler, cluster=cluster)
+        for note in notes:
+            typer.echo(f"warning: {note}", err=True)
+        connect_executor(executor)
 
         with warnings.catch_warnings(), Progress("start", starts, quiet=quiet) as bar:
             warnings.simplefilter("ignore")
             cf = fit_case_to_tracer(case, tracer, param, base_overrides=base, n_starts=starts, scale=scale,
-                                    method=method, baseline=baseline,
+                                    method=method, baseline=baseline, executor=executor,
                                     progress=lambda k, n, best: bar.update(k, n, f"best objective {best:.6g}"))
             profiles = {}
             if profile:

@@ -8,6 +8,7 @@ from typing import Optional
 import typer
 
 from . import app
+from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
 #: output names a study may ask for (``--output``)
 KNOWN_OUTPUTS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
@@ -39,8 +40,9 @@ def sensitivity(
     output: Optional[list[str]] = typer.Option(None, "--output", help="Output name (repeat); default: product "
                                                "moisture, gas outlet temperature, fuel rate, mean residence time."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
-    workers: int = typer.Option(1, help="Local worker processes (0: one per core)."),
-    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler address, e.g. tcp://10.0.0.5:8786."),
+    workers: int = typer.Option(1, help=WORKERS_HELP),
+    scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),
+    cluster: Optional[str] = typer.Option(None, help=CLUSTER_HELP),
     seed: int = typer.Option(0, help="Seed of the scrambled Sobol' sequence and the bootstrap."),
     warm_start: bool = typer.Option(True, "--warm-start/--cold-start",
                                     help="Start each coupled steady state from the nearest converged run."),
@@ -58,13 +60,15 @@ def sensitivity(
       rotarydryer sensitivity ajayi2011_mmg --param operating.feed_rate=3,4 --param transport.kiln_time=5,10 --samples 32 --workers 0 --out study/
       rotarydryer report ajayi2011_mmg --sensitivity study/sensitivity.json
 
-    Failed runs (infeasible points) are recorded and left out of the indices block-wise.
+    Failed runs (infeasible points) are recorded and left out of the indices block-wise. The runs go
+    serially, on --workers local processes, on a Dask --cluster local:N or a --scheduler; every
+    backend gives the same indices.
     Exit codes: 0 done, 1 every run failed, 2 bad input, 3 SALib or Dask not installed.
     """
     from .._io import csv_text, json_text, output_set, save_figure, write_text_atomic
-    from ..services._options import check_scheduler, check_workers
+    from ..services._options import executor_from_options
     from ..studies import sensitivity as sens
-    from ._common import Progress, check_out_dir, parse_sets
+    from ._common import Progress, check_out_dir, connect_executor, parse_sets
 
     try:
         sens.require_salib()
@@ -80,8 +84,8 @@ def sensitivity(
         for o in outputs:
             if o not in KNOWN_OUTPUTS:
                 raise ValueError(f"--output {o!r} is not a known output; choose from {', '.join(KNOWN_OUTPUTS)}")
-        scheduler = check_scheduler(scheduler)
-        n_workers, worker_notes = check_workers(workers, n_samples * (len(params) + 2), scheduler=scheduler)
+        executor, worker_notes = executor_from_options(workers, n_samples * (len(params) + 2), scheduler=scheduler,
+                                                       cluster=cluster)
         check_out_dir("--out", out)
         sens._check_case(case, base, params)          # unknown case or key, a range the schema refuses
     except (ValueError, OSError) as exc:
@@ -89,14 +93,11 @@ def sensitivity(
         raise typer.Exit(2)
     for note in worker_notes:
         typer.echo(f"warning: {note}", err=True)
+    connect_executor(executor)          # an unreachable scheduler: refused before any run
     n_runs = n_samples * (len(params) + 2)
-    try:
-        with Progress("run", n_runs, quiet=quiet) as bar:
-            res = sens.sobol_study(case, params, n_samples, outputs, workers=n_workers, scheduler=scheduler,
-                                   base_overrides=base, seed=seed, warm_start=warm_start, progress=bar.advance)
-    except ImportError as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(3)
+    with Progress("run", n_runs, quiet=quiet) as bar:
+        res = sens.sobol_study(case, params, n_samples, outputs, executor=executor, base_overrides=base, seed=seed,
+                               warm_start=warm_start, progress=bar.advance)
     data = res.to_dict()
     if out is not None:
         out = Path(out)

@@ -1,8 +1,10 @@
 """``rotarydryer sweep``: run a case over a grid or list of overrides, one table out.
 
-Runs on the local cores (``concurrent.futures.ProcessPoolExecutor``) or, given
-``--scheduler tcp://host:8786``, on a Dask cluster (``dask.distributed`` is imported only
-then and is not a dependency of rotarydryer).
+The points run through the one executor (`rotarydryer.executor`; the library side is
+`rotarydryer.studies.sweep`): serially, on warm local worker processes (``--workers N``), on a
+Dask LocalCluster made here (``--cluster local:N``) or on a running Dask scheduler (``--scheduler
+tcp://host:8786``); ``dask.distributed`` is imported only for the last two and is not a
+dependency of rotarydryer. Every backend gives the same table, bit for bit.
 """
 
 from __future__ import annotations
@@ -16,12 +18,9 @@ import typer
 from .._grids import MAX_POINTS, parse_grid
 from .._grids import check_points as _check_points
 from . import app
+from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
-__all__ = ["parse_grid", "read_list", "run_point", "run_sweep", "rows_to_csv", "MAX_POINTS"]
-
-KEY_SCALARS = ("total_holdup_kg", "active_holdup_kg", "passive_holdup_kg", "kiln_bed_holdup_kg", "bed_holdup_kg",
-               "outlet_flow_kg_s", "mean_residence_time_s", "rtd_std_s", "mass_balance_error", "cells_over",
-               "cells_design", "cells_under")
+__all__ = ["parse_grid", "read_list", "rows_to_csv", "MAX_POINTS"]
 
 
 def read_list(path: Path) -> list[dict]:
@@ -42,79 +41,17 @@ def read_list(path: Path) -> list[dict]:
     return [{k.strip(): v.strip() for k, v in r.items() if v is not None and v.strip() != ""} for r in rows]
 
 
-def run_point(case: str, overrides: dict, rtd: bool = True) -> dict:
-    """One sweep point -> a flat row (overrides + key scalars, units in the names); an
-    invalid point gives a row with ``error``.  Top-level so that it pickles for
-    process pools and Dask."""
-    return _solve_point(case, overrides)[0]
+_MOVED = ("run_point", "run_sweep", "_solve_point", "solve_chunk", "sweep_chunks", "KEY_SCALARS", "THERMAL_SCALARS")
 
 
-def _solve_point(case: str, overrides: dict, warm=None):
-    """(row, warm-start data or None) of one point: the steady state of
-    ``Simulation(case, overrides)`` (started from ``warm``, a nearby point's), its summary and
-    loading counts. The tracer moments are the analytic ones of that state (what a simulated
-    pulse's would tend to), so a point costs one transport and one coupled solve."""
-    from .._threads import single_threaded
-    from ..simulation import Simulation, check_finite  # the model stack: not at the CLI's start-up
+def __getattr__(name):
+    """The sweep's library functions moved to `rotarydryer.studies.sweep` (issue 32); their old names
+    here load it on first use (the CLI starts without the model stack)."""
+    if name in _MOVED:
+        from ..studies import sweep as _library
 
-    row = dict(overrides)
-    try:
-        with single_threaded():      # one BLAS/OpenMP thread per run (no oversubscription, issue 16)
-            res = Simulation(case, overrides).steady_state(warm=warm)
-            out = {k: float(v) for k, v in {**res.summary(), **res.state.loading_counts()}.items()
-                   if isinstance(v, (int, float)) and not isinstance(v, bool)}
-            check_finite(out, case)
-    except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
-        row["error"] = " ".join(str(exc).split()) or type(exc).__name__
-        return row, None
-    for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS):
-        if k in out:
-            row[k] = out[k]
-    row["error"] = ""
-    return row, res.warm_data()
-
-
-#: outputs of the coupled heat and mass transfer steady state added to sweep rows
-THERMAL_SCALARS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
-                   "evaporation_kg_s", "fuel_rate_kg_s", "shell_heat_loss_W", "energy_balance_error")
-
-
-def run_sweep(case: str, points: list[dict], *, workers: int = 1, scheduler: Optional[str] = None,
-              rtd: bool = True, progress=None, rows: Optional[list] = None) -> list[dict]:
-    """Run all points; rows come back in the order of ``points``. ``rows`` (a list of
-    ``len(points)`` None) is filled as runs finish, so a caller keeps what was computed if the
-    sweep is interrupted."""
-    if rows is None:
-        rows = [None] * len(points)
-    tick = progress or (lambda n: None)
-    if scheduler:
-        try:
-            from dask.distributed import Client, as_completed
-        except ImportError as exc:
-            raise ImportError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from exc
-        with Client(scheduler) as client:
-            futs = {client.submit(run_point, case, p, rtd, pure=False): i for i, p in enumerate(points)}
-            for f in as_completed(futs):
-                rows[futs[f]] = f.result()
-                tick(1)
-        return rows
-    if workers <= 1 or len(points) == 1:
-        warm = None
-        for i, p in enumerate(points):      # each point starts from the last converged one
-            rows[i], data = _solve_point(case, p, warm)
-            warm = data or warm
-            tick(1)
-        return rows
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    from .._threads import limit_worker_threads
-
-    with ProcessPoolExecutor(max_workers=min(workers, len(points)), initializer=limit_worker_threads) as ex:
-        futs = {ex.submit(run_point, case, p, rtd): i for i, p in enumerate(points)}
-        for f in as_completed(futs):
-            rows[futs[f]] = f.result()
-            tick(1)
-    return rows
+        return getattr(_library, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def rows_to_csv(rows: list[dict]) -> str:
@@ -130,8 +67,9 @@ def sweep(
     grid: Optional[list[str]] = typer.Option(None, "--grid", help="KEY=V1,V2,...; several --grid: all combinations."),
     list_: Optional[Path] = typer.Option(None, "--list", help="CSV of runs: header = override keys, a row per run."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
-    workers: int = typer.Option(1, help="Local worker processes (0: one per core)."),
-    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler address, e.g. tcp://10.0.0.5:8786."),
+    workers: int = typer.Option(1, help=WORKERS_HELP),
+    scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),
+    cluster: Optional[str] = typer.Option(None, help=CLUSTER_HELP),
     rtd: bool = typer.Option(True, "--rtd/--no-rtd", help="Also simulate the tracer pulse (RTD SD, tracer mean)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the table (CSV) here."),
     as_json: bool = typer.Option(False, "--json", help="Print the rows as a JSON list."),
@@ -145,16 +83,17 @@ def sweep(
       rotarydryer sweep ajayi2011_mmg --grid operating.test=2,3,4,5,6 --workers 0 -o tests.csv
 
     A list of runs is a CSV file whose header names the case keys, one row per run
-    (--list runs.csv); --scheduler tcp://HOST:8786 runs the points on a Dask cluster.
+    (--list runs.csv); --scheduler tcp://HOST:8786 runs the points on a Dask cluster,
+    --cluster local:N on a Dask LocalCluster made here. Every backend gives the same table.
 
     Exit codes: 0 all runs succeeded, 1 some runs failed (see the error column), 2 bad
-    input, 3 Dask requested but not installed.
+    input (an unreachable scheduler included), 3 Dask requested but not installed.
     """
     import os
 
     from .._io import check_output_target, write_text_atomic
-    from ..services._options import check_scheduler, check_workers
-    from ._common import Progress, parse_sets
+    from ..services._options import executor_from_options
+    from ._common import Progress, connect_executor, parse_sets
 
     try:
         base = parse_sets(set_)
@@ -165,8 +104,7 @@ def sweep(
             points = read_list(list_)
         if not points:
             raise ValueError("nothing to run: give --grid KEY=V1,V2 or --list runs.csv")
-        scheduler = check_scheduler(scheduler)
-        n, worker_notes = check_workers(workers, len(points), scheduler=scheduler)
+        executor, worker_notes = executor_from_options(workers, len(points), scheduler=scheduler, cluster=cluster)
         points = [{**base, **p} for p in points]
         from ..cases import load_case
 
@@ -180,16 +118,16 @@ def sweep(
     except (ValueError, OSError) as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    from ..studies.sweep import run_sweep, warm_up  # the model stack: not before the options are checked
+
+    connect_executor(executor, warm=((warm_up, (case, points[0])),))   # an unreachable scheduler: refused now
     for note in worker_notes:
         typer.echo(f"warning: {note}", err=True)
     rows: list = [None] * len(points)
     interrupted = False
     try:
         with Progress("run", len(points), quiet=quiet or len(points) < 2) as bar:
-            run_sweep(case, points, workers=n, scheduler=scheduler, rtd=rtd, progress=bar.advance, rows=rows)
-    except ImportError as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(3)
+            run_sweep(case, points, executor=executor, rtd=rtd, progress=bar.advance, rows=rows)
     except KeyboardInterrupt:
         interrupted = True
     rows = [r if r is not None else {**p, "error": "not run (sweep interrupted)"} for r, p in zip(rows, points)]

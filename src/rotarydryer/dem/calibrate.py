@@ -134,12 +134,22 @@ def polygon_deck(run: PolygonRun):
                        source=f"polygon run {run.name} ({run.role}; python -m rotarydryer.dem.calibrate --polygon)")
 
 
+def _run_one(name: str, work: str, np: int) -> dict:
+    """LIGGGHTS on one run's deck (top-level, for the executor's worker processes)."""
+    from .run import run_deck
+
+    return run_deck(Path(work) / name, np=np, progress=True, label=name)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--work", default="dem_work", help="folder for the decks and dumps")
     ap.add_argument("--data", default=None, help="folder for the reduced CSVs (default: the package data)")
     ap.add_argument("--np", type=int, default=1, help="MPI ranks per run")
-    ap.add_argument("--jobs", type=int, default=1, help="runs at the same time")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at the same time (local worker processes)")
+    ap.add_argument("--scheduler", default=None, help="run on a Dask scheduler, e.g. tcp://10.0.0.5:8786 (LIGGGHTS and "
+                    "the work folder must be there too)")
+    ap.add_argument("--cluster", default=None, help="local:N: a Dask LocalCluster of N worker processes here")
     ap.add_argument("--only", nargs="*", default=None, help="run names (default all)")
     ap.add_argument("--reduce-only", action="store_true", help="do not run LIGGGHTS, reduce existing dumps")
     ap.add_argument("--export-only", action="store_true", help="only write the decks")
@@ -148,11 +158,15 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.polygon:
         return _main_polygon(a)
-    from concurrent.futures import ThreadPoolExecutor
-
+    from ..executor import Executor, RunFailure
     from .deck import export_deck
     from .holdup import analyse_run, write_reduced_csv
-    from .run import run_deck
+
+    try:
+        executor = Executor(workers=max(1, min(a.jobs, len(RUNS))), scheduler=a.scheduler, cluster=a.cluster)
+        executor.connect()
+    except (ValueError, ImportError) as exc:
+        ap.error(str(exc).replace("--workers", "--jobs"))
 
     work = Path(a.work)
     data = Path(a.data) if a.data else Path(__file__).resolve().parents[1] / "data" / "dem"
@@ -162,9 +176,11 @@ def main(argv=None):
             export_deck(campaign_deck(r), work / r.name)
     if a.export_only:
         return 0
-    if not a.reduce_only:
-        with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-            list(ex.map(lambda r: run_deck(work / r.name, np=a.np, progress=True, label=r.name), runs))
+    if not a.reduce_only:     # one run per chunk through the executor: a failed run is reported, the others go on
+        done = executor.map(_run_one, [r.name for r in runs], args=(str(work), a.np), chunks=1)
+        for r, res in zip(runs, done):
+            if isinstance(res, RunFailure):
+                print(f"{r.name}: LIGGGHTS run failed ({res.error})")
     for r in runs:
         try:
             res = analyse_run(work / r.name)

@@ -43,6 +43,7 @@ from ..cases import (
 )
 from ..cases.build import cascade_law, law_coefficient, test_row, thermal_settings
 from ..cases.calibration import TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
+from ..executor import Executor
 from ..published import read_published_csv
 from ..simulation import Simulation
 from .cases import DEFAULT_BOUNDS
@@ -328,6 +329,16 @@ class _Model:
         self.n_solves = 0
         self._last: dict = {}       # test -> (its overrides, its predictions): a test whose inputs did not change
 
+    def fresh(self) -> _Model:
+        """The same model without its warm states and counts: what one start of a multi-start fit
+        runs on (`rotarydryer.estimation.fit.fit`), so that it gives the same result in any process."""
+        return _Model(self.case_name, self.base, self.data, on_solve=self.on_solve)
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.update(on_solve=None, warm={}, _last={})    # a worker process: no progress callback, no warm state
+        return state
+
     def predict_test(self, values, test, wanted):
         ov = _run_overrides(self.base, values, test)
         key = tuple(sorted((k, repr(v)) for k, v in ov.items()))
@@ -515,7 +526,8 @@ def _configuration(case, thermal: bool) -> dict:
 def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int] | None = None,
               responses: Sequence[str] | None = None, base_overrides: dict | None = None,
               sigmas: Mapping[str, float] | None = None, n_starts: int = 1, seed: int = 0,
-              profile: Sequence[str] | bool = False, progress: Callable | None = None) -> CaseCalibration:
+              profile: Sequence[str] | bool = False, progress: Callable | None = None,
+              executor: Executor | None = None) -> CaseCalibration:
     """Fit case keys ``parameters`` to the measured responses of ``tests`` at once (module docstring).
 
     ``parameters``: case keys (shared) and ``tests.<test>.<field>`` / ``tests.*.<field>`` (per test).
@@ -524,7 +536,9 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     ``sigmas``: {response: standard deviation} replacing `DEFAULT_SIGMA`. ``profile``: True
     or the keys to profile (likelihood intervals; each point re-fits the others).
     ``progress(stage, k, n)`` after each start / profile (``stage`` "start", "profile") and after each
-    model run (``"model run", k, 0``: k runs so far, no total known)."""
+    model run (``"model run", k, 0``: k runs so far, no total known; the runs of starts on worker
+    processes are counted when their start ends). ``executor`` (`rotarydryer.executor.Executor`)
+    runs the starts, each from the case's cold state: every backend gives the same calibration."""
     t0 = time.perf_counter()
     base = dict(base_overrides or {})
     if not parameters:
@@ -557,7 +571,8 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
         if progress is not None:
             progress("start", k, total)
 
-    res = fit(model, params, datasets, method="wls", n_starts=n_starts, seed=seed, progress=on_start)
+    res = fit(model, params, datasets, method="wls", n_starts=n_starts, seed=seed, progress=on_start,
+              executor=executor)
     profiles = {}
     names = keys if profile is True else list(profile or [])
     for i, k in enumerate(names):

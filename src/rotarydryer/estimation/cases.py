@@ -130,8 +130,6 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
     with ``with_holdup`` a dict ``{"tracer": E, "holdup": [total holdup, kg]}``. A value
     `BASELINE` in ``values`` (a fitted constant background, signal unit) is added to the
     curve (with ``scale="fit"`` the scale is matched to the observed signal minus it)."""
-    from ..simulation import Simulation
-
     check_choice("scale", scale, ("known", "fit"))
     if scale == "fit" and observed is None:
         raise ValueError("scale = 'fit' needs the observed signal (observed=...) to match the scale to")
@@ -140,24 +138,32 @@ def tracer_model(case_name: str, times: np.ndarray, *, base_overrides: dict | No
     # 10 s steps: E(t) at the data times within 1e-3 of the peak for Lee's 39.6 s pulse,
     # far below the measurement noise, at half the cost of 5 s steps
     step = dt if dt is not None else min(10.0, max(t_end / 200.0, 1.0))
-    base = dict(base_overrides or {})
+    return _TracerModel(case_name, times, dict(base_overrides or {}), scale, observed, t_end, step, with_holdup)
 
-    def model(values: dict):
+
+class _TracerModel:
+    """The callable of `tracer_model` (a class, so that it pickles for worker processes)."""
+
+    def __init__(self, case_name, times, base, scale, observed, t_end, step, with_holdup):
+        self.case_name, self.times, self.base, self.scale = case_name, times, base, scale
+        self.observed, self.t_end, self.step, self.with_holdup = observed, t_end, step, with_holdup
+
+    def __call__(self, values: dict):
+        from ..simulation import Simulation
+
         values = dict(values)
         b = float(values.pop(BASELINE, 0.0))
-        ss = Simulation(case_name, {**base, **values}).transport_steady_state()
-        resp = ss.rtd(t_end=t_end, dt=step).response
-        e = np.interp(times, resp.time, resp.exit_age)
-        if scale == "fit":
+        ss = Simulation(self.case_name, {**self.base, **values}).transport_steady_state()
+        resp = ss.rtd(t_end=self.t_end, dt=self.step).response
+        e = np.interp(self.times, resp.time, resp.exit_age)
+        if self.scale == "fit":
             den = float(e @ e)
-            c = float((observed - b) @ e) / den if den > 0 else 0.0
+            c = float((self.observed - b) @ e) / den if den > 0 else 0.0
             e = c * e
         e = e + b
-        if with_holdup:
+        if self.with_holdup:
             return {"tracer": e, "holdup": np.array([ss.total_holdup])}
         return e
-
-    return model
 
 
 @dataclass
@@ -195,7 +201,7 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
                        base_overrides: dict | None = None, method: str = "wls", n_starts: int = 2,
                        seed: int = 0, scale: str = "known", progress=None,
                        reference: dict | None = None, holdup: tuple[float, float] | None = None,
-                       tracer_sigma: float | None = None, baseline: str = "none") -> CaseFit:
+                       tracer_sigma: float | None = None, baseline: str = "none", executor=None) -> CaseFit:
     """Fit override keys of a case to a measured tracer curve ([`rotarydryer.rtd.TracerData`][rotarydryer.rtd.TracerData]).
 
     ``keys`` are override keys (start values and bounds from the case and
@@ -212,6 +218,9 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
     ``baseline="fit"`` adds a constant background of the signal (`BASELINE`, signal unit:
     1/s for E(t), ppm for Ajayi's raw lithium) as one more fitted parameter
     ([`baseline_parameter`][rotarydryer.estimation.cases.baseline_parameter]): y = A E(t) + b.
+
+    ``executor`` ([`rotarydryer.executor.Executor`][rotarydryer.executor.Executor]) runs the starts (default serially; every backend
+    gives the same fit).
     """
     check_choice("scale", scale, ("known", "fit"))
     check_choice("baseline", baseline, BASELINE_CHOICES)
@@ -234,7 +243,8 @@ def fit_case_to_tracer(case_name: str, data, keys: Sequence[str] | Sequence[Para
         data_sets.append(Dataset("holdup", np.array([value]), np.array([sigma])))
     model = tracer_model(case_name, t, base_overrides=base_overrides, scale=scale, observed=y,
                          with_holdup=holdup is not None)
-    res = fit(model, params, data_sets, method=method, n_starts=n_starts, seed=seed, progress=progress)
+    res = fit(model, params, data_sets, method=method, n_starts=n_starts, seed=seed, progress=progress,
+              executor=executor)
     ref = None
     if reference is not None:
         pred = model(dict(reference))

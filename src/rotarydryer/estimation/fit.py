@@ -41,6 +41,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from .._validation import check_choice
+from ..executor import Executor, RunFailure
 from .uncertainty import linearised_uncertainty
 
 __all__ = [
@@ -430,6 +431,7 @@ def fit(
     max_nfev: int | None = None,
     fixed: Mapping[str, float] | None = None,
     progress: Callable[[int, int, float], None] | None = None,
+    executor: Executor | None = None,
 ) -> FitResult:
     """Estimate ``parameters`` of ``model`` from ``data``; see the module docstring.
 
@@ -451,7 +453,11 @@ def fit(
     fixed : mapping, optional
         Extra model inputs held fixed.
     progress : callable, optional
-        ``progress(start_index, n_starts, best_objective)`` after each start.
+        ``progress(starts_done, n_starts, best_objective_so_far)`` after each start.
+    executor : rotarydryer.executor.Executor, optional
+        Runs the starts (default serially): each on its own problem and, where the model has a
+        ``fresh()`` method, its own copy of the model's state, so every backend gives the same
+        result; the model (and ``jac``) must pickle for worker processes.
 
     Raises
     ------
@@ -485,28 +491,61 @@ def fit(
     best, best_obj, best_weights = None, math.inf, None
     penalty_cost = float(np.sum(problem.penalty**2))
     starts: list[StartResult] = []
-    for k, z0 in enumerate(_feasible_starts(problem, int(n_starts), rng)):
-        problem.weights = {d.name: 1.0 for d in data}
-        before = problem.n_eval
-        start_vals = {p.name: float(p.from_z(zi)) for p, zi in zip(params, z0)}
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                res = _solve(problem, z0, max_nfev, jac)
-            obj = _objective(problem, res)
-            ok = bool(res.success) and math.isfinite(obj) and float(np.sum(res.fun**2)) < 0.5 * penalty_cost
-            msg = res.message
-        except (FloatingPointError, ValueError, FitError) as exc:
-            res, obj, ok, msg = None, math.inf, False, f"model failed: {exc}"
-        starts.append(StartResult(start_vals, obj, ok, problem.n_eval - before, str(msg)))
-        if ok and obj < best_obj:
-            best, best_obj, best_weights = res, obj, dict(problem.weights)
+    zs = _feasible_starts(problem, int(n_starts), rng)
+    spec = (model, params, data, method, fixed, max_nfev, jac, penalty_cost)
+    outcomes: list = [None] * len(zs)
+    done = [0]
+
+    def tick(n):
+        done[0] += n
         if progress is not None:
-            progress(k + 1, int(n_starts), best_obj)
+            objs = [o["start"].objective for o in outcomes if isinstance(o, dict) and o["start"].success]
+            progress(done[0], int(n_starts), min(objs, default=math.inf))
+
+    ex = executor or Executor()
+    ex.map(_run_start, list(zs), args=(spec,), chunks=1, progress=tick, results=outcomes)
+    for z0, out in zip(zs, outcomes):
+        if isinstance(out, RunFailure):      # the start's worker failed (not the model: that is caught inside)
+            start_vals = {p.name: float(p.from_z(zi)) for p, zi in zip(params, z0)}
+            out = dict(start=StartResult(start_vals, math.inf, False, 0, f"model failed: {out.error}"), res=None,
+                       weights=None, n_eval=0, infeasible=0, last_infeasible="", n_solves=0)
+        starts.append(out["start"])
+        problem.n_eval += out["n_eval"]
+        problem.infeasible += out["infeasible"]
+        problem.last_infeasible = out["last_infeasible"] or problem.last_infeasible
+        solves = getattr(model, "n_solves", None)
+        if out["n_solves"] and isinstance(solves, int):     # a model that counts its solves (calibrate) sees the starts'
+            setattr(model, "n_solves", solves + out["n_solves"])  # noqa: B010
+        if out["start"].success and out["start"].objective < best_obj:
+            best, best_obj, best_weights = out["res"], out["start"].objective, out["weights"]
     if best is None:
         raise FitError("no start converged: " + "; ".join(f"start {i + 1}: {s.message}" for i, s in enumerate(starts)))
     problem.weights = best_weights
     return _summarise(problem, best, best_obj, starts, time.perf_counter() - t0)
+
+
+def _run_start(z0, spec) -> dict:
+    """One start of the multi-start search on its own problem (and, through ``model.fresh()``
+    where the model has it, its own model state), so that it gives the same result whichever
+    process runs it and whatever ran before. Top-level, so that it pickles for worker processes."""
+    model, params, data, method, fixed, max_nfev, jac, penalty_cost = spec
+    fresh = getattr(model, "fresh", None)
+    own = fresh() if callable(fresh) else model
+    problem = _Problem(own, params, data, method, fixed)
+    start_vals = {p.name: float(p.from_z(zi)) for p, zi in zip(params, z0)}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            res = _solve(problem, np.asarray(z0, dtype=float), max_nfev, jac)
+        obj = _objective(problem, res)
+        ok = bool(res.success) and math.isfinite(obj) and float(np.sum(res.fun**2)) < 0.5 * penalty_cost
+        msg = res.message
+    except (FloatingPointError, ValueError, FitError) as exc:
+        res, obj, ok, msg = None, math.inf, False, f"model failed: {exc}"
+    return dict(start=StartResult(start_vals, obj, ok, problem.n_eval, str(msg)), res=res if ok else None,
+                weights=dict(problem.weights), n_eval=problem.n_eval, infeasible=problem.infeasible,
+                last_infeasible=problem.last_infeasible,
+                n_solves=getattr(own, "n_solves", 0) if own is not model else 0)
 
 
 def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["check_option", "check_scheduler", "check_workers", "usable_cpus"]
+__all__ = ["check_option", "check_scheduler", "check_workers", "check_cluster", "executor_from_options", "usable_cpus"]
 
 
 def check_option(option: str, value, low: float = -math.inf, high: float = math.inf, *, unit: str = "",
@@ -99,3 +99,44 @@ def check_scheduler(address, option: str = "--scheduler"):
     if not port.isdigit() or not 1 <= int(port) <= 65535:
         raise ValueError(f"{option} = {a!r}: port {port!r} is outside the allowed range 1-65535; {form}")
     return a
+
+
+def check_cluster(cluster, option: str = "--cluster") -> tuple[int | None, list[str]]:
+    """``(workers, warnings)`` of ``--cluster local:N`` (a Dask LocalCluster of N worker processes on this
+    machine): a one-line ``ValueError`` naming the option, the value and the form for anything else;
+    N above the usable CPU cores is clamped with a warning. ``None`` passes."""
+    if cluster is None:
+        return None, []
+    from ..executor import parse_cluster
+
+    n = parse_cluster(cluster, option)
+    cpus = usable_cpus()
+    if n > cpus:
+        return cpus, [f"{option} = local:{n} is more than the {cpus} usable CPU cores; using local:{cpus} "
+                      "(give --scheduler for a cluster of several machines)"]
+    return n, []
+
+
+def executor_from_options(workers, n_runs: int, *, scheduler=None, cluster=None):
+    """``(Executor, warnings)`` of the options ``--workers``, ``--scheduler``, ``--cluster`` that every
+    many-run command shares (`rotarydryer.executor.Executor`): ``--workers N`` local worker
+    processes (0: one per core; clamped to the cores and to ``n_runs``), ``--scheduler ADDRESS`` a
+    running Dask scheduler, ``--cluster local:N`` a Dask LocalCluster made here. Bad values and
+    ``--scheduler`` with ``--cluster`` are one-line ``ValueError`` naming the option. Nothing is
+    started: `Executor.connect` reaches the scheduler or starts the cluster."""
+    from ..executor import Executor
+
+    scheduler = check_scheduler(scheduler)
+    if scheduler and cluster is not None:
+        raise ValueError(f"--scheduler = {scheduler!r} and --cluster = {cluster!r}: give one, not both "
+                         "(--scheduler joins a running Dask cluster, --cluster local:N makes one here)")
+    n_cluster, notes = check_cluster(cluster)
+    remote = scheduler or cluster
+    n, more = check_workers(workers, n_runs, scheduler=remote)
+    notes += more
+    if remote:
+        if workers != 1:
+            notes.append(f"--workers = {workers} is not used with {'--scheduler' if scheduler else '--cluster'} "
+                         "(the cluster's workers run the cases)")
+        return Executor(scheduler=scheduler, cluster=None if scheduler else f"local:{n_cluster}"), notes
+    return Executor(workers=max(1, n)), notes

@@ -78,15 +78,16 @@ class CalibrationRun:
 
 def run_calibration(case: str, parameters, *, tests=None, responses=None, sigmas=None, base_overrides=None,
                     starts: int = 1, profile: bool = False, name: str | None = None, progress=None,
-                    source_text: str | None = None) -> CalibrationRun:
+                    source_text: str | None = None, executor=None) -> CalibrationRun:
     """Calibrate ``parameters`` of ``case`` (`rotarydryer.estimation.calibrate.calibrate`), and make the
     record and the calibrated case text (``source_text``: the case file's text, default read from
-    ``case``). The calibrated case must load (else ``ValueError``: nothing to write)."""
+    ``case``). The calibrated case must load (else ``ValueError``: nothing to write). ``executor``
+    (`rotarydryer.executor.Executor`) runs the starts."""
     check_name(name)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         cal = calibrate(case, parameters, tests=tests, responses=responses or None, base_overrides=base_overrides,
-                        sigmas=sigmas, n_starts=starts, profile=profile, progress=progress)
+                        sigmas=sigmas, n_starts=starts, profile=profile, progress=progress, executor=executor)
         record = cal.record(name=name)
         text = record_toml(record)
         base = case_text(case) if source_text is None else source_text

@@ -38,6 +38,7 @@ import numpy as np
 from scipy.integrate import trapezoid
 
 from .._validation import check_choice
+from ..executor import Executor, RunFailure
 
 __all__ = ["CASE", "TESTS", "published", "measured_curve", "r_squared", "Prediction", "predict", "Calibration",
            "calibrate", "CrossTest", "cross_test", "markdown", "moisture_correlation", "table_5_2_consistency"]
@@ -251,16 +252,27 @@ class CrossTest:
 
 
 def cross_test(calibrate_on=TESTS, predict_for=TESTS, *, law: str = "friedman_marshall",
-               overrides: dict | None = None) -> CrossTest:
-    """Calibrate on each test of ``calibrate_on`` and predict every test of ``predict_for``."""
+               overrides: dict | None = None, executor: Executor | None = None) -> CrossTest:
+    """Calibrate on each test of ``calibrate_on`` and predict every test of ``predict_for``; the
+    calibrations (each with its predictions) run through ``executor`` (`rotarydryer.executor.Executor`,
+    default serial; each is independent, so every backend gives the same table)."""
     t0 = time.perf_counter()
+    ex = executor or Executor()
+    items = list(calibrate_on)
+    rows = ex.map(_cross_row, items, args=(list(predict_for), law, overrides), chunks=1)
     cals, preds = {}, {}
-    for i in calibrate_on:
-        c = calibrate(i, law=law, overrides=overrides)
-        cals[i] = c
-        preds[i] = {j: predict(j, c.velocity_coefficient, c.dispersion_coefficient, law=law, overrides=overrides)
-                    for j in predict_for}
+    for i, row in zip(items, rows):
+        if isinstance(row, RunFailure):
+            raise ValueError(f"calibration on test {i}: {row.error}")
+        cals[i], preds[i] = row
     return CrossTest(law, cals, preds, time.perf_counter() - t0)
+
+
+def _cross_row(i, predict_for, law, overrides):
+    """One row of `cross_test`: the calibration on test ``i`` and its predictions (top-level, for the executor)."""
+    c = calibrate(i, law=law, overrides=overrides)
+    return c, {j: predict(j, c.velocity_coefficient, c.dispersion_coefficient, law=law, overrides=overrides)
+               for j in predict_for}
 
 
 def moisture_correlation(cross: CrossTest, tests=(1, 2, 4, 5, 6)) -> float:

@@ -39,6 +39,7 @@ import numpy as np
 from ..cases import load_case
 from ..cases.build import law_coefficient, material_of
 from ..estimation.calibrate import calibrate
+from ..executor import Executor, RunFailure
 from ..published import read_published_csv
 from ..results import rtd_comparison
 from ..rtd import rtd_moments
@@ -239,27 +240,24 @@ def _mmg_predict(test: int, values: dict, overrides: dict | None = None) -> dict
             "holdup_kg": float(res.scalars["total_holdup_kg"])}
 
 
-def mmg_leave_one_out(tests=(1, 2, 3, 4, 5, 6), keys=MMG_KEYS, overrides: dict | None = None) -> dict:
+def mmg_leave_one_out(tests=(1, 2, 3, 4, 5, 6), keys=MMG_KEYS, overrides: dict | None = None,
+                      executor: Executor | None = None) -> dict:
     """Calibrate ``keys`` (default c_0 and c_D, `MMG_KEYS`) on the tracer curve E(t) of one test
     (``rotarydryer calibrate ajayi2011_mmg -p ... --tests i -r tracer --set
     transport.parameter_source=predictive``, default geometry) and predict the others. Returns
     ``calibrations`` {i: values}, ``predictions`` {i: {j: dict(mrt_s, std_s, r_squared, ...)}},
-    ``measured`` {j: published MRT s} and the summary over the out-of-sample predictions."""
+    ``measured`` {j: published MRT s} and the summary over the out-of-sample predictions. The
+    calibrations run through ``executor`` (`rotarydryer.executor.Executor`, default serial; each is
+    independent, so every backend gives the same numbers)."""
     case = _quiet(load_case, MMG)
     measured = {t.test: 60.0 * t.mrt_measured_min for t in case.tests if t.test in tests}
+    tests = list(tests)
+    rows = (executor or Executor()).map(_leave_one_out_row, tests, args=(tests, list(keys), overrides), chunks=1)
     cals, preds = {}, {}
-    for i in tests:
-        base = {**PREDICTIVE, **(overrides or {})}
-        cal = _quiet(calibrate, MMG, list(keys), tests=[i], responses=["tracer"], base_overrides=base)
-        vals = {k: float(cal.fit.parameters[k].value) for k in keys}
-        cals[i] = vals
-        preds[i] = {}
-        for j in tests:
-            try:
-                preds[i][j] = _mmg_predict(j, vals, overrides)
-            except ValueError as exc:       # e.g. refused as over-filled: a failed prediction, reported
-                preds[i][j] = {"mrt_s": float("nan"), "std_s": float("nan"), "r_squared": None,
-                               "error": " ".join(str(exc).split())[:200]}
+    for i, row in zip(tests, rows):
+        if isinstance(row, RunFailure):
+            raise ValueError(f"calibration on test {i}: {row.error}")
+        cals[i], preds[i] = row
     errs = [100.0 * (preds[i][j]["mrt_s"] / measured[j] - 1.0) for i in tests for j in tests if j != i]
     r2 = [preds[i][j]["r_squared"] for i in tests for j in tests if j != i if preds[i][j]["r_squared"] is not None]
     worst = {j: max((abs(100.0 * (preds[i][j]["mrt_s"] / measured[j] - 1.0)), i) for i in tests if i != j)
@@ -267,6 +265,21 @@ def mmg_leave_one_out(tests=(1, 2, 3, 4, 5, 6), keys=MMG_KEYS, overrides: dict |
     return {"calibrations": cals, "predictions": preds, "measured": measured,
             "summary": {"mean_abs_mrt_error_pct": float(np.mean(np.abs(errs))), "mean_r_squared": float(np.mean(r2)),
                         "n": len(errs), "worst": worst}}
+
+
+def _leave_one_out_row(i, tests, keys, overrides):
+    """One calibration of `mmg_leave_one_out` and its predictions (top-level, for the executor)."""
+    base = {**PREDICTIVE, **(overrides or {})}
+    cal = _quiet(calibrate, MMG, list(keys), tests=[i], responses=["tracer"], base_overrides=base)
+    vals = {k: float(cal.fit.parameters[k].value) for k in keys}
+    preds = {}
+    for j in tests:
+        try:
+            preds[j] = _mmg_predict(j, vals, overrides)
+        except ValueError as exc:       # e.g. refused as over-filled: a failed prediction, reported
+            preds[j] = {"mrt_s": float("nan"), "std_s": float("nan"), "r_squared": None,
+                        "error": " ".join(str(exc).split())[:200]}
+    return vals, preds
 
 
 def mmg_speed_floor(exponents=(0.9, 1.0)) -> dict:

@@ -20,10 +20,13 @@ every output, so that the A, B and AB matrices stay aligned; the result says how
 failed and how many blocks were used. An output a case does not compute (the fuel rate without
 a burner, the product moisture with heat and mass transfer off) is skipped with a note.
 
-Runs are distributed like ``rotarydryer sweep``: in contiguous chunks of whole blocks, on a local
-process pool (``workers``) or a Dask cluster (``scheduler``), one BLAS thread per process. Within
-a chunk each coupled steady state starts from the converged state of the nearest run already
-done (``warm_start``); a start that does not converge falls back to the cold start.
+Runs go through the one executor like ``rotarydryer sweep`` (`rotarydryer.executor.Executor`):
+in contiguous chunks of whole blocks (`study_chunks`, which depend on the design's size only), on
+warm local worker processes (``workers``) or a Dask cluster (``scheduler``, ``cluster``), one BLAS
+thread per process. Within a chunk each coupled steady state starts from the converged state of
+the nearest run already done in that chunk (``warm_start``; the chunk's first run starts cold); a
+start that does not converge falls back to the cold start. So every backend and worker count
+gives the same runs and indices, bit for bit.
 
 SALib is an optional dependency: ``pip install 'rotarydryer[sensitivity]'``.
 """
@@ -37,6 +40,8 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Optional
 
 import numpy as np
+
+from ..executor import Executor, RunFailure, split
 
 __all__ = ["OUTPUTS", "MAX_PARAMS", "MAX_SAMPLES", "MAX_RUNS", "SensitivityResult", "sobol_study",
            "parse_param", "check_params", "check_samples", "require_salib", "saltelli_design",
@@ -277,49 +282,48 @@ def missing_summary(missing, output: str) -> list[dict]:
     return [{"reason": k, "runs": n, "example": ex} for k, (n, ex) in sorted(counts.items(), key=lambda kv: -kv[1][0])]
 
 
-def _chunks(n_rows: int, block: int, workers: int, target_rows: int = 160):
-    """Contiguous slices of whole blocks: about ``target_rows`` rows each, at least 2 per worker."""
-    n_blocks = n_rows // block
-    per = max(1, min(max(1, target_rows // block), math.ceil(n_blocks / max(2 * workers, 1))))
-    return [slice(b * block, min(n_blocks, b + per) * block) for b in range(0, n_blocks, per)]
+#: most rows of a chunk of a study (16 blocks of 8 inputs: about 3 s of coupled runs)
+CHUNK_ROWS = 160
 
 
-def _evaluate(case, base, keys, X, outputs, *, block, workers=1, scheduler=None, warm_start=True,
-              progress=None):
-    tick = progress or (lambda n: None)
+def study_chunks(n_rows: int, block: int) -> list[slice]:
+    """Contiguous chunks of whole Saltelli blocks (`rotarydryer.executor.split` of the blocks: 16
+    as even ones, at most `CHUNK_ROWS` rows each). They depend on the design's size only, never on
+    the backend or the worker count, so every backend runs the same warm-start chains."""
+    return [slice(sl.start * block, sl.stop * block)
+            for sl in split(n_rows // block, max_size=max(1, CHUNK_ROWS // block))]
+
+
+def _study_chunk(rows, case, base: dict, keys: Sequence[str], outputs: Sequence[str], warm_start: bool = True):
+    """`_run_chunk` of a chunk's rows for the executor: one ``(y, error, missing)`` per row."""
+    Y, errors, missing = _run_chunk(case, base, keys, np.asarray(rows, dtype=float).reshape(len(rows), len(keys)),
+                                    outputs, warm_start)
+    return list(zip(Y, errors, missing))
+
+
+def _warm_study(case, overrides: dict, outputs: Sequence[str]) -> None:
+    """A worker's warm-up before its first chunk: imports, compiled kernels, one model built and solved."""
+    if not callable(case):
+        try:
+            _steady_summary(case, overrides, None, outputs)
+        except (ValueError, ArithmeticError):
+            pass
+
+
+def _evaluate(case, base, keys, X, outputs, *, block, executor: Executor, warm_start=True, progress=None):
     Y = np.full((len(X), len(outputs)), np.nan)
     errors = [""] * len(X)
     missing: list[dict] = [{} for _ in range(len(X))]
-    chunks = _chunks(len(X), block, workers)
-
-    def store(sl, res):
-        Y[sl], errors[sl] = res[0], res[1]
-        if len(res) > 2:
-            missing[sl] = res[2]
-        tick(sl.stop - sl.start)
-
-    if scheduler:
-        try:
-            from dask.distributed import Client, as_completed
-        except ImportError as exc:
-            raise ImportError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from exc
-        with Client(scheduler) as client:
-            futs = {client.submit(_run_chunk, case, base, keys, X[sl], outputs, warm_start, pure=False): sl
-                    for sl in chunks}
-            for f in as_completed(futs):
-                store(futs[f], f.result())
-    elif workers <= 1 or len(chunks) == 1:
-        for sl in chunks:
-            store(sl, _run_chunk(case, base, keys, X[sl], outputs, warm_start))
-    else:
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        from .._threads import limit_worker_threads
-
-        with ProcessPoolExecutor(max_workers=min(workers, len(chunks)), initializer=limit_worker_threads) as ex:
-            futs = {ex.submit(_run_chunk, case, base, keys, X[sl], outputs, warm_start): sl for sl in chunks}
-            for f in as_completed(futs):
-                store(futs[f], f.result())
+    rows = [np.asarray(x, dtype=float) for x in X]
+    first = {**base, **{k: float(v) for k, v in zip(keys, X[0])}} if len(X) else dict(base)
+    out = executor.map_chunks(_study_chunk, rows, chunks=study_chunks(len(X), block),
+                              args=(case, base, list(keys), list(outputs), warm_start),
+                              warm=((_warm_study, (case, first, list(outputs))),), progress=progress)
+    for i, r in enumerate(out):
+        if isinstance(r, RunFailure):
+            errors[i] = r.error
+        else:
+            Y[i], errors[i], missing[i] = r
     return Y, errors, missing
 
 
@@ -354,11 +358,18 @@ def _sobol_indices(params: dict, Y: np.ndarray, block: int, seed: int, num_resam
              for k in keys}
     if n < 2 or np.ptp(blocks[ok]) == 0:
         return empty, n
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        si = analyzer.analyze(_problem(params), blocks[ok].ravel(), calc_second_order=False,
-                              num_resamples=num_resamples, conf_level=CONF_LEVEL, seed=seed,
-                              print_to_console=False)
+    state = np.random.get_state()
+    try:
+        # SALib takes seed 0 for "no seed" and then draws the bootstrap from NumPy's global generator:
+        # seeded here (and restored after), so that seed 0 gives the same intervals on every run too
+        np.random.seed(seed)
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            si = analyzer.analyze(_problem(params), blocks[ok].ravel(), calc_second_order=False,
+                                  num_resamples=num_resamples, conf_level=CONF_LEVEL, seed=seed,
+                                  print_to_console=False)
+    finally:
+        np.random.set_state(state)
     return {k: {"S1": float(si["S1"][i]), "S1_conf": float(si["S1_conf"][i]),
                 "ST": float(si["ST"][i]), "ST_conf": float(si["ST_conf"][i])} for i, k in enumerate(keys)}, n
 
@@ -428,7 +439,8 @@ class SensitivityResult:
 
 
 def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *, workers: int = 1,
-                scheduler: Optional[str] = None, base_overrides: Optional[dict] = None, seed: int = 0,
+                scheduler: Optional[str] = None, cluster: Optional[str] = None, executor: Optional[Executor] = None,
+                base_overrides: Optional[dict] = None, seed: int = 0,
                 warm_start: bool = True, num_resamples: int = 200,
                 progress: Optional[Callable[[int], None]] = None) -> SensitivityResult:
     """Sobol first- and total-order indices and output distributions of ``case``.
@@ -443,7 +455,9 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     samples : int
         Base samples N, a power of 2 (others are refused); the design has ``N * (D + 2)`` runs.
     outputs : names of the outputs (default `OUTPUTS`).
-    workers, scheduler : local processes, or a Dask scheduler address.
+    workers, scheduler, cluster : local processes, a Dask scheduler address, or "local:N" (a Dask
+        LocalCluster); or ``executor``, a `rotarydryer.executor.Executor`. Every backend gives the
+        same runs and indices, bit for bit.
     base_overrides : overrides applied to every run (``--set``).
     progress : called with the number of runs finished.
     """
@@ -464,8 +478,9 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
     keys = list(params)
     block = len(keys) + 2
     X = saltelli_design(params, samples, seed)
-    Y, errors, missing_why = _evaluate(case, base, keys, X, outputs, block=block, workers=workers,
-                                       scheduler=scheduler, warm_start=warm_start, progress=progress)
+    ex = executor or Executor(workers=int(workers), scheduler=scheduler, cluster=cluster)
+    Y, errors, missing_why = _evaluate(case, base, keys, X, outputs, block=block, executor=ex, warm_start=warm_start,
+                                       progress=progress)
     failed = np.array([bool(e) for e in errors])
     n_failed = int(failed.sum())
     notes = []

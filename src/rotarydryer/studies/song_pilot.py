@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_range
+from ..executor import Executor, RunFailure
 from ..transport.forward_step import SHERRITT_EXPONENTS, sherritt_form  # noqa: F401  (SHERRITT_EXPONENTS: re-exported)
 
 __all__ = [
@@ -243,9 +244,12 @@ class PilotModel:
     ``{"operating.test": N}`` exactly; ``tests[i]`` is that N (None for other runs).
     """
 
-    def __init__(self, runs: PilotRuns | None = None, case: str = CASE):
+    def __init__(self, runs: PilotRuns | None = None, case: str = CASE, executor: Executor | None = None):
         self.runs = pilot_runs() if runs is None else runs
         self.case = case
+        #: runs the steady states of `predict` (default serially; each run starts cold, so every backend
+        #: gives the same predictions)
+        self.executor = executor or Executor()
         rows = _case_rows(case)
         r = self.runs
         self.tests: list[int | None] = []
@@ -305,22 +309,33 @@ class PilotModel:
         out = {k: np.full(n, np.nan) for k in ("tau", "holdup", "drag_reduction", "kiln_time", "velocity_ratio",
                                                "release_rate", "design_load")}
         c0 = coefficients.step_factor
-        for k, i in enumerate(idx):
-            sim, ss = _simulation(self.case, self.overrides(int(i), coefficients))
-            m = ss.model
-            info = m.cell_info
-            dl = float(m.specs[0].length / m.specs[0].n_cells)
-            sin_t = math.sin(math.radians(float(sim.case.drum.slope)))
-            tp, ta, h = (np.asarray(info[key], float) for key in ("passive_time_s", "fall_time_s", "fall_height_m"))
-            out["tau"][k] = ss.mean_residence_time
-            out["holdup"][k] = ss.total_holdup
-            out["drag_reduction"][k] = float(np.mean(info["C_F_G"]))
-            out["kiln_time"][k] = float(np.mean((tp + ta) * dl / (c0 * h * sin_t)))
-            if self.runs.gas_flow[i] > 0:
-                out["velocity_ratio"][k] = float(np.mean(info["curtain_velocity_ratio"]))
-            out["release_rate"][k] = float(np.mean(ss.flow("discharge"))) / dl
-            out["design_load"][k] = float(np.nansum(m.design_load))
+        items = [(self.overrides(int(i), coefficients), bool(self.runs.gas_flow[i] > 0)) for i in idx]
+        ex = self.executor
+        # each run starts cold: the chunking does not change the results
+        warm = ((_predict_run, (items[0], self.case, c0)),) if items else ()     # imports, kernels, one run
+        rows = ex.map(_predict_run, items, args=(self.case, c0), chunks=ex.independent_chunks(len(items)), warm=warm)
+        for k, row in enumerate(rows):
+            if isinstance(row, RunFailure):
+                raise ValueError(f"run {int(idx[k])} of {self.case}: {row.error}")
+            for key, v in row.items():
+                out[key][k] = v
         return PilotPrediction(idx=idx, **out)
+
+
+def _predict_run(item, case, c0) -> dict:
+    """The numbers of `PilotPrediction` of one run (``item``: its overrides and whether it has gas);
+    top-level, so that it pickles for worker processes."""
+    overrides, has_gas = item
+    sim, ss = _simulation(case, overrides)
+    m = ss.model
+    info = m.cell_info
+    dl = float(m.specs[0].length / m.specs[0].n_cells)
+    sin_t = math.sin(math.radians(float(sim.case.drum.slope)))
+    tp, ta, h = (np.asarray(info[key], float) for key in ("passive_time_s", "fall_time_s", "fall_height_m"))
+    return {"tau": ss.mean_residence_time, "holdup": ss.total_holdup, "drag_reduction": float(np.mean(info["C_F_G"])),
+            "kiln_time": float(np.mean((tp + ta) * dl / (c0 * h * sin_t))),
+            "velocity_ratio": float(np.mean(info["curtain_velocity_ratio"])) if has_gas else math.nan,
+            "release_rate": float(np.mean(ss.flow("discharge"))) / dl, "design_load": float(np.nansum(m.design_load))}
 
 
 # ------------------------------------------------------------------------------------ fitting

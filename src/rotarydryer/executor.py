@@ -1,0 +1,526 @@
+"""One executor for every many-run workload: serial, warm local workers, or Dask distributed.
+
+Sweeps, Sobol studies, design-search populations, multi-start fits, calibrations,
+cross-validation studies and DEM batches all run their cases through `Executor`:
+
+>>> from rotarydryer.executor import Executor
+>>> def square_all(chunk):                   # top level, so that it pickles
+...     return [x * x for x in chunk]
+>>> with Executor() as ex:                   # serial; Executor(workers=2), Executor(cluster="local:2") ...
+...     ex.map_chunks(square_all, [1, 2, 3], chunks=2)
+[1, 4, 9]
+
+**Backends.** ``"serial"`` runs the chunks one after the other in this process. ``"local"`` runs
+them on a pool of long-lived worker processes (`concurrent.futures.ProcessPoolExecutor`), one
+per process and kept for the next call: the pool of a given size is made once per process and
+closed at exit. On Linux the workers are forked from this process after it has run the
+workload's warm-up (imports, compiled kernels, geometry tables, a first model built and solved),
+so a worker starts warm at no extra CPU cost; elsewhere (or when this process already runs
+threads) they are started fresh and each runs the warm-up once. ``"dask"`` submits the chunks to
+a Dask cluster: a running scheduler (``scheduler="tcp://HOST:8786"``, e.g. one that dask-jobqueue
+started on Slurm or PBS) or a `distributed.LocalCluster` of ``N`` single-threaded worker
+processes made here (``cluster="local:N"``). ``dask.distributed`` is imported only then; it is
+not a dependency of rotarydryer. Every worker process (local or Dask) limits BLAS/OpenMP to one
+thread (`rotarydryer._threads.limit_worker_threads`) and runs each warm-up once.
+
+**The same numbers whatever the backend.** A batch is cut into chunks (`split`) that depend on
+the number of items only, never on the backend or the worker count; the workload's function
+solves a chunk's items in order from a cold start (warm-starting each item from the ones before it
+*in the chunk*), so a serial run, a local pool and a Dask cluster compute the same chunks the same
+way and give the same results bit for bit.
+
+**Failures.** A chunk function that raises does not end the batch: its chunk is run again one item
+at a time, and each item that raises becomes a `RunFailure` (its one-line message) in the results;
+a worker process that dies turns its chunk's items into `RunFailure` values. ``KeyboardInterrupt``
+stops the batch (the results list passed as ``results`` keeps what finished).
+
+**Overhead.** Measured on the 2-core machine (issue 32): a chunk costs about 0.2 ms of dispatch on
+the local pool and about 5 ms of CPU (client, scheduler and worker together) on a Dask
+LocalCluster; a chunk of a sweep or a Sobol study holds 0.2-4 s of model runs, so the dispatch is
+below 5 % on either.
+"""
+
+from __future__ import annotations
+
+import atexit
+import math
+import multiprocessing
+import os
+import pickle
+import sys
+import threading
+import uuid
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from typing import Any, Optional
+
+from . import _jit
+from ._threads import limit_worker_threads
+
+__all__ = ["BACKENDS", "TARGET_CHUNKS", "CONNECT_TIMEOUT_S", "START_METHOD_ENV", "MAX_LOCAL_WORKERS", "Executor",
+           "RunFailure", "one_line", "parse_cluster", "split", "shutdown_all", "worker_info"]
+
+#: backends of `Executor`
+BACKENDS = ("serial", "local", "dask")
+#: chunks a batch is cut into by default: a power of two, so that 1, 2, 4, 8 or 16 workers share them evenly
+TARGET_CHUNKS = 16
+#: seconds to wait for a Dask scheduler before an address is refused
+CONNECT_TIMEOUT_S = 10.0
+#: environment variable naming the start method of local workers ("fork", "spawn", "forkserver")
+START_METHOD_ENV = "ROTARYDRYER_WORKER_START"
+#: most local worker processes or LocalCluster workers one executor may start
+MAX_LOCAL_WORKERS = 256
+
+
+@dataclass(frozen=True)
+class RunFailure:
+    """An item of a batch that raised: ``error`` is its one-line message. It stands in the results
+    in the item's place (a batch never ends on one failed run)."""
+
+    error: str
+
+    def __str__(self) -> str:
+        return self.error
+
+
+def one_line(exc: BaseException) -> str:
+    """The message of ``exc`` on one line (its type name when it has none)."""
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def split(n: int, *, chunks: int = TARGET_CHUNKS, min_size: int = 1, max_size: Optional[int] = None) -> list[slice]:
+    """Contiguous slices of ``range(n)``, as even as possible (sizes differ by at most one, the
+    larger first): ``chunks`` of them, fewer where a slice would hold fewer than ``min_size``
+    items, more where it would hold more than ``max_size``. They depend on these numbers only,
+    never on the backend or the worker count (the results of a chunk do not change with them).
+
+    >>> [(s.start, s.stop) for s in split(10, chunks=4)]
+    [(0, 3), (3, 6), (6, 8), (8, 10)]
+    >>> [(s.start, s.stop) for s in split(10, min_size=4)]
+    [(0, 5), (5, 10)]
+    """
+    n = int(n)
+    if n <= 0:
+        return []
+    k = max(1, int(chunks))
+    if max_size:
+        k = max(k, math.ceil(n / max(1, int(max_size))))
+    k = min(k, max(1, n // max(1, int(min_size))), n)
+    base, extra = divmod(n, k)
+    out, start = [], 0
+    for i in range(k):
+        size = base + (1 if i < extra else 0)
+        out.append(slice(start, start + size))
+        start += size
+    return out
+
+
+def parse_cluster(value, option: str = "--cluster") -> int:
+    """The worker count of ``local:N`` (a Dask LocalCluster of N single-threaded worker processes
+    made on this machine), or a one-line ``ValueError`` naming ``option``, the value and the form."""
+    text = str(value).strip()
+    kind, sep, count = text.partition(":")
+    form = f"expected local:N with N from 1 to {MAX_LOCAL_WORKERS} (a Dask LocalCluster of N worker processes), e.g. local:2"
+    if kind.strip().lower() != "local" or not sep:
+        raise ValueError(f"{option} = {text!r} is not a cluster; {form}; for a running scheduler give --scheduler ADDRESS")
+    try:
+        n = int(count.strip())
+    except ValueError:
+        raise ValueError(f"{option} = {text!r}: {count.strip()!r} is not a whole number of workers; {form}") from None
+    if not 1 <= n <= MAX_LOCAL_WORKERS:
+        raise ValueError(f"{option} = {text!r}: {n} workers is outside the allowed range [1, {MAX_LOCAL_WORKERS}]; {form}")
+    return n
+
+
+# ------------------------------------------------------------------------------------ in every process
+_WARMED: set = set()        # keys of the warm-ups run in this process
+_WARM_RUNS = [0]            # how many warm-ups this process ran (worker_info)
+_SET_UP = [False]           # BLAS threads limited in this worker process
+
+
+def _warm_key(fn, args) -> tuple:
+    try:
+        blob = pickle.dumps(args, protocol=4)
+    except Exception:       # noqa: BLE001 - an argument that does not pickle: its repr names it
+        blob = repr(args).encode()
+    return getattr(fn, "__module__", ""), getattr(fn, "__qualname__", repr(fn)), blob
+
+
+def _ensure_warm(warm) -> None:
+    """Run each ``(fn, args)`` of ``warm`` once in this process (a warm-up that fails is not retried:
+    it only saves time, the runs report their own errors)."""
+    for fn, args in warm or ():
+        key = _warm_key(fn, args)
+        if key in _WARMED:
+            continue
+        _WARMED.add(key)
+        _WARM_RUNS[0] += 1
+        try:
+            fn(*args)
+        except Exception:   # noqa: BLE001 - the first run of the chunk reports the error
+            pass
+
+
+def _worker_setup() -> None:
+    if not _SET_UP[0]:
+        _SET_UP[0] = True
+        limit_worker_threads()
+        _jit.long_runs()        # a worker runs many cases: the compiled kernels pay (ROTARYDRYER_JIT=auto)
+
+
+def _init_worker(warm) -> None:
+    """Initializer of a local worker process: one BLAS thread, then the warm-ups (nothing to do
+    when the process was forked from a warm parent)."""
+    _worker_setup()
+    _ensure_warm(warm)
+
+
+def worker_info(_items=None) -> list:
+    """``[(pid, warm-ups run in this process)]`` for each item (a chunk function for tests)."""
+    return [(os.getpid(), _WARM_RUNS[0]) for _ in (_items or [None])]
+
+
+def _run_chunk(fn, items, args, warm, origin: int):
+    """Run one chunk where it landed: worker set-up (not in the process that made the batch),
+    warm-ups, then ``fn(items, *args)``; a chunk that raises is run again one item at a time and
+    each failing item becomes a `RunFailure`."""
+    if os.getpid() != origin:
+        _worker_setup()
+        _ensure_warm(warm)
+    items = list(items)
+    try:
+        out = list(fn(items, *args))
+        if len(out) != len(items):
+            raise RuntimeError(f"{getattr(fn, '__name__', fn)} returned {len(out)} results for {len(items)} items")
+        return out
+    except Exception as exc:    # noqa: BLE001 - one bad run never ends the batch
+        if len(items) == 1:
+            return [RunFailure(one_line(exc))]
+    res = []
+    for item in items:
+        try:
+            one = list(fn([item], *args))
+            res.append(one[0] if len(one) == 1 else RunFailure(f"{len(one)} results for one item"))
+        except Exception as exc:    # noqa: BLE001
+            res.append(RunFailure(one_line(exc)))
+    return res
+
+
+def _each(items, fn, *args):
+    """Chunk function of `Executor.map`: ``fn(item, *args)`` for each item, a `RunFailure` for one
+    that raises."""
+    out = []
+    for item in items:
+        try:
+            out.append(fn(item, *args))
+        except Exception as exc:    # noqa: BLE001 - one bad run never ends the batch
+            out.append(RunFailure(one_line(exc)))
+    return out
+
+
+class _Box:
+    """An opaque holder: Dask does not look inside it for tasks (it would walk a list of dicts)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self, value):
+        self.value = value
+
+    def __getstate__(self):
+        return (self.value,)        # never a false state (pickle would skip __setstate__)
+
+    def __setstate__(self, state):
+        self.value = state[0]
+
+
+def _run_boxed(box: _Box):
+    return _run_chunk(*box.value)
+
+
+# ------------------------------------------------------------------------------------ long-lived resources
+_LOCK = threading.RLock()
+_POOL: dict = {}            # "key": (workers, start method), "pool": ProcessPoolExecutor
+_DASK: dict = {}            # key -> (client, cluster or None)
+
+
+def _start_method() -> str:
+    chosen = os.environ.get(START_METHOD_ENV, "").strip().lower()
+    if chosen in ("fork", "spawn", "forkserver") and chosen in multiprocessing.get_all_start_methods():
+        return chosen
+    if sys.platform.startswith("linux") and threading.active_count() == 1:
+        return "fork"       # workers inherit the warm parent (safe: no other thread holds a lock)
+    return "spawn"
+
+
+def _local_pool(workers: int, warm) -> ProcessPoolExecutor:
+    """The process's pool of ``workers`` long-lived workers (made on first use, kept for later calls;
+    a pool of another size, or a broken one, is closed first)."""
+    with _LOCK:
+        pool = _POOL.get("pool")
+        if pool is None or _POOL["key"][0] != workers or getattr(pool, "_broken", False):
+            _close_local()
+            method = _start_method()
+            pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(method),
+                                       initializer=_init_worker, initargs=(tuple(warm or ()),))
+            _POOL.update(key=(workers, method), pool=pool)
+        if _POOL["key"][1] == "fork" and not getattr(pool, "_processes", None):
+            _ensure_warm(warm)      # the workers, forked at the first chunk, inherit this warm process
+        return pool
+
+
+def _close_local(kill: bool = False) -> None:
+    with _LOCK:
+        pool = _POOL.pop("pool", None)
+        _POOL.pop("key", None)
+    if pool is None:
+        return
+    if kill:        # an interrupted batch: do not wait for the chunks that are running
+        for proc in list(getattr(pool, "_processes", {}).values()):
+            try:
+                proc.terminate()
+            except Exception:   # noqa: BLE001 - already gone
+                pass
+    pool.shutdown(wait=not kill, cancel_futures=True)
+
+
+def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
+    """A Dask client of the scheduler at ``scheduler`` or of a LocalCluster of ``n_local`` workers,
+    made once per process (closed at exit). ImportError when Dask is not installed; ValueError
+    naming the option when the scheduler cannot be reached."""
+    key = ("scheduler", scheduler) if scheduler else ("local", n_local)
+    with _LOCK:
+        held = _DASK.get(key)
+        if held is not None and getattr(held[0], "status", "") == "running":
+            return held[0]
+        try:
+            from dask.distributed import Client, LocalCluster  # optional: only when a cluster is asked for
+        except ImportError as exc:
+            what = "--scheduler" if scheduler else "--cluster"
+            raise ImportError(f"{what} needs dask.distributed: pip install 'dask[distributed]'") from exc
+        cluster = None
+        if scheduler:
+            try:
+                client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S:g}s", set_as_default=False)
+            except (OSError, TimeoutError) as exc:
+                raise ValueError(f"--scheduler = {scheduler!r}: no Dask scheduler answered within "
+                                 f"{CONNECT_TIMEOUT_S:g} s ({one_line(exc)})") from None
+        else:
+            import dask  # optional: only when a cluster is asked for
+
+            try:
+                # the workers' statistical profiler samples every thread's stack every 10 ms (a few % of the runs)
+                with dask.config.set({"distributed.worker.profile.enabled": False}):
+                    cluster = LocalCluster(n_workers=int(n_local or 1), threads_per_worker=1, processes=True,
+                                           dashboard_address=None)
+            except (OSError, RuntimeError) as exc:
+                raise ValueError(f"--cluster = 'local:{n_local}': the Dask LocalCluster did not start "
+                                 f"({one_line(exc)})") from None
+            client = Client(cluster, set_as_default=False)
+        if not str(scheduler or "").startswith("inproc://"):    # a scheduler in this process belongs to its caller
+            _DASK[key] = (client, cluster)
+        return client
+
+
+def _release(client) -> None:
+    """Close ``client`` unless it is one of the kept ones (a client of an in-process scheduler)."""
+    if all(client is not held[0] for held in _DASK.values()):
+        client.close()
+
+
+def shutdown_all() -> None:
+    """Close the local pool and the Dask clients and clusters this process made (at exit)."""
+    _close_local()
+    with _LOCK:
+        held = list(_DASK.values())
+        _DASK.clear()
+    for client, cluster in held:
+        for thing in (client, cluster):
+            if thing is not None:
+                try:
+                    thing.close()
+                except Exception:   # noqa: BLE001 - closing at exit: nothing to report to
+                    pass
+
+
+atexit.register(shutdown_all)
+
+
+# ------------------------------------------------------------------------------------ the executor
+class Executor:
+    """Runs a batch of items in chunks: serially, on warm local workers, or on a Dask cluster.
+
+    Parameters
+    ----------
+    backend : {"serial", "local", "dask"}, optional
+        Default: ``"dask"`` with ``scheduler`` or ``cluster``, ``"local"`` with ``workers`` > 1,
+        else ``"serial"``.
+    workers : int
+        Local worker processes (``"local"``).
+    scheduler : str, optional
+        Address of a running Dask scheduler, e.g. ``tcp://10.0.0.5:8786``.
+    cluster : str, optional
+        ``"local:N"``: a Dask LocalCluster of N single-threaded worker processes on this machine.
+
+    Pools, clients and clusters are kept for later calls in the process (closed at exit);
+    `close` leaves them, `shutdown_all` closes them.
+    """
+
+    def __init__(self, backend: Optional[str] = None, *, workers: int = 1, scheduler: Optional[str] = None,
+                 cluster: Optional[str] = None):
+        if scheduler and cluster:
+            raise ValueError("give --scheduler or --cluster, not both (--cluster local:N makes a cluster, "
+                             "--scheduler joins a running one)")
+        if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_LOCAL_WORKERS:
+            raise ValueError(f"--workers = {workers!r} is outside the allowed range [1, {MAX_LOCAL_WORKERS}]")
+        self.cluster_workers = parse_cluster(cluster) if cluster else None
+        if backend is None:
+            backend = "dask" if (scheduler or cluster) else ("local" if workers > 1 else "serial")
+        if backend not in BACKENDS:
+            raise ValueError(f"backend = {backend!r} is not one of {', '.join(BACKENDS)}")
+        if backend == "dask" and not (scheduler or cluster):
+            raise ValueError("backend 'dask' needs --scheduler ADDRESS or --cluster local:N")
+        self.backend = backend
+        self.workers = int(workers)
+        self.scheduler = scheduler
+        self.cluster = cluster
+
+    def __repr__(self):
+        return f"<Executor {self.describe()}>"
+
+    def describe(self) -> str:
+        """In words: ``serial``, ``2 local worker processes``, ``Dask cluster tcp://... ``."""
+        if self.backend == "serial":
+            return "serial"
+        if self.backend == "local":
+            return f"{self.workers} local worker processes"
+        return f"Dask scheduler {self.scheduler}" if self.scheduler else f"Dask LocalCluster of {self.cluster_workers} workers"
+
+    @property
+    def parallel(self) -> bool:
+        return self.backend != "serial"
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def close(self) -> None:
+        """Nothing to release: pools and clusters are kept for the next call (`shutdown_all` closes them)."""
+
+    def connect(self, warm=()) -> None:
+        """Start the pool, or reach the scheduler / start the LocalCluster, now: a front end calls
+        this while it checks its options, so an unreachable scheduler is a one-line error (ValueError
+        naming the option; ImportError without Dask) before anything runs or is written."""
+        if self.backend == "local":
+            _local_pool(self.workers, warm)
+        elif self.backend == "dask":
+            _release(_dask_client(self.scheduler, self.cluster_workers))
+
+    def independent_chunks(self, n: int) -> list[slice]:
+        """Chunks of ``n`` items whose results do not depend on the chunking (each item computed on its
+        own, e.g. from a cold start): one chunk serially, two per worker on the local pool (dynamic
+        balance at little dispatch), `TARGET_CHUNKS` on Dask (whose worker count may change)."""
+        if self.backend == "serial":
+            return split(n, chunks=1)
+        return split(n, chunks=2 * self.workers if self.backend == "local" else TARGET_CHUNKS)
+
+    # ------------------------------------------------------------------ batches
+    def map_chunks(self, fn: Callable, items: Sequence, *, chunks=None, args: tuple = (), warm=(),
+                   progress: Optional[Callable[[int], Any]] = None, results: Optional[list] = None) -> list:
+        """``fn(chunk_items, *args)`` over the chunks of ``items``; one result per item, in the order
+        of ``items``.
+
+        ``fn`` is a top-level function (it pickles) returning one result per item of its chunk; it
+        runs the chunk in order, e.g. each item warm-started from the one before it. ``chunks``: a
+        list of slices, a chunk size (int), or None (`split` of ``len(items)``). ``warm``: ``(fn,
+        args)`` pairs each worker runs once before its first chunk (imports, kernels, a model built
+        and solved). ``progress(n)`` after each chunk with its item count; ``results`` (a list of
+        ``len(items)``) is filled as chunks finish. An item whose run raised is a `RunFailure`."""
+        items = list(items)
+        n = len(items)
+        if results is None:
+            results = [None] * n
+        elif len(results) != n:
+            raise ValueError(f"results has {len(results)} places for {n} items")
+        if isinstance(chunks, int):
+            slices = [slice(i, min(n, i + max(1, chunks))) for i in range(0, n, max(1, chunks))]
+        elif chunks is None:
+            slices = split(n)
+        else:
+            slices = list(chunks)
+        tick = progress or (lambda k: None)
+        warm = tuple(warm or ())
+        origin = os.getpid()
+        _jit.long_runs()        # a batch of runs here or in forked workers: the compiled kernels pay
+
+        def store(sl: slice, out) -> None:
+            results[sl] = out
+            tick(sl.stop - sl.start)
+
+        if self.backend == "serial" or (self.backend == "local" and len(slices) <= 1):
+            for sl in slices:
+                store(sl, _run_chunk(fn, items[sl], args, (), origin))
+            return results
+        if self.backend == "local":
+            self._map_local(fn, items, slices, args, warm, origin, store)
+        else:
+            self._map_dask(fn, items, slices, args, warm, origin, store)
+        return results
+
+    def map(self, fn: Callable, items: Sequence, *, args: tuple = (), chunks=None, warm=(),
+            progress: Optional[Callable[[int], Any]] = None, results: Optional[list] = None) -> list:
+        """``fn(item, *args)`` for each item (a top-level function), in chunks as `map_chunks`; an
+        item that raises is a `RunFailure` in the results."""
+        return self.map_chunks(_each, items, chunks=chunks, args=(fn, *args), warm=warm, progress=progress,
+                               results=results)
+
+    def _map_local(self, fn, items, slices, args, warm, origin, store) -> None:
+        pool = _local_pool(self.workers, warm)
+        futures = {}
+        try:
+            for sl in slices:
+                futures[pool.submit(_run_chunk, fn, items[sl], args, warm, origin)] = sl
+            pending = set(futures)
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for f in done:
+                    sl = futures[f]
+                    try:
+                        out = f.result()
+                    except Exception as exc:    # noqa: BLE001 - a worker died (BrokenProcessPool) or did not pickle
+                        out = [RunFailure(f"worker process failed: {one_line(exc)}")] * (sl.stop - sl.start)
+                    store(sl, out)
+        except KeyboardInterrupt:
+            for f in futures:
+                f.cancel()
+            _close_local(kill=True)
+            raise
+        if getattr(pool, "_broken", False):
+            _close_local()
+
+    def _map_dask(self, fn, items, slices, args, warm, origin, store) -> None:
+        from dask.distributed import as_completed  # optional: only when a cluster is asked for
+
+        client = _dask_client(self.scheduler, self.cluster_workers)
+        tag = f"rotarydryer-{getattr(fn, '__name__', 'run')}-{uuid.uuid4().hex[:12]}"
+        futures = {}
+        try:
+            boxes = [_Box((fn, items[sl], args, warm, origin)) for sl in slices]
+            submitted = client.map(_run_boxed, boxes, key=[f"{tag}-{i}" for i in range(len(slices))])
+            futures = dict(zip(submitted, slices))        # one message to the scheduler for the batch
+            for f in as_completed(list(futures), loop=client.loop):
+                sl = futures[f]
+                try:
+                    out = f.result()
+                except Exception as exc:    # noqa: BLE001 - a worker died (KilledWorker), a result did not pickle
+                    out = [RunFailure(f"Dask task failed: {one_line(exc)}")] * (sl.stop - sl.start)
+                store(sl, out)
+        except KeyboardInterrupt:
+            client.cancel(list(futures))
+            raise
+        finally:
+            _release(client)
+

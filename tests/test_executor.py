@@ -1,0 +1,156 @@
+"""The one executor of many-run work (issue 32): chunks, backends, warm long-lived workers, failures."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from rotarydryer import executor as ex_mod
+from rotarydryer.executor import Executor, RunFailure, parse_cluster, split, worker_info
+
+
+# top level: the workers unpickle these by name
+def squares(chunk, offset=0):
+    return [x * x + offset for x in chunk]
+
+
+def fails_on_three(chunk):
+    if 3 in chunk:
+        raise ValueError("three is\n  not allowed")
+    return [x + 0.5 for x in chunk]
+
+
+def running_sum(chunk):
+    """A chunk computed in order, each item from the one before it (a warm-start chain)."""
+    out, acc = [], 0.0
+    for x in chunk:
+        acc = acc * 0.5 + x
+        out.append(acc)
+    return out
+
+
+WARM_CALLS: list = []
+
+
+def note_warm(tag):
+    WARM_CALLS.append(tag)
+
+
+def test_split_depends_on_the_count_only():
+    assert [(s.start, s.stop) for s in split(10, chunks=4)] == [(0, 3), (3, 6), (6, 8), (8, 10)]
+    assert split(0) == []
+    assert len(split(200)) == 16 and {s.stop - s.start for s in split(200)} == {12, 13}
+    assert len(split(3)) == 3
+    assert [s.stop - s.start for s in split(10, min_size=4)] == [5, 5]
+    assert max(s.stop - s.start for s in split(1000, max_size=16)) <= 16
+    covered = [i for s in split(97, chunks=7) for i in range(s.start, s.stop)]
+    assert covered == list(range(97))
+
+
+@pytest.mark.parametrize("value, fragment", [
+    ("local:0", "outside the allowed range [1, 256]"), ("foo", "is not a cluster"), ("local:x", "not a whole number"),
+    ("local", "is not a cluster"), ("tcp://h:8786", "--scheduler"), ("local:-2", "outside the allowed range"),
+])
+def test_bad_cluster_names_the_option(value, fragment):
+    with pytest.raises(ValueError, match="--cluster") as info:
+        parse_cluster(value)
+    assert fragment in str(info.value) and "\n" not in str(info.value)
+
+
+def test_parse_cluster():
+    assert parse_cluster("local:2") == 2 and parse_cluster(" LOCAL:4 ") == 4
+
+
+def test_bad_executor_options():
+    with pytest.raises(ValueError, match="--scheduler or --cluster, not both"):
+        Executor(scheduler="tcp://h:8786", cluster="local:2")
+    with pytest.raises(ValueError, match="--workers = -1"):
+        Executor(workers=-1)
+    with pytest.raises(ValueError, match="backend"):
+        Executor("threads")
+
+
+def test_serial_results_in_order_with_progress():
+    seen = []
+    with Executor() as ex:
+        assert ex.backend == "serial" and ex.describe() == "serial"
+        out = ex.map_chunks(squares, range(7), chunks=3, args=(1,), progress=seen.append)
+    assert out == [x * x + 1 for x in range(7)]
+    assert seen == [3, 3, 1]
+
+
+def test_a_failing_item_is_a_value_and_the_batch_goes_on():
+    out = Executor().map_chunks(fails_on_three, [1, 2, 3, 4, 5, 6], chunks=3)
+    assert out[:2] == [1.5, 2.5] and out[3:] == [4.5, 5.5, 6.5]
+    assert isinstance(out[2], RunFailure) and out[2].error == "three is not allowed"
+    per_item = Executor().map(int, ["1", "x", "3"])
+    assert per_item[0] == 1 and per_item[2] == 3 and isinstance(per_item[1], RunFailure)
+    assert "invalid literal" in per_item[1].error
+
+
+def test_local_pool_same_results_failures_and_reused_warm_workers():
+    """Two calls in one process share one pool: the same worker processes, each warmed once."""
+    ex = Executor(workers=2)
+    assert ex.backend == "local"
+    items = list(range(40))
+    want = Executor().map_chunks(running_sum, items, chunks=5)
+    warm = ((note_warm, ("a",)),)
+    assert ex.map_chunks(running_sum, items, chunks=5, warm=warm) == want
+    first = ex.map_chunks(worker_info, list(range(64)), chunks=1, warm=warm)
+    second = ex.map_chunks(worker_info, list(range(64)), chunks=1, warm=warm)
+    pids = {p for p, _ in first + second}
+    assert os.getpid() not in pids and len(pids) <= 2       # the same two long-lived workers in both calls
+    warmups = {}
+    for p, n in first + second:
+        warmups.setdefault(p, set()).add(n)
+    assert all(len(v) == 1 for v in warmups.values())      # no warm-up ran again in a worker
+    # a failing item in a worker: the chunk is re-run item by item there
+    out = ex.map_chunks(fails_on_three, [1, 2, 3, 4, 5, 6], chunks=3)
+    assert isinstance(out[2], RunFailure) and out[:2] == [1.5, 2.5] and out[3:] == [4.5, 5.5, 6.5]
+
+
+def test_spawned_workers_run_each_warm_up_once(monkeypatch):
+    monkeypatch.setenv(ex_mod.START_METHOD_ENV, "spawn")
+    ex_mod._close_local()
+    try:
+        ex = Executor(workers=2)
+        warm = ((note_warm, ("spawned",)),)
+        first = ex.map_chunks(worker_info, list(range(16)), chunks=1, warm=warm)
+        second = ex.map_chunks(worker_info, list(range(16)), chunks=1, warm=warm)
+        assert {n for _, n in first + second} == {1}        # once per worker, not per chunk or call
+        assert {p for p, _ in second} <= {p for p, _ in first}
+        assert ex_mod._POOL["key"] == (2, "spawn")
+    finally:
+        ex_mod._close_local()
+
+
+def test_dask_local_cluster_same_results():
+    pytest.importorskip("dask.distributed")
+    ex = Executor(cluster="local:2")
+    assert ex.backend == "dask" and "LocalCluster of 2" in ex.describe()
+    items = list(range(30))
+    assert ex.map_chunks(running_sum, items, chunks=4) == Executor().map_chunks(running_sum, items, chunks=4)
+    out = ex.map_chunks(fails_on_three, [1, 2, 3, 4], chunks=2)
+    assert isinstance(out[2], RunFailure) and out[3] == 4.5
+    info = ex.map_chunks(worker_info, list(range(8)), chunks=1)
+    assert os.getpid() not in {p for p, _ in info}
+
+
+def test_unreachable_scheduler_is_a_one_line_error(monkeypatch):
+    pytest.importorskip("dask.distributed")
+    monkeypatch.setattr(ex_mod, "CONNECT_TIMEOUT_S", 1.0)
+    with pytest.raises(ValueError, match=r"--scheduler = 'tcp://127.0.0.1:1': no Dask scheduler answered") as info:
+        Executor(scheduler="tcp://127.0.0.1:1").connect()
+    assert "\n" not in str(info.value)
+
+
+def test_simulation_sweep_same_rows_on_a_pool_and_a_failed_point_is_a_row():
+    from rotarydryer import Simulation
+
+    sim = Simulation("ajayi2011_mmg", {"operating.test": 4})
+    grid = [{"operating.rpm": r} for r in (2.9, 3.0, 3.1, -1.0, 3.2, 3.3, 2.8, 2.7, 2.6, 2.5)]
+    serial = sim.sweep(grid, outputs=["product_moisture_kg_kg", "total_holdup_kg"])
+    pooled = sim.sweep(grid, outputs=["product_moisture_kg_kg", "total_holdup_kg"], workers=2)
+    assert pooled == serial
+    assert "operating.rpm" in serial[3]["error"] and "error" not in serial[4]
