@@ -43,7 +43,7 @@ def best(fn, n=REPEATS):
     return min(ts), out
 
 
-_jit.long_runs()      # many solves: the compiled kernels (ROTARYDRYER_JIT=auto, rotarydryer._jit)
+getattr(_jit, "long_runs", lambda: None)()      # many solves: the compiled kernels (the "before" tree: always compiled)
 
 
 def main(out="control.npz"):
