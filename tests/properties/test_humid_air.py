@@ -189,3 +189,4 @@ def test_flue_gas_mixture_close_to_humid_air_model():
         assert float(combustion.viscosity(t, x)) == pytest.approx(float(ha.viscosity(t, y)), rel=0.01)
         assert float(combustion.thermal_conductivity(t, x)) == pytest.approx(float(ha.thermal_conductivity(t, y)),
                                                                              rel=0.01)
+

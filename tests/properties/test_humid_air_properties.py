@@ -7,7 +7,7 @@ import doctest
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from rotarydryer.properties import combustion, water
@@ -166,3 +166,16 @@ def test_diffusivity_branches_blend_smoothly_at_450_k():
     assert np.max(np.abs(np.diff(slope))) < 2e-3                # no jump (it was 0.44 at 450 K)
     assert np.max(np.abs(np.diff(np.log(d)))) < 1e-5            # no step in value (it was 1.8e-4)
     assert slope[0] == pytest.approx(2.072, abs=1e-3) and slope[-1] == pytest.approx(1.632, abs=1e-3)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-30.0, 600.0), st.floats(0.0, 0.2), st.floats(-20.0, 80.0), st.floats(60e3, 110e3))
+def test_wet_bulb_below_agrees_with_the_wet_bulb(t, y, threshold, p):
+    """`wet_bulb_below` (one evaluation of the balance) says what the solved wet bulb says."""
+    assume(float(ha.relative_humidity(t, y, p)) < 1.0)
+    try:
+        wb = float(ha.wet_bulb_temperature(t, y, p))
+    except ValueError:          # below the model's range: nothing to compare
+        return
+    assume(abs(wb - threshold) > 1e-6)
+    assert bool(ha.wet_bulb_below(t, y, threshold, p)) == (wb < threshold)

@@ -159,6 +159,15 @@ def test_gas_too_cold():
     assert e.value.reason == "gas_too_cold"
 
 
+def test_gas_whose_wet_bulb_is_below_freezing_is_refused():
+    """Dry air at 3 degC has a wet bulb near -3 degC: a wet feed would freeze (no ice in the model)."""
+    c = load_case("ajayi2011_mmg", {"gas.inlet_temperature": 3.0, "gas.inlet_humidity": 0.0,
+                                    "operating.feed_temperature": 1.0})
+    with pytest.raises(DryerError, match=r"wet-bulb temperature of -\d") as e:
+        build_thermal_dryer(c)
+    assert e.value.reason == "gas_too_cold"
+
+
 def test_no_steady_state_keeps_last_state():
     d = _dryer(4)
     with pytest.raises(DryerError, match="no steady state") as e:

@@ -502,6 +502,26 @@ def dew_point(humidity, pressure=STANDARD_PRESSURE):
     return water.saturation_temperature(vapour_partial_pressure(y, pressure))
 
 
+def _wet_bulb_residual(t, y, p):
+    """The adiabatic-saturation balance of `wet_bulb_temperature` as a function of a trial wet-bulb
+    temperature: positive below the wet bulb, negative above it."""
+    h = enthalpy(t, y)
+
+    def residual(tw):
+        ps = water.saturation_pressure(tw)
+        ys = _RATIO * ps / (p - ps)
+        hw = np.where(tw >= 0.0, 4186.0 * (tw - 0.01), -333430.0 + 2040.0 * tw)   # water; ice below 0 degC
+        return h + (ys - y) * hw - _enthalpy(tw, ys)
+    return residual
+
+
+def wet_bulb_below(temperature_c, humidity, threshold_c, pressure=STANDARD_PRESSURE):
+    """Is the wet-bulb temperature (`wet_bulb_temperature`) below ``threshold_c`` (°C)? One evaluation
+    of its balance at the threshold instead of the root (a model's check of its inlet gas)."""
+    t, y, p = np.broadcast_arrays(_temperature(temperature_c), _humidity(humidity), _pressure(pressure))
+    return np.asarray(_wet_bulb_residual(t, y, p)(np.full_like(t, float(threshold_c))) < 0)
+
+
 def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     r"""Thermodynamic (adiabatic-saturation) wet-bulb temperature, °C.
 
@@ -518,17 +538,10 @@ def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     y = _humidity(humidity)
     p = _pressure(pressure)
     t, y, p = np.broadcast_arrays(t, y, p)
-    h = enthalpy(t, y)
+    residual = _wet_bulb_residual(t, y, p)
     tb = water.saturation_temperature(p)
     lo = np.full_like(t, T_MIN_C)
     hi = np.minimum(t, tb - 1e-6)
-
-    def residual(tw):
-        ps = water.saturation_pressure(tw)
-        ys = _RATIO * ps / (p - ps)
-        hw = np.where(tw >= 0.0, 4186.0 * (tw - 0.01), -333430.0 + 2040.0 * tw)   # water; ice below 0 degC
-        return h + (ys - y) * hw - _enthalpy(tw, ys)
-
     f_lo = residual(lo)
     if np.any(f_lo < 0):
         raise ValueError(f"wet_bulb_temperature: the wet-bulb temperature is below {T_MIN_C:g} degC, outside the "

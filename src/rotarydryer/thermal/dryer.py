@@ -253,8 +253,9 @@ class ThermalDryer:
             raise DryerError(f"gas too cold to dry: the inlet gas is saturated (gas.inlet_humidity = "
                              f"{s.gas_inlet_humidity:g} kg/kg wet gas at gas.inlet_temperature = "
                              f"{s.gas_inlet_temperature:g} degC: relative humidity {rh:.2f})", reason="gas_too_cold")
-        if self.feed_moisture > 0:
-            wb = float(ha.wet_bulb_temperature(min(s.gas_inlet_temperature, 600.0), min(y, ha.Y_MAX), s.pressure))
+        t_in, y_in = min(s.gas_inlet_temperature, 600.0), min(y, ha.Y_MAX)
+        if self.feed_moisture > 0 and bool(ha.wet_bulb_below(t_in, y_in, 0.0, s.pressure)):
+            wb = float(ha.wet_bulb_temperature(t_in, y_in, s.pressure))       # for the message
             if wb < 0.0:
                 raise DryerError(
                     f"gas too cold to dry: gas.inlet_temperature = {s.gas_inlet_temperature:g} degC with "
