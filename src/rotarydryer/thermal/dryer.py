@@ -91,6 +91,10 @@ _log = logging.getLogger(__name__)
 
 #: a step whose residual falls below this fraction of the last keeps the factorisation (chord step)
 CHORD_RATIO = 0.01
+#: ... with size classes, whose Jacobian costs about C times more residuals (its colour groups grow as the
+#: classes: every class of a tank shares the mixture's flows): a chord step pays sooner (MMG with 5 classes:
+#: 10 iterations instead of 8, 0.10 s instead of 0.14 s, the same state to the tolerance)
+CHORD_RATIO_CLASSES = 0.1
 #: tolerance of the transport-only steady state that starts the coupled solve (relative to the feed;
 #: a start needs no more: the coupled Newton steps correct far larger differences)
 START_TOLERANCE = 1e-10
@@ -1381,7 +1385,7 @@ class ThermalDryer:
             if borrowed:
                 if not ratio < BORROWED_RATIO:
                     J, borrowed = None, False
-            elif not ratio < CHORD_RATIO:
+            elif not ratio < (CHORD_RATIO if self.n_classes == 1 else CHORD_RATIO_CLASSES):
                 J = None
         self.unfreeze_shell()
         ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
