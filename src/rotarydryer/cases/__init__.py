@@ -985,8 +985,11 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
 
 
+@lru_cache(maxsize=4096)
 def _schema_default(cls, key: str):
-    """The default of case key ``key`` (``geometry.method``) in schema ``cls``; None where a block is optional."""
+    """The default of case key ``key`` (``geometry.method``) in schema ``cls``; None where a block is optional.
+    Remembered (the schema does not change; a default built by pydantic's factories costs a deep copy
+    of its block, and every case load compares its calibrations' configurations with them)."""
     first, *rest = key.split(".")
     finfo = cls.model_fields.get(first)
     value = None if finfo is None else finfo.get_default(call_default_factory=True)
