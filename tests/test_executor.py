@@ -117,9 +117,11 @@ def test_spawned_workers_run_each_warm_up_once(monkeypatch):
         ex = Executor(workers=2)
         warm = ((note_warm, ("spawned",)),)
         first = ex.map_chunks(worker_info, list(range(16)), chunks=1, warm=warm)
+        pool = ex_mod._POOL["pool"]
         second = ex.map_chunks(worker_info, list(range(16)), chunks=1, warm=warm)
         assert {n for _, n in first + second} == {1}        # once per worker, not per chunk or call
-        assert {p for p, _ in second} <= {p for p, _ in first}
+        # the same pool serves both calls (one fast worker may have taken every chunk of the first)
+        assert ex_mod._POOL["pool"] is pool and len({p for p, _ in first + second}) <= 2
         assert ex_mod._POOL["key"] == (2, "spawn")
     finally:
         ex_mod._close_local()
