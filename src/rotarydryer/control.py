@@ -611,6 +611,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                   fouling=base["fouling"])
     integ = DryerIntegrator(d_cur, z)    # one integration, continued across the samples
     last_applied = (T0, F0, base["feed_moisture"], base["fouling"], ())
+    fuel_of = {}    # the burner's fuel rate depends on the gas inputs only (a root solve, 3 ms each)
     v_fb = 0.0
     for k in range(n + 1):
         t = k * ts
@@ -644,12 +645,16 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             integ.restart(d_cur)
             last_applied = applied
         times.append(t)
+        gas_key = (T_in, tuple(sorted((name, val) for name, val in extra.items()
+                                      if name not in ("rotational_speed", "solid_inlet_temperature"))))
+        if gas_key not in fuel_of:
+            fuel_of[gas_key] = _fuel(d_cur)
         for key, val in (("product_moisture_kg_kg", y["product_moisture"]),
                          ("product_temperature_degC", y["product_temperature"]),
                          ("exhaust_temperature_degC", y["exhaust_temperature"]),
                          ("exhaust_humidity_kg_kg", y["exhaust_humidity"]), ("holdup_kg", y["holdup"]),
                          ("measured", ym), ("gas_inlet_temperature_degC", T_in), ("feed_rate_kg_s", F_in),
-                         ("feed_moisture_kg_kg", x), ("fouling", f), ("fuel_rate_kg_s", _fuel(d_cur)),
+                         ("feed_moisture_kg_kg", x), ("fouling", f), ("fuel_rate_kg_s", fuel_of[gas_key]),
                          ("controller_output", v)):
             rec[key].append(val)
         if k == n:
@@ -657,7 +662,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         if progress and k % 10 == 0:
             progress(f"{'closed' if controlled else 'open'} loop: t = {t:.0f} / {t_end_s:.0f} s, "
                      f"{cv} = {y[cv]:.4g}")
-        z = integ.advance(t + ts)
+        z = integ.advance(t + ts, land=controlled)     # a controller changes an input at almost every sample
     integ.close()
     series = {k: np.asarray(v, dtype=float if k != "fuel_rate_kg_s" else object) for k, v in rec.items()}
     tol = cfg.tolerance if cfg.tolerance is not None else TOLERANCE[cv]
