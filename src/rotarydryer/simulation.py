@@ -553,12 +553,14 @@ class SteadyResult:
         and mass transfer, [`ThermalSteadyState.summary`][rotarydryer.thermal.states.ThermalSteadyState.summary] (the fuel rate where the case has a
         burner). The transport-only model's total holdup, where wanted, is in [`to_dict`][rotarydryer.simulation.SteadyResult.to_dict]
         (``transport_only_total_holdup_kg``): the summary is this state's alone. ``outputs`` (names):
-        the groups that cost a computation (tracer moments, fuel rate, kiln bed) are left out unless
-        named; the values of the others are the same."""
+        the groups that cost a computation (tracer moments, fuel rate, kiln bed, fill fraction, and of
+        the heat-and-mass state the heat duties and efficiency, the shell temperatures, the dew point
+        and the product at a downstream sensor) are left out unless named; the values of the others
+        are the same."""
         want = None if outputs is None else set(outputs)
         if self.thermal is not None:
             fuel = has_burner(self.simulation.case) and (want is None or "fuel_rate_kg_s" in want)
-            out = self.thermal.summary(with_fuel=fuel)
+            out = self.thermal.summary(with_fuel=fuel, outputs=outputs)
             if want is None or "kiln_bed_holdup_kg" in want:
                 out["kiln_bed_holdup_kg"] = self.state.kiln_bed_holdup
         else:

@@ -46,3 +46,24 @@ def test_simulation_fit_by_dataset_name():
         "lee2008_invicta", ["transport.backmix"], n_starts=1)
     p = fit.fit.parameters["transport.backmix"]
     assert 0.0 <= p.value <= 0.95 and p.ci_low <= p.value <= p.ci_high
+
+
+@pytest.mark.parametrize("wanted", [
+    ("product_moisture_kg_kg", "fuel_rate_kg_s"),            # a study's outputs: no audit computed
+    ("thermal_efficiency",), ("heat_duty_closure_W",), ("shell_max_wall_temperature_degC",),
+    ("gas_outlet_dew_point_margin_K",), ("shell_heat_loss_W",),
+])
+def test_summary_of_some_outputs_has_the_same_values(wanted):
+    """SteadyResult.summary(outputs) computes the costly groups (heat duties, shell temperatures, dew
+    point...) only when one of their names is wanted; what it returns is what the full summary says."""
+    from rotarydryer.thermal.audit import DUTY_KEYS, SHELL_KEYS
+
+    st = Simulation("ajayi2011_mmg", {"operating.test": 4}).steady_state()
+    part = st.summary(list(wanted))       # first: nothing remembered from a full summary
+    full = st.summary()
+    assert set(wanted) <= set(part)
+    assert all(part[k] == full[k] for k in part)
+    assert set(DUTY_KEYS) <= set(full) and set(SHELL_KEYS) <= set(full)
+    if wanted[0] == "product_moisture_kg_kg":
+        skipped = {*DUTY_KEYS, *SHELL_KEYS, "thermal_efficiency", "gas_outlet_dew_point_degC"} - {"shell_heat_loss_W"}
+        assert not set(part) & skipped        # (the shell loss is the model's own output, in every summary)

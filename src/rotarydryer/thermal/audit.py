@@ -80,6 +80,12 @@ HEAT_DUTY_PARTS = ("heat_duty_burner_loss_W", "heat_duty_evaporation_W", "heat_d
                    "heat_duty_water_heating_W", "heat_duty_dust_W", "shell_heat_loss_W", "heat_duty_exhaust_sensible_W",
                    "heat_duty_leak_air_W", "heat_duty_closure_W")
 
+#: every key of `heat_duties`
+DUTY_KEYS = ("heat_release_W", *HEAT_DUTY_PARTS, "heat_duty_exhaust_latent_W")
+#: every key of `shell_temperatures`
+SHELL_KEYS = ("shell_max_surface_temperature_degC", "shell_max_wall_temperature_degC", "shell_temperature_limit_degC",
+              "shell_temperature_limit_exceeded")
+
 #: short labels of the duties for the tables and figures of the text surfaces
 HEAT_DUTY_LABELS = {
     "heat_release_W": "heat release",

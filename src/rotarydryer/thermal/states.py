@@ -412,18 +412,32 @@ class ThermalSteadyState:
             self._shell_profile = audit.shell_profile(self)
         return self._shell_profile
 
-    def summary(self, with_fuel=True):
+    def summary(self, with_fuel=True, outputs=None):
         """Outputs of the state, named with their unit (the names of ``simulate --json``, sweeps,
         Results and the report). Balance errors are relative; ``thermal_mode`` the model mode. The
         energy audit's heat duties (``heat_release_W``, ``heat_duty_*_W``; they add up to the release),
         the shell's hottest surface and wall against ``shell.max_temperature`` and the gas pressure
-        (the site's) are in every summary ([`rotarydryer.thermal.audit`][rotarydryer.thermal.audit])."""
+        (the site's) are in every summary ([`rotarydryer.thermal.audit`][rotarydryer.thermal.audit]).
+        ``outputs`` (names; None: all): the groups that cost a computation - the heat duties and the
+        efficiency, the shell temperatures, the dew point, the product at a sensor downstream - are
+        left out unless one of their names is wanted (a study's many runs); every value is the same."""
+        want = None if outputs is None else set(outputs)
+
+        def wanted(*names):
+            return want is None or not want.isdisjoint(names)
+
         kind, hold = self.dryer.kind, self.holdup
         y_out = float(self.gas_outlet_humidity)
+        dew = None
         try:        # None for a gas too dry for the saturation curve's range (dew point below about -60 degC)
-            dew = float(dew_point(y_out, self.dryer.settings.pressure)) if y_out > 0 else None
+            if y_out > 0 and wanted("gas_outlet_dew_point_degC", "gas_outlet_dew_point_margin_K"):
+                dew = float(dew_point(y_out, self.dryer.settings.pressure))
         except ValueError:
             dew = None
+        # no water removed (a dry feed, or humid gas condensing on cold solids): undefined
+        efficiency = None
+        if wanted("thermal_efficiency") and self.evaporation_rate > 1e-12 and np.isfinite(self.thermal_efficiency):
+            efficiency = self.thermal_efficiency
         out = dict(
             thermal_mode=self.dryer.settings.mode,
             total_holdup_kg=self.total_holdup, active_holdup_kg=float(np.sum(hold[kind == 2])),
@@ -441,9 +455,7 @@ class ThermalSteadyState:
             heat_input_W=self.heat_input_w,
             specific_energy_kJ_kg_water=(self.heat_input_w / self.evaporation_rate / 1e3
                                          if self.evaporation_rate > 1e-12 else None),
-            # no water removed (a dry feed, or humid gas condensing on cold solids): both undefined
-            thermal_efficiency=(self.thermal_efficiency if self.evaporation_rate > 1e-12
-                                and np.isfinite(self.thermal_efficiency) else None),
+            thermal_efficiency=efficiency,
             shell_heat_loss_W=self.shell_heat_loss_w,
             gas_flow_kg_s=self.dryer.settings.gas_flow,
             energy_balance_error=float(self.energy_balance_error),
@@ -459,13 +471,23 @@ class ThermalSteadyState:
             transport_moisture_clipped=self.transport_moisture_clipped,
             solver_iterations=self.iterations, solver_time_s=self.seconds,
         )
+        if want is not None:        # not computed: absent (None would read as undefined)
+            for group in (("gas_outlet_dew_point_degC", "gas_outlet_dew_point_margin_K"), ("thermal_efficiency",)):
+                if not wanted(*group):
+                    for name in group:
+                        del out[name]
         # the energy audit (rotarydryer.thermal.audit): heat duties, the shell against its limit
-        out.update(self.heat_duties_w())
-        out["evaporation_temperature_degC"] = audit.evaporation_temperature(self)
-        out.update(audit.shell_temperatures(self))
+        if wanted(*audit.DUTY_KEYS):
+            out.update(self.heat_duties_w())
+        if wanted("evaporation_temperature_degC"):
+            out["evaporation_temperature_degC"] = audit.evaporation_temperature(self)
+        if wanted(*audit.SHELL_KEYS):
+            out.update(audit.shell_temperatures(self))
         out["gas_pressure_Pa"] = float(self.dryer.settings.pressure)
         st = self.dryer.settings
-        if st.discharge_cooling_ntu > 0:     # what a sensor downstream of the drum outlet reads
+        if st.discharge_cooling_ntu > 0 and wanted("product_temperature_at_sensor_degC",
+                                                   "product_moisture_at_sensor_kg_kg"):
+            # what a sensor downstream of the drum outlet reads
             t_s, x_s = discharge_cooling(self.product_temperature_degC, self.product_moisture, st.discharge_cooling_ntu,
                                          st.ambient_temperature, st.ambient_humidity, st.cp_solids, st.cp_water)
             out["product_temperature_at_sensor_degC"] = float(t_s)
