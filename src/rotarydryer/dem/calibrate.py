@@ -16,7 +16,7 @@ Regenerate (needs LIGGGHTS; about an hour on two cores):
 This exports every deck into ``dem_work/<run>/``, runs it, reduces the dumps to
 ``src/rotarydryer/data/dem/<run>.csv`` (``--data`` to write elsewhere) and prints the fit.
 
-Polygonal flights (issue 34): two more slices, ``POLYGON_RUNS``, of flights that are not two-section
+Polygonal flights (issue 34): six more slices, ``POLYGON_RUNS``, of flights that are not two-section
 flights (a three-section flight and the equal-angular-distribution flight of the presets, their
 sections in proportion to the base), validate the exact polygon holdup with the finite-particle
 correction fitted above (no refit). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
@@ -115,6 +115,10 @@ POLYGON_RUNS = (
     PolygonRun("p2_EAD_d020_over_highFr", "EAD", 5, 0.40, 8, 1.3, "high"),
     PolygonRun("p3_3S_d0125_over2_highFr", "3S", 8, 0.32, 8, 2.0, "high"),
     PolygonRun("p4_EAD_d020_over2_highFr", "EAD", 5, 0.40, 8, 2.0, "high"),
+    # the EAD drums of p2 and p4 at the three-section runs' particle scale (d/s1 = 0.125, inside the
+    # calibration's range; p2 and p4 are at its edge, 0.2)
+    PolygonRun("p5_EAD_d0125_over_highFr", "EAD", 8, 0.64, 8, 1.3, "high"),
+    PolygonRun("p6_EAD_d0125_over2_highFr", "EAD", 8, 0.64, 8, 2.0, "high"),
 )
 
 
