@@ -17,7 +17,7 @@ from threadpoolctl import threadpool_limits
 
 from rotarydryer import Simulation, _jit
 
-REPEATS = 3
+REPEATS = 8
 CASES = {
     "ajayi2011_mmg": ({"operating.test": 4},
                       lambda k: {"particle_size.distribution": "lognormal", "particle_size.d50": 0.012,

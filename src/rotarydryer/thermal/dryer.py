@@ -1147,12 +1147,16 @@ class ThermalDryer:
                     mix_b.extend([ctrl[ok], node[ok]])
         rows, cols = [], []
 
+        var_i, var_j = (v.ravel() for v in np.meshgrid(np.arange(3), np.arange(3), indexing="ij"))
+
         def tank_links(ta, tb, classes):
-            for i in range(3):            # S, W, T of a node depend on S, W, T of the linked node
-                for j in range(3):
-                    for c1, c2 in classes:
-                        rows.append(i * kk + c1 * nt + ta)
-                        cols.append(j * kk + c2 * nt + tb)
+            # S, W, T of a node depend on S, W, T of the linked node: every (variable, class) pair of
+            # each distinct node pair (the families list a pair many times)
+            pair = np.unique(np.asarray(ta, dtype=np.int64) * nt + tb)
+            ta, tb = pair // nt, pair % nt
+            c1, c2 = (np.asarray(c)[None, :, None] for c in zip(*classes))
+            rows.append((var_i[:, None, None] * kk + c1 * nt + ta).ravel())
+            cols.append((var_j[:, None, None] * kk + c2 * nt + tb).ravel())
         same = [(c, c) for c in range(nc)]
         every = [(c1, c2) for c1 in range(nc) for c2 in range(nc)]
         tank_links(np.concatenate(own_a), np.concatenate(own_b), same)
