@@ -22,7 +22,7 @@ sections in proportion to the base), validate the exact polygon holdup with the 
 correction fitted above (no refit). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
 from the calibration campaign:
 
-    python -m rotarydryer.dem.calibrate --polygon --work dem_work --np 1
+    python -m rotarydryer.dem.calibrate --polygon --work dem_work --np 1 --jobs 2
 """
 
 from __future__ import annotations
@@ -160,24 +160,26 @@ def main(argv=None):
     ap.add_argument("--plots", default=None, help="folder for one comparison plot per run (PNG)")
     ap.add_argument("--polygon", action="store_true", help="the polygonal-flight runs (POLYGON_RUNS) instead")
     a = ap.parse_args(argv)
-    if a.polygon:
-        return _main_polygon(a)
     from ..executor import Executor, RunFailure
     from .deck import export_deck
     from .holdup import analyse_run, write_reduced_csv
 
+    # the two-section campaign, or the polygonal flights' validation slices (no fit): the same pipeline
+    runs_all, deck_of = (POLYGON_RUNS, polygon_deck) if a.polygon else (RUNS, campaign_deck)
     try:
-        executor = Executor(workers=max(1, min(a.jobs, len(RUNS))), scheduler=a.scheduler, cluster=a.cluster)
+        executor = Executor(workers=max(1, min(a.jobs, len(runs_all))), scheduler=a.scheduler, cluster=a.cluster)
         executor.connect()
     except (ValueError, ImportError) as exc:
         ap.error(str(exc).replace("--workers", "--jobs"))
 
     work = Path(a.work)
     data = Path(a.data) if a.data else Path(__file__).resolve().parents[1] / "data" / "dem"
-    runs = [r for r in RUNS if not a.only or r.name in a.only]
+    if a.polygon and not a.data:
+        data = data / "polygon"
+    runs = [r for r in runs_all if not a.only or r.name in a.only]
     for r in runs:
         if not a.reduce_only:
-            export_deck(campaign_deck(r), work / r.name)
+            export_deck(deck_of(r), work / r.name)
     if a.export_only:
         return 0
     if not a.reduce_only:     # one run per chunk through the executor: a failed run is reported, the others go on
@@ -193,6 +195,8 @@ def main(argv=None):
             continue
         write_reduced_csv(res, data / f"{r.name}.csv", role=r.role)
         print(f"{r.name}: {res.summary_line()}")
+    if a.polygon:
+        return 0
     if a.plots:
         from .fit import load_campaign
         from .holdup import plot_comparison
@@ -203,28 +207,6 @@ def main(argv=None):
     from .fit import fit_report
 
     print(fit_report(data))
-    return 0
-
-
-def _main_polygon(a) -> int:
-    from .deck import export_deck
-    from .holdup import analyse_run, write_reduced_csv
-    from .run import run_deck
-
-    work = Path(a.work)
-    data = Path(a.data) if a.data else Path(__file__).resolve().parents[1] / "data" / "dem" / "polygon"
-    runs = [r for r in POLYGON_RUNS if not a.only or r.name in a.only]
-    for r in runs:
-        if not a.reduce_only:
-            export_deck(polygon_deck(r), work / r.name)
-    if a.export_only:
-        return 0
-    for r in runs:
-        if not a.reduce_only:
-            run_deck(work / r.name, np=a.np, progress=True, label=r.name)
-        res = analyse_run(work / r.name)
-        write_reduced_csv(res, data / f"{r.name}.csv", role=r.role)
-        print(f"{r.name}: {res.summary_line()}")
     return 0
 
 
