@@ -53,3 +53,12 @@ def test_library_refuses_a_recycle_of_one_naming_the_key():
 
     with pytest.raises(ValueError, match=r"gas\.recycle_fraction.*\[0, 1\)"):
         Simulation("ajayi2011_mmg", {"gas.recycle_fraction": 1.0})
+
+
+def test_audit_out_under_a_file_is_refused_before_the_what_ifs(tmp_path):
+    (tmp_path / "notes.txt").write_text("x", encoding="utf-8")
+    before = snapshot(tmp_path)
+    res = run_cli(["audit", "ajayi2011_mmg", "--recycle", "0.2", "--out", "notes.txt/audit"], cwd=tmp_path)
+    assert_bad(res, "--out", "notes.txt", "is a file")
+    assert "steady state" not in res.output                 # refused up front, nothing computed
+    assert snapshot(tmp_path) == before

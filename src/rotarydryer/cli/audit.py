@@ -11,7 +11,7 @@ import typer
 
 from .._io import json_text
 from . import app
-from ._common import parse_sets
+from ._common import check_out_dir, parse_sets
 
 
 @app.command("audit", short_help="Energy audit: heat duties, dew point, shell, what-if savings.")
@@ -51,6 +51,7 @@ def audit_cmd(
     from ..studies.energy import energy_audit, parse_values
 
     try:
+        check_out_dir("--out", out)         # before the what-ifs, not after them
         kw = dict(recycle=parse_values(recycle, "--recycle"), preheat=parse_values(preheat, "--preheat"),
                   insulation=parse_values(insulation, "--insulation"))
         show_progress = not as_json and sys.stderr.isatty()
