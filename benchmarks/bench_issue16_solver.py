@@ -13,10 +13,10 @@ alternate the two in one session (the machine is shared) and compare the saved s
 """
 
 import sys
-import time
 
 import numpy as np
 import scipy.sparse as sp
+from _timing import best_result
 from scipy.sparse.linalg import splu
 from threadpoolctl import threadpool_limits
 
@@ -26,15 +26,6 @@ from rotarydryer import Simulation, _jit
 CASES = (("mmg4", ("ajayi2011_mmg", {"operating.test": 4})),
          ("mmg4_regressions", ("ajayi2011_mmg", {"operating.test": 4, "geometry.method": "ajayi2011_regressions"})),
          ("invicta", ("lee2008_invicta", {})), ("song", ("song2003_ottawa", {})))
-
-
-def best(fn, n):
-    out, ts = None, []
-    for _ in range(n):
-        t = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t)
-    return min(ts), out
 
 
 getattr(_jit, "long_runs", lambda: None)()      # many solves: the compiled kernels (the "before" tree: always compiled)
@@ -47,19 +38,19 @@ def main(out="states.npz"):
             sim = Simulation(case, ov)
             d = sim.thermal_dryer()
             ss = d.steady_state()
-            t_ss, ss = best(d.steady_state, 20)
+            t_ss, ss = best_result(d.steady_state, 20)
             z = ss.state
             d.freeze_shell(z)
             A = (sp.identity(d.n, format="csc") / 1e3 - d.jacobian(z)).tocsc()
             d.unfreeze_shell()
-            t_lu, _ = best(lambda: [splu(A).solve(z) for _ in range(20)], 20)
+            t_lu, _ = best_result(lambda: [splu(A).solve(z) for _ in range(20)], 20)
             states[name] = z
             print(f"{rotarydryer.__file__}: {name}: steady state {t_ss * 1e3:.1f} ms ({ss.iterations} iterations), "
                   f"20 LU {t_lu * 1e3:.2f} ms, ratio {t_ss / t_lu:.1f}", flush=True)
             if name.startswith("mmg4"):
                 d2 = sim.thermal_dryer()
                 d2.feed_rate *= 1.1
-                t_dyn, res = best(lambda: d2.simulate(z, 7200.0, t_eval=np.arange(0.0, 7201.0, 60.0)), 3)
+                t_dyn, res = best_result(lambda: d2.simulate(z, 7200.0, t_eval=np.arange(0.0, 7201.0, 60.0)), 3)
                 states[name + "_dynamics"] = res.states[:, -1]
                 print(f"{rotarydryer.__file__}: {name}: 2 h after a +10 % feed step {t_dyn * 1e3:.0f} ms "
                       f"({res.nfev} residual calls)", flush=True)

@@ -16,6 +16,7 @@ import sys
 import time
 
 import numpy as np
+from _timing import best_result
 from threadpoolctl import threadpool_limits
 
 import rotarydryer
@@ -34,13 +35,8 @@ def _models():
                                   (("product_moisture", 0.76), ("exhaust_temperature", 110.0))}}
 
 
-def best(fn, n=REPEATS):
-    out, ts = None, []
-    for _ in range(n):
-        t = time.process_time()
-        out = fn()
-        ts.append(time.process_time() - t)
-    return min(ts), out
+def best(fn):
+    return best_result(fn, REPEATS, clock=time.process_time)
 
 
 getattr(_jit, "long_runs", lambda: None)()      # many solves: the compiled kernels (the "before" tree: always compiled)
