@@ -52,10 +52,6 @@ from .results import TransportModel
 
 __all__ = ["EmpiricalSectionLaw", "ExactGeometry", "FlightedSectionLaw", "SectionSpec", "build_sections", "unflighted_cells_auto"]
 
-#: design-load areas a law remembers (by repose angles): its own coefficients, the kiln bed's and the
-#: Jacobian batch's calls alternate between a few (one remembered: every call missed in a study)
-AREA_MEMO_SIZE = 4
-
 
 def unflighted_cells_auto(length, velocity, dispersion, minimum=20, maximum=2000):
     """Number of finite volumes so that the cell Peclet number u dz / D <= 1.9 (central scheme)."""
@@ -229,15 +225,12 @@ class FlightedSectionLaw:
         fouling = s.fouling if fouling is None else fouling
         phi = np.asarray(phi, dtype=float)
         key = (phi.shape, phi.tobytes())
-        memo = self.__dict__.setdefault("_area_memo", {})
-        area = memo.get(key)
-        if area is None:        # the same repose angles (fixed moisture): the same area
+        memo = getattr(self, "_area_memo", None)
+        if memo is None or memo[0] != key:      # the same repose angles (fixed moisture): the same area
             area = np.array(s.geometry.design_load_area(phi.ravel()), dtype=float).reshape(phi.shape)
             area.setflags(write=False)
-            if len(memo) >= AREA_MEMO_SIZE:     # the oldest out (a dict keeps the order of insertion)
-                del memo[next(iter(memo))]
-            memo[key] = area
-        return rho * self.dl * area * (1.0 - fouling)
+            memo = self._area_memo = (key, area)
+        return rho * self.dl * memo[1] * (1.0 - fouling)
 
     def _geometry_cascade(self, phi, f, kw):
         """(t_p, t_a, h_m) of the geometry at repose angles ``phi`` and loading factors ``f`` (same shape),
