@@ -137,3 +137,12 @@ def test_report_follows_the_choice(monkeypatch):
     assert f"Product moisture <b>{D.fmt(s['product_moisture_kg_kg'])} kg/kg</b>" in text
     assert '<th class="">MW</th>' in text and "shell loss " in text
     assert f"{D.fmt(s['mean_residence_time_s'] / 3600)} h" in text
+
+
+def test_a_moisture_change_below_the_percent_resolution_is_none():
+    """show_delta: moisture changes in percentage points with fmt_moisture's resolution (0.001 %): solver
+    noise of a held moisture is no change, not "-1.25e-07 pp"."""
+    assert D.show_delta(-1.25e-9, "moisture") == "0 pp"
+    assert D.show_delta(-2e-5, "moisture") == "-0.002 pp"
+    assert D.show_delta(0.0123, "moisture") == "1.23 pp"
+    assert D.show_delta(1e-9, "temperature") != "0 K"          # the rule is the moisture's only

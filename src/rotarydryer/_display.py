@@ -291,8 +291,8 @@ def show_output(name: str, value, digits: int = 4) -> str:
 
 def show_delta(value, quantity: str, digits: int = 3, *, with_unit: bool = True) -> str:
     """A difference of an SI ``quantity`` in its display unit: moisture in percentage points (``pp``)
-    where moisture is shown in %, a temperature difference in K or degF; other quantities as `show`
-    without their offset (none has one)."""
+    where moisture is shown in %, 0 below 0.001 pp as `fmt_moisture`; a temperature difference in K
+    or degF; other quantities as `show` without their offset (none has one)."""
     x, text = _finite(value)
     if x is None:
         return text
@@ -303,6 +303,10 @@ def show_delta(value, quantity: str, digits: int = 3, *, with_unit: bool = True)
         unit = unit_of(quantity)
     scale = UNITS[quantity][unit][0]
     label = "pp" if (quantity, unit) == ("moisture", "%") else unit
+    # a moisture change below the resolution of a moisture shown in % (`fmt_moisture`: 0.001 %) is
+    # none at all there ("-1.25e-07 pp" was solver noise read as a change)
+    if label == "pp" and abs(x * scale) < 1e-3:
+        x = 0.0
     number = fmt(x * scale, digits)
     return f"{number} {label}" if with_unit else number
 
