@@ -265,7 +265,10 @@ def _local_pool(workers: int, warm) -> ProcessPoolExecutor:
                                        initializer=_init_worker, initargs=(tuple(warm or ()),))
             _POOL.update(key=(workers, method), pool=pool)
         if _POOL["key"][1] == "fork" and not getattr(pool, "_processes", None):
-            _ensure_warm(warm)      # the workers, forked at the first chunk, inherit this warm process
+            # the workers, forked at the first chunk, inherit this warm process: its warm-up uses the
+            # compiled kernels the workers will use (loaded once here, not once per worker)
+            _jit.long_runs()
+            _ensure_warm(warm)
         return pool
 
 
