@@ -32,6 +32,7 @@ from .cases.build import (
     check_feasible,
     check_inputs,
     drum_fill_fraction,
+    flat_case,
     has_burner,
     model_name,
     operating_point,
@@ -90,6 +91,7 @@ class Simulation:
         self._transport_ss = None
         self._dryer = None          # the heat-and-mass model of the case, built once
         self._thermal_ss = None
+        self._flat = None           # the case's flat view (cases.build.flat_case), for the next run's comparison
 
     def __repr__(self):
         return f"<Simulation {self.case_name} (kind {self.kind!r}, heat and mass {'on' if self.thermal_enabled else 'off'})>"
@@ -195,7 +197,7 @@ class Simulation:
         warm = warm or {}
         source = warm.get("simulation")
         if self._dryer is None and source is not None and source._dryer is not None and self.thermal_enabled \
-                and takes_as_parameters(source.case, self.case):
+                and takes_as_parameters(source.case, self.case, (source._flat_case(), self._flat_case())):
             self._dryer = self._reparameterised(source._dryer)
         if not self.thermal_enabled:
             masses = warm.get("masses")
@@ -224,6 +226,12 @@ class Simulation:
         check_entrainment(thermal)
         warn_shell_limit(thermal)           # a shell hotter than shell.max_temperature: a warning, not an error
         return SteadyResult(self, None, thermal)
+
+    def _flat_case(self) -> dict:
+        """The case's flat view, once (a study's next run compares its case with this one)."""
+        if self._flat is None:
+            self._flat = flat_case(self.case)
+        return self._flat
 
     #: width of the smoothed design-load switch of the start model when the coupled Newton chatters
     START_SMOOTHING = 1e-3

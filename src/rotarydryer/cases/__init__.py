@@ -1010,9 +1010,32 @@ def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -
     recs = raw.get("calibrations")
     if not isinstance(recs, list):
         raise ValueError(f"{shown}: calibrations must be an array of tables ([[calibrations]])")
-    keys = valid_override_keys(DryerCase)
     rows = raw.get("tests") if isinstance(raw.get("tests"), list) else []
     title = (raw.get("meta") or {}).get("title", "") if isinstance(raw.get("meta"), dict) else ""
+    key = (id(recs), id(rows), title, shown)
+    hit = _RECORDS_MEMO.get(key)
+    if hit is not None and hit[0] is recs and hit[1] is rows:
+        records = hit[2]
+    else:
+        records = _checked_records(recs, rows, title, shown)
+        if len(_RECORDS_MEMO) >= 8:
+            _RECORDS_MEMO.pop(next(iter(_RECORDS_MEMO)))
+        _RECORDS_MEMO[key] = (recs, rows, records)
+    apply_calibrations(raw, overrides, lambda key: _schema_default(DryerCase, key), shown, file_raw,
+                       records=records)
+
+
+#: the checked records of the last few parsed documents: (records list, tests rows, checked records)
+#: by their identities (the parsed document is shared by every load of one text and never written:
+#: the overrides copy what they change), so a study's runs check a case's records once
+_RECORDS_MEMO: dict = {}
+
+
+def _checked_records(recs: list, rows: list, title: str, shown: str) -> list[CalibrationRecord]:
+    """The validated ``[[calibrations]]`` records, each checked against the case (`record_problems`);
+    a malformed or misplaced record is refused naming its entry and key."""
+    keys = valid_override_keys(DryerCase)
+    out = []
     for i, rec in enumerate(recs):
         try:
             r = CalibrationRecord.model_validate(rec)
@@ -1025,7 +1048,8 @@ def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -
                                    f"calibrations[{i}] ({r.name})", title)
         if problems:             # before any value is written: the record, not the case, is at fault
             raise ValueError(f"{shown}: " + "; ".join(problems))
-    apply_calibrations(raw, overrides, lambda key: _schema_default(DryerCase, key), shown, file_raw)
+        out.append(r)
+    return out
 
 
 def _toml_value(text: str):

@@ -58,7 +58,7 @@ BULK_DENSITY_RANGE = (1.0, 23000.0)
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
-           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
+           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "flat_case", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
            "site_pressure"]
 
 
@@ -819,6 +819,7 @@ def _flat(d: dict, prefix: str = "") -> dict:
 
 
 def _flat_case(case) -> dict:
+    """The case as one flat dict of its keys (`changed_keys`)."""
     d = case.model_dump()
     rows = d.pop("tests", [])
     out = _flat(d)
@@ -828,10 +829,14 @@ def _flat_case(case) -> dict:
     return out
 
 
-def changed_keys(old, new) -> list[str]:
+flat_case = _flat_case
+
+
+def changed_keys(old, new, flats=None) -> list[str]:
     """The case keys whose values differ between two validated cases (``sections`` counts as one key,
-    a [[tests]] row's fields as ``tests.<test>.<field>``, the material as a whole)."""
-    a, b = _flat_case(old), _flat_case(new)
+    a [[tests]] row's fields as ``tests.<test>.<field>``, the material as a whole). ``flats``: the two
+    cases' flat views (`flat_case`) where the caller keeps them."""
+    a, b = flats if flats is not None else (_flat_case(old), _flat_case(new))
     return sorted(k for k in set(a) | set(b) if a.get(k, _MISSING) != b.get(k, _MISSING))
 
 
@@ -842,12 +847,12 @@ _TEST_PARAMETER_FIELDS = (".gas_flow", ".gas_inlet_temperature")
 _MISSING = object()
 
 
-def takes_as_parameters(old, new) -> bool:
+def takes_as_parameters(old, new, flats=None) -> bool:
     """Can the heat-and-mass model built for case ``old`` run case ``new`` with new parameter values
     (no rebuild)? True when every changed key is one of `PARAMETER_KEYS` and none of them
     changes the section specs: not the speed (and, with unflighted beds, the feed) with
     ``transport.parameter_source = "predictive"``, not the gas with a trajectory forward step."""
-    keys = changed_keys(old, new)
+    keys = changed_keys(old, new, flats)
     if not all(k in PARAMETER_KEYS or any(k.startswith(p) for p in PARAMETER_KEYS if p.endswith("."))
                or (k.startswith("tests.") and k.endswith(_TEST_PARAMETER_FIELDS)) for k in keys):
         return False

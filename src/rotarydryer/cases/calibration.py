@@ -298,7 +298,8 @@ def applied_calibrations(case, defaults) -> list[CalibrationRecord]:
     return [rec for rec, _ in select_calibrations(list(case.calibrations), raw, defaults)]
 
 
-def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, file_raw: dict | None = None) -> list[str]:
+def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, file_raw: dict | None = None,
+                       records: list[CalibrationRecord] | None = None) -> list[str]:
     """Write the values of the case's calibrations into ``raw`` (a loaded case document with its
     overrides applied): of each group of records that set the same keys, the one whose
     configuration the run has (the last of several), else the closest one with a `CalibrationWarning` naming the
@@ -306,8 +307,10 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
     names of the records applied. ``defaults(key)`` gives a key's schema default. With ``file_raw``
     (the document without the overrides), a group whose record the overrides change (e.g. --set
     geometry.method selects the thesis's calibration) is named in a `CalibrationWarning` too:
-    the run's coefficients are then not the case's default calibration."""
-    records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
+    the run's coefficients are then not the case's default calibration. ``records``: the validated
+    records of ``raw["calibrations"]`` (the case loader checks them once per parsed document)."""
+    if records is None:
+        records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
     given = set(overrides or {})
     used = []
     origin: dict[str, str] = {}

@@ -208,26 +208,31 @@ class ThermalSteadyState:
         moments are this state's, so every view (``simulate --json`` ``sections``/``cells``, the
         holdup plot, Results, the report) shows one number per quantity."""
         if getattr(self, "_transport_state", None) is None:
-
             dr, d = self.dryer, self.terms
-            model = dr.model
             m = d["S"] + d["W"]
             sizes = [f.src.size for f in dr.families]         # the network's edges (the dust edges after them)
             flows = np.split(np.asarray(d["F"], dtype=float)[:sum(sizes)], np.cumsum(sizes)[:-1])
-            design = np.array(model.design_load, dtype=float)
-            per_node = {k: np.full(m.size, np.nan) for k in model.cell_info}
-            passive, _ = dr._passive(d["W"], m, dr.laws)
-            for law, (_, xp) in zip(dr.laws, passive):
-                des, info = cell_info_at(law, xp, dr.rpm)   # at this run's speed
-                design[law.P] = des
-                for k in per_node:
-                    if k in info:
-                        per_node[k][law.P] = info[k]
-            p = np.asarray(model.network.labels["phase"]) == "passive"
-            cell_info = {k: v[p] for k, v in per_node.items()}
-            self._transport_state = CoupledTransportState(self, model, m, flows=flows, design_load=design,
-                                                          cell_info=cell_info)
+            self._transport_state = CoupledTransportState(self, dr.model, m, flows=flows)
         return self._transport_state
+
+    def _cells_at_state(self):
+        """(design load per node, kg; per-cell coefficients of the passive nodes) at this state's moisture
+        and the run's speed (`transport_state`; evaluated when a view asks for them: the fill check of a
+        study's run does not)."""
+        dr, d = self.dryer, self.terms
+        model = dr.model
+        m = d["S"] + d["W"]
+        design = np.array(model.design_load, dtype=float)
+        per_node = {k: np.full(m.size, np.nan) for k in model.cell_info}
+        passive, _ = dr._passive(d["W"], m, dr.laws)
+        for law, (_, xp) in zip(dr.laws, passive):
+            des, info = cell_info_at(law, xp, dr.rpm)   # at this run's speed
+            design[law.P] = des
+            for k in per_node:
+                if k in info:
+                    per_node[k][law.P] = info[k]
+        p = np.asarray(model.network.labels["phase"]) == "passive"
+        return design, {k: v[p] for k, v in per_node.items()}
 
     def tracer_system(self, size_class: int | None = None):
         """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
@@ -507,8 +512,34 @@ class CoupledTransportState(SteadyState):
     model, its tracer system, and the mass balance with the evaporation."""
 
     def __init__(self, thermal: ThermalSteadyState, model, masses, **kw):
-        super().__init__(model, masses, **kw)
         self.thermal = thermal
+        self._cells: tuple | None = None    # (design load, cell coefficients) at the coupled state, on first use
+        super().__init__(model, masses, **kw)
+
+    # the design loads and per-cell coefficients at the computed moisture (not the model's assumed one),
+    # evaluated on first use (ThermalSteadyState._cells_at_state); the base class's assignment of the
+    # model's values is ignored
+    def _cells_now(self) -> tuple:
+        cells = self._cells
+        if cells is None:
+            cells = self._cells = self.thermal._cells_at_state()
+        return cells
+
+    @property
+    def design_load(self) -> np.ndarray:
+        return self._cells_now()[0]
+
+    @design_load.setter
+    def design_load(self, value) -> None:
+        pass
+
+    @property
+    def cell_info(self) -> dict:
+        return self._cells_now()[1]
+
+    @cell_info.setter
+    def cell_info(self, value) -> None:
+        pass
 
     @property
     def mass_balance_error(self) -> float:
