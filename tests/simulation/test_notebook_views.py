@@ -67,3 +67,19 @@ def test_summary_of_some_outputs_has_the_same_values(wanted):
     if wanted[0] == "product_moisture_kg_kg":
         skipped = {*DUTY_KEYS, *SHELL_KEYS, "thermal_efficiency", "gas_outlet_dew_point_degC"} - {"shell_heat_loss_W"}
         assert not set(part) & skipped        # (the shell loss is the model's own output, in every summary)
+
+
+def test_coupled_state_cells_are_evaluated_for_the_views_only():
+    """The fill check of a run reads holdups only: the design loads and cell coefficients at the computed
+    moisture are evaluated when a view asks (a study's runs skip them), and are then the state's own."""
+    import numpy as np
+
+    res = Simulation("ajayi2011_mmg", {"operating.test": 4}).steady_state()
+    ts = res.thermal.transport_state()
+    assert ts._cells is None
+    design, info = res.thermal._cells_at_state()
+    assert np.array_equal(ts.design_load, design, equal_nan=True)
+    assert set(ts.cell_info) == set(info) and all(np.array_equal(ts.cell_info[k], info[k], equal_nan=True)
+                                                  for k in info)
+    # at the computed moisture, not the transport model's assumed one
+    assert not np.array_equal(design, np.asarray(ts.model.design_load, dtype=float), equal_nan=True)

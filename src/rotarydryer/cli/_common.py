@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Optional
 
@@ -72,6 +74,23 @@ def check_out_dir(option: str, out) -> None:
         q = q.parent
     if not q.is_dir():
         raise ValueError(f"{option} {str(p)!r}: cannot create the directory, {str(q)!r} is a file")
+
+
+@contextmanager
+def written_set(out, option: str = "--out", errors: tuple = (OSError,)) -> Iterator[None]:
+    """The files written inside the block form one result set in ``out`` (`rotarydryer._io.output_set`:
+    all of them or none, a failure keeps the previous set); a write that fails (``errors``) is a one-line
+    ``error: --out 'DIR': ...`` on stderr naming the option, exit 2."""
+    import typer
+
+    from .._io import output_set
+
+    try:
+        with output_set(out):
+            yield
+    except errors as exc:
+        typer.echo(f"error: {option} {str(out)!r}: {exc}", err=True)
+        raise typer.Exit(2) from None
 
 
 def check_out_file(option: str, out, suffixes=None) -> None:

@@ -11,7 +11,7 @@ import typer
 
 from .._io import json_text
 from . import app
-from ._common import check_out_dir, parse_sets
+from ._common import check_out_dir, parse_sets, written_set
 
 
 @app.command("audit", short_help="Energy audit: heat duties, dew point, shell, what-if savings.")
@@ -64,17 +64,13 @@ def audit_cmd(
     data = res.to_dict()
     if out is not None:
         from .._display import unit_of
-        from .._io import output_set, save_figure, write_text_atomic
+        from .._io import save_figure, write_text_atomic
         from ..report.plots import plot_heat_duties
 
         files = [out / "audit.json", out / "heat_duties.png"]
-        try:
-            with output_set(out):               # all files or none
-                write_text_atomic(files[0], json_text(data, indent=1))
-                save_figure(plot_heat_duties(data["heat_duties"], unit=unit_of("power")), files[1], dpi=120)
-        except OSError as exc:
-            typer.echo(f"error: --out {out}: {exc}", err=True)
-            raise typer.Exit(2)
+        with written_set(out):                  # all files or none
+            write_text_atomic(files[0], json_text(data, indent=1))
+            save_figure(plot_heat_duties(data["heat_duties"], unit=unit_of("power")), files[1], dpi=120)
         data["files"] = [str(f) for f in files]
     if as_json:
         typer.echo(json_text(data))

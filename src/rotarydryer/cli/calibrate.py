@@ -9,7 +9,16 @@ import typer
 
 from .._limits import key_unit
 from . import app
-from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP, Progress, check_out_dir, connect_executor, parse_sets
+from ._common import (
+    CLUSTER_HELP,
+    SCHEDULER_HELP,
+    WORKERS_HELP,
+    Progress,
+    check_out_dir,
+    connect_executor,
+    parse_sets,
+    written_set,
+)
 
 
 @app.command("calibrate", short_help="Calibrate case keys to the measurements of many tests.")
@@ -50,7 +59,7 @@ def calibrate_command(
     Several --starts run on --workers local processes or a Dask --cluster local:N / --scheduler, each
     from the case's cold state: the same calibration on every backend.
     """
-    from .._io import json_text, output_set, write_text_atomic
+    from .._io import json_text, write_text_atomic
     from ..estimation import FitError
     from ..services._options import executor_from_options
     from ..services.calibration import parse_sigmas, parse_tests, run_calibration
@@ -79,15 +88,10 @@ def calibrate_command(
     result = run.to_dict()
     if out is not None:
         stem = Path(case).stem
-        try:
-            out.mkdir(parents=True, exist_ok=True)
-            with output_set(out):               # all files or none: a failure keeps the previous set
-                write_text_atomic(out / "calibration.json", json_text(result, indent=2))
-                write_text_atomic(out / f"{stem}_calibrated.toml", calibrated)
-                write_text_atomic(out / "calibration.toml", text)
-        except OSError as exc:
-            typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
-            raise typer.Exit(2)
+        with written_set(out):                  # all files or none: a failure keeps the previous set
+            write_text_atomic(out / "calibration.json", json_text(result, indent=2))
+            write_text_atomic(out / f"{stem}_calibrated.toml", calibrated)
+            write_text_atomic(out / "calibration.toml", text)
         result["files"] = [str(out / n) for n in ("calibration.toml", "calibration.json", f"{stem}_calibrated.toml")]
     if as_json:
         typer.echo(json_text(result))

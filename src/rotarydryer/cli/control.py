@@ -11,7 +11,7 @@ from .._display import show, show_delta
 from .._io import json_text
 from ..services.control import check_control_options, run_control
 from . import app
-from ._common import Progress, check_out_dir, parse_sets
+from ._common import Progress, check_out_dir, parse_sets, written_set
 
 
 @app.command("control", short_help="Closed-loop run (PI + feed-forward) under a disturbance or a schedule.")
@@ -85,10 +85,10 @@ def control(
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:
-        from .._io import output_set, save_figure, write_text_atomic
+        from .._io import save_figure, write_text_atomic
 
         files = [out / "control.json", out / "control.csv", out / "control.png"]
-        with output_set(out):                   # all files or none: a failure keeps the previous set
+        with written_set(out):                  # all files or none: a failure keeps the previous set
             write_text_atomic(files[0], json_text(dict(result, series={k: list(v) for k, v in closed.series.items()},
                                                        time_s=list(closed.time_s)), indent=1))
             write_text_atomic(files[1], closed.csv_text())

@@ -12,7 +12,7 @@ from .._display import show
 from .._io import json_text
 from ..services.design import design_duty, design_limits
 from . import app
-from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP, Progress, check_out_dir, connect_executor
+from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP, Progress, check_out_dir, connect_executor, written_set
 
 
 @app.command("design", short_help="Size a dryer for a drying duty (or check a plant).")
@@ -136,7 +136,7 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
     wall = time.perf_counter() - t0
     summary["wall_time_s"] = wall
     if out is not None:
-        from .._io import output_set, save_figure, write_text_atomic
+        from .._io import save_figure, write_text_atomic
         from ..geometry import FlightedDrum, TwoSectionFlight
         from ..report.plots import draw_cross_section
 
@@ -144,7 +144,7 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
         drum = FlightedDrum(b.diameter_m / 2, b.n_flights, TwoSectionFlight(s1=b.s1_m, s2=b.s2_m, alpha1=90.0,
                                                                              alpha2=b.alpha2_deg))
         files = [out / "design.json", out / "design_report.md", out / "design_cross_section.png"]
-        with output_set(out):                   # all files or none: a failure keeps the previous set
+        with written_set(out):                  # all files or none: a failure keeps the previous set
             write_text_atomic(files[0], json_text(summary, indent=1))
             write_text_atomic(files[1], _report(d, res, summary))
             fig = draw_cross_section(drum, D._DutyModel(d).repose)

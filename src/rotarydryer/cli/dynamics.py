@@ -12,7 +12,7 @@ from .._display import show, show_output
 from .._io import json_text
 from ..services.dynamics import dynamics_summary, parse_above, run_dynamics
 from . import app
-from ._common import Progress, check_out_dir, parse_sets
+from ._common import Progress, check_out_dir, parse_sets, written_set
 
 
 def _progress_printer(bar: Progress):
@@ -80,12 +80,12 @@ def dynamics_cmd(
         result = run_dynamics(sim, schedule, t_end=t_end, dt=dt, progress=_progress_printer(bar))
     summary = dynamics_summary(result, case, threshold)
     if out is not None:
-        from .._io import output_set, save_figure, write_text_atomic
+        from .._io import save_figure, write_text_atomic
         from ..thermal.plots import plot_schedule_result
 
         cols = result.columns()
         files = [out / "dynamics.csv", out / "dynamics.json", out / "dynamics.png"]
-        with output_set(out):                    # all files or none
+        with written_set(out):                   # all files or none
             write_text_atomic(files[0], result.csv_text())
             write_text_atomic(files[1], json_text(dict(summary, series={k: list(map(float, v)) for k, v in cols.items()}),
                                                   indent=1))

@@ -19,6 +19,7 @@ from ._common import (
     connect_executor,
     load_tracer,
     parse_sets,
+    written_set,
 )
 
 
@@ -127,19 +128,15 @@ def fit_command(
         a2.axhline(0, color="0.5", lw=0.8)
         a2.set_ylabel("residual")
         a2.set_xlabel("time since injection (min)")
-        from .._io import json_text, output_set, save_figure, write_text_atomic
+        from .._io import json_text, save_figure, write_text_atomic
 
-        try:
-            with output_set(out):               # all files or none: a failure keeps the previous set
-                save_figure(fig, out / "fit.png", dpi=110)
-                plots = [str(out / "fit.png")]
-                if profiles:
-                    save_figure(_profile_figure(plt, profiles, r), out / "profile.png", dpi=110)
-                    plots.append(str(out / "profile.png"))
-                write_text_atomic(out / "fit.json", json_text(result, indent=2))
-        except OSError as exc:
-            typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
-            raise typer.Exit(2)
+        with written_set(out):                  # all files or none: a failure keeps the previous set
+            save_figure(fig, out / "fit.png", dpi=110)
+            plots = [str(out / "fit.png")]
+            if profiles:
+                save_figure(_profile_figure(plt, profiles, r), out / "profile.png", dpi=110)
+                plots.append(str(out / "profile.png"))
+            write_text_atomic(out / "fit.json", json_text(result, indent=2))
         result["plots"] = plots
     if as_json:
         from .._io import json_text

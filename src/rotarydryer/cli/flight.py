@@ -9,6 +9,7 @@ from typing import Optional
 import typer
 
 from . import app
+from ._common import written_set
 
 #: bulk densities a granular solid can have, kg/m^3 (as rotarydryer.cases.build.BULK_DENSITY_RANGE)
 _BULK_DENSITY_RANGE = (1.0, 23000.0)
@@ -187,7 +188,7 @@ def flight(
         "design_load_kg": {m: a * rho * ell for m, a in loads.items()},
     }
     if out is not None:
-        from .._io import check_output_target, output_set, save_figure
+        from .._io import check_output_target, save_figure
         from ..report.plots import draw_cross_section, plot_unloading_profile
 
         files = [out / "flight_profile.png", out / "cross_section.png"]
@@ -195,7 +196,7 @@ def flight(
             check_output_target(f)
         fig = plot_unloading_profile(d, repose_angle, rpm_, convention=convention)
         fig2 = draw_cross_section(d, repose_angle, angle=angle)
-        with output_set(out):                   # both files or neither: a failure keeps the previous set
+        with written_set(out):                  # both files or neither: a failure keeps the previous set
             save_figure(fig, files[0], dpi=120)
             save_figure(fig2, files[1], dpi=120)
         result["plots"] = [str(f) for f in files]

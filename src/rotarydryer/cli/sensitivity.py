@@ -65,10 +65,10 @@ def sensitivity(
     backend gives the same indices.
     Exit codes: 0 done, 1 every run failed, 2 bad input, 3 SALib or Dask not installed.
     """
-    from .._io import csv_text, json_text, output_set, save_figure, write_text_atomic
+    from .._io import csv_text, json_text, save_figure, write_text_atomic
     from ..services._options import executor_from_options
     from ..studies import sensitivity as sens
-    from ._common import Progress, check_out_dir, connect_executor, parse_sets
+    from ._common import Progress, check_out_dir, connect_executor, parse_sets, written_set
 
     try:
         sens.require_salib()
@@ -101,16 +101,12 @@ def sensitivity(
     data = res.to_dict()
     if out is not None:
         out = Path(out)
-        try:
-            with output_set(out):               # all files or none: a failure keeps the previous set
-                write_text_atomic(out / "sensitivity.json", json_text(data, indent=1))
-                write_text_atomic(out / "sensitivity_indices.csv", csv_text(res.table()))
-                write_text_atomic(out / "sensitivity_distributions.csv", csv_text(res.distribution_table()))
-                write_text_atomic(out / "sensitivity_runs.csv", csv_text(res.runs_table()))
-                save_figure(sens.plot_sensitivity(data), out / "sensitivity.png", dpi=110)
-        except (ValueError, OSError) as exc:
-            typer.echo(f"error: --out {str(out)!r}: {exc}", err=True)
-            raise typer.Exit(2)
+        with written_set(out, errors=(ValueError, OSError)):    # all files or none: the previous set kept
+            write_text_atomic(out / "sensitivity.json", json_text(data, indent=1))
+            write_text_atomic(out / "sensitivity_indices.csv", csv_text(res.table()))
+            write_text_atomic(out / "sensitivity_distributions.csv", csv_text(res.distribution_table()))
+            write_text_atomic(out / "sensitivity_runs.csv", csv_text(res.runs_table()))
+            save_figure(sens.plot_sensitivity(data), out / "sensitivity.png", dpi=110)
     if as_json:
         typer.echo(json_text(data))
     else:

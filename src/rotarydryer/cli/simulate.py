@@ -9,7 +9,7 @@ import typer
 
 from .._io import json_text
 from . import app
-from ._common import check_out_file, parse_sets
+from ._common import check_out_file, parse_sets, written_set
 
 
 def _steady(case_name, sets):
@@ -96,26 +96,22 @@ def simulate(
     if classes:           # [particle_size]: a row per size class
         result["size_classes"] = thermal.size_class_table()
     if out is not None:
-        from .._io import output_set, save_figure, write_text_atomic
+        from .._io import save_figure, write_text_atomic
         from ..report.plots import plot_thermal_steady_state
         from ..transport.plots import plot_holdup_profile
 
         files = [out / "steady_state.json", out / "holdup_profile.png"]
-        try:
-            with output_set(out):               # all files or none: a failure keeps the previous set
-                write_text_atomic(files[0], json_text(result, indent=1))
-                save_figure(plot_holdup_profile(ss, name=model.name), files[1], dpi=120)
-                if thermal is not None:
-                    files.append(out / "thermal_profiles.png")
-                    save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
-                if classes:
-                    from ..thermal.plots import plot_size_distributions
+        with written_set(out):                  # all files or none: a failure keeps the previous set
+            write_text_atomic(files[0], json_text(result, indent=1))
+            save_figure(plot_holdup_profile(ss, name=model.name), files[1], dpi=120)
+            if thermal is not None:
+                files.append(out / "thermal_profiles.png")
+                save_figure(plot_thermal_steady_state(thermal), files[2], dpi=120)
+            if classes:
+                from ..thermal.plots import plot_size_distributions
 
-                    files.append(out / "size_distributions.png")
-                    save_figure(plot_size_distributions(thermal, title=case), files[-1], dpi=120)
-        except OSError as exc:
-            typer.echo(f"error: --out {out}: {exc}", err=True)
-            raise typer.Exit(2)
+                files.append(out / "size_distributions.png")
+                save_figure(plot_size_distributions(thermal, title=case), files[-1], dpi=120)
         result["files"] = [str(f) for f in files]
     if as_json:
         typer.echo(json_text(result))
@@ -246,22 +242,17 @@ def rtd(
 
         import numpy as np
 
-        from .._io import output_set, save_figure, write_text_atomic
+        from .._io import save_figure, write_text_atomic
         from ..transport.plots import plot_rtd
 
         r = res.response
         buf = io.StringIO()
         np.savetxt(buf, np.c_[r.time, r.exit_age, r.cumulative], delimiter=",", header="time_s,E_per_s,F",
                    comments="")
-        try:
-            with output_set(out):               # all files or none: a failure keeps the previous set
-                write_text_atomic(out / "rtd.csv", buf.getvalue())
-                write_text_atomic(out / "rtd.json", json_text(result, indent=1))
-                save_figure(plot_rtd(res, meas, baseline=result.get("measured_baseline", 0.0)), out / "rtd.png",
-                            dpi=120)
-        except OSError as exc:
-            typer.echo(f"error: --out {out}: {exc}", err=True)
-            raise typer.Exit(2)
+        with written_set(out):                  # all files or none: a failure keeps the previous set
+            write_text_atomic(out / "rtd.csv", buf.getvalue())
+            write_text_atomic(out / "rtd.json", json_text(result, indent=1))
+            save_figure(plot_rtd(res, meas, baseline=result.get("measured_baseline", 0.0)), out / "rtd.png", dpi=120)
         result["files"] = [str(out / f) for f in ("rtd.csv", "rtd.json", "rtd.png")]
     if as_json:
         typer.echo(json_text(result))
