@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["check_range", "check_positive", "check_finite", "check_choice", "fmt_number", "describe"]
+__all__ = ["check_range", "check_positive", "check_finite", "check_choice", "finite_number", "fmt_number", "describe"]
 
 
 def fmt_number(x: Any) -> str:
@@ -140,6 +140,27 @@ def check_range(
 def check_positive(name: str, value: Any, unit: str = "") -> np.ndarray:
     """Check that every element of ``value`` is finite and > 0."""
     return check_range(name, value, 0.0, math.inf, unit=unit)
+
+
+def finite_number(value: Any, what: str, hint: str = "") -> float:
+    """``value`` (a number or its text) as a finite float; else a ``ValueError`` ``"{what} {value!r} is not a
+    (finite) number{hint}"`` (``what`` names where it was given, e.g. ``"--recycle:"``; ``hint``: the form
+    expected). The one parser of a number typed in a list or a file (what-if values, targets, schedules).
+
+    >>> finite_number("0.2", "--recycle:")
+    0.2
+    >>> finite_number("inf", "--recycle:")
+    Traceback (most recent call last):
+    ...
+    ValueError: --recycle: 'inf' is not a finite number
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} {value!r} is not a number{hint}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{what} {value!r} is not a finite number{hint}")
+    return v
 
 
 def check_choice(name: str, value: str, choices) -> str:

@@ -29,12 +29,11 @@ the same product, what an operator's moisture control would give.
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass, field
 
 from .._display import show, show_delta, show_output
-from .._validation import fmt_number
+from .._validation import finite_number, fmt_number
 from ..cases.build import operating_point
 from ..simulation import Simulation
 from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS, ShellTemperatureWarning
@@ -192,13 +191,7 @@ def parse_values(text, label: str) -> list[float]:
     for item in items:
         if isinstance(item, str) and not item.strip():
             continue
-        try:
-            v = float(item)
-        except (TypeError, ValueError):
-            raise ValueError(f"{label}: {item!r} is not a number (give comma-separated values, e.g. 0.1,0.2)") from None
-        if not math.isfinite(v):
-            raise ValueError(f"{label}: {item!r} is not a finite number")
-        out.append(v)
+        out.append(finite_number(item, f"{label}:", " (give comma-separated values, e.g. 0.1,0.2)"))
     return out
 
 

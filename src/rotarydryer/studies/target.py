@@ -45,7 +45,7 @@ from scipy.optimize import brentq, minimize
 
 from .._display import UNITS, quantity_of, show_output, unit_of
 from .._limits import LIMITS
-from .._validation import fmt_number
+from .._validation import finite_number, fmt_number
 from ..cases import load_case, valid_override_keys
 from ..cases.build import test_row
 from ..simulation import Simulation
@@ -193,12 +193,7 @@ def parse_such_that(text, label: str = "such_that") -> tuple[str, str, float]:
     op = "=" if op == "==" else op
     if op not in OPERATORS:
         raise ValueError(f"{label} = {text!r}: the operator {op!r} is not one of {', '.join(OPERATORS)}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{label} = {str(text)!r}: the value {str(value)!r} is not a number; {form}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{label} = {str(text)!r}: the value is not a finite number; {form}")
+    v = finite_number(value, f"{label} = {str(text)!r}: the value", f"; {form}")
     return str(name), op, v
 
 

@@ -34,7 +34,7 @@ import numpy as np
 from .. import _jit
 from .._io import csv_text
 from .._limits import LIMITS, describe_limit
-from .._validation import check_range
+from .._validation import check_range, finite_number
 from .burner import combustion_chamber, fuel_rate_for_temperature
 from .settings import DryerError
 from .states import DynamicResult, outlets
@@ -289,13 +289,7 @@ def _start(points, t0, before):
 
 
 def _number(text, where) -> float:
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise ValueError(f"{where}: {text!r} is not a number") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{where}: {text!r} must be a finite number")
-    return value
+    return finite_number(text, f"{where}:")
 
 
 def load_schedule(path) -> InputSchedule:
