@@ -482,7 +482,7 @@ class ThermalSteadyState:
                     for name in group:
                         del out[name]
         # the energy audit (rotarydryer.thermal.audit): heat duties, the shell against its limit
-        if wanted(*audit.DUTY_KEYS):
+        if wanted(*(k for k in audit.DUTY_KEYS if k not in out)):     # shell_heat_loss_W is there already
             out.update(self.heat_duties_w())
         if wanted("evaporation_temperature_degC"):
             out["evaporation_temperature_degC"] = audit.evaporation_temperature(self)
