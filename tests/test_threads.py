@@ -54,3 +54,27 @@ def test_sweep_point_runs_single_threaded(monkeypatch):
     monkeypatch.setattr(Simulation, "steady_state", fake_steady_state)
     row = run_point("song2003_ottawa", {"operating.rpm": "4"})
     assert seen == [1] and row["error"] == "stop here"
+
+
+@pytest.mark.parametrize("given, want", [(None, 1), ("2", 2)])
+def test_a_command_process_loads_its_blas_with_one_thread(given, want):
+    """The command line sets one BLAS thread before NumPy loads (no thread pool to start in a one-off
+    command); a number the user's environment names is kept."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    from rotarydryer._threads import BLAS_ENV_VARS
+
+    env = {k: v for k, v in os.environ.items() if k not in BLAS_ENV_VARS and k != "OMP_NUM_THREADS"}
+    if given is not None:
+        env["OPENBLAS_NUM_THREADS"] = given
+    code = ("import rotarydryer.cli, os, json, numpy\n"
+            "from threadpoolctl import threadpool_info\n"
+            "print(json.dumps([os.environ.get('OPENBLAS_NUM_THREADS'), "
+            "[p['num_threads'] for p in threadpool_info() if p['user_api'] == 'blas']]))")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    var, threads = json.loads(out.stdout)
+    assert var == str(want)
+    assert threads and all(n == want if want == 1 else 1 <= n <= want for n in threads)   # (a 1-core machine: 1)

@@ -12,8 +12,12 @@ import functools
 import os
 import warnings
 
-import click
-import typer
+from .._threads import command_blas_threads
+
+command_blas_threads()      # before NumPy loads (the commands import it): one BLAS thread, no pool to start
+
+import click  # noqa: E402
+import typer  # noqa: E402
 
 app = typer.Typer(
     name="rotarydryer",
