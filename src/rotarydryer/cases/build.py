@@ -818,7 +818,7 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
-def _flat_case(case) -> dict:
+def flat_case(case) -> dict:
     """The case as one flat dict of its keys (`changed_keys`)."""
     d = case.model_dump()
     rows = d.pop("tests", [])
@@ -829,14 +829,11 @@ def _flat_case(case) -> dict:
     return out
 
 
-flat_case = _flat_case
-
-
 def changed_keys(old, new, flats=None) -> list[str]:
     """The case keys whose values differ between two validated cases (``sections`` counts as one key,
     a [[tests]] row's fields as ``tests.<test>.<field>``, the material as a whole). ``flats``: the two
     cases' flat views (`flat_case`) where the caller keeps them."""
-    a, b = flats if flats is not None else (_flat_case(old), _flat_case(new))
+    a, b = flats if flats is not None else (flat_case(old), flat_case(new))
     return sorted(k for k in set(a) | set(b) if a.get(k, _MISSING) != b.get(k, _MISSING))
 
 

@@ -1392,12 +1392,11 @@ class ThermalDryer:
             dz = lu.solve(f)
             secant = bool(steps) and (newton or borrowed)
             if secant:
-                dz = _broyden_step(steps, dz / sc)
-                if dz is None:
+                corrected = _broyden_step(steps, dz / sc)
+                if corrected is None:       # the plain chord step
                     steps, secant = [], False
-                    dz = lu.solve(f)
                 else:
-                    dz *= sc
+                    dz = corrected * sc
             zn = self._bounded_step(z, dz)
             ok = self._admissible(zn)
             fn, nn = None, np.inf

@@ -5,6 +5,7 @@ same state seen as a transport steady state ([`CoupledTransportState`][rotarydry
 from __future__ import annotations
 
 import warnings
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -512,34 +513,24 @@ class CoupledTransportState(SteadyState):
     model, its tracer system, and the mass balance with the evaporation."""
 
     def __init__(self, thermal: ThermalSteadyState, model, masses, **kw):
-        self.thermal = thermal
-        self._cells: tuple | None = None    # (design load, cell coefficients) at the coupled state, on first use
         super().__init__(model, masses, **kw)
+        self.thermal = thermal
+        # the design loads and per-cell coefficients are the coupled state's, at its computed moisture (not
+        # the model's, which the base class set): evaluated on first use (the fill check does not ask)
+        del self.design_load, self.cell_info
 
-    # the design loads and per-cell coefficients at the computed moisture (not the model's assumed one),
-    # evaluated on first use (ThermalSteadyState._cells_at_state); the base class's assignment of the
-    # model's values is ignored
-    def _cells_now(self) -> tuple:
-        cells = self._cells
-        if cells is None:
-            cells = self._cells = self.thermal._cells_at_state()
-        return cells
+    @cached_property
+    def _cells(self) -> tuple:
+        return self.thermal._cells_at_state()
 
-    @property
-    def design_load(self) -> np.ndarray:
-        return self._cells_now()[0]
+    # (mypy reads a cached_property as read-only; it is an attribute, writable as the base class's)
+    @cached_property
+    def design_load(self) -> np.ndarray:  # type: ignore[override]
+        return self._cells[0]
 
-    @design_load.setter
-    def design_load(self, value) -> None:
-        pass
-
-    @property
-    def cell_info(self) -> dict:
-        return self._cells_now()[1]
-
-    @cell_info.setter
-    def cell_info(self, value) -> None:
-        pass
+    @cached_property
+    def cell_info(self) -> dict:  # type: ignore[override]
+        return self._cells[1]
 
     @property
     def mass_balance_error(self) -> float:
