@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import re
 
+from .._validation import finite_number
 from ._options import check_option
 
 __all__ = ["check_rig_options", "rig_analysis", "image_options", "measure_image", "design_load_fits",
@@ -170,17 +171,8 @@ def design_load_fits(groups: dict, name: str, grouped: bool, confidence: float =
 
 def _step_times(text: str, factor: float):
     """``--steps '0,37'`` (in the record's time unit) -> step times in s."""
-    out = []
-    for part in text.split(","):
-        try:
-            v = float(part)
-        except ValueError:
-            raise ValueError(f"--steps = {text!r}: {part.strip()!r} is not a number (give the step times in the "
-                             "unit of the record's time column, separated by commas, e.g. 0,37)") from None
-        if not math.isfinite(v):
-            raise ValueError(f"--steps = {text!r}: {part.strip()!r} is not a finite number")
-        out.append(v * factor)
-    return out
+    hint = " (give the step times in the unit of the record's time column, separated by commas, e.g. 0,37)"
+    return [finite_number(part.strip(), f"--steps = {text!r}:", hint) * factor for part in text.split(",")]
 
 
 def check_steps_options(threshold=0.1, plateau=0.2, tolerance=0.05, initial_holdup=0.0):
