@@ -1,0 +1,107 @@
+"""Issue 32 item 2 (globalisation): coupled steady states of random valid user dryers.
+
+Dryers made from the `rotarydryer new` template with random drum, flight, operating, material, transport
+and gas values inside engineering ranges (seeded; the flighted section's length too), as a user's own
+plant would be. Each dryer's steady state from its start: converged by the pseudo-transient continuation
+alone, or after the transient march (the fallback), or not at all; iterations, CPU time
+(``time.process_time``, one BLAS thread, compiled kernels). Cases the schema or the model refuses up front
+(a moisture outside the material's range, a cell count the forward step overshoots, an over-full drum)
+are counted apart. Run with the tree to measure and with ``PYTHONPATH=OLD_CHECKOUT/src`` for the "before"
+side, in one session:
+
+    python benchmarks/bench_issue32_user_dryers.py [--seeds 1,2] [--n 140]
+    PYTHONPATH=/tmp/before/src python benchmarks/bench_issue32_user_dryers.py
+
+Never a pass/fail test: the machine is shared; the counts do not depend on it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import random
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+import rotarydryer
+from rotarydryer import Simulation, _jit
+from rotarydryer.cli import app
+
+MATERIAL_MOISTURE = {"raw_sugar_lee2008": (0.002, 0.038), "zinc_concentrate_ajayi2011": (0.08, 0.19),
+                     "ottawa_sand_song2003": (0.01, 0.2)}
+
+
+def sample(rng: random.Random) -> tuple[dict, float]:
+    """(case overrides, flighted section length m) of one random dryer."""
+    def u(a, b):
+        return rng.uniform(a, b)
+
+    def lu(a, b):
+        return math.exp(rng.uniform(math.log(a), math.log(b)))
+    radius = u(0.6, 2.5)
+    s1 = u(0.06, 0.18) * radius
+    material = rng.choice(sorted(MATERIAL_MOISTURE))
+    ov = {"drum.radius": radius, "drum.slope": u(1, 5), "drum.n_flights": rng.randint(10, 30), "flight.s1": s1,
+          "flight.s2": rng.choice([0.0, u(0.3, 1.0) * s1]), "flight.alpha2": u(100, 150),
+          "operating.feed_rate": lu(0.5, 30) * radius**2, "operating.rpm": u(1.5, 7),
+          "operating.feed_moisture": u(*MATERIAL_MOISTURE[material]), "operating.feed_temperature": u(5, 60),
+          "material.name": material, "transport.model": rng.choice(["lee2008", "sheehan2005_model2", "ajayi2011"]),
+          "gas.direction": rng.choice(["co-current", "counter-current"]), "gas.flow": lu(1, 20) * radius**2,
+          "gas.inlet_temperature": u(90, 600), "gas.inlet_humidity": u(0.005, 0.08),
+          "shell.insulation_thickness": rng.choice([0.0, u(0.02, 0.1)])}
+    return ov, u(4, 25)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--seeds", default="1,2")
+    ap.add_argument("--n", type=int, default=140, help="dryers per seed")
+    a = ap.parse_args()
+    warnings.simplefilter("ignore")
+    _jit.long_runs()
+    from typer.testing import CliRunner
+
+    folder = Path(tempfile.mkdtemp())
+    res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(folder / "mydryer.toml")])
+    assert res.exit_code == 0, res.output
+    template = (folder / "mydryer.toml").read_text()
+    assert "length = 11.0" in template
+    rows, refused = [], 0
+    with threadpool_limits(1):
+        for seed in (int(s) for s in a.seeds.split(",")):
+            rng = random.Random(seed)
+            for i in range(a.n):
+                ov, length = sample(rng)
+                path = folder / f"d{seed}_{i}.toml"
+                path.write_text(template.replace("length = 11.0", f"length = {length:.3f}"))
+                try:
+                    dryer = Simulation(str(path), ov).dryer()
+                except ValueError:     # refused up front, with its reason (schema or model)
+                    refused += 1
+                    continue
+                t = time.process_time()
+                try:
+                    ss = dryer.steady_state()
+                    rows.append((time.process_time() - t, ss.iterations, float(ss.marched_s or 0.0) > 0, True))
+                except ValueError:
+                    rows.append((time.process_time() - t, 0, True, False))
+    cpu = np.array([r[0] for r in rows])
+    it = np.array([r[1] for r in rows if r[3] and not r[2]])
+    marched = sum(1 for r in rows if r[2] and r[3])
+    failed = sum(1 for r in rows if not r[3])
+    print(f"{rotarydryer.__file__}: load {os.getloadavg()[0]:.2f}; {len(rows)} dryers solved ({refused} refused up "
+          f"front): {len(rows) - marched - failed} by continuation alone, {marched} after the march, {failed} "
+          f"not; iterations (continuation alone) median {np.median(it):.0f}, 90th percentile "
+          f"{np.percentile(it, 90):.0f}, largest {it.max()}; CPU per dryer median {np.median(cpu) * 1e3:.0f} ms, "
+          f"90th percentile {np.percentile(cpu, 90) * 1e3:.0f} ms, largest {cpu.max():.2f} s, all {cpu.sum():.1f} s",
+          flush=True)
+
+
+if __name__ == "__main__":
+    main()
