@@ -126,9 +126,9 @@ def test_three_section_runs_within_the_held_out_accuracy():
     assert max(rms.values()) <= pool, (rms, pool)
 
 
-@pytest.mark.xfail(strict=True, reason="known miss (docs/dem.md): EAD runs 5.2 % (p2), 4.3 % (p4), 4.6 % (p5) and "
-                                       "5.0 % (p6) of a full flight, the worst two-section held-out run 5.0 %, pooled "
-                                       "4.8 % against 3.7 %")
+@pytest.mark.xfail(strict=True, reason="known miss (docs/dem.md): EAD runs 5.2 % (p2), 4.3 % (p4), 4.6 % (p5), "
+                                       "5.0 % (p6) and 4.6 % (p7) of a full flight, the worst two-section held-out run "
+                                       "5.0 %, pooled 4.7 % against 3.7 %")
 def test_ead_runs_within_the_held_out_accuracy():
     pool, worst = _held_out()
     rms = _rms("EAD")
@@ -144,3 +144,22 @@ def test_ead_runs_figures():
     # the particles' size at the edge of the calibration range
     assert rms["p5_EAD_d0125_over_highFr"] == pytest.approx(4.56, abs=0.01)
     assert rms["p6_EAD_d0125_over2_highFr"] == pytest.approx(4.98, abs=0.01)
+
+
+def test_ead_miss_is_not_the_flights_wall_friction():
+    """p7 is p4 with a particle-wall friction of 1.0 (45 deg, above the repose angle: no sliding on the
+    flight): the EAD miss stays, with its shape (the model over-holding late, the DEM flight empty first),
+    so the sliding of the last layer on the flight does not explain it (docs/dem.md); p8, a shorter last
+    section, shows the same late over-prediction."""
+    runs = _polygon_runs()
+    base, rough = runs["p4_EAD_d020_over2_highFr"], runs["p7_EAD_d020_over2_highFr_wall1"]
+    assert rough.deck.particles.wall_mu == 1.0 and base.deck.particles.wall_mu == 0.5
+    pool, _ = _held_out()
+    c4, c7 = compare(base), compare(rough)
+    assert c7["corrected"]["rms_pct"] == pytest.approx(4.64, abs=0.01)
+    assert abs(c7["corrected"]["rms_pct"] - c4["corrected"]["rms_pct"]) < 0.5 and c7["corrected"]["rms_pct"] > pool
+    assert c7["dem"]["end_deg"] < c7["corrected"]["end_deg"] - 2.0
+    c8 = compare(runs["p8_EADshort_d020_over2_highFr"])
+    assert runs["p8_EADshort_d020_over2_highFr"].deck.drum.profile.segments[-1][0] == pytest.approx(2.4 * 0.05)
+    assert c8["corrected"]["rms_pct"] == pytest.approx(3.94, abs=0.01)
+    assert c8["dem"]["end_deg"] < c8["corrected"]["end_deg"] - 2.0

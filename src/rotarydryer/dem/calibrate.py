@@ -16,7 +16,7 @@ Regenerate (needs LIGGGHTS; about an hour on two cores):
 This exports every deck into ``dem_work/<run>/``, runs it, reduces the dumps to
 ``src/rotarydryer/data/dem/<run>.csv`` (``--data`` to write elsewhere) and prints the fit.
 
-Polygonal flights (issue 34): six more slices, ``POLYGON_RUNS``, of flights that are not two-section
+Polygonal flights (issue 34): eight more slices, ``POLYGON_RUNS``, of flights that are not two-section
 flights (a three-section flight and the equal-angular-distribution flight of the presets, their
 sections in proportion to the base), validate the exact polygon holdup with the finite-particle
 correction fitted above (no refit). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
@@ -92,6 +92,8 @@ POLYGON_SHAPES = {
     "3S": ((1.0, 90.0), (0.5, 135.0), (0.45, 135.0)),
     # the equal-angular-distribution preset's shape (profiles.toml: invicta_ead), lengths over its 0.068 m base
     "EAD": ((1.0, 90.0), (0.04 / 0.068, 170.0), (0.04 / 0.068, 154.5), (0.24 / 0.068, 170.0)),
+    # the EAD flight with a shorter last section (2.4 bases instead of 3.53; p8, after the EAD miss)
+    "EAD-short": ((1.0, 90.0), (0.588, 170.0), (0.588, 154.5), (2.4, 170.0)),
 }
 
 
@@ -106,6 +108,8 @@ class PolygonRun:
     froude: str
     seed: int = 5778
     role: str = "validation"
+    #: particle-wall sliding friction (-); None: the particles' own (0.5, 26.6 deg)
+    wall_friction: float | None = None
     spinup_revolutions: float = 1.0
     record_revolutions: float = 0.5
 
@@ -119,6 +123,12 @@ POLYGON_RUNS = (
     # calibration's range; p2 and p4 are at its edge, 0.2)
     PolygonRun("p5_EAD_d0125_over_highFr", "EAD", 8, 0.64, 8, 1.3, "high"),
     PolygonRun("p6_EAD_d0125_over2_highFr", "EAD", 8, 0.64, 8, 2.0, "high"),
+    # two slices that test the candidate cause of the EAD miss (docs/dem.md): p4 with a particle-wall friction
+    # of 1.0 (45 deg, above the repose angle: no sliding on the flight), and the EAD flight with a shorter
+    # last section (a flight shape of its own)
+    PolygonRun("p7_EAD_d020_over2_highFr_wall1", "EAD", 5, 0.40, 8, 2.0, "high", wall_friction=1.0,
+               role="diagnostic"),
+    PolygonRun("p8_EADshort_d020_over2_highFr", "EAD-short", 5, 0.40, 8, 2.0, "high", role="diagnostic"),
 )
 
 
@@ -132,7 +142,8 @@ def polygon_deck(run: PolygonRun):
     drum = FlightedDrum(run.radius, run.n_flights, flight)
     fr = FROUDE[run.froude]
     rpm = math.sqrt(fr * 9.81 / run.radius) * 60.0 / (2.0 * math.pi)
-    return build_slice(drum, Particles(diameter=D), rpm=rpm, loading=run.loading, settle_time=0.6,
+    return build_slice(drum, Particles(diameter=D, wall_friction=run.wall_friction), rpm=rpm, loading=run.loading,
+                       settle_time=0.6,
                        spinup_revolutions=run.spinup_revolutions, record_revolutions=run.record_revolutions,
                        dump_every_deg=1.0, timestep_fraction=0.2, seed=run.seed,
                        source=f"polygon run {run.name} ({run.role}; python -m rotarydryer.dem.calibrate --polygon)")
