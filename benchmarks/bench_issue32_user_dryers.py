@@ -62,6 +62,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", default="1,2")
     ap.add_argument("--n", type=int, default=140, help="dryers per seed")
+    ap.add_argument("--list", action="store_true", help="print the dryers that needed the march or failed")
     a = ap.parse_args()
     warnings.simplefilter("ignore")
     _jit.long_runs()
@@ -91,6 +92,9 @@ def main() -> None:
                     rows.append((time.process_time() - t, ss.iterations, float(ss.marched_s or 0.0) > 0, True))
                 except ValueError:
                     rows.append((time.process_time() - t, 0, True, False))
+                if a.list and rows[-1][2]:
+                    print(f"seed {seed} dryer {i}: {'marched' if rows[-1][3] else 'failed'}; flighted length "
+                          f"{length:.3f} m; {ov}", flush=True)
     cpu = np.array([r[0] for r in rows])
     it = np.array([r[1] for r in rows if r[3] and not r[2]])
     marched = sum(1 for r in rows if r[2] and r[3])
