@@ -68,7 +68,8 @@ def main() -> None:
     _jit.long_runs()
     from typer.testing import CliRunner
 
-    folder = Path(tempfile.mkdtemp())
+    tmp = tempfile.TemporaryDirectory()
+    folder = Path(tmp.name)
     res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(folder / "mydryer.toml")])
     assert res.exit_code == 0, res.output
     template = (folder / "mydryer.toml").read_text()
@@ -87,16 +88,18 @@ def main() -> None:
                     refused += 1
                     continue
                 t = time.process_time()
+                # (CPU s, iterations, marched or failed, converged)
                 try:
                     ss = dryer.steady_state()
                     rows.append((time.process_time() - t, ss.iterations, float(ss.marched_s or 0.0) > 0, True))
-                except ValueError:
+                except (ValueError, RuntimeError, FloatingPointError):
                     rows.append((time.process_time() - t, 0, True, False))
                 if a.list and rows[-1][2]:
                     print(f"seed {seed} dryer {i}: {'marched' if rows[-1][3] else 'failed'}; flighted length "
                           f"{length:.3f} m; {ov}", flush=True)
+    tmp.cleanup()
     cpu = np.array([r[0] for r in rows])
-    it = np.array([r[1] for r in rows if r[3] and not r[2]])
+    it = np.array([r[1] for r in rows if r[3] and not r[2]] or [0])
     marched = sum(1 for r in rows if r[2] and r[3])
     failed = sum(1 for r in rows if not r[3])
     print(f"{rotarydryer.__file__}: load {os.getloadavg()[0]:.2f}; {len(rows)} dryers solved ({refused} refused up "

@@ -94,6 +94,7 @@ def test_polygon_runs_are_the_declared_decks():
         made = polygon_deck(r)
         assert shipped.segments == made.segments and shipped.n_particles == made.n_particles
         assert shipped.seed == made.seed and runs[r.name].liggghts_version.startswith("LIGGGHTS")
+        assert shipped.particles.wall_mu == made.particles.wall_mu
 
 
 def _held_out():
@@ -104,6 +105,8 @@ def _held_out():
 
 
 def _rms(shape):
+    """Corrected RMS (% of a full flight) of every slice of this flight shape (p7, the EAD slice at another
+    wall friction, counts with the EAD runs: it is a slice of the same flight)."""
     runs = _polygon_runs()
     out = {}
     for r in POLYGON_RUNS:

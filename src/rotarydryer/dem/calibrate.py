@@ -19,7 +19,8 @@ This exports every deck into ``dem_work/<run>/``, runs it, reduces the dumps to
 Polygonal flights (issue 34): eight more slices, ``POLYGON_RUNS``, of flights that are not two-section
 flights (a three-section flight and the equal-angular-distribution flight of the presets, their
 sections in proportion to the base), validate the exact polygon holdup with the finite-particle
-correction fitted above (no refit). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
+correction fitted above (no refit); two of them ("diagnostic") test the cause proposed for the EAD
+flight's miss (docs/dem.md). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
 from the calibration campaign:
 
     python -m rotarydryer.dem.calibrate --polygon --work dem_work --np 1 --jobs 2
@@ -92,7 +93,8 @@ POLYGON_SHAPES = {
     "3S": ((1.0, 90.0), (0.5, 135.0), (0.45, 135.0)),
     # the equal-angular-distribution preset's shape (profiles.toml: invicta_ead), lengths over its 0.068 m base
     "EAD": ((1.0, 90.0), (0.04 / 0.068, 170.0), (0.04 / 0.068, 154.5), (0.24 / 0.068, 170.0)),
-    # the EAD flight with a shorter last section (2.4 bases instead of 3.53; p8, after the EAD miss)
+    # the EAD flight with a shorter last section (2.4 bases instead of 3.53; p8, after the EAD miss); its middle
+    # sections as run, 0.588 bases (the EAD preset's 0.04 / 0.068 = 0.5882 rounded)
     "EAD-short": ((1.0, 90.0), (0.588, 170.0), (0.588, 154.5), (2.4, 170.0)),
 }
 

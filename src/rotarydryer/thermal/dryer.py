@@ -54,8 +54,9 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
   next one (Newton, same root). Chord steps on a kept Newton factorisation (a nearby run's, in a
   study or sweep) carry Broyden's secant corrections of the steps taken on it (Kelley (1995)
   Alg. 7.3.1): 8 % fewer residuals per warm-started MMG run; the root is the same. Each step
-  moves no temperature or humidity more than STEP_RADIUS times its scale (a trust region along the
-  step's direction; far from the root Newton's steps on the gas overshoot); where the continuation
+  moves no temperature or humidity more than STEP_RADIUS times its scale (a fixed bound along the
+  step's direction; far from the root Newton's steps on the gas overshoot), and the pseudo-time
+  step does not grow while the bound binds; where the continuation
   still fails, a transient march at a loose tolerance (MARCH_RTOL) reaches the root's basin and
   Newton finishes from there.
 
@@ -132,13 +133,14 @@ SHELL_LINEAR_BAND_K = 1.0
 #: pseudo-transient continuation from the start fails (ThermalDryer.steady_state)
 MARCH_HORIZONS = (3.0, 10.0)
 #: a pseudo-transient step is refused (the pseudo-time step cut fourfold) where the scaled residual grows by
-#: more than this, except at the starting pseudo-time step
+#: more than this, once the pseudo-time step is above the starting one (not while it is at or below it, the
+#: phase where the step radius binds included)
 ACCEPT_GROWTH = 10.0
 #: largest scaled change of a temperature or humidity in one pseudo-transient step (scale: 100 K, 0.05
 #: kg/kg; ThermalDryer._scale): a longer step is shortened along its direction. Far from the steady state
 #: Newton's steps on the gas overshoot (humidities from 0 to 0.8 kg/kg and back); near it the steps are far
-#: shorter, so the converged state is the same. While it binds the pseudo-time step does not grow. Over 279
-#: random valid dryers, 279 converge without the transient march instead of 250 (benchmarks/RESULTS.md, issue 32)
+#: shorter, so the converged state is the same. While it binds the pseudo-time step does not grow. Of 279
+#: random valid dryers, 278 converge without the transient march instead of 250 (benchmarks/RESULTS.md, issue 32)
 STEP_RADIUS = 2.0
 #: relative tolerance of the transient march towards the steady state (it only has to reach the root's basin;
 #: the Newton steps after it converge to the same tolerance): 1e-3, 2.8x cheaper than 1e-5 on the dryers
@@ -1449,7 +1451,8 @@ class ThermalDryer:
             z, f = zn, self._refreeze_shell(zn, fn)
             nn = self._residual_norm(f, z, sc)
             ratio = nn / max(norm, 1e-300)
-            # switched evolution relaxation: the pseudo-time step grows as the residual falls; while the step
+            # switched evolution relaxation (Mulder & Van Leer (1985); Kelley & Keyes (1998)): the pseudo-time
+            # step grows as the residual falls (here by a further 1.5 a step, at most tenfold); while the step
             # radius binds, it may shrink but not grow (a longer step of the same matrix would be cut again,
             # and the matrix of a longer pseudo-time step is Newton's, whose direction far from the root is
             # what overshoots)
@@ -1493,8 +1496,8 @@ class ThermalDryer:
 
     def _radius_step(self, dz, sc):
         """(``dz`` shortened along its direction so that no temperature or humidity moves more than
-        STEP_RADIUS times its scale, whether it was shortened): a trust-region bound on the
-        pseudo-transient step (the masses are bounded by `_bounded_step`)."""
+        STEP_RADIUS times its scale, whether it was shortened): a fixed bound on the pseudo-transient
+        step in the scaled largest-component norm (the masses are bounded by `_bounded_step`)."""
         k = 2 * self.n_classes * self.n_tanks
         big = float(np.max(np.abs(dz[k:]) / sc[k:]))
         return (dz * (STEP_RADIUS / big), True) if big > STEP_RADIUS else (dz, False)
