@@ -28,13 +28,15 @@ from pathlib import Path
 
 import numpy as np
 from threadpoolctl import threadpool_limits
+from typer.testing import CliRunner
 
 import rotarydryer
 from rotarydryer import Simulation, _jit
 from rotarydryer.cli import app
+from rotarydryer.properties.materials import list_materials, load_material
 
-MATERIAL_MOISTURE = {"raw_sugar_lee2008": (0.002, 0.038), "zinc_concentrate_ajayi2011": (0.08, 0.19),
-                     "ottawa_sand_song2003": (0.01, 0.2)}
+#: feed moisture ranges (kg/kg wet) of the library's materials: the range each material's laws hold for
+MATERIAL_MOISTURE = {name: load_material(name).wet_range() for name in list_materials()}
 
 
 def sample(rng: random.Random) -> tuple[dict, float]:
@@ -66,8 +68,6 @@ def main() -> None:
     a = ap.parse_args()
     warnings.simplefilter("ignore")
     _jit.long_runs()
-    from typer.testing import CliRunner
-
     tmp = tempfile.TemporaryDirectory()
     folder = Path(tmp.name)
     res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(folder / "mydryer.toml")])

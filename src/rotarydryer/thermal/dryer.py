@@ -140,7 +140,7 @@ ACCEPT_GROWTH = 10.0
 #: kg/kg; ThermalDryer._scale): a longer step is shortened along its direction. Far from the steady state
 #: Newton's steps on the gas overshoot (humidities from 0 to 0.8 kg/kg and back); near it the steps are far
 #: shorter, so the converged state is the same. While it binds the pseudo-time step does not grow. Of 279
-#: random valid dryers, 278 converge without the transient march instead of 250 (benchmarks/RESULTS.md, issue 32)
+#: random valid dryers, 277 converge without the transient march instead of 244 (benchmarks/RESULTS.md, issue 32)
 STEP_RADIUS = 2.0
 #: relative tolerance of the transient march towards the steady state (it only has to reach the root's basin;
 #: the Newton steps after it converge to the same tolerance): 1e-3, 2.8x cheaper than 1e-5 on the dryers
