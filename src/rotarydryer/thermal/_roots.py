@@ -66,9 +66,12 @@ def newton_from_guess(func, x0, lo, hi, xtol=1e-9, max_iter=12, delta=1e-3):
         slope = (f[1] - f[0]) / delta
         if not (np.all(np.isfinite(f)) and np.all(slope != 0)):
             return None
-        x_new = np.clip(x - f[0] / slope, lo, hi)
+        newton_x = x - f[0] / slope
+        x_new = np.clip(newton_x, lo, hi)
         step = np.abs(x_new - x)
-        if np.all(step < xtol):
+        # settled where Newton's own step is below xtol: a step clipped to the bracket is not (an element
+        # held at a bound by a step beyond it moves 0 without being a root)
+        if np.all(np.abs(newton_x - x) < xtol):
             return x_new
         if previous is not None:
             # the steps contract by r = step / previous step or faster (Newton's method near its
