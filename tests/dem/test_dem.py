@@ -137,6 +137,26 @@ def test_export_deck(tmp_path, small_drum):
     assert files.shell.read_text().startswith("solid shell")
 
 
+def test_wall_contact_in_the_deck(tmp_path, small_drum):
+    """The particle-wall sliding and rolling friction (default: the particles' own) go to the type 1-2
+    pairs of the deck; an old deck's particles (no wall rolling friction) read back with the default."""
+    from rotarydryer.dem.deck import SliceDeck
+
+    s = build_slice(small_drum, Particles(diameter=0.01, wall_friction=0.9, wall_rolling_friction=0.7), rpm=6.0,
+                    loading=1.0)
+    text = export_deck(s, tmp_path / "deck").input.read_text()
+    assert "coefficientFriction peratomtypepair 2 0.5 0.9 0.9 0.9" in text
+    assert "coefficientRollingFriction peratomtypepair 2 0.1 0.7 0.7 0.7" in text
+    plain = export_deck(build_slice(small_drum, Particles(diameter=0.01), rpm=6.0, loading=1.0),
+                        tmp_path / "plain").input.read_text()
+    assert "coefficientRollingFriction peratomtypepair 2 0.1 0.1 0.1 0.1" in plain
+    d = json.loads(json.dumps(s.to_dict()))
+    del d["particles"]["wall_rolling_friction"]
+    assert SliceDeck.from_dict(d).particles.wall_rolling_mu == 0.1
+    with pytest.raises(ValueError, match="wall rolling friction .*--wall-rolling-friction.* 1.5"):
+        Particles(wall_rolling_friction=1.5)
+
+
 def test_deck_round_trip(small_drum):
     from rotarydryer.dem.deck import SliceDeck
 

@@ -79,6 +79,8 @@ def export(
     youngs_modulus: float = typer.Option(5.0e6, help="Young's modulus, Pa (soft particles: a few MPa)."),
     poisson_ratio: float = typer.Option(0.3, help="Poisson ratio."),
     wall_friction: Optional[float] = typer.Option(None, help="Wall sliding friction (default --friction)."),
+    wall_rolling_friction: Optional[float] = typer.Option(None, help="Wall rolling friction, 0-1 (cdt model; default "
+                                                                     "--rolling-friction)."),
     loading: Optional[float] = typer.Option(None, help="Dryer loading: particles for this multiple of the design load."),
     fill: Optional[float] = typer.Option(None, help="Bulk fill fraction of the drum cross-section (instead of --loading)."),
     layers: float = typer.Option(4.0, help="Slice thickness in particle diameters (periodic)."),
@@ -166,7 +168,7 @@ def export(
     check_range("--rpm (rpm)", rpm_, 0.0, 1000.0, unit="rev/min")
     p = Particles(diameter=d, density=density, friction=friction, rolling_friction=rolling_friction,
                   restitution=restitution, youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio,
-                  wall_friction=wall_friction)
+                  wall_friction=wall_friction, wall_rolling_friction=wall_rolling_friction)
     if loading is None and fill is None:
         loading = 1.0
     s = build_slice(drum, p, rpm=rpm_, loading=loading, fill_fraction=fill, n_layers=layers,

@@ -16,10 +16,10 @@ Regenerate (needs LIGGGHTS; about an hour on two cores):
 This exports every deck into ``dem_work/<run>/``, runs it, reduces the dumps to
 ``src/rotarydryer/data/dem/<run>.csv`` (``--data`` to write elsewhere) and prints the fit.
 
-Polygonal flights (issue 34): eight more slices, ``POLYGON_RUNS``, of flights that are not two-section
+Polygonal flights (issue 34): nine more slices, ``POLYGON_RUNS``, of flights that are not two-section
 flights (a three-section flight and the equal-angular-distribution flight of the presets, their
 sections in proportion to the base), validate the exact polygon holdup with the finite-particle
-correction fitted above (no refit); two of them ("diagnostic") test the cause proposed for the EAD
+correction fitted above (no refit); three of them ("diagnostic") test causes proposed for the EAD
 flight's miss (docs/dem.md). They are reduced to ``src/rotarydryer/data/dem/polygon/``, apart
 from the calibration campaign:
 
@@ -112,6 +112,8 @@ class PolygonRun:
     role: str = "validation"
     #: particle-wall sliding friction (-); None: the particles' own (0.5, 26.6 deg)
     wall_friction: float | None = None
+    #: particle-wall rolling friction (-); None: the particles' own (0.1)
+    wall_rolling_friction: float | None = None
     spinup_revolutions: float = 1.0
     record_revolutions: float = 0.5
 
@@ -131,6 +133,10 @@ POLYGON_RUNS = (
     PolygonRun("p7_EAD_d020_over2_highFr_wall1", "EAD", 5, 0.40, 8, 2.0, "high", wall_friction=1.0,
                role="diagnostic"),
     PolygonRun("p8_EADshort_d020_over2_highFr", "EAD-short", 5, 0.40, 8, 2.0, "high", role="diagnostic"),
+    # p7 with the particle-wall rolling friction of 1.0 too: the spheres can neither slide nor roll on the
+    # flight (p7's spheres could still roll on it, at the CDT rolling friction of 0.1)
+    PolygonRun("p9_EAD_d020_over2_highFr_wall1_roll1", "EAD", 5, 0.40, 8, 2.0, "high", wall_friction=1.0,
+               wall_rolling_friction=1.0, role="diagnostic"),
 )
 
 
@@ -144,7 +150,8 @@ def polygon_deck(run: PolygonRun):
     drum = FlightedDrum(run.radius, run.n_flights, flight)
     fr = FROUDE[run.froude]
     rpm = math.sqrt(fr * 9.81 / run.radius) * 60.0 / (2.0 * math.pi)
-    return build_slice(drum, Particles(diameter=D, wall_friction=run.wall_friction), rpm=rpm, loading=run.loading,
+    return build_slice(drum, Particles(diameter=D, wall_friction=run.wall_friction,
+                                          wall_rolling_friction=run.wall_rolling_friction), rpm=rpm, loading=run.loading,
                        settle_time=0.6,
                        spinup_revolutions=run.spinup_revolutions, record_revolutions=run.record_revolutions,
                        dump_every_deg=1.0, timestep_fraction=0.2, seed=run.seed,

@@ -66,7 +66,8 @@ class Particles:
     diameter (m), density (kg/m^3, solid), friction (sliding, particle-particle, -), rolling_friction
     (-), restitution (-), youngs_modulus (Pa; a few MPa is the usual soft-particle choice that keeps
     the packing and the flow and allows a large time step), poisson_ratio (-), wall_friction (-, the
-    sliding friction against shell and flights; default: ``friction``)."""
+    sliding friction against shell and flights; default: ``friction``), wall_rolling_friction (-, the
+    rolling friction against shell and flights; default: ``rolling_friction``)."""
 
     diameter: float = 0.01
     density: float = 2500.0
@@ -76,6 +77,7 @@ class Particles:
     youngs_modulus: float = 5.0e6
     poisson_ratio: float = 0.3
     wall_friction: float | None = None
+    wall_rolling_friction: float | None = None
 
     def __post_init__(self):
         check_range("particle diameter (--diameter)", self.diameter, 0.0, 1.0, unit="m")
@@ -87,10 +89,17 @@ class Particles:
         check_range("Poisson ratio (--poisson-ratio)", self.poisson_ratio, 0.0, 0.5)
         if self.wall_friction is not None:
             check_range("wall friction (--wall-friction)", self.wall_friction, 0.0, 10.0, low_inclusive=True)
+        if self.wall_rolling_friction is not None:
+            check_range("wall rolling friction (--wall-rolling-friction)", self.wall_rolling_friction, 0.0, 1.0,
+                        low_inclusive=True, high_inclusive=True)
 
     @property
     def wall_mu(self) -> float:
         return self.friction if self.wall_friction is None else float(self.wall_friction)
+
+    @property
+    def wall_rolling_mu(self) -> float:
+        return self.rolling_friction if self.wall_rolling_friction is None else float(self.wall_rolling_friction)
 
     @property
     def volume(self) -> float:
@@ -456,7 +465,7 @@ def deck_text(s: SliceDeck) -> str:
     Lz = s.length
     half = R * 1.02 + 2 * d
     r_ins = _insertion_radius(s)
-    mu, muw, rf = p.friction, p.wall_mu, p.rolling_friction
+    mu, muw, rf, rfw = p.friction, p.wall_mu, p.rolling_friction, p.wall_rolling_mu
     e = p.restitution
     dt = s.timestep
     thermo = max(1, st["total"] // 200)
@@ -484,7 +493,7 @@ fix m1 all property/global youngsModulus peratomtype {p.youngs_modulus:.9g} {p.y
 fix m2 all property/global poissonsRatio peratomtype {p.poisson_ratio:.9g} {p.poisson_ratio:.9g}
 fix m3 all property/global coefficientRestitution peratomtypepair 2 {e:.9g} {e:.9g} {e:.9g} {e:.9g}
 fix m4 all property/global coefficientFriction peratomtypepair 2 {mu:.9g} {muw:.9g} {muw:.9g} {muw:.9g}
-fix m5 all property/global coefficientRollingFriction peratomtypepair 2 {rf:.9g} {rf:.9g} {rf:.9g} {rf:.9g}
+fix m5 all property/global coefficientRollingFriction peratomtypepair 2 {rf:.9g} {rfw:.9g} {rfw:.9g} {rfw:.9g}
 
 pair_style      gran model hertz tangential history rolling_friction cdt
 pair_coeff      * *
