@@ -844,7 +844,9 @@ class ThermalDryer:
         if s.kiln_bed_area and s.mode == "physical" and self._kiln_plan:
             kiln = self._kiln_bed_area(Wt, m)[..., None, :]
             area = area + (kiln if one else kiln * surface)
-        fg = (self.dry_gas_flow * (1.0 + Y))[..., None, :]
+        # the gas flow of the nearest physical state, as the humidity of the transfer (clipped there): an
+        # integrator's trial state may carry a humidity below -1, a negative flow and a NaN Reynolds number
+        fg = (self.dry_gas_flow * (1.0 + np.clip(Y, 0.0, ha.Y_MAX)))[..., None, :]
         tg, y = Tg[..., None, :], Y[..., None, :]
         if not one:                  # one class: (..., 1, stages) is the shape already
             fg, tg, y = (np.broadcast_to(v, shape) for v in (fg, tg, y))
@@ -900,7 +902,7 @@ class ThermalDryer:
     def _shell_loss_exact_eval(self, Tg, Y, Tg_up):
         s = self.settings
         if s.mode == "ajayi2011":
-            fg = self.dry_gas_flow * (1.0 + Y)
+            fg = self.dry_gas_flow * (1.0 + np.clip(Y, 0.0, ha.Y_MAX))      # a trial state's humidity clipped
             tg = np.clip(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K, 600.0)
             q = ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
                                     np.clip(Tg_up, 0.0, 600.0))
@@ -921,8 +923,11 @@ class ThermalDryer:
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
         slope = self._shell_slope if guess is not None and self._shell_slope is not None and \
             self._shell_slope[0] is guess else None
-        args = (tg, self.dry_gas_flow * (1.0 + Y), self.gas_len, s.ambient_temperature)
-        kw = dict(gas_humidity=np.clip(Y, 0, ha.Y_MAX), co2_mole_fraction=s.co2_mole_fraction,
+        # the gas flow at the same clipped humidity as the gas itself: an integrator's trial state may carry a
+        # humidity below -1 (a negative gas flow, a NaN Reynolds number and a NaN shell coefficient)
+        yc = np.clip(Y, 0, ha.Y_MAX)
+        args = (tg, self.dry_gas_flow * (1.0 + yc), self.gas_len, s.ambient_temperature)
+        kw = dict(gas_humidity=yc, co2_mole_fraction=s.co2_mole_fraction,
                   inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
                   scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
                   insulation_thickness=s.insulation_thickness, insulation_conductivity=s.insulation_conductivity,
