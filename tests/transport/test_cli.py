@@ -66,3 +66,15 @@ def test_ajayi_rtd_cli(method, tmp_path):
         assert k in d
     assert 10 * 60 < d["mean_residence_time_s"] < 20 * 60
     assert (tmp_path / "rtd.png").stat().st_size > 0
+
+
+def test_rtd_names_its_steady_state():
+    """`rtd` runs the tracer on the solids transport's own steady state (as `validate`'s tracer items); with a gas,
+    its JSON and text say so and point to `simulate` for the coupled state's residence times."""
+    r = CliRunner().invoke(app, ["rtd", "lee2008_invicta", "--json"])
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.stdout)["steady_state"] == "solids transport alone (simulate: the coupled heat-and-mass state)"
+    r = CliRunner().invoke(app, ["rtd", "lee2008_invicta", "--set", "thermal.enabled=false", "--json"])
+    assert json.loads(r.stdout)["steady_state"] == "solids transport alone"
+    r = CliRunner().invoke(app, ["rtd", "lee2008_invicta"])
+    assert "`simulate` gives the coupled heat-and-mass state" in r.output

@@ -211,6 +211,7 @@ def rtd(
     """
     try:
         from ..cases import measured_rtd
+        from ..cases.build import thermal_enabled
 
         c, model, ss = _steady(case, set_)
         res = ss.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
@@ -219,9 +220,14 @@ def rtd(
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
     result = res.to_dict()
+    coupled = thermal_enabled(c)
     result.update({
         "case": case,
         "model": model.name,
+        # the tracer runs on the solids transport's own steady state (the case's assumed moisture profile),
+        # as `validate`'s tracer items and the transport calibrations; with a gas, `simulate`, `report` and
+        # `sweep` report the coupled heat-and-mass state's holdups and residence times instead
+        "steady_state": "solids transport alone" + (" (simulate: the coupled heat-and-mass state)" if coupled else ""),
         "total_holdup_kg": ss.total_holdup,
         "active_holdup_kg": ss.active_holdup,
         "passive_holdup_kg": ss.passive_holdup,
@@ -258,6 +264,9 @@ def rtd(
         typer.echo(json_text(result))
         return
     typer.echo(f"{case}: {model.name} tracer RTD ({res.response.method}, dt {c.tracer.dt:g} s)")
+    if coupled:
+        typer.echo("  (the solids transport's own steady state, at the case's assumed moisture profile; `simulate` "
+                   "gives the coupled heat-and-mass state's holdup and residence times)")
     typer.echo(f"  mean residence time  {result['mean_residence_time_s'] / 60:.2f} min (RTD = holdup/flow), "
                f"SD {result['rtd_std_s'] / 60:.2f} min")
     typer.echo(f"  tracer curve         mean {result['tracer_mean_s'] / 60:.2f} min (analytic), "
