@@ -65,8 +65,10 @@ _CHOSEN: dict = {"units": None}
 
 
 def _finite(v) -> tuple[float | None, str]:
-    """``(float(v), "")`` for a finite number, else ``(None, the text shown)``: ``str(v)`` for what
-    is not a number, ``'inf'`` / ``'nan'`` for those."""
+    """``(float(v), "")`` for a finite number, else ``(None, the text shown)``: ``'n/a'`` for None (an
+    undefined output), ``str(v)`` for what else is not a number, ``'inf'`` / ``'nan'`` for those."""
+    if v is None:
+        return None, "n/a"
     try:
         x = float(v)
     except (TypeError, ValueError):

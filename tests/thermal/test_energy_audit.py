@@ -219,3 +219,25 @@ def test_the_audit_of_an_unconverged_state_still_reads():
     d = Simulation("ajayi2011_mmg", {"shell.ambient_temperature": -30.0}).dryer()
     s = ThermalSteadyState(d, d.initial_state()).summary(with_fuel=False)
     assert math.isfinite(s["heat_release_W"]) and math.isfinite(s["shell_max_wall_temperature_degC"])
+
+
+def test_gas_below_the_ambient_has_no_specific_energy(tmp_path):
+    """A gas at 22 degC under a 25 degC ambient puts no heat into the dryer (heat input < 0: the feed at 10 degC
+    and the surroundings dry it): the specific energy and the efficiency are undefined on every surface (before:
+    a negative kJ/kg, and 'thermal efficiency nan %' in the report)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    ov = {"gas.inlet_temperature": 22.0, "gas.inlet_humidity": 0.005, "operating.feed_temperature": 10.0}
+    sc = Simulation(TEMPLATE, ov).results(rtd=False).scalars
+    assert sc["heat_input_W"] < 0 and sc["evaporation_kg_s"] > 0
+    assert sc.get("specific_energy_kJ_kg_water") is None and sc.get("thermal_efficiency") is None
+    sets = [a for k, v in ov.items() for a in ("--set", f"{k}={v}")]
+    out = tmp_path / "r.html"
+    res = CliRunner().invoke(app, ["report", TEMPLATE, *sets, "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    text = out.read_text()
+    assert "nan %" not in text and "efficiency nan" not in text and "kJ/kg</b>" not in text
+    res = CliRunner().invoke(app, ["simulate", TEMPLATE, *sets])
+    assert res.exit_code == 0 and " nan" not in res.output

@@ -64,6 +64,11 @@ ol.refs li{margin:3px 0;font-size:.9em}
 """
 
 
+
+def _is_number(v) -> bool:
+    """A finite number (not None, NaN or a string): a scalar the report can print."""
+    return isinstance(v, (int, float, np.floating)) and not isinstance(v, bool) and bool(np.isfinite(v))
+
 def figure_to_data_uri(fig, dpi: int = 96) -> str:
     """PNG ``data:`` URI of a Matplotlib figure; closes the figure."""
     import matplotlib.pyplot as plt
@@ -369,7 +374,7 @@ def _thermal_section(results, audit: dict | None = None) -> str:
               ("specific_energy_kJ_kg_water", "specific energy (per kg of water evaporated)"))
     rows = [("model", str(results.model_choices.get("thermal_mode", "")), "-")]
     rows += [(label, *output_cells(key, sc[key])) for key, label in labels if key in sc]
-    if "thermal_efficiency" in sc:
+    if _is_number(sc.get("thermal_efficiency")):
         rows.append(("thermal efficiency (evaporation heat / heat input)", _fmt(100.0 * sc["thermal_efficiency"], 3), "%"))
     rows += [(label, fmt_error(sc[key]), "relative") for key, label in
              (("energy_balance_error", "energy balance error"), ("water_balance_error", "water balance error"))
@@ -434,7 +439,8 @@ def _energy_audit_html(results, audit: dict | None = None) -> str:
              + "; the largest: " + ", ".join(f"{name} {show(w, 'power')}" for w, name in big))
     if "specific_energy_kJ_kg_water" in sc:
         cap_e += (f"; {show_output('specific_energy_kJ_kg_water', sc['specific_energy_kJ_kg_water'])} of water "
-                  f"evaporated, thermal efficiency {100 * sc.get('thermal_efficiency', np.nan):.1f} %")
+                  "evaporated" + (f", thermal efficiency {100 * sc['thermal_efficiency']:.1f} %"
+                                  if _is_number(sc.get("thermal_efficiency")) else ""))
     parts = [f'<h3>Energy audit</h3>'
              f'{_img(plot_heat_duties(duties, unit=power), "energy audit waterfall", cap_e)}'
              f'{_table(("heat duty", power, "% of release"), t_rows)}'
@@ -635,8 +641,9 @@ def _executive_summary(results) -> str:
                      f"{show(s.get('gas_outlet_temperature_degC', float('nan')), 'temperature')}.</li>")
     if "specific_energy_kJ_kg_water" in s:
         lines.append(f"<li>Evaporating the water costs <b>{show_output('specific_energy_kJ_kg_water', s['specific_energy_kJ_kg_water'])}</b> of heat "
-                     f"in the gas (thermal efficiency {_fmt(100 * s.get('thermal_efficiency', float('nan')), 3)} %; "
-                     "direct dryers typically run at 3 000-6 000 kJ/kg).</li>")
+                     "in the gas (" + (f"thermal efficiency {_fmt(100 * s['thermal_efficiency'], 3)} %; "
+                                       if _is_number(s.get("thermal_efficiency")) else "")
+                     + "direct dryers typically run at 3 000-6 000 kJ/kg).</li>")
     if s.get("fuel_rate_kg_s") is not None:
         lines.append(f"<li>The burner needs {show_output('fuel_rate_kg_s', s['fuel_rate_kg_s'])} of fuel.</li>")
     elif results.model_choices.get("fuel_rate_error"):

@@ -459,8 +459,10 @@ class ThermalSteadyState:
             gas_outlet_dew_point_margin_K=None if dew is None else self.gas_outlet_temperature_degC - dew,
             evaporation_kg_s=self.evaporation_rate,
             heat_input_W=self.heat_input_w,
+            # undefined without water removed, or without heat put into the gas (a gas at or below the ambient
+            # reference: the water then dries on the feed's own heat and the dryer's, not the gas's)
             specific_energy_kJ_kg_water=(self.heat_input_w / self.evaporation_rate / 1e3
-                                         if self.evaporation_rate > 1e-12 else None),
+                                         if self.evaporation_rate > 1e-12 and self.heat_input_w > 0 else None),
             thermal_efficiency=efficiency,
             shell_heat_loss_W=self.shell_heat_loss_w,
             gas_flow_kg_s=self.dryer.settings.gas_flow,
