@@ -84,6 +84,9 @@ MAX_DURATION_S = 86400.0
 #: most sampling intervals of one run (duration / sample time: one a minute for a day)
 MAX_SAMPLES = 1440
 MEASURED = ("product_moisture", "exhaust_temperature")
+#: units of the identification steps and of the measured outputs (messages)
+STEP_UNITS = {"gas_inlet_temperature": "K", "feed_rate": "kg/s", "feed_moisture_dry": "kg/kg dry"}
+OUTPUT_UNITS = {"product_moisture": "kg/kg wet", "exhaust_temperature": "degC"}
 #: default tolerance band of the controlled variable (0.5 percentage point; 2 K)
 TOLERANCE = {"product_moisture": 0.005, "exhaust_temperature": 2.0}
 
@@ -322,7 +325,17 @@ def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, fe
         if progress:
             progress(f"identification: step of {name}")
         t, ys = _step(dryer, z0, duration_s, dt_s, **change)
-        out[name] = {k: FOPDT.from_fit(fopdt_fit(t, ys[k], du, y0=y0[k])) for k in MEASURED}
+        out[name] = {}
+        for k in MEASURED:
+            try:
+                out[name][k] = FOPDT.from_fit(fopdt_fit(t, ys[k], du, y0=y0[k]))
+            except ValueError:      # an output that a step of this input does not move: no loop to tune on it
+                raise ValueError(
+                    f"control: the {k.replace('_', ' ')} does not respond to a step of the {name.replace('_', ' ')} "
+                    f"({du:+.4g} {STEP_UNITS[name]}; it stays at {y0[k]:.6g} {OUTPUT_UNITS[k]} over {duration_s:g} s"
+                    + (", the product leaving dry at the material's floor" if k == "product_moisture" else "")
+                    + "): there is nothing to control at this operating point; give one where the product leaves "
+                      "wetter (a lower gas inlet temperature, a higher feed rate or feed moisture)") from None
     return out
 
 

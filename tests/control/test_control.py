@@ -159,3 +159,23 @@ def test_model_feedforward_sees_a_scheduled_gas_flow(mmg):
     assert t_gas[0] == pytest.approx(d.settings.gas_inlet_temperature)
     assert t_gas[-1] > d.settings.gas_inlet_temperature + 5.0          # less gas: hotter to keep the moisture
     np.testing.assert_allclose(runs["linear"].series["gas_inlet_temperature_degC"], d.settings.gas_inlet_temperature)
+
+
+def test_a_product_at_the_moisture_floor_is_refused_with_its_reason():
+    """Raw sugar from the `rotarydryer new` template at 320 degC leaves at the material's moisture floor: a step of
+    the gas inlet temperature does not move it, so there is no loop to tune; one line naming the output, the input,
+    the step and the value (before: 'step response: the output did not change')."""
+    from importlib import resources
+
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    tpl = str(resources.files("rotarydryer.cases") / "templates" / "dryer.toml")
+    sets = ["material.name=raw_sugar_lee2008", "operating.feed_moisture=0.0367", "gas.inlet_temperature=320",
+            "operating.feed_rate=0.535"]
+    res = CliRunner().invoke(app, ["control", tpl, *(a for s in sets for a in ("--set", s)), "--scenario", "none"])
+    assert res.exit_code == 2
+    msg = res.output.strip().splitlines()[-1]
+    assert msg.startswith("error: control: the product moisture does not respond to a step of the gas inlet "
+                          "temperature (+30 K; it stays at 0.0004997") and "material's floor" in msg
