@@ -28,7 +28,8 @@ The condition is on one output of `summary`:
   bound that comes closest.
 
 A steady state that fails at a bound (infeasible fill, no coupled steady state) moves that bound
-toward the other one (at most `SHRINK_STEPS` times, halving the distance), and the result
+toward the other one (at most `SHRINK_STEPS` times, halving the distance, then `BISECT_STEPS`
+bisections back toward the failed bound, so that little of the bracket is given away), and the result
 says so in ``notes``; a failure inside the bracket during the root search is an error naming the
 input value and the reason. The output tolerance ``tol`` (absolute, in the output's unit) ends
 the search when ``|output - value| <= tol``.
@@ -51,12 +52,14 @@ from ..cases.build import test_row
 from ..simulation import Simulation
 
 __all__ = ["target", "TargetResult", "solve_targets", "optimum", "TargetSetResult", "TargetError", "parse_such_that", "parse_find", "default_bounds", "check_bounds",
-           "OPERATORS", "SHRINK_STEPS", "DEFAULT_SPAN"]
+           "OPERATORS", "SHRINK_STEPS", "BISECT_STEPS", "DEFAULT_SPAN"]
 
 #: the conditions a target may put on its output
 OPERATORS = ("=", "<=", ">=")
 #: halvings of the distance to the other bound tried when the steady state fails at a bound
 SHRINK_STEPS = 5
+#: bisections between the first point that solves and the last that does not, after a failed bound (`_usable_end`)
+BISECT_STEPS = 6
 #: default bracket around the case's value: (lo factor, hi factor)
 DEFAULT_SPAN = (0.25, 4.0)
 #: most steady states of one target (bounds, shrinking and the root search) or one Newton solve
@@ -405,14 +408,24 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
 
 
 def _usable_end(evaluate, end, other, side, key, unit, notes, label):
-    """``(end, other)`` with ``end`` moved toward ``other`` until its steady state solves."""
+    """``(end, other)`` with ``end`` moved toward ``other`` until its steady state solves: halving the distance
+    until a point solves, then bisecting between it and the last point that did not (BISECT_STEPS times), so
+    that the bracket keeps all but 1/2^BISECT_STEPS of the failed half (a halving alone can give away most of
+    the range, the answer with it)."""
     y, reason = evaluate(end)
     x = end
     k = 0
     while y is None and k < SHRINK_STEPS:
         k += 1
-        x = other + 0.5 * (x - other)
+        bad, x = x, other + 0.5 * (x - other)
         y, _ = evaluate(x)
+    if y is not None and x != end:
+        for _ in range(BISECT_STEPS):
+            mid = 0.5 * (x + bad)
+            if evaluate(mid)[0] is None:
+                bad = mid
+            else:
+                x = mid
     u = f" {unit}" if unit else ""
     if y is None:
         raise TargetError(f"{label} {key}: no steady state at the bound {side} = {fmt_number(end)}{u} nor at "
