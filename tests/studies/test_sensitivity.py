@@ -71,6 +71,8 @@ def test_bad_arguments():
         sobol_study(ishigami, {"x1": (2, 1)}, 8)
     with pytest.raises(ValueError, match=r"samples = 0 is outside"):
         sobol_study(ishigami, ISHIGAMI, 0)
+    with pytest.raises(ValueError, match=r"samples = 1 is outside the allowed range \[2, .*at least 2 blocks"):
+        sobol_study(ishigami, ISHIGAMI, 1)      # one block of runs can never give indices
     with pytest.raises(ValueError, match="workers"):
         sobol_study(ishigami, ISHIGAMI, 8, workers=0)
 
@@ -158,3 +160,26 @@ def test_coupled_study_same_indices_on_every_backend():
     for other in (local, dask):
         np.testing.assert_array_equal(other.Y, serial.Y)
         assert other.indices == serial.indices
+
+
+def test_an_output_that_does_not_vary_has_no_indices_and_says_why(tmp_path):
+    """An output with the same value in every run (here a constant) has undefined
+    indices: a note naming it, None in the table, an empty cell in the CSV and n/a in the text (before: nan)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    def flat(p):
+        return {"y": ishigami(p)["y"], "c": 2.5}
+    res = sobol_study(flat, ISHIGAMI, 8, outputs=["y", "c"])
+    assert any(n.startswith("c: the same value in every run (2.5)") for n in res.notes)
+    rows = [r for r in res.table() if r["output"] == "c"]
+    assert rows and all(r[k] is None for r in rows for k in ("S1", "S1_conf", "ST", "ST_conf"))
+    assert all(r["S1"] is not None for r in res.table() if r["output"] == "y")
+    # the CLI on a shipped case: the solids transport alone has no fuel rate; the product moisture of the
+    # transport-only runs is the feed's (constant): n/a in the text, empty cells in the CSV
+    r = CliRunner().invoke(app, ["sensitivity", "song2003_ottawa", "--set", "thermal.enabled=false",
+                                 "--param", "operating.rpm=3,5", "--param", "operating.feed_rate=0.05,0.08",
+                                 "--samples", "2", "--out", str(tmp_path / "s")])
+    assert r.exit_code == 0, r.output
+    assert "nan" not in r.output and "nan" not in (tmp_path / "s" / "sensitivity_indices.csv").read_text()

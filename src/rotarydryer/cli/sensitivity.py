@@ -21,9 +21,11 @@ KNOWN_OUTPUTS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outl
 def _text_table(res) -> str:
     lines = [f"Sobol indices ({res.n_runs} runs, {res.n_failed} failed; +- {100 * 0.95:.0f} % CI half-width)",
              f"{'output':<30} {'parameter':<32} {'S1':>8} {'+-':>7} {'ST':>8} {'+-':>7}"]
+    def cell(v, width):
+        return f"{'n/a':>{width}}" if v is None else f"{v:{width}.3f}"
     for r in res.table():
-        lines.append(f"{r['output']:<30} {r['parameter']:<32} {r['S1']:8.3f} {r['S1_conf']:7.3f} "
-                     f"{r['ST']:8.3f} {r['ST_conf']:7.3f}")
+        lines.append(f"{r['output']:<30} {r['parameter']:<32} {cell(r['S1'], 8)} {cell(r['S1_conf'], 7)} "
+                     f"{cell(r['ST'], 8)} {cell(r['ST_conf'], 7)}")
     lines += ["", f"{'output':<30} {'n':>6} {'mean':>11} {'sd':>11} {'p5':>11} {'p50':>11} {'p95':>11}"]
     for d in res.distribution_table():
         if d.get("n"):

@@ -125,7 +125,7 @@ def check_params(params) -> dict[str, tuple[float, float]]:
 
 
 def check_samples(samples, n_params: int) -> int:
-    """Base sample count: an integer in [1, `MAX_SAMPLES`] whose design has at most
+    """Base sample count: an integer in [2, `MAX_SAMPLES`] whose design has at most
     `MAX_RUNS` runs."""
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
         try:
@@ -136,12 +136,13 @@ def check_samples(samples, n_params: int) -> int:
             raise ValueError(f"--samples = {samples!r} is not an integer")
         samples = int(f)
     samples = int(samples)
-    if not 1 <= samples <= MAX_SAMPLES:
-        raise ValueError(f"--samples = {samples} is outside the allowed range [1, {MAX_SAMPLES}]")
+    if not 2 <= samples <= MAX_SAMPLES:
+        raise ValueError(f"--samples = {samples} is outside the allowed range [2, {MAX_SAMPLES}] (the indices and "
+                         "their intervals need at least 2 blocks of runs)")
     if samples & (samples - 1):
         lo = 1 << (samples.bit_length() - 1)
         raise ValueError(f"--samples = {samples} is not a power of 2 (the Sobol' sequence keeps its balance "
-                         f"properties only then; others give biased indices, e.g. S1 > ST); allowed: 1, 2, 4, ... {MAX_SAMPLES}; use {lo} "
+                         f"properties only then; others give biased indices, e.g. S1 > ST); allowed: 2, 4, 8, ... {MAX_SAMPLES}; use {lo} "
                          f"or {2 * lo}")
     runs = samples * (n_params + 2)
     if runs > MAX_RUNS:
@@ -407,8 +408,10 @@ class SensitivityResult:
         return self.n_runs / self.seconds if self.seconds > 0 else float("nan")
 
     def table(self) -> list[dict]:
-        """One row per (output, input): output, parameter, S1, S1_conf, ST, ST_conf."""
-        return [{"output": o, "parameter": p, **v} for o, per in self.indices.items() for p, v in per.items()]
+        """One row per (output, input): output, parameter, S1, S1_conf, ST, ST_conf (None where undefined:
+        an output that does not vary, too few complete blocks; see ``notes``)."""
+        return [{"output": o, "parameter": p, **{k: (float(x) if np.isfinite(x) else None) for k, x in v.items()}}
+                for o, per in self.indices.items() for p, v in per.items()]
 
     def distribution_table(self) -> list[dict]:
         """One row per output: n, mean, sd, min, p5, p25, p50, p75, p95, max."""
@@ -513,6 +516,9 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
         kept.append(o)
         if used[o] < 2:
             notes.append(f"{o}: fewer than 2 complete blocks of runs; no indices")
+        elif not np.isfinite(indices[o][keys[0]]["S1"]):
+            notes.append(f"{o}: the same value in every run ({dists[o]['p50']:.6g}): it does not depend on these "
+                         "inputs over their ranges; no indices")
     if n_failed:
         notes.append(f"{n_failed} of {len(X)} runs failed ({int(blocks_failed.sum())} of {len(blocks_failed)} "
                      "blocks left out of the indices)")
