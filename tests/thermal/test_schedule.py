@@ -287,3 +287,28 @@ def test_template_gas_steps_integrate(tmp_path, step):
     y_out = [outlets(apply_inputs(ss.dryer, {name: v}), z)["exhaust_humidity"]
              for v, z in zip(r.inputs[name], r.states.T)]
     assert y_out[-1] < y_out[0]       # a drier gas, or more of it, leaves less humid
+
+
+def test_refusals_name_the_schedule_and_the_case_key(tmp_path):
+    """Inputs that pass one by one but not together (a gas-flow step at 0 s leaves too little combustion air for
+    the fuel held until a later ramp), and a fuel schedule on a case whose burner cannot make its own gas
+    temperature: one line naming the schedule, the inputs and the time, or the case key (before: the burner's
+    internal message alone, 'target_temperature_c')."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    tpl = str(resources.files("rotarydryer.cases") / "templates" / "dryer.toml")
+    s1 = _write(tmp_path, "s1.toml", '[[step]]\ninput = "gas_flow"\nat_s = 0\nvalue = 1.4\n\n'
+                                     '[[ramp]]\ninput = "burner_fuel_rate"\nfrom_s = 120\nto_s = 420\nvalue = 0.02\n')
+    res = CliRunner().invoke(app, ["dynamics", tpl, "--schedule", str(s1), "--t-end", "600", "--json"])
+    assert res.exit_code == 2
+    msg = res.output.strip().splitlines()[-1]
+    assert msg.startswith(f"error: {s1}: gas_flow=1.4 at 0 s: combustion air") and "cannot burn" in msg
+    s2 = _write(tmp_path, "s2.toml", '[[step]]\ninput = "burner_fuel_rate"\nat_s = 300\nvalue = 0.02\n')
+    res = CliRunner().invoke(app, ["dynamics", tpl, "--set", "gas.burner.combustion_air_share=0.05", "--set",
+                                   "gas.inlet_temperature=450", "--schedule", str(s2), "--t-end", "600", "--json"])
+    assert res.exit_code == 2
+    msg = res.output.strip().splitlines()[-1]
+    assert msg.startswith("error: burner_fuel_rate: the case's burner has no fuel rate at its "
+                          "gas.inlet_temperature = 450 degC") and "schedule the gas_inlet_temperature instead" in msg

@@ -335,7 +335,12 @@ def base_inputs(dryer, names=None) -> dict:
                   gas_inlet_humidity=s.gas_inlet_humidity, feed_temperature=s.solids_inlet_temperature,
                   fouling=s.fouling)
     if names is not None and "burner_fuel_rate" in names and s.burner is not None:
-        values["burner_fuel_rate"] = burner_fuel_rate(dryer)
+        try:
+            values["burner_fuel_rate"] = burner_fuel_rate(dryer)
+        except ValueError as exc:       # the case's own gas temperature is beyond its burner: no fuel rate to move
+            raise ValueError(f"burner_fuel_rate: the case's burner has no fuel rate at its gas.inlet_temperature = "
+                             f"{s.gas_inlet_temperature:g} degC ({' '.join(str(exc).split())}); schedule the "
+                             "gas_inlet_temperature instead, or change [gas.burner] or gas.inlet_temperature") from None
     return {k: float(v) for k, v in values.items() if names is None or k in names}
 
 
@@ -582,7 +587,12 @@ def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float,
         for t0, t1 in zip(grid[:-1], grid[1:]):
             u = schedule.inputs_at(t0, base)
             if u != applied:
-                integ.restart(apply_inputs(dryer, u) if u else dryer)
+                try:
+                    moved = apply_inputs(dryer, u) if u else dryer
+                except ValueError as exc:   # inputs that pass one by one (check_applicable) but not together
+                    what = ", ".join(f"{k}={v:g}" for k, v in u.items() if v != base[k]) or "the case's inputs"
+                    raise ValueError(f"{schedule.source}: {what} at {t0:g} s: {' '.join(str(exc).split())}") from None
+                integ.restart(moved)
                 applied = u
             for k in names:
                 held[k].append(u[k])
