@@ -529,12 +529,22 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         simc = min(cands, key=lambda c: c["kc"])
         kc = simc["kc"] if cfg.kc is None else cfg.kc
         ti = simc["tau_i_s"] if cfg.tau_i_s is None else cfg.tau_i_s
+        ti_note = None
+        if cfg.kc is None and cfg.tau_i_s is None and len(cands) > 1:
+            # the smaller gain's integral time may be too short for the other range (a fast gas path's tau_I on a
+            # slow feed path: unstable there); the longer of the two keeps both stable (a lower gain and a longer
+            # integral time than each range's own SIMC settings)
+            def margin(m):
+                return pi_ultimate_gain(m, ti, extra) / (kc * m.gain)
+            if min(margin(norm_T), margin(norm_F)) <= 1.0:
+                ti = max(c["tau_i_s"] for c in cands)
+                ti_note = "tau_I of the slower range (the faster range's made the other range's loop unstable)"
         gms = [check_pi_stability(norm_T, kc, ti, extra, name="PI on the gas inlet temperature range")]
         if cfg.feed_backup:
             gms.append(check_pi_stability(norm_F, kc, ti, extra, name="PI on the feed rate range"))
         tuning = dict(rule="SIMC, Skogestad (2003) (tau_c = theta)", kc=kc, tau_i_s=ti,
                       simc_kc=simc["kc"], simc_tau_i_s=simc["tau_i_s"], theta_loop_s=simc["theta_s"],
-                      gain_margin=min(gms),
+                      gain_margin=min(gms), **({"tau_i_note": ti_note} if ti_note else {}),
                       fopdt={name: dataclasses.asdict(m) for name, m in
                              (("gas_inlet_temperature", mT), ("feed_rate", mF), ("feed_moisture_dry", mX))},
                       gas_temperature_range_degC=[Tmin, Tmax], feed_min_kg_s=cfg.feed_min_fraction * F0)

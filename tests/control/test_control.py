@@ -179,3 +179,27 @@ def test_a_product_at_the_moisture_floor_is_refused_with_its_reason():
     msg = res.output.strip().splitlines()[-1]
     assert msg.startswith("error: control: the product moisture does not respond to a step of the gas inlet "
                           "temperature (+30 K; it stays at 0.0004997") and "material's floor" in msg
+
+
+def test_default_tuning_is_stable_on_both_ranges(mmg):
+    """A fast gas-temperature range (tau 50 s) and a slow feed-rate range (tau 230 s, dead time 550 s): the smaller
+    SIMC gain is the gas range's, whose integral time (50 s) makes the feed range's loop unstable (a user dryer
+    warned 'unstable loop' with the tool's own settings); the default tuning then takes the longer integral
+    time, stable on both ranges, says so, and does not warn. MMG's own models keep the gas range's settings."""
+    import warnings
+
+    d, ss = mmg
+    models = _models()
+    models["gas_inlet_temperature"] = {k: C.FOPDT(g, 50.0, 50.0) for k, g in
+                                       (("product_moisture", -1.2e-4), ("exhaust_temperature", 0.13))}
+    models["feed_rate"] = {k: C.FOPDT(g, 550.0, 230.0) for k, g in
+                           (("product_moisture", 1.1e-3), ("exhaust_temperature", -2.0))}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", C.ControlWarning)
+        r = C.closed_loop(d, ss, scenario="feed_rate_step", magnitude=0.1, t_end_s=240.0, t_step_s=0.0,
+                          models=models)
+    assert r.tuning["tau_i_s"] == pytest.approx(230.0) and r.tuning["simc_tau_i_s"] == pytest.approx(50.0)
+    assert r.tuning["gain_margin"] > 1.0 and "slower range" in r.tuning["tau_i_note"]
+    own = C.closed_loop(d, ss, scenario="feed_rate_step", magnitude=0.1, t_end_s=240.0, t_step_s=0.0,
+                        models=_models())
+    assert own.tuning["tau_i_s"] == own.tuning["simc_tau_i_s"] and "tau_i_note" not in own.tuning
