@@ -284,6 +284,11 @@ def test_a_new_case_validates_with_no_items(tmp_path, monkeypatch):
     assert "no measured or published data" in r.stdout and "0 items" in r.stdout
     d = json.loads((tmp_path / "out" / "validation.json").read_text())
     assert d["passed"] and d["items"] == []
+    assert "its steady state solves" in r.stdout
+    # the same dryer overfilled has nothing to compare either, but no steady state: refused, not "passed"
+    r = runner.invoke(app, ["validate", "mydryer.toml", "--set", "operating.feed_rate=80"])
+    assert r.exit_code == 2
+    assert r.output.strip().splitlines()[-1].startswith("error: mydryer.toml: no steady state (solids fill")
 
 
 def test_a_user_case_with_a_test_row_gets_derived_items(tmp_path):
