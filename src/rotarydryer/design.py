@@ -681,15 +681,24 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
     dm = _DutyModel(duty)
     history = []
     res = None
+    verified = []       # (design, its verification) of each round that verified
+
+    def closest():
+        """The verified round whose product is driest (a later, larger drum may dry worse: the search's
+        Ua factor is a model of the shortfall, not a guarantee)."""
+        k = min(range(len(verified)), key=lambda i: verified[i][1]["product_moisture_kg_kg"])
+        return verified[k][0], dict(verified[k][1], best_round=k + 1)
+
     for k in range(int(rounds)):
         try:
             res = design(duty, limits, objective=objective, progress=progress, **search)
         except InfeasibleDuty as exc:
             if res is None:
                 raise
-            # the coupled model needs more than the constraints allow: keep the last design, say why
-            return res, dict(history[-1], rounds=history, next_round_infeasible=str(exc),
-                             blocking_constraint=exc.constraint)
+            # the coupled model needs more than the constraints allow: keep the closest design, say why
+            best, entry = closest()
+            return best, dict(entry, rounds=history, next_round_infeasible=str(exc),
+                              blocking_constraint=exc.constraint)
         if progress:
             progress(f"verification {k + 1}: coupled heat-and-mass steady state of the best design")
         try:
@@ -706,8 +715,12 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
                      total_holdup_kg=v["total_holdup_kg"], target_met=met,
                      diameter_m=res.best.diameter_m, length_m=res.best.length_m)
         history.append(entry)
-        if met or k == rounds - 1:
+        verified.append((res, entry))
+        if met:
             return res, dict(entry, rounds=history)
+        if k == rounds - 1:
+            best, entry = closest()
+            return best, dict(entry, rounds=history)
         shortfall = dm.E / max(e_ach, 1e-3 * dm.E)
         limits = dataclasses.replace(limits, ua_factor=limits.ua_factor / shortfall**1.5)
 

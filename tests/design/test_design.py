@@ -72,3 +72,30 @@ def test_search_population_on_worker_processes_is_the_serial_search():
     b = D.design(duty, maxiter=15, executor=Executor(workers=2))
     assert b.evaluations == a.evaluations and b.best.row() == a.best.row()
     assert [d.row() for d in b.designs] == [d.row() for d in a.designs]
+
+
+def test_verification_keeps_the_closest_round(monkeypatch):
+    """When no round meets the target, the design returned is the round whose verified product is driest (a
+    later, larger drum may dry worse: the Ua factor is a model of the shortfall), and the verification says which
+    round and why the next one did not run (before: the last round's, wetter design)."""
+    from types import SimpleNamespace
+
+    duty = D.raw_sugar_duty()
+    calls = {"design": 0}
+    moistures = iter([duty.moisture_out * 1.5, duty.moisture_out * 2.0])
+
+    def fake_design(duty, limits, **kw):
+        calls["design"] += 1
+        if calls["design"] == 3:
+            raise D.InfeasibleDuty("infeasible duty: blocking constraint 'drying length'", "drying length")
+        return SimpleNamespace(best=SimpleNamespace(diameter_m=float(calls["design"]), length_m=10.0), round=calls["design"])
+
+    def fake_verify(best, duty):
+        return dict(product_moisture_kg_kg=next(moistures), product_temperature_degC=50.0,
+                    gas_outlet_temperature_degC=80.0, total_holdup_kg=1000.0)
+    monkeypatch.setattr(D, "design", fake_design)
+    monkeypatch.setattr(D, "verify", fake_verify)
+    res, ver = D.design_verified(duty, rounds=3)
+    assert res.round == 1 and ver["best_round"] == 1 and not ver["target_met"]
+    assert ver["product_moisture_kg_kg"] == pytest.approx(duty.moisture_out * 1.5)
+    assert len(ver["rounds"]) == 2 and ver["blocking_constraint"] == "drying length"

@@ -215,7 +215,12 @@ def _verification_failure(ver, target, best=None) -> str:
         return (f"the design's verification (coupled model) failed: product moisture "
                 f"{show(ver.get('product_moisture_kg_kg', float('nan')), 'moisture')} wet misses the target "
                 f"{show(target, 'moisture')} "
-                f"after {len(ver.get('rounds', []))} round(s) (--rounds); the design does not meet the duty")
+                f"after {len(ver.get('rounds', []))} round(s) (--rounds"
+                + (f"; the closest, round {ver['best_round']}" if ver.get("best_round", 1) != len(ver.get("rounds", []))
+                   else "")
+                + (f"; a further round: {_search_infeasible(ver['next_round_infeasible'])}"
+                   if ver.get("next_round_infeasible") else "")
+                + "); the design does not meet the duty")
     return ""
 
 
