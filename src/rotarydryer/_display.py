@@ -79,9 +79,11 @@ def _finite(v) -> tuple[float | None, str]:
 def fmt(v, digits: int = 4) -> str:
     """A number as people write it (``digits`` significant digits, 4 by default; thousands
     separated from 1 000 to 1e6, exponent outside 1e-3 to 1e6), else str. The one number
-    format of the text surfaces (CLI tables, the report, reprs)."""
-    if isinstance(v, bool) or v is None:
+    format of the text surfaces (CLI tables, the report, reprs); None (an undefined value) is ``n/a``."""
+    if isinstance(v, bool):
         return str(v)
+    if v is None:
+        return "n/a"
     x, text = _finite(v)
     if x is None:
         return text
@@ -298,9 +300,9 @@ def show_delta(value, quantity: str, digits: int = 3, *, with_unit: bool = True)
     x, text = _finite(value)
     if x is None:
         return text
-    if quantity == "temperature":
+    if quantity == "temperature":       # degF where either the temperatures or the differences are shown in it
         quantity = "temperature_difference"
-        unit = "degF" if unit_of("temperature") == "degF" else "K"
+        unit = "degF" if "degF" in (unit_of("temperature"), unit_of("temperature_difference")) else "K"
     else:
         unit = unit_of(quantity)
     scale = UNITS[quantity][unit][0]

@@ -283,6 +283,9 @@ def build_slice(drum: FlightedDrum, particles: Particles, *, rpm: float, loading
     n_est = area * n_layers * d * packing_guess / particles.volume
     if not math.isfinite(n_est) or n_est > MAX_PARTICLES:
         d_min = d * math.sqrt(n_est / MAX_PARTICLES) if math.isfinite(n_est) else float("nan")
+        if math.isfinite(d_min) and d_min > 0:      # rounded up at 3 digits: the diameter advised is accepted
+            step = 10.0 ** (math.floor(math.log10(d_min)) - 2)
+            d_min = math.ceil(d_min / step * (1 - 1e-12)) * step
         raise ValueError(f"particle diameter (--diameter) = {fmt_number(d)} m gives a slice of {n_est:.3g} particles "
                          f"in a drum of radius {fmt_number(drum.radius)} m; the limit is {MAX_PARTICLES} particles "
                          f"per deck: give --diameter >= {d_min:.3g} m, or a smaller --loading, --fill or --layers")

@@ -60,9 +60,12 @@ def profile_flight(entry: dict, where: str = "") -> PolygonFlight:
         raise ValueError(f"{where}{'segments and vertices are both given' if has else 'segments (or vertices) is missing'}: "
                          "give the flight as segments = [[length_m, angle_deg], ...] or vertices = [[x_m, y_m], ...]")
     k = has[0]
-    if k == "segments":
-        return PolygonFlight(entry[k], key=f"{where}segments")
-    return PolygonFlight(vertices=entry[k], key=f"{where}vertices")
+    try:        # the flight's messages name its keys (segments[1], vertices[2], ...): the prefix once, before them
+        if k == "segments":
+            return PolygonFlight(entry[k], key="segments")
+        return PolygonFlight(vertices=entry[k], key="vertices")
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
 
 
 def preset_drum(name: str) -> tuple[FlightedDrum, dict]:
