@@ -146,3 +146,14 @@ def test_a_moisture_change_below_the_percent_resolution_is_none():
     assert D.show_delta(-2e-5, "moisture") == "-0.002 pp"
     assert D.show_delta(0.0123, "moisture") == "1.23 pp"
     assert D.show_delta(1e-9, "temperature") != "0 K"          # the rule is the moisture's only
+
+
+def test_undefined_values_and_temperature_differences():
+    """None (an undefined output) prints n/a in every table; a temperature difference is shown in degF where the
+    differences (or the temperatures) are."""
+    assert D.fmt(None) == "n/a" and D.show_output("specific_energy_kJ_kg_water", None) == "n/a"
+    assert D.show_delta(10.0, "temperature") == "10 K"
+    D.set_display_units("temperature_difference=degF")
+    assert D.show_delta(10.0, "temperature") == "18 degF"
+    D.set_display_units("temperature=degF")
+    assert D.show_delta(10.0, "temperature") == "18 degF"

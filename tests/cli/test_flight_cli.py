@@ -74,6 +74,8 @@ def test_flight_builtin_profiles_and_two_section_unchanged():
     ("segment = [[0.195, 90.0]]", ["segment is not a key"]),
     ("radius = 2.5", ["segments (or vertices) is missing"]),
     ("segments = [[0.195, 90.0]", ["not valid TOML"]),
+    ("vertices = [[0.0, 0.0], [0.0, 0.2], [0.0, 0.2]]", ["vertices[2] = vertices[1] = (0, 0.2) m", "zero length"]),
+    ("segments = [[0.195, 90.0], [0.1, 200.0]]", ["segments[1].angle = 200 deg", "backwards"]),
 ])
 def test_flight_bad_profile(tmp_path, text, words):
     p = tmp_path / "bad.toml"
@@ -82,6 +84,7 @@ def test_flight_bad_profile(tmp_path, text, words):
     assert res.exit_code == 2, res.output
     lines = [ln for ln in res.output.strip().splitlines() if ln]
     assert len(lines) == 1 and lines[0].startswith("error:") and all(w in lines[0] for w in words), res.output
+    assert lines[0].count(str(p)) <= 1, res.output          # the file named once (the keys after it)
 
 
 def test_flight_profile_and_two_section_options_conflict(tmp_path):

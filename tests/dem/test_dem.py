@@ -359,3 +359,19 @@ def test_finite_particle_case_bad_input(tmp_path, ov, match):
     with pytest.raises(ValueError, match=match):
         Simulation(_template(tmp_path), {**ov, "thermal.enabled": False, "geometry.finite_particle": True}
                    ).transport_model()
+
+
+@pytest.mark.parametrize("d", [0.00085, 0.0011, 0.0019])
+def test_the_advised_diameter_is_accepted(d):
+    """A slice over the particle limit names the smallest diameter it allows, rounded up (3 digits), so that
+    giving it is accepted (rounded to the nearest, it could still be over the limit)."""
+    import re
+
+    from rotarydryer.geometry.presets import preset_drum
+
+    drum, _ = preset_drum("invicta")
+    with pytest.raises(ValueError, match="give --diameter >= ") as exc:
+        build_slice(drum, Particles(diameter=d), rpm=3.0, loading=1.0)
+    advised = float(re.search(r"--diameter >= ([0-9.e-]+) m", str(exc.value)).group(1))
+    s = build_slice(drum, Particles(diameter=advised), rpm=3.0, loading=1.0, record_revolutions=0.05)
+    assert s.n_particles <= 200000
