@@ -17,6 +17,7 @@ the slave, so the FMU is meant for the machine (environment) that built it.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import sys
 import tempfile
@@ -149,7 +150,10 @@ def build_fmu(case, out, overrides=None, progress=None) -> Path:
     src = SLAVE_TEMPLATE.format(paths=paths, inputs=INPUTS, outputs=OUTPUTS, case=case_ref,
                                 overrides=json.dumps(overrides or {}), starts=st.inputs, out_starts=st.outputs)
     with tempfile.TemporaryDirectory() as tmp:
-        script = Path(tmp) / "rotary_dryer_fmu.py"
+        # a module name of this export's own: an FMU's Python slave is imported by its module's name, and a
+        # second FMU with the same name in one process (two dryers in one co-simulation) would get the first's
+        tag = hashlib.sha256(src.encode("utf-8")).hexdigest()[:12]
+        script = Path(tmp) / f"rotary_dryer_fmu_{tag}.py"
         script.write_text(src, encoding="utf-8")
         dest = Path(tmp) / "build"
         dest.mkdir()

@@ -76,3 +76,25 @@ def test_fmu_driven_by_fmpy_with_a_schedule_matches_rotarydryer_dynamics(fmu_pat
         np.testing.assert_allclose(out[k], e, rtol=1e-6, atol=0, err_msg=k)
     pm = np.array(series["product_moisture_kg_kg"])
     assert pm.max() > pm[0] + 0.02          # the trip moved the plant
+
+
+def test_two_fmus_in_one_process_run_their_own_dryers(fmu_path, tmp_path):
+    """Two exported dryers in one co-simulation process (fmpy loads both here): each runs its own case. Each export's
+    Python slave has a module of its own (before: the second FMU imported the first's cached module and ran the
+    first's dryer)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    other = tmp_path / "song.fmu"
+    res = CliRunner().invoke(app, ["fmu", "song2003_ottawa", "-o", str(other)])
+    assert res.exit_code == 0, res.output
+    runs = {}
+    for path in (fmu_path, other):          # the MMG FMU first: its module is loaded before Song's
+        out = fmpy.simulate_fmu(str(path), start_time=0.0, stop_time=120.0, step_size=60.0, output_interval=60.0,
+                                output=list(OUTPUTS))
+        runs[path.name] = out
+    song = DryerStepper("song2003_ottawa", {}).outputs
+    for k in OUTPUTS:
+        assert runs["song.fmu"][k][0] == pytest.approx(song[k], rel=1e-6, abs=1e-12), k
+    assert runs["song.fmu"]["holdup"][0] < 0.01 * runs["dryer.fmu"]["holdup"][0]     # a pilot drum, not MMG
