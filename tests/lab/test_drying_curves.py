@@ -229,3 +229,26 @@ def test_cli_material_runs_in_a_new_case(tmp_path, monkeypatch):
     assert res.exit_code == 0, res.output
     out = json.loads(res.output[res.output.index("{"):])
     assert 0.0 < out["product_moisture_kg_kg"] < 0.15
+
+
+def test_too_few_points_for_any_aicc_rank_by_aic_and_a_flat_curve_is_refused(tmp_path):
+    """Two curves of three points each (four after time 0): no law has an AICc, so the ranking, its differences and
+    weights are AIC's, and the text says so (before: 'weight nan' and 'lowest AICc'); a curve that does not dry
+    is refused naming it (before: fitted, with R^2 nan and k = 1.7e-13 1/s)."""
+    rows = ["time_min,moisture_kg_kg_dry,air_temperature_degC,curve"]
+    for temp, k in ((50, 0.0139), (70, 0.0275)):
+        rows += [f"{t},{0.8 * np.exp(-k * t):.6f},{temp},c{temp}" for t in (0, 100, 200)]
+    p = tmp_path / "few.csv"
+    p.write_text("\n".join(rows) + "\n")
+    r = dc.fit_models(dc.read_drying_csv(p))
+    assert r.criterion == "AIC" and r.as_dict()["ranking_criterion"] == "AIC"
+    w = [r.akaike_weight(m) for m in r.fits]
+    assert all(np.isfinite(w)) and sum(w) == pytest.approx(1.0)
+    res = CliRunner().invoke(app, ["lab", "drying", str(p)])
+    assert res.exit_code == 0, res.output
+    assert "nan" not in res.output and "(lowest AIC; no law has an AICc with 4 points after time 0)" in res.output
+    flat = tmp_path / "flat.csv"
+    flat.write_text("time_min,moisture_kg_kg_dry,air_temperature_degC,curve\n" +
+                    "".join(f"{t},0.5,60,c0\n" for t in (0, 10, 20, 30, 40, 50)))
+    res = CliRunner().invoke(app, ["lab", "drying", str(flat)])
+    assert res.exit_code == 2 and "curve 'c0' does not dry" in res.output

@@ -443,11 +443,13 @@ def _print_drying(curves, result, chosen, written, material_out, table) -> None:
                f"({int((curves.time_s > 0).sum())} fitted after time 0)")
     typer.echo(f"  moisture ratio MR = (X - X_e)/(X_0 - X_e); rate constants at T_ref = "
                f"{result.reference_temperature_K:.2f} K ({result.reference_temperature_K - 273.15:.2f} degC), Arrhenius")
-    typer.echo("  rank  model              p    RMSE      R^2       AIC      AICc       BIC   dAICc  weight")
+    crit = result.criterion       # AICc, or AIC where no law has enough points for AICc
+    typer.echo(f"  rank  model              p    RMSE      R^2       AIC      AICc       BIC  {'d' + crit:>6s}  weight")
     for i, (m, f) in enumerate(result.fits.items(), start=1):
         finite = f.aicc != float("inf")
         aicc = f"{f.aicc:9.1f}" if finite else "        -"
-        delta = f"{result.delta_aicc(m):6.2f}" if finite else "     -"
+        d = result.delta_aicc(m)
+        delta = f"{d:6.2f}" if d != float("inf") else "     -"
         typer.echo(f"  {i:<4d}  {m:<17s} {f.n_parameters:2d}  {f.rmse:8.5f}  {f.r_squared:8.5f}  {f.aic:8.1f} {aicc}"
                    f"  {f.bic:8.1f}  {delta}  {result.akaike_weight(m):6.3f}")
     for m, why in result.skipped.items():
@@ -456,8 +458,10 @@ def _print_drying(curves, result, chosen, written, material_out, table) -> None:
     for m, g in result.fits.items():
         if g.law_problem is not None:
             typer.echo(f"  not a drying law, not chosen: {m} ({g.law_problem})")
-    how = ("lowest AICc" if chosen == result.best.model else "--model" if result.best_law is None
-           or chosen != result.best_law.model else "lowest AICc of the drying laws")
+    how = (f"lowest {crit}" if chosen == result.best.model else "--model" if result.best_law is None
+           or chosen != result.best_law.model else f"lowest {crit} of the drying laws")
+    if crit == "AIC":
+        how += f"; no law has an AICc with {int((curves.time_s > 0).sum())} points after time 0"
     typer.echo(f"  chosen: {chosen} ({how}), {MODELS[chosen].equation}; 95 % intervals:")
     for k, e in f.parameters.items():
         typer.echo(f"    {k:4s} = {e.value:.5g} {e.unit:6s} [{e.ci_low:.5g}, {e.ci_high:.5g}]")

@@ -203,6 +203,10 @@ def _check_curves(name, ids, rows, lines):
             raise ValueError(f"{where(j)}: the moisture rises to {fmt_number(x[j])} kg/kg dry after "
                              f"{fmt_number(low)} in curve {cid!r} (moisture ratio +{rise[j]:.3f}); a drying curve may "
                              f"rise by at most {RISE_TOLERANCE:g} of its free moisture X_0 - X_e (weighing noise)")
+        if mr[-1] > 1.0 - RISE_TOLERANCE:
+            raise ValueError(f"{where(len(x) - 1)}: curve {cid!r} does not dry: its moisture goes from "
+                             f"{fmt_number(x0)} to {fmt_number(x[-1])} kg/kg dry, less than {RISE_TOLERANCE:g} of its "
+                             "free moisture X_0 - X_e (weighing noise); nothing to fit a drying rate to")
         if np.any(mr < -RISE_TOLERANCE):
             j = int(np.nonzero(mr < -RISE_TOLERANCE)[0][0])
             raise ValueError(f"{where(j)}: the moisture {fmt_number(x[j])} kg/kg dry of curve {cid!r} is below its "
@@ -464,13 +468,22 @@ class DryingFit:
         """The lowest AICc among the fits that are drying laws (`ModelFit.law_problem` None), or None."""
         return next((f for f in self.fits.values() if f.law_problem is None), None)
 
+    @property
+    def criterion(self) -> str:
+        """The ranking's criterion: ``"AICc"``, or ``"AIC"`` where no law has an AICc (too few points for the
+        small-sample correction of any law, n <= p + 2: the ranking is then by AIC)."""
+        return "AICc" if math.isfinite(self.best.aicc) else "AIC"
+
     def delta_aicc(self, model: str) -> float:
-        """AICc of ``model`` minus the best's (inf where AICc is undefined, n <= p + 2)."""
+        """The ranking criterion (`criterion`) of ``model`` minus the best's: AICc (inf where it is undefined,
+        n <= p + 2), or AIC where no law has an AICc."""
         f = self.fits[model]
+        if self.criterion == "AIC":
+            return f.aic - self.best.aic
         return math.inf if not math.isfinite(f.aicc) else f.aicc - self.best.aicc
 
     def akaike_weight(self, model: str) -> float:
-        """exp(-dAICc/2) normalised over the fitted laws (0 where AICc is undefined)."""
+        """exp(-delta/2) of the ranking criterion normalised over the fitted laws (0 where it is undefined)."""
         w = {m: math.exp(-0.5 * self.delta_aicc(m)) if math.isfinite(self.delta_aicc(m)) else 0.0 for m in self.fits}
         return w[model] / sum(w.values()) if sum(w.values()) > 0 else math.nan
 
@@ -481,6 +494,7 @@ class DryingFit:
                             "akaike_weight": _finite(self.akaike_weight(m)), "drying_law": f.law_problem is None,
                             "law_problem": f.law_problem} for i, (m, f) in enumerate(self.fits.items())],
                 "skipped": [{"model": m, "reason": r} for m, r in self.skipped.items()],
+                "ranking_criterion": self.criterion,
                 "best": self.best.model, "best_drying_law": None if self.best_law is None else self.best_law.model}
 
 
