@@ -273,7 +273,9 @@ class Simulation:
         case without a gas is refused, the transport's feasibility (critical speed, fill) checked
         first. ``progress("steady state ...")`` before the solve."""
         if not self.thermal_enabled:
-            raise ValueError(f"case {self.case_name!r} has no [gas] block: {run} needs the heat-and-mass model")
+            why = ("has no [gas] block" if self.case.gas is None
+                   else "has the heat-and-mass model switched off (thermal.enabled = false)")
+            raise ValueError(f"case {self.case_name!r} {why}: {run} needs the heat-and-mass model")
         if progress:
             progress("steady state ...")
         self.transport_steady_state()

@@ -98,3 +98,17 @@ def test_two_fmus_in_one_process_run_their_own_dryers(fmu_path, tmp_path):
     for k in OUTPUTS:
         assert runs["song.fmu"][k][0] == pytest.approx(song[k], rel=1e-6, abs=1e-12), k
     assert runs["song.fmu"]["holdup"][0] < 0.01 * runs["dryer.fmu"]["holdup"][0]     # a pilot drum, not MMG
+
+
+def test_fmu_of_a_case_with_the_thermal_model_off_says_so(tmp_path):
+    """A case with a [gas] block and thermal.enabled = false: the refusal says the model is switched off (before:
+    'has no [gas] block', which the case has)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["fmu", "lee2008_invicta", "--set", "thermal.enabled=false", "-o",
+                                   str(tmp_path / "x.fmu")])
+    assert res.exit_code == 2
+    assert "has the heat-and-mass model switched off (thermal.enabled = false)" in res.output
+    assert not (tmp_path / "x.fmu").exists()
