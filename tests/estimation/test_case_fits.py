@@ -1,5 +1,6 @@
 """Issue 4 acceptance: fits of case parameters to published tracer curves."""
 
+import dataclasses
 import warnings
 
 import pytest
@@ -87,5 +88,9 @@ def test_raw_signal_needs_scale_fit():
     assert rtd.load_tracer_dataset("lee2008_invicta").rate_factor == pytest.approx(1 / 3600)
     with pytest.raises(ValueError, match="signal_unit = 'ppm'.*scale='fit'"):
         fit_case_to_tracer("ajayi2011_mmg", data, ["transport.dispersion"], base_overrides={"operating.test": 4})
+    # a file with no unit at all: the message says what line to add, or the option to give
+    bare = dataclasses.replace(data, metadata={k: v for k, v in data.metadata.items() if k != "signal_unit"})
+    with pytest.raises(ValueError, match=r"the file gives no signal unit: .*'# signal_unit: 1/s' line.*--scale fit"):
+        fit_case_to_tracer("ajayi2011_mmg", bare, ["transport.dispersion"], base_overrides={"operating.test": 4})
     with pytest.raises(ValueError, match="scale"):
         fit_case_to_tracer("ajayi2011_mmg", data, ["transport.dispersion"], scale="bogus")

@@ -117,9 +117,11 @@ def _relative_times(data, scale: str = "known"):
     if rate is not None:
         y = y * rate
     elif scale == "known":
+        given = ("the file gives no signal unit" if data.signal_unit is None
+                 else f"signal_unit = {data.signal_unit!r} is not a normalised RTD (1/s, 1/min, 1/h)")
         raise ValueError(
-            f"signal_unit = {data.signal_unit!r} is not a normalised RTD (1/s, 1/min, 1/h): fit a raw "
-            "concentration with scale='fit'"
+            f"{given}: a curve in 1/s needs a '# signal_unit: 1/s' line (or 1/min, 1/h) above its header; fit a raw "
+            "concentration with --scale fit (scale='fit')"
         )
     return t[keep], y[keep]
 
