@@ -109,7 +109,7 @@ def export(
     from ..geometry import FlightedDrum, PolygonFlight, TwoSectionFlight
     from ..geometry.presets import read_profile
 
-    check_range("--scale (scale)", scale, 0.0, 100.0, unit="-")
+    check_range("--scale (scale)", scale, 0.0, 100.0)
     for key, v in (("--layers (layers)", layers), ("--settle-time (settle_time)", settle_time),
                    ("--spinup (spinup)", spinup), ("--revolutions (revolutions)", revolutions),
                    ("--dump-every (dump_every)", dump_every)):

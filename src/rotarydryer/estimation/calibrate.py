@@ -231,7 +231,8 @@ def measurements(case_name: str, tests: Sequence[int] | None = None, responses: 
     have = {m.response for m in out}
     for r in wanted if strict else ():
         if r not in have and r in missing:     # asked for, and none of the tests has it
-            where = "its [tracer] (dataset or measured)" if r == "tracer" else f"[[tests]] {RESPONSES[r][2]}"
+            where = ("tracer curve ([tracer] dataset or measured)" if r == "tracer"
+                     else f"[[tests]] {RESPONSES[r][2]}")
             who = (f"case {case_name!r} (no [[tests]] rows)" if missing[r] == [None] else
                    f"{'test ' if len(missing[r]) == 1 else 'tests '}{', '.join(str(x) for x in missing[r])} of case "
                    f"{case_name!r}")
