@@ -80,27 +80,3 @@ def test_incomplete_flighted_section_named(tmp_path):
     load_case(path, thesis)  # the regressions do not need s1
     with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.s1 is missing"):
         load_case(path, {"operating.test": 4})
-
-
-def test_a_test_row_overridden_by_operating_warns(tmp_path):
-    """A user case (the `rotarydryer new` template, whose [operating] gives the feed and speed) with [[tests]] rows
-    at other speeds: the run of a row is at the [operating] values, which win; a warning names the keys and what to
-    do (before: silent, so a calibration over the rows ran every test at one point). Shipped cases leave those keys
-    to their rows: no warning."""
-    import warnings
-    from importlib import resources
-
-    from rotarydryer import Simulation
-
-    text = (resources.files("rotarydryer.cases") / "templates" / "dryer.toml").read_text()
-    text += ("\n[[tests]]\ntest = 1\nfeed_rate = 2.5\nrpm = 4.0\nfeed_moisture = 0.06\n"
-             "\n[[tests]]\ntest = 2\nfeed_rate = 2.5\nrpm = 4.5\nfeed_moisture = 0.06\n")
-    p = tmp_path / "rows.toml"
-    p.write_text(text)
-    with pytest.warns(UserWarning, match=r"operating.test = 2 runs at the case's operating.rpm = 4 instead of its "
-                                         r"4.5: .*delete them from \[operating\]"):
-        Simulation(str(p), {"operating.test": 2}).transport_steady_state()
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", UserWarning)
-        Simulation(str(p), {"operating.test": 1}).transport_steady_state()      # the row's own values: no warning
-        Simulation("ajayi2011_mmg", {"operating.test": 2}).transport_steady_state()

@@ -267,20 +267,7 @@ def check_inputs(case) -> None:
       rev/min ([`rotarydryer.geometry.check_speed`][rotarydryer.geometry.check_speed]; a warning above half of it);
     * the material's bulk density at the feed moisture in `BULK_DENSITY_RANGE`;
     * each flight fits the drum: its base shorter than the radius.
-
-    Warns (`UserWarning`) where the selected [[tests]] row's feed rate, speed or feed moisture differ from
-    values the case gives in [operating], which win: the run is then not at that test's operating point.
     """
-    row = test_row(case)
-    if row is not None:
-        o = case.operating
-        differ = [f"operating.{k} = {fmt_number(getattr(o, k))} instead of its {fmt_number(getattr(row, k))}"
-                  for k in ("feed_rate", "rpm", "feed_moisture")
-                  if getattr(o, k) is not None and not math.isclose(getattr(o, k), getattr(row, k), rel_tol=1e-9)]
-        if differ:
-            warnings.warn(f"operating.test = {row.test} runs at the case's {', '.join(differ)}: values given in "
-                          "[operating] (or by --set) win over the test row's; delete them from [operating] to run "
-                          "each test at its own", UserWarning, stacklevel=2)
 
     d = case.drum
     R = float(check_key("drum.radius", d.radius))
