@@ -1,9 +1,12 @@
 """Malformed case files: one readable message per problem, with the file line; exit code 2."""
 
+import re
+
 import pytest
 from typer.testing import CliRunner
 
 from rotarydryer.cases import load_case
+from rotarydryer.cases.build import rows_shadowed
 from rotarydryer.cli import app
 
 BAD = """kind = "lee2008"
@@ -80,3 +83,37 @@ def test_incomplete_flighted_section_named(tmp_path):
     load_case(path, thesis)  # the regressions do not need s1
     with pytest.raises(ValueError, match=r"sections\[1\] \(B\)\.s1 is missing"):
         load_case(path, {"operating.test": 4})
+
+
+def test_test_rows_shadowed_by_the_case_files_operating_are_named(tmp_path):
+    """A user case (the `rotarydryer new` template, whose [operating] gives the feed and speed) with [[tests]] rows at
+    other speeds: each row runs at the [operating] values, which win. `calibrate` (first of the fit's warnings) and
+    `validate` (a case note and a warning) name the rows and keys and say what to do (before: silent, so a calibration
+    over the rows ran every test at one operating point). Values given by the caller (--set operating.rpm) are the
+    caller's choice: no note; nor for a shipped case, whose rows give their own operating points."""
+    import warnings
+    from importlib import resources
+
+    from rotarydryer.estimation.calibrate import calibrate
+    from rotarydryer.validate import run_validation
+
+    text = (resources.files("rotarydryer.cases") / "templates" / "dryer.toml").read_text()
+    text += ("\n[[tests]]\ntest = 1\nfeed_rate = 2.5\nrpm = 4.0\nfeed_moisture = 0.06\ngas_outlet_temperature = 80.0\n"
+             "\n[[tests]]\ntest = 2\nfeed_rate = 2.5\nrpm = 4.5\nfeed_moisture = 0.06\ngas_outlet_temperature = 82.0\n")
+    p = tmp_path / "rows.toml"
+    p.write_text(text)
+    said = (r"\[\[tests\]\] row 2 run at the case's operating.rpm = 4, not at its own: values in \[operating\] win over "
+            r"a row's; delete those keys from \[operating\]")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate(str(p), ["thermal.area_scale"])
+        assert re.match(said, cal.fit.warnings[0])
+        rep = run_validation([str(p)])
+        assert re.match(said, rep.case_notes[str(p)])
+        assert rows_note(calibrate(str(p), ["thermal.area_scale"], base_overrides={"operating.rpm": 4.0})) is None
+        assert str(p) not in run_validation([str(p)], {"operating.rpm": 4.0}).case_notes
+    assert rows_shadowed(load_case("ajayi2011_mmg")) is None
+
+
+def rows_note(cal):
+    return next((w for w in cal.fit.warnings if "[[tests]] row" in w), None)

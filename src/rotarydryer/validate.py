@@ -47,7 +47,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from . import _jit
 from .cases import list_cases, load_case, measured_rtd_moments
-from .cases.build import thermal_enabled
+from .cases.build import rows_shadowed, thermal_enabled
 from .published import read_published_csv
 from .results import rtd_comparison
 from .simulation import Simulation
@@ -804,6 +804,10 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
                 raise ValueError(f"{name}: no steady state ({' '.join(str(exc).split())})") from None
             notes[name] = ("no measured or published data (no [[tests]] rows, no measured tracer curve, no published "
                            "items): 0 items; its steady state solves")
+        shadow = rows_shadowed(loaded[name], sets)
+        if shadow and found:
+            notes[name] = shadow
+            warnings.warn(f"{name}: {shadow}", UserWarning, stacklevel=2)
         items += found
     return ValidationReport(items=items, cases=list(dict.fromkeys(names)), overrides=sets, case_notes=notes,
                             tolerances_file=str(tolerances) if tolerances is not None else TOLERANCES_FILE,

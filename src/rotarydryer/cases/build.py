@@ -189,6 +189,35 @@ def test_row(case):
     return None if t is None else next(r for r in case.tests if r.test == t)
 
 
+ROW_OPERATING_KEYS = ("feed_rate", "rpm", "feed_moisture")
+
+
+def rows_shadowed(case, overrides=None) -> str | None:
+    """A sentence naming the [[tests]] rows whose feed rate, speed or feed moisture the case file's
+    [operating] overrides (its values win, `operating_point`), or None.
+
+    Keys given in ``overrides`` (``--set operating.rpm``) are the user's choice and not counted. Used where
+    a command runs every row (calibrate, validate): a case made with ``rotarydryer new`` gives those keys,
+    so each row would silently run at one operating point."""
+    given = set(overrides or {})
+    o = case.operating
+    hits: dict[str, list[int]] = {}
+    for k in ROW_OPERATING_KEYS:
+        v = getattr(o, k)
+        if v is None or f"operating.{k}" in given:
+            continue
+        tests = [r.test for r in case.tests if getattr(r, k, None) is not None
+                 and not math.isclose(float(getattr(r, k)), float(v), rel_tol=1e-9)]
+        if tests:
+            hits[f"operating.{k} = {fmt_number(v)}"] = tests
+    if not hits:
+        return None
+    tests = sorted({t for ts in hits.values() for t in ts})
+    return (f"[[tests]] row{'s' if len(tests) > 1 else ''} {', '.join(map(str, tests))} run at the case's "
+            f"{', '.join(hits)}, not at {'their' if len(tests) > 1 else 'its'} own: values in [operating] win over "
+            "a row's; delete those keys from [operating] to run each test at its row's values")
+
+
 def _from_test(case, value, field):
     row = test_row(case)
     return value if value is not None or row is None else getattr(row, field)

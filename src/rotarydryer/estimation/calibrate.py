@@ -41,7 +41,7 @@ from ..cases import (
     resolve_dataset,
     valid_override_keys,
 )
-from ..cases.build import cascade_law, law_coefficient, test_row, thermal_settings
+from ..cases.build import cascade_law, law_coefficient, rows_shadowed, test_row, thermal_settings
 from ..cases.calibration import TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
 from ..executor import Executor
 from ..published import read_published_csv
@@ -574,6 +574,9 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
 
     res = fit(model, params, datasets, method="wls", n_starts=n_starts, seed=seed, progress=on_start,
               executor=executor)
+    shadow = rows_shadowed(case, base) if any(t is not None for t in sel) else None
+    if shadow:          # every test ran at the [operating] values: first among the fit's warnings
+        res.warnings.insert(0, shadow)
     profiles = {}
     names = keys if profile is True else list(profile or [])
     for i, k in enumerate(names):
