@@ -148,3 +148,36 @@ def test_multistart_on_worker_processes_gives_the_serial_fit_bit_for_bit():
     assert a.values == b.values and a.objective == b.objective and a.n_evaluations == b.n_evaluations
     assert [s.objective for s in a.starts] == [s.objective for s in b.starts]
     assert seen == [(k, 5) for k in range(1, 6)]
+
+
+def test_a_parameter_the_model_pins_is_refused_with_the_models_reason():
+    """A parameter whose only allowed value is its start (transport.backmix in a co-current drum): every step
+    from the start is refused, the refusals' constant residual has no gradient and the solver reported
+    "`gtol` termination condition is satisfied" as the reason (found by fuzzing). The error now gives the
+    model's own reason, once when every start ends the same way."""
+    def pinned(v):
+        if v["c"] != 0.0:
+            raise ValueError("c must be 0 here")
+        return T * v["d"]
+
+    for n, who in ((1, "the only start"), (3, "all 3 starts")):
+        with pytest.raises(FitError, match=rf"no start converged \({who}\): the model refused the parameters it "
+                                           r"ended at \(c must be 0 here\)$"):
+            fit(pinned, [Parameter("c", 0.0, 0.0, 1.0)], Dataset("y", 2.0 * T), fixed={"d": 1.0}, n_starts=n)
+
+
+def test_an_interval_never_leaves_the_parameters_range_and_a_cut_is_said():
+    """A weakly identified parameter: the linearised interval (symmetric in z) would leave the bounds (a
+    fouling fraction of [-769, 770], an area scale of [0, inf], found by fuzzing). It is cut to the bounds and
+    a warning says so; a well-determined one is untouched, with no note."""
+    flat = lambda v: 1.0 + 1e-4 * v["a"] * np.exp(-T)             # noqa: E731 - y hardly depends on a
+    y = flat({"a": 0.5})
+    with pytest.warns(IdentifiabilityWarning, match=r"a: its 95 % interval \[.*\] leaves the allowed range \[0, 1\] "
+                                                    r"and is cut to it"):
+        r = fit(flat, [Parameter("a", 0.5, 0.0, 1.0)], Dataset("y", y, sigma=np.full(T.size, 0.01)))
+    p = r.parameters["a"]
+    assert (p.ci_low, p.ci_high) == (0.0, 1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", IdentifiabilityWarning)
+        r = fit(gamma_rtd, PARAMS, Dataset("E", gamma_rtd({"tau": 5.0, "n": 6.0}) * (1 + 0.01 * np.sin(5 * T))))
+    assert 0.5 < r.parameters["tau"].ci_low < 5.0 < r.parameters["tau"].ci_high < 20.0

@@ -519,7 +519,11 @@ def fit(
         if out["start"].success and out["start"].objective < best_obj:
             best, best_obj, best_weights = out["res"], out["start"].objective, out["weights"]
     if best is None:
-        raise FitError("no start converged: " + "; ".join(f"start {i + 1}: {s.message}" for i, s in enumerate(starts)))
+        msgs = [s.message for s in starts]
+        if len(set(msgs)) == 1:
+            raise FitError(f"no start converged ({'the only start' if len(msgs) == 1 else f'all {len(msgs)} starts'}): "
+                           f"{msgs[0]}")
+        raise FitError("no start converged: " + "; ".join(f"start {i + 1}: {m}" for i, m in enumerate(msgs)))
     problem.weights = best_weights
     return _summarise(problem, best, best_obj, starts, time.perf_counter() - t0)
 
@@ -540,6 +544,10 @@ def _run_start(z0, spec) -> dict:
         obj = _objective(problem, res)
         ok = bool(res.success) and math.isfinite(obj) and float(np.sum(res.fun**2)) < 0.5 * penalty_cost
         msg = res.message
+        if not ok and problem.infeasible and float(np.sum(res.fun**2)) >= 0.5 * penalty_cost:
+            # the search ended where the model refuses the parameters (the constant residual of a refusal has no
+            # gradient, so the solver reports convergence): say what the model refused
+            msg = f"the model refused the parameters it ended at ({problem.last_infeasible})"
     except (FloatingPointError, ValueError, FitError) as exc:
         res, obj, ok, msg = None, math.inf, False, f"model failed: {exc}"
     return dict(start=StartResult(start_vals, obj, ok, problem.n_eval, str(msg)), res=res if ok else None,
@@ -605,6 +613,17 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             lo, hi = float(unc.ci_low[i]), float(unc.ci_high[i])
         if not np.isfinite(se) or se > 1e6 * max(abs(v), 1e-12):
             notes.append(f"{q.name}: standard error {se:.3g} is huge relative to the estimate; flat objective")
+        elif lo < q.lower or hi > q.upper:
+            # a linearised interval is symmetric in z; the parameter cannot leave its range, so neither does its
+            # interval (the note says it was cut)
+            if not at_bound:
+                notes.append(f"{q.name}: its 95 % interval [{lo:.3g}, {hi:.3g}] leaves the allowed range "
+                             f"[{q.lower:.6g}, {q.upper:.6g}] and is cut to it: the data constrain it weakly")
+        elif q.log and 2.0 * 1.959964 * float(sd_z[i]) > math.log(1e4):
+            # a log parameter's interval spanning more than four decades: the data hardly see it
+            notes.append(f"{q.name}: its 95 % interval [{lo:.3g}, {hi:.3g}] spans more than four decades: the data "
+                         "hardly depend on it (not identifiable here)")
+        lo, hi = max(lo, q.lower), min(hi, q.upper)
         est[q.name] = ParameterEstimate(v, float(se), float(lo), float(hi), at_bound)
     # covariance in natural space
     jac_t = np.array([float(q.from_z(z[i])) if q.log else 1.0 for i, q in enumerate(params)])
