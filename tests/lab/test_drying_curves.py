@@ -12,7 +12,7 @@ import rotarydryer.cli.lab  # noqa: F401  (registers the sub-app)
 from rotarydryer.cli import app
 from rotarydryer.lab import drying_curves as dc
 from rotarydryer.properties import thin_layer as tl
-from rotarydryer.properties.materials import load_material
+from rotarydryer.properties.materials import library_table, load_material
 from rotarydryer.thermal import balances
 
 runner = CliRunner()
@@ -252,3 +252,16 @@ def test_too_few_points_for_any_aicc_rank_by_aic_and_a_flat_curve_is_refused(tmp
                     "".join(f"{t},0.5,60,c0\n" for t in (0, 10, 20, 30, 40, 50)))
     res = CliRunner().invoke(app, ["lab", "drying", str(flat)])
     assert res.exit_code == 2 and "curve 'c0' does not dry" in res.output
+
+
+def test_material_range_reaches_the_curves_moisture(example_fit):
+    """The lab curves start at X_0 = 0.3 kg/kg dry (0.231 wet), above the base sand's moisture_range [0, 0.2] wet:
+    the written material kept the base's range, so a case fed at the curves' own moisture was refused (found by
+    fuzzing). The range now reaches the curves' and the kinetics source says it was widened; the material loads."""
+    base = library_table("ottawa_sand_song2003")["moisture_range"]
+    assert list(base) == [0.0, 0.2]
+    table = dc.material_table(example_fit, "page", "ottawa_sand_song2003", name="my_ore")
+    assert table["moisture_range"] == pytest.approx([0.0, 0.3 / 1.3])
+    assert "moisture_range widened from the base's [0, 0.2] to the curves' [0, 0.2308] kg/kg wet" in \
+        table["kinetics"]["source"]
+    assert load_material(table).moisture_range == pytest.approx((0.0, 0.3 / 1.3))

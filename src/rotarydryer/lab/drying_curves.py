@@ -711,6 +711,18 @@ def material_table(drying_fit: DryingFit, model: str, base_material: str, *, nam
                    f"{f.rmse:.3g} in MR, rate constants at {f.reference_temperature_K:g} K, X_0 and X_e the means of "
                    "the curves'"),
     }
+    # the law holds over the curves' moisture: the material's range must reach it (the base's range alone would
+    # refuse a feed at the curves' own initial moisture); the base's moisture laws are then extrapolated there
+    basis = table.get("moisture_basis", "wet")
+    xs = np.array([float(np.min(c.equilibrium_moisture)), float(np.max(c.initial_moisture))])   # kg/kg dry
+    xs = xs / (1.0 + xs) if basis == "wet" else xs
+    lo0, hi0 = (float(v) for v in table["moisture_range"])
+    lo, hi = min(lo0, float(xs[0])), max(hi0, float(xs[1]))
+    if (lo, hi) != (lo0, hi0):
+        table["moisture_range"] = [lo, hi]
+        table["kinetics"]["source"] += (f"; moisture_range widened from the base's [{lo0:g}, {hi0:g}] to the curves' "
+                                        f"[{lo:.4g}, {hi:.4g}] kg/kg {basis} (the base's repose angle and bulk density "
+                                        "laws are extrapolated there)")
     try:
         load_material(table)
     except ValueError as exc:
