@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from .._display import fmt, fmt_angle, fmt_error, output_cells, show, show_delta, show_output, unit_of
+from .._display import _finite, fmt, fmt_angle, fmt_error, output_cells, show, show_delta, show_output, unit_of
 from .._io import write_text_atomic
 
 __all__ = ["figure_to_data_uri", "render_report", "build_report", "write_report", "write_html", "resolve_source",
@@ -66,8 +66,8 @@ ol.refs li{margin:3px 0;font-size:.9em}
 
 
 def _is_number(v) -> bool:
-    """A finite number (not None, NaN or a string): a scalar the report can print."""
-    return isinstance(v, (int, float, np.floating)) and not isinstance(v, bool) and bool(np.isfinite(v))
+    """A finite number (not None, NaN, inf or a string, even a numeric one): a scalar the report can print."""
+    return not isinstance(v, (str, bool)) and _finite(v)[0] is not None
 
 def figure_to_data_uri(fig, dpi: int = 96) -> str:
     """PNG ``data:`` URI of a Matplotlib figure; closes the figure."""

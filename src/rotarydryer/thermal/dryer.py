@@ -844,9 +844,7 @@ class ThermalDryer:
         if s.kiln_bed_area and s.mode == "physical" and self._kiln_plan:
             kiln = self._kiln_bed_area(Wt, m)[..., None, :]
             area = area + (kiln if one else kiln * surface)
-        # the gas flow of the nearest physical state, as the humidity of the transfer (clipped there): an
-        # integrator's trial state may carry a humidity below -1, a negative flow and a NaN Reynolds number
-        fg = (self.dry_gas_flow * (1.0 + np.clip(Y, 0.0, ha.Y_MAX)))[..., None, :]
+        fg = self._wet_gas_flow(Y)[0][..., None, :]
         tg, y = Tg[..., None, :], Y[..., None, :]
         if not one:                  # one class: (..., 1, stages) is the shape already
             fg, tg, y = (np.broadcast_to(v, shape) for v in (fg, tg, y))
@@ -877,6 +875,13 @@ class ThermalDryer:
                                    (rw.copy(), qc.copy(), qr.copy()), key)
         return area, rw, qc, qr
 
+    def _wet_gas_flow(self, Y):
+        """(wet gas flow kg/s, humidity kg/kg) per stage at the humidity clipped to its physical range, as the
+        transfer's and the shell's properties take it: an integrator's trial state may carry a humidity below -1,
+        whose unclipped flow is negative (a NaN Reynolds number and a NaN coefficient)."""
+        yc = np.clip(Y, 0.0, ha.Y_MAX)
+        return self.dry_gas_flow * (1.0 + yc), yc
+
     def _shell_loss(self, Tg, Y, Tg_up):
         s = self.settings
         if self._shell_ua is not None:   # lagged coefficient Q = UA (T_g - T_amb), refreshed by the solvers
@@ -902,7 +907,7 @@ class ThermalDryer:
     def _shell_loss_exact_eval(self, Tg, Y, Tg_up):
         s = self.settings
         if s.mode == "ajayi2011":
-            fg = self.dry_gas_flow * (1.0 + np.clip(Y, 0.0, ha.Y_MAX))      # a trial state's humidity clipped
+            fg = self._wet_gas_flow(Y)[0]
             tg = np.clip(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K, 600.0)
             q = ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
                                     np.clip(Tg_up, 0.0, 600.0))
@@ -923,10 +928,8 @@ class ThermalDryer:
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
         slope = self._shell_slope if guess is not None and self._shell_slope is not None and \
             self._shell_slope[0] is guess else None
-        # the gas flow at the same clipped humidity as the gas itself: an integrator's trial state may carry a
-        # humidity below -1 (a negative gas flow, a NaN Reynolds number and a NaN shell coefficient)
-        yc = np.clip(Y, 0, ha.Y_MAX)
-        args = (tg, self.dry_gas_flow * (1.0 + yc), self.gas_len, s.ambient_temperature)
+        fg, yc = self._wet_gas_flow(Y)
+        args = (tg, fg, self.gas_len, s.ambient_temperature)
         kw = dict(gas_humidity=yc, co2_mole_fraction=s.co2_mole_fraction,
                   inner_radius=self.shell_inner_radius, shell_thickness=self.shell_thickness,
                   scale_thickness=s.scale_thickness, scale_conductivity=s.scale_conductivity,
