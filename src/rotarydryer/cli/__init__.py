@@ -12,9 +12,11 @@ import functools
 import os
 import warnings
 
+from .._startup import defer_numpy_submodules
 from .._threads import command_blas_threads
 
 command_blas_threads()      # before NumPy loads (the commands import it): one BLAS thread, no pool to start
+defer_numpy_submodules()    # NumPy's unused submodules are not loaded when SciPy copies its namespace
 
 import click  # noqa: E402
 import typer  # noqa: E402

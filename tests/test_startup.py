@@ -1,0 +1,47 @@
+"""The command line's start: NumPy's unused submodules load on first use, not when SciPy copies NumPy's
+namespace (issue 32 item 4: ``rotarydryer simulate lee2008_invicta --json`` 0.648 -> 0.595 s CPU)."""
+
+import subprocess
+import sys
+
+from rotarydryer._startup import DEFERRED_NUMPY_SUBMODULES
+
+PROBE = """
+import sys
+from rotarydryer.cli import app             # installs the deferral before NumPy loads
+try:
+    app(["simulate", "lee2008_invicta", "--json"], prog_name="rotarydryer")
+except SystemExit as exc:
+    assert not exc.code, exc.code
+print()
+print("ran:" + ",".join(n for n in {names!r} if type(sys.modules.get(n)).__name__ != "_LazyModule"))
+import numpy
+import numpy.ma
+from numpy.testing import assert_allclose   # a deferred module loads on first use and works
+assert int(numpy.ma.masked_array([1, 2, 3], mask=[0, 1, 0]).sum()) == 4
+assert_allclose(numpy.random.default_rng(0).random(2).shape, (2,))
+assert numpy.polynomial.Polynomial([1, 2])(1.0) == 3.0
+print(type(sys.modules["numpy.ma"]).__name__)
+"""
+
+
+def _run(code):
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    return r.stdout.splitlines()
+
+
+def test_numpys_unused_submodules_are_not_run_by_a_command():
+    """`rotarydryer simulate lee2008_invicta --json`: after SciPy's namespace copy and the coupled steady state, the
+    two costly deferred submodules have not run (f2py 38 ms, testing 35 ms; SciPy itself uses numpy.random); every
+    deferred one works on first use."""
+    *_, ran, after = _run(PROBE.format(names=DEFERRED_NUMPY_SUBMODULES))
+    ran = ran[4:].split(",")
+    assert "numpy.f2py" not in ran and "numpy.testing" not in ran, ran
+    assert after == "module"                   # numpy.ma ran on its first attribute access
+
+
+def test_without_the_command_line_nothing_is_deferred():
+    """The library alone (no CLI import) leaves NumPy's imports as they are."""
+    out = _run("import sys, rotarydryer, scipy.sparse; print(type(sys.modules['numpy.f2py']).__name__)")
+    assert out == ["module"]
