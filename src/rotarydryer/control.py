@@ -554,12 +554,23 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         # dynamic feed-forward, Seborg et al. (2011) Ch. 15:
         # Gf = -(Kd/Ku) (tau_u s+1)/(tau_d s+1) exp(-(theta_d-theta_u) s); the lead-lag and dead time are
         # replaced by one delay that matches the times to half response, theta + ln2 tau, of the disturbance
-        # path and of the slowest manipulated path (a lead-lag kicks the saturating split range too hard)
-        mu = max([mT] + ([mF] if cfg.feed_backup else []),
-                 key=lambda m: m.dead_time_s + math.log(2) * m.time_constant_s)
-        ff_delay = max(0.0, (mX.dead_time_s + math.log(2) * mX.time_constant_s)
-                       - (mu.dead_time_s + math.log(2) * mu.time_constant_s))
-        tuning["feedforward_delay_s"] = ff_delay
+        # path and of the slowest manipulated path that acts (a lead-lag kicks the saturating split range too
+        # hard). Each measured disturbance has its own path (feed moisture, feed rate), and the ranges that act
+        # are those the feed-forward's final value needs: the gas range alone when it suffices, both when the gas
+        # saturates. (Before: the feed moisture's path for every disturbance and the slower range always, so
+        # that on a dryer with a slow feed path the fast gas range acted up to 1 000 s before the disturbance
+        # reached the product, worse than no control.) Scheduled inputs without an identified path (speed, gas
+        # flow, ...) enter at once.
+        def half_time(m):
+            return m.dead_time_s + math.log(2) * m.time_constant_s
+
+        def ff_delays(acting):
+            h_u = max(half_time(m) for m in acting)
+            return {"feed_moisture": max(0.0, half_time(mX) - h_u), "feed_rate": max(0.0, half_time(mF) - h_u)}
+
+        delays_by_ranges = {"gas": ff_delays([mT]), "gas_and_feed": ff_delays([mT, mF] if cfg.feed_backup else [mT])}
+        tuning["feedforward_delay_s"] = delays_by_ranges["gas"]["feed_moisture"]
+        tuning["feedforward_delays_s"] = delays_by_ranges
         tuning["feedforward"] = cfg.feedforward
         ff_cache = {}
 
@@ -653,8 +664,14 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         if controlled:
             v_ff = 0.0
             if cfg.feedforward != "off":
-                ff_buf.append((x, Fd, f, tuple(sorted((k, round(float(v), 12)) for k, v in extra.items()))))
-                v_ff = ff_value(*ff_buf[max(0, len(ff_buf) - 1 - int(round(ff_delay / ts)))])
+                ff_buf.append((x, Fd))
+                ex = tuple(sorted((k, round(float(v), 12)) for k, v in extra.items()))
+                v_end = ff_value(x, Fd, f, ex)      # what the disturbance will need: which ranges act
+                dl = delays_by_ranges["gas" if vT[0] <= v_end <= vT[1] else "gas_and_feed"]
+
+                def seen(delay_s, i):       # the disturbance i (0 feed moisture, 1 feed rate) delay_s ago
+                    return ff_buf[max(0, len(ff_buf) - 1 - int(round(delay_s / ts)))][i]
+                v_ff = ff_value(seen(dl["feed_moisture"], 0), seen(dl["feed_rate"], 1), f, ex)
             vF = split(0.0, Fd)[2]
             lo, hi = vT[0] + vF[0], vT[1] + vF[1]
             if pi is not None:

@@ -203,3 +203,32 @@ def test_default_tuning_is_stable_on_both_ranges(mmg):
     own = C.closed_loop(d, ss, scenario="feed_rate_step", magnitude=0.1, t_end_s=240.0, t_step_s=0.0,
                         models=_models())
     assert own.tuning["tau_i_s"] == own.tuning["simc_tau_i_s"] and "tau_i_note" not in own.tuning
+
+
+@pytest.mark.parametrize("scenario,path_s", [("feed_moisture_step", 900.0 + 500.0 * math.log(2)),
+                                             ("feed_rate_step", 700.0 + 600.0 * math.log(2))])
+def test_feedforward_waits_for_the_disturbance_on_the_range_that_acts(mmg, scenario, path_s):
+    """A fast gas range (half response 119 s), a slow feed range (1 116 s) and slow disturbances: a small step
+    the gas range alone can take. The feed-forward moves the gas when the disturbance's half response minus the
+    gas path's has passed (feed moisture 1 128 s, feed rate 997 s), not before. Before, one delay for every
+    disturbance, the feed moisture's path less the slower (feed) range's, 131 s: the gas moved about 1 000 s
+    before the disturbance reached the product, and the closed loop was worse than no control for the first
+    1 800 s (found by fuzzing user dryers)."""
+    d, ss = mmg
+    models = _models(feed_moisture_lag=(900.0, 500.0))
+    models["gas_inlet_temperature"] = {k: C.FOPDT(g, 50.0, 100.0) for k, g in
+                                       (("product_moisture", -1.2e-4), ("exhaust_temperature", 0.13))}
+    models["feed_rate"] = {k: C.FOPDT(g, 700.0, 600.0) for k, g in
+                           (("product_moisture", 1.1e-3), ("exhaust_temperature", -2.0))}
+    cfg = C.ControlConfig(feedback=False, feedforward="linear")
+    r = C.closed_loop(d, ss, scenario=scenario, magnitude=0.02, t_end_s=1800.0, t_step_s=60.0, models=models,
+                      config=cfg)
+    delay = path_s - (50.0 + 100.0 * math.log(2))
+    key = scenario.removesuffix("_step")
+    assert r.tuning["feedforward_delays_s"]["gas"][key] == pytest.approx(delay)
+    assert r.tuning["feedforward_delays_s"]["gas_and_feed"][key] == pytest.approx(
+        max(0.0, path_s - (700.0 + 600.0 * math.log(2))))
+    t, gas = r.time_s, r.series["gas_inlet_temperature_degC"]
+    moved = t[np.abs(gas - gas[0]) > 1e-9]
+    assert moved.size and moved[0] == pytest.approx(60.0 + 60.0 * round(delay / 60.0))
+    np.testing.assert_allclose(r.series["feed_rate_kg_s"][t < 60.0], d.feed_rate)

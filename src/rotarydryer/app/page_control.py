@@ -10,6 +10,7 @@ settling time, the SIMC tuning.  Bad input gives the CLI's messages
 import streamlit as st
 
 from .._display import show, show_delta, unit_of
+from ..services.control import describe_feedforward
 from . import logic_control as L
 from ._runs import Kept
 from ._ui import case_picker, heavy, number, plain, progress_box, refuse
@@ -140,8 +141,7 @@ def render():
                                                             f"gain margin {t['gain_margin']:.2f}")
     iae = f"IAE closed loop {p['iae']:.4g}" + ("" if o is None else f", open loop {o['iae']:.4g}") + ". "
     st.markdown(plain(iae + f"Tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, gain margin "
-                      f"{t['gain_margin']:.2f}, feed-forward {t['feedforward']} (delay "
-                      f"{t['feedforward_delay_s']:.0f} s). Manipulated: gas inlet "
+                      f"{t['gain_margin']:.2f}, {describe_feedforward(t)}. Manipulated: gas inlet "
                       f"{show(r['ranges']['gas_inlet_temperature_degC'][0], 'temperature', with_unit=False)}-"
                       f"{show(r['ranges']['gas_inlet_temperature_degC'][1], 'temperature')}, feed "
                       f"{show(r['ranges']['feed_rate_kg_s'][0], 'mass_flow', with_unit=False)}-"

@@ -9,7 +9,7 @@ import typer
 
 from .._display import show, show_delta
 from .._io import json_text
-from ..services.control import check_control_options, run_control
+from ..services.control import check_control_options, describe_feedforward, run_control
 from . import app
 from ._common import Progress, check_out_dir, parse_sets, written_set
 
@@ -105,7 +105,7 @@ def control(
     typer.echo(f"{case}: {what} at t = {show(step_time, 'time')}, {measured} setpoint "
                f"{show(closed.setpoint, quantity)}, sample {sample_time:g} s, dead time {dead_time:g} s")
     typer.echo(f"  tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, "
-               f"gain margin {t['gain_margin']:.2f}, feed-forward {t['feedforward']} (delay {t['feedforward_delay_s']:.0f} s)")
+               f"gain margin {t['gain_margin']:.2f}, {describe_feedforward(t)}")
     for name, p in (("closed loop", cp), ("open loop", opened.performance if opened is not None else None)):
         if p is None:
             continue

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from ._options import check_option
 
-__all__ = ["check_control_options", "run_control"]
+__all__ = ["check_control_options", "run_control", "describe_feedforward"]
 
 
 def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration=10800.0, step_time=None,
@@ -90,3 +90,18 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
     closed = C.closed_loop(dryer, steady, models=models, **kw)
     opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
     return closed, opened
+
+
+def describe_feedforward(tuning: dict) -> str:
+    """The feed-forward of a `ClosedLoopResult.tuning` in words, for the text surfaces: its kind and the delays
+    of each measured disturbance on the gas range, and when the feed range acts too."""
+    kind = tuning.get("feedforward", "off")
+    d = tuning.get("feedforward_delays_s")
+    if kind == "off" or not d:
+        return f"feed-forward {kind}"
+    g, b = d["gas"], d["gas_and_feed"]
+    out = (f"feed-forward {kind} (delays: feed moisture {g['feed_moisture']:.0f} s, feed rate {g['feed_rate']:.0f} s "
+           "on the gas range")
+    if b != g:
+        out += f"; {b['feed_moisture']:.0f} s and {b['feed_rate']:.0f} s when the feed range acts too"
+    return out + ")"
