@@ -88,7 +88,7 @@ def test_incomplete_flighted_section_named(tmp_path):
 def test_test_rows_shadowed_by_the_case_files_operating_are_named(tmp_path):
     """A user case (the `rotarydryer new` template, whose [operating] gives the feed and speed) with [[tests]] rows at
     other speeds: each row runs at the [operating] values, which win. `calibrate` (first of the fit's warnings) and
-    `validate` (a case note and a warning) name the rows and keys and say what to do (before: silent, so a calibration
+    `validate` (a note in its report) name the rows and keys and say what to do (before: silent, so a calibration
     over the rows ran every test at one operating point). Values given by the caller (--set operating.rpm) are the
     caller's choice: no note; nor for a shipped case, whose rows give their own operating points."""
     import warnings

@@ -805,9 +805,8 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
             notes[name] = ("no measured or published data (no [[tests]] rows, no measured tracer curve, no published "
                            "items): 0 items; its steady state solves")
         shadow = rows_shadowed(loaded[name], sets)
-        if shadow and found:
+        if shadow and found:           # in the report's notes (text and JSON), once
             notes[name] = shadow
-            warnings.warn(f"{name}: {shadow}", UserWarning, stacklevel=2)
         items += found
     return ValidationReport(items=items, cases=list(dict.fromkeys(names)), overrides=sets, case_notes=notes,
                             tolerances_file=str(tolerances) if tolerances is not None else TOLERANCES_FILE,
