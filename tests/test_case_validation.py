@@ -117,3 +117,19 @@ def test_test_rows_shadowed_by_the_case_files_operating_are_named(tmp_path):
 
 def rows_note(cal):
     return next((w for w in cal.fit.warnings if "[[tests]] row" in w), None)
+
+
+@pytest.mark.parametrize("key,value", [("mrt_measured_min", 0.0), ("mrt_measured_min", -3.0), ("mrt_model_min", 0.0),
+                                       ("holdup_model_kg", -1.0)])
+def test_a_test_rows_measured_or_model_figure_must_be_positive(tmp_path, key, value):
+    """A [[tests]] row's measured mean residence time of 0 made `validate` stop with "internal error
+    (ZeroDivisionError)", and a negative one was compared as if measured (found by fuzzing): the row is refused
+    on load, naming the line and the key."""
+    from importlib import resources
+
+    text = (resources.files("rotarydryer.cases") / "templates" / "dryer.toml").read_text()
+    text += f"\n[[tests]]\ntest = 1\nfeed_rate = 2.5\nrpm = 4.0\nfeed_moisture = 0.06\n{key} = {value}\n"
+    p = tmp_path / "rows.toml"
+    p.write_text(text)
+    with pytest.raises(ValueError, match=rf"tests\.0\.{key} = {value}: Input should be greater than 0"):
+        load_case(str(p))
