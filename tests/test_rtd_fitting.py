@@ -178,3 +178,25 @@ def test_unidentifiable_parameters_are_flagged():
         f = fit_rtd_model(t, y, "tanks_in_series", fit_scale=True, fit_delay=True,
                           initial={"n_tanks": 1.5, "delay_s": 50.0})
     assert any(("correlated" in w) or ("near-singular" in w) or ("bound" in w) for w in f.warnings)
+
+
+def test_a_flat_signal_is_refused_and_intervals_stay_physical():
+    """A tracer file whose signal is the same at every sample was fitted (exit 0, R^2 nan, NaN in the --json
+    output) and a noisy, sparse curve gave a mean residence time interval reaching -22 700 s (found by fuzzing).
+    The flat signal is refused; a linearised interval is cut to the parameter's physical range, with a warning."""
+    import math
+    import warnings
+
+    from rotarydryer.rtd.fitting import fit_rtd_model
+
+    t = np.linspace(0.0, 3000.0, 12)
+    with pytest.raises(ValueError, match="signal is 2 at every sample: no tracer pulse to fit"):
+        fit_rtd_model(t, np.full(t.size, 2.0), "tanks_in_series")
+    e = (2.0 / 600.0) ** 2 * t * np.exp(-2.0 * t / 600.0) / math.gamma(2.0)
+    y = np.abs(1000.0 * e + np.random.default_rng(0).normal(0.0, 0.6, t.size))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = fit_rtd_model(t, y, "tanks_in_series")
+    assert r.ci_low["mean_residence_time_s"] == 0.0
+    assert any("mean_residence_time_s: its 95 % interval" in w and "is cut to it" in w for w in r.warnings)
+    assert all(r.ci_low[k] <= r.values[k] <= r.ci_high[k] for k in r.values)

@@ -6,12 +6,12 @@ name of a shipped data set (``lee2008_invicta``, ``ajayi2011_test1`` ... ``6``).
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
 import typer
 
+from .._io import json_text
 from . import app
 from ._common import check_option, check_out_dir, load_tracer
 
@@ -105,7 +105,7 @@ def rtd_moments_cmd(
         rtd_std_s=m.std_s,
     )
     if as_json:
-        typer.echo(json.dumps(out))
+        typer.echo(json_text(out))
         return
     typer.echo(f"{data}: {m.n_points} points, t = {m.first_time_s:g} .. {m.last_time_s:g} s after injection")
     typer.echo(f"  mean residence time  {m.mean_s:10.1f} s  = {m.mean_min:8.3f} min")
@@ -212,7 +212,7 @@ def rtd_fit_cmd(
         save_figure(fig, out / "rtd_fit.png", dpi=120)  # atomic; closes the figure
         res["plot"] = str(out / "rtd_fit.png")
     if as_json:
-        typer.echo(json.dumps(res))
+        typer.echo(json_text(res))
         return
     typer.echo(f"{model} fit to {data}: {f.n_points} points, {f.n_evaluations} model evaluations")
     if "n_cells" in f.fixed:

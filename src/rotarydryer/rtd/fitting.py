@@ -340,6 +340,8 @@ def fit_rtd_model(
         raise ValueError(f"{y.size} data points cannot determine {p} parameters {names}")
     if not np.max(y) > 0:
         raise ValueError("signal has no positive value; nothing to fit")
+    if not np.ptp(y) > 0:
+        raise ValueError(f"signal is {fmt(float(y[0]))} at every sample: no tracer pulse to fit")
 
     b0 = _background_start(y) if fit_baseline else 0.0
     y_net = y - b0
@@ -584,10 +586,21 @@ def fit_rtd_model(
     if cells:
         assert n_best is not None      # set by the scan over the cell counts
         fixed["n_cells"] = int(n_best)
-    for msg in warn:
-        _warnings.warn(msg, RuntimeWarning, stacklevel=2)
     ci_low, ci_high = unc.ci_low, unc.ci_high
     assert ci_low is not None and ci_high is not None     # linearised_uncertainty gives both
+    ci_low, ci_high = np.array(ci_low, float), np.array(ci_high, float)
+    for j, k in enumerate(names):
+        # the linearised interval is symmetric; the parameter cannot leave its range (a negative mean residence
+        # time or tank count), so neither does its interval, and a cut is said
+        # the physical range: the shape parameters' own (a tank count >= 1, a fraction <= 1); the times, the
+        # scale and the delay >= 0 (their search bounds are not physical limits)
+        lo_k, hi_k = bn[k] if k in _SHAPE_BOUNDS else ((0.0, math.inf) if bn[k][0] >= 0 else (-math.inf, math.inf))
+        if ci_low[j] < lo_k or ci_high[j] > hi_k:
+            warn.append(f"{k}: its 95 % interval [{ci_low[j]:.4g}, {ci_high[j]:.4g}] leaves the allowed range "
+                        f"[{lo_k:.4g}, {hi_k:.4g}] and is cut to it: the data constrain it weakly")
+            ci_low[j], ci_high[j] = max(ci_low[j], lo_k), min(ci_high[j], hi_k)
+    for msg in warn:
+        _warnings.warn(msg, RuntimeWarning, stacklevel=2)
     return RTDFit(
         model=model,
         parameter_names=tuple(names),
