@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
 import typer
 
+from .._io import json_text
 from . import app
 from ._common import written_set
 
@@ -201,7 +201,7 @@ def flight(
             save_figure(fig2, files[1], dpi=120)
         result["plots"] = [str(f) for f in files]
     if as_json:
-        typer.echo(json.dumps(result))
+        typer.echo(json_text(result))
         return
     sections = ", ".join(f"{a:g} m at {b:g} deg" for a, b in d.profile.segments)
     rows = [

@@ -3,12 +3,12 @@ tests, drying curves)."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
 import typer
 
+from .._io import json_text
 from ..services.lab import (
     check_drying_options,
     check_rig_options,
@@ -93,7 +93,7 @@ def rig(
     if out is not None:
         res["outputs"] = _write_rig_outputs(fr, a, run_csv, out)
     if as_json:
-        typer.echo(json.dumps(res))
+        typer.echo(json_text(res))
         return
     lo, hi = f.repose_angle_ci
     typer.echo(f"rig run {run_csv}: {run.time.size} samples at {run.sample_rate:g} Hz, flight {flight}, {rpm:g} rpm")
@@ -179,7 +179,7 @@ def image(
         pyplot().close(im.annotate(img, m, out))  # written atomically
         res["annotated"] = str(out)
     if as_json:
-        typer.echo(json.dumps(res))
+        typer.echo(json_text(res))
         return
     typer.echo(f"photo {photo}: {img.shape[1]} x {img.shape[0]} px, {cal.px_per_m:.1f} px/m, drum {drum}")
     typer.echo(f"  first unloading flight (#{m.fuf_index}, root {m.root_angles[m.fuf_index]:.1f} deg)  {res['FUF_cm2']:.2f} cm2")
@@ -222,7 +222,7 @@ def design_load(
         for g, f in fits.items()
     }
     if as_json:
-        typer.echo(json.dumps({"confidence": confidence, "fits": res}))
+        typer.echo(json_text({"confidence": confidence, "fits": res}))
         return
     typer.echo(f"design load = break point of {area_column} vs {loading_column} (right slope 0), "
                f"{100 * confidence:g} % intervals")

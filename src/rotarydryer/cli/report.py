@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 from typing import Optional
@@ -45,7 +44,7 @@ def report(
 
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
-    from .._io import output_set
+    from .._io import json_text, output_set
     from ..report.html import case_validation, load_audit, load_sensitivity, render_report, resolve_source, write_html
 
     t0 = time.perf_counter()
@@ -88,7 +87,7 @@ def report(
     if save is not None:
         info["results"] = str(save)
     if as_json:
-        typer.echo(json.dumps(info))
+        typer.echo(json_text(info))
     else:
         typer.echo(f"report: {out} ({info['bytes'] / 1e3:,.0f} kB, {dt:.1f} s)"
                    + (f"; results: {save}" if save is not None else ""))

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
 import typer
 
+from .._io import json_text
 from . import app
 
 
@@ -45,7 +45,7 @@ def schema(
       rotarydryer schema --kind lee2008 -o lee.schema.json
     """
     try:
-        text = json.dumps(case_schema(kind), indent=1)
+        text = json_text(case_schema(kind), indent=1)
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
@@ -80,7 +80,7 @@ def cases(as_json: bool = typer.Option(False, "--json", help="Print a JSON list.
         raw = tomllib.loads((resources.files("rotarydryer.cases") / f"{name}.toml").read_text())
         rows.append({"name": name, "kind": raw.get("kind", ""), "title": raw.get("meta", {}).get("title", "")})
     if as_json:
-        typer.echo(json.dumps(rows))
+        typer.echo(json_text(rows))
         return
     w = max(len(r["name"]) for r in rows)
     for r in rows:

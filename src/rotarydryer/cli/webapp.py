@@ -6,10 +6,9 @@ would replace the Typer object ``rotarydryer.cli.app`` (the console-script entry
 
 from __future__ import annotations
 
-import json
-
 import typer
 
+from .._io import json_text
 from . import app
 
 
@@ -44,7 +43,7 @@ def run_app(
         raise typer.Exit(2)
     cmd = streamlit_command(port, host, headless)
     if print_command:
-        typer.echo(json.dumps(cmd) if as_json else " ".join(cmd))
+        typer.echo(json_text(cmd) if as_json else " ".join(cmd))
         return
     if importlib.util.find_spec("streamlit") is None:
         typer.echo('error: the web app needs Streamlit: pip install "rotarydryer[app]" (or pip install streamlit)',
