@@ -241,3 +241,29 @@ def test_gas_below_the_ambient_has_no_specific_energy(tmp_path):
     assert "nan %" not in text and "efficiency nan" not in text and "kJ/kg</b>" not in text
     res = CliRunner().invoke(app, ["simulate", TEMPLATE, *sets])
     assert res.exit_code == 0 and " nan" not in res.output
+
+
+def test_user_dryers_from_fuzzing_efficiency_residence_time_and_a_cold_gas():
+    """Three findings on user dryers (tests/data/user_*.toml, made with `rotarydryer new`):
+    * gas 4.6 K above a warm feed: the evaporation duty (289 kW) exceeds the heat put into the gas (155 kW), the feed's
+      own heat paying for the rest; "thermal efficiency 1.86" is no efficiency: undefined (None), the duties stay;
+    * gas not above the feed: the refusal says the model needs the gas as the heat source (it said the gas "cannot
+      supply the latent heat", while 0.3 K warmer the case dries 0.11 kg/s);
+    * half the solids leave as dust: the mean residence time is the holdup over every solids outflow (299 s), not over
+      the product alone (599 s, above every size class's own)."""
+    from pathlib import Path
+
+    from rotarydryer import Simulation
+
+    data = Path(__file__).resolve().parents[1] / "data"
+    s = Simulation(str(data / "user_cool_gas.toml")).steady_state().summary()
+    assert s["heat_duty_evaporation_W"] > 1.5 * s["heat_input_W"] > 0
+    assert s["thermal_efficiency"] is None
+    with pytest.raises(ValueError, match=r"gas too cold to dry: gas.inlet_temperature = 44.9 degC is not above the "
+                                         r"solids inlet temperature 45.0405 degC: the model needs the gas to be the "
+                                         r"heat source .* give gas.inlet_temperature above 45.0405 degC"):
+        Simulation(str(data / "user_cool_gas.toml"), {"gas.inlet_temperature": 44.9}).steady_state()
+    d = Simulation(str(data / "user_dusty.toml")).steady_state().summary()
+    assert d["dust_rate_kg_s"] > 0.9 * d["outlet_flow_kg_s"]
+    assert d["mean_residence_time_s"] == pytest.approx(d["total_holdup_kg"] / (d["outlet_flow_kg_s"] + d["dust_rate_kg_s"]),
+                                                       rel=1e-12)

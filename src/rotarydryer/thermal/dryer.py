@@ -296,8 +296,9 @@ class ThermalDryer:
             raise DryerError(
                 f"gas too cold to dry: gas.inlet_temperature = "
                 f"{s.gas_inlet_temperature:g} degC is not above "
-                f"the solids inlet temperature {s.solids_inlet_temperature:g} degC, so the gas cannot supply the "
-                f"latent heat", reason="gas_too_cold")
+                f"the solids inlet temperature {s.solids_inlet_temperature:g} degC: the model needs the gas to be the "
+                f"heat source (a feed as warm as the gas would dry, if at all, on its own heat, as in a cooler); give "
+                f"gas.inlet_temperature above {s.solids_inlet_temperature:g} degC", reason="gas_too_cold")
         rh = float(ha.relative_humidity(min(s.gas_inlet_temperature, 600.0), min(y, 0.3), s.pressure))
         if rh >= 1.0:
             raise DryerError(f"gas too cold to dry: the inlet gas is saturated (gas.inlet_humidity = "

@@ -440,16 +440,21 @@ class ThermalSteadyState:
                 dew = float(dew_point(y_out, self.dryer.settings.pressure))
         except ValueError:
             dew = None
-        # no water removed (a dry feed, or humid gas condensing on cold solids): undefined
+        # no water removed (a dry feed, or humid gas condensing on cold solids): undefined; above 1 (the evaporation
+        # duty beyond the heat put into the gas: a warm feed's own heat pays for part of it) the ratio is no
+        # efficiency either: undefined
         efficiency = None
-        if wanted("thermal_efficiency") and self.evaporation_rate > 1e-12 and np.isfinite(self.thermal_efficiency):
+        if wanted("thermal_efficiency") and self.evaporation_rate > 1e-12 and np.isfinite(self.thermal_efficiency) \
+                and self.thermal_efficiency <= 1.0:
             efficiency = self.thermal_efficiency
         out = dict(
             thermal_mode=self.dryer.settings.mode,
             total_holdup_kg=self.total_holdup, active_holdup_kg=float(np.sum(hold[kind == 2])),
             passive_holdup_kg=float(np.sum(hold[kind == 1])), bed_holdup_kg=float(np.sum(hold[kind == 0])),
             feed_rate_kg_s=self.dryer.feed_rate, outlet_flow_kg_s=float(self.product_rate),
-            mean_residence_time_s=self.total_holdup / float(self.product_rate),
+            # holdup over every solids outflow (Little's law): the product and, with size classes, the dust the gas
+            # carries off
+            mean_residence_time_s=self.total_holdup / (float(self.product_rate) + float(self.dust_rate)),
             product_moisture_kg_kg=float(self.product_moisture),
             product_temperature_degC=float(self.product_temperature_degC),
             gas_outlet_temperature_degC=self.gas_outlet_temperature_degC,
