@@ -94,3 +94,21 @@ def test_bounded_steps_converge_without_the_march(template):
     assert ss.energy_balance_error < 1e-9
     np.testing.assert_allclose(ss.state, ref.state, rtol=1e-7, atol=1e-9 * d.feed_rate)
 
+
+
+def test_the_transient_march_has_a_budget():
+    """A user dryer whose steady state fell back to the transient march marched for over 10 minutes (fine size
+    classes losing most of the feed as dust; found by fuzzing): the march now stops after MARCH_MAX_CALLS residual
+    calls a horizon (the largest march of 279 random user dryers took 1 343) and the steady state is refused."""
+    import numpy as np
+    import pytest
+
+    from rotarydryer import Simulation
+    from rotarydryer.thermal import dryer as D
+
+    d = Simulation("song2003_ottawa").thermal_dryer()
+    z0 = d.initial_state()
+    with pytest.raises(D.DryerError, match=r"did not reach t = 3600 s within 5 residual evaluations") as info:
+        d.simulate(z0, 3600.0, max_calls=5)
+    assert info.value.reason == "integration" and np.all(np.isfinite(info.value.state))
+    assert 1343 < D.MARCH_MAX_CALLS <= 5000

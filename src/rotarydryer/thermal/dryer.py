@@ -132,6 +132,10 @@ SHELL_LINEAR_BAND_K = 1.0
 #: transient marches (multiples of the start's solids residence time) before Newton again, where
 #: pseudo-transient continuation from the start fails (ThermalDryer.steady_state)
 MARCH_HORIZONS = (3.0, 10.0)
+#: residual calls a march may take (each horizon): a march that needs more is given up, not waited for (a user dryer of
+#: fine size classes losing most of its feed as dust marched for over 10 minutes); the largest march of 279 random user
+#: dryers took 1 343 (benchmarks/bench_issue32_user_dryers.py)
+MARCH_MAX_CALLS = 4000
 #: a pseudo-transient step is refused (the pseudo-time step cut fourfold) where the scaled residual grows by
 #: more than this, once the pseudo-time step is above the starting one (not while it is at or below it, the
 #: phase where the step radius binds included)
@@ -1348,7 +1352,7 @@ class ThermalDryer:
         for horizon in MARCH_HORIZONS:
             try:
                 marched = self.simulate(start, max(horizon * mrt, 60.0), rtol=MARCH_RTOL,
-                                        atol=self._scale() * (MARCH_RTOL * 1e-2))
+                                        atol=self._scale() * (MARCH_RTOL * 1e-2), max_calls=MARCH_MAX_CALLS)
                 z = np.asarray(marched.states, dtype=float)[:, -1]
                 if not self._admissible(z):
                     continue
@@ -1574,11 +1578,14 @@ class ThermalDryer:
                     and Tg.min() > lo_g and Tg.max() < hi_g and Y.min() > -1e-6 and Y.max() < hi_y)
 
     # ------------------------------------------------------------------ dynamics
-    def simulate(self, z0, t_end, t_eval=None, rtol=1e-5, atol=None, max_step=np.inf, shell_refresh=60.0):
+    def simulate(self, z0, t_end, t_eval=None, rtol=1e-5, atol=None, max_step=np.inf, shell_refresh=60.0,
+                 max_calls=None):
         """Integrate from state ``z0`` for ``t_end`` s with BDF and the sparse Jacobian pattern.
 
         The shell-loss coefficient UA is lagged: re-evaluated exactly every ``shell_refresh`` s
-        of simulated time (the shell network's own dynamics are not modelled)."""
+        of simulated time (the shell network's own dynamics are not modelled). ``max_calls``: at most
+        that many residual calls (the steady state's transient march), else
+        [`DryerError`][rotarydryer.thermal.dryer.DryerError] (reason ``"integration"``)."""
         from scipy.integrate import solve_ivp
 
         _jit.long_runs()        # an integration: thousands of residuals, the compiled kernels pay
@@ -1589,7 +1596,13 @@ class ThermalDryer:
         self.freeze_shell(z0)
         last = [0.0]
 
+        calls = [0]
+
         def fun(t, z):      # vectorized: z (n, k); k = 1 except in the Jacobian's batch of perturbations
+            calls[0] += 1
+            if max_calls is not None and calls[0] > max_calls:
+                raise DryerError(f"the integration did not reach t = {float(t_end):.4g} s within {max_calls} residual "
+                                 f"evaluations (at t = {float(t):.4g} s)", reason="integration", state=z[:, 0])
             if z.shape[1] == 1 and abs(t - last[0]) > shell_refresh:
                 self.freeze_shell(z[:, 0])
                 last[0] = t
