@@ -358,3 +358,21 @@ def test_a_failed_bound_gives_little_of_the_bracket_away():
     assert res.found and res.value == pytest.approx(90.0, abs=0.01)
     moved = [n for n in res.notes if n.startswith("bound lo moved from 5 to ")]
     assert moved and 20.0 < float(moved[0].split()[6]) < 30.0, res.notes
+
+
+def test_a_free_input_must_be_a_continuous_number():
+    """drum.n_flights was tried at 5.5 flights and the run ended "no steady state ... give narrower bounds", exit 1;
+    gas.direction got "no positive value" (found by fuzzing): a whole-number or text key is refused up front,
+    exit 2, naming the key and pointing to a sweep."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    for find, what in (("drum.n_flights", "whole numbers"), ("transport.n_cells=5,30", "whole numbers"),
+                       ("gas.direction", "no continuous number"), ("material.name=1,2", "no continuous number")):
+        r = CliRunner().invoke(app, ["target", "lee2008_invicta", "--find", find, "--such-that",
+                                     "gas_outlet_temperature_degC=85"])
+        key = find.split("=")[0]
+        assert r.exit_code == 2, r.output
+        assert f"--find {key}: the key takes {what}; a target needs a continuous input" in r.output
+        assert f"rotarydryer sweep --grid {key}=..." in r.output

@@ -30,7 +30,7 @@ from .calibration import CalibrationRecord, applied_calibrations, apply_calibrat
 
 __all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
-           "valid_override_keys", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
+           "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
            "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations"]
 
 # ---- ceilings of the model size (docs/app_threat_model.md) -------------------------------
@@ -711,6 +711,23 @@ def list_cases() -> list[str]:
 def valid_override_keys(case_cls) -> list[str]:
     """Flat ``section.key`` names that may be overridden for a case class."""
     return list(_override_keys(case_cls))
+
+
+def override_key_type(case_cls, key: str):
+    """The value type of override key ``key`` of a case class (``int``, ``float``, ``str``, ``bool``, a
+    ``Literal`` or other annotation; ``Optional`` unwrapped), or None for a key it does not have."""
+    import typing
+
+    node, out = case_cls, None
+    for part in key.split("."):
+        finfo = getattr(node, "model_fields", {}).get(part) if isinstance(node, type) else None
+        if finfo is None:
+            return None
+        ann = finfo.annotation
+        if typing.get_origin(ann) is typing.Union:
+            ann = next((a for a in typing.get_args(ann) if a is not type(None)), ann)
+        node = out = ann
+    return out
 
 
 @cache

@@ -47,7 +47,7 @@ from scipy.optimize import brentq, minimize
 from .._display import UNITS, quantity_of, show_output, unit_of
 from .._limits import LIMITS
 from .._validation import finite_number, fmt_number
-from ..cases import load_case, valid_override_keys
+from ..cases import load_case, override_key_type, valid_override_keys
 from ..cases.build import test_row
 from ..simulation import Simulation
 
@@ -347,9 +347,7 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
         raise ValueError(f"{lab['find']} {key}: the key is also set as an override ({key}={overrides[key]}); "
                          "the free input cannot be fixed")
     base = load_case(case_name, overrides)         # names an unknown case or a bad override
-    if key not in valid_override_keys(type(base)):
-        raise ValueError(f"{lab['find']} {key!r}: not a key of the case; numeric keys with limits: "
-                         f"{', '.join(sorted(LIMITS))}")
+    _check_free_input(base, key, lab["find"])
     lo, hi = default_bounds(base, key, lab["find"]) if bounds is None else check_bounds(key, bounds, lab["find"])
     tol = default_tol(name, y_target) if tol is None else float(tol)
     if not (math.isfinite(tol) and tol > 0):
@@ -552,6 +550,19 @@ class _Evaluator:
         return self.cache[key]
 
 
+def _check_free_input(base, key: str, label: str) -> None:
+    """A free input is a key of the case that takes a continuous number (``TargetError`` naming it otherwise: a
+    whole-number key such as drum.n_flights was tried at 5.5 flights, a text key had "no positive value")."""
+    if key not in valid_override_keys(type(base)):
+        raise TargetError(f"{label} {key!r}: not a key of the case; numeric keys with limits: "
+                          f"{', '.join(sorted(LIMITS))}")
+    kind = override_key_type(type(base), key)
+    if kind is not float:
+        what = "whole numbers" if kind is int else "no continuous number"
+        raise TargetError(f"{label} {key}: the key takes {what}; a target needs a continuous input (run the values "
+                          f"you want to compare with `rotarydryer sweep --grid {key}=...`)")
+
+
 def _prepare(case, finds, such_thats, overrides, tol, labels, need):
     lab = {**_LABELS, **(labels or {})}
     if isinstance(case, Simulation):
@@ -573,9 +584,7 @@ def _prepare(case, finds, such_thats, overrides, tol, labels, need):
         if key in overrides:
             raise TargetError(f"{lab['find']} {key}: the key is also set as an override ({key}={overrides[key]}); "
                               "the free input cannot be fixed")
-        if key not in valid_override_keys(type(base)):
-            raise TargetError(f"{lab['find']} {key!r}: not a key of the case; numeric keys with limits: "
-                              f"{', '.join(sorted(LIMITS))}")
+        _check_free_input(base, key, lab["find"])
         bounds[key] = default_bounds(base, key, lab["find"]) if given is None else check_bounds(key, given, lab["find"])
         keys.append(key)
     conds = [parse_such_that(s, lab["such_that"]) for s in such_thats]
