@@ -66,6 +66,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..properties.humid_air import dew_point
 from . import balances as bal
 from .shell import shell_heat_loss
 
@@ -73,7 +74,8 @@ if TYPE_CHECKING:
     from .states import ThermalSteadyState
 
 __all__ = ["HEAT_DUTY_PARTS", "HEAT_DUTY_LABELS", "ShellTemperatureWarning", "heat_duties", "shell_profile",
-           "shell_sections", "shell_temperatures", "shell_limit_message", "warn_shell_limit"]
+           "shell_sections", "shell_temperatures", "shell_limit_message", "warn_shell_limit",
+           "SupersaturationWarning", "supersaturation_message", "warn_supersaturated_exhaust"]
 
 #: the heat duties that add up to ``heat_release_W`` (summary names, W), in the order of a waterfall
 HEAT_DUTY_PARTS = ("heat_duty_burner_loss_W", "heat_duty_evaporation_W", "heat_duty_solids_heating_W",
@@ -104,6 +106,11 @@ HEAT_DUTY_LABELS = {
 
 class ShellTemperatureWarning(UserWarning):
     """The model's hottest shell wall is above the case's ``shell.max_temperature``."""
+
+
+class SupersaturationWarning(UserWarning):
+    """The exhaust leaves the drum below its own dew point: a supersaturated gas, which the model does not
+    represent (no condensation in the gas)."""
 
 
 def heat_duties(steady: ThermalSteadyState, fuel_rate: float | None = None) -> dict:
@@ -253,3 +260,28 @@ def warn_shell_limit(steady: ThermalSteadyState) -> None:
     msg = shell_limit_message(steady)
     if msg:
         warnings.warn(msg, ShellTemperatureWarning, stacklevel=2)
+
+
+def supersaturation_message(steady: ThermalSteadyState) -> str | None:
+    """Why the steady state's exhaust is not physical, or None: it leaves below its own dew point (the gas in the
+    drum supersaturated; the model carries the water as vapour whatever its temperature, and its balances hold,
+    but a real gas would condense it, in the drum or the ducts)."""
+    y, t = float(steady.gas_outlet_humidity), float(steady.gas_outlet_temperature_degC)
+    if not y > 0:
+        return None
+    try:
+        dew = float(dew_point(y, steady.dryer.settings.pressure))
+    except ValueError:              # a gas too dry for the saturation curve's range
+        return None
+    if t >= dew:
+        return None
+    return (f"the exhaust leaves at {t:.4g} degC, {dew - t:.3g} K below its own dew point {dew:.4g} degC: the gas in "
+            "the drum is supersaturated, which the model does not represent (no condensation in the gas); its balances "
+            "hold, the gas state does not: raise gas.inlet_temperature or gas.flow, or lower operating.feed_rate")
+
+
+def warn_supersaturated_exhaust(steady: ThermalSteadyState) -> None:
+    """A `SupersaturationWarning` when `supersaturation_message` has one."""
+    msg = supersaturation_message(steady)
+    if msg:
+        warnings.warn(msg, SupersaturationWarning, stacklevel=2)
