@@ -104,7 +104,7 @@ def new(
       rotarydryer new plant2 --from ajayi2011_mmg
       rotarydryer simulate mydryer.toml --set operating.rpm=4
 
-    Exit codes: 0 written, 1 file exists (use --force), 2 bad name or base.
+    Exit codes: 0 written, 2 the file exists (use --force), a bad name or base.
     """
     import re
     from importlib import resources

@@ -699,7 +699,7 @@ def fit_tracer_data(data, model: str = "tanks_in_series", **kwargs) -> RTDFit:
         kwargs.setdefault("fit_scale", True)
         if not kwargs["fit_scale"]:
             raise ValueError(
-                f"signal_unit {unit!r} is not a normalised RTD (1/s, 1/min, 1/h); fit with fit_scale=True"
+                f"signal_unit {unit!r} is not a normalised RTD (1/s, 1/min, 1/h); fit with fit_scale=True (--scale on the command line)"
             )
     if "sigma" in kwargs and kwargs["sigma"] is not None and rate is not None:
         kwargs["sigma"] = np.asarray(kwargs["sigma"], float) * rate
