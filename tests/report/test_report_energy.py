@@ -48,6 +48,13 @@ def test_report_shows_the_saved_audits_savings(tmp_path):
     assert "What-if savings" in text and "exhaust recycle 20 %" in text and "<b>exceeded</b>" in text
     bad = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--audit", str(out), "--out", str(tmp_path / "x.html")])
     assert bad.exit_code == 2 and "not a JSON file" in bad.output and not (tmp_path / "x.html").exists()
+    # another operating point's audit (another case's was shown as this dryer's savings; found by fuzzing)
+    other = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--set", "operating.test=2", "--audit",
+                                     str(tmp_path / "a" / "audit.json"), "--out", str(tmp_path / "y.html")])
+    assert other.exit_code == 2 and "is of another dryer or operating point" in other.output
+    assert not (tmp_path / "y.html").exists()
+    pdf = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--out", str(tmp_path / "r.pdf")])
+    assert pdf.exit_code == 2 and "unknown file type '.pdf'; use one of .html, .htm" in pdf.output
 
 
 def test_lee_report_has_an_energy_section():

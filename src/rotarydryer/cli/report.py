@@ -9,7 +9,7 @@ from typing import Optional
 import typer
 
 from . import app
-from ._common import parse_sets
+from ._common import check_out_file, parse_sets
 
 
 @app.command("report", short_help="Write a self-contained HTML report.")
@@ -45,17 +45,29 @@ def report(
     Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
     """
     from .._io import json_text, output_set
-    from ..report.html import case_validation, load_audit, load_sensitivity, render_report, resolve_source, write_html
+    from ..report.html import (
+        case_validation,
+        check_saved_audit,
+        load_audit,
+        load_sensitivity,
+        render_report,
+        resolve_source,
+        write_html,
+    )
 
     t0 = time.perf_counter()
     try:
         import sys
 
+        check_out_file("--out", out, ("html", "htm"))        # a report is HTML; --save writes netCDF
+        check_out_file("--save", save, ("nc",))
         sens = load_sensitivity(sensitivity) if sensitivity is not None else None
         saved_audit = load_audit(audit) if audit is not None else None
         with typer.progressbar(length=2, label="report", file=sys.stderr,
                                hidden=as_json or not sys.stderr.isatty()) as bar:
             results, drums, title = resolve_source(source, parse_sets(set_), repose_angle=repose_angle)
+            if saved_audit is not None:
+                check_saved_audit(saved_audit, results, audit)
             bar.update(1)
             if save is not None and results is None:
                 raise ValueError(f"--save needs a case or results source, got the drum {source!r}")

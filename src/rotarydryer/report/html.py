@@ -534,6 +534,23 @@ def load_audit(path) -> dict:
                        "give DIR/audit.json of rotarydryer audit --out DIR")
 
 
+def check_saved_audit(audit: dict, results, path) -> None:
+    """Refuse (``ValueError``) a saved energy audit that is not of the report's run: its heat release (the sum of
+    its duties) must be the run's to 1e-6 (another case's audit.json was shown as this dryer's savings)."""
+    sc = results.scalars if results is not None else {}
+    mine = sc.get("heat_release_W")
+    theirs = (audit.get("heat_duties") or {}).get("heat_release_W")
+    where = f"its case {audit.get('case', '?')}" + (f" with {audit['overrides']}" if audit.get("overrides") else "")
+    if not _is_number(mine):
+        raise ValueError(f"--audit {str(path)!r}: this report's source has no heat and mass transfer to compare the "
+                         f"audit ({where}) with")
+    if not _is_number(theirs) or abs(float(theirs) - float(mine)) > 1e-6 * max(abs(float(mine)), 1.0):
+        raise ValueError(f"--audit {str(path)!r} is of another dryer or operating point ({where}: heat release "
+                         f"{fmt(float(theirs) / 1e3) if _is_number(theirs) else 'n/a'} kW; this report's "
+                         f"{fmt(float(mine) / 1e3)} kW): give the audit.json of `rotarydryer audit` on this case with "
+                         "the same --set")
+
+
 def _thermal_comparison_html(results) -> tuple[str, str]:
     """Caption of the thermal-profile figure and the model-versus-measured statement (with a
     table of the measured points) from `rotarydryer.report.manager.thermal_comparison`."""
