@@ -65,3 +65,18 @@ def test_held_moisture_finds_the_inlet_temperature():
     # at the base product moisture a preheated feed needs a cooler gas: heat and fuel saved
     assert held["product_moisture_kg_kg"] == pytest.approx(data["outputs"]["product_moisture_kg_kg"], abs=1e-4)
     assert held["gas_inlet_temperature_degC"] < 500.0 and held["heat_saved_W"] > 0 and held["fuel_saved_kg_s"] > 0
+
+
+def test_a_what_if_value_out_of_range_is_named_by_its_option():
+    """`audit --recycle 1.0` blamed "--set gas.recycle_fraction", an option the user did not give (found by
+    fuzzing): the refusal names --recycle (or --insulation) and the key it sets, exit 2."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    for opt, value, msg in (("--recycle", "1.0", "--recycle 1 (gas.recycle_fraction): Input should be less than 1 "
+                                                 "(allowed range [0, 1))"),
+                            ("--insulation", "5", "--insulation 5 (shell.insulation_thickness): Input should be less "
+                                                  "than or equal to 2 (allowed range [0, 2] m)")):
+        r = CliRunner().invoke(app, ["audit", "ajayi2011_mmg", opt, value])
+        assert r.exit_code == 2 and msg in r.output and "--set" not in r.output, r.output

@@ -226,8 +226,15 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
     plan = [(m, v) for m, values in (("recycle", recycle), ("preheat", preheat), ("insulation", insulation))
             for v in values]
     changes = [(m, v, _what_if_overrides(base_sim, m, v)) for m, v in plan]
-    for _, _, ov in changes:       # every value checked before the first run (the case schema's limits)
-        Simulation(case, {**overrides, **ov})
+    for m, v, ov in changes:       # every value checked before the first run (the case schema's limits)
+        try:
+            Simulation(case, {**overrides, **ov})
+        except ValueError as exc:     # named as the option the user gave, not as the --set it becomes
+            key = MEASURES[m][0]
+            if f"--set {key}" not in str(exc):
+                raise
+            why = str(exc).rsplit(": ", 1)[-1]        # "Input should be less than 1 (allowed range [0, 1))"
+            raise ValueError(f"--{m} {fmt_number(v)} ({key}): {why}") from None
     if progress:
         progress("base steady state ...")
     base = base_sim.steady_state()
