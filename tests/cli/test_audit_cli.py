@@ -80,3 +80,29 @@ def test_a_what_if_value_out_of_range_is_named_by_its_option():
                                                   "than or equal to 2 (allowed range [0, 2] m)")):
         r = CliRunner().invoke(app, ["audit", "ajayi2011_mmg", opt, value])
         assert r.exit_code == 2 and msg in r.output and "--set" not in r.output, r.output
+
+
+def test_a_held_what_if_whose_rerun_fails_is_reported_not_an_error(monkeypatch):
+    """`audit --hold-moisture`: the target found a gas inlet temperature, the re-run there failed, and the whole
+    audit stopped with exit 1 (found by fuzzing; the help says a failed what-if is reported). The held what-if now
+    carries the failure, naming the temperature."""
+    from types import SimpleNamespace
+
+    from rotarydryer.studies import energy
+    from rotarydryer.thermal.dryer import DryerError
+
+    class Failing:
+        def __init__(self, *args, **kwargs):
+            pass
+
+        def steady_state(self):
+            raise DryerError("no steady state reached: scaled residual 2.33e-08 after 300 iterations",
+                             reason="no_steady_state")
+
+    monkeypatch.setattr(energy, "target", lambda *a, **k: SimpleNamespace(found=True, value=389.809))
+    monkeypatch.setattr(energy, "Simulation", Failing)
+    w = energy.WhatIf(measure="preheat", value=17.84, overrides={})
+    energy._hold(w, "ajayi2011_mmg", {}, {}, {"product_moisture_kg_kg": 0.13, "heat_release_W": 1e6}, 500.0, None)
+    assert w.held is None
+    assert w.held_error == ("at the gas inlet temperature found, 389.809 degC: no steady state reached: scaled "
+                            "residual 2.33e-08 after 300 iterations")

@@ -290,7 +290,12 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
     if not res.found:
         w.held_error = f"no gas inlet temperature in [{fmt_number(lo)}, {fmt_number(hi)}] degC gives the base product moisture"
         return
-    s = Simulation(case, {**overrides, **ov, "gas.inlet_temperature": res.value}).steady_state().summary()
+    try:
+        s = Simulation(case, {**overrides, **ov, "gas.inlet_temperature": res.value}).steady_state().summary()
+    except ValueError as exc:       # reported with the what-if, as every failed what-if (not an error of the audit)
+        w.held_error = (f"at the gas inlet temperature found, {fmt_number(res.value)} degC: "
+                        + " ".join(str(exc).split()))
+        return
     f0, f1 = s0.get("fuel_rate_kg_s"), s.get("fuel_rate_kg_s")
     w.held = dict(gas_inlet_temperature_degC=float(res.value), product_moisture_kg_kg=s["product_moisture_kg_kg"],
                   heat_release_W=s["heat_release_W"], heat_saved_W=s0["heat_release_W"] - s["heat_release_W"],
