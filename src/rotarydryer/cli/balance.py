@@ -26,6 +26,8 @@ def balance(
     shell_loss: float = typer.Option(0.0, help="Shell heat loss, W (the physical MMG model: ~0.4e6)."),
     gas_flow: Optional[float] = typer.Option(None, help="If given: solve the gas OUTLET temperature that this gas "
                                                         "flow (kg/s wet) allows, instead of the gas flow."),
+    material: str = typer.Option("zinc_concentrate_ajayi2011", help="Library material of the solids, for their heat "
+                                 "capacities (the case's [material] name); default Ajayi's MMG zinc concentrate."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ):
     """Gas flow (kg/s) that closes a test's energy balance on its measured inlets and outlets, the
@@ -37,11 +39,13 @@ def balance(
     Examples:
       rotarydryer balance --ajayi-test 6 --shell-loss 0.38e6
       rotarydryer balance --ajayi-test 6 --gas-flow 16.25 --shell-loss 0.38e6
+      rotarydryer balance --material raw_sugar_lee2008 --gas-in 150 --gas-out 60 --feed 27 --moisture-in 0.008 --moisture-out 0.004 --product-temperature 45
     """
     import math
 
     from .._validation import check_range
     from ..properties import humid_air as ha
+    from ..properties.materials import list_materials, load_material
     from ..thermal.consistency import balance_gas_outlet_temperature, implied_gas_flow, pi_test_conditions
     from ..thermal.streams import evaporation_rate, exhaust_humidity
 
@@ -77,9 +81,13 @@ def balance(
                              f"{vals['moisture_in']:g} kg/kg wet: the balance needs a test that dries")
         if vals["gas_out"] is not None and gas_flow is None and vals["gas_out"] >= vals["gas_in"]:
             raise ValueError(f"--gas-out = {vals['gas_out']:g} degC must be below --gas-in = {vals['gas_in']:g} degC")
+        if material not in list_materials():
+            raise ValueError(f"--material {material!r} is not in the materials library ({', '.join(list_materials())})")
+        mat = load_material(material)
         kw = dict(gas_in_c=vals["gas_in"], gas_humidity_in=gas_humidity, feed_rate=vals["feed"],
                   moisture_in=vals["moisture_in"], moisture_out=vals["moisture_out"], solids_in_c=feed_temperature,
-                  solids_out_c=vals["product_temperature"], heat_loss=shell_loss)
+                  solids_out_c=vals["product_temperature"], heat_loss=shell_loss,
+                  solids_heat_capacity=mat.heat_capacity, water_heat_capacity=mat.water_heat_capacity)
         evap = float(evaporation_rate(vals["feed"], vals["moisture_in"], vals["moisture_out"]))
         if gas_flow is None:
             g = implied_gas_flow(gas_out_c=vals["gas_out"], **kw)
@@ -92,7 +100,7 @@ def balance(
         raise typer.Exit(2)
     y_out = exhaust_humidity(g, gas_humidity, evap)
     dew = float(ha.dew_point(min(y_out, 0.3)))
-    out.update({"evaporation_kg_s": evap, "exhaust_humidity_kg_kg": y_out, "exhaust_dew_point_degC": dew,
+    out.update({"material": material, "evaporation_kg_s": evap, "exhaust_humidity_kg_kg": y_out, "exhaust_dew_point_degC": dew,
                 "product_temperature_degC": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
                 "product_below_dew_point": bool(vals["product_temperature"] < dew)})
     if as_json:

@@ -43,9 +43,9 @@ _Y_MAX = 0.3              # kg/kg dry gas, the top of the exhaust humidities the
 
 
 def _loss_at(gas_flow, gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_in, moisture_out, solids_in_c,
-             solids_out_c, method):
+             solids_out_c, method, **solids):
     return implied_heat_loss(gas_flow, gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_in, moisture_out,
-                             solids_in_c, solids_out_c, method=method)["heat_loss"]
+                             solids_in_c, solids_out_c, method=method, **solids)["heat_loss"]
 
 
 def _humidity_in(gas_humidity_in) -> float:
@@ -54,7 +54,7 @@ def _humidity_in(gas_humidity_in) -> float:
 
 
 def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_in, moisture_out, solids_in_c,
-                     solids_out_c, heat_loss=0.0, method: str = "physical", max_gas_flow=1000.0) -> float:
+                     solids_out_c, heat_loss=0.0, method: str = "physical", max_gas_flow=1000.0, **solids) -> float:
     """Wet gas flow into the dryer, kg/s, that closes the overall energy balance of measured data.
 
     Parameters
@@ -73,6 +73,9 @@ def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_i
         Shell heat loss, W (>= 0).
     method : {"physical", "ajayi2011", "ajayi2011_as_coded"}
         Gas enthalpy accounting ([`rotarydryer.thermal.streams.gas_stream_enthalpy`][rotarydryer.thermal.streams.gas_stream_enthalpy]).
+    **solids
+        ``solids_heat_capacity``, ``water_heat_capacity`` J/(kg K) of
+        [`solids_stream_enthalpy`][rotarydryer.thermal.streams.solids_stream_enthalpy] (default Ajayi's zinc concentrate).
 
     Raises
     ------
@@ -91,7 +94,7 @@ def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_i
     args = (t_in, y_in, t_out, feed_rate, moisture_in, moisture_out, solids_in_c, solids_out_c, method)
 
     def resid(g):
-        return _loss_at(g, *args) - heat_loss
+        return _loss_at(g, *args, **solids) - heat_loss
 
     f_lo, f_hi = resid(g_lo), resid(max_gas_flow)
     if f_lo > 0.0:
@@ -107,7 +110,7 @@ def implied_gas_flow(gas_in_c, gas_humidity_in, gas_out_c, feed_rate, moisture_i
 
 
 def balance_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rate, moisture_in, moisture_out,
-                                   solids_in_c, solids_out_c, heat_loss=0.0, method: str = "physical") -> float:
+                                   solids_in_c, solids_out_c, heat_loss=0.0, method: str = "physical", **solids) -> float:
     """Gas outlet temperature, °C, at which the overall energy balance closes for a given gas flow.
 
     Same arguments as [`implied_gas_flow`][rotarydryer.thermal.consistency.implied_gas_flow], with ``gas_flow`` (kg/s wet) given and the gas
@@ -126,7 +129,7 @@ def balance_gas_outlet_temperature(gas_flow, gas_in_c, gas_humidity_in, feed_rat
 
     def resid(t_out):
         return _loss_at(g, gas_in_c, y_in, t_out, feed_rate, moisture_in, moisture_out, solids_in_c,
-                        solids_out_c, method) - heat_loss
+                        solids_out_c, method, **solids) - heat_loss
 
     r_lo, r_hi = resid(0.0), resid(600.0)
     if r_lo < 0.0:
