@@ -100,7 +100,8 @@ def check_out_file(option: str, out, suffixes=None) -> None:
         return
     p = Path(out)
     if p.is_dir():
-        raise ValueError(f"{option} {str(p)!r} is a directory; give a file name (e.g. {str(p / 'annotated.png')!r})")
+        name = f"out.{suffixes[0]}" if suffixes else "annotated.png"
+        raise ValueError(f"{option} {str(p)!r} is a directory; give a file name (e.g. {str(p / name)!r})")
     if suffixes is not None and p.suffix and p.suffix.lower().lstrip(".") not in suffixes:
         raise ValueError(f"{option} {str(p)!r}: unknown file type {p.suffix!r}; use one of "
                          f"{', '.join('.' + s for s in suffixes)}")

@@ -519,7 +519,11 @@ def wet_bulb_below(temperature_c, humidity, threshold_c, pressure=STANDARD_PRESS
     """Is the wet-bulb temperature (`wet_bulb_temperature`) below ``threshold_c`` (°C)? One evaluation
     of its balance at the threshold instead of the root (a model's check of its inlet gas)."""
     t, y, p = np.broadcast_arrays(_temperature(temperature_c), _humidity(humidity), _pressure(pressure))
-    return np.asarray(_wet_bulb_residual(t, y, p)(np.full_like(t, float(threshold_c))) < 0)
+    # the balance one ulp below the threshold: at 0 degC the bulb's enthalpy jumps from ice to water (Eq. 34 / 33),
+    # and the question is whether the root lies below, on the ice side (a wet bulb of -0.84 degC was said not to be
+    # below 0 degC at 60 kPa)
+    at = np.nextafter(float(threshold_c), -np.inf)
+    return np.asarray(_wet_bulb_residual(t, y, p)(np.full_like(t, at)) < 0)
 
 
 def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
