@@ -318,9 +318,7 @@ class _FeedRange:
 
         y = float(y)
         lo, hi = (self.y[0], self.y[-1]) if self.rising else (self.y[-1], self.y[0])
-        if lo <= y <= hi:
-            if y in (self.y[0], self.y[-1]):
-                return float(self.F[0] if y == self.y[0] else self.F[-1])
+        if lo <= y <= hi:          # (brentq returns an end where the curve meets y exactly)
             return float(brentq(lambda F: float(self._curve(F)) - y, self.F[0], self.F[-1], xtol=1e-12 * self.F[-1]))
         end = 0 if (y < lo) == self.rising else -1
         return float(self.F[end] + (y - self.y[end]) / self.slope[0 if end == 0 else 1])

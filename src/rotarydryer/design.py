@@ -681,13 +681,13 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
     dm = _DutyModel(duty)
     history = []
     res = None
-    verified = []       # (design, its verification) of each round that verified
+    designs = []        # the design of each round; history[k] is its verification (a failed one ends the search)
 
     def closest():
         """The verified round whose product is driest (a later, larger drum may dry worse: the search's
         Ua factor is a model of the shortfall, not a guarantee)."""
-        k = min(range(len(verified)), key=lambda i: verified[i][1]["product_moisture_kg_kg"])
-        return verified[k][0], dict(verified[k][1], best_round=k + 1)
+        k = min(range(len(designs)), key=lambda i: history[i]["product_moisture_kg_kg"])
+        return designs[k], dict(history[k], best_round=k + 1)
 
     for k in range(int(rounds)):
         try:
@@ -715,7 +715,7 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
                      total_holdup_kg=v["total_holdup_kg"], target_met=met,
                      diameter_m=res.best.diameter_m, length_m=res.best.length_m)
         history.append(entry)
-        verified.append((res, entry))
+        designs.append(res)
         if met:
             return res, dict(entry, rounds=history)
         if k == rounds - 1:

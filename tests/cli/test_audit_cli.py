@@ -74,10 +74,10 @@ def test_a_what_if_value_out_of_range_is_named_by_its_option():
 
     from rotarydryer.cli import app
 
-    for opt, value, msg in (("--recycle", "1.0", "--recycle 1 (gas.recycle_fraction): Input should be less than 1 "
-                                                 "(allowed range [0, 1))"),
-                            ("--insulation", "5", "--insulation 5 (shell.insulation_thickness): Input should be less "
-                                                  "than or equal to 2 (allowed range [0, 2] m)")):
+    for opt, value, msg in (("--recycle", "1.0", "--recycle (gas.recycle_fraction) = 1 is outside the allowed range "
+                                                 "[0, 1)"),
+                            ("--insulation", "5", "--insulation (shell.insulation_thickness) = 5 m is outside the "
+                                                  "allowed range [0, 2] m")):
         r = CliRunner().invoke(app, ["audit", "ajayi2011_mmg", opt, value])
         assert r.exit_code == 2 and msg in r.output and "--set" not in r.output, r.output
 

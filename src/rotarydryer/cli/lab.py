@@ -276,7 +276,6 @@ def steps(
     if outputs is not None:
         res["outputs"] = outputs
     if as_json:
-        from .._io import json_text
 
         typer.echo(json_text(res))
         return
@@ -358,7 +357,7 @@ def drying(
     Example:
       rotarydryer lab drying curves.csv --out results --material-out my_ore.toml --base-material ottawa_sand_song2003
     """
-    from .._io import json_text, output_set, write_bytes_atomic, write_text_atomic
+    from .._io import output_set, write_bytes_atomic, write_text_atomic
     from ..lab import drying_curves as dc
 
     try:

@@ -42,7 +42,7 @@ from scipy import optimize, stats
 
 from .._validation import check_choice
 from ..executor import Executor, RunFailure
-from .uncertainty import linearised_uncertainty
+from .uncertainty import cut_interval, linearised_uncertainty
 
 __all__ = [
     "Parameter",
@@ -611,19 +611,17 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
         else:
             se = float(sd_z[i])
             lo, hi = float(unc.ci_low[i]), float(unc.ci_high[i])
+        lo_cut, hi_cut, cut = cut_interval(q.name, lo, hi, q.lower, q.upper)
         if not np.isfinite(se) or se > 1e6 * max(abs(v), 1e-12):
             notes.append(f"{q.name}: standard error {se:.3g} is huge relative to the estimate; flat objective")
-        elif lo < q.lower or hi > q.upper:
-            # a linearised interval is symmetric in z; the parameter cannot leave its range, so neither does its
-            # interval (the note says it was cut)
-            if not at_bound:
-                notes.append(f"{q.name}: its 95 % interval [{lo:.3g}, {hi:.3g}] leaves the allowed range "
-                             f"[{q.lower:.6g}, {q.upper:.6g}] and is cut to it: the data constrain it weakly")
+        elif cut:
+            if not at_bound:            # at a bound, the note above says the interval is not reliable
+                notes.append(cut)
         elif q.log and 2.0 * 1.959964 * float(sd_z[i]) > math.log(1e4):
             # a log parameter's interval spanning more than four decades: the data hardly see it
             notes.append(f"{q.name}: its 95 % interval [{lo:.3g}, {hi:.3g}] spans more than four decades: the data "
                          "hardly depend on it (not identifiable here)")
-        lo, hi = max(lo, q.lower), min(hi, q.upper)
+        lo, hi = lo_cut, hi_cut
         est[q.name] = ParameterEstimate(v, float(se), float(lo), float(hi), at_bound)
     # covariance in natural space
     jac_t = np.array([float(q.from_z(z[i])) if q.log else 1.0 for i, q in enumerate(params)])

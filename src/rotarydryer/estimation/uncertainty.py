@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-__all__ = ["LinearisedUncertainty", "linearised_uncertainty", "INVERSE_METHODS"]
+__all__ = ["LinearisedUncertainty", "linearised_uncertainty", "cut_interval", "INVERSE_METHODS"]
 
 INVERSE_METHODS = ("pinv", "inv")
 
@@ -211,3 +211,14 @@ def linearised_uncertainty(
         dof=dof, t_quantile=tq, singular_values=sv, null_direction=vt[-1] if p else np.empty(0),
         condition_number=cond, singular=singular, rank=rank, correlated_pairs=pairs,
     )
+
+
+def cut_interval(name: str, low: float, high: float, lower: float, upper: float) -> tuple[float, float, str | None]:
+    """A linearised interval ``[low, high]`` of parameter ``name`` cut to its allowed range ``[lower, upper]``
+    (the interval is symmetric in the fitted coordinate; the parameter cannot leave its range, so neither does
+    its interval), and the note that says so, or None where it was inside."""
+    if low >= lower and high <= upper:
+        return low, high, None
+    note = (f"{name}: its 95 % interval [{low:.4g}, {high:.4g}] leaves the allowed range [{lower:.6g}, {upper:.6g}] "
+            "and is cut to it: the data constrain it weakly")
+    return max(low, lower), min(high, upper), note

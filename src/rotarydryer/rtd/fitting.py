@@ -49,7 +49,7 @@ import numpy as np
 from scipy import optimize
 
 from .._validation import check_choice, check_finite, check_range
-from ..estimation.uncertainty import linearised_uncertainty
+from ..estimation.uncertainty import cut_interval, linearised_uncertainty
 from ._datafile import fmt
 from .analysis import rtd_moments
 from .models import (
@@ -590,15 +590,13 @@ def fit_rtd_model(
     assert ci_low is not None and ci_high is not None     # linearised_uncertainty gives both
     ci_low, ci_high = np.array(ci_low, float), np.array(ci_high, float)
     for j, k in enumerate(names):
-        # the linearised interval is symmetric; the parameter cannot leave its range (a negative mean residence
-        # time or tank count), so neither does its interval, and a cut is said
-        # the physical range: the shape parameters' own (a tank count >= 1, a fraction <= 1); the times, the
-        # scale and the delay >= 0 (their search bounds are not physical limits)
+        # intervals within the physical range (a negative mean residence time or tank count is none): the shape
+        # parameters' own (a tank count >= 1, a fraction <= 1); the times, the scale and the delay >= 0 (their
+        # search bounds are not physical limits)
         lo_k, hi_k = bn[k] if k in _SHAPE_BOUNDS else ((0.0, math.inf) if bn[k][0] >= 0 else (-math.inf, math.inf))
-        if ci_low[j] < lo_k or ci_high[j] > hi_k:
-            warn.append(f"{k}: its 95 % interval [{ci_low[j]:.4g}, {ci_high[j]:.4g}] leaves the allowed range "
-                        f"[{lo_k:.4g}, {hi_k:.4g}] and is cut to it: the data constrain it weakly")
-            ci_low[j], ci_high[j] = max(ci_low[j], lo_k), min(ci_high[j], hi_k)
+        ci_low[j], ci_high[j], cut = cut_interval(k, ci_low[j], ci_high[j], lo_k, hi_k)
+        if cut:
+            warn.append(cut)
     for msg in warn:
         _warnings.warn(msg, RuntimeWarning, stacklevel=2)
     return RTDFit(

@@ -33,6 +33,7 @@ import warnings
 from dataclasses import dataclass, field
 
 from .._display import show, show_delta, show_output
+from .._limits import check_key
 from .._validation import finite_number, fmt_number
 from ..cases.build import operating_point
 from ..simulation import Simulation
@@ -205,6 +206,8 @@ def _what_if_overrides(sim: Simulation, measure: str, value: float) -> dict:
             raise ValueError(f"--preheat {fmt_number(value)}: the feed would reach {fmt_number(t_feed + value)} degC; "
                              "operating.feed_temperature must stay below 99 degC (the model has no boiling feed)")
         return {key: t_feed + value}
+    # the value against its key's range, named as the option the user gave (not as the --set it becomes)
+    check_key(key, value, name=f"--{measure} ({key})")
     return {key: value}
 
 
@@ -226,15 +229,8 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
     plan = [(m, v) for m, values in (("recycle", recycle), ("preheat", preheat), ("insulation", insulation))
             for v in values]
     changes = [(m, v, _what_if_overrides(base_sim, m, v)) for m, v in plan]
-    for m, v, ov in changes:       # every value checked before the first run (the case schema's limits)
-        try:
-            Simulation(case, {**overrides, **ov})
-        except ValueError as exc:     # named as the option the user gave, not as the --set it becomes
-            key = MEASURES[m][0]
-            if f"--set {key}" not in str(exc):
-                raise
-            why = str(exc).rsplit(": ", 1)[-1]        # "Input should be less than 1 (allowed range [0, 1))"
-            raise ValueError(f"--{m} {fmt_number(v)} ({key}): {why}") from None
+    for _, _, ov in changes:       # every value checked before the first run (the case schema's limits)
+        Simulation(case, {**overrides, **ov})
     if progress:
         progress("base steady state ...")
     base = base_sim.steady_state()
