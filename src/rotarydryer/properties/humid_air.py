@@ -523,7 +523,11 @@ def wet_bulb_below(temperature_c, humidity, threshold_c, pressure=STANDARD_PRESS
     # and the question is whether the root lies below, on the ice side (a wet bulb of -0.84 degC was said not to be
     # below 0 degC at 60 kPa)
     at = np.nextafter(float(threshold_c), -np.inf)
-    return np.asarray(_wet_bulb_residual(t, y, p)(np.full_like(t, at)) < 0)
+    residual = _wet_bulb_residual(t, y, p)
+    below = residual(np.full_like(t, at)) < 0
+    if at > 0:      # above 0 degC the water branch is checked; an ice bulb (root below 0) is below it too
+        below |= residual(np.full_like(t, np.nextafter(0.0, -np.inf))) < 0
+    return np.asarray(below)
 
 
 def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
