@@ -453,7 +453,7 @@ class ThermalDryer:
         # the gas's free cross-section at each curtain: the drum's less the solids of its section (bed, flights
         # and curtains at the transport start, at the feed's bulk density, per metre of the section; a choice:
         # the mean over the section, fixed by the layout)
-        vol = self._transport_start() / float(self.material.bulk_density(self.feed_moisture))
+        vol = self._transport_holdup() / float(self.material.bulk_density(self.feed_moisture))
         drum = math.pi * self.radius**2
         length = {sec["name"]: float(sec["length"]) for sec in self.model.sections}
         solids = {sec: float(vol[self.tank_section == sec].sum()) / length[sec] for sec in set(self.tank_section[active])}
@@ -496,7 +496,7 @@ class ThermalDryer:
         tg = np.clip(Tg[..., stages], ha.T_MIN_C, ha.T_MAX_C)
         y = np.clip(Y[..., stages], 0.0, ha.Y_MAX)
         u_g = self.dry_gas_flow * (1.0 + y) / (ha.density(tg, y, s.pressure) * self._dust_area)
-        x = np.maximum(u_g[..., None, :] / u_t - 1.0, 0.0) ** 2
+        x = np.clip(u_g[..., None, :] / u_t - 1.0, 0.0, 1e100) ** 2      # 1e200: a share of 1, no overflow
         return x / (1.0 + x)
 
     def _dusty_flows(self, src, dst, F, Tg, Y):
@@ -1310,6 +1310,36 @@ class ThermalDryer:
             net._thermal_start = start
         return start * (self.feed_rate / max(self.model.feed_rate, 1e-300))
 
+    def _transport_holdup(self):
+        """The transport model's steady holdups per tank at this dryer's own feed rate, kg: the network's
+        steady state with its feed scaled to this dryer's (a dryer from `with_parameters` shares the network
+        built at another feed rate, and the holdups of a loading-dependent law are not proportional to the
+        feed). What a quantity of the model (not only the start) takes from the transport holdup uses this,
+        so that a dryer built at a feed rate and one moved to it are the same model. Cached on the network
+        per feed rate."""
+        net = self.model.network
+        ratio = self.feed_rate / max(self.model.feed_rate, 1e-300)
+        if ratio == 1.0:
+            return self._transport_start()
+        cache = net.__dict__.setdefault("_thermal_holdups", {})
+        if ratio not in cache:
+            base_feed = net.feed
+            guess = net.initial_guess
+            try:
+                net.feed = base_feed * ratio
+                net.initial_guess = self._transport_start()
+                m = net.steady_state(tol=START_TOLERANCE)
+            except ValueError as exc:
+                raise DryerError(f"no transport steady state at the feed rate {self.feed_rate:g} kg/s: {exc}",
+                                 reason="no_steady_state") from exc
+            finally:
+                net.feed, net.initial_guess = base_feed, guess
+            m.setflags(write=False)
+            if len(cache) > 64:
+                cache.clear()
+            cache[ratio] = m
+        return cache[ratio]
+
     def initial_state(self):
         """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
         s = self.settings
@@ -1362,7 +1392,39 @@ class ThermalDryer:
             ss = self._polished(ss, tol, dt0)
             ss.marched_s = max(horizon * mrt, 60.0)
             return ss
-        raise first
+        raise self._with_dust_hint(first) if self.dusty else first
+
+    def _with_dust_hint(self, failure):
+        """A failed solve of a dryer with dust, with the dust named as the likely cause where, at the solver's
+        start (the transport holdups, the gas cooling along the drum as `initial_state` guesses), the gas
+        carries the curtains off much faster than the feed refills them. A class whose curtains lose r
+        times its feed rate per second keeps about exp(-r) of it through the drum's cascades (each cascade
+        keeps 1 - e, and r sums e over them); where that leaves less than 1 - DUST_REFUSE_FRACTION of the
+        feed, most or all of it leaves as dust, a state without a product that the solver may not settle
+        (converged runs of that kind are refused by `check_entrainment`). A hint, not a refusal: the start's
+        gas is a guess (hotter, and so faster, than a wet feed's drum), and the up-front refusal
+        (`_refuse_all_entrained`) takes the coldest gas to be certain."""
+        from .states import DUST_REFUSE_FRACTION
+
+        z = self.initial_state()
+        try:
+            t = self.terms(z)
+        except (ValueError, FloatingPointError):
+            return failure
+        feed = self.feed_rate * (1.0 - self.feed_moisture) * self.class_feed
+        rate = np.asarray(t["dust_S_c"], float) / np.maximum(feed, 1e-300)
+        lost = float(np.sum(self.class_feed * -np.expm1(-rate)))
+        if not lost > DUST_REFUSE_FRACTION:
+            return failure
+        ng, k = self.n_gas, 3 * self.n_classes * self.n_tanks
+        hint = (f"; the dust is the likely cause: at the solver's start (the gas cooling from "
+                f"{self.settings.gas_inlet_temperature:.4g} to {float(np.min(z[k:k + ng])):.4g} degC) the gas carries the "
+                f"curtains' solids off at {float(np.min(rate)):.3g} to {float(np.max(rate)):.3g} times each size class's "
+                f"feed rate, enough to take most or all of the feed (about {lost:.1%} at that gas) with the exhaust: "
+                f"lower gas.flow (now {self.settings.gas_flow:g} kg/s) or give a coarser particle_size")
+        out = DryerError(str(failure) + hint, reason=failure.reason, state=failure.state)
+        out.__cause__ = failure.__cause__
+        return out
 
     def _polished(self, ss, tol, dt0):
         """``ss``, or where its water or energy balance is open by more than BALANCE_POLISH (the
