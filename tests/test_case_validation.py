@@ -133,3 +133,41 @@ def test_a_test_rows_measured_or_model_figure_must_be_positive(tmp_path, key, va
     p.write_text(text)
     with pytest.raises(ValueError, match=rf"tests\.0\.{key} = {value}: Input should be greater than 0"):
         load_case(str(p))
+
+
+def test_a_product_drier_than_the_materials_range_is_run_at_the_ranges_end(tmp_path):
+    """A [[tests]] row's measured product moisture below the material's range (zinc concentrate 0.0062 against
+    [0.08, 0.19], the coupled model's own prediction) made every item of `validate` fail with "outside the
+    moisture range" (found by fuzzing): the transport-only profile feeds only the repose-angle and bulk-density
+    laws, which the coupled model also evaluates at the range's end (transport_moisture_clipped). It now runs,
+    with a warning naming the key; a product wetter than the range is still refused."""
+    import warnings
+
+    import numpy as np
+
+    from rotarydryer import Simulation
+    from rotarydryer.properties.solids import PropertyRangeWarning
+    from rotarydryer.validate import run_validation
+
+    base = {"operating.test": 4, "thermal.enabled": False}
+    with pytest.warns(PropertyRangeWarning, match=r"transport.product_moisture = 0.006 kg/kg wet is below the moisture "
+                      r"range of material 'zinc_concentrate_ajayi2011' \(from 0.08 kg/kg wet\)"):
+        dry = Simulation("ajayi2011_mmg", {**base, "transport.product_moisture": 0.006}).transport_steady_state()
+    at_end = Simulation("ajayi2011_mmg", {**base, "transport.product_moisture": 0.08}).transport_steady_state()
+    np.testing.assert_array_equal(dry.masses, at_end.masses)
+    with pytest.raises(ValueError, match=r"transport.product_moisture = 0.25 kg/kg wet is outside the moisture range"):
+        Simulation("ajayi2011_mmg", {**base, "transport.product_moisture": 0.25}).transport_steady_state()
+    from importlib import resources
+
+    text = (resources.files("rotarydryer.cases") / "ajayi2011_mmg.toml").read_text()
+    row = "feed_moisture = 0.163\nproduct_moisture = 0.124\n"
+    assert text.count(row) == 1
+    p = tmp_path / "dry_row.toml"
+    p.write_text(text.replace(row, "feed_moisture = 0.163\nproduct_moisture = 0.0062\n"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rep = run_validation([str(p)])
+    rows = [item for item in rep.items if "/test4/" in item.id]
+    assert rows and all(not item.message and item.model is not None for item in rows), [i.message for i in rows]
+    moist = next(item for item in rows if item.quantity.startswith("product_moisture"))
+    assert moist.measured == pytest.approx(0.0062)

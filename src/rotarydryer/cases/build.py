@@ -32,7 +32,7 @@ from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta
 from rotarydryer.properties.humid_air import STANDARD_PRESSURE, standard_atmosphere_pressure
 from rotarydryer.properties.materials import CALIBRATED_RANGES, load_material
 from rotarydryer.properties.psd import from_sieve, lognormal, rosin_rammler
-from rotarydryer.properties.solids import lee2008_moisture_profile
+from rotarydryer.properties.solids import PropertyRangeWarning, lee2008_moisture_profile
 from rotarydryer.thermal.burner import Burner, FuelOil
 from rotarydryer.thermal.settings import SectionThermal, ThermalSettings
 from rotarydryer.transport import TracerInput
@@ -249,11 +249,27 @@ def product_moisture(case) -> float:
 
 def moisture_ends(case, material) -> tuple[float, float]:
     """(feed, product) moisture (kg/kg wet) of the transport-only profile, each checked against the
-    material's range (the message names the key, and the test when the value is the test's)."""
-    x_in, x_out = operating_point(case)[2], product_moisture(case)
-    material.check_moisture("operating.feed_moisture" + _test_text(case, "operating.feed_moisture"), x_in)
-    material.check_moisture("transport.product_moisture" + _test_text(case, "transport.product_moisture"), x_out)
-    return x_in, x_out
+    material's range (the message names the key, and the test when the value is the test's).
+
+    A value wetter than the range is refused (the repose-angle and bulk-density laws do not hold there).
+    A value drier than it (a plant's product, measured or predicted, below the range of the material's
+    laws) is taken at the range's lower end, with a `PropertyRangeWarning`: the profile only feeds those
+    laws, and the coupled model clips its moisture for them the same way (``transport_moisture_clipped``),
+    so a test row with a dry product is run, not refused."""
+    lo = material.wet_range()[0]
+    ends = []
+    for key, x in (("operating.feed_moisture", operating_point(case)[2]),
+                   ("transport.product_moisture", product_moisture(case))):
+        key += _test_text(case, key)
+        if x < lo:
+            warnings.warn(f"{key} = {x:g} kg/kg wet is below the moisture range of material '{material.name}' "
+                          f"(from {lo:g} kg/kg wet): the transport-only moisture profile takes {lo:g} there for the "
+                          "repose-angle and bulk-density laws, as the coupled model does (transport_moisture_clipped)",
+                          PropertyRangeWarning, stacklevel=2)
+            x = lo
+        material.check_moisture(key, x)
+        ends.append(x)
+    return ends[0], ends[1]
 
 
 def fouling_of(case) -> float:
