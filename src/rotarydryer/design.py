@@ -49,7 +49,7 @@ from ._validation import check_choice, check_range
 from .executor import Executor, RunFailure
 
 __all__ = ["Duty", "Limits", "Design", "DesignResult", "InfeasibleDuty", "design", "evaluate", "check_plant",
-           "verify", "design_verified", "OBJECTIVES", "raw_sugar_duty", "mmg_duty"]
+           "verify", "design_verified", "verified_violations", "OBJECTIVES", "raw_sugar_duty", "mmg_duty"]
 
 OBJECTIVES = ("volume", "fuel", "cost")
 #: fuel oil lower heating value, J/kg (Ajayi (2011) App. A: LHV 41.6 MJ/kg)
@@ -670,12 +670,45 @@ def verify(design: Design, duty: Duty, n_cells=20):
     return Simulation(case).steady_state().summary()
 
 
+def _geometry(b: Design) -> tuple:
+    return (b.diameter_m, b.length_m, b.slope_deg, b.rpm, b.n_flights, b.s1_m, b.s2_m, b.alpha2_deg)
+
+
+def verified_violations(summary: dict, best: Design, dm: _DutyModel, limits: Limits) -> list[str]:
+    """The screening's limits that the coupled model's steady state ``summary`` of design ``best`` breaks,
+    one phrase each: the exhaust's dew-point margin (`Limits.dew_point_margin`), the fill (holdup over the
+    drum volume at the screening's bulk density, `Limits.fill_max`) and the flights' loading (holdup over
+    the screening's design load, `Limits.design_load_tolerance` above 1). The screening held them on its
+    own estimates (McCormick's Ua, Perry and Green's residence time); the coupled model may disagree."""
+    out = []
+    margin = summary.get("gas_outlet_dew_point_margin_K")
+    if margin is not None and margin < limits.dew_point_margin:
+        out.append(f"exhaust dew-point margin {margin:.3g} K (limit {limits.dew_point_margin:g} K)")
+    volume = math.pi * best.diameter_m**2 / 4 * best.length_m
+    fill = summary["total_holdup_kg"] / (dm.rho_b * volume)
+    if fill > limits.fill_max:
+        out.append(f"fill {fill:.3g} (limit {limits.fill_max:g})")
+    dl = best.values.get("design_load_kg")
+    if dl and math.isfinite(dl) and summary["total_holdup_kg"] / dl > 1 + limits.design_load_tolerance:
+        out.append(f"flights over-loaded: holdup / design load {summary['total_holdup_kg'] / dl:.3g} "
+                   f"(limit {1 + limits.design_load_tolerance:g})")
+    return out
+
+
 def design_verified(duty: Duty, limits: Limits | None = None, objective="volume", rounds=3, progress=None, **search):
     """`design`, then `verify` of the best design with the coupled model; while the
     coupled model misses the target product moisture, the Ua factor is lowered by the
     evaporation shortfall (required / achieved evaporation, to the power 1.5) and the search
     repeated (at most ``rounds`` searches). Returns (DesignResult, verification dict with the
-    rounds' history)."""
+    rounds' history).
+
+    The coupled model's own numbers are also held to the screening's limits that it computes
+    (`verified_violations`): the exhaust's dew-point margin, the fill and the flights' loading. A
+    design that meets the target moisture but breaks one of them (``constraints_violated``) is not
+    verified; where it over-dries (the coupled drum evaporates more than the duty needs, so the gas
+    leaves colder than screened), the Ua factor is raised by the same rule and the search repeated
+    (a shorter drum). The round returned: the first verified one, else the closest (target met
+    first, then the driest product)."""
     limits = (limits or Limits()).validate()
     duty.validate()
     dm = _DutyModel(duty)
@@ -684,9 +717,11 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
     designs = []        # the design of each round; history[k] is its verification (a failed one ends the search)
 
     def closest():
-        """The verified round whose product is driest (a later, larger drum may dry worse: the search's
-        Ua factor is a model of the shortfall, not a guarantee)."""
-        k = min(range(len(designs)), key=lambda i: history[i]["product_moisture_kg_kg"])
+        """The closest verified round: the target met first, then no limit broken, then the driest product
+        (a later, larger drum may dry worse: the search's Ua factor is a model of the shortfall, not a
+        guarantee)."""
+        k = min(range(len(designs)), key=lambda i: (not history[i]["target_met"], bool(history[i]["constraints_violated"]),
+                                                    history[i]["product_moisture_kg_kg"]))
         return designs[k], dict(history[k], best_round=k + 1)
 
     for k in range(int(rounds)):
@@ -699,6 +734,11 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
             best, entry = closest()
             return best, dict(entry, rounds=history, next_round_infeasible=str(exc),
                               blocking_constraint=exc.constraint)
+        if designs and _geometry(res.best) == _geometry(designs[-1].best):
+            # the new Ua factor did not move the search (the objective, not the drying, sets the drum): the same
+            # verification again
+            best, entry = closest()
+            return best, dict(entry, rounds=history)
         if progress:
             progress(f"verification {k + 1}: coupled heat-and-mass steady state of the best design")
         try:
@@ -713,12 +753,15 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
                      product_temperature_degC=v["product_temperature_degC"],
                      gas_outlet_temperature_degC=v["gas_outlet_temperature_degC"],
                      total_holdup_kg=v["total_holdup_kg"], target_met=met,
+                     gas_outlet_dew_point_margin_K=v.get("gas_outlet_dew_point_margin_K"),
+                     constraints_violated=verified_violations(v, res.best, dm, limits),
                      diameter_m=res.best.diameter_m, length_m=res.best.length_m)
         history.append(entry)
         designs.append(res)
-        if met:
+        over_dried = e_ach > dm.E * 1.0001
+        if met and not entry["constraints_violated"]:
             return res, dict(entry, rounds=history)
-        if k == rounds - 1:
+        if k == rounds - 1 or (met and not over_dried):   # a violation that a shorter drum would not mend
             best, entry = closest()
             return best, dict(entry, rounds=history)
         shortfall = dm.E / max(e_ach, 1e-3 * dm.E)

@@ -88,7 +88,9 @@ def test_verification_keeps_the_closest_round(monkeypatch):
         calls["design"] += 1
         if calls["design"] == 3:
             raise D.InfeasibleDuty("infeasible duty: blocking constraint 'drying length'", "drying length")
-        return SimpleNamespace(best=SimpleNamespace(diameter_m=float(calls["design"]), length_m=10.0), round=calls["design"])
+        return SimpleNamespace(best=SimpleNamespace(diameter_m=float(calls["design"]), length_m=10.0, slope_deg=2.0,
+                                                    rpm=3.0, n_flights=24, s1_m=0.2, s2_m=0.1, alpha2_deg=120.0,
+                                                    values={}), round=calls["design"])
 
     def fake_verify(best, duty):
         return dict(product_moisture_kg_kg=next(moistures), product_temperature_degC=50.0,
@@ -99,3 +101,44 @@ def test_verification_keeps_the_closest_round(monkeypatch):
     assert res.round == 1 and ver["best_round"] == 1 and not ver["target_met"]
     assert ver["product_moisture_kg_kg"] == pytest.approx(duty.moisture_out * 1.5)
     assert len(ver["rounds"]) == 2 and ver["blocking_constraint"] == "drying length"
+
+
+def test_verification_holds_the_coupled_model_to_the_screenings_limits(monkeypatch):
+    """A design whose coupled model meets the target moisture but leaves the exhaust at its dew point (found by
+    fuzzing: screened 107.7 degC, coupled 48.8 degC, margin -0.03 K, and "target met") is not verified: the
+    verification lists the limits broken; where the coupled drum over-dries, the Ua factor is raised (a shorter
+    drum) and the search repeated; the CLI exits 1 naming them."""
+    from types import SimpleNamespace
+
+    from rotarydryer.cli.design import _verification_failure, _verification_text
+
+    duty = D.raw_sugar_duty()
+    seen = []
+
+    def fake_design(duty, limits, **kw):
+        seen.append(limits.ua_factor)
+        return SimpleNamespace(best=SimpleNamespace(diameter_m=4.0, length_m=20.0 / len(seen), slope_deg=2.0, rpm=3.0,
+                                                    n_flights=24, s1_m=0.2, s2_m=0.1, alpha2_deg=120.0,
+                                                    values={"design_load_kg": 1e6}))
+
+    verified = iter([dict(product_moisture_kg_kg=duty.moisture_out * 0.2, gas_outlet_dew_point_margin_K=-0.03),
+                     dict(product_moisture_kg_kg=duty.moisture_out * 0.9, gas_outlet_dew_point_margin_K=12.0)])
+
+    def fake_verify(best, duty):
+        return dict(next(verified), product_temperature_degC=50.0, gas_outlet_temperature_degC=60.0,
+                    total_holdup_kg=1000.0)
+    monkeypatch.setattr(D, "design", fake_design)
+    monkeypatch.setattr(D, "verify", fake_verify)
+    res, ver = D.design_verified(duty, rounds=3)
+    first, second = ver["rounds"]
+    assert first["target_met"] and first["constraints_violated"] == ["exhaust dew-point margin -0.03 K (limit 10 K)"]
+    assert seen[1] > seen[0]            # over-dried: a larger Ua factor, a shorter drum
+    assert second["target_met"] and second["constraints_violated"] == [] and res.best.length_m == 10.0
+    assert _verification_failure(ver, duty.moisture_out) == ""
+    # a violation without over-drying ends the search: reported, and a failure of the verification
+    verified = iter([dict(product_moisture_kg_kg=duty.moisture_out, gas_outlet_dew_point_margin_K=4.0)])
+    seen.clear()
+    res, ver = D.design_verified(duty, rounds=3)
+    assert len(seen) == 1 and ver["constraints_violated"] == ["exhaust dew-point margin 4 K (limit 10 K)"]
+    assert "breaks the screening's limits (exhaust dew-point margin 4 K" in _verification_failure(ver, duty.moisture_out)
+    assert "Screening limits broken by the coupled model: exhaust dew-point margin 4 K" in _verification_text(duty, ver)

@@ -140,7 +140,9 @@ def render():
                    f"wet, target {show(r['duty']['moisture_out'], 'moisture')}: "
                    f"{'met' if ver['target_met'] else 'NOT met'}; exhaust "
                    f"{show(ver['gas_outlet_temperature_degC'], 'temperature')}, holdup {show(ver['total_holdup_kg'], 'mass')}.")
-            (st.success if ver["target_met"] else st.warning)(msg)
+            if ver.get("constraints_violated"):
+                msg += " The coupled model breaks the screening's limits: " + "; ".join(ver["constraints_violated"]) + "."
+            (st.success if ver["target_met"] and not ver.get("constraints_violated") else st.warning)(msg)
             if "next_round_infeasible" in ver:
                 st.caption(plain("With the Ua lowered to what the coupled model achieves: "
                                  + ver["next_round_infeasible"]))

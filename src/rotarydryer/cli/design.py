@@ -172,6 +172,8 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
                        f"{'met' if ver['target_met'] else 'NOT met'}), exhaust "
                        f"{show(ver['gas_outlet_temperature_degC'], 'temperature')}, holdup "
                        f"{show(ver['total_holdup_kg'], 'mass')}")
+            if ver.get("constraints_violated"):
+                typer.echo("  the coupled model breaks the screening's limits: " + "; ".join(ver["constraints_violated"]))
             if "next_round_infeasible" in ver:
                 typer.echo("  with the Ua lowered to what the coupled model achieves, the next search found no "
                            f"feasible probe: {_search_infeasible(ver['next_round_infeasible'])}")
@@ -221,6 +223,11 @@ def _verification_failure(ver, target, best=None) -> str:
                 + (f"; a further round: {_search_infeasible(ver['next_round_infeasible'])}"
                    if ver.get("next_round_infeasible") else "")
                 + "); the design does not meet the duty")
+    if ver.get("constraints_violated"):
+        return ("the design's verification (coupled model) failed: the target moisture is met, but the coupled model "
+                f"breaks the screening's limits ({'; '.join(ver['constraints_violated'])}) after "
+                f"{len(ver.get('rounds', []))} round(s) (--rounds); a larger --gas-flow or a hotter --gas-in keeps the "
+                "exhaust above its dew point, --fill-max bounds the fill")
     return ""
 
 
@@ -269,6 +276,29 @@ Binding constraints: {', '.join(b.binding()) or 'none'}.
 |---|---|---|---|
 {rows}
 
-The screening correlations are generic; verify the chosen design with the coupled model
-(`rotarydryer.design.verify`, or `rotarydryer new NAME` and `rotarydryer simulate`).
+{_verification_text(d, summary.get("verification"))}"""
+
+
+def _verification_text(d, ver) -> str:
+    """The report's section on the coupled model's verification of the best design."""
+    if ver is None:
+        return ("The screening correlations are generic; verify the chosen design with the coupled model\n"
+                "(`rotarydryer design` without `--no-verify`, or `rotarydryer new NAME` and `rotarydryer simulate`).\n")
+    if "error" in ver:
+        return f"## Verification (coupled model)\n\nThe coupled model could not run the design: {' '.join(str(ver['error']).split())}\n"
+    margin = ver.get("gas_outlet_dew_point_margin_K")
+    rounds = "\n".join(f"| {k + 1} | {r['ua_factor']:.3g} | {show(r['product_moisture_kg_kg'], 'moisture')} | "
+                       f"{'; '.join(r.get('constraints_violated') or []) or '-'} |"
+                       for k, r in enumerate(ver.get("rounds", [])) if "product_moisture_kg_kg" in r)
+    broken = "; ".join(ver.get("constraints_violated") or [])
+    return f"""## Verification (coupled model, Lee 2008 transport)
+
+Product moisture {show(ver['product_moisture_kg_kg'], 'moisture')} wet (target {show(d.moisture_out, 'moisture')}:
+{'met' if ver['target_met'] else 'NOT met'}); exhaust {show(ver['gas_outlet_temperature_degC'], 'temperature')}
+(dew-point margin {'n/a' if margin is None else f"{margin:.3g} K"}); product {show(ver['product_temperature_degC'], 'temperature')};
+holdup {show(ver['total_holdup_kg'], 'mass')}. Screening limits broken by the coupled model: {broken or 'none'}.
+
+| round | Ua factor | product moisture | limits broken |
+|---|---|---|---|
+{rounds}
 """
