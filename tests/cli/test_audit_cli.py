@@ -99,10 +99,25 @@ def test_a_held_what_if_whose_rerun_fails_is_reported_not_an_error(monkeypatch):
             raise DryerError("no steady state reached: scaled residual 2.33e-08 after 300 iterations",
                              reason="no_steady_state")
 
-    monkeypatch.setattr(energy, "target", lambda *a, **k: SimpleNamespace(found=True, value=389.809))
+    monkeypatch.setattr(energy, "target", lambda *a, **k: SimpleNamespace(found=True, value=389.809, tol=1e-7,
+                                                                         points=[(389.809, 0.13, "")]))
     monkeypatch.setattr(energy, "Simulation", Failing)
     w = energy.WhatIf(measure="preheat", value=17.84, overrides={})
     energy._hold(w, "ajayi2011_mmg", {}, {}, {"product_moisture_kg_kg": 0.13, "heat_release_W": 1e6}, 500.0, None)
     assert w.held is None
     assert w.held_error == ("at the gas inlet temperature found, 389.809 degC: no steady state reached: scaled "
                             "residual 2.33e-08 after 300 iterations")
+
+
+def test_a_product_at_its_moisture_floor_is_not_held():
+    """A product dried to the material's equilibrium moisture leaves at it over a wide range of gas inlet
+    temperatures: the held target stopped at the bracket's end (169 -> 229 degC) and reported a recycle that saves
+    39 kW at the same product as costing 354 kW (found by fuzzing). The held what-if now says why it has no value."""
+    from pathlib import Path
+
+    case = str(Path(__file__).parents[1] / "data" / "user_dried_to_floor.toml")
+    res = runner.invoke(app, ["audit", case, "--recycle", "0.1", "--hold-moisture", "--json"])
+    assert res.exit_code == 0, res.output
+    w = json.loads(res.stdout)["savings"][0]
+    assert w["heat_saved_W"] > 0 and w["held"] is None
+    assert "the product is dried to its floor (the material's equilibrium moisture)" in w["held_error"]

@@ -48,6 +48,9 @@ MEASURES = {"recycle": ("gas.recycle_fraction", "exhaust recycle"),
             "insulation": ("shell.insulation_thickness", "shell insulation")}
 #: how far below and above the base gas inlet temperature the held-moisture search looks, K
 HOLD_SPAN = (150.0, 60.0)
+#: gas inlet temperatures further apart than this (K) giving the base product moisture (within the target's
+#: tolerance) leave the held what-if undetermined: a product at its moisture floor (`_hold`)
+HOLD_FLAT_K = 1.0
 
 
 @dataclass
@@ -282,6 +285,17 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
                      (lo, hi), overrides={**overrides, **ov})
     except ValueError as exc:
         w.held_error = " ".join(str(exc).split())
+        return
+    x0 = s0["product_moisture_kg_kg"]
+    near = [x for x, y, _ in res.points if y is not None and abs(y - x0) <= res.tol]
+    if len(near) > 1 and max(near) - min(near) > HOLD_FLAT_K:
+        # a product dried to its floor (the material's equilibrium moisture): the same moisture over a range of gas
+        # inlet temperatures does not fix one (the target stops at the first it meets, the bracket's end)
+        w.held_error = (f"the product moisture is the base's ({show_output('product_moisture_kg_kg', x0)}, to "
+                        f"{fmt_number(res.tol)} kg/kg) at every gas inlet temperature from {fmt_number(min(near))} to "
+                        f"{fmt_number(max(near))} degC: the product is dried to its floor (the material's equilibrium "
+                        "moisture), so holding it does not fix a gas inlet temperature; hold a wetter product with "
+                        "rotarydryer target instead")
         return
     if not res.found:
         w.held_error = f"no gas inlet temperature in [{fmt_number(lo)}, {fmt_number(hi)}] degC gives the base product moisture"
