@@ -10,6 +10,7 @@ Run: python examples/lab_design_load.py [OUTDIR]
 """
 
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +28,9 @@ for r in dl.ajayi_table_4_11():
     cover = dict.fromkeys(dl.CI_METHODS, 0)
     for seed in range(N):
         x, y, truth = dl.mimic_ajayi_series(B, ci, r["FUF_area_cm2"], r["FUF_area_ci_cm2"], seed=seed)
-        f = dl.fit_break_point(x, y)
+        with warnings.catch_warnings():     # about 1 series in 60 has its break at its last loadings, not
+            warnings.simplefilter("ignore", RuntimeWarning)     # significant (a warning): the coverage counts them too
+            f = dl.fit_break_point(x, y)
         est.append(f.break_point)
         inside += abs(f.break_point - B) <= ci
         for m, (lo, hi) in f.ci.items():

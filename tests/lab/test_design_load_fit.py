@@ -1,5 +1,7 @@
 """Break-point fit of the first-unloading-flight area vs drum loading (Ajayi (2011) App. D-E)."""
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -117,3 +119,21 @@ def test_too_few_points_for_ajayi_interval_warns():
     assert f.n_left == 2 and np.isnan(f.ci["ajayi_corrected"][0])
     assert any("n_left = 2" in str(w.message) for w in caught)
     assert np.all(np.isfinite(f.ci["profile"]))
+
+
+def test_a_straight_line_has_no_plateau():
+    """Points on a straight line (no plateau: the flight was never loaded to its design load) gave a "design load"
+    at the last-but-one loading (found by fuzzing). An exact line is refused; a noisy one, whose break falls at its
+    last loadings and is not significant, warns; a series with a plateau does neither."""
+    x = np.arange(1.0, 12.0)
+    with pytest.raises(ValueError, match="no plateau: the points lie on a straight line; the area still rises by 2 per "
+                                         "loading unit up to the largest loading, 11"):
+        dl.fit_break_point(x, 1.0 + 2.0 * x)
+    rng = np.random.default_rng(0)
+    xs = np.repeat(np.linspace(10.0, 60.0, 11), 5)
+    with pytest.warns(RuntimeWarning, match=r"no plateau to speak of: the break leaves 1 loading\(s\) after it"):
+        dl.fit_break_point(xs, 5.0 + 0.4 * xs + rng.normal(0.0, 1.0, xs.size))
+    x, y, _ = dl.mimic_ajayi_series(40.0, 1.0, 30.0, 0.2, seed=4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert dl.fit_break_point(x, y).break_point == pytest.approx(40.0, abs=2.0)
