@@ -182,6 +182,22 @@ def test_fit_recovers_lee_repose_angles(alt, exp):
     assert f.params["mass_offset"] == pytest.approx(30.0, abs=0.05)
 
 
+def test_a_fit_that_does_not_describe_the_record_warns(alt):
+    """A record analysed with the wrong start angle (20 deg: the flight is still full) gave a repose angle of 0.5
+    deg, interval -24.9 to 25.9 deg, printed as a result without a word (found by fuzzing). A fit at its search
+    bound, with an interval outside (0, 90) deg or explaining under RIG_MIN_R2 of the signal warns; a good fit
+    does not."""
+    import warnings
+
+    run = fr.synthetic_run(alt, 40.0, rpm=4.0, start_angle=93.5, bulk_density=RHO_FILTER_SAND, seed=3, noise_sd=0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fr.fit_repose_angle(run, alt, rpm=4.0, start_angle=93.5, bulk_density=RHO_FILTER_SAND)
+    with pytest.warns(RuntimeWarning, match=r"the unloading model does not describe this record, so the fit is not a "
+                                            r"measurement of the repose angle: .*check --start-angle"):
+        fr.fit_repose_angle(run, alt, rpm=4.0, start_angle=93.5, bulk_density=RHO_FILTER_SAND * 20)
+
+
 def test_fit_with_bulk_density(alt):
     run = fr.synthetic_run(alt, 44.7, rpm=4.0, start_angle=93.5, bulk_density=1480.0, seed=11, noise_sd=0.05)
     f = fr.fit_repose_angle(run, alt, rpm=4.0, start_angle=93.5, bulk_density=1300.0, fit_bulk_density=True)

@@ -770,9 +770,34 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
     stderr = {k: float(se[i]) for k, i in idx.items()}
     ci = {k: (float(unc.ci_low[i]), float(unc.ci_high[i])) for k, i in idx.items()}
     model = {"time": t, "mass": resid(sol.x) + y, "data": y}
+    _warn_poor_fit(sol.x[0], (lb[0], ub[0]), r, y, ci["repose_angle"])
     return RigFit(params=params, stderr=stderr, ci=ci, covariance=cov, names=tuple(names),
                   residual_sd=math.sqrt(s2), ar1=ar1, inflation=infl, confidence=conf, n=n,
                   success=bool(sol.success), model=model)
+
+
+#: a rig fit explaining less than this share of the record's variance is reported as not describing it
+RIG_MIN_R2 = 0.9
+
+
+def _warn_poor_fit(phi, bounds, residuals, data, phi_ci) -> None:
+    """Warn (``RuntimeWarning``) when the fitted unloading model does not describe the record: the repose
+    angle at a bound of its search, its interval reaching outside (0, 90) deg, or the model explaining less
+    than `RIG_MIN_R2` of the mass signal's variance. Such a fit is not a measurement of the repose angle
+    (found by fuzzing: 0.5 deg, interval -24.9 to 25.9 deg, residual SD 38.5 kg, printed as results)."""
+    sst = float(np.sum((data - data.mean()) ** 2))
+    r2 = 1.0 - float(residuals @ residuals) / sst if sst > 0 else 0.0
+    why = []
+    if min(phi - bounds[0], bounds[1] - phi) < 1e-3:
+        why.append(f"the repose angle ends at the bound of its search ({phi:.3g} deg)")
+    if not (phi_ci[0] > 0.0 and phi_ci[1] < 90.0):
+        why.append(f"its {phi_ci[0]:.3g} to {phi_ci[1]:.3g} deg interval leaves (0, 90) deg")
+    if r2 < RIG_MIN_R2:
+        why.append(f"the model explains {max(r2, 0.0):.0%} of the mass signal's variance")
+    if why:
+        warnings.warn("the unloading model does not describe this record, so the fit is not a measurement of the "
+                      f"repose angle: {'; '.join(why)}; check --start-angle, --flight, --rpm and the record's "
+                      "columns (time, load cells in kg)", RuntimeWarning, stacklevel=3)
 
 
 # ---------------------------------------------------------------------------- band and analysis
