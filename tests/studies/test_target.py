@@ -376,3 +376,22 @@ def test_a_free_input_must_be_a_continuous_number():
         assert r.exit_code == 2, r.output
         assert f"--find {key}: the key takes {what}; a target needs a continuous input" in r.output
         assert f"rotarydryer sweep --grid {key}=..." in r.output
+
+
+def test_an_objective_that_is_not_a_free_input_or_an_output_is_named_by_its_option():
+    """--maximize of a case key that is not among the --find inputs said "--such-that: 'operating.feed_rate' is not
+    an output of the case"; an unknown output to maximise was also blamed on --such-that (found by fuzzing)."""
+    find = ["--find", "gas.inlet_temperature=300,600", "--such-that", "product_moisture_kg_kg<=0.14"]
+    res = CliRunner().invoke(app, ["target", "ajayi2011_mmg", *find, "--maximize", "operating.feed_rate"])
+    assert res.exit_code == 2
+    assert ("error: --maximize operating.feed_rate: a case key that is not a free input of this target (--find "
+            "gas.inlet_temperature): give it as a --find too, or optimise an output") in res.output
+    res = CliRunner().invoke(app, ["target", "ajayi2011_mmg", *find, "--minimize", "product_moistur"])
+    assert res.exit_code == 2 and "error: --minimize: 'product_moistur' is not an output of the case" in res.output
+
+
+def test_mrt_method_without_its_inputs_names_the_options():
+    res = CliRunner().invoke(app, ["mrt", "--length", "10", "--diameter", "2", "--slope", "0.03", "--rpm", "4",
+                                   "--method", "perry_green_1984"])
+    assert res.exit_code == 2
+    assert "error: --method perry_green_1984 needs --particle-size, --gas-mass-flux, --solids-mass-flux" in res.output

@@ -34,18 +34,21 @@ def mrt(
 
     from .._validation import check_choice
     from ..correlations import mean_residence_time, mean_residence_time_methods
-    from ..correlations.residence_time import MEAN_RESIDENCE_TIME_METHODS
+    from ..correlations.residence_time import MEAN_RESIDENCE_TIME_METHODS, missing_inputs
 
     try:  # options shared by every method: a wrong one is bad input, not a per-method error
         check_choice("gas_flow", gas_flow, ("co-current", "counter-current"))
+        inputs = dict(length=length, diameter=diameter, slope=slope, rpm=rpm, particle_size=particle_size,
+                      gas_mass_flux=gas_mass_flux, solids_mass_flux=solids_mass_flux, gas_flow=gas_flow,
+                      repose_angle=repose_angle)
         if method:
             check_choice("method", method, MEAN_RESIDENCE_TIME_METHODS)
+            missing = missing_inputs(method, **inputs)
+            if missing:
+                raise ValueError(f"--method {method} needs {', '.join('--' + k.replace('_', '-') for k in missing)}")
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
-    inputs = dict(length=length, diameter=diameter, slope=slope, rpm=rpm, particle_size=particle_size,
-                  gas_mass_flux=gas_mass_flux, solids_mass_flux=solids_mass_flux, gas_flow=gas_flow,
-                  repose_angle=repose_angle)
     methods = [method] if method else mean_residence_time_methods(**inputs)
     results = {}
     for m in methods:

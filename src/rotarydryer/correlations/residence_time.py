@@ -55,6 +55,7 @@ __all__ = [
     "solids_holdup",
     "mean_residence_time",
     "mean_residence_time_methods",
+    "missing_inputs",
     "song_2003_appendix_a",
     "GAS_FLOWS",
 ]
@@ -691,6 +692,18 @@ def _in_song_range(inputs) -> bool:
     )
 
 
+def missing_inputs(method: str, **inputs) -> list[str]:
+    """The arguments ``method`` needs that ``inputs`` lacks (None counts as missing; ``gas_flow`` has a default).
+
+    Examples
+    --------
+    >>> missing_inputs("perry_green_1984", length=10.0, diameter=2.0, slope=0.03, rpm=4.0)
+    ['particle_size', 'gas_mass_flux', 'solids_mass_flux']
+    """
+    check_choice("method", method, _METHODS)
+    return [k for k in _METHODS[method][1] if k != "gas_flow" and inputs.get(k) is None]
+
+
 def mean_residence_time_methods(*, check_ranges: bool = False, **inputs) -> list[str]:
     """List the mean-residence-time methods that can be evaluated with the given inputs.
 
@@ -760,7 +773,7 @@ def mean_residence_time(method: str | None = None, **inputs):
         method = candidates[0]
     check_choice("method", method, _METHODS)
     func, needed = _METHODS[method]
-    missing = [k for k in needed if k != "gas_flow" and inputs.get(k) is None]
+    missing = missing_inputs(method, **inputs)
     if missing:
         raise ValueError(f"mean_residence_time(method={method!r}) needs the argument(s) {', '.join(missing)}")
     kwargs = {k: inputs[k] for k in needed if k in inputs and inputs[k] is not None}

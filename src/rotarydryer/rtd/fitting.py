@@ -697,7 +697,8 @@ def fit_tracer_data(data, model: str = "tanks_in_series", **kwargs) -> RTDFit:
         kwargs.setdefault("fit_scale", True)
         if not kwargs["fit_scale"]:
             raise ValueError(
-                f"signal_unit {unit!r} is not a normalised RTD (1/s, 1/min, 1/h); fit with fit_scale=True (--scale on the command line)"
+                f"the signal's unit ({unit or 'not given'}) is not a normalised RTD's (1/s, 1/min, 1/h), so its scale "
+                "must be fitted: fit_scale=True (on the command line --scale, the default, not --no-scale)"
             )
     if "sigma" in kwargs and kwargs["sigma"] is not None and rate is not None:
         kwargs["sigma"] = np.asarray(kwargs["sigma"], float) * rate

@@ -37,7 +37,7 @@ def run_target(case: str, find, such_that, sets: dict | None = None, tol: float 
     objective = maximize or minimize
     if objective:
         return optimum(case, finds, objective, conds, sense="max" if maximize else "min", overrides=sets or None,
-                       tol=tol, labels=OPTION_LABELS)
+                       tol=tol, labels={**OPTION_LABELS, "objective": "--maximize" if maximize else "--minimize"})
     if not conds:
         raise TargetError("--such-that: give the target(s), e.g. --such-that product_moisture_kg_kg<=0.12")
     if len(finds) == 1 and len(conds) == 1:

@@ -77,7 +77,7 @@ class TargetError(ValueError):
         self.reason = reason
 
 
-_LABELS = {"find": "find", "such_that": "such_that", "bounds": "bounds"}
+_LABELS = {"find": "find", "such_that": "such_that", "bounds": "bounds", "objective": "objective"}
 _SUCH_THAT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=|==|=)\s*(\S.*?)\s*$")
 
 
@@ -510,8 +510,10 @@ class TargetSetResult:
 class _Evaluator:
     """Steady-state outputs at input values (dict key -> x), cached, warm-started from the last run."""
 
-    def __init__(self, case_name, overrides, names, such_that_label, budget_message=None, budget=MAX_EVALUATIONS):
+    def __init__(self, case_name, overrides, names, such_that_label, budget_message=None, budget=MAX_EVALUATIONS,
+                 name_labels=None):
         self.case_name, self.overrides, self.names, self.label = case_name, overrides, names, such_that_label
+        self.name_labels = name_labels or {}     # the option naming an output, where not the conditions' (an objective)
         self.budget = budget
         self.budget_message = budget_message or f"no answer in {budget} steady states (the study's budget)"
         self.cache: dict = {}
@@ -543,7 +545,7 @@ class _Evaluator:
             if name not in out or isinstance(y, bool) or not isinstance(y, (int, float)):
                 numeric = sorted(k for k, v in out.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
                 what = "is not an output of the case" if name not in out else "is not a number in this run"
-                raise TargetError(f"{self.label}: {name!r} {what}; outputs: {', '.join(numeric)}")
+                raise TargetError(f"{self.name_labels.get(name, self.label)}: {name!r} {what}; outputs: {', '.join(numeric)}")
             ys[name] = float(y)
         self.cache[key] = (ys, "")
         self.points.append((at, ys[self.names[0]] if len(self.names) == 1 else dict(ys), ""))
@@ -740,10 +742,15 @@ def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=Non
     lab, case_name, overrides, keys, bounds, conds, tols, start = _prepare(case, finds, such_thats, overrides, tol,
                                                                             labels, "any")
     objective = str(objective).strip()
+    if objective not in keys and objective in valid_override_keys(type(load_case(case_name, overrides or None))):
+        raise TargetError(f"{lab['objective']} {objective}: a case key that is not a free input of this target "
+                          f"({lab['find']} {', '.join(keys)}): give it as a {lab['find']} too, or optimise an output")
     names = list(dict.fromkeys([c[0] for c in conds] + ([] if objective in keys else [objective])))
     if len(keys) == 1 and objective == keys[0]:
         return _optimum_1d(case_name, overrides, keys[0], bounds[keys[0]], conds, tols, sense, lab)
-    ev = _Evaluator(case_name, overrides, names, lab["such_that"], budget=OPTIMUM_EVALUATIONS)
+    ev = _Evaluator(case_name, overrides, names, lab["such_that"], budget=OPTIMUM_EVALUATIONS,
+                    name_labels={} if objective in keys or objective in [c[0] for c in conds]
+                    else {objective: lab["objective"]})
     lo = np.array([bounds[k][0] for k in keys])
     span = np.array([bounds[k][1] - bounds[k][0] for k in keys])
     sign = -1.0 if sense == "max" else 1.0
