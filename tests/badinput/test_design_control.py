@@ -25,6 +25,8 @@ def _refused(args, workdir, *fragments):
     (["--duty", "raw_sugar", "--speed-fraction", "1.5"], ["--speed-fraction = 1.5", "allowed"]),
     (["--check", "my_plant"], ["--check", "my_plant", "ajayi2011_mmg"]),
     (["--duty", "raw_sugar", "--out", "afile.txt/sub"], ["--out", "is a file"]),
+    # both the gas flow and the transfer units: --ntu was ignored (found by fuzzing)
+    (["--duty", "raw_sugar", "--gas-flow", "20", "--ntu", "2"], ["--gas-flow = 20 kg/s and --ntu = 2: give one"]),
 ])
 def test_design_bad_options(args, fragments, workdir):
     if "afile.txt/sub" in args:

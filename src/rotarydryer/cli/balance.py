@@ -43,6 +43,7 @@ def balance(
     """
     import math
 
+    from .._limits import check_key
     from .._validation import check_range
     from ..properties import humid_air as ha
     from ..properties.materials import list_materials, load_material
@@ -76,6 +77,8 @@ def balance(
                 ("--gas-flow", gas_flow, 0.0, math.inf, False, "kg/s")):
             if v is not None:
                 check_range(opt, v, lo, hi, low_inclusive=lo_in, unit=unit)
+        if gas_flow is not None:
+            check_key("gas.flow", gas_flow, "--gas-flow")      # the case key's range
         if vals["moisture_out"] >= vals["moisture_in"]:
             raise ValueError(f"--moisture-out = {vals['moisture_out']:g} must be below --moisture-in = "
                              f"{vals['moisture_in']:g} kg/kg wet: the balance needs a test that dries")
@@ -102,7 +105,8 @@ def balance(
     dew = float(ha.dew_point(min(y_out, 0.3)))
     out.update({"material": material, "evaporation_kg_s": evap, "exhaust_humidity_kg_kg": y_out, "exhaust_dew_point_degC": dew,
                 "product_temperature_degC": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
-                "product_below_dew_point": bool(vals["product_temperature"] < dew)})
+                "product_below_dew_point": bool(vals["product_temperature"] < dew),
+                "exhaust_below_dew_point": bool(out["gas_outlet_temperature_degC"] < dew)})
     if as_json:
         typer.echo(json_text(out, indent=2))
         return
@@ -112,6 +116,11 @@ def balance(
     typer.echo(f"gas outlet temperature   {out['gas_outlet_temperature_degC']:10.1f} degC")
     typer.echo(f"evaporation              {evap:10.3f} kg/s")
     typer.echo(f"exhaust humidity         {y_out:10.4f} kg/kg dry gas (dew point {dew:.1f} degC)")
+    if out["gas_outlet_temperature_degC"] < dew:
+        typer.echo(f"warning: the exhaust ({out['gas_outlet_temperature_degC']:.1f} degC) is "
+                   f"{dew - out['gas_outlet_temperature_degC']:.3g} K below its own dew point ({dew:.1f} degC): the gas "
+                   f"would be supersaturated, which the balance does not represent (water would condense); its "
+                   f"numbers hold, the gas state does not: a hotter --gas-in, more gas or a wetter --moisture-out")
     if out["product_below_dew_point"]:
         typer.echo(f"warning: the product ({vals['product_temperature']:.1f} degC) is colder than the exhaust dew "
                    f"point: it would condense water, not dry (measured after discharge? air leaking in?)")

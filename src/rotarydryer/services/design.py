@@ -50,7 +50,10 @@ def design_duty(duty=None, material=None, feed=None, moisture_in=None, moisture_
                                    moisture_out=moisture_out, gas_inlet_temperature=gas_in, gas_flow=gas_flow,
                                    ntu=ntu, direction=direction, feed_temperature=feed_temperature,
                                    max_fuel_rate=max_fuel).items() if v is not None}
-    if ntu is not None and gas_flow is None:
+    if ntu is not None and gas_flow is not None:
+        raise ValueError(f"--gas-flow = {gas_flow:g} kg/s and --ntu = {ntu:g}: give one (the gas flow fixes the transfer "
+                         "units; --ntu sizes the gas flow when it is free)")
+    if ntu is not None:
         given["gas_flow"] = None
     names = {"material": "--material", "feed_rate": "--feed", "moisture_in": "--moisture-in",
              "moisture_out": "--moisture-out", "gas_inlet_temperature": "--gas-in", "gas_flow": "--gas-flow",
