@@ -87,7 +87,7 @@ from . import radiation as rad
 from .consistency import pi_operating_conditions  # noqa: F401  (re-exported)
 from .settings import AJAYI_GAS_FLOW, SHELL_THICKNESS_RATIO, DryerError, SectionThermal, ThermalSettings
 from .shell import _shell_loss_compiled, ajayi2011_heat_loss, shell_heat_loss
-from .states import CoupledTransportState, DynamicResult, ThermalSteadyState  # noqa: F401  (re-exported)
+from .states import DUST_REFUSE_FRACTION, CoupledTransportState, DynamicResult, ThermalSteadyState  # noqa: F401  (re-exported)
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
            "AJAYI_GAS_FLOW", "pi_operating_conditions"]
@@ -1409,8 +1409,6 @@ class ThermalDryer:
         (converged runs of that kind are refused by `check_entrainment`). A hint, not a refusal: the start's
         gas is a guess (hotter, and so faster, than a wet feed's drum), and the up-front refusal
         (`_refuse_all_entrained`) takes the coldest gas to be certain."""
-        from .states import DUST_REFUSE_FRACTION
-
         z = self.initial_state()
         try:
             t = self.terms(z)
