@@ -275,12 +275,13 @@ def outputs_of(dryer, z):
     return outlets(dryer, z)
 
 
-def _fuel(dryer):
-    """Fuel rate (kg/s) of the case's burner for the dryer's gas inlet temperature (None without a burner)."""
+def _fuel(dryer, z):
+    """Fuel rate (kg/s) of the case's burner for the dryer's gas inlet temperature at state ``z`` (whose exhaust
+    a recycling burner heats), None without a burner or where it cannot give that temperature."""
     if dryer.settings.burner is None:
         return None
     try:
-        return burner_fuel_rate(dryer)
+        return burner_fuel_rate(dryer, z)
     except ValueError:
         return None
 
@@ -768,8 +769,10 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         times.append(t)
         gas_key = (T_in, tuple(sorted((name, val) for name, val in extra.items()
                                       if name not in ("rotational_speed", "solid_inlet_temperature"))))
-        if gas_key not in fuel_of:
-            fuel_of[gas_key] = _fuel(d_cur)
+        if d_cur.settings.recycle_fraction:      # the recycled exhaust is the state's: no cache
+            fuel_of[gas_key] = _fuel(d_cur, z)
+        elif gas_key not in fuel_of:
+            fuel_of[gas_key] = _fuel(d_cur, z)
         for key, val in (("product_moisture_kg_kg", y["product_moisture"]),
                          ("product_temperature_degC", y["product_temperature"]),
                          ("exhaust_temperature_degC", y["exhaust_temperature"]),

@@ -312,3 +312,24 @@ def test_refusals_name_the_schedule_and_the_case_key(tmp_path):
     msg = res.output.strip().splitlines()[-1]
     assert msg.startswith("error: burner_fuel_rate: the case's burner has no fuel rate at its "
                           "gas.inlet_temperature = 450 degC") and "schedule the gas_inlet_temperature instead" in msg
+
+
+def test_a_recycling_burners_fuel_is_that_of_the_state_it_recycles():
+    """With exhaust recycle the burner heats the recycled exhaust too: `dynamics` and `control` took the fuel of
+    the case without recycle (0.125 against simulate's 0.101 kg/s), and a fuel schedule at simulate's own fuel
+    cooled the product by 41 K (found by fuzzing). The fuel is now the state's (its exhaust recycled), and that
+    schedule leaves the steady state where it is."""
+    sim = Simulation(CASE, {**SETS, "gas.recycle_fraction": 0.3})
+    st = sim.thermal_steady_state()
+    d, z = st.dryer, st.state
+    fuel = st.fuel_rate()
+    assert base_inputs(d, ["burner_fuel_rate"], z)["burner_fuel_rate"] == pytest.approx(fuel, rel=1e-12)
+    with pytest.raises(ValueError, match="gas.recycle_fraction: the state whose exhaust is recycled is needed"):
+        base_inputs(d, ["burner_fuel_rate"])
+    same = apply_inputs(d, {"burner_fuel_rate": fuel}, z)
+    assert same.settings.gas_inlet_temperature == pytest.approx(d.settings.gas_inlet_temperature, abs=1e-6)
+    res = simulate_schedule(d, z, InputSchedule({"burner_fuel_rate": ((300.0, fuel),)}), 1800.0, 300.0)
+    assert float(np.max(np.abs(res.states[:, -1] - z) / d._scale())) < 1e-6
+    assert res.inputs["burner_fuel_rate"][0] == pytest.approx(fuel, rel=1e-12)
+    less = apply_inputs(d, {"burner_fuel_rate": 0.8 * fuel}, z)
+    assert less.settings.gas_inlet_temperature < d.settings.gas_inlet_temperature - 20

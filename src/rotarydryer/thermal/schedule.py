@@ -37,7 +37,7 @@ from .._limits import LIMITS, describe_limit
 from .._validation import check_range, finite_number
 from .burner import combustion_chamber, fuel_rate_for_temperature
 from .settings import DryerError
-from .states import DynamicResult, outlets
+from .states import DynamicResult, ThermalSteadyState, outlets
 
 __all__ = ["SCHEDULE_INPUTS", "InputSchedule", "load_schedule", "apply_inputs", "base_inputs", "burner_fuel_rate", "check_applicable", "outlets",
            "DryerIntegrator", "ScheduleResult", "simulate_schedule", "OUTLETS", "OUTLET_NAMES"]
@@ -306,40 +306,74 @@ def load_schedule(path) -> InputSchedule:
 
 
 # ---------------------------------------------------------------------------------------------- the plant
-def _fuel_temperature(dryer, fuel_rate, settings=None):
-    """Gas inlet temperature (degC) the case's burner makes from ``fuel_rate`` kg/s (with the air
-    flows and ambient of ``settings``, default the dryer's)."""
-    s = dryer.settings if settings is None else settings
+def _fuel_temperature(dryer, fuel_rate, z=None):
+    """Gas inlet temperature (degC) the case's burner makes from ``fuel_rate`` kg/s with the air flows and
+    ambient of ``dryer``; with exhaust recycle (``gas.recycle_fraction``), with the recycled exhaust of
+    state ``z`` (the chamber balance of `ThermalSteadyState.fuel_rate_at`, inverted by Brent's method)."""
+    s = dryer.settings
     b = s.burner
+    if s.recycle_fraction:
+        if z is None:
+            raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
+        from scipy.optimize import brentq
+
+        st = ThermalSteadyState(dryer, z)
+
+        def excess(t):     # fuel the temperature t needs, less the fuel given (the streams alone hotter: none;
+            try:           # beyond what the combustion air burns: more than any fuel it takes)
+                return st.fuel_rate_at(t) - fuel_rate
+            except ValueError as exc:
+                if "below the temperature" in str(exc):
+                    return -fuel_rate
+                if "cannot reach" in str(exc):
+                    return 1e3       # kg/s: any fuel it takes is less
+                raise
+        hi = LIMITS["gas.inlet_temperature"].high
+        try:
+            if excess(hi) < 0.0:
+                raise ValueError(f"burner_fuel_rate = {fuel_rate:g} kg/s heats the gas above gas.inlet_temperature's "
+                                 f"limit, {hi:g} degC")
+        except ValueError as exc:
+            raise ValueError(f"burner_fuel_rate = {fuel_rate:g} kg/s: {' '.join(str(exc).split())}") from None
+        return float(brentq(excess, -19.0, hi, xtol=1e-9))
     gas = combustion_chamber(fuel_rate, s.gas_flow * b.combustion_air_share, s.gas_flow * (1 - b.combustion_air_share),
                              air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y, fuel=b.fuel,
                              heat_loss_fraction=b.heat_loss_fraction)
     return float(gas.temperature_c)
 
 
-def burner_fuel_rate(dryer) -> float:
-    """Fuel rate (kg/s) the case's burner needs for the dryer's gas inlet temperature."""
+def burner_fuel_rate(dryer, z=None) -> float:
+    """Fuel rate (kg/s) the case's burner needs for the dryer's gas inlet temperature; with exhaust recycle
+    (``gas.recycle_fraction``) the burner also heats the recycled exhaust, of state ``z`` (needed then:
+    `simulate`'s fuel is that of its steady state)."""
     s = dryer.settings
     b = s.burner
+    if s.recycle_fraction:
+        if z is None:
+            raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
+        return ThermalSteadyState(dryer, z).fuel_rate_at(s.gas_inlet_temperature)
     return float(fuel_rate_for_temperature(s.gas_inlet_temperature, s.gas_flow * b.combustion_air_share,
                                            s.gas_flow * (1 - b.combustion_air_share),
                                            air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y,
                                            fuel=b.fuel, heat_loss_fraction=b.heat_loss_fraction))
 
 
-def base_inputs(dryer, names=None) -> dict:
-    """The dryer's values of the schedulable inputs ``names`` (all but the fuel when None)."""
+def base_inputs(dryer, names=None, z=None) -> dict:
+    """The dryer's values of the schedulable inputs ``names`` (all but the fuel when None); ``z``: the state,
+    whose exhaust the burner heats with exhaust recycle (`burner_fuel_rate`)."""
     s = dryer.settings
     values = dict(gas_inlet_temperature=s.gas_inlet_temperature, feed_rate=dryer.feed_rate,
                   feed_moisture=dryer.feed_moisture, rpm=dryer.rpm, gas_flow=s.gas_flow,
                   gas_inlet_humidity=s.gas_inlet_humidity, feed_temperature=s.solids_inlet_temperature,
                   fouling=s.fouling)
     if names is not None and "burner_fuel_rate" in names and s.burner is not None:
+        if s.recycle_fraction and z is None:
+            raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
         try:
-            values["burner_fuel_rate"] = burner_fuel_rate(dryer)
+            values["burner_fuel_rate"] = burner_fuel_rate(dryer, z)
         except ValueError as exc:       # the case's own gas temperature is beyond its burner: no fuel rate to move
             raise ValueError(f"burner_fuel_rate: the case's burner has no fuel rate at its gas.inlet_temperature = "
-                             f"{s.gas_inlet_temperature:g} degC ({' '.join(str(exc).split())}); schedule the "
+                             f"{float(s.gas_inlet_temperature):g} degC ({' '.join(str(exc).split())}); schedule the "
                              "gas_inlet_temperature instead, or change [gas.burner] or gas.inlet_temperature") from None
     return {k: float(v) for k, v in values.items() if names is None or k in names}
 
@@ -349,26 +383,29 @@ _SETTING = {"gas_inlet_temperature": "gas_inlet_temperature", "gas_flow": "gas_f
             "fouling": "fouling"}
 
 
-def apply_inputs(dryer, values: dict):
-    """A copy of ``dryer`` with the schedulable inputs ``values`` (names of `SCHEDULE_INPUTS`)."""
+def apply_inputs(dryer, values: dict, z=None):
+    """A copy of ``dryer`` with the schedulable inputs ``values`` (names of `SCHEDULE_INPUTS`); ``z``: the
+    state at the change, whose exhaust a recycling burner heats (a fuel rate is converted with it)."""
     settings = copy.copy(dryer.settings)
     for k, v in values.items():
         if k in _SETTING:
             setattr(settings, _SETTING[k], float(v))
     if "burner_fuel_rate" in values:
-        settings.gas_inlet_temperature = _fuel_temperature(dryer, float(values["burner_fuel_rate"]), settings)
+        moved = dryer.with_parameters(settings=settings)      # the air flows and ambient of the new inputs
+        settings.gas_inlet_temperature = _fuel_temperature(moved, float(values["burner_fuel_rate"]), z)
     kw = {k: float(values[k]) for k in ("feed_rate", "rpm", "feed_moisture") if k in values}
     return dryer.with_parameters(settings=settings, **kw)
 
 
-def check_applicable(dryer, schedule: InputSchedule) -> None:
+def check_applicable(dryer, schedule: InputSchedule, z=None) -> None:
     """Every point of a (resolved) ``schedule`` applied alone to ``dryer`` (the case's and the
     material's checks, e.g. a feed wetter than the material's laws allow), before a run starts:
-    the error names the schedule, the input, the value and its time."""
+    the error names the schedule, the input, the value and its time. ``z``: the start state (a
+    recycling burner's fuel rate is checked with its exhaust)."""
     for name, p in schedule.points.items():
         for t, v in sorted(set(p)):
             try:
-                apply_inputs(dryer, {name: v})
+                apply_inputs(dryer, {name: v}, z)
             except ValueError as exc:
                 raise ValueError(f"{schedule.source}: {name}={v:g} at {t:g} s: {' '.join(str(exc).split())}") from None
 
@@ -573,9 +610,9 @@ def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float,
     t_start = time.perf_counter()
     schedule = schedule or InputSchedule({})
     names = list(schedule.points)
-    base = base_inputs(dryer, names + ["burner_fuel_rate"] if "burner_fuel_rate" in names else None)
+    base = base_inputs(dryer, names + ["burner_fuel_rate"] if "burner_fuel_rate" in names else None, z0)
     schedule = schedule.check(base, t_end_s, burner=dryer.settings.burner is not None)
-    check_applicable(dryer, schedule)
+    check_applicable(dryer, schedule, z0)
     n = int(math.floor(t_end_s / dt_s + 1e-9))
     grid = sorted({*(k * dt_s for k in range(n + 1) if k * dt_s < t_end_s), t_end_s, *schedule.step_times(base)})
     integ = DryerIntegrator(dryer, z0, rtol=rtol)
@@ -588,7 +625,7 @@ def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float,
             u = schedule.inputs_at(t0, base)
             if u != applied:
                 try:
-                    moved = apply_inputs(dryer, u) if u else dryer
+                    moved = apply_inputs(dryer, u, integ.z) if u else dryer
                 except ValueError as exc:   # inputs that pass one by one (check_applicable) but not together
                     what = ", ".join(f"{k}={v:g}" for k, v in u.items() if v != base[k]) or "the case's inputs"
                     raise ValueError(f"{schedule.source}: {what} at {t0:g} s: {' '.join(str(exc).split())}") from None

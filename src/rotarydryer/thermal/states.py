@@ -260,30 +260,42 @@ class ThermalSteadyState:
         if b is None:
             raise DryerError("the case has no burner ([gas.burner] combustion_air_share, fuel): no fuel rate",
                              reason="no_burner", state=self)
-        loss = b.heat_loss_fraction if fuel_heat_loss_fraction is None else fuel_heat_loss_fraction
-        air = s.gas_flow
         try:
-            if s.recycle_fraction:
-                # fresh air (the combustion air and the rest as dilution air) and the recycled exhaust
-                hot, leak = dr._flows_in
-                back = s.recycle_fraction * (hot + leak)
-                fresh = (hot - back) * (1.0 + dr.hot_gas_Y)
-                y = self.gas_outlet_humidity
-                return float(fuel_rate_with_recycle(
-                    s.gas_inlet_temperature, air * b.combustion_air_share, fresh - air * b.combustion_air_share,
-                    back * (1.0 + y), self.gas_outlet_temperature_degC, y, air_temperature_c=s.ambient_temperature,
-                    air_humidity=dr.hot_gas_Y, fuel=b.fuel, heat_loss_fraction=loss))
-            return float(fuel_rate_for_temperature(s.gas_inlet_temperature, air * b.combustion_air_share,
-                                                   air * (1 - b.combustion_air_share),
-                                                   air_temperature_c=s.ambient_temperature,
-                                                   air_humidity=dr.hot_gas_Y, fuel=b.fuel,
-                                                   heat_loss_fraction=loss))
+            return self.fuel_rate_at(s.gas_inlet_temperature, fuel_heat_loss_fraction)
         except ValueError as exc:
             why = str(exc)
             if why.startswith("burner cannot reach target_temperature_c") and ": " in why:
                 why = why.split(": ", 1)[1]        # the set temperature is named once, below
             raise DryerError(f"burner cannot reach the set gas inlet temperature {s.gas_inlet_temperature:g} degC: "
                              f"{why}", reason="burner", state=self) from exc
+
+    def fuel_rate_at(self, gas_inlet_temperature, fuel_heat_loss_fraction=None) -> float:
+        """Fuel rate (kg/s) of the case's burner for a gas inlet temperature (degC), the air and any
+        recycled exhaust of this state (``ValueError`` where the burner cannot give it): `fuel_rate`'s
+        chamber balance at another temperature; the recycled exhaust (``gas.recycle_fraction``) is this
+        state's, so a dynamic run converts a fuel rate with the exhaust of the moment."""
+        dr = self.dryer
+        s = dr.settings
+        b = s.burner
+        if b is None:
+            raise DryerError("the case has no burner ([gas.burner] combustion_air_share, fuel): no fuel rate",
+                             reason="no_burner", state=self)
+        loss = b.heat_loss_fraction if fuel_heat_loss_fraction is None else fuel_heat_loss_fraction
+        air = s.gas_flow
+        if s.recycle_fraction:
+            # fresh air (the combustion air and the rest as dilution air) and the recycled exhaust
+            hot, leak = dr._flows_in
+            back = s.recycle_fraction * (hot + leak)
+            fresh = (hot - back) * (1.0 + dr.hot_gas_Y)
+            y = self.gas_outlet_humidity
+            return float(fuel_rate_with_recycle(
+                gas_inlet_temperature, air * b.combustion_air_share, fresh - air * b.combustion_air_share,
+                back * (1.0 + y), self.gas_outlet_temperature_degC, y, air_temperature_c=s.ambient_temperature,
+                air_humidity=dr.hot_gas_Y, fuel=b.fuel, heat_loss_fraction=loss))
+        return float(fuel_rate_for_temperature(gas_inlet_temperature, air * b.combustion_air_share,
+                                               air * (1 - b.combustion_air_share),
+                                               air_temperature_c=s.ambient_temperature,
+                                               air_humidity=dr.hot_gas_Y, fuel=b.fuel, heat_loss_fraction=loss))
 
     def profiles(self):
         """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per
