@@ -379,3 +379,17 @@ def test_calibration_starts_on_worker_processes_give_the_serial_record():
     assert pooled.fit.values == serial.fit.values and pooled.fit.objective == serial.fit.objective
     assert [s.objective for s in pooled.fit.starts] == [s.objective for s in serial.fit.starts]
     assert pooled.n_solves == serial.n_solves
+
+
+def test_calibrate_refuses_a_test_given_twice_and_an_unknown_sigma():
+    """--tests 4,4 counted test 4's data twice (a narrower interval) and --sigma bogus=1 was ignored (found by
+    fuzzing)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["calibrate", MMG, "-q", "-p", "thermal.area_scale", "--tests", "4,4"])
+    assert res.exit_code == 2 and "--tests '4,4': test 4 is given twice" in res.output
+    res = CliRunner().invoke(app, ["calibrate", MMG, "-q", "-p", "thermal.area_scale", "--tests", "4", "--sigma",
+                                   "bogus=1"])
+    assert res.exit_code == 2 and "--sigma 'bogus=1': 'bogus' is not a response; responses: tracer, mrt" in res.output

@@ -34,9 +34,15 @@ def parse_grid(items) -> list[dict]:
         if "=" not in item:
             raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,..., e.g. operating.rpm=2,3,4")
         k, v = item.split("=", 1)
-        vals = [x.strip() for x in v.split(",") if x.strip()]
+        parts = [x.strip() for x in v.split(",")]
+        vals = [x for x in parts if x]
         if not vals:
             raise ValueError(f"--grid {item!r}: no values")
+        if len(vals) < len(parts):
+            raise ValueError(f"--grid {item!r}: an empty value between commas (V1,V2,...)")
+        if k.strip() in keys:
+            raise ValueError(f"--grid {k.strip()} is given twice: one --grid per key, with all its values "
+                             "(KEY=V1,V2,...)")
         keys.append(k.strip())
         values.append(vals)
         check_points(math.prod(len(v) for v in values), "--grid")

@@ -141,3 +141,23 @@ def test_unreachable_scheduler_exit_2_nothing_written(tmp_path, monkeypatch):
     res = runner.invoke(cli, ["sweep", "lee2008_invicta", *REG, "--grid", "operating.rpm=2,3", "--no-rtd",
                               "--scheduler", "tcp://127.0.0.1:1", "-o", str(out)])
     assert res.exit_code == 2 and "--scheduler = 'tcp://127.0.0.1:1'" in res.output and not out.exists()
+
+
+@pytest.mark.parametrize("rows, grid, expect", [
+    # a ragged row: "internal error (AttributeError ...)" (found by fuzzing)
+    ("operating.feed_rate,operating.rpm\n2,3,4\n", None, "line 2: 3 value(s) for the header's 2 column(s)"),
+    ("operating.rpm,operating.rpm\n2,3\n", None, "the header names 'operating.rpm' twice"),
+    # the same key twice: the second --grid overwrote the first's values in every combination
+    (None, ["operating.rpm=2,3", "operating.rpm=4"], "--grid operating.rpm is given twice"),
+    (None, ["operating.rpm=2,,4"], "an empty value between commas"),
+])
+def test_malformed_lists_and_grids_are_refused(tmp_path, rows, grid, expect):
+    args = ["sweep", "lee2008_invicta", "--no-rtd", "-q"]
+    if rows is not None:
+        p = tmp_path / "runs.csv"
+        p.write_text(rows)
+        args += ["--list", str(p)]
+    for g in grid or []:
+        args += ["--grid", g]
+    res = runner.invoke(cli, args)
+    assert res.exit_code == 2 and expect in res.output and "internal error" not in res.output, res.output

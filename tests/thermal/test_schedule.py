@@ -333,3 +333,17 @@ def test_a_recycling_burners_fuel_is_that_of_the_state_it_recycles():
     assert res.inputs["burner_fuel_rate"][0] == pytest.approx(fuel, rel=1e-12)
     less = apply_inputs(d, {"burner_fuel_rate": 0.8 * fuel}, z)
     assert less.settings.gas_inlet_temperature < d.settings.gas_inlet_temperature - 20
+
+
+def test_two_steps_of_one_input_at_one_time_are_refused():
+    """Two [[step]]s of feed_rate at 300 s (3.0 and 2.0) were accepted, the last winning (found by fuzzing);
+    events in any file order are taken in time order."""
+    with pytest.raises(ValueError, match=r"s.toml \[\[step\]\] #2: feed_rate already has \[\[step\]\] #1 at 300 s: one "
+                                         r"step or point per input and time"):
+        InputSchedule.from_events({"step": [{"input": "feed_rate", "at_s": 300, "value": 3.0},
+                                            {"input": "feed_rate", "at_s": 300, "value": 2.0}]}, "s.toml")
+    a = InputSchedule.from_events({"step": [{"input": "feed_rate", "at_s": 900, "value": 3.0},
+                                            {"input": "feed_rate", "at_s": 300, "value": 2.0}]}, "a.toml")
+    b = InputSchedule.from_events({"step": [{"input": "feed_rate", "at_s": 300, "value": 2.0},
+                                            {"input": "feed_rate", "at_s": 900, "value": 3.0}]}, "b.toml")
+    assert a.points == b.points

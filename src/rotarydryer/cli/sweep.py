@@ -34,11 +34,24 @@ def read_list(path: Path) -> list[dict]:
         text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError as exc:
         raise ValueError(f"--list {str(path)!r}: not UTF-8 text (byte {exc.start})") from None
-    rows = list(csv.DictReader(line for line in text.splitlines() if line.strip() and not line.startswith("#")))
-    _check_points(len(rows), f"--list {str(path)!r}")
+    numbered = [(i, line) for i, line in enumerate(text.splitlines(), 1) if line.strip() and not line.startswith("#")]
+    parsed = list(csv.reader(line for _, line in numbered))
+    where = f"--list {str(path)!r}"
+    if not parsed:
+        raise ValueError(f"{where}: no runs (need a header of override keys and one row per run)")
+    header = [k.strip() for k in parsed[0]]
+    seen = [k for k in header if header.count(k) > 1 or not k]
+    if seen:
+        raise ValueError(f"{where} line {numbered[0][0]}: the header names {seen[0]!r} "
+                         f"{'twice' if seen[0] else '(an empty column name)'}: one column per override key")
+    for (line, _), row in zip(numbered[1:], parsed[1:]):
+        if len(row) != len(header):
+            raise ValueError(f"{where} line {line}: {len(row)} value(s) for the header's {len(header)} column(s)")
+    rows = parsed[1:]
+    _check_points(len(rows), where)
     if not rows:
-        raise ValueError(f"--list {str(path)!r}: no runs (need a header of override keys and one row per run)")
-    return [{k.strip(): v.strip() for k, v in r.items() if v is not None and v.strip() != ""} for r in rows]
+        raise ValueError(f"{where}: no runs (need a header of override keys and one row per run)")
+    return [{k: v.strip() for k, v in zip(header, r) if v.strip() != ""} for r in rows]
 
 
 _MOVED = ("run_point", "run_sweep", "_solve_point", "solve_chunk", "sweep_chunks", "KEY_SCALARS", "THERMAL_SCALARS")

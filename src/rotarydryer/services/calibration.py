@@ -26,6 +26,8 @@ def parse_tests(text) -> list[int] | None:
         part = part.strip()
         if not part.lstrip("-").isdigit():
             raise ValueError(f"--tests {text!r}: expected test numbers separated by commas, e.g. 2,3,4")
+        if int(part) in out:
+            raise ValueError(f"--tests {text!r}: test {int(part)} is given twice (each test's data count once)")
         out.append(int(part))
     if not out:
         raise ValueError("--tests: give at least one test number")
@@ -39,6 +41,8 @@ def parse_sigmas(items) -> dict[str, float]:
         if "=" not in item:
             raise ValueError(f"--sigma {item!r}: expected RESPONSE=VALUE, e.g. gas_outlet_temperature=5")
         k, v = (s.strip() for s in item.split("=", 1))
+        if k not in RESPONSES:
+            raise ValueError(f"--sigma {item!r}: {k!r} is not a response; responses: {', '.join(RESPONSES)}")
         try:
             out[k] = float(v)
         except ValueError:

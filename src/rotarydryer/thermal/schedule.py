@@ -148,8 +148,14 @@ class InputSchedule:
                 events.append((t0, kind, name, ev, where))
         events.sort(key=lambda e: (e[0], 0 if e[1] in ("point", "step") else 1))   # a point or step before a ramp from it
         pts: dict[str, list[tuple[float, float]]] = {}
+        at: dict[tuple[str, float], str] = {}       # (input, time) -> the step or point there
         for t0, kind, name, ev, where in events:
             p = pts.setdefault(name, [])
+            if kind in ("step", "point"):
+                if (name, t0) in at:
+                    raise ValueError(f"{where}: {name} already has {at[name, t0]} at {t0:g} s: one step or point per "
+                                     "input and time (the events are taken in time order, not in the file's)")
+                at[name, t0] = where.split(" ", 1)[1]         # "[[step]] #1"
             value = _number(ev["value"], f"{where} value")
             before = p[-1][1] if p else (None if base is None else base.get(name))
             if p and t0 < p[-1][0]:
