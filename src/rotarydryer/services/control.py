@@ -3,6 +3,8 @@ PI + feed-forward, on a dryer's dynamic model)."""
 
 from __future__ import annotations
 
+import warnings
+
 from ._options import check_option
 
 __all__ = ["check_control_options", "run_control", "describe_feedforward"]
@@ -58,6 +60,11 @@ def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration
     return step_time
 
 
+#: a closed loop whose IAE exceeds this many times the open loop's (and that leaves its tolerance band) is
+#: reported as worse than no control (`run_control`)
+WORSE_THAN_OPEN = 2.0
+
+
 def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_time, dead_time, measured, setpoint,
                 kc, tau_i, tau_c, feedforward, feedback, feed_backup, gas_t_max, gas_t_min, feed_min_fraction,
                 open_loop, progress=None, schedule=None):
@@ -89,6 +96,14 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
     models = C.identify(dryer, steady, progress=progress)
     closed = C.closed_loop(dryer, steady, models=models, **kw)
     opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
+    if opened is not None:
+        c_iae, o_iae = closed.performance["iae"], opened.performance["iae"]
+        if c_iae > WORSE_THAN_OPEN * o_iae and closed.performance["max_abs_deviation"] > closed.performance["tolerance"]:
+            warnings.warn(f"the closed loop did worse than no control (IAE {c_iae:.3g} against {o_iae:.3g} in open loop): "
+                          "the process models identified at the case's point do not hold where the loop went (near a "
+                          "product's moisture floor the gain to the gas temperature collapses, and the loop cycles); "
+                          "a larger --tau-c detunes it, or measure the exhaust (--measured exhaust_temperature)",
+                          C.ControlWarning, stacklevel=2)
     return closed, opened
 
 
