@@ -61,3 +61,20 @@ def test_rtd_fit_table_raw_concentration():
 def test_rtd_fit_bad_model():
     res = runner.invoke(app, ["rtd-fit", "lee2008_invicta", "--model", "plug"])
     assert res.exit_code == 2 and "model" in res.output
+
+
+def test_rtd_moments_and_fit_messages_name_the_options(tmp_path):
+    """rtd-moments said "give baseline_window_s" and "tail_points = 1000", fit "method = 'bogus'" (found by fuzzing)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    runner = CliRunner()
+    res = runner.invoke(app, ["rtd-moments", "lee2008_invicta", "--tail", "exponential", "--tail-points", "1000"])
+    assert res.exit_code == 2 and "--tail-points = 1000" in res.output and "tail_points" not in res.output
+    res = runner.invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.kiln_time", "--method",
+                              "bogus", "-q"])
+    assert res.exit_code == 2 and "--method = 'bogus' is not one of 'wls', 'ml'" in res.output
+    res = runner.invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.kiln_time", "--scale",
+                              "bogus", "-q"])
+    assert res.exit_code == 2 and "--scale = 'bogus' is not one of 'known', 'fit'" in res.output

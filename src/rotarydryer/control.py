@@ -522,6 +522,13 @@ def check_scenario(dryer, scenario, magnitude, t_end_s, t_step_s=0.0):
     check_choice("scenario", scenario, SCENARIOS)
     base = dict(feed_moisture=dryer.feed_moisture, feed_rate=dryer.feed_rate, fouling=dryer.settings.fouling)
     x, F, f = _disturbance(scenario, magnitude, t_end_s, t_step_s, t_end_s, base)
+    if scenario == "feed_moisture_step":
+        hi = dryer.material.wet_range()[1]
+        if x > hi:      # the disturbance is the caller's magnitude, not the case's feed moisture
+            largest = _dry_basis(hi) / _dry_basis(base["feed_moisture"]) - 1.0
+            raise ValueError(f"magnitude = {magnitude:g}: feed too wet: the step takes the feed moisture to {x:.4g} kg/kg wet, "
+                             f"wetter than material '{dryer.material.name}' allows (<= {hi:.4g} kg/kg wet): at most "
+                             f"{largest:+.3g} for this case's feed ({base['feed_moisture']:.4g} kg/kg wet)")
     plant(dryer, feed_moisture=x, feed_rate=F, fouling=f)
 
 

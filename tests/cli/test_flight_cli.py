@@ -92,3 +92,16 @@ def test_flight_profile_and_two_section_options_conflict(tmp_path):
     assert res.exit_code == 2 and "--profile and --s1" in res.output
     res = runner.invoke(app, ["flight", "--profile", str(tmp_path / "missing.toml")])
     assert res.exit_code == 2 and "no such file" in res.output
+
+
+@pytest.mark.parametrize("option, allowed", [("--fall-height", "'chord', 'eq3.5', 'ajayi2011'"),
+                                             ("--passive-branch", "'eq3.4', 'lee2008_ch7'"),
+                                             ("--convention", "'root', 'tip'")])
+def test_a_bad_choice_names_the_option(option, allowed):
+    """The messages named the library's arguments (fall_height, passive_time_branch, convention; fuzzing)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["flight", option, "bogus"])
+    assert res.exit_code == 2 and f"error: {option} = 'bogus' is not one of {allowed}" in res.output

@@ -59,6 +59,10 @@ def fit_command(
     from ..services._options import executor_from_options
 
     try:
+        if scale not in ("known", "fit"):
+            raise ValueError(f"--scale = {scale!r} is not one of 'known', 'fit'")
+        if method not in ("wls", "ml"):
+            raise ValueError(f"--method = {method!r} is not one of 'wls', 'ml'")
         if baseline not in BASELINE_CHOICES:
             raise ValueError(f"--baseline = {baseline!r} is not one of {', '.join(BASELINE_CHOICES)} (fit: a "
                              "constant tracer background fitted with the case parameters)")

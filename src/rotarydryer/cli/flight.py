@@ -93,9 +93,10 @@ def flight(
       radius = 2.5
       n_flights = 28
     """
-    from .._validation import fmt_number
+    from .._validation import check_choice, fmt_number
     from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight, check_speed, curtain_distribution
     from ..geometry.presets import drum_presets, flight_profiles, preset_drum, read_profile
+    from ..geometry.unloading import DESIGN_CONVENTIONS, FALL_HEIGHT_DEFINITIONS, PASSIVE_TIME_BRANCHES
 
     if list_drums:
         for name, e in drum_presets().items():
@@ -104,6 +105,10 @@ def flight(
             typer.echo(f"{name:22s} {e['description']}")
         raise typer.Exit(0)
     try:
+        for option, value, allowed in (("--fall-height", fall_height, FALL_HEIGHT_DEFINITIONS),
+                                       ("--passive-branch", passive_branch, PASSIVE_TIME_BRANCHES),
+                                       ("--convention", convention, DESIGN_CONVENTIONS)):
+            check_choice(option, value, allowed)
         base, entry = preset_drum(drum)
         dims = dict(radius=radius, n_flights=n_flights, s1=s1, s2=s2, alpha1=alpha1, alpha2=alpha2)
         _check_options(dims, repose_angle=repose_angle, rpm=rpm, slope=slope, loading_factor=loading_factor,

@@ -60,6 +60,17 @@ def _choice(option: str, value: str, choices) -> str:
     return value
 
 
+#: the library's argument names in its messages -> this command's options (the library names its arguments)
+_OPTION_WORDS = (("tail_points = ", "--tail-points = "),
+                 ("give baseline_window_s or a numeric baseline", "give a numeric --baseline (signal unit)"))
+
+
+def _as_options(message: str) -> str:
+    for word, option in _OPTION_WORDS:
+        message = message.replace(word, option)
+    return message
+
+
 @app.command("rtd-moments", short_help="Moments of a measured tracer curve.")
 def rtd_moments_cmd(
     data: str = typer.Argument(..., help="Tracer CSV file or shipped data-set name."),
@@ -94,7 +105,7 @@ def rtd_moments_cmd(
             kw["time_origin_s"] = time_origin_s
         m = _named(data, d.moments, **kw)
     except ValueError as exc:
-        typer.echo(f"error: {exc}", err=True)
+        typer.echo(f"error: {_as_options(str(exc))}", err=True)
         raise typer.Exit(2) from None
     out = m.to_dict()
     out.update(

@@ -90,7 +90,10 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
     kw = dict(scenario=scenario, magnitude=magnitude, t_end_s=duration, t_step_s=step_time, config=cfg,
               progress=progress, schedule=schedule)
     if schedule is None:
-        C.check_scenario(dryer, scenario, magnitude, duration, step_time)
+        try:
+            C.check_scenario(dryer, scenario, magnitude, duration, step_time)
+        except ValueError as exc:           # the option's name, as the other options' messages
+            raise ValueError(("--" + str(exc)) if str(exc).startswith("magnitude = ") else str(exc)) from None
     else:       # the schedule's own checks before the identification runs
         C.check_schedule(dryer, schedule, duration, True)
     models = C.identify(dryer, steady, progress=progress)
