@@ -183,3 +183,31 @@ def test_an_output_that_does_not_vary_has_no_indices_and_says_why(tmp_path):
                                  "--samples", "2", "--out", str(tmp_path / "s")])
     assert r.exit_code == 0, r.output
     assert "nan" not in r.output and "nan" not in (tmp_path / "s" / "sensitivity_indices.csv").read_text()
+
+
+def test_an_output_varying_by_round_off_only_has_no_indices():
+    """A product at its moisture floor varied by 4e-18 (the solver's round-off) and its Sobol indices were printed
+    as real (ST 1.58; found by fuzzing): such an output is constant, with the note that says so."""
+    from rotarydryer.studies import sensitivity as S
+
+    params = {"a": (0.0, 1.0), "b": (0.0, 1.0)}
+    X = saltelli_design(params, 8, seed=1)
+    y = 0.00049975 + 1e-18 * np.sin(np.arange(len(X)) * 1.7)
+    block = len(X) // 8
+    ind, n = S._sobol_indices(params, y, block, 1, 50)
+    assert n == 8 and all(np.isnan(v["S1"]) and np.isnan(v["ST"]) for v in ind.values())
+    ind, _ = S._sobol_indices(params, 1.0 + 0.1 * X[:, 0] + 1e-6 * X[:, 1], block, 1, 50)
+    assert ind["a"]["ST"] > 0.5
+
+
+def test_whole_number_keys_are_refused_up_front():
+    """drum.n_flights=12,24 ran every sample at fractions of a flight, all failing (exit 1; found by fuzzing)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["sensitivity", "lee2008_invicta", "--param", "drum.n_flights=12,24", "--samples", "4",
+                                   "-q"])
+    assert res.exit_code == 2 and "--param drum.n_flights: the key takes whole numbers" in res.output
+    res = CliRunner().invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.n_cells", "-q"])
+    assert res.exit_code == 2 and "parameter transport.n_cells: the key takes whole numbers" in res.output
