@@ -35,6 +35,7 @@ from .cases.build import (
     flat_case,
     has_burner,
     model_name,
+    network_inputs,
     operating_point,
     takes_as_parameters,
     thermal_enabled,
@@ -86,6 +87,7 @@ class Simulation:
             self.overrides = {}
             self.case = case
         self.kind = self.case.kind
+        self._named = isinstance(case, (str, bytes)) or hasattr(case, "__fspath__")   # rebuilt from its name
         self._inputs = None         # what the networks are built from (cases.build.transport_inputs)
         self._transport = None
         self._transport_ss = None
@@ -177,6 +179,9 @@ class Simulation:
         (do not change it in place: [`rotarydryer.thermal.studies.perturbed`][rotarydryer.thermal.studies.perturbed] makes changed copies)."""
         if self._dryer is None:
             self._dryer = self.thermal_dryer()
+            needs = network_inputs(self.case)
+            if needs and self.case_name and not isinstance(self.case_name, bytes) and self._named:
+                self._dryer._rebuild = _Rebuild(self.case_name, self.overrides, needs)
         return self._dryer
 
     # ------------------------------------------------------------------ runs
@@ -598,3 +603,26 @@ class SteadyResult:
         out = dict(transport_outputs)
         out.update(self.summary())
         return out
+
+
+#: the schedule inputs (ThermalDryer.rebuilt) -> the case keys they are
+_INPUT_KEYS = {"gas_inlet_temperature": "gas.inlet_temperature", "gas_flow": "gas.flow",
+               "gas_inlet_humidity": "gas.inlet_humidity", "rpm": "operating.rpm", "feed_rate": "operating.feed_rate"}
+
+
+class _Rebuild:
+    """The heat-and-mass model of a case rebuilt at new values of inputs its network depends on
+    (`rotarydryer.thermal.dryer.ThermalDryer.rebuilt`); picklable, the last few models kept."""
+
+    def __init__(self, case_name, overrides, needs):
+        self.case_name, self.overrides, self.needs = case_name, dict(overrides), frozenset(needs)
+        self._built: dict = {}
+
+    def __call__(self, values: dict):
+        key = tuple(sorted(values.items()))
+        if key not in self._built:
+            if len(self._built) >= 16:
+                self._built.clear()
+            ov = {**self.overrides, **{_INPUT_KEYS[k]: float(v) for k, v in values.items()}}
+            self._built[key] = Simulation(self.case_name, ov).thermal_dryer()
+        return self._built[key]

@@ -58,7 +58,7 @@ BULK_DENSITY_RANGE = (1.0, 23000.0)
 __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
-           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "flat_case", "takes_as_parameters", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
+           "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "flat_case", "takes_as_parameters", "network_inputs", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
            "site_pressure"]
 
 
@@ -903,6 +903,19 @@ def takes_as_parameters(old, new, flats=None) -> bool:
         if "operating.rpm" in keys or (_needs_bed_parameters(new) and "operating.feed_rate" in keys):
             return False
     return not (_any_trajectory(new) and any(k.startswith(("gas.", "site.")) for k in keys))
+
+
+def network_inputs(case) -> frozenset:
+    """The inputs of a dynamic run (schedule names) whose change rebuilds the case's transport network, as
+    `takes_as_parameters` decides for a steady state: the gas (gas_inlet_temperature, gas_flow,
+    gas_inlet_humidity) with a trajectory forward step; the speed (rpm), and with beds the feed (feed_rate),
+    with the predictive law."""
+    out = set()
+    if case.gas is not None and _any_trajectory(case):
+        out |= {"gas_inlet_temperature", "gas_flow", "gas_inlet_humidity"}
+    if case.transport.parameter_source == "predictive":
+        out |= {"rpm"} | ({"feed_rate"} if _needs_bed_parameters(case) else set())
+    return frozenset(out)
 
 
 # ---- heat and mass transfer ----------------------------------------------------------------

@@ -1119,6 +1119,28 @@ class ThermalDryer:
             d._layout_dust()         # terminal velocities at the new inlet gas; the up-front refusal
         return d
 
+    def rebuilt(self, values: dict):
+        """This dryer, or its model rebuilt (``self._rebuild``, set by the Simulation that built it) where
+        ``values`` (schedule input names: gas_inlet_temperature, gas_flow, gas_inlet_humidity, rpm, feed_rate)
+        change an input that the transport network itself depends on: the curtains' gas drag of a trajectory
+        forward step, the speed (and the beds' feed) of a predictive law. `with_parameters` re-evaluates the
+        coefficients on the same network, which holds them at the case's values: a dynamic run's step of the
+        gas temperature on Song's pilot drum settled 35 % off the steady state there. The rebuilt model has
+        the same tanks and stages (its state continues the run's); it has the other inputs of the case."""
+        hook = getattr(self, "_rebuild", None)
+        if hook is None:
+            return self
+        current = {"gas_inlet_temperature": self.settings.gas_inlet_temperature, "gas_flow": self.settings.gas_flow,
+                   "gas_inlet_humidity": self.settings.gas_inlet_humidity, "rpm": self.rpm, "feed_rate": self.feed_rate}
+        moved = {k: float(v) for k, v in values.items() if k in hook.needs and float(v) != float(current[k])}
+        if not moved:
+            return self
+        d = hook(moved)
+        if d.n != self.n:
+            raise DryerError(f"the inputs {', '.join(sorted(moved))} change the model's layout ({self.n} -> {d.n} "
+                             "unknowns): a dynamic run cannot continue its state on it", reason="input")
+        return d
+
     def _reset_caches(self):
         """Forget what was remembered for the previous inputs (after a study changed them in place)."""
         self._shell_ua = None

@@ -399,6 +399,9 @@ def apply_inputs(dryer, values: dict, z=None):
     if "burner_fuel_rate" in values:
         moved = dryer.with_parameters(settings=settings)      # the air flows and ambient of the new inputs
         settings.gas_inlet_temperature = _fuel_temperature(moved, float(values["burner_fuel_rate"]), z)
+    dryer = dryer.rebuilt({"gas_inlet_temperature": settings.gas_inlet_temperature, "gas_flow": settings.gas_flow,
+                           "gas_inlet_humidity": settings.gas_inlet_humidity,
+                           **{k: float(values[k]) for k in ("rpm", "feed_rate") if k in values}})
     kw = {k: float(values[k]) for k in ("feed_rate", "rpm", "feed_moisture") if k in values}
     return dryer.with_parameters(settings=settings, **kw)
 

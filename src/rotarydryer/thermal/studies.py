@@ -73,7 +73,11 @@ def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
             setattr(settings, k, v)
         else:
             raise ValueError(f"unknown input {k!r}; use one of {', '.join(INPUTS)} or a ThermalSettings field")
-    return dryer.with_parameters(settings=settings, **values)
+    names = {"gas_inlet_temperature": settings.gas_inlet_temperature, "gas_flow": settings.gas_flow,
+             "gas_inlet_humidity": settings.gas_inlet_humidity, "rpm": values.get("rpm", dryer.rpm),
+             "feed_rate": values.get("feed_rate", dryer.feed_rate)}
+    base = dryer.rebuilt(names)         # the network rebuilt where it depends on a changed input
+    return base.with_parameters(settings=settings, **values)
 
 
 def sensitivity_table(dryer: ThermalDryer, foulings=(0.0, 0.4, 0.6, 0.8), overload_feed=63.89, inputs=None):
