@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import sys
 import tempfile
 from pathlib import Path
@@ -65,11 +66,15 @@ class DryerStepper:
         unknown = set(inputs) - set(INPUTS)
         if unknown:
             raise ValueError(f"unknown FMU input(s) {sorted(unknown)}; use {', '.join(INPUTS)}")
-        self.inputs.update({k: float(v) for k, v in inputs.items()})
-        if self.inputs != self._applied:
-            self.dryer = apply_inputs(self.base, self.inputs)
-            self._integrator.restart(self.dryer)
-            self._applied = dict(self.inputs)
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt >= 0):
+            raise ValueError(f"dt = {dt!r}: a communication step is a finite number of seconds >= 0")
+        wanted = {**self.inputs, **{k: float(v) for k, v in inputs.items()}}
+        if wanted != self._applied:
+            # applied first, kept only if the model takes them: a refused input leaves the last ones in force
+            dryer = apply_inputs(self.base, wanted, self.z)
+            self._integrator.restart(dryer)
+            self.dryer, self._applied = dryer, dict(wanted)
+        self.inputs = wanted
         if dt > 0:
             self.z = self._integrator.advance(self.time + float(dt))
         self.time += dt

@@ -112,3 +112,17 @@ def test_fmu_of_a_case_with_the_thermal_model_off_says_so(tmp_path):
     assert res.exit_code == 2
     assert "has the heat-and-mass model switched off (thermal.enabled = false)" in res.output
     assert not (tmp_path / "x.fmu").exists()
+
+
+def test_the_stepper_refuses_a_bad_step_and_keeps_the_last_good_inputs():
+    """step(-60) ran time backwards, step(nan) made it NaN, and an input the model refused stayed in the stepper,
+    so that every later step failed with its message (found by fuzzing)."""
+    s = DryerStepper("lee2008_invicta")
+    for dt in (-60.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="a communication step is a finite number of seconds >= 0"):
+            s.step(dt)
+    assert s.time == 0.0
+    with pytest.raises(ValueError, match="gas.flow = 0"):
+        s.step(60.0, gas_flow=0.0)
+    out = s.step(60.0)
+    assert s.time == 60.0 and s.inputs["gas_flow"] > 0 and np.isfinite(out["product_moisture"])
