@@ -25,7 +25,7 @@ import numpy as np
 
 from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
-from ._validation import check_choice
+from ._validation import check_choice, check_range
 from .cases import load_case, measured_rtd, measured_rtd_moments
 from .cases.build import (
     build_model,
@@ -75,6 +75,11 @@ class Simulation:
     """
 
     def __init__(self, case, overrides=None):
+        if not (isinstance(case, (str, bytes)) or hasattr(case, "__fspath__") or hasattr(case, "kind")):
+            raise ValueError(f"case = {case!r}: give a case name (rotarydryer cases), a .toml file or a case object "
+                             "(rotarydryer.cases.load_case)")
+        if overrides is not None and not isinstance(overrides, dict):
+            raise ValueError(f"overrides = {overrides!r}: give a dict of case keys, e.g. {{'operating.feed_rate': 30.0}}")
         if isinstance(case, (str, bytes)) or hasattr(case, "__fspath__"):
             self.case_name = str(case)
             #: the overrides the case was loaded with (kept by :meth:`sweep` and :meth:`fit`)
@@ -269,6 +274,10 @@ class Simulation:
     def dynamics(self, t_end=7200.0, dt=60.0, **changes):
         """Response from the steady state to new inputs ``changes`` (names of
         `rotarydryer.thermal.studies.INPUTS` or ThermalSettings fields, absolute values)."""
+        t_end = float(check_range("t_end", t_end, 0.0, 30 * 86400.0, unit="s"))
+        dt = float(check_range("dt", dt, 0.0, t_end, high_inclusive=True, unit="s"))
+        if t_end / dt > 100000:
+            raise ValueError(f"dt = {dt:g} s: {t_end / dt:.0f} points in {t_end:g} s, at most 100000")
         d = self.dryer()
         ss = self.thermal_steady_state()
         d2 = perturbed(d, **changes) if changes else d
@@ -449,6 +458,9 @@ def grid_points(grid) -> list[dict]:
         keys = list(grid)
         values = [list(v) if isinstance(v, (list, tuple, np.ndarray)) else [v] for v in grid.values()]
         return grid_product(keys, values, "grid")
+    if isinstance(grid, str) or not isinstance(grid, (list, tuple)):
+        raise ValueError(f"grid = {grid!r}: give a list of override dicts, a dict {{key: [values]}} or a list of "
+                         "'key=v1,v2' strings")
     grid = list(grid)
     if all(isinstance(g, str) for g in grid):
         return parse_grid(grid)
