@@ -94,9 +94,14 @@ def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: f
     "metrics": {...}, "cross_section": png, "profile": png}``.  Raises ``ValueError``
     (naming the argument) on impossible geometry.
     """
+    from .._validation import check_range
     from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight
     from ..geometry.drum import check_speed
 
+    if isinstance(n_flights, bool) or float(n_flights) != int(n_flights):
+        raise ValueError(f"n_flights = {n_flights!r} is not a whole number of flights")    # 2.7 became 2 (fuzzing)
+    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")
+    check_range("length", length, 0.0, 200.0, unit="m")
     drum = FlightedDrum(radius, int(n_flights), TwoSectionFlight(s1, s2, alpha1, alpha2))
     check_speed("rpm", rpm, radius, radius_key="radius", warn=False)     # refuse at/above critical speed
     cs = drum.cascade(repose_angle, 1.0, rpm=rpm, slope=slope)
@@ -279,7 +284,11 @@ def input_range(case: str, key: str, value: float | None = None) -> tuple[float 
     ``operating.feed_moisture`` at most the top of the material's validated moisture range, always
     widened to contain ``value`` (default: the case's own value of the key), so that the
     case's value is never outside its widget."""
+    from ..cases import valid_override_keys
+
     c = _load(case)
+    if key not in valid_override_keys(type(c)):      # (None, None) before: an unbounded widget for no key
+        raise ValueError(f"{key!r} is not a key of case {case!r}")
     lo, hi = schema_bounds(type(c), key)
     if key == "operating.rpm":
         from ..geometry.drum import critical_speed
