@@ -53,6 +53,13 @@ def test_control_bad_options(args, fragments, workdir):
     _refused(["control", "ajayi2011_mmg", "--set", "operating.test=4", *args], workdir, *fragments)
 
 
+def test_control_schedule_with_scenario_options_is_refused(workdir):
+    """--schedule with --scenario/--magnitude/--step-time ran the schedule and ignored the three (fuzzing)."""
+    (workdir / "s.toml").write_text('[[step]]\ninput = "feed_moisture"\nat_s = 600\nvalue = 0.17\n')
+    _refused(["control", "ajayi2011_mmg", "--set", "operating.test=4", "--schedule", "s.toml", "--magnitude", "0.5"],
+             workdir, "--schedule and --magnitude: the schedule is the disturbance; give one or the other")
+
+
 def test_control_unstable_gain_is_warned(workdir):
     """A hand-set gain far beyond the FOPDT+PI stability limit: the run goes on, with a warning."""
     res = run_cli(["control", "ajayi2011_mmg", "--set", "operating.test=4", "--kc", "40", "--duration", "240",

@@ -16,6 +16,7 @@ from ._common import Progress, check_out_dir, parse_sets, written_set
 
 @app.command("control", short_help="Closed-loop run (PI + feed-forward) under a disturbance or a schedule.")
 def control(
+    ctx: typer.Context,
     case: str = typer.Argument(..., help="Case name (ajayi2011_mmg, ...) or a .toml file with a [gas] block."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE, e.g. operating.test=4."),
     scenario: str = typer.Option("feed_moisture_step", help="feed_moisture_step | feed_rate_step | fouling_ramp "
@@ -70,6 +71,14 @@ def control(
     from .. import control as C
     from ..simulation import Simulation
 
+    if schedule is not None:
+        # the schedule is the disturbance: the scenario's options given with it were ignored (found by fuzzing)
+        given = [f"--{n.replace('_', '-')}" for n in ("scenario", "magnitude", "step_time")
+                 if getattr(ctx.get_parameter_source(n), "name", "") == "COMMANDLINE"]
+        if given:
+            typer.echo(f"error: --schedule and {', '.join(given)}: the schedule is the disturbance; give one or the "
+                       "other", err=True)
+            raise typer.Exit(2)
     step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,
                                       setpoint, kc, tau_i, tau_c, feedforward, gas_t_max, gas_t_min,
                                       feed_min_fraction)
