@@ -362,3 +362,11 @@ def test_a_step_of_an_input_the_network_depends_on_reaches_the_steady_state_ther
     res = sim.run_schedule(InputSchedule({"gas_inlet_temperature": ((0.0, T),)}), t_end=8 * 3600.0, dt=3600.0)
     assert float(res.outlets["product_moisture"][-1]) == pytest.approx(there, rel=1e-6)
     assert sim.dryer().rebuilt({"gas_inlet_temperature": sim.case.gas.inlet_temperature}) is sim.dryer()
+
+
+def test_a_fuel_trip_to_no_fuel_is_refused_in_the_fuels_terms(steady):
+    """A burner trip to no fuel was refused with "give gas.inlet_temperature above 28 degC", a key the schedule
+    did not set (found by fuzzing): the message speaks of the fuel rate and what to schedule instead."""
+    with pytest.raises(ValueError, match=r"burner_fuel_rate = 0 kg/s heats the gas to .* degC only, too cold to dry .*"
+                                         r"schedule a fuel rate that keeps the gas above the feed"):
+        apply_inputs(steady.dryer, {"burner_fuel_rate": 0.0})

@@ -403,7 +403,18 @@ def apply_inputs(dryer, values: dict, z=None):
                            "gas_inlet_humidity": settings.gas_inlet_humidity,
                            **{k: float(values[k]) for k in ("rpm", "feed_rate") if k in values}})
     kw = {k: float(values[k]) for k in ("feed_rate", "rpm", "feed_moisture") if k in values}
-    return dryer.with_parameters(settings=settings, **kw)
+    try:
+        return dryer.with_parameters(settings=settings, **kw)
+    except DryerError as exc:
+        if "burner_fuel_rate" not in values or not str(exc).startswith("gas too cold to dry"):
+            raise
+        # the gas temperature is the fuel's: say so in the scheduled input's terms (a burner trip to no fuel
+        # leaves air at the ambient, which this model cannot take: it needs a gas that heats the solids)
+        raise DryerError(f"burner_fuel_rate = {float(values['burner_fuel_rate']):g} kg/s heats the gas to "
+                         f"{settings.gas_inlet_temperature:.4g} degC only, too cold to dry (the feed enters at "
+                         f"{settings.solids_inlet_temperature:.4g} degC, or the gas is saturated): the model needs a gas "
+                         "that heats the solids, so a full trip is beyond it; schedule a fuel rate that keeps the gas "
+                         "above the feed, or a gas_inlet_temperature trip", reason=exc.reason) from None
 
 
 def check_applicable(dryer, schedule: InputSchedule, z=None) -> None:
