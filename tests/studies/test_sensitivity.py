@@ -211,3 +211,18 @@ def test_whole_number_keys_are_refused_up_front():
     assert res.exit_code == 2 and "--param drum.n_flights: the key takes whole numbers" in res.output
     res = CliRunner().invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.n_cells", "-q"])
     assert res.exit_code == 2 and "parameter transport.n_cells: the key takes whole numbers" in res.output
+
+
+def test_param_and_fit_messages_name_their_options():
+    """A --param outside a key's range was reported as a --set, and fit -p of one key twice as "duplicate
+    parameter names in [...]" (fuzzing)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["sensitivity", "lee2008_invicta", "--param", "operating.rpm=-1,2", "--samples", "4",
+                                   "-q"])
+    assert res.exit_code == 2 and "--param operating.rpm=-1,2: operating.rpm = -1.0" in res.output
+    res = CliRunner().invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.kiln_time", "-p",
+                                   "transport.kiln_time", "-q"])
+    assert res.exit_code == 2 and "parameter transport.kiln_time is given twice (-p on the command line)" in res.output

@@ -473,7 +473,8 @@ def fit(
         raise ValueError("no parameters to estimate")
     names = [p.name for p in params]
     if len(set(names)) != len(names):
-        raise ValueError(f"duplicate parameter names in {names}")
+        twice = next(n for n in names if names.count(n) > 1)
+        raise ValueError(f"parameter {twice} is given twice (-p on the command line): give each parameter once")
     data = [data] if isinstance(data, Dataset) else list(data)
     if not data:
         raise ValueError("no data sets")

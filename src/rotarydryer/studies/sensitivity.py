@@ -199,7 +199,10 @@ def _check_case(case, base: dict, params: dict) -> None:
                              "a Sobol study samples continuous inputs (compare the values you want with "
                              f"`rotarydryer sweep --grid {key}=...`)")
         for v in (low, high):
-            load_case(case, {**base, key: v})
+            try:
+                load_case(case, {**base, key: v})
+            except ValueError as exc:       # the case loader names its overrides --set: here they are --param's
+                raise ValueError(str(exc).replace(f"--set {key}:", f"--param {key}={low:g},{high:g}:")) from None
 
 
 def _steady_summary(case, overrides: dict, warm=None, outputs=None):

@@ -52,7 +52,7 @@ SCHEDULE_INPUTS: dict[str, tuple[str, str, str]] = {
     "gas_flow": ("gas.flow", "kg/s", "wet gas into the drum"),
     "gas_inlet_humidity": ("gas.inlet_humidity", "kg/kg wet gas", "gas humidity at the drum inlet"),
     "feed_temperature": ("operating.feed_temperature", "degC", "solids feed temperature"),
-    "fouling": ("thermal.fouling", "", "fouling of the flights (heat-transfer area lost)"),
+    "fouling": ("transport.fouling", "", "fouling of the flights (heat-transfer area lost)"),
 }
 
 #: the outlet series of a scheduled run and their units
