@@ -225,4 +225,4 @@ def test_param_and_fit_messages_name_their_options():
     assert res.exit_code == 2 and "--param operating.rpm=-1,2: operating.rpm = -1.0" in res.output
     res = CliRunner().invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.kiln_time", "-p",
                                    "transport.kiln_time", "-q"])
-    assert res.exit_code == 2 and "parameter transport.kiln_time is given twice (-p on the command line)" in res.output
+    assert res.exit_code == 2 and "duplicate parameter: transport.kiln_time is given twice (-p on the command line)" in res.output

@@ -474,7 +474,7 @@ def fit(
     names = [p.name for p in params]
     if len(set(names)) != len(names):
         twice = next(n for n in names if names.count(n) > 1)
-        raise ValueError(f"parameter {twice} is given twice (-p on the command line): give each parameter once")
+        raise ValueError(f"duplicate parameter: {twice} is given twice (-p on the command line): give each parameter once")
     data = [data] if isinstance(data, Dataset) else list(data)
     if not data:
         raise ValueError("no data sets")
