@@ -181,3 +181,17 @@ def test_an_interval_never_leaves_the_parameters_range_and_a_cut_is_said():
         warnings.simplefilter("error", IdentifiabilityWarning)
         r = fit(gamma_rtd, PARAMS, Dataset("E", gamma_rtd({"tau": 5.0, "n": 6.0}) * (1 + 0.01 * np.sin(5 * T))))
     assert 0.5 < r.parameters["tau"].ci_low < 5.0 < r.parameters["tau"].ci_high < 20.0
+
+
+def test_a_parameter_without_effect_has_no_interval():
+    """A parameter the model does not depend on had a zero-width Wald interval (the pseudo-inverse gives the
+    direction the data do not see a variance of 0; found by fuzzing): its interval is now its whole range, with the
+    warnings that say why."""
+    rng = np.random.default_rng(3)
+    y = gamma_rtd({"tau": 4.0, "n": 3.0}) * (1 + 0.01 * rng.standard_normal(T.size))
+    params = PARAMS + [Parameter("idle", 1.0, 0.1, 10.0, log=True)]
+    with pytest.warns(IdentifiabilityWarning, match="cannot separate idle"):
+        res = fit(lambda v: gamma_rtd(v), params, Dataset("E", T, y), n_starts=1)
+    e = res.parameters["idle"]
+    assert (e.ci_low, e.ci_high) == (pytest.approx(0.1), pytest.approx(10.0)) and not np.isfinite(e.std_error)
+    assert np.isfinite(res.parameters["tau"].std_error) and res.parameters["tau"].ci_high > res.parameters["tau"].ci_low

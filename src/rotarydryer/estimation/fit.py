@@ -587,10 +587,18 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             "interval is cut by the constraint"
         )
     cov_z, sd_z, corr = unc.covariance, unc.std_errors, unc.correlation
+    ci_low, ci_high = unc.ci_low, unc.ci_high
     # identifiability: relative (scaled) sensitivities
     if unc.singular:
         worst = unc.null_direction
         culprits = [names[i] for i in np.argsort(-np.abs(worst))[:2] if abs(worst[i]) > 0.3]
+        # the pseudo-inverse gives the direction the data do not see a variance of 0: a parameter along it
+        # has no interval (inf, cut to its range below), not a zero-width one (a kiln time without effect on the
+        # curve was 0.508868 [0.508868, 0.508868]; found by fuzzing)
+        blind = np.abs(worst) > 0.3
+        sd_z = np.where(blind, np.inf, sd_z)
+        assert ci_low is not None and ci_high is not None
+        ci_low, ci_high = np.where(blind, -np.inf, ci_low), np.where(blind, np.inf, ci_high)
         notes.append(
             f"near-singular Fisher information (condition number {unc.jacobian_condition:.2e}): "
             "the data cannot separate " + (" and ".join(culprits) if culprits else "the parameters")
@@ -598,7 +606,7 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     for i, j, r in unc.correlated_pairs:
         notes.append(f"{names[i]} and {names[j]} are correlated {r:+.3f}: one may not be identifiable")
     est = {}
-    assert unc.ci_low is not None and unc.ci_high is not None     # estimates were given
+    assert ci_low is not None and ci_high is not None     # estimates were given
     lo_b = np.array([q.z_bounds[0] for q in params])
     hi_b = np.array([q.z_bounds[1] for q in params])
     for i, q in enumerate(params):
@@ -608,10 +616,10 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             notes.append(f"{q.name} = {v:.6g} is at a bound: its interval is not reliable")
         if q.log:
             se = v * sd_z[i]
-            lo, hi = float(np.exp(unc.ci_low[i])), float(np.exp(unc.ci_high[i]))
+            lo, hi = float(np.exp(ci_low[i])), float(np.exp(ci_high[i]))
         else:
             se = float(sd_z[i])
-            lo, hi = float(unc.ci_low[i]), float(unc.ci_high[i])
+            lo, hi = float(ci_low[i]), float(ci_high[i])
         lo_cut, hi_cut, cut = cut_interval(q.name, lo, hi, q.lower, q.upper)
         if not np.isfinite(se) or se > 1e6 * max(abs(v), 1e-12):
             notes.append(f"{q.name}: standard error {se:.3g} is huge relative to the estimate; flat objective")
