@@ -92,7 +92,7 @@ def test_sensitivity_limits():
         logic_studies.sensitivity_view("lee2008_invicta", five, 4)
     with pytest.raises(ValueError, match="--param gas.flow: LOW = 35 must be below HIGH = 25"):
         logic_studies.sensitivity_view("lee2008_invicta", {"gas.flow": (35.0, 25.0)}, 4)
-    with pytest.raises(ValueError, match="--set operating.feed_rate: operating.feed_rate = 0.0"):
+    with pytest.raises(ValueError, match="--param operating.feed_rate=0,30: operating.feed_rate = 0.0"):   # not --set
         logic_studies.sensitivity_view("lee2008_invicta", {"operating.feed_rate": (0.0, 30.0)}, 4)
 
 
