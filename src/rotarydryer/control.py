@@ -776,9 +776,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
         times.append(t)
         gas_key = (T_in, tuple(sorted((name, val) for name, val in extra.items()
                                       if name not in ("rotational_speed", "solid_inlet_temperature"))))
-        if d_cur.settings.recycle_fraction:      # the recycled exhaust is the state's: no cache
-            fuel_of[gas_key] = _fuel(d_cur, z)
-        elif gas_key not in fuel_of:
+        if d_cur.settings.recycle_fraction or gas_key not in fuel_of:    # recycled exhaust: the state's, no cache
             fuel_of[gas_key] = _fuel(d_cur, z)
         for key, val in (("product_moisture_kg_kg", y["product_moisture"]),
                          ("product_temperature_degC", y["product_temperature"]),

@@ -185,7 +185,7 @@ class Simulation:
         if self._dryer is None:
             self._dryer = self.thermal_dryer()
             needs = network_inputs(self.case)
-            if needs and self.case_name and not isinstance(self.case_name, bytes) and self._named:
+            if needs and self._named:
                 self._dryer._rebuild = _Rebuild(self.case_name, self.overrides, needs)
         return self._dryer
 

@@ -1119,10 +1119,10 @@ class ThermalDryer:
             d._layout_dust()         # terminal velocities at the new inlet gas; the up-front refusal
         return d
 
-    def rebuilt(self, values: dict):
+    def rebuilt(self, settings=None, feed_rate=None, rpm=None, **_):
         """This dryer, or its model rebuilt (``self._rebuild``, set by the Simulation that built it) where
-        ``values`` (schedule input names: gas_inlet_temperature, gas_flow, gas_inlet_humidity, rpm, feed_rate)
-        change an input that the transport network itself depends on: the curtains' gas drag of a trajectory
+        the new ``settings`` and values (those of `with_parameters`; others ignored) change an input that the
+        transport network itself depends on (`rotarydryer.cases.build.network_inputs`): the curtains' gas drag of a trajectory
         forward step, the speed (and the beds' feed) of a predictive law. `with_parameters` re-evaluates the
         coefficients on the same network, which holds them at the case's values: a dynamic run's step of the
         gas temperature on Song's pilot drum settled 35 % off the steady state there. The rebuilt model has
@@ -1130,9 +1130,14 @@ class ThermalDryer:
         hook = getattr(self, "_rebuild", None)
         if hook is None:
             return self
-        current = {"gas_inlet_temperature": self.settings.gas_inlet_temperature, "gas_flow": self.settings.gas_flow,
-                   "gas_inlet_humidity": self.settings.gas_inlet_humidity, "rpm": self.rpm, "feed_rate": self.feed_rate}
-        moved = {k: float(v) for k, v in values.items() if k in hook.needs and float(v) != float(current[k])}
+
+        def inputs(st, feed, speed):     # the schedule names of the inputs a network may depend on
+            return {"gas_inlet_temperature": st.gas_inlet_temperature, "gas_flow": st.gas_flow,
+                    "gas_inlet_humidity": st.gas_inlet_humidity, "rpm": speed, "feed_rate": feed}
+        current = inputs(self.settings, self.feed_rate, self.rpm)
+        new = inputs(self.settings if settings is None else settings, self.feed_rate if feed_rate is None else feed_rate,
+                     self.rpm if rpm is None else rpm)
+        moved = {k: float(v) for k, v in new.items() if k in hook.needs and float(v) != float(current[k])}
         if not moved:
             return self
         d = hook(moved)

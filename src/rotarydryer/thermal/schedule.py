@@ -312,6 +312,13 @@ def load_schedule(path) -> InputSchedule:
 
 
 # ---------------------------------------------------------------------------------------------- the plant
+def _recycling_state(dryer, z) -> ThermalSteadyState:
+    """State ``z`` of a dryer whose burner recycles exhaust (its exhaust is the recycled gas): needed then."""
+    if z is None:
+        raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
+    return ThermalSteadyState(dryer, z)
+
+
 def _fuel_temperature(dryer, fuel_rate, z=None):
     """Gas inlet temperature (degC) the case's burner makes from ``fuel_rate`` kg/s with the air flows and
     ambient of ``dryer``; with exhaust recycle (``gas.recycle_fraction``), with the recycled exhaust of
@@ -319,11 +326,9 @@ def _fuel_temperature(dryer, fuel_rate, z=None):
     s = dryer.settings
     b = s.burner
     if s.recycle_fraction:
-        if z is None:
-            raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
         from scipy.optimize import brentq
 
-        st = ThermalSteadyState(dryer, z)
+        st = _recycling_state(dryer, z)
 
         def excess(t):     # fuel the temperature t needs, less the fuel given (the streams alone hotter: none;
             try:           # beyond what the combustion air burns: more than any fuel it takes)
@@ -355,9 +360,7 @@ def burner_fuel_rate(dryer, z=None) -> float:
     s = dryer.settings
     b = s.burner
     if s.recycle_fraction:
-        if z is None:
-            raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
-        return ThermalSteadyState(dryer, z).fuel_rate_at(s.gas_inlet_temperature)
+        return _recycling_state(dryer, z).fuel_rate_at(s.gas_inlet_temperature)
     return float(fuel_rate_for_temperature(s.gas_inlet_temperature, s.gas_flow * b.combustion_air_share,
                                            s.gas_flow * (1 - b.combustion_air_share),
                                            air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y,
@@ -373,8 +376,8 @@ def base_inputs(dryer, names=None, z=None) -> dict:
                   gas_inlet_humidity=s.gas_inlet_humidity, feed_temperature=s.solids_inlet_temperature,
                   fouling=s.fouling)
     if names is not None and "burner_fuel_rate" in names and s.burner is not None:
-        if s.recycle_fraction and z is None:
-            raise ValueError("burner_fuel_rate with gas.recycle_fraction: the state whose exhaust is recycled is needed")
+        if s.recycle_fraction:
+            _recycling_state(dryer, z)      # (its own message, not the "no fuel rate" below)
         try:
             values["burner_fuel_rate"] = burner_fuel_rate(dryer, z)
         except ValueError as exc:       # the case's own gas temperature is beyond its burner: no fuel rate to move
@@ -399,10 +402,8 @@ def apply_inputs(dryer, values: dict, z=None):
     if "burner_fuel_rate" in values:
         moved = dryer.with_parameters(settings=settings)      # the air flows and ambient of the new inputs
         settings.gas_inlet_temperature = _fuel_temperature(moved, float(values["burner_fuel_rate"]), z)
-    dryer = dryer.rebuilt({"gas_inlet_temperature": settings.gas_inlet_temperature, "gas_flow": settings.gas_flow,
-                           "gas_inlet_humidity": settings.gas_inlet_humidity,
-                           **{k: float(values[k]) for k in ("rpm", "feed_rate") if k in values}})
     kw = {k: float(values[k]) for k in ("feed_rate", "rpm", "feed_moisture") if k in values}
+    dryer = dryer.rebuilt(settings, **kw)
     try:
         return dryer.with_parameters(settings=settings, **kw)
     except DryerError as exc:

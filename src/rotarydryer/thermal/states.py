@@ -254,14 +254,11 @@ class ThermalSteadyState:
         humidity of the gas). ``fuel_heat_loss_fraction`` replaces the burner's. Raises
         [`DryerError`][rotarydryer.thermal.settings.DryerError] if the case has no burner or it cannot reach the set temperature."""
 
-        dr = self.dryer
-        s = dr.settings
-        b = s.burner
-        if b is None:
-            raise DryerError("the case has no burner ([gas.burner] combustion_air_share, fuel): no fuel rate",
-                             reason="no_burner", state=self)
+        s = self.dryer.settings
         try:
             return self.fuel_rate_at(s.gas_inlet_temperature, fuel_heat_loss_fraction)
+        except DryerError:          # no burner: its own reason
+            raise
         except ValueError as exc:
             why = str(exc)
             if why.startswith("burner cannot reach target_temperature_c") and ": " in why:

@@ -73,10 +73,7 @@ def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
             setattr(settings, k, v)
         else:
             raise ValueError(f"unknown input {k!r}; use one of {', '.join(INPUTS)} or a ThermalSettings field")
-    names = {"gas_inlet_temperature": settings.gas_inlet_temperature, "gas_flow": settings.gas_flow,
-             "gas_inlet_humidity": settings.gas_inlet_humidity, "rpm": values.get("rpm", dryer.rpm),
-             "feed_rate": values.get("feed_rate", dryer.feed_rate)}
-    base = dryer.rebuilt(names)         # the network rebuilt where it depends on a changed input
+    base = dryer.rebuilt(settings, **values)         # the network rebuilt where it depends on a changed input
     return base.with_parameters(settings=settings, **values)
 
 
