@@ -28,7 +28,7 @@ from .._limits import LIMITS, describe_limit, field_bounds
 from ..geometry.flights import MAX_SEGMENTS
 from .calibration import CalibrationRecord, applied_calibrations, apply_calibrations, record_problems
 
-__all__ = ["list_cases", "load_case", "load_case_text", "build_model", "measured_rtd", "measured_rtd_moments",
+__all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
            "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
            "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations"]
@@ -728,6 +728,16 @@ def override_key_type(case_cls, key: str):
             ann = next((a for a in typing.get_args(ann) if a is not type(None)), ann)
         node = out = ann
     return out
+
+
+def discrete_kind(case_cls, key: str) -> str | None:
+    """What override key ``key`` of a case class takes where that is not a continuous number ("whole numbers",
+    or "no continuous number" for text and choices), else None (a float key, or one the class does not have):
+    a search over the key (target, fit, Sobol study) cannot sample it."""
+    kind = override_key_type(case_cls, key)
+    if kind is None or kind is float:
+        return None
+    return "whole numbers" if kind is int else "no continuous number"
 
 
 @cache

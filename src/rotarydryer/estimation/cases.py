@@ -91,14 +91,13 @@ def case_parameter(case_name: str, key: str, base_overrides: dict | None = None,
     Raises ``ValueError`` for a key the case does not have (naming the valid keys) or a
     non-numeric one.
     """
-    from ..cases import load_case, override_key_type, valid_override_keys
+    from ..cases import discrete_kind, load_case, valid_override_keys
 
     case = load_case(case_name, dict(base_overrides or {}))
     valid = valid_override_keys(type(case))
     if key not in valid:
         raise ValueError(f"unknown parameter key {key!r} for case {case_name!r}; valid keys: {', '.join(valid)}")
-    kind = override_key_type(type(case), key)
-    if kind is int:
+    if discrete_kind(type(case), key) == "whole numbers":      # (text keys: "not numeric", below)
         # a whole-number key (transport.n_cells) was tried at 19.999999999999996 cells (found by fuzzing)
         raise ValueError(f"parameter {key}: the key takes whole numbers; a fit needs a continuous parameter (compare "
                          f"the values you want with `rotarydryer sweep --grid {key}=...`)")

@@ -188,14 +188,14 @@ def saltelli_design(params: dict, samples: int, seed: int = 0) -> np.ndarray:
 def _check_case(case, base: dict, params: dict) -> None:
     """Fail fast (ValueError naming the key) on an unknown case or key, or a range the case
     schema refuses at either end."""
-    from ..cases import load_case, override_key_type
+    from ..cases import discrete_kind, load_case
 
     loaded = load_case(case, dict(base))
     for key, (low, high) in params.items():
-        kind = override_key_type(type(loaded), key)
-        if kind is not None and kind is not float:
+        what = discrete_kind(type(loaded), key)
+        if what is not None:
             # every sample of drum.n_flights=12,24 failed at a fraction of a flight (found by fuzzing)
-            raise ValueError(f"--param {key}: the key takes {'whole numbers' if kind is int else 'no continuous number'}; "
+            raise ValueError(f"--param {key}: the key takes {what}; "
                              "a Sobol study samples continuous inputs (compare the values you want with "
                              f"`rotarydryer sweep --grid {key}=...`)")
         for v in (low, high):

@@ -47,7 +47,7 @@ from scipy.optimize import brentq, minimize
 from .._display import UNITS, quantity_of, show_output, unit_of
 from .._limits import LIMITS
 from .._validation import finite_number, fmt_number
-from ..cases import load_case, override_key_type, valid_override_keys
+from ..cases import discrete_kind, load_case, valid_override_keys
 from ..cases.build import test_row
 from ..simulation import Simulation
 
@@ -558,9 +558,8 @@ def _check_free_input(base, key: str, label: str) -> None:
     if key not in valid_override_keys(type(base)):
         raise TargetError(f"{label} {key!r}: not a key of the case; numeric keys with limits: "
                           f"{', '.join(sorted(LIMITS))}")
-    kind = override_key_type(type(base), key)
-    if kind is not float:
-        what = "whole numbers" if kind is int else "no continuous number"
+    what = discrete_kind(type(base), key)
+    if what is not None:
         raise TargetError(f"{label} {key}: the key takes {what}; a target needs a continuous input (run the values "
                           f"you want to compare with `rotarydryer sweep --grid {key}=...`)")
 
