@@ -8,6 +8,7 @@ from typing import Optional
 import typer
 
 from .._limits import key_unit
+from .._validation import check_choice
 from . import app
 from ._common import (
     CLUSTER_HELP,
@@ -59,10 +60,8 @@ def fit_command(
     from ..services._options import executor_from_options
 
     try:
-        if scale not in ("known", "fit"):
-            raise ValueError(f"--scale = {scale!r} is not one of 'known', 'fit'")
-        if method not in ("wls", "ml"):
-            raise ValueError(f"--method = {method!r} is not one of 'wls', 'ml'")
+        check_choice("--scale", scale, ("known", "fit"))
+        check_choice("--method", method, ("wls", "ml"))
         if baseline not in BASELINE_CHOICES:
             raise ValueError(f"--baseline = {baseline!r} is not one of {', '.join(BASELINE_CHOICES)} (fit: a "
                              "constant tracer background fitted with the case parameters)")
