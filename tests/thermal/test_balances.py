@@ -3,6 +3,7 @@
 import doctest
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -86,3 +87,32 @@ def test_transfer_vanishes_for_dry_solids():
 def test_bad_enthalpy_method():
     with pytest.raises(ValueError, match="method"):
         bal.gas_enthalpy(100.0, 0.01, "nope")
+
+
+def test_the_solids_temperature_ceiling_has_a_rounded_corner():
+    """The surface-evaporation model holds the solids temperature at its ceiling (99 degC at sea level): the
+    corner is rounded over +-CEILING_BLEND_K by the parabola with both slopes (the same in the compiled kernel),
+    so the evaporation's slope in the solids temperature, steepest near the boiling point, falls to zero over 2 K
+    instead of at once, where Newton cycled (a user dryer of dried zinc fines, tests/thermal/test_hard_cases.py).
+    Below 98 degC nothing changes."""
+    from rotarydryer.properties import _kernels
+    from rotarydryer.thermal.balances import soft_ceiling, solids_temperature_ceiling, stage_transfer
+    from rotarydryer.thermal.drying import DryingKinetics
+
+    top, d = solids_temperature_ceiling(101325.0), _kernels.CEILING_BLEND_K
+    t = np.linspace(80.0, 120.0, 40001)
+    soft = soft_ceiling(t, top)
+    outside = np.abs(t - top) >= d
+    np.testing.assert_array_equal(soft[outside], np.minimum(t, top)[outside])
+    assert np.all(soft <= np.minimum(t, top)) and np.all(np.diff(soft) >= 0)
+    slope = np.diff(soft) / np.diff(t)
+    assert np.max(np.abs(np.diff(slope))) < 1e-3          # no jump in the slope (it was 1 -> 0 at the ceiling)
+    np.testing.assert_allclose([_kernels._soft_ceiling(float(v), top) for v in t[::97]], soft[::97], rtol=0,
+                               atol=1e-12)
+    kin = DryingKinetics("ajayi2011")
+    ts = np.linspace(top - 3.0, top + 3.0, 601)
+    rw = stage_transfer(np.full(ts.shape, 10.0), np.full(ts.shape, 0.1), ts, np.full(ts.shape, 300.0),
+                        np.full(ts.shape, 0.05), np.full(ts.shape, 20.0), 0.002, 1.5, kin)[0]
+    drw = np.diff(rw) / np.diff(ts)
+    assert drw[0] > 0 and abs(drw[-1]) < 1e-12 * abs(rw[-1])       # rising below, flat above the corner
+    assert np.max(np.abs(np.diff(drw))) < 0.05 * np.max(np.abs(drw))   # the slope falls off gradually

@@ -453,6 +453,25 @@ def _shell_loop(tg, mg, seg, y, guess, slope_guess, q, c, w, loss, outer, slope_
     return True
 
 
+#: half-width (K) of the rounded corner where the solids temperature of the surface-evaporation model meets its
+#: ceiling (rotarydryer.thermal.balances.solids_temperature_ceiling)
+CEILING_BLEND_K = 1.0
+
+
+@_helper
+def _soft_ceiling(t, top):
+    """min(t, top) with its corner rounded over top -/+ CEILING_BLEND_K by the parabola with both slopes: t up to
+    top - CEILING_BLEND_K, top from top + CEILING_BLEND_K (the evaporation's slope in the solids temperature,
+    steep near the boiling point, falls to zero over 2 K instead of at once)."""
+    d = CEILING_BLEND_K
+    if t <= top - d:
+        return t
+    if t >= top + d:
+        return top
+    e = t - top + d
+    return t - e * e / (4.0 * d)
+
+
 # ----------------------------------------------------------------------------------------------------
 # gas -> solids transfer of a set of gas stages (rotarydryer.thermal.balances._stage_transfer, physical mode)
 _TR_RADIUS, _TR_P, _TR_PC, _TR_BEAM, _TR_ES, _TR_GUARD, _TR_SIGMA, _TR_METHOD, _TR_XE, _TR_XCR, _TR_EXP = range(11)
@@ -484,7 +503,7 @@ def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y,
     xe, xcr = q[_TR_XE], q[_TR_XCR]
     for i in range(a.size):
         tg = min(max(tg_raw[i], -40.0), 600.0)   # humid_air.T_MIN_C, T_MAX_C
-        ts = min(max(ts_raw[i], 0.0), q[_TR_TSMAX])
+        ts = _soft_ceiling(max(ts_raw[i], 0.0), q[_TR_TSMAX])
         y = min(max(y_raw[i], 1e-6), 1.0)    # humid_air.Y_MAX
         # gas-solids coefficient at the gas temperature
         mu, k = _transport_at(tg, y, c)

@@ -354,6 +354,15 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
                              (q, cx, cy, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS, water._PSAT_COEFFICIENTS), 3)
 
 
+def soft_ceiling(t, top):
+    """min(t, top) with its corner rounded over top -/+ CEILING_BLEND_K (`rotarydryer.properties._kernels`) by the
+    parabola with both slopes (the solids temperature of the surface-evaporation model, `stage_transfer`)."""
+    d = _kernels.CEILING_BLEND_K
+    t = np.asarray(t, dtype=float)
+    e = t - top + d
+    return np.where(t <= top - d, t, np.where(t >= top + d, top, t - e * e / (4.0 * d)))
+
+
 def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
                     particle_diameter, radius, kinetics, mode, pressure, co2_mole_fraction, solids_emissivity,
                     dry_guard, beam_length):
@@ -365,7 +374,7 @@ def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c,
         if fast is not None:
             return fast
     tg = _tc(gas_temperature_c)
-    ts = np.clip(np.asarray(solids_temperature_c, dtype=float), 0.0, solids_temperature_ceiling(pressure))
+    ts = soft_ceiling(np.maximum(np.asarray(solids_temperature_c, dtype=float), 0.0), solids_temperature_ceiling(pressure))
     y = _yc(humidity, 1e-6)
     a = np.asarray(area, dtype=float)
     props = "ajayi2011" if mode == "ajayi2011" else "physical"
