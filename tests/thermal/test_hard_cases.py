@@ -134,3 +134,128 @@ def test_a_nearly_empty_tank_does_not_hold_up_the_steady_state(ov):
     k = d.n_classes * d.n_tanks
     held = r.thermal.state[:k]
     assert held.min() < EMPTY_TANK_MASS_ACCEPT * d.feed_rate      # the case has such tanks
+
+
+# user dryers with size classes, from benchmarks/bench_issue32_user_dryers.py --classes (seed 1): the template with
+# the flighted section's length and these overrides
+CLASS_DRYERS = {
+    # a fine sugar in five classes: the transient march settles it, with the traces of the finest class's emptied
+    # tanks a rounding below zero; Newton starts from the nearest admissible state (refused before: "no steady
+    # state reached: scaled residual 1.8e-06")
+    "d1_25": (22.771, {"drum.radius": 2.308847292140271, "drum.slope": 4.711990548126865, "drum.n_flights": 17,
+                       "flight.s1": 0.310988448163293, "flight.s2": 0.0, "flight.alpha2": 103.62696670960132,
+                       "operating.feed_rate": 53.44935569039605, "operating.rpm": 6.290792210785851,
+                       "operating.feed_moisture": 0.022274868833209616, "operating.feed_temperature": 36.97882265018653,
+                       "material.name": "raw_sugar_lee2008", "transport.model": "ajayi2011",
+                       "gas.direction": "co-current", "gas.flow": 32.77575765606839,
+                       "gas.inlet_temperature": 223.6118559858924, "gas.inlet_humidity": 0.04449442421786624,
+                       "shell.insulation_thickness": 0.0, "particle_size.classes": 5,
+                       "particle_size.entrainment": True, "particle_size.distribution": "lognormal",
+                       "particle_size.d50": 0.00022658868236771038, "particle_size.sigma_g": 2.5208688419351097}),
+    # a zinc concentrate in five classes whose dried fines heat past the boiling point: the evaporation's slope in
+    # the solids temperature fell from its steepest to zero at 99 degC (the ceiling of the surface-evaporation
+    # model), and Newton cycled across it ("scaled residual 0.0077 after 300 iterations")
+    "d1_53": (12.361, {"drum.radius": 0.9019192960732442, "drum.slope": 1.9566010259406958, "drum.n_flights": 27,
+                       "flight.s1": 0.07349409020422519, "flight.s2": 0.0, "flight.alpha2": 108.7803689299834,
+                       "operating.feed_rate": 4.468390126985238, "operating.rpm": 4.322150477712947,
+                       "operating.feed_moisture": 0.12701676954271582, "operating.feed_temperature": 48.6920380758126,
+                       "material.name": "zinc_concentrate_ajayi2011", "transport.model": "ajayi2011",
+                       "gas.direction": "co-current", "gas.flow": 6.629095685058,
+                       "gas.inlet_temperature": 442.2134044919334, "gas.inlet_humidity": 0.054016752838087934,
+                       "shell.insulation_thickness": 0.0, "particle_size.classes": 5,
+                       "particle_size.entrainment": True, "particle_size.distribution": "lognormal",
+                       "particle_size.d50": 0.0003729298850024872, "particle_size.sigma_g": 2.251936320668493}),
+}
+
+
+def _class_dryer(name, template, tmp_path):
+    length, ov = CLASS_DRYERS[name]
+    text = open(template).read()
+    assert "length = 11.0" in text
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text.replace("length = 11.0", f"length = {length:.3f}"))
+    return Simulation(str(path), ov)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(CLASS_DRYERS))
+def test_user_dryers_with_fine_size_classes_converge(name, template, tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = _class_dryer(name, template, tmp_path).steady_state()
+    s = r.summary()
+    assert s["energy_balance_error"] < 1e-9 and s["water_balance_error"] < 1e-9 and r.thermal.residual < 1e-8
+    assert all(math.isfinite(v) for v in s.values() if isinstance(v, float))
+    if name == "d1_25":
+        assert r.thermal.marched_s > 0       # the march, then Newton from the projected state
+
+
+def test_a_marched_state_starts_newton_from_the_nearest_admissible_state():
+    """The march's loose tolerance leaves traces of an emptied tank a rounding below zero (and may overshoot a
+    bound): `_projected` moves such a state inside the admissible set and leaves an admissible one as it is."""
+    d = Simulation("song2003_ottawa").thermal_dryer()
+    z = d.steady_state().state
+    assert d._admissible(z)
+    np.testing.assert_array_equal(d._projected(z), z)
+    bad = z.copy()
+    S, W, T, Tg, Y = d.split_classes(bad)
+    S[0, 3], W[0, 4], T[0, 5], Tg[2], Y[1] = -1e-8, -1e-7, 1e4, -300.0, -0.01
+    assert not d._admissible(bad)
+    fixed = d._projected(bad)
+    assert d._admissible(fixed) and not d._admissible(bad)        # a copy
+    changed = np.flatnonzero(fixed != z)
+    assert changed.size == 5
+
+
+def test_a_stalled_march_is_not_repeated_and_a_longer_one_carries_on(monkeypatch):
+    """Where Newton fails after the first march stop, the march carries on from there to the next stop (it was
+    integrated again from the start); where the march stalls (its residual budget spent), the longer one, which
+    would stall at the same point, is not run: the failure comes at once (user dryers waited 10-20 s more)."""
+    from rotarydryer.thermal.dryer import MARCH_HORIZONS, DryerError
+
+    d = Simulation("song2003_ottawa").thermal_dryer()
+    start = d.initial_state()
+    mrt = float(np.sum(start[:2 * d.n_classes * d.n_tanks])) / d.feed_rate
+    calls = []
+
+    def stalled(z0, t_end, **kw):
+        calls.append((np.array(z0), t_end))
+        raise DryerError("the integration did not reach ...", reason="integration", state=z0)
+    monkeypatch.setattr(d, "simulate", stalled)
+    with pytest.raises(DryerError, match="no steady state"):
+        d.steady_state(max_iter=2)
+    assert len(calls) == 1
+
+    calls.clear()
+
+    class Marched:
+        def __init__(self, z):
+            self.states = z[:, None] * 1.0001
+
+    def marched(z0, t_end, **kw):
+        calls.append((np.array(z0), t_end))
+        return Marched(np.asarray(z0))
+    monkeypatch.setattr(d, "simulate", marched)
+    with pytest.raises(DryerError, match="no steady state"):
+        d.steady_state(max_iter=2)
+    assert len(calls) == len(MARCH_HORIZONS) == 2
+    np.testing.assert_allclose(calls[0][1], MARCH_HORIZONS[0] * mrt)
+    np.testing.assert_allclose(calls[1][1], (MARCH_HORIZONS[1] - MARCH_HORIZONS[0]) * mrt)
+    np.testing.assert_array_equal(calls[1][0], calls[0][0] * 1.0001)      # from where the first one ended
+
+
+@pytest.mark.slow
+def test_a_failure_the_dust_causes_late_names_the_dust():
+    """At the solver's start only the finest of three classes is carried off (a third of the feed, no hint), but
+    the gas the iterations wet carries every class off and the solve fails: the message names the dust from the
+    last iterate, and the same dryer without entrainment converges."""
+    from pathlib import Path
+
+    case = str(Path(__file__).parents[1] / "data" / "user_dust_runaway.toml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ValueError, match=r"no steady state reached.*the dust is the likely cause: at the "
+                                             r"solver's last iterate .* lower gas\.flow"):
+            Simulation(case).steady_state()
+        s = Simulation(case, {"particle_size.entrainment": False}).steady_state().summary()
+    assert s["energy_balance_error"] < 1e-9

@@ -134,10 +134,10 @@ EMPTY_TANK_MASS_ACCEPT = 1e-3
 #: gas within this many K of the ambient (and below it): the shell loss is linear in T_g - T_amb with
 #: the network's conductance at the band's edge (ThermalDryer.physical_shell_loss)
 SHELL_LINEAR_BAND_K = 1.0
-#: transient marches (multiples of the start's solids residence time) before Newton again, where
-#: pseudo-transient continuation from the start fails (ThermalDryer.steady_state)
+#: transient march's stops (multiples of the start's solids residence time), at each of which Newton is tried
+#: again, where pseudo-transient continuation from the start fails (ThermalDryer.steady_state)
 MARCH_HORIZONS = (3.0, 10.0)
-#: residual calls a march may take (each horizon): a march that needs more is given up, not waited for (a user dryer of
+#: residual calls a march may take (to each stop): a march that needs more is given up, not waited for (a user dryer of
 #: fine size classes losing most of its feed as dust marched for over 10 minutes); the largest march of 279 random user
 #: dryers took 1 343 (benchmarks/bench_issue32_user_dryers.py)
 MARCH_MAX_CALLS = 4000
@@ -155,6 +155,15 @@ STEP_RADIUS = 2.0
 #: the Newton steps after it converge to the same tolerance): 1e-3, 2.8x cheaper than 1e-5 on the dryers
 #: that need it, with the same states after Newton
 MARCH_RTOL = 1e-3
+#: a solve that ends without meeting the residual test (its iterations spent, or stalled) is accepted where its
+#: scaled residual is below this many times the tolerance and its water and energy balances close to 1e-6
+ACCEPT_AFTER_MAX_ITER = 1e3
+#: ... and ends early where its residual has not fallen below STALL_FACTOR x its lowest for this many iterations
+#: while that lowest is already acceptable: a Newton iteration stalled on a kink (a bone-dry tank's moisture at
+#: the dry guard's corner) by a few times the tolerance took the last 100-250 of its 300 iterations to end where it
+#: was (seconds with size classes)
+STALL_ITERATIONS = 30
+STALL_FACTOR = 0.5
 #: a converged state whose water or energy balance is open by more than this is polished
 #: (ThermalDryer._polished)
 BALANCE_POLISH = 1e-10
@@ -1394,9 +1403,9 @@ class ThermalDryer:
     def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=None, factorization=None,
                      progress=None, march=True):
         """Coupled steady state by pseudo-transient continuation + Newton (module docstring); where
-        that fails (and ``march``), a transient march (BDF with error control at MARCH_RTOL, [`simulate`][rotarydryer.thermal.dryer.ThermalDryer.simulate]) over
-        MARCH_HORIZONS solids residence times from the same start, then Newton again from the
-        marched state.
+        that fails (and ``march``), a transient march (BDF with error control at MARCH_RTOL, [`simulate`][rotarydryer.thermal.dryer.ThermalDryer.simulate]) from the same
+        start to the first of MARCH_HORIZONS solids residence times, then Newton again from the marched state;
+        where that fails too, the march carries on to the next horizon (a march that stalls is not repeated).
 
         Converged when the scaled residual max |f_i|/scale_i < ``tol`` (1/s) and the balances
         close; raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (reason ``"no_steady_state"``) with ``state`` = last iterate
@@ -1409,45 +1418,57 @@ class ThermalDryer:
             if not march or exc.reason != "no_steady_state" or exc.state is None:
                 raise
             first = exc
-        start = self.initial_state() if z0 is None else np.array(z0, dtype=float)
-        mrt = float(np.sum(start[:2 * self.n_classes * self.n_tanks])) / max(self.feed_rate, 1e-300)
-        for horizon in MARCH_HORIZONS:
+        z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
+        mrt = float(np.sum(z[:2 * self.n_classes * self.n_tanks])) / max(self.feed_rate, 1e-300)
+        marched_s = 0.0
+        for horizon in MARCH_HORIZONS:      # each march carries on from where the last one ended
+            t_end = max(horizon * mrt, 60.0)
             try:
-                marched = self.simulate(start, max(horizon * mrt, 60.0), rtol=MARCH_RTOL,
-                                        atol=self._scale() * (MARCH_RTOL * 1e-2), max_calls=MARCH_MAX_CALLS)
+                marched = self.simulate(z, t_end - marched_s, rtol=MARCH_RTOL, atol=self._scale() * (MARCH_RTOL * 1e-2),
+                                        max_calls=MARCH_MAX_CALLS)
                 z = np.asarray(marched.states, dtype=float)[:, -1]
-                if not self._admissible(z):
-                    continue
-                ss = self._pseudo_transient(z, max_iter, tol, dt0, None, None, progress)
             except (RuntimeError, ValueError, FloatingPointError):     # DryerError is a ValueError
+                break           # the integration stalled (or failed): a longer one from the same state would too
+            marched_s = t_end
+            try:
+                ss = self._pseudo_transient(self._projected(z), max_iter, tol, dt0, None, None, progress)
+            except (RuntimeError, ValueError, FloatingPointError):
                 continue
             ss = self._polished(ss, tol, dt0)
-            ss.marched_s = max(horizon * mrt, 60.0)
+            ss.marched_s = marched_s
             return ss
         raise self._with_dust_hint(first) if self.dusty else first
 
     def _with_dust_hint(self, failure):
-        """A failed solve of a dryer with dust, with the dust named as the likely cause where, at the solver's
-        start (the transport holdups, the gas cooling along the drum as `initial_state` guesses), the gas
-        carries the curtains off much faster than the feed refills them. A class whose curtains lose r
-        times its feed rate per second keeps about exp(-r) of it through the drum's cascades (each cascade
-        keeps 1 - e, and r sums e over them); where that leaves less than 1 - DUST_REFUSE_FRACTION of the
-        feed, most or all of it leaves as dust, a state without a product that the solver may not settle
-        (converged runs of that kind are refused by `check_entrainment`). A hint, not a refusal: the start's
-        gas is a guess (hotter, and so faster, than a wet feed's drum), and the up-front refusal
-        (`_refuse_all_entrained`) takes the coldest gas to be certain."""
-        z = self.initial_state()
-        try:
-            t = self.terms(z)
-        except (ValueError, FloatingPointError):
-            return failure
-        feed = self.feed_rate * (1.0 - self.feed_moisture) * self.class_feed
-        rate = np.asarray(t["dust_S_c"], float) / np.maximum(feed, 1e-300)
-        lost = float(np.sum(self.class_feed * -np.expm1(-rate)))
-        if not lost > DUST_REFUSE_FRACTION:
-            return failure
+        """A failed solve of a dryer with dust, with the dust named as the likely cause where the gas carries
+        the curtains off much faster than the feed refills them: at the solver's start (the transport holdups,
+        the gas cooling along the drum as `initial_state` guesses) or, failing that, at its last iterate (a gas
+        that the iterations made wetter, and so faster, carried off every class of a feed whose finest class
+        alone went at the start). A class whose curtains lose r times its feed rate per second keeps about
+        exp(-r) of it through the drum's cascades (each cascade keeps 1 - e, and r sums e over them); where
+        that leaves less than 1 - DUST_REFUSE_FRACTION of the feed, most or all of it leaves as dust, a state
+        without a product that the solver may not settle (converged runs of that kind are refused by
+        `check_entrainment`). A hint, not a refusal: neither state is the dryer's (the start's gas is a guess,
+        hotter and so faster than a wet feed's drum; the last iterate did not converge), and the up-front
+        refusal (`_refuse_all_entrained`) takes the coldest gas to be certain."""
         ng, k = self.n_gas, 3 * self.n_classes * self.n_tanks
-        hint = (f"; the dust is the likely cause: at the solver's start (the gas cooling from "
+        feed = self.feed_rate * (1.0 - self.feed_moisture) * self.class_feed
+
+        def carried_off(z):     # (rate per class's feed, share of the feed lost) at state z, or None
+            try:
+                rate = np.asarray(self.terms(np.asarray(z, dtype=float))["dust_S_c"], float) / np.maximum(feed, 1e-300)
+            except (ValueError, FloatingPointError):
+                return None
+            lost = float(np.sum(self.class_feed * -np.expm1(-rate)))
+            return (rate, lost) if lost > DUST_REFUSE_FRACTION and np.all(np.isfinite(rate)) else None
+        last = getattr(failure.state, "state", None)
+        found = [(where, z, dust) for where, z in (("at the solver's start", self.initial_state()),
+                                                   ("at the solver's last iterate", last))
+                 if z is not None and (dust := carried_off(z)) is not None]
+        if not found:
+            return failure
+        where, z, (rate, lost) = found[0]
+        hint = (f"; the dust is the likely cause: {where} (the gas cooling from "
                 f"{self.settings.gas_inlet_temperature:.4g} to {float(np.min(z[k:k + ng])):.4g} degC) the gas carries the "
                 f"curtains' solids off at {float(np.min(rate)):.3g} to {float(np.max(rate)):.3g} times each size class's "
                 f"feed rate, enough to take most or all of the feed (about {lost:.1%} at that gas) with the exhaust: "
@@ -1500,6 +1521,7 @@ class ThermalDryer:
         if borrowed:
             J, lu = "borrowed", factorization
         it = 0
+        best, best_it = norm, 0       # the lowest residual so far and its iteration (STALL_ITERATIONS)
         steps: list = []              # the full steps taken on this factorisation (Broyden's s_j), scaled
         newton = False                # the factorisation's pseudo-time step is a Newton matrix's
         for it in range(1, max_iter + 1):
@@ -1568,6 +1590,10 @@ class ThermalDryer:
                 progress(it, norm, dt)
             if norm < tol or self._residual_norm(f, z, sc, EMPTY_TANK_MASS_ACCEPT) < tol:
                 break
+            if norm < STALL_FACTOR * best:
+                best, best_it = norm, it
+            elif it - best_it >= STALL_ITERATIONS and best < tol * ACCEPT_AFTER_MAX_ITER:
+                break       # stalled where the last iterations would end: the same test decides, now
             # converging fast (the residual fell 100-fold): keep the factorisation for a chord step
             # instead of a new Jacobian (the fixed point f = 0 is the same for any pseudo-time
             # step); a step that falls less recomputes it
@@ -1580,7 +1606,7 @@ class ThermalDryer:
         norm = min(norm, self._residual_norm(f, z, sc, EMPTY_TANK_MASS_ACCEPT))
         ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
         ss.factorization = lu
-        if norm >= tol * 1e3 or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:
+        if norm >= tol * ACCEPT_AFTER_MAX_ITER or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:
             raise DryerError(f"no steady state reached: scaled residual {norm:.3g} after {it} iterations "
                              f"(water balance error {ss.water_balance_error:.2g}, energy {ss.energy_balance_error:.2g})",
                              reason="no_steady_state", state=ss)
@@ -1662,6 +1688,21 @@ class ThermalDryer:
                 wb = ha.T_MIN_C
             self._floor_memo = (key, max(ha.T_MIN_C + 1.0, min(s.ambient_temperature, s.solids_inlet_temperature, wb) - 30.0))
         return self._floor_memo[1]
+
+    def _projected(self, z):
+        """``z`` moved into the admissible states (`_admissible`): a marched state, whose integration at a loose
+        tolerance leaves the traces of a fine class a rounding below zero (the tanks its curtains empty into
+        the exhaust), starts Newton from the nearest admissible one (a copy; the others unchanged)."""
+        z = np.array(z, dtype=float)
+        S, W, T, Tg, Y = self.split_classes(z)
+        lo_t, hi_t, lo_g, hi_g, hi_y = self._state_bounds()
+        margin = 1e-6        # K and kg/kg inside the bounds
+        np.maximum(S, EMPTY_TANK_MASS * 1e-3 * self.feed_rate, out=S)
+        np.maximum(W, 0.0, out=W)
+        np.clip(T, lo_t + margin, hi_t - margin, out=T)
+        np.clip(Tg, lo_g + margin, hi_g - margin, out=Tg)
+        np.clip(Y, 0.0, hi_y - margin, out=Y)
+        return z
 
     def _admissible(self, z):
         S, W, T, Tg, Y = self.split_classes(z)
