@@ -366,8 +366,11 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
         return (None, reason) if ys is None else (ys[name], "")
 
     notes: list[str] = []
-    lo, hi = _usable_end(evaluate, lo, hi, "lo", key, unit, notes, lab["find"])
-    hi, lo = _usable_end(evaluate, hi, lo, "hi", key, unit, notes, lab["find"])
+    def crossed(ya, yb):        # the output meets the value between two points that solve
+        return (ya - y_target) * (yb - y_target) <= 0
+
+    lo, hi = _usable_end(evaluate, lo, hi, "lo", key, unit, notes, lab["find"], crossed)
+    hi, lo = _usable_end(evaluate, hi, lo, "hi", key, unit, notes, lab["find"], crossed)
     ylo, yhi = evaluate(lo)[0], evaluate(hi)[0]
 
     def meets(y):
@@ -405,11 +408,13 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
                   closest=closest)
 
 
-def _usable_end(evaluate, end, other, side, key, unit, notes, label):
+def _usable_end(evaluate, end, other, side, key, unit, notes, label, crossed=None):
     """``(end, other)`` with ``end`` moved toward ``other`` until its steady state solves: halving the distance
     until a point solves, then bisecting between it and the last point that did not (BISECT_STEPS times), so
     that the bracket keeps all but 1/2^BISECT_STEPS of the failed half (a halving alone can give away most of
-    the range, the answer with it)."""
+    the range, the answer with it). No bisection where ``crossed(y at the point, y at other)``: the answer lies
+    between them already (near the edge of a dryer's steady states each failed solve costs a march: a target on
+    a user dryer took 4 of them, 5 minutes, to move a bound the answer was far from)."""
     y, reason = evaluate(end)
     x = end
     k = 0
@@ -417,6 +422,12 @@ def _usable_end(evaluate, end, other, side, key, unit, notes, label):
         k += 1
         bad, x = x, other + 0.5 * (x - other)
         y, _ = evaluate(x)
+    if y is not None and x != end and crossed is not None:
+        y_other = evaluate(other)[0]
+        if y_other is not None and crossed(y, y_other):
+            notes.append(f"bound {side} moved from {fmt_number(end)} to {fmt_number(x)}{f' {unit}' if unit else ''}: "
+                         f"no steady state at {fmt_number(end)} ({reason}); the answer lies inside")
+            return x, other
     if y is not None and x != end:
         for _ in range(BISECT_STEPS):
             mid = 0.5 * (x + bad)
