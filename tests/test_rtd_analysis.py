@@ -131,6 +131,34 @@ def test_truncated_tail_detected_and_extrapolation_recovers_moments():
     assert m.skewness == pytest.approx(2.0, rel=1e-3)
 
 
+def test_a_baseline_far_below_the_signal_is_refused():
+    """A constant background more than the signal's whole range below its lowest sample would add more area than
+    the tracer (`--baseline -5` on a curve in 1/s gave a recovery of 4951): refused; one a little below is kept."""
+    t = np.linspace(0, 8000, 801)
+    y = gamma_curve(t, 2000.0, 30.0) * 1e4 + 1.0
+    span = float(y.max() - y.min())
+    with pytest.raises(ValueError, match=r"baseline = -\S+ lies below the lowest sample .* by more than the signal.s whole range"):
+        rtd_moments(t, y, baseline=-5.0 * span)
+    assert rtd_moments(t, y, baseline=1.0 - 0.5 * span).mean_s > 0
+
+
+def test_a_tail_extrapolated_from_near_the_peak_is_warned_about():
+    """A curve cut while still near its top (here at 61 % of its peak: N = 4 tanks cut at 1.4 tau) has not begun its
+    exponential decay; the extrapolated tail carries much of the area and the warning says so. A curve cut in its
+    decay (the N = 1 tank above, 13.5 % of the peak and of the area) is extrapolated without one."""
+    import warnings
+
+    tau = 600.0
+    t = np.linspace(0, 1.4 * tau, 841)
+    with pytest.warns(UserWarning, match=r"ends at \d+% of its peak.*record until the signal returns"):
+        m = rtd_moments(t, tanks_in_series_e(t, tau, 4.0), tail="exponential")
+    assert m.tail_end_fraction_of_peak > 0.3
+    t = np.linspace(0, 1200.0, 2401)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rtd_moments(t, tanks_in_series_e(t, tau, 1.0), tail="auto", tail_points=10)
+
+
 def test_auto_tail_leaves_complete_curve_alone():
     t = np.linspace(0, 10000, 1001)
     m = rtd_moments(t, gamma_curve(t), tail="auto")

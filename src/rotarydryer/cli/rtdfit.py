@@ -61,7 +61,7 @@ def _choice(option: str, value: str, choices) -> str:
 
 
 #: the library's argument names in its messages -> this command's options (the library names its arguments)
-_OPTION_WORDS = (("tail_points = ", "--tail-points = "),
+_OPTION_WORDS = (("tail_points = ", "--tail-points = "), (": baseline = ", ": --baseline = "),
                  ("give baseline_window_s or a numeric baseline", "give a numeric --baseline (signal unit)"))
 
 
