@@ -161,3 +161,29 @@ def test_malformed_lists_and_grids_are_refused(tmp_path, rows, grid, expect):
         args += ["--grid", g]
     res = runner.invoke(cli, args)
     assert res.exit_code == 2 and expect in res.output and "internal error" not in res.output, res.output
+
+
+def test_a_key_in_set_and_in_the_sweep_is_refused(tmp_path):
+    """The sweep sets a swept key per run: a --set of the same key was silently overridden (exit 0)."""
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", "--grid", "operating.rpm=2,4", "--set", "operating.rpm=3",
+                              "-q", "--no-rtd"])
+    assert res.exit_code == 2 and "operating.rpm given by --set and by --grid" in res.output, res.output
+    runs = tmp_path / "runs.csv"
+    runs.write_text("operating.rpm\n2\n4\n")
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", "--list", str(runs), "--set", "operating.rpm=3", "-q"])
+    assert res.exit_code == 2 and "by --list" in res.output, res.output
+
+
+def test_every_run_refused_the_same_way_by_the_set_is_bad_input():
+    """A --set that makes the case invalid whatever the swept values (backmix with co-current gas) failed every run
+    with the same message and exit 1 (some runs failed); it is the set-up that is wrong: exit 2 with the message once
+    (the table still printed). Runs refused for their own swept value stay exit 1."""
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", "--grid", "operating.rpm=2,4", "--set", "transport.backmix=0.15",
+                              "--set", "gas.direction=co-current", "-q", "--no-rtd"])
+    assert res.exit_code == 2, res.output
+    assert "every run failed the same way, whatever the swept values: transport.backmix = 0.15 must be 0" in res.output
+    assert res.stdout.count("must be 0 for co-current") == 2         # the table: both rows
+    # the same refusal for every run, but naming a swept key (the runs' own values): some runs failed, exit 1
+    res = runner.invoke(cli, ["sweep", "lee2008_invicta", "--grid", "gas.direction=co-current,co-current", "--set",
+                              "transport.backmix=0.15", "-q", "--no-rtd"])
+    assert res.exit_code == 1 and "2 of 2 runs failed" in res.output, res.output

@@ -100,7 +100,8 @@ def sweep(
     --cluster local:N on a Dask LocalCluster made here. Every backend gives the same table.
 
     Exit codes: 0 all runs succeeded, 1 some runs failed (see the error column), 2 bad
-    input (an unreachable scheduler included), 3 Dask requested but not installed.
+    input (an unreachable scheduler included; every run refused the same way, naming no swept key:
+    the case or --set), 3 Dask requested but not installed.
     """
     import os
 
@@ -117,6 +118,11 @@ def sweep(
             points = read_list(list_)
         if not points:
             raise ValueError("nothing to run: give --grid KEY=V1,V2 or --list runs.csv")
+        swept = sorted(set().union(*points))
+        both = [k for k in swept if k in base]
+        if both:
+            raise ValueError(f"{', '.join(both)} given by --set and by {'--list' if list_ is not None else '--grid'}: "
+                             "a swept key takes its values from the sweep; drop the --set")
         executor, worker_notes = executor_from_options(workers, len(points), scheduler=scheduler, cluster=cluster)
         points = [{**base, **p} for p in points]
         from ..cases import load_case
@@ -169,6 +175,11 @@ def sweep(
     else:
         typer.echo(f"table: {out} ({len(rows)} runs)")
     failed = sum(1 for r in rows if r.get("error"))
+    errors = {r.get("error") for r in rows}
+    if failed == len(rows) > 1 and len(errors) == 1 and not any(k in next(iter(errors)) for k in swept):
+        # the same refusal for every run, naming none of the swept keys: the case and --set, not the sweep
+        typer.echo(f"error: every run failed the same way, whatever the swept values: {next(iter(errors))}", err=True)
+        raise typer.Exit(2)
     if failed:
         typer.echo(f"{failed} of {len(rows)} runs failed (see the error column)", err=True)
         raise typer.Exit(1)
