@@ -37,3 +37,13 @@ def test_design_load_json_with_an_undefined_interval_is_strict(tmp_path):
     out = json.loads(text.splitlines()[0] if text.count("\n") > 1 else text, parse_constant=refuse)
     assert "null" in text
     assert out["confidence"] == 0.95
+
+
+def test_simulate_json_records_the_gas_direction_under_its_own_name():
+    """`parameters.gas_flow` held the gas *direction* ("co-current"), next to the numeric gas_flow_kg_s (found by
+    fuzzing): the record is `parameters.gas_direction`, and the only gas flow is the number in kg/s."""
+    res = CliRunner().invoke(app, ["simulate", "lee2008_invicta", "--json"])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert d["parameters"]["gas_direction"] == "counter-current" and "gas_flow" not in d["parameters"]
+    assert d["gas_flow_kg_s"] > 0

@@ -801,7 +801,7 @@ def transport_inputs(case) -> dict:
     params = dict(feed_rate=F, rpm=rpm, slope=case.drum.slope, radius=case.drum.radius, fouling=fouling_of(case),
                   unflighted_inlet=case.transport.unflighted_inlet)
     if case.gas is not None:
-        params["gas_flow"] = case.gas.direction
+        params["gas_direction"] = case.gas.direction
     flighted = [sp for sp in specs if sp.kind == "flighted"]
     if len(flighted) == 1 and flighted[0].kilning == "excess":
         sp = flighted[0]
