@@ -187,3 +187,13 @@ def test_every_run_refused_the_same_way_by_the_set_is_bad_input():
     res = runner.invoke(cli, ["sweep", "lee2008_invicta", "--grid", "gas.direction=co-current,co-current", "--set",
                               "transport.backmix=0.15", "-q", "--no-rtd"])
     assert res.exit_code == 1 and "2 of 2 runs failed" in res.output, res.output
+
+
+def test_no_rtd_leaves_the_tracer_moments_out():
+    """--no-rtd had no visible effect (the tracer moments are the steady state's analytic ones, computed anyway):
+    it now leaves the tracer columns out; the other columns are the same numbers."""
+    args = ["sweep", "lee2008_invicta", "--grid", "operating.rpm=2,3", "-q", "--json"]
+    with_rtd, without = (json.loads(runner.invoke(cli, args + flag).stdout) for flag in ([], ["--no-rtd"]))
+    for a, b in zip(with_rtd, without):
+        assert "tracer_mean_s" in a and "rtd_std_s" in a and "tracer_mean_s" not in b and "rtd_std_s" not in b
+        assert {k: v for k, v in a.items() if k not in ("tracer_mean_s", "rtd_std_s")} == b

@@ -83,7 +83,8 @@ def sweep(
     workers: int = typer.Option(1, help=WORKERS_HELP),
     scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),
     cluster: Optional[str] = typer.Option(None, help=CLUSTER_HELP),
-    rtd: bool = typer.Option(True, "--rtd/--no-rtd", help="Also simulate the tracer pulse (RTD SD, tracer mean)."),
+    rtd: bool = typer.Option(True, "--rtd/--no-rtd", help="Report the tracer's moments (tracer mean, RTD SD: the "
+                                                         "steady state's analytic ones); --no-rtd leaves them out."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the table (CSV) here."),
     as_json: bool = typer.Option(False, "--json", help="Print the rows as a JSON list."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),

@@ -21,13 +21,15 @@ from .._threads import single_threaded
 from ..executor import Executor, RunFailure, split
 from ..simulation import SWEEP_MAX_CHUNK, SWEEP_MIN_CHUNK, Simulation, check_finite
 
-__all__ = ["KEY_SCALARS", "THERMAL_SCALARS", "SWEEP_MIN_CHUNK", "SWEEP_MAX_CHUNK", "run_point", "run_sweep",
+__all__ = ["KEY_SCALARS", "RTD_SCALARS", "THERMAL_SCALARS", "SWEEP_MIN_CHUNK", "SWEEP_MAX_CHUNK", "run_point", "run_sweep",
            "sweep_chunks", "solve_chunk", "warm_up"]
 
 #: transport outputs of a sweep row (names with their unit)
 KEY_SCALARS = ("total_holdup_kg", "active_holdup_kg", "passive_holdup_kg", "kiln_bed_holdup_kg", "bed_holdup_kg",
                "outlet_flow_kg_s", "mean_residence_time_s", "rtd_std_s", "mass_balance_error", "cells_over",
                "cells_design", "cells_under")
+#: the tracer's moments in a row (left out with ``rtd=False``)
+RTD_SCALARS = ("tracer_mean_s", "rtd_std_s")
 #: outputs of the coupled heat and mass transfer steady state added to sweep rows
 THERMAL_SCALARS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
                    "evaporation_kg_s", "fuel_rate_kg_s", "shell_heat_loss_W", "energy_balance_error")
@@ -62,9 +64,10 @@ def _solve_point(case, overrides: dict, warm=None):
 
 
 def run_point(case, overrides: dict, rtd: bool = True) -> dict:
-    """One sweep point from a cold start -> a flat row (overrides + key scalars, units in the names);
-    an invalid point gives a row with ``error``."""
-    return _solve_point(case, overrides)[0]
+    """One sweep point from a cold start -> a flat row (overrides + key scalars, units in the names; ``rtd=False``:
+    without the tracer's moments); an invalid point gives a row with ``error``."""
+    row = _solve_point(case, overrides)[0]
+    return row if rtd else {k: v for k, v in row.items() if k not in RTD_SCALARS}
 
 
 def solve_chunk(points: Sequence[dict], case) -> list[dict]:
@@ -90,7 +93,8 @@ def run_sweep(case, points: list[dict], *, workers: int = 1, scheduler: Optional
     """Run all points; rows come back in the order of ``points``, the same whatever runs them
     (``executor``, or one made of ``workers`` local processes, a Dask ``scheduler`` address or a
     ``cluster`` "local:N"). ``rows`` (a list of ``len(points)`` None) is filled as chunks finish,
-    so a caller keeps what was computed if the sweep is interrupted; ``progress(n)`` after each chunk."""
+    so a caller keeps what was computed if the sweep is interrupted; ``progress(n)`` after each chunk.
+    ``rtd=False``: the rows without the tracer's moments (RTD_SCALARS)."""
     points = [dict(p) for p in points]
     if rows is None:
         rows = [None] * len(points)
@@ -101,4 +105,6 @@ def run_sweep(case, points: list[dict], *, workers: int = 1, scheduler: Optional
     for i, r in enumerate(rows):
         if isinstance(r, RunFailure):
             rows[i] = {**points[i], "error": r.error}
+        elif not rtd:       # without the tracer's moments (the steady state's analytic ones)
+            rows[i] = {k: v for k, v in r.items() if k not in RTD_SCALARS}
     return rows
