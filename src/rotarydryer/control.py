@@ -459,7 +459,7 @@ def check_schedule(dryer, schedule, t_end_s, controlled=True):
                          "the disturbances (feed_rate, feed_moisture, fouling, rpm, gas_flow, gas_inlet_humidity, "
                          "feed_temperature), or run the open loop alone")
     base = base_inputs(dryer)
-    checked = schedule.check(base, t_end_s, burner=dryer.settings.burner is not None)
+    checked = schedule.check(base, t_end_s, burner=dryer.settings.burner is not None, length_option="--duration")
     check_applicable(dryer, checked)
     starts = []
     for name, p in checked.points.items():      # the start of the first change away from the case's value

@@ -139,6 +139,9 @@ def test_schedule_in_place_of_a_scenario_is_the_same_run(mmg):
     assert by_schedule.series["product_moisture_kg_kg"][-1] > by_schedule.series["product_moisture_kg_kg"][0]
     with pytest.raises(ValueError, match="manipulated input"):
         C.closed_loop(d, ss, schedule=InputSchedule({"gas_inlet_temperature": ((60.0, 400.0),)}), t_end_s=600.0)
+    # a point after the run's end names control's own option for the run's length (it named dynamics' --t-end)
+    with pytest.raises(ValueError, match=r"outside the run's time grid \[0, 600\] s \(lengthen --duration"):
+        C.closed_loop(d, ss, schedule=InputSchedule({"feed_moisture": ((6000.0, x_new),)}), t_end_s=600.0)
 
 
 def test_model_feedforward_sees_a_scheduled_gas_flow(mmg):

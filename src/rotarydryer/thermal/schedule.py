@@ -202,9 +202,10 @@ class InputSchedule:
         pts = {k: tuple((t, base[k] if math.isnan(v) else v) for t, v in p) for k, p in self.points.items()}
         return InputSchedule(pts, self.source)
 
-    def check(self, base: dict, t_end_s: float, burner: bool = True) -> InputSchedule:
+    def check(self, base: dict, t_end_s: float, burner: bool = True, length_option: str = "--t-end") -> InputSchedule:
         """Checked against a run: inputs the case has, times in [0, ``t_end_s``], values in their
-        ranges (the case key's of `SCHEDULE_INPUTS`). Returns the resolved schedule."""
+        ranges (the case key's of `SCHEDULE_INPUTS`). Returns the resolved schedule. ``length_option``: what
+        sets the run's length, named in the message of a point after its end."""
         if not burner and "burner_fuel_rate" in self.points:
             raise ValueError(f"{self.source}: burner_fuel_rate needs a case with a [burner] block; schedule "
                              "gas_inlet_temperature instead")
@@ -214,7 +215,7 @@ class InputSchedule:
             for t, v in p:
                 if not math.isfinite(t) or t < 0 or t > t_end_s:
                     raise ValueError(f"{self.source}: {name} at time {t:g} s is outside the run's time grid "
-                                     f"[0, {t_end_s:g}] s (lengthen --t-end or drop the point)")
+                                     f"[0, {t_end_s:g}] s (lengthen {length_option} or drop the point)")
                 if key:
                     lim = LIMITS[key]
                     low_ok = v > lim.low or (lim.low_inclusive and v == lim.low)
