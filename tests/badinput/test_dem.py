@@ -25,6 +25,9 @@ EXPORT_CASES = [
     ("unknown-section", ["--case", "ajayi2011_mmg", "--section", "Z", "--scale", "0.25", "--diameter", "0.002"],
      ["--section = 'Z'", "B, C, D"]),
     ("section-needed", ["--case", "ajayi2011_mmg", "--diameter", "0.002"], ["--section is needed", "B, C, D"]),
+    # a case of one flighted section names it ("one of its flighted sections flighted" before)
+    ("section-needed-one", ["--case", "song2003_ottawa", "--diameter", "0.002"],
+     ["--section is needed", "its flighted section "]),
     ("above-critical-speed", DIMS[:-2] + ["--rpm", "120", "--diameter", "0.005"],
      ["rpm (--rpm) = 120 rev/min", "critical speed"]),
     ("negative-loading", DIMS + ["--diameter", "0.005", "--loading", "-1"], ["loading (--loading) = -1", "(0, 5]"]),

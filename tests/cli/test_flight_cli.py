@@ -76,6 +76,8 @@ def test_flight_builtin_profiles_and_two_section_unchanged():
     ("segments = [[0.195, 90.0]", ["not valid TOML"]),
     ("vertices = [[0.0, 0.0], [0.0, 0.2], [0.0, 0.2]]", ["vertices[2] = vertices[1] = (0, 0.2) m", "zero length"]),
     ("segments = [[0.195, 90.0], [0.1, 200.0]]", ["segments[1].angle = 200 deg", "backwards"]),
+    # a string iterated as characters: "segments[0] = ['a'] is not a (length, angle) pair" before
+    ('segments = "abc"', ["segments = 'abc' is not a list of (length, angle) pairs"]),
 ])
 def test_flight_bad_profile(tmp_path, text, words):
     p = tmp_path / "bad.toml"

@@ -28,8 +28,9 @@ def _case_drum(case_name: str, section: Optional[str]):
     if secs:
         names = [s.name for s in secs]
         if section is None:
-            raise ValueError(f"--section is needed for case {case_name!r}: one of its flighted sections "
-                             f"{', '.join(names)}")
+            which = (f"its flighted section {names[0]}" if len(names) == 1 else
+                     f"one of its flighted sections {', '.join(names)}")
+            raise ValueError(f"--section is needed for case {case_name!r}: {which}")
         sec = next((s for s in secs if s.name == section), None)
         if sec is None:
             raise ValueError(f"--section = {section!r} is not a flighted section of case {case_name!r}; "

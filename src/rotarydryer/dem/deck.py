@@ -541,7 +541,7 @@ def export_deck(s: SliceDeck, folder) -> DeckFiles:
 
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
-        raise ValueError(f"output folder (--out) = {str(folder)!r} exists and is not a directory")
+        raise ValueError(f"output folder {str(folder)!r} exists and is not a directory")
     d = s.particles.diameter
     facet = s.facet_size * d
     nz = 1

@@ -308,6 +308,9 @@ class PolygonFlight:
 
 
 def _check_segments(segments, key: str) -> tuple[tuple[float, float], ...]:
+    if isinstance(segments, (str, bytes)) or any(isinstance(r, (str, bytes)) for r in segments):
+        # a string iterates as characters: "abc" would read as three one-letter "pairs"
+        raise ValueError(f"{key} = {segments!r} is not a list of (length, angle) pairs")
     try:
         rows = [tuple(r) for r in segments]
     except TypeError:
