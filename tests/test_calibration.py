@@ -393,3 +393,18 @@ def test_calibrate_refuses_a_test_given_twice_and_an_unknown_sigma():
     res = CliRunner().invoke(app, ["calibrate", MMG, "-q", "-p", "thermal.area_scale", "--tests", "4", "--sigma",
                                    "bogus=1"])
     assert res.exit_code == 2 and "--sigma 'bogus=1': 'bogus' is not a response; responses: tracer, mrt" in res.output
+
+
+def test_a_configuration_key_left_at_none_is_written_none_and_read_in_every_form():
+    """TOML has no null: a record wrote a configuration key left at None (transport.n_cells of a case that does not
+    set it) as "" (found by fuzzing: `"transport.n_cells" = ""`); it is written "none", and "", "none" and "null"
+    all read as None (records written before still apply), none of them as a value."""
+    from rotarydryer.cases.calibration import NONE_VALUE, _same
+    from rotarydryer.estimation.calibrate import _configuration
+
+    conf = _configuration(load_case("ajayi2011_mmg"), thermal=True)
+    assert conf["transport.n_cells"] == NONE_VALUE == "none"
+    for written in ("", "none", "None", "null", None):
+        assert _same(None, written) and _same(written, None)
+        assert not _same(20, written) and not _same(written, "exact")
+    assert _same(20, 20.0) and not _same("exact", "lee2008_regressions")

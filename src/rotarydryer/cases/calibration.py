@@ -31,7 +31,7 @@ from typing import Any, Optional, Union
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 __all__ = ["CalibrationRecord", "CalibrationData", "CalibrationWarning", "apply_calibrations", "applied_calibrations",
-           "configuration_value", "select_calibrations", "PredictiveRangeWarning", "TEST_KEY_PREFIX", "record_problems"]
+           "configuration_value", "NONE_VALUE", "select_calibrations", "PredictiveRangeWarning", "TEST_KEY_PREFIX", "record_problems"]
 
 #: prefix of a record value that sets a field of one [[tests]] row: tests.<test>.<field>
 TEST_KEY_PREFIX = "tests."
@@ -194,11 +194,15 @@ def _coerced(have, want):
     return int(value) if isinstance(want, int) and value.is_integer() else value
 
 
+def _is_none(v) -> bool:
+    """A configuration value standing for a key left at None: None, or in a record (TOML has no null) "none"
+    (NONE_VALUE, what records are written with), "null" or "" (records written before)."""
+    return v is None or (isinstance(v, str) and v.strip().lower() in ("", "none", "null"))
+
+
 def _same(a, b) -> bool:
-    if isinstance(b, str) and b.strip().lower() in ("none", "null") and a == "":
-        return True
-    if a is None or b is None:              # "" in a record stands for a key left at None
-        return (a if a is not None else "") == (b if b is not None else "")
+    if _is_none(a) or _is_none(b):
+        return _is_none(a) and _is_none(b)
     if isinstance(a, bool) or isinstance(b, bool):
         return a is b
     if isinstance(a, (int, float)) and isinstance(b, (int, float)):
@@ -206,6 +210,8 @@ def _same(a, b) -> bool:
     return a == b
 
 
+#: how a record writes a configuration key left at None (TOML has no null); "" and "null" read the same
+NONE_VALUE = "none"
 #: configuration keys that only matter under the predictive law (ignored in a run without it)
 PREDICTIVE_ONLY = ("transport.predictive_flights",)
 

@@ -42,7 +42,7 @@ from ..cases import (
     valid_override_keys,
 )
 from ..cases.build import cascade_law, law_coefficient, rows_shadowed, test_row, thermal_settings
-from ..cases.calibration import TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
+from ..cases.calibration import NONE_VALUE, TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
 from ..executor import Executor
 from ..published import read_published_csv
 from ..simulation import Simulation
@@ -519,7 +519,7 @@ def _configuration(case, thermal: bool) -> dict:
         if (k in _THERMAL_CONFIG and not thermal) or k in forced:
             continue
         v = _get(case, k)
-        out[k] = "" if v is None else v
+        out[k] = NONE_VALUE if v is None else v       # TOML has no null
     return out
 
 
