@@ -284,3 +284,22 @@ def test_a_closed_loop_worse_than_no_control_is_reported():
                                    "--magnitude", "0.5", "--quiet"])
     assert res.exit_code == 0, res.output
     assert "warning: the closed loop did worse than no control (IAE" in res.output and "--tau-c" in res.output
+
+
+def test_the_summary_says_no_disturbance_and_gives_the_iae_its_unit():
+    """`--scenario none` printed "none (+0.2) at t = 10 min" (the default magnitude of a disturbance that is not
+    applied), and the IAE had no unit (kg/kg s for the moisture, K s for a temperature)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    base = ["control", "ajayi2011_mmg", "--set", "operating.test=4", "--quiet", "--duration", "600"]
+    res = CliRunner().invoke(app, base + ["--scenario", "none"])
+    assert res.exit_code == 0, res.output
+    first = res.output.splitlines()[0]
+    assert first.startswith("ajayi2011_mmg: no disturbance, product_moisture setpoint") and "+0.2" not in first
+    assert "IAE" in res.output and all(" kg/kg s, overshoot" in ln for ln in res.output.splitlines() if "IAE" in ln)
+    res = CliRunner().invoke(app, base + ["--measured", "exhaust_temperature", "--magnitude", "0.1"])
+    assert res.exit_code == 0, res.output
+    assert "feed_moisture_step (+0.1) at t = " in res.output.splitlines()[0]
+    assert all(" K s, overshoot" in ln for ln in res.output.splitlines() if "IAE" in ln)

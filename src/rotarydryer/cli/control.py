@@ -109,9 +109,15 @@ def control(
     cp = closed.performance
     quantity = "moisture" if measured == "product_moisture" else "temperature"
     t = closed.tuning
-    what = f"schedule {schedule.name}" if schedule is not None else f"{scenario} ({magnitude:+g})"
     step_time = closed.scenario["t_step_s"]
-    typer.echo(f"{case}: {what} at t = {show(step_time, 'time')}, {measured} setpoint "
+    if schedule is not None:
+        what = f"schedule {schedule.name} at t = {show(step_time, 'time')}"
+    elif scenario == "none":
+        what = "no disturbance"
+    else:
+        what = f"{scenario} ({magnitude:+g}) at t = {show(step_time, 'time')}"
+    iae_unit = "kg/kg s" if quantity == "moisture" else "K s"       # the integral of |e| over time
+    typer.echo(f"{case}: {what}, {measured} setpoint "
                f"{show(closed.setpoint, quantity)}, sample {sample_time:g} s, dead time {dead_time:g} s")
     typer.echo(f"  tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, "
                f"gain margin {t['gain_margin']:.2f}, {describe_feedforward(t)}")
@@ -119,7 +125,7 @@ def control(
         if p is None:
             continue
         st = "never" if p["settling_time_s"] is None else show(p["settling_time_s"], "time")
-        typer.echo(f"  {name:<11}  max |e| {show_delta(p['max_abs_deviation'], quantity)}, IAE {p['iae']:.4g}, "
+        typer.echo(f"  {name:<11}  max |e| {show_delta(p['max_abs_deviation'], quantity)}, IAE {p['iae']:.4g} {iae_unit}, "
                    f"overshoot {p['overshoot_pct']:.0f} %, settling {st}, within +-{show_delta(p['tolerance'], quantity)}: "
                    f"{'yes' if p['within_tolerance'] else 'no'}")
     s = closed.series
