@@ -21,6 +21,9 @@ SCHEDULES = [
     ("not-a-number", "s.csv", "time_s,feed_rate\n0,fast\n", ["feed_rate", "'fast'"]),
     ("bad-toml-table", "s.toml", "[[stop]]\nat_s = 1\n", ["stop", "step, ramp, trip, point"]),
     ("wrong-suffix", "s.txt", "x", [".csv or .toml"]),
+    # accepted as "no input changed" before (found by fuzzing)
+    ("no-input-column", "s.csv", "time_s\n0\n300\n", ["names no input", "feed_rate"]),
+    ("no-values", "s.csv", "time_s,feed_rate\n0,\n60,\n", ["no values under feed_rate"]),
 ]
 
 

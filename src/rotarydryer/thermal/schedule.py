@@ -96,6 +96,9 @@ class InputSchedule:
         header = [h.strip() for h in rows[0]]
         if not header or header[0] not in ("time_s", "time"):
             raise ValueError(f"{path}: the first column must be time_s (got {header[0] if header else ''!r})")
+        if len(header) < 2:
+            raise ValueError(f"{path}: the schedule names no input: give a column per scheduled input after time_s "
+                             f"(of {', '.join(SCHEDULE_INPUTS)})")
         pts: dict[str, list[tuple[float, float]]] = {h: [] for h in header[1:]}
         for line, row in numbered[1:]:
             if len(row) > len(header):
@@ -104,6 +107,9 @@ class InputSchedule:
             for name, cell in zip(header[1:], row[1:]):
                 if cell.strip():
                     pts[name].append((t, _number(cell, f"{path} line {line} {name}")))
+        if not any(pts.values()):
+            raise ValueError(f"{path}: no values under {', '.join(header[1:])}: a schedule needs rows of time_s and "
+                             "the inputs' values")
         return cls({k: tuple(v) for k, v in pts.items() if v}, str(path))._checked_names()
 
     @classmethod
