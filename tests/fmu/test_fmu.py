@@ -126,3 +126,16 @@ def test_the_stepper_refuses_a_bad_step_and_keeps_the_last_good_inputs():
         s.step(60.0, gas_flow=0.0)
     out = s.step(60.0)
     assert s.time == 60.0 and s.inputs["gas_flow"] > 0 and np.isfinite(out["product_moisture"])
+
+
+def test_the_command_help_lists_every_fmu_input():
+    """`rotarydryer fmu --help` listed four inputs; the FMU has five (gas_flow too, found by fuzzing)."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+    from rotarydryer.fmu import INPUTS
+
+    res = CliRunner().invoke(app, ["fmu", "--help"], terminal_width=400)
+    assert res.exit_code == 0
+    text = " ".join(res.output.split())
+    assert "inputs " + ", ".join(INPUTS) + ";" in text, text
