@@ -394,7 +394,7 @@ class RTDResult:
             return None
         need = an_mean + 10.0 * an_std
         head = (f"the simulated tracer curve (t_end = {fmt_number(t_end)} s, dt = {fmt_number(dt)} s; "
-                f"tracer.t_end and tracer.dt in a case) recovers {sm['recovery']:.3g} of the injected tracer "
+                f"tracer.t_end and tracer.dt in a case) recovers {sm['recovery']:.6g} of the injected tracer "
                 f"(analytic {an_rec:.6g}) with mean {sm['mean']:.4g} s (analytic {an_mean:.4g} s)")
         if short and (t_end < need or dt <= max(an_std / 10.0, 1e-3)):   # not a coarse step's lost recovery
             return (f"{head}: the window ends before the tracer has left the dryer (mean residence time "
