@@ -303,3 +303,22 @@ def test_the_summary_says_no_disturbance_and_gives_the_iae_its_unit():
     assert res.exit_code == 0, res.output
     assert "feed_moisture_step (+0.1) at t = " in res.output.splitlines()[0]
     assert all(" K s, overshoot" in ln for ln in res.output.splitlines() if "IAE" in ln)
+
+
+def test_a_setpoint_out_of_reach_is_said_so():
+    """A product-moisture setpoint of 5 % on MMG Test 4: the gas inlet temperature runs to its limit and the feed to its
+    lowest, and the run ended off the setpoint with no word (found by fuzzing); a warning now names both limits and the
+    options that set them. The default loop (a feed-moisture step it rejects) gets no such warning."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    base = ["control", "ajayi2011_mmg", "--set", "operating.test=4", "--quiet", "--duration", "1800"]
+    res = CliRunner().invoke(app, base + ["--setpoint", "0.05"])
+    assert res.exit_code == 0, res.output
+    warn = [ln for ln in res.output.splitlines() if ln.startswith("warning: the setpoint is out of reach")]
+    assert len(warn) == 1, res.output
+    assert "upper limit, 600 degC (--gas-t-max)" in warn[0] and "feed rate at its lowest" in warn[0]
+    assert "--feed-min-fraction" in warn[0]
+    res = CliRunner().invoke(app, base)
+    assert res.exit_code == 0 and "out of reach" not in res.output, res.output

@@ -98,6 +98,9 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
         C.check_schedule(dryer, schedule, duration, True)
     models = C.identify(dryer, steady, progress=progress)
     closed = C.closed_loop(dryer, steady, models=models, **kw)
+    out_of_reach = setpoint_out_of_reach(closed, feed_backup)
+    if out_of_reach:
+        warnings.warn(out_of_reach, C.ControlWarning, stacklevel=2)
     opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
     if opened is not None:
         c_iae, o_iae = closed.performance["iae"], opened.performance["iae"]
@@ -108,6 +111,46 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
                           "a larger --tau-c detunes it, or measure the exhaust (--measured exhaust_temperature)",
                           C.ControlWarning, stacklevel=2)
     return closed, opened
+
+
+#: samples at the end of a closed loop over which saturated manipulated inputs make its setpoint out of reach
+SATURATED_SAMPLES = 5
+
+
+def setpoint_out_of_reach(closed, feed_backup: bool) -> str | None:
+    """Why a closed loop ended off its setpoint, where it did because its manipulated inputs sat at their limits
+    for its last SATURATED_SAMPLES samples (the gas inlet temperature at a bound of its range and, with the feed
+    backup, the feed rate at its lowest or at the case's): the setpoint is out of their reach. None otherwise
+    (a run that ends within its tolerance, or still moving its inputs)."""
+    perf = closed.performance
+    if perf["within_tolerance"]:
+        return None
+    s, t = closed.series, closed.tuning
+    gas = [float(v) for v in s["gas_inlet_temperature_degC"][-SATURATED_SAMPLES:]]
+    feed = [float(v) for v in s["feed_rate_kg_s"][-SATURATED_SAMPLES:]]
+    lo, hi = (float(v) for v in t["gas_temperature_range_degC"])
+    fmin, fcase = float(t["feed_min_kg_s"]), float(s["feed_rate_kg_s"][0])
+    if len(gas) < SATURATED_SAMPLES:
+        return None
+
+    def at(values, bound):
+        return all(abs(v - bound) <= 1e-6 * max(abs(bound), 1.0) for v in values)
+    gas_at = "upper" if at(gas, hi) else "lower" if at(gas, lo) else None
+    if gas_at is None:
+        return None
+    said = [f"the gas inlet temperature sat at its {gas_at} limit, {gas[-1]:.4g} degC "
+            f"({'--gas-t-max' if gas_at == 'upper' else '--gas-t-min'})"]
+    if feed_backup:
+        if at(feed, fmin):
+            said.append(f"the feed rate at its lowest, {feed[-1]:.4g} kg/s (--feed-min-fraction)")
+        elif at(feed, fcase):
+            said.append(f"the feed rate at the case's, {feed[-1]:.4g} kg/s")
+        else:
+            return None
+    name = closed.measured if isinstance(closed.measured, str) else "the measured output"
+    return (f"the setpoint is out of reach of the manipulated inputs: over the last {SATURATED_SAMPLES} samples "
+            f"{' and '.join(said)}, and {name} ended {perf['final_deviation']:+.4g} off its setpoint "
+            f"{closed.setpoint:.4g}: widen the inputs' ranges or choose a setpoint the dryer can reach")
 
 
 def describe_feedforward(tuning: dict) -> str:
