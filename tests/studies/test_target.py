@@ -409,3 +409,21 @@ def test_mrt_method_without_its_inputs_names_the_options():
                                    "--method", "perry_green_1984"])
     assert res.exit_code == 2
     assert "error: --method perry_green_1984 needs --particle-size, --gas-mass-flux, --solids-mass-flux" in res.output
+
+
+def test_an_output_not_monotone_in_the_input_is_found_inside_the_bracket():
+    """Under-loaded flights make the product wetter at lower feeds: neither end of the default bracket meets
+    moisture <= 0.04 though the case's own feed does; the target answered "no solution" (found by fuzzing). It now
+    looks inside (the case's value and the quarter points), answers the first crossing and names the other."""
+    from pathlib import Path
+
+    case = str(Path(__file__).parents[1] / "data" / "user_nonmonotone_feed.toml")
+    res = target(case, FEED, f"{MOISTURE}<=0.04")
+    assert res.found and res.active == "target met with equality"
+    lo, hi = res.bounds
+    assert res.outputs_at_bounds["lo"] > 0.04 and res.outputs_at_bounds["hi"] > 0.04
+    assert abs(res.output - 0.04) <= res.tol and lo < res.value < 4.04
+    note = next(n for n in res.notes if "is not monotone in operating.feed_rate" in n)
+    second = float(note.split("and again at ")[1].split(";")[0])
+    assert 4.04 < second < hi
+    assert _moisture(case, second) == pytest.approx(0.04, abs=res.tol)

@@ -403,6 +403,37 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
     if op != "=" and meets(ylo) and meets(yhi):
         x, y = (lo, ylo) if worse == "lo" else (hi, yhi)
         return answer(value=x, output=y, active=f"bound {worse} binds")
+    # neither bound meets it: the output need not be monotone (under-loaded flights whose curtains thin as the feed
+    # falls; a size class blown out): a look inside, at the case's own value and the quarter points
+    own = case_value(base, key)
+    own = float(own) if isinstance(own, (int, float)) and not isinstance(own, bool) else None
+    probes = sorted({x for x in (own, lo + 0.25 * (hi - lo), lo + 0.5 * (hi - lo), lo + 0.75 * (hi - lo))
+                     if x is not None and lo < x < hi})
+    prev_x, prev_g, seen = lo, glo, []
+    for i, x in enumerate(probes):
+        y, _ = evaluate(x)
+        if y is None:
+            continue
+        g = y - y_target
+        seen.append(f"{fmt_number(y)} at {fmt_number(x)}")
+        if abs(g) <= tol or g * prev_g < 0:
+            xr, yr = (x, y) if abs(g) <= tol else _root(evaluate, prev_x, x, y_target, tol, key, unit, lab["find"])
+            # where it stops meeting the value again: between the next probes (or the last one and hi)
+            later = [(x, g)] + [(p, yp - y_target) for p in probes[i + 1:]
+                                if (yp := evaluate(p)[0]) is not None] + [(hi, ghi)]
+            back = next(((a, b) for (a, ga), (b, gb) in zip(later, later[1:]) if ga * gb < 0), None)
+            other = ""
+            if back is not None:
+                xb, _ = _root(evaluate, back[0], back[1], y_target, tol, key, unit, lab["find"])
+                other = f" and again at {fmt_number(xb)}"
+            notes.append(f"{name} is not monotone in {key} over [{fmt_number(lo)}, {fmt_number(hi)}]: it meets "
+                         f"{fmt_number(y_target)} inside though at neither bound ({fmt_number(ylo)} and "
+                         f"{fmt_number(yhi)}; {', '.join(seen)}): it crosses the value at {fmt_number(xr)}{other}; "
+                         "this answer is the first crossing: give bounds around the one wanted")
+            return answer(value=xr, output=yr, active="target met with equality")
+        prev_x, prev_g = x, g
+    if seen:
+        notes.append(f"{name} inside the bracket: {', '.join(seen)}")
     closest = "lo" if abs(glo) <= abs(ghi) else "hi"
     return answer(value=None, output=None, active=f"no solution in [{fmt_number(lo)}, {fmt_number(hi)}]",
                   closest=closest)
