@@ -9,11 +9,12 @@ from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
+import scipy.sparse as sp
 
 from .._display import html_table, outputs_dataframe, short_repr
 from ..properties.humid_air import dew_point
 from ..properties.psd import percentile_diameter
-from ..transport.network import tracer_system_from_flows
+from ..transport.network import TracerSystem, tracer_system_from_flows
 from ..transport.results import SteadyState
 from ..transport.sections import cell_info_at
 from . import audit
@@ -238,11 +239,22 @@ class ThermalSteadyState:
     def tracer_system(self, size_class: int | None = None):
         """Linear tracer system at the coupled steady flows (wet solids; tracer follows the solids),
         so RTD moments agree with the holdups of this state; ``size_class``: a tracer of that class's size
-        (its own holdups and flows; the part the gas carries away as dust is lost to the product's curve)."""
+        (its own holdups and flows; the part the gas carries away as dust is lost to the product's curve).
+        With size classes and no ``size_class``, the feed's tracer: on particles of every size in the feed's
+        proportions, each class's system side by side (one block each), fed its share. Where nothing leaves as
+        dust its mean is within a fraction of a percent of a tracer spread over each tank's mixture (0.2 % in
+        Song's drum with five sand classes: the classes move and dry at their own rates); where the gas carries
+        fines off, their tracer leaves with them (spread over the mixture, it passed from the fines to the
+        coarse product, whose curve then came 15 % early against its own class's)."""
 
         d = self.terms
         inlet = np.zeros(d["S"].size)
         inlet[self.dryer.entry] = 1.0
+        if size_class is None and self.dryer.n_classes > 1:
+            systems = [self.tracer_system(c) for c in range(self.dryer.n_classes)]
+            return TracerSystem(sp.block_diag([t.K for t in systems], format="csc"),
+                                np.concatenate([t.outlet for t in systems]),
+                                np.concatenate([w * t.inlet for w, t in zip(self.dryer.class_feed, systems)]))
         if size_class is None:
             return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
         c = int(size_class)
