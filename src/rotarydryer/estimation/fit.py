@@ -557,6 +557,12 @@ def _run_start(z0, spec) -> dict:
                 n_solves=getattr(own, "n_solves", 0) if own is not model else 0)
 
 
+#: a parameter whose whole range moves the weighted prediction by less than this fraction of the weighted data has
+#: no effect on the fit (`_summarise`): an infinite standard error and a note. Above the finite differences' own
+#: noise (a kiln time the curve does not depend on: 4e-8, its whole range times a derivative of rounding errors)
+NO_EFFECT = 1e-6
+
+
 def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     params = problem.params
     names = [p.name for p in params]
@@ -603,6 +609,24 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             f"near-singular Fisher information (condition number {unc.jacobian_condition:.2e}): "
             "the data cannot separate " + (" and ".join(culprits) if culprits else "the parameters")
         )
+    # a parameter the fitted curve does not depend on at all: moving it across its whole range moves the weighted
+    # prediction by less than NO_EFFECT of the weighted data (one parameter has no relative singularity to flag;
+    # on noise-free data its standard error was 0/0, a kiln time without effect got +-2e-6 s)
+    ref = getattr(res, "power_ref", None)
+    signal = float(np.linalg.norm(np.concatenate([
+        (np.asarray(d.y, float) / problem.scale(d, pred[d.name], None if ref is None else ref[d.name])
+         * problem.weights[d.name]).ravel() for d in problem.data])))
+    span = np.array([q.z_bounds[1] - q.z_bounds[0] for q in params], float)
+    effect = np.linalg.norm(J, axis=0) * np.where(np.isfinite(span), span, 1.0)
+    for i in np.flatnonzero(effect <= NO_EFFECT * max(signal, 1e-300)):
+        if np.isfinite(sd_z[i]):
+            sd_z = np.where(np.arange(sd_z.size) == i, np.inf, sd_z)
+            assert ci_low is not None and ci_high is not None
+            ci_low, ci_high = ci_low.copy(), ci_high.copy()
+            ci_low[i], ci_high[i] = -np.inf, np.inf
+            notes.append(f"the data do not depend on {names[i]} here: across its whole range it moves the fitted "
+                         f"curve by less than {NO_EFFECT:g} of the data (not identifiable; its value is where the "
+                         "search stopped)")
     for i, j, r in unc.correlated_pairs:
         notes.append(f"{names[i]} and {names[j]} are correlated {r:+.3f}: one may not be identifiable")
     est = {}
