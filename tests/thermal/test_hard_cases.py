@@ -259,3 +259,16 @@ def test_a_failure_the_dust_causes_late_names_the_dust():
             Simulation(case).steady_state()
         s = Simulation(case, {"particle_size.entrainment": False}).steady_state().summary()
     assert s["energy_balance_error"] < 1e-9
+
+
+def test_a_failure_the_exhaust_recycle_causes_names_the_recycle(template):
+    """The `rotarydryer new` template recycling 99 % of its exhaust: the 1 % that leaves must carry out all the water
+    evaporated (at 90 % its exhaust already holds 0.4 kg/kg), the iterations run the humidity to the top of the
+    humid-air range, and the solve fails; it said "no steady state reached" and nothing more (found by fuzzing)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        s = Simulation(template, {"gas.recycle_fraction": 0.9}).steady_state().summary()
+        assert s["gas_outlet_humidity_kg_kg"] > 0.3
+        with pytest.raises(ValueError, match=r"no steady state reached.*the recycled exhaust is the likely cause: "
+                                             r"with gas\.recycle_fraction = 0\.99 .* lower gas\.recycle_fraction"):
+            Simulation(template, {"gas.recycle_fraction": 0.99}).steady_state()

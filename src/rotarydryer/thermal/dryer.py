@@ -164,6 +164,9 @@ ACCEPT_AFTER_MAX_ITER = 1e3
 #: was (seconds with size classes)
 STALL_ITERATIONS = 30
 STALL_FACTOR = 0.5
+#: a failed solve of a dryer recycling exhaust names the recycle where its last iterate's gas humidity reached this
+#: fraction of the humid-air range's top (ThermalDryer._with_recycle_hint)
+RECYCLE_HINT_HUMIDITY = 0.9
 #: a converged state whose water or energy balance is open by more than this is polished
 #: (ThermalDryer._polished)
 BALANCE_POLISH = 1e-10
@@ -1437,7 +1440,27 @@ class ThermalDryer:
             ss = self._polished(ss, tol, dt0)
             ss.marched_s = marched_s
             return ss
+        first = self._with_recycle_hint(first)
         raise self._with_dust_hint(first) if self.dusty else first
+
+    def _with_recycle_hint(self, failure):
+        """A failed solve of a dryer that recycles exhaust (``gas.recycle_fraction``), with the recycle named as the
+        likely cause where the last iterate ran the gas humidity up to the top of the humid-air range: only the
+        fraction 1 - r of the gas leaves, and it has to carry out all the water evaporated (a template dryer holds
+        0.40 kg/kg in its exhaust at r = 0.9; at 0.99 no humid air can carry its water)."""
+        r = self.settings.recycle_fraction
+        z = getattr(failure.state, "state", None)
+        if not r or z is None:
+            return failure
+        Y = self.split_classes(np.asarray(z, dtype=float))[4]
+        if not float(np.max(Y)) >= RECYCLE_HINT_HUMIDITY * ha.Y_MAX:
+            return failure
+        hint = (f"; the recycled exhaust is the likely cause: with gas.recycle_fraction = {r:g} only {1 - r:.3g} of "
+                f"the gas leaves the loop and carries out all the water evaporated; the iterations ran the gas "
+                f"humidity up to the top of the humid-air range ({ha.Y_MAX:g} kg/kg): lower gas.recycle_fraction")
+        out = DryerError(str(failure) + hint, reason=failure.reason, state=failure.state)
+        out.__cause__ = failure.__cause__
+        return out
 
     def _with_dust_hint(self, failure):
         """A failed solve of a dryer with dust, with the dust named as the likely cause where the gas carries
