@@ -227,6 +227,13 @@ def _smooth_min(a, b, eps):
     return 0.5 * (a + b - np.sqrt((a - b) ** 2 + eps**2))
 
 
+def _hinted(failure: DryerError, hint: str) -> DryerError:
+    """``failure`` with ``hint`` (a likely cause) after its message: the same reason, state and cause."""
+    out = DryerError(str(failure) + hint, reason=failure.reason, state=failure.state)
+    out.__cause__ = failure.__cause__
+    return out
+
+
 class ThermalDryer:
     """Heat and mass transfer on the nodes of a dryer's transport network.
 
@@ -1458,9 +1465,7 @@ class ThermalDryer:
         hint = (f"; the recycled exhaust is the likely cause: with gas.recycle_fraction = {r:g} only {1 - r:.3g} of "
                 f"the gas leaves the loop and carries out all the water evaporated; the iterations ran the gas "
                 f"humidity up to the top of the humid-air range ({ha.Y_MAX:g} kg/kg): lower gas.recycle_fraction")
-        out = DryerError(str(failure) + hint, reason=failure.reason, state=failure.state)
-        out.__cause__ = failure.__cause__
-        return out
+        return _hinted(failure, hint)
 
     def _with_dust_hint(self, failure):
         """A failed solve of a dryer with dust, with the dust named as the likely cause where the gas carries
@@ -1496,9 +1501,7 @@ class ThermalDryer:
                 f"curtains' solids off at {float(np.min(rate)):.3g} to {float(np.max(rate)):.3g} times each size class's "
                 f"feed rate, enough to take most or all of the feed (about {lost:.1%} at that gas) with the exhaust: "
                 f"lower gas.flow (now {self.settings.gas_flow:g} kg/s) or give a coarser particle_size")
-        out = DryerError(str(failure) + hint, reason=failure.reason, state=failure.state)
-        out.__cause__ = failure.__cause__
-        return out
+        return _hinted(failure, hint)
 
     def _polished(self, ss, tol, dt0):
         """``ss``, or where its water or energy balance is open by more than BALANCE_POLISH (the
