@@ -438,6 +438,10 @@ def _sweep_chunk(points, case_name, base: dict, outputs):
         warm = res.warm_data() or warm
         row = dict(ov)
         row.update(res.summary(outputs))
+        absent = [k for k in (outputs or ()) if k not in row]
+        if absent:      # a name this run does not give (a typo): one line, not the KeyError's "'name'"
+            rows.append({**ov, "error": f"outputs {absent}: not among this run's outputs ({', '.join(sorted(row))})"})
+            continue
         rows.append({k: row[k] for k in (outputs or row)})
     return rows
 

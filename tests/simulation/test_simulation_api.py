@@ -18,3 +18,13 @@ def test_bad_arguments_are_named():
         sim.dynamics(dt=0)
     with pytest.raises(ValueError, match=r"t_end = -10 s is outside the allowed range"):
         sim.dynamics(t_end=-10)
+
+
+def test_an_unknown_output_name_and_a_boolean_number_are_refused():
+    """A sweep's rows for an output name the runs do not give had the error "'nonexistent'" (a KeyError's text);
+    an override of True for a number read as 1.0 kg/s (found by fuzzing)."""
+    rows = Simulation("lee2008_invicta").sweep({"operating.rpm": [3.0]}, outputs=["nonexistent"])
+    assert rows[0]["error"].startswith("outputs ['nonexistent']: not among this run's outputs (")
+    assert "total_holdup_kg" in rows[0]["error"]
+    with pytest.raises(ValueError, match=r"--set operating.feed_rate: operating.feed_rate = True is not a number"):
+        Simulation("lee2008_invicta", {"operating.feed_rate": True})

@@ -978,6 +978,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         if key not in valid and not key.startswith("material."):
             raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")
         *path, fld = key.split(".")
+        if isinstance(value, bool) and key in LIMITS:     # a number's key: True would read as 1.0
+            raise ValueError(f"--set {key}: {key} = {value!r} is not a number (allowed range "
+                             f"{describe_limit(key)})")
         if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
             value = None
         elif isinstance(value, str) and key.startswith("material.") and key != "material.name":
