@@ -594,17 +594,16 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
         )
     cov_z, sd_z, corr = unc.covariance, unc.std_errors, unc.correlation
     ci_low, ci_high = unc.ci_low, unc.ci_high
+    # parameters without an interval (an infinite standard error, the interval cut to their range below), not the
+    # zero-width one the pseudo-inverse gives them
+    blind = np.zeros(len(params), dtype=bool)
     # identifiability: relative (scaled) sensitivities
     if unc.singular:
         worst = unc.null_direction
         culprits = [names[i] for i in np.argsort(-np.abs(worst))[:2] if abs(worst[i]) > 0.3]
-        # the pseudo-inverse gives the direction the data do not see a variance of 0: a parameter along it
-        # has no interval (inf, cut to its range below), not a zero-width one (a kiln time without effect on the
-        # curve was 0.508868 [0.508868, 0.508868]; found by fuzzing)
-        blind = np.abs(worst) > 0.3
-        sd_z = np.where(blind, np.inf, sd_z)
-        assert ci_low is not None and ci_high is not None
-        ci_low, ci_high = np.where(blind, -np.inf, ci_low), np.where(blind, np.inf, ci_high)
+        # along the direction the data do not see (a kiln time without effect on the curve was 0.508868
+        # [0.508868, 0.508868]; found by fuzzing)
+        blind |= np.abs(worst) > 0.3
         notes.append(
             f"near-singular Fisher information (condition number {unc.jacobian_condition:.2e}): "
             "the data cannot separate " + (" and ".join(culprits) if culprits else "the parameters")
@@ -618,19 +617,18 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
          * problem.weights[d.name]).ravel() for d in problem.data])))
     span = np.array([q.z_bounds[1] - q.z_bounds[0] for q in params], float)
     effect = np.linalg.norm(J, axis=0) * np.where(np.isfinite(span), span, 1.0)
-    for i in np.flatnonzero(effect <= NO_EFFECT * max(signal, 1e-300)):
-        if np.isfinite(sd_z[i]):
-            sd_z = np.where(np.arange(sd_z.size) == i, np.inf, sd_z)
-            assert ci_low is not None and ci_high is not None
-            ci_low, ci_high = ci_low.copy(), ci_high.copy()
-            ci_low[i], ci_high[i] = -np.inf, np.inf
-            notes.append(f"the data do not depend on {names[i]} here: across its whole range it moves the fitted "
-                         f"curve by less than {NO_EFFECT:g} of the data (not identifiable; its value is where the "
-                         "search stopped)")
+    no_effect = (effect <= NO_EFFECT * max(signal, 1e-300)) & ~blind & np.isfinite(sd_z)
+    for i in np.flatnonzero(no_effect):
+        notes.append(f"the data do not depend on {names[i]} here: across its whole range it moves the fitted "
+                     f"curve by less than {NO_EFFECT:g} of the data (not identifiable; its value is where the "
+                     "search stopped)")
+    blind |= no_effect
+    assert ci_low is not None and ci_high is not None     # estimates were given
+    sd_z = np.where(blind, np.inf, sd_z)
+    ci_low, ci_high = np.where(blind, -np.inf, ci_low), np.where(blind, np.inf, ci_high)
     for i, j, r in unc.correlated_pairs:
         notes.append(f"{names[i]} and {names[j]} are correlated {r:+.3f}: one may not be identifiable")
     est = {}
-    assert ci_low is not None and ci_high is not None     # estimates were given
     lo_b = np.array([q.z_bounds[0] for q in params])
     hi_b = np.array([q.z_bounds[1] for q in params])
     for i, q in enumerate(params):

@@ -67,7 +67,12 @@ def run_point(case, overrides: dict, rtd: bool = True) -> dict:
     """One sweep point from a cold start -> a flat row (overrides + key scalars, units in the names; ``rtd=False``:
     without the tracer's moments); an invalid point gives a row with ``error``."""
     row = _solve_point(case, overrides)[0]
-    return row if rtd else {k: v for k, v in row.items() if k not in RTD_SCALARS}
+    return row if rtd else _without_rtd(row)
+
+
+def _without_rtd(row: dict) -> dict:
+    """``row`` without the tracer's moments (RTD_SCALARS)."""
+    return {k: v for k, v in row.items() if k not in RTD_SCALARS}
 
 
 def solve_chunk(points: Sequence[dict], case) -> list[dict]:
@@ -106,5 +111,5 @@ def run_sweep(case, points: list[dict], *, workers: int = 1, scheduler: Optional
         if isinstance(r, RunFailure):
             rows[i] = {**points[i], "error": r.error}
         elif not rtd:       # without the tracer's moments (the steady state's analytic ones)
-            rows[i] = {k: v for k, v in r.items() if k not in RTD_SCALARS}
+            rows[i] = _without_rtd(r)
     return rows

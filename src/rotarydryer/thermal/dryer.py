@@ -1490,12 +1490,12 @@ class ThermalDryer:
             lost = float(np.sum(self.class_feed * -np.expm1(-rate)))
             return (rate, lost) if lost > DUST_REFUSE_FRACTION and np.all(np.isfinite(rate)) else None
         last = getattr(failure.state, "state", None)
-        found = [(where, z, dust) for where, z in (("at the solver's start", self.initial_state()),
-                                                   ("at the solver's last iterate", last))
-                 if z is not None and (dust := carried_off(z)) is not None]
-        if not found:
+        found = next(((where, z, dust) for where, z in (("at the solver's start", self.initial_state()),
+                                                        ("at the solver's last iterate", last))
+                      if z is not None and (dust := carried_off(z)) is not None), None)    # the first that shows it
+        if found is None:
             return failure
-        where, z, (rate, lost) = found[0]
+        where, z, (rate, lost) = found
         hint = (f"; the dust is the likely cause: {where} (the gas cooling from "
                 f"{self.settings.gas_inlet_temperature:.4g} to {float(np.min(z[k:k + ng])):.4g} degC) the gas carries the "
                 f"curtains' solids off at {float(np.min(rate)):.3g} to {float(np.max(rate)):.3g} times each size class's "

@@ -247,14 +247,14 @@ class ThermalSteadyState:
         fines off, their tracer leaves with them (spread over the mixture, it passed from the fines to the
         coarse product, whose curve then came 15 % early against its own class's)."""
 
-        d = self.terms
-        inlet = np.zeros(d["S"].size)
-        inlet[self.dryer.entry] = 1.0
         if size_class is None and self.dryer.n_classes > 1:
             systems = [self.tracer_system(c) for c in range(self.dryer.n_classes)]
             return TracerSystem(sp.block_diag([t.K for t in systems], format="csc"),
                                 np.concatenate([t.outlet for t in systems]),
                                 np.concatenate([w * t.inlet for w, t in zip(self.dryer.class_feed, systems)]))
+        d = self.terms
+        inlet = np.zeros(d["S"].size)
+        inlet[self.dryer.entry] = 1.0
         if size_class is None:
             return tracer_system_from_flows(d["S"] + d["W"], d["src"], d["dst"], d["F"], inlet)
         c = int(size_class)
