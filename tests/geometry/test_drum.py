@@ -206,6 +206,16 @@ def test_bad_repose_angle(invicta, phi):
         invicta.transition_angles(phi)
 
 
+@pytest.mark.parametrize("psi", ["a", float("nan"), float("inf"), "30"])
+def test_bad_flight_position_names_psi(invicta, psi):
+    """A flight position that is not a finite number is refused naming ``psi`` (not a NaN outline,
+    not Python's "could not convert string to float")."""
+    with pytest.raises(ValueError, match=r"^psi (=|must)"):
+        invicta.holdup_area(psi, 40.0)
+    with pytest.raises(ValueError, match=r"^psi (=|must)"):
+        invicta.flight_outline(psi)
+
+
 def test_error_message_names_value_and_range(invicta):
     with pytest.raises(ValueError) as err:
         invicta.holdup_area(100.0, 95.0)

@@ -28,3 +28,12 @@ def test_an_unknown_output_name_and_a_boolean_number_are_refused():
     assert "total_holdup_kg" in rows[0]["error"]
     with pytest.raises(ValueError, match=r"--set operating.feed_rate: operating.feed_rate = True is not a number"):
         Simulation("lee2008_invicta", {"operating.feed_rate": True})
+
+
+def test_a_new_speed_at_or_above_the_critical_speed_is_refused():
+    """A dynamic run's (or a study's) new drum speed is checked against the drum's critical speed as the case's
+    is: ``dynamics(rotational_speed=30)`` on the 5 m Invicta drum (N_c = 18.9 rev/min) ran (found by fuzzing)."""
+    sim = Simulation("lee2008_invicta")
+    with pytest.raises(ValueError, match=r"^operating.rpm = 30 rev/min is at or above the critical speed .* "
+                                         r"the allowed range is \(0, 18.9\) rev/min"):
+        sim.dynamics(t_end=120.0, dt=60.0, rotational_speed=30.0)

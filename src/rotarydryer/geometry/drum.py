@@ -32,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validation import check_choice, check_range, fmt_number
+from .._validation import check_choice, check_finite, check_range, fmt_number
 from . import polygon as _poly
 from .flights import PolygonFlight, TwoSectionFlight
 from .polygon import PocketGeometry, pocket_geometry
@@ -458,8 +458,9 @@ class FlightedDrum:
 
         Origin at the drum centre, y up, drum turning anticlockwise.
         """
+        psi = float(check_finite("psi", psi, unit="deg"))
         if self.is_polygon:
-            return _poly._flight_points(self.profile, self.radius, float(psi))
+            return _poly._flight_points(self.profile, self.radius, psi)
         f = self._two
         assert f is not None
         p = math.radians(float(psi))
@@ -534,9 +535,7 @@ def _check_repose(repose_angle) -> np.ndarray:
 
 
 def _prepare(psi, repose_angle):
-    psi = np.mod(np.asarray(psi, dtype=float), 360.0)
-    if not np.all(np.isfinite(psi)):
-        raise ValueError("psi must be finite")
+    psi = np.mod(check_finite("psi", psi, unit="deg"), 360.0)
     phi = _check_repose(repose_angle)
     return np.broadcast_arrays(psi, phi)
 

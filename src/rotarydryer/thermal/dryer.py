@@ -80,6 +80,7 @@ from .. import _jit
 from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 from .._validation import check_range
 from ..correlations.drag import terminal_velocity
+from ..geometry.drum import check_speed
 from ..properties import humid_air as ha
 from ..properties.psd import single_class
 from . import balances as bal
@@ -259,8 +260,8 @@ class ThermalDryer:
         self.material = material
         self.settings = self._completed(settings.validate())      # a copy: the caller's settings stay as they are
         self.feed_rate, self.feed_moisture, self.rpm = feed_rate, feed_moisture, rpm
-        self._check_operating_inputs()
         self.radius = float(check_range("drum.radius", radius, 0.0, 20.0, unit="m"))
+        self._check_operating_inputs()
         self.section_thermal = {k: (v if isinstance(v, SectionThermal) else SectionThermal(**v))
                                 for k, v in (sections or {}).items()}
         self._check_gas_can_dry()
@@ -315,6 +316,9 @@ class ThermalDryer:
                 f"design-load model are not valid above it", reason="feed_too_wet")
         self.feed_moisture = fm
         self.rpm = float(check_range("operating.rpm", self.rpm, 0.0, 60.0, unit="rev/min"))
+        # at or above the drum's critical speed the solids ride round with the wall (the case checks it when it
+        # is built, a study's or dynamic run's new speed here)
+        check_speed("operating.rpm", self.rpm, self.radius, warn=False)
 
     # ------------------------------------------------------------------ layout
     def _check_gas_can_dry(self):
