@@ -12,7 +12,6 @@ naming it and listing the valid keys; an invalid value raises ``ValueError`` nam
 the key, the value and the constraint.
 """
 
-from __future__ import annotations
 
 import copy
 import re
@@ -50,7 +49,7 @@ _AUTO_UNFLIGHTED_CELLS = 2000
 
 class _Strict(BaseModel):
     # allow_inf_nan=False: TOML's nan/inf are refused everywhere ("Input should be a finite number")
-    model_config = ConfigDict(extra="forbid", validate_assignment=False, allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", validate_assignment=False, allow_inf_nan=False, defer_build=True)
 
 
 # ---- shipped data sets a case may name (never a path) ------------------------------------

@@ -22,7 +22,6 @@ Keys of a record's ``values``: any override key (``thermal.area_scale``) or a fi
 ``[[tests]]`` row, ``tests.<test>.<field>`` (``tests.4.solids_velocity``).
 """
 
-from __future__ import annotations
 
 import math
 import warnings
@@ -51,7 +50,7 @@ class PredictiveRangeWarning(CalibrationWarning):
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, defer_build=True)
 
 
 class CalibrationData(_Strict):

@@ -18,7 +18,6 @@ Keys of the old formats that a rewritten shipped case no longer has still work a
 naming it.
 """
 
-from __future__ import annotations
 
 import math
 import warnings
