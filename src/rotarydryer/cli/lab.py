@@ -3,6 +3,7 @@ tests, drying curves)."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Optional
 
@@ -430,7 +431,9 @@ def _drying_files(dc, result, chosen) -> dict:
             row[k] = e.value
         rows.append(row)
     keys = list(dict.fromkeys(k for r in rows for k in r))
-    table = csv_text([{k: r.get(k, "") for k in keys} for r in rows])
+    # an undefined criterion (AICc with n <= p + 2, and its difference) is an empty field, as null in the JSON
+    table = csv_text([{k: ("" if isinstance(v := r.get(k, ""), float) and not math.isfinite(v) else v) for k in keys}
+                      for r in rows])
     return {"drying_fit.png": buf.getvalue(), "drying_models.csv": table.encode("utf-8")}
 
 

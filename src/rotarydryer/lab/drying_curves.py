@@ -40,15 +40,17 @@ comments. Columns (others are ignored):
 * ``air_temperature_degC``: the drying air's temperature, [0, 400] degC, within 2 degC over
   a curve (the curve's temperature is its rows' mean);
 * optional ``curve``: a label per curve (several curves at one temperature: replicates);
-  without it the rows of one air temperature form one curve;
+  without it the rows of one air temperature (within 2 degC of the curve's first row) form one curve;
 * optional ``equilibrium_moisture_kg_kg_dry`` | ``equilibrium_moisture_kg_kg_wet``: X_e per
   curve (one value per curve); without it, ``equilibrium_moisture`` (kg/kg dry, all curves)
   or 0.
 
 Each curve starts at time 0 (its initial moisture X_0), its times increase, it has at least
 `MIN_CURVE_ROWS` rows, and its moisture falls: a moisture ratio may exceed the lowest earlier
-one of its curve by at most `RISE_TOLERANCE` (0.05, i.e. 5 % of the curve's free moisture
-X_0 - X_e: weighing noise) and lie below X_e by at most as much. Every violation is a
+one of its curve, and lie below X_e, by at most the curve's noise allowance (`rise_allowance`):
+`RISE_TOLERANCE` (0.05, i.e. 5 % of the curve's free moisture X_0 - X_e), or more on a noisy
+curve, where the lowest of many noisy weighings lies further below the curve (the weighing
+noise is estimated from the scatter of successive differences). Every violation is a
 ``ValueError`` naming the file, the line, the column, the value and the allowed range.
 
 Example data: [`synthetic_drying_curves`][rotarydryer.lab.drying_curves.synthetic_drying_curves] draws noisy curves from a known law;
@@ -78,7 +80,7 @@ from ..properties.materials import library_table, list_materials, load_material
 from ..rtd._datafile import MAX_DATA_ROWS, csv_rows, data_lines, parse_number, text_lines, too_many_rows
 
 __all__ = ["TIME_COLUMNS", "MOISTURE_COLUMNS", "EQUILIBRIUM_COLUMNS", "TEMPERATURE_COLUMN", "CURVE_COLUMN",
-           "RISE_TOLERANCE", "TEMPERATURE_SPREAD", "MIN_CURVE_ROWS", "NESTED", "DryingCurves", "drying_curves",
+           "RISE_TOLERANCE", "NOISE_MIN_ROWS", "rise_allowance", "TEMPERATURE_SPREAD", "MIN_CURVE_ROWS", "NESTED", "DryingCurves", "drying_curves",
            "read_drying_csv", "parse_drying_text", "ModelFit", "DryingFit", "fit_model", "fit_models",
            "material_table", "material_toml", "plot_fit", "synthetic_drying_curves", "curves_csv_text", "EXAMPLE",
            "EXAMPLE_LAW", "example_path", "load_example"]
@@ -91,8 +93,11 @@ MOISTURE_COLUMNS = {"moisture_kg_kg_dry": "dry", "moisture_kg_kg_wet": "wet"}
 EQUILIBRIUM_COLUMNS = {"equilibrium_moisture_kg_kg_dry": "dry", "equilibrium_moisture_kg_kg_wet": "wet"}
 TEMPERATURE_COLUMN = "air_temperature_degC"
 CURVE_COLUMN = "curve"
-#: a moisture ratio may exceed the lowest earlier one of its curve (or fall below 0) by this much
+#: a moisture ratio may exceed the lowest earlier one of its curve (or fall below 0) by this much, or by the
+#: allowance of a noisy curve (`rise_allowance`)
 RISE_TOLERANCE = 0.05
+#: fewest weighings of a curve whose noise is estimated for its rise allowance (`rise_allowance`)
+NOISE_MIN_ROWS = 8
 #: largest spread of the air temperature over a curve's rows, degC
 TEMPERATURE_SPREAD = 2.0
 #: fewest rows of a curve (t = 0 and two weighings)
@@ -148,8 +153,7 @@ class DryingCurves:
     @property
     def n_temperatures(self) -> int:
         """Number of distinct air temperatures (curves within `TEMPERATURE_SPREAD` count once)."""
-        t = np.sort(self.air_temperature_degC)
-        return 1 + int(np.sum(np.diff(t) > TEMPERATURE_SPREAD))
+        return len(_temperature_groups(self.air_temperature_degC))
 
     def as_dict(self) -> list[dict]:
         """One entry per curve, unit-suffixed names."""
@@ -158,6 +162,51 @@ class DryingCurves:
                  "equilibrium_moisture_kg_kg_dry": float(self.equilibrium_moisture[i]),
                  "points": int(np.sum(self.curve == i)),
                  "duration_s": float(np.max(self.time_s[self.curve == i]))} for i, c in enumerate(self.ids)]
+
+
+def _temperature_groups(temperatures) -> list[list[float]]:
+    """The air temperatures grouped from the lowest up: a group holds the temperatures within
+    `TEMPERATURE_SPREAD` of its lowest (50, 51.9, 53.8 and 55.7 degC are two air temperatures, not one chain)."""
+    groups: list[list[float]] = []
+    for t in sorted(float(v) for v in np.ravel(temperatures)):
+        if groups and t - groups[-1][0] <= TEMPERATURE_SPREAD:
+            groups[-1].append(t)
+        else:
+            groups.append([t])
+    return groups
+
+
+def _temperature_label(temp: float, firsts: dict) -> str:
+    """The curve label of a row without a ``curve`` column: that of the first row of the curve whose first air
+    temperature lies within `TEMPERATURE_SPREAD` of ``temp`` (the nearest), or a new one (``firsts``: label ->
+    first temperature, updated). A curve's rows may differ by up to the spread (the measured air temperature
+    logged on every row)."""
+    near = [(abs(temp - t0), lab) for lab, t0 in firsts.items() if abs(temp - t0) <= TEMPERATURE_SPREAD]
+    if near:
+        return min(near)[1]
+    label = fmt_number(temp)
+    firsts[label] = temp
+    return label
+
+
+def rise_allowance(mr) -> float:
+    """How far (in moisture ratio) a point of the curve with moisture ratios ``mr`` (time order) may lie
+    above the lowest earlier one, or below the equilibrium moisture, before the curve is refused as rising:
+    `RISE_TOLERANCE`, or on a noisy curve of at least `NOISE_MIN_ROWS` weighings ``sigma (2 sqrt(2 ln n) + 2)``.
+    ``sigma`` is the weighing noise, estimated robustly from the second differences of the moisture ratio
+    (their median absolute deviation / 0.6745 / sqrt(6): the smooth drying law's curvature is small beside
+    the noise on most of a densely weighed curve, and the median ignores where it is not); the lowest of n
+    weighings with noise sigma lies about ``sigma sqrt(2 ln n)`` below the curve and one weighing as far above
+    it, so a falling curve with ordinary weighing noise passes, and a rise well above the noise (a curve that
+    takes up water, a mislabelled row) does not. A sparser curve keeps `RISE_TOLERANCE` (its differences are
+    the drying, not the noise)."""
+    mr = np.asarray(mr, dtype=float)
+    n = mr.size
+    if n < NOISE_MIN_ROWS:
+        return RISE_TOLERANCE
+    d2 = np.diff(mr, 2)
+    sigma = float(np.median(np.abs(d2 - np.median(d2)))) / 0.6745 / math.sqrt(6.0)
+    return max(RISE_TOLERANCE, sigma * (2.0 * math.sqrt(2.0 * math.log(n)) + 2.0))
 
 
 def _check_curves(name, ids, rows, lines):
@@ -197,21 +246,23 @@ def _check_curves(name, ids, rows, lines):
                              f"above its equilibrium moisture {fmt_number(xe0)} kg/kg dry; nothing to dry")
         mr = (x - xe0) / (x0 - xe0)
         rise = mr - np.minimum.accumulate(mr)
-        if np.any(rise > RISE_TOLERANCE):
-            j = int(np.nonzero(rise > RISE_TOLERANCE)[0][0])
+        allow = rise_allowance(mr)
+        noisy = "" if allow == RISE_TOLERANCE else f" (this curve's allowance for its weighing noise, {RISE_TOLERANCE:g} at least)"
+        if np.any(rise > allow):
+            j = int(np.nonzero(rise > allow)[0][0])
             low = float(np.min(x[:j]))
             raise ValueError(f"{where(j)}: the moisture rises to {fmt_number(x[j])} kg/kg dry after "
                              f"{fmt_number(low)} in curve {cid!r} (moisture ratio +{rise[j]:.3f}); a drying curve may "
-                             f"rise by at most {RISE_TOLERANCE:g} of its free moisture X_0 - X_e (weighing noise)")
+                             f"rise by at most {allow:.3g} of its free moisture X_0 - X_e{noisy}")
         if mr[-1] > 1.0 - RISE_TOLERANCE:
             raise ValueError(f"{where(len(x) - 1)}: curve {cid!r} does not dry: its moisture goes from "
                              f"{fmt_number(x0)} to {fmt_number(x[-1])} kg/kg dry, less than {RISE_TOLERANCE:g} of its "
                              "free moisture X_0 - X_e (weighing noise); nothing to fit a drying rate to")
-        if np.any(mr < -RISE_TOLERANCE):
-            j = int(np.nonzero(mr < -RISE_TOLERANCE)[0][0])
+        if np.any(mr < -allow):
+            j = int(np.nonzero(mr < -allow)[0][0])
             raise ValueError(f"{where(j)}: the moisture {fmt_number(x[j])} kg/kg dry of curve {cid!r} is below its "
-                             f"equilibrium moisture {fmt_number(xe0)} by more than {RISE_TOLERANCE:g} of its free "
-                             "moisture; check the equilibrium moisture")
+                             f"equilibrium moisture {fmt_number(xe0)} by more than {allow:.3g} of its free "
+                             f"moisture{noisy}; check the equilibrium moisture")
         out.append((float(np.mean(temp)), x0, xe0))
     return out
 
@@ -242,7 +293,9 @@ def drying_curves(time_s, moisture_dry, air_temperature_degC, curve=None, equili
     n = t.size
     xe = np.broadcast_to(xe, (n,)) if xe.size == 1 else xe
     temp = np.broadcast_to(temp, (n,)) if temp.size == 1 else temp
-    labels = [fmt_number(v) for v in temp] if curve is None else [str(c) for c in np.ravel(curve)]
+    firsts: dict = {}
+    labels = ([_temperature_label(float(v), firsts) for v in temp] if curve is None
+              else [str(c) for c in np.ravel(curve)])
     if not (x.size == n and temp.size == n and xe.size == n and len(labels) == n):
         raise ValueError(f"{name}: time_s, moisture_dry, air_temperature_degC, curve and equilibrium_moisture must "
                          f"have one value per point ({n})")
@@ -321,6 +374,7 @@ def _read_lines(numbered_lines, name: str, equilibrium_moisture=None) -> DryingC
     idx: dict = {}
     groups: dict[str, list] = {}
     lines: dict[str, list] = {}
+    firsts: dict = {}       # without a curve column: label -> the curve's first air temperature
     n = 0
     for k, row in csv_rows(numbered_lines, name):
         if header is None:
@@ -350,7 +404,7 @@ def _read_lines(numbered_lines, name: str, equilibrium_moisture=None) -> DryingC
             if not label:
                 raise ValueError(f"{name} line {k}: an empty field in column {CURVE_COLUMN}; label every row's curve")
         else:
-            label = fmt_number(temp)
+            label = _temperature_label(temp, firsts)
         groups.setdefault(label, []).append((t * TIME_COLUMNS[tcol], x, temp, xe))
         lines.setdefault(label, []).append(k)
     if header is None:
