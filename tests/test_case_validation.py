@@ -171,3 +171,24 @@ def test_a_product_drier_than_the_materials_range_is_run_at_the_ranges_end(tmp_p
     assert rows and all(not item.message and item.model is not None for item in rows), [i.message for i in rows]
     moist = next(item for item in rows if item.quantity.startswith("product_moisture"))
     assert moist.measured == pytest.approx(0.0062)
+
+
+def test_a_boolean_where_a_number_is_expected_is_refused(tmp_path):
+    """``feed_rate = true`` and ``segments = [[true, 90.0], ...]`` were read as 1.0 (pydantic's lax mode: a 1 m flight
+    section, a run that converged; found by fuzzing); booleans stay where the schema has them."""
+    res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    text = (tmp_path / "d.toml").read_text()
+    bad = re.sub(r"(?m)^feed_rate = .*$", "feed_rate = true", text, count=1)
+    bad = re.sub(r"(?m)^(\[flight\].*)$", r"\1\nsegments = [[true, 90.0], [0.1, 135.0]]", bad, count=1)
+    bad = re.sub(r"(?m)^(s1|s2|alpha1|alpha2) = .*\n", "", bad)
+    (tmp_path / "bad.toml").write_text(bad)
+    with pytest.raises(ValueError) as err:
+        load_case(str(tmp_path / "bad.toml"))
+    msg = str(err.value)
+    assert "(2 problems)" in msg
+    assert re.search(r"bad\.toml:\d+: operating\.feed_rate = True holds a boolean \(true/false\) where a number is "
+                     r"expected", msg), msg
+    assert re.search(r"bad\.toml:\d+: flight\.segments = \[\[True, 90\.0\], \[0\.1, 135\.0\]\] holds a boolean", msg), msg
+    ok = load_case(str(tmp_path / "d.toml"), {"thermal.enabled": False, "geometry.tabulated": True})
+    assert ok.thermal.enabled is False

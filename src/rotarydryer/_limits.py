@@ -29,8 +29,12 @@ import numpy as np
 from ._docblocks import sync_doc_block
 from ._validation import _interval, check_range
 
-__all__ = ["Limit", "LIMITS", "field_bounds", "check_key", "describe_limit", "limits_table", "key_unit", "DOC_BEGIN",
-           "DOC_END"]
+__all__ = ["Limit", "LIMITS", "MAX_FLIGHTS", "field_bounds", "check_key", "describe_limit", "limits_table", "key_unit",
+           "DOC_BEGIN", "DOC_END"]
+
+#: flights per drum or section (the case keys drum.n_flights and sections.n_flights, a flight profile's n_flights,
+#: ``rotarydryer flight --n-flights``)
+MAX_FLIGHTS = 1000
 
 
 @dataclass(frozen=True)

@@ -83,7 +83,8 @@ def _interval(low, high, low_inclusive, high_inclusive, unit) -> str:
 
 
 def _as_float_array(name: str, value: Any) -> np.ndarray:
-    if isinstance(value, (str, bytes)):
+    # a boolean is never a number here: True would be read as 1 (a 1 m flight section from ``true`` in a TOML file)
+    if isinstance(value, (str, bytes, bool, np.bool_)) or getattr(getattr(value, "dtype", None), "kind", "") == "b":
         raise ValueError(f"{name} must be a real number, got {value!r}")
     try:
         return np.asarray(value, dtype=float)

@@ -137,7 +137,7 @@ FLIGHT = [
     ("--alpha1", "0", "deg"), ("--alpha1", "nan", "deg"), ("--alpha1", "200", "(0, 180) deg"),
     ("--alpha2", "0", "deg"), ("--alpha2", "nan", "deg"), ("--alpha2", "270", "(0, 180] deg"),
     ("--angle", "nan", "deg"), ("--angle", "inf", "deg"),
-    ("--n-flights", "1", ">= 2"), ("--n-flights", "0", ">= 2"), ("--n-flights", "-3", ">= 2"),
+    ("--n-flights", "1", "[2, 1000]"), ("--n-flights", "0", "[2, 1000]"), ("--n-flights", "-3", "[2, 1000]"),
     ("--n-flights", "200", "overlap"),
 ]
 

@@ -107,3 +107,59 @@ def test_a_bad_choice_names_the_option(option, allowed):
 
     res = CliRunner().invoke(app, ["flight", option, "bogus"])
     assert res.exit_code == 2 and f"error: {option} = 'bogus' is not one of {allowed}" in res.output
+
+
+def test_a_profile_or_drum_design_repose_angle_is_the_default(tmp_path):
+    """A profile's repose_angle was range-checked but ignored (the run used 45 deg); the EAD drum, designed at
+    40 deg, was summarised at 45 (found by fuzzing). --repose-angle still wins."""
+    p = tmp_path / "prof.toml"
+    p.write_text("segments = [[0.195, 90.0], [0.10, 135.0], [0.09, 135.0]]\nrepose_angle = 30.0\n")
+    res = runner.invoke(app, ["flight", "--profile", str(p), "--json"])
+    assert res.exit_code == 0, res.output and json.loads(res.output)["repose_angle_deg"] == 30.0
+    assert json.loads(res.output)["repose_angle_deg"] == 30.0
+    res = runner.invoke(app, ["flight", "--profile", str(p), "--repose-angle", "42", "--json"])
+    assert json.loads(res.output)["repose_angle_deg"] == 42.0
+    res = runner.invoke(app, ["flight", "--drum", "invicta_ead", "--json"])
+    assert json.loads(res.output)["repose_angle_deg"] == 40.0
+    res = runner.invoke(app, ["flight", "--drum", "invicta", "--json"])
+    assert json.loads(res.output)["repose_angle_deg"] == 45.0
+
+
+@pytest.mark.parametrize("args,text,words", [
+    # a polygon flight's neighbour check ran over N flights: 1e7 took 40-55 s before a misleading message
+    (["--n-flights", "10000000"], None, ["--n-flights (n_flights) = 10000000 is outside the allowed range [2, 1000]"]),
+    ([], "segments = [[0.195, 90.0], [0.1, 135.0]]\nn_flights = 10000000\n",
+     ["n_flights = 10000000 is outside the allowed range: an integer in [2, 1000]"]),
+    # true read as a 1 m section
+    ([], "segments = [[true, 90.0], [0.1, 135.0]]\n", ["segments[0].length must be a real number, got True"]),
+    # R*R underflowed to 0: an internal ZeroDivisionError
+    ([], "segments = [[1e-201, 90.0], [1e-201, 135.0]]\nradius = 1e-200\n", ["radius = 1e-200 m", "[0.001, 20] m"]),
+    # the message named no key ("the profile's or the 'invicta' drum's speed")
+    ([], "segments = [[0.195, 90.0], [0.1, 135.0]]\nrpm = 40.0\n", [": rpm = 40 rev/min is at or above the critical"]),
+])
+def test_flight_profile_inputs_refused_naming_the_key(tmp_path, args, text, words):
+    extra = []
+    if text is not None:
+        p = tmp_path / "bad.toml"
+        p.write_text(text)
+        extra = ["--profile", str(p)]
+    else:
+        extra = ["--drum", "invicta_ead"]
+    res = runner.invoke(app, ["flight", *extra, *args])
+    assert res.exit_code == 2, res.output
+    line = res.output.strip().splitlines()[0]
+    assert line.startswith("error: ") and all(w in line for w in words), line
+
+
+def test_an_empty_flight_prints_no_nan():
+    """--loading-factor 0 (in the allowed range) printed the curtain's span as '+nan to +nan m'."""
+    res = runner.invoke(app, ["flight", "--drum", "invicta_three_section", "--loading-factor", "0"])
+    assert res.exit_code == 0, res.output
+    assert "nan" not in res.output.lower() and "none (the flight releases nothing)" in res.output
+
+
+def test_report_of_a_polygon_flight_drum(tmp_path):
+    """`rotarydryer report invicta_ead` was refused ("not ... a drum preset") though `flight --list-drums` lists it."""
+    res = runner.invoke(app, ["report", "invicta_ead", "-o", str(tmp_path / "r.html")])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "r.html").stat().st_size > 10_000

@@ -19,11 +19,11 @@ import tomllib
 from functools import cache, lru_cache
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any, Literal, Optional
+from typing import Annotated, Any, Literal, Optional, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from .._limits import LIMITS, describe_limit, field_bounds
+from .._limits import LIMITS, MAX_FLIGHTS, describe_limit, field_bounds
 from ..geometry.flights import MAX_SEGMENTS
 from .calibration import CalibrationRecord, applied_calibrations, apply_calibrations, record_problems
 
@@ -39,12 +39,55 @@ MAX_CELLS = 100_000
 MAX_TIME_STEPS = 200_000
 #: bytes of a case file (TOML)
 MAX_CASE_BYTES = 1_000_000
-#: flights per drum or section
-MAX_FLIGHTS = 1000
 #: entries of a list of a case file (sections, tests, parameter_sets)
 MAX_ENTRIES = 1000
 #: cells of the auto-discretised unflighted section (rotarydryer.transport.sections.unflighted_cells_auto)
 _AUTO_UNFLIGHTED_CELLS = 2000
+
+
+def _takes_bool(annotation) -> bool:
+    """Whether a field of type ``annotation`` may hold a boolean anywhere (bool itself, or inside it)."""
+    if annotation is bool:
+        return True
+    return any(_takes_bool(a) for a in get_args(annotation))
+
+
+def _holds_bool(value) -> bool:
+    if isinstance(value, bool):
+        return True
+    if isinstance(value, (list, tuple)):
+        return any(_holds_bool(v) for v in value)
+    return False
+
+
+def _model_in(annotation):
+    """The case block class of a field's annotation (``Block``, ``Optional[Block]``, ``list[Block]``), or None."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    return next((m for m in map(_model_in, get_args(annotation)) if m is not None), None)
+
+
+def _boolean_numbers(cls, raw, path=()):
+    """The dotted keys (with their values) of ``raw`` (a case document, or a block of it, for the schema class
+    ``cls``) that hold a boolean where the schema expects a number: pydantic's lax mode reads true as 1.0 (a 1 m
+    flight section, a feed of 1 kg/s). Unknown keys are left to the schema's own check."""
+    out = []
+    if not isinstance(raw, dict):
+        return out
+    for key, value in raw.items():
+        finfo = getattr(cls, "model_fields", {}).get(key)
+        if finfo is None:
+            continue
+        where = (*path, key)
+        block = _model_in(finfo.annotation)
+        if block is not None and isinstance(value, dict):
+            out += _boolean_numbers(block, value, where)
+        elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
+            for i, v in enumerate(value):
+                out += _boolean_numbers(block, v, (*where, i))
+        elif _holds_bool(value) and not _takes_bool(finfo.annotation):
+            out.append((where, value))
+    return out
 
 
 class _Strict(BaseModel):
@@ -1001,6 +1044,18 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             # row's value otherwise replaces the case's)
             raw["tests"] = [{**r, fld: None} if isinstance(r, dict) else r for r in raw["tests"]]
     origin = raw.pop("__calibrated__", {})
+    booleans = _boolean_numbers(cls, raw)
+    if booleans:
+        lines = []
+        for loc, value in booleans:
+            dotted = ".".join(str(x) for x in loc)
+            below = [k for k in overrides or {} if k == dotted]
+            no = _toml_line(text, loc) if text and not below else None
+            where = "--set " + below[0] if below else (f"{shown}:{no}" if no else shown)
+            lines.append(f"{where}: {dotted} = {_shown_value(value)} holds a boolean (true/false) where a number "
+                         "is expected")
+        n = len(lines)
+        raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n" + "\n".join(lines))
     try:
         return cls.model_validate(raw)
     except ValidationError as exc:

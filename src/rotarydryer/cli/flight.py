@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Optional
 
 import typer
 
 from .._io import json_text
+from .._limits import MAX_FLIGHTS
 from . import app
 from ._common import written_set
 
@@ -25,17 +27,19 @@ def _check_options(dims, *, repose_angle, rpm, slope, loading_factor, bulk_densi
     """Every number option finite and in its range; the message names the option, its value,
     the allowed range and the unit."""
     from .._validation import check_range
+    from ..geometry.presets import MAX_RADIUS, MIN_RADIUS
 
     inf = float("inf")
-    ranges = dict(radius=(0.0, inf, False, False, "m"), s1=(0.0, inf, False, False, "m"),
+    ranges = dict(radius=(MIN_RADIUS, MAX_RADIUS, True, True, "m"), s1=(0.0, inf, False, False, "m"),
                   s2=(0.0, inf, True, False, "m"), alpha1=(0.0, 180.0, False, False, "deg"),
                   alpha2=(0.0, 180.0, False, True, "deg"))
     for key, (lo, hi, li, hi_in, unit) in ranges.items():
         if dims[key] is not None:
             check_range(_opt(key), dims[key], lo, hi, low_inclusive=li, high_inclusive=hi_in, unit=unit)
-    if dims["n_flights"] is not None and dims["n_flights"] < 2:
-        raise ValueError(f"{_opt('n_flights')} = {dims['n_flights']} is outside the allowed range: an integer >= 2")
-    check_range(_opt("repose_angle"), repose_angle, 0.0, 90.0, unit="deg")
+    if dims["n_flights"] is not None and not 2 <= dims["n_flights"] <= MAX_FLIGHTS:
+        raise ValueError(f"{_opt('n_flights')} = {dims['n_flights']} is outside the allowed range [2, {MAX_FLIGHTS}]")
+    if repose_angle is not None:
+        check_range(_opt("repose_angle"), repose_angle, 0.0, 90.0, unit="deg")
     if rpm is not None:
         check_range(_opt("rpm"), rpm, 0.0, inf, unit="rev/min")
     if slope is not None:
@@ -58,7 +62,8 @@ def flight(
     s2: Optional[float] = typer.Option(None, help="Flight tip length, m (0: straight flight)."),
     alpha1: Optional[float] = typer.Option(None, help="Base-to-wall angle inside the pocket, deg (90 = radial)."),
     alpha2: Optional[float] = typer.Option(None, help="Base-to-tip interior angle, deg."),
-    repose_angle: float = typer.Option(45.0, help="Dynamic angle of repose, deg."),
+    repose_angle: Optional[float] = typer.Option(None, help="Dynamic angle of repose, deg (default: the profile's or "
+                                                 "the drum's design repose angle where it has one, else 45)."),
     rpm: Optional[float] = typer.Option(None, help="Drum speed, rev/min (default: the drum's)."),
     slope: Optional[float] = typer.Option(None, help="Drum slope, deg (default: the drum's)."),
     loading_factor: float = typer.Option(1.0, help="Flight loading factor f_load in [0, 1]."),
@@ -95,7 +100,7 @@ def flight(
     """
     from .._validation import check_choice, fmt_number
     from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight, check_speed, curtain_distribution
-    from ..geometry.presets import drum_presets, flight_profiles, preset_drum, read_profile
+    from ..geometry.presets import DEFAULT_REPOSE_ANGLE, drum_presets, flight_profiles, preset_drum, read_profile
     from ..geometry.unloading import DESIGN_CONVENTIONS, FALL_HEIGHT_DEFINITIONS, PASSIVE_TIME_BRANCHES
 
     if list_drums:
@@ -114,20 +119,20 @@ def flight(
         _check_options(dims, repose_angle=repose_angle, rpm=rpm, slope=slope, loading_factor=loading_factor,
                        bulk_density=bulk_density, length=length, angle=angle)
         two = {k: v for k, v in dims.items() if k in ("s1", "s2", "alpha1", "alpha2") and v is not None}
-        source = f"the {drum!r} drum's"
         if profile is not None:
             if two:
                 raise ValueError(f"--profile and {', '.join('--' + k for k in two)}: give the flight either as a profile "
                                  "file or as the two-section dimensions --s1 --s2 --alpha1 --alpha2, not both")
             prof = read_profile(profile)
-            entry = {**entry, **{k: v for k, v in prof.items() if k in ("rpm", "slope", "length", "bulk_density")}}
+            # the profile's operating values (and its design repose angle) stand in for the drum's
+            entry = {**{k: v for k, v in entry.items() if k != "repose_angle"},
+                     **{k: v for k, v in prof.items() if k in ("rpm", "slope", "length", "bulk_density", "repose_angle")}}
             R_ = radius if radius is not None else prof.get("radius", base.radius)
             N_ = n_flights if n_flights is not None else prof.get("n_flights", base.n_flights)
             try:
                 d = FlightedDrum(R_, N_, prof["flight"])
             except ValueError as exc:
                 raise ValueError(f"{profile} (radius = {fmt_number(R_)} m, n_flights = {N_}): {exc}") from None
-            source = f"the profile's or the {drum!r} drum's"
         elif any(v is not None for v in dims.values()):
             if two and "s1" not in entry and len(two) < 4:
                 raise ValueError(f"the {drum!r} drum has a polygonal flight: give all of --s1 --s2 --alpha1 --alpha2 "
@@ -149,8 +154,13 @@ def flight(
         slope_ = entry["slope"] if slope is None else slope
         rho = entry["bulk_density"] if bulk_density is None else bulk_density
         ell = entry["length"] if length is None else length
-        check_speed(_opt("rpm") if rpm is not None else f"{source} speed", rpm_, d.radius,
-                    radius_key=_opt("radius") if radius is not None else f"{source} radius")
+        repose_angle = float(entry.get("repose_angle", DEFAULT_REPOSE_ANGLE)) if repose_angle is None else repose_angle
+
+        def key(name):      # where a value without its option came from: the profile file's key or the drum's
+            has = profile is not None and name in prof
+            return f"{profile}: {name}" if has else f"the {drum!r} drum's {name}"
+        check_speed(_opt("rpm") if rpm is not None else key("rpm"), rpm_, d.radius,
+                    radius_key=_opt("radius") if radius is not None else key("radius"))
         cs = d.cascade(repose_angle, loading_factor, rpm=rpm_, slope=slope_, fall_height=fall_height,
                        passive_time_branch=passive_branch, convention=convention)
         tr = d.transition_angles(repose_angle)
@@ -219,8 +229,11 @@ def flight(
         ("transition angles psi1-5 (Eq. 4.9-4.13)", ", ".join(f"{float(a):.1f}" for a in tr) + " deg"),
         ("discharge into curtain starts at", f"{float(cs.discharge_start_angle):.1f} deg"),
         ("final discharge angle psi5 (root / tip)", f"{psi5:.1f} / {psi5 + d.tip_angle:.1f} deg"),
-        ("curtain: span across the drum", f"{curtain.span_m[0]:+.3f} to {curtain.span_m[1]:+.3f} m from the axis"),
-        ("curtain: CV per degree / across span", f"{curtain.cv_per_degree:.3f} / {curtain.cv_across_span:.3f}"),
+        # an empty flight (loading factor 0) releases nothing: no curtain to describe
+        ("curtain: span across the drum", f"{curtain.span_m[0]:+.3f} to {curtain.span_m[1]:+.3f} m from the axis"
+         if all(math.isfinite(float(v)) for v in curtain.span_m) else "none (the flight releases nothing)"),
+        ("curtain: CV per degree / across span", f"{curtain.cv_per_degree:.3f} / {curtain.cv_across_span:.3f}"
+         if math.isfinite(curtain.cv_per_degree) and math.isfinite(curtain.cv_across_span) else "-"),
         ("mean release angle psi_m (Eq. 3.3)", f"{float(cs.mean_release_angle):.1f} deg"),
         (f"mean fall height h_m ({fall_height})", f"{float(cs.mean_fall_height):.3f} m"),
         ("mean fall time = active time", f"{float(cs.mean_fall_time):.3f} s"),

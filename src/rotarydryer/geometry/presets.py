@@ -14,11 +14,13 @@ from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
+from .._limits import MAX_FLIGHTS
 from .._validation import check_range, fmt_number
 from .drum import FlightedDrum
 from .flights import PolygonFlight, TwoSectionFlight
 
-__all__ = ["drum_presets", "flight_profiles", "preset_drum", "read_profile", "profile_flight", "PROFILE_KEYS"]
+__all__ = ["drum_presets", "flight_profiles", "builtin_drums", "preset_drum", "read_profile", "profile_flight",
+           "PROFILE_KEYS", "DEFAULT_REPOSE_ANGLE"]
 
 #: keys of a flight-profile entry: the flight (``segments`` or ``vertices``), optionally its drum
 #: (``radius``, ``n_flights``) and operating defaults, and text
@@ -36,6 +38,19 @@ PROFILE_KEYS = {
     "description": "what the flight is and where its dimensions come from",
     "design": "how the profile was made",
 }
+
+
+#: smallest and largest drum radius of a flight profile or ``rotarydryer flight --radius``, m (a millimetre drum is no
+#: drum; at 1e-200 m the pocket's areas underflow to zero)
+MIN_RADIUS, MAX_RADIUS = 1e-3, 20.0
+#: the repose angle of a built-in drum without a design repose angle of its own, deg
+DEFAULT_REPOSE_ANGLE = 45.0
+
+
+def builtin_drums() -> dict[str, dict]:
+    """Every built-in drum, the two-section presets (`drum_presets`) and the polygonal flights' (`flight_profiles`):
+    name -> entry (what `preset_drum` builds)."""
+    return {**drum_presets(), **flight_profiles()}
 
 
 @lru_cache(maxsize=1)
@@ -105,15 +120,16 @@ def read_profile(path) -> dict:
     if unknown:
         raise ValueError(f"{where}{unknown[0]} is not a key of a flight profile; allowed: {', '.join(PROFILE_KEYS)}")
     out = dict(entry)
-    for k, lo, hi, unit in (("radius", 0.0, math.inf, "m"), ("rpm", 0.0, math.inf, "rev/min"),
+    for k, lo, hi, unit in (("radius", MIN_RADIUS, MAX_RADIUS, "m"), ("rpm", 0.0, math.inf, "rev/min"),
                             ("slope", -45.0, 45.0, "deg"), ("length", 0.0, math.inf, "m"),
                             ("bulk_density", 1.0, 23000.0, "kg/m^3"), ("repose_angle", 0.0, 90.0, "deg")):
         if k in entry:
-            out[k] = float(check_range(f"{where}{k}", entry[k], lo, hi, unit=unit))
+            out[k] = float(check_range(f"{where}{k}", entry[k], lo, hi, low_inclusive=k == "radius",
+                                       high_inclusive=k == "radius", unit=unit))
     if "n_flights" in entry:
         n = entry["n_flights"]
-        if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+        if isinstance(n, bool) or not isinstance(n, int) or not 2 <= n <= MAX_FLIGHTS:
             raise ValueError(f"{where}n_flights = {fmt_number(n) if isinstance(n, (int, float)) else repr(n)} is "
-                             "outside the allowed range: an integer >= 2")
+                             f"outside the allowed range: an integer in [2, {MAX_FLIGHTS}]")
     out["flight"] = profile_flight(entry, where)
     return out

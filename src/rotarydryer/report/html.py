@@ -800,11 +800,11 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
 
     ``repose_angle`` (deg, in (0, 90); checked before a case is run) is the repose angle of
     the flight pictures of every section; default: the case's mean per section
-    (``drums`` is then None, see `render_report`), 45 deg for a drum preset.
+    (``drums`` is then None, see `render_report`), a drum preset's design repose angle (else 45 deg).
     """
     from .._validation import check_range
     from ..cases import list_cases
-    from ..geometry.presets import drum_presets, preset_drum
+    from ..geometry.presets import DEFAULT_REPOSE_ANGLE, builtin_drums, preset_drum
     from ..results import Results
     from ..simulation import run_case
 
@@ -819,14 +819,14 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
     if source in list_cases() or (p.suffix == ".toml" and p.exists()):
         results = run_case(source, overrides, fit_rtd=True)
         return results, _case_drums_at(results, repose_angle), None
-    if source in drum_presets():
+    if source in builtin_drums():
         drum, e = preset_drum(source)
-        phi = 45.0 if repose_angle is None else repose_angle
+        phi = float(e.get("repose_angle", DEFAULT_REPOSE_ANGLE)) if repose_angle is None else repose_angle
         d = dict(name=source, drum=drum, length=e["length"], slope=e["slope"], rpm=e["rpm"],
                  bulk_density=e["bulk_density"], repose_angle=phi)
         return None, [d], f"Flight geometry: {e['description']}"
     raise ValueError(f"source = {source!r} is not a results file (.nc), a case ({', '.join(list_cases())}), "
-                     f"a .toml case file nor a drum preset ({', '.join(drum_presets())})")
+                     f"a .toml case file nor a drum preset ({', '.join(builtin_drums())})")
 
 
 def _case_drums_at(results, repose_angle):
