@@ -134,3 +134,23 @@ def test_bad_cli_input(argv, fragments, workdir):
     res = run_cli(argv, cwd=workdir)
     assert_bad(res, *fragments)
     assert snapshot(workdir) == before
+
+
+@pytest.mark.parametrize("args,line", [
+    (["sweep", "lee2008_invicta", "--workers", "abc"],
+     "error: Invalid value for '--workers': Input should be a valid integer, unable to parse string as an integer "
+     "(got 'abc'); see 'rotarydryer sweep --help'"),
+    (["lab", "drying", "x.csv", "--equilibrium-moisture=abc"],
+     "error: Invalid value for '--equilibrium-moisture': Input should be a valid number, unable to parse string as a "
+     "number (got 'abc'); see 'rotarydryer lab drying --help'"),
+    (["simulate", "lee2008_invicta", "--set"],
+     "error: Option '--set' requires an argument; see 'rotarydryer simulate --help'"),
+    (["simulate"], "error: Missing argument 'case'; see 'rotarydryer simulate --help'"),
+    (["bogus"], "error: No such command 'bogus'; see 'rotarydryer --help'"),
+])
+def test_usage_errors_are_one_line_naming_the_option_and_value(args, line):
+    """click's usage errors were three lines starting with "Usage: ...", and a bad value was not shown (found by
+    fuzzing): one ``error:`` line naming the option and the value, exit code 2."""
+    res = run_cli(args)
+    assert res.exit_code == 2
+    assert res.output.strip() == line

@@ -20,8 +20,71 @@ defer_numpy_submodules()    # NumPy's unused submodules are not loaded when SciP
 
 import click  # noqa: E402
 import typer  # noqa: E402
+import typer.core  # noqa: E402
+
+#: the exceptions of the click that typer runs on (typer 0.2x carries its own copy as typer._click)
+_CLICK_ERRORS = getattr(getattr(typer.core, "_click", None), "exceptions", None) or click.exceptions
+
+
+def _usage_line(exc, given) -> str:
+    """A usage error (a bad option value, a missing argument, an unknown command) on one line: click's message,
+    the value given where it does not show it, and where to look (``given``: the command line's words)."""
+    msg = " ".join(exc.format_message().split()).rstrip(".")
+    param = getattr(exc, "param", None)
+    value = None
+    for i, word in enumerate(given):
+        for opt in getattr(param, "opts", ()) if param is not None else ():
+            if word == opt and i + 1 < len(given):
+                value = given[i + 1]
+            elif opt.startswith("--") and word.startswith(opt + "="):
+                value = word[len(opt) + 1:]
+    if value is not None and repr(value) not in msg:
+        msg += f" (got {value!r})"
+    if getattr(exc, "ctx", None) is not None:
+        where = exc.ctx.command_path
+    else:       # an option's parser error names no command: the command line's first word is it
+        where = "rotarydryer" + (f" {given[0]}" if given and not given[0].startswith("-") else "")
+    return f"{msg}; see '{where} --help'"
+
+
+class _OneLineUsageError(_CLICK_ERRORS.UsageError):
+    """A usage error shown as one ``error: ...`` line on stderr (exit code 2), as every other refusal."""
+
+    def __init__(self, text: str, ctx=None):
+        super().__init__(text, ctx)
+        self.text = text
+
+    def show(self, file=None):
+        typer.echo(f"error: {self.text}", err=True)
+
+
+def _one_line(exc, given):
+    if isinstance(exc, _OneLineUsageError) or type(exc).__name__ == "NoArgsIsHelpError":   # the help text
+        return exc
+    return _OneLineUsageError(_usage_line(exc, given), getattr(exc, "ctx", None))
+
+
+class _Group(typer.core.TyperGroup):
+    """The top-level command group: click's usage errors (three lines, "Usage: ...", the option's message
+    without the value given) become one ``error: ...`` line naming the option and the value."""
+
+    def make_context(self, info_name, args, parent=None, **extra):
+        given = list(args)
+        try:
+            return super().make_context(info_name, args, parent=parent, **extra)
+        except _CLICK_ERRORS.UsageError as exc:
+            raise _one_line(exc, given) from None
+
+    def invoke(self, ctx):
+        given = [*getattr(ctx, "_protected_args", []), *ctx.args]
+        try:
+            return super().invoke(ctx)
+        except _CLICK_ERRORS.UsageError as exc:
+            raise _one_line(exc, given) from None
+
 
 app = typer.Typer(
+    cls=_Group,
     name="rotarydryer",
     help="Flighted rotary dryer simulator: flight geometry, solids transport, drying.",
     no_args_is_help=True,
