@@ -45,6 +45,10 @@ def test_section_vertices_override_the_flight(tmp_path):
     ("segments = [[0.15, 90.0], [-0.1, 150.0]]", "", ["flight.segments"]),
     ("segments = [[0.6, 90.0], [0.6, 150.0], [0.5, 150.0]]", "", ["flight.segments", "centre"]),
     (THREE, "s1 = 0.2", ["sections[1] (flighted).s2 is missing"]),
+    # the schema's bounds with their interval (found by fuzzing: "Input should be a finite number" alone)
+    ("segments = [[0.15, 90.0], [nan, 150.0]]", "", ["flight.segments.1.0 = nan", "allowed range (0, 100] m"]),
+    ("segments = [[0.15, 90.0], [0.1, 360.0]]", "", ["flight.segments.1.1 = 360.0", "allowed range (0, 360) deg"]),
+    ("vertices = [[0.0, 0.0], [0.0, 150.0]]", "", ["flight.vertices.1.1 = 150.0", "allowed range [-100, 100] m"]),
 ])
 def test_bad_polygon_flights_name_the_key(tmp_path, flight, section, words):
     p = _case(tmp_path, flight, section)

@@ -891,7 +891,10 @@ def _toml_line(text: str, loc: tuple) -> int | None:
 
 
 #: pydantic error types of a violated ge/gt/le/lt bound
-_BOUND_ERRORS = frozenset({"greater_than", "greater_than_equal", "less_than", "less_than_equal"})
+_BOUND_ERRORS = frozenset({"greater_than", "greater_than_equal", "less_than", "less_than_equal", "finite_number"})
+#: the ranges of a polygonal flight's numbers (FlightSection, FlightVertex), by (list key, position in the pair)
+_POLYLINE_RANGES = {("segments", 0): "(0, 100] m", ("segments", 1): "(0, 360) deg", ("vertices", 0): "[-100, 100] m",
+                    ("vertices", 1): "[-100, 100] m"}
 #: list entries whose fields are the values of case keys: ``parameter_sets[i].backmix`` is ``transport.backmix``
 _ENTRY_KEYS = {"parameter_sets": "transport", "sections": "transport"}
 
@@ -938,8 +941,12 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
         else:
             msg = f"{dotted} = {_shown_value(e.get('input'))}: {e['msg']}"
             limit = _limit_key(loc) if kind in _BOUND_ERRORS else None
+            polyline = (_POLYLINE_RANGES.get((loc[-3], loc[-1])) if kind in _BOUND_ERRORS and len(loc) >= 3
+                        and isinstance(loc[-2], int) else None)
             if limit is not None:        # the whole interval, as the runtime checks quote it (docs/errors.md)
                 msg += f" (allowed range {describe_limit(limit)})"
+            elif polyline is not None:   # a polygonal flight's section length or angle, a vertex coordinate
+                msg += f" (allowed range {polyline})"
         lines.append(f"{where}: {msg}")
     return "\n".join(lines)
 
