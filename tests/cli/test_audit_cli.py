@@ -121,3 +121,23 @@ def test_a_product_at_its_moisture_floor_is_not_held():
     w = json.loads(res.stdout)["savings"][0]
     assert w["heat_saved_W"] > 0 and w["held"] is None
     assert "the product is dried to its floor (the material's equilibrium moisture)" in w["held_error"]
+
+
+def test_a_bone_dry_product_and_a_set_inlet_temperature(tmp_path):
+    """Found by fuzzing: a template product at 1.8e-7 kg/kg was 'held' at the search's upper end, 60 K hotter, with a
+    negative saving (the target's tolerance was as large as the moisture); a --set gas.inlet_temperature made every
+    held what-if fail ('the key is also set as an override')."""
+    from rotarydryer.studies import energy
+
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    case = str(tmp_path / "d.toml")
+    dry = energy.energy_audit(case, insulation=(0.1,), hold_moisture=True)
+    w = dry.savings[0]
+    assert w.held is None and "below 1e-05 kg/kg: the product is dried to its floor" in w.held_error
+    wet = energy.energy_audit(case, {"operating.feed_rate": 5.3, "gas.inlet_temperature": 260.0}, insulation=(0.1,),
+                              hold_moisture=True)
+    w = wet.savings[0]
+    assert w.held_error is None, w.held_error
+    assert w.held["product_moisture_kg_kg"] == pytest.approx(wet.summary["product_moisture_kg_kg"], rel=0.01)
+    assert w.held["gas_inlet_temperature_degC"] < 260.0 and w.held["heat_saved_W"] > 0

@@ -51,6 +51,12 @@ HOLD_SPAN = (150.0, 60.0)
 #: gas inlet temperatures further apart than this (K) giving the base product moisture (within the target's
 #: tolerance) leave the held what-if undetermined: a product at its moisture floor (`_hold`)
 HOLD_FLAT_K = 1.0
+#: a base product drier than this (kg/kg wet) is at its moisture floor: holding it does not fix a gas inlet
+#: temperature (the target's tolerance is as large as the moisture itself; found by fuzzing: a product at 1.8e-7
+#: kg/kg "held" at the search's upper end, 60 K hotter, with a negative saving)
+HOLD_MIN_MOISTURE = 1e-5
+#: the held what-if's product moisture must equal the base's within this fraction (or the target's tolerance)
+HOLD_REL_TOL = 0.01
 
 
 @dataclass
@@ -278,15 +284,22 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
     """``w.held``: the what-if at the base product moisture, the gas inlet temperature (base ``t_in``)
     found by the target solver (or ``w.held_error``)."""
     lo, hi = max(t_in - HOLD_SPAN[0], 1.0), min(t_in + HOLD_SPAN[1], 600.0)
+    x0 = s0["product_moisture_kg_kg"]
+    if not x0 > HOLD_MIN_MOISTURE:
+        w.held_error = (f"the base product moisture is {show_output('product_moisture_kg_kg', x0)}, below "
+                        f"{fmt_number(HOLD_MIN_MOISTURE)} kg/kg: the product is dried to its floor (the material's "
+                        "equilibrium moisture), so holding it does not fix a gas inlet temperature; hold a wetter "
+                        "product with rotarydryer target instead")
+        return
     if progress:
         progress(f"{w.label}, held at the base product moisture ...")
+    # the gas inlet temperature is what the hold finds: a --set of it is the base's (t_in), not fixed for the search
+    free = {k: v for k, v in {**overrides, **ov}.items() if k != "gas.inlet_temperature"}
     try:
-        res = target(case, "gas.inlet_temperature", f"product_moisture_kg_kg={s0['product_moisture_kg_kg']!r}",
-                     (lo, hi), overrides={**overrides, **ov})
+        res = target(case, "gas.inlet_temperature", f"product_moisture_kg_kg={x0!r}", (lo, hi), overrides=free)
     except ValueError as exc:
         w.held_error = " ".join(str(exc).split())
         return
-    x0 = s0["product_moisture_kg_kg"]
     near = [x for x, y, _ in res.points if y is not None and abs(y - x0) <= res.tol]
     if len(near) > 1 and max(near) - min(near) > HOLD_FLAT_K:
         # a product dried to its floor (the material's equilibrium moisture): the same moisture over a range of gas
@@ -301,10 +314,15 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
         w.held_error = f"no gas inlet temperature in [{fmt_number(lo)}, {fmt_number(hi)}] degC gives the base product moisture"
         return
     try:
-        s = Simulation(case, {**overrides, **ov, "gas.inlet_temperature": res.value}).steady_state().summary()
+        s = Simulation(case, {**free, "gas.inlet_temperature": res.value}).steady_state().summary()
     except ValueError as exc:       # reported with the what-if, as every failed what-if (not an error of the audit)
         w.held_error = (f"at the gas inlet temperature found, {fmt_number(res.value)} degC: "
                         + " ".join(str(exc).split()))
+        return
+    if abs(s["product_moisture_kg_kg"] - x0) > max(HOLD_REL_TOL * x0, res.tol):
+        w.held_error = (f"at the gas inlet temperature found, {fmt_number(res.value)} degC, the product moisture is "
+                        f"{show_output('product_moisture_kg_kg', s['product_moisture_kg_kg'])}, not the base's "
+                        f"{show_output('product_moisture_kg_kg', x0)}")
         return
     f0, f1 = s0.get("fuel_rate_kg_s"), s.get("fuel_rate_kg_s")
     w.held = dict(gas_inlet_temperature_degC=float(res.value), product_moisture_kg_kg=s["product_moisture_kg_kg"],
