@@ -155,6 +155,8 @@ def finite_number(value: Any, what: str, hint: str = "") -> float:
     ...
     ValueError: --recycle: 'inf' is not a finite number
     """
+    if isinstance(value, (bool, np.bool_)):       # true in a TOML file: not 1.0
+        raise ValueError(f"{what} {value!r} is not a number{hint}")
     try:
         v = float(value)
     except (TypeError, ValueError):

@@ -357,13 +357,20 @@ def _step(dryer, z0, duration, dt, **change):
     return res.time, {k: np.asarray(v) for k, v in ys.items()}
 
 
+#: a product drier than this (kg/kg wet) is at its moisture floor: a product-moisture loop has nothing to control
+PRODUCT_FLOOR = 1e-5
+
+
 def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, feed_step_fraction=-0.1,
-             moisture_step_fraction=0.1, progress=None):
+             moisture_step_fraction=0.1, progress=None, measured=None):
     """FOPDT models (per measured output) of the gas inlet temperature, the feed rate and the
     feed moisture (dry basis, kg/kg dry), from step responses of the dynamic model around ``steady``.
 
     Returns dict input -> output -> `FOPDT` (input names: ``gas_inlet_temperature`` (per K),
-    ``feed_rate`` (per kg/s), ``feed_moisture_dry`` (per kg/kg dry))."""
+    ``feed_rate`` (per kg/s), ``feed_moisture_dry`` (per kg/kg dry)). ``measured`` (an output of `MEASURED`,
+    or None for all): the output the loop controls, which must respond to every step (else a ValueError
+    saying there is nothing to control); another output that a step does not move is left out."""
+    required = MEASURED if measured is None else (measured,)
     from .thermal.studies import fopdt_fit
 
     z0 = steady.state
@@ -379,6 +386,13 @@ def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, fe
              "feed_rate": (dict(feed_rate=F0 * (1 + feed_step_fraction)), F0 * feed_step_fraction),
              "feed_moisture_dry": (dict(feed_moisture=_wet_basis(Xs)), Xs - X0)}
     y0 = outputs_of(dryer, z0)
+    if "product_moisture" in required and not y0["product_moisture"] > PRODUCT_FLOOR:
+        # a product at the material's floor: its moisture moves by roundings (gains of 1e-10), no loop to tune
+        raise ValueError(f"control: the product leaves at {y0['product_moisture']:.3g} kg/kg wet, dried to the "
+                         f"material's floor (below {PRODUCT_FLOOR:g} kg/kg): its moisture does not respond to the "
+                         "inputs, there is nothing to control at this operating point; give one where the product "
+                         "leaves wetter (a lower gas inlet temperature, a higher feed rate or feed moisture), or "
+                         "measure the exhaust (--measured exhaust_temperature)")
     out = {}
     for name, (change, du) in steps.items():
         if progress:
@@ -389,6 +403,8 @@ def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, fe
             try:
                 out[name][k] = FOPDT.from_fit(fopdt_fit(t, ys[k], du, y0=y0[k]))
             except ValueError:      # an output that a step of this input does not move: no loop to tune on it
+                if k not in required:       # not the loop's (an exhaust loop over a product dried to its floor)
+                    continue
                 raise ValueError(
                     f"control: the {k.replace('_', ' ')} does not respond to a step of the {name.replace('_', ' ')} "
                     f"({du:+.4g} {STEP_UNITS[name]}; it stays at {y0[k]:.6g} {OUTPUT_UNITS[k]} over {duration_s:g} s"
@@ -584,7 +600,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     tuning = {}
     if controlled:
         if models is None:
-            models = identify(dryer, steady, progress=progress)
+            models = identify(dryer, steady, progress=progress, measured=cv)
         mT, mF, mX = (models["gas_inlet_temperature"][cv], models["feed_rate"][cv], models["feed_moisture_dry"][cv])
         extra = cfg.measurement_dead_time_s + ts / 2
         # normalised ranges: v = K * du (y-units); the slower range sets the tuning (robust)

@@ -24,6 +24,10 @@ SCHEDULES = [
     # accepted as "no input changed" before (found by fuzzing)
     ("no-input-column", "s.csv", "time_s\n0\n300\n", ["names no input", "feed_rate"]),
     ("no-values", "s.csv", "time_s,feed_rate\n0,\n60,\n", ["no values under feed_rate"]),
+    # found by fuzzing: true ran as a feed of 1 kg/s; the last of two feed_rate columns won
+    ("boolean-value", "s.toml", '[[step]]\ninput = "feed_rate"\nat_s = 60\nvalue = true\n', ["value", "True",
+                                                                                            "not a number"]),
+    ("duplicated-column", "s.csv", "time_s,feed_rate,feed_rate\n0,40,41\n", ["'feed_rate' appears twice"]),
 ]
 
 

@@ -35,6 +35,8 @@ CASES = [
     ("unknown-output", S + P + ["--output", "nonsense_kg"], ["--output", "nonsense_kg"]),
     ("workers-negative", S + P + ["--workers", "-1"], ["--workers", "-1"]),
     ("set-no-equals", ["sensitivity", "song2003_ottawa", "--set", "thermal.enabled"] + P, ["--set", "thermal.enabled"]),
+    # found by fuzzing: the runs took the range, the study's record the dropped --set
+    ("set-and-param", S + P + ["--set", "operating.rpm=4"], ["operating.rpm given by --set and by --param"]),
 ]
 
 

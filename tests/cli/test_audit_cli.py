@@ -141,3 +141,16 @@ def test_a_bone_dry_product_and_a_set_inlet_temperature(tmp_path):
     assert w.held_error is None, w.held_error
     assert w.held["product_moisture_kg_kg"] == pytest.approx(wet.summary["product_moisture_kg_kg"], rel=0.01)
     assert w.held["gas_inlet_temperature_degC"] < 260.0 and w.held["heat_saved_W"] > 0
+
+
+def test_recycle_of_all_the_dilution_air_keeps_the_fuel_rate(tmp_path):
+    """gas.recycle_fraction = 1 - the burner's combustion air share left 'dilution air -2.22e-16 kg/s < 0' by
+    rounding, and the fuel rate was null (found by fuzzing)."""
+    from rotarydryer import Simulation
+
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    sim = Simulation(str(tmp_path / "d.toml"), {"gas.recycle_fraction": 0.8})
+    assert sim.case.gas.burner.combustion_air_share == 0.2
+    s = sim.steady_state().summary()
+    assert s["fuel_rate_kg_s"] is not None and s["fuel_rate_kg_s"] > 0

@@ -322,3 +322,26 @@ def test_a_setpoint_out_of_reach_is_said_so():
     assert "--feed-min-fraction" in warn[0]
     res = CliRunner().invoke(app, base)
     assert res.exit_code == 0 and "out of reach" not in res.output, res.output
+
+
+def test_an_exhaust_loop_over_a_dry_product_and_setpoints_a_product_cannot_reach(tmp_path):
+    """Found by fuzzing: an exhaust-temperature loop was refused because the product moisture (dried to its floor)
+    did not respond; the template's product at 1.8e-7 kg/kg was "controlled" with gains of 1e-10; a product-moisture
+    setpoint above the feed moisture was accepted."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    runner = CliRunner()
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    case = str(tmp_path / "d.toml")
+    res = runner.invoke(app, ["control", case, "--scenario", "none", "--duration", "600"])
+    assert res.exit_code == 2
+    assert "dried to the material's floor (below 1e-05 kg/kg)" in res.output and "--measured exhaust_temperature" in \
+        res.output
+    res = runner.invoke(app, ["control", case, "--setpoint", "0.5", "--scenario", "none", "--duration", "600"])
+    assert res.exit_code == 2 and "--setpoint = 0.5 kg/kg wet is at or above the feed moisture 0.06" in res.output
+    res = runner.invoke(app, ["control", case, "--measured", "exhaust_temperature", "--scenario", "none",
+                              "--duration", "600", "--no-open-loop", "--json"])
+    assert res.exit_code == 0, res.output

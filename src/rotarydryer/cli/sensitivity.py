@@ -80,6 +80,10 @@ def sensitivity(
     try:
         base = parse_sets(set_)
         params = sens.check_params([sens.parse_param(p) for p in (param or [])])
+        both = [k for k in params if k in base]
+        if both:        # the runs took the --param range and dropped the --set, which the output still recorded
+            raise ValueError(f"{', '.join(both)} given by --set and by --param: a varied key takes its values from "
+                             "its range; drop the --set")
         n_samples = sens.check_samples(samples, len(params))
         sens.check_seed(seed)
         outputs = list(dict.fromkeys(output)) if output else list(sens.OUTPUTS)

@@ -78,6 +78,10 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
 
     steady = sim.dynamic_start("control", progress)
     dryer = steady.dryer
+    if measured == "product_moisture" and setpoint is not None and not setpoint < dryer.feed_moisture:
+        raise ValueError(f"--setpoint = {setpoint:g} kg/kg wet is at or above the feed moisture {dryer.feed_moisture:g} "
+                         f"kg/kg wet: a dryer's product is drier than its feed; the allowed range is [0, "
+                         f"{dryer.feed_moisture:g}) kg/kg wet")
     cfg = C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time,
                           measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
                           feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
@@ -96,7 +100,7 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
             raise ValueError(("--" + str(exc)) if str(exc).startswith("magnitude = ") else str(exc)) from None
     else:       # the schedule's own checks before the identification runs
         C.check_schedule(dryer, schedule, duration, True)
-    models = C.identify(dryer, steady, progress=progress)
+    models = C.identify(dryer, steady, progress=progress, measured=cfg.measured)
     closed = C.closed_loop(dryer, steady, models=models, **kw)
     out_of_reach = setpoint_out_of_reach(closed, feed_backup)
     if out_of_reach:

@@ -99,6 +99,9 @@ class InputSchedule:
         if len(header) < 2:
             raise ValueError(f"{path}: the schedule names no input: give a column per scheduled input after time_s "
                              f"(of {', '.join(SCHEDULE_INPUTS)})")
+        dup = sorted({h for h in header if header.count(h) > 1})
+        if dup:     # the last column won
+            raise ValueError(f"{path}: column {dup[0]!r} appears twice in the header; give each input one column")
         pts: dict[str, list[tuple[float, float]]] = {h: [] for h in header[1:]}
         for line, row in numbered[1:]:
             if len(row) > len(header):

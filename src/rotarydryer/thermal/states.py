@@ -297,8 +297,11 @@ class ThermalSteadyState:
             back = s.recycle_fraction * (hot + leak)
             fresh = (hot - back) * (1.0 + dr.hot_gas_Y)
             y = self.gas_outlet_humidity
+            dilution = fresh - air * b.combustion_air_share
+            if 0.0 > dilution >= -1e-12 * air:      # recycle = 1 - combustion air share: no dilution air, not -2e-16
+                dilution = 0.0
             return float(fuel_rate_with_recycle(
-                gas_inlet_temperature, air * b.combustion_air_share, fresh - air * b.combustion_air_share,
+                gas_inlet_temperature, air * b.combustion_air_share, dilution,
                 back * (1.0 + y), self.gas_outlet_temperature_degC, y, air_temperature_c=s.ambient_temperature,
                 air_humidity=dr.hot_gas_Y, fuel=b.fuel, heat_loss_fraction=loss))
         return float(fuel_rate_for_temperature(gas_inlet_temperature, air * b.combustion_air_share,
