@@ -154,3 +154,14 @@ def test_recycle_of_all_the_dilution_air_keeps_the_fuel_rate(tmp_path):
     assert sim.case.gas.burner.combustion_air_share == 0.2
     s = sim.steady_state().summary()
     assert s["fuel_rate_kg_s"] is not None and s["fuel_rate_kg_s"] > 0
+
+
+def test_a_burner_at_a_cold_site_has_its_fuel_rate(tmp_path):
+    """The case accepts an ambient down to -40 degC; the burner's combustion air stopped at -20 degC and the fuel rate
+    went null without a word in --json or audit (found by fuzzing)."""
+    from rotarydryer import Simulation
+
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    s = Simulation(str(tmp_path / "d.toml"), {"shell.ambient_temperature": -35.0}).steady_state().summary()
+    assert s["fuel_rate_kg_s"] is not None and s["heat_duty_burner_loss_W"] > 0

@@ -37,7 +37,7 @@ from .._limits import check_key
 from .._validation import finite_number, fmt_number
 from ..cases.build import operating_point
 from ..simulation import Simulation
-from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS, ShellTemperatureWarning
+from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS, ShellTemperatureWarning, SupersaturationWarning
 from .target import target
 
 __all__ = ["energy_audit", "EnergyAudit", "WhatIf", "MEASURES", "parse_values"]
@@ -296,7 +296,9 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
     # the gas inlet temperature is what the hold finds: a --set of it is the base's (t_in), not fixed for the search
     free = {k: v for k, v in {**overrides, **ov}.items() if k != "gas.inlet_temperature"}
     try:
-        res = target(case, "gas.inlet_temperature", f"product_moisture_kg_kg={x0!r}", (lo, hi), overrides=free)
+        with warnings.catch_warnings():     # the search's trial runs: ~40 lines of the same warning (found by fuzzing)
+            warnings.simplefilter("ignore", SupersaturationWarning)
+            res = target(case, "gas.inlet_temperature", f"product_moisture_kg_kg={x0!r}", (lo, hi), overrides=free)
     except ValueError as exc:
         w.held_error = " ".join(str(exc).split())
         return

@@ -257,7 +257,7 @@ def _chamber_inputs(fuel_rate, combustion_air, dilution_air, air_temperature_c, 
     f = check_range("fuel_rate", fuel_rate, 0.0, np.inf, low_inclusive=True, unit="kg/s")
     ac = check_range("combustion_air", combustion_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
     ad = check_range("dilution_air", dilution_air, 0.0, np.inf, low_inclusive=True, unit="kg/s")
-    ta = check_range("air_temperature_c", air_temperature_c, -20.0, 400.0, unit="degC")
+    ta = check_range("air_temperature_c", air_temperature_c, -40.0, 400.0, unit="degC")
     y = check_range("air_humidity", air_humidity, 0.0, 0.3, low_inclusive=True, high_inclusive=True,
                     unit="kg/kg dry air")
     tf = check_range("fuel_temperature_c", fuel_temperature_c, -20.0, 200.0, unit="degC")
@@ -331,7 +331,7 @@ def combustion_chamber(fuel_rate, combustion_air, dilution_air, air_temperature_
     def h_prod(t):
         return sum(n[s] * _h_molar(s, t) for s in comb.SPECIES) * 1000.0
 
-    lo = np.full(f.shape, -20.0)
+    lo = np.full(f.shape, -40.0)
     hi = np.full(f.shape, 726.85)
     f_hi = h_prod(hi) - rhs
     if np.any(f_hi < 0):
