@@ -192,3 +192,14 @@ def test_a_boolean_where_a_number_is_expected_is_refused(tmp_path):
     assert re.search(r"bad\.toml:\d+: flight\.segments = \[\[True, 90\.0\], \[0\.1, 135\.0\]\] holds a boolean", msg), msg
     ok = load_case(str(tmp_path / "d.toml"), {"thermal.enabled": False, "geometry.tabulated": True})
     assert ok.thermal.enabled is False
+
+
+def test_one_problem_is_one_line():
+    """A case with one problem gave two lines, the first ('invalid case ... (1 problem):') naming no key (found by
+    fuzzing): one line; two problems keep their count and a line each."""
+    res = CliRunner().invoke(app, ["simulate", "lee2008_invicta", "--set", "operating.feed_rate=-1"])
+    assert res.exit_code == 2
+    assert res.output.strip() == ("error: invalid case 'lee2008_invicta': --set operating.feed_rate: operating.feed_rate "
+                                  "= '-1': Input should be greater than 0 (allowed range (0, 1000] kg/s)")
+    with pytest.raises(ValueError, match=r"\(2 problems\):\n--set operating.feed_rate: .*\n--set operating.rpm: "):
+        load_case("lee2008_invicta", {"operating.feed_rate": -1, "operating.rpm": -1})

@@ -999,13 +999,13 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
     try:       # a plant format: its reader translates it into the one specification
         spec = reader(case)
     except ValueError as exc:
-        raise ValueError(f"invalid case {name!r} (1 problem):\n{shown}: {exc}") from None
+        raise ValueError(_invalid(name, f"{shown}: {exc}", 1)) from None
     try:
         return DryerCase.model_validate(spec)
     except ValidationError as exc:
         n = len(exc.errors())
         details = _format_validation_error(exc, spec, "", shown, overrides)
-        raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
+        raise ValueError(_invalid(name, details, n)) from None
 
 
 def _test_slope(raw, overrides):
@@ -1019,6 +1019,14 @@ def _test_slope(raw, overrides):
     row = next((r for r in tests if isinstance(r, dict) and str(r.get("test")) == want), None)
     if row is not None and row.get("slope") is not None and isinstance(raw.get("drum"), dict):
         raw["drum"] = {**raw["drum"], "slope": row["slope"]}
+
+
+def _invalid(name, details: str, n: int) -> str:
+    """The message of an invalid case with ``n`` problems (``details``: a line each, and perhaps a note): one line
+    for one problem, else their count and a line per problem."""
+    if n == 1:
+        return f"invalid case {name!r}: " + " ".join(details.splitlines())
+    return f"invalid case {name!r} ({n} problems):\n{details}"
 
 
 def _validated(cls, raw, valid, text, shown, name, overrides):
@@ -1062,7 +1070,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             lines.append(f"{where}: {dotted} = {_shown_value(value)} holds a boolean (true/false) where a number "
                          "is expected")
         n = len(lines)
-        raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n" + "\n".join(lines))
+        raise ValueError(_invalid(name, "\n".join(lines), len(lines)))
     try:
         return cls.model_validate(raw)
     except ValidationError as exc:
@@ -1073,7 +1081,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
                                if k in locs or any(loc.startswith(k + ".") for loc in locs)})
         if from_records:
             details += "\n(" + "; ".join(from_records) + ")"
-        raise ValueError(f"invalid case {name!r} ({n} problem{'s' if n > 1 else ''}):\n{details}") from None
+        raise ValueError(_invalid(name, details, n)) from None
 
 
 @lru_cache(maxsize=4096)
