@@ -64,3 +64,12 @@ def test_report_sensitivity_not_a_result(workdir):
     res = run_cli(["report", "invicta", "--sensitivity", "missing.json", "-o", "r.html"], cwd=workdir)
     assert_bad(res, "--sensitivity", "missing.json")
     assert snapshot(workdir) == before
+
+
+def test_size_class_dew_point_and_audit_outputs_are_known(workdir):
+    """--output dust_rate_kg_s, product_d50_m, gas_outlet_dew_point_margin_K were 'not a known output' though
+    simulate and target give them (found by fuzzing)."""
+    res = run_cli(["sensitivity", "lee2008_invicta", "--param", "operating.rpm=2.5,3.5", "-n", "4", "-q",
+                   "--output", "gas_outlet_dew_point_margin_K", "--output", "dust_rate_kg_s"], cwd=workdir)
+    assert res.exit_code == 0, res.output
+    assert "gas_outlet_dew_point_margin_K" in res.output and "dust_rate_kg_s" in res.output

@@ -15,7 +15,11 @@ KNOWN_OUTPUTS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outl
                  "gas_outlet_humidity_kg_kg", "evaporation_kg_s", "fuel_rate_kg_s", "shell_heat_loss_W",
                  "mean_residence_time_s", "total_holdup_kg", "active_holdup_kg", "passive_holdup_kg",
                  "bed_holdup_kg", "outlet_flow_kg_s", "tracer_mean_s", "tracer_std_s", "rtd_std_s",
-                 "rtd_mean_residence_time_s")
+                 "rtd_mean_residence_time_s",
+                 # size classes, the exhaust's dew point and the energy audit (simulate and target give them; found
+                 # by fuzzing: "not a known output")
+                 "dust_rate_kg_s", "product_d50_m", "gas_outlet_dew_point_degC", "gas_outlet_dew_point_margin_K",
+                 "heat_release_W", "specific_energy_kJ_kg_water", "thermal_efficiency")
 
 
 def _text_table(res) -> str:

@@ -728,10 +728,13 @@ def solve_targets(case, finds, such_thats, *, overrides=None, tol=None, labels=N
             J[:, j] = (yj - y) / scale / du
         if not np.all(np.isfinite(J)) or np.linalg.matrix_rank(J, tol=1e-10 * max(1.0, np.abs(J).max())) < len(keys):
             dead = [names[i] for i in range(len(names)) if np.all(np.abs(J[i]) < 1e-12)]
-            why = f"{', '.join(dead)} does not depend on the free inputs" if dead else \
+            # a local slope: an output flat at this point (a product dried to its floor) may move elsewhere
+            why = (f"{', '.join(dead)} does not change with the free inputs at {_fmt_values(vals)} (flat there: "
+                   "e.g. a product dried to its floor)") if dead else \
                 "the targets are not independent (two of them move together)"
             raise TargetError(f"{lab['such_that']}: conflicting or redundant targets: {why}; change the free inputs "
-                              f"({lab['find']}) or the targets", "bad_input")
+                              f"({lab['find']}), their start or the targets, or solve one target at a time",
+                              "bad_input")
         step = np.linalg.solve(J, -r)
         # projected Newton (Bertsekas (1982) SIAM J. Control Optim. 20, 221): an input at its bound that the
         # step would push outside stays there, and the others take the least-squares step with it fixed
