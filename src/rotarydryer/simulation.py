@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import warnings
 
 import numpy as np
 
@@ -28,6 +29,7 @@ from ._threads import single_threaded
 from ._validation import check_choice, check_range
 from .cases import load_case, measured_rtd, measured_rtd_moments
 from .cases.build import (
+    FILL_LIMIT,
     build_model,
     check_feasible,
     check_inputs,
@@ -55,7 +57,11 @@ from .transport.plots import plot_holdup_profile
 from .transport.sections import build_sections
 
 __all__ = ["Simulation", "SteadyResult", "build_thermal_dryer", "run_case", "grid_points", "parse_grid",
-           "MAX_POINTS", "WARM_DT0", "check_finite"]
+           "MAX_POINTS", "WARM_DT0", "check_finite", "FillWarning"]
+
+
+class FillWarning(UserWarning):
+    """A dynamic run whose solids fill the drum beyond the fraction a steady state is refused at."""
 
 
 #: first pseudo-time step (s) of a coupled solve started from a nearby run's state
@@ -308,7 +314,25 @@ class Simulation:
         if progress is not None:
             def step(done, total):
                 progress(f"t = {done:.0f} / {total:.0f} s")
-        return simulate_schedule(steady.dryer, steady.state, schedule, t_end, dt, progress=step)
+        result = simulate_schedule(steady.dryer, steady.state, schedule, t_end, dt, progress=step)
+        self._warn_fill(result)
+        return result
+
+    def _warn_fill(self, result) -> None:
+        """Warn (`FillWarning`) where a dynamic run's solids fill the drum beyond `FILL_LIMIT`, the limit a
+        steady state is refused at: the holdup scaled from the start's fill (found by fuzzing: a schedule's feed of
+        500 kg/s put 127 t of sand, about 77 m^3, into a 37.7 m^3 drum without a word)."""
+        hold = np.asarray(result.outlets.get("holdup", []), dtype=float)
+        if hold.size == 0 or not hold[0] > 0:
+            return
+        f0 = drum_fill_fraction(self.case, self.steady_state().state)
+        i = int(np.argmax(hold))
+        peak = f0 * hold[i] / hold[0]
+        if math.isfinite(peak) and peak > FILL_LIMIT:
+            warnings.warn(f"the solids fill about {peak:.0%} of the drum at t = {result.time_s[i]:g} s ({hold[i]:,.0f} kg "
+                          f"against {hold[0]:,.0f} kg at the start, {f0:.1%} full): beyond the {FILL_LIMIT:.0%} at "
+                          "which a steady state is refused, where the transport laws do not hold; schedule a smaller "
+                          "feed rate or speed change", FillWarning, stacklevel=3)
 
     def rtd(self, t_end=None, dt=None, method="auto"):
         """Tracer response at the (transport) steady state with the case's tracer pulse."""

@@ -68,3 +68,16 @@ def test_control_refuses_a_schedule_of_its_manipulated_input(tmp_path):
     p.write_text("[[trip]]\nat_s = 600\nduration_s = 600\nvalue = 100\n", encoding="utf-8")
     assert_bad(run_cli(["control", *CASE, "--duration", "1800", "--schedule", str(p)], cwd=tmp_path),
                "gas_inlet_temperature", "manipulated input")
+
+
+def test_a_schedule_that_overfills_the_drum_warns(tmp_path):
+    """A feed step to 500 kg/s put 127 t of sand (about 77 m^3) into the template's 37.7 m^3 drum without a word,
+    where a steady state at that feed is refused for its fill (found by fuzzing): the run warns, naming the fill."""
+    res = run_cli(["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    (tmp_path / "s.toml").write_text('[[step]]\ninput = "feed_rate"\nat_s = 10\nvalue = 500\n')
+    res = run_cli(["dynamics", str(tmp_path / "d.toml"), "--schedule", str(tmp_path / "s.toml"), "--t-end", "600",
+                   "--quiet"])
+    assert res.exit_code == 0, res.output
+    assert "warning: the solids fill about" in res.output and "beyond the 30% at which a steady state is refused" in \
+        res.output
