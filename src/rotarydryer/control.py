@@ -65,6 +65,7 @@ import numpy as np
 
 from ._validation import check_choice, check_range
 from .thermal.schedule import DryerIntegrator, base_inputs, burner_fuel_rate, check_applicable, outlets
+from .thermal.states import PRODUCT_FLOOR_MOISTURE
 
 __all__ = ["ControlWarning", "check_schedule", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
            "ControlConfig", "identify", "check_scenario", "closed_loop", "ClosedLoopResult", "SCENARIOS",
@@ -357,10 +358,6 @@ def _step(dryer, z0, duration, dt, **change):
     return res.time, {k: np.asarray(v) for k, v in ys.items()}
 
 
-#: a product drier than this (kg/kg wet) is at its moisture floor: a product-moisture loop has nothing to control
-PRODUCT_FLOOR = 1e-5
-
-
 def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, feed_step_fraction=-0.1,
              moisture_step_fraction=0.1, progress=None, measured=None):
     """FOPDT models (per measured output) of the gas inlet temperature, the feed rate and the
@@ -386,10 +383,10 @@ def identify(dryer, steady, duration_s=5400.0, dt_s=60.0, gas_step_degC=30.0, fe
              "feed_rate": (dict(feed_rate=F0 * (1 + feed_step_fraction)), F0 * feed_step_fraction),
              "feed_moisture_dry": (dict(feed_moisture=_wet_basis(Xs)), Xs - X0)}
     y0 = outputs_of(dryer, z0)
-    if "product_moisture" in required and not y0["product_moisture"] > PRODUCT_FLOOR:
+    if "product_moisture" in required and not y0["product_moisture"] > PRODUCT_FLOOR_MOISTURE:
         # a product at the material's floor: its moisture moves by roundings (gains of 1e-10), no loop to tune
         raise ValueError(f"control: the product leaves at {y0['product_moisture']:.3g} kg/kg wet, dried to the "
-                         f"material's floor (below {PRODUCT_FLOOR:g} kg/kg): its moisture does not respond to the "
+                         f"material's floor (below {PRODUCT_FLOOR_MOISTURE:g} kg/kg): its moisture does not respond to the "
                          "inputs, there is nothing to control at this operating point; give one where the product "
                          "leaves wetter (a lower gas inlet temperature, a higher feed rate or feed moisture), or "
                          "measure the exhaust (--measured exhaust_temperature)")

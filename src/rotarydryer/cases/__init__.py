@@ -12,7 +12,6 @@ naming it and listing the valid keys; an invalid value raises ``ValueError`` nam
 the key, the value and the constraint.
 """
 
-
 import copy
 import re
 import tomllib
@@ -910,6 +909,17 @@ def _limit_key(loc: tuple) -> str | None:
     return None
 
 
+def _problem_where(loc: tuple, text: str, shown: str, overrides: dict | None) -> str:
+    """Where a problem at case key ``loc`` was given: the ``--set`` options at or below it, else the file's line
+    (``shown:line``), else the file."""
+    named = ".".join(str(x) for x in loc)
+    below = [k for k in overrides or {} if k == named or (named and k.startswith(named + "."))]
+    if below:
+        return "--set " + ", --set ".join(below)
+    no = _toml_line(text, loc) if text and loc else None
+    return f"{shown}:{no}" if no else shown
+
+
 def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", shown: str = "",
                              overrides: dict | None = None) -> str:
     """One line per problem: ``file:line: field = value: message (allowed ...)``."""
@@ -922,14 +932,7 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
         if not loc:   # a check of the whole case: locate the key its message starts with
             m = re.match(r"([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)+) = ", text_msg)
             loc = tuple(m.group(1).split(".")) if m else loc
-        where = shown
-        named = ".".join(str(x) for x in loc)      # the key a whole-case message starts with, else dotted
-        below = [k for k in overrides or {} if k == named or (named and k.startswith(named + "."))]
-        if below:
-            where = "--set " + ", --set ".join(below)
-        elif text and loc:
-            no = _toml_line(text, loc)
-            where = f"{shown}:{no}" if no else shown
+        where = _problem_where(loc, text, shown, overrides)
         if kind == "missing":
             msg = f"{dotted} is missing (a required field or section)"
         elif kind == "extra_forbidden":
@@ -1061,15 +1064,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
     origin = raw.pop("__calibrated__", {})
     booleans = _boolean_numbers(cls, raw)
     if booleans:
-        lines = []
-        for loc, value in booleans:
-            dotted = ".".join(str(x) for x in loc)
-            below = [k for k in overrides or {} if k == dotted]
-            no = _toml_line(text, loc) if text and not below else None
-            where = "--set " + below[0] if below else (f"{shown}:{no}" if no else shown)
-            lines.append(f"{where}: {dotted} = {_shown_value(value)} holds a boolean (true/false) where a number "
-                         "is expected")
-        n = len(lines)
+        lines = [f"{_problem_where(loc, text, shown, overrides)}: {'.'.join(str(x) for x in loc)} = "
+                 f"{_shown_value(value)} holds a boolean (true/false) where a number is expected"
+                 for loc, value in booleans]
         raise ValueError(_invalid(name, "\n".join(lines), len(lines)))
     try:
         return cls.model_validate(raw)

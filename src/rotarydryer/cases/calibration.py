@@ -22,7 +22,6 @@ Keys of a record's ``values``: any override key (``thermal.area_scale``) or a fi
 ``[[tests]]`` row, ``tests.<test>.<field>`` (``tests.4.solids_velocity``).
 """
 
-
 import math
 import warnings
 from typing import Any, Optional, Union

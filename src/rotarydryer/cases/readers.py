@@ -18,7 +18,6 @@ Keys of the old formats that a rewritten shipped case no longer has still work a
 naming it.
 """
 
-
 import math
 import warnings
 from collections.abc import Callable

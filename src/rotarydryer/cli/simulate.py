@@ -20,11 +20,6 @@ def _steady(case_name, sets):
     return case, model, model.steady_state()
 
 
-def _dust_share(thermal) -> float:
-    """The share of the feed's dry solids that leaves as dust (that of the entrainment warning)."""
-    return sum(r["lost_as_dust"] * r["feed_fraction"] for r in thermal.size_class_table())
-
-
 def _save_last_thermal_state(exc, out, diagnostics=None) -> Optional[str]:
     """Write the last iterate of a failed thermal steady state (``DryerError.state``) to the file
     ``diagnostics`` or, without it, to ``thermal_last_state.json`` in ``out``; never into the
@@ -70,6 +65,7 @@ def simulate(
       rotarydryer simulate lee2008_invicta --set geometry.method=lee2008_regressions
     """
     from ..simulation import Simulation
+    from ..thermal.states import dust_share
 
     try:
         check_out_file("--diagnostics", diagnostics)
@@ -155,7 +151,7 @@ def simulate(
                      # the share of the feed's solids, as the entrainment warning gives it (the dust rate with its
                      # water over the wet feed was a second, smaller share of one quantity)
                      ("dust to the exhaust", f"{show_output('dust_rate_kg_s', result['dust_rate_kg_s'])} "
-                                             f"({_dust_share(thermal):.1%} of the feed's solids)")]
+                                             f"({dust_share(thermal):.1%} of the feed's solids)")]
         rows += _audit_rows(result)
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"

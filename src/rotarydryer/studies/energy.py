@@ -38,6 +38,7 @@ from .._validation import finite_number, fmt_number
 from ..cases.build import operating_point
 from ..simulation import Simulation
 from ..thermal.audit import HEAT_DUTY_LABELS, HEAT_DUTY_PARTS, ShellTemperatureWarning, SupersaturationWarning
+from ..thermal.states import PRODUCT_FLOOR_MOISTURE
 from .target import target
 
 __all__ = ["energy_audit", "EnergyAudit", "WhatIf", "MEASURES", "parse_values"]
@@ -51,10 +52,6 @@ HOLD_SPAN = (150.0, 60.0)
 #: gas inlet temperatures further apart than this (K) giving the base product moisture (within the target's
 #: tolerance) leave the held what-if undetermined: a product at its moisture floor (`_hold`)
 HOLD_FLAT_K = 1.0
-#: a base product drier than this (kg/kg wet) is at its moisture floor: holding it does not fix a gas inlet
-#: temperature (the target's tolerance is as large as the moisture itself; found by fuzzing: a product at 1.8e-7
-#: kg/kg "held" at the search's upper end, 60 K hotter, with a negative saving)
-HOLD_MIN_MOISTURE = 1e-5
 #: the held what-if's product moisture must equal the base's within this fraction (or the target's tolerance)
 HOLD_REL_TOL = 0.01
 
@@ -285,9 +282,9 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
     found by the target solver (or ``w.held_error``)."""
     lo, hi = max(t_in - HOLD_SPAN[0], 1.0), min(t_in + HOLD_SPAN[1], 600.0)
     x0 = s0["product_moisture_kg_kg"]
-    if not x0 > HOLD_MIN_MOISTURE:
+    if not x0 > PRODUCT_FLOOR_MOISTURE:   # the target's tolerance is as large as the moisture itself
         w.held_error = (f"the base product moisture is {show_output('product_moisture_kg_kg', x0)}, below "
-                        f"{fmt_number(HOLD_MIN_MOISTURE)} kg/kg: the product is dried to its floor (the material's "
+                        f"{fmt_number(PRODUCT_FLOOR_MOISTURE)} kg/kg: the product is dried to its floor (the material's "
                         "equilibrium moisture), so holding it does not fix a gas inlet temperature; hold a wetter "
                         "product with rotarydryer target instead")
         return
