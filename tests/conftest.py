@@ -1,8 +1,14 @@
 """The test session is long work: it runs thousands of steady states, so it uses the compiled
 kernels as a sweep or a study does (`rotarydryer._jit.long_runs`; the auto mode of
 ``ROTARYDRYER_JIT``). The command-line tests run one-off commands in their own processes, which
-take the NumPy path as a user's one-off command does: both paths are exercised."""
+take the ahead-of-time kernels when they are built and the NumPy path otherwise, as a user's
+one-off command does; the tests of each kernel compare it with its NumPy reference.
+
+The ahead-of-time kernel module (`rotarydryer._aot`) is built here, before the first test, when
+it is missing (20-60 s once per installation): a test's subprocess with a timeout never waits
+for it."""
 
 from rotarydryer import _jit
 
 _jit.long_runs()
+_jit.enabled()

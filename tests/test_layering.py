@@ -108,7 +108,8 @@ def test_models_do_not_import_upper_layers():
 #: Layers, lowest first. A module belongs to the longest entry that prefixes its name below
 #: ``rotarydryer.``; it may import its own unit, any unit of its own layer, and lower layers.
 LAYERS = (
-    ("infrastructure", ("_validation", "_limits", "_io", "_jit", "_threads", "_startup", "_display", "_plotting", "_sparse_fd", "_grids",
+    ("infrastructure", ("_validation", "_limits", "_io", "_jit", "_aot", "_threads", "_startup", "_display", "_plotting",
+                        "_sparse_fd", "_grids",
                         "executor",
                         "_extras", "_docblocks", "published", "data", "__version__")),
     ("correlations", ("correlations",)),

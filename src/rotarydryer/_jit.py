@@ -4,21 +4,29 @@ The hot loops of the heat-and-mass residual have a compiled form: the tabulated 
 of every cell (`rotarydryer.geometry._cell_kernel`), the gas properties, the gas-solids
 transfer and the shell network (`rotarydryer.properties._kernels`). Each has a NumPy
 reference that gives the same numbers to rounding (the shell: the same root to its tolerance;
-tested against each other) and that runs whenever the compiled kernels are not in use. The
-compiled functions are cached on disk by numba (``cache=True``): the first use in a fresh
-installation compiles them (about 8 s); later processes load them (about 0.6-0.9 s with numba's
-import), which a one-off steady state (0.1-0.3 s of solving) does not win back.
+tested against each other) and that runs whenever the compiled kernels are not in use.
+
+The compiled kernels come from one of two places:
+
+* the **ahead-of-time module** (`rotarydryer._aot`): built once per installation by the first
+  long run (20-60 s, in a child process; it needs numba and a C compiler), then loaded by any
+  process in about a millisecond, without numba;
+* **numba's JIT** with its disk cache (``cache=True``), where that module cannot be built: the
+  first use compiles (about 8 s), later processes load them in 0.5-0.9 s (numba's import and
+  first dispatch), which a one-off steady state (0.1-0.3 s of solving) does not win back.
 
 ``ROTARYDRYER_JIT`` chooses:
 
 * ``auto`` (default): the compiled kernels serve the **long runs** - a process that declares one
   (`long_runs`: sweeps, sensitivity studies, dynamics, control, design searches, fits and
-  calibrations, validation, the executor's workers, the web app) imports numba then, once; a
-  one-off command (``simulate``, ``rtd``, ``report``) never imports it;
-* ``1`` / ``on``: always (numba imported at the first residual);
+  calibrations, validation, the executor's workers, the web app) builds or loads them; a
+  one-off command (``simulate``, ``rtd``, ``report``) uses the ahead-of-time module when it is
+  built and NumPy otherwise, and never imports numba;
+* ``1`` / ``on``: always;
 * ``0`` / ``off``: never.
 
-numba is imported only when a kernel is first needed, never at import time.
+numba is imported only when a kernel is first needed and the ahead-of-time module is not
+there, never at import time.
 """
 
 from __future__ import annotations
@@ -26,7 +34,9 @@ from __future__ import annotations
 import os
 import warnings
 
-__all__ = ["ENV", "available", "disable", "enabled", "kernel", "long_runs", "mode"]
+from . import _aot
+
+__all__ = ["ENV", "aot", "available", "disable", "enabled", "kernel", "long_runs", "mode"]
 
 #: environment variable: "auto" (default), "1"/"on" (always) or "0"/"off" (never)
 ENV = "ROTARYDRYER_JIT"
@@ -91,7 +101,12 @@ def enabled() -> bool:
     hit = _STATE.get(key)
     if hit is None:
         m = mode()
-        hit = not (m == "off" or _DISABLED or (m == "auto" and not _LONG)) and _numba() is not None
+        if m == "off" or _DISABLED or os.environ.get("NUMBA_DISABLE_JIT", "0").strip() not in ("", "0"):
+            hit = False     # NUMBA_DISABLE_JIT=1: numba's own switch (to debug the kernels as Python) too
+        elif m == "auto" and not _LONG:     # a one-off run: only kernels that cost nothing to load
+            hit = _aot.module() is not None
+        else:
+            hit = _aot.module(build=True) is not None or _numba() is not None
         _STATE[key] = hit
     return hit
 
@@ -99,12 +114,20 @@ def enabled() -> bool:
 def kernel(fn):
     """``numba.njit(cache=True, nogil=True)`` of ``fn`` when the kernels are in use, else None (the caller
     then takes its NumPy reference path). Division by zero gives inf or NaN, as in NumPy."""
-    if not enabled():
+    if not enabled() or _numba() is None:
         return None
     try:
         return _NUMBA.njit(cache=True, nogil=True, error_model="numpy")(fn)
     except RuntimeError:        # no writable cache location (read-only installation): compile per process
         return _NUMBA.njit(nogil=True, error_model="numpy")(fn)
+
+
+def aot(name: str, kinds: str):
+    """Kernel ``name`` from the ahead-of-time module (`rotarydryer._aot`) when the kernels are in use
+    and that module is built, else None (the caller then takes numba's JIT, `kernel`)."""
+    if not enabled():
+        return None
+    return _aot.function(name, kinds)
 
 
 def disable(reason: str):

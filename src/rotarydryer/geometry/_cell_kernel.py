@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from .._jit import kernel
+from .._jit import aot, kernel
 
 #: the functions the kernel calls, by name: compiled with it (`compiled`)
 _HELPERS: dict = {}
@@ -169,11 +169,18 @@ def _cell_values(phi, rho, mp, length, keep, a_h0, a_baker, smoothing, fixed, br
 
 
 _COMPILED: list = []
+#: `_cell_values`'s argument kinds (`rotarydryer._aot`) and what the ahead-of-time module compiles
+_KINDS = "aaafffffbammiaaannffimffffffM"
+AOT_KERNELS = {"cell_values": (_cell_values, _KINDS)}
 
 
 def compiled():
     """The compiled `_cell_values` (its helpers compiled first), or None when the kernels are off."""
     if not _COMPILED:
+        fn = aot("cell_values", _KINDS)     # the ahead-of-time module's, once built
+        if fn is not None:
+            _COMPILED.append(fn)
+            return fn
         fn = kernel(_cell_values)
         if fn is None:
             return None

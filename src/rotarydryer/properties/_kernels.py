@@ -592,6 +592,11 @@ def evaluate(name, inputs, params, n_out):
 
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,
           "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop}
+#: each kernel's argument kinds (`rotarydryer._aot`: ``a`` a float array, ``o`` an output array, ``f`` a float)
+_KINDS = {"transport": "aaaoo", "heat": "aaaooo", "wsgg": "aaaaao", "psat": "aao", "diffusivity": "aaffo",
+          "shell": "aaaaaaaaaooo", "transfer": "aaaaaaaaaaaaaooo"}
+#: what the ahead-of-time module compiles (`rotarydryer._aot`)
+AOT_KERNELS = {name: (fn, _KINDS[name]) for name, fn in _LOOPS.items()}
 _compiled: dict = {}
 _HELPERS_COMPILED: list = []
 
@@ -602,6 +607,10 @@ def compiled(name):
         return None
     fn = _compiled.get(name)
     if fn is None:
+        fn = _jit.aot(name, _KINDS[name])     # the ahead-of-time module's, once built
+        if fn is not None:
+            _compiled[name] = fn
+            return fn
         if not _HELPERS_COMPILED:   # the helpers first: the kernels' globals must be compiled functions
             for helper, py in _HELPERS.items():
                 globals()[helper] = _jit.kernel(py) or py

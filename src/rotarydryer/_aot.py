@@ -1,0 +1,289 @@
+"""The compiled kernels ahead of time: one extension module per installation, loaded in about a millisecond.
+
+The compiled kernels of `rotarydryer._jit` (the residual's gas properties, transfer and shell
+network, and the flight tables of each cell) cost a process 0.5-0.7 s to load from numba's
+disk cache: numba's import and its first dispatch, before any kernel runs. A sweep's parent and
+each new worker pay it, one-off commands cannot (they stay on NumPy). This module compiles the
+same functions once, with ``numba.pycc``, into an extension module kept in the kernel cache
+(``$ROTARYDRYER_KERNEL_DIR``, else ``$XDG_CACHE_HOME/rotarydryer/kernels``; ``off`` disables
+it); later processes import it without numba.
+
+* The module's name carries a digest of the kernels' sources, this file, the Python and NumPy
+  versions and the machine: a module built by other code is never loaded.
+* It is built by the first process that needs compiled kernels and finds none (a long run:
+  `rotarydryer._jit.long_runs`), in a child process (``python -m rotarydryer._aot``), under a
+  file lock that other processes wait on; the file appears by an atomic rename. The build
+  takes 20-60 s once, in place of numba's own first compilation (about 8 s).
+* Without a C compiler or numba, or when the build fails, a marker file records the reason and
+  the processes use numba's JIT cache, as before (a warning names the reason once).
+* Code is generated for a generic CPU of the architecture (a cache shared by the nodes of a
+  cluster must run on each), with NumPy's error model (a division by zero gives inf or NaN).
+* The extension's functions check nothing: each is wrapped to accept only the declared types
+  (float64 arrays, C-contiguous, outputs writeable; scalars converted) and to raise TypeError
+  otherwise.
+
+Each kernel module declares what is compiled: ``AOT_KERNELS = {name: (function, argument kinds)}``
+and its helpers in ``_HELPERS`` (the functions the kernels call); argument kinds, one letter per
+argument: ``a`` float64 1-D input, ``o`` float64 1-D output, ``m`` float64 2-D input, ``M`` float64
+2-D output, ``n`` int64 1-D input, ``f`` float, ``i`` int, ``b`` bool.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.machinery
+import importlib.util
+import os
+import platform
+import subprocess
+import sys
+import threading
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["DIR_ENV", "KERNEL_MODULES", "build", "function", "kernel_directory", "module"]
+
+#: environment variable naming the kernel cache directory; "off" disables the ahead-of-time kernels
+DIR_ENV = "ROTARYDRYER_KERNEL_DIR"
+#: the modules whose ``AOT_KERNELS`` are compiled (their files are part of the digest)
+KERNEL_MODULES = ("rotarydryer.properties._kernels", "rotarydryer.geometry._cell_kernel")
+_SOURCES = ("_aot.py", "properties/_kernels.py", "geometry/_cell_kernel.py")
+#: the longest a build may take, and the longest a process waits for another's (s)
+BUILD_TIMEOUT = 900.0
+_ARRAY_KINDS = {"a": (np.float64, 1, False), "o": (np.float64, 1, True), "m": (np.float64, 2, False),
+                "M": (np.float64, 2, True), "n": (np.int64, 1, False)}
+_SCALAR_KINDS = {"f": float, "i": int, "b": bool}
+_NUMBA_TYPES = {"a": "float64[::1]", "o": "float64[::1]", "m": "float64[:, ::1]", "M": "float64[:, ::1]",
+                "n": "int64[::1]", "f": "float64", "i": "int64", "b": "boolean"}
+
+_STATE: dict = {}       # "module": the loaded module or None once decided; "warned": a failure reported
+_LOCK = threading.Lock()
+
+
+def kernel_directory():
+    """The kernel cache directory, or None when disabled (``$ROTARYDRYER_KERNEL_DIR`` = off)."""
+    env = os.environ.get(DIR_ENV)
+    if env is not None:
+        return None if env.strip().lower() in ("", "off", "0", "none") else Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "rotarydryer" / "kernels"
+
+
+def _digest() -> str:
+    h = hashlib.sha256(b"rotarydryer kernels\0")
+    here = Path(__file__).parent
+    for name in _SOURCES:
+        h.update(name.encode() + b"\0" + (here / name).read_bytes())
+    h.update(repr((sys.version, np.__version__, platform.machine(), sys.platform)).encode())
+    return h.hexdigest()[:16]
+
+
+def _paths():
+    """(directory, module name, extension file, failure marker, lock file) of this installation's module."""
+    where = kernel_directory()
+    if where is None:
+        return None
+    name = f"_rotarydryer_kernels_{_digest()}"
+    suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
+    return where, name, where / (name + suffix), where / (name + ".failed"), where / (name + ".lock")
+
+
+def _load(name: str, path: Path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _warn(message: str) -> None:
+    if not _STATE.get("warned"):
+        _STATE["warned"] = True
+        warnings.warn(f"rotarydryer: {message}; using numba's JIT cache", RuntimeWarning, stacklevel=4)
+
+
+def module(build: bool = False):
+    """The ahead-of-time kernel module of this installation, or None (disabled, not built, or not
+    buildable here). ``build``: build it now if it is missing (waiting for another process's build).
+    Decided once per process when found or failed; a process that did not build may look again."""
+    if "module" in _STATE and (_STATE["module"] is not None or not build or _STATE.get("final")):
+        return _STATE["module"]
+    with _LOCK:     # one thread builds or loads (the web app's sessions run in threads)
+        return _module(build)
+
+
+def _module(build: bool):
+    if "module" in _STATE and (_STATE["module"] is not None or not build or _STATE.get("final")):
+        return _STATE["module"]
+    paths = _paths()
+    if paths is None:
+        _STATE.update(module=None, final=True)
+        return None
+    where, name, ext, failed, lock = paths
+    mod = None
+    if ext.exists():
+        mod = _try_load(name, ext)
+    elif build and not failed.exists():
+        mod = _build_locked(where, name, ext, failed, lock)
+    _STATE["module"] = mod
+    _STATE["final"] = mod is not None or build
+    return mod
+
+
+def _try_load(name, ext):
+    try:
+        return _load(name, ext)
+    except Exception as exc:    # noqa: BLE001 - a damaged file: the JIT instead
+        _warn(f"the compiled kernel module {ext} cannot be loaded ({type(exc).__name__}: {exc})")
+        return None
+
+
+def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path):
+    if importlib.util.find_spec("numba") is None:
+        return None
+    try:
+        where.mkdir(parents=True, exist_ok=True)
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as exc:
+        _warn(f"the kernel cache {where} is not writable ({exc.strerror or exc})")
+        return None
+    try:
+        import fcntl
+    except ImportError:         # not POSIX: build without the lock (the rename keeps the file whole)
+        fcntl = None
+    try:
+        if fcntl is not None:
+            deadline = time.monotonic() + BUILD_TIMEOUT
+            while True:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    break
+                except OSError:
+                    if time.monotonic() > deadline:
+                        return None
+                    time.sleep(0.2)
+        if ext.exists():        # built by the process that held the lock
+            return _try_load(name, ext)
+        if failed.exists():
+            return None
+        if sys.stderr is not None and sys.stderr.isatty():     # a person waits: say why, once
+            print("rotarydryer: compiling the kernels for this installation (once, 20-60 s) ...", file=sys.stderr,
+                  flush=True)
+        reason = build(where, name)
+        if reason is not None:
+            try:
+                failed.write_text(reason + "\n")
+            except OSError:
+                pass
+            _warn(f"the compiled kernels could not be built ahead of time ({reason})")
+            return None
+        return _try_load(name, ext)
+    finally:
+        os.close(fd)    # releases the lock
+
+
+def build(where: Path, name: str):
+    """Compile the kernels into ``where/name<suffix>`` in a child process; None on success, else the
+    reason (one line)."""
+    tmp = where / f".build-{name}-{os.getpid()}"
+    try:
+        proc = subprocess.run([sys.executable, "-m", "rotarydryer._aot", str(tmp), name], capture_output=True,
+                              text=True, timeout=BUILD_TIMEOUT, env={**os.environ, "ROTARYDRYER_JIT": "0"})
+        if proc.returncode != 0:
+            lines = [x for x in (proc.stderr or proc.stdout or "").splitlines() if x.strip()]
+            return lines[-1].strip() if lines else f"exit code {proc.returncode}"
+        built = [p for p in tmp.iterdir() if p.name.startswith(name) and p.suffix in (".so", ".pyd")]
+        if not built:
+            return "the compiler wrote no module"
+        os.replace(built[0], where / (name + importlib.machinery.EXTENSION_SUFFIXES[0]))
+        return None
+    except subprocess.TimeoutExpired:
+        return f"the build took more than {BUILD_TIMEOUT:.0f} s"
+    except OSError as exc:
+        return f"{type(exc).__name__}: {exc}"
+    finally:
+        if tmp.exists():
+            for p in sorted(tmp.rglob("*"), reverse=True):
+                try:
+                    p.rmdir() if p.is_dir() else p.unlink()
+                except OSError:
+                    pass
+            try:
+                tmp.rmdir()
+            except OSError:
+                pass
+
+
+def _guarded(fn, name: str, kinds: str):
+    """``fn`` accepting only arguments of ``kinds`` (TypeError otherwise); scalars converted."""
+    spec = [(_ARRAY_KINDS.get(k), _SCALAR_KINDS.get(k)) for k in kinds]
+    n = len(spec)
+
+    def call(*args):
+        if len(args) != n:
+            raise TypeError(f"kernel {name}: {len(args)} arguments, expected {n}")
+        conv = []
+        for i, (a, (arr, scalar)) in enumerate(zip(args, spec)):
+            if arr is None:
+                try:
+                    conv.append(scalar(a))
+                except (TypeError, ValueError):
+                    raise TypeError(f"kernel {name}: argument {i} must be a {scalar.__name__}") from None
+                continue
+            if (type(a) is not np.ndarray or a.dtype != arr[0] or a.ndim != arr[1] or not a.flags.c_contiguous
+                    or (arr[2] and not a.flags.writeable)):
+                raise TypeError(f"kernel {name}: argument {i} must be a C-contiguous {np.dtype(arr[0]).name} array "
+                                f"of {arr[1]} dimension(s){' (writeable)' if arr[2] else ''}")
+            conv.append(a)
+        return fn(*conv)
+
+    call.__name__ = name
+    call.aot = True
+    return call
+
+
+def function(name: str, kinds: str, build: bool = False):
+    """Kernel ``name`` (argument ``kinds``) from the ahead-of-time module, type-checked, or None."""
+    mod = module(build=build)
+    fn = getattr(mod, name, None) if mod is not None else None
+    return None if fn is None else _guarded(fn, name, kinds)
+
+
+def _compile(out_dir: str, name: str) -> None:
+    """The child process's build: numba.pycc over every kernel module's ``AOT_KERNELS``."""
+    import importlib
+
+    import numba
+    import numba.pycc.compiler as pycc_compiler
+    from numba.core import sigutils
+    from numba.pycc import CC
+
+    base_flags = pycc_compiler.Flags
+
+    class _NumpyErrors(base_flags):     # the JIT's error model: a division by zero gives inf or NaN
+        def __init__(self, *a, **k):
+            super().__init__(*a, **k)
+            self.error_model = "numpy"
+
+    pycc_compiler.Flags = _NumpyErrors
+    cc = CC(name)
+    cc.output_dir = out_dir
+    cc.verbose = False
+    for modname in KERNEL_MODULES:
+        mod = importlib.import_module(modname)
+        for helper, py in mod._HELPERS.items():     # the kernels' globals: compiled functions
+            setattr(mod, helper, numba.njit(error_model="numpy")(py))
+        for export, (fn, kinds) in mod.AOT_KERNELS.items():
+            args, _ = sigutils.normalize_signature(f"void({', '.join(_NUMBA_TYPES[k] for k in kinds)})")
+            jit = numba.njit(error_model="numpy")(fn)
+            jit.compile(tuple(args))
+            ret = jit.overloads[tuple(args)].signature.return_type
+            cc.export(export, ret(*args))(fn)
+    os.makedirs(out_dir, exist_ok=True)
+    cc.compile()
+
+
+if __name__ == "__main__":      # python -m rotarydryer._aot OUT_DIR NAME
+    _compile(sys.argv[1], sys.argv[2])
