@@ -6,8 +6,6 @@ Heavy libraries (SciPy, Matplotlib) are imported inside the commands so that
 ``rotarydryer --help`` starts fast.
 """
 
-from __future__ import annotations
-
 import functools
 import gc
 import os

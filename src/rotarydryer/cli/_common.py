@@ -1,7 +1,5 @@
 """Argument helpers shared by the command modules (kept import-light)."""
 
-from __future__ import annotations
-
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager

@@ -1,8 +1,6 @@
 """``rotarydryer audit``: where the heat goes (heat duties), the exhaust's dew point, the shell
 against its limit, and what exhaust recycle, feed preheating or insulation would save."""
 
-from __future__ import annotations
-
 import sys
 from pathlib import Path
 from typing import Optional

@@ -1,7 +1,5 @@
 """``rotarydryer balance``: overall energy balance of a plant test (gas flow implied by the data)."""
 
-from __future__ import annotations
-
 from typing import Optional
 
 import typer

@@ -1,7 +1,5 @@
 """``rotarydryer calibrate``: fit case keys to several measured responses of many tests at once."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

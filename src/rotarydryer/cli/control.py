@@ -1,7 +1,5 @@
 """``rotarydryer control``: closed-loop run (PI + feed-forward) of a dryer's dynamic model."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

@@ -1,7 +1,5 @@
 """``rotarydryer mrt``: mean residence time of solids by the published correlations."""
 
-from __future__ import annotations
-
 from typing import Optional
 
 import typer

@@ -1,7 +1,5 @@
 """``rotarydryer dem export|run|holdup``: LIGGGHTS slices of a flighted drum and their flight holdup."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

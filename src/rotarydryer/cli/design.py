@@ -1,7 +1,5 @@
 """``rotarydryer design``: size a flighted rotary dryer for a drying duty (or check a shipped plant)."""
 
-from __future__ import annotations
-
 import time
 from pathlib import Path
 from typing import Optional

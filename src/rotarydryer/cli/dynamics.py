@@ -1,8 +1,6 @@
 """``rotarydryer dynamics``: the dynamic response of a dryer from its steady state under an input
 schedule (steps, ramps, a burner trip and restart of any input)."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

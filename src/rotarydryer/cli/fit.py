@@ -1,7 +1,5 @@
 """``rotarydryer fit``: estimate case parameters from a measured tracer curve."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

@@ -1,7 +1,5 @@
 """``rotarydryer flight``: unloading summary and pictures for one drum and flight."""
 
-from __future__ import annotations
-
 import math
 from pathlib import Path
 from typing import Optional

@@ -1,7 +1,5 @@
 """``rotarydryer fmu``: export the dynamic dryer as an FMI 2.0 co-simulation FMU (pythonfmu)."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

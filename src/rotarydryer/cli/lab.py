@@ -1,8 +1,6 @@
 """``rotarydryer lab``: laboratory data tools (flight-unloading rig, photographs, design-load fits, step
 tests, drying curves)."""
 
-from __future__ import annotations
-
 import math
 from pathlib import Path
 from typing import Optional

@@ -1,7 +1,5 @@
 """``rotarydryer report``: one self-contained HTML report of a result, a case or a drum."""
 
-from __future__ import annotations
-
 import time
 from pathlib import Path
 from typing import Optional

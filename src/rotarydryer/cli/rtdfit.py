@@ -4,8 +4,6 @@ DATA is a tracer CSV file (format in `rotarydryer.rtd.tracer_data`) or the
 name of a shipped data set (``lee2008_invicta``, ``ajayi2011_test1`` ... ``6``).
 """
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

@@ -1,7 +1,5 @@
 """``rotarydryer schema``, ``rotarydryer cases``, ``rotarydryer new``: case-file tooling."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

@@ -1,7 +1,5 @@
 """``rotarydryer sensitivity``: Sobol indices and output distributions of a case (issue 16)."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

@@ -1,7 +1,5 @@
 """``rotarydryer simulate`` and ``rotarydryer rtd``: solids transport of a case."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

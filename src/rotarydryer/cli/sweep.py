@@ -7,8 +7,6 @@ tcp://host:8786``); ``dask.distributed`` is imported only for the last two and i
 dependency of rotarydryer. Every backend gives the same table, bit for bit.
 """
 
-from __future__ import annotations
-
 import csv
 from pathlib import Path
 from typing import Optional

@@ -1,8 +1,6 @@
 """``rotarydryer target``: the value of one case input that meets a condition on one output
 (e.g. the largest feed rate whose product moisture is at most 0.12)."""
 
-from __future__ import annotations
-
 from typing import Optional
 
 import typer

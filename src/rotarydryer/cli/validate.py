@@ -1,7 +1,5 @@
 """``rotarydryer validate``: the cases against their measured and published numbers."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Optional
 

@@ -4,8 +4,6 @@ The module is called ``webapp`` and not ``app``: importing a submodule ``rotaryd
 would replace the Typer object ``rotarydryer.cli.app`` (the console-script entry point).
 """
 
-from __future__ import annotations
-
 import typer
 
 from .._io import json_text
