@@ -46,7 +46,7 @@ def test_list_with_processes_and_failed_point(tmp_path):
     res = runner.invoke(cli, ["sweep", "ajayi2011_mmg", "--list", str(runs), "--workers", "2", "--json"])
     assert res.exit_code == 1  # test 7 does not exist
     rows = json.loads(res.stdout)
-    assert [r["operating.test"] for r in rows] == ["2", "4", "7"]
+    assert [r["operating.test"] for r in rows] == [2, 4, 7]     # numbers, as the case reads them
     assert rows[0]["error"] == "" and rows[1]["error"] == ""
     assert "operating.test" in rows[2]["error"]
     assert rows[1]["total_holdup_kg"] == pytest.approx(run_case("ajayi2011_mmg", {"operating.test": 4}).scalars["total_holdup_kg"])
@@ -193,6 +193,7 @@ def test_no_rtd_leaves_the_tracer_moments_out():
     """--no-rtd had no visible effect (the tracer moments are the steady state's analytic ones, computed anyway):
     it now leaves the tracer columns out; the other columns are the same numbers."""
     args = ["sweep", "lee2008_invicta", "--grid", "operating.rpm=2,3", "-q", "--json"]
+    assert [r["operating.rpm"] for r in json.loads(runner.invoke(cli, args).stdout)] == [2, 3]
     with_rtd, without = (json.loads(runner.invoke(cli, args + flag).stdout) for flag in ([], ["--no-rtd"]))
     for a, b in zip(with_rtd, without):
         assert "tracer_mean_s" in a and "rtd_std_s" in a and "tracer_mean_s" not in b and "rtd_std_s" not in b

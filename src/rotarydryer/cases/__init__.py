@@ -29,7 +29,7 @@ from .calibration import CalibrationRecord, applied_calibrations, apply_calibrat
 __all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
            "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
-           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations"]
+           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations", "override_value"]
 
 # ---- ceilings of the model size (docs/app_threat_model.md) -------------------------------
 #: cells + finite volumes of one case, all sections together (transport model)
@@ -1044,9 +1044,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
             value = None
         elif isinstance(value, str) and key.startswith("material.") and key != "material.name":
-            value = _toml_value(value)      # material fields are free-form: read "0.0006" as TOML would
+            value = override_value(value)      # material fields are free-form: read "0.0006" as TOML would
         elif isinstance(value, str) and value.strip().startswith("[") and value.strip().endswith("]"):
-            value = _toml_value(value)      # a list from the command line ("[1e-4, 2e-4]"), read as TOML
+            value = override_value(value)      # a list from the command line ("[1e-4, 2e-4]"), read as TOML
         node = raw
         for part in path:       # copy on write: the parsed document is shared by every load of the text
             nxt = node.get(part)
@@ -1148,8 +1148,9 @@ def _checked_records(recs: list, rows: list, title: str, shown: str) -> list[Cal
     return out
 
 
-def _toml_value(text: str):
-    """A --set value as its TOML literal (number, boolean, array, quoted string), else the text."""
+def override_value(text: str):
+    """A --set value as its TOML literal (number, boolean, array, quoted string), else the text
+    (``"4"`` -> 4, ``"1e3"`` -> 1000.0, ``"lee2008"`` -> ``"lee2008"``)."""
     try:
         return tomllib.loads(f"v = {text}")["v"]
     except (tomllib.TOMLDecodeError, ValueError):

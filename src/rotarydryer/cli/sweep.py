@@ -167,8 +167,11 @@ def sweep(
         raise typer.Exit(130)
     if as_json:
         from .._io import json_text
+        from ..cases import override_value
 
-        typer.echo(json_text(rows))
+        given = set().union(*points)    # the overrides' values as the case reads them: numbers, not their text
+        typer.echo(json_text([{k: override_value(v) if k in given and isinstance(v, str) else v for k, v in r.items()}
+                              for r in rows]))
     elif out is None:
         typer.echo(text, nl=False)
     else:
