@@ -214,6 +214,9 @@ class ControlConfig:
     gas_temperature_max: float = 600.0
     feed_min_fraction: float = 0.5
     tolerance: Optional[float] = None
+    #: the product's specification (None: not reported): largest moisture (kg/kg wet) and temperature band (degC)
+    product_moisture_max: Optional[float] = None
+    product_temperature_band: Optional[tuple] = None
 
     def validate(self):
         check_choice("measured", self.measured, MEASURED)
@@ -232,6 +235,24 @@ class ControlConfig:
             check_range("tau_c_s", self.tau_c_s, 0.0, math.inf, unit="s")
         if self.kc is not None:
             check_range("kc", self.kc, -1e6, 1e6)
+        if self.tolerance is not None:
+            check_range("tolerance", self.tolerance, 0.0, 1.0 if self.measured == "product_moisture" else 100.0,
+                        unit="kg/kg wet" if self.measured == "product_moisture" else "K")
+        if self.product_moisture_max is not None:
+            check_range("product_moisture_max", self.product_moisture_max, 0.0, 1.0, low_inclusive=True,
+                        unit="kg/kg wet")
+        if self.product_temperature_band is not None:
+            band = tuple(self.product_temperature_band)
+            if len(band) != 2:
+                raise ValueError(f"product_temperature_band = {self.product_temperature_band!r}: give two temperatures, "
+                                 "LOW,HIGH degC")
+            for v in band:
+                check_range("product_temperature_band", v, -50.0, 600.0, low_inclusive=True, high_inclusive=True,
+                            unit="degC")
+            if not band[0] < band[1]:
+                raise ValueError(f"product_temperature_band = {band[0]:g},{band[1]:g} degC: the low end must be below "
+                                 "the high end")
+            self.product_temperature_band = (float(band[0]), float(band[1]))
         if self.setpoint is not None:
             if self.measured == "product_moisture":
                 check_range("setpoint", self.setpoint, 0.0, 1.0, unit="kg/kg wet")
@@ -482,10 +503,15 @@ def check_schedule(dryer, schedule, t_end_s, controlled=True):
     return checked, (min(starts) if starts else 0.0)
 
 
-def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, product_temperature=None):
+def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, product_temperature=None,
+                moisture_max=None, temperature_band=None):
     """IAE (∫|e|dt from the disturbance), maximum |e|, overshoot (%), settling time (s after the
-    disturbance, None if |e| ends above the tolerance), within-band flag, and the fraction of
-    time meeting Ajayi's targets (moisture <= 12 %, temperature 45-50 degC)."""
+    disturbance, None if |e| ends above the tolerance), within-band flag, the fraction of the samples
+    after the disturbance within the tolerance, and within the product's specification when it is
+    given (``moisture_max`` kg/kg wet, ``temperature_band`` degC: ``fraction_moisture_within_spec``,
+    ``fraction_temperature_within_band``). ``fraction_moisture_at_most_12pct`` and
+    ``fraction_temperature_45_50degC`` are Ajayi's (2011) MMG targets, whatever the dryer (kept for
+    scripts that read them; give the case's own specification instead)."""
     t = np.asarray(time_s, float)
     e = np.asarray(y, float) - setpoint
     m = t >= t_step
@@ -505,15 +531,23 @@ def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, p
         settling = float(tt[outside[-1] + 1] - t_step)
     out = dict(iae=iae, max_abs_deviation=float(np.max(np.abs(ee))) if ee.size else 0.0, peak_deviation=peak,
                overshoot_pct=overshoot, settling_time_s=settling, tolerance=tolerance,
-               within_tolerance=bool(outside.size == 0), final_deviation=float(e[-1]))
+               within_tolerance=bool(outside.size == 0), final_deviation=float(e[-1]),
+               fraction_within_tolerance=float(np.mean(np.abs(ee) <= tolerance)) if ee.size else 1.0)
     if product_moisture is not None:
         pm = np.asarray(product_moisture)[m]
         out["fraction_moisture_at_most_12pct"] = float(np.mean(pm <= AJAYI_TARGETS["product_moisture_max_kg_kg"]
                                                                 + 1e-9))
+        if moisture_max is not None:
+            out["product_moisture_max_kg_kg"] = float(moisture_max)
+            out["fraction_moisture_within_spec"] = float(np.mean(pm <= moisture_max + 1e-12)) if pm.size else 1.0
     if product_temperature is not None:
         lo, hi = AJAYI_TARGETS["product_temperature_band_degC"]
         pt = np.asarray(product_temperature)[m]
         out["fraction_temperature_45_50degC"] = float(np.mean((pt >= lo) & (pt <= hi)))
+        if temperature_band is not None:
+            lo, hi = temperature_band
+            out["product_temperature_band_degC"] = [float(lo), float(hi)]
+            out["fraction_temperature_within_band"] = float(np.mean((pt >= lo) & (pt <= hi))) if pt.size else 1.0
     return out
 
 
@@ -810,7 +844,8 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     tol = cfg.tolerance if cfg.tolerance is not None else TOLERANCE[cv]
     yk = "product_moisture_kg_kg" if cv == "product_moisture" else "exhaust_temperature_degC"
     perf = performance(times, series[yk], sp, t_step_s, tol, series["product_moisture_kg_kg"],
-                       series["product_temperature_degC"])
+                       series["product_temperature_degC"], moisture_max=cfg.product_moisture_max,
+                       temperature_band=cfg.product_temperature_band)
     return ClosedLoopResult(np.asarray(times), series, sp, cv, tuning, perf,
                             dict(name=scenario, magnitude=magnitude, t_step_s=t_step_s, t_end_s=t_end_s,
                                  controlled=controlled), time.perf_counter() - t0)
@@ -839,8 +874,9 @@ def plot(closed: ClosedLoopResult, open_: ClosedLoopResult | None = None):
     ax[1].plot(h, closed.series["product_temperature_degC"], label="closed loop")
     if open_ is not None:
         ax[1].plot(open_.time_s / 3600, open_.series["product_temperature_degC"], "--", label="open loop")
-    ax[1].axhspan(*AJAYI_TARGETS["product_temperature_band_degC"], color="orange", alpha=0.1,
-                  label="Ajayi 45-50 degC")
+    band = closed.performance.get("product_temperature_band_degC")     # the case's, when given
+    if band is not None:
+        ax[1].axhspan(*band, color="orange", alpha=0.1, label=f"specification {band[0]:g}-{band[1]:g} degC")
     ax[1].set_ylabel("product T, degC")
     ax[1].legend(fontsize=8)
     ax[2].step(h, closed.series["gas_inlet_temperature_degC"], where="post")

@@ -119,6 +119,7 @@ def test_control_logic_equals_library():
     (dict(duration=300.0), ["--duration", "300", "--step-time", "600"]),
     (dict(scenario="fouling_ramp", magnitude=1.5), ["--scenario", "fouling_ramp", "--magnitude", "1.5"]),
     (dict(gas_t_max=700.0), ["--gas-t-max", "700"]),
+    (dict(product_temperature_band=(50.0, 40.0)), ["--product-temperature-band", "50,40"]),
 ])
 def test_control_logic_bad_value_gives_the_cli_message(cli, kwargs, args):
     kwargs = dict(dict(step_time=600.0), **kwargs)
@@ -147,6 +148,11 @@ def test_control_page_runs_and_updates():
     assert not at.exception
     after = _metric(at, "Peak error, closed (pp)")
     assert after != before                                          # another disturbance
+    assert any("Within the tolerance" in m.value for m in at.markdown)
+    at.checkbox(key="control_moisture_max_on").check().run()        # the product's specification
+    at.button(key="control_run").click().run()
+    assert not at.exception
+    assert any("product within specification: moisture at most 12 %" in m.value for m in at.markdown)
     # a step time after the end: the CLI's message
     at.number_input(key="control_duration").set_value(300.0).run()
     at.button(key="control_run").click().run()

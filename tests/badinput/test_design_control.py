@@ -48,6 +48,10 @@ def test_design_infeasible_duty_names_blocking_constraint(workdir):
     (["--magnitude", "0.5", "--scenario", "fouling_ramp", "--gas-t-max", "700"], ["--gas-t-max = 700", "600"]),
     (["--step-time", "9000", "--duration", "3600"], ["--step-time = 9000", "allowed"]),
     (["--magnitude", "0.6"], ["--magnitude = 0.6", "feed too wet", "at most +0.204"]),   # named by its option (fuzzing)
+    (["--tolerance", "0"], ["--tolerance = 0", "allowed"]),
+    (["--product-moisture-max", "1.5"], ["--product-moisture-max = 1.5", "allowed"]),
+    (["--product-temperature-band", "50"], ["--product-temperature-band = '50'", "LOW,HIGH"]),
+    (["--product-temperature-band", "50,40"], ["--product-temperature-band = 50,40", "low end"]),
 ])
 def test_control_bad_options(args, fragments, workdir):
     _refused(["control", "ajayi2011_mmg", "--set", "operating.test=4", *args], workdir, *fragments)

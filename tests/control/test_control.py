@@ -52,6 +52,26 @@ def test_performance_figures():
     assert p["settling_time_s"] == pytest.approx(70.0)        # exp(-x/100) < 0.5 after 69.3 s -> next sample
     assert p["iae"] == pytest.approx(1.0, rel=0.02) and p["overshoot_pct"] == 0.0
     assert not p["within_tolerance"]
+    assert p["fraction_within_tolerance"] == pytest.approx(83 / 90)     # 7 of the 90 samples from t = 100 s outside
+    assert "fraction_moisture_within_spec" not in p and "product_temperature_band_degC" not in p
+
+
+def test_performance_against_the_products_own_specification():
+    """The fractions of time within the case's specification (not Ajayi's MMG targets of 12 % and 45-50 degC,
+    which stay under their own names)."""
+    t = np.arange(0.0, 100.0, 10.0)
+    moisture = np.array([0.0, 0.001, 0.003, 0.003, 0.001, 0.001, 0.001, 0.001, 0.001, 0.001])
+    temperature = np.array([40.0, 40, 59, 61, 62, 58, 55, 55, 55, 55])
+    p = C.performance(t, moisture, 0.001, 0.0, 0.0015, moisture, temperature, moisture_max=0.002,
+                      temperature_band=(50.0, 60.0))
+    assert p["fraction_moisture_within_spec"] == pytest.approx(0.8) and p["product_moisture_max_kg_kg"] == 0.002
+    assert p["fraction_temperature_within_band"] == pytest.approx(0.6)
+    assert p["product_temperature_band_degC"] == [50.0, 60.0]
+    assert p["fraction_moisture_at_most_12pct"] == 1.0 and p["fraction_temperature_45_50degC"] == 0.0
+    with pytest.raises(ValueError, match="product_temperature_band = 60,50 degC: the low end"):
+        C.ControlConfig(product_temperature_band=(60.0, 50.0)).validate()
+    with pytest.raises(ValueError, match="tolerance = 2 .*allowed"):
+        C.ControlConfig(tolerance=2.0).validate()
 
 
 @pytest.fixture(scope="module")
@@ -345,3 +365,9 @@ def test_an_exhaust_loop_over_a_dry_product_and_setpoints_a_product_cannot_reach
     res = runner.invoke(app, ["control", case, "--measured", "exhaust_temperature", "--scenario", "none",
                               "--duration", "600", "--no-open-loop", "--json"])
     assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["control", case, "--measured", "exhaust_temperature", "--duration", "1800",
+                              "--no-open-loop", "--tolerance", "0.2", "--product-moisture-max", "0.01",
+                              "--product-temperature-band", "40,200"])
+    assert res.exit_code == 0, res.output
+    assert "within +-0.2 K" in res.output and "product within specification" in res.output
+    assert "moisture <= 1 % 100 %" in res.output and "temperature 40.0-200.0 degC 100 %" in res.output

@@ -45,7 +45,8 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
                  magnitude=0.2, duration=7200.0, step_time=None, sample_time=60.0, dead_time=120.0,
                  measured="product_moisture", setpoint=None, kc=None, tau_i=None, tau_c=None, feedforward="model",
                  feedback=True, feed_backup=True, gas_t_max=600.0, gas_t_min=None, feed_min_fraction=0.5,
-                 open_loop=True, images=True, progress=None) -> dict:
+                 open_loop=True, images=True, progress=None, tolerance=None, product_moisture_max=None,
+                 product_temperature_band=None) -> dict:
     """Closed-loop run of a case's dynamic model under a disturbance, as ``rotarydryer control``.
 
     Returns ``{"closed": summary dict, "open": performance dict or None, "tuning": {...},
@@ -57,7 +58,7 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
 
     step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,
                                       setpoint, kc, tau_i, tau_c, feedforward, gas_t_max, gas_t_min,
-                                      feed_min_fraction)
+                                      feed_min_fraction, tolerance, product_moisture_max, product_temperature_band)
     import warnings
 
     with warnings.catch_warnings(record=True) as caught:
@@ -67,7 +68,9 @@ def control_view(case: str = "ajayi2011_mmg", overrides: dict | None = None, *, 
                                      dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
                                      tau_c=tau_c, feedforward=feedforward, feedback=feedback,
                                      feed_backup=feed_backup, gas_t_max=gas_t_max, gas_t_min=gas_t_min,
-                                     feed_min_fraction=feed_min_fraction, open_loop=open_loop, progress=progress)
+                                     feed_min_fraction=feed_min_fraction, open_loop=open_loop, progress=progress,
+                                     tolerance=tolerance, product_moisture_max=product_moisture_max,
+                                     product_temperature_band=product_temperature_band)
     s = closed.series
     out = {
         "closed": closed.summary(),

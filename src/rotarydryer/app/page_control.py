@@ -93,11 +93,25 @@ def _inputs():
         tau_i = _opt(st, "Integral time tau_I (s)", 300.0, "control_tau_i", 0.001, 1e6, 30.0, "default SIMC")
         tau_c = _opt(st, "SIMC closed-loop time constant tau_c (s)", 120.0, "control_tau_c", 0.001, 1e6, 30.0,
                      "default: the dead time")
+    with side.expander("Tolerance and product specification"):
+        moisture_loop = measured == "product_moisture"
+        tolerance = _opt(st, "Tolerance band (kg/kg wet)" if moisture_loop else "Tolerance band (K)",
+                         0.005 if moisture_loop else 2.0, f"control_tolerance_{measured}", 1e-6,
+                         1.0 if moisture_loop else 100.0, 0.001 if moisture_loop else 0.5,
+                         "settling time and time within it; default 0.005 kg/kg or 2 K")
+        moisture_max = _opt(st, "Largest product moisture (kg/kg wet)", 0.12, "control_moisture_max", 0.0, 1.0, 0.005,
+                            "the fraction of time the product meets it is reported")
+        t_low = _opt(st, "Product temperature, low end (degC)", 45.0, "control_t_low", -50.0, 600.0, 1.0,
+                     "with the high end: the fraction of time within the band is reported")
+        t_high = _opt(st, "Product temperature, high end (degC)", 50.0, "control_t_high", -50.0, 600.0, 1.0,
+                      "with the low end")
     open_loop = side.checkbox("Also run the uncontrolled plant", value=True, key="control_open_loop")
     kwargs = dict(scenario=scenario, magnitude=magnitude, duration=duration, step_time=step_time,
                   sample_time=sample_time, dead_time=dead_time, measured=measured, kc=kc, tau_i=tau_i, tau_c=tau_c,
                   feedforward=feedforward, feedback=feedback, feed_backup=feed_backup, gas_t_max=gas_t_max,
-                  feed_min_fraction=feed_min, open_loop=open_loop)
+                  feed_min_fraction=feed_min, open_loop=open_loop, tolerance=tolerance,
+                  product_moisture_max=moisture_max,
+                  product_temperature_band=(t_low, t_high) if t_low is not None and t_high is not None else None)
     return case, shown, tuple(sorted(overrides.items())), tuple(sorted(kwargs.items()))
 
 
@@ -146,6 +160,16 @@ def render():
                       f"{show(r['ranges']['gas_inlet_temperature_degC'][1], 'temperature')}, feed "
                       f"{show(r['ranges']['feed_rate_kg_s'][0], 'mass_flow', with_unit=False)}-"
                       f"{show(r['ranges']['feed_rate_kg_s'][1], 'mass_flow')}."))
+    spec = []
+    if "fraction_moisture_within_spec" in p:
+        spec.append(f"moisture at most {show(p['product_moisture_max_kg_kg'], 'moisture')} "
+                    f"{100 * p['fraction_moisture_within_spec']:.0f} % of the time")
+    if "fraction_temperature_within_band" in p:
+        lo, hi = p["product_temperature_band_degC"]
+        spec.append(f"temperature {show(lo, 'temperature', with_unit=False)}-{show(hi, 'temperature')} "
+                    f"{100 * p['fraction_temperature_within_band']:.0f} % of the time")
+    st.markdown(plain(f"Within the tolerance {100 * p['fraction_within_tolerance']:.0f} % of the time after the "
+                      "disturbance" + (f"; product within specification: {', '.join(spec)}" if spec else "") + "."))
     for w in r["warnings"]:
         st.warning(plain(w))
     st.image(r["plot"], caption="Controlled variable, product temperature and manipulated variables "

@@ -7,7 +7,7 @@ import typer
 
 from .._display import show, show_delta
 from .._io import json_text
-from ..services.control import check_control_options, describe_feedforward, run_control
+from ..services.control import check_control_options, describe_feedforward, parse_band, run_control
 from . import app
 from ._common import Progress, check_out_dir, parse_sets, written_set
 
@@ -41,6 +41,13 @@ def control(
     gas_t_max: float = typer.Option(600.0, help="Upper limit of the gas inlet temperature, degC."),
     gas_t_min: Optional[float] = typer.Option(None, help="Lower limit of the gas inlet temperature, degC."),
     feed_min_fraction: float = typer.Option(0.5, help="Lowest feed rate, fraction of the case's feed."),
+    tolerance: Optional[float] = typer.Option(None, help="Band of the controlled variable for the settling time "
+                                              "and the time within it (kg/kg wet or K; default 0.005 or 2)."),
+    product_moisture_max: Optional[float] = typer.Option(None, help="Product specification: largest moisture, "
+                                                         "kg/kg wet (reports the fraction of time within it)."),
+    product_temperature_band: Optional[str] = typer.Option(None, metavar="LOW,HIGH",
+                                                           help="Product specification: temperature band, degC "
+                                                                "(reports the fraction of time within it)."),
     schedule: Optional[Path] = typer.Option(None, "--schedule", help="Disturbance schedule (.csv or .toml, the "
                                             "format of the dynamics command) in place of --scenario."),
     open_loop: bool = typer.Option(True, "--open-loop/--no-open-loop", help="Also run the uncontrolled plant."),
@@ -77,9 +84,14 @@ def control(
             typer.echo(f"error: --schedule and {', '.join(given)}: the schedule is the disturbance; give one or the "
                        "other", err=True)
             raise typer.Exit(2)
+    try:
+        band = parse_band(product_temperature_band)
+    except ValueError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2)
     step_time = check_control_options(scenario, magnitude, duration, step_time, sample_time, dead_time, measured,
                                       setpoint, kc, tau_i, tau_c, feedforward, gas_t_max, gas_t_min,
-                                      feed_min_fraction)
+                                      feed_min_fraction, tolerance, product_moisture_max, band)
     check_out_dir("--out", out)
 
     with Progress("control", quiet=quiet) as bar:
@@ -88,7 +100,9 @@ def control(
                                      dead_time=dead_time, measured=measured, setpoint=setpoint, kc=kc, tau_i=tau_i,
                                      tau_c=tau_c, feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
                                      gas_t_max=gas_t_max, gas_t_min=gas_t_min, feed_min_fraction=feed_min_fraction,
-                                     open_loop=open_loop, progress=bar.message, schedule=schedule)
+                                     open_loop=open_loop, progress=bar.message, schedule=schedule,
+                                     tolerance=tolerance, product_moisture_max=product_moisture_max,
+                                     product_temperature_band=band)
     result = dict(case=case, closed_loop=closed.summary(),
                   open_loop=opened.summary()["performance"] if opened is not None else None)
     if out is not None:
@@ -125,7 +139,16 @@ def control(
         st = "never" if p["settling_time_s"] is None else show(p["settling_time_s"], "time")
         typer.echo(f"  {name:<11}  max |e| {show_delta(p['max_abs_deviation'], quantity)}, IAE {p['iae']:.4g} {iae_unit}, "
                    f"overshoot {p['overshoot_pct']:.0f} %, settling {st}, within +-{show_delta(p['tolerance'], quantity)}: "
-                   f"{'yes' if p['within_tolerance'] else 'no'}")
+                   f"{'yes' if p['within_tolerance'] else 'no'} ({100 * p['fraction_within_tolerance']:.0f} % of the time)")
+        spec = [f"moisture <= {show(p['product_moisture_max_kg_kg'], 'moisture')} "
+                f"{100 * p['fraction_moisture_within_spec']:.0f} %"] if "fraction_moisture_within_spec" in p else []
+        if "fraction_temperature_within_band" in p:
+            lo, hi = p["product_temperature_band_degC"]
+            spec.append(f"temperature {show(lo, 'temperature', with_unit=False)}-{show(hi, 'temperature')} "
+                        f"{100 * p['fraction_temperature_within_band']:.0f} %")
+        if spec:
+            typer.echo(f"  {'':<11}  product within specification (of the time after the disturbance): "
+                       + ", ".join(spec))
     s = closed.series
     typer.echo(f"  manipulated: gas inlet T {show(min(s['gas_inlet_temperature_degC']), 'temperature', with_unit=False)}-"
                f"{show(max(s['gas_inlet_temperature_degC']), 'temperature')}, feed "

@@ -13,7 +13,8 @@ __all__ = ["check_control_options", "run_control", "describe_feedforward"]
 def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration=10800.0, step_time=None,
                           sample_time=60.0, dead_time=120.0, measured="product_moisture", setpoint=None, kc=None,
                           tau_i=None, tau_c=None, feedforward="model", gas_t_max=600.0, gas_t_min=None,
-                          feed_min_fraction=0.5):
+                          feed_min_fraction=0.5, tolerance=None, product_moisture_max=None,
+                          product_temperature_band=None):
     """Check the options of ``rotarydryer control`` (``ValueError`` naming the option; the web app
     calls this too, for the same messages); returns the step time (default 600 s or the duration)."""
     from .. import control as C
@@ -57,7 +58,35 @@ def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration
         check_option("--tau-c", tau_c, 0.0, float("inf"), unit="s")
     if kc is not None:
         check_option("--kc", kc, -1e6, 1e6)
+    if tolerance is not None:
+        if measured == "product_moisture":
+            check_option("--tolerance", tolerance, 0.0, 1.0, unit="kg/kg wet")
+        else:
+            check_option("--tolerance", tolerance, 0.0, 100.0, unit="K")
+    if product_moisture_max is not None:
+        check_option("--product-moisture-max", product_moisture_max, 0.0, 1.0, low_inclusive=True, unit="kg/kg wet")
+    if product_temperature_band is not None:
+        lo, hi = product_temperature_band
+        for v in (lo, hi):
+            check_option("--product-temperature-band", v, -50.0, 600.0, low_inclusive=True, high_inclusive=True,
+                         unit="degC")
+        if not lo < hi:
+            raise ValueError(f"--product-temperature-band = {lo:g},{hi:g} degC: the low end must be below the high end")
     return step_time
+
+
+def parse_band(text):
+    """``"45,50"`` -> (45.0, 50.0) for ``--product-temperature-band`` (None passes through)."""
+    if text is None:
+        return None
+    parts = [p.strip() for p in str(text).split(",")]
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        return float(parts[0]), float(parts[1])
+    except ValueError:
+        raise ValueError(f"--product-temperature-band = {text!r}: give two temperatures LOW,HIGH in degC, "
+                         "e.g. 45,50") from None
 
 
 #: a closed loop whose IAE exceeds this many times the open loop's (and that leaves its tolerance band) is
@@ -67,13 +96,16 @@ WORSE_THAN_OPEN = 2.0
 
 def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_time, dead_time, measured, setpoint,
                 kc, tau_i, tau_c, feedforward, feedback, feed_backup, gas_t_max, gas_t_min, feed_min_fraction,
-                open_loop, progress=None, schedule=None):
+                open_loop, progress=None, schedule=None, tolerance=None, product_moisture_max=None,
+                product_temperature_band=None):
     """The runs of ``rotarydryer control`` (and of the web app's control page) on ``sim``, a
     `Simulation` of ``case``, with options already checked by
     `check_control_options`: steady state, FOPDT models, the closed loop and, with
     ``open_loop``, the uncontrolled plant; ``schedule`` (an
     [`InputSchedule`][rotarydryer.thermal.schedule.InputSchedule] or a .csv/.toml path) replaces the
-    scenario. Returns ``(closed, opened or None)``."""
+    scenario; ``tolerance`` (the controlled variable's band, default `rotarydryer.control.TOLERANCE`),
+    ``product_moisture_max`` and ``product_temperature_band``: the product's specification, reported as
+    the fraction of time within it. Returns ``(closed, opened or None)``."""
     from .. import control as C
 
     steady = sim.dynamic_start("control", progress)
@@ -86,7 +118,9 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
                           measurement_dead_time_s=dead_time, kc=kc, tau_i_s=tau_i, tau_c_s=tau_c,
                           feedforward=feedforward, feedback=feedback, feed_backup=feed_backup,
                           gas_temperature_min=gas_t_min, gas_temperature_max=gas_t_max,
-                          feed_min_fraction=feed_min_fraction).validate()
+                          feed_min_fraction=feed_min_fraction, tolerance=tolerance,
+                          product_moisture_max=product_moisture_max,
+                          product_temperature_band=product_temperature_band).validate()
     from ..thermal.schedule import InputSchedule, load_schedule  # the model stack: not at the CLI's start-up
 
     if schedule is not None and not isinstance(schedule, InputSchedule):
