@@ -341,12 +341,18 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
     # residence time, holdup, fill, design load
     G_flux = G * (1 + d.gas_inlet_humidity) / A_free
     S_flux = d.feed_rate / A
+    rt = dict(length=L, diameter=D, slope=math.tan(math.radians(slope_deg)), rpm=rpm, particle_size=dm.dp,
+              solids_mass_flux=S_flux, gas_flow=d.direction, allow_nonpositive=True)
     try:
-        tau = float(perry_green_1984(length=L, diameter=D, slope=math.tan(math.radians(slope_deg)), rpm=rpm,
-                                     particle_size=dm.dp, gas_mass_flux=G_flux, solids_mass_flux=S_flux,
-                                     gas_flow=d.direction))
+        tau = float(perry_green_1984(gas_mass_flux=G_flux, **rt))
+        tau_no_gas = float(perry_green_1984(gas_mass_flux=0.0, **rt))
     except ValueError:
-        tau = math.nan
+        tau, tau_no_gas = math.nan, math.nan
+    # Friedman-Marshall's co-current gas term is linear in the gas flux: where it exceeds the geometric
+    # term the correlation gives no residence time at all (a fast co-current gas on fine solids); such a
+    # design is outside the correlation, and says so, instead of screening a drum with no holdup
+    share = tau / tau_no_gas if math.isfinite(tau) and tau_no_gas > 0 else math.nan
+    cons["residence time correlation"] = (share, 0.0, ">=", -share if math.isfinite(share) else 1.0)
     if not math.isfinite(tau) or tau <= 0:
         tau = 1e-6
     H = tau * 0.5 * (d.feed_rate + dm.F_out)
@@ -551,6 +557,9 @@ def _advice(name):
             "gas heat capacity": "The gas flow cannot carry the heat: raise the gas flow or inlet temperature.",
             "burner capacity": "Raise the burner capacity (--max-fuel) or lower the duty.",
             "fill": "Allow a higher fill (--fill-max) or a larger drum.",
+            "residence time correlation": "The co-current gas term of Friedman-Marshall's residence time (Perry & "
+                                          "Green (1984)) exceeds its geometric term: lower the gas flow (a hotter "
+                                          "gas), widen the drum, or run the gas counter-current.",
             }.get(name, "Relax this constraint or change the duty.")
 
 
@@ -589,8 +598,70 @@ PLANTS = {
 }
 
 
-def check_plant(name, limits: Limits | None = None, objective="volume", progress=None, **search):
-    """A shipped plant's real geometry under its own duty (`PLANTS`).
+#: the product moisture a duty taken from a case's own steady state aims at when that product leaves
+#: (nearly) bone-dry: the screening's drying length diverges towards zero moisture
+CASE_DUTY_MOISTURE_FLOOR = 1e-4
+
+
+def plant_from_case(case, overrides=None, moisture_out=None):
+    """``(geometry, duty, notes)`` of any dryer case for `check_plant`: the drum and the flights of its
+    longest flighted section (two-section flights: the screening's flight model), the total drum
+    length, the case's speed, slope, feed, gas and site, and as the duty's product moisture
+    ``moisture_out`` (kg/kg wet) or, by default, the product moisture of the case's own steady state
+    (at least `CASE_DUTY_MOISTURE_FLOOR`). ValueError naming what the screening cannot represent."""
+    from .geometry.flights import TwoSectionFlight
+    from .simulation import Simulation
+
+    try:
+        sim = Simulation(case, overrides or None)
+        d = sim.thermal_dryer()
+    except ValueError as exc:       # named by the option that gave the case
+        raise ValueError(str(exc).replace(f"case = {case!r}", f"--check = {case!r}", 1)) from None
+    st = d.settings
+    flighted = [law for law in getattr(d, "laws", ()) if getattr(getattr(law, "spec", None), "geometry", None)
+                is not None and hasattr(law.spec.geometry, "drum")]
+    if not flighted:
+        raise ValueError(f"--check {case}: the case has no flighted section; the screening sizes flighted drums")
+    main = max(flighted, key=lambda law: law.spec.length)
+    drum = main.spec.geometry.drum
+    if not isinstance(drum.flight, TwoSectionFlight):
+        raise ValueError(f"--check {case}: section {main.spec.name!r} has a {type(drum.flight).__name__}; the "
+                         "screening models two-section flights (s1, s2, alpha2) only")
+    notes = []
+    if len({(law.spec.geometry.drum.n_flights, law.spec.geometry.drum.flight) for law in flighted}) > 1:
+        notes.append(f"the flighted sections differ: the screening takes section {main.spec.name!r}'s flights "
+                     "(the longest) for the whole drum")
+    if abs(drum.flight.alpha1 - 90.0) > 1e-9:
+        notes.append(f"the flight base stands at {drum.flight.alpha1:g} deg to the shell; the screening takes it radial")
+    if sum(law.spec.length for law in flighted) < d.length - 1e-9:
+        notes.append(f"{d.length - sum(law.spec.length for law in flighted):g} m of the {d.length:g} m drum are "
+                     "unflighted; the screening takes the whole length as flighted")
+    if moisture_out is None:
+        summary = sim.steady_state().summary()
+        x = float(summary["product_moisture_kg_kg"])
+        moisture_out = max(x, CASE_DUTY_MOISTURE_FLOOR)
+        if x < CASE_DUTY_MOISTURE_FLOOR:
+            notes.append(f"the case's product leaves at {x:.3g} kg/kg: the duty aims at {CASE_DUTY_MOISTURE_FLOOR:g} "
+                         "kg/kg wet (give --moisture-out to choose)")
+        gas_flow = float(summary["gas_flow_kg_s"])
+    else:
+        gas_flow = float(st.gas_flow)
+    slope = float(getattr(sim.case.drum, "slope", None) or math.degrees(math.asin(main.sin_t)))
+    geom = dict(diameter_m=2.0 * float(d.radius), length_m=float(d.length), slope_deg=slope, rpm=float(d.rpm),
+                n_flights=int(drum.n_flights), s1_m=float(drum.flight.s1), s2_m=float(drum.flight.s2),
+                alpha2_deg=float(drum.flight.alpha2))
+    duty = Duty(material=str(getattr(d.material, "name", d.material)), feed_rate=float(d.feed_rate),
+                moisture_in=float(d.feed_moisture), moisture_out=float(moisture_out),
+                gas_inlet_temperature=float(st.gas_inlet_temperature), gas_flow=gas_flow,
+                direction=str(st.gas_direction), feed_temperature=float(st.solids_inlet_temperature),
+                gas_inlet_humidity=float(d.gas_inlet_Y), ambient_temperature=float(st.ambient_temperature))
+    return geom, duty, notes
+
+
+def check_plant(name, limits: Limits | None = None, objective="volume", progress=None, overrides=None,
+                moisture_out=None, **search):
+    """A plant's real geometry under its own duty: a shipped plant of `PLANTS` (its published duty), or any
+    dryer case (a name or a .toml file: `plant_from_case`, with ``overrides`` and ``moisture_out``).
 
     1. The screening rules at ``limits``: which the real plant violates (the correlations are
        generic: McCormick's Ua, Perry & Green's residence time).
@@ -599,9 +670,13 @@ def check_plant(name, limits: Limits | None = None, objective="volume", progress
        geometry is feasible; the optimum of the same duty under these limits, and the ratio of
        the plant's objective to it (how far from the optimum) with the reasons.
     Returns a dict."""
-    check_choice("plant", name, PLANTS)
-    geom, duty_fn = PLANTS[name]
-    duty = duty_fn().validate()
+    notes: list = []
+    if name in PLANTS and not overrides and moisture_out is None:
+        geom, duty_fn = PLANTS[name]
+        duty = duty_fn().validate()
+    else:
+        geom, duty, notes = plant_from_case(name, overrides, moisture_out)
+        duty = duty.validate()
     limits = (limits or Limits()).validate()
     dm = _DutyModel(duty)
     raw = evaluate(dm, limits, objective=objective, **geom)
@@ -626,7 +701,7 @@ def check_plant(name, limits: Limits | None = None, objective="volume", progress
                 calibrated_limits=dataclasses.asdict(cal), feasible_calibrated=real.feasible,
                 binding_calibrated=real.binding(), real=real.row(), optimum=opt.best.row(),
                 optimum_binding=opt.best.binding(), objective=objective,
-                objective_ratio=real.objective / opt.best.objective, why=_why(real, opt.best, cal))
+                objective_ratio=real.objective / opt.best.objective, why=_why(real, opt.best, cal), notes=notes)
 
 
 def _why(real: Design, best: Design, limits: Limits):
@@ -635,7 +710,11 @@ def _why(real: Design, best: Design, limits: Limits):
     if real.length_m > 1.05 * rv["length_required_m"]:
         out.append(f"the drum is {real.length_m / rv['length_required_m']:.2f} x longer than drying needs "
                    f"(Perry/McCormick Ua)")
-    if rv["holdup_over_design_load"] < 1 - 0.15:
+    rt = real.constraints.get("residence time correlation")
+    if rt is not None and rt[3] > 1e-9:
+        out.append("Friedman-Marshall's residence time does not hold for this plant (its co-current gas term exceeds "
+                   "the geometric term): the screening's holdup, fill and flight loading are void here")
+    elif rv["holdup_over_design_load"] < 1 - 0.15:
         out.append(f"flights under-loaded (holdup/design load {rv['holdup_over_design_load']:.2f})")
     elif rv["holdup_over_design_load"] > 1.15:
         out.append(f"flights over-loaded (holdup/design load {rv['holdup_over_design_load']:.2f}): kilning")

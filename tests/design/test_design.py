@@ -142,3 +142,35 @@ def test_verification_holds_the_coupled_model_to_the_screenings_limits(monkeypat
     assert len(seen) == 1 and ver["constraints_violated"] == ["exhaust dew-point margin 4 K (limit 10 K)"]
     assert "breaks the screening's limits (exhaust dew-point margin 4 K" in _verification_failure(ver, duty.moisture_out)
     assert "Screening limits broken by the coupled model: exhaust dew-point margin 4 K" in _verification_text(duty, ver)
+
+
+def test_check_any_dryer_case(tmp_path):
+    """`design --check` on a user's case (made with `rotarydryer new`): its own geometry, its duty from its steady
+    state, notes for what the screening cannot represent; Friedman-Marshall's residence time gone non-positive
+    (a fast co-current gas on sand) is named instead of a drum "with flights under-loaded 1e-9"."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    case = tmp_path / "d.toml"
+    assert CliRunner().invoke(app, ["new", "mydryer", "--out", str(case)]).exit_code == 0
+    geom, duty, notes = D.plant_from_case(str(case))
+    assert geom["diameter_m"] == 2.0 and geom["length_m"] == 12.0 and geom["n_flights"] == 18
+    assert duty.feed_rate == 2.5 and duty.moisture_in == 0.06 and duty.direction == "co-current"
+    assert duty.moisture_out == D.CASE_DUTY_MOISTURE_FLOOR          # the template's product leaves bone-dry
+    assert any("unflighted" in n for n in notes) and any("--moisture-out" in n for n in notes)
+    res = D.check_plant(str(case), moisture_out=0.01, maxiter=15)
+    assert "residence time correlation" in res["violated_at_limits"]
+    assert any("Friedman-Marshall" in w for w in res["why"]) and not any("under-loaded" in w for w in res["why"])
+    counter = D.check_plant(str(case), overrides={"gas.direction": "counter-current"}, moisture_out=0.01,
+                            maxiter=15)
+    assert counter["feasible_calibrated"] and "residence time correlation" not in counter["violated_at_limits"]
+    with pytest.raises(ValueError, match="--check = 'no_such_plant' is not a packaged case"):
+        D.check_plant("no_such_plant")
+    text = case.read_text()
+    for key in ("s1", "s2", "alpha1", "alpha2"):        # the flight block's two-section keys out, a polygon in
+        text = "\n".join("# " + line if line.startswith(key + " ") else line for line in text.splitlines())
+    poly = text.replace("[flight]", "[flight]\nvertices = [[0.0, 0.0], [0.0, 0.15], [0.08, 0.2]]", 1)
+    (tmp_path / "p.toml").write_text(poly)
+    with pytest.raises(ValueError, match="two-section flights"):
+        D.plant_from_case(str(tmp_path / "p.toml"))

@@ -1,4 +1,4 @@
-"""``rotarydryer design``: size a flighted rotary dryer for a drying duty (or check a shipped plant)."""
+"""``rotarydryer design``: size a flighted rotary dryer for a drying duty (or check a plant)."""
 
 import time
 from pathlib import Path
@@ -43,8 +43,11 @@ def design_cmd(
                                                                    "design; while it misses the target, lower "
                                                                    "the Ua factor and search again."),
     rounds: int = typer.Option(3, help="Most searches with --verify."),
-    check: Optional[str] = typer.Option(None, help="Check a shipped plant instead: lee2008_invicta | "
-                                                   "ajayi2011_mmg (its geometry under its duty vs the optimum)."),
+    check: Optional[str] = typer.Option(None, help="Check a plant instead: its geometry under its own duty vs the "
+                                                   "optimum. lee2008_invicta | ajayi2011_mmg (their published "
+                                                   "duties) or any dryer case (name or .toml: the duty from its steady "
+                                                   "state, or --moisture-out; --set overrides its keys)."),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="With --check: override a case key, KEY=VALUE."),
     out: Optional[Path] = typer.Option(None, help="Directory for design.json, design_report.md and "
                                                   "design_cross_section.png."),
     workers: int = typer.Option(1, help=WORKERS_HELP + " Evaluate each generation of the search."),
@@ -68,6 +71,7 @@ def design_cmd(
       rotarydryer design --duty raw_sugar
       rotarydryer design --duty mmg --ua-factor 1.84 --no-verify --out mmg_design
       rotarydryer design --check ajayi2011_mmg
+      rotarydryer design --check mydryer.toml --moisture-out 0.005
     """
     from .. import design as D
     from ..services._options import executor_from_options
@@ -83,17 +87,19 @@ def design_cmd(
     with Progress("design", quiet=quiet) as bar:
         return _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow,
                        ntu, direction, feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json,
+                       set_,
                        executor)
 
 
 def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow, ntu, direction,
-            feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json, executor=None):
+            feed_temperature, max_fuel, objective, top, verify, rounds, check, out, as_json, set_=None, executor=None):
     """The body of ``rotarydryer design`` (``bar``: its `Progress`, closed before the results print)."""
     progress = bar.message
     if check is not None:
-        if check not in D.PLANTS:
-            raise ValueError(f"--check = {check!r} is not one of {', '.join(D.PLANTS)}")
-        res = D.check_plant(check, limits, objective=objective, progress=progress, executor=executor)
+        from ._common import parse_sets
+
+        res = D.check_plant(check, limits, objective=objective, progress=progress, executor=executor,
+                            overrides=parse_sets(set_) or None, moisture_out=moisture_out)
         bar.close()
         res["wall_time_s"] = time.perf_counter() - t0
         if out is not None:
@@ -118,6 +124,8 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
         typer.echo(f"  optimum for the same duty: D {o['diameter_m']:.2f} m x L {o['length_m']:.2f} m, "
                    f"{o['n_flights']} flights, {o['rpm']:.2f} rpm; binding: {o['binding']}")
         typer.echo(f"  {objective}: plant / optimum = {res['objective_ratio']:.2f}; why: {'; '.join(res['why'])}")
+        for note in res["notes"]:
+            typer.echo(f"  note: {note}")
         return
 
     d = design_duty(duty, material, feed, moisture_in, moisture_out, gas_in, gas_flow, ntu, direction,
