@@ -504,14 +504,15 @@ def check_schedule(dryer, schedule, t_end_s, controlled=True):
 
 
 def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, product_temperature=None,
-                moisture_max=None, temperature_band=None):
+                moisture_max=None, temperature_band=None, unit=None):
     """IAE (∫|e|dt from the disturbance), maximum |e|, overshoot (%), settling time (s after the
     disturbance, None if |e| ends above the tolerance), within-band flag, the fraction of the samples
     after the disturbance within the tolerance, and within the product's specification when it is
     given (``moisture_max`` kg/kg wet, ``temperature_band`` degC: ``fraction_moisture_within_spec``,
     ``fraction_temperature_within_band``). ``fraction_moisture_at_most_12pct`` and
     ``fraction_temperature_45_50degC`` are Ajayi's (2011) MMG targets, whatever the dryer (kept for
-    scripts that read them; give the case's own specification instead)."""
+    scripts that read them; give the case's own specification instead). ``unit``: the controlled
+    variable's unit, given as ``units`` of the deviations and the IAE."""
     t = np.asarray(time_s, float)
     e = np.asarray(y, float) - setpoint
     m = t >= t_step
@@ -533,6 +534,9 @@ def performance(time_s, y, setpoint, t_step, tolerance, product_moisture=None, p
                overshoot_pct=overshoot, settling_time_s=settling, tolerance=tolerance,
                within_tolerance=bool(outside.size == 0), final_deviation=float(e[-1]),
                fraction_within_tolerance=float(np.mean(np.abs(ee) <= tolerance)) if ee.size else 1.0)
+    if unit is not None:    # the deviations' unit (the controlled variable's), and the IAE's (that times s)
+        out["units"] = dict(iae=f"{unit} s", max_abs_deviation=unit, peak_deviation=unit, tolerance=unit,
+                            final_deviation=unit, overshoot_pct="%", settling_time_s="s")
     if product_moisture is not None:
         pm = np.asarray(product_moisture)[m]
         out["fraction_moisture_at_most_12pct"] = float(np.mean(pm <= AJAYI_TARGETS["product_moisture_max_kg_kg"]
@@ -845,7 +849,8 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     yk = "product_moisture_kg_kg" if cv == "product_moisture" else "exhaust_temperature_degC"
     perf = performance(times, series[yk], sp, t_step_s, tol, series["product_moisture_kg_kg"],
                        series["product_temperature_degC"], moisture_max=cfg.product_moisture_max,
-                       temperature_band=cfg.product_temperature_band)
+                       temperature_band=cfg.product_temperature_band,
+                       unit="kg/kg wet" if cv == "product_moisture" else "K")
     return ClosedLoopResult(np.asarray(times), series, sp, cv, tuning, perf,
                             dict(name=scenario, magnitude=magnitude, t_step_s=t_step_s, t_end_s=t_end_s,
                                  controlled=controlled), time.perf_counter() - t0)

@@ -274,6 +274,14 @@ class _DutyModel:
         return G, float(brentq(f, lo, Tin))
 
 
+#: the unit of each screening constraint's value and limit (a ratio: "-")
+CONSTRAINT_UNITS = {"gas heat capacity": "-", "drying length": "m", "exhaust dew point": "degC",
+                    "critical speed": "-", "peripheral speed": "m/s", "gas entrainment": "m/s", "gas velocity": "m/s",
+                    "L/D max": "-", "L/D min": "-", "diameter max": "m", "residence time correlation": "-",
+                    "fill": "-", "flight geometry": "-", "flights over-loaded": "-", "flights under-loaded": "-",
+                    "burner capacity": "kg/s"}
+
+
 def _constraint(value, limit, sense):
     g = (value - limit) / max(abs(limit), 1e-12) if sense == "<=" else (limit - value) / max(abs(limit), 1e-12)
     return (float(value), float(limit), sense, float(g))
@@ -680,7 +688,8 @@ def check_plant(name, limits: Limits | None = None, objective="volume", progress
     limits = (limits or Limits()).validate()
     dm = _DutyModel(duty)
     raw = evaluate(dm, limits, objective=objective, **geom)
-    violated = {k: dict(value=c[0], limit=c[1], sense=c[2]) for k, c in raw.constraints.items() if c[3] > 1e-9}
+    violated = {k: dict(value=c[0], limit=c[1], sense=c[2], unit=CONSTRAINT_UNITS.get(k, "-"))
+                for k, c in raw.constraints.items() if c[3] > 1e-9}
     v = raw.values
     ua = limits.ua_factor * max(1.0, v["length_required_m"] / raw.length_m) * 1.001
     ld = raw.length_m / raw.diameter_m

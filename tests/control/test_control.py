@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 
@@ -371,3 +372,6 @@ def test_an_exhaust_loop_over_a_dry_product_and_setpoints_a_product_cannot_reach
     assert res.exit_code == 0, res.output
     assert "within +-0.2 K" in res.output and "product within specification" in res.output
     assert "moisture <= 1 % 100 %" in res.output and "temperature 40.0-200.0 degC 100 %" in res.output
+    res = runner.invoke(app, ["control", case, "--measured", "exhaust_temperature", "--duration", "600",
+                              "--no-open-loop", "--json", "-q"])
+    assert json.loads(res.stdout)["closed_loop"]["performance"]["units"]["iae"] == "K s"

@@ -161,6 +161,7 @@ def test_check_any_dryer_case(tmp_path):
     assert any("unflighted" in n for n in notes) and any("--moisture-out" in n for n in notes)
     res = D.check_plant(str(case), moisture_out=0.01, maxiter=15)
     assert "residence time correlation" in res["violated_at_limits"]
+    assert all(v["unit"] == D.CONSTRAINT_UNITS[k] for k, v in res["violated_at_limits"].items())
     assert any("Friedman-Marshall" in w for w in res["why"]) and not any("under-loaded" in w for w in res["why"])
     counter = D.check_plant(str(case), overrides={"gas.direction": "counter-current"}, moisture_out=0.01,
                             maxiter=15)

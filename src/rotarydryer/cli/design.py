@@ -116,7 +116,8 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
         else:
             typer.echo("  screening rules it violates at the given limits:")
             for k, v in res["violated_at_limits"].items():
-                typer.echo(f"    {k}: {v['value']:.4g} (limit {v['sense']} {v['limit']:.4g})")
+                unit = "" if v["unit"] == "-" else f" {v['unit']}"
+                typer.echo(f"    {k}: {v['value']:.4g}{unit} (limit {v['sense']} {v['limit']:.4g}{unit})")
         typer.echo(f"  calibrated on the plant (Ua factor {res['ua_factor_implied']:.2f}, limits widened to its "
                    f"own values): feasible = {res['feasible_calibrated']}; binding: "
                    f"{', '.join(res['binding_calibrated']) or '-'}")
