@@ -55,6 +55,27 @@ def test_geometry_page_preset_and_bad_geometry(at):
     assert at.error and "s1" in at.error[0].value
 
 
+def test_geometry_page_polygonal_flights(at):
+    """The EAD and three-section drums are on the page too (their flight shape as the preset's, its radius and
+    flight count editable), with the numbers of `rotarydryer flight` for the same drum."""
+    import json
+
+    from rotarydryer.cli import app as cli_app
+
+    at.sidebar.selectbox(key="preset").set_value("invicta_ead").run()
+    assert not at.exception and not at.error
+    assert any("Polygonal flight" in c.value and "deg" in c.value for c in at.caption)
+    res = runner.invoke(cli_app, ["flight", "--drum", "invicta_ead", "--json"])
+    cli = json.loads(res.stdout)
+    assert _metric(at, "Passive time") == pytest.approx(cli["passive_time_s"], rel=1e-3)
+    at.number_input(key="radius__invicta_ead").set_value(0.3).run()     # the flight no longer fits
+    assert at.error and "radius = 0.3 m" in at.error[0].value
+    g = logic.profile_view("invicta_three_section", 2.5, 28, 40.0, 3.0, 2.8, 800.0, 12.0, images=False)
+    assert len(g["sections"]) == 3 and g["metrics"]["design_load_kg"] > 0
+    with pytest.raises(ValueError, match="not a built-in drum with a polygonal flight"):
+        logic.profile_view("invicta", 2.5, 28, 40.0, 3.0, 2.8, 800.0, 12.0, images=False)
+
+
 def test_transport_page_speed_and_tracer_fit(at):
     """Co-current under-loaded MMG dryer: higher speed -> shorter residence time (in Lee's
     over-loaded counter-current Invicta case the kilning bed grows with speed instead);

@@ -79,10 +79,35 @@ def png(fig, dpi: int = 90) -> bytes:
 
 
 def presets() -> dict:
-    """Built-in drums (``rotarydryer.geometry.presets``): name -> entry dict."""
-    from ..geometry.presets import drum_presets
+    """Built-in drums (``rotarydryer.geometry.presets``), two-section and polygonal flights: name -> entry
+    dict (a polygonal flight's entry has ``segments`` or ``vertices`` instead of s1, s2, alpha1, alpha2)."""
+    from ..geometry.presets import builtin_drums
 
-    return drum_presets()
+    return builtin_drums()
+
+
+def profile_view(name: str, radius: float, n_flights: int, repose_angle: float, rpm: float, slope: float,
+                 bulk_density: float, length: float, images: bool = True) -> dict:
+    """`geometry_view` of a built-in drum with a polygonal flight (``name``: a `flight_profiles` entry),
+    at its own flight shape with ``radius`` and ``n_flights`` (a flight that no longer fits the drum is
+    refused naming them), plus ``"sections"``: the flight's [length m, angle deg] from base to tip."""
+    from .._validation import fmt_number
+    from ..geometry import FlightedDrum
+    from ..geometry.presets import flight_profiles, preset_drum
+
+    if name not in flight_profiles():
+        raise ValueError(f"drum = {name!r} is not a built-in drum with a polygonal flight; choose one of "
+                         f"{', '.join(flight_profiles())}")
+    if isinstance(n_flights, bool) or float(n_flights) != int(n_flights):
+        raise ValueError(f"n_flights = {n_flights!r} is not a whole number of flights")
+    base, _ = preset_drum(name)
+    try:
+        drum = FlightedDrum(radius, int(n_flights), base.flight)
+    except ValueError as exc:
+        raise ValueError(f"radius = {fmt_number(radius)} m, n_flights = {int(n_flights)}: {exc}") from None
+    out = _drum_view(drum, repose_angle, rpm, slope, bulk_density, length, images)
+    out["sections"] = [[float(a), float(b)] for a, b in drum.profile.segments]
+    return out
 
 
 def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: float, alpha2: float,
@@ -95,15 +120,25 @@ def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: f
     (naming the argument) on impossible geometry.
     """
     from .._validation import check_range
-    from ..geometry import DESIGN_LOAD_METHODS, FlightedDrum, TwoSectionFlight
-    from ..geometry.drum import check_speed
+    from ..geometry import FlightedDrum, TwoSectionFlight
 
     if isinstance(n_flights, bool) or float(n_flights) != int(n_flights):
         raise ValueError(f"n_flights = {n_flights!r} is not a whole number of flights")    # 2.7 became 2 (fuzzing)
-    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")
+    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")     # before the drum: its own message
     check_range("length", length, 0.0, 200.0, unit="m")
     drum = FlightedDrum(radius, int(n_flights), TwoSectionFlight(s1, s2, alpha1, alpha2))
-    check_speed("rpm", rpm, radius, radius_key="radius", warn=False)     # refuse at/above critical speed
+    return _drum_view(drum, repose_angle, rpm, slope, bulk_density, length, images)
+
+
+def _drum_view(drum, repose_angle, rpm, slope, bulk_density, length, images):
+    """The geometry page's numbers and figures of a built drum (any flight shape)."""
+    from .._validation import check_range
+    from ..geometry import DESIGN_LOAD_METHODS
+    from ..geometry.drum import check_speed
+
+    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")
+    check_range("length", length, 0.0, 200.0, unit="m")
+    check_speed("rpm", rpm, drum.radius, radius_key="radius", warn=False)     # refuse at/above critical speed
     cs = drum.cascade(repose_angle, 1.0, rpm=rpm, slope=slope)
     tr = drum.transition_angles(repose_angle)
     loads = [(m, float(drum.design_load_area(repose_angle, method=m))) for m in DESIGN_LOAD_METHODS]
