@@ -198,3 +198,18 @@ def test_no_rtd_leaves_the_tracer_moments_out():
     for a, b in zip(with_rtd, without):
         assert "tracer_mean_s" in a and "rtd_std_s" in a and "tracer_mean_s" not in b and "rtd_std_s" not in b
         assert {k: v for k, v in a.items() if k not in ("tracer_mean_s", "rtd_std_s")} == b
+
+
+def test_a_feed_in_size_classes_adds_the_dust_and_d50_columns():
+    """A sweep over the gas flow of a feed in size classes: the dust rate grows with the gas, the columns only in
+    a size-class table (a single-class case's CSV keeps its columns)."""
+    args = ["sweep", "song2003_ottawa", "--set", "particle_size.dataset=lee2008_fine_river_sand", "--grid",
+            "gas.flow=0.04,0.08", "-q", "--json"]
+    res = runner.invoke(cli, args)
+    assert res.exit_code == 0, res.output
+    rows = json.loads(res.stdout)
+    assert rows[1]["dust_rate_kg_s"] > rows[0]["dust_rate_kg_s"] >= 0.0
+    assert 1e-5 < rows[0]["product_d50_m"] < 1e-3
+    single = json.loads(runner.invoke(cli, ["sweep", "song2003_ottawa", "--grid", "gas.flow=0.04", "-q",
+                                            "--json"]).stdout)
+    assert "dust_rate_kg_s" not in single[0] and "product_d50_m" not in single[0]

@@ -21,7 +21,7 @@ from .._threads import single_threaded
 from ..executor import Executor, RunFailure, split
 from ..simulation import SWEEP_MAX_CHUNK, SWEEP_MIN_CHUNK, Simulation, check_finite
 
-__all__ = ["KEY_SCALARS", "RTD_SCALARS", "THERMAL_SCALARS", "SWEEP_MIN_CHUNK", "SWEEP_MAX_CHUNK", "run_point", "run_sweep",
+__all__ = ["KEY_SCALARS", "RTD_SCALARS", "SIZE_CLASS_SCALARS", "THERMAL_SCALARS", "SWEEP_MIN_CHUNK", "SWEEP_MAX_CHUNK", "run_point", "run_sweep",
            "sweep_chunks", "solve_chunk", "warm_up"]
 
 #: transport outputs of a sweep row (names with their unit)
@@ -33,6 +33,9 @@ RTD_SCALARS = ("tracer_mean_s", "rtd_std_s")
 #: outputs of the coupled heat and mass transfer steady state added to sweep rows
 THERMAL_SCALARS = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC",
                    "evaporation_kg_s", "fuel_rate_kg_s", "shell_heat_loss_W", "energy_balance_error")
+#: outputs added to the rows of a feed in size classes (the gas carries the fines off): the CSV of a
+#: single-class case keeps its columns
+SIZE_CLASS_SCALARS = ("dust_rate_kg_s", "product_d50_m")
 
 
 def sweep_chunks(n: int) -> list[slice]:
@@ -56,7 +59,8 @@ def _solve_point(case, overrides: dict, warm=None):
     except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
         row["error"] = " ".join(str(exc).split()) or type(exc).__name__
         return row, None
-    for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS):
+    classes = getattr(getattr(getattr(res, "thermal", None), "dryer", None), "n_classes", 1) > 1
+    for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS, *(SIZE_CLASS_SCALARS if classes else ())):
         if k in out:
             row[k] = out[k]
     row["error"] = ""
