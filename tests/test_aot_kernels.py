@@ -156,3 +156,16 @@ def test_every_kernel_declares_its_argument_kinds():
         for name, (fn, kinds) in mod.AOT_KERNELS.items():
             assert len(inspect.signature(fn).parameters) == len(kinds), name
             assert set(kinds) <= set(_aot._NUMBA_TYPES), name
+
+
+def test_modules_of_other_sources_unused_for_a_month_are_removed(tmp_path):
+    import time
+
+    old, recent, mine = (tmp_path / f"_rotarydryer_kernels_{x}.so" for x in ("aaaa", "bbbb", "cccc"))
+    for p in (old, recent, mine):
+        p.write_bytes(b"")
+    month = time.time() - (_aot.STALE_DAYS + 1) * 86400
+    os.utime(old, (month, month))
+    os.utime(mine, (month, month))
+    _aot._prune(tmp_path, "_rotarydryer_kernels_cccc")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [recent.name, mine.name]

@@ -16,6 +16,8 @@ it); later processes import it without numba.
   takes 20-60 s once, in place of numba's own first compilation (about 8 s).
 * Without a C compiler or numba, or when the build fails, a marker file records the reason and
   the processes use numba's JIT cache, as before (a warning names the reason once).
+* Each load touches the module's file; a build removes the modules (and markers) of other sources
+  that no process has loaded for `STALE_DAYS`.
 * Code is generated for a generic CPU of the architecture (a cache shared by the nodes of a
   cluster must run on each), with NumPy's error model (a division by zero gives inf or NaN).
 * The extension's functions check nothing: each is wrapped to accept only the declared types
@@ -134,10 +136,31 @@ def _module(build: bool):
 
 def _try_load(name, ext):
     try:
-        return _load(name, ext)
+        mod = _load(name, ext)
     except Exception as exc:    # noqa: BLE001 - a damaged file: the JIT instead
         _warn(f"the compiled kernel module {ext} cannot be loaded ({type(exc).__name__}: {exc})")
         return None
+    try:
+        os.utime(ext)           # in use: kept by `_prune` (its time is when a process last loaded it)
+    except OSError:
+        pass
+    return mod
+
+
+#: modules of other sources (older versions) not loaded for this long are removed when a new one is built
+STALE_DAYS = 30.0
+
+
+def _prune(where: Path, keep: str) -> None:
+    cutoff = time.time() - STALE_DAYS * 86400.0
+    for p in where.glob("_rotarydryer_kernels_*"):
+        if p.name.startswith(keep):
+            continue
+        try:
+            if p.stat().st_mtime < cutoff:
+                p.unlink()
+        except OSError:
+            pass
 
 
 def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path):
@@ -179,6 +202,7 @@ def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path):
                 pass
             _warn(f"the compiled kernels could not be built ahead of time ({reason})")
             return None
+        _prune(where, name)
         return _try_load(name, ext)
     finally:
         os.close(fd)    # releases the lock
@@ -189,8 +213,12 @@ def build(where: Path, name: str):
     reason (one line)."""
     tmp = where / f".build-{name}-{os.getpid()}"
     try:
+        # the child compiles this process's sources (its package first on the path), and checks their digest
+        root = str(Path(__file__).resolve().parent.parent)
+        path = os.pathsep.join([root, *([os.environ["PYTHONPATH"]] if os.environ.get("PYTHONPATH") else [])])
         proc = subprocess.run([sys.executable, "-m", "rotarydryer._aot", str(tmp), name], capture_output=True,
-                              text=True, timeout=BUILD_TIMEOUT, env={**os.environ, "ROTARYDRYER_JIT": "0"})
+                              text=True, timeout=BUILD_TIMEOUT,
+                              env={**os.environ, "ROTARYDRYER_JIT": "0", "PYTHONPATH": path})
         if proc.returncode != 0:
             lines = [x for x in (proc.stderr or proc.stdout or "").splitlines() if x.strip()]
             return lines[-1].strip() if lines else f"exit code {proc.returncode}"
@@ -255,6 +283,9 @@ def _compile(out_dir: str, name: str) -> None:
     """The child process's build: numba.pycc over every kernel module's ``AOT_KERNELS``."""
     import importlib
 
+    if not name.endswith(_digest()):
+        raise SystemExit(f"the sources found ({Path(__file__).resolve().parent}) are not those of the module "
+                         f"{name} asked for")
     import numba
     import numba.pycc.compiler as pycc_compiler
     from numba.core import sigutils
