@@ -172,6 +172,8 @@ def test_diffusivity_branches_blend_smoothly_at_450_k():
 @given(st.floats(-30.0, 600.0), st.floats(0.0, 0.2), st.floats(-20.0, 80.0), st.floats(60e3, 110e3))
 @example(16.0, 0.0, 0.0, 60000.0)         # an ice bulb at -0.84 degC against 0 degC, where the bulb's enthalpy jumps
 @example(13.0, 0.0, 3.272932348434437e-284, 73451.0)      # ... and against a threshold just above 0 degC
+@example(17.0, 0.0, 0.0, 60000.0)         # a root on each side of 0 degC (ice -0.x, liquid +0.49): the liquid bulb
+@example(17.0, 0.0, 0.3, 60000.0)         # ... against a threshold between the two
 def test_wet_bulb_below_agrees_with_the_wet_bulb(t, y, threshold, p):
     """`wet_bulb_below` (one evaluation of the balance) says what the solved wet bulb says."""
     assume(float(ha.relative_humidity(t, y, p)) < 1.0)

@@ -524,9 +524,11 @@ def wet_bulb_below(temperature_c, humidity, threshold_c, pressure=STANDARD_PRESS
     # below 0 degC at 60 kPa)
     at = np.nextafter(float(threshold_c), -np.inf)
     residual = _wet_bulb_residual(t, y, p)
-    below = residual(np.full_like(t, at)) < 0
-    if at > 0:      # above 0 degC the water branch is checked; an ice bulb (root below 0) is below it too
-        below |= residual(np.full_like(t, np.nextafter(0.0, -np.inf))) < 0
+    water = residual(np.zeros_like(t)) > 0      # a liquid bulb at or above 0 degC (`wet_bulb_temperature`)
+    root_below = residual(np.full_like(t, at)) < 0
+    # above 0 degC: a liquid bulb below the threshold, or an ice bulb (below 0); at or below 0 degC: an ice bulb
+    # below the threshold (a liquid bulb is at or above 0 degC)
+    below = (~water | root_below) if at > 0 else (~water & root_below)
     return np.asarray(below)
 
 
@@ -536,8 +538,9 @@ def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     Solves $h(T,Y) + (Y_s(T_{wb}) - Y)\,h_w(T_{wb}) = h(T_{wb}, Y_s(T_{wb}))$
     (ASHRAE 2017 ch. 1 Eq. 33) by vectorised secant steps on a bisection bracket to 1e-10 K; h_w is the liquid
     enthalpy from the DIPPR heat capacity, below 0 °C that of ice (ASHRAE 2017 ch. 1 Eq. 34:
-    the ice-bulb temperature, over the frost-point vapour pressure). A wet bulb below
-    T_MIN_C (-40 °C) raises.
+    the ice-bulb temperature, over the frost-point vapour pressure). Near 0 °C at low pressure the
+    balance has a root on each side of the heat of fusion's jump; the liquid bulb (at or above
+    0 °C) is taken then. A wet bulb below T_MIN_C (-40 °C) raises.
 
     >>> round(float(wet_bulb_temperature(500.0, 0.0197)), 2)
     66.24
@@ -550,6 +553,12 @@ def wet_bulb_temperature(temperature_c, humidity, pressure=STANDARD_PRESSURE):
     tb = water.saturation_temperature(p)
     lo = np.full_like(t, T_MIN_C)
     hi = np.minimum(t, tb - 1e-6)
+    # the bulb's enthalpy drops by the heat of fusion from water to ice at 0 degC (Eq. 33 / 34), so near 0 degC
+    # at low pressure the balance can have a root on each side: the liquid bulb (at or above 0 degC) when the
+    # water branch has one, the ice bulb otherwise
+    on_water = (residual(np.zeros_like(t)) > 0) & (hi > 0)
+    lo = np.where(on_water, 0.0, lo)
+    hi = np.where(on_water, hi, np.minimum(hi, np.nextafter(0.0, -np.inf)))
     f_lo = residual(lo)
     if np.any(f_lo < 0):
         raise ValueError(f"wet_bulb_temperature: the wet-bulb temperature is below {T_MIN_C:g} degC, outside the "
