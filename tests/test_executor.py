@@ -153,9 +153,16 @@ def test_forked_pool_warms_the_parent_for_long_runs(monkeypatch):
         warm = ((note_jit, ("fork-connect",)),)
         ex.connect(warm)
         assert JIT_AT_WARM_UP == [("fork-connect", os.getpid(), True)]
+        frozen = []
+        monkeypatch.setattr(ex_mod.gc, "freeze", lambda: frozen.append("freeze"))
+        monkeypatch.setattr(ex_mod.gc, "unfreeze", lambda: frozen.append("unfreeze"))
         out = ex.map_chunks(worker_info, list(range(8)), chunks=1, warm=warm)
         # the forked workers inherit the parent's warm-ups (its count) and do not run this one again
         assert {n for _, n in out} == {ex_mod._WARM_RUNS[0]} and os.getpid() not in {p for p, _ in out}
+        # the parent's objects were out of the garbage collector's passes while the workers forked, then back
+        assert frozen == ["freeze", "unfreeze"]
+        ex.map_chunks(worker_info, list(range(4)), chunks=1, warm=warm)     # the workers live: no second freeze
+        assert frozen == ["freeze", "unfreeze"]
     finally:
         ex_mod._close_local()
 

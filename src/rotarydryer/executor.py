@@ -43,6 +43,7 @@ below 5 % on either.
 from __future__ import annotations
 
 import atexit
+import gc
 import math
 import multiprocessing
 import os
@@ -483,9 +484,19 @@ class Executor:
     def _map_local(self, fn, items, slices, args, warm, origin, store) -> None:
         pool = _local_pool(self.workers, warm)
         futures = {}
+        # the workers fork at the first submission: the parent's objects are left out of their garbage
+        # collections (gc.freeze, as the gc module's documentation advises before a fork), whose passes would
+        # otherwise write to every inherited object and copy its memory page into each worker
+        forking = _POOL.get("key", (0, ""))[1] == "fork" and not getattr(pool, "_processes", None)
         try:
-            for sl in slices:
-                futures[pool.submit(_run_chunk, fn, items[sl], args, warm, origin)] = sl
+            if forking:
+                gc.freeze()
+            try:
+                for sl in slices:
+                    futures[pool.submit(_run_chunk, fn, items[sl], args, warm, origin)] = sl
+            finally:
+                if forking:
+                    gc.unfreeze()
             pending = set(futures)
             while pending:
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
