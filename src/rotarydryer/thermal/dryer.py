@@ -221,6 +221,11 @@ def _filled(base, shape):
     return a
 
 
+#: a size class holding less than this many seconds of its dry feed in a tank: all but emptied there by the gas
+#: (named in a failed solve's error, `ThermalDryer._where_unsolved`)
+TRACE_CLASS_HOLDUP = 1e-3
+
+
 def _smooth_min(a, b, eps):
     """min(a, b), smoothed over ``eps`` (exact for eps = 0)."""
     if np.all(eps == 0):
@@ -1638,9 +1643,41 @@ class ThermalDryer:
         ss.factorization = lu
         if norm >= tol * ACCEPT_AFTER_MAX_ITER or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:
             raise DryerError(f"no steady state reached: scaled residual {norm:.3g} after {it} iterations "
-                             f"(water balance error {ss.water_balance_error:.2g}, energy {ss.energy_balance_error:.2g})",
-                             reason="no_steady_state", state=ss)
+                             f"(water balance error {ss.water_balance_error:.2g}, energy {ss.energy_balance_error:.2g}); "
+                             f"{self._where_unsolved(f, z, sc)}", reason="no_steady_state", state=ss)
         return ss
+
+    def _where_unsolved(self, f, z, sc) -> str:
+        """Where a failed solve's largest scaled residual (`_residual_norm`'s weighting) sits, one phrase for
+        its error: the state (a class's dry solids, water or temperature in a tank, or the gas at a stage)
+        and its place; for a size class the gas has all but emptied there (less than `TRACE_CLASS_HOLDUP`
+        seconds of that class's dry feed), that, and the keys that avoid solving for it."""
+        c, nt = self.n_classes, self.n_tanks
+        k = c * nt
+        r = np.abs(f) / sc
+        s = self.settings
+        w = np.minimum(1.0, np.maximum(z[:k] * s.cp_solids + z[k:2 * k] * s.cp_water, 0.0)
+                       / (EMPTY_TANK_MASS_NORM * self.feed_rate * s.cp_solids))
+        r[2 * k:3 * k] *= w
+        i = int(np.argmax(r))
+        if i >= 3 * k:
+            g = (i - 3 * k) % self.n_gas
+            what = "temperature" if i < 3 * k + self.n_gas else "humidity"
+            return (f"the largest residual is the gas {what} at stage {g + 1} of {self.n_gas} "
+                    f"({self.gas_section[g]}, {float(self.gas_position[g]):.2f} m)")
+        block, j = divmod(i, k)
+        cls, tank = divmod(j, nt)
+        what = ("dry solids", "water", "temperature")[block]
+        of = f" of size class {cls + 1} of {c} ({float(self.class_diameter[cls]) * 1e6:.0f} um)" if c > 1 else ""
+        text = (f"the largest residual is the solids {what}{of} in tank {tank + 1} of {nt} "
+                f"({self.tank_section[tank]}, {float(self.position[tank]):.2f} m)")
+        held = float(z[cls * nt + tank])
+        dry_feed = self.feed_rate * (1.0 - self.feed_moisture) * float(self.class_feed[cls])
+        if c > 1 and held < TRACE_CLASS_HOLDUP * dry_feed:
+            text += (f", where the gas has carried off nearly all of that class ({held:.2g} kg held): a class the gas "
+                     "empties is hard to resolve; fewer or coarser classes (particle_size.classes, particle_size.d50 "
+                     "or the sieve analysis) or less gas (gas.flow) avoid it")
+        return text
 
     def _residual_norm(self, f, z, sc, empty=EMPTY_TANK_MASS_NORM):
         """Scaled residual max |f_i|/scale_i of the steady-state test, the temperature rate of a tank
