@@ -8,7 +8,9 @@ The ahead-of-time kernel module (`rotarydryer._aot`) is built here, before the f
 it is missing (20-60 s once per installation): a test's subprocess with a timeout never waits
 for it."""
 
-from rotarydryer import _jit
+from rotarydryer import _aot, _jit
 
 _jit.long_runs()
+if _jit.mode() != "off":
+    _aot.build_now()        # a user's first long run starts it in the background and goes on with the JIT
 _jit.enabled()

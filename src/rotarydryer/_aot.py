@@ -10,12 +10,14 @@ it); later processes import it without numba.
 
 * The module's name carries a digest of the kernels' sources, this file, the Python and NumPy
   versions and the machine: a module built by other code is never loaded.
-* It is built by the first process that needs compiled kernels and finds none (a long run:
-  `rotarydryer._jit.long_runs`), in a child process (``python -m rotarydryer._aot``), under a
-  file lock that other processes wait on; the file appears by an atomic rename. The build
-  takes 20-60 s once, in place of numba's own first compilation (about 8 s).
-* Without a C compiler or numba, or when the build fails, a marker file records the reason and
-  the processes use numba's JIT cache, as before (a warning names the reason once).
+* The first process that wants compiled kernels and finds none (a long run:
+  `rotarydryer._jit.long_runs`) starts its build in the background, a detached process under a
+  file lock, and goes on with numba's JIT as before; the file appears by an atomic rename and
+  the next processes load it. The build takes 15-60 s of one core, once. `build_now` builds it
+  and waits (the test session, before its first test).
+* Without a C compiler or numba, or when the build fails, a marker file records the reason (a build
+  in the background fails silently, `build_now` warns once) and the processes use numba's JIT
+  cache, as before; delete the marker to try again.
 * Each load touches the module's file; a build removes the modules (and markers) of other sources
   that no process has loaded for `STALE_DAYS`.
 * Code is generated for a generic CPU of the architecture (a cache shared by the nodes of a
@@ -46,7 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DIR_ENV", "KERNEL_MODULES", "build", "function", "kernel_directory", "module"]
+__all__ = ["DIR_ENV", "KERNEL_MODULES", "build", "build_now", "function", "kernel_directory", "module"]
 
 #: environment variable naming the kernel cache directory; "off" disables the ahead-of-time kernels
 DIR_ENV = "ROTARYDRYER_KERNEL_DIR"
@@ -107,31 +109,79 @@ def _warn(message: str) -> None:
 
 
 def module(build: bool = False):
-    """The ahead-of-time kernel module of this installation, or None (disabled, not built, or not
-    buildable here). ``build``: build it now if it is missing (waiting for another process's build).
-    Decided once per process when found or failed; a process that did not build may look again."""
+    """The ahead-of-time kernel module of this installation, or None (disabled, not built yet, or not
+    buildable here). ``build``: when it is missing, start its build in the background (a detached
+    process; this process goes on with numba's JIT, as before the module existed) - a long run's
+    request. Decided once per process."""
     if "module" in _STATE and (_STATE["module"] is not None or not build or _STATE.get("final")):
         return _STATE["module"]
-    with _LOCK:     # one thread builds or loads (the web app's sessions run in threads)
-        return _module(build)
+    with _LOCK:     # one thread loads or starts the build (the web app's sessions run in threads)
+        if "module" in _STATE and (_STATE["module"] is not None or not build or _STATE.get("final")):
+            return _STATE["module"]
+        paths = _paths()
+        mod = None
+        if paths is not None:
+            where, name, ext, failed, lock = paths
+            if ext.exists():
+                mod = _try_load(name, ext)
+            elif build and not failed.exists():
+                _start_background(where, name, lock)
+        _STATE["module"] = mod
+        _STATE["final"] = mod is not None or build or paths is None
+        return mod
 
 
-def _module(build: bool):
-    if "module" in _STATE and (_STATE["module"] is not None or not build or _STATE.get("final")):
-        return _STATE["module"]
-    paths = _paths()
-    if paths is None:
-        _STATE.update(module=None, final=True)
-        return None
-    where, name, ext, failed, lock = paths
-    mod = None
-    if ext.exists():
-        mod = _try_load(name, ext)
-    elif build and not failed.exists():
-        mod = _build_locked(where, name, ext, failed, lock)
-    _STATE["module"] = mod
-    _STATE["final"] = mod is not None or build
-    return mod
+def build_now():
+    """Build the module now if it is missing (waiting for a build under way) and load it; None where it
+    cannot be built (the reason warned once and kept in a marker file). What the test session does
+    before its first test; `module` builds in the background instead."""
+    with _LOCK:
+        paths = _paths()
+        if paths is None:
+            return None
+        where, name, ext, failed, lock = paths
+        mod = _try_load(name, ext) if ext.exists() else (
+            None if failed.exists() else _build_locked(where, name, ext, failed, lock))
+        _STATE.update(module=mod, final=True)
+        return mod
+
+
+def _start_background(where: Path, name: str, lock: Path) -> None:
+    """A detached ``python -m rotarydryer._aot --background`` that builds the module under the lock (nothing
+    when numba is missing, the directory cannot be made or a build is under way)."""
+    if importlib.util.find_spec("numba") is None:
+        return
+    try:
+        where.mkdir(parents=True, exist_ok=True)
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError:
+        return      # a read-only cache: the JIT serves, as before
+    try:
+        import fcntl
+
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            fcntl.flock(fd, fcntl.LOCK_UN)
+        except OSError:
+            return  # another process is building it
+    except ImportError:
+        pass
+    finally:
+        os.close(fd)
+    try:
+        subprocess.Popen([sys.executable, "-m", "rotarydryer._aot", "--background", str(where), name],
+                         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                         env=_child_env(), start_new_session=True)
+    except OSError:
+        pass
+
+
+def _child_env() -> dict:
+    """The environment of a build's process: this process's package first on the path (the child compiles
+    these sources and checks their digest), the JIT off."""
+    root = str(Path(__file__).resolve().parent.parent)
+    path = os.pathsep.join([root, *([os.environ["PYTHONPATH"]] if os.environ.get("PYTHONPATH") else [])])
+    return {**os.environ, "ROTARYDRYER_JIT": "0", "PYTHONPATH": path}
 
 
 def _try_load(name, ext):
@@ -163,7 +213,8 @@ def _prune(where: Path, keep: str) -> None:
             pass
 
 
-def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path):
+def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path, wait: bool = True):
+    """Build under the lock (``wait``: for a build under way, else give up at once) and load."""
     if importlib.util.find_spec("numba") is None:
         return None
     try:
@@ -184,14 +235,14 @@ def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path):
                     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
                     break
                 except OSError:
-                    if time.monotonic() > deadline:
+                    if not wait or time.monotonic() > deadline:
                         return None
                     time.sleep(0.2)
         if ext.exists():        # built by the process that held the lock
             return _try_load(name, ext)
         if failed.exists():
             return None
-        if sys.stderr is not None and sys.stderr.isatty():     # a person waits: say why, once
+        if wait and sys.stderr is not None and sys.stderr.isatty():     # a person waits: say why, once
             print("rotarydryer: compiling the kernels for this installation (once, 20-60 s) ...", file=sys.stderr,
                   flush=True)
         reason = build(where, name)
@@ -213,12 +264,8 @@ def build(where: Path, name: str):
     reason (one line)."""
     tmp = where / f".build-{name}-{os.getpid()}"
     try:
-        # the child compiles this process's sources (its package first on the path), and checks their digest
-        root = str(Path(__file__).resolve().parent.parent)
-        path = os.pathsep.join([root, *([os.environ["PYTHONPATH"]] if os.environ.get("PYTHONPATH") else [])])
         proc = subprocess.run([sys.executable, "-m", "rotarydryer._aot", str(tmp), name], capture_output=True,
-                              text=True, timeout=BUILD_TIMEOUT,
-                              env={**os.environ, "ROTARYDRYER_JIT": "0", "PYTHONPATH": path})
+                              text=True, timeout=BUILD_TIMEOUT, env=_child_env())
         if proc.returncode != 0:
             lines = [x for x in (proc.stderr or proc.stdout or "").splitlines() if x.strip()]
             return lines[-1].strip() if lines else f"exit code {proc.returncode}"
@@ -316,5 +363,11 @@ def _compile(out_dir: str, name: str) -> None:
     cc.compile()
 
 
-if __name__ == "__main__":      # python -m rotarydryer._aot OUT_DIR NAME
-    _compile(sys.argv[1], sys.argv[2])
+if __name__ == "__main__":      # python -m rotarydryer._aot OUT_DIR NAME, or --background KERNEL_DIR NAME
+    if sys.argv[1] == "--background":
+        if _paths() is not None and _paths()[1] == sys.argv[3]:
+            where_, name_, ext_, failed_, lock_ = _paths()
+            if not ext_.exists() and not failed_.exists():
+                _build_locked(where_, name_, ext_, failed_, lock_, wait=False)
+    else:
+        _compile(sys.argv[1], sys.argv[2])

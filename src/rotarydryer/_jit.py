@@ -8,18 +8,20 @@ tested against each other) and that runs whenever the compiled kernels are not i
 
 The compiled kernels come from one of two places:
 
-* the **ahead-of-time module** (`rotarydryer._aot`): built once per installation by the first
-  long run (20-60 s, in a child process; it needs numba and a C compiler), then loaded by any
-  process in about a millisecond, without numba;
-* **numba's JIT** with its disk cache (``cache=True``), where that module cannot be built: the
-  first use compiles (about 8 s), later processes load them in 0.5-0.9 s (numba's import and
-  first dispatch), which a one-off steady state (0.1-0.3 s of solving) does not win back.
+* the **ahead-of-time module** (`rotarydryer._aot`): built once per installation in the background,
+  started by the first long run (15-60 s of one core; it needs numba and a C compiler), then loaded
+  by any process in about a millisecond, without numba;
+* **numba's JIT** with its disk cache (``cache=True``), until that module is there or where it
+  cannot be built: the first use compiles (about 8 s), later processes load them in 0.5-0.9 s
+  (numba's import and first dispatch), which a one-off steady state (0.1-0.3 s of solving) does
+  not win back.
 
 ``ROTARYDRYER_JIT`` chooses:
 
 * ``auto`` (default): the compiled kernels serve the **long runs** - a process that declares one
   (`long_runs`: sweeps, sensitivity studies, dynamics, control, design searches, fits and
-  calibrations, validation, the executor's workers, the web app) builds or loads them; a
+  calibrations, validation, the executor's workers, the web app) loads them (or starts the
+  module's build and takes the JIT meanwhile); a
   one-off command (``simulate``, ``rtd``, ``report``) uses the ahead-of-time module when it is
   built and NumPy otherwise, and never imports numba;
 * ``1`` / ``on``: always;
