@@ -8,9 +8,11 @@ The ahead-of-time kernel module (`rotarydryer._aot`) is built here, before the f
 it is missing (20-60 s once per installation): a test's subprocess with a timeout never waits
 for it."""
 
+import os
+
 from rotarydryer import _aot, _jit
 
 _jit.long_runs()
-if _jit.mode() != "off":
+if _jit.mode() != "off" and os.environ.get("NUMBA_DISABLE_JIT", "0").strip() in ("", "0"):
     _aot.build_now()        # a user's first long run starts it in the background and goes on with the JIT
 _jit.enabled()

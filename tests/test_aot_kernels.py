@@ -7,6 +7,7 @@ import shutil
 import subprocess
 import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -54,8 +55,9 @@ def test_built_once_then_loaded_without_numba(tmp_path):
     first = _run(env)
     assert first["numba"] and not first["aot"] and first["n"] >= 4
     deadline = time.monotonic() + 600
-    while not [p for p in tmp_path.iterdir() if p.suffix == ".so"] and time.monotonic() < deadline:
+    while not [p for p in tmp_path.iterdir() if p.suffix in (".so", ".failed")] and time.monotonic() < deadline:
         time.sleep(1.0)
+    assert not list(tmp_path.glob("*.failed")), [p.read_text() for p in tmp_path.glob("*.failed")]
     built = [p.name for p in tmp_path.iterdir() if p.suffix == ".so"]
     assert len(built) == 1 and built[0].startswith("_rotarydryer_kernels_"), list(tmp_path.iterdir())
     second = _run(env)
@@ -169,7 +171,7 @@ def test_every_kernel_declares_its_argument_kinds():
     for mod in (_kernels, _cell_kernel):
         for name, (fn, kinds) in mod.AOT_KERNELS.items():
             assert len(inspect.signature(fn).parameters) == len(kinds), name
-            assert set(kinds) <= set(_aot._NUMBA_TYPES), name
+            assert set(kinds) <= _aot.KINDS, name
 
 
 def test_modules_of_other_sources_unused_for_a_month_are_removed(tmp_path):
@@ -183,3 +185,33 @@ def test_modules_of_other_sources_unused_for_a_month_are_removed(tmp_path):
     os.utime(mine, (month, month))
     _aot._prune(tmp_path, "_rotarydryer_kernels_cccc")
     assert sorted(p.name for p in tmp_path.iterdir()) == [recent.name, mine.name]
+
+
+@pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba missing: no build is attempted")
+def test_a_passing_failure_leaves_no_marker(tmp_path, monkeypatch, fresh_state):
+    """A build killed (out of memory) or over its time is tried again by a later run: no marker."""
+    monkeypatch.setenv(_aot.DIR_ENV, str(tmp_path))
+    monkeypatch.setattr(_aot, "build", lambda where, name: _aot.TransientBuildFailure("stopped by signal 9"))
+    with pytest.warns(RuntimeWarning, match="stopped by signal 9"):
+        assert _aot.build_now() is None
+    assert not list(tmp_path.glob("*.failed"))
+
+
+def test_a_module_others_can_write_is_not_loaded(tmp_path, monkeypatch, fresh_state):
+    if not hasattr(os, "getuid"):
+        pytest.skip("no file owners here")
+    monkeypatch.setenv(_aot.DIR_ENV, str(tmp_path))
+    _, _, ext, _, _ = _aot._paths()
+    ext.write_bytes(b"")
+    ext.chmod(0o666)
+    with pytest.warns(RuntimeWarning, match="others can write it"):
+        assert _aot.module(build=True) is None
+
+
+def test_the_build_gets_neither_numbas_settings_nor_warnings_as_errors(monkeypatch):
+    monkeypatch.setenv("NUMBA_OPT", "0")
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")
+    monkeypatch.setenv("PYTHONWARNINGS", "error")
+    env = _aot._child_env()
+    assert not [k for k in env if k.startswith("NUMBA_")] and "PYTHONWARNINGS" not in env
+    assert env["PYTHONPATH"].split(os.pathsep)[0] == str(Path(_aot.__file__).resolve().parent.parent)

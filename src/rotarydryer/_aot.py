@@ -34,6 +34,7 @@ argument: ``a`` float64 1-D input, ``o`` float64 1-D output, ``m`` float64 2-D i
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -43,6 +44,7 @@ import subprocess
 import sys
 import threading
 import time
+import uuid
 import warnings
 from pathlib import Path
 
@@ -60,9 +62,11 @@ BUILD_TIMEOUT = 900.0
 _ARRAY_KINDS = {"a": (np.float64, 1, False), "o": (np.float64, 1, True), "m": (np.float64, 2, False),
                 "M": (np.float64, 2, True), "n": (np.int64, 1, False)}
 _SCALAR_KINDS = {"f": float, "i": int, "b": bool}
-_NUMBA_TYPES = {"a": "float64[::1]", "o": "float64[::1]", "m": "float64[:, ::1]", "M": "float64[:, ::1]",
-                "n": "int64[::1]", "f": "float64", "i": "int64", "b": "boolean"}
+#: every argument kind (`AOT_KERNELS`)
+KINDS = frozenset("aomMnfib")
 
+#: errno values of a lock another process holds (any other error: the file system has no locks)
+_BUSY = {errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES}
 _STATE: dict = {}       # "module": the loaded module or None once decided; "warned": a failure reported
 _LOCK = threading.Lock()
 
@@ -90,7 +94,10 @@ def _paths():
     where = kernel_directory()
     if where is None:
         return None
-    name = f"_rotarydryer_kernels_{_digest()}"
+    try:
+        name = f"_rotarydryer_kernels_{_digest()}"
+    except OSError:     # an installation without the kernels' sources (bytecode only, a frozen app): no module
+        return None
     suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
     return where, name, where / (name + suffix), where / (name + ".failed"), where / (name + ".lock")
 
@@ -162,18 +169,20 @@ def _start_background(where: Path, name: str, lock: Path) -> None:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             fcntl.flock(fd, fcntl.LOCK_UN)
-        except OSError:
-            return  # another process is building it
-    except ImportError:
-        pass
+        except OSError as exc:
+            if exc.errno in _BUSY:
+                return  # another process is building it
+    except ImportError:     # not POSIX: no lock to share, so no build in the background (`build_now` builds)
+        return
     finally:
         os.close(fd)
     try:
-        subprocess.Popen([sys.executable, "-m", "rotarydryer._aot", "--background", str(where), name],
-                         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                         env=_child_env(), start_new_session=True)
+        child = subprocess.Popen([sys.executable, "-m", "rotarydryer._aot", "--background", str(where), name],
+                                 stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                 env=_child_env(), start_new_session=True)
     except OSError:
-        pass
+        return
+    threading.Thread(target=child.wait, daemon=True).start()    # reaped when it ends (a long-lived app)
 
 
 def _child_env() -> dict:
@@ -181,10 +190,28 @@ def _child_env() -> dict:
     these sources and checks their digest), the JIT off."""
     root = str(Path(__file__).resolve().parent.parent)
     path = os.pathsep.join([root, *([os.environ["PYTHONPATH"]] if os.environ.get("PYTHONPATH") else [])])
-    return {**os.environ, "ROTARYDRYER_JIT": "0", "PYTHONPATH": path}
+    # numba's own settings (optimisation level, bounds checks, disabling) and warnings made errors are not the
+    # build's: the module is shared by every later process, compiled with numba's defaults
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_") and k != "PYTHONWARNINGS"}
+    return {**env, "ROTARYDRYER_JIT": "0", "PYTHONPATH": path}
+
+
+def _trusted(ext: Path) -> bool:
+    """Is ``ext`` this user's (or root's) and writable by no one else? Native code from a file others can
+    write is not loaded."""
+    if not hasattr(os, "getuid"):
+        return True
+    try:
+        st = ext.stat()
+    except OSError:
+        return False
+    return st.st_uid in (os.getuid(), 0) and not st.st_mode & 0o022
 
 
 def _try_load(name, ext):
+    if not _trusted(ext):
+        _warn(f"the compiled kernel module {ext} is not loaded: another user owns it or others can write it")
+        return None
     try:
         mod = _load(name, ext)
     except Exception as exc:    # noqa: BLE001 - a damaged file: the JIT instead
@@ -207,7 +234,8 @@ def _prune(where: Path, keep: str) -> None:
         if p.name.startswith(keep):
             continue
         try:
-            if p.stat().st_mtime < cutoff:
+            st = p.stat()
+            if st.st_mtime < cutoff and (not hasattr(os, "getuid") or st.st_uid == os.getuid()):
                 p.unlink()
         except OSError:
             pass
@@ -234,7 +262,9 @@ def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path, w
                 try:
                     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
                     break
-                except OSError:
+                except OSError as exc:
+                    if exc.errno not in _BUSY:      # a file system without locks: build without one
+                        break
                     if not wait or time.monotonic() > deadline:
                         return None
                     time.sleep(0.2)
@@ -247,10 +277,11 @@ def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path, w
                   flush=True)
         reason = build(where, name)
         if reason is not None:
-            try:
-                failed.write_text(reason + "\n")
-            except OSError:
-                pass
+            if not isinstance(reason, TransientBuildFailure):
+                try:
+                    failed.write_text(reason + "\n")
+                except OSError:
+                    pass
             _warn(f"the compiled kernels could not be built ahead of time ({reason})")
             return None
         _prune(where, name)
@@ -259,13 +290,20 @@ def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path, w
         os.close(fd)    # releases the lock
 
 
+class TransientBuildFailure(str):
+    """The reason of a build that failed for a passing cause (a signal, the time limit, the file system):
+    no marker is written, a later long run tries again."""
+
+
 def build(where: Path, name: str):
     """Compile the kernels into ``where/name<suffix>`` in a child process; None on success, else the
-    reason (one line)."""
-    tmp = where / f".build-{name}-{os.getpid()}"
+    reason (one line; a `TransientBuildFailure` for a passing cause)."""
+    tmp = where / f".build-{name}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
     try:
         proc = subprocess.run([sys.executable, "-m", "rotarydryer._aot", str(tmp), name], capture_output=True,
                               text=True, timeout=BUILD_TIMEOUT, env=_child_env())
+        if proc.returncode < 0:     # killed (out of memory, a signal)
+            return TransientBuildFailure(f"the build was stopped by signal {-proc.returncode}")
         if proc.returncode != 0:
             lines = [x for x in (proc.stderr or proc.stdout or "").splitlines() if x.strip()]
             return lines[-1].strip() if lines else f"exit code {proc.returncode}"
@@ -275,9 +313,9 @@ def build(where: Path, name: str):
         os.replace(built[0], where / (name + importlib.machinery.EXTENSION_SUFFIXES[0]))
         return None
     except subprocess.TimeoutExpired:
-        return f"the build took more than {BUILD_TIMEOUT:.0f} s"
+        return TransientBuildFailure(f"the build took more than {BUILD_TIMEOUT:.0f} s")
     except OSError as exc:
-        return f"{type(exc).__name__}: {exc}"
+        return TransientBuildFailure(f"{type(exc).__name__}: {exc}")
     finally:
         if tmp.exists():
             for p in sorted(tmp.rglob("*"), reverse=True):
@@ -335,7 +373,7 @@ def _compile(out_dir: str, name: str) -> None:
                          f"{name} asked for")
     import numba
     import numba.pycc.compiler as pycc_compiler
-    from numba.core import sigutils
+    from numba.core import types
     from numba.pycc import CC
 
     base_flags = pycc_compiler.Flags
@@ -354,7 +392,10 @@ def _compile(out_dir: str, name: str) -> None:
         for helper, py in mod._HELPERS.items():     # the kernels' globals: compiled functions
             setattr(mod, helper, numba.njit(error_model="numpy")(py))
         for export, (fn, kinds) in mod.AOT_KERNELS.items():
-            args, _ = sigutils.normalize_signature(f"void({', '.join(_NUMBA_TYPES[k] for k in kinds)})")
+            # the inputs read-only: a kernel that writes to an argument its kinds call an input does not compile
+            scalars = {"f": types.float64, "i": types.int64, "b": types.boolean}
+            args = [types.Array(types.int64 if k == "n" else types.float64, 2 if k in "mM" else 1, "C",
+                                readonly=k in "amn") if k in _ARRAY_KINDS else scalars[k] for k in kinds]
             jit = numba.njit(error_model="numpy")(fn)
             jit.compile(tuple(args))
             ret = jit.overloads[tuple(args)].signature.return_type

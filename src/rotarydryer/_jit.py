@@ -136,6 +136,6 @@ def disable(reason: str):
     """Stop using the compiled kernels in this process (one that failed to compile or run), with a
     warning naming ``reason``; the NumPy references give the same results."""
     global _DISABLED
-    if not _DISABLED and _NUMBA is not None:
+    if not _DISABLED and (_NUMBA is not None or _aot.module() is not None):
         warnings.warn(f"rotarydryer: compiled kernels disabled ({reason}); using NumPy", RuntimeWarning, stacklevel=3)
     _DISABLED = True
