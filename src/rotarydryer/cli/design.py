@@ -71,6 +71,7 @@ def design_cmd(
       rotarydryer design --duty raw_sugar
       rotarydryer design --duty mmg --ua-factor 1.84 --no-verify --out mmg_design
       rotarydryer design --check ajayi2011_mmg
+      rotarydryer new mydryer
       rotarydryer design --check mydryer.toml --moisture-out 0.005
     """
     from .. import design as D
