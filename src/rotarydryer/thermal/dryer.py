@@ -1654,12 +1654,7 @@ class ThermalDryer:
         seconds of that class's dry feed), that, and the keys that avoid solving for it."""
         c, nt = self.n_classes, self.n_tanks
         k = c * nt
-        r = np.abs(f) / sc
-        s = self.settings
-        w = np.minimum(1.0, np.maximum(z[:k] * s.cp_solids + z[k:2 * k] * s.cp_water, 0.0)
-                       / (EMPTY_TANK_MASS_NORM * self.feed_rate * s.cp_solids))
-        r[2 * k:3 * k] *= w
-        i = int(np.argmax(r))
+        i = int(np.argmax(self._scaled_residuals(f, z, sc)))
         if i >= 3 * k:
             g = (i - 3 * k) % self.n_gas
             what = "temperature" if i < 3 * k + self.n_gas else "humidity"
@@ -1680,10 +1675,14 @@ class ThermalDryer:
         return text
 
     def _residual_norm(self, f, z, sc, empty=EMPTY_TANK_MASS_NORM):
-        """Scaled residual max |f_i|/scale_i of the steady-state test, the temperature rate of a tank
-        weighted by its heat capacity up to ``empty`` x feed rate x 1 s of solids (EMPTY_TANK_MASS_NORM; the
-        heat-flow residual, W, of a nearly empty tank is what its balance can resolve; its K/s is a
-        ratio of two vanishing numbers). At any tank holding solids the test is the plain one."""
+        """Scaled residual max |f_i|/scale_i of the steady-state test (`_scaled_residuals`)."""
+        return float(np.max(self._scaled_residuals(f, z, sc, empty)))
+
+    def _scaled_residuals(self, f, z, sc, empty=EMPTY_TANK_MASS_NORM):
+        """|f_i|/scale_i of the steady-state test, the temperature rate of a tank weighted by its heat
+        capacity up to ``empty`` x feed rate x 1 s of solids (EMPTY_TANK_MASS_NORM; the heat-flow
+        residual, W, of a nearly empty tank is what its balance can resolve; its K/s is a ratio of two
+        vanishing numbers). At any tank holding solids the test is the plain one."""
         r = np.abs(f) / sc
         k = self.n_classes * self.n_tanks
         S, W = z[:k], z[k:2 * k]
@@ -1691,7 +1690,7 @@ class ThermalDryer:
         c_floor = empty * self.feed_rate * s.cp_solids      # of the whole feed, for every class
         w = np.minimum(1.0, np.maximum(S * s.cp_solids + W * s.cp_water, 0.0) / c_floor)
         r[2 * k:3 * k] *= w
-        return float(np.max(r))
+        return r
 
     def _radius_step(self, dz, sc):
         """(``dz`` shortened along its direction so that no temperature or humidity moves more than
