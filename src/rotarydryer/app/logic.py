@@ -98,8 +98,7 @@ def profile_view(name: str, radius: float, n_flights: int, repose_angle: float, 
     if name not in flight_profiles():
         raise ValueError(f"drum = {name!r} is not a built-in drum with a polygonal flight; choose one of "
                          f"{', '.join(flight_profiles())}")
-    if isinstance(n_flights, bool) or float(n_flights) != int(n_flights):
-        raise ValueError(f"n_flights = {n_flights!r} is not a whole number of flights")
+    _check_view_inputs(n_flights, bulk_density, length)
     base, _ = preset_drum(name)
     try:
         drum = FlightedDrum(radius, int(n_flights), base.flight)
@@ -119,25 +118,29 @@ def geometry_view(radius: float, n_flights: int, s1: float, s2: float, alpha1: f
     "metrics": {...}, "cross_section": png, "profile": png}``.  Raises ``ValueError``
     (naming the argument) on impossible geometry.
     """
-    from .._validation import check_range
     from ..geometry import FlightedDrum, TwoSectionFlight
 
-    if isinstance(n_flights, bool) or float(n_flights) != int(n_flights):
-        raise ValueError(f"n_flights = {n_flights!r} is not a whole number of flights")    # 2.7 became 2 (fuzzing)
-    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")     # before the drum: its own message
-    check_range("length", length, 0.0, 200.0, unit="m")
+    _check_view_inputs(n_flights, bulk_density, length)
     drum = FlightedDrum(radius, int(n_flights), TwoSectionFlight(s1, s2, alpha1, alpha2))
     return _drum_view(drum, repose_angle, rpm, slope, bulk_density, length, images)
 
 
-def _drum_view(drum, repose_angle, rpm, slope, bulk_density, length, images):
-    """The geometry page's numbers and figures of a built drum (any flight shape)."""
+def _check_view_inputs(n_flights, bulk_density, length) -> None:
+    """The geometry page's inputs that the drum does not check, before it is built (their own messages)."""
     from .._validation import check_range
+
+    if isinstance(n_flights, bool) or float(n_flights) != int(n_flights):
+        raise ValueError(f"n_flights = {n_flights!r} is not a whole number of flights")    # 2.7 became 2 (fuzzing)
+    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")
+    check_range("length", length, 0.0, 200.0, unit="m")
+
+
+def _drum_view(drum, repose_angle, rpm, slope, bulk_density, length, images):
+    """The geometry page's numbers and figures of a built drum (any flight shape; inputs checked by
+    `_check_view_inputs`)."""
     from ..geometry import DESIGN_LOAD_METHODS
     from ..geometry.drum import check_speed
 
-    check_range("bulk_density", bulk_density, 0.0, 5000.0, unit="kg/m^3")
-    check_range("length", length, 0.0, 200.0, unit="m")
     check_speed("rpm", rpm, drum.radius, radius_key="radius", warn=False)     # refuse at/above critical speed
     cs = drum.cascade(repose_angle, 1.0, rpm=rpm, slope=slope)
     tr = drum.transition_angles(repose_angle)
