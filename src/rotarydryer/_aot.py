@@ -63,7 +63,7 @@ _ARRAY_KINDS = {"a": (np.float64, 1, False), "o": (np.float64, 1, True), "m": (n
                 "M": (np.float64, 2, True), "n": (np.int64, 1, False)}
 _SCALAR_KINDS = {"f": float, "i": int, "b": bool}
 #: every argument kind (`AOT_KERNELS`)
-KINDS = frozenset("aomMnfib")
+KINDS = frozenset(_ARRAY_KINDS) | frozenset(_SCALAR_KINDS)
 
 #: errno values of a lock another process holds (any other error: the file system has no locks)
 _BUSY = {errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES}
@@ -153,29 +153,40 @@ def build_now():
         return mod
 
 
+def _open_lock(where: Path, lock: Path) -> int:
+    """The lock file's descriptor, the cache directory made first (OSError where it cannot be)."""
+    where.mkdir(parents=True, exist_ok=True)
+    return os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+
+
+def _take_lock(fd: int):
+    """Try the build's lock once: "held" (taken), "busy" (another process holds it), "none" (no locks
+    here: not POSIX, or a file system without them)."""
+    try:
+        import fcntl
+    except ImportError:
+        return "none"
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return "held"
+    except OSError as exc:
+        return "busy" if exc.errno in _BUSY else "none"
+
+
 def _start_background(where: Path, name: str, lock: Path) -> None:
     """A detached ``python -m rotarydryer._aot --background`` that builds the module under the lock (nothing
-    when numba is missing, the directory cannot be made or a build is under way)."""
+    when numba is missing, the directory cannot be made, there are no locks or a build is under way)."""
     if importlib.util.find_spec("numba") is None:
         return
     try:
-        where.mkdir(parents=True, exist_ok=True)
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        fd = _open_lock(where, lock)
     except OSError:
         return      # a read-only cache: the JIT serves, as before
     try:
-        import fcntl
-
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            fcntl.flock(fd, fcntl.LOCK_UN)
-        except OSError as exc:
-            if exc.errno in _BUSY:
-                return  # another process is building it
-    except ImportError:     # not POSIX: no lock to share, so no build in the background (`build_now` builds)
-        return
+        if _take_lock(fd) != "held":    # a build under way, or no lock to share (`build_now` builds then)
+            return
     finally:
-        os.close(fd)
+        os.close(fd)    # releases it: the child takes it
     try:
         child = subprocess.Popen([sys.executable, "-m", "rotarydryer._aot", "--background", str(where), name],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
@@ -246,28 +257,16 @@ def _build_locked(where: Path, name: str, ext: Path, failed: Path, lock: Path, w
     if importlib.util.find_spec("numba") is None:
         return None
     try:
-        where.mkdir(parents=True, exist_ok=True)
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        fd = _open_lock(where, lock)
     except OSError as exc:
         _warn(f"the kernel cache {where} is not writable ({exc.strerror or exc})")
         return None
     try:
-        import fcntl
-    except ImportError:         # not POSIX: build without the lock (the rename keeps the file whole)
-        fcntl = None
-    try:
-        if fcntl is not None:
-            deadline = time.monotonic() + BUILD_TIMEOUT
-            while True:
-                try:
-                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                    break
-                except OSError as exc:
-                    if exc.errno not in _BUSY:      # a file system without locks: build without one
-                        break
-                    if not wait or time.monotonic() > deadline:
-                        return None
-                    time.sleep(0.2)
+        deadline = time.monotonic() + BUILD_TIMEOUT
+        while _take_lock(fd) == "busy":     # without locks: build without one (the rename keeps the file whole)
+            if not wait or time.monotonic() > deadline:
+                return None
+            time.sleep(0.2)
         if ext.exists():        # built by the process that held the lock
             return _try_load(name, ext)
         if failed.exists():
@@ -357,9 +356,9 @@ def _guarded(fn, name: str, kinds: str):
     return call
 
 
-def function(name: str, kinds: str, build: bool = False):
+def function(name: str, kinds: str):
     """Kernel ``name`` (argument ``kinds``) from the ahead-of-time module, type-checked, or None."""
-    mod = module(build=build)
+    mod = module()
     fn = getattr(mod, name, None) if mod is not None else None
     return None if fn is None else _guarded(fn, name, kinds)
 
@@ -387,13 +386,13 @@ def _compile(out_dir: str, name: str) -> None:
     cc = CC(name)
     cc.output_dir = out_dir
     cc.verbose = False
+    scalars = {"f": types.float64, "i": types.int64, "b": types.boolean}
     for modname in KERNEL_MODULES:
         mod = importlib.import_module(modname)
         for helper, py in mod._HELPERS.items():     # the kernels' globals: compiled functions
             setattr(mod, helper, numba.njit(error_model="numpy")(py))
         for export, (fn, kinds) in mod.AOT_KERNELS.items():
             # the inputs read-only: a kernel that writes to an argument its kinds call an input does not compile
-            scalars = {"f": types.float64, "i": types.int64, "b": types.boolean}
             args = [types.Array(types.int64 if k == "n" else types.float64, 2 if k in "mM" else 1, "C",
                                 readonly=k in "amn") if k in _ARRAY_KINDS else scalars[k] for k in kinds]
             jit = numba.njit(error_model="numpy")(fn)
@@ -406,9 +405,8 @@ def _compile(out_dir: str, name: str) -> None:
 
 if __name__ == "__main__":      # python -m rotarydryer._aot OUT_DIR NAME, or --background KERNEL_DIR NAME
     if sys.argv[1] == "--background":
-        if _paths() is not None and _paths()[1] == sys.argv[3]:
-            where_, name_, ext_, failed_, lock_ = _paths()
-            if not ext_.exists() and not failed_.exists():
-                _build_locked(where_, name_, ext_, failed_, lock_, wait=False)
+        found = _paths()
+        if found is not None and found[1] == sys.argv[3] and not found[2].exists() and not found[3].exists():
+            _build_locked(*found, wait=False)
     else:
         _compile(sys.argv[1], sys.argv[2])
