@@ -641,9 +641,10 @@ def plant_from_case(case, overrides=None, moisture_out=None):
                      "(the longest) for the whole drum")
     if abs(drum.flight.alpha1 - 90.0) > 1e-9:
         notes.append(f"the flight base stands at {drum.flight.alpha1:g} deg to the shell; the screening takes it radial")
-    if sum(law.spec.length for law in flighted) < d.length - 1e-9:
-        notes.append(f"{d.length - sum(law.spec.length for law in flighted):g} m of the {d.length:g} m drum are "
-                     "unflighted; the screening takes the whole length as flighted")
+    unflighted = d.length - sum(law.spec.length for law in flighted)
+    if unflighted > 1e-9:
+        notes.append(f"{unflighted:g} m of the {d.length:g} m drum are unflighted; the screening takes the whole "
+                     "length as flighted")
     if moisture_out is None:
         summary = sim.steady_state().summary()
         x = float(summary["product_moisture_kg_kg"])
