@@ -66,6 +66,14 @@ def _model_in(annotation):
     return next((m for m in map(_model_in, get_args(annotation)) if m is not None), None)
 
 
+@cache
+def _field_kinds(cls) -> dict:
+    """``{field: (block class or None, whether it may hold a boolean)}`` of the schema class ``cls``, worked out
+    once per class: walking the annotations took 6 ms of every case load (a study loads one per run)."""
+    return {key: (_model_in(f.annotation), _takes_bool(f.annotation))
+            for key, f in getattr(cls, "model_fields", {}).items()}
+
+
 def _boolean_numbers(cls, raw, path=()):
     """The dotted keys (with their values) of ``raw`` (a case document, or a block of it, for the schema class
     ``cls``) that hold a boolean where the schema expects a number: pydantic's lax mode reads true as 1.0 (a 1 m
@@ -73,18 +81,19 @@ def _boolean_numbers(cls, raw, path=()):
     out = []
     if not isinstance(raw, dict):
         return out
+    kinds = _field_kinds(cls)
     for key, value in raw.items():
-        finfo = getattr(cls, "model_fields", {}).get(key)
-        if finfo is None:
+        kind = kinds.get(key)
+        if kind is None:
             continue
         where = (*path, key)
-        block = _model_in(finfo.annotation)
+        block, takes_bool = kind
         if block is not None and isinstance(value, dict):
             out += _boolean_numbers(block, value, where)
         elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
             for i, v in enumerate(value):
                 out += _boolean_numbers(block, v, (*where, i))
-        elif _holds_bool(value) and not _takes_bool(finfo.annotation):
+        elif _holds_bool(value) and not takes_bool:
             out.append((where, value))
     return out
 
