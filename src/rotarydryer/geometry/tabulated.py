@@ -149,16 +149,16 @@ class _PiecewiseTensorSpline:
 
     def __call__(self, x, y):
         if self.cell_off.size == 1:
-            i = np.clip(((x - self.x0[0]) * (1.0 / self.hx[0])).astype(np.intp), 0, self.nx[0] - 1)
+            i = np.minimum(np.maximum(((x - self.x0[0]) * (1.0 / self.hx[0])).astype(np.intp), 0), self.nx[0] - 1)
             u = x - (self.x0[0] + i * self.hx[0])
             cell = i * self.ny
         else:
             k = np.searchsorted(self.edges[1:-1], x, side="right")     # pieces below x (as many as edges <= x)
             x0, hx = self.x0[k], self.hx[k]
-            i = np.clip(((x - x0) / hx).astype(np.intp), 0, self.nx[k] - 1)
+            i = np.minimum(np.maximum(((x - x0) / hx).astype(np.intp), 0), self.nx[k] - 1)
             u = x - (x0 + i * hx)
             cell = self.cell_off[k] + i * self.ny
-        j = np.clip(((y - self.y0) * (1.0 / self.hy)).astype(np.intp), 0, self.ny - 1)
+        j = np.minimum(np.maximum(((y - self.y0) * (1.0 / self.hy)).astype(np.intp), 0), self.ny - 1)
         v = y - (self.y0 + j * self.hy)
         blk = self.blocks.take(cell + j, axis=0).reshape(x.size, 4, -1)  # (n, b, a q)
         # sum_b v^b c_b, then sum_a u^a r_a: two batched row-times-matrix products
@@ -179,7 +179,7 @@ class _Breaks:
         self.last = self.x.size - 2
 
     def __call__(self, x):
-        b = np.clip(((x - self.lo) * (1.0 / self.w)).astype(np.intp), 0, self.lut.size - 1)
+        b = np.minimum(np.maximum(((x - self.lo) * (1.0 / self.w)).astype(np.intp), 0), self.lut.size - 1)
         i = self.lut[b]
         while True:
             step = (i < self.last) & (x >= self.x[np.minimum(i + 1, self.last + 1)])

@@ -74,11 +74,11 @@ _T_LO, _T_HI = ha.T_MIN_C, ha.T_MAX_C    # property range of humid_air, degC
 
 
 def _tc(t):
-    return np.clip(np.asarray(t, dtype=float), _T_LO, _T_HI)
+    return np.minimum(np.maximum(np.asarray(t, dtype=float), _T_LO), _T_HI)
 
 
 def _yc(y, low=0.0):
-    return np.clip(np.asarray(y, dtype=float), low, ha.Y_MAX)
+    return np.minimum(np.maximum(np.asarray(y, dtype=float), low), ha.Y_MAX)
 
 
 def _check_gas_state(temperature_c, humidity, method):
@@ -158,7 +158,7 @@ def _gas_heat_capacity(temperature_c, humidity, method):
     """Unchecked kernel of [`gas_heat_capacity`][rotarydryer.thermal.balances.gas_heat_capacity]."""
     if method == "physical":
         return ha._humid_heat(_tc(temperature_c), _yc(humidity))
-    t = np.clip(np.asarray(temperature_c, dtype=float), _T_LO + 0.05, _T_HI - 0.05)
+    t = np.minimum(np.maximum(np.asarray(temperature_c, dtype=float), _T_LO + 0.05), _T_HI - 0.05)
     return (_gas_enthalpy(t + 0.05, humidity, method) - _gas_enthalpy(t - 0.05, humidity, method)) / 0.1
 
 
@@ -223,7 +223,7 @@ def active_layer_area(holdup, bulk_density, slice_length, radius, particle_diame
     """
     m = np.maximum(np.asarray(holdup, dtype=float), 0.0)
     rho = np.asarray(bulk_density, dtype=float)
-    fill = np.clip(m / (rho * slice_length * math.pi * radius**2), 0.0, 1.0)
+    fill = np.minimum(np.maximum(m / (rho * slice_length * math.pi * radius**2), 0.0), 1.0)
     theta = np.interp(fill, _SEG_GRID, _THETA_GRID)
     chord = 2.0 * radius * np.sin(theta / 2.0)
     return 3.0 * area_factor * chord * rho * slice_length / particle_density
@@ -386,7 +386,7 @@ def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c,
         mu = ha._viscosity(tg, y, True)
         cp, pr, sc = AJAYI_CP_GAS, 0.7, mu / (rho * 2.65e-5)
     rw = kinetics._rate(a, x, hc, ts, tg, y, pressure, cp, pr, sc)
-    rw = rw * np.clip(x / dry_guard, 0.0, 1.0)
+    rw = rw * np.minimum(np.maximum(x / dry_guard, 0.0), 1.0)
     q_conv = hc * a * (tg - np.asarray(solids_temperature_c, dtype=float))
     tgk = tg + 273.15
     tsk = np.asarray(solids_temperature_c, dtype=float) + 273.15
@@ -395,6 +395,6 @@ def _stage_transfer(area, moisture_dry, solids_temperature_c, gas_temperature_c,
     else:
         p_h2o = ha._vapour_partial_pressure(y, pressure)
         eg = rad._emissivity(tg + 273.15, p_h2o, co2_mole_fraction * pressure, beam_length)
-        eg = np.clip(eg, 1e-6, 1.0)
+        eg = np.minimum(np.maximum(eg, 1e-6), 1.0)
         q_rad = SIGMA * a * (tgk**4 - tsk**4) / (1.0 / solids_emissivity + 1.0 / eg - 1.0)
     return rw, q_conv, q_rad

@@ -529,10 +529,10 @@ class ThermalDryer:
         the inlet gas (`_layout_dust`)."""
         active, stages, _, _, u_t = self._dust_plan
         s = self.settings
-        tg = np.clip(Tg[..., stages], ha.T_MIN_C, ha.T_MAX_C)
-        y = np.clip(Y[..., stages], 0.0, ha.Y_MAX)
+        tg = np.minimum(np.maximum(Tg[..., stages], ha.T_MIN_C), ha.T_MAX_C)
+        y = np.minimum(np.maximum(Y[..., stages], 0.0), ha.Y_MAX)
         u_g = self.dry_gas_flow * (1.0 + y) / (ha.density(tg, y, s.pressure) * self._dust_area)
-        x = np.clip(u_g[..., None, :] / u_t - 1.0, 0.0, 1e100) ** 2      # 1e200: a share of 1, no overflow
+        x = np.minimum(np.maximum(u_g[..., None, :] / u_t - 1.0, 0.0), 1e100) ** 2      # 1e200: a share of 1, no overflow
         return x / (1.0 + x)
 
     def _dusty_flows(self, src, dst, F, Tg, Y):
@@ -724,7 +724,7 @@ class ThermalDryer:
         mp = m[..., P]
         xp = W[..., P] / np.maximum(mp, 1e-12)
         clipped = bool(np.any(xp < lo) or np.any(xp > hi))
-        xp = np.clip(xp, lo, hi)
+        xp = np.minimum(np.maximum(xp, lo), hi)
         return [(mp[..., sl], xp[..., sl]) for sl in slices], clipped
 
     def _edge_values_batch(self, W, m):
@@ -874,7 +874,7 @@ class ThermalDryer:
             surface = surface / surface.sum(axis=-2, keepdims=True)
         if np.any(bed):
             tb = tk[bed]
-            xw = np.clip(Wt[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0, 0.3)
+            xw = np.minimum(np.maximum(Wt[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0), 0.3)
             a_bed = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
                                           self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
                                           s.particle_density)
@@ -920,7 +920,7 @@ class ThermalDryer:
         """(wet gas flow kg/s, humidity kg/kg) per stage at the humidity clipped to its physical range, as the
         transfer's and the shell's properties take it: an integrator's trial state may carry a humidity below -1,
         whose unclipped flow is negative (a NaN Reynolds number and a NaN coefficient)."""
-        yc = np.clip(Y, 0.0, ha.Y_MAX)
+        yc = np.minimum(np.maximum(Y, 0.0), ha.Y_MAX)
         return self.dry_gas_flow * (1.0 + yc), yc
 
     def _shell_loss(self, Tg, Y, Tg_up):
@@ -949,9 +949,9 @@ class ThermalDryer:
         s = self.settings
         if s.mode == "ajayi2011":
             fg = self._wet_gas_flow(Y)[0]
-            tg = np.clip(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K, 600.0)
+            tg = np.minimum(np.maximum(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K), 600.0)
             q = ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
-                                    np.clip(Tg_up, 0.0, 600.0))
+                                    np.minimum(np.maximum(Tg_up, 0.0), 600.0))
             return _near_ambient(q, Tg, s.ambient_temperature)
         return self.physical_shell_loss(Tg, Y)
 
@@ -964,7 +964,7 @@ class ThermalDryer:
 
     def _shell_network_loss(self, Tg, Y):
         s = self.settings
-        tg = np.clip(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K, 600.0)
+        tg = np.minimum(np.maximum(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K), 600.0)
         # the shell temperatures of the previous solve start Newton's method (same root to 1e-9 K)
         guess = self._shell_outer if self._shell_outer is not None and self._shell_outer.shape == tg.shape else None
         slope = self._shell_slope if guess is not None and self._shell_slope is not None and \
@@ -996,7 +996,7 @@ class ThermalDryer:
         S, W, T, Tg, Y = self.split_classes(z)
         S = np.maximum(S, 1e-15 * self.feed_rate)
         W = np.maximum(W, 0.0)
-        T = np.clip(T, -20.0, self._solids_temperature_ceiling())
+        T = np.minimum(np.maximum(T, -20.0), self._solids_temperature_ceiling())
         m = S + W
         src, dst, F = self.flows(S, W, T, families, gas=(Tg, Y))
         ms = np.maximum(m[..., src], 1e-12)

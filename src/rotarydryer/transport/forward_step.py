@@ -172,10 +172,10 @@ class ForwardStepTable:
 
     def __call__(self, fall_height, gas_velocity):
         """Advance (m, + toward the discharge) at perpendicular fall heights and gas speeds (arrays)."""
-        h = np.clip(np.asarray(fall_height, float), 0.0, self.h[-1])
-        u = np.clip(np.asarray(gas_velocity, float), 0.0, self.u[-1])
-        i = np.clip(np.searchsorted(self.h, h) - 1, 0, self.h.size - 2)
-        j = np.clip(np.searchsorted(self.u, u) - 1, 0, self.u.size - 2)
+        h = np.minimum(np.maximum(np.asarray(fall_height, float), 0.0), self.h[-1])
+        u = np.minimum(np.maximum(np.asarray(gas_velocity, float), 0.0), self.u[-1])
+        i = np.minimum(np.maximum(np.searchsorted(self.h, h) - 1, 0), self.h.size - 2)
+        j = np.minimum(np.maximum(np.searchsorted(self.u, u) - 1, 0), self.u.size - 2)
         a = (h - self.h[i]) / (self.h[i + 1] - self.h[i])
         b = (u - self.u[j]) / (self.u[j + 1] - self.u[j])
         e = self.excess
@@ -198,7 +198,7 @@ def curtain_velocity_ratio(gas: CurtainGas, fall_height, release_rate_per_length
     q = np.asarray(release_rate_per_length, float)
     if gas.velocity_ratio is not None:
         return np.full(np.broadcast(h, q).shape, float(gas.velocity_ratio))
-    return np.clip(sherritt_form(h, np.maximum(q, 1e-12), gas.curtain_coefficient), 0.0, 1.0)
+    return np.minimum(np.maximum(sherritt_form(h, np.maximum(q, 1e-12), gas.curtain_coefficient), 0.0), 1.0)
 
 
 def trajectory_forward_step(gas: CurtainGas, slope, fall_height, release_rate_per_length):

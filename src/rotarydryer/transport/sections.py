@@ -285,7 +285,7 @@ class FlightedSectionLaw:
         # loadings (sparse curtains of nearly empty flights feel the whole gas velocity)
         far = s.backmix == 0.0          # without a fitted backmix a cascade may reach two cells on
         reach = (2.0 if far else 1.0 - s.backmix) * self.dl
-        d = np.clip(free, -reach, reach)
+        d = np.minimum(np.maximum(free, -reach), reach)
         xf, xb = np.maximum(d, 0.0) / self.dl, np.maximum(-d, 0.0) / self.dl
         # a uniform curtain over the cell whose particles all advance d: the fraction x = d/dL (< 1) lands
         # in the next cell; for 1 < x <= 2 every particle leaves, 2 - x into the next and x - 1 into the
@@ -338,12 +338,12 @@ class FlightedSectionLaw:
         the thermal model's ``design_load_smoothing``) rounds the kinks of the exact geometry's."""
         if self.spec.loading == "fixed":
             return np.ones(self._shape(mp, cells))
-        d = np.clip(mp / des, 1e-6, None)
+        d = np.maximum(mp / des, 1e-6)
         phi = np.broadcast_to(phi, d.shape).ravel()
         g = self.spec.geometry
         f = g.loading_factor(d.ravel(), phi, smoothing=smoothing) if smoothing > 0 and isinstance(g, ExactGeometry) \
             else g.loading_factor(d.ravel(), phi)
-        return np.clip(np.asarray(f, dtype=float).reshape(d.shape), 1e-6, 1.0)
+        return np.minimum(np.maximum(np.asarray(f, dtype=float).reshape(d.shape), 1e-6), 1.0)
 
     def rates(self, phi, f, rpm=None, flight_mass=None):
         """Coefficients (1/s) of each family at repose angle ``phi`` and loading factor ``f``."""
