@@ -351,13 +351,13 @@ def _feed_range(dryer, steady, cv, T_sat, F_lo, F0, n=6):
     """`_FeedRange` of ``dryer`` (output ``cv``, gas inlet ``T_sat`` degC, feed rates ``F_lo``..``F0``), or None where
     a steady state fails or the map is not strictly monotonic (the linear range is then kept)."""
     Fs = np.linspace(F_lo, F0, n)
-    ys, z = [], steady.state
-    for F in Fs[::-1]:                       # from the case's feed down, each from the previous state
+    ys, z, lu = [], steady.state, getattr(steady, "factorization", None)
+    for F in Fs[::-1]:          # from the case's feed down, each from the previous state and its factorisation
         try:
-            st = plant(dryer, gas_inlet_temperature=T_sat, feed_rate=float(F)).steady_state(z0=z)
+            st = plant(dryer, gas_inlet_temperature=T_sat, feed_rate=float(F)).steady_state(z0=z, factorization=lu)
         except ValueError:
             return None
-        z = st.state
+        z, lu = st.state, st.factorization
         ys.append(outputs_of(st.dryer, st.state)[cv])
     y = np.asarray(ys[::-1])
     d = np.diff(y)
@@ -733,14 +733,14 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             if key not in ff_cache:   # steady-state (model-based) feed-forward: Brent on v for the setpoint
                 if progress:
                     progress(f"feed-forward: steady state for feed moisture {x:.4g}, feed rate {Fd:.4g} kg/s")
-                zs = steady.state
+                zs, lu = steady.state, getattr(steady, "factorization", None)
 
-                def g(v):
-                    nonlocal zs
+                def g(v):       # each steady state from the last one's state and factorisation (chord steps)
+                    nonlocal zs, lu
                     T_in, F_in, _ = split(v, Fd)
                     st = plant(dryer, gas_inlet_temperature=T_in, feed_rate=F_in, feed_moisture=x,
-                               fouling=base["fouling"], **dict(extra)).steady_state(z0=zs)
-                    zs = st.state
+                               fouling=base["fouling"], **dict(extra)).steady_state(z0=zs, factorization=lu)
+                    zs, lu = st.state, st.factorization
                     return outputs_of(st.dryer, st.state)[cv] - sp
                 tol = 0.05 * (cfg.tolerance or TOLERANCE[cv])
                 vF_d = split(0.0, Fd)[2]

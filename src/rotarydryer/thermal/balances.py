@@ -336,7 +336,8 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
             or kinetics.basis != "concentration" or kinetics.saturation_method != "wagner_pruss"
             or kinetics.method not in _kernels.KINETICS_CODES):
         return None
-    if any(np.ndim(v) for v in (radius, pressure, co2_mole_fraction, beam_length, solids_emissivity, dry_guard)):
+    if any(type(v) is not float and np.ndim(v) for v in (radius, pressure, co2_mole_fraction, beam_length,
+                                                         solids_emissivity, dry_guard)):
         return None      # per-stage parameters (the public stage_transfer allows them): NumPy broadcasts them
     p = float(pressure)
     if kinetics.method == "ajayi2011":

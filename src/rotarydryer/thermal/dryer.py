@@ -231,7 +231,7 @@ TRACE_CLASS_HOLDUP = 1e-3
 
 def _smooth_min(a, b, eps):
     """min(a, b), smoothed over ``eps`` (exact for eps = 0)."""
-    if np.all(eps == 0):
+    if not np.asarray(eps).any():        # every width 0 (a scalar or an array of widths)
         return np.minimum(a, b)
     return 0.5 * (a + b - np.sqrt((a - b) ** 2 + eps**2))
 
@@ -723,7 +723,7 @@ class ThermalDryer:
         lo, hi = self.material.wet_range()
         mp = m[..., P]
         xp = W[..., P] / np.maximum(mp, 1e-12)
-        clipped = bool(np.any(xp < lo) or np.any(xp > hi))
+        clipped = bool((xp < lo).any() or (xp > hi).any())
         xp = np.minimum(np.maximum(xp, lo), hi)
         return [(mp[..., sl], xp[..., sl]) for sl in slices], clipped
 
@@ -872,7 +872,7 @@ class ThermalDryer:
         if not one:
             surface = mc[..., tk] / dp                  # each class's share of a bed's surface: m_c / d_c
             surface = surface / surface.sum(axis=-2, keepdims=True)
-        if np.any(bed):
+        if bed.any():
             tb = tk[bed]
             xw = np.minimum(np.maximum(Wt[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0), 0.3)
             a_bed = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
@@ -990,7 +990,7 @@ class ThermalDryer:
         state (trial states of the solvers may leave the physical domain; conservation is
         unaffected at physical states), the edge flows and what each flow carries, per size class
         (solids arrays (..., classes, tanks), flows (..., classes, edges))."""
-        if not np.all(np.isfinite(z)):
+        if not np.isfinite(z).all():
             raise DryerError("state became non-finite (solver diverged)", reason="diverged", state=z)
         s = self.settings
         S, W, T, Tg, Y = self.split_classes(z)
