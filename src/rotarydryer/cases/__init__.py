@@ -52,10 +52,17 @@ def _takes_bool(annotation) -> bool:
 
 
 def _holds_bool(value) -> bool:
+    """Whether ``value`` is a boolean or a list (of lists...) holding one; numbers, the common case of a
+    case's tables, cost one type test each."""
     if isinstance(value, bool):
         return True
     if isinstance(value, (list, tuple)):
-        return any(_holds_bool(v) for v in value)
+        for v in value:
+            t = type(v)
+            if t is float or t is int or t is str:
+                continue
+            if t is bool or _holds_bool(v):
+                return True
     return False
 
 
