@@ -206,7 +206,10 @@ def _scatter_rows(index, weights, n, flat_index):
     """``np.bincount(index, w, n)`` along the last axis of each of several weight arrays ``w`` of one
     shape ((e,) or a batch (k, e)): the sums over edges into nodes, as one bincount of them stacked, in
     the same order (so the same rounding) for every row. ``flat_index(rows)``: the index of each weight
-    in the stacked rows (rows x n bins), ``index`` offset by row (cached by the caller)."""
+    in the stacked rows (rows x n bins), ``index`` offset by row (cached by the caller). One row each (a single
+    state of one class, the solvers' usual call): a bincount per array, the same sums without the stacking."""
+    if index.size and weights[0].size == index.size:
+        return [np.bincount(index, w.reshape(-1), n).reshape(w.shape[:-1] + (n,)) for w in weights]
     w = np.stack(weights)
     if not index.size:      # no edge ends here
         return np.zeros(w.shape[:-1] + (n,))
