@@ -3,6 +3,8 @@
 import re
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from rotarydryer.cases import load_case
@@ -203,3 +205,21 @@ def test_one_problem_is_one_line():
                                   "= '-1': Input should be greater than 0 (allowed range (0, 1000] kg/s)")
     with pytest.raises(ValueError, match=r"\(2 problems\):\n--set operating.feed_rate: .*\n--set operating.rpm: "):
         load_case("lee2008_invicta", {"operating.feed_rate": -1, "operating.rpm": -1})
+
+
+def _reference_holds_bool(value) -> bool:
+    if isinstance(value, bool):
+        return True
+    return isinstance(value, (list, tuple)) and any(_reference_holds_bool(v) for v in value)
+
+
+_leaves = st.one_of(st.booleans(), st.integers(), st.floats(allow_nan=False), st.text(max_size=3), st.none())
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.recursive(_leaves, lambda inner: st.lists(inner, max_size=4) | st.tuples(inner, inner), max_leaves=12))
+def test_boolean_check_of_lists_finds_a_boolean_at_any_depth(value):
+    """The case loader's boolean check (numbers tested by type only) agrees with the plain recursive definition."""
+    from rotarydryer.cases import _holds_bool
+
+    assert _holds_bool(value) == _reference_holds_bool(value)

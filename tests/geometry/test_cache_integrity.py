@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import rotarydryer.geometry.tabulated as T
-from rotarydryer.geometry import FlightedDrum, TwoSectionFlight
+from rotarydryer.geometry import FlightedDrum, PolygonFlight, TwoSectionFlight
 from rotarydryer.geometry.tabulated import GeometryCacheWarning
 
 PHI = np.linspace(12.0, 78.0, 401)
@@ -377,3 +377,18 @@ def test_an_entry_is_read_directly_and_a_compressed_one_still_loads(cache, invic
         table = T.geometry_table(invicta)
     assert cache.builds() == n
     np.testing.assert_allclose(_values(table), clean, rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("flight", [TwoSectionFlight(s1=0.1, s2=0.08, alpha2=135.0),
+                                    TwoSectionFlight(s1=0.1, s2=0.0, alpha2=135.0),
+                                    PolygonFlight([(0.195, 90.0), (0.10, 135.0), (0.09, 135.0)])])
+def test_key_text_of_a_flight_is_its_profile_every_time(flight):
+    """The key's flight text is remembered per flight value (a study rebuilds its sections every run): the
+    same text as the drum's profile, a new flight value a new text."""
+    drum = FlightedDrum(1.0, 12, flight)
+    want = ";".join(f"{float(a)!r},{float(b)!r}" for a, b in drum.profile.segments)
+    for _ in range(2):
+        assert T._key(drum)[2] == want
+        assert T._key(FlightedDrum(1.0, 12, flight))[2] == want
+    other = FlightedDrum(1.0, 12, TwoSectionFlight(s1=0.11, s2=0.08, alpha2=135.0))
+    assert T._key(other)[2] != want

@@ -258,3 +258,23 @@ def test_steady_state_with_a_film_temperature_at_450_k_converges():
     S, W, T, Tg, Y = d.split(ss.state)
     film_k = 0.5 * (Tg + T[d.gas_tank]) + 273.15
     assert np.min(np.abs(film_k - 450.0)) < 0.5                 # the case still has a stage at the switch
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 40), st.integers(1, 12), st.integers(0, 2**32 - 1))
+def test_single_row_sums_are_the_stacked_sums(n_edges, n_nodes, seed):
+    """The tanks' sums of one state of one class (a bincount per array) are those of the stacked path of a
+    batch (one bincount of the stacked rows), bit for bit: a row of a batch equals the single evaluation."""
+    from rotarydryer.thermal.dryer import _scatter_rows
+
+    rng = np.random.default_rng(seed)
+    index = rng.integers(0, n_nodes, n_edges)
+    weights = [rng.normal(size=(1, n_edges)) * 10.0 ** rng.integers(-8, 8, n_edges) for _ in range(3)]
+
+    def flat(rows):
+        return (np.arange(rows)[:, None] * n_nodes + index).ravel()
+    single = _scatter_rows(index, weights, n_nodes, flat)
+    batch = _scatter_rows(index, [np.concatenate([w, w]) for w in weights], n_nodes, flat)     # two rows: stacked
+    for s, b in zip(single, batch):
+        assert s.shape == (1, n_nodes)
+        assert np.array_equal(s[0], b[0]) and np.array_equal(s[0], b[1])
