@@ -707,8 +707,8 @@ def _key(drum, *, convention="root", fall_height="chord") -> tuple:
     tip by its effective length) and held-area computation, the convention and the fall height."""
     try:
         segs = _flight_text(drum.flight)
-    except TypeError:       # an unhashable flight
-        segs = ";".join(f"{float(a)!r},{float(b)!r}" for a, b in drum.profile.segments)
+    except TypeError:       # an unhashable flight: the same text, not remembered
+        segs = _flight_text.__wrapped__(drum.flight)
     return (float(drum.radius), int(drum.n_flights), segs, drum.geometry, convention, fall_height)
 
 
