@@ -218,46 +218,47 @@ class ControlConfig:
     product_moisture_max: Optional[float] = None
     product_temperature_band: Optional[tuple] = None
 
-    def validate(self):
-        check_choice("measured", self.measured, MEASURED)
-        check_choice("feedforward", self.feedforward, ("model", "linear", "off"))
-        check_range("sample_time_s", self.sample_time_s, 1.0, 3600.0, low_inclusive=True, high_inclusive=True,
-                    unit="s")
-        check_range("measurement_dead_time_s", self.measurement_dead_time_s, 0.0, 7200.0, low_inclusive=True,
-                    high_inclusive=True, unit="s")
-        check_range("gas_temperature_max", self.gas_temperature_max, 0.0, 600.0, high_inclusive=True, unit="degC")
+    def validate(self, names=None, check=check_range, choose=check_choice):
+        """Check every setting (``ValueError`` naming it, the value and the allowed range); the one
+        place the settings' ranges live. ``names``: field -> the name to show (the CLI's and the web
+        app's option names, `rotarydryer.services.control.check_control_options`), with ``check``
+        (as `check_range`) and ``choose`` (as `check_choice`) formatting the messages in their terms."""
+        names = names or {}
+
+        def rng(field, value, low, high, **kw):
+            check(names.get(field, field), value, low, high, **kw)
+        choose(names.get("measured", "measured"), self.measured, MEASURED)
+        choose(names.get("feedforward", "feedforward"), self.feedforward, ("model", "linear", "off"))
+        rng("sample_time_s", self.sample_time_s, 1.0, 3600.0, low_inclusive=True, high_inclusive=True, unit="s")
+        rng("measurement_dead_time_s", self.measurement_dead_time_s, 0.0, 7200.0, low_inclusive=True,
+            high_inclusive=True, unit="s")
+        rng("gas_temperature_max", self.gas_temperature_max, 0.0, 600.0, high_inclusive=True, unit="degC")
         if self.gas_temperature_min is not None:
-            check_range("gas_temperature_min", self.gas_temperature_min, 0.0, self.gas_temperature_max, unit="degC")
-        check_range("feed_min_fraction", self.feed_min_fraction, 0.0, 1.0, high_inclusive=True)
+            rng("gas_temperature_min", self.gas_temperature_min, 0.0, self.gas_temperature_max, unit="degC")
+        rng("feed_min_fraction", self.feed_min_fraction, 0.0, 1.0, high_inclusive=True)
         if self.tau_i_s is not None:
-            check_range("tau_i_s", self.tau_i_s, 0.0, math.inf, unit="s")
+            rng("tau_i_s", self.tau_i_s, 0.0, math.inf, unit="s")
         if self.tau_c_s is not None:
-            check_range("tau_c_s", self.tau_c_s, 0.0, math.inf, unit="s")
+            rng("tau_c_s", self.tau_c_s, 0.0, math.inf, unit="s")
         if self.kc is not None:
-            check_range("kc", self.kc, -1e6, 1e6)
+            rng("kc", self.kc, -1e6, 1e6)
+        moisture = self.measured == "product_moisture"
         if self.tolerance is not None:
-            check_range("tolerance", self.tolerance, 0.0, 1.0 if self.measured == "product_moisture" else 100.0,
-                        unit="kg/kg wet" if self.measured == "product_moisture" else "K")
+            rng("tolerance", self.tolerance, 0.0, 1.0 if moisture else 100.0, unit="kg/kg wet" if moisture else "K")
         if self.product_moisture_max is not None:
-            check_range("product_moisture_max", self.product_moisture_max, 0.0, 1.0, low_inclusive=True,
-                        unit="kg/kg wet")
+            rng("product_moisture_max", self.product_moisture_max, 0.0, 1.0, low_inclusive=True, unit="kg/kg wet")
         if self.product_temperature_band is not None:
+            name = names.get("product_temperature_band", "product_temperature_band")
             band = tuple(self.product_temperature_band)
             if len(band) != 2:
-                raise ValueError(f"product_temperature_band = {self.product_temperature_band!r}: give two temperatures, "
-                                 "LOW,HIGH degC")
+                raise ValueError(f"{name} = {self.product_temperature_band!r}: give two temperatures, LOW,HIGH degC")
             for v in band:
-                check_range("product_temperature_band", v, -50.0, 600.0, low_inclusive=True, high_inclusive=True,
-                            unit="degC")
+                rng("product_temperature_band", v, -50.0, 600.0, low_inclusive=True, high_inclusive=True, unit="degC")
             if not band[0] < band[1]:
-                raise ValueError(f"product_temperature_band = {band[0]:g},{band[1]:g} degC: the low end must be below "
-                                 "the high end")
+                raise ValueError(f"{name} = {band[0]:g},{band[1]:g} degC: the low end must be below the high end")
             self.product_temperature_band = (float(band[0]), float(band[1]))
         if self.setpoint is not None:
-            if self.measured == "product_moisture":
-                check_range("setpoint", self.setpoint, 0.0, 1.0, unit="kg/kg wet")
-            else:
-                check_range("setpoint", self.setpoint, 0.0, 600.0, unit="degC")
+            rng("setpoint", self.setpoint, 0.0, 1.0 if moisture else 600.0, unit="kg/kg wet" if moisture else "degC")
         return self
 
 

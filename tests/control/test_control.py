@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import warnings
@@ -73,6 +74,33 @@ def test_performance_against_the_products_own_specification():
         C.ControlConfig(product_temperature_band=(60.0, 50.0)).validate()
     with pytest.raises(ValueError, match="tolerance = 2 .*allowed"):
         C.ControlConfig(tolerance=2.0).validate()
+
+
+#: ControlConfig field -> (keyword of check_control_options, a value outside the field's range)
+_BAD_SETTINGS = {"sample_time_s": ("sample_time", 0.5), "measurement_dead_time_s": ("dead_time", -1.0),
+                 "gas_temperature_max": ("gas_t_max", 700.0), "gas_temperature_min": ("gas_t_min", 650.0),
+                 "feed_min_fraction": ("feed_min_fraction", 0.0), "tau_i_s": ("tau_i", 0.0), "tau_c_s": ("tau_c", -5.0),
+                 "kc": ("kc", 2e6), "tolerance": ("tolerance", 2.0), "product_moisture_max": ("product_moisture_max", 1.0),
+                 "setpoint": ("setpoint", 1.5), "measured": ("measured", "humidity"),
+                 "feedforward": ("feedforward", "lead-lag"), "product_temperature_band": ("product_temperature_band",
+                                                                                         (60.0, 50.0))}
+
+
+@pytest.mark.parametrize("field", sorted(_BAD_SETTINGS))
+def test_each_loop_setting_is_checked_once_and_named_in_either_terms(field):
+    """The loop's settings have one set of ranges (ControlConfig.validate): a value outside it is refused by the
+    config under the field's name and by the CLI's and web app's option check under the option's name."""
+    from rotarydryer.services.control import OPTION_NAMES, check_control_options
+
+    keyword, bad = _BAD_SETTINGS[field]
+    with pytest.raises(ValueError) as by_config:
+        C.ControlConfig(**{field: bad}).validate()
+    assert str(by_config.value).startswith(f"{field} = ")
+    with pytest.raises(ValueError) as by_option:
+        check_control_options(**{keyword: bad})
+    assert str(by_option.value).startswith(f"{OPTION_NAMES[field]} = ")
+    assert "\n" not in str(by_option.value)
+    assert set(OPTION_NAMES) <= {f.name for f in dataclasses.fields(C.ControlConfig)}
 
 
 @pytest.fixture(scope="module")

@@ -9,6 +9,19 @@ from ._options import check_option
 
 __all__ = ["check_control_options", "run_control", "describe_feedforward"]
 
+#: `rotarydryer.control.ControlConfig` field -> the option of ``rotarydryer control`` (and the web app) that sets it
+OPTION_NAMES = {"measured": "--measured", "setpoint": "--setpoint", "sample_time_s": "--sample-time",
+                "measurement_dead_time_s": "--dead-time", "kc": "--kc", "tau_i_s": "--tau-i", "tau_c_s": "--tau-c",
+                "feedforward": "--feedforward", "gas_temperature_min": "--gas-t-min", "gas_temperature_max": "--gas-t-max",
+                "feed_min_fraction": "--feed-min-fraction", "tolerance": "--tolerance",
+                "product_moisture_max": "--product-moisture-max", "product_temperature_band": "--product-temperature-band"}
+
+
+def _choose(option, value, allowed):
+    if value not in allowed:
+        raise ValueError(f"{option} = {value!r} is not one of {', '.join(allowed)}")
+    return value
+
 
 def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration=10800.0, step_time=None,
                           sample_time=60.0, dead_time=120.0, measured="product_moisture", setpoint=None, kc=None,
@@ -21,9 +34,13 @@ def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration
 
     # --duration: at most C.MAX_DURATION_S (one day) and C.MAX_SAMPLES sampling intervals, the bounds of
     # C.closed_loop: a run costs ~0.1-0.25 s of wall time per interval, so 30 days ran for hours
-    for opt, v, lo, hi in (("--duration", duration, 0.0, C.MAX_DURATION_S), ("--sample-time", sample_time, 1.0, 3600.0),
-                           ("--dead-time", dead_time, 0.0, 7200.0)):
-        check_option(opt, v, lo, hi, unit="s", low_inclusive=opt != "--duration", high_inclusive=True)
+    check_option("--duration", duration, 0.0, C.MAX_DURATION_S, unit="s", high_inclusive=True)
+    # the loop's settings: their ranges live in C.ControlConfig.validate, shown here by option name
+    C.ControlConfig(measured=measured, setpoint=setpoint, sample_time_s=sample_time, measurement_dead_time_s=dead_time,
+                    kc=kc, tau_i_s=tau_i, tau_c_s=tau_c, feedforward=feedforward, gas_temperature_min=gas_t_min,
+                    gas_temperature_max=gas_t_max, feed_min_fraction=feed_min_fraction, tolerance=tolerance,
+                    product_moisture_max=product_moisture_max, product_temperature_band=product_temperature_band,
+                    ).validate(names=OPTION_NAMES, check=check_option, choose=_choose)
     if duration / sample_time > C.MAX_SAMPLES:
         raise ValueError(f"--duration = {duration:g} s with --sample-time = {sample_time:g} s makes "
                          f"{duration / sample_time:.6g} sampling intervals; the limit is {C.MAX_SAMPLES} (raise "
@@ -34,44 +51,12 @@ def check_control_options(scenario="feed_moisture_step", magnitude=0.2, duration
     check_option("--step-time", step_time, 0.0, duration, unit="s", low_inclusive=True, high_inclusive=True)
     if sample_time > duration:
         raise ValueError(f"--sample-time = {sample_time:g} s is longer than --duration = {duration:g} s")
-    check_option("--gas-t-max", gas_t_max, 0.0, 600.0, unit="degC", high_inclusive=True)
-    if gas_t_min is not None:
-        check_option("--gas-t-min", gas_t_min, 0.0, gas_t_max, unit="degC")
-    check_option("--feed-min-fraction", feed_min_fraction, 0.0, 1.0, high_inclusive=True)
-    for opt, v, allowed in (("--scenario", scenario, C.SCENARIOS), ("--measured", measured, C.MEASURED),
-                            ("--feedforward", feedforward, ("model", "linear", "off"))):
-        if v not in allowed:
-            raise ValueError(f"{opt} = {v!r} is not one of {', '.join(allowed)}")
+    _choose("--scenario", scenario, C.SCENARIOS)
     if scenario == "fouling_ramp":
         check_option("--magnitude", magnitude, 0.0, 0.95, low_inclusive=True, high_inclusive=True,
                      unit="(final fouling fraction)")
     else:
         check_option("--magnitude", magnitude, -0.9, 2.0, unit="(relative change)")
-    if setpoint is not None:
-        if measured == "product_moisture":
-            check_option("--setpoint", setpoint, 0.0, 1.0, unit="kg/kg wet")
-        else:
-            check_option("--setpoint", setpoint, 0.0, 600.0, unit="degC")
-    if tau_i is not None:
-        check_option("--tau-i", tau_i, 0.0, float("inf"), unit="s")
-    if tau_c is not None:
-        check_option("--tau-c", tau_c, 0.0, float("inf"), unit="s")
-    if kc is not None:
-        check_option("--kc", kc, -1e6, 1e6)
-    if tolerance is not None:
-        if measured == "product_moisture":
-            check_option("--tolerance", tolerance, 0.0, 1.0, unit="kg/kg wet")
-        else:
-            check_option("--tolerance", tolerance, 0.0, 100.0, unit="K")
-    if product_moisture_max is not None:
-        check_option("--product-moisture-max", product_moisture_max, 0.0, 1.0, low_inclusive=True, unit="kg/kg wet")
-    if product_temperature_band is not None:
-        lo, hi = product_temperature_band
-        for v in (lo, hi):
-            check_option("--product-temperature-band", v, -50.0, 600.0, low_inclusive=True, high_inclusive=True,
-                         unit="degC")
-        if not lo < hi:
-            raise ValueError(f"--product-temperature-band = {lo:g},{hi:g} degC: the low end must be below the high end")
     return step_time
 
 
