@@ -143,6 +143,44 @@ def test_entrainment_warns_then_refuses():
                                            "particle_size.spread": 4.0, "gas.flow": 0.2}).steady_state()
 
 
+def test_a_failed_solve_whose_balances_close_with_the_whole_feed_in_the_dust_is_refused_as_entrained(monkeypatch):
+    """Random user dryers with a fine feed and a fast gas stalled at 300 iterations on the temperatures of traces
+    (1e-15 to 1e-11 kg of a class in a tank) with their balances closed to 1e-9 and 100.0 % of the feed in the dust,
+    then marched, and ended as "no steady state reached". Such a failure is the refusal a converged state of it gets
+    (check_entrainment), at once; a failure with open balances, or one keeping a product, stays a failure."""
+    from rotarydryer.thermal.settings import DryerError
+    from rotarydryer.thermal.states import DUST_REFUSE_FRACTION, ThermalSteadyState, dust_share
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        d = Simulation("song2003_ottawa", {**SAND, "gas.flow": 0.4}).thermal_dryer()
+        total = d.steady_state()                # converged: 99.4 % of the feed in the dust
+        keeps = Simulation("song2003_ottawa", {**SAND, "gas.flow": 0.182}).thermal_dryer()
+        kept = keeps.steady_state()             # converged: most of the feed in the dust, a product left
+    assert dust_share(total) > DUST_REFUSE_FRACTION > dust_share(kept)
+    opened = ThermalSteadyState(d, total.state * np.where(np.arange(d.n) < d.n_classes * d.n_tanks, 1.3, 1.0))
+    assert max(opened.water_balance_error, opened.energy_balance_error) > 1e-6
+
+    def failing(dryer, state):
+        def fails(*args, **kwargs):
+            raise DryerError("no steady state reached: scaled residual 1e-05", reason="no_steady_state", state=state)
+        monkeypatch.setattr(dryer, "_pseudo_transient", fails)
+    for march in (True, False):
+        failing(d, total)
+        with pytest.raises(DryerError, match=r"^entrainment: 99\.4% of the feed leaves as dust .*its water and "
+                                             r"energy balances closed.* lower gas\.flow") as info:
+            d.steady_state(march=march)
+        assert info.value.reason == "entrained" and info.value.state is total
+        failing(d, opened)
+        with pytest.raises(DryerError, match="no steady state reached") as info:
+            d.steady_state(march=False)
+        assert info.value.reason == "no_steady_state"
+    failing(keeps, kept)
+    with pytest.raises(DryerError, match="no steady state reached") as info:
+        keeps.steady_state(march=False)
+    assert info.value.reason == "no_steady_state"
+
+
 @pytest.mark.slow
 def test_a_failed_solve_losing_the_whole_feed_as_dust_names_the_dust():
     """At 474 m the thinner gas carries a fine sand off entirely. Whether the solver settles that state

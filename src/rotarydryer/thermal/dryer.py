@@ -88,7 +88,13 @@ from . import radiation as rad
 from .consistency import pi_operating_conditions  # noqa: F401  (re-exported)
 from .settings import AJAYI_GAS_FLOW, SHELL_THICKNESS_RATIO, DryerError, SectionThermal, ThermalSettings
 from .shell import _shell_loss_compiled, ajayi2011_heat_loss, shell_heat_loss
-from .states import DUST_REFUSE_FRACTION, CoupledTransportState, DynamicResult, ThermalSteadyState  # noqa: F401  (re-exported)
+from .states import (  # noqa: F401  (re-exported)
+    DUST_REFUSE_FRACTION,
+    CoupledTransportState,
+    DynamicResult,
+    ThermalSteadyState,
+    dust_share,
+)
 
 __all__ = ["DryerError", "SectionThermal", "ThermalSettings", "ThermalDryer", "ThermalSteadyState", "DynamicResult",
            "AJAYI_GAS_FLOW", "pi_operating_conditions"]
@@ -1442,7 +1448,10 @@ class ThermalDryer:
             return self._polished(self._pseudo_transient(z0, max_iter, tol, dt0, verbose, factorization, progress),
                                   tol, dt0)
         except DryerError as exc:
-            if not march or exc.reason != "no_steady_state" or exc.state is None:
+            if exc.reason != "no_steady_state" or exc.state is None:
+                raise
+            self._refuse_if_entrained(exc)      # a march would end at the same refusal
+            if not march:
                 raise
             first = exc
         z = self.initial_state() if z0 is None else np.array(z0, dtype=float)
@@ -1466,6 +1475,26 @@ class ThermalDryer:
             return ss
         first = self._with_recycle_hint(first)
         raise self._with_dust_hint(first) if self.dusty else first
+
+    def _refuse_if_entrained(self, failure):
+        """Raise the entrainment refusal (reason ``"entrained"``, `check_entrainment`'s) for a failed solve of a
+        dusty dryer whose last iterate closes its water and energy balances (to the 1e-6 of the acceptance test)
+        and loses more than DUST_REFUSE_FRACTION of the feed as dust there: the gas carries off nearly the whole
+        feed, and the residual left is that of the traces it leaves in the tanks (user dryers stalled on the
+        temperatures of classes holding 1e-15 to 1e-11 kg, their balances closed to 1e-9 and 100.0 % of the
+        feed in the dust). A converged state of that kind gets the same refusal; a failure with its balances
+        open is left to `_with_dust_hint` (its iterate's dust share is not the dryer's)."""
+        st = failure.state
+        if not self.dusty or not isinstance(st, ThermalSteadyState) or max(st.water_balance_error,
+                                                                           st.energy_balance_error) > 1e-6:
+            return
+        lost = dust_share(st)
+        if lost > DUST_REFUSE_FRACTION:
+            raise DryerError(f"entrainment: {lost:.1%} of the feed leaves as dust with the exhaust at gas.flow = "
+                             f"{self.settings.gas_flow:g} kg/s: nothing is left as a product (the solver's last iterate, "
+                             "its water and energy balances closed; the traces the gas leaves in the tanks were not "
+                             "resolved); lower gas.flow or give a coarser particle_size", reason="entrained",
+                             state=st) from None
 
     def _with_recycle_hint(self, failure):
         """A failed solve of a dryer that recycles exhaust (``gas.recycle_fraction``), with the recycle named as the
