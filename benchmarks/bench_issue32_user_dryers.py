@@ -6,7 +6,7 @@ plant would be. Each dryer's steady state from its start: converged by the pseud
 alone, or after the transient march (the fallback), or not at all; iterations, CPU time
 (``time.process_time``, one BLAS thread, compiled kernels). Cases the schema or the model refuses up front
 (a moisture outside the material's range, a cell count the forward step overshoots, an over-full drum)
-are counted apart. Run with the tree to measure and with ``PYTHONPATH=OLD_CHECKOUT/src`` for the "before"
+are counted apart, as are those the solve refuses because the gas carries the whole feed off (reason "entrained"). Run with the tree to measure and with ``PYTHONPATH=OLD_CHECKOUT/src`` for the "before"
 side, in one session:
 
     python benchmarks/bench_issue32_user_dryers.py [--seeds 1,2] [--n 140]
@@ -90,7 +90,7 @@ def main() -> None:
     assert res.exit_code == 0, res.output
     template = (folder / "mydryer.toml").read_text()
     assert "length = 11.0" in template
-    rows, refused = [], 0
+    rows, refused, entrained = [], 0, 0
     with threadpool_limits(1):
         for seed in (int(s) for s in a.seeds.split(",")):
             rng = random.Random(seed)
@@ -110,7 +110,12 @@ def main() -> None:
                 try:
                     ss = dryer.steady_state()
                     rows.append((time.process_time() - t, ss.iterations, float(ss.marched_s or 0.0) > 0, True))
-                except (ValueError, RuntimeError, FloatingPointError):
+                except (ValueError, RuntimeError, FloatingPointError) as exc:
+                    if getattr(exc, "reason", None) == "entrained":     # the whole feed as dust: refused, with it
+                        entrained += 1
+                        if a.list:
+                            print(f"seed {seed} dryer {i}: refused by the solve (entrained); {ov}", flush=True)
+                        continue
                     rows.append((time.process_time() - t, 0, True, False))
                 if a.list and rows[-1][2]:
                     print(f"seed {seed} dryer {i}: {'marched' if rows[-1][3] else 'failed'}; flighted length "
@@ -121,7 +126,7 @@ def main() -> None:
     marched = sum(1 for r in rows if r[2] and r[3])
     failed = sum(1 for r in rows if not r[3])
     print(f"{rotarydryer.__file__}: load {os.getloadavg()[0]:.2f}; {len(rows)} dryers solved ({refused} refused up "
-          f"front): {len(rows) - marched - failed} by continuation alone, {marched} after the march, {failed} "
+          f"front, {entrained} by the solve: the whole feed as dust): {len(rows) - marched - failed} by continuation alone, {marched} after the march, {failed} "
           f"not; iterations (continuation alone) median {np.median(it):.0f}, 90th percentile "
           f"{np.percentile(it, 90):.0f}, largest {it.max()}; CPU per dryer median {np.median(cpu) * 1e3:.0f} ms, "
           f"90th percentile {np.percentile(cpu, 90) * 1e3:.0f} ms, largest {cpu.max():.2f} s, all {cpu.sum():.1f} s",

@@ -149,8 +149,9 @@ SHELL_LINEAR_BAND_K = 1.0
 MARCH_HORIZONS = (3.0, 10.0)
 #: residual calls a march may take (to each stop): a march that needs more is given up, not waited for (a user dryer of
 #: fine size classes losing most of its feed as dust marched for over 10 minutes); the largest march of 279 random user
-#: dryers took 1 343 (benchmarks/bench_issue32_user_dryers.py)
-MARCH_MAX_CALLS = 4000
+#: dryers took 1 343, those of random size-class dryers (`bench_issue32_user_dryers.py --classes`) up to 9 024 (4 000
+#: before 2026-12-06 gave up on seven of them, each of which Newton then solved from the march's end in 1-195 steps)
+MARCH_MAX_CALLS = 12000
 #: a pseudo-transient step is refused (the pseudo-time step cut fourfold) where the scaled residual grows by
 #: more than this, once the pseudo-time step is above the starting one (not while it is at or below it, the
 #: phase where the step radius binds included)
