@@ -80,7 +80,9 @@ LIMITS: dict[str, Limit] = {
     "drum.length": _oc(0, 200, "m"),
     "drum.slope": _co(0, 45, "deg"),
     "operating.feed_rate": _oc(0, 1000, "kg/s"),
-    "operating.rpm": _oc(0, 60, "rev/min"),
+    # a drum turning slower than 0.1 rev/min does not cascade its solids on any time scale of a run (plants 1-10,
+    # lab drums from 0.5): 1e-9 rev/min in a schedule left the dynamics integrating for minutes
+    "operating.rpm": _c(0.1, 60, "rev/min"),
     "operating.feed_moisture": _co(0, 1, "kg/kg wet"),
     "operating.feed_temperature": _co(0, 99, "degC"),
     # gas
@@ -117,7 +119,9 @@ LIMITS: dict[str, Limit] = {
     "particle_size.d50": Limit(0.0, 0.2, False, True, "m"),
     "particle_size.sigma_g": Limit(1.0, 10.0, False, True),
     "transport.unflighted_cells": _c(2, 100000),
-    "transport.kiln_time": Limit(0.0, math.inf, False, True, "s"),   # inf: no kilning (library callers only)
+    # inf: no kilning (library callers only); below 0.1 s (fits and Lee's parameter sets: 8.7-10 s) the kilning
+    # outruns every other flow and 1e-30 s stopped the transport's integration on a step-size error
+    "transport.kiln_time": Limit(0.1, math.inf, True, True, "s"),
     "transport.backmix": _c(0, 1),
     "transport.drag_reduction": _co(0, math.inf),
     "transport.curtain_velocity_ratio": _c(0, 1),
@@ -131,8 +135,12 @@ LIMITS: dict[str, Limit] = {
     "transport.exchange_rate": _o(0, math.inf, "1/s"),
     "transport.return_rate": _o(0, math.inf, "1/s"),
     "transport.kiln_rate": _co(0, math.inf, "1/s"),
-    "transport.solids_velocity": _o(0, math.inf, "m/s"),
-    "transport.dispersion": _co(0, math.inf, "m^2/s"),
+    # axial solids velocity of a rolling bed or kilning (fits 0.01-0.03 m/s): 10 m/s is far past any drum; 1e15 m/s
+    # overflowed the unflighted section's rates and hung the solve
+    "transport.solids_velocity": _oc(0, 10, "m/s"),
+    # axial dispersion of unflighted sections (fits 1e-3-2.3e-3 m^2/s): at 100 m^2/s a drum's solids are fully mixed
+    # (Peclet number below 1e-2); 1e15 made the transport's matrix singular
+    "transport.dispersion": _c(0, 100, "m^2/s"),
     "transport.product_moisture": _co(0, 1, "kg/kg wet"),
     "transport.moisture_scale": _o(0, math.inf),
     "geometry.design_load_factor": _o(0, math.inf),

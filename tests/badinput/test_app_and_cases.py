@@ -174,7 +174,7 @@ CASES = [
     ("slope-negative", _set("song", "drum", "slope", "-1.0"), ["drum.slope", "-1.0"]),
     ("n-flights-million", _set("lee", "drum", "n_flights", "1000000"), ["drum.n_flights", "1000000", "1000"]),
     ("n-flights-one", _set("lee", "drum", "n_flights", "1"), ["drum.n_flights", "1", "greater than or equal to 2"]),
-    ("rpm-zero", _set("lee", "operating", "rpm", "0.0"), ["operating.rpm", "0.0", "greater than 0"]),
+    ("rpm-zero", _set("lee", "operating", "rpm", "0.0"), ["operating.rpm", "0.0", "greater than or equal to 0.1"]),
     ("rpm-61", _set("song", "operating", "rpm", "61.0"), ["operating.rpm", "61.0", "60"]),
     ("rpm-word", _set("lee", "operating", "rpm", '"fast"'), ["operating.rpm", "fast"]),
     ("feed-negative", _set("lee", "operating", "feed_rate", "-1.0"), ["operating.feed_rate", "-1.0"]),
