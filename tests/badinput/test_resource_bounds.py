@@ -297,3 +297,28 @@ def test_cluster_above_the_cores_is_clamped_with_a_warning(monkeypatch):
     n, notes = check_cluster("local:64")
     assert n == 2 and "--cluster = local:64 is more than the 2 usable CPU cores; using local:2" in notes[0]
     assert check_cluster(None) == (None, [])
+
+
+# ------------------------------------------------------------------------------ values that hung or broke a solve
+@pytest.mark.parametrize("key, value, fragments", [
+    ("transport.solids_velocity", "1e15", ["transport.solids_velocity", "(0, 10] m/s"]),      # hung the solve
+    ("transport.dispersion", "1e30", ["transport.dispersion", "[0, 100] m^2/s"]),             # a singular matrix
+    ("transport.kiln_time", "1e-30", ["transport.kiln_time", "[0.1, inf] s"]),                # a step-size error
+    ("operating.rpm", "1e-9", ["operating.rpm", "[0.1, 60] rev/min"]),
+])
+def test_values_past_any_drum_are_refused_at_once(key, value, fragments):
+    """Found by fuzzing the CLI on the `rotarydryer new` template: these values were inside their keys' ranges and
+    hung the solve (120 s and more) or ended in an internal error; the ranges now stop short of them."""
+    t0 = time.perf_counter()
+    assert_bad(run_cli(["simulate", "ajayi2011_mmg", "--set", f"{key}={value}", "--json"]), *fragments)
+    assert time.perf_counter() - t0 < 30
+
+
+def test_a_schedule_that_all_but_stops_the_drum_is_refused(workdir):
+    """rpm = 1e-9 rev/min at 600 s in a dynamics schedule left the integration running for minutes."""
+    path = workdir / "s.csv"
+    path.write_text("time_s,rpm\n0,4\n600,1e-9\n")
+    t0 = time.perf_counter()
+    assert_bad(run_cli(["dynamics", "ajayi2011_mmg", "--quiet", "--schedule", str(path)]),
+               "s.csv", "rpm=1e-09 at 600 s", "operating.rpm [0.1, 60] rev/min")
+    assert time.perf_counter() - t0 < 30
