@@ -154,3 +154,15 @@ def test_usage_errors_are_one_line_naming_the_option_and_value(args, line):
     res = run_cli(args)
     assert res.exit_code == 2
     assert res.output.strip() == line
+
+
+@pytest.mark.parametrize("option, value, fragment", [
+    ("--solids-mass-flux", "nan", "not a finite number"), ("--solids-mass-flux", "-1", "(0, inf) kg/(m^2 s)"),
+    ("--solids-mass-flux", "0", "(0, inf) kg/(m^2 s)"), ("--repose-angle", "nan", "not a finite number"),
+    ("--gas-mass-flux", "inf", "not a finite number"), ("--rpm", "0", "(0, inf) rev/min"),
+])
+def test_mrt_refuses_a_bad_number_even_where_other_methods_do_not_use_it(option, value, fragment):
+    """A NaN or negative solids flux was one method's table row and the command exited 0 with the rest (fuzzing)."""
+    args = {"--length": "3.05", "--diameter": "0.305", "--slope": "0.083", "--rpm": "5", "--particle-size": "444e-6",
+            "--gas-mass-flux": "0.5", "--solids-mass-flux": "0.7", option: value}
+    assert_bad(run_cli(["mrt", *[x for kv in args.items() for x in kv]]), option, fragment)

@@ -1,10 +1,12 @@
 """``rotarydryer mrt``: mean residence time of solids by the published correlations."""
 
+import math
 from typing import Optional
 
 import typer
 
 from .._io import json_text
+from ..services._options import check_option
 from . import app
 
 
@@ -36,6 +38,17 @@ def mrt(
 
     try:  # options shared by every method: a wrong one is bad input, not a per-method error
         check_choice("gas_flow", gas_flow, ("co-current", "counter-current"))
+        # each given number finite and of its sign (a NaN or negative flux was a per-method row, exit 0, where the
+        # other methods did not use it); a method's own validity range stays that method's row
+        for opt, v, low, low_inclusive, high, unit in (
+                ("--length", length, 0.0, False, math.inf, "m"), ("--diameter", diameter, 0.0, False, math.inf, "m"),
+                ("--slope", slope, 0.0, True, math.inf, "m/m"), ("--rpm", rpm, 0.0, False, math.inf, "rev/min"),
+                ("--particle-size", particle_size, 0.0, False, math.inf, "m"),
+                ("--gas-mass-flux", gas_mass_flux, 0.0, True, math.inf, "kg/(m^2 s)"),
+                ("--solids-mass-flux", solids_mass_flux, 0.0, False, math.inf, "kg/(m^2 s)"),
+                ("--repose-angle", repose_angle, 0.0, False, 90.0, "deg")):
+            if v is not None:
+                check_option(opt, v, low, high, unit=unit, low_inclusive=low_inclusive)
         inputs = dict(length=length, diameter=diameter, slope=slope, rpm=rpm, particle_size=particle_size,
                       gas_mass_flux=gas_mass_flux, solids_mass_flux=solids_mass_flux, gas_flow=gas_flow,
                       repose_angle=repose_angle)
