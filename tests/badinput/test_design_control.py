@@ -27,6 +27,8 @@ def _refused(args, workdir, *fragments):
     (["--duty", "raw_sugar", "--out", "afile.txt/sub"], ["--out", "is a file"]),
     # both the gas flow and the transfer units: --ntu was ignored (found by fuzzing)
     (["--duty", "raw_sugar", "--gas-flow", "20", "--ntu", "2"], ["--gas-flow = 20 kg/s and --ntu = 2: give one"]),
+    # --set without --check: ignored, exit 0 (found by fuzzing)
+    (["--duty", "raw_sugar", "--set", "drum.radius=-1"], ["--set drum.radius=-1 needs --check plant"]),
 ])
 def test_design_bad_options(args, fragments, workdir):
     if "afile.txt/sub" in args:

@@ -81,6 +81,10 @@ def design_cmd(
     limits = design_limits(objective, speed_fraction, entrainment_fraction, gas_velocity_max, fill_max,
                            design_load_tolerance, ld_min, ld_max, d_min, d_max, ua_factor, top, rounds)
     check_out_dir("--out", out)
+    if set_ and check is None:      # it overrides the checked plant's keys; a sizing has no case to set them in
+        typer.echo(f"error: --set {set_[0]} needs --check PLANT (it overrides that plant's case keys; a sizing for a "
+                   "duty has no case: give the duty's options, e.g. --feed, --moisture-in, --gas-in)", err=True)
+        raise typer.Exit(2)
     executor, notes = executor_from_options(workers, 12 * 8, scheduler=scheduler, cluster=cluster)  # a generation: 96
     for note in notes:
         typer.echo(f"warning: {note}", err=True)
