@@ -200,6 +200,25 @@ def test_an_output_varying_by_round_off_only_has_no_indices():
     assert ind["a"]["ST"] > 0.5
 
 
+def test_a_dried_product_varying_by_the_solvers_resolution_of_the_water_has_no_indices():
+    """A product dried to 1.8e-7 kg/kg varied by 7.6e-14 kg/kg (4e-7 of it: the solver resolves the water to an
+    absolute, not a relative, tolerance) with two tracer inputs it does not depend on, and its indices were printed
+    as real (S1 1.007; found by fuzzing). A moisture is constant to 1e-9 of max(it, 1e-3 kg/kg); an output of
+    another unit keeps the relative test, and a moisture that does vary keeps its indices."""
+    from rotarydryer.studies import sensitivity as S
+
+    params = {"a": (0.0, 1.0), "b": (0.0, 1.0)}
+    X = saltelli_design(params, 8, seed=1)
+    block = len(X) // 8
+    noise = 1.7588e-7 + 7.6e-14 * np.sin(np.arange(len(X)) * 1.7)
+    ind, n = S._sobol_indices(params, noise, block, 1, 50, "product_moisture_kg_kg")
+    assert n == 8 and all(np.isnan(v["S1"]) and np.isnan(v["ST"]) for v in ind.values())
+    ind, _ = S._sobol_indices(params, noise, block, 1, 50, "holdup_kg")
+    assert all(np.isfinite(v["ST"]) for v in ind.values())
+    ind, _ = S._sobol_indices(params, 1e-5 + 1e-6 * X[:, 0], block, 1, 50, "product_moisture_kg_kg")
+    assert ind["a"]["ST"] > 0.5
+
+
 def test_whole_number_keys_are_refused_up_front():
     """drum.n_flights=12,24 ran every sample at fractions of a flight, all failing (exit 1; found by fuzzing)."""
     from typer.testing import CliRunner

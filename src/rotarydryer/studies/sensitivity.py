@@ -358,9 +358,21 @@ def _distribution(y: np.ndarray, bins: int = 30) -> dict:
 #: solver's round-off, 1e-11 on its residual, makes a constant output vary by about 1e-15 of it: its Sobol
 #: indices were printed as real, ST 1.58; found by fuzzing)
 CONSTANT_SPREAD = 1e-9
+#: ... and below this share of 1e-3 kg/kg for a moisture (an output in kg/kg): a product dried to 1.8e-7 kg/kg varied
+#: by the solver's absolute resolution of the water (7.6e-14 kg/kg, 4e-7 of it) with two inputs it does not depend on,
+#: and its Sobol indices were printed as real (S1 1.007; found by fuzzing)
+MOISTURE_SCALE_KG_KG = 1e-3
 
 
-def _sobol_indices(params: dict, Y: np.ndarray, block: int, seed: int, num_resamples: int) -> tuple[dict, int]:
+def _spread_scale(output: str, Y: np.ndarray) -> float:
+    """What an output's spread over the runs is compared with (times CONSTANT_SPREAD) to call it constant: its
+    largest magnitude, or MOISTURE_SCALE_KG_KG for a moisture (kg/kg) nearer zero."""
+    scale = float(np.max(np.abs(Y)))
+    return max(scale, MOISTURE_SCALE_KG_KG) if output.endswith("_kg_kg") else scale
+
+
+def _sobol_indices(params: dict, Y: np.ndarray, block: int, seed: int, num_resamples: int,
+                   output: str = "") -> tuple[dict, int]:
     """Indices of one output from the complete blocks (no NaN): ``({param: {...}}, blocks used)``."""
     import warnings
 
@@ -372,7 +384,7 @@ def _sobol_indices(params: dict, Y: np.ndarray, block: int, seed: int, num_resam
     keys = list(params)
     empty = {k: {"S1": float("nan"), "S1_conf": float("nan"), "ST": float("nan"), "ST_conf": float("nan")}
              for k in keys}
-    if n < 2 or np.ptp(blocks[ok]) <= CONSTANT_SPREAD * float(np.max(np.abs(blocks[ok]))):
+    if n < 2 or np.ptp(blocks[ok]) <= CONSTANT_SPREAD * _spread_scale(output, blocks[ok]):
         return empty, n       # a constant output, or one varying by the solver's round-off only: no indices
     state = np.random.get_state()
     try:
@@ -526,13 +538,14 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
         if missing:
             notes.append(f"{o}: missing in {missing} successful runs ({reasons or 'no reason given'}); their "
                          "blocks are left out of its indices")
-        indices[o], used[o] = _sobol_indices(params, Yc[:, j], block, seed, num_resamples)
+        indices[o], used[o] = _sobol_indices(params, Yc[:, j], block, seed, num_resamples, o)
         dists[o] = _distribution(Y[ok_runs, j])
         kept.append(o)
         if used[o] < 2:
             notes.append(f"{o}: fewer than 2 complete blocks of runs; no indices")
         elif not np.isfinite(indices[o][keys[0]]["S1"]):
-            notes.append(f"{o}: the same value in every run ({dists[o]['p50']:.6g}, to {CONSTANT_SPREAD:g} of it): it "
+            of = "of it" if not o.endswith("_kg_kg") else f"of max(it, {MOISTURE_SCALE_KG_KG:g} kg/kg)"
+            notes.append(f"{o}: the same value in every run ({dists[o]['p50']:.6g}, to {CONSTANT_SPREAD:g} {of}): it "
                          "does not depend on these inputs over their ranges; no indices")
     if n_failed:
         notes.append(f"{n_failed} of {len(X)} runs failed ({int(blocks_failed.sum())} of {len(blocks_failed)} "
