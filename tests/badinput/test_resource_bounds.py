@@ -322,3 +322,9 @@ def test_a_schedule_that_all_but_stops_the_drum_is_refused(workdir):
     assert_bad(run_cli(["dynamics", "ajayi2011_mmg", "--quiet", "--schedule", str(path)]),
                "s.csv", "rpm=1e-09 at 600 s", "operating.rpm [0.1, 60] rev/min")
     assert time.perf_counter() - t0 < 30
+
+
+def test_a_tracer_pulse_longer_than_the_record_is_refused():
+    """tracer.duration = 1e30 s printed a tracer mean of 1e28 min (the pulse simulated as fed to the end; fuzzing)."""
+    assert_bad(run_cli(["rtd", "song2003_ottawa", "--set", "tracer.duration=1e30"]),
+               "tracer.duration = 1e+30 s must be shorter than tracer.t_end", "allowed: [0,")

@@ -328,6 +328,12 @@ def _check_time_grid(tr):
     if steps > MAX_TIME_STEPS:
         raise ValueError(f"tracer.t_end = {tr.t_end!r} s and tracer.dt = {tr.dt!r} s give {steps:.6g} time steps; "
                          f"the limit is {MAX_TIME_STEPS} (raise tracer.dt or lower tracer.t_end)")
+    # the pulse ends inside the record: one longer than it was simulated as fed to the end, and its "RTD" moments
+    # were those of a truncated step (a mean of 1e28 min for a 1e30 s pulse; found by fuzzing)
+    duration = getattr(tr, "duration", None)
+    if duration is not None and not duration < tr.t_end:
+        raise ValueError(f"tracer.duration = {duration!r} s must be shorter than tracer.t_end = {tr.t_end!r} s (the "
+                         f"pulse must end inside the simulated record; allowed: [0, {tr.t_end!r}) s)")
 
 
 # ---- blocks shared by every case kind: material, gas, shell, thermal ---------------------
