@@ -184,7 +184,7 @@ def test_input_range_is_the_schema_range_and_contains_the_value():
             assert (lo is None or lo <= v) and (hi is None or v <= hi), (case, key)
         assert logic.input_range(case, "drum.slope") == (0.0, 45.0)
     # the speed: below the critical speed of the case's drum, 42.3 / sqrt(D) (Invicta: D = 5 m)
-    assert logic.input_range("lee2008_invicta", "operating.rpm") == (0.0, pytest.approx(42.3 / 5 ** 0.5))
+    assert logic.input_range("lee2008_invicta", "operating.rpm") == (0.1, pytest.approx(42.3 / 5 ** 0.5))    # the schema's lower end
     assert logic.input_range("song2003_ottawa", "drum.slope", 50.0) == (0.0, 50.0)    # widened to the value
     assert logic.widen(2, 200, 500) == (2, 500) and logic.widen(None, 1.0, -3.0) == (None, 1.0)
     lo, hi = logic.geometry_range("repose_angle", 45.0)
