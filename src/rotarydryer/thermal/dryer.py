@@ -167,8 +167,11 @@ STEP_RADIUS = 2.0
 #: that need it, with the same states after Newton
 MARCH_RTOL = 1e-3
 #: a solve that ends without meeting the residual test (its iterations spent, or stalled) is accepted where its
-#: scaled residual is below this many times the tolerance and its water and energy balances close to 1e-6
+#: scaled residual is below this many times the tolerance and its water and energy balances close to BALANCE_ACCEPT
 ACCEPT_AFTER_MAX_ITER = 1e3
+#: ... the water and energy balance errors of an accepted solve at most (and of a failed one that is refused as
+#: entrained, `ThermalDryer._refuse_if_entrained`)
+BALANCE_ACCEPT = 1e-6
 #: ... and ends early where its residual has not fallen below STALL_FACTOR x its lowest for this many iterations
 #: while that lowest is already acceptable: a Newton iteration stalled on a kink (a bone-dry tank's moisture at
 #: the dry guard's corner) by a few times the tolerance took the last 100-250 of its 300 iterations to end where it
@@ -1479,7 +1482,7 @@ class ThermalDryer:
 
     def _refuse_if_entrained(self, failure):
         """Raise the entrainment refusal (reason ``"entrained"``, `check_entrainment`'s) for a failed solve of a
-        dusty dryer whose last iterate closes its water and energy balances (to the 1e-6 of the acceptance test)
+        dusty dryer whose last iterate closes its water and energy balances (to the acceptance test's BALANCE_ACCEPT)
         and loses more than DUST_REFUSE_FRACTION of the feed as dust there: the gas carries off nearly the whole
         feed, and the residual left is that of the traces it leaves in the tanks (user dryers stalled on the
         temperatures of classes holding 1e-15 to 1e-11 kg, their balances closed to 1e-9 and 100.0 % of the
@@ -1487,7 +1490,7 @@ class ThermalDryer:
         open is left to `_with_dust_hint` (its iterate's dust share is not the dryer's)."""
         st = failure.state
         if not self.dusty or not isinstance(st, ThermalSteadyState) or max(st.water_balance_error,
-                                                                           st.energy_balance_error) > 1e-6:
+                                                                           st.energy_balance_error) > BALANCE_ACCEPT:
             return
         lost = dust_share(st)
         if lost > DUST_REFUSE_FRACTION:
@@ -1679,7 +1682,8 @@ class ThermalDryer:
         norm = min(norm, self._residual_norm(f, z, sc, EMPTY_TANK_MASS_ACCEPT))
         ss = ThermalSteadyState(self, z, iterations=it, residual=norm, seconds=time.perf_counter() - t0)
         ss.factorization = lu
-        if norm >= tol * ACCEPT_AFTER_MAX_ITER or ss.water_balance_error > 1e-6 or ss.energy_balance_error > 1e-6:
+        if (norm >= tol * ACCEPT_AFTER_MAX_ITER or ss.water_balance_error > BALANCE_ACCEPT
+                or ss.energy_balance_error > BALANCE_ACCEPT):
             raise DryerError(f"no steady state reached: scaled residual {norm:.3g} after {it} iterations "
                              f"(water balance error {ss.water_balance_error:.2g}, energy {ss.energy_balance_error:.2g}); "
                              f"{self._where_unsolved(f, z, sc)}", reason="no_steady_state", state=ss)
