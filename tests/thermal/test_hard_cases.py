@@ -33,6 +33,10 @@ HARD = [
     pytest.param('ajayi2011_mmg', {'operating.feed_rate': 44.210131, 'operating.rpm': 3.91726, 'gas.flow': 8.212554, 'operating.feed_moisture': 0.085854, 'operating.feed_temperature': 85.963921, 'gas.inlet_temperature': 300.689432, 'gas.inlet_humidity': 0.088009, 'gas.direction': 'counter-current', 'shell.ambient_temperature': -25.984427, 'shell.ambient_humidity': 0.000593, 'shell.insulation_thickness': 0.15273}, id='ajayi2011_mmg-2038'),
     # humid gas condensing on the solids: no NaN specific energy
     pytest.param('ajayi2011_mmg', {'operating.feed_rate': 22.367937, 'operating.rpm': 2.275896, 'gas.flow': 11.993193, 'operating.feed_moisture': 0.185747, 'operating.feed_temperature': 39.348881, 'gas.inlet_temperature': 67.336365, 'gas.inlet_humidity': 0.077634, 'gas.direction': 'co-current', 'shell.ambient_temperature': 13.103709, 'shell.insulation_thickness': 0.033499}, id='ajayi2011_mmg-49'),
+    # a feed of grams per hour (found by fuzzing the CLI): the Jacobian's step on the water (2e-9 kg, from the residual
+    # scale's 1 kg floor) overshot milligrams of water hundreds of times; Newton converged linearly and stalled
+    pytest.param('template', {'operating.feed_rate': 1e-5}, id='template-feed-1e-5'),
+    pytest.param('template', {'operating.feed_rate': 1e-6}, id='template-feed-1e-6'),
 ]
 
 

@@ -1359,6 +1359,11 @@ class ThermalDryer:
     def jacobian(self, z, f0=None):
         self.sparsity()
         floor = self._scale() * 1e-8
+        # the masses' floor follows the feed, not the residual scale's 1 kg floor: a dryer fed grams per hour
+        # holds milligrams of water, which a step of 2e-9 kg would overshoot hundreds of times (its Newton
+        # then converged linearly and stalled); the same for any feed above 0.1 kg/s
+        k2 = 2 * self.n_classes * self.n_tanks
+        floor[:k2] *= min(1.0, self.feed_rate * 10.0)
         if self.n_classes > 1:      # a class's tanks may hold traces only (the fines a curtain loses as dust): a
             k = 2 * self.n_classes * self.n_tanks       # step of its own size for their solids and water
             floor[:k] *= 1e-6
