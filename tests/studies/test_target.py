@@ -427,3 +427,35 @@ def test_an_output_not_monotone_in_the_input_is_found_inside_the_bracket():
     second = float(note.split("and again at ")[1].split(";")[0])
     assert 4.04 < second < hi
     assert _moisture(case, second) == pytest.approx(0.04, abs=res.tol)
+
+
+def test_only_the_answers_warnings_are_shown_the_others_counted():
+    # a search for the least fuel on the `new` template passed 20 steady states with a supersaturated exhaust:
+    # each printed its warning, though the answer was one point
+    import warnings
+
+    from rotarydryer.studies.target import _Evaluator
+
+    ev = _Evaluator(CASE, {}, [MOISTURE], "--such-that")
+    a, b, c = {FEED: 30.0}, {FEED: 31.0}, {FEED: 32.0}
+    ev.warned = {ev.key_of(a): [(UserWarning("passed on the way"), UserWarning)],
+                 ev.key_of(b): [(UserWarning("the answer's"), UserWarning)], ev.key_of(c): []}
+    notes: list = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ev.replay_warnings(b, notes)
+    assert [str(w.message) for w in caught] == ["the answer's"]
+    assert len(notes) == 1 and notes[0].startswith("1 other steady state of the search warned")
+    notes = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ev.replay_warnings(None, notes)       # no answer: nothing repeated, both counted
+    assert not caught and notes[0].startswith("2 other steady states")
+
+
+def test_a_search_records_each_steady_states_warnings():
+    from rotarydryer.studies.target import _Evaluator
+
+    ev = _Evaluator(CASE, {"operating.test": 4}, [MOISTURE], "--such-that")
+    ys, _ = ev({FEED: 30.0})
+    assert ys is not None and list(ev.warned) == [ev.key_of({FEED: 30.0})]

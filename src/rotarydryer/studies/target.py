@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -380,6 +381,8 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
                   outputs_at_bounds={"lo": ylo, "hi": yhi}, tol=tol, unit=unit, notes=notes)
 
     def answer(**kw) -> TargetResult:
+        if _evaluator is None:      # a search of its own: its answer's warnings (a shared one's caller says them)
+            ev.replay_warnings(None if kw.get("value") is None else {key: kw["value"]}, notes)
         # (input, output or None, error) of every steady state of this search, in order
         points = [(at, y[name] if isinstance(y, dict) else y, err) for at, y, err in ev.points[first:]]
         return TargetResult(evaluations=len(points), points=points, **kw, **result)
@@ -564,9 +567,27 @@ class _Evaluator:
         #: every steady state in order: (the input's value for one input, else the values dict;
         #: the output for one name, else the outputs dict, None where it failed; the error or "")
         self.points: list = []
+        #: the warnings of each steady state, by its key (`replay_warnings`)
+        self.warned: dict = {}
+
+    @staticmethod
+    def key_of(values: dict) -> tuple:
+        return tuple(sorted((k, float(v)) for k, v in values.items()))
+
+    def replay_warnings(self, values: dict | None, notes: list) -> None:
+        """Issue again the warnings of the steady state at ``values`` (the answer's; None: no answer), and add
+        to ``notes`` how many of the search's other steady states warned (a point the search passed on its
+        way, below a dew point or outside a range, is not the answer: its warnings are not repeated)."""
+        key = None if values is None else self.key_of(values)
+        for message, category in self.warned.get(key, []):
+            warnings.warn(message, category, stacklevel=3)
+        n = sum(1 for k, w in self.warned.items() if w and k != key)
+        if n:
+            notes.append(f"{n} other steady state{'s' if n > 1 else ''} of the search warned (not shown: the "
+                         "points the search passed are not the answer; the answer's warnings are)")
 
     def __call__(self, values: dict):
-        key = tuple(sorted((k, float(v)) for k, v in values.items()))
+        key = self.key_of(values)
         if key in self.cache:
             return self.cache[key]
         if self.count >= self.budget:
@@ -574,8 +595,16 @@ class _Evaluator:
         self.count += 1
         at = float(next(iter(values.values()))) if len(values) == 1 else dict(values)
         try:
-            res = Simulation(self.case_name, {**self.overrides, **values}).steady_state(warm=self.warm)
-            out = res.summary()
+            sim = Simulation(self.case_name, {**self.overrides, **values})    # the case's own warnings pass
+            # the steady state's warnings (an exhaust below its dew point...) belong to this point: kept, and
+            # shown for the answer's point only (`replay_warnings`), not for every point the search passed
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                try:
+                    res = sim.steady_state(warm=self.warm)
+                    out = res.summary()
+                finally:
+                    self.warned[key] = [(w.message, w.category) for w in caught]
         except (ValueError, ArithmeticError) as exc:
             self.cache[key] = (None, " ".join(str(exc).split()) or type(exc).__name__)
             self.points.append((at, None, self.cache[key][1]))
@@ -758,6 +787,7 @@ def solve_targets(case, finds, such_thats, *, overrides=None, tol=None, labels=N
     if not found:
         notes.append("Newton's method stalled: the targets are not met inside the bounds (the closest point found "
                      "is shown)")
+    ev.replay_warnings(vals, notes)
     return TargetSetResult(case=case_name, kind="targets", values=vals, outputs=ys, conditions=_conditions(conds, tols, ys),
                            active_bounds=_at_bounds(vals, bounds), bounds=bounds, evaluations=ev.count, found=found,
                            notes=notes)
@@ -851,6 +881,7 @@ def optimum(case, finds, objective, such_thats=(), *, sense="max", overrides=Non
     conditions = _conditions(conds, tols, ys)
     found = bool(all(c["met"] for c in conditions))
     outs = {n: ys[n] for n in names}
+    ev.replay_warnings(vals, notes)
     return TargetSetResult(case=case_name, kind="optimum", values=vals, outputs=outs, conditions=conditions,
                            active_bounds=_at_bounds(vals, bounds), bounds=bounds, evaluations=ev.count, found=found,
                            objective=objective, sense=sense, notes=notes)
@@ -919,6 +950,7 @@ def _optimum_1d(case_name, overrides, key, bounds, conds, tols, sense, lab):
     binding = [c["such_that"] for c in conditions if c["active"]]
     if binding:
         notes.append(f"binding: {', '.join(binding)}")
+    ev.replay_warnings({key: x}, notes)
     return TargetSetResult(case=case_name, kind="optimum", values={key: x}, outputs=ys, conditions=conditions,
                            active_bounds=_at_bounds({key: x}, {key: bounds}), bounds={key: bounds},
                            evaluations=evaluations, found=all(c["met"] for c in conditions), objective=key,
