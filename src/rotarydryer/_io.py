@@ -96,8 +96,11 @@ def check_free_space(directory, nbytes: int, what: str = "the output") -> None:
 
     Used before writers that do not fail cleanly on a full disk (HDF5)."""
     try:
-        free = shutil.disk_usage(directory).free
+        usage = shutil.disk_usage(directory)
     except OSError:
+        return
+    free = usage.free
+    if usage.total == 0:        # a pseudo file system (/proc, /sys): no space figures; the write says what fails
         return
     if free < int(nbytes) + (1 << 20):
         raise OutputError(f"cannot write {what} to {str(directory)!r}: {os.strerror(errno.ENOSPC)} "

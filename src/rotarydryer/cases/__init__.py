@@ -15,6 +15,7 @@ the key, the value and the constraint.
 import copy
 import re
 import tomllib
+import warnings
 from functools import cache, lru_cache
 from importlib import resources
 from pathlib import Path
@@ -294,7 +295,8 @@ class _TracerSource(_Strict):
     measured_offset: float = Field(default=0.0, description="s, injection start in the measured file")
     dataset: Optional[str] = Field(default=None, max_length=200,
                                    description="rotarydryer.rtd dataset; {test} is replaced (plain text)")
-    baseline: str = Field(default="none", max_length=50, description="baseline method for the measured moments")
+    baseline: Literal["none", "leading", "trailing", "linear"] = Field(
+        default="none", description="baseline method for the measured moments (rotarydryer.rtd.BASELINE_METHODS)")
 
     @field_validator("measured")
     @classmethod
@@ -1020,6 +1022,8 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
     case = _validated(cls, raw, valid, text, shown, name, overrides)
     reader = READERS.get(kind)
     if reader is None:
+        for msg in unused_keys(case, overrides or ()):     # a value that would change nothing, said once at load
+            warnings.warn(f"{shown}: {msg}", UnusedKeyWarning, stacklevel=3)
         return case
     try:       # a plant format: its reader translates it into the one specification
         spec = reader(case)
@@ -1262,7 +1266,7 @@ def exit_age_r_squared(e_measured, e_model) -> float:
 #: the one internal specification (``kind = "dryer"``)
 DryerSpec = DryerCase
 
-from .build import build_model, lee_parameters  # noqa: E402, F401  (the builders read the classes above)
+from .build import UnusedKeyWarning, build_model, lee_parameters, unused_keys  # noqa: E402, F401  (the builders read the classes above)
 from .readers import *  # noqa: E402, F401, F403  (the plant formats' schemas, kept so old files load)
 from .readers import READERS, SCHEMAS, translate_legacy_overrides  # noqa: E402
 

@@ -59,7 +59,7 @@ __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_
            "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
            "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "flat_case", "takes_as_parameters", "network_inputs", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
-           "site_pressure"]
+           "site_pressure", "unused_keys", "UnusedKeyWarning"]
 
 
 def exact_drum(radius, n_flights, s1=None, s2=None, alpha1=None, alpha2=None, *, segments=None, vertices=None,
@@ -505,6 +505,46 @@ def cascade_law(case, model: str) -> bool:
     if t.parameter_source != "predictive" or model == "sheehan2005_model1":
         return False
     return model != "ajayi2011" or t.predictive_flights == "cascade"
+
+
+class UnusedKeyWarning(UserWarning):
+    """A case key set to a value the case's configuration does not use (`unused_keys`)."""
+
+
+def unused_keys(case, overrides=()) -> list[str]:
+    """A message for each key a case sets that its configuration ignores (a value that would otherwise
+    change nothing, silently): ``transport.moisture_scale`` without the Eq. 3.1 moisture profile and
+    ``geometry.design_load_factor`` without Ajayi's regressions, when away from their defaults; the fitted
+    lee2008 coefficients (``transport.kiln_time``, ``backmix``, ``drag_reduction``) given in ``overrides``
+    (this run's ``--set``: a case file may keep them for its per-test mode) where every flighted section
+    takes the predictive cascade law, or ``transport.kiln_time`` with ``transport.kiln_law = "cascade"``."""
+    t, g = case.transport, case.geometry
+    out = []
+
+    def changed(block, name):
+        return getattr(block, name) != type(block).model_fields[name].default
+
+    models = {s.model or t.model for s in case.sections if s.kind == "flighted"}
+    if changed(t, "moisture_scale") and t.moisture_profile != "ajayi2011_eq3.1" and not (
+            "ajayi2011" in models and t.parameter_source == "predictive"):
+        out.append(f"transport.moisture_scale = {t.moisture_scale:g} has no effect: it scales the "
+                   f"transport.moisture_profile = 'ajayi2011_eq3.1' (this case's is {t.moisture_profile!r})")
+    if changed(g, "design_load_factor") and g.method != "ajayi2011_regressions":
+        out.append(f"geometry.design_load_factor = {g.design_load_factor:g} has no effect: it multiplies the Baker "
+                   f"area of geometry.method = 'ajayi2011_regressions' (this case's is {g.method!r}; the exact "
+                   "geometry's design_load_method = 'ajayi2011' is 1.24 x Baker, Ajayi (2011) Eq. 4.19)")
+    lee_models = models - {"ajayi2011", "sheehan2005_model1"}
+    if lee_models and all(cascade_law(case, m) for m in lee_models):
+        fitted = [k for k in ("kiln_time", "backmix", "drag_reduction")
+                  if getattr(t, k) is not None and f"transport.{k}" in overrides]
+        if fitted:
+            out.append(f"{', '.join('transport.' + k for k in fitted)} {'has' if len(fitted) == 1 else 'have'} no "
+                       "effect: transport.parameter_source = 'predictive' takes the cascade law, nothing fitted to a "
+                       "tracer (docs/predictive_transport.md)")
+    elif t.kiln_law == "cascade" and t.kiln_time is not None and "transport.kiln_time" in overrides:
+        out.append(f"transport.kiln_time = {t.kiln_time:g} s has no effect: transport.kiln_law = 'cascade' kilns the "
+                   "excess at the cascade speed")
+    return out
 
 
 def forward_step_of(case, model: str | None = None) -> str:

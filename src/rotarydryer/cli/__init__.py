@@ -6,9 +6,11 @@ Heavy libraries (SciPy, Matplotlib) are imported inside the commands so that
 ``rotarydryer --help`` starts fast.
 """
 
+import contextlib
 import functools
 import gc
 import os
+import sys
 import warnings
 
 from .._startup import defer_numpy_submodules
@@ -147,9 +149,19 @@ def error_message(exc: BaseException) -> str:
     return text
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None):
-    """Warnings reach the user as one ``warning: ...`` line on stderr (no source location)."""
-    typer.echo(f"warning: {' '.join(str(message).split())}", err=True)
+def _warning_printer():
+    """A ``warnings.showwarning`` for one command: each warning reaches the user as one ``warning: ...``
+    line on stderr (no source location), and the same text once (a case's range warning raised by both
+    the transport and the heat-and-mass builds was printed twice)."""
+    seen: set[str] = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())
+        if text not in seen:
+            seen.add(text)
+            typer.echo(f"warning: {text}", err=True)
+
+    return show
 
 
 def _guard(func):
@@ -162,7 +174,7 @@ def _guard(func):
         try:
             with warnings.catch_warnings():
                 if not DEBUG["on"]:
-                    warnings.showwarning = _show_warning
+                    warnings.showwarning = _warning_printer()
                 return func(*args, **kwargs)
         except (typer.Exit, typer.Abort, click.exceptions.ClickException, click.exceptions.Exit,
                 click.exceptions.Abort, SystemExit):
@@ -170,6 +182,12 @@ def _guard(func):
         except KeyboardInterrupt:
             typer.echo("error: interrupted", err=True)
             raise typer.Exit(130)
+        except BrokenPipeError:
+            # the reader of the output went away (``| head``): stop quietly, as a shell tool would on SIGPIPE
+            # (128 + 13); stdout goes to the null device so the interpreter's last flush does not fail again
+            with contextlib.suppress(OSError, ValueError):
+                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            raise typer.Exit(141)
         except BaseException as exc:  # noqa: BLE001 - the boundary
             if DEBUG["on"]:
                 raise

@@ -69,8 +69,8 @@ def mrt(
                 tau = mean_residence_time(method=m, **inputs)
                 results[m] = {"tau_s": float(tau), "tau_min": float(tau) / 60.0,
                               "warnings": [str(w.message) for w in caught]}
-            except ValueError as exc:
-                results[m] = {"error": str(exc)}
+            except ValueError as exc:      # a non-positive tau: its reason, not the Python keyword's hint
+                results[m] = {"error": getattr(exc, "summary", str(exc))}
     if as_json:
         typer.echo(json_text(results, indent=2))
     else:

@@ -22,7 +22,8 @@ __all__ = ["parse_grid", "read_list", "rows_to_csv", "MAX_POINTS"]
 
 
 def read_list(path: Path) -> list[dict]:
-    """Runs from a CSV file: header = override keys, one row per run ('#' lines ignored)."""
+    """Runs from a CSV file: header = override keys, one row per run ('#' lines ignored); an empty cell
+    leaves that key out of the run (the case's own value)."""
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"--list {str(path)!r}: not a file")
@@ -76,7 +77,7 @@ def rows_to_csv(rows: list[dict]) -> str:
 def sweep(
     case: str = typer.Argument(..., help="Case name or .toml file."),
     grid: Optional[list[str]] = typer.Option(None, "--grid", help="KEY=V1,V2,...; several --grid: all combinations."),
-    list_: Optional[Path] = typer.Option(None, "--list", help="CSV of runs: header = override keys, a row per run."),
+    list_: Optional[Path] = typer.Option(None, "--list", help="CSV of runs: header = override keys, a row per run (an empty cell: the case's value)."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Override KEY=VALUE applied to every run."),
     workers: int = typer.Option(1, help=WORKERS_HELP),
     scheduler: Optional[str] = typer.Option(None, help=SCHEDULER_HELP),

@@ -58,6 +58,7 @@ __all__ = [
     "missing_inputs",
     "song_2003_appendix_a",
     "GAS_FLOWS",
+    "NonPositiveResidenceTime",
 ]
 
 GAS_FLOWS = ("co-current", "counter-current")
@@ -69,6 +70,15 @@ SONG_2003_RANGE = {
     "gas_to_solids_ratio": (0.0, 3.19),  # G/F, max 10581.83/3317.74 = 3.189
     "particle_size": (0.9 * 444e-6, 1.1 * 444e-6),  # m; a single sand, Sauter 444 µm (±10 % tolerated)
 }
+
+
+class NonPositiveResidenceTime(ValueError):
+    """A Friedman-Marshall-form correlation whose co-current gas term reaches its slope term: a residence
+    time <= 0. ``summary``: the reason without the Python hint (what a front end shows)."""
+
+    def __init__(self, summary: str):
+        super().__init__(summary + " (allow_nonpositive=True returns the raw formula value)")
+        self.summary = summary
 
 
 def _gas_sign(gas_flow: str) -> float:
@@ -95,15 +105,23 @@ def _friedman_marshall_form(
     solids = check_positive("solids_mass_flux", solids_mass_flux, unit="kg/(m2 s)")
     sign = _gas_sign(gas_flow)
     dp_um = particle_size * 1e6
-    tau = a * length / (slope * rpm**p * diameter) + sign * (b / np.sqrt(dp_um)) * length * gas / solids
+    slope_term = a * length / (slope * rpm**p * diameter)
+    gas_term = (b / np.sqrt(dp_um)) * length * gas / solids
+    tau = slope_term + sign * gas_term
     if np.any(tau <= 0.0):
+        bad = np.broadcast_to(tau <= 0.0, np.shape(tau))
+
+        def at(x):      # the value at the first entry with tau <= 0
+            return float(np.broadcast_to(x, np.shape(tau))[bad].flat[0])
+
         msg = (
-            f"{name}: the co-current gas term exceeds the slope term, so the correlation predicts a "
-            f"non-positive residence time; gas_mass_flux/solids_mass_flux = "
-            f"{np.max(np.asarray(gas / solids)):g} is too large for these conditions"
+            f"{name}: the co-current gas term (b/D_p^0.5) L G/F = {at(gas_term):.4g} s is at least the slope "
+            f"term a L/(s n^{p:g} D) = {at(slope_term):.4g} s, so the correlation predicts a non-positive "
+            "residence time: these inputs (a small particle size, a high gas-to-solids flux ratio, a steep "
+            "slope or a fast drum) are outside its range"
         )
         if not allow_nonpositive:
-            raise ValueError(msg + " (pass allow_nonpositive=True to get the raw formula value)")
+            raise NonPositiveResidenceTime(msg)
         warnings.warn(msg, CorrelationRangeWarning, stacklevel=3)
     return tau
 

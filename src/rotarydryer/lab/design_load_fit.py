@@ -62,6 +62,10 @@ __all__ = ["CI_METHODS", "BreakPointFit", "hinge", "fit_break_point", "read_desi
 CI_METHODS = ("delta", "profile", "ajayi_corrected", "appendix_e")
 
 
+#: the largest loading or area the fit takes (sums of squares of larger values overflow; a unit error)
+MAX_VALUE = 1e100
+
+
 def hinge(loading, break_point, slope, intercept):
     """Continuous linear-plateau model ``intercept + slope * min(loading, break_point)``.
 
@@ -148,6 +152,10 @@ def fit_break_point(loading, area, *, confidence: float = 0.95, methods=CI_METHO
     y = check_finite("area", area).ravel()
     if x.size != y.size:
         raise ValueError(f"loading and area must have the same length, got {x.size} and {y.size}")
+    for what, v in (("loading", x), ("area", y)):     # their squares and products stay finite
+        if v.size and float(np.max(np.abs(v))) > MAX_VALUE:
+            raise ValueError(f"{what} reaches {float(np.max(np.abs(v))):g}; the allowed range is [0, {MAX_VALUE:g}] "
+                             "(the break point does not depend on the unit: rescale it)")
     conf = float(check_range("confidence", confidence, 0.0, 1.0))
     methods = tuple(methods)
     for m in methods:

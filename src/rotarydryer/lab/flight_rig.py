@@ -901,6 +901,11 @@ def analyse_run(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle: flo
         repose_angle = f.repose_angle
         if repose_sd == 0.0:
             repose_sd = f.stderr["repose_angle"]
+            if not repose_sd < 90.0:    # was "repose_sd = 925 deg is outside the allowed range", an option not given
+                raise ValueError(f"the repose-angle fit leaves the angle unconstrained (standard error {repose_sd:.3g} "
+                                 "deg): the unloading model does not describe this record, so there is no model band "
+                                 "to compare it with; check --start-angle, --flight, --rpm and the record's columns "
+                                 "(time, load cells in kg), or give --repose-angle and --repose-sd")
     ta = run.time - ts
     band = repose_band(ta, drum, repose_angle, repose_sd, rpm=rpm, start_angle=start_angle,
                        bulk_density=bulk_density, length=length, start_time=0.0, k=k)

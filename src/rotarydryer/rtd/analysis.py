@@ -66,6 +66,12 @@ BASELINE_METHODS = ("none", "leading", "trailing", "linear")
 TAIL_END_WARN = 0.3
 TAIL_EXTRAPOLATED_WARN = 0.25
 TAIL_METHODS = ("none", "exponential", "auto")
+#: s; the largest |time| of a tracer record (32 years: larger is a unit error, and its third moment overflows)
+MAX_RECORD_TIME_S = 1e9
+#: s; the shortest span of a tracer record (a record of picoseconds is a unit error, not a curve to fit)
+MIN_RECORD_SPAN_S = 1e-3
+#: the largest |signal| (its moments, signal x time^3, stay finite; a tracer signal is rescaled, not lost)
+MAX_SIGNAL = 1e100
 
 
 @dataclass(frozen=True)
@@ -138,6 +144,17 @@ def _validate_curve(time_s, signal, min_points=3):
         raise ValueError(f"time_s and signal must have the same length, got {t.size} and {c.size}")
     if t.size < min_points:
         raise ValueError(f"an RTD curve needs at least {min_points} points, got {t.size}")
+    big = float(np.max(np.abs(t)))
+    if big > MAX_RECORD_TIME_S:
+        raise ValueError(f"time_s reaches {fmt(big)} s; a tracer record lies within {MAX_RECORD_TIME_S:g} s (32 years) "
+                         "of its origin: are the times in seconds?")
+    if float(np.max(np.abs(c))) > MAX_SIGNAL:
+        raise ValueError(f"signal reaches {fmt(float(np.max(np.abs(c))))}; the allowed range is [-{MAX_SIGNAL:g}, "
+                         f"{MAX_SIGNAL:g}] (the RTD does not depend on the signal's unit: rescale it)")
+    span = float(t[-1] - t[0])
+    if span < MIN_RECORD_SPAN_S:
+        raise ValueError(f"time_s spans {fmt(span)} s; a tracer record spans at least {MIN_RECORD_SPAN_S:g} s: are "
+                         "the times in seconds?")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))

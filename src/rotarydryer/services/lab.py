@@ -4,7 +4,6 @@ thin-layer drying laws from drying curves)."""
 
 from __future__ import annotations
 
-import math
 import re
 
 from .._validation import finite_number
@@ -92,9 +91,12 @@ def rig_analysis(run, name, flight="alternative", rpm=2.0, start_angle=90.0, bul
                                 length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
         rho = f.params["bulk_density"]
         sd = repose_sd if (repose_angle is not None or repose_sd > 0) else f.stderr["repose_angle"]
-        if not math.isfinite(sd):
-            raise ValueError("the record does not determine the repose angle (its standard error is infinite); "
-                             "check --start-angle and the record, or give --repose-angle and --repose-sd")
+        if not sd < 90.0:     # infinite, or a fitted interval wider than the angle's range (was "repose_sd = 925
+            # deg is outside the allowed range", an option the user had not given)
+            raise ValueError(f"the record does not determine the repose angle (its standard error is {sd:.3g} deg): "
+                             "the unloading model does not describe it, so there is no model band to compare it "
+                             "with; check --start-angle, --flight, --rpm and the record's columns (time, load cells "
+                             "in kg), or give --repose-angle and --repose-sd")
         a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
                            repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
                            repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)

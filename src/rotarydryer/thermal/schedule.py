@@ -35,6 +35,7 @@ from .. import _jit
 from .._io import csv_text
 from .._limits import LIMITS, describe_limit
 from .._validation import check_range, finite_number
+from ..rtd._datafile import check_input_file
 from .burner import combustion_chamber, fuel_rate_for_temperature
 from .settings import DryerError
 from .states import DynamicResult, ThermalSteadyState, outlets
@@ -310,9 +311,9 @@ def _number(text, where) -> float:
 
 def load_schedule(path) -> InputSchedule:
     """A schedule file: ``.csv`` or ``.toml``."""
-    path = Path(path)
-    if not path.is_file():
+    if not Path(path).exists():
         raise ValueError(f"--schedule {str(path)!r}: no such file")
+    path = check_input_file(path, "--schedule")      # a directory, a device or an unreadable file: said so
     suffix = path.suffix.lower()
     if suffix == ".csv":
         return InputSchedule.from_csv(path)

@@ -1,0 +1,140 @@
+"""Inputs found by fuzzing the CLI that were accepted, ignored or answered with the wrong reason (each
+failed before its fix): a schedule that is a folder, a free-text tracer baseline, a correlation's
+hint that named a Python keyword, tracer records and lab series whose moments overflowed, keys a
+configuration ignores silently, warnings printed twice, a pseudo file system read as a full disk,
+and a closed output pipe reported as an error."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import warnings
+from collections import namedtuple
+
+import pytest
+
+from rotarydryer import _io
+from rotarydryer.cases import UnusedKeyWarning, load_case
+from rotarydryer.correlations import mean_residence_time
+from rotarydryer.correlations.residence_time import NonPositiveResidenceTime
+
+from .conftest import assert_bad, run_cli
+
+MRT = ["mrt", "--length", "3.05", "--diameter", "0.305", "--slope", "0.083", "--rpm", "5",
+       "--gas-mass-flux", "0.5", "--solids-mass-flux", "0.7"]
+
+
+def test_a_schedule_that_is_a_folder_is_named_so(tmp_path):
+    (tmp_path / "s.toml").mkdir()
+    res = run_cli(["dynamics", "ajayi2011_mmg", "--set", "operating.test=4", "--schedule", "s.toml"], cwd=tmp_path)
+    assert_bad(res, "--schedule", "s.toml", "is a directory")
+
+
+def test_a_tracer_baseline_is_one_of_the_methods(tmp_path):
+    # a free-text field: 'abc' loaded on a case without a measured curve and ran
+    res = run_cli(["simulate", "lee2008_invicta", "--set", "tracer.baseline=abc"], cwd=tmp_path)
+    assert_bad(res, "tracer.baseline", "'abc'", "'leading'", "'linear'")
+    assert load_case("lee2008_invicta", {"tracer.baseline": "linear"}).tracer.baseline == "linear"
+
+
+def test_a_non_positive_residence_time_names_its_two_terms_not_a_python_keyword(tmp_path):
+    res = run_cli([*MRT, "--particle-size", "1e-30"], cwd=tmp_path)
+    # the other correlations answer: a per-method row, exit 0
+    assert res.exit_code == 0, res.output
+    assert "allow_nonpositive" not in res.output
+    row = next(line for line in res.output.splitlines() if line.startswith("perry_green_1984"))
+    assert "gas term" in row and "slope term" in row and "outside its range" in row
+    # from Python the hint stays, and the error is still a ValueError
+    with pytest.raises(NonPositiveResidenceTime, match="allow_nonpositive=True") as info:
+        mean_residence_time(method="perry_green_1984", length=3.05, diameter=0.305, slope=0.083, rpm=5.0,
+                            particle_size=1e-9, gas_mass_flux=5.0, solids_mass_flux=0.7, gas_flow="co-current")
+    assert isinstance(info.value, ValueError) and "allow_nonpositive" not in info.value.summary
+
+
+@pytest.mark.parametrize("rows, fragments", [
+    ("0,0\n1e300,1e300\n2e300,2e300\n3e300,1e300\n4e300,0\n", ["time_s reaches 4e+300 s", "1e+09 s", "seconds"]),
+    ("0,0\n60,1e308\n120,0\n180,0\n240,0\n", ["signal reaches 1e+308", "rescale"]),
+    ("0,0\n1e-12,1\n2e-12,2\n3e-12,1\n4e-12,0\n", ["time_s spans 4e-12 s", "0.001 s"]),
+], ids=["huge-times", "huge-signal", "picosecond-record"])
+@pytest.mark.parametrize("command", ["rtd-moments", "rtd-fit"])
+def test_a_tracer_record_outside_what_its_moments_hold_is_refused(tmp_path, command, rows, fragments):
+    # before: overflow warnings then "(34, 'Numerical result out of range')", or a fit that "did not move", exit 0
+    (tmp_path / "t.csv").write_text("time_s,signal\n" + rows, encoding="utf-8")
+    res = run_cli([command, "t.csv"], cwd=tmp_path)
+    assert_bad(res, "t.csv", *fragments)
+    assert "overflow" not in res.output
+
+
+def test_a_design_load_series_of_huge_numbers_is_refused(tmp_path):
+    (tmp_path / "d.csv").write_text("loading_kg,FUF_area_cm2\n" + "".join(f"{k}e300,{min(k, 4)}e300\n"
+                                                                           for k in range(1, 9)), encoding="utf-8")
+    res = run_cli(["lab", "design-load", "d.csv"], cwd=tmp_path)
+    assert_bad(res, "loading reaches 8e+300", "[0, 1e+100]")
+    assert "overflow" not in res.output
+
+
+@pytest.mark.parametrize("case, overrides, fragment", [
+    ("lee2008_invicta", {"transport.moisture_scale": 2.0}, "transport.moisture_scale = 2 has no effect"),
+    ("lee2008_invicta", {"geometry.design_load_factor": 1.5}, "geometry.design_load_factor = 1.5 has no effect"),
+    ("lee2008_invicta", {"transport.kiln_law": "cascade", "transport.kiln_time": 5.0},
+     "transport.kiln_time = 5 s has no effect"),
+    ("song2003_ottawa", {"transport.backmix": 0.1}, "transport.backmix has no effect"),
+])
+def test_a_key_the_configuration_ignores_is_said_to_have_no_effect(case, overrides, fragment):
+    with pytest.warns(UnusedKeyWarning, match=fragment.replace(".", r"\.")):
+        load_case(case, overrides)
+
+
+@pytest.mark.parametrize("case, overrides", [
+    ("lee2008_invicta", {}), ("ajayi2011_mmg", {}), ("song2003_ottawa", {}),
+    # used: the factor of Ajayi's regressions, the scale of the Eq. 3.1 profile
+    ("ajayi2011_mmg", {"geometry.method": "ajayi2011_regressions", "geometry.design_load_factor": 1.5}),
+    ("ajayi2011_mmg", {"transport.moisture_scale": 0.9}),
+])
+def test_a_used_key_or_a_shipped_case_gets_no_such_warning(case, overrides):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_case(case, overrides)
+    assert not [w for w in caught if issubclass(w.category, UnusedKeyWarning)]
+
+
+def test_the_same_warning_is_printed_once(tmp_path):
+    # the shipped Song case's range warning came from both the transport and the heat-and-mass builds
+    res = run_cli(["simulate", "song2003_ottawa"], cwd=tmp_path)
+    assert res.exit_code == 0, res.output
+    lines = [line for line in res.output.splitlines() if line.startswith("warning:")]
+    assert lines and len(lines) == len(set(lines)), lines
+
+
+def test_a_pseudo_file_system_is_not_a_full_disk(monkeypatch, tmp_path):
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda d: usage(0, 0, 0))      # /proc, /sys
+    _io.check_free_space(tmp_path, 1000)
+    monkeypatch.setattr(shutil, "disk_usage", lambda d: usage(10 ** 9, 10 ** 9, 0))
+    with pytest.raises(_io.OutputError, match="No space left"):
+        _io.check_free_space(tmp_path, 1000)
+
+
+@pytest.mark.skipif(os.name == "nt", reason="SIGPIPE is POSIX")
+def test_a_closed_output_pipe_stops_quietly():
+    # `rotarydryer simulate ... | head -1` printed "error: Broken pipe" and exited 2
+    proc = subprocess.Popen([sys.executable, "-m", "rotarydryer", "simulate", "lee2008_invicta"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, bufsize=0)
+    first = proc.stdout.read(20)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141 and first
+    assert "error" not in err and "Traceback" not in err, err
+
+
+def test_a_rig_record_the_model_does_not_describe_is_refused_for_that_reason(tmp_path):
+    # a ramp of 1 kg/s: the fit's standard error of the angle was 925 deg, refused as "repose_sd = 924.97 deg is
+    # outside the allowed range", an option the user had not given
+    rows = "".join(f"{k / 100:.2f},{min(max(k / 100 - 2.0, 0.0), 5.0):.4f}\n" for k in range(1000))
+    (tmp_path / "rig.csv").write_text("time_s,cell1_kg\n" + rows, encoding="utf-8")
+    res = run_cli(["lab", "rig", "rig.csv", "--rpm", "2", "--start-angle", "90", "--bulk-density", "1000"],
+                  cwd=tmp_path)
+    assert_bad(res, "rig.csv", "does not determine the repose angle", "--repose-angle and --repose-sd")
+    assert "repose_sd =" not in res.output
