@@ -45,3 +45,17 @@ def test_without_the_command_line_nothing_is_deferred():
     """The library alone (no CLI import) leaves NumPy's imports as they are."""
     out = _run("import sys, rotarydryer, scipy.sparse; print(type(sys.modules['numpy.f2py']).__name__)")
     assert out == ["module"]
+
+
+HEAVY = ("scipy.stats", "scipy.integrate", "rotarydryer.rtd.fitting", "rotarydryer.estimation", "matplotlib")
+
+
+def test_a_one_off_simulate_does_not_import_the_fitting_stack():
+    """`simulate lee2008_invicta --json` imports neither SciPy's statistics and integrators nor the RTD fits and
+    estimation (a schedule reader's input-file check once pulled in `rotarydryer.rtd`, and with it scipy.stats:
+    about 0.5 s more at every start)."""
+    code = ("import sys\nfrom rotarydryer.cli import app\ntry:\n    app(['simulate', 'lee2008_invicta', '--json'], "
+            "prog_name='rotarydryer')\nexcept SystemExit as exc:\n    assert not exc.code, exc.code\nprint()\n"
+            f"print(','.join(n for n in {HEAVY!r} if n in sys.modules))")
+    loaded = _run(code)[-1]
+    assert loaded == "", loaded

@@ -50,11 +50,13 @@ from pathlib import Path
 
 __all__ = ["OutputError", "atomic_output", "output_set", "OutputSet", "write_text_atomic", "write_bytes_atomic",
            "save_figure", "check_output_target", "check_free_space", "remove_stale_temps", "temp_name",
-           "STALE_AFTER_S", "json_text", "csv_text", "finite_or_none"]
+           "STALE_AFTER_S", "json_text", "csv_text", "finite_or_none", "check_input_file", "MAX_INPUT_FILE_BYTES"]
 
 #: age (s) after which a temporary file of ours whose process cannot be checked (another host,
 #: Windows) counts as left over by a killed run
 STALE_AFTER_S = 24 * 3600.0
+#: bytes; the largest input data file a reader takes (`check_input_file`)
+MAX_INPUT_FILE_BYTES = 64_000_000
 _TMP_RE = re.compile(r"\..*\.rdtmp-([0-9a-f]{8})-([0-9]{1,10})-[0-9a-f]{8}\.tmp", re.DOTALL)
 
 
@@ -105,6 +107,28 @@ def check_free_space(directory, nbytes: int, what: str = "the output") -> None:
     if free < int(nbytes) + (1 << 20):
         raise OutputError(f"cannot write {what} to {str(directory)!r}: {os.strerror(errno.ENOSPC)} "
                           f"(needs about {nbytes / 1e6:.3g} MB, {free / 1e6:.3g} MB free)")
+
+
+def check_input_file(path, what: str = "data file", max_bytes: int = MAX_INPUT_FILE_BYTES) -> Path:
+    """``path`` as a Path if it is an existing regular file no larger than ``max_bytes``;
+    otherwise ``ValueError`` naming it (``what`` says what it should be)."""
+    p = Path(path)
+    try:
+        st = p.stat()
+    except FileNotFoundError:
+        raise ValueError(f"{what} {str(p)!r} does not exist") from None
+    except OSError as exc:
+        raise ValueError(f"cannot read {what} {str(p)!r}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ValueError(f"{what} {str(p)!r} is a directory, not a file")
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"{what} {str(p)!r} is not a regular file (a device, FIFO or socket)")
+    if st.st_size > max_bytes:
+        raise ValueError(f"{what} {str(p)!r} is {st.st_size / 1e6:.1f} MB; the limit is "
+                         f"{max_bytes / 1e6:.0f} MB (decimate or split the data)")
+    if not os.access(p, os.R_OK):
+        raise ValueError(f"cannot read {what} {str(p)!r}: permission denied")
+    return p
 
 
 def _host_tag() -> str:

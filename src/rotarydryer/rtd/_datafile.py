@@ -19,17 +19,16 @@ from __future__ import annotations
 
 import csv
 import math
-import os
-import stat
 from collections.abc import Iterator
-from pathlib import Path
+
+from .._io import MAX_INPUT_FILE_BYTES, check_input_file
 
 __all__ = ["csv_rows", "MAX_DATA_ROWS", "MAX_DATA_FILE_BYTES", "MAX_LINE_CHARS", "check_input_file", "data_lines",
            "text_lines", "too_many_rows", "parse_number", "fmt"]
 
 MAX_DATA_ROWS = 200_000
 """Most data rows read from one file (100 Hz rig records: 33 min; tracer curves have < 10^4)."""
-MAX_DATA_FILE_BYTES = 64_000_000
+MAX_DATA_FILE_BYTES = MAX_INPUT_FILE_BYTES
 """Largest data file read, bytes (64 MB)."""
 MAX_LINE_CHARS = 1 << 20
 """Longest line read, bytes (1 MiB)."""
@@ -44,28 +43,6 @@ def fmt(x) -> str:
     if math.isfinite(v) and v == int(v) and abs(v) < 1e15:
         return str(int(v))
     return f"{v:.6g}"
-
-
-def check_input_file(path, what: str = "data file", max_bytes: int = MAX_DATA_FILE_BYTES) -> Path:
-    """``path`` as a Path if it is an existing regular file no larger than ``max_bytes``;
-    otherwise ``ValueError`` naming it (``what`` says what it should be)."""
-    p = Path(path)
-    try:
-        st = p.stat()
-    except FileNotFoundError:
-        raise ValueError(f"{what} {str(p)!r} does not exist") from None
-    except OSError as exc:
-        raise ValueError(f"cannot read {what} {str(p)!r}: {exc.strerror or exc}") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise ValueError(f"{what} {str(p)!r} is a directory, not a file")
-    if not stat.S_ISREG(st.st_mode):
-        raise ValueError(f"{what} {str(p)!r} is not a regular file (a device, FIFO or socket)")
-    if st.st_size > max_bytes:
-        raise ValueError(f"{what} {str(p)!r} is {st.st_size / 1e6:.1f} MB; the limit is "
-                         f"{max_bytes / 1e6:.0f} MB (decimate or split the data)")
-    if not os.access(p, os.R_OK):
-        raise ValueError(f"cannot read {what} {str(p)!r}: permission denied")
-    return p
 
 
 def _decode(raw: bytes, name: str, lineno: int) -> str:

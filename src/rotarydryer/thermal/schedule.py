@@ -32,10 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from .. import _jit
-from .._io import csv_text
+from .._io import check_input_file, csv_text
 from .._limits import LIMITS, describe_limit
 from .._validation import check_range, finite_number
-from ..rtd._datafile import check_input_file
 from .burner import combustion_chamber, fuel_rate_for_temperature
 from .settings import DryerError
 from .states import DynamicResult, ThermalSteadyState, outlets
