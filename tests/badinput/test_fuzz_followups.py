@@ -138,3 +138,13 @@ def test_a_rig_record_the_model_does_not_describe_is_refused_for_that_reason(tmp
                   cwd=tmp_path)
     assert_bad(res, "rig.csv", "does not determine the repose angle", "--repose-angle and --repose-sd")
     assert "repose_sd =" not in res.output
+
+
+@pytest.mark.parametrize("key, value, interval", [
+    ("drum.n_flights", "0", "(allowed range [2, 1000])"),
+    ("flight.s1", "-1", "(allowed range (0, inf) m)"),
+    ("flight.alpha2", "200", "(allowed range (0, 180) deg)"),
+])
+def test_a_bounded_field_without_a_limits_entry_quotes_its_interval_and_unit(tmp_path, key, value, interval):
+    # pydantic's "Input should be greater than 0" alone: no interval, no unit
+    assert_bad(run_cli(["simulate", "lee2008_invicta", "--set", f"{key}={value}"], cwd=tmp_path), key, interval)

@@ -13,6 +13,7 @@ the key, the value and the constraint.
 """
 
 import copy
+import math
 import re
 import tomllib
 import warnings
@@ -24,6 +25,7 @@ from typing import Annotated, Any, Literal, Optional, get_args
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from .._limits import LIMITS, MAX_FLIGHTS, describe_limit, field_bounds
+from .._validation import _interval
 from ..geometry.flights import MAX_SEGMENTS
 from .calibration import CalibrationRecord, applied_calibrations, apply_calibrations, record_problems
 
@@ -933,6 +935,49 @@ def _limit_key(loc: tuple) -> str | None:
     return None
 
 
+def _model_in(annotation):
+    """The case-schema model class inside a field's annotation (``Optional[Flight]``, ``list[Section]``), or None."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in get_args(annotation):
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _field_range(cls, loc: tuple) -> str | None:
+    """The allowed range of the schema field at ``loc`` from its own bounds (``gt``/``ge``/``lt``/``le``), with
+    the unit its description starts with (``"m, flight base"``): for a bounded field without a `LIMITS` entry
+    (``flight.s1 = -1`` said "Input should be greater than 0", not the interval and its unit)."""
+    info = None
+    for part in loc:
+        if isinstance(part, int):       # an entry of a list: its model's fields follow
+            continue
+        fields = getattr(cls, "model_fields", None)
+        if not fields or part not in fields:
+            return None
+        info = fields[part]
+        cls = _model_in(info.annotation)
+    if info is None:
+        return None
+    low, high, low_in, high_in = -math.inf, math.inf, False, False
+    for m in info.metadata:
+        if getattr(m, "gt", None) is not None:
+            low, low_in = float(m.gt), False
+        if getattr(m, "ge", None) is not None:
+            low, low_in = float(m.ge), True
+        if getattr(m, "lt", None) is not None:
+            high, high_in = float(m.lt), False
+        if getattr(m, "le", None) is not None:
+            high, high_in = float(m.le), True
+    if low == -math.inf and high == math.inf:
+        return None
+    head = (info.description or "").split(",")[0].strip()
+    unit = head if head and head != "-" and len(head) <= 12 and " " not in head else ""
+    return _interval(low, high, low_in, high_in, unit)
+
+
 def _problem_where(loc: tuple, text: str, shown: str, overrides: dict | None) -> str:
     """Where a problem at case key ``loc`` was given: the ``--set`` options at or below it, else the file's line
     (``shown:line``), else the file."""
@@ -945,7 +990,7 @@ def _problem_where(loc: tuple, text: str, shown: str, overrides: dict | None) ->
 
 
 def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", shown: str = "",
-                             overrides: dict | None = None) -> str:
+                             overrides: dict | None = None, cls=None) -> str:
     """One line per problem: ``file:line: field = value: message (allowed ...)``."""
     lines = []
     for e in exc.errors():
@@ -970,10 +1015,14 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
             limit = _limit_key(loc) if kind in _BOUND_ERRORS else None
             polyline = (_POLYLINE_RANGES.get((loc[-3], loc[-1])) if kind in _BOUND_ERRORS and len(loc) >= 3
                         and isinstance(loc[-2], int) else None)
+            field = (_field_range(cls, loc) if cls is not None and limit is None and polyline is None
+                     and kind in _BOUND_ERRORS else None)
             if limit is not None:        # the whole interval, as the runtime checks quote it (docs/errors.md)
                 msg += f" (allowed range {describe_limit(limit)})"
             elif polyline is not None:   # a polygonal flight's section length or angle, a vertex coordinate
                 msg += f" (allowed range {polyline})"
+            elif field is not None:      # the schema field's own bounds
+                msg += f" (allowed range {field})"
         lines.append(f"{where}: {msg}")
     return "\n".join(lines)
 
@@ -1033,7 +1082,7 @@ def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None
         return DryerCase.model_validate(spec)
     except ValidationError as exc:
         n = len(exc.errors())
-        details = _format_validation_error(exc, spec, "", shown, overrides)
+        details = _format_validation_error(exc, spec, "", shown, overrides, DryerCase)
         raise ValueError(_invalid(name, details, n)) from None
 
 
@@ -1098,7 +1147,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         return cls.model_validate(raw)
     except ValidationError as exc:
         n = len(exc.errors())
-        details = _format_validation_error(exc, raw, text, shown, overrides)
+        details = _format_validation_error(exc, raw, text, shown, overrides, cls)
         locs = {".".join(str(p) for p in e["loc"]) for e in exc.errors()}
         from_records = sorted({f"{k} from calibration {origin[k]!r}" for k in origin
                                if k in locs or any(loc.startswith(k + ".") for loc in locs)})
