@@ -51,6 +51,7 @@ import pickle
 import sys
 import threading
 import uuid
+import warnings
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
@@ -314,7 +315,10 @@ def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
 
             try:
                 # the workers' statistical profiler samples every thread's stack every 10 ms (a few % of the runs)
-                with dask.config.set({"distributed.worker.profile.enabled": False}):
+                # the scheduler's HTTP server (health and metrics routes, even without a dashboard) moves off a taken
+                # port 8787 with a warning that read like a user error (found by fuzzing)
+                with dask.config.set({"distributed.worker.profile.enabled": False}), warnings.catch_warnings():
+                    warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
                     cluster = LocalCluster(n_workers=int(n_local or 1), threads_per_worker=1, processes=True,
                                            dashboard_address=None)
             except (OSError, RuntimeError) as exc:

@@ -54,9 +54,9 @@ def test_a_non_positive_residence_time_names_its_two_terms_not_a_python_keyword(
 
 
 @pytest.mark.parametrize("rows, fragments", [
-    ("0,0\n1e300,1e300\n2e300,2e300\n3e300,1e300\n4e300,0\n", ["time_s reaches 4e+300 s", "1e+09 s", "seconds"]),
-    ("0,0\n60,1e308\n120,0\n180,0\n240,0\n", ["signal reaches 1e+308", "rescale"]),
-    ("0,0\n1e-12,1\n2e-12,2\n3e-12,1\n4e-12,0\n", ["time_s spans 4e-12 s", "0.001 s"]),
+    ("0,0\n1e300,1e300\n2e300,2e300\n3e300,1e300\n4e300,0\n", ["time_s reaches 4e+300 s", "1e+09 s", "unit"]),
+    ("0,0\n60,1e308\n120,1e308\n180,0\n240,0\n", ["1e+308", "rescale"]),
+    ("0,0\n1e-12,1\n2e-12,2\n3e-12,1\n4e-12,0\n", ["spans 4e-12 s", "0.001 s"]),
 ], ids=["huge-times", "huge-signal", "picosecond-record"])
 @pytest.mark.parametrize("command", ["rtd-moments", "rtd-fit"])
 def test_a_tracer_record_outside_what_its_moments_hold_is_refused(tmp_path, command, rows, fragments):
@@ -148,3 +148,83 @@ def test_a_rig_record_the_model_does_not_describe_is_refused_for_that_reason(tmp
 def test_a_bounded_field_without_a_limits_entry_quotes_its_interval_and_unit(tmp_path, key, value, interval):
     # pydantic's "Input should be greater than 0" alone: no interval, no unit
     assert_bad(run_cli(["simulate", "lee2008_invicta", "--set", f"{key}={value}"], cwd=tmp_path), key, interval)
+
+
+# ---- a second round of fuzzing (calibrate, report, balance, sensitivity, dem, audit, fit, validate, new, ...)
+
+TRACER = "time_s,signal\n" + "".join(f"{60 * k},{v}\n" for k, v in enumerate((0, 1, 4, 6, 4, 2, 1, 0.5, 0)))
+
+
+@pytest.mark.parametrize("args, fragments", [
+    # an empty value was read as the case's default; a repeated key's last value won
+    (["rtd", "lee2008_invicta", "--set", "operating.rpm="], ["--set operating.rpm", "empty value", "=none"]),
+    (["rtd", "lee2008_invicta", "--set", "operating.rpm=4", "--set", "operating.rpm=5"],
+     ["--set operating.rpm is given twice", "4 and 5"]),
+    # the data of a repeated response counted twice (an interval narrower by sqrt(2)); a sigma and a test ignored
+    (["calibrate", "ajayi2011_mmg", "-p", "transport.dispersion", "--tests", "4", "-r", "tracer", "-r", "tracer",
+      "-q"], ["--response tracer is given twice"]),
+    (["calibrate", "ajayi2011_mmg", "-p", "transport.dispersion", "--tests", "4", "-r", "tracer", "--sigma", "mrt=1",
+      "-q"], ["--sigma mrt", "not a fitted response"]),
+    (["calibrate", "ajayi2011_mmg", "-p", "transport.dispersion", "--tests", "4", "-r", "tracer", "--set",
+      "operating.test=5", "-q"], ["--set operating.test", "--tests"]),
+    (["calibrate", "ajayi2011_mmg", "-p", "operating.test", "--tests", "4", "-r", "tracer", "-q"],
+     ["operating.test", "whole numbers"]),
+    (["calibrate", "ajayi2011_mmg", "-p", "tests.*.gas_flow", "--tests", "4", "-r", "tracer", "-q"],
+     ["tests.4.gas_flow", "heat-and-mass key", "thermal response"]),
+    # a drum preset took any --set, an unknown key too
+    (["report", "invicta", "--set", "nokey.zz=abc", "-o", "r.html"], ["--set", "drum preset"]),
+    # the measured outlet was ignored for the solved one; the balance's own terms named, not the options
+    (["balance", "--ajayi-test", "6", "--gas-flow", "16.25", "--gas-out", "100"], ["--gas-out", "--gas-flow",
+                                                                                  "give one"]),
+    (["balance", "--ajayi-test", "6", "--feed", "1e6"], ["no energy balance", "--feed"]),
+    (["balance", "--ajayi-test", "6", "--gas-flow", "1e6"], ["--gas-flow", "(0, 1000] kg/s"]),
+    (["balance", "--ajayi-test", "7"], ["--ajayi-test = 7", "1-6"]),
+    # the case's options without a case
+    (["dem", "export", "s", "--section", "B", "--radius", "0.2", "--n-flights", "10", "--s1", "0.05", "--s2", "0.05",
+      "--rpm", "6.7"], ["--section applies to --case"]),
+    (["dem", "export", "s", "--radius", "0.2", "--n-flights", "10", "--s1", "0.05", "--s2", "0.05", "--rpm", "6.7",
+      "--alpha1", "0"], ["--alpha1", "(0, 180) deg"]),
+    # no what-if at all
+    (["audit", "ajayi2011_mmg", "--recycle", ","], ["--recycle", "no value"]),
+    (["audit", "ajayi2011_mmg", "--hold-moisture"], ["--hold-moisture", "--recycle"]),
+    # a feed the coupled solver cannot resolve: exit 1 after 8-25 s before
+    (["simulate", "ajayi2011_mmg", "--set", "operating.feed_rate=1e-30"], ["operating.feed_rate = 1e-30 kg/s",
+                                                                            "of gas.flow", "at least"]),
+    # an impossible dryer was 48 failed items, exit 1
+    (["validate", "lee2008_invicta", "--set", "drum.radius=1e-30", "-q"], ["flight.s1", "drum.radius"]),
+    # the internal parameter's name, not the option's
+    (["schema", "--kind", "foo"], ["--kind = 'foo'"]),
+    (["rtd", "lee2008_invicta", "--method", "foo"], ["--method = 'foo'"]),
+    (["report", "lee2008_invicta", "-o", "r.html", "--repose-angle", "90"], ["--repose-angle = 90 deg"]),
+], ids=lambda v: v[0] + "-" + "-".join(a.lstrip("-") for a in v[1:4]) if isinstance(v, list) and v and
+    isinstance(v[0], str) and not v[0].startswith(("--", "tests")) else None)
+def test_second_round(tmp_path, args, fragments):
+    assert_bad(run_cli(args, cwd=tmp_path), *fragments)
+    assert not (tmp_path / "r.html").exists() and not (tmp_path / "s").exists()
+
+
+@pytest.mark.parametrize("text, fragments", [
+    (TRACER.replace("time_s,signal", "time_s,signal,signal").replace("\n", ",1\n").replace("signal,1\n", "signal\n"),
+     ["'signal' appears twice"]),
+    (TRACER.replace("240,4\n", "240,4,7\n"), ["line 6", "expected 2 columns", "got 3"]),
+    ("time_s,signal\n" + "".join(f"{60 * k},{v}e-301\n" for k, v in enumerate((0, 1, 4, 6, 4, 2, 1, 0))),
+     ["the signal peaks at 6e-301", "[1e-100, 1e+100]"]),
+    ("time_s,signal\n" + "".join(f"{60 * k},{v}\n" for k, v in enumerate((0, 0, 0, 5, 0, 0, 0, 0))),
+     ["line 5", "the only non-zero signal"]),
+], ids=["duplicated-column", "ragged-row", "vanishing-signal", "one-spike"])
+def test_a_malformed_tracer_file_is_refused_naming_it(tmp_path, text, fragments):
+    # each was fitted (exit 0): one of two signal columns, an extra value dropped, R^2 nan, an infinite error
+    (tmp_path / "t.csv").write_text(text, encoding="utf-8")
+    assert_bad(run_cli(["rtd-moments", "t.csv"], cwd=tmp_path), "t.csv", *fragments)
+
+
+def test_a_sensitivity_of_outputs_the_case_does_not_compute_is_refused(tmp_path):
+    res = run_cli(["sensitivity", "lee2008_invicta", "--set", "thermal.enabled=false", "--param", "operating.rpm=2,4",
+                   "--output", "product_moisture_kg_kg", "--samples", "8", "-q"], cwd=tmp_path)
+    assert_bad(res, "product_moisture_kg_kg", "not computed by this case")
+
+
+def test_new_suggests_a_toml_beside_the_given_path(tmp_path):
+    res = run_cli(["new", "x3", "--out", "x3.json"], cwd=tmp_path)
+    assert_bad(res, "'x3.toml'")
+    assert "x3.json/" not in res.output

@@ -32,7 +32,7 @@ from .calibration import CalibrationRecord, applied_calibrations, apply_calibrat
 __all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
            "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
-           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations", "override_value"]
+           "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations", "override_value", "UnusedKeyWarning"]
 
 # ---- ceilings of the model size (docs/app_threat_model.md) -------------------------------
 #: cells + finite volumes of one case, all sections together (transport model)

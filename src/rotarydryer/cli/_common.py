@@ -33,12 +33,18 @@ def connect_executor(executor, warm=()) -> None:
 def parse_sets(sets: Optional[list[str]]) -> dict:
     """``["operating.rpm=4", ...]`` -> ``{"operating.rpm": "4"}``; the case model converts the
     values to their types and checks them."""
-    out = {}
+    out: dict = {}
     for item in sets or []:
         if "=" not in item:
             raise ValueError(f"--set {item!r}: expected KEY=VALUE, e.g. transport.n_cells=35")
-        k, v = item.split("=", 1)
-        out[k.strip()] = v.strip()
+        k, v = (x.strip() for x in item.split("=", 1))
+        if not k:
+            raise ValueError(f"--set {item!r}: no key before '='; expected KEY=VALUE, e.g. transport.n_cells=35")
+        if not v:       # was read as "none" (the case's default) without a word said
+            raise ValueError(f"--set {k}: empty value; give a value, or {k}=none for the case's default")
+        if k in out:    # the last one won, silently
+            raise ValueError(f"--set {k} is given twice ({out[k]} and {v}); give each key once")
+        out[k] = v
     return out
 
 

@@ -52,6 +52,8 @@ def audit_cmd(
         check_out_dir("--out", out)         # before the what-ifs, not after them
         kw = dict(recycle=parse_values(recycle, "--recycle"), preheat=parse_values(preheat, "--preheat"),
                   insulation=parse_values(insulation, "--insulation"))
+        if hold_moisture and not any(kw.values()):      # it was silently without effect
+            raise ValueError("--hold-moisture applies to the what-ifs: give --recycle, --preheat or --insulation")
         show_progress = not as_json and sys.stderr.isatty()
         res = energy_audit(case, parse_sets(set_), hold_moisture=hold_moisture, **kw,
                            progress=(lambda text: typer.echo(text, err=True)) if show_progress else None)

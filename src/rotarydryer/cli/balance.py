@@ -49,6 +49,8 @@ def balance(
     from ..thermal.streams import evaporation_rate, exhaust_humidity
 
     try:
+        if ajayi_test is not None and ajayi_test not in range(1, 7):
+            raise ValueError(f"--ajayi-test = {ajayi_test} is not one of Ajayi's tests 1-6")
         base = pi_test_conditions(ajayi_test) if ajayi_test is not None else {}
         vals = {"gas_in": gas_in if gas_in is not None else base.get("gas_in_c"),
                 "gas_out": gas_out if gas_out is not None else base.get("gas_out_c"),
@@ -72,11 +74,14 @@ def balance(
                 ("--feed-temperature", feed_temperature, -20.0, 300.0, False, "degC"),
                 ("--gas-humidity", gas_humidity, 0.0, 0.3, True, "kg/kg dry gas"),
                 ("--shell-loss", shell_loss, 0.0, math.inf, True, "W"),
-                ("--gas-flow", gas_flow, 0.0, math.inf, False, "kg/s")):
+                ("--gas-flow", gas_flow, 0.0, 1000.0, False, "kg/s")):      # gas.flow's upper bound, one range
             if v is not None:
-                check_range(opt, v, lo, hi, low_inclusive=lo_in, unit=unit)
+                check_range(opt, v, lo, hi, low_inclusive=lo_in, high_inclusive=opt == "--gas-flow", unit=unit)
         if gas_flow is not None:
             check_key("gas.flow", gas_flow, "--gas-flow")      # the case key's range
+            if gas_out is not None:      # the measured outlet was ignored for the solved one (found by fuzzing)
+                raise ValueError(f"--gas-out = {gas_out:g} degC and --gas-flow = {gas_flow:g} kg/s: give one; the "
+                                 "balance solves the other (--gas-flow: the outlet temperature, --gas-out: the flow)")
         if vals["moisture_out"] >= vals["moisture_in"]:
             raise ValueError(f"--moisture-out = {vals['moisture_out']:g} must be below --moisture-in = "
                              f"{vals['moisture_in']:g} kg/kg wet: the balance needs a test that dries")
@@ -90,12 +95,19 @@ def balance(
                   solids_out_c=vals["product_temperature"], heat_loss=shell_loss,
                   solids_heat_capacity=mat.heat_capacity, water_heat_capacity=mat.water_heat_capacity)
         evap = float(evaporation_rate(vals["feed"], vals["moisture_in"], vals["moisture_out"]))
-        if gas_flow is None:
-            g = implied_gas_flow(gas_out_c=vals["gas_out"], **kw)
-            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_degC": vals["gas_out"]}
-        else:
-            g = gas_flow
-            out = {"gas_flow_kg_s": g, "gas_outlet_temperature_degC": balance_gas_outlet_temperature(gas_flow, **kw)}
+        try:
+            if gas_flow is None:
+                g = implied_gas_flow(gas_out_c=vals["gas_out"], **kw)
+                out = {"gas_flow_kg_s": g, "gas_outlet_temperature_degC": vals["gas_out"]}
+            else:
+                g = gas_flow
+                out = {"gas_flow_kg_s": g,
+                       "gas_outlet_temperature_degC": balance_gas_outlet_temperature(gas_flow, **kw)}
+        except ValueError as exc:   # its reason names the balance's own terms (humidity, heat_loss): say whose inputs
+            raise ValueError(f"these inputs have no energy balance ({exc}); check --feed, --moisture-in and "
+                             f"--moisture-out (evaporation {evap:.4g} kg/s), "
+                             f"{'--gas-out' if gas_flow is None else '--gas-flow'}, --gas-in, --feed-temperature, "
+                             "--product-temperature and --shell-loss") from None
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)

@@ -119,6 +119,10 @@ def export(
                     high_inclusive=True)
     check_range("--timestep-fraction (timestep_fraction)", timestep_fraction, 0.0, 0.5, high_inclusive=True)
     dims = dict(radius=radius, n_flights=n_flights, s1=s1, s2=s2)
+    if case is None:        # a case's options without a case were ignored (found by fuzzing)
+        for opt, given in (("--section", section is not None), ("--scale", scale != 1.0)):
+            if given:
+                raise ValueError(f"{opt} applies to --case: give --case, or the drum and flights themselves")
     if profile is not None:
         if case is not None or s1 is not None or s2 is not None:
             raise ValueError("--profile gives the flight: not with --case or --s1 --s2")
@@ -156,6 +160,8 @@ def export(
         check_range("--radius (radius)", radius, 0.0, 20.0, unit="m")
         check_range("--s1 (s1)", s1, 0.0, 20.0, unit="m")
         check_range("--s2 (s2)", s2, 0.0, 20.0, low_inclusive=True, unit="m")
+        check_range("--alpha1 (alpha1)", alpha1, 0.0, 180.0, unit="deg")
+        check_range("--alpha2 (alpha2)", alpha2, 0.0, 180.0, unit="deg")
         if n_flights < 2 or n_flights > 400:
             raise ValueError(f"--n-flights (n_flights) = {n_flights} is outside the allowed range: an integer from 2 to 400")
         drum = FlightedDrum(radius, n_flights, TwoSectionFlight(s1, s2, alpha1, alpha2))

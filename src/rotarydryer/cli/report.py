@@ -58,6 +58,10 @@ def report(
         import sys
 
         check_out_file("--out", out, ("html", "htm"))        # a report is HTML; --save writes netCDF
+        if repose_angle is not None:
+            from .._validation import check_range
+
+            check_range("--repose-angle", repose_angle, 0.0, 90.0, unit="deg")
         check_out_file("--save", save, ("nc",))
         sens = load_sensitivity(sensitivity) if sensitivity is not None else None
         saved_audit = load_audit(audit) if audit is not None else None

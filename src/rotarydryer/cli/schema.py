@@ -19,7 +19,7 @@ def case_schema(kind: Optional[str] = None) -> dict:
     from ..cases import CASE_MODELS as kinds
     if kind is not None:
         if kind not in kinds:
-            raise ValueError(f"kind = {kind!r} is not one of {', '.join(map(repr, kinds))}")
+            raise ValueError(f"--kind = {kind!r} is not one of {', '.join(map(repr, kinds))}")
         schema = kinds[kind].model_json_schema()
     else:
         schema = TypeAdapter(Annotated[Union[tuple(kinds.values())], Field(discriminator="kind")]).json_schema()
@@ -123,8 +123,11 @@ def new(
         case_name = case_name[:-5]
     path = out if out is not None else Path(f"{case_name}.toml")
     if out is not None and (path.is_dir() or path.suffix.lower() != ".toml" or path.name.startswith(".")):
+        # a folder: the case's name in it; anything else (x3.json, /dev/null): a .toml beside it
+        example = (Path(out) / (case_name + ".toml") if path.is_dir()
+                   else Path(out).parent / ((Path(out).stem or case_name) + ".toml"))
         typer.echo(f"error: --out {str(out)!r} is not a case file name: give a file NAME.toml (e.g. "
-                   f"{str(Path(out) / (case_name + '.toml'))!r})", err=True)
+                   f"{str(example)!r})", err=True)
         raise typer.Exit(2)
     if path.exists() and not force:
         typer.echo(f"error: {path} exists (use --force to overwrite)", err=True)

@@ -211,9 +211,11 @@ def rtd(
       rotarydryer rtd lee2008_invicta --set geometry.method=lee2008_regressions --out out/
     """
     try:
+        from .._validation import check_choice
         from ..cases import measured_rtd
         from ..cases.build import thermal_enabled
 
+        check_choice("--method", method, ("auto", "expm", "bdf2", "ivp"))     # named as the option, before the run
         c, model, ss = _steady(case, set_)
         res = ss.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
         meas = measured_rtd(c)

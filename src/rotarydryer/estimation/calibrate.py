@@ -34,6 +34,7 @@ from .. import __version__
 from .._threads import single_threaded
 from ..cases import (
     case_calibrations,
+    discrete_kind,
     exit_age_r_squared,
     load_case,
     measured_exit_age,
@@ -287,6 +288,10 @@ def _parameter(case_name: str, base: dict, key: str, tests) -> Parameter:
         if key not in valid:
             raise ValueError(f"unknown parameter key {key!r} for case {case_name!r}: a case key "
                              f"(rotarydryer schema) or tests.<test>.<field>")
+        if discrete_kind(type(case), key) is not None:   # operating.test was tried at 3.99999 (found by fuzzing)
+            raise ValueError(f"parameter {key}: the key takes {discrete_kind(type(case), key)}; a calibration needs "
+                             f"a continuous parameter (compare the values you want with `rotarydryer sweep --grid "
+                             f"{key}=...`)")
         value = _get(case, key)
         if value is None and key in ("transport.solids_velocity", "transport.dispersion", "transport.fouling"):
             row = test_row(case)
@@ -560,6 +565,13 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
             wanted = list(_THERMAL)
         data = measurements(case_name, sel, wanted, base_overrides=base, sigmas=sigmas)
     else:
+        heat_keys = [k for k in keys if k.startswith(("thermal.", "gas.", "shell.", "material.kinetics"))
+                          or k.endswith(".gas_flow")]
+        if heat_keys and all(r in _TRANSPORT for r in responses):
+            # the fit failed "in any direction around the solution (last refusal: none)" (found by fuzzing)
+            raise ValueError(f"parameter {heat_keys[0]}: a heat-and-mass key does not move the solids transport "
+                             f"responses ({', '.join(responses)}); fit it to a thermal response "
+                             f"({', '.join(_THERMAL[:3])}, ...) or leave it out")
         data = measurements(case_name, sel, responses, base_overrides=base, sigmas=sigmas, strict=True)
     n = sum(m.y.size for m in data)
     if n <= len(params):

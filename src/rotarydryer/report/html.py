@@ -820,6 +820,9 @@ def resolve_source(source: str, overrides: dict | None = None, *, repose_angle: 
         results = run_case(source, overrides, fit_rtd=True)
         return results, _case_drums_at(results, repose_angle), None
     if source in builtin_drums():
+        if overrides:       # a drum has no case keys: they were ignored, an unknown one too (found by fuzzing)
+            raise ValueError(f"--set cannot be applied to a drum preset ({source}): it has no case keys; give a case "
+                             "name or file")
         drum, e = preset_drum(source)
         phi = float(e.get("repose_angle", DEFAULT_REPOSE_ANGLE)) if repose_angle is None else repose_angle
         d = dict(name=source, drum=drum, length=e["length"], slope=e["slope"], rpm=e["rpm"],

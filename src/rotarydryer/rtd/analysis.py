@@ -72,6 +72,8 @@ MAX_RECORD_TIME_S = 1e9
 MIN_RECORD_SPAN_S = 1e-3
 #: the largest |signal| (its moments, signal x time^3, stay finite; a tracer signal is rescaled, not lost)
 MAX_SIGNAL = 1e100
+#: the smallest peak of a tracer-CSV signal (a fit's residuals of a 1e-300 signal vanish: R^2 NaN; rescale it)
+MIN_SIGNAL_PEAK = 1e-100
 
 
 @dataclass(frozen=True)

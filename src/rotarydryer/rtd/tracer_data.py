@@ -51,7 +51,7 @@ from .._io import write_text_atomic
 from .._validation import check_finite
 from ..data import TRACER_PREFIX, tracer_dataset_names
 from ._datafile import MAX_DATA_ROWS, csv_rows, data_lines, fmt, parse_number, text_lines, too_many_rows
-from .analysis import rtd_moments
+from .analysis import MAX_RECORD_TIME_S, MAX_SIGNAL, MIN_RECORD_SPAN_S, MIN_SIGNAL_PEAK, rtd_moments
 from .pulses import PULSE_KINDS, pulse_input
 
 __all__ = [
@@ -233,6 +233,10 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
                          "keep exactly one")
     if "signal" not in header:
         raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {', '.join(header)}")
+    twice = sorted({h for h in header if header.count(h) > 1})
+    if twice:       # the first of two signal columns was used silently (found by fuzzing)
+        raise ValueError(f"{name} line {header_line}: column {twice[0]!r} appears twice in the header; give each "
+                         "column once")
     _check_metadata(metadata, meta_lines, name)
     it, isg = header.index(tcols[0]), header.index("signal")
     times: list[float] = []
@@ -242,7 +246,7 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
     for k, row in csv_rows(lines, name):
         if len(times) >= limit:
             raise too_many_rows(name, k, limit)
-        if len(row) < len(header):
+        if len(row) != len(header):     # an extra value was dropped silently (found by fuzzing)
             raise ValueError(f"{name} line {k}: expected {len(header)} columns ({', '.join(header)}), "
                              f"got {len(row)}")
         t_k = parse_number(row[it], name, k, header[it])
@@ -273,6 +277,21 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
         raise ValueError(f"{name}: too few points ({t.size}); a tracer curve needs at least {MIN_POINTS}")
     if not np.any(c > 0):
         raise ValueError(f"{name}: the signal is 0 on every line; there is no tracer curve")
+    if np.count_nonzero(c > 0) < 2:     # a fit to it printed an infinite standard error, exit 0 (found by fuzzing)
+        raise ValueError(f"{name} line {lineno[int(np.argmax(c > 0))]}: the only non-zero signal; a tracer curve needs "
+                         "a peak the samples resolve (two or more non-zero samples)")
+    # a record whose moments or model fit overflow or vanish (found by fuzzing: "array must not contain infs or
+    # NaNs", "Maximum allowed size exceeded", R^2 nan), refused as `rtd_moments` refuses it, naming the file
+    if float(t[-1]) > MAX_RECORD_TIME_S:
+        raise ValueError(f"{name} line {lineno[-1]}: {tcols[0]} reaches {fmt(float(t[-1]))} s; a tracer record lies "
+                         f"within {MAX_RECORD_TIME_S:g} s (32 years) of its origin: is the time column's unit right?")
+    if float(t[-1] - t[0]) < MIN_RECORD_SPAN_S:
+        raise ValueError(f"{name}: the record spans {fmt(float(t[-1] - t[0]))} s; a tracer record spans at least "
+                         f"{MIN_RECORD_SPAN_S:g} s: is the time column's unit right?")
+    peak = float(np.max(c))
+    if not MIN_SIGNAL_PEAK <= peak <= MAX_SIGNAL:
+        raise ValueError(f"{name}: the signal peaks at {fmt(peak)}; the allowed range of its peak is "
+                         f"[{MIN_SIGNAL_PEAK:g}, {MAX_SIGNAL:g}] (an RTD does not depend on the signal's unit: rescale it)")
     if "time_origin_s" in metadata:
         t0 = float(metadata["time_origin_s"])
         where = f"{name} line {meta_lines['time_origin_s']}"

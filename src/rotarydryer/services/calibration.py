@@ -41,6 +41,8 @@ def parse_sigmas(items) -> dict[str, float]:
         if "=" not in item:
             raise ValueError(f"--sigma {item!r}: expected RESPONSE=VALUE, e.g. gas_outlet_temperature=5")
         k, v = (s.strip() for s in item.split("=", 1))
+        if k in out:
+            raise ValueError(f"--sigma {k} is given twice; give each response's standard deviation once")
         if k not in RESPONSES:
             raise ValueError(f"--sigma {item!r}: {k!r} is not a response; responses: {', '.join(RESPONSES)}")
         try:
@@ -88,6 +90,17 @@ def run_calibration(case: str, parameters, *, tests=None, responses=None, sigmas
     ``case``). The calibrated case must load (else ``ValueError``: nothing to write). ``executor``
     (`rotarydryer.executor.Executor`) runs the starts."""
     check_name(name)
+    fitted = list(responses or [])
+    twice = sorted({r for r in fitted if fitted.count(r) > 1})
+    if twice:       # its data counted twice: an interval narrower by sqrt(2)
+        raise ValueError(f"--response {twice[0]} is given twice (each response's data count once)")
+    unused = sorted(set(sigmas or {}) - set(fitted)) if fitted else []
+    if unused:
+        raise ValueError(f"--sigma {unused[0]}: not a fitted response (--response {', '.join(fitted)}); a standard "
+                         "deviation is given for a response the calibration fits")
+    if "operating.test" in (base_overrides or {}):
+        raise ValueError("--set operating.test: a calibration runs each test of --tests (every test by default) with "
+                         "its own operating point; give the tests with --tests")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         cal = calibrate(case, parameters, tests=tests, responses=responses or None, base_overrides=base_overrides,

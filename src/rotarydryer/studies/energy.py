@@ -199,6 +199,8 @@ def parse_values(text, label: str) -> list[float]:
         if isinstance(item, str) and not item.strip():
             continue
         out.append(finite_number(item, f"{label}:", " (give comma-separated values, e.g. 0.1,0.2)"))
+    if not out:     # '' or ',' was no what-if at all, exit 0 (found by fuzzing)
+        raise ValueError(f"{label} {str(text)!r}: no value; give comma-separated values, e.g. 0.1,0.2")
     return out
 
 

@@ -547,6 +547,10 @@ def sobol_study(case, params, samples: int, outputs: Sequence[str] = OUTPUTS, *,
             of = "of it" if not o.endswith("_kg_kg") else f"of max(it, {MOISTURE_SCALE_KG_KG:g} kg/kg)"
             notes.append(f"{o}: the same value in every run ({dists[o]['p50']:.6g}, to {CONSTANT_SPREAD:g} {of}): it "
                          "does not depend on these inputs over their ranges; no indices")
+    uncomputed = [o for o in outputs if any(n.startswith(f"{o}: not computed by this case") for n in notes)]
+    if uncomputed and len(uncomputed) == len(outputs):     # nothing to show: it exited 0 with empty tables
+        raise ValueError(f"output {', '.join(uncomputed)}: not computed by this case (e.g. no burner, or heat and mass "
+                         "transfer off); choose outputs the case computes")
     if n_failed:
         notes.append(f"{n_failed} of {len(X)} runs failed ({int(blocks_failed.sum())} of {len(blocks_failed)} "
                      "blocks left out of the indices)")

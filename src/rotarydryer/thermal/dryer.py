@@ -172,6 +172,10 @@ ACCEPT_AFTER_MAX_ITER = 1e3
 #: ... the water and energy balance errors of an accepted solve at most (and of a failed one that is refused as
 #: entrained, `ThermalDryer._refuse_if_entrained`)
 BALANCE_ACCEPT = 1e-6
+#: the smallest feed, as a share of the gas flow, the coupled solver resolves: below it the solids' heat and water
+#: flows vanish beside the gas's (the MMG dryer fed 1e-6 kg/s against 31 kg/s of gas stalled with overflows after
+#: 24 s; 1e-5 kg/s converges; the `new` template at 4e-7 of its gas converges)
+MIN_FEED_TO_GAS = 1e-7
 #: ... and ends early where its residual has not fallen below STALL_FACTOR x its lowest for this many iterations
 #: while that lowest is already acceptable: a Newton iteration stalled on a kink (a bone-dry tank's moisture at
 #: the dry guard's corner) by a few times the tolerance took the last 100-250 of its 300 iterations to end where it
@@ -1453,6 +1457,7 @@ class ThermalDryer:
         close; raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (reason ``"no_steady_state"``) with ``state`` = last iterate
         of the first attempt. The other arguments are those of `_pseudo_transient`.
         """
+        self._refuse_unresolved_feed()
         try:
             return self._polished(self._pseudo_transient(z0, max_iter, tol, dt0, verbose, factorization, progress),
                                   tol, dt0)
@@ -1484,6 +1489,17 @@ class ThermalDryer:
             return ss
         first = self._with_recycle_hint(first)
         raise self._with_dust_hint(first) if self.dusty else first
+
+    def _refuse_unresolved_feed(self):
+        """Refuse, before the solve, a feed below `MIN_FEED_TO_GAS` of the gas flow (reason ``"input"``, exit 2): a
+        steady state the solver cannot resolve, not a dryer's operating point (it ended as "no steady state" after
+        up to 25 s, exit 1)."""
+        g = float(self.settings.gas_flow)
+        if g > 0.0 and self.feed_rate < MIN_FEED_TO_GAS * g:
+            raise DryerError(f"operating.feed_rate = {self.feed_rate:.3g} kg/s is below {MIN_FEED_TO_GAS:g} of gas.flow = "
+                             f"{g:.4g} kg/s: the solids' heat and water flows vanish beside the gas's, below what the "
+                             f"coupled solver resolves; give a feed of at least {MIN_FEED_TO_GAS * g:.2g} kg/s (or less "
+                             "gas)", reason="input")
 
     def _refuse_if_entrained(self, failure):
         """Raise the entrainment refusal (reason ``"entrained"``, `check_entrainment`'s) for a failed solve of a
