@@ -83,8 +83,8 @@ SCHEMA_NEW = [
 REPORT = [
     ("unknown-source", ["report", "nonexistent_case"], ["nonexistent_case"]),
     ("system-file", ["report", "/etc/passwd"], ["/etc/passwd"]),
-    ("repose-nan", ["report", "invicta", "--repose-angle", "nan"], ["repose_angle", "nan"]),
-    ("repose-95", ["report", "invicta", "--repose-angle", "95"], ["repose_angle", "95"]),
+    ("repose-nan", ["report", "invicta", "--repose-angle", "nan"], ["--repose-angle", "nan"]),
+    ("repose-95", ["report", "invicta", "--repose-angle", "95"], ["--repose-angle", "95"]),
     ("save-a-drum", ["report", "invicta", "--save", "x.nc"], ["--save", "invicta"]),
     ("bad-set", ["report", "song2003_ottawa", "--set", "operating.rpm=-3"], ["operating.rpm", "-3"]),
 ]

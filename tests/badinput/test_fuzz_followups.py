@@ -157,7 +157,7 @@ TRACER = "time_s,signal\n" + "".join(f"{60 * k},{v}\n" for k, v in enumerate((0,
 
 @pytest.mark.parametrize("args, fragments", [
     # an empty value was read as the case's default; a repeated key's last value won
-    (["rtd", "lee2008_invicta", "--set", "operating.rpm="], ["--set operating.rpm", "empty value", "=none"]),
+    (["rtd", "lee2008_invicta", "--set", "operating.rpm="], ["--set operating.rpm", "empty value", "leave out --set operating.rpm"]),
     (["rtd", "lee2008_invicta", "--set", "operating.rpm=4", "--set", "operating.rpm=5"],
      ["--set operating.rpm is given twice", "4 and 5"]),
     # the data of a repeated response counted twice (an interval narrower by sqrt(2)); a sigma and a test ignored
@@ -228,3 +228,41 @@ def test_new_suggests_a_toml_beside_the_given_path(tmp_path):
     res = run_cli(["new", "x3", "--out", "x3.json"], cwd=tmp_path)
     assert_bad(res, "'x3.toml'")
     assert "x3.json/" not in res.output
+
+
+# ---- the review of the above: what the new checks must still accept
+
+def test_a_spreadsheets_empty_trailing_columns_still_load(tmp_path):
+    (tmp_path / "t.csv").write_text(TRACER.replace("\n", ",,\n"), encoding="utf-8")
+    res = run_cli(["rtd-moments", "t.csv"], cwd=tmp_path)
+    assert res.exit_code == 0, res.output
+
+
+def test_a_straight_two_section_flight_still_exports(tmp_path):
+    res = run_cli(["dem", "export", "s", "--radius", "0.2", "--n-flights", "10", "--s1", "0.05", "--s2", "0", "--rpm",
+                   "6.7", "--alpha2", "180"], cwd=tmp_path)
+    assert res.exit_code == 0, res.output
+
+
+def test_the_predictive_law_uses_the_moisture_scale_whatever_the_model():
+    # the predictive beds' velocities move with it: no "has no effect"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_case("ajayi2011_mmg", {"transport.parameter_source": "predictive", "transport.model": "lee2008",
+                                    "transport.moisture_profile": "exponential", "transport.solids_velocity": "none",
+                                    "transport.dispersion": "none", "transport.moisture_scale": 0.9})
+    assert not [w for w in caught if issubclass(w.category, UnusedKeyWarning)]
+
+
+def test_reversed_times_are_named_as_such_not_as_a_short_record():
+    from rotarydryer.rtd import rtd_moments
+
+    with pytest.raises(ValueError, match="strictly increasing"):
+        rtd_moments([40.0, 30.0, 20.0, 10.0, 0.0], [0.0, 1.0, 2.0, 1.0, 0.0])
+
+
+def test_gas_keys_move_the_transport_only_through_the_trajectory_step():
+    from rotarydryer.cases.build import any_trajectory
+
+    assert any_trajectory(load_case("song2003_ottawa"))        # calibrate -p gas.flow -r mrt: a valid fit there
+    assert not any_trajectory(load_case("ajayi2011_mmg", {"operating.test": 4}))

@@ -101,7 +101,7 @@ def test_report_cli_ajayi_sections(cli, tmp_path):
     (["lee2008_invicta", "--set", "operating.nope=3"], "operating.nope"),
     (["lee2008_invicta", "--set", "operating.rpm=-1"], "operating.rpm"),
     (["lee2008_invicta", "--set", "rpm"], "KEY=VALUE"),
-    (["invicta", "--repose-angle", "95"], "repose_angle"),
+    (["invicta", "--repose-angle", "95"], "--repose-angle"),
     (["invicta", "--save", "x.nc"], "--save"),
 ])
 def test_report_cli_bad_input(cli, tmp_path, args, expect):

@@ -69,6 +69,12 @@ def _holds_bool(value) -> bool:
     return False
 
 
+#: the units a schema field's description may start with ("m, flight base"), as `_field_range` quotes them
+_FIELD_UNITS = frozenset({"m", "mm", "deg", "s", "min", "h", "kg", "kg/s", "m/s", "m2/s", "m^2/s", "K", "degC", "W",
+                          "W/K", "kW", "Pa", "kg/m3", "kg/m^3", "1/s", "rev/min", "kg/kg", "J/(kg K)", "W/(m K)",
+                          "W/(m2 K)", "m2", "m^2", "m3", "m^3"})
+
+
 def _model_in(annotation):
     """The case block class of a field's annotation (``Block``, ``Optional[Block]``, ``list[Block]``), or None."""
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
@@ -973,8 +979,8 @@ def _field_range(cls, loc: tuple) -> str | None:
             high, high_in = float(m.le), True
     if low == -math.inf and high == math.inf:
         return None
-    head = (info.description or "").split(",")[0].strip()
-    unit = head if head and head != "-" and len(head) <= 12 and " " not in head else ""
+    head = re.split(r"[,;]", info.description or "")[0].strip()
+    unit = head if head in _FIELD_UNITS else ""         # a symbol (u_s, C_B) is not a unit
     return _interval(low, high, low_in, high_in, unit)
 
 

@@ -59,7 +59,7 @@ __all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_
            "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
            "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "flat_case", "takes_as_parameters", "network_inputs", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
-           "site_pressure", "unused_keys", "UnusedKeyWarning"]
+           "site_pressure", "unused_keys", "UnusedKeyWarning", "any_trajectory"]
 
 
 def exact_drum(radius, n_flights, s1=None, s2=None, alpha1=None, alpha2=None, *, segments=None, vertices=None,
@@ -525,8 +525,8 @@ def unused_keys(case, overrides=()) -> list[str]:
         return getattr(block, name) != type(block).model_fields[name].default
 
     models = {s.model or t.model for s in case.sections if s.kind == "flighted"}
-    if changed(t, "moisture_scale") and t.moisture_profile != "ajayi2011_eq3.1" and not (
-            "ajayi2011" in models and t.parameter_source == "predictive"):
+    # the predictive law maps the Eq. 3.1 profile (times the scale) onto its velocities and beds, whatever the model
+    if changed(t, "moisture_scale") and t.moisture_profile != "ajayi2011_eq3.1" and t.parameter_source != "predictive":
         out.append(f"transport.moisture_scale = {t.moisture_scale:g} has no effect: it scales the "
                    f"transport.moisture_profile = 'ajayi2011_eq3.1' (this case's is {t.moisture_profile!r})")
     if changed(g, "design_load_factor") and g.method != "ajayi2011_regressions":
@@ -555,7 +555,8 @@ def forward_step_of(case, model: str | None = None) -> str:
     return "trajectory" if cascade_law(case, model or t.model) else t.forward_step
 
 
-def _any_trajectory(case) -> bool:
+def any_trajectory(case) -> bool:
+    """Does a flighted section of the case take the trajectory forward step (whose curtain drag the gas sets)?"""
     models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
     return any(forward_step_of(case, m) == "trajectory" and m != "sheehan2005_model1" for m in models)
 
@@ -942,7 +943,7 @@ def takes_as_parameters(old, new, flats=None) -> bool:
         # the cascade law's kilning and the beds' velocity follow the speed; the beds' law the feed
         if "operating.rpm" in keys or (_needs_bed_parameters(new) and "operating.feed_rate" in keys):
             return False
-    return not (_any_trajectory(new) and any(k.startswith(("gas.", "site.")) for k in keys))
+    return not (any_trajectory(new) and any(k.startswith(("gas.", "site.")) for k in keys))
 
 
 def network_inputs(case) -> frozenset:
@@ -951,7 +952,7 @@ def network_inputs(case) -> frozenset:
     gas_inlet_humidity) with a trajectory forward step; the speed (rpm), and with beds the feed (feed_rate),
     with the predictive law."""
     out = set()
-    if case.gas is not None and _any_trajectory(case):
+    if case.gas is not None and any_trajectory(case):
         out |= {"gas_inlet_temperature", "gas_flow", "gas_inlet_humidity"}
     if case.transport.parameter_source == "predictive":
         out |= {"rpm"} | ({"feed_rate"} if _needs_bed_parameters(case) else set())

@@ -41,7 +41,8 @@ def parse_sets(sets: Optional[list[str]]) -> dict:
         if not k:
             raise ValueError(f"--set {item!r}: no key before '='; expected KEY=VALUE, e.g. transport.n_cells=35")
         if not v:       # was read as "none" (the case's default) without a word said
-            raise ValueError(f"--set {k}: empty value; give a value, or {k}=none for the case's default")
+            raise ValueError(f"--set {k}: empty value; give a value, or leave out --set {k} to keep the case's own "
+                             f"({k}=none clears an optional key)")
         if k in out:    # the last one won, silently
             raise ValueError(f"--set {k} is given twice ({out[k]} and {v}); give each key once")
         out[k] = v

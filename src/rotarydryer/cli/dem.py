@@ -161,7 +161,7 @@ def export(
         check_range("--s1 (s1)", s1, 0.0, 20.0, unit="m")
         check_range("--s2 (s2)", s2, 0.0, 20.0, low_inclusive=True, unit="m")
         check_range("--alpha1 (alpha1)", alpha1, 0.0, 180.0, unit="deg")
-        check_range("--alpha2 (alpha2)", alpha2, 0.0, 180.0, unit="deg")
+        check_range("--alpha2 (alpha2)", alpha2, 0.0, 180.0, high_inclusive=True, unit="deg")    # 180: straight on
         if n_flights < 2 or n_flights > 400:
             raise ValueError(f"--n-flights (n_flights) = {n_flights} is outside the allowed range: an integer from 2 to 400")
         drum = FlightedDrum(radius, n_flights, TwoSectionFlight(s1, s2, alpha1, alpha2))

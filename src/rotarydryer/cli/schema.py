@@ -125,7 +125,7 @@ def new(
     if out is not None and (path.is_dir() or path.suffix.lower() != ".toml" or path.name.startswith(".")):
         # a folder: the case's name in it; anything else (x3.json, /dev/null): a .toml beside it
         example = (Path(out) / (case_name + ".toml") if path.is_dir()
-                   else Path(out).parent / ((Path(out).stem or case_name) + ".toml"))
+                   else Path(out).parent / ((Path(out).stem.lstrip(".") or case_name) + ".toml"))
         typer.echo(f"error: --out {str(out)!r} is not a case file name: give a file NAME.toml (e.g. "
                    f"{str(example)!r})", err=True)
         raise typer.Exit(2)

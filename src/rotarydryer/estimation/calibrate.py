@@ -42,7 +42,7 @@ from ..cases import (
     resolve_dataset,
     valid_override_keys,
 )
-from ..cases.build import cascade_law, law_coefficient, rows_shadowed, test_row, thermal_settings
+from ..cases.build import any_trajectory, cascade_law, law_coefficient, rows_shadowed, test_row, thermal_settings
 from ..cases.calibration import NONE_VALUE, TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
 from ..executor import Executor
 from ..published import read_published_csv
@@ -565,8 +565,10 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
             wanted = list(_THERMAL)
         data = measurements(case_name, sel, wanted, base_overrides=base, sigmas=sigmas)
     else:
-        heat_keys = [k for k in keys if k.startswith(("thermal.", "gas.", "shell.", "material.kinetics"))
-                          or k.endswith(".gas_flow")]
+        # gas.* and a test's gas_flow move the transport only through the trajectory step's curtain drag
+        gas_moves_transport = any_trajectory(case)
+        heat_keys = [k for k in keys if k.startswith(("thermal.", "shell.", "material.kinetics")) or (
+            not gas_moves_transport and (k.startswith("gas.") or k.endswith(".gas_flow")))]
         if heat_keys and all(r in _TRANSPORT for r in responses):
             # the fit failed "in any direction around the solution (last refusal: none)" (found by fuzzing)
             raise ValueError(f"parameter {heat_keys[0]}: a heat-and-mass key does not move the solids transport "

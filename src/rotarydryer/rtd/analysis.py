@@ -153,10 +153,6 @@ def _validate_curve(time_s, signal, min_points=3):
     if float(np.max(np.abs(c))) > MAX_SIGNAL:
         raise ValueError(f"signal reaches {fmt(float(np.max(np.abs(c))))}; the allowed range is [-{MAX_SIGNAL:g}, "
                          f"{MAX_SIGNAL:g}] (the RTD does not depend on the signal's unit: rescale it)")
-    span = float(t[-1] - t[0])
-    if span < MIN_RECORD_SPAN_S:
-        raise ValueError(f"time_s spans {fmt(span)} s; a tracer record spans at least {MIN_RECORD_SPAN_S:g} s: are "
-                         "the times in seconds?")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
@@ -164,6 +160,10 @@ def _validate_curve(time_s, signal, min_points=3):
             f"time_s must be strictly increasing; time_s[{i + 1}] = {fmt(t[i + 1])} s "
             f"follows time_s[{i}] = {fmt(t[i])} s"
         )
+    span = float(t[-1] - t[0])
+    if span < MIN_RECORD_SPAN_S:
+        raise ValueError(f"time_s spans {fmt(span)} s; a tracer record spans at least {MIN_RECORD_SPAN_S:g} s: are "
+                         "the times in seconds?")
     return t, c
 
 

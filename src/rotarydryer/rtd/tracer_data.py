@@ -233,7 +233,7 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
                          "keep exactly one")
     if "signal" not in header:
         raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {', '.join(header)}")
-    twice = sorted({h for h in header if header.count(h) > 1})
+    twice = sorted({h for h in header if h and header.count(h) > 1})     # blank names: a spreadsheet's empty columns
     if twice:       # the first of two signal columns was used silently (found by fuzzing)
         raise ValueError(f"{name} line {header_line}: column {twice[0]!r} appears twice in the header; give each "
                          "column once")
@@ -246,7 +246,9 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
     for k, row in csv_rows(lines, name):
         if len(times) >= limit:
             raise too_many_rows(name, k, limit)
-        if len(row) != len(header):     # an extra value was dropped silently (found by fuzzing)
+        # too few cells, or an extra value (dropped silently before; found by fuzzing); a spreadsheet's empty
+        # trailing cells are not values
+        if len(row) < len(header) or any(c.strip() for c in row[len(header):]):
             raise ValueError(f"{name} line {k}: expected {len(header)} columns ({', '.join(header)}), "
                              f"got {len(row)}")
         t_k = parse_number(row[it], name, k, header[it])

@@ -173,8 +173,8 @@ ACCEPT_AFTER_MAX_ITER = 1e3
 #: entrained, `ThermalDryer._refuse_if_entrained`)
 BALANCE_ACCEPT = 1e-6
 #: the smallest feed, as a share of the gas flow, the coupled solver resolves: below it the solids' heat and water
-#: flows vanish beside the gas's (the MMG dryer fed 1e-6 kg/s against 31 kg/s of gas stalled with overflows after
-#: 24 s; 1e-5 kg/s converges; the `new` template at 4e-7 of its gas converges)
+#: flows vanish beside the gas's (the MMG dryer fed 1e-6 kg/s, 7e-8 of its 14.4 kg/s of gas, stalled with overflows
+#: after 24 s; 1e-5 kg/s converges; the `new` template fed 1e-6 kg/s, 2.5e-7 of its gas, converges)
 MIN_FEED_TO_GAS = 1e-7
 #: ... and ends early where its residual has not fallen below STALL_FACTOR x its lowest for this many iterations
 #: while that lowest is already acceptable: a Newton iteration stalled on a kink (a bone-dry tank's moisture at
