@@ -214,8 +214,9 @@ def rtd(
         from .._validation import check_choice
         from ..cases import measured_rtd
         from ..cases.build import thermal_enabled
+        from ..transport.network import RTD_METHODS
 
-        check_choice("--method", method, ("auto", "expm", "bdf2", "ivp"))     # named as the option, before the run
+        check_choice("--method", method, RTD_METHODS)     # named as the option, before the run
         c, model, ss = _steady(case, set_)
         res = ss.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
         meas = measured_rtd(c)

@@ -260,6 +260,16 @@ def _expand(keys: Sequence[str], tests: Sequence[int | None]) -> list[str]:
     return list(dict.fromkeys(out))
 
 
+def _is_gas_key(key: str) -> bool:
+    """A gas key (``gas.*``, a test's ``gas_flow``): heat and mass, and the trajectory step's curtain drag."""
+    return key.startswith("gas.") or key.endswith(".gas_flow")
+
+
+def _is_heat_key(key: str) -> bool:
+    """A key of the heat-and-mass model (thermal, gas, shell, drying kinetics)."""
+    return key.startswith(("thermal.", "shell.", "material.kinetics")) or _is_gas_key(key)
+
+
 def _parameter(case_name: str, base: dict, key: str, tests) -> Parameter:
     if key.startswith(TEST_KEY_PREFIX):
         parts = key.split(".")
@@ -288,8 +298,9 @@ def _parameter(case_name: str, base: dict, key: str, tests) -> Parameter:
         if key not in valid:
             raise ValueError(f"unknown parameter key {key!r} for case {case_name!r}: a case key "
                              f"(rotarydryer schema) or tests.<test>.<field>")
-        if discrete_kind(type(case), key) is not None:   # operating.test was tried at 3.99999 (found by fuzzing)
-            raise ValueError(f"parameter {key}: the key takes {discrete_kind(type(case), key)}; a calibration needs "
+        takes = discrete_kind(type(case), key)
+        if takes is not None:   # operating.test was tried at 3.99999 (found by fuzzing)
+            raise ValueError(f"parameter {key}: the key takes {takes}; a calibration needs "
                              f"a continuous parameter (compare the values you want with `rotarydryer sweep --grid "
                              f"{key}=...`)")
         value = _get(case, key)
@@ -556,8 +567,7 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     sel = list(all_tests or [None]) if tests is None else list(tests)
     keys = _expand(list(parameters), sel)
     params = [_parameter(case_name, base, k, sel) for k in keys]
-    thermal_keys = any(k.startswith(("thermal.", "gas.", "shell.", "material.kinetics")) or k.endswith(".gas_flow")
-                       for k in keys)
+    thermal_keys = any(_is_heat_key(k) for k in keys)
     if responses is None:
         wanted = list(_TRANSPORT) if not thermal_keys else list(_TRANSPORT + _THERMAL)
         if thermal_keys and not any(k.startswith(("transport.", "geometry.")) or k.endswith(
@@ -567,8 +577,7 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     else:
         # gas.* and a test's gas_flow move the transport only through the trajectory step's curtain drag
         gas_moves_transport = any_trajectory(case)
-        heat_keys = [k for k in keys if k.startswith(("thermal.", "shell.", "material.kinetics")) or (
-            not gas_moves_transport and (k.startswith("gas.") or k.endswith(".gas_flow")))]
+        heat_keys = [k for k in keys if _is_heat_key(k) and not (gas_moves_transport and _is_gas_key(k))]
         if heat_keys and all(r in _TRANSPORT for r in responses):
             # the fit failed "in any direction around the solution (last refusal: none)" (found by fuzzing)
             raise ValueError(f"parameter {heat_keys[0]}: a heat-and-mass key does not move the solids transport "

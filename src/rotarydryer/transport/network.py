@@ -46,7 +46,11 @@ from scipy.sparse.linalg import splu
 
 from .._validation import fmt_number
 
+#: the tracer integrators of `TracerSystem.simulate` (and `SteadyState.rtd`)
+RTD_METHODS = ("auto", "expm", "bdf2", "ivp")
+
 __all__ = [
+    "RTD_METHODS",
     "EdgeFamily",
     "Network",
     "TracerSystem",
@@ -332,7 +336,7 @@ class TracerSystem:
         elif method == "ivp":
             y = self._simulate_ivp(tracer_input, t)
         else:
-            raise ValueError(f"method = {method!r} is not one of 'auto', 'expm', 'bdf2', 'ivp'")
+            raise ValueError(f"method = {method!r} is not one of {', '.join(map(repr, RTD_METHODS))}")
         return TracerResponse(time=t, outlet_tracer_flow=y, injected_mass=tracer_input.mass, method=method)
 
     def _simulate_expm(self, inp, t):
