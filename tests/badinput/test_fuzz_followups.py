@@ -119,14 +119,15 @@ def test_a_pseudo_file_system_is_not_a_full_disk(monkeypatch, tmp_path):
 
 @pytest.mark.skipif(os.name == "nt", reason="SIGPIPE is POSIX")
 def test_a_closed_output_pipe_stops_quietly():
-    # `rotarydryer simulate ... | head -1` printed "error: Broken pipe" and exited 2
+    # `rotarydryer simulate ... | head -1` printed "error: Broken pipe" and exited 2. The reader is closed
+    # before the command writes anything (reading a first line and then closing raced the command's
+    # remaining writes: on a loaded machine all of them could reach the pipe's buffer first, exit 0)
     proc = subprocess.Popen([sys.executable, "-m", "rotarydryer", "simulate", "lee2008_invicta"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, bufsize=0)
-    first = proc.stdout.read(20)
     proc.stdout.close()
     err = proc.stderr.read().decode()
-    assert proc.wait(timeout=120) == 141 and first
-    assert "error" not in err and "Traceback" not in err, err
+    assert proc.wait(timeout=120) == 141, err
+    assert "error" not in err and "Traceback" not in err and "Exception ignored" not in err, err
 
 
 def test_a_rig_record_the_model_does_not_describe_is_refused_for_that_reason(tmp_path):
