@@ -267,3 +267,54 @@ def test_gas_keys_move_the_transport_only_through_the_trajectory_step():
 
     assert any_trajectory(load_case("song2003_ottawa"))        # calibrate -p gas.flow -r mrt: a valid fit there
     assert not any_trajectory(load_case("ajayi2011_mmg", {"operating.test": 4}))
+
+
+# ---- a third round (the leftovers of the second)
+
+def test_a_value_the_schema_refuses_gets_its_refusal_alone(tmp_path):
+    # `--set transport.n_cells=2.5`: the calibration's "was fitted with N = 35" warning came before the refusal
+    res = run_cli(["rtd", "lee2008_invicta", "--set", "transport.n_cells=2.5"], cwd=tmp_path)
+    assert_bad(res, "transport.n_cells", "valid integer")
+    assert "calibration" not in res.output and "warning" not in res.output
+    # a valid value the calibration was not fitted with still warns, once the case has validated
+    with pytest.warns(UserWarning, match="was fitted with transport.n_cells = 35"):
+        load_case("lee2008_invicta", {"transport.n_cells": 30})
+
+
+@pytest.mark.parametrize("args", [
+    ["simulate", "lee2008_invicta", "--out", ""],
+    ["simulate", "lee2008_invicta", "--out="],
+    ["simulate", "lee2008_invicta", "--diagnostics", " "],
+    ["lab", "drying", "curves.csv", "--out", ""],
+])
+def test_an_empty_path_option_is_refused(tmp_path, args):
+    # Path('') is the current directory: the outputs landed there unasked, exit 0
+    option = next(a for a in args if a.startswith("--")).rstrip("=")
+    assert_bad(run_cli(args, cwd=tmp_path), option, "is empty")
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_huge_sample_count_is_echoed_as_given(tmp_path):
+    res = run_cli(["sensitivity", "lee2008_invicta", "--param", "operating.rpm=2,4", "--samples", "1e30"], cwd=tmp_path)
+    assert_bad(res, "--samples = 1e30", "[2, 65536]")
+
+
+def test_a_silent_dem_run_stops_at_its_timeout(tmp_path, monkeypatch):
+    # the timeout was checked per printed line: a LIGGGHTS that printed nothing ran on past it
+    import json
+    import time
+
+    from rotarydryer.dem.run import LiggghtsFailed, run_deck
+
+    fake = tmp_path / "liggghts"
+    fake.write_text("#!/bin/sh\nsleep 30\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("ROTARYDRYER_LIGGGHTS", str(fake))
+    deck = tmp_path / "deck"
+    deck.mkdir()
+    (deck / "in.drum").write_text("# a deck\n")
+    (deck / "deck.json").write_text(json.dumps({"derived": {"steps": {"total": 100}}}))
+    t0 = time.perf_counter()
+    with pytest.raises(LiggghtsFailed, match="did not finish within 0.5 s"):
+        run_deck(deck, progress=False, timeout=0.5)
+    assert time.perf_counter() - t0 < 10.0

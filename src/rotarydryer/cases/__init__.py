@@ -27,7 +27,13 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from .._limits import LIMITS, MAX_FLIGHTS, describe_limit, field_bounds
 from .._validation import _interval
 from ..geometry.flights import MAX_SEGMENTS
-from .calibration import CalibrationRecord, applied_calibrations, apply_calibrations, record_problems
+from .calibration import (
+    CalibrationRecord,
+    CalibrationWarning,
+    applied_calibrations,
+    apply_calibrations,
+    record_problems,
+)
 
 __all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
@@ -1134,8 +1140,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             nxt = node[part] = dict(nxt) if isinstance(nxt, dict) else {}
             node = nxt
         node[fld] = value
+    pending: list[str] = []          # the calibrations' warnings, issued once the case validates
     if raw.get("calibrations") and cls is DryerCase:
-        _calibrate(raw, overrides, shown, file_raw)
+        _calibrate(raw, overrides, shown, file_raw, pending)
     _test_slope(raw, overrides)
     for key, fld in (("gas.flow", "gas_flow"), ("gas.inlet_temperature", "gas_inlet_temperature")):
         if overrides and key in overrides and isinstance(raw.get("tests"), list):
@@ -1150,7 +1157,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
                  for loc, value in booleans]
         raise ValueError(_invalid(name, "\n".join(lines), len(lines)))
     try:
-        return cls.model_validate(raw)
+        case = cls.model_validate(raw)
     except ValidationError as exc:
         n = len(exc.errors())
         details = _format_validation_error(exc, raw, text, shown, overrides, cls)
@@ -1160,6 +1167,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         if from_records:
             details += "\n(" + "; ".join(from_records) + ")"
         raise ValueError(_invalid(name, details, n)) from None
+    for text in pending:
+        warnings.warn(text, CalibrationWarning, stacklevel=2)
+    return case
 
 
 @lru_cache(maxsize=4096)
@@ -1181,7 +1191,7 @@ def case_calibrations(case) -> list[CalibrationRecord]:
     return applied_calibrations(case, lambda key: _schema_default(DryerCase, key))
 
 
-def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -> None:
+def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None, pending: list | None = None) -> None:
     """Apply the case's [[calibrations]] to ``raw`` (`rotarydryer.cases.calibration.apply_calibrations`);
     a malformed record is refused naming its entry and key."""
     recs = raw.get("calibrations")
@@ -1199,7 +1209,7 @@ def _calibrate(raw: dict, overrides, shown: str, file_raw: dict | None = None) -
             _RECORDS_MEMO.pop(next(iter(_RECORDS_MEMO)))
         _RECORDS_MEMO[key] = (recs, rows, records)
     apply_calibrations(raw, overrides, lambda key: _schema_default(DryerCase, key), shown, file_raw,
-                       records=records)
+                       records=records, pending=pending)
 
 
 #: the checked records of the last few parsed documents: (records list, tests rows, checked records)

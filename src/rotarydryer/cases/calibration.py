@@ -303,7 +303,7 @@ def applied_calibrations(case, defaults) -> list[CalibrationRecord]:
 
 
 def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, file_raw: dict | None = None,
-                       records: list[CalibrationRecord] | None = None) -> list[str]:
+                       records: list[CalibrationRecord] | None = None, pending: list[str] | None = None) -> list[str]:
     """Write the values of the case's calibrations into ``raw`` (a loaded case document with its
     overrides applied): of each group of records that set the same keys, the one whose
     configuration the run has (the last of several), else the closest one with a `CalibrationWarning` naming the
@@ -312,7 +312,15 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
     (the document without the overrides), a group whose record the overrides change (e.g. --set
     geometry.method selects the thesis's calibration) is named in a `CalibrationWarning` too:
     the run's coefficients are then not the case's default calibration. ``records``: the validated
-    records of ``raw["calibrations"]`` (the case loader checks them once per parsed document)."""
+    records of ``raw["calibrations"]`` (the case loader checks them once per parsed document). ``pending``: a
+    list that receives the `CalibrationWarning` texts instead of their being issued (the case loader issues them
+    once the case has validated: a value the schema refuses gets its refusal alone)."""
+    def warn(text: str) -> None:
+        if pending is None:
+            warnings.warn(text, CalibrationWarning, stacklevel=4)
+        else:
+            pending.append(text)
+
     if records is None:
         records = [CalibrationRecord.model_validate(r) for r in raw.get("calibrations") or []]
     given = set(overrides or {})
@@ -336,10 +344,9 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
                 continue        # another transport law chosen: its own record is the one to use
             want = {**was.configuration, **rec.configuration}
             runs = ", ".join(f"{k} = {_fmt(_coerced(configuration_value(raw, k, defaults), want[k]))}" for k in keys)
-            warnings.warn(f"{shown}: {runs} (set) selects the calibration {rec.name!r} of that configuration in "
-                          f"place of the case's default {was.name!r}: the run's {', '.join(list(rec.values)[:3])}"
-                          f"{' ...' if len(rec.values) > 3 else ''} are that calibration's", CalibrationWarning,
-                          stacklevel=4)
+            warn(f"{shown}: {runs} (set) selects the calibration {rec.name!r} of that configuration in place of the "
+                 f"case's default {was.name!r}: the run's {', '.join(list(rec.values)[:3])}"
+                 f"{' ...' if len(rec.values) > 3 else ''} are that calibration's")
     for rec, diff in chosen:
         for key, value in rec.values.items():
             if key not in given:
@@ -351,8 +358,8 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
             runs = ", ".join(f"{k} = {_fmt(h)}" for k, _, h in diff)
             keys = list(rec.values)
             shown_keys = ", ".join(keys[:3]) + (f" and {len(keys) - 3} more" if len(keys) > 3 else "")
-            warnings.warn(f"{shown}: calibration {rec.name!r} was fitted with {held}; this run has {runs}: its "
-                          f"values ({shown_keys}) may not reproduce the data they were fitted to (refit them for "
-                          "this configuration with `rotarydryer calibrate`)", CalibrationWarning, stacklevel=4)
+            warn(f"{shown}: calibration {rec.name!r} was fitted with {held}; this run has {runs}: its values "
+                 f"({shown_keys}) may not reproduce the data they were fitted to (refit them for this configuration "
+                 "with `rotarydryer calibrate`)")
     raw["__calibrated__"] = origin       # key -> record name, for the messages of the case's validation
     return used

@@ -65,6 +65,33 @@ def _one_line(exc, given):
     return _OneLineUsageError(_usage_line(exc, given), getattr(exc, "ctx", None))
 
 
+def _is_path(param) -> bool:
+    """Whether a command's parameter takes a file or directory path (``Path`` or ``Optional[Path]``)."""
+    ann = getattr(getattr(param, "type_descriptor", None), "annotation", None)
+    return ann is not None and "Path" in str(getattr(ann, "__name__", ann))
+
+
+def _refuse_empty_paths(group, ctx, given: list) -> None:
+    """Refuse a path option given an empty value (``--out ''``, ``--out=``): ``Path('')`` is the current
+    directory, so the outputs landed there unasked (or a file option named the directory)."""
+    if not given or "--" in given:
+        return
+    cmd = group.get_command(ctx, given[0])
+    while hasattr(cmd, "commands") and len(given) > 1:       # a sub-group: lab, dem, ...
+        given = given[1:]
+        sub = cmd.get_command(ctx, given[0])
+        if sub is None:
+            return
+        cmd = sub
+    if cmd is None:
+        return
+    opts = {o: p for p in cmd.params if _is_path(p) for o in getattr(p, "opts", ())}
+    for i, tok in enumerate(given[1:], start=1):
+        name, eq, value = tok.partition("=")
+        if name in opts and ((eq and not value.strip()) or (not eq and i + 1 < len(given) and not given[i + 1].strip())):
+            raise _OneLineUsageError(f"{name} is empty; give a path (. for the current directory)")
+
+
 class _Group(typer.core.TyperGroup):
     """The top-level command group: click's usage errors (three lines, "Usage: ...", the option's message
     without the value given) become one ``error: ...`` line naming the option and the value."""
@@ -78,6 +105,7 @@ class _Group(typer.core.TyperGroup):
 
     def invoke(self, ctx):
         given = [*getattr(ctx, "_protected_args", []), *ctx.args]
+        _refuse_empty_paths(self, ctx, given)
         try:
             return super().invoke(ctx)
         except _CLICK_ERRORS.UsageError as exc:

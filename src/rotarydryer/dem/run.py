@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -105,9 +108,21 @@ def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = 
     step_re = re.compile(rb"^\s*(\d+)\s+\d+\s+[-+0-9.eE]+")
     (folder / "post").mkdir(exist_ok=True)
     with open(folder / "screen.txt", "wb") as screen:
-        proc = subprocess.Popen(cmd, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=_env())
-        last_pct = -1
-        try:
+        # its own process group: a stop ends mpirun's ranks (or a wrapper script's children) too, whose
+        # open output would otherwise keep the reader below waiting
+        proc = subprocess.Popen(cmd, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=_env(),
+                                start_new_session=True)
+
+        def stop():
+            with contextlib.suppress(OSError):
+                os.killpg(proc.pid, signal.SIGKILL)
+            proc.kill()
+            proc.wait()
+
+        def pump():
+            # the screen output, read beside the wait: a run that prints nothing for a while is still stopped
+            # at its --timeout (a check per printed line overshot it by as long as LIGGGHTS was silent)
+            last_pct = -1
             assert proc.stdout is not None
             for line in proc.stdout:
                 screen.write(line)
@@ -118,15 +133,21 @@ def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = 
                         last_pct = pct
                         el = time.perf_counter() - t0
                         print(f"{name}: step {int(m.group(1))} / {total} ({pct} %, {el:.0f} s)", file=stream, flush=True)
-                if timeout is not None and time.perf_counter() - t0 > timeout:
-                    proc.kill()
-                    raise LiggghtsFailed(f"{name}: LIGGGHTS did not finish within {timeout:g} s (stopped)")
-            rc = proc.wait()
+
+        reader = threading.Thread(target=pump, daemon=True)
+        reader.start()
+        try:
+            try:
+                rc = proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                stop()
+                raise LiggghtsFailed(f"{name}: LIGGGHTS did not finish within {timeout:g} s (stopped)") from None
         except BaseException:
             if proc.poll() is None:
-                proc.kill()
-                proc.wait()
+                stop()
             raise
+        finally:
+            reader.join(timeout=10.0)
     seconds = time.perf_counter() - t0
     text = (folder / "screen.txt").read_text("utf-8", "replace")
     if rc != 0 or "ERROR" in text or "MPI_ABORT" in text:

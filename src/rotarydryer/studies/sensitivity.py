@@ -127,6 +127,7 @@ def check_params(params) -> dict[str, tuple[float, float]]:
 def check_samples(samples, n_params: int) -> int:
     """Base sample count: an integer in [2, `MAX_SAMPLES`] whose design has at most
     `MAX_RUNS` runs."""
+    given = samples                 # as the user wrote it (1e30, not its 31 digits)
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
         try:
             f = float(samples)
@@ -137,7 +138,7 @@ def check_samples(samples, n_params: int) -> int:
         samples = int(f)
     samples = int(samples)
     if not 2 <= samples <= MAX_SAMPLES:
-        raise ValueError(f"--samples = {samples} is outside the allowed range [2, {MAX_SAMPLES}] (the indices and "
+        raise ValueError(f"--samples = {given} is outside the allowed range [2, {MAX_SAMPLES}] (the indices and "
                          "their intervals need at least 2 blocks of runs)")
     if samples & (samples - 1):
         lo = 1 << (samples.bit_length() - 1)
