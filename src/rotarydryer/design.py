@@ -361,16 +361,19 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
     # design is outside the correlation, and says so, instead of screening a drum with no holdup
     share = tau / tau_no_gas if math.isfinite(tau) and tau_no_gas > 0 else math.nan
     cons["residence time correlation"] = (share, 0.0, ">=", -share if math.isfinite(share) else 1.0)
-    if not math.isfinite(tau) or tau <= 0:
-        tau = 1e-6
+    # outside the correlation the holdup, fill and flight loading are void: reported as none (null), not as
+    # the numbers of a 1e-6 s residence time, and not screened (the correlation's own rule is violated)
+    void = not math.isfinite(tau) or tau <= 0
+    if void:
+        tau = math.nan
     H = tau * 0.5 * (d.feed_rate + dm.F_out)
     fill = H / (dm.rho_b * A * L)
-    fill_guess = min(fill, 0.5)
-    cons["fill"] = _constraint(fill, limits.fill_max, "<=")
+    if not void:
+        cons["fill"] = _constraint(fill, limits.fill_max, "<=")
     try:
         drum = FlightedDrum(R, int(n_flights), TwoSectionFlight(s1=s1_m, s2=s2_m, alpha1=90.0, alpha2=alpha2_deg))
         DL = float(drum.design_load_area(dm.repose)) * dm.rho_b * L
-        ratio = H / DL if DL > 0 else math.inf
+        ratio = H / DL if DL > 0 else (math.nan if void else math.inf)
         cons["flight geometry"] = _constraint(0.0, 1.0, "<=")
     except (ValueError, ZeroDivisionError):
         DL, ratio = math.nan, math.inf
@@ -454,8 +457,11 @@ def _score(x, objective: _Objective):
 
 
 def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter=60, popsize=12, seed=1,
-           progress=None, top=10, executor=None) -> DesignResult:
+           progress=None, top=10, executor=None, check_limits=True) -> DesignResult:
     """Search the geometry that meets ``duty`` at the least ``objective`` (`OBJECTIVES`).
+
+    ``check_limits``: check ``limits`` against the ranges a user may give (`Limits.validate`); False for
+    limits widened to a plant's own values (`check_plant`), which may lie beyond them.
 
     Each generation's population is evaluated through ``executor`` (`rotarydryer.executor.Executor`,
     default serial) as SciPy's ``workers`` map; the results come back in population order, so the
@@ -465,7 +471,9 @@ def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter
     from scipy.optimize import differential_evolution
 
     duty.validate()
-    limits = (limits or Limits()).validate()
+    limits = limits or Limits()
+    if check_limits:
+        limits.validate()
     check_choice("objective", objective, OBJECTIVES)
     t0 = time.perf_counter()
     dm = _DutyModel(duty)
@@ -667,6 +675,11 @@ def plant_from_case(case, overrides=None, moisture_out=None):
     return geom, duty, notes
 
 
+def _widened(limit: float, own: float) -> float:
+    """A limit widened to a plant's own value (with 0.1 % room); the limit where that value is void (none)."""
+    return max(limit, 1.001 * own) if math.isfinite(own) else limit
+
+
 def check_plant(name, limits: Limits | None = None, objective="volume", progress=None, overrides=None,
                 moisture_out=None, **search):
     """A plant's real geometry under its own duty: a shipped plant of `PLANTS` (its published duty), or any
@@ -697,21 +710,29 @@ def check_plant(name, limits: Limits | None = None, objective="volume", progress
     cal = dataclasses.replace(
         limits, ua_factor=ua,
         length_to_diameter=(min(limits.length_to_diameter[0], ld), max(limits.length_to_diameter[1], ld)),
-        design_load_tolerance=max(limits.design_load_tolerance, 1.001 * abs(v["holdup_over_design_load"] - 1)),
-        fill_max=max(limits.fill_max, 1.001 * v["fill_fraction"]),
+        design_load_tolerance=_widened(limits.design_load_tolerance, abs(v["holdup_over_design_load"] - 1)),
+        fill_max=_widened(limits.fill_max, v["fill_fraction"]),
         speed_fraction_max=max(limits.speed_fraction_max, 1.001 * v["speed_over_critical"]),
         gas_velocity_max=max(limits.gas_velocity_max, 1.001 * v["gas_velocity_m_s"]),
         peripheral_speed_max=max(limits.peripheral_speed_max, 1.001 * math.pi * raw.diameter_m * raw.rpm / 60),
         diameter_range=(min(limits.diameter_range[0], raw.diameter_m), max(limits.diameter_range[1], raw.diameter_m)),
-    ).validate()
+    )       # not `validate`d: the plant's own values may lie beyond the ranges a user may give (a drum loaded to
+    # 21 x its design load was refused as "design_load_tolerance = 20.46 is outside the allowed range", an option
+    # the user had not given); each is a user's validated limit or the plant's own finite value
     real = evaluate(dm, cal, objective=objective, **geom)
-    opt = design(duty, cal, objective=objective, progress=progress, **search)
-    return dict(plant=name, geometry=geom, duty=dataclasses.asdict(duty), feasible_at_limits=raw.feasible,
-                violated_at_limits=violated, ua_factor_implied=ua,
-                calibrated_limits=dataclasses.asdict(cal), feasible_calibrated=real.feasible,
-                binding_calibrated=real.binding(), real=real.row(), optimum=opt.best.row(),
-                optimum_binding=opt.best.binding(), objective=objective,
-                objective_ratio=real.objective / opt.best.objective, why=_why(real, opt.best, cal), notes=notes)
+    out = dict(plant=name, geometry=geom, duty=dataclasses.asdict(duty), feasible_at_limits=raw.feasible,
+               violated_at_limits=violated, ua_factor_implied=ua,
+               calibrated_limits=dataclasses.asdict(cal), feasible_calibrated=real.feasible,
+               binding_calibrated=real.binding(), real=real.row(), objective=objective, notes=notes)
+    try:
+        opt = design(duty, cal, objective=objective, progress=progress, check_limits=False, **search)
+    except InfeasibleDuty as exc:
+        # no geometry meets the duty even at the plant's own limits (the plant itself breaks a rule the
+        # calibration does not widen, e.g. its exhaust's dew point): the plant's check stands, without an optimum
+        return dict(out, optimum=None, optimum_binding=None, objective_ratio=None,
+                    why=[f"no optimum: {' '.join(str(exc).split())}"])
+    return dict(out, optimum=opt.best.row(), optimum_binding=opt.best.binding(),
+                objective_ratio=real.objective / opt.best.objective, why=_why(real, opt.best, cal))
 
 
 def _why(real: Design, best: Design, limits: Limits):

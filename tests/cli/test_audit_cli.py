@@ -103,6 +103,7 @@ def test_a_held_what_if_whose_rerun_fails_is_reported_not_an_error(monkeypatch):
                                                                          points=[(389.809, 0.13, "")]))
     monkeypatch.setattr(energy, "Simulation", Failing)
     w = energy.WhatIf(measure="preheat", value=17.84, overrides={})
+    w.product_moisture_change_kg_kg = -0.01         # the what-if's own effect, which the held search resolves
     energy._hold(w, "ajayi2011_mmg", {}, {}, {"product_moisture_kg_kg": 0.13, "heat_release_W": 1e6}, 500.0, None)
     assert w.held is None
     assert w.held_error == ("at the gas inlet temperature found, 389.809 degC: no steady state reached: scaled "

@@ -109,7 +109,7 @@ def test_captions_state_the_results(ajayi):
     s = res.scalars
     caps = " ".join(_plain(c) for c in re.findall(r"<figcaption>(.*?)</figcaption>", text, flags=re.S))
     assert f"{s['total_holdup_kg']:,.0f} kg in total" in caps
-    assert f"model mean {s['tracer_mean_s'] / 60:.2f} min" in caps
+    assert f"(its RTD through the injection pulse) mean {s['tracer_mean_s'] / 60:.2f} min" in caps
     assert f"{s['specific_energy_kJ_kg_water']:,.0f} kJ/kg of water evaporated" in caps
     assert f"thermal efficiency {100 * s['thermal_efficiency']:.1f} %" in caps
     assert f"product {100 * s['product_moisture_kg_kg']:.2f} % moisture" in caps

@@ -10,6 +10,7 @@ import contextlib
 import functools
 import gc
 import os
+import re
 import sys
 import warnings
 
@@ -177,18 +178,37 @@ def error_message(exc: BaseException) -> str:
     return text
 
 
+#: a number in a warning's text (its values), for telling warnings of one kind apart from their values
+_NUMBER = re.compile(r"[-+]?(?:\d[\d,]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
 def _warning_printer():
     """A ``warnings.showwarning`` for one command: each warning reaches the user as one ``warning: ...``
     line on stderr (no source location), and the same text once (a case's range warning raised by both
-    the transport and the heat-and-mass builds was printed twice)."""
+    the transport and the heat-and-mass builds was printed twice). A warning of one kind that repeats with
+    other values (a search's or a sweep's runs: `design --check` printed 1 399 lines of one correlation's
+    warning) is shown the first time; ``show.summary()``, at the command's end, counts the others."""
     seen: set[str] = set()
+    kinds: dict[tuple, list] = {}        # (category, text without its numbers) -> [first text, others]
 
     def show(message, category, filename, lineno, file=None, line=None):
         text = " ".join(str(message).split())
-        if text not in seen:
-            seen.add(text)
-            typer.echo(f"warning: {text}", err=True)
+        if text in seen:
+            return
+        seen.add(text)
+        kind = kinds.setdefault((category, _NUMBER.sub("#", text)), [text, 0])
+        if kind[0] != text:
+            kind[1] += 1
+            return
+        typer.echo(f"warning: {text}", err=True)
 
+    def summary():
+        for first, others in kinds.values():
+            if others:
+                head = first if len(first) <= 90 else first[:87].rstrip() + "..."
+                typer.echo(f"warning: {others} more like '{head}' with other values (not shown)", err=True)
+
+    show.summary = summary
     return show
 
 
@@ -201,9 +221,14 @@ def _guard(func):
     def wrapper(*args, **kwargs):
         try:
             with warnings.catch_warnings():
-                if not DEBUG["on"]:
-                    warnings.showwarning = _warning_printer()
-                return func(*args, **kwargs)
+                printer = None if DEBUG["on"] else _warning_printer()
+                if printer is not None:
+                    warnings.showwarning = printer
+                try:
+                    return func(*args, **kwargs)
+                finally:
+                    if printer is not None:
+                        printer.summary()
         except (typer.Exit, typer.Abort, click.exceptions.ClickException, click.exceptions.Exit,
                 click.exceptions.Abort, SystemExit):
             raise

@@ -127,9 +127,12 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
                    f"own values): feasible = {res['feasible_calibrated']}; binding: "
                    f"{', '.join(res['binding_calibrated']) or '-'}")
         o = res["optimum"]
-        typer.echo(f"  optimum for the same duty: D {o['diameter_m']:.2f} m x L {o['length_m']:.2f} m, "
-                   f"{o['n_flights']} flights, {o['rpm']:.2f} rpm; binding: {o['binding']}")
-        typer.echo(f"  {objective}: plant / optimum = {res['objective_ratio']:.2f}; why: {'; '.join(res['why'])}")
+        if o is None:
+            typer.echo(f"  optimum for the same duty: none; {'; '.join(res['why'])}")
+        else:
+            typer.echo(f"  optimum for the same duty: D {o['diameter_m']:.2f} m x L {o['length_m']:.2f} m, "
+                       f"{o['n_flights']} flights, {o['rpm']:.2f} rpm; binding: {o['binding']}")
+            typer.echo(f"  {objective}: plant / optimum = {res['objective_ratio']:.2f}; why: {'; '.join(res['why'])}")
         for note in res["notes"]:
             typer.echo(f"  note: {note}")
         return

@@ -177,6 +177,10 @@ def sweep(
         typer.echo(text, nl=False)
     else:
         typer.echo(f"table: {out} ({len(rows)} runs)")
+    noted = [r["note"] for r in rows if r.get("note")]
+    if noted:
+        typer.echo(f"warning: {len(noted)} of {len(rows)} runs have no fuel rate (an empty fuel_rate_kg_s; the note column "
+                   f"says why), e.g. {noted[0]}", err=True)
     failed = sum(1 for r in rows if r.get("error"))
     errors = {r.get("error") for r in rows}
     if failed == len(rows) > 1 and len(errors) == 1 and not any(k in next(iter(errors)) for k in swept):

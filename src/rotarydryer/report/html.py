@@ -249,17 +249,19 @@ def _transport_sections(results) -> str:
         t = functools.partial(show, quantity="time")
         if rc is not None:
             d_mean, d_std = rc["model_mean_s"] - rc["measured_mean_s"], rc["model_std_s"] - rc["measured_std_s"]
-            cap_rtd = (f"residence-time distribution: model mean {t(m_mean)}, SD {t(m_std)} against "
-                       f"measured {t(rc['measured_mean_s'])}, SD {t(rc['measured_std_s'])} "
+            cap_rtd = (f"tracer curves: the model's (its RTD through the injection pulse) mean {t(m_mean)}, SD {t(m_std)} "
+                       f"against the measured mean {t(rc['measured_mean_s'])}, SD {t(rc['measured_std_s'])} "
                        f"(mean error {_signed(d_mean, 'time')}, R2 {rc['r_squared']:.2f})")
-            rtd_mvm = (f'<p class="mvm"><b>Model against measured:</b> mean residence time {t(m_mean)} against '
+            rtd_mvm = (f'<p class="mvm"><b>Model against measured:</b> tracer curve mean {t(m_mean)} against '
                        f'{t(rc["measured_mean_s"])} measured, error {_signed(d_mean, "time")} '
                        f'({100 * d_mean / rc["measured_mean_s"]:+.1f} %); spread (standard deviation) '
                        f'{t(m_std)} against {t(rc["measured_std_s"])}, error {_signed(d_std, "time")} '
                        f'({100 * d_std / rc["measured_std_s"]:+.1f} %); R2 of the model E(t) against the '
                        f'{rc["n_points"]} measured points {rc["r_squared"]:.3f}.</p>')
         else:
-            cap_rtd = f"residence-time distribution of the model: mean {t(m_mean)}, SD {t(m_std)}"
+            cap_rtd = (f"the model's tracer curve (its RTD through the injection pulse): mean {t(m_mean)}, SD {t(m_std)}; "
+                       f"the RTD itself: mean {t(s.get('rtd_mean_residence_time_s', np.nan))}, SD "
+                       f"{t(s.get('rtd_std_s', np.nan))} (key results)")
             rtd_mvm = ('<p class="mvm">No measured tracer curve is available for this run, so the RTD is a model '
                        'prediction only.</p>')
         parts.append(f'<section id="rtd"><h2>Residence-time distribution{meas}</h2>'

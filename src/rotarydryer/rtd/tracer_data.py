@@ -16,7 +16,8 @@ Format (CSV, UTF-8):
   whole value parses). Other ``#`` lines are kept in ``metadata["comment"]``.
 * Exactly one time column named with its unit: ``time_s``, ``time_min`` or
   ``time_h``; it is converted to seconds.
-* A ``signal`` column (any unit; say which in ``# signal_unit:``).
+* A ``signal`` column (any unit; say which in ``# signal_unit:``), or ``E_per_s`` (E(t) in 1/s, the column of
+  ``rotarydryer rtd --out``'s ``rtd.csv``, which reads back as it was written).
 * Further columns are kept as strings in ``TracerData.extra_columns``.
 
 Recognised metadata keys (all optional): ``source``, ``signal_unit``
@@ -156,6 +157,9 @@ def _convert(value: str):
 
 
 # numeric metadata keys: (exclusive lower bound, unit)
+#: the signal column of `rotarydryer rtd --out`'s rtd.csv (the model's E(t), 1/s), read in place of ``signal``
+MODEL_RTD_COLUMN = "E_per_s"
+
 _NUMERIC_METADATA = {
     "time_origin_s": (-math.inf, "s"),
     "tracer_mass_kg": (0.0, "kg"),
@@ -231,14 +235,22 @@ def _parse_tracer_lines(lines, name: str, *, max_rows: int | None = None) -> Tra
     if len(tcols) > 1:
         raise ValueError(f"{name} line {header_line}: more than one time column ({', '.join(tcols)}); "
                          "keep exactly one")
-    if "signal" not in header:
-        raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {', '.join(header)}")
+    signal_col = "signal"
+    if "signal" not in header and MODEL_RTD_COLUMN in header:
+        # `rotarydryer rtd --out`'s rtd.csv: the model's tracer curve, E(t) in 1/s, read back as it was written
+        signal_col = MODEL_RTD_COLUMN
+        if metadata.setdefault("signal_unit", "1/s") != "1/s":
+            raise ValueError(f"{name} line {meta_lines['signal_unit']}: signal_unit {metadata['signal_unit']!r} for an "
+                             f"{MODEL_RTD_COLUMN} column (E(t) in 1/s); leave signal_unit out or give 1/s")
+    if signal_col not in header:
+        raise ValueError(f"{name} line {header_line}: missing 'signal' column in header {', '.join(header)} (or "
+                         f"{MODEL_RTD_COLUMN!r}, E(t) in 1/s, as `rotarydryer rtd --out` writes it)")
     twice = sorted({h for h in header if h and header.count(h) > 1})     # blank names: a spreadsheet's empty columns
     if twice:       # the first of two signal columns was used silently (found by fuzzing)
         raise ValueError(f"{name} line {header_line}: column {twice[0]!r} appears twice in the header; give each "
                          "column once")
     _check_metadata(metadata, meta_lines, name)
-    it, isg = header.index(tcols[0]), header.index("signal")
+    it, isg = header.index(tcols[0]), header.index(signal_col)
     times: list[float] = []
     sig: list[float] = []
     lineno: list[int] = []

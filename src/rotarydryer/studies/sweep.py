@@ -20,6 +20,7 @@ from typing import Optional
 from .._threads import single_threaded
 from ..executor import Executor, RunFailure, split
 from ..simulation import SWEEP_MAX_CHUNK, SWEEP_MIN_CHUNK, Simulation, check_finite
+from ..thermal.states import fuel_rate_note
 
 __all__ = ["KEY_SCALARS", "RTD_SCALARS", "SIZE_CLASS_SCALARS", "THERMAL_SCALARS", "SWEEP_MIN_CHUNK", "SWEEP_MAX_CHUNK", "run_point", "run_sweep",
            "sweep_chunks", "solve_chunk", "warm_up"]
@@ -53,7 +54,8 @@ def _solve_point(case, overrides: dict, warm=None):
     try:
         with single_threaded():      # one BLAS/OpenMP thread per run (no oversubscription, issue 16)
             res = Simulation(case, overrides).steady_state(warm=warm)
-            out = {k: float(v) for k, v in {**res.summary(), **res.state.loading_counts()}.items()
+            summary = res.summary()
+            out = {k: float(v) for k, v in {**summary, **res.state.loading_counts()}.items()
                    if isinstance(v, (int, float)) and not isinstance(v, bool)}
             check_finite(out, str(case))
     except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
@@ -63,6 +65,10 @@ def _solve_point(case, overrides: dict, warm=None):
     for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS, *(SIZE_CLASS_SCALARS if classes else ())):
         if k in out:
             row[k] = out[k]
+    note = fuel_rate_note(summary)
+    if note:    # the burner cannot reach the point's gas inlet temperature: an empty fuel rate, and why
+        row["fuel_rate_kg_s"] = None
+        row["note"] = note
     row["error"] = ""
     return row, res.warm_data()
 

@@ -75,7 +75,8 @@ if TYPE_CHECKING:
 
 __all__ = ["HEAT_DUTY_PARTS", "HEAT_DUTY_LABELS", "ShellTemperatureWarning", "heat_duties", "shell_profile",
            "shell_sections", "shell_temperatures", "shell_limit_message", "warn_shell_limit",
-           "SupersaturationWarning", "supersaturation_message", "warn_supersaturated_exhaust"]
+           "SupersaturationWarning", "supersaturation_message", "warn_supersaturated_exhaust", "CondensationWarning",
+           "condensation_message", "warn_condensation"]
 
 #: the heat duties that add up to ``heat_release_W`` (summary names, W), in the order of a waterfall
 HEAT_DUTY_PARTS = ("heat_duty_burner_loss_W", "heat_duty_evaporation_W", "heat_duty_solids_heating_W",
@@ -106,6 +107,10 @@ HEAT_DUTY_LABELS = {
 
 class ShellTemperatureWarning(UserWarning):
     """The model's hottest shell wall is above the case's ``shell.max_temperature``."""
+
+
+class CondensationWarning(UserWarning):
+    """The steady state's solids take up more water than they lose: the product leaves wetter than the feed."""
 
 
 class SupersaturationWarning(UserWarning):
@@ -169,10 +174,12 @@ def heat_duties(steady: ThermalSteadyState, fuel_rate: float | None = None) -> d
 
 
 def evaporation_temperature(steady: ThermalSteadyState) -> float | None:
-    """Evaporation-weighted mean temperature of the solids water evaporates from, degC (None where
-    nothing evaporates)."""
+    """Mean temperature of the solids water evaporates from, degC, weighted by each stage's evaporation
+    where water evaporates (None where nothing does). Stages where the solids take water up (a cold feed
+    under humid gas) are left out: weighted by the net rate, their negative weights put the mean outside
+    the solids' own temperatures (197 degC under a 186 degC inlet gas)."""
     d = steady.terms
-    rw = np.asarray(d["rw"], dtype=float)
+    rw = np.maximum(np.asarray(d["rw"], dtype=float), 0.0)
     total = float(np.sum(rw))
     if not total > 1e-12 * steady.dryer.feed_rate:
         return None
@@ -278,6 +285,28 @@ def supersaturation_message(steady: ThermalSteadyState) -> str | None:
     return (f"the exhaust leaves at {t:.4g} degC, {dew - t:.3g} K below its own dew point {dew:.4g} degC: the gas in "
             "the drum is supersaturated, which the model does not represent (no condensation in the gas); its balances "
             "hold, the gas state does not: raise gas.inlet_temperature or gas.flow, or lower operating.feed_rate")
+
+
+def condensation_message(steady: ThermalSteadyState) -> str | None:
+    """Why the steady state wets its solids, or None: the gas gives the solids more water than it takes (a net
+    evaporation below zero, beyond 1e-6 of the feed), so the product leaves wetter than the feed: a feed colder
+    than the gas's dew point that the gas does not warm in time. A valid steady state, not a dryer's."""
+    dr = steady.dryer
+    e = float(steady.evaporation_rate)
+    if not e < -1e-6 * dr.feed_rate:
+        return None
+    x_in, x_out = float(dr.feed_moisture), float(steady.product_moisture)
+    return (f"the drum condenses water onto the solids: net evaporation {e:.4g} kg/s, the product leaves at {100 * x_out:.4g} % "
+            f"moisture (wet basis) against {100 * x_in:.4g} % in the feed; the gas (its dew point above the cold solids) "
+            "wets them before it warms them: raise gas.inlet_temperature or operating.feed_temperature, or lower "
+            "gas.inlet_humidity")
+
+
+def warn_condensation(steady: ThermalSteadyState) -> None:
+    """A `CondensationWarning` when `condensation_message` has one."""
+    msg = condensation_message(steady)
+    if msg:
+        warnings.warn(msg, CondensationWarning, stacklevel=2)
 
 
 def warn_supersaturated_exhaust(steady: ThermalSteadyState) -> None:

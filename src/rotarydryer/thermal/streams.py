@@ -87,7 +87,7 @@ def solids_stream_enthalpy(mass_flow, moisture, temperature_c, solids_heat_capac
     """
     m = check_range("mass_flow", mass_flow, 0.0, np.inf, low_inclusive=True, unit="kg/s")
     x = check_range("moisture", moisture, 0.0, 1.0, low_inclusive=True, unit="kg/kg wet")
-    t = check_range("temperature_c", temperature_c, -20.0, 300.0, unit="degC")
+    t = check_range("temperature_c", temperature_c, -20.0, 600.0, unit="degC")      # the gas's bound: solids no hotter
     return m * (x * water_heat_capacity + (1 - x) * solids_heat_capacity) * t
 
 
