@@ -361,19 +361,19 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
     # design is outside the correlation, and says so, instead of screening a drum with no holdup
     share = tau / tau_no_gas if math.isfinite(tau) and tau_no_gas > 0 else math.nan
     cons["residence time correlation"] = (share, 0.0, ">=", -share if math.isfinite(share) else 1.0)
-    # outside the correlation the holdup, fill and flight loading are void: reported as none (null), not as
-    # the numbers of a 1e-6 s residence time, and not screened (the correlation's own rule is violated)
+    # outside the correlation the holdup, fill and flight loading are void: the search screens them at a 1e-6 s
+    # residence time as ever (its penalties steer it), and the values report them as none (null), not as numbers
     void = not math.isfinite(tau) or tau <= 0
     if void:
-        tau = math.nan
+        tau = 1e-6
     H = tau * 0.5 * (d.feed_rate + dm.F_out)
     fill = H / (dm.rho_b * A * L)
-    if not void:
-        cons["fill"] = _constraint(fill, limits.fill_max, "<=")
+    fill_guess = min(fill, 0.5)
+    cons["fill"] = _constraint(fill, limits.fill_max, "<=")
     try:
         drum = FlightedDrum(R, int(n_flights), TwoSectionFlight(s1=s1_m, s2=s2_m, alpha1=90.0, alpha2=alpha2_deg))
         DL = float(drum.design_load_area(dm.repose)) * dm.rho_b * L
-        ratio = H / DL if DL > 0 else (math.nan if void else math.inf)
+        ratio = H / DL if DL > 0 else math.inf
         cons["flight geometry"] = _constraint(0.0, 1.0, "<=")
     except (ValueError, ZeroDivisionError):
         DL, ratio = math.nan, math.inf
@@ -393,6 +393,9 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
                 volumetric_ua_W_m3K=Ua, mean_residence_time_s=tau, holdup_kg=H, design_load_kg=DL,
                 fill_fraction=fill, holdup_over_design_load=ratio, speed_over_critical=rpm / nc,
                 critical_speed_rpm=nc, evaporation_kg_s=dm.E, wet_bulb_degC=dm.T_wb, product_temperature_degC=dm.T_p)
+    if void:
+        vals.update(mean_residence_time_s=math.nan, holdup_kg=math.nan, fill_fraction=math.nan,
+                    holdup_over_design_load=math.nan)
     obj = {"volume": vals["volume_m3"], "fuel": vals["heat_input_per_kg_water_J"] / 1e6,
            "cost": vals["cost_index"]}[objective]
     return Design(D, L, float(slope_deg), float(rpm), int(n_flights), float(s1_m), float(s2_m), float(alpha2_deg),
@@ -675,6 +678,10 @@ def plant_from_case(case, overrides=None, moisture_out=None):
     return geom, duty, notes
 
 
+#: the screening rules that rest on the residence-time correlation's holdup (void where it does not hold)
+VOID_OUTSIDE_CORRELATION = ("fill", "flights over-loaded", "flights under-loaded")
+
+
 def _widened(limit: float, own: float) -> float:
     """A limit widened to a plant's own value (with 0.1 % room); the limit where that value is void (none)."""
     return max(limit, 1.001 * own) if math.isfinite(own) else limit
@@ -702,8 +709,10 @@ def check_plant(name, limits: Limits | None = None, objective="volume", progress
     limits = (limits or Limits()).validate()
     dm = _DutyModel(duty)
     raw = evaluate(dm, limits, objective=objective, **geom)
+    # outside the residence-time correlation the fill and flight loading are void: not listed as violated
+    void = raw.constraints["residence time correlation"][3] > 1e-9
     violated = {k: dict(value=c[0], limit=c[1], sense=c[2], unit=CONSTRAINT_UNITS.get(k, "-"))
-                for k, c in raw.constraints.items() if c[3] > 1e-9}
+                for k, c in raw.constraints.items() if c[3] > 1e-9 and not (void and k in VOID_OUTSIDE_CORRELATION)}
     v = raw.values
     ua = limits.ua_factor * max(1.0, v["length_required_m"] / raw.length_m) * 1.001
     ld = raw.length_m / raw.diameter_m

@@ -307,7 +307,7 @@ def test_a_silent_dem_run_stops_at_its_timeout(tmp_path, monkeypatch):
     from rotarydryer.dem.run import LiggghtsFailed, run_deck
 
     fake = tmp_path / "liggghts"
-    fake.write_text("#!/bin/sh\nsleep 30\n")
+    fake.write_text("#!/bin/sh\nexec sleep 30\n")
     fake.chmod(0o755)
     monkeypatch.setenv("ROTARYDRYER_LIGGGHTS", str(fake))
     deck = tmp_path / "deck"
@@ -318,3 +318,63 @@ def test_a_silent_dem_run_stops_at_its_timeout(tmp_path, monkeypatch):
     with pytest.raises(LiggghtsFailed, match="did not finish within 0.5 s"):
         run_deck(deck, progress=False, timeout=0.5)
     assert time.perf_counter() - t0 < 10.0
+
+
+def test_a_dem_run_whose_progress_cannot_be_shown_stops_instead_of_hanging(tmp_path, monkeypatch):
+    # the reader of LIGGGHTS' screen died on a closed stderr (`... 2>&1 >/dev/null | head -1`): nobody emptied the
+    # pipe, LIGGGHTS blocked on its next line and the run waited for ever (found in review)
+    import json
+    import time
+
+    from rotarydryer.dem.run import run_deck
+
+    fake = tmp_path / "liggghts"
+    fake.write_text("#!/bin/sh\ni=0\nwhile [ $i -lt 20000 ]; do echo \"  $i 0 1.0\"; i=$((i+1)); done\nexec sleep 30\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("ROTARYDRYER_LIGGGHTS", str(fake))
+    deck = tmp_path / "deck"
+    deck.mkdir()
+    (deck / "in.drum").write_text("# a deck\n")
+    (deck / "deck.json").write_text(json.dumps({"derived": {"steps": {"total": 100}}}))
+
+    class Closed:
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            pass
+
+    t0 = time.perf_counter()
+    with pytest.raises(BrokenPipeError):
+        run_deck(deck, progress=True, stream=Closed())
+    assert time.perf_counter() - t0 < 20.0
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["simulate", "lee2008_invicta", "--out", "", "--"], "--out is empty"),        # a "--" skipped the check
+    (["dem", "export", "", "--case", "lee2008_invicta", "--section", "dryer", "--diameter", "0.01"], "OUT is empty"),
+])
+def test_an_empty_path_is_refused_wherever_it_is_given(tmp_path, args, fragment):
+    assert_bad(run_cli(args, cwd=tmp_path), fragment)
+    assert not list(tmp_path.iterdir())
+
+
+def test_warnings_that_differ_in_a_name_are_not_merged(capsys):
+    # "section zone1 ..." and "section zone2 ..." were counted as one warning with other values (found in review)
+    from rotarydryer.cli import _warning_printer
+
+    show = _warning_printer()
+    for text in ("shell of section zone1 at 612 degC", "shell of section zone2 at 640 degC",
+                 "shell of section zone1 at 650 degC"):
+        show(text, UserWarning, "x.py", 1)
+    show.summary()
+    err = capsys.readouterr().err
+    assert "zone1 at 612" in err and "zone2 at 640" in err and "zone1 at 650" not in err
+    assert "warning: 1 more like 'shell of section zone1 at 612 degC' with other values (not shown)" in err
+
+
+def test_balance_refuses_a_product_hotter_than_the_gas(tmp_path):
+    res = run_cli(["balance", "--material", "raw_sugar_lee2008", "--gas-in", "415.709", "--gas-out", "370.24", "--feed",
+                   "0.756", "--moisture-in", "0.021", "--moisture-out", "0.0005", "--product-temperature", "590"],
+                  cwd=tmp_path)
+    assert_bad(res, "--product-temperature = 590", "above --gas-in = 415.709")

@@ -152,3 +152,16 @@ def test_balance_takes_a_product_temperature_the_model_gives(tmp_path):
     res = run(["balance", "--material", "raw_sugar_lee2008", "--gas-in", "415.709", "--gas-out", "370.24", "--feed",
                "0.756", "--moisture-in", "0.021", "--moisture-out", "0.0005", "--product-temperature", "415.25"])
     assert res.exit_code == 0, res.output
+
+
+def test_a_target_met_on_a_flat_output_says_it_is_one_of_a_range():
+    # a product at its moisture floor over hundreds of kelvin: "600 degC (target met with equality)", the bound,
+    # with nothing to say that any temperature above about 160 degC meets it too
+    from rotarydryer.studies.target import target
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = target(str(DRYERS / "audit_hold_floor.toml"), "gas.inlet_temperature=100,600",
+                     "product_moisture_kg_kg=0.00049975")
+    assert res.value == 600.0
+    assert any("it is flat there" in n and "one of a range" in n for n in res.notes), res.notes

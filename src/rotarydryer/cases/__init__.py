@@ -1167,8 +1167,8 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         if from_records:
             details += "\n(" + "; ".join(from_records) + ")"
         raise ValueError(_invalid(name, details, n)) from None
-    for text in pending:
-        warnings.warn(text, CalibrationWarning, stacklevel=2)
+    for message in pending:
+        warnings.warn(message, CalibrationWarning, stacklevel=2)
     return case
 
 

@@ -73,9 +73,10 @@ def _is_path(param) -> bool:
 
 
 def _refuse_empty_paths(group, ctx, given: list) -> None:
-    """Refuse a path option given an empty value (``--out ''``, ``--out=``): ``Path('')`` is the current
-    directory, so the outputs landed there unasked (or a file option named the directory)."""
-    if not given or "--" in given:
+    """Refuse a path option given an empty value (``--out ''``, ``--out=``) and an empty path argument: ``Path('')``
+    is the current directory, so the outputs landed there unasked (or a file option named the directory). The
+    tokens after ``--`` are arguments. Other empty values keep their own messages (``new ''``: not a file name)."""
+    if not given:
         return
     cmd = group.get_command(ctx, given[0])
     while hasattr(cmd, "commands") and len(given) > 1:       # a sub-group: lab, dem, ...
@@ -86,11 +87,32 @@ def _refuse_empty_paths(group, ctx, given: list) -> None:
         cmd = sub
     if cmd is None:
         return
-    opts = {o: p for p in cmd.params if _is_path(p) for o in getattr(p, "opts", ())}
-    for i, tok in enumerate(given[1:], start=1):
-        name, eq, value = tok.partition("=")
-        if name in opts and ((eq and not value.strip()) or (not eq and i + 1 < len(given) and not given[i + 1].strip())):
-            raise _OneLineUsageError(f"{name} is empty; give a path (. for the current directory)")
+    options = {o: p for p in cmd.params if getattr(p, "opts", None) for o in p.opts if o.startswith("-")}
+    takes_value = {o for o, p in options.items() if not getattr(p, "is_flag", False) and getattr(p, "nargs", 1) != 0}
+    arguments = [p for p in cmd.params if not any(o.startswith("-") for o in getattr(p, "opts", ()) or ())]
+    position = 0
+    literal = False                     # after "--": every token is an argument
+    i = 1
+    while i < len(given):
+        tok = given[i]
+        if not literal and tok == "--":
+            literal = True
+        elif not literal and tok.startswith("-"):
+            name, eq, value = tok.partition("=")
+            if eq:
+                if name in options and _is_path(options[name]) and not value.strip():
+                    raise _OneLineUsageError(f"{name} is empty; give a path (. for the current directory)")
+            elif name in takes_value:
+                i += 1                  # its value, whatever it is
+                if i < len(given) and _is_path(options[name]) and not given[i].strip():
+                    raise _OneLineUsageError(f"{name} is empty; give a path (. for the current directory)")
+        else:                           # an argument: the command's next one (the last may take many)
+            arg = (arguments[position] if position < len(arguments) else
+                   arguments[-1] if arguments and getattr(arguments[-1], "nargs", 1) == -1 else None)
+            position += 1
+            if arg is not None and _is_path(arg) and not tok.strip():
+                raise _OneLineUsageError(f"{arg.name.upper()} is empty; give a path (. for the current directory)")
+        i += 1
 
 
 class _Group(typer.core.TyperGroup):
@@ -178,8 +200,9 @@ def error_message(exc: BaseException) -> str:
     return text
 
 
-#: a number in a warning's text (its values), for telling warnings of one kind apart from their values
-_NUMBER = re.compile(r"[-+]?(?:\d[\d,]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+#: a number in a warning's text (its values), for telling warnings of one kind apart from their values; not the
+#: digits of a name (zone1, dryer2.toml, flight.s1, fit_test4), which tell warnings of one kind apart
+_NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d[\d,]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?![\w])")
 
 
 def _warning_printer():
@@ -225,10 +248,15 @@ def _guard(func):
                 if printer is not None:
                     warnings.showwarning = printer
                 try:
-                    return func(*args, **kwargs)
-                finally:
-                    if printer is not None:
+                    out = func(*args, **kwargs)
+                except (typer.Exit, click.exceptions.Exit) as done:
+                    # the count of the repeats after a command's last line, unless that line is its error
+                    if printer is not None and getattr(done, "exit_code", 0) == 0:
                         printer.summary()
+                    raise
+                if printer is not None:
+                    printer.summary()
+                return out
         except (typer.Exit, typer.Abort, click.exceptions.ClickException, click.exceptions.Exit,
                 click.exceptions.Abort, SystemExit):
             raise

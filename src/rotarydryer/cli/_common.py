@@ -69,8 +69,6 @@ def check_out_dir(option: str, out) -> None:
     existing file, or a path under a file (``a_file.txt/sub``). Nothing is created here."""
     if out is None:
         return
-    if not str(out).strip():         # Path('') is '.': the outputs would land in the current directory unasked
-        raise ValueError(f"{option} is empty; give a directory for the outputs (--out . for the current one)")
     p = Path(out)
     if p.exists() and not p.is_dir():
         raise ValueError(f"{option} {str(p)!r} is an existing file, not a directory; give a directory for the outputs")
@@ -105,8 +103,6 @@ def check_out_file(option: str, out, suffixes=None) -> None:
     suffix (``suffixes``: allowed lower-case suffixes without the dot; none = any)."""
     if out is None:
         return
-    if not str(out).strip():
-        raise ValueError(f"{option} is empty; give a file name")
     p = Path(out)
     if p.is_dir():
         name = f"out.{suffixes[0]}" if suffixes else "annotated.png"

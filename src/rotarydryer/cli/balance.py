@@ -70,8 +70,8 @@ def balance(
                 ("--feed", vals["feed"], 0.0, math.inf, False, "kg/s"),
                 ("--moisture-in", vals["moisture_in"], 0.0, 1.0, True, "kg/kg wet"),
                 ("--moisture-out", vals["moisture_out"], 0.0, 1.0, True, "kg/kg wet"),
-                # up to the gas's own bound: the solids do not leave hotter than the gas that heats them (a product
-                # at 415 degC that simulate gave was refused above 300, found by fuzzing)
+                # up to the gas's own bound (and below --gas-in, checked next): a product at 415 degC that simulate
+                # gave was refused above 300 (found by fuzzing)
                 ("--product-temperature", vals["product_temperature"], -20.0, 600.0, False, "degC"),
                 ("--feed-temperature", feed_temperature, -20.0, 300.0, False, "degC"),
                 ("--gas-humidity", gas_humidity, 0.0, 0.3, True, "kg/kg dry gas"),
@@ -84,6 +84,9 @@ def balance(
             if gas_out is not None:      # the measured outlet was ignored for the solved one (found by fuzzing)
                 raise ValueError(f"--gas-out = {gas_out:g} degC and --gas-flow = {gas_flow:g} kg/s: give one; the "
                                  "balance solves the other (--gas-flow: the outlet temperature, --gas-out: the flow)")
+        if vals["product_temperature"] > vals["gas_in"]:
+            raise ValueError(f"--product-temperature = {vals['product_temperature']:g} degC is above --gas-in = "
+                             f"{vals['gas_in']:g} degC: the solids do not leave hotter than the gas that heats them")
         if vals["moisture_out"] >= vals["moisture_in"]:
             raise ValueError(f"--moisture-out = {vals['moisture_out']:g} must be below --moisture-in = "
                              f"{vals['moisture_in']:g} kg/kg wet: the balance needs a test that dries")

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import threading
@@ -73,6 +71,12 @@ def _rejected_command(log: Path, deck: Path) -> str:
     return "; ".join(out)
 
 
+#: seconds a stopped LIGGGHTS (or mpirun) has to end after a terminate before it is killed
+STOP_GRACE_S = 5.0
+#: seconds the screen reader has to finish after LIGGGHTS ended (a child it left may hold the output open)
+READER_JOIN_S = 10.0
+
+
 def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = None, timeout: float | None = None,
              stream=None) -> dict:
     """Run ``in.drum`` in ``folder`` (written by `rotarydryer.dem.deck.export_deck`).
@@ -108,31 +112,39 @@ def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = 
     step_re = re.compile(rb"^\s*(\d+)\s+\d+\s+[-+0-9.eE]+")
     (folder / "post").mkdir(exist_ok=True)
     with open(folder / "screen.txt", "wb") as screen:
-        # its own process group: a stop ends mpirun's ranks (or a wrapper script's children) too, whose
-        # open output would otherwise keep the reader below waiting
-        proc = subprocess.Popen(cmd, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=_env(),
-                                start_new_session=True)
+        # in the caller's process group, so that a signal to it (a terminal closed, `timeout`) reaches LIGGGHTS too
+        proc = subprocess.Popen(cmd, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=_env())
+        failed: list[BaseException] = []       # what ended the reader (a closed stderr, a full disk)
 
         def stop():
-            with contextlib.suppress(OSError):
-                os.killpg(proc.pid, signal.SIGKILL)
-            proc.kill()
-            proc.wait()
+            # mpirun passes a terminate on to its ranks; a kill follows if it is not gone in STOP_GRACE_S
+            proc.terminate()
+            try:
+                proc.wait(timeout=STOP_GRACE_S)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
 
         def pump():
             # the screen output, read beside the wait: a run that prints nothing for a while is still stopped
             # at its --timeout (a check per printed line overshot it by as long as LIGGGHTS was silent)
             last_pct = -1
             assert proc.stdout is not None
-            for line in proc.stdout:
-                screen.write(line)
-                m = step_re.match(line)
-                if m and total and progress:
-                    pct = int(100 * int(m.group(1)) / total)
-                    if pct >= last_pct + 5:
-                        last_pct = pct
-                        el = time.perf_counter() - t0
-                        print(f"{name}: step {int(m.group(1))} / {total} ({pct} %, {el:.0f} s)", file=stream, flush=True)
+            try:
+                for line in proc.stdout:
+                    screen.write(line)
+                    m = step_re.match(line)
+                    if m and total and progress:
+                        pct = int(100 * int(m.group(1)) / total)
+                        if pct >= last_pct + 5:
+                            last_pct = pct
+                            el = time.perf_counter() - t0
+                            print(f"{name}: step {int(m.group(1))} / {total} ({pct} %, {el:.0f} s)", file=stream,
+                                  flush=True)
+            except BaseException as exc:    # noqa: BLE001 - handed to the waiting thread, which raises it
+                failed.append(exc)
+                if proc.poll() is None:     # nobody reads the output any more: LIGGGHTS would block on it
+                    stop()
 
         reader = threading.Thread(target=pump, daemon=True)
         reader.start()
@@ -147,7 +159,9 @@ def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = 
                 stop()
             raise
         finally:
-            reader.join(timeout=10.0)
+            reader.join(timeout=READER_JOIN_S)
+        if failed:
+            raise failed[0]
     seconds = time.perf_counter() - t0
     text = (folder / "screen.txt").read_text("utf-8", "replace")
     if rc != 0 or "ERROR" in text or "MPI_ABORT" in text:

@@ -391,6 +391,17 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
     if abs(glo) <= tol or abs(ghi) <= tol or glo * ghi < 0:
         if abs(glo) <= tol or abs(ghi) <= tol:
             x, y = (lo, ylo) if abs(glo) <= abs(ghi) else (hi, yhi)
+            if op == "=":
+                # met at the bracket's end: an output flat there (a product at its moisture floor over a range of gas
+                # temperatures) meets it over a range, and this end is one answer of many (found by fuzzing: 600 degC,
+                # the bound, "met with equality")
+                mid = 0.5 * (lo + hi)
+                ym, _ = evaluate(mid)
+                if ym is not None and abs(ym - y_target) <= tol:
+                    notes.append(f"{name} meets {fmt_number(y_target)} (within tol = {fmt_number(tol)}) at the bracket's "
+                                 f"end {fmt_number(x)} and at its middle {fmt_number(mid)} too: it is flat there (e.g. a "
+                                 "product dried to its floor), so the value is one of a range; give other bounds or "
+                                 "another target")
         else:
             x, y = _root(evaluate, lo, hi, y_target, tol, key, unit, lab["find"])
             if abs(y - y_target) > tol:
