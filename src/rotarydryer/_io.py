@@ -45,6 +45,7 @@ import secrets
 import shutil
 import socket
 import stat
+import subprocess
 import time
 from pathlib import Path
 
@@ -141,6 +142,17 @@ def temp_name(name: str) -> str:
     while len(os.fsencode(name)) > 120:
         name = name[:-1]
     return f".{name}.rdtmp-{_host_tag()}-{os.getpid()}-{secrets.token_hex(4)}.tmp"
+
+
+def stop_process(proc: subprocess.Popen, grace_s: float) -> None:
+    """End a child process: a terminate (mpirun and streamlit pass it on to their own children, and clean up),
+    then a kill if it has not ended within ``grace_s`` seconds; returns once it has ended."""
+    proc.terminate()
+    try:
+        proc.wait(timeout=grace_s)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
 
 
 def _pid_alive(pid: int):

@@ -299,21 +299,28 @@ def test_a_huge_sample_count_is_echoed_as_given(tmp_path):
     assert_bad(res, "--samples = 1e30", "[2, 65536]")
 
 
-def test_a_silent_dem_run_stops_at_its_timeout(tmp_path, monkeypatch):
-    # the timeout was checked per printed line: a LIGGGHTS that printed nothing ran on past it
+def _fake_liggghts_deck(tmp_path, monkeypatch, script: str):
+    """A deck folder (100 steps) and a stand-in LIGGGHTS that runs the shell ``script``."""
     import json
-    import time
-
-    from rotarydryer.dem.run import LiggghtsFailed, run_deck
 
     fake = tmp_path / "liggghts"
-    fake.write_text("#!/bin/sh\nexec sleep 30\n")
+    fake.write_text("#!/bin/sh\n" + script)
     fake.chmod(0o755)
     monkeypatch.setenv("ROTARYDRYER_LIGGGHTS", str(fake))
     deck = tmp_path / "deck"
     deck.mkdir()
     (deck / "in.drum").write_text("# a deck\n")
     (deck / "deck.json").write_text(json.dumps({"derived": {"steps": {"total": 100}}}))
+    return deck
+
+
+def test_a_silent_dem_run_stops_at_its_timeout(tmp_path, monkeypatch):
+    # the timeout was checked per printed line: a LIGGGHTS that printed nothing ran on past it
+    import time
+
+    from rotarydryer.dem.run import LiggghtsFailed, run_deck
+
+    deck = _fake_liggghts_deck(tmp_path, monkeypatch, "exec sleep 30\n")
     t0 = time.perf_counter()
     with pytest.raises(LiggghtsFailed, match="did not finish within 0.5 s"):
         run_deck(deck, progress=False, timeout=0.5)
@@ -323,19 +330,12 @@ def test_a_silent_dem_run_stops_at_its_timeout(tmp_path, monkeypatch):
 def test_a_dem_run_whose_progress_cannot_be_shown_stops_instead_of_hanging(tmp_path, monkeypatch):
     # the reader of LIGGGHTS' screen died on a closed stderr (`... 2>&1 >/dev/null | head -1`): nobody emptied the
     # pipe, LIGGGHTS blocked on its next line and the run waited for ever (found in review)
-    import json
     import time
 
     from rotarydryer.dem.run import run_deck
 
-    fake = tmp_path / "liggghts"
-    fake.write_text("#!/bin/sh\ni=0\nwhile [ $i -lt 20000 ]; do echo \"  $i 0 1.0\"; i=$((i+1)); done\nexec sleep 30\n")
-    fake.chmod(0o755)
-    monkeypatch.setenv("ROTARYDRYER_LIGGGHTS", str(fake))
-    deck = tmp_path / "deck"
-    deck.mkdir()
-    (deck / "in.drum").write_text("# a deck\n")
-    (deck / "deck.json").write_text(json.dumps({"derived": {"steps": {"total": 100}}}))
+    deck = _fake_liggghts_deck(tmp_path, monkeypatch,
+                               "i=0\nwhile [ $i -lt 20000 ]; do echo \"  $i 0 1.0\"; i=$((i+1)); done\nexec sleep 30\n")
 
     class Closed:
         def write(self, text):

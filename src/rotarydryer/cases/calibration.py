@@ -317,7 +317,7 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
     once the case has validated: a value the schema refuses gets its refusal alone)."""
     def warn(text: str) -> None:
         if pending is None:
-            warnings.warn(text, CalibrationWarning, stacklevel=4)
+            warnings.warn(text, CalibrationWarning, stacklevel=5)      # the caller of apply_calibrations's caller
         else:
             pending.append(text)
 

@@ -6,7 +6,7 @@ would replace the Typer object ``rotarydryer.cli.app`` (the console-script entry
 
 import typer
 
-from .._io import json_text
+from .._io import json_text, stop_process
 from . import app
 
 
@@ -95,12 +95,7 @@ def serve(cmd: list[str]) -> int:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
         if proc.poll() is None:
-            proc.terminate()
-            try:
-                proc.wait(timeout=STOP_TIMEOUT_S)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
+            stop_process(proc, STOP_TIMEOUT_S)
     if code < 0:                          # ended by a signal: the shell's convention
         return 128 - code
     return code

@@ -12,6 +12,8 @@ import threading
 import time
 from pathlib import Path
 
+from .._io import stop_process
+
 __all__ = ["find_liggghts", "run_deck", "INSTALL_HINT", "LiggghtsMissing", "LiggghtsFailed"]
 
 INSTALL_HINT = ("LIGGGHTS is not installed (no 'liggghts' or 'lmp_auto' on PATH): install it with "
@@ -117,13 +119,7 @@ def run_deck(folder, *, np: int = 1, progress: bool = True, label: str | None = 
         failed: list[BaseException] = []       # what ended the reader (a closed stderr, a full disk)
 
         def stop():
-            # mpirun passes a terminate on to its ranks; a kill follows if it is not gone in STOP_GRACE_S
-            proc.terminate()
-            try:
-                proc.wait(timeout=STOP_GRACE_S)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
+            stop_process(proc, STOP_GRACE_S)     # mpirun passes the terminate on to its ranks
 
         def pump():
             # the screen output, read beside the wait: a run that prints nothing for a while is still stopped
