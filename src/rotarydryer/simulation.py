@@ -47,7 +47,13 @@ from .cases.build import (
 )
 from .executor import Executor, RunFailure, split
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
-from .thermal.audit import shell_sections, warn_condensation, warn_shell_limit, warn_supersaturated_exhaust
+from .thermal.audit import (
+    shell_sections,
+    warn_condensation,
+    warn_shell_limit,
+    warn_solids_temperature,
+    warn_supersaturated_exhaust,
+)
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
 from .thermal.schedule import InputSchedule, load_schedule, simulate_schedule
@@ -243,6 +249,7 @@ class Simulation:
         warn_shell_limit(thermal)           # a shell hotter than shell.max_temperature: a warning, not an error
         warn_supersaturated_exhaust(thermal)     # an exhaust below its own dew point: a warning
         warn_condensation(thermal)          # a product wetter than the feed: a warning
+        warn_solids_temperature(thermal)    # solids above their material's max_temperature: a warning
         return SteadyResult(self, None, thermal)
 
     def _flat_case(self) -> dict:

@@ -54,8 +54,9 @@ _LIBRARY = resources.files("rotarydryer.data") / "materials"
 _TABLES = ("repose_angle", "bulk_density", "kinetics", "particle_diameter_by_section", "transport")
 _FIELDS = ("name", "title", "citations", "moisture_basis", "moisture_range", "repose_angle", "bulk_density",
            "heat_capacity", "water_heat_capacity", "particle_density", "particle_diameter",
-           "particle_diameter_by_section", "kinetics", "transport")
-_OPTIONAL = ("water_heat_capacity", "particle_diameter_by_section", "transport")
+           "particle_diameter_by_section", "kinetics", "transport", "max_temperature", "max_temperature_source")
+_OPTIONAL = ("water_heat_capacity", "particle_diameter_by_section", "transport", "max_temperature",
+             "max_temperature_source")
 #: coefficients of the predictive transport law a material may carry (its class's calibration;
 #: the case's transport.<key> wins): key -> the range of that case key (rotarydryer._limits.LIMITS),
 #: one declaration for the material's default and the case's value
@@ -102,6 +103,10 @@ class Material:
     transport_source: str = ""
     #: (key of :data:`CALIBRATED_RANGES`, (low, high)) pairs: where the coefficients were calibrated
     transport_ranges: tuple[tuple[str, tuple[float, float]], ...] = ()
+    #: degC: the solids' temperature above which the material's data no longer hold (it melts, decomposes or
+    #: reacts); None: not given. A steady state whose solids exceed it warns (`SolidsTemperatureWarning`)
+    max_temperature: float | None = None
+    max_temperature_source: str = ""
 
     def transport_coefficient(self, key: str):
         """The material class's value of predictive-transport coefficient ``key``, or None."""
@@ -311,6 +316,12 @@ def _build(d: dict) -> Material:
     particle_density = _number("particle_density", d["particle_density"], 0.0, 25000.0, "kg/m3")
     particle_diameter = _number("particle_diameter", d["particle_diameter"], 0.0, 0.2, "m")
     kinetics = _kinetics(d["kinetics"], particle_density, particle_diameter)
+    t_max = d.get("max_temperature")
+    if t_max is not None:
+        t_max = _number("max_temperature", t_max, 0.0, 3000.0, "degC")
+    t_src = d.get("max_temperature_source", "")
+    if not isinstance(t_src, str):
+        raise ValueError(f"material.max_temperature_source = {t_src!r} must be a string")
     return Material(
         name=d["name"], title=d["title"], citations=cites, moisture_basis=basis, moisture_range=(lo, hi),
         repose_angle_law=repose, bulk_density_law=density,
@@ -321,7 +332,8 @@ def _build(d: dict) -> Material:
         water_heat_capacity=_number("water_heat_capacity", d.get("water_heat_capacity", 4182.0), 0.0, 1e4,
                                     "J/(kg K)"),
         repose_angle_source=repose_src, bulk_density_source=density_src, particle_diameter_by_section=sections,
-        transport_coefficients=coeffs, transport_source=str(tr.get("source", "")), transport_ranges=tuple(ranges))
+        transport_coefficients=coeffs, transport_source=str(tr.get("source", "")), transport_ranges=tuple(ranges),
+        max_temperature=t_max, max_temperature_source=t_src)
 
 
 def _kinetics(kin: Any, particle_density: float, particle_diameter: float) -> DryingKinetics:

@@ -42,6 +42,7 @@ from ..thermal.audit import (
     HEAT_DUTY_PARTS,
     CondensationWarning,
     ShellTemperatureWarning,
+    SolidsTemperatureWarning,
     SupersaturationWarning,
 )
 from ..thermal.states import PRODUCT_FLOOR_MOISTURE
@@ -322,6 +323,7 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
         with warnings.catch_warnings():     # the search's trial runs: ~40 lines of the same warning (found by fuzzing)
             warnings.simplefilter("ignore", SupersaturationWarning)
             warnings.simplefilter("ignore", CondensationWarning)
+            warnings.simplefilter("ignore", SolidsTemperatureWarning)
             res = target(case, "gas.inlet_temperature", f"product_moisture_kg_kg={x0!r}", (lo, hi), overrides=free,
                          tol=tol)
     except ValueError as exc:

@@ -76,7 +76,8 @@ if TYPE_CHECKING:
 __all__ = ["HEAT_DUTY_PARTS", "HEAT_DUTY_LABELS", "ShellTemperatureWarning", "heat_duties", "shell_profile",
            "shell_sections", "shell_temperatures", "shell_limit_message", "warn_shell_limit",
            "SupersaturationWarning", "supersaturation_message", "warn_supersaturated_exhaust", "CondensationWarning",
-           "condensation_message", "warn_condensation"]
+           "condensation_message", "warn_condensation", "SolidsTemperatureWarning", "solids_temperature_message",
+           "warn_solids_temperature"]
 
 #: the heat duties that add up to ``heat_release_W`` (summary names, W), in the order of a waterfall
 HEAT_DUTY_PARTS = ("heat_duty_burner_loss_W", "heat_duty_evaporation_W", "heat_duty_solids_heating_W",
@@ -111,6 +112,11 @@ class ShellTemperatureWarning(UserWarning):
 
 class CondensationWarning(UserWarning):
     """The steady state's solids take up more water than they lose: the product leaves wetter than the feed."""
+
+
+class SolidsTemperatureWarning(UserWarning):
+    """The steady state's solids are hotter than their material's ``max_temperature`` (it melts, decomposes or
+    reacts there): the material's data do not hold."""
 
 
 class SupersaturationWarning(UserWarning):
@@ -314,3 +320,38 @@ def warn_supersaturated_exhaust(steady: ThermalSteadyState) -> None:
     msg = supersaturation_message(steady)
     if msg:
         warnings.warn(msg, SupersaturationWarning, stacklevel=2)
+
+
+#: a tank counts in `solids_temperature_message` when it holds at least this many seconds of the feed (an emptied
+#: cell's temperature is the gas's, `ThermalDryer._rhs`'s virtual heat capacity)
+HOT_SOLIDS_MIN_HOLDUP_S = 1e-3
+
+
+def solids_temperature_message(steady: ThermalSteadyState) -> str | None:
+    """Why the steady state's solids leave their material's data, or None: the hottest tank holding solids (at
+    least `HOT_SOLIDS_MIN_HOLDUP_S` of the feed) is above the material's ``max_temperature`` (None: no limit)."""
+    dr = steady.dryer
+    m = dr.material
+    limit = getattr(m, "max_temperature", None)
+    if limit is None:
+        return None
+    T = np.asarray(steady.solids_temperature_degC, dtype=float)
+    held = np.asarray(steady.holdup, dtype=float) >= HOT_SOLIDS_MIN_HOLDUP_S * dr.feed_rate
+    if not held.any():
+        return None
+    i = int(np.flatnonzero(held)[np.argmax(T[held])])
+    hottest = float(T[i])
+    if not hottest > limit:
+        return None
+    why = f" ({m.max_temperature_source})" if m.max_temperature_source else ""
+    return (f"the solids reach {hottest:.4g} degC in section {dr.tank_section[i]} ({float(dr.position[i]):.3g} m from "
+            f"the feed end; the product leaves at {float(steady.product_temperature_degC):.4g} degC), above "
+            f"material.max_temperature = {limit:g} degC of '{m.name}'{why}: the material's data do not hold there; "
+            "lower gas.inlet_temperature or gas.flow, or raise operating.feed_rate")
+
+
+def warn_solids_temperature(steady: ThermalSteadyState) -> None:
+    """A `SolidsTemperatureWarning` when `solids_temperature_message` has one."""
+    msg = solids_temperature_message(steady)
+    if msg:
+        warnings.warn(msg, SolidsTemperatureWarning, stacklevel=2)
