@@ -6,9 +6,14 @@ from its steady state and, at every communication step, applies the inputs and i
 ``dryer.simulate(z, step)`` exactly as `DryerStepper` (the Python reference) does.
 
 Inputs: ``feed_rate`` (kg/s wet), ``feed_moisture`` (kg/kg wet), ``gas_inlet_temperature``
-(degC), ``rpm`` (rev/min), ``gas_flow`` (kg/s wet gas); start values = the case's. Outputs: ``product_moisture`` (kg/kg
+(degC), ``rpm`` (rev/min), ``gas_flow`` (kg/s wet gas), ``gas_inlet_humidity`` (kg/kg wet gas), ``feed_temperature``
+(degC), ``fouling`` (-): every input a schedule may move but a burner's fuel rate; start values = the case's. Outputs: ``product_moisture`` (kg/kg
 wet), ``product_temperature`` (degC), ``exhaust_temperature`` (degC), ``exhaust_humidity``
 (kg/kg dry gas), ``holdup`` (kg). Parameters (strings): ``case``, ``overrides`` (JSON).
+
+A case file's text is stored in the FMU at export: the FMU runs the dryer it was exported with, whatever
+becomes of the file (edited, moved or deleted; a case never names another file). A ``case`` parameter
+set by the importing tool to another case name or file runs that one instead.
 
 The FMU runs Python inside the importing tool (pythonfmu's embedded interpreter): it needs a
 Python with ``rotarydryer`` importable - the build records this interpreter's ``sys.path`` in
@@ -26,10 +31,35 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DryerStepper", "build_fmu", "INPUTS", "OUTPUTS"]
+__all__ = ["DryerStepper", "build_fmu", "start_values", "INPUTS", "OUTPUTS"]
 
-INPUTS = ("feed_rate", "feed_moisture", "gas_inlet_temperature", "rpm", "gas_flow")
+#: every schedulable input of `rotarydryer dynamics --schedule` but the burner's fuel rate (a case's own, which the
+#: gas inlet temperature stands for)
+INPUTS = ("feed_rate", "feed_moisture", "gas_inlet_temperature", "rpm", "gas_flow", "gas_inlet_humidity",
+          "feed_temperature", "fouling")
 OUTPUTS = ("product_moisture", "product_temperature", "exhaust_temperature", "exhaust_humidity", "holdup")
+#: each variable's quantity and unit (the model description's ``description``: pythonfmu writes no units)
+DESCRIPTIONS = {
+    "feed_rate": "wet feed rate, kg/s", "feed_moisture": "feed moisture, kg/kg wet",
+    "gas_inlet_temperature": "gas inlet temperature, degC", "rpm": "drum speed, rev/min",
+    "gas_flow": "gas flow, kg/s wet gas", "gas_inlet_humidity": "gas inlet humidity, kg/kg wet gas",
+    "feed_temperature": "feed temperature, degC", "fouling": "fouling of the flights, - (as transport.fouling)",
+    "product_moisture": "product moisture, kg/kg wet",
+    "product_temperature": "product temperature, degC", "exhaust_temperature": "exhaust gas temperature, degC",
+    "exhaust_humidity": "exhaust humidity, kg/kg dry gas", "holdup": "solids holdup in the drum, kg",
+    "case": "the case: a case name or .toml file (the exported file's text is stored in the FMU)",
+    "overrides": "case key overrides, a JSON object ({\"operating.feed_rate\": 30.0})",
+}
+
+
+#: relative change of an input below which a step keeps the inputs in force: an importer's interpolation between
+#: two equal table values gives them to rounding (fmpy: 0.19999999999999998 between two rows of 0.2), and taking
+#: that as a change restarted the integration (the series parted from `dynamics` by 2e-4)
+INPUT_RESOLUTION = 1e-12
+
+
+def _same_input(a: float, b: float) -> bool:
+    return a == b or abs(a - b) <= INPUT_RESOLUTION * max(abs(a), abs(b))
 
 
 class DryerStepper:
@@ -40,11 +70,18 @@ class DryerStepper:
     inputs did not change, exactly as ``rotarydryer dynamics --schedule``
     ([`simulate_schedule`][rotarydryer.thermal.schedule.simulate_schedule]) does."""
 
-    def __init__(self, case, overrides=None):
+    def __init__(self, case, overrides=None, case_text=None):
+        """``case``: a case name or .toml path; ``case_text``: the TOML text of the case (then ``case`` is only
+        its name in messages), as an FMU stores the file it was exported from."""
+        from .cases import load_case_text
         from .simulation import Simulation
         from .thermal.schedule import DryerIntegrator, base_inputs
 
-        steady = Simulation(case, overrides or {}).dynamic_start("the FMU")
+        if case_text is not None:
+            sim = Simulation(load_case_text(case_text, str(case), overrides or {}))
+        else:
+            sim = Simulation(case, overrides or {})
+        steady = sim.dynamic_start("the FMU")
         self.base = steady.dryer
         self.dryer = self.base
         self.z = np.asarray(steady.state, float)
@@ -69,7 +106,7 @@ class DryerStepper:
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt >= 0):
             raise ValueError(f"dt = {dt!r}: a communication step is a finite number of seconds >= 0")
         wanted = {**self.inputs, **{k: float(v) for k, v in inputs.items()}}
-        if wanted != self._applied:
+        if any(not _same_input(v, self._applied[k]) for k, v in wanted.items()):
             # applied first, kept only if the model takes them: a refused input leaves the last ones in force
             dryer = apply_inputs(self.base, wanted, self.z)
             self._integrator.restart(dryer)
@@ -94,6 +131,10 @@ from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real, String
 
 INPUTS = {inputs!r}
 OUTPUTS = {outputs!r}
+DESCRIPTIONS = {descriptions!r}
+#: the case as exported: its reference (a name or the file's path) and the file's text (None: a shipped case)
+CASE = {case!r}
+CASE_TEXT = {case_text!r}
 
 
 class RotaryDryer(Fmi2Slave):
@@ -102,25 +143,27 @@ class RotaryDryer(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.case = {case!r}
+        self.case = CASE
         self.overrides = {overrides!r}
         self._stepper = None
-        self.register_variable(String("case", causality=Fmi2Causality.parameter,
-                                      variability=Fmi2Variability.fixed))
-        self.register_variable(String("overrides", causality=Fmi2Causality.parameter,
-                                      variability=Fmi2Variability.fixed))
+        for name in ("case", "overrides"):
+            self.register_variable(String(name, causality=Fmi2Causality.parameter,
+                                          variability=Fmi2Variability.fixed, description=DESCRIPTIONS[name]))
         for name, start in {starts!r}.items():
             setattr(self, name, start)
-            self.register_variable(Real(name, causality=Fmi2Causality.input))
+            self.register_variable(Real(name, causality=Fmi2Causality.input, description=DESCRIPTIONS[name]))
         for name, start in {out_starts!r}.items():
             setattr(self, name, start)
-            self.register_variable(Real(name, causality=Fmi2Causality.output))
+            self.register_variable(Real(name, causality=Fmi2Causality.output, description=DESCRIPTIONS[name]))
 
     def _ensure(self):
         if self._stepper is None:
             from rotarydryer.fmu import DryerStepper
 
-            self._stepper = DryerStepper(self.case, json.loads(self.overrides or "{{}}"))
+            overrides = json.loads(self.overrides or "{{}}")
+            # the exported file's text, unless the importing tool named another case
+            text = CASE_TEXT if self.case == CASE else None
+            self._stepper = DryerStepper(self.case, overrides, case_text=text)
             for k, v in self._stepper.outputs.items():
                 setattr(self, k, v)
 
@@ -148,12 +191,21 @@ def build_fmu(case, out, overrides=None, progress=None) -> Path:
         raise ValueError(f"-o {str(out)!r}: the FMU file name must end in .fmu")
     if progress:
         progress("steady state of the case (start values of the FMU) ...")
-    st = DryerStepper(case, overrides)        # validates the case; start values
-    case_ref = str(Path(case).resolve()) if Path(str(case)).suffix == ".toml" else str(case)
+    is_file = Path(str(case)).suffix == ".toml"
+    case_ref = str(Path(case).resolve()) if is_file else str(case)
+    # the file's text as read now: the FMU runs this dryer (the same text as the start values below come from)
+    case_text = None
+    if is_file:
+        try:
+            case_text = Path(case).read_bytes().decode("utf-8")
+        except (OSError, UnicodeDecodeError):
+            case_text = None        # DryerStepper's load of the path says what is wrong with it
+    st = DryerStepper(case if case_text is None else case_ref, overrides, case_text=case_text)   # validates; start values
     here = str(Path(__file__).resolve().parent.parent)
     paths = [here] + [p for p in sys.path if p and Path(p).is_dir()]
-    src = SLAVE_TEMPLATE.format(paths=paths, inputs=INPUTS, outputs=OUTPUTS, case=case_ref,
-                                overrides=json.dumps(overrides or {}), starts=st.inputs, out_starts=st.outputs)
+    src = SLAVE_TEMPLATE.format(paths=paths, inputs=INPUTS, outputs=OUTPUTS, descriptions=DESCRIPTIONS, case=case_ref,
+                                case_text=case_text, overrides=json.dumps(overrides or {}), starts=st.inputs,
+                                out_starts=st.outputs)
     with tempfile.TemporaryDirectory() as tmp:
         # a module name of this export's own: an FMU's Python slave is imported by its module's name, and a
         # second FMU with the same name in one process (two dryers in one co-simulation) would get the first's
@@ -169,3 +221,14 @@ def build_fmu(case, out, overrides=None, progress=None) -> Path:
 
         write_bytes_atomic(out, Path(built).read_bytes())
     return out
+
+
+def start_values(path) -> dict:
+    """The start values of an exported FMU's inputs (the case's operating point at export), ``{name: value}``: the
+    ``base`` of `InputSchedule.signals` for driving it with a schedule. Reads the model description (needs fmpy)."""
+    try:
+        import fmpy
+    except ImportError as exc:   # pragma: no cover - depends on the environment
+        raise ValueError("reading an FMU needs fmpy: pip install 'rotarydryer[fmu]'") from exc
+    md = fmpy.read_model_description(str(path))
+    return {v.name: float(v.start) for v in md.modelVariables if v.causality == "input"}

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
 pytest.importorskip("pythonfmu", reason="FMU export needs pythonfmu (extra 'fmu')")
 fmpy = pytest.importorskip("fmpy", reason="the FMU test needs fmpy (extra 'fmu')")
 
-from rotarydryer.fmu import OUTPUTS, DryerStepper  # noqa: E402
+from rotarydryer.fmu import OUTPUTS, DryerStepper, start_values  # noqa: E402
 
 CASE, SETS = "ajayi2011_mmg", {"operating.test": 4}
 
@@ -30,7 +32,10 @@ def test_fmu_matches_python_model_after_feed_step(fmu_path):
     md = fmpy.read_model_description(str(path))
     names = {v.name: v.causality for v in md.modelVariables}
     assert {k for k, c in names.items() if c == "input"} == {"feed_rate", "feed_moisture", "gas_inlet_temperature",
-                                                              "rpm", "gas_flow"}
+                                                              "rpm", "gas_flow", "gas_inlet_humidity",
+                                                              "feed_temperature", "fouling"}
+    units = {v.name: v.description for v in md.modelVariables}
+    assert units["feed_rate"].endswith("kg/s") and units["exhaust_temperature"].endswith("degC"), units
     assert {k for k, c in names.items() if c == "output"} == set(OUTPUTS)
 
     ref = DryerStepper(CASE, SETS)
@@ -67,7 +72,7 @@ def test_fmu_driven_by_fmpy_with_a_schedule_matches_rotarydryer_dynamics(fmu_pat
     assert res.exit_code == 0, res.output
     series = json.loads((tmp_path / "run" / "dynamics.json").read_text())["series"]
     sched = load_schedule(trip)
-    inp = sched.signals({"gas_inlet_temperature": 500.0}, 3600.0)
+    inp = sched.signals(start_values(fmu_path), 3600.0)
     out = fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=3600.0, step_size=60.0, output_interval=60.0,
                             input=inp, output=list(OUTPUTS))
     np.testing.assert_array_equal(out["time"], series["time_s"])
@@ -139,3 +144,67 @@ def test_the_command_help_lists_every_fmu_input():
     assert res.exit_code == 0
     text = " ".join(res.output.split())
     assert "inputs " + ", ".join(INPUTS) + ";" in text, text
+
+
+def test_the_fmu_runs_the_case_it_was_exported_with(tmp_path):
+    """The FMU read its case file when it ran: an edited file moved its start (the exhaust jumped 66 K in one step,
+    the stored start values being the old ones) and a deleted one stopped fmpy with a bare fatal status (found by
+    fuzzing). The file's text is now stored at export."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    case = tmp_path / "mine.toml"
+    res = CliRunner().invoke(app, ["new", "mine", "--out", str(case)])
+    assert res.exit_code == 0, res.output
+    path = tmp_path / "mine.fmu"
+    res = CliRunner().invoke(app, ["fmu", str(case), "-o", str(path), "-q"])
+    assert res.exit_code == 0, res.output
+    expected = DryerStepper(str(case)).outputs
+    text = case.read_text()
+    hotter = re.sub(r"\ninlet_temperature = [0-9.]+", "\ninlet_temperature = 350.0", text)
+    assert hotter != text
+    case.write_text(hotter, encoding="utf-8")
+    edited = DryerStepper(str(case)).outputs
+    assert edited["exhaust_temperature"] > expected["exhaust_temperature"] + 10.0       # the edit moves the dryer
+    for edit in ("edited", "deleted"):
+        if edit == "deleted":
+            case.unlink()
+        out = fmpy.simulate_fmu(str(path), start_time=0.0, stop_time=120.0, step_size=60.0, output_interval=60.0,
+                                output=list(OUTPUTS))
+        for k in OUTPUTS:
+            np.testing.assert_allclose(out[k], expected[k], rtol=1e-5, atol=1e-9, err_msg=f"{edit}: {k}")
+
+
+def test_a_scheduled_input_the_fmu_has_moves_it_as_dynamics_does(fmu_path, tmp_path):
+    """The FMU had five inputs and ignored a schedule's fouling, humidity or feed temperature without a word (the
+    series parted from `dynamics` at 2 400 s); every schedulable input but the burner's fuel is one now."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+    from rotarydryer.thermal.schedule import OUTLET_NAMES, load_schedule
+
+    sched = tmp_path / "s.csv"
+    sched.write_text("time_s,fouling,feed_temperature\n0,0,28\n600,0,28\n600,0.2,10\n", encoding="utf-8")
+    res = CliRunner().invoke(app, ["dynamics", CASE, "--set", "operating.test=4", "--schedule", str(sched),
+                                   "--t-end", "1800", "--out", str(tmp_path / "run"), "--json", "--quiet"])
+    assert res.exit_code == 0, res.output
+    series = json.loads((tmp_path / "run" / "dynamics.json").read_text())["series"]
+    inp = load_schedule(sched).signals(start_values(fmu_path), 1800.0)
+    out = fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=1800.0, step_size=60.0, output_interval=60.0,
+                            input=inp, output=list(OUTPUTS))
+    for k in OUTPUTS:
+        np.testing.assert_allclose(out[k], series[OUTLET_NAMES[k]], rtol=1e-6, atol=0, err_msg=k)
+    assert abs(out["holdup"][-1] - out["holdup"][0]) > 1e-3 * out["holdup"][0]      # the fouling moved the plant
+
+
+def test_signals_names_a_missing_start_value(tmp_path):
+    """signals() raised a bare KeyError: 'feed_rate' for a schedule of an input its base did not give."""
+    from rotarydryer.thermal.schedule import load_schedule
+
+    path = tmp_path / "s.csv"
+    path.write_text("time_s,feed_rate\n0,30\n600,35\n", encoding="utf-8")
+    with pytest.raises(ValueError, match=r"signals\(\) needs the case's value of feed_rate \(scheduled\)"):
+        load_schedule(path).signals({"gas_inlet_temperature": 500.0}, 600.0)

@@ -17,7 +17,8 @@ def fmu_cmd(
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
 ):
     """Export the case's dynamic coupled model as an FMI 2.0 co-simulation FMU (pythonfmu):
-    inputs feed_rate, feed_moisture, gas_inlet_temperature, rpm, gas_flow; outputs product_moisture,
+    inputs feed_rate, feed_moisture, gas_inlet_temperature, rpm, gas_flow, gas_inlet_humidity, feed_temperature,
+    fouling; outputs product_moisture,
     product_temperature, exhaust_temperature, exhaust_humidity, holdup; it starts from the case's
     steady state. The FMU runs on a Python environment with rotarydryer installed (this one).
 

@@ -271,7 +271,12 @@ class InputSchedule:
 
     def signals(self, base: dict, t_end_s: float):
         """The schedule as an FMI input table: a NumPy structured array with ``time`` and one
-        column per scheduled input (a step: two rows at its time), for ``fmpy.simulate_fmu(input=)``."""
+        column per scheduled input (a step: two rows at its time), for ``fmpy.simulate_fmu(input=)``. ``base``: the
+        case's value of each scheduled input (an FMU's start values: `rotarydryer.fmu.start_values`)."""
+        missing = [k for k in self.points if k not in base]
+        if missing:
+            raise ValueError(f"{self.source}: signals() needs the case's value of {', '.join(missing)} (scheduled) in "
+                             "base, e.g. the FMU's start values: rotarydryer.fmu.start_values('dryer.fmu')")
         s = self.resolved(base)
         names = list(s.points)
         times = sorted({0.0, float(t_end_s), *(t for p in s.points.values() for t, _ in p if t <= t_end_s)})
