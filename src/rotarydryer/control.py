@@ -345,7 +345,10 @@ class _FeedRange:
         if lo <= y <= hi:          # (brentq returns an end where the curve meets y exactly)
             return float(brentq(lambda F: float(self._curve(F)) - y, self.F[0], self.F[-1], xtol=1e-12 * self.F[-1]))
         end = 0 if (y < lo) == self.rising else -1
-        return float(self.F[end] + (y - self.y[end]) / self.slope[0 if end == 0 else 1])
+        slope = self.slope[0 if end == 0 else 1]
+        if not slope:       # a flat end (a product at its floor moisture): no feed rate gives y; the farthest that way
+            return -math.inf if end == 0 else math.inf
+        return float(self.F[end] + (y - self.y[end]) / slope)
 
 
 def _feed_range(dryer, steady, cv, T_sat, F_lo, F0, n=6):

@@ -403,3 +403,17 @@ def test_an_exhaust_loop_over_a_dry_product_and_setpoints_a_product_cannot_reach
     res = runner.invoke(app, ["control", case, "--measured", "exhaust_temperature", "--duration", "600",
                               "--no-open-loop", "--json", "-q"])
     assert json.loads(res.stdout)["closed_loop"]["performance"]["units"]["iae"] == "K s"
+
+
+def test_a_flat_end_of_the_feed_map_gives_no_division_warning():
+    """A product at its floor moisture on the map's end (slope 0 there): the inverse beyond it divided by zero and
+    the command printed numpy's bare 'divide by zero encountered in scalar divide' (found by fuzzing)."""
+    import warnings
+
+    fm = C._FeedRange([10.0, 20.0, 30.0, 40.0], [1e-15, 1e-15, 0.01, 0.03])
+    assert fm.slope[0] == 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert fm.feed(-0.01) == -np.inf          # below the flat low end: no feed rate gives it
+        assert 30.0 < fm.feed(0.02) < 40.0
+        assert fm.feed(0.05) > 40.0               # the other end's slope is not flat: extrapolated
