@@ -195,3 +195,17 @@ def test_a_parameter_without_effect_has_no_interval():
     e = res.parameters["idle"]
     assert (e.ci_low, e.ci_high) == (pytest.approx(0.1), pytest.approx(10.0)) and not np.isfinite(e.std_error)
     assert np.isfinite(res.parameters["tau"].std_error) and res.parameters["tau"].ci_high > res.parameters["tau"].ci_low
+
+
+def test_the_reported_sigma_is_the_datas_own():
+    """With the data's sigma known, FitResult.sigma (and `calibrate --json`'s) reported 1.0 for every data set, beside
+    the record's 5 K and 0.005 kg/kg (found by fuzzing): it is the standard deviation the fit used, in data units.
+    Without it, the residuals' standard deviation."""
+    truth = {"tau": 5.0, "n": 6.0}
+    y = gamma_rtd(truth) + np.random.default_rng(3).normal(0.0, 0.004, T.size)
+    known = fit(gamma_rtd, PARAMS, Dataset("E", y, sigma=0.004), n_starts=1)
+    assert known.sigma["E"] == pytest.approx(0.004, rel=1e-12)
+    varied = fit(gamma_rtd, PARAMS, Dataset("E", y, sigma=np.r_[np.full(20, 0.003), np.full(20, 0.005)]), n_starts=1)
+    assert varied.sigma["E"] == pytest.approx(math.sqrt((0.003**2 + 0.005**2) / 2), rel=1e-12)
+    estimated = fit(gamma_rtd, PARAMS, Dataset("E", y), n_starts=1)
+    assert estimated.sigma["E"] == pytest.approx(0.004, rel=0.35) and estimated.sigma["E"] != 1.0

@@ -176,7 +176,10 @@ class StartResult:
 @dataclass
 class FitResult:
     """Result of [`fit`][rotarydryer.estimation.fit.fit]. ``objective`` is the weighted sum of squares (wls) or the
-    negative log-likelihood (ml) at the optimum."""
+    negative log-likelihood (ml) at the optimum. ``sigma``: each data set's standard deviation, in its units, as the
+    fit used it (wls with the data's known sigma: that sigma, their root mean square where they differ) or
+    estimated it (wls without: the residuals' standard deviation; ml: its sigma_k, relative with
+    ``variance="power"``)."""
 
     parameters: dict[str, ParameterEstimate]
     covariance: np.ndarray
@@ -667,8 +670,12 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     sig = {}
     for d in problem.data:
         r = (d.y - pred[d.name]) / problem.scale(d, pred[d.name])
-        sig[d.name] = float(np.sqrt(np.mean(r**2))) if problem.method == "ml" else (
-            float(np.sqrt(s2)) if not known_sigma else 1.0)
+        if problem.method == "ml":
+            sig[d.name] = float(np.sqrt(np.mean(r**2)))
+        elif known_sigma:       # the data's own (the fit's weights), not the factor 1 of a known sigma
+            sig[d.name] = float(np.sqrt(np.mean(np.asarray(d.sigma, dtype=float) ** 2)))
+        else:
+            sig[d.name] = float(np.sqrt(s2))
     if problem.infeasible:
         notes_info = (f"{problem.infeasible} model evaluations were infeasible and rejected "
                       f"(last: {problem.last_infeasible})")
