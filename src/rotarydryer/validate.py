@@ -46,7 +46,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from . import _jit
-from .cases import list_cases, load_case, measured_rtd_moments
+from .cases import has_tracer_curve, list_cases, load_case, measured_rtd_moments
 from .cases.build import build_model, rows_shadowed, thermal_enabled
 from .published import read_published_csv
 from .results import rtd_comparison
@@ -671,7 +671,7 @@ def _derived_items(ctx: _Context, case: str, loaded, shipped: bool) -> list[Vali
     spec = ctx.spec
     misses = {d.id: d.known_miss for d in spec.derived} if shipped else {}
     settings = {s.test: s for s in spec.test_settings if s.case == case} if shipped else {}
-    has_curve = getattr(loaded.tracer, "dataset", None) is not None or getattr(loaded.tracer, "measured", None) is not None
+    has_curve = has_tracer_curve(loaded)
     thermal = thermal_enabled(loaded)
     out = []
     name = _label(case)

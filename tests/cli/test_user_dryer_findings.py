@@ -165,3 +165,21 @@ def test_a_target_met_on_a_flat_output_says_it_is_one_of_a_range():
                      "product_moisture_kg_kg=0.00049975")
     assert res.value == 600.0
     assert any("it is flat there" in n and "one of a range" in n for n in res.notes), res.notes
+
+
+def test_calibrate_and_validate_compare_the_same_mean_residence_time():
+    """A case without a tracer curve: its measured residence times are holdup / feed (Song's step method), which
+    validate compares; calibrate -r mrt compared the tracer curve's mean (30 s longer, half the 60 s pulse) and moved
+    transport.solids_velocity from the 0.02 m/s the data were made at to 0.0216 (found by fuzzing)."""
+    from rotarydryer.estimation.calibrate import calibrate
+
+    case = str(DRYERS / "calibrate_mrt_no_curve.toml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate(case, ["transport.solids_velocity"], responses=["mrt"])
+    est = cal.fit.parameters["transport.solids_velocity"]
+    assert est.ci_low <= 0.02 <= est.ci_high and est.value == pytest.approx(0.02, rel=0.02)
+    for t in (1, 2):
+        sim = Simulation(case, {"operating.test": t, "transport.solids_velocity": est.value})
+        tau = sim.transport_steady_state().mean_residence_time
+        assert cal.fit.predictions[f"test{t}.mrt"][0] == pytest.approx(tau, rel=1e-9)

@@ -35,7 +35,7 @@ from .calibration import (
     record_problems,
 )
 
-__all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "measured_rtd", "measured_rtd_moments",
+__all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "has_tracer_curve", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
            "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
            "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations", "override_value", "UnusedKeyWarning"]
@@ -1246,6 +1246,16 @@ def override_value(text: str):
         return tomllib.loads(f"v = {text}")["v"]
     except (tomllib.TOMLDecodeError, ValueError):
         return text
+
+
+def has_tracer_curve(case) -> bool:
+    """Does the case have a measured tracer curve (``tracer.dataset`` or ``tracer.measured``)? Its tests' measured
+    mean residence times (``mrt_measured_min``) are then the curve's mean from the injection start, which a model
+    gives as its tracer curve's mean (with the pulse); without a curve they are a residence time holdup / feed
+    (Song's step method), the model's ``mean_residence_time``. `rotarydryer validate` and `rotarydryer calibrate
+    -r mrt` compare the same quantity."""
+    tr = getattr(case, "tracer", None)
+    return getattr(tr, "dataset", None) is not None or getattr(tr, "measured", None) is not None
 
 
 def measured_rtd(case):

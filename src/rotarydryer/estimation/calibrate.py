@@ -36,6 +36,7 @@ from ..cases import (
     case_calibrations,
     discrete_kind,
     exit_age_r_squared,
+    has_tracer_curve,
     load_case,
     measured_exit_age,
     measured_rtd_moments,
@@ -376,8 +377,9 @@ class _Model:
             ss = sim.transport_steady_state()
             self._solved()
             r = None
+            curve = has_tracer_curve(sim.case)
             for m in need_transport:
-                if m.response in ("tracer", "mrt") and r is None:
+                if (m.response == "tracer" or (m.response == "mrt" and curve)) and r is None:
                     tmax = max([float(x.x[-1]) for x in need_transport if x.response == "tracer"] or [0.0])
                     t_end = max(math.ceil((tmax + 60.0) / 10.0) * 10.0, float(sim.case.tracer.t_end))
                     r = ss.rtd(sim.transport_model().tracer_input, t_end=t_end, dt=10.0)
@@ -387,8 +389,10 @@ class _Model:
                         raise ValueError(f"{m.name}: no tracer reaches the outlet within the measured window "
                                          f"({m.x[-1]:.0f} s) with {dict(values)}")
                     out[m.name] = e
-                elif m.response == "mrt":
-                    out[m.name] = np.array([float(r.tracer_mean)])   # from the injection start, as measured
+                elif m.response == "mrt" and curve:     # a tracer curve's mean, from the injection start
+                    out[m.name] = np.array([float(r.tracer_mean)])
+                elif m.response == "mrt":               # no curve: holdup / feed (has_tracer_curve), as validate
+                    out[m.name] = np.array([float(ss.mean_residence_time)])
                 else:
                     out[m.name] = np.array([float(ss.total_holdup)])
         if need_thermal:
