@@ -78,3 +78,30 @@ def test_rtd_moments_and_fit_messages_name_the_options(tmp_path):
     res = runner.invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.kiln_time", "--scale",
                               "bogus", "-q"])
     assert res.exit_code == 2 and "--scale = 'bogus' is not one of 'known', 'fit'" in res.output
+
+
+def test_rtd_moments_of_the_tools_own_curve_gives_its_residence_time(tmp_path):
+    """`rtd --out`'s rtd.csv (the model's curve through the case's pulse) had no pulse lines, and rtd-moments called
+    the curve's mean, half the pulse longer, the mean residence time: 416.2 s beside rtd's 386.2 s for one case
+    (found by fuzzing). The file carries its pulse; rtd-moments takes it off, and names the curve's mean apart."""
+    out = tmp_path / "r"
+    res = runner.invoke(app, ["rtd", "lee2008_invicta", "--out", str(out), "--json"])
+    assert res.exit_code == 0, res.output
+    rtd = json.loads(res.stdout[res.stdout.index("{"):])
+    text = (out / "rtd.csv").read_text()
+    assert "# pulse_kind: rectangular" in text and "# pulse_duration_s:" in text
+    res = runner.invoke(app, ["rtd-moments", str(out / "rtd.csv"), "--json"])
+    assert res.exit_code == 0, res.output
+    m = json.loads(res.stdout)
+    assert m["tracer_mean_s"] == pytest.approx(rtd["tracer_mean_s"], rel=1e-3)
+    assert m["mean_residence_time_s"] == pytest.approx(rtd["mean_residence_time_s"], rel=1e-3)
+    assert m["rtd_std_s"] == pytest.approx(rtd["rtd_std_s"], rel=1e-2)
+    assert m["tracer_mean_s"] - m["mean_residence_time_s"] == pytest.approx(m["pulse_duration_s"] / 2, rel=1e-9)
+
+
+def test_rtd_moments_of_a_dirac_curve_keeps_its_mean():
+    """A curve without a pulse (Lee's Invicta file has one; a Dirac file has none): the two means are one."""
+    res = runner.invoke(app, ["rtd-moments", "lee2008_invicta", "--json"])
+    d = json.loads(res.output)
+    assert d["mean_residence_time_s"] == pytest.approx(d["tracer_mean_s"] - d["pulse_duration_s"] / 2, rel=1e-12)
+    assert d["mean_s"] == d["tracer_mean_s"]

@@ -4,6 +4,7 @@ DATA is a tracer CSV file (format in `rotarydryer.rtd.tracer_data`) or the
 name of a shipped data set (``lee2008_invicta``, ``ajayi2011_test1`` ... ``6``).
 """
 
+import math
 from pathlib import Path
 from typing import Optional
 
@@ -105,20 +106,35 @@ def rtd_moments_cmd(
     except ValueError as exc:
         typer.echo(f"error: {_as_options(str(exc))}", err=True)
         raise typer.Exit(2) from None
+    # the curve's moments are the tracer's, from the injection start; with the file's pulse (its metadata) the RTD's
+    # are those less the pulse's (moments of a convolution add): the mean residence time of `rotarydryer rtd`
+    pulse = d.pulse()
+    tau = m.mean_s - pulse.mean_s
+    sd = math.sqrt(max(m.std_s**2 - pulse.variance_s2, 0.0))
     out = m.to_dict()
     out.update(
         data=str(data),
         source=d.metadata.get("source"),
         signal_unit=d.signal_unit,
-        mean_residence_time_s=m.mean_s,
-        rtd_std_s=m.std_s,
+        tracer_mean_s=m.mean_s,
+        tracer_std_s=m.std_s,
+        pulse_kind=str(d.metadata.get("pulse_kind", "dirac")),
+        pulse_duration_s=float(d.metadata.get("pulse_duration_s", 0.0)),
+        mean_residence_time_s=tau,
+        rtd_std_s=sd,
     )
     if as_json:
         typer.echo(json_text(out))
         return
     typer.echo(f"{data}: {m.n_points} points, t = {m.first_time_s:g} .. {m.last_time_s:g} s after injection")
-    typer.echo(f"  mean residence time  {m.mean_s:10.1f} s  = {m.mean_min:8.3f} min")
-    typer.echo(f"  standard deviation   {m.std_s:10.1f} s  = {m.std_min:8.3f} min")
+    if pulse.mean_s > 0 or pulse.variance_s2 > 0:
+        typer.echo(f"  tracer curve mean    {m.mean_s:10.1f} s  = {m.mean_min:8.3f} min (from the injection start)")
+        typer.echo(f"  standard deviation   {m.std_s:10.1f} s  = {m.std_min:8.3f} min")
+        typer.echo(f"  mean residence time  {tau:10.1f} s  = {tau / 60:8.3f} min, SD {sd / 60:.3f} min (the "
+                   f"{out['pulse_kind']} pulse of {out['pulse_duration_s']:g} s taken off)")
+    else:
+        typer.echo(f"  mean residence time  {m.mean_s:10.1f} s  = {m.mean_min:8.3f} min")
+        typer.echo(f"  standard deviation   {m.std_s:10.1f} s  = {m.std_min:8.3f} min")
     typer.echo(f"  skewness (m3/sd^3)   {m.skewness:10.3f}")
     typer.echo(f"  area                 {m.area:10.4g} ({d.signal_unit or 'signal'} x s)")
     if m.recovery is not None:

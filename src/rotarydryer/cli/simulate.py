@@ -256,9 +256,16 @@ def rtd(
         from ..transport.plots import plot_rtd
 
         r = res.response
+        width = float(np.diff(model.tracer_input.breakpoints)[0]) if len(model.tracer_input.rates) == 1 else 0.0
+        # the curve through the case's pulse (its metadata: rtd-moments and rtd-fit take the pulse off)
+        meta = [f"# source: rotarydryer rtd {case}: the model's tracer curve through the case's pulse "
+                f"(E_per_s: its exit age, 1/s; mean {result['tracer_mean_s']:.6g} s from the injection start)",
+                f"# time_origin_s: {float(model.tracer_input.breakpoints[0]):.9g}"]
+        if width > 1e-3:
+            meta += ["# pulse_kind: rectangular", f"# pulse_duration_s: {width:.9g}"]
         buf = io.StringIO()
-        np.savetxt(buf, np.c_[r.time, r.exit_age, r.cumulative], delimiter=",", header="time_s,E_per_s,F",
-                   comments="")
+        np.savetxt(buf, np.c_[r.time, r.exit_age, r.cumulative], delimiter=",",
+                   header="\n".join(meta + ["time_s,E_per_s,F"]), comments="")
         with written_set(out):                  # all files or none: a failure keeps the previous set
             write_text_atomic(out / "rtd.csv", buf.getvalue())
             write_text_atomic(out / "rtd.json", json_text(result, indent=1))
