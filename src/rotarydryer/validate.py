@@ -667,10 +667,38 @@ def _label(case: str) -> str:
     return Path(case).stem if case.endswith(".toml") else case
 
 
-def _derived_items(ctx: _Context, case: str, loaded, shipped: bool) -> list[ValidationItem]:
+def _comparable(case) -> dict:
+    """A loaded case's content as validation sees it: without its [meta] and its records' case labels (what
+    `rotarydryer new --from` changes in a copy)."""
+    d = case.model_dump()
+    d.pop("meta", None)
+    for rec in d.get("calibrations") or []:
+        rec.pop("case", None)
+    return d
+
+
+def shipped_twin(case, sets: dict | None = None) -> str | None:
+    """The shipped case a loaded ``case`` is a copy of (`rotarydryer new --from NAME`, unedited but for its title):
+    the same dryer, data and calibrations, whose known misses and test settings are the copy's too; else None."""
+    mine = _comparable(case)
+    for name in list_cases():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            other = load_case(name, sets or {})
+        if _comparable(other) == mine:
+            return name
+    return None
+
+
+def _derived_items(ctx: _Context, case: str, loaded, shipped: bool, twin: str | None = None) -> list[ValidationItem]:
+    """The derived items of ``case``; a shipped case's known misses and test settings apply to it (``shipped``) or,
+    for a copy of one (``twin``: its name), to the copy under the copy's own ids."""
     spec = ctx.spec
-    misses = {d.id: d.known_miss for d in spec.derived} if shipped else {}
-    settings = {s.test: s for s in spec.test_settings if s.case == case} if shipped else {}
+    own = case if shipped else twin
+    prefix = f"{own}/" if own else None
+    misses = ({_label(case) + "/" + d.id[len(prefix):]: d.known_miss for d in spec.derived if d.id.startswith(prefix)}
+              if prefix else {})
+    settings = {s.test: s for s in spec.test_settings if s.case == own} if own else {}
     has_curve = has_tracer_curve(loaded)
     thermal = thermal_enabled(loaded)
     out = []
@@ -795,7 +823,8 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
     notes = {}
     for name in dict.fromkeys(names):
         is_shipped = name in shipped
-        found = _derived_items(ctx, name, loaded[name], is_shipped)
+        twin = None if is_shipped else shipped_twin(loaded[name], sets)
+        found = _derived_items(ctx, name, loaded[name], is_shipped, twin)
         if is_shipped:
             found += _published_items(ctx, name)
         if not found:
@@ -810,6 +839,9 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
         shadow = rows_shadowed(loaded[name], sets)
         if shadow and found:           # in the report's notes (text and JSON), once
             notes[name] = shadow
+        if twin is not None:
+            notes[name] = " ".join(filter(None, [notes.get(name), f"a copy of the shipped case {twin}: its known "
+                                                 "misses and test settings apply"]))
         items += found
     return ValidationReport(items=items, cases=list(dict.fromkeys(names)), overrides=sets, case_notes=notes,
                             tolerances_file=str(tolerances) if tolerances is not None else TOLERANCES_FILE,
