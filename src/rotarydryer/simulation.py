@@ -53,6 +53,7 @@ from .thermal.audit import (
     warn_shell_limit,
     warn_solids_temperature,
     warn_supersaturated_exhaust,
+    warn_wet_solids,
 )
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
@@ -250,6 +251,7 @@ class Simulation:
         warn_supersaturated_exhaust(thermal)     # an exhaust below its own dew point: a warning
         warn_condensation(thermal)          # a product wetter than the feed: a warning
         warn_solids_temperature(thermal)    # solids above their material's max_temperature: a warning
+        warn_wet_solids(thermal)            # wet solids above the boiling point: a warning
         return SteadyResult(self, None, thermal)
 
     def _flat_case(self) -> dict:

@@ -184,3 +184,20 @@ def test_calibrate_and_validate_compare_the_same_mean_residence_time():
         sim = Simulation(case, {"operating.test": t, "transport.solids_velocity": est.value})
         tau = sim.transport_steady_state().mean_residence_time
         assert cal.fit.predictions[f"test{t}.mrt"][0] == pytest.approx(tau, rel=1e-9)
+
+
+def test_wet_solids_above_the_boiling_point_warn():
+    """A thin-layer law evaluates a slower evaporation than boiling would at the boiling point: the solids heated past
+    it wet (12.9 % at 124 degC) with no warning. The shipped cases' solids stay below it or dry."""
+    from rotarydryer.thermal.audit import WetSolidsWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        s = Simulation(str(DRYERS / "thin_layer_boiling.toml"), {"operating.feed_moisture": 0.15}).steady_state()
+    msgs = [str(w.message) for w in caught if issubclass(w.category, WetSolidsWarning)]
+    assert len(msgs) == 1 and "wet solids above the boiling point" in msgs[0] and "'thin_layer'" in msgs[0], msgs
+    assert s.summary()["product_temperature_degC"] > 100.0
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        Simulation("lee2008_invicta").steady_state()
+    assert not [w for w in caught if issubclass(w.category, WetSolidsWarning)]

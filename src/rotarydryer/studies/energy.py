@@ -44,6 +44,7 @@ from ..thermal.audit import (
     ShellTemperatureWarning,
     SolidsTemperatureWarning,
     SupersaturationWarning,
+    WetSolidsWarning,
 )
 from ..thermal.states import PRODUCT_FLOOR_MOISTURE
 from .target import default_tol, target
@@ -324,6 +325,7 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
             warnings.simplefilter("ignore", SupersaturationWarning)
             warnings.simplefilter("ignore", CondensationWarning)
             warnings.simplefilter("ignore", SolidsTemperatureWarning)
+            warnings.simplefilter("ignore", WetSolidsWarning)
             res = target(case, "gas.inlet_temperature", f"product_moisture_kg_kg={x0!r}", (lo, hi), overrides=free,
                          tol=tol)
     except ValueError as exc:

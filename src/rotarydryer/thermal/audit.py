@@ -66,6 +66,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..properties import water
 from ..properties.humid_air import dew_point
 from . import balances as bal
 from .shell import shell_heat_loss
@@ -77,7 +78,7 @@ __all__ = ["HEAT_DUTY_PARTS", "HEAT_DUTY_LABELS", "ShellTemperatureWarning", "he
            "shell_sections", "shell_temperatures", "shell_limit_message", "warn_shell_limit",
            "SupersaturationWarning", "supersaturation_message", "warn_supersaturated_exhaust", "CondensationWarning",
            "condensation_message", "warn_condensation", "SolidsTemperatureWarning", "solids_temperature_message",
-           "warn_solids_temperature"]
+           "warn_solids_temperature", "WetSolidsWarning", "wet_solids_message", "warn_wet_solids"]
 
 #: the heat duties that add up to ``heat_release_W`` (summary names, W), in the order of a waterfall
 HEAT_DUTY_PARTS = ("heat_duty_burner_loss_W", "heat_duty_evaporation_W", "heat_duty_solids_heating_W",
@@ -117,6 +118,11 @@ class CondensationWarning(UserWarning):
 class SolidsTemperatureWarning(UserWarning):
     """The steady state's solids are hotter than their material's ``max_temperature`` (it melts, decomposes or
     reacts there): the material's data do not hold."""
+
+
+class WetSolidsWarning(UserWarning):
+    """The steady state's solids hold water above its boiling point: the drying law (a thin-layer law fitted below it)
+    evaporates less than the heat the solids take would boil off, which the model does not describe."""
 
 
 class SupersaturationWarning(UserWarning):
@@ -355,3 +361,47 @@ def warn_solids_temperature(steady: ThermalSteadyState) -> None:
     msg = solids_temperature_message(steady)
     if msg:
         warnings.warn(msg, SolidsTemperatureWarning, stacklevel=2)
+
+
+#: dry-basis moisture (kg/kg) above which solids count as wet in `wet_solids_message`: the transfer's dry guard
+#: (`rotarydryer.thermal.balances.stage_transfer`), below which the model stops evaporating the last traces
+WET_SOLIDS_MOISTURE = 2e-3
+#: K above the boiling point before solids count as boiling (the steady state's temperatures to rounding)
+BOILING_MARGIN_K = 1.0
+
+
+def wet_solids_message(steady: ThermalSteadyState) -> str | None:
+    """Why the steady state's wet solids leave the model, or None: a tank holding solids (at least
+    `HOT_SOLIDS_MIN_HOLDUP_S` of the feed) with free water (dry basis above `WET_SOLIDS_MOISTURE` and the law's
+    critical moisture) is hotter than water boils at the drum's pressure (by `BOILING_MARGIN_K`). Its water would
+    boil off with the heat the solids take; the drying law evaluates a slower evaporation there (a thin-layer law's
+    rate does not rise at the boiling point; a surface law's stops at its ceiling's), so the solids heat past it, wet."""
+    dr = steady.dryer
+    s = dr.settings
+    boil = float(water.saturation_temperature(float(s.pressure)))
+    T = np.asarray(steady.solids_temperature_degC, dtype=float)
+    m = np.asarray(steady.holdup, dtype=float)
+    x = np.asarray(steady.moisture_wet, dtype=float)
+    X = x / np.maximum(1.0 - x, 1e-12)
+    # free water: above the law's critical moisture, where it has one (below it, a falling rate's water held in the
+    # solids may be hotter than the boiling point; a thin-layer law has none)
+    wet = max(WET_SOLIDS_MOISTURE, float(getattr(s.kinetics, "critical_moisture", None) or 0.0))
+    bad = (m >= HOT_SOLIDS_MIN_HOLDUP_S * dr.feed_rate) & (X > wet) & (T > boil + BOILING_MARGIN_K)
+    if not bad.any():
+        return None
+    i = int(np.flatnonzero(bad)[np.argmax(T[bad])])
+    pm, pt = float(steady.product_moisture), float(steady.product_temperature_degC)
+    law = getattr(s.kinetics, "method", "")
+    return (f"wet solids above the boiling point: {100 * float(x[i]):.3g} % moisture (wet basis) at {float(T[i]):.4g} degC "
+            f"in section {dr.tank_section[i]} ({float(dr.position[i]):.3g} m from the feed end; the product leaves at "
+            f"{100 * pm:.3g} % and {pt:.4g} degC), where water boils at {boil:.4g} degC: the drying law "
+            f"(kinetics.method = {law!r}) evaporates less than the heat the solids take would boil off, which the "
+            "model does not describe; check the law's temperature range (a thin-layer law fitted below the boiling "
+            "point), or lower gas.inlet_temperature")
+
+
+def warn_wet_solids(steady: ThermalSteadyState) -> None:
+    """A `WetSolidsWarning` when `wet_solids_message` has one."""
+    msg = wet_solids_message(steady)
+    if msg:
+        warnings.warn(msg, WetSolidsWarning, stacklevel=2)
