@@ -321,5 +321,5 @@ def output_cells(name: str, value, digits: int = 4) -> tuple[str, str]:
     q = quantity_of(name)
     if q is None or _finite(value)[0] is None:
         return text, ""
-    number, _, unit = text.partition(" ")
+    number, _, unit = text.rpartition(" ")      # the unit is one word; a number may be "< 0.001"
     return number, unit

@@ -729,7 +729,12 @@ def check_plant(name, limits: Limits | None = None, objective="volume", progress
     # 21 x its design load was refused as "design_load_tolerance = 20.46 is outside the allowed range", an option
     # the user had not given); each is a user's validated limit or the plant's own finite value
     real = evaluate(dm, cal, objective=objective, **geom)
+    # the same names as simulate's outputs, other numbers: the screening's, which the notes say
+    notes = [*notes, "the real row's values (fuel rate, gas outlet temperature, residence time, holdup, fill) are the "
+             "screening correlations' at the plant's geometry and duty, as the optimum's, not the coupled model's: "
+             "`rotarydryer simulate` gives the plant's own (the fuel rate there includes the burner's losses)"]
     out = dict(plant=name, geometry=geom, duty=dataclasses.asdict(duty), feasible_at_limits=raw.feasible,
+               model="screening correlations (rotarydryer.design)",
                violated_at_limits=violated, ua_factor_implied=ua,
                calibrated_limits=dataclasses.asdict(cal), feasible_calibrated=real.feasible,
                binding_calibrated=real.binding(), real=real.row(), objective=objective, notes=notes)

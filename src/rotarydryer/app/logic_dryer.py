@@ -194,7 +194,7 @@ def _measured(c) -> dict | None:
     return {"test": int(c.operating.test), **{k: v for k, v in m.items() if isinstance(v, float)}}
 
 
-def _profiles_figure(th, measured):
+def _profiles_figure(th, measured, sensor_c=None):
     from ..report.plots import plot_thermal_steady_state
 
     fig = plot_thermal_steady_state(th)
@@ -212,6 +212,8 @@ def _profiles_figure(th, measured):
     for ax, x, y, style in pts:
         if y is not None and math.isfinite(y):
             ax.plot([x], [y], style, ms=7, mfc="none", mew=1.5, label=lab if ax is a1 and style == "ks" else None)
+    if sensor_c is not None and math.isfinite(sensor_c):    # the plant's product temperature is a sensor's
+        a1.plot([x1], [sensor_c], "b^", ms=7, mfc="none", mew=1.5, label="model at the product sensor")
     a1.legend(fontsize=8)
     a2.legend(fontsize=8, loc="upper center")
     return fig
@@ -233,13 +235,15 @@ def _profiles_csv(th) -> str:
     return buf.getvalue()
 
 
-def profile_rows(profiles: dict, measured: dict | None = None, co_current: bool = True) -> list[dict]:
+def profile_rows(profiles: dict, measured: dict | None = None, co_current: bool = True,
+                 sensor_c: float | None = None) -> list[dict]:
     """The axial profiles of ``profiles`` (``ThermalSteadyState.profiles()``) as long-format rows
     for an interactive chart: ``{"quantity": "temperature" | "moisture" | "humidity", "series",
     "section", "position_m", "value" (in its display unit, `rotarydryer._display`), "measured": bool}`` (gas temperature and humidity per gas
     stage; solids temperature and moisture per tank, one series per phase: bed, passive, active);
     with ``measured`` (`_measured`), the plant's values at the ends as in the PNG figure (gas
-    in and out, product temperature, feed and product moisture)."""
+    in and out, product temperature, feed and product moisture); ``sensor_c``: the model's product temperature at the
+    plant's sensor (a case with a discharge-cooling NTU), the series the measured product temperature compares with."""
     p = profiles
     rows = []
 
@@ -265,6 +269,8 @@ def profile_rows(profiles: dict, measured: dict | None = None, co_current: bool 
                                  ("moisture", x1, "moisture_out")):
             if measured.get(key) is not None:
                 add(quantity, lab, "", x, measured[key], meas=True)
+        if sensor_c is not None:
+            add("temperature", "model at the product sensor", "", x1, sensor_c)
     return rows
 
 
@@ -295,7 +301,8 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
            "measured": measured, "has_burner": burner,
            "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),
            "title": getattr(c.meta, "title", "") or "",
-           "profile_rows": profile_rows(th.profiles(), measured, th.dryer.settings.gas_direction == "co-current")}
+           "profile_rows": profile_rows(th.profiles(), measured, th.dryer.settings.gas_direction == "co-current",
+                                        s.get("product_temperature_at_sensor_degC"))}
     if th.dryer.n_classes > 1:        # [particle_size]: a row per size class and the distributions
         out["size_classes"] = th.size_class_table()
         if images:
@@ -304,7 +311,8 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
             out["size_plot"] = png(plot_size_distributions(th), dpi=100)
     if images:
         # drawn at about the width of the page's main area on a laptop (900 px): shown unscaled
-        out["profiles"] = png(_profiles_figure(th, out["measured"]), dpi=100)
+        out["profiles"] = png(_profiles_figure(th, out["measured"], s.get("product_temperature_at_sensor_degC")),
+                              dpi=100)
         out["waterfall"] = png(plot_heat_duties(s), dpi=110)
     return out
 

@@ -139,7 +139,7 @@ def render():
     c[1].metric("Product temperature", show_output("product_temperature_degC", m["product_temperature_degC"]))
     c[2].metric("Gas outlet temperature", show_output("gas_outlet_temperature_degC", m["gas_outlet_temperature_degC"]))
     c[3].metric("Mean residence time", show_output("mean_residence_time_s", m["mean_residence_time_s"]),
-                help="holdup / product flow")
+                help="holdup / solids outflow (the product, and the dust the gas carries off)")
     c = st.columns(4)
     c[0].metric("Specific energy", show_output("specific_energy_kJ_kg_water", m["specific_energy_kJ_kg_water"]),
                 help="heat put into the gas per kg of water evaporated")

@@ -278,8 +278,8 @@ def rtd(
     if coupled:
         typer.echo("  (the solids transport's own steady state, at the case's assumed moisture profile; `simulate` "
                    "gives the coupled heat-and-mass state's holdup and residence times)")
-    typer.echo(f"  mean residence time  {result['mean_residence_time_s'] / 60:.2f} min (RTD = holdup/flow), "
-               f"SD {result['rtd_std_s'] / 60:.2f} min")
+    typer.echo(f"  mean residence time  {result['mean_residence_time_s'] / 60:.2f} min (the RTD's mean; holdup/flow "
+               f"{result['holdup_over_flow_s'] / 60:.2f} min), SD {result['rtd_std_s'] / 60:.2f} min")
     typer.echo(f"  tracer curve         mean {result['tracer_mean_s'] / 60:.2f} min (analytic), "
                f"{result['simulated_mean_s'] / 60:.2f} min (simulated), SD {result['tracer_std_s'] / 60:.2f} min, "
                f"from injection start")

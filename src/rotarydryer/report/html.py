@@ -206,8 +206,8 @@ def _transport_sections(results) -> str:
         ("outlet flow", "outlet_flow_kg_s"),
         ("total holdup", "total_holdup_kg"),
         ("airborne (active) holdup", "active_holdup_kg"),
-        ("flight-borne (passive) holdup", "passive_holdup_kg"),
-        ("kilning bed", "kiln_bed_holdup_kg"),
+        ("passive holdup (on the flights and the kilning bed)", "passive_holdup_kg"),
+        ("of which the kilning bed", "kiln_bed_holdup_kg"),
         ("unflighted bed", "bed_holdup_kg"),
         ("mean residence time H/F", "mean_residence_time_s"),
         ("RTD standard deviation", "rtd_std_s"),
@@ -225,7 +225,8 @@ def _transport_sections(results) -> str:
     mass = functools.partial(show, quantity="mass")
     tot = s.get("total_holdup_kg", np.nan)
     cap_hold = (f"holdup along the dryer: {mass(tot)} in total (airborne {mass(s.get('active_holdup_kg', np.nan))}, "
-                f"flight-borne {mass(s.get('passive_holdup_kg', np.nan))}), mean residence time H/F "
+                f"passive, on the flights and the kilning bed, {mass(s.get('passive_holdup_kg', np.nan))}), "
+                f"mean residence time H/F "
                 f"{show(s.get('mean_residence_time_s', np.nan), 'time')}")
     hc = holdup_comparison(results)
     if hc is not None:
@@ -261,7 +262,7 @@ def _transport_sections(results) -> str:
         else:
             cap_rtd = (f"the model's tracer curve (its RTD through the injection pulse): mean {t(m_mean)}, SD {t(m_std)}; "
                        f"the RTD itself: mean {t(s.get('rtd_mean_residence_time_s', np.nan))}, SD "
-                       f"{t(s.get('rtd_std_s', np.nan))} (key results)")
+                       f"{t(s.get('rtd_std_s', np.nan))}")
             rtd_mvm = ('<p class="mvm">No measured tracer curve is available for this run, so the RTD is a model '
                        'prediction only.</p>')
         parts.append(f'<section id="rtd"><h2>Residence-time distribution{meas}</h2>'
@@ -294,7 +295,7 @@ def _transport_sections(results) -> str:
 {_img(plot_loading_state(results), 'loading state', cap_load)}
 {_table(('section', 'cells', 'under', 'design', 'over', 'dryer loading range (-)', 'kilning bed (kg)', 'state'), rows)}
 <h3>Holdup per section (kg)</h3>
-{_table(('section', 'kind', 'length (m)', 'cells', 'airborne', 'flight-borne', 'unflighted bed', 'total'), hold_rows, left_cols=2)}
+{_table(('section', 'kind', 'length (m)', 'cells', 'airborne', 'passive (flights + kilning bed)', 'unflighted bed', 'total'), hold_rows, left_cols=2)}
 <p class="note">Dryer loading = passive holdup / design load (Lee (2008) Section 4.4.2): under &lt; 1,
 design = 1, over &gt; 1 (the surplus forms the kilning bed).</p>
 <p class="mvm">The loading state is not measured in the plant; these figures are model predictions only.</p></section>""")
@@ -653,9 +654,11 @@ def _executive_summary(results) -> str:
     if "measured_mean_s" in s and "tracer_mean_s" in s and s["measured_mean_s"]:
         err = 100 * (s["tracer_mean_s"] / s["measured_mean_s"] - 1)
         lines.append(f"<li>Model against the measured tracer curve: mean {show(s['tracer_mean_s'], 'time')} against "
-                     f"{show(s['measured_mean_s'], 'time')} ({err:+.1f} %).</li>")
+                     f"{show(s['measured_mean_s'], 'time')} ({err:+.1f} %), the curves' means from the injection start "
+                     "(the model's on this report's state; the validation table's tracer items run the transport "
+                     "model alone, as its calibration).</li>")
     if "product_moisture_kg_kg" in s:
-        lines.append(f"<li>Product moisture <b>{show(s['product_moisture_kg_kg'], 'moisture')}</b> (wet basis) at "
+        lines.append(f"<li>Product moisture <b>{html.escape(show(s['product_moisture_kg_kg'], 'moisture'))}</b> (wet basis) at "
                      f"{show(s.get('product_temperature_degC', float('nan')), 'temperature')}; exhaust gas "
                      f"{show(s.get('gas_outlet_temperature_degC', float('nan')), 'temperature')}.</li>")
     if "specific_energy_kJ_kg_water" in s:

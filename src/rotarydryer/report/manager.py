@@ -77,7 +77,7 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
         rows.append(("gas inlet temperature", f"{float(t_gas):.4g}", "degC"))
     y_gas = gas.get("inlet_humidity")
     if y_gas is not None:
-        rows.append(("gas inlet humidity", f"{float(y_gas):.3g}", "kg/kg"))
+        rows.append(("gas inlet humidity", f"{float(y_gas):.3g}", "kg/kg wet gas"))
     burner = gas.get("burner")
     if burner is not None:
         fuel = f"fuel oil (C/H {float(burner.get('fuel_carbon_hydrogen_ratio', float('nan'))):g}, " \
@@ -200,8 +200,11 @@ def thermal_comparison(results) -> dict:
 
     add("product moisture", "product outlet", lay_len, 100 * pi["moisture_out"],
         100 * s["product_moisture_kg_kg"] if "product_moisture_kg_kg" in s else None, "% points", src)
-    add("product temperature", "product outlet", lay_len, pi["product_c"], s.get("product_temperature_degC"),
-        "degC", src)
+    # the plant's sensor, as validate and calibrate compare it: the product cooled on its way there where the case
+    # has a discharge-cooling NTU (the drum outlet's temperature otherwise)
+    sensor = s.get("product_temperature_at_sensor_degC")
+    add("product temperature", "product sensor" if sensor is not None else "product outlet", lay_len, pi["product_c"],
+        sensor if sensor is not None else s.get("product_temperature_degC"), "degC", src)
     add("gas outlet temperature", "gas outlet", gas_out_at, pi["gas_out_c"], s.get("gas_outlet_temperature_degC"),
         "degC", src)
     ux, wx = _solids_profile(results)
