@@ -45,8 +45,8 @@ FILL = [
     (MMG, ["operating.feed_rate=200"], ["solids fill", "operating.feed_rate = 200 kg/s"]),
     (MMG, ["transport.solids_velocity=1e-6"], ["solids fill", "transport.solids_velocity = 1e-06 m/s",
                                              "operating.feed_rate = 40.666667 kg/s (the value of test 4)"]),
-    (SONG, ["operating.feed_rate=10"], ["solids fill 935 %", "operating.feed_rate = 10 kg/s"]),
-    (SONG, ["operating.feed_rate=2"], ["solids fill 184 %", "operating.feed_rate = 2 kg/s"]),
+    (SONG, ["operating.feed_rate=10"], ["solids fill 942 %", "operating.feed_rate = 10 kg/s"]),
+    (SONG, ["operating.feed_rate=2"], ["solids fill 185 %", "operating.feed_rate = 2 kg/s"]),
 ]
 
 SPEED = [
