@@ -16,7 +16,7 @@ def test_rtd_moments_json_invicta():
     row = next(r for r in read_published_csv("lee_rtd_moments.csv") if r["rtd"] == "Experiment")
     res = runner.invoke(app, ["rtd-moments", "lee2008_invicta", "--json"])
     assert res.exit_code == 0, res.output
-    d = json.loads(res.output)
+    d = json.loads(res.stdout)
     assert d["mean_s"] / 60 == pytest.approx(float(row["mean_residence_time_min"]), abs=0.01)
     assert d["rtd_std_s"] / 60 == pytest.approx(float(row["standard_deviation_min"]), abs=0.01)
     assert d["tail_truncated"] is False
@@ -99,9 +99,17 @@ def test_rtd_moments_of_the_tools_own_curve_gives_its_residence_time(tmp_path):
     assert m["tracer_mean_s"] - m["mean_residence_time_s"] == pytest.approx(m["pulse_duration_s"] / 2, rel=1e-9)
 
 
-def test_rtd_moments_of_a_dirac_curve_keeps_its_mean():
-    """A curve without a pulse (Lee's Invicta file has one; a Dirac file has none): the two means are one."""
+def test_rtd_moments_of_a_curve_without_a_pulse_keeps_its_mean(tmp_path):
+    """A curve without pulse lines (a Dirac injection): the RTD's mean is the curve's; a file with a pulse gets both,
+    and a warning that mean_residence_time_s no longer is the curve's mean (its meaning changed)."""
+    p = tmp_path / "c.csv"
+    p.write_text("time_s,signal\n" + "".join(f"{60 * i},{max(0, 5 - abs(i - 5))}\n" for i in range(11)))
+    res = runner.invoke(app, ["rtd-moments", str(p), "--json"])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert d["mean_residence_time_s"] == d["tracer_mean_s"] == d["mean_s"] and d["pulse_duration_s"] == 0.0
+    assert "warning" not in res.output
     res = runner.invoke(app, ["rtd-moments", "lee2008_invicta", "--json"])
-    d = json.loads(res.output)
+    d = json.loads(res.stdout)
     assert d["mean_residence_time_s"] == pytest.approx(d["tracer_mean_s"] - d["pulse_duration_s"] / 2, rel=1e-12)
-    assert d["mean_s"] == d["tracer_mean_s"]
+    assert "warning: mean_residence_time_s and rtd_std_s are the RTD's" in res.stderr

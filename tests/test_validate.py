@@ -363,3 +363,13 @@ def test_an_unedited_copy_of_a_shipped_case_keeps_its_known_misses(tmp_path):
     edited.write_text(text.replace("\nn_flights = 28", "\nn_flights = 30", 1), encoding="utf-8")
     rep = run_validation([str(edited)])
     assert not any(i.status == "known miss" for i in rep.items)
+
+
+def test_validating_a_file_with_a_set_does_not_load_the_shipped_cases_with_it(tmp_path):
+    """The copy detection loaded every shipped case with the user's --set: a key that Invicta cannot take made the
+    validation of an unrelated file fail on 'lee2008_invicta' (found by a review)."""
+    plain = tmp_path / "plain.toml"
+    assert runner.invoke(app, ["new", "plain", "--out", str(plain)]).exit_code == 0
+    res = runner.invoke(app, ["validate", str(plain), "--set", "gas.burner.heat_loss_fraction=0.1"])
+    assert res.exit_code == 0, res.output
+    assert "lee2008_invicta" not in res.output

@@ -11,8 +11,9 @@ Inputs: ``feed_rate`` (kg/s wet), ``feed_moisture`` (kg/kg wet), ``gas_inlet_tem
 wet), ``product_temperature`` (degC), ``exhaust_temperature`` (degC), ``exhaust_humidity``
 (kg/kg dry gas), ``holdup`` (kg). Parameters (strings): ``case``, ``overrides`` (JSON).
 
-A case file's text is stored in the FMU at export: the FMU runs the dryer it was exported with, whatever
-becomes of the file (edited, moved or deleted; a case never names another file). A ``case`` parameter
+A case's text is stored in the FMU at export (a file's, or a shipped case's as this version ships it): the FMU
+runs the dryer it was exported with, whatever becomes of the file (edited, moved or deleted; a case never names
+another file) or of the shipped case (refitted by a later version). A ``case`` parameter
 set by the importing tool to another case name or file runs that one instead.
 
 The FMU runs Python inside the importing tool (pythonfmu's embedded interpreter): it needs a
@@ -27,9 +28,12 @@ import json
 import math
 import sys
 import tempfile
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
+
+from .cases import list_cases
 
 __all__ = ["DryerStepper", "build_fmu", "start_values", "INPUTS", "OUTPUTS"]
 
@@ -73,12 +77,11 @@ class DryerStepper:
     def __init__(self, case, overrides=None, case_text=None):
         """``case``: a case name or .toml path; ``case_text``: the TOML text of the case (then ``case`` is only
         its name in messages), as an FMU stores the file it was exported from."""
-        from .cases import load_case_text
         from .simulation import Simulation
         from .thermal.schedule import DryerIntegrator, base_inputs
 
-        if case_text is not None:
-            sim = Simulation(load_case_text(case_text, str(case), overrides or {}))
+        if case_text is not None:       # as of a file of that text (its network rebuilt as the inputs move)
+            sim = Simulation.from_text(case_text, str(case), overrides or {})
         else:
             sim = Simulation(case, overrides or {})
         steady = sim.dynamic_start("the FMU")
@@ -87,6 +90,8 @@ class DryerStepper:
         self.z = np.asarray(steady.state, float)
         self.time = 0.0
         self.inputs = base_inputs(self.base, INPUTS)
+        #: the case's own values of the inputs (the FMU's start values when it runs the case it was exported with)
+        self.case_inputs = dict(self.inputs)
         self._applied = dict(self.inputs)
         self._integrator = DryerIntegrator(self.base, self.z)
         self.outputs = self._outputs(self.base)
@@ -135,6 +140,9 @@ DESCRIPTIONS = {descriptions!r}
 #: the case as exported: its reference (a name or the file's path) and the file's text (None: a shipped case)
 CASE = {case!r}
 CASE_TEXT = {case_text!r}
+#: the inputs' start values (the exported case's own): an input the importer leaves at it takes the value of the case
+#: the FMU runs, which differs where the importer sets the case or overrides parameters
+STARTS = {starts!r}
 
 
 class RotaryDryer(Fmi2Slave):
@@ -149,7 +157,7 @@ class RotaryDryer(Fmi2Slave):
         for name in ("case", "overrides"):
             self.register_variable(String(name, causality=Fmi2Causality.parameter,
                                           variability=Fmi2Variability.fixed, description=DESCRIPTIONS[name]))
-        for name, start in {starts!r}.items():
+        for name, start in STARTS.items():
             setattr(self, name, start)
             self.register_variable(Real(name, causality=Fmi2Causality.input, description=DESCRIPTIONS[name]))
         for name, start in {out_starts!r}.items():
@@ -172,7 +180,9 @@ class RotaryDryer(Fmi2Slave):
 
     def do_step(self, current_time, step_size):
         self._ensure()
-        out = self._stepper.step(step_size, **{{k: getattr(self, k) for k in INPUTS}})
+        own = self._stepper.case_inputs
+        out = self._stepper.step(step_size, **{{k: own[k] if getattr(self, k) == STARTS[k] else getattr(self, k)
+                                               for k in INPUTS}})
         for k, v in out.items():
             setattr(self, k, v)
         return True
@@ -200,6 +210,8 @@ def build_fmu(case, out, overrides=None, progress=None) -> Path:
             case_text = Path(case).read_bytes().decode("utf-8")
         except (OSError, UnicodeDecodeError):
             case_text = None        # DryerStepper's load of the path says what is wrong with it
+    elif str(case) in list_cases():     # a shipped case as this version ships it (a later one may refit it)
+        case_text = (resources.files("rotarydryer.cases") / f"{case}.toml").read_text(encoding="utf-8")
     st = DryerStepper(case if case_text is None else case_ref, overrides, case_text=case_text)   # validates; start values
     here = str(Path(__file__).resolve().parent.parent)
     paths = [here] + [p for p in sys.path if p and Path(p).is_dir()]

@@ -27,7 +27,7 @@ import numpy as np
 from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
 from ._validation import check_choice, check_range
-from .cases import load_case, measured_rtd, measured_rtd_moments
+from .cases import load_case, load_case_text, measured_rtd, measured_rtd_moments
 from .cases.build import (
     FILL_LIMIT,
     build_model,
@@ -106,12 +106,23 @@ class Simulation:
             self.case = case
         self.kind = self.case.kind
         self._named = isinstance(case, (str, bytes)) or hasattr(case, "__fspath__")   # rebuilt from its name
+        self._case_text = None      # the TOML text of a Simulation made by `from_text` (rebuilt from it)
         self._inputs = None         # what the networks are built from (cases.build.transport_inputs)
         self._transport = None
         self._transport_ss = None
         self._dryer = None          # the heat-and-mass model of the case, built once
         self._thermal_ss = None
         self._flat = None           # the case's flat view (cases.build.flat_case), for the next run's comparison
+
+    @classmethod
+    def from_text(cls, text: str, name: str = "case", overrides=None) -> Simulation:
+        """The Simulation of a case given as TOML text (`rotarydryer.cases.load_case_text`, ``name`` in messages),
+        as of a file holding that text: its model is rebuilt from the text where a dynamic run's inputs move what
+        its network depends on (an FMU runs the case text it stored at export)."""
+        sim = cls(load_case_text(text, name, dict(overrides or {})))
+        sim.case_name, sim.overrides = name, dict(overrides or {})
+        sim._named, sim._case_text = True, text
+        return sim
 
     def __repr__(self):
         return f"<Simulation {self.case_name} (kind {self.kind!r}, heat and mass {'on' if self.thermal_enabled else 'off'})>"
@@ -199,7 +210,7 @@ class Simulation:
             self._dryer = self.thermal_dryer()
             needs = network_inputs(self.case)
             if needs and self._named:
-                self._dryer._rebuild = _Rebuild(self.case_name, self.overrides, needs)
+                self._dryer._rebuild = _Rebuild(self.case_name, self.overrides, needs, self._case_text)
         return self._dryer
 
     # ------------------------------------------------------------------ runs
@@ -664,8 +675,9 @@ class _Rebuild:
     """The heat-and-mass model of a case rebuilt at new values of inputs its network depends on
     (`rotarydryer.thermal.dryer.ThermalDryer.rebuilt`); picklable, the last few models kept."""
 
-    def __init__(self, case_name, overrides, needs):
+    def __init__(self, case_name, overrides, needs, case_text=None):
         self.case_name, self.overrides, self.needs = case_name, dict(overrides), frozenset(needs)
+        self.case_text = case_text      # a case given as text (`Simulation.from_text`): rebuilt from it
         self._built: dict = {}
 
     def __call__(self, values: dict):
@@ -674,5 +686,7 @@ class _Rebuild:
             if len(self._built) >= 16:
                 self._built.clear()
             ov = {**self.overrides, **{_INPUT_KEYS[k]: float(v) for k, v in values.items()}}
-            self._built[key] = Simulation(self.case_name, ov).thermal_dryer()
+            sim = (Simulation(self.case_name, ov) if self.case_text is None
+                   else Simulation.from_text(self.case_text, self.case_name, ov))
+            self._built[key] = sim.thermal_dryer()
         return self._built[key]

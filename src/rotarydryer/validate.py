@@ -677,14 +677,15 @@ def _comparable(case) -> dict:
     return d
 
 
-def shipped_twin(case, sets: dict | None = None) -> str | None:
-    """The shipped case a loaded ``case`` is a copy of (`rotarydryer new --from NAME`, unedited but for its title):
-    the same dryer, data and calibrations, whose known misses and test settings are the copy's too; else None."""
+def shipped_twin(case) -> str | None:
+    """The shipped case a loaded ``case`` (loaded without overrides) is a copy of (`rotarydryer new --from NAME`,
+    unedited but for its title): the same dryer, data and calibrations, whose known misses and test settings are the
+    copy's too; else None."""
     mine = _comparable(case)
     for name in list_cases():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            other = load_case(name, sets or {})
+            other = load_case(name)
         if _comparable(other) == mine:
             return name
     return None
@@ -823,7 +824,14 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
     notes = {}
     for name in dict.fromkeys(names):
         is_shipped = name in shipped
-        twin = None if is_shipped else shipped_twin(loaded[name], sets)
+        twin = None
+        if not is_shipped:          # the file as written (a --set applies to the copy and the shipped case alike)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                try:
+                    twin = shipped_twin(load_case(name) if sets else loaded[name])
+                except ValueError:      # a file that is valid only with the --set: no copy of a shipped case
+                    twin = None
         found = _derived_items(ctx, name, loaded[name], is_shipped, twin)
         if is_shipped:
             found += _published_items(ctx, name)

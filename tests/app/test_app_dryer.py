@@ -215,3 +215,16 @@ def test_uploaded_case_with_size_classes_has_the_particle_sizes_view():
     assert len(rows) == 5 and sum(r["feed_fraction"] for r in rows) == pytest.approx(1.0)
     assert v["summary"]["product_d50_m"] > 0 and v["size_plot"][:8] == b"\x89PNG\r\n\x1a\n"
     assert "size_classes" not in logic_dryer.dryer_view("song2003_ottawa", images=False)
+
+
+def test_the_measured_tab_compares_the_product_temperature_at_the_sensor():
+    """The app's model-against-measured table put the drum-outlet temperature (61.0 degC) beside the plant's sensor
+    reading (46 degC), where validate and the report compare the model at the sensor (45.7 degC; found by a review)."""
+    from rotarydryer.app.logic_dryer import dryer_view, measured_table
+
+    v = dryer_view("ajayi2011_mmg", {"operating.test": 4}, images=False)
+    t = measured_table(v["summary"], v["measured"])
+    i = t["quantity"].index("product temperature at the sensor")
+    model = float(t["model"][i].split()[0])
+    assert abs(model - v["summary"]["product_temperature_at_sensor_degC"]) < 0.1
+    assert abs(model - 46.0) < 2.0

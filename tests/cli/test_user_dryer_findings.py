@@ -144,7 +144,7 @@ def test_an_rtd_table_reads_back(tmp_path):
     written = json.loads(res.output)
     res = run(["rtd-moments", tmp_path / "o" / "rtd.csv", "--json"])
     assert res.exit_code == 0, res.output
-    moments = json.loads(res.output)
+    moments = json.loads(res.stdout)
     assert moments["tracer_mean_s"] == pytest.approx(written["tracer_mean_s"], rel=1e-3)
     assert moments["mean_residence_time_s"] == pytest.approx(written["mean_residence_time_s"], rel=1e-3)
 

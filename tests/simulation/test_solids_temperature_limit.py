@@ -77,3 +77,10 @@ def test_the_cli_prints_it_once_and_succeeds():
     assert res.exit_code == 0, res.output
     lines = [ln for ln in res.output.splitlines() if "material.max_temperature" in ln]
     assert len(lines) == 1 and lines[0].startswith("warning: the solids reach"), res.output
+
+
+def test_a_limit_of_the_case_does_not_cite_the_librarys_source():
+    """material.max_temperature overridden in a case: the warning cited sucrose's melting point beside the case's
+    30 degC (found by a review)."""
+    _, msgs = _hot_warnings("lee2008_invicta", {"material.max_temperature": 30.0})
+    assert len(msgs) == 1 and "(the case's value)" in msgs[0] and "sucrose" not in msgs[0]

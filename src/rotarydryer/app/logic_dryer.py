@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .._display import to_display
+from .._display import show_output, to_display
 from .logic import _load, png
 
 __all__ = ["NoThermalModel", "operating_inputs", "study_inputs", "plant_tests", "dryer_view", "results_of",
@@ -192,6 +192,21 @@ def _measured(c) -> dict | None:
 
     m = pi_test_conditions(c.operating.test)
     return {"test": int(c.operating.test), **{k: v for k, v in m.items() if isinstance(v, float)}}
+
+
+def measured_table(summary: dict, measured: dict) -> dict:
+    """The model against the plant's measured means (`_measured`) as table columns: product moisture, product
+    temperature (the model's at the plant's sensor where the case has a discharge-cooling NTU, as `validate` and the
+    report compare it) and gas outlet temperature, shown in their display units."""
+    sensor = summary.get("product_temperature_at_sensor_degC") is not None
+    t_name = "product_temperature_at_sensor_degC" if sensor else "product_temperature_degC"
+    names = ("product_moisture_kg_kg", t_name, "gas_outlet_temperature_degC")
+    plant = (measured.get("moisture_out", float("nan")), measured.get("product_c", float("nan")),
+             measured.get("gas_out_c", float("nan")))
+    return {"quantity": ["product moisture (wet)", "product temperature" + (" at the sensor" if sensor else ""),
+                         "gas outlet temperature"],
+            "model": [show_output(n, summary[n]) for n in names],
+            f"measured (test {measured['test']})": [show_output(n, v) for n, v in zip(names, plant)]}
 
 
 def _profiles_figure(th, measured, sensor_c=None):

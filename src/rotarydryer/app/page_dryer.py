@@ -195,13 +195,7 @@ def render():
                    + ". What-if savings (recycle, preheating, insulation): rotarydryer audit.")
     if r["measured"]:
         with tabs[2]:
-            mm, s = r["measured"], r["summary"]
-            names = ("product_moisture_kg_kg", "product_temperature_degC", "gas_outlet_temperature_degC")
-            plant = (mm.get("moisture_out", float("nan")), mm.get("product_c", float("nan")),
-                     mm.get("gas_out_c", float("nan")))
-            st.table({"quantity": ["product moisture (wet)", "product temperature", "gas outlet temperature"],
-                      "model": [show_output(n, s[n]) for n in names],
-                      f"measured (test {mm['test']})": [show_output(n, v) for n, v in zip(names, plant)]})
+            st.table(logic_dryer.measured_table(r["summary"], r["measured"]))
             st.caption("Measured: Ajayi (2011) Tables 3.5-3.11 (PI means of the test); the model runs at the "
                        "operating variables in the sidebar.")
     if sizes:

@@ -119,10 +119,15 @@ def rtd_moments_cmd(
         tracer_mean_s=m.mean_s,
         tracer_std_s=m.std_s,
         pulse_kind=str(d.metadata.get("pulse_kind", "dirac")),
-        pulse_duration_s=float(d.metadata.get("pulse_duration_s", 0.0)),
+        pulse_duration_s=(0.0 if str(d.metadata.get("pulse_kind", "dirac")) == "dirac"
+                          else float(d.metadata.get("pulse_duration_s", 0.0))),
         mean_residence_time_s=tau,
         rtd_std_s=sd,
     )
+    if pulse.mean_s > 0 and as_json:    # the key's meaning changed (2026-12-06): said to the scripts that read it
+        typer.echo(f"warning: mean_residence_time_s and rtd_std_s are the RTD's, the {out['pulse_kind']} pulse's "
+                   f"moments taken off ({pulse.mean_s:g} s off the mean); the curve's own mean from the injection "
+                   "start, which mean_residence_time_s was before, is tracer_mean_s (and mean_s)", err=True)
     if as_json:
         typer.echo(json_text(out))
         return

@@ -197,7 +197,12 @@ def load_material(spec) -> Material:
     if isinstance(spec, dict):
         name = spec.get("name")
         if isinstance(name, str) and name in names:
-            return _library_material(name) if set(spec) == {"name"} else _build(_merge(_library_table(name), spec))
+            if set(spec) == {"name"}:
+                return _library_material(name)
+            merged = _merge(_library_table(name), spec)
+            if "max_temperature" in spec and "max_temperature_source" not in spec:
+                merged["max_temperature_source"] = "the case's value"      # not the library's source of its own
+            return _build(merged)
         return _build(spec)
     if isinstance(spec, str) and spec in names:
         return _library_material(spec)

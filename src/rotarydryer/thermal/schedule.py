@@ -274,6 +274,9 @@ class InputSchedule:
         column per scheduled input (a step: two rows at its time), for ``fmpy.simulate_fmu(input=)``. ``base``: the
         case's value of each scheduled input (an FMU's start values: `rotarydryer.fmu.start_values`)."""
         missing = [k for k in self.points if k not in base]
+        if missing == ["burner_fuel_rate"]:
+            raise ValueError(f"{self.source}: burner_fuel_rate is not an FMU input (the burner's fuel sets the gas "
+                             "inlet temperature): schedule gas_inlet_temperature instead")
         if missing:
             raise ValueError(f"{self.source}: signals() needs the case's value of {', '.join(missing)} (scheduled) in "
                              "base, e.g. the FMU's start values: rotarydryer.fmu.start_values('dryer.fmu')")
