@@ -27,6 +27,26 @@ def fmu_path(tmp_path_factory):
     return path
 
 
+def _dynamics_and_fmu(fmu_path, schedule, t_end, tmp_path):
+    """(``rotarydryer dynamics --schedule``'s series, the FMU's fmpy result driven by the same table) over ``t_end`` s,
+    both reported every 60 s."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+    from rotarydryer.thermal.schedule import load_schedule
+
+    res = CliRunner().invoke(app, ["dynamics", CASE, "--set", "operating.test=4", "--schedule", str(schedule),
+                                   "--t-end", f"{t_end:g}", "--out", str(tmp_path / "run"), "--json", "--quiet"])
+    assert res.exit_code == 0, res.output
+    series = json.loads((tmp_path / "run" / "dynamics.json").read_text())["series"]
+    inp = load_schedule(schedule).signals(start_values(fmu_path), t_end)
+    out = fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=t_end, step_size=60.0, output_interval=60.0,
+                            input=inp, output=list(OUTPUTS))
+    return series, out
+
+
 def test_fmu_matches_python_model_after_feed_step(fmu_path):
     path = fmu_path
     md = fmpy.read_model_description(str(path))
@@ -58,23 +78,11 @@ def test_fmu_matches_python_model_after_feed_step(fmu_path):
 def test_fmu_driven_by_fmpy_with_a_schedule_matches_rotarydryer_dynamics(fmu_path, tmp_path):
     """Issue 31 acceptance: the burner trip (gas inlet 500 -> 100 degC for 10 min) of
     ``rotarydryer dynamics --schedule trip.csv`` and the FMU driven by fmpy with the same table."""
-    import json
-
-    from typer.testing import CliRunner
-
-    from rotarydryer.cli import app
-    from rotarydryer.thermal.schedule import OUTLET_NAMES, load_schedule
+    from rotarydryer.thermal.schedule import OUTLET_NAMES
 
     trip = tmp_path / "trip.csv"
     trip.write_text("time_s,gas_inlet_temperature\n0,500\n600,500\n600,100\n1200,100\n1200,500\n", encoding="utf-8")
-    res = CliRunner().invoke(app, ["dynamics", CASE, "--set", "operating.test=4", "--schedule", str(trip),
-                                   "--t-end", "3600", "--out", str(tmp_path / "run"), "--json", "--quiet"])
-    assert res.exit_code == 0, res.output
-    series = json.loads((tmp_path / "run" / "dynamics.json").read_text())["series"]
-    sched = load_schedule(trip)
-    inp = sched.signals(start_values(fmu_path), 3600.0)
-    out = fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=3600.0, step_size=60.0, output_interval=60.0,
-                            input=inp, output=list(OUTPUTS))
+    series, out = _dynamics_and_fmu(fmu_path, trip, 3600.0, tmp_path)
     np.testing.assert_array_equal(out["time"], series["time_s"])
     for k in OUTPUTS:
         e = np.array(series[OUTLET_NAMES[k]])      # the FMU's output k under its name on every other surface
@@ -179,22 +187,11 @@ def test_the_fmu_runs_the_case_it_was_exported_with(tmp_path):
 def test_a_scheduled_input_the_fmu_has_moves_it_as_dynamics_does(fmu_path, tmp_path):
     """The FMU had five inputs and ignored a schedule's fouling, humidity or feed temperature without a word (the
     series parted from `dynamics` at 2 400 s); every schedulable input but the burner's fuel is one now."""
-    import json
-
-    from typer.testing import CliRunner
-
-    from rotarydryer.cli import app
-    from rotarydryer.thermal.schedule import OUTLET_NAMES, load_schedule
+    from rotarydryer.thermal.schedule import OUTLET_NAMES
 
     sched = tmp_path / "s.csv"
     sched.write_text("time_s,fouling,feed_temperature\n0,0,28\n600,0,28\n600,0.2,10\n", encoding="utf-8")
-    res = CliRunner().invoke(app, ["dynamics", CASE, "--set", "operating.test=4", "--schedule", str(sched),
-                                   "--t-end", "1800", "--out", str(tmp_path / "run"), "--json", "--quiet"])
-    assert res.exit_code == 0, res.output
-    series = json.loads((tmp_path / "run" / "dynamics.json").read_text())["series"]
-    inp = load_schedule(sched).signals(start_values(fmu_path), 1800.0)
-    out = fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=1800.0, step_size=60.0, output_interval=60.0,
-                            input=inp, output=list(OUTPUTS))
+    series, out = _dynamics_and_fmu(fmu_path, sched, 1800.0, tmp_path)
     for k in OUTPUTS:
         np.testing.assert_allclose(out[k], series[OUTLET_NAMES[k]], rtol=1e-6, atol=0, err_msg=k)
     assert abs(out["holdup"][-1] - out["holdup"][0]) > 1e-3 * out["holdup"][0]      # the fouling moved the plant

@@ -276,9 +276,7 @@ def shell_limit_message(steady: ThermalSteadyState) -> str | None:
 
 def warn_shell_limit(steady: ThermalSteadyState) -> None:
     """A `ShellTemperatureWarning` when `shell_limit_message` has one."""
-    msg = shell_limit_message(steady)
-    if msg:
-        warnings.warn(msg, ShellTemperatureWarning, stacklevel=2)
+    _warn(shell_limit_message(steady), ShellTemperatureWarning)
 
 
 def supersaturation_message(steady: ThermalSteadyState) -> str | None:
@@ -314,23 +312,35 @@ def condensation_message(steady: ThermalSteadyState) -> str | None:
             "gas.inlet_humidity")
 
 
+def _warn(msg: str | None, category: type[Warning]) -> None:
+    """``msg`` as a ``category`` warning at the caller of the ``warn_*`` function, when there is one."""
+    if msg:
+        warnings.warn(msg, category, stacklevel=3)
+
+
 def warn_condensation(steady: ThermalSteadyState) -> None:
     """A `CondensationWarning` when `condensation_message` has one."""
-    msg = condensation_message(steady)
-    if msg:
-        warnings.warn(msg, CondensationWarning, stacklevel=2)
+    _warn(condensation_message(steady), CondensationWarning)
 
 
 def warn_supersaturated_exhaust(steady: ThermalSteadyState) -> None:
     """A `SupersaturationWarning` when `supersaturation_message` has one."""
-    msg = supersaturation_message(steady)
-    if msg:
-        warnings.warn(msg, SupersaturationWarning, stacklevel=2)
+    _warn(supersaturation_message(steady), SupersaturationWarning)
 
 
 #: a tank counts in `solids_temperature_message` when it holds at least this many seconds of the feed (an emptied
 #: cell's temperature is the gas's, `ThermalDryer._rhs`'s virtual heat capacity)
 HOT_SOLIDS_MIN_HOLDUP_S = 1e-3
+
+
+def _hottest_held(steady: ThermalSteadyState, where) -> int | None:
+    """The index of the hottest tank among those selected by ``where`` (a mask over the tanks) that hold solids (at
+    least `HOT_SOLIDS_MIN_HOLDUP_S` of the feed), or None."""
+    held = where & (np.asarray(steady.holdup, dtype=float) >= HOT_SOLIDS_MIN_HOLDUP_S * steady.dryer.feed_rate)
+    if not held.any():
+        return None
+    T = np.asarray(steady.solids_temperature_degC, dtype=float)
+    return int(np.flatnonzero(held)[np.argmax(T[held])])
 
 
 def solids_temperature_message(steady: ThermalSteadyState) -> str | None:
@@ -342,10 +352,9 @@ def solids_temperature_message(steady: ThermalSteadyState) -> str | None:
     if limit is None:
         return None
     T = np.asarray(steady.solids_temperature_degC, dtype=float)
-    held = np.asarray(steady.holdup, dtype=float) >= HOT_SOLIDS_MIN_HOLDUP_S * dr.feed_rate
-    if not held.any():
+    i = _hottest_held(steady, np.ones(T.shape, dtype=bool))
+    if i is None:
         return None
-    i = int(np.flatnonzero(held)[np.argmax(T[held])])
     hottest = float(T[i])
     if not hottest > limit:
         return None
@@ -358,9 +367,7 @@ def solids_temperature_message(steady: ThermalSteadyState) -> str | None:
 
 def warn_solids_temperature(steady: ThermalSteadyState) -> None:
     """A `SolidsTemperatureWarning` when `solids_temperature_message` has one."""
-    msg = solids_temperature_message(steady)
-    if msg:
-        warnings.warn(msg, SolidsTemperatureWarning, stacklevel=2)
+    _warn(solids_temperature_message(steady), SolidsTemperatureWarning)
 
 
 #: dry-basis moisture (kg/kg) above which solids count as wet in `wet_solids_message`: the transfer's dry guard
@@ -380,16 +387,14 @@ def wet_solids_message(steady: ThermalSteadyState) -> str | None:
     s = dr.settings
     boil = float(water.saturation_temperature(float(s.pressure)))
     T = np.asarray(steady.solids_temperature_degC, dtype=float)
-    m = np.asarray(steady.holdup, dtype=float)
     x = np.asarray(steady.moisture_wet, dtype=float)
     X = x / np.maximum(1.0 - x, 1e-12)
     # free water: above the law's critical moisture, where it has one (below it, a falling rate's water held in the
     # solids may be hotter than the boiling point; a thin-layer law has none)
     wet = max(WET_SOLIDS_MOISTURE, float(getattr(s.kinetics, "critical_moisture", None) or 0.0))
-    bad = (m >= HOT_SOLIDS_MIN_HOLDUP_S * dr.feed_rate) & (X > wet) & (T > boil + BOILING_MARGIN_K)
-    if not bad.any():
+    i = _hottest_held(steady, (X > wet) & (T > boil + BOILING_MARGIN_K))
+    if i is None:
         return None
-    i = int(np.flatnonzero(bad)[np.argmax(T[bad])])
     pm, pt = float(steady.product_moisture), float(steady.product_temperature_degC)
     law = getattr(s.kinetics, "method", "")
     return (f"wet solids above the boiling point: {100 * float(x[i]):.3g} % moisture (wet basis) at {float(T[i]):.4g} degC "
@@ -402,6 +407,4 @@ def wet_solids_message(steady: ThermalSteadyState) -> str | None:
 
 def warn_wet_solids(steady: ThermalSteadyState) -> None:
     """A `WetSolidsWarning` when `wet_solids_message` has one."""
-    msg = wet_solids_message(steady)
-    if msg:
-        warnings.warn(msg, WetSolidsWarning, stacklevel=2)
+    _warn(wet_solids_message(steady), WetSolidsWarning)
