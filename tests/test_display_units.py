@@ -116,6 +116,27 @@ def test_cli_units_option_changes_the_text_not_the_json():
     assert 0.05 < data["product_moisture_kg_kg"] < 0.3 and "fuel_rate_kg_s" in data     # SI, suffixed names
 
 
+def test_rtd_and_balance_text_follow_the_choice():
+    """`rtd` printed its times in min and `balance` its flows in kg/s and temperatures in degC whatever --units said
+    (the JSON of both stays SI)."""
+    r = CliRunner().invoke(app, ["--units", "time=s", "rtd", "lee2008_invicta"])
+    assert r.exit_code == 0, r.output
+    mean = next(x for x in r.output.splitlines() if "mean residence time" in x)
+    assert " s (the RTD's mean" in mean and "min" not in mean
+    j = json.loads(CliRunner().invoke(app, ["--units", "time=s", "rtd", "lee2008_invicta", "--json"]).stdout)
+    assert f"{j['mean_residence_time_s']:.4g} s" in mean.replace(",", "")
+    r = CliRunner().invoke(app, ["--units", "mass_flow=t/h,temperature=degF,humidity=g/kg", "balance",
+                                 "--ajayi-test", "4"])
+    assert r.exit_code == 0, r.output
+    j = json.loads(CliRunner().invoke(app, ["balance", "--ajayi-test", "4", "--json"]).stdout)
+    flow = next(x for x in r.output.splitlines() if x.startswith("gas flow"))
+    assert flow.split()[-3:] == [f"{j['gas_flow_kg_s'] * 3.6:.4g}", "t/h", "(wet)"]
+    assert next(x for x in r.output.splitlines() if x.startswith("gas outlet")).endswith(
+        f"{j['gas_outlet_temperature_degC'] * 1.8 + 32:.1f} degF")
+    hum = next(x for x in r.output.splitlines() if x.startswith("exhaust humidity"))
+    assert "g/kg" in hum and "degF" in hum and "degC" not in r.output and "kg/s" not in r.output
+
+
 def test_cli_refuses_a_bad_choice_with_exit_2(monkeypatch):
     r = CliRunner().invoke(app, ["--units", "power=hp", "simulate", "lee2008_invicta", "--json"])
     assert r.exit_code == 2

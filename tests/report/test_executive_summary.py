@@ -29,25 +29,42 @@ def test_hotter_gas_costs_more_per_kg_of_water():
     assert hi["heat_input_W"] > lo["heat_input_W"]
 
 
-def test_report_opens_with_an_executive_summary():
+@pytest.fixture(scope="module")
+def song_report():
     from rotarydryer.report.html import render_report
     from rotarydryer.simulation import run_case
 
-    text = render_report(run_case("song2003_ottawa"))
+    return render_report(run_case("song2003_ottawa")), run_case("song2003_ottawa")
+
+
+def test_report_opens_with_an_executive_summary(song_report):
+    text = song_report[0]
     i = text.index('id="executive-summary"')
     assert i < text.index('id="summary"') and i < text.index('id="energy"')
     assert "kJ" in text[i:i + 3000] and "Product moisture" in text[i:i + 3000]
 
 
-def test_figures_are_numbered_with_captions_in_reading_order():
+def test_figures_are_numbered_with_captions_in_reading_order(song_report):
     import re
 
-    from rotarydryer.report.html import render_report
-    from rotarydryer.simulation import run_case
-
-    text = render_report(run_case("song2003_ottawa"))
+    text = song_report[0]
     numbers = [int(n) for n in re.findall(r"<figcaption><b>Figure (\d+)\.</b>", text)]
     assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) >= 4
     assert "@@FIGURE" not in text
     # every picture is a numbered figure: the PNGs and the inline SVG drawing of the dryer
     assert text.count("<figure") == text.count("<img ") + text.count("<svg ") == len(numbers)
+
+
+def test_holdup_per_section_keeps_small_holdups(song_report):
+    """The per-section holdup table rounded to whole kg: Song's 0.58 kg airborne showed as 1 beside a 13.6 kg total."""
+    import re
+
+    from rotarydryer._display import show
+
+    text, results = song_report
+    table = text[text.index("Holdup per section (kg)"):]
+    cells = re.findall(r"<td[^>]*>([^<]*)</td>", table[:table.index("</table>")])
+    sec = results.sections
+    assert cells[4:8] == [show(float(v[0]), "mass", with_unit=False) for v in (
+        sec.active_holdup.values, sec.passive_holdup.values, sec.bed_holdup.values, sec.total_holdup.values)]
+    assert 0.3 < float(cells[4]) < 1.0      # the airborne holdup, not rounded to 1

@@ -125,17 +125,21 @@ def balance(
     if as_json:
         typer.echo(json_text(out, indent=2))
         return
+    from .._display import show, show_delta
+
     solved = "gas flow" if gas_flow is None else "gas outlet temperature"
+    t_out = out["gas_outlet_temperature_degC"]
+    # in the display units (--units; the options and the JSON are SI)
     typer.echo(f"solved for: {solved}")
-    typer.echo(f"gas flow                 {out['gas_flow_kg_s']:10.3f} kg/s (wet)")
-    typer.echo(f"gas outlet temperature   {out['gas_outlet_temperature_degC']:10.1f} degC")
-    typer.echo(f"evaporation              {evap:10.3f} kg/s")
-    typer.echo(f"exhaust humidity         {y_out:10.4f} kg/kg dry gas (dew point {dew:.1f} degC)")
-    if out["gas_outlet_temperature_degC"] < dew:
-        typer.echo(f"warning: the exhaust ({out['gas_outlet_temperature_degC']:.1f} degC) is "
-                   f"{dew - out['gas_outlet_temperature_degC']:.3g} K below its own dew point ({dew:.1f} degC): the gas "
+    typer.echo(f"gas flow                 {show(out['gas_flow_kg_s'], 'mass_flow')} (wet)")
+    typer.echo(f"gas outlet temperature   {show(t_out, 'temperature')}")
+    typer.echo(f"evaporation              {show(evap, 'mass_flow')}")
+    typer.echo(f"exhaust humidity         {show(y_out, 'humidity')} dry gas (dew point {show(dew, 'temperature')})")
+    if t_out < dew:
+        typer.echo(f"warning: the exhaust ({show(t_out, 'temperature')}) is {show_delta(dew - t_out, 'temperature')} "
+                   f"below its own dew point ({show(dew, 'temperature')}): the gas "
                    f"would be supersaturated, which the balance does not represent (water would condense); its "
                    f"numbers hold, the gas state does not: a hotter --gas-in, more gas or a wetter --moisture-out")
     if out["product_below_dew_point"]:
-        typer.echo(f"warning: the product ({vals['product_temperature']:.1f} degC) is colder than the exhaust dew "
-                   f"point: it would condense water, not dry (measured after discharge? air leaking in?)")
+        typer.echo(f"warning: the product ({show(vals['product_temperature'], 'temperature')}) is colder than the "
+                   f"exhaust dew point: it would condense water, not dry (measured after discharge? air leaking in?)")

@@ -274,19 +274,22 @@ def rtd(
     if as_json:
         typer.echo(json_text(result))
         return
-    typer.echo(f"{case}: {model.name} tracer RTD ({res.response.method}, dt {c.tracer.dt:g} s)")
+    from .._display import show
+
+    def t(key):     # a time of the result in its display unit (--units time=s, min or h)
+        return show(result[key], "time")
+
+    typer.echo(f"{case}: {model.name} tracer RTD ({res.response.method}, dt {show(c.tracer.dt, 'time')})")
     if coupled:
         typer.echo("  (the solids transport's own steady state, at the case's assumed moisture profile; `simulate` "
                    "gives the coupled heat-and-mass state's holdup and residence times)")
-    typer.echo(f"  mean residence time  {result['mean_residence_time_s'] / 60:.2f} min (the RTD's mean; holdup/flow "
-               f"{result['holdup_over_flow_s'] / 60:.2f} min), SD {result['rtd_std_s'] / 60:.2f} min")
-    typer.echo(f"  tracer curve         mean {result['tracer_mean_s'] / 60:.2f} min (analytic), "
-               f"{result['simulated_mean_s'] / 60:.2f} min (simulated), SD {result['tracer_std_s'] / 60:.2f} min, "
-               f"from injection start")
+    typer.echo(f"  mean residence time  {t('mean_residence_time_s')} (the RTD's mean; holdup/flow "
+               f"{t('holdup_over_flow_s')}), SD {t('rtd_std_s')}")
+    typer.echo(f"  tracer curve         mean {t('tracer_mean_s')} (analytic), {t('simulated_mean_s')} (simulated), "
+               f"SD {t('tracer_std_s')}, from injection start")
     typer.echo(f"  recovery             {result['recovery']:.6f} (analytic), {result['simulated_recovery']:.6f} "
-               f"(simulated to {c.tracer.t_end / 60:g} min)")
+               f"(simulated to {show(c.tracer.t_end, 'time')})")
     if meas is not None:
-        typer.echo(f"  measured             mean {result['measured_mean_s'] / 60:.2f} min, "
-                   f"SD {result['measured_std_s'] / 60:.2f} min")
+        typer.echo(f"  measured             mean {t('measured_mean_s')}, SD {t('measured_std_s')}")
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")

@@ -277,11 +277,11 @@ def _transport_sections(results) -> str:
             dominant = max(counts, key=counts.get)
             rows.append((name, int(sel.sum()), counts["under"], counts["design"], counts["over"],
                          f"{float(np.min(c.dryer_loading.values[sel])):.3f} - {float(np.max(c.dryer_loading.values[sel])):.3f}",
-                         f"{float(np.sum(c.kiln_bed.values[sel])):,.0f}",
+                         show(float(np.sum(c.kiln_bed.values[sel])), "mass", with_unit=False),
                          _Raw(f'<span class="state-{dominant}">{dominant}-loaded</span>')))
         sec = results.sections
-        hold_rows = [(str(n), k, f"{float(L):g}", int(nc), f"{float(a):,.0f}", f"{float(p):,.0f}", f"{float(b):,.0f}",
-                      f"{float(t):,.0f}")
+        # engineering rounding in the display unit (whole kg showed Song's 0.58 kg airborne as 1)
+        hold_rows = [(str(n), k, f"{float(L):g}", int(nc), *(show(float(v), "mass", with_unit=False) for v in (a, p, b, t)))
                      for n, k, L, nc, a, p, b, t in zip(sec.section.values, sec.kind.values, sec.length.values,
                                                         sec.n_cells.values, sec.active_holdup.values,
                                                         sec.passive_holdup.values, sec.bed_holdup.values,
@@ -293,8 +293,8 @@ def _transport_sections(results) -> str:
                     f"{float(np.min(dl)):.2f} to {float(np.max(dl)):.2f} (1 = design load)")
         parts.append(f"""<section id="loading"><h2>Loading state per section</h2>
 {_img(plot_loading_state(results), 'loading state', cap_load)}
-{_table(('section', 'cells', 'under', 'design', 'over', 'dryer loading range (-)', 'kilning bed (kg)', 'state'), rows)}
-<h3>Holdup per section (kg)</h3>
+{_table(('section', 'cells', 'under', 'design', 'over', 'dryer loading range (-)', f'kilning bed ({unit_of("mass")})', 'state'), rows)}
+<h3>Holdup per section ({unit_of("mass")})</h3>
 {_table(('section', 'kind', 'length (m)', 'cells', 'airborne', 'passive (flights + kilning bed)', 'unflighted bed', 'total'), hold_rows, left_cols=2)}
 <p class="note">Dryer loading = passive holdup / design load (Lee (2008) Section 4.4.2): under &lt; 1,
 design = 1, over &gt; 1 (the surplus forms the kilning bed).</p>
