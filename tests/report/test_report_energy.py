@@ -53,6 +53,12 @@ def test_report_shows_the_saved_audits_savings(tmp_path):
                                      str(tmp_path / "a" / "audit.json"), "--out", str(tmp_path / "y.html")])
     assert other.exit_code == 2 and "is of another dryer or operating point" in other.output
     assert not (tmp_path / "y.html").exists()
+    # a changed feed leaves a burner's heat release as it was: the other duties tell (a 2.5 kg/s report showed the
+    # savings of a 4 kg/s audit)
+    feed = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--set", "operating.feed_rate=25", "--audit",
+                                    str(tmp_path / "a" / "audit.json"), "--out", str(tmp_path / "y.html")])
+    assert feed.exit_code == 2 and "is of another dryer or operating point" in feed.output, feed.output
+    assert not (tmp_path / "y.html").exists()
     pdf = CliRunner().invoke(app, ["report", "ajayi2011_mmg", "--out", str(tmp_path / "r.pdf")])
     assert pdf.exit_code == 2 and "unknown file type '.pdf'; use one of .html, .htm" in pdf.output
 

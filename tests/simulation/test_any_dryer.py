@@ -70,10 +70,13 @@ def test_shipped_cases_report_transport_and_thermal(shipped, name):
     assert out["solids_balance_error"] < 1e-9
     assert out["mass_balance_error"] < 1e-9       # wet solids: feed = product + evaporation
     assert out["recovery"] == pytest.approx(1.0, abs=1e-9)
-    # one total holdup: the phases add up to it, and H/F is its residence time
+    # one total holdup: the phases add up to it; H/F is the solids' residence time, dry holdup / dry product (the
+    # wet holdup over the wet product counted the water that leaves by evaporation: 0.2-1.5 % longer here), the
+    # tracer's impulse mean
     parts = out["active_holdup_kg"] + out["passive_holdup_kg"] + out["bed_holdup_kg"]
     assert parts == pytest.approx(out["total_holdup_kg"], rel=1e-12)
-    assert out["mean_residence_time_s"] == pytest.approx(out["total_holdup_kg"] / out["outlet_flow_kg_s"], rel=1e-12)
+    assert out["mean_residence_time_s"] == pytest.approx(out["rtd_mean_residence_time_s"], rel=1e-9)
+    assert out["mean_residence_time_s"] < out["total_holdup_kg"] / out["outlet_flow_kg_s"]
     # the product is drier than the feed, and the gas leaves colder than it came
     assert out["evaporation_kg_s"] > 0
 

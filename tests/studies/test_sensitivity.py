@@ -128,11 +128,18 @@ def test_cli_writes_its_files_and_the_report_section(tmp_path):
     assert (tmp_path / "study" / "sensitivity_indices.csv").read_text().startswith(
         "output,parameter,S1,S1_conf,ST,ST_conf\n")
     assert "mean_residence_time_s" in r.output and "note: product_moisture_kg_kg" in r.output
-    r = CliRunner().invoke(app, ["report", "invicta", "--sensitivity", str(tmp_path / "study" / "sensitivity.json"),
-                                 "-o", str(tmp_path / "r.html")])
+    study = str(tmp_path / "study" / "sensitivity.json")
+    r = CliRunner().invoke(app, ["report", "song2003_ottawa", "--set", "thermal.enabled=false", "--set",
+                                 "operating.rpm=4", "--sensitivity", study, "-o", str(tmp_path / "r.html")])
     assert r.exit_code == 0, r.output
     text = (tmp_path / "r.html").read_text()
     assert 'id="sensitivity"' in text and "operating.feed_rate" in text
+    # a study of another case, or of another base point, is refused (one was shown as the report's dryer's)
+    for args, words in ((["lee2008_invicta"], "is a study of case 'song2003_ottawa', this report is of 'lee2008_invicta'"),
+                        (["song2003_ottawa"], "thermal.enabled = false in the study, the case value in this report")):
+        r = CliRunner().invoke(app, ["report", *args, "--sensitivity", study, "-o", str(tmp_path / "x.html")])
+        assert r.exit_code == 2 and words in r.output, r.output
+        assert not (tmp_path / "x.html").exists()
 
 
 def test_cli_without_salib_exit_3(monkeypatch):

@@ -235,17 +235,20 @@ def _profiles_figure(th, measured, sensor_c=None):
 
 
 def _profiles_csv(th) -> str:
+    """The profiles download: one row per solids tank (the whole drum), then one per gas stage with the stage's
+    evaporation and shell loss (per gas stage: zipped with the tanks, the evaporation cut the solids table at the
+    number of stages, half of MMG's drum, and sat on other tanks' rows)."""
     p = th.profiles()
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["position_m", "phase", "section", "solids_temperature_degC", "moisture_kg_kg_wet", "holdup_kg",
-                "evaporation_kg_s"])
+    w.writerow(["position_m", "phase", "section", "solids_temperature_degC", "moisture_kg_kg_wet", "holdup_kg"])
     for row in zip(p["position"], p["phase"], p["section"], p["solids_temperature_degC"], p["moisture_wet"],
-                   p["holdup_kg"], p["evaporation_kg_s"]):
+                   p["holdup_kg"], strict=True):
         w.writerow([repr(float(row[0])), row[1], row[2], *(repr(float(v)) for v in row[3:])])
     w.writerow([])
-    w.writerow(["gas_position_m", "gas_temperature_degC", "gas_humidity_kg_kg_dry"])
-    for row in zip(p["gas_position"], p["gas_temperature_degC"], p["gas_humidity"]):
+    w.writerow(["gas_position_m", "gas_temperature_degC", "gas_humidity_kg_kg_dry", "evaporation_kg_s", "shell_loss_W"])
+    for row in zip(p["gas_position"], p["gas_temperature_degC"], p["gas_humidity"], p["evaporation_kg_s"],
+                   p["shell_loss_W"], strict=True):
         w.writerow([repr(float(v)) for v in row])
     return buf.getvalue()
 

@@ -46,6 +46,7 @@ def report(
     from ..report.html import (
         case_validation,
         check_saved_audit,
+        check_saved_sensitivity,
         load_audit,
         load_sensitivity,
         render_report,
@@ -67,9 +68,12 @@ def report(
         saved_audit = load_audit(audit) if audit is not None else None
         with typer.progressbar(length=2, label="report", file=sys.stderr,
                                hidden=as_json or not sys.stderr.isatty()) as bar:
-            results, drums, title = resolve_source(source, parse_sets(set_), repose_angle=repose_angle)
+            sets = parse_sets(set_)
+            results, drums, title = resolve_source(source, sets, repose_angle=repose_angle)
             if saved_audit is not None:
                 check_saved_audit(saved_audit, results, audit)
+            if sens is not None:
+                check_saved_sensitivity(sens, source, sets, sensitivity)
             bar.update(1)
             if save is not None and results is None:
                 raise ValueError(f"--save needs a case or results source, got the drum {source!r}")

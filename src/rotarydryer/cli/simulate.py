@@ -125,7 +125,10 @@ def simulate(
         ("  passive (flights + floor)", show_output("passive_holdup_kg", result["passive_holdup_kg"])),
         ("  unflighted bed", show_output("bed_holdup_kg", result["bed_holdup_kg"])),
         ("outlet flow", show_output("outlet_flow_kg_s", result["outlet_flow_kg_s"])),
-        ("mean residence time H/F", show_output("mean_residence_time_s", result["mean_residence_time_s"])),
+        ("mean residence time H/F", show_output("mean_residence_time_s", result["mean_residence_time_s"])
+         # dry holdup over the dry solids leaving: with dust, both outlets; the product's own is its RTD's mean
+         + (f" (product and dust; the product's RTD mean {show(result['rtd_mean_residence_time_s'], 'time')})"
+            if (result.get("dust_rate_kg_s") or 0.0) > 0 else "")),
         ("tracer mean / SD", f"{show(result['tracer_mean_s'], 'time', with_unit=False)} / "
                              f"{show(result['tracer_std_s'], 'time')}"),
     ]
@@ -148,8 +151,8 @@ def simulate(
                                      f"({thermal.dryer.n_classes} size classes)"),
                      # the share of the feed's solids, as the entrainment warning gives it (the dust rate with its
                      # water over the wet feed was a second, smaller share of one quantity)
-                     ("dust to the exhaust", f"{show_output('dust_rate_kg_s', result['dust_rate_kg_s'])} "
-                                             f"({dust_share(thermal):.1%} of the feed's solids)")]
+                     ("dust to the exhaust", f"{show_output('dust_rate_kg_s', result['dust_rate_kg_s'])} wet "
+                                             f"({dust_share(thermal):.1%} of the feed's dry solids)")]
         rows += _audit_rows(result)
         if "fuel_rate_kg_s" in result:      # cases with a burner
             rows.append(("fuel rate", "n/a (the burner cannot reach the set point: see the warning below)"

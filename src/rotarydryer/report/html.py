@@ -538,20 +538,56 @@ def load_audit(path) -> dict:
 
 
 def check_saved_audit(audit: dict, results, path) -> None:
-    """Refuse (``ValueError``) a saved energy audit that is not of the report's run: its heat release (the sum of
-    its duties) must be the run's to 1e-6 (another case's audit.json was shown as this dryer's savings)."""
+    """Refuse (``ValueError``) a saved energy audit that is not of the report's run: each of its heat duties (the
+    release, evaporation, solids and water heating, shell, exhaust, leaks, ...) must be the run's to 1e-6 of the
+    release (another case's audit.json was shown as this dryer's savings; with a burner, the release alone does not
+    see a changed feed)."""
+    from ..thermal.audit import HEAT_DUTY_LABELS
+
     sc = results.scalars if results is not None else {}
     mine = sc.get("heat_release_W")
-    theirs = (audit.get("heat_duties") or {}).get("heat_release_W")
+    duties = audit.get("heat_duties") or {}
+    theirs = duties.get("heat_release_W")
     where = f"its case {audit.get('case', '?')}" + (f" with {audit['overrides']}" if audit.get("overrides") else "")
     if not _is_number(mine):
         raise ValueError(f"--audit {str(path)!r}: this report's source has no heat and mass transfer to compare the "
                          f"audit ({where}) with")
-    if not _is_number(theirs) or abs(float(theirs) - float(mine)) > 1e-6 * max(abs(float(mine)), 1.0):
-        raise ValueError(f"--audit {str(path)!r} is of another dryer or operating point ({where}: heat release "
-                         f"{fmt(float(theirs) / 1e3) if _is_number(theirs) else 'n/a'} kW; this report's "
-                         f"{fmt(float(mine) / 1e3)} kW): give the audit.json of `rotarydryer audit` on this case with "
+    scale = 1e-6 * max(abs(float(mine)), 1.0)
+    differ = [k for k, v in duties.items() if _is_number(v) and _is_number(sc.get(k))
+              and abs(float(v) - float(sc[k])) > scale]
+    if not _is_number(theirs) or abs(float(theirs) - float(mine)) > scale or differ:
+        k = "heat_release_W" if not _is_number(theirs) or abs(float(theirs) - float(mine)) > scale else differ[0]
+        label = HEAT_DUTY_LABELS.get(k, k)
+        raise ValueError(f"--audit {str(path)!r} is of another dryer or operating point ({where}: {label} "
+                         f"{fmt(float(duties[k]) / 1e3) if _is_number(duties.get(k)) else 'n/a'} kW; this report's "
+                         f"{fmt(float(sc[k]) / 1e3)} kW): give the audit.json of `rotarydryer audit` on this case with "
                          "the same --set")
+
+
+def _same_value(a, b) -> bool:
+    try:
+        return float(a) == float(b)
+    except (TypeError, ValueError):
+        return str(a).strip().lower() == str(b).strip().lower()
+
+
+def check_saved_sensitivity(study: dict, source: str, sets: dict, path) -> None:
+    """Refuse (``ValueError``) a saved sensitivity study of another case or base point than the report's: its case
+    (by file or case name) must be the report's source, and every key it did not vary must have the report's value
+    (its ``base_overrides`` against the report's ``--set``). A study of another dryer was shown without a word."""
+    theirs = str(study.get("case", ""))
+    if Path(theirs).stem != Path(str(source)).stem:
+        raise ValueError(f"--sensitivity {str(path)!r} is a study of case {theirs!r}, this report is of {source!r}: "
+                         "give the sensitivity.json of `rotarydryer sensitivity` on this case")
+    varied = set(study.get("params") or {})
+    base = {k: v for k, v in (study.get("base_overrides") or {}).items() if k not in varied}
+    mine = {k: v for k, v in (sets or {}).items() if k not in varied}
+    differ = sorted(k for k in set(base) | set(mine) if k not in base or k not in mine or not _same_value(base[k], mine[k]))
+    if differ:
+        k = differ[0]
+        raise ValueError(f"--sensitivity {str(path)!r} was run at another point of {theirs!r}: {k} = "
+                         f"{base.get(k, 'the case value')!s} in the study, {mine.get(k, 'the case value')!s} in this "
+                         "report (--set): give the same --set to both, or rerun the study")
 
 
 def _thermal_comparison_html(results) -> tuple[str, str]:
@@ -649,8 +685,11 @@ def _executive_summary(results) -> str:
              f"{thermal}), operating point: "
              f"{html.escape(', '.join(facts) or 'as in the case file')}.</p><ul>"]
     if "mean_residence_time_s" in s:
-        lines.append(f"<li>The solids stay <b>{show(s['mean_residence_time_s'], 'time')}</b> on average; the drum "
-                     f"holds {show(s.get('total_holdup_kg', float('nan')), 'mass')}.</li>")
+        dusty = (s.get("dust_rate_kg_s") or 0.0) > 0 and s.get("rtd_mean_residence_time_s") is not None
+        lines.append(f"<li>The solids stay <b>{show(s['mean_residence_time_s'], 'time')}</b> on average"
+                     + (f" (the product {show(s['rtd_mean_residence_time_s'], 'time')}, the dust the gas carries off "
+                        "less)" if dusty else "")
+                     + f"; the drum holds {show(s.get('total_holdup_kg', float('nan')), 'mass')}.</li>")
     if "measured_mean_s" in s and "tracer_mean_s" in s and s["measured_mean_s"]:
         err = 100 * (s["tracer_mean_s"] / s["measured_mean_s"] - 1)
         lines.append(f"<li>Model against the measured tracer curve: mean {show(s['tracer_mean_s'], 'time')} against "

@@ -966,9 +966,12 @@ class ThermalDryer:
         s = self.settings
         if s.mode == "ajayi2011":
             fg = self._wet_gas_flow(Y)[0]
-            tg = np.minimum(np.maximum(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K), 600.0)
+            # inside the ranges ajayi2011_heat_loss accepts, [0, 600) and (0, 600) degC: a solver's trial state at a
+            # clip's bound (600 or 0 exactly) was refused there as if it were the user's input (found by fuzzing)
+            top = np.nextafter(600.0, 0.0)
+            tg = np.minimum(np.maximum(Tg, s.ambient_temperature + SHELL_LINEAR_BAND_K), top)
             q = ajayi2011_heat_loss(tg, fg, self.shell_T, self.gas_len, s.ambient_temperature, s.loss_factor,
-                                    np.minimum(np.maximum(Tg_up, 0.0), 600.0))
+                                    np.minimum(np.maximum(Tg_up, 1e-6), top))
             return _near_ambient(q, Tg, s.ambient_temperature)
         return self.physical_shell_loss(Tg, Y)
 

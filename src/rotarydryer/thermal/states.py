@@ -215,6 +215,16 @@ class ThermalSteadyState:
     def total_holdup(self):
         return float(np.sum(self.holdup))
 
+    @property
+    def mean_residence_time(self) -> float:
+        """Mean residence time of the solids, s: dry holdup over the dry solids leaving (product and dust), Little's
+        law on the solids the tracer follows (Lee (2008) Eq. 2.2 with drying), the mean of the tracer's impulse
+        response. The water held in the drum leaves mostly by evaporation, not with the product: the wet holdup
+        over the wet product counted it as solids (+12 % on a wet counter-current dryer)."""
+        d = self.terms
+        out = float(np.sum(d["product_S"])) + float(np.sum(d["dust_S"]))
+        return float(np.sum(d["S"])) / out if out > 0 else float("inf")
+
     def transport_state(self):
         """This state as a transport steady state ([`CoupledTransportState`][rotarydryer.thermal.states.CoupledTransportState]) on the
         heat-and-mass model's network: the coupled holdups and flows, the design loads and per-cell
@@ -322,8 +332,9 @@ class ThermalSteadyState:
                                                air_humidity=dr.hot_gas_Y, fuel=b.fuel, heat_loss_fraction=loss))
 
     def profiles(self):
-        """Axial profiles: dict of arrays (position m; solids moisture wet and T per tank; gas T, Y per
-        stage), named with their units (the old ``_c``/``_w`` names still read, deprecated)."""
+        """Axial profiles: dict of arrays (position m, phase, section, solids moisture wet, T and holdup per tank; gas
+        position, T, Y, evaporation, shell loss and transfer area per gas stage), named with their units (the old
+        ``_c``/``_w`` names still read, deprecated)."""
         dr = self.dryer
         return _RenamedKeys(dict(
             position=dr.position, phase=np.array(["bed", "passive", "active"])[dr.kind], section=dr.tank_section,
@@ -488,9 +499,9 @@ class ThermalSteadyState:
             total_holdup_kg=self.total_holdup, active_holdup_kg=float(np.sum(hold[kind == 2])),
             passive_holdup_kg=float(np.sum(hold[kind == 1])), bed_holdup_kg=float(np.sum(hold[kind == 0])),
             feed_rate_kg_s=self.dryer.feed_rate, outlet_flow_kg_s=float(self.product_rate),
-            # holdup over every solids outflow (Little's law): the product and, with size classes, the dust the gas
-            # carries off
-            mean_residence_time_s=self.total_holdup / (float(self.product_rate) + float(self.dust_rate)),
+            # dry holdup over every dry solids outflow (Little's law): the product and, with size classes, the dust
+            # the gas carries off
+            mean_residence_time_s=self.mean_residence_time,
             product_moisture_kg_kg=float(self.product_moisture),
             product_temperature_degC=float(self.product_temperature_degC),
             gas_outlet_temperature_degC=self.gas_outlet_temperature_degC,
@@ -581,6 +592,12 @@ class CoupledTransportState(SteadyState):
         th = self.thermal
         F = th.dryer.feed_rate
         return abs(F - float(th.product_rate) - th.evaporation_rate) / F
+
+    @property
+    def mean_residence_time(self) -> float:
+        """The solids' mean residence time, s: dry holdup / dry outflow
+        ([`ThermalSteadyState.mean_residence_time`][rotarydryer.thermal.states.ThermalSteadyState.mean_residence_time])."""
+        return self.thermal.mean_residence_time
 
     def tracer_system(self):
         return self.thermal.tracer_system()
