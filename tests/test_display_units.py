@@ -158,6 +158,13 @@ def test_report_follows_the_choice(monkeypatch):
     assert f"Product moisture <b>{D.fmt(s['product_moisture_kg_kg'])} kg/kg</b>" in text
     assert '<th class="">MW</th>' in text and "shell loss " in text
     assert f"{D.fmt(s['mean_residence_time_s'] / 3600)} h" in text
+    # the operating conditions too (the model's fuel rate was in kg/h beside the summary's chosen unit)
+    monkeypatch.setenv("ROTARYDRYER_UNITS", "fuel_flow=kg/s,temperature=degF,mass_flow=t/h")
+    text = render_report(res)
+    sec = text[text.index('id="operating"'):]
+    sec = sec[:sec.index("</table>")]
+    assert f'fuel rate (model)</td><td class="l">{D.fmt(s["fuel_rate_kg_s"])}</td><td class="l">kg/s</td>' in sec
+    assert "degC" not in sec and "degF" in sec and "t/h" in sec and "kg/h" not in sec
 
 
 def test_a_moisture_change_below_the_percent_resolution_is_none():

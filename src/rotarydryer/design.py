@@ -85,6 +85,7 @@ class Duty:
     ambient_temperature: float = 25.0
     shell_u: float = 6.0                      # W/(m2 K), bare shell to ambient
     max_fuel_rate: Optional[float] = None     # kg/s fuel oil (burner capacity)
+    pressure: float = 101325.0                # Pa, the site's (a case's altitude: `plant_from_case`)
 
     def validate(self):
         from .properties.materials import load_material
@@ -109,6 +110,7 @@ class Duty:
         check_range("shell_u", self.shell_u, 0.0, 100.0, low_inclusive=True, unit="W/(m2 K)")
         if self.max_fuel_rate is not None:
             check_range("max_fuel_rate", self.max_fuel_rate, 0.0, 100.0, unit="kg/s")
+        check_range("pressure", self.pressure, 30e3, 120e3, high_inclusive=True, unit="Pa")
         self._material = load_material(self.material)
         return self
 
@@ -185,14 +187,14 @@ class Design:
 
 
 # ------------------------------------------------------------------------------------------- duty physics
-def _gas_props(T, Y):
+def _gas_props(T, Y, pressure=101325.0):
     from .properties import humid_air as ha
 
-    return float(ha.density(T, Y)), float(ha.viscosity(T, Y))
+    return float(ha.density(T, Y, pressure)), float(ha.viscosity(T, Y))
 
 
-def _wet_bulb(T, Y):
-    """Adiabatic-saturation temperature, degC (h(T, Y) = h(T_s, Y_sat(T_s)))."""
+def _wet_bulb(T, Y, pressure=101325.0):
+    """Adiabatic-saturation temperature, degC (h(T, Y) = h(T_s, Y_sat(T_s)) at ``pressure`` Pa)."""
     from scipy.optimize import brentq
 
     from .properties import humid_air as ha
@@ -202,7 +204,7 @@ def _wet_bulb(T, Y):
 
     def f(ts):
         pv = float(saturation_pressure(ts))
-        ys = min(0.621945 * pv / (101325.0 - pv), 0.3)    # saturated humidity (model range <= 0.3)
+        ys = min(0.621945 * pv / max(pressure - pv, 1e-9), 0.3)    # saturated humidity (model range <= 0.3)
         return float(ha.enthalpy(ts, ys)) - h
     hi = min(T, 71.0)                                       # Y_sat(71 degC) ~ 0.3 kg/kg
     return float(brentq(f, 0.0, hi)) if f(hi) > 0 else hi
@@ -227,7 +229,7 @@ class _DutyModel:
         self.x_mean = float(np.clip(0.5 * (d.moisture_in + d.moisture_out), lo, hi))
         self.repose = float(m.repose_angle(self.x_mean))
         self.rho_b = float(m.bulk_density(self.x_mean))
-        self.T_wb = _wet_bulb(d.gas_inlet_temperature, d.gas_inlet_humidity)
+        self.T_wb = _wet_bulb(d.gas_inlet_temperature, d.gas_inlet_humidity, d.pressure)
         self.T_p = (d.product_temperature if d.product_temperature is not None
                     else max(self.T_wb + 10.0, d.feed_temperature))
         self.lam = float(latent_heat(self.T_wb))
@@ -250,7 +252,7 @@ class _DutyModel:
     def terminal(self, T, Y):
         key = (round(T, 1), round(Y, 4))
         if key not in self._vt:
-            rho, mu = _gas_props(T, Y)
+            rho, mu = _gas_props(T, Y, self.duty.pressure)
             self._vt[key] = (float(self._terminal(self.dp, self.material.particle_density, rho, mu)), rho)
         return self._vt[key]
 
@@ -280,6 +282,27 @@ CONSTRAINT_UNITS = {"gas heat capacity": "-", "drying length": "m", "exhaust dew
                     "L/D max": "-", "L/D min": "-", "diameter max": "m", "residence time correlation": "-",
                     "fill": "-", "flight geometry": "-", "flights over-loaded": "-", "flights under-loaded": "-",
                     "burner capacity": "kg/s"}
+
+
+#: what each constraint's value is, where its name says what it guards instead (the text surfaces' label)
+CONSTRAINT_LABELS = {"exhaust dew point": "exhaust temperature against its dew point + margin"}
+#: the display quantity (`rotarydryer._display`) of each constraint unit
+_UNIT_QUANTITY = {"degC": "temperature", "m": "length", "kg/s": "mass_flow"}
+
+
+def constraint_text(name: str, value: float, limit: float, sense: str) -> tuple[str, str, str]:
+    """(label, value, limit) of a screening constraint for a person: the label of what the value is
+    (`CONSTRAINT_LABELS`: "exhaust dew point" compares the exhaust temperature) and the value and limit in the display
+    units (``--units``; a ratio or a velocity as a number with its unit)."""
+    from ._display import fmt, show
+
+    unit = CONSTRAINT_UNITS.get(name, "-")
+    q = _UNIT_QUANTITY.get(unit)
+    if q is not None:
+        shown = show(value, q), show(limit, q)
+    else:
+        shown = tuple(fmt(x) + ("" if unit == "-" else f" {unit}") for x in (value, limit))
+    return CONSTRAINT_LABELS.get(name, name), shown[0], f"{sense} {shown[1]}"
 
 
 def _constraint(value, limit, sense):
@@ -327,7 +350,7 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
                       dict(volume_m3=A * L, heat_input_per_kg_water_J=math.inf, cost_index=math.inf), cons, math.inf)
     Y_out = d.gas_inlet_humidity + dm.E / G
     cons["drying length"] = _constraint(L, L_req, ">=")
-    dew = float(ha.dew_point(min(Y_out, 0.3)))
+    dew = float(ha.dew_point(min(Y_out, 0.3), d.pressure))
     cons["exhaust dew point"] = _constraint(T_out, dew + limits.dew_point_margin, ">=")
     nc = critical_speed(R)
     cons["critical speed"] = _constraint(rpm / nc, limits.speed_fraction_max, "<=")
@@ -547,9 +570,11 @@ def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter
         worst = max(des.constraints.items(), key=lambda kv: kv[1][3])
         name, (v, lim, sense, g) = worst
         others = [k for k, c in des.constraints.items() if c[3] > 1e-9 and k != name]
+        label, shown, limit = constraint_text(name, v, lim, sense)
         raise InfeasibleDuty(
-            f"infeasible duty: no design meets it within the constraints; blocking constraint '{name}': "
-            f"{v:.4g} {'>' if sense == '<=' else '<'} limit {lim:.4g} in the least-infeasible design "
+            f"infeasible duty: no design meets it within the constraints; blocking constraint '{name}'"
+            + ("" if label == name else f" ({label})")
+            + f": {shown} {'>' if sense == '<=' else '<'} limit {limit[len(sense) + 1:]} in the least-infeasible design "
             f"(D = {des.diameter_m:.2f} m, L = {des.length_m:.1f} m)"
             + (f"; also violated: {', '.join(others)}" if others else "")
             + f". {_advice(name)}", name)
@@ -674,7 +699,8 @@ def plant_from_case(case, overrides=None, moisture_out=None):
                 moisture_in=float(d.feed_moisture), moisture_out=float(moisture_out),
                 gas_inlet_temperature=float(st.gas_inlet_temperature), gas_flow=gas_flow,
                 direction=str(st.gas_direction), feed_temperature=float(st.solids_inlet_temperature),
-                gas_inlet_humidity=float(d.gas_inlet_Y), ambient_temperature=float(st.ambient_temperature))
+                gas_inlet_humidity=float(d.gas_inlet_Y), ambient_temperature=float(st.ambient_temperature),
+                pressure=float(st.pressure))
     return geom, duty, notes
 
 

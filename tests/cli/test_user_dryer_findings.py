@@ -214,3 +214,17 @@ def test_compatibility_mode_on_a_new_case_converges(tmp_path):
     assert r.exit_code == 0, r.output
     out = _json(r.output)
     assert out["thermal_mode"] == "ajayi2011" and 0.0 < out["product_moisture_kg_kg"] < 0.03
+
+
+def test_an_exhaust_below_its_dew_point_is_said_to_be_below_it(tmp_path):
+    """A negative margin read "-0.0467 K above it - CONDENSATION" (audit) and "is -0.511 K below it" (report)."""
+    case = DRYERS.parent / "user_supersaturated.toml"
+    r = run(["audit", case])
+    assert r.exit_code == 0, r.output
+    line = next(x for x in r.output.splitlines() if x.startswith("exhaust:"))
+    assert " K below it - CONDENSATION" in line and " -" not in line.split("kPa:")[1].split("below")[0]
+    assert run(["report", case, "-o", tmp_path / "r.html"]).exit_code == 0
+    text = (tmp_path / "r.html").read_text()
+    part = text[text.index("Exhaust dew point:"):]
+    part = part[:part.index("</p>")]
+    assert " K below it: water condenses" in part and "is -" not in part

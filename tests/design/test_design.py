@@ -175,3 +175,36 @@ def test_check_any_dryer_case(tmp_path):
     (tmp_path / "p.toml").write_text(poly)
     with pytest.raises(ValueError, match="two-section flights"):
         D.plant_from_case(str(tmp_path / "p.toml"))
+
+
+def test_plant_check_screens_at_the_site_pressure():
+    """`design --check` screened a plant at 2 500 m at sea level: the same gas velocity (3.50 m/s) and dew point,
+    while the coupled model's thinner gas carried more dust. The duty now carries the site's pressure."""
+    from rotarydryer.properties import humid_air as ha
+
+    rows = {}
+    for alt in (0.0, 2500.0):
+        geom, duty, _ = D.plant_from_case("ajayi2011_mmg", {"operating.test": 4, "site.altitude": alt})
+        duty.validate()
+        dm = D._DutyModel(duty)
+        rows[alt] = (duty.pressure, D.evaluate(dm, D.Limits().validate(), **geom))
+    (p0, sea), (p1, high) = rows[0.0], rows[2500.0]
+    assert p0 == pytest.approx(101325.0, rel=1e-3) and p1 < 0.8 * p0
+    # the same mass flow of a gas less dense by p1/p0 moves faster by about p0/p1
+    assert high.values["gas_velocity_m_s"] / sea.values["gas_velocity_m_s"] == pytest.approx(p0 / p1, rel=0.05)
+    y = high.values["gas_outlet_humidity_kg_kg"]
+    dew = high.constraints["exhaust dew point"][1] - D.Limits().dew_point_margin
+    assert dew == pytest.approx(float(ha.dew_point(y, p1)), abs=1e-9) and dew < float(ha.dew_point(y))
+
+
+def test_constraint_text_names_what_the_value_is_in_the_display_units():
+    from rotarydryer import _display
+
+    try:
+        _display.set_display_units("temperature=degF,length=mm")
+        assert D.constraint_text("exhaust dew point", 40.0, 60.0, ">=") == (
+            "exhaust temperature against its dew point + margin", "104.0 degF", ">= 140.0 degF")
+        assert D.constraint_text("drying length", 12.0, 20.0, ">=")[1:] == ("12,000 mm", ">= 20,000 mm")
+        assert D.constraint_text("fill", 0.2, 0.15, "<=") == ("fill", "0.2", "<= 0.15")
+    finally:
+        _display.set_display_units(None)

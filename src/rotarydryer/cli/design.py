@@ -114,15 +114,16 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
         if as_json:
             typer.echo(json_text(res))
             return
-        typer.echo(f"{check}: real geometry D {res['real']['diameter_m']:g} m x L {res['real']['length_m']:g} m, "
+        typer.echo(f"{check}: real geometry D {show(res['real']['diameter_m'], 'length')} x L "
+                   f"{show(res['real']['length_m'], 'length')}, "
                    f"{res['real']['n_flights']} flights, {res['real']['rpm']:g} rpm")
         if res["feasible_at_limits"]:
             typer.echo("  feasible at the given limits")
         else:
             typer.echo("  screening rules it violates at the given limits:")
             for k, v in res["violated_at_limits"].items():
-                unit = "" if v["unit"] == "-" else f" {v['unit']}"
-                typer.echo(f"    {k}: {v['value']:.4g}{unit} (limit {v['sense']} {v['limit']:.4g}{unit})")
+                label, value, limit = D.constraint_text(k, v["value"], v["limit"], v["sense"])
+                typer.echo(f"    {label}: {value} (limit {limit})")
         typer.echo(f"  calibrated on the plant (Ua factor {res['ua_factor_implied']:.2f}, limits widened to its "
                    f"own values): feasible = {res['feasible_calibrated']}; binding: "
                    f"{', '.join(res['binding_calibrated']) or '-'}")
@@ -239,10 +240,18 @@ def _verification_failure(ver, target, best=None) -> str:
                    if ver.get("next_round_infeasible") else "")
                 + "); the design does not meet the duty")
     if ver.get("constraints_violated"):
+        broken = ver["constraints_violated"]
+        # the advice of each limit broken (design.verified_violations' phrases), not of the others
+        advice = {"exhaust dew-point margin": "a larger --gas-flow or a hotter --gas-in keeps the exhaust above its "
+                                              "dew point",
+                  "fill": "--fill-max bounds the fill",
+                  "flights over-loaded": "--design-load-tolerance widens the flights' accepted loading (the coupled "
+                                         "model holds more than the screening's residence time gives)",
+                  "flights under-loaded": "--design-load-tolerance widens the flights' accepted loading"}
+        tips = [tip for start, tip in advice.items() if any(b.startswith(start) for b in broken)]
         return ("the design's verification (coupled model) failed: the target moisture is met, but the coupled model "
-                f"breaks the screening's limits ({'; '.join(ver['constraints_violated'])}) after "
-                f"{len(ver.get('rounds', []))} round(s) (--rounds); a larger --gas-flow or a hotter --gas-in keeps the "
-                "exhaust above its dew point, --fill-max bounds the fill")
+                f"breaks the screening's limits ({'; '.join(broken)}) after "
+                f"{len(ver.get('rounds', []))} round(s) (--rounds)" + (f"; {', '.join(tips)}" if tips else ""))
     return ""
 
 
@@ -263,9 +272,12 @@ def _table_text(d, res, wall):
 
 
 def _report(d, res, summary):
+    from .. import design as D
+
     b = res.best
     v = b.values
-    rows = "\n".join(f"| {k} | {c[0]:.4g} | {c[2]} {c[1]:.4g} | {-c[3]:.1%} |" for k, c in b.constraints.items())
+    rows = "\n".join("| {} | {} | {} | {:.1%} |".format(*D.constraint_text(k, c[0], c[1], c[2]), -c[3])
+                     for k, c in b.constraints.items())
     return f"""# Dryer design report
 
 Duty: {d.material}, feed {show(d.feed_rate, 'mass_flow')} wet, moisture {show(d.moisture_in, 'moisture', with_unit=False)} ->

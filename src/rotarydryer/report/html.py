@@ -454,7 +454,7 @@ def _energy_audit_html(results, audit: dict | None = None) -> str:
     if dew is not None and margin is not None:
         p_kpa = sc.get("gas_pressure_Pa", 101325.0) / 1e3
         parts.append(f'<p><b>Exhaust dew point:</b> {show(dew, "temperature")} at {_fmt(p_kpa)} kPa; the exhaust, '
-                     f'at {show(sc["gas_outlet_temperature_degC"], "temperature")}, is {show_delta(margin, "temperature")} '
+                     f'at {show(sc["gas_outlet_temperature_degC"], "temperature")}, is {show_delta(abs(margin), "temperature")} '
                      + ("above it." if margin > 0 else "below it: water condenses in the ducts and the bag filter.")
                      + "</p>")
     parts.append(_shell_html(results))

@@ -14,6 +14,7 @@ from importlib import resources
 
 import numpy as np
 
+from .._display import show, unit_of
 from ..results import rtd_comparison  # noqa: F401  (the report's comparison; defined with the Results)
 
 __all__ = ["operating_conditions", "rtd_comparison", "thermal_comparison", "holdup_comparison", "MODEL_SOURCES"]
@@ -49,16 +50,19 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
     if test is not None:
         rows.append(("plant test", f"Test {test['test']}", str(test.get("source") or "")))
     feed = s.get("feed_rate_kg_s", params.get("feed_rate", op.get("feed_rate")))
+    # in the display units (--units): the summary and the tables after it show the same numbers in them
     if feed is not None:
-        rows.append(("wet feed rate", f"{float(feed):.4g} ({3.6 * float(feed):.4g} t/h)", "kg/s"))
+        rows.append(("wet feed rate", show(float(feed), "mass_flow", with_unit=False)
+                     + (f" ({3.6 * float(feed):.4g} t/h)" if unit_of("mass_flow") == "kg/s" else ""),
+                     unit_of("mass_flow")))
     x_in = op.get("feed_moisture")
     if x_in is None and test is not None:
         x_in = test.get("feed_moisture")
     if x_in is not None:
-        rows.append(("feed moisture", f"{100 * float(x_in):.3g}", "% wet basis"))
+        rows.append(("feed moisture", show(float(x_in), "moisture", with_unit=False), f"{unit_of('moisture')} wet basis"))
     t_feed = op.get("feed_temperature")
     if t_feed is not None:
-        rows.append(("feed temperature", f"{float(t_feed):.3g}", "degC"))
+        rows.append(("feed temperature", show(float(t_feed), "temperature", with_unit=False), unit_of("temperature")))
     rpm = params.get("rpm", op.get("rpm"))
     if rpm is not None:
         rows.append(("drum speed", f"{float(rpm):g}", "rev/min"))
@@ -69,28 +73,30 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
         rows.append(("gas direction", str(direction), "relative to the solids"))
     g_flow = s.get("gas_flow_kg_s", gas.get("flow"))
     if g_flow is not None:
-        rows.append(("gas flow", f"{float(g_flow):.4g}", "kg/s wet gas"))
+        rows.append(("gas flow", show(float(g_flow), "mass_flow", with_unit=False), f"{unit_of('mass_flow')} wet gas"))
     t_gas = gas.get("inlet_temperature")
     if t_gas is None and test is not None and th.get("enabled", True):
         t_gas = test.get("gas_inlet_temperature")      # as the case builder does
     if t_gas is not None:
-        rows.append(("gas inlet temperature", f"{float(t_gas):.4g}", "degC"))
+        rows.append(("gas inlet temperature", show(float(t_gas), "temperature", with_unit=False), unit_of("temperature")))
     y_gas = gas.get("inlet_humidity")
     if y_gas is not None:
-        rows.append(("gas inlet humidity", f"{float(y_gas):.3g}", "kg/kg wet gas"))
+        rows.append(("gas inlet humidity", show(float(y_gas), "humidity", with_unit=False), f"{unit_of('humidity')} wet gas"))
     burner = gas.get("burner")
     if burner is not None:
         fuel = f"fuel oil (C/H {float(burner.get('fuel_carbon_hydrogen_ratio', float('nan'))):g}, " \
                f"S {100 * float(burner.get('fuel_sulphur_fraction', float('nan'))):g} %), Ajayi (2011) App. A"
         rows.append(("burner fuel", fuel, ""))
         if s.get("fuel_rate_kg_s") is not None:
-            rows.append(("fuel rate (model)", f"{3600 * s['fuel_rate_kg_s']:.4g}", "kg/h"))
+            rows.append(("fuel rate (model)", show(float(s["fuel_rate_kg_s"]), "fuel_flow", with_unit=False),
+                         unit_of("fuel_flow")))
     elif direction:
         rows.append(("burner", "none in the case (hot gas supplied)", ""))
     from .drawing import dryer_layout
 
     lay = dryer_layout(inp)
-    rows.append(("drum D x L", f"{lay['diameter']:g} x {lay['length']:g}", "m"))
+    rows.append(("drum D x L", f"{show(lay['diameter'], 'length', with_unit=False)} x "
+                               f"{show(lay['length'], 'length', with_unit=False)}", unit_of("length")))
     secs = lay["sections"]
     if len(secs) == 1:
         f = inp.get("flight") or {}

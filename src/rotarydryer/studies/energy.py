@@ -163,8 +163,8 @@ def audit_lines(data: dict) -> list[str]:
     if dew is not None:
         lines.append(f"exhaust: {show_output('gas_outlet_temperature_degC', out['gas_outlet_temperature_degC'])}, "
                      f"dew point {show(dew, 'temperature')} at {fmt_number(out['gas_pressure_Pa'] / 1e3)} kPa: "
-                     f"{show_delta(margin, 'temperature')} above it"
-                     + ("" if margin > 0 else " - CONDENSATION in the ducts and the bag filter"))
+                     f"{show_delta(abs(margin), 'temperature')} "
+                     + ("above it" if margin > 0 else "below it - CONDENSATION in the ducts and the bag filter"))
     limit = out.get("shell_temperature_limit_degC")
     lines.append(f"shell: hottest outer surface {show(out['shell_max_surface_temperature_degC'], 'temperature')}, "
                  f"hottest steel {show(out['shell_max_wall_temperature_degC'], 'temperature')}"
