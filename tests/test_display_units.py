@@ -137,6 +137,29 @@ def test_rtd_and_balance_text_follow_the_choice():
     assert "g/kg" in hum and "degF" in hum and "degC" not in r.output and "kg/s" not in r.output
 
 
+def test_mrt_flight_validate_and_sensitivity_text_follow_the_choice():
+    """Four more text outputs printed SI whatever --units said (found by a check of every surface)."""
+    run = CliRunner().invoke
+    r = run(app, ["--units", "time=h", "mrt", "--length", "12", "--diameter", "2", "--slope", "0.0524", "--rpm", "4",
+                  "--particle-size", "444e-6", "--gas-mass-flux", "1.91", "--solids-mass-flux", "1.12"])
+    assert r.exit_code == 0, r.output
+    rows = [x for x in r.output.splitlines() if x and not x.startswith(" ") and "error:" not in x]
+    assert rows and all(x.endswith(" h") and " min" not in x for x in rows)
+    r = run(app, ["--units", "length=mm,mass=t", "flight", "--radius", "1.2", "--n-flights", "18", "--s1", "0.15",
+                  "--s2", "0.1", "--alpha1", "90", "--alpha2", "120", "--repose-angle", "33"])
+    assert r.exit_code == 0, r.output
+    assert "150 mm at 90 deg" in r.output and "R = 1,200 mm" in r.output
+    assert all(x.endswith(" t") for x in r.output.splitlines() if "design load" in x)
+    r = run(app, ["--units", "mass=t,time=h", "validate", "lee2008_invicta"])
+    line = next(x for x in r.output.splitlines() if "/holdup" in x or "tracer_mean" in x)
+    assert (" t " in line or " h " in line) and " kg " not in line and " min " not in line
+    r = run(app, ["--units", "time=h", "sensitivity", "song2003_ottawa", "--set", "thermal.enabled=false",
+                  "--param", "operating.rpm=3,5", "--samples", "4", "-q"])
+    assert r.exit_code == 0, r.output
+    mrt = next(x for x in r.output.splitlines() if x.startswith("mean_residence_time_s") and x.endswith(" h"))
+    assert 0.01 < float(mrt.split()[2]) < 1.0      # the mean, in hours
+
+
 def test_cli_refuses_a_bad_choice_with_exit_2(monkeypatch):
     r = CliRunner().invoke(app, ["--units", "power=hp", "simulate", "lee2008_invicta", "--json"])
     assert r.exit_code == 2

@@ -298,8 +298,7 @@ class ValidationReport:
         misses with their reasons, the messages of items that could not be computed, notes per
         case and the summary."""
         head = ("item", "measured", "model", "error", "tolerance", "status")
-        rows = [(i.id, _value(i.measured, i.unit), _value(i.model, i.unit), _error(i), _tolerance(i), i.status)
-                for i in self.items]
+        rows = [(i.id, *display_cells(i), i.status) for i in self.items]      # in the display units (--units)
         widths = [max(len(r[k]) for r in [head, *rows]) for k in range(len(head))]
         right = (False, True, True, True, True, False)
 
@@ -397,6 +396,42 @@ def _tolerance(i: ValidationItem) -> str:
     unit = "" if i.unit in ("", "-") else f" {i.unit}"
     return {"relative": f"±{100 * i.tolerance:g} %", "absolute": f"±{i.tolerance:g}{unit}",
             "minimum": f">= {i.tolerance:g}{unit}", "maximum": f"<= {i.tolerance:g}{unit}"}[i.kind]
+
+
+#: an item's unit -> (its display quantity, factor to the quantity's SI unit) (`rotarydryer._display`)
+_DISPLAY_UNITS = {"s": ("time", 1.0), "min": ("time", 60.0), "h": ("time", 3600.0), "kg": ("mass", 1.0),
+                  "t": ("mass", 1e3), "kg/s": ("mass_flow", 1.0), "kg/h": ("mass_flow", 1.0 / 3600.0),
+                  "t/h": ("mass_flow", 1.0 / 3.6), "degC": ("temperature", 1.0), "K": ("temperature_difference", 1.0),
+                  "W": ("power", 1.0), "kW": ("power", 1e3), "m": ("length", 1.0), "kg/kg": ("moisture", 1.0)}
+
+
+def display_cells(i: ValidationItem) -> tuple[str, str, str, str]:
+    """(measured, model, error, tolerance) of an item as text in the display units (``--units``,
+    `rotarydryer._display`), each with its unit; an item in a unit without a display quantity (a ratio, %) as
+    `text` gives it. The docs page (`ValidationReport.markdown`) keeps the items' own units."""
+    from ._display import show, show_delta
+
+    q = _DISPLAY_UNITS.get(i.unit)
+    if q is None:
+        return _value(i.measured, i.unit), _value(i.model, i.unit), _error(i), _tolerance(i)
+    quantity, f = q
+    if quantity == "moisture" and "humidity" in i.quantity:
+        quantity = "humidity"
+
+    def value(v):
+        return "-" if v is None or not math.isfinite(v) else show(v * f, quantity)
+
+    def delta(v, sign=True):
+        text = show_delta(v * f, quantity) if quantity != "temperature_difference" else show(v * f, quantity)
+        return ("+" if sign and v >= 0 else "") + text
+
+    if i.error is None or not math.isfinite(i.error):
+        err = "-"
+    else:
+        err = f"{100 * i.error:+.2f} %" if i.kind == "relative" else delta(i.error)
+    tol = {"relative": f"±{100 * i.tolerance:g} %", "absolute": "±" + delta(i.tolerance, sign=False),
+           "minimum": ">= " + value(i.tolerance), "maximum": "<= " + value(i.tolerance)}[i.kind]
+    return value(i.measured), value(i.model), err, tol
 
 
 def _shown_overrides(ov: dict) -> str:

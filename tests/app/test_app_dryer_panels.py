@@ -41,6 +41,9 @@ def test_target_on_an_uploaded_case_is_the_shipped_one():
     a = logic_dryer_runs.run_target_view(up, {"operating.test": 4}, *args)
     b = logic_dryer_runs.run_target_view("ajayi2011_mmg", {"operating.test": 4}, *args)
     assert a["found"] and a["value"] == pytest.approx(b["value"], rel=1e-6)
+    # named as an upload, not by the server's temporary file ("target of /tmp/tmp.../uploaded_case.toml")
+    assert a["text"].startswith("target of uploaded case:") and a["dict"]["case"] == "uploaded case"
+    assert b["text"].startswith("target of ajayi2011_mmg:")
 
 
 def test_panels_on_a_case_made_by_rotarydryer_new(tmp_path):

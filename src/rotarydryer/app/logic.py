@@ -239,6 +239,12 @@ def case_source(case: str):
         yield str(path)
 
 
+def case_label(case: str) -> str:
+    """The case as the pages name it: a built-in name as it is, an upload as "uploaded case" (a view ran on a
+    temporary file of it, whose path the results would otherwise show)."""
+    return "uploaded case" if _is_upload(case) else case
+
+
 def _check_builtin(case) -> None:
     from ..cases import list_cases
 

@@ -15,7 +15,7 @@ import numpy as np
 from .._io import json_text
 from .._limits import key_unit
 from ..services.calibration import RESPONSES, case_text, run_calibration
-from .logic import _load, case_source, png
+from .logic import _load, case_label, case_source, png
 
 __all__ = ["MAX_PARAMETERS", "MAX_STARTS", "calibration_defaults", "calibration_view", "progress_fraction",
            "RESPONSE_LABELS"]
@@ -81,6 +81,7 @@ def calibration_view(case: str, parameters, tests=None, responses=None, starts: 
                               responses=list(responses or []), base_overrides=dict(overrides or {}),
                               starts=int(starts), progress=report, source_text=case_text(source))
         data = run.to_dict()
+    data["case"] = case_label(case)       # not the upload's temporary file
     cal = run.calibration
     fit = cal.fit
     rows = []

@@ -14,7 +14,7 @@ import tempfile
 from pathlib import Path
 
 from .._display import to_display
-from .logic import _load, case_source
+from .logic import _load, case_label, case_source
 
 __all__ = ["TARGET_INPUTS", "TARGET_OUTPUTS", "TARGET_OPERATORS", "SCHEDULE_PRESETS", "CUSTOM_CSV", "find_spec",
            "run_target_view", "preset_schedule", "run_schedule_view", "schedule_fraction"]
@@ -66,6 +66,7 @@ def run_target_view(case: str, overrides: dict, find: str, lo: float | None, hi:
     such_that = f"{output}{op}{float(value)!r}"
     with case_source(case) as src:
         res = run_target(src, find_spec(find, lo, hi), such_that, sets or None, tol)
+    res.case = case_label(case)       # not the upload's temporary file
     return {"found": bool(res.found), "text": res.text(), "dict": res.to_dict(), "value": res.value,
             "unit": res.unit, "output": res.output, "active": res.active, "find": res.find,
             "output_name": res.output_name, "such_that": res.such_that,

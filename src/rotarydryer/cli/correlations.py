@@ -74,11 +74,13 @@ def mrt(
     if as_json:
         typer.echo(json_text(results, indent=2))
     else:
+        from .._display import show
+
         for m, r in results.items():
             if "error" in r:
                 typer.echo(f"{m:34s} error: {r['error']}")
                 continue
-            typer.echo(f"{m:34s} {r['tau_s']:10.1f} s {r['tau_min']:8.2f} min")
+            typer.echo(f"{m:34s} {show(r['tau_s'], 'time'):>12}")     # the display unit of time (--units)
             for w in r["warnings"]:
                 typer.echo(f"    warning: {w}")
     if results and all("error" in r for r in results.values()):

@@ -216,11 +216,16 @@ def flight(
     if as_json:
         typer.echo(json_text(result))
         return
-    sections = ", ".join(f"{a:g} m at {b:g} deg" for a, b in d.profile.segments)
+    from .._display import show
+
+    def length(v):      # lengths and masses in the display units (--units length=mm, mass=t); the flight's
+        return show(v, "length", 5)     # seconds-scale times stay in s (the default time unit, min, is a residence time's)
+
+    sections = ", ".join(f"{length(a)} at {b:g} deg" for a, b in d.profile.segments)
     rows = [
-        ("drum", f"{drum if profile is None else profile}: R = {d.radius:g} m, {d.n_flights} flights"),
+        ("drum", f"{drum if profile is None else profile}: R = {length(d.radius)}, {d.n_flights} flights"),
         (f"flight ({d.profile.n_segments} section{'s' if d.profile.n_segments > 1 else ''}, {d.geometry})", sections),
-        ("flight-tip radius R_F (Eq. 4.6)", f"{d.tip_radius:.5f} m"),
+        ("flight-tip radius R_F (Eq. 4.6)", length(d.tip_radius)),
         ("tip angle psi_ft (Eq. 4.7)", f"{d.tip_angle:.4f} deg"),
         ("flight spacing psi_fl (Eq. 4.5)", f"{d.flight_spacing:.4f} deg"),
         ("full-flight holdup (Eq. 4.8)", f"{d.full_holdup_area * 1e4:.2f} cm2 per m"),
@@ -228,20 +233,21 @@ def flight(
         ("discharge into curtain starts at", f"{float(cs.discharge_start_angle):.1f} deg"),
         ("final discharge angle psi5 (root / tip)", f"{psi5:.1f} / {psi5 + d.tip_angle:.1f} deg"),
         # an empty flight (loading factor 0) releases nothing: no curtain to describe
-        ("curtain: span across the drum", f"{curtain.span_m[0]:+.3f} to {curtain.span_m[1]:+.3f} m from the axis"
+        ("curtain: span across the drum", f"{'+' if curtain.span_m[0] >= 0 else ''}{length(curtain.span_m[0])} to "
+                                           f"{'+' if curtain.span_m[1] >= 0 else ''}{length(curtain.span_m[1])} from the axis"
          if all(math.isfinite(float(v)) for v in curtain.span_m) else "none (the flight releases nothing)"),
         ("curtain: CV per degree / across span", f"{curtain.cv_per_degree:.3f} / {curtain.cv_across_span:.3f}"
          if math.isfinite(curtain.cv_per_degree) and math.isfinite(curtain.cv_across_span) else "-"),
         ("mean release angle psi_m (Eq. 3.3)", f"{float(cs.mean_release_angle):.1f} deg"),
-        (f"mean fall height h_m ({fall_height})", f"{float(cs.mean_fall_height):.3f} m"),
+        (f"mean fall height h_m ({fall_height})", length(float(cs.mean_fall_height))),
         ("mean fall time = active time", f"{float(cs.mean_fall_time):.3f} s"),
         (f"passive time ({passive_branch})", f"{float(cs.passive_time):.2f} s"),
     ]
     for m, a in loads.items():
-        rows.append((f"design load {m} ({convention})", f"{a:.4f} m2 = {a * rho * ell:,.0f} kg"))
+        rows.append((f"design load {m} ({convention})", f"{a:.4f} m2 = {show(a * rho * ell, 'mass')}"))
     w = max(len(k) for k, _ in rows)
     typer.echo(f"Flight unloading, repose angle {repose_angle:g} deg, {rpm_:g} rpm, slope {slope_:g} deg, "
-               f"rho_b {rho:g} kg/m3, L {ell:g} m")
+               f"rho_b {rho:g} kg/m3, L {length(ell)}")
     for k, v in rows:
         typer.echo(f"  {k:<{w}}  {v}")
     if out is not None:

@@ -5,6 +5,7 @@ from typing import Optional
 
 import typer
 
+from .._display import UNITS, quantity_of, to_display, unit_of
 from . import app
 from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
@@ -28,11 +29,20 @@ def _text_table(res) -> str:
     for r in res.table():
         lines.append(f"{r['output']:<30} {r['parameter']:<32} {cell(r['S1'], 8)} {cell(r['S1_conf'], 7)} "
                      f"{cell(r['ST'], 8)} {cell(r['ST_conf'], 7)}")
-    lines += ["", f"{'output':<30} {'n':>6} {'mean':>11} {'sd':>11} {'p5':>11} {'p50':>11} {'p95':>11}"]
+    lines += ["", f"{'output':<30} {'n':>6} {'mean':>11} {'sd':>11} {'p5':>11} {'p50':>11} {'p95':>11}  unit"]
     for d in res.distribution_table():
         if d.get("n"):
-            lines.append(f"{d['output']:<30} {d['n']:6d} {d['mean']:11.5g} {d['sd']:11.5g} {d['p5']:11.5g} "
-                         f"{d['p50']:11.5g} {d['p95']:11.5g}")
+            # in the display unit of the output's quantity (--units; the JSON and CSV stay SI, named by their suffix)
+            q = quantity_of(d["output"])
+            unit, value, spread = "-", (lambda v: v), (lambda v: v)
+            if q is not None:
+                quantity, f = q
+                unit = unit_of(quantity)
+                scale = UNITS[quantity][unit][0]
+                value = (lambda v, q=quantity, f=f: to_display(v * f, q))
+                spread = (lambda v, f=f, scale=scale: v * f * scale)       # a spread has no offset (degC -> degF)
+            lines.append(f"{d['output']:<30} {d['n']:6d} {value(d['mean']):11.5g} {spread(d['sd']):11.5g} "
+                         f"{value(d['p5']):11.5g} {value(d['p50']):11.5g} {value(d['p95']):11.5g}  {unit}")
     return "\n".join(lines) + "\n"
 
 

@@ -748,20 +748,18 @@ def _references_section(body: str) -> str:
 def validation_section(report) -> str:
     """The "Validation" section: every item of the case's validation (rotarydryer.validate) with its
     measured and model value, error, tolerance and status; known misses with their reasons."""
+    from ..validate import display_cells
+
     s = report.summary()
     rows, misses = [], []
     for it in report.items:
         status = it.status + (" (known miss)" if it.known_miss and it.status == "pass" else "")
-        if it.kind == "relative":   # relative errors and tolerances in %
-            err = f"{_fmt(100 * it.error, 3)} %" if it.error is not None else "-"
-            tol = f"relative {_fmt(100 * it.tolerance, 3)} %"
-        else:
-            err = _fmt(it.error, 3) if it.error is not None else "-"
-            tol = f"{it.kind} {_fmt(it.tolerance)}"
-        show = fmt_error if "balance error" in (it.description or it.id) else _fmt
-        rows.append([html.escape(it.description or it.id), _fmt(it.measured) if it.measured is not None else "-",
-                     show(it.model) if it.model is not None else "-", err, tol, html.escape(it.unit),
-                     html.escape(status)])
+        if "balance error" in (it.description or it.id):      # a relative balance error: its own format
+            cells = [_fmt(it.measured) if it.measured is not None else "-",
+                     fmt_error(it.model) if it.model is not None else "-", "-", f"{it.kind} {_fmt(it.tolerance)}"]
+        else:       # in the display units (--units), as the report's other tables; each cell with its unit
+            cells = list(display_cells(it))
+        rows.append([html.escape(it.description or it.id), *(html.escape(c) for c in cells), html.escape(status)])
         if it.status != "pass" and (it.known_miss or it.message):
             misses.append(f"<li><b>{html.escape(it.id)}</b>: {html.escape(it.known_miss or it.message)}</li>")
     head = (f"<p>{s['n_items']} items of the case as its file gives it (the run's --set overrides not applied): "
@@ -769,7 +767,7 @@ def validation_section(report) -> str:
             f"<code>rotarydryer/data/validation.toml</code>; the whole suite: <code>rotarydryer validate</code>.</p>")
     if not report.items:
         head = "<p>The case has no measured or published numbers to compare with.</p>"
-    table = _table(["item", "measured", "model", "error", "tolerance", "unit", "status"], rows) if rows else ""
+    table = _table(["item", "measured", "model", "error", "tolerance", "status"], rows) if rows else ""
     known = f"<ul>{''.join(misses)}</ul>" if misses else ""
     return f'<section id="validation"><h2>Validation against the plant data</h2>{head}{table}{known}</section>'
 

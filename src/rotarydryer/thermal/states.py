@@ -163,6 +163,10 @@ class ThermalSteadyState:
         #: dust carried to the exhaust, kg/s wet (size classes with entrainment; else 0)
         self.dust_rate = dS + dW
         self.product_rate = pS + pW
+        if not float(pS) > 1e-12 * dryer.feed_rate:     # a product of no solids has no moisture or temperature
+            raise DryerError(
+                f"entrainment: at gas.flow = {s.gas_flow:g} kg/s the steady state leaves no product: the gas carries "
+                "the whole feed off as dust; lower gas.flow or give a coarser particle_size", reason="entrained")
         self.product_moisture = pW / (pS + pW)
         self.product_temperature_degC = pH / (pS * s.cp_solids + pW * s.cp_water)
         self.evaporation_rate = float(np.sum(d["rw"]))
