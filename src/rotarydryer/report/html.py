@@ -338,8 +338,8 @@ def _size_section(results) -> str:
     dia = np.asarray(ds["diameter"].values, float)
     dust_rate = float(sc.get("dust_rate_kg_s", 0.0))
     cap = (f"particle sizes: {dia.size} classes; product d50 {show_output('product_d50_m', sc.get('product_d50_m'))}, "
-           f"dust to the exhaust {show_output('dust_rate_kg_s', dust_rate)} ({float(np.sum(lost * feed)):.1%} of the "
-           "feed's solids)")
+           f"dust to the exhaust {show_output('dust_rate_kg_s', dust_rate)} wet ({float(np.sum(lost * feed)):.1%} of the "
+           "feed's dry solids)")
     fig = plot_size_classes(np.asarray(ds["edge"].values, float), dia, feed, prod, dust if dust.sum() > 0 else dust,
                             moist, lost)
     rows = [(show(d, "particle_size", with_unit=False), _fmt(f, 3), _fmt(p, 3), _fmt(100 * lo, 3), "-" if m is None else show(m, "moisture"),
