@@ -5,7 +5,7 @@ from typing import Optional
 
 import typer
 
-from .._display import UNITS, quantity_of, to_display, unit_of
+from .._display import UNITS, quantity_of, unit_of
 from . import app
 from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
@@ -34,15 +34,15 @@ def _text_table(res) -> str:
         if d.get("n"):
             # in the display unit of the output's quantity (--units; the JSON and CSV stay SI, named by their suffix)
             q = quantity_of(d["output"])
-            unit, value, spread = "-", (lambda v: v), (lambda v: v)
+            unit, f, offset, scale = "-", 1.0, 0.0, 1.0
             if q is not None:
                 quantity, f = q
                 unit = unit_of(quantity)
-                scale = UNITS[quantity][unit][0]
-                value = (lambda v, q=quantity, f=f: to_display(v * f, q))
-                spread = (lambda v, f=f, scale=scale: v * f * scale)       # a spread has no offset (degC -> degF)
-            lines.append(f"{d['output']:<30} {d['n']:6d} {value(d['mean']):11.5g} {spread(d['sd']):11.5g} "
-                         f"{value(d['p5']):11.5g} {value(d['p50']):11.5g} {value(d['p95']):11.5g}  {unit}")
+                scale, offset = UNITS[quantity][unit]
+            v = {k: d[k] * f * scale + offset for k in ("mean", "p5", "p50", "p95")}
+            sd = d["sd"] * f * scale       # a spread has no offset (degC -> degF)
+            lines.append(f"{d['output']:<30} {d['n']:6d} {v['mean']:11.5g} {sd:11.5g} "
+                         f"{v['p5']:11.5g} {v['p50']:11.5g} {v['p95']:11.5g}  {unit}")
     return "\n".join(lines) + "\n"
 
 
