@@ -46,6 +46,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from . import _jit
+from ._display import show, show_delta
 from .cases import has_tracer_curve, list_cases, load_case, measured_rtd_moments
 from .cases.build import build_model, rows_shadowed, thermal_enabled
 from .published import read_published_csv
@@ -409,8 +410,6 @@ def display_cells(i: ValidationItem) -> tuple[str, str, str, str]:
     """(measured, model, error, tolerance) of an item as text in the display units (``--units``,
     `rotarydryer._display`), each with its unit; an item in a unit without a display quantity (a ratio, %) as
     `text` gives it. The docs page (`ValidationReport.markdown`) keeps the items' own units."""
-    from ._display import show, show_delta
-
     q = _DISPLAY_UNITS.get(i.unit)
     if q is None:
         return _value(i.measured, i.unit), _value(i.model, i.unit), _error(i), _tolerance(i)
