@@ -408,3 +408,24 @@ def test_a_configuration_key_left_at_none_is_written_none_and_read_in_every_form
         assert _same(None, written) and _same(written, None)
         assert not _same(20, written) and not _same(written, "exact")
     assert _same(20, 20.0) and not _same("exact", "lee2008_regressions")
+
+
+def test_a_calibration_carries_the_coefficients_its_run_fixed():
+    """`calibrate --set transport.drag_reduction=0.8` fitted at 0.8, but the record and the calibrated case left it
+    out: the calibrated case ran at the file's 1.0 (holdup -13 %, exhaust +4.4 K against its own fit). The model
+    coefficients a run fixes are held values of its record; operating conditions are not."""
+    from rotarydryer.estimation.calibrate import held_overrides
+
+    res = calibrate("lee2008_invicta", ["transport.kiln_time"],
+                    base_overrides={"transport.backmix": 0.12, "transport.fouling": 0.05, "operating.feed_rate": 27.0})
+    rec = res.record()
+    # backmix: a key of the record the fit supersedes, held at the run's value; fouling: the run's own --set
+    assert rec.values["transport.backmix"] == 0.12 and "transport.backmix" in rec.held
+    assert rec.values["transport.fouling"] == 0.05 and "transport.fouling" in rec.held
+    assert "operating.feed_rate" not in rec.values and "--set" in rec.description
+    text = (resources.files("rotarydryer") / "cases" / "lee2008_invicta.toml").read_text()
+    calibrated = load_case_text(text + "\n" + record_toml(rec))      # the record appended: the calibrated case
+    assert calibrated.transport.backmix == pytest.approx(0.12) and calibrated.transport.fouling == pytest.approx(0.05)
+    assert calibrated.transport.kiln_time == pytest.approx(rec.values["transport.kiln_time"])
+    assert held_overrides({"thermal.area_scale": 2.0, "gas.flow": 3.0, "transport.n_cells": 20, "tests.1.gas_flow": 4.0,
+                           "geometry.repose_angle_scale": 1.1}, ["thermal.area_scale"]) == ["geometry.repose_angle_scale"]

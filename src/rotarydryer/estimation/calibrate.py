@@ -479,6 +479,15 @@ class CaseCalibration:
                     v = _get(case, k)
                 if v is not None:
                     held[k] = v if isinstance(v, (bool, str)) else float(v)
+        # the model coefficients the run fixed with --set: the fit holds for them (a calibrated case without them ran
+        # another model: drag_reduction 1.0 for a fit at 0.8, found by a workflow check)
+        for k in held_overrides(self.base_overrides, self.keys):
+            if k not in held:
+                v = _get(case, k)
+                if v is not None:
+                    held[k] = v if isinstance(v, (bool, str)) else float(v)
+                    if "--set" not in names:
+                        names.append("--set")
         return held, names
 
     def record(self, name: str | None = None, description: str = "") -> CalibrationRecord:
@@ -619,6 +628,21 @@ def calibrate(case_name: str, parameters: Sequence[str], *, tests: Sequence[int]
     thermal = Simulation(case).thermal_enabled and any(m.response in _THERMAL for m in data)
     return CaseCalibration(case_name, title, keys, sel, base, data, res, _configuration(case, thermal),
                            profiles, time.perf_counter() - t0, model.n_solves)
+
+
+def held_overrides(base: Mapping, fitted: Sequence[str]) -> list[str]:
+    """The keys of a run's ``--set`` a calibration record carries as held values: the model's coefficients
+    (``transport.*``, ``thermal.*``, ``geometry.*``, and keys a calibration may fit), not its configuration
+    (`CONFIGURATION_KEYS`, recorded as such), operating conditions, the gas, the material or the site (the plant's
+    inputs, which each run and test gives)."""
+    out = []
+    for k in base:
+        if k in fitted or k in CONFIGURATION_KEYS or k.startswith(TEST_KEY_PREFIX):
+            continue
+        if k.startswith(("transport.", "thermal.", "geometry.")) or (k in KEY_BOUNDS and not k.startswith(
+                ("operating.", "gas.", "material.", "site.", "drum."))):
+            out.append(k)
+    return out
 
 
 # ----------------------------------------------------------------------------- TOML of a record
