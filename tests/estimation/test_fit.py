@@ -209,3 +209,21 @@ def test_the_reported_sigma_is_the_datas_own():
     assert varied.sigma["E"] == pytest.approx(math.sqrt((0.003**2 + 0.005**2) / 2), rel=1e-12)
     estimated = fit(gamma_rtd, PARAMS, Dataset("E", y), n_starts=1)
     assert estimated.sigma["E"] == pytest.approx(0.004, rel=0.35) and estimated.sigma["E"] != 1.0
+
+
+def test_a_fit_that_misses_its_data_by_many_sigmas_says_so():
+    """An exhaust typed in K (374.6 against a 180 degC inlet) was fitted without a word: a 43-sigma residual and a
+    tight interval on a meaningless value. With the data's sigma known, a residual above LACK_OF_FIT_SIGMAS warns;
+    data within their noise do not."""
+    from rotarydryer.estimation.fit import LACK_OF_FIT_SIGMAS
+
+    truth = {"tau": 5.0, "n": 6.0}
+    y = gamma_rtd(truth) + np.random.default_rng(0).normal(0.0, 0.004, T.size)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        clean = fit(gamma_rtd, PARAMS, Dataset("E", y, sigma=0.004), n_starts=1)
+        y[7] += 0.004 * 3 * LACK_OF_FIT_SIGMAS       # one reading far off its curve
+        bad = fit(gamma_rtd, PARAMS, Dataset("E", y, sigma=0.004), n_starts=1)
+    assert not any("lack of fit" in w for w in clean.warnings)
+    note = next(w for w in bad.warnings if w.startswith("lack of fit"))
+    assert "E is missed by" in note and f"measured {y[7]:.6g}" in note

@@ -66,6 +66,9 @@ class IdentifiabilityWarning(UserWarning):
     """The data cannot identify one or more parameters."""
 
 
+#: a known-sigma fit whose worst residual exceeds this many of its data's standard deviations warns (lack of fit)
+LACK_OF_FIT_SIGMAS = 10.0
+
 @dataclass(frozen=True)
 class Parameter:
     """A parameter to estimate.
@@ -676,6 +679,18 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
             sig[d.name] = float(np.sqrt(np.mean(np.asarray(d.sigma, dtype=float) ** 2)))
         else:
             sig[d.name] = float(np.sqrt(s2))
+    if known_sigma:     # data the model misses by many of their own standard deviations at the optimum
+        worst = None
+        for d in problem.data:
+            r = np.abs(d.y - pred[d.name]) / np.maximum(np.asarray(d.sigma, dtype=float) * np.ones_like(d.y), 1e-300)
+            i = int(np.argmax(r)) if r.size else 0
+            if r.size and np.isfinite(r[i]) and (worst is None or r[i] > worst[0]):
+                worst = (float(r[i]), d.name, float(np.ravel(d.y)[i]), float(np.ravel(pred[d.name])[i]))
+        if worst is not None and worst[0] > LACK_OF_FIT_SIGMAS:
+            notes.append(f"lack of fit: {worst[1]} is missed by {worst[0]:.3g} of its standard deviations at the "
+                         f"optimum (measured {worst[2]:.6g}, model {worst[3]:.6g}): no value of the fitted keys "
+                         "reproduces these data, so their values and intervals describe no fit; check the data (units, "
+                         "a typing error) and what the fitted keys can move")
     if problem.infeasible:
         notes_info = (f"{problem.infeasible} model evaluations were infeasible and rejected "
                       f"(last: {problem.last_infeasible})")
