@@ -128,3 +128,15 @@ def test_round_trip_property(tmp_path_factory, dt, unit, seed):
     d = load_tracer_csv(p)
     np.testing.assert_allclose(d.time_s, t, rtol=1e-12, atol=1e-9)
     np.testing.assert_array_equal(d.signal, y)
+
+
+def test_a_pulse_of_zero_duration_is_a_dirac_pulse():
+    """`# pulse_duration_s: 0` was refused ("must be > 0 s") though `rtd-fit --pulse-s 0` means a Dirac pulse."""
+    body = "time_s,signal\n" + "".join(f"{i},{i % 3}\n" for i in range(6))
+    d = parse_tracer_text("# pulse_kind: dirac\n# pulse_duration_s: 0\n" + body)
+    assert d.pulse().kind == "dirac"
+    assert parse_tracer_text("# pulse_duration_s: 0\n" + body).pulse().kind == "dirac"
+    with pytest.raises(ValueError, match=r"pulse_duration_s = 0 s with pulse_kind = 'rectangular'"):
+        parse_tracer_text("# pulse_kind: rectangular\n# pulse_duration_s: 0\n" + body, name="p.csv")
+    with pytest.raises(ValueError, match=r"must be > 0 s \(0 s: a Dirac pulse\)"):
+        parse_tracer_text("# pulse_duration_s: -5\n" + body, name="p.csv")

@@ -176,3 +176,24 @@ def test_library_errors_name_the_argument():
         st.step_record([0, 1, 2, 3], [1, 1, 1, 1], discharged=[0, 5, 1, 6])
     with pytest.raises(ValueError, match="appears three times"):
         st.step_record([0, 1, 1, 1, 2], [0, 1, 1, 1, 1], [0, 0, 0, 0, 1])
+
+
+def test_up_and_down_steps_at_different_feeds_are_not_compared():
+    """0 -> 1 -> 2 -> 0 kg/s of an exact tank (tau 600 s): H1 (at 1 kg/s) against H2 (at 2 kg/s) was reported as
+    "-67 % (Song: < 3 %)"; Song's check holds at one feed."""
+    tau, t = 600.0, np.arange(0.0, 16000.0 + 0.5, 1.0)
+    feed = np.where(t < 5000, 1.0, np.where(t < 10000, 2.0, 0.0))
+    # the discharge of a first-order tank under that feed (exact between the steps)
+    d = np.empty_like(t)
+    for i, x in enumerate(t):
+        if x < 5000:
+            d[i] = 1.0 - math.exp(-x / tau)
+        elif x < 10000:
+            d0 = 1.0 - math.exp(-5000 / tau)
+            d[i] = 2.0 + (d0 - 2.0) * math.exp(-(x - 5000) / tau)
+        else:
+            d1 = 2.0 + (1.0 - math.exp(-5000 / tau) - 2.0) * math.exp(-5000 / tau)
+            d[i] = d1 * math.exp(-(x - 10000) / tau)
+    a = st.analyse_steps(st.step_record(t, feed, d))
+    assert a.h_up_kg == pytest.approx(600.0, rel=2e-3) and a.h_down_kg == pytest.approx(1200.0, rel=2e-3)
+    assert a.up_down_pct is None

@@ -299,6 +299,8 @@ def steps(
             parts.append(f"down-step H2 = {a.h_down_kg:.2f} kg")
         if a.up_down_pct is not None:
             parts.append(f"H1 - H2 = {a.up_down_pct:+.2f} % of their mean (Song: < 3 %)")
+        elif a.h_up_kg is not None and a.h_down_kg is not None:
+            parts.append("not compared: the up-step and the down-step are at different feeds")
         typer.echo("  " + ", ".join(parts))
     c = a.closure
     if c["applies"]:

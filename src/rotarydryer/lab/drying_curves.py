@@ -482,6 +482,20 @@ class ModelFit:
         if self.activation_energy_value < 0:
             return (f"activation_energy = {self.activation_energy_value:g} J/mol is below 0 (the law dries more slowly "
                     "in hotter air)")
+        return self.unidentified
+
+    @property
+    def unidentified(self) -> str | None:
+        """Which fitted value the curves do not determine (a 95 % interval without a finite end), or None: a law
+        whose rate constant is anywhere in [0, inf] is no law (curves flat at their first weighing gave k = 1.6e-14
+        1/s, and a dryer whose product left wetter than its feed)."""
+        named = dict(self.parameters)
+        if self.activation_energy is not None:
+            named["activation_energy"] = self.activation_energy
+        for k, e in named.items():
+            if not (math.isfinite(e.ci_low) and math.isfinite(e.ci_high)):
+                return (f"{k} is not identifiable from these curves (95 % interval [{e.ci_low:.3g}, {e.ci_high:.3g}] "
+                        f"{e.unit}): the curves hardly change where the law differs (weigh earlier and more often)")
         return None
 
     def moisture_ratio(self, time_s, air_temperature_degC):
@@ -739,6 +753,8 @@ def material_table(drying_fit: DryingFit, model: str, base_material: str, *, nam
         why = drying_fit.skipped.get(model, "not fitted")
         raise ValueError(f"model {model!r} has no fit to write ({why})")
     f = drying_fit.fits[model]
+    if f.unidentified is not None:      # even as --model: the material would hold a value the data do not give
+        raise ValueError(f"--model {model}: {f.unidentified}; the material is not written")
     c = drying_fit.curves
     table = library_table(base_material)
     name = name or f"{base_material}_{model}"

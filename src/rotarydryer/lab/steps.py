@@ -348,7 +348,8 @@ class StepAnalysis:
     H/plateau (Eq. 4.1; None without feed), ``steady`` plateau within ``tolerance`` of the feed).
     ``closure``: dict (``applies``, ``residual_kg``, ``residual_pct``, ``why``). ``h_up_kg``
     (H_1: the area after an up-step from an empty dryer) and ``h_down_kg`` (H_2: after the last
-    down-step to zero feed), None where the record has none; ``up_down_pct`` = 100 (H_1 - H_2)/mean.
+    down-step to zero feed), None where the record has none; ``up_down_pct`` = 100 (H_1 - H_2)/mean where the up-step
+    and the down-step are from and to the same feed (within 2 %), else None.
     """
 
     name: str
@@ -457,7 +458,12 @@ def analyse_steps(record: StepRecord, steps=None, *, threshold: float = 0.1, pla
     if len(segs) >= 2 and last["feed_end_kg_s"] <= small and segs[-2]["feed_end_kg_s"] > small:
         h_down = -last["area_kg"]
     updown = None
-    if h_up is not None and h_down is not None and (h_up + h_down) > 0:
+    # H_1 = H_2 (Song's check) holds at one feed: the up-step's and the down-step's levels must be the same (a
+    # 0 -> 1 -> 2 -> 0 kg/s record compared the holdups at 1 and at 2 kg/s: "-67 %")
+    same_level = (h_up is not None and h_down is not None
+                  and abs(segs[k_up]["feed_end_kg_s"] - segs[-2]["feed_end_kg_s"])
+                  <= max(small, 0.02 * max(segs[k_up]["feed_end_kg_s"], segs[-2]["feed_end_kg_s"])))
+    if same_level and (h_up + h_down) > 0:
         updown = 100.0 * (h_up - h_down) / (0.5 * (h_up + h_down))
     return StepAnalysis(name=name, steps_s=s, segments=segs, closure=closure, h_up_kg=h_up, h_down_kg=h_down,
                         up_down_pct=updown, initial_holdup_kg=h0,

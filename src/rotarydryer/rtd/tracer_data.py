@@ -115,7 +115,7 @@ class TracerData:
         """The tracer input from metadata (``pulse_kind``, ``pulse_duration_s``); Dirac if absent."""
 
         kind = str(self.metadata.get("pulse_kind", "dirac"))
-        if kind == "dirac":
+        if kind == "dirac" or self.metadata.get("pulse_duration_s") == 0.0:
             return pulse_input("dirac")
         return pulse_input(kind, float(self.metadata["pulse_duration_s"]))
 
@@ -178,8 +178,14 @@ def _check_metadata(metadata: dict, meta_lines: dict, name: str) -> None:
         where = f"{name} line {meta_lines[key]}"
         if not isinstance(v, float):
             raise ValueError(f"{where}: {key} = {v!r} is not a finite number ({unit})")
+        if key == "pulse_duration_s" and v == 0.0:     # a pulse of no duration: a Dirac pulse (as --pulse-s 0)
+            if metadata.get("pulse_kind", "dirac") != "dirac":
+                raise ValueError(f"{where}: pulse_duration_s = 0 s with pulse_kind = {metadata['pulse_kind']!r}: give "
+                                 "the pulse's duration (> 0 s), or 'pulse_kind: dirac' for an instantaneous one")
+            continue
         if not v > low:
-            raise ValueError(f"{where}: {key} = {fmt(v)} {unit} must be > {fmt(low)} {unit}")
+            raise ValueError(f"{where}: {key} = {fmt(v)} {unit} must be > {fmt(low)} {unit}"
+                             + (" (0 s: a Dirac pulse)" if key == "pulse_duration_s" else ""))
     if "pulse_kind" in metadata:
         kind = metadata["pulse_kind"]
         if kind not in PULSE_KINDS:
