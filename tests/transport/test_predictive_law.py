@@ -211,3 +211,16 @@ def test_a_test_row_sets_the_slope_and_set_drum_slope_wins():
     assert load_case("song2003_ottawa", {"operating.test": 67}).drum.slope == pytest.approx(row.slope)
     assert load_case("song2003_ottawa", {"operating.test": "67", "drum.slope": 5.0}).drum.slope == 5.0
     assert math.tan(math.radians(row.slope)) == pytest.approx(0.067, rel=1e-6)
+
+
+def test_the_calibration_point_is_inside_its_own_ranges():
+    """Invicta at its calibration point warned "Froude number 0.02516 outside [0.0252, 0.0252]" and "feed moisture
+    0.01961 outside [0.0196, 0.0196]": the material gives the ranges to three figures."""
+    from rotarydryer.cases import load_case
+    from rotarydryer.cases.build import predictive_range
+
+    case = load_case("lee2008_invicta", {"transport.parameter_source": "predictive"})
+    assert predictive_range(case, 0.0691) == []
+    out = predictive_range(load_case("lee2008_invicta", {"transport.parameter_source": "predictive",
+                                                         "operating.rpm": 3.1}), 0.0691)
+    assert any(p.startswith("drum speed 3.1 rev/min outside [3, 3]") for p in out)
