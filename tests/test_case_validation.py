@@ -223,3 +223,18 @@ def test_boolean_check_of_lists_finds_a_boolean_at_any_depth(value):
     from rotarydryer.cases import _holds_bool
 
     assert _holds_bool(value) == _reference_holds_bool(value)
+
+
+def test_a_bad_test_row_is_named_by_its_test_number(tmp_path):
+    """A bad value in test 2's [[tests]] row was named `tests.1.product_moisture` (the list index), which the
+    calibration keys read as test 1's."""
+    from importlib import resources
+
+    text = (resources.files("rotarydryer") / "cases" / "ajayi2011_mmg.toml").read_text()
+    head, sep, rest = text.partition("\n[[tests]]\ntest = 2\n")
+    assert sep
+    rest = re.sub(r"(?m)^product_moisture = [^\n#]*", "product_moisture = nan ", rest, count=1)
+    path = tmp_path / "m.toml"
+    path.write_text(head + sep + rest)
+    with pytest.raises(ValueError, match=r"tests\.2\.product_moisture = nan"):
+        load_case(str(path))

@@ -1,5 +1,7 @@
 """Thin-layer drying laws from lab drying curves (rotarydryer.lab.drying_curves, ``rotarydryer lab drying``)."""
 
+import csv
+import io
 import json
 import re
 import warnings
@@ -201,6 +203,9 @@ def test_cli_json_outputs_and_material(tmp_path):
                                                     tmp_path / "res" / "drying_models.csv"]
     assert (tmp_path / "res" / "drying_fit.png").stat().st_size > 20_000
     assert (tmp_path / "res" / "drying_models.csv").read_text().splitlines()[1].startswith("1,page,3,90,")
+    # one column per parameter name for every law: each row names its parameters' units
+    rows = {r["model"]: r for r in csv.DictReader(io.StringIO((tmp_path / "res" / "drying_models.csv").read_text()))}
+    assert rows["page"]["parameter_units"] == "k: 1/s^n; n: -" and rows["lewis"]["parameter_units"] == "k: 1/s"
     assert load_material(str(mat)).kinetics.model == "page" and out["material_name"] == "my_ore"
 
 

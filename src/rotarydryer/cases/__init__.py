@@ -1001,13 +1001,26 @@ def _problem_where(loc: tuple, text: str, shown: str, overrides: dict | None) ->
     return f"{shown}:{no}" if no else shown
 
 
+def _shown_loc(loc: tuple, raw: dict) -> tuple:
+    """The location as a person names it: a ``[[tests]]`` row by its test number, as the calibration keys
+    (``tests.2.product_moisture`` is test 2's; the list index named test 2 ``tests.1``), else as pydantic gives it."""
+    if len(loc) >= 2 and loc[0] == "tests" and isinstance(loc[1], int):
+        rows = raw.get("tests") if isinstance(raw, dict) else None
+        row = rows[loc[1]] if isinstance(rows, list) and loc[1] < len(rows) else None
+        test = row.get("test") if isinstance(row, dict) else None
+        if isinstance(test, int) and not isinstance(test, bool) and \
+                sum(isinstance(r, dict) and r.get("test") == test for r in rows) == 1:
+            return ("tests", test, *loc[2:])
+    return loc
+
+
 def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", shown: str = "",
                              overrides: dict | None = None, cls=None) -> str:
     """One line per problem: ``file:line: field = value: message (allowed ...)``."""
     lines = []
     for e in exc.errors():
         loc = tuple(e["loc"])
-        dotted = ".".join(str(x) for x in loc)
+        dotted = ".".join(str(x) for x in _shown_loc(loc, raw))
         kind = e.get("type", "")
         text_msg = e["msg"].removeprefix("Value error, ")
         if not loc:   # a check of the whole case: locate the key its message starts with

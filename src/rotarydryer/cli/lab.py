@@ -429,6 +429,9 @@ def _drying_files(dc, result, chosen) -> dict:
                "activation_energy_J_mol": f.activation_energy_value}
         for k, e in f.parameters.items():
             row[k] = e.value
+        # one column per parameter name serves every law: each row says its own parameters' units (Page's k is in
+        # 1/s^n, Lewis's in 1/s; the two-term b has none, Midilli's is in 1/s)
+        row["parameter_units"] = "; ".join(f"{k}: {e.unit or '-'}" for k, e in f.parameters.items())
         rows.append(row)
     keys = list(dict.fromkeys(k for r in rows for k in r))
     # an undefined criterion (AICc with n <= p + 2, and its difference) is an empty field, as null in the JSON
