@@ -133,7 +133,7 @@ def test_a_test_rows_measured_or_model_figure_must_be_positive(tmp_path, key, va
     text += f"\n[[tests]]\ntest = 1\nfeed_rate = 2.5\nrpm = 4.0\nfeed_moisture = 0.06\n{key} = {value}\n"
     p = tmp_path / "rows.toml"
     p.write_text(text)
-    with pytest.raises(ValueError, match=rf"tests\.0\.{key} = {value}: Input should be greater than 0"):
+    with pytest.raises(ValueError, match=rf"tests\.1\.{key} = {value}: Input should be greater than 0"):     # test 1
         load_case(str(p))
 
 

@@ -64,7 +64,14 @@ from typing import Optional
 import numpy as np
 
 from ._validation import check_choice, check_range
-from .thermal.schedule import DryerIntegrator, base_inputs, burner_fuel_rate, check_applicable, outlets
+from .thermal.schedule import (
+    DryerIntegrator,
+    base_inputs,
+    burner_fuel_rate,
+    burner_max_temperature,
+    check_applicable,
+    outlets,
+)
 from .thermal.states import PRODUCT_FLOOR_MOISTURE
 
 __all__ = ["ControlWarning", "check_schedule", "FOPDT", "simc_pi", "pi_ultimate_gain", "check_pi_stability", "PIController",
@@ -632,6 +639,14 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     Tmin = cfg.gas_temperature_min if cfg.gas_temperature_min is not None else default_gas_temperature_min(
         T0, s.solids_inlet_temperature)
     Tmax = cfg.gas_temperature_max
+    # the gas range ends where the case's burner does (its capacity or the combustion air's oxygen): MMG test 4's
+    # loop held 600 degC for 2 h, which its burner cannot make (586 degC), and called the loop settled
+    T_burner = burner_max_temperature(dryer, steady.state) if s.burner is not None else None
+    burner_note = None
+    if T_burner is not None and T_burner < Tmax and T_burner >= T0:
+        burner_note = (f"gas range ends at {T_burner:.1f} degC, the hottest gas the case's burner makes at the start "
+                       f"(its maximum fuel rate), below gas_temperature_max = {Tmax:g} degC")
+        Tmax = T_burner
     if not Tmin <= T0 <= Tmax:
         which = ("--gas-t-max (gas_temperature_max)" if T0 > Tmax else "--gas-t-min (gas_temperature_min)")
         raise ValueError(f"gas_temperature_min..gas_temperature_max = {Tmin:g}..{Tmax:g} degC must contain the "
@@ -668,7 +683,8 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                       gain_margin=min(gms), **({"tau_i_note": ti_note} if ti_note else {}),
                       fopdt={name: dataclasses.asdict(m) for name, m in
                              (("gas_inlet_temperature", mT), ("feed_rate", mF), ("feed_moisture_dry", mX))},
-                      gas_temperature_range_degC=[Tmin, Tmax], feed_min_kg_s=cfg.feed_min_fraction * F0)
+                      gas_temperature_range_degC=[Tmin, Tmax], feed_min_kg_s=cfg.feed_min_fraction * F0,
+                      **({"gas_temperature_range_note": burner_note} if burner_note else {}))
         # y-equivalent ranges of each actuator
         vT = sorted([mT.gain * (Tmin - T0), mT.gain * (Tmax - T0)])
         # the feed range as the plant's steady-state map, with the gas at the end the feed backs up (a feed cut
@@ -848,6 +864,15 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                      f"{cv} = {y[cv]:.4g}")
         z = integ.advance(t + ts, land=controlled)     # a controller changes an input at almost every sample
     integ.close()
+    if s.burner is not None:        # samples whose gas the burner cannot make (a schedule, recycled exhaust)
+        short = [t for t, fuel in zip(times, rec["fuel_rate_kg_s"]) if fuel is None]
+        if short:
+            tuning["burner_short"] = dict(samples=len(short), first_s=short[0], last_s=short[-1],
+                                          max_gas_inlet_temperature_degC=max(
+                                              T for T, fuel in zip(rec["gas_inlet_temperature_degC"],
+                                                                   rec["fuel_rate_kg_s"]) if fuel is None))
+    # the measurement's dead time as applied: whole samples
+    tuning["dead_time_applied_s"] = delay_n * ts
     series = {k: np.asarray(v, dtype=float if k != "fuel_rate_kg_s" else object) for k, v in rec.items()}
     tol = cfg.tolerance if cfg.tolerance is not None else TOLERANCE[cv]
     yk = "product_moisture_kg_kg" if cv == "product_moisture" else "exhaust_temperature_degC"

@@ -48,7 +48,11 @@ from .cases.build import (
 from .executor import Executor, RunFailure, split
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.audit import (
+    CondensationWarning,
+    SupersaturationWarning,
+    condensation_message,
     shell_sections,
+    supersaturation_message,
     warn_condensation,
     warn_shell_limit,
     warn_solids_temperature,
@@ -57,18 +61,22 @@ from .thermal.audit import (
 )
 from .thermal.dryer import DryerError, ThermalDryer, ThermalSettings
 from .thermal.plots import plot_thermal_steady_state
-from .thermal.schedule import InputSchedule, load_schedule, simulate_schedule
-from .thermal.states import check_entrainment
+from .thermal.schedule import InputSchedule, burner_fuel_rate, load_schedule, simulate_schedule
+from .thermal.states import ThermalSteadyState, check_entrainment
 from .thermal.studies import perturbed
 from .transport.plots import plot_holdup_profile
 from .transport.sections import build_sections
 
 __all__ = ["Simulation", "SteadyResult", "build_thermal_dryer", "run_case", "grid_points", "parse_grid",
-           "MAX_POINTS", "WARM_DT0", "check_finite", "FillWarning"]
+           "MAX_POINTS", "WARM_DT0", "check_finite", "FillWarning", "BurnerCapacityWarning"]
 
 
 class FillWarning(UserWarning):
     """A dynamic run whose solids fill the drum beyond the fraction a steady state is refused at."""
+
+
+class BurnerCapacityWarning(UserWarning):
+    """A dynamic run that ends at a gas inlet temperature the case's burner cannot make."""
 
 
 #: first pseudo-time step (s) of a coupled solve started from a nearby run's state
@@ -337,7 +345,44 @@ class Simulation:
                 progress(f"t = {done:.0f} / {total:.0f} s")
         result = simulate_schedule(steady.dryer, steady.state, schedule, t_end, dt, progress=step)
         self._warn_fill(result)
+        self._warn_end(result)
         return result
+
+    @staticmethod
+    def _warn_end(result) -> None:
+        """The warnings `simulate` gives, on a dynamic run's last state with its last inputs: an exhaust below its
+        dew point, a product wetted, a gas inlet temperature the case's burner cannot make (found by a check of the
+        time-dependent surfaces: a run ending supersaturated, or at 600 degC from a burner that makes 586, said
+        nothing)."""
+        dr = result.final_dryer
+        if dr is None or result.states.shape[1] == 0:
+            return
+        z = result.states[:, -1]
+        try:
+            end = ThermalSteadyState(dr, z)
+        except (ValueError, ArithmeticError):
+            return
+        for message, category in ((supersaturation_message(end), SupersaturationWarning),
+                                  (condensation_message(end), CondensationWarning)):
+            if message:
+                warnings.warn(f"at the end of the run (t = {float(result.time_s[-1]):g} s): {message}", category,
+                              stacklevel=3)
+        if dr.settings.burner is not None:
+            try:
+                fuel = burner_fuel_rate(dr, z)
+                held = result.inputs.get("burner_fuel_rate")
+                if held is not None and dr.settings.recycle_fraction and len(held) and \
+                        abs(fuel - float(held[-1])) > 5e-3 * max(float(held[-1]), 1e-12):
+                    warnings.warn(
+                        f"at the end of the run (t = {float(result.time_s[-1]):g} s): the burner burns {fuel:.4g} kg/s "
+                        f"for the gas it makes, not the scheduled {float(held[-1]):.4g} kg/s: with exhaust recycle a "
+                        "fuel rate becomes a gas inlet temperature at its change, with the exhaust of that moment, and "
+                        "the recycled exhaust moves after it (schedule gas_inlet_temperature for a held temperature)",
+                        BurnerCapacityWarning, stacklevel=3)
+            except ValueError as exc:
+                warnings.warn(f"at the end of the run (t = {float(result.time_s[-1]):g} s): {' '.join(str(exc).split())}"
+                              " (the run holds the gas inlet temperature the plant's burner cannot make)",
+                              BurnerCapacityWarning, stacklevel=3)
 
     def _warn_fill(self, result) -> None:
         """Warn (`FillWarning`) where a dynamic run's solids fill the drum beyond `FILL_LIMIT`, the limit a

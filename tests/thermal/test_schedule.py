@@ -4,6 +4,7 @@ the scheduled run against the plain dynamics."""
 from __future__ import annotations
 
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -370,3 +371,27 @@ def test_a_fuel_trip_to_no_fuel_is_refused_in_the_fuels_terms(steady):
     with pytest.raises(ValueError, match=r"burner_fuel_rate = 0 kg/s heats the gas to .* degC only, too cold to dry .*"
                                          r"schedule a fuel rate that keeps the gas above the feed"):
         apply_inputs(steady.dryer, {"burner_fuel_rate": 0.0})
+
+
+def test_a_run_ending_where_simulate_warns_warns_too():
+    """`simulate` warns of a gas its burner cannot make and of an exhaust below its dew point; a dynamic run ending
+    there said nothing (a step to 600 degC on MMG Test 4, whose burner makes 586 degC)."""
+    import warnings as w
+
+    from rotarydryer import Simulation
+    from rotarydryer.simulation import BurnerCapacityWarning
+    from rotarydryer.thermal.audit import SupersaturationWarning
+    from rotarydryer.thermal.schedule import InputSchedule
+
+    sched = InputSchedule.from_events({"step": [{"input": "gas_inlet_temperature", "at_s": 60, "value": 600.0}]})
+    with w.catch_warnings(record=True) as caught:
+        w.simplefilter("always")
+        Simulation("ajayi2011_mmg", {"operating.test": 4}).run_schedule(sched, t_end=600.0, dt=60.0)
+    msgs = [str(c.message) for c in caught if issubclass(c.category, BurnerCapacityWarning)]
+    assert len(msgs) == 1 and "at the end of the run (t = 600 s)" in msgs[0] and "reaches only 586" in msgs[0]
+    data = Path(__file__).resolve().parents[1] / "data" / "user_supersaturated.toml"
+    with w.catch_warnings(record=True) as caught:
+        w.simplefilter("always")
+        Simulation(str(data)).run_schedule(None, t_end=120.0, dt=60.0)
+    assert any(issubclass(c.category, SupersaturationWarning) and "at the end of the run" in str(c.message)
+               for c in caught)

@@ -129,8 +129,10 @@ def control(
     else:
         what = f"{scenario} ({magnitude:+g}) at t = {show(step_time, 'time')}"
     iae_unit = "kg/kg s" if quantity == "moisture" else "K s"       # the integral of |e| over time
+    applied = t.get("dead_time_applied_s", dead_time)
     typer.echo(f"{case}: {what}, {measured} setpoint "
-               f"{show(closed.setpoint, quantity)}, sample {sample_time:g} s, dead time {dead_time:g} s")
+               f"{show(closed.setpoint, quantity)}, sample {sample_time:g} s, dead time {applied:g} s"
+               + (f" (--dead-time {dead_time:g} s in whole samples)" if abs(applied - dead_time) > 1e-9 else ""))
     typer.echo(f"  tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, "
                f"gain margin {t['gain_margin']:.2f}, {describe_feedforward(t)}")
     for name, p in (("closed loop", cp), ("open loop", opened.performance if opened is not None else None)):
@@ -153,5 +155,13 @@ def control(
     typer.echo(f"  manipulated: gas inlet T {show(min(s['gas_inlet_temperature_degC']), 'temperature', with_unit=False)}-"
                f"{show(max(s['gas_inlet_temperature_degC']), 'temperature')}, feed "
                f"{show(min(s['feed_rate_kg_s']), 'mass_flow', with_unit=False)}-{show(max(s['feed_rate_kg_s']), 'mass_flow')}")
+    if t.get("gas_temperature_range_note"):
+        typer.echo(f"  note: {t['gas_temperature_range_note']}")
+    short = t.get("burner_short")
+    if short:
+        typer.echo(f"warning: the case's burner cannot make the gas inlet temperature at {short['samples']} samples "
+                   f"(t = {show(short['first_s'], 'time')} to {show(short['last_s'], 'time')}, up to "
+                   f"{show(short['max_gas_inlet_temperature_degC'], 'temperature')}; fuel rate n/a there): the plant "
+                   "cannot run those inputs", err=True)
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")

@@ -161,8 +161,9 @@ def setpoint_out_of_reach(closed, feed_backup: bool) -> str | None:
     gas_at = "upper" if at(gas, hi) else "lower" if at(gas, lo) else None
     if gas_at is None:
         return None
-    said = [f"the gas inlet temperature sat at its {gas_at} limit, {gas[-1]:.4g} degC "
-            f"({'--gas-t-max' if gas_at == 'upper' else '--gas-t-min'})"]
+    why = "--gas-t-min" if gas_at == "lower" else (
+        "the case's burner's hottest gas" if t.get("gas_temperature_range_note") else "--gas-t-max")
+    said = [f"the gas inlet temperature sat at its {gas_at} limit, {gas[-1]:.4g} degC ({why})"]
     if feed_backup:
         if at(feed, fmin):
             said.append(f"the feed rate at its lowest, {feed[-1]:.4g} kg/s (--feed-min-fraction)")

@@ -371,18 +371,46 @@ def _fuel_temperature(dryer, fuel_rate, z=None):
     return float(gas.temperature_c)
 
 
-def burner_fuel_rate(dryer, z=None) -> float:
-    """Fuel rate (kg/s) the case's burner needs for the dryer's gas inlet temperature; with exhaust recycle
-    (``gas.recycle_fraction``) the burner also heats the recycled exhaust, of state ``z`` (needed then:
-    `simulate`'s fuel is that of its steady state)."""
+def burner_fuel_rate(dryer, z=None, temperature=None) -> float:
+    """Fuel rate (kg/s) the case's burner needs for the dryer's gas inlet temperature (or ``temperature``, degC);
+    with exhaust recycle (``gas.recycle_fraction``) the burner also heats the recycled exhaust, of state ``z``
+    (needed then: `simulate`'s fuel is that of its steady state). ValueError where the burner cannot give it."""
     s = dryer.settings
     b = s.burner
+    t = s.gas_inlet_temperature if temperature is None else float(temperature)
     if s.recycle_fraction:
-        return _recycling_state(dryer, z).fuel_rate_at(s.gas_inlet_temperature)
-    return float(fuel_rate_for_temperature(s.gas_inlet_temperature, s.gas_flow * b.combustion_air_share,
+        return _recycling_state(dryer, z).fuel_rate_at(t)
+    return float(fuel_rate_for_temperature(t, s.gas_flow * b.combustion_air_share,
                                            s.gas_flow * (1 - b.combustion_air_share),
                                            air_temperature_c=s.ambient_temperature, air_humidity=dryer.hot_gas_Y,
                                            fuel=b.fuel, heat_loss_fraction=b.heat_loss_fraction))
+
+
+def burner_max_temperature(dryer, z=None, low=None) -> float | None:
+    """The hottest gas inlet temperature (degC) the case's burner gives (its maximum fuel rate: the burner's capacity
+    or the combustion air's oxygen), at most gas.inlet_temperature's limit; with exhaust recycle, with the exhaust
+    of state ``z``. None without a burner. ``low``: a temperature it gives (default the dryer's), the bisection's
+    start (to 0.01 K below the limit)."""
+    s = dryer.settings
+    if s.burner is None:
+        return None
+    hi = LIMITS["gas.inlet_temperature"].high
+
+    def gives(t):
+        try:
+            burner_fuel_rate(dryer, z, t)
+            return True
+        except ValueError:
+            return False
+    if gives(hi):
+        return hi
+    lo = s.gas_inlet_temperature if low is None else float(low)
+    if not gives(lo):
+        return None      # not even the given temperature (the caller's own message names it)
+    while hi - lo > 0.01:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if gives(mid) else (lo, mid)
+    return lo
 
 
 def base_inputs(dryer, names=None, z=None) -> dict:
@@ -590,6 +618,8 @@ class ScheduleResult:
     seconds: float
     dryer: object = None
     changes: int = 0
+    #: the dryer of the last interval's inputs (the one the final state belongs to)
+    final_dryer: object = None
 
     def dynamic_result(self) -> DynamicResult:
         """As a [`DynamicResult`][rotarydryer.thermal.states.DynamicResult] on the base dryer."""
@@ -684,4 +714,4 @@ def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float,
         held[k].append(held[k][-1] if held[k] else base[k])
     return ScheduleResult(np.array(grid), np.column_stack(states), {k: np.array(v) for k, v in held.items()},
                           {k: np.array(v) for k, v in outs.items()}, integ.restarts, time.perf_counter() - t_start,
-                          dryer, integ.changes)
+                          dryer, integ.changes, integ.dryer)
