@@ -160,6 +160,17 @@ def test_mrt_flight_validate_and_sensitivity_text_follow_the_choice():
     assert 0.01 < float(mrt.split()[2]) < 1.0      # the mean, in hours
 
 
+def test_target_shows_its_input_in_the_chosen_unit():
+    """`target` printed the input and its bounds in the key's own unit (degC, kg/s) whatever --units chose."""
+    args = ["target", "ajayi2011_mmg", "--find", "gas.inlet_temperature=450,550", "--such-that",
+            "product_moisture_kg_kg<=0.14"]
+    r = CliRunner().invoke(app, ["--units", "temperature=degF", *args])
+    assert r.exit_code == 0, r.output
+    assert "bounds: [842, 1022] degF" in r.output and "gas.inlet_temperature = 842 degF" in r.output
+    plain = CliRunner().invoke(app, args)
+    assert "bounds: [450, 550] degC" in plain.output
+
+
 def test_cli_refuses_a_bad_choice_with_exit_2(monkeypatch):
     r = CliRunner().invoke(app, ["--units", "power=hp", "simulate", "lee2008_invicta", "--json"])
     assert r.exit_code == 2

@@ -70,6 +70,7 @@ from .thermal.schedule import (
     burner_fuel_rate,
     burner_max_temperature,
     check_applicable,
+    input_column,
     outlets,
 )
 from .thermal.states import PRODUCT_FLOOR_MOISTURE
@@ -798,7 +799,15 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
     z = np.asarray(steady.state, float)
     rec = {k: [] for k in ("product_moisture_kg_kg", "product_temperature_degC", "exhaust_temperature_degC",
                            "exhaust_humidity_kg_kg", "holdup_kg", "measured", "gas_inlet_temperature_degC",
-                           "feed_rate_kg_s", "feed_moisture_kg_kg", "fouling", "fuel_rate_kg_s", "controller_output")}
+                           "feed_rate_kg_s", "feed_moisture_kg_kg", "fouling", "fuel_rate_kg_s", "controller_output",
+                           # the feed the disturbance brings (feed_rate_kg_s is the feed after the controller's backup)
+                           "feed_rate_disturbance_kg_s")}
+    # the schedule's other inputs (gas flow, speed, feed temperature, gas humidity): one column each, as dynamics.csv
+    # names them (the files showed none of them)
+    sched_cols = {} if schedule is None else {
+        name: input_column(name) for name in schedule.points
+        if name not in ("feed_moisture", "feed_rate", "fouling", "gas_inlet_temperature")}
+    rec.update({col: [] for col in sched_cols.values()})
     times = []
     # a copy of the dryer (caches cleared: the run does not depend on what the caller solved before)
     d_cur = plant(dryer, gas_inlet_temperature=T0, feed_rate=F0, feed_moisture=base["feed_moisture"],
@@ -814,6 +823,8 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
             x, Fd, f = _disturbance(scenario, magnitude, t, t_step_s, t_end_s, base)
         else:
             u = schedule.inputs_at(t, sched_base)
+            for name, col in sched_cols.items():
+                rec[col].append(u[name])
             x, Fd, f = u.pop("feed_moisture", base["feed_moisture"]), u.pop("feed_rate", F0), u.pop("fouling", base["fouling"])
             extra = {_PLANT_NAMES[k]: v for k, v in u.items() if k != "gas_inlet_temperature"}
             T_sched = u.get("gas_inlet_temperature", T0)
@@ -855,7 +866,7 @@ def closed_loop(dryer, steady=None, *, scenario="feed_moisture_step", magnitude=
                          ("exhaust_humidity_kg_kg", y["exhaust_humidity"]), ("holdup_kg", y["holdup"]),
                          ("measured", ym), ("gas_inlet_temperature_degC", T_in), ("feed_rate_kg_s", F_in),
                          ("feed_moisture_kg_kg", x), ("fouling", f), ("fuel_rate_kg_s", fuel_of[gas_key]),
-                         ("controller_output", v)):
+                         ("controller_output", v), ("feed_rate_disturbance_kg_s", Fd)):
             rec[key].append(val)
         if k == n:
             break

@@ -36,3 +36,20 @@ def test_without_schedule_text_output(tmp_path):
     res = CliRunner().invoke(app, ["dynamics", "ajayi2011_mmg", "--t-end", "600", "--dt", "120"])
     assert res.exit_code == 0, res.output
     assert "the case's own inputs" in res.stdout and "product_moisture_kg_kg" in res.stdout
+
+
+def test_the_names_the_command_writes_read_back(tmp_path):
+    """`--above` refused the outlet names dynamics prints (gas_outlet_temperature_degC) and a schedule CSV the input
+    columns dynamics.csv writes (gas_inlet_temperature_degC); the threshold is shown in the display unit."""
+    sched = tmp_path / "s.csv"
+    sched.write_text("time_s,gas_inlet_temperature_degC\n0,500\n300,480\n", encoding="utf-8")
+    res = CliRunner().invoke(app, ["--units", "temperature=degF", "dynamics", "ajayi2011_mmg", "--set",
+                                   "operating.test=4", "--schedule", str(sched), "--t-end", "600", "--dt", "120",
+                                   "--above", "gas_outlet_temperature_degC=50", "--quiet"])
+    assert res.exit_code == 0, res.output
+    assert "gas_outlet_temperature_degC above 122.0 degF:" in res.output
+    res = CliRunner().invoke(app, ["dynamics", "ajayi2011_mmg", "--schedule", str(sched), "--t-end", "600",
+                                   "--above", "total_holdup_kg=1", "--json", "--quiet"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    assert out["scheduled_inputs"] == ["gas_inlet_temperature"] and out["time_above"]["outlet"] == "holdup"

@@ -211,6 +211,11 @@ def test_model_feedforward_sees_a_scheduled_gas_flow(mmg):
     assert t_gas[0] == pytest.approx(d.settings.gas_inlet_temperature)
     assert t_gas[-1] > d.settings.gas_inlet_temperature + 5.0          # less gas: hotter to keep the moisture
     np.testing.assert_allclose(runs["linear"].series["gas_inlet_temperature_degC"], d.settings.gas_inlet_temperature)
+    # the scheduled gas flow is in the trajectory, as dynamics.csv names it (the files showed no disturbance)
+    flow = runs["model"].series["gas_flow_kg_s"]
+    assert flow[0] == pytest.approx(d.settings.gas_flow) and flow[-1] == pytest.approx(0.8 * d.settings.gas_flow)
+    assert "gas_flow_kg_s" in runs["model"].csv_text().splitlines()[0].split(",")
+    np.testing.assert_allclose(runs["model"].series["feed_rate_disturbance_kg_s"], d.feed_rate)
 
 
 def test_a_product_at_the_moisture_floor_is_refused_with_its_reason():

@@ -104,6 +104,9 @@ def dynamics_cmd(
                    f"min {show_output(name, s['min'])} at {show(s['min_time_s'], 'time')}")
     if threshold is not None:
         ta = summary["time_above"]
-        typer.echo(f"  {ta['outlet']} above {ta['threshold']:g}: {show(ta['seconds'], 'time')}")
+        from ..thermal.schedule import OUTLET_NAMES
+
+        printed = OUTLET_NAMES.get(ta["outlet"], ta["outlet"])     # as the rows above name it, in their unit
+        typer.echo(f"  {printed} above {show_output(printed, ta['threshold'])}: {show(ta['seconds'], 'time')}")
     if out is not None:
         typer.echo(f"files: {', '.join(summary['files'])}")

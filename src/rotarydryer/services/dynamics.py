@@ -20,11 +20,15 @@ def parse_above(text: str | None):
     if not text:
         return None
     name, sep, value = text.partition("=")
-    name = name.strip().removesuffix("_kg_kg").removesuffix("_degC").removesuffix("_kg")
-    from ..thermal.schedule import OUTLETS  # the model stack: not at the CLI's start-up
+    from ..thermal.schedule import OUTLET_NAMES, OUTLETS  # the model stack: not at the CLI's start-up
 
+    # the names the command prints (gas_outlet_temperature_degC, total_holdup_kg) or the short ones
+    by_printed = {v: k for k, v in OUTLET_NAMES.items()}
+    name = name.strip()
+    name = by_printed.get(name, name.removesuffix("_kg_kg").removesuffix("_degC").removesuffix("_kg"))
     if not sep or name not in OUTLETS:
-        raise ValueError(f"--above {text!r}: write OUTLET=VALUE with OUTLET one of {', '.join(OUTLETS)}")
+        raise ValueError(f"--above {text!r}: write OUTLET=VALUE with OUTLET one of "
+                         f"{', '.join(OUTLET_NAMES.values())} (or {', '.join(OUTLETS)})")
     try:
         v = float(value)
     except ValueError:

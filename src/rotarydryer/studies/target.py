@@ -133,15 +133,16 @@ class TargetResult:
                 "notes": list(self.notes)}
 
     def text(self) -> str:
-        """Plain text of the answer, a line each."""
-        u = f" {self.unit}" if self.unit else ""
+        """Plain text of the answer, a line each (the input in the display unit of its quantity where ``--units``
+        chose another than the key's own)."""
+        num, u = _key_shown(self.unit)
         lo, hi = self.bounds
         ylo, yhi = self.outputs_at_bounds["lo"], self.outputs_at_bounds["hi"]
         lines = [f"target of {self.case}: {self.find} such that {self.such_that}",
-                 f"bounds: [{fmt_number(lo)}, {fmt_number(hi)}]{u}; {self.output_name} = {_shown(ylo, self.output_name)} at lo, "
+                 f"bounds: [{num(lo)}, {num(hi)}]{u}; {self.output_name} = {_shown(ylo, self.output_name)} at lo, "
                  f"{_shown(yhi, self.output_name)} at hi"]
         if self.found:
-            lines.append(f"{self.find} = {fmt_number(self.value)}{u} ({self.active}); "
+            lines.append(f"{self.find} = {num(self.value)}{u} ({self.active}); "
                          f"{self.output_name} = {_shown(self.output, self.output_name)}")
         else:
             lines.append(f"{self.active}: {self.output_name} {self.operator} {fmt_number(self.target_value)} "
@@ -150,6 +151,20 @@ class TargetResult:
         lines += [f"note: {n}" for n in self.notes]
         lines.append(f"{self.evaluations} steady states")
         return "\n".join(lines)
+
+
+#: a case key's unit -> the display quantity it is shown in (`rotarydryer._display`)
+_KEY_QUANTITY = {"degC": "temperature", "kg/s": "mass_flow", "kg": "mass", "s": "time", "m": "length", "W": "power"}
+
+
+def _key_shown(unit: str):
+    """(number formatter, " unit") of a case key's values in text: the key's own unit and `fmt_number`, or, where
+    ``--units`` shows the key's quantity in another unit (``temperature=degF``), that unit (6 figures)."""
+    q = _KEY_QUANTITY.get(unit or "")
+    if q is None or unit_of(q) == unit:
+        return fmt_number, (f" {unit}" if unit else "")
+    scale, offset = UNITS[q][unit_of(q)]
+    return (lambda v: fmt_number(float(v) * scale + offset)), f" {unit_of(q)}"
 
 
 #: absolute floor of the default output tolerance by quantity (SI, the output names' units): a target of

@@ -39,7 +39,7 @@ from .burner import combustion_chamber, fuel_rate_for_temperature
 from .settings import DryerError
 from .states import DynamicResult, ThermalSteadyState, outlets
 
-__all__ = ["SCHEDULE_INPUTS", "InputSchedule", "load_schedule", "apply_inputs", "base_inputs", "burner_fuel_rate", "check_applicable", "outlets",
+__all__ = ["SCHEDULE_INPUTS", "input_column", "InputSchedule", "load_schedule", "apply_inputs", "base_inputs", "burner_fuel_rate", "check_applicable", "outlets",
            "DryerIntegrator", "ScheduleResult", "simulate_schedule", "OUTLETS", "OUTLET_NAMES"]
 
 #: schedulable inputs: name -> (case key whose range applies, unit, meaning)
@@ -93,7 +93,11 @@ class InputSchedule:
         rows = [r for _, r in numbered]
         if not rows:
             raise ValueError(f"{path}: empty schedule (a header time_s,<input>,... and rows are needed)")
+        # an input's column as dynamics.csv names it (gas_inlet_temperature_degC) is that input: a written run
+        # reads back as a schedule
+        suffixed = {input_column(k): k for k in SCHEDULE_INPUTS}
         header = [h.strip() for h in rows[0]]
+        header = header[:1] + [suffixed.get(h, h) for h in header[1:]]
         if not header or header[0] not in ("time_s", "time"):
             raise ValueError(f"{path}: the first column must be time_s (got {header[0] if header else ''!r})")
         if len(header) < 2:
@@ -629,7 +633,7 @@ class ScheduleResult:
         """Series with unit-suffixed names (CSV columns)."""
         cols = {"time_s": self.time_s}
         for k, v in self.inputs.items():
-            cols[f"{k}_{_suffix(SCHEDULE_INPUTS[k][1])}".rstrip("_")] = v
+            cols[input_column(k)] = v
         for k, v in self.outlets.items():
             cols[OUTLET_NAMES[k]] = v
         return cols
@@ -664,6 +668,11 @@ class ScheduleResult:
 def _suffix(unit: str) -> str:
     return {"degC": "degC", "kg/s": "kg_s", "kg/kg wet": "kg_kg", "kg/kg wet gas": "kg_kg", "rev/min": "rpm",
             "": ""}[unit]
+
+
+def input_column(name: str) -> str:
+    """The column of a schedulable input in the files (``gas_inlet_temperature_degC``): its name with its unit."""
+    return f"{name}_{_suffix(SCHEDULE_INPUTS[name][1])}".rstrip("_")
 
 
 def simulate_schedule(dryer, z0, schedule: InputSchedule | None, t_end_s: float, dt_s: float = 60.0,
