@@ -166,6 +166,16 @@ def test_profiles_csv_holds_the_whole_drum():
     assert sum(float(r["evaporation_kg_s"]) for r in stages) == pytest.approx(th.evaporation_rate, rel=1e-12)
 
 
+def test_the_runs_warnings_reach_the_page():
+    """The CLI printed a run's warnings (an extrapolation of the transport law, a speed near the critical); the
+    whole-dryer page showed the numbers alone (the warnings went to the server's log)."""
+    song = logic_dryer.dryer_view("song2003_ottawa", images=False)
+    assert any("outside the conditions the coefficients" in w for w in song["warnings"])
+    assert len(song["warnings"]) == len(set(song["warnings"]))
+    fast = logic_dryer.dryer_view("ajayi2011_mmg", {"operating.test": 4, "operating.rpm": 21.0}, images=False)
+    assert any("critical" in w for w in fast["warnings"]), fast["warnings"]
+
+
 # ---------------------------------------------------------------------------------- the page
 @pytest.fixture()
 def at():

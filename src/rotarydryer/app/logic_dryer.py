@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import warnings
 
 import numpy as np
 
@@ -168,6 +169,23 @@ def _steady(case: str, overrides: dict):
     return c, sim, sim.steady_state()
 
 
+def _run_warnings(fn, *args, **kwargs):
+    """``(fn(*args, **kwargs), [messages])``: the warnings the run gives (the CLI prints them; a page shows them,
+    they reached only the server's log: a speed at 98 % of the critical, a run outside a law's calibration), each
+    once, in order."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = fn(*args, **kwargs)
+    messages = []
+    for w in caught:
+        if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning, ResourceWarning)):
+            continue
+        text = " ".join(str(w.message).split())
+        if text not in messages:
+            messages.append(text)
+    return out, messages
+
+
 def duty_table(summary: dict) -> list[dict]:
     """The energy audit's heat duties of a steady state's ``summary`` (`rotarydryer.thermal.audit`): one
     row per duty, ``{"duty": label, "name": summary name, "value": in the display unit of power,
@@ -307,7 +325,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     from ..thermal.audit import shell_sections
 
     overrides = dict(overrides or {})
-    c, sim, steady = _steady(case, overrides)
+    (c, sim, steady), notes = _run_warnings(_steady, case, overrides)
     th = steady.thermal
     s = steady.summary()
     burner = has_burner(c)
@@ -316,7 +334,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
                                       "specific_energy_kJ_kg_water", "thermal_efficiency", "mean_residence_time_s",
                                       "evaporation_kg_s", "heat_input_W", "fuel_rate_kg_s")}
     out = {"summary": s, "metrics": metrics, "duties": duty_table(s), "shell_sections": shell_sections(th),
-           "measured": measured, "has_burner": burner,
+           "measured": measured, "has_burner": burner, "warnings": notes,
            "fuel_rate_error": s.get("fuel_rate_error"), "profiles_csv": _profiles_csv(th),
            "title": getattr(c.meta, "title", "") or "",
            "profile_rows": profile_rows(th.profiles(), measured, th.dryer.settings.gas_direction == "co-current",

@@ -153,7 +153,9 @@ def render():
     c[3].metric(f"Settling, open ({t_unit})", "-" if o is None else settle(o))
     c[4].metric("Controller gain Kc", f"{t['kc']:.3g}", help=f"{t['rule']}; tau_I = {t['tau_i_s']:.0f} s, "
                                                             f"gain margin {t['gain_margin']:.2f}")
-    iae = f"IAE closed loop {p['iae']:.4g}" + ("" if o is None else f", open loop {o['iae']:.4g}") + ". "
+    iae_unit = (p.get("units") or {}).get("iae", "")        # the integral of |e| over time, as the CLI gives it
+    u = f" {iae_unit}" if iae_unit else ""
+    iae = f"IAE closed loop {p['iae']:.4g}{u}" + ("" if o is None else f", open loop {o['iae']:.4g}{u}") + ". "
     st.markdown(plain(iae + f"Tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, gain margin "
                       f"{t['gain_margin']:.2f}, {describe_feedforward(t)}. Manipulated: gas inlet "
                       f"{show(r['ranges']['gas_inlet_temperature_degC'][0], 'temperature', with_unit=False)}-"
@@ -170,6 +172,8 @@ def render():
                     f"{100 * p['fraction_temperature_within_band']:.0f} % of the time")
     st.markdown(plain(f"Within the tolerance {100 * p['fraction_within_tolerance']:.0f} % of the time after the "
                       "disturbance" + (f"; product within specification: {', '.join(spec)}" if spec else "") + "."))
+    if t.get("gas_temperature_range_note"):
+        st.info(plain(f"Gas range: {t['gas_temperature_range_note']}."))
     for w in r["warnings"]:
         st.warning(plain(w))
     st.image(r["plot"], caption="Controlled variable, product temperature and manipulated variables "

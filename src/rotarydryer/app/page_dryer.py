@@ -103,10 +103,10 @@ def render():
         from .logic import _load
 
         default = _load(case).operating.test
-        test = st.sidebar.selectbox("Plant test (Ajayi 2011, MMG Karumba)", tests,
+        test = st.sidebar.selectbox("Plant test", tests,
                                     index=tests.index(default) if default in tests else 0, key=f"dryer_test__{case}",
-                                    help="sets the feed rate, speed, feed moisture and gas inlet temperature of "
-                                         "the test; the measured values are drawn on the profiles")
+                                    help="one of the case's [[tests]] rows: it sets the operating point the "
+                                         "inputs below start from; the measured values are drawn on the profiles")
     try:
         specs = _inputs(case, test)
     except logic_dryer.NoThermalModel as exc:
@@ -122,7 +122,7 @@ def render():
                                          format=s["format"], key=f"dryer__{s['key']}__{case}__{test}",
                                          help=f"case key {s['key']} (rotarydryer simulate --set)")
     if test is not None:
-        st.sidebar.caption("Feed moisture: the test's (Ajayi Tables 3.5-3.11); change the test to change it.")
+        st.sidebar.caption(f"The inputs start at test {test}'s operating point; change one to run off it.")
     try:
         with st.spinner("Solving the coupled heat and mass steady state ..."):
             r = _view(case, tuple(sorted(overrides.items())))
@@ -133,6 +133,8 @@ def render():
         refuse("Invalid input", exc)
     if r["title"]:
         st.caption(plain(r["title"]))
+    for w in r.get("warnings", []):      # what the CLI prints as warnings
+        st.warning(plain(w))
     m = r["metrics"]
     c = st.columns(4)
     c[0].metric("Product moisture", show_output("product_moisture_kg_kg", m["product_moisture_kg_kg"]), help="wet basis")

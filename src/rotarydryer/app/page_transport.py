@@ -12,6 +12,7 @@ import math
 
 import streamlit as st
 
+from .._display import show
 from . import logic
 from ._ui import PERSIST, case_number, case_picker, deferred, heavy, metric_row, plain, refuse
 
@@ -119,7 +120,7 @@ def render():
     except Exception as exc:
         refuse("Cannot fit", exc)
     fc1, fc2 = st.columns([1, 1])
-    fc1.metric("Fitted outlet mean", f"{f['moments']['mean_s'] / 60:.2f} min",
+    fc1.metric("Fitted outlet mean", show(f['moments']['mean_s'], "time"),
                help="outlet-curve mean of the fitted model, from the injection start")
     fc1.metric("R squared", f"{f['r_squared']:.4f}")
     if f.get("n_cells") is not None:
@@ -128,3 +129,5 @@ def render():
                "std. error": [f"{t[2]:.3g}" for t in f["table"]],
                "95% CI": [f"{t[3]:.5g} - {t[4]:.5g}" for t in f["table"]]})
     fc2.image(f["plot"], caption="Tracer data and fitted model")
+    for w in f.get("warnings", []):      # the fit's identifiability notes, as rtd-fit prints them
+        st.warning(plain(w))
