@@ -219,7 +219,7 @@ def flight(
     from .._display import show
 
     def length(v):      # lengths and masses in the display units (--units length=mm, mass=t); the flight's
-        return show(v, "length", 5)     # seconds-scale times stay in s (the default time unit, min, is a residence time's)
+        return show(v, "length", 6)     # seconds-scale times stay in s (the default time unit, min, is a residence time's)
 
     sections = ", ".join(f"{length(a)} at {b:g} deg" for a, b in d.profile.segments)
     rows = [
