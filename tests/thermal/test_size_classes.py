@@ -35,10 +35,15 @@ def test_one_class_of_the_material_is_the_model_without_classes(case, ov):
     """The default (no [particle_size]) and one explicit class of the material's diameter: the same
     steady state, bit for bit (the acceptance's 1e-10 with margin)."""
     d = Simulation(case, ov).thermal_dryer()
-    one = _with_classes(d, psd.single_class(d.material.particle_diameter))
+    one = _with_classes(d, psd.single_class(d.material.particle_diameter), entrainment=False)
     a, b = d.steady_state(), one.steady_state()
     assert d.n_classes == one.n_classes == 1 and not one.dusty
     np.testing.assert_array_equal(a.state, b.state)
+    # with entrainment the one class can be carried off too (it was silently not); none is, at these gas speeds
+    dusty = _with_classes(d, psd.single_class(d.material.particle_diameter))
+    c = dusty.steady_state()
+    assert dusty.dusty and c.summary(False)["dust_rate_kg_s"] == 0.0
+    np.testing.assert_allclose(c.state, a.state, rtol=1e-10, atol=1e-12)
 
 
 @pytest.mark.parametrize("case, ov", SHIPPED)
@@ -378,3 +383,33 @@ def test_a_failed_solve_says_where_its_largest_residual_is():
     f[:] = 0.0
     f[3 * k + d.n_gas + 2] = 1.0                      # the gas humidity at stage 3
     assert d._where_unsolved(f, z, sc).startswith(f"the largest residual is the gas humidity at stage 3 of {d.n_gas}")
+
+
+def test_a_sieve_table_s_empty_stretches_hold_no_class_mass():
+    """`passing_pct = [0, 0, 0, 0, 100]` over 150 um to 2.36 mm (all the feed between 1.18 and 2.36 mm) became
+    classes from 198 um up, and a false 20 % of dust: a flat stretch's mass was spread over it. Each class's edges now
+    lie where the sieves put mass, and a stack with its empty pans gives the classes of its two bounding sieves."""
+    from rotarydryer.properties.psd import from_sieve
+
+    sieves = [150e-6, 300e-6, 600e-6, 1.18e-3, 2.36e-3]
+    c = from_sieve(sieves, [0, 0, 0, 0, 100], 5)
+    two = from_sieve(sieves[-2:], [0, 100], 5)
+    np.testing.assert_allclose(c.diameters, two.diameters, rtol=1e-12)
+    assert min(c.edges) == pytest.approx(1.18e-3)
+    # nothing between 300 and 600 um: the cumulative mass of the classes' edges follows the table there
+    g = from_sieve(sieves, [3, 12, 12, 80, 100], 5)
+    inside = [e for e in g.edges if 300e-6 < e < 600e-6]
+    assert not inside, g.edges
+
+
+def test_one_class_is_carried_off_as_several_are():
+    """`classes = 1` switched entrainment off without a word: the whole feed left as product at a gas speed that
+    carries 92 % of the same size off when the distribution has three classes. One class is carried off as its size
+    says (here nearly all of it: refused as entrainment)."""
+    ov = {"particle_size.dataset": "lee2008_fine_river_sand", "particle_size.classes": 1}
+    sim = Simulation("song2003_ottawa", ov)
+    assert sim.thermal_dryer().dusty
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ValueError, match="entrainment"):
+            sim.steady_state()

@@ -483,7 +483,7 @@ class OperatingTest(_Strict):
     gas_outlet_temperature: Optional[float] = Field(default=None, gt=-40, lt=1000, description="degC, measured exhaust gas temperature")
     product_temperature: Optional[float] = Field(default=None, gt=-40, lt=600, description="degC, measured product temperature (at the plant's sensor: thermal.discharge_cooling_ntu)")
     product_d50: Optional[float] = Field(default=None, gt=0, le=0.2, description="m, measured mass-median size of the product (a sieve analysis; needs [particle_size])")
-    dust_rate: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s, measured dust carried to the exhaust (a baghouse catch; needs [particle_size])")
+    dust_rate: Optional[float] = Field(default=None, ge=0, le=1000, description="kg/s wet (with its water, as dust_rate_kg_s), measured dust carried to the exhaust (a baghouse catch; needs [particle_size])")
     source: str = ""
 
     @field_validator("moisture_profile")

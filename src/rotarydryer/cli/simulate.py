@@ -91,7 +91,8 @@ def simulate(
             result[key] = result.pop(key)
     result.update({"case": case, "parameters": model.parameters})
     thermal_on = thermal is not None
-    classes = thermal_on and thermal.dryer.n_classes > 1
+    # [particle_size] (one class with entrainment too: its dust and d50 are shown)
+    classes = thermal_on and (thermal.dryer.n_classes > 1 or thermal.dryer.dusty)
     if classes:           # [particle_size]: a row per size class
         result["size_classes"] = thermal.size_class_table()
     if out is not None:
@@ -286,6 +287,9 @@ def rtd(
     if coupled:
         typer.echo("  (the solids transport's own steady state, at the case's assumed moisture profile; `simulate` "
                    "gives the coupled heat-and-mass state's holdup and residence times)")
+    if getattr(c, "particle_size", None) is not None:
+        typer.echo("  (the solids as one mixture: the size classes and the dust the gas carries off are in `simulate`'s "
+                   "per-class table, with each class's RTD mean)")
     typer.echo(f"  mean residence time  {t('mean_residence_time_s')} (the RTD's mean; holdup/flow "
                f"{t('holdup_over_flow_s')}), SD {t('rtd_std_s')}")
     typer.echo(f"  tracer curve         mean {t('tracer_mean_s')} (analytic), {t('simulated_mean_s')} (simulated), "

@@ -96,7 +96,12 @@ def from_sieve(sieve_m, passing_pct, n, key: str = "particle_size", source: str 
         raise ValueError(f"{key}.passing_pct = {p.tolist()}: it must reach 100 % at the coarsest sieve (got "
                          f"{p[-1]:g} %): the distribution must hold all the feed")
     f = p / p[-1]
-    keep = np.concatenate([[True], np.diff(f) > 0])      # flat stretches carry no mass
+    # a flat stretch carries no mass: the inverse distribution jumps over it, from its first sieve (where the mass
+    # below ends) to its last (where the mass above starts); its interior sieves go. (Keeping only its first sieve
+    # spread the mass above over the empty stretch: all of a feed between 1.18 and 2.36 mm became classes down to
+    # 198 um.)
+    step = np.diff(f) > 0
+    keep = np.concatenate([[True], step[:-1] | step[1:], [True]]) if f.size > 2 else np.ones(f.size, dtype=bool)
     d, f = d[keep], f[keep]
     if f[0] > 0:       # the mass passing the finest sieve, spread log-uniformly down to half its opening
         d = np.concatenate([[0.5 * d[0]], d])

@@ -61,7 +61,8 @@ def _solve_point(case, overrides: dict, warm=None):
     except (ValueError, ArithmeticError, MemoryError) as exc:      # one bad point never ends the sweep
         row["error"] = " ".join(str(exc).split()) or type(exc).__name__
         return row, None
-    classes = getattr(getattr(getattr(res, "thermal", None), "dryer", None), "n_classes", 1) > 1
+    dryer = getattr(getattr(res, "thermal", None), "dryer", None)
+    classes = getattr(dryer, "n_classes", 1) > 1 or bool(getattr(dryer, "dusty", False))     # one dusty class too
     for k in (*KEY_SCALARS, "tracer_mean_s", *THERMAL_SCALARS, *(SIZE_CLASS_SCALARS if classes else ())):
         if k in out:
             row[k] = out[k]

@@ -468,7 +468,7 @@ class ThermalDryer:
         self.class_feed = np.asarray(sc.fractions, dtype=float)
         # (classes, stages): one class of the material's diameter gives gas_dp itself (ratio 1)
         self.class_dp = self.gas_dp[None, :] * (self.class_diameter / d_mat)[:, None]
-        self.dusty = bool(s.entrainment and sc.n > 1)
+        self.dusty = bool(s.entrainment and s.size_classes is not None)      # one class too (it was n > 1: silently none)
         self._dust_plan = None
         if self.dusty:
             self._layout_dust()
