@@ -10,6 +10,7 @@ infeasible duty give the CLI's messages (`rotarydryer.app.logic_design`).
 import streamlit as st
 
 from .._display import show
+from ..design import constraint_text
 from . import logic_design as L
 from ._runs import Kept
 from ._ui import PERSIST, heavy, number, plain, progress_box, refuse
@@ -150,10 +151,10 @@ def render():
     left.image(r["cross_section"], caption="Best design: flights at the material's repose angle, to scale")
     with right:
         st.subheader("Constraints of the best design")
-        st.dataframe({"constraint": [x[0] for x in r["constraints"]],
-                      "value": [f"{x[1]:.4g}" for x in r["constraints"]],
-                      "limit": [f"{x[2]} {x[3]:.4g}" for x in r["constraints"]],
-                      "slack": [f"{x[4]:.1%}" for x in r["constraints"]]},
+        # what each value is, in the display units (design.constraint_text, as the CLI shows them)
+        shown = [constraint_text(x[0], x[1], x[3], x[2]) for x in r["constraints"]]
+        st.dataframe({"constraint": [c[0] for c in shown], "value": [c[1] for c in shown],
+                      "limit": [c[2] for c in shown], "slack": [f"{x[4]:.1%}" for x in r["constraints"]]},
                      hide_index=True)
     st.subheader("Ranked feasible designs")
     cols = ["rank", "diameter_m", "length_m", "slope_deg", "rpm", "n_flights", "s1_m", "s2_m", "alpha2_deg",

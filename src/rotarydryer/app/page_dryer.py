@@ -18,7 +18,7 @@ import hashlib
 import streamlit as st
 
 from .._display import fmt as fmt_value
-from .._display import show, show_output, unit_of
+from .._display import show, show_delta, show_output, unit_of
 from . import logic_dryer, logic_dryer_runs
 from ._ui import case_picker, deferred, heavy, number, plain, progress_box, refuse
 
@@ -181,8 +181,9 @@ def render():
         if s.get("gas_outlet_dew_point_margin_K") is not None:
             st.caption(f"Exhaust dew point {show_output('gas_outlet_dew_point_degC', s['gas_outlet_dew_point_degC'])} "
                        f"at {s['gas_pressure_Pa'] / 1e3:.1f} kPa: the exhaust is "
-                       f"{show_output('gas_outlet_dew_point_margin_K', s['gas_outlet_dew_point_margin_K'])} above it"
-                       + ("" if s["gas_outlet_dew_point_margin_K"] > 0 else " (condensation in the ducts and filter)"))
+                       f"{show_delta(abs(s['gas_outlet_dew_point_margin_K']), 'temperature')} "
+                       + ("above it" if s["gas_outlet_dew_point_margin_K"] > 0
+                          else "below it (condensation in the ducts and filter)"))
         limit = s.get("shell_temperature_limit_degC")
         st.table({"section": [x["section"] for x in r["shell_sections"]],
                   f"shell loss ({power})": [show(x["shell_heat_loss_W"], "power", with_unit=False)

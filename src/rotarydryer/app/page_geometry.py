@@ -8,6 +8,7 @@ value; a value the model refuses gives its message (`rotarydryer.app._ui.refuse`
 
 import streamlit as st
 
+from .._display import show, unit_of
 from . import logic
 from ._ui import PERSIST, metric_row, number, refuse
 
@@ -78,6 +79,6 @@ def render():
                   "unit": [r[2] for r in g["summary"]]})
         st.subheader("Design load")
         st.table({"method": [r[0] for r in g["design_loads"]], "area (m2)": [r[1] for r in g["design_loads"]],
-                  "mass (kg)": [f"{r[2]:,.0f}" for r in g["design_loads"]]})
+                  f"mass ({unit_of('mass')})": [show(r[2], "mass", with_unit=False) for r in g["design_loads"]]})
     st.image(g["profile"], caption="Holdup and discharge rate against flight angle")
 

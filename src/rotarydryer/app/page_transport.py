@@ -63,6 +63,9 @@ def _step(value):
 def render():
     side = st.sidebar
     st.title("Solids transport and residence time")
+    st.caption("The solids transport alone, at the case's assumed moisture profile (as `rotarydryer rtd`): the Whole "
+               "dryer page gives the coupled heat-and-mass state's holdup and residence times, which follow the "
+               "computed moisture.")
     case, shown = case_picker("", default="lee2008_invicta")
     try:
         d = logic.case_defaults(case)
