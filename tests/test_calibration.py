@@ -429,3 +429,13 @@ def test_a_calibration_carries_the_coefficients_its_run_fixed():
     assert calibrated.transport.kiln_time == pytest.approx(rec.values["transport.kiln_time"])
     assert held_overrides({"thermal.area_scale": 2.0, "gas.flow": 3.0, "transport.n_cells": 20, "tests.1.gas_flow": 4.0,
                            "geometry.repose_angle_scale": 1.1}, ["thermal.area_scale"]) == ["geometry.repose_angle_scale"]
+
+
+def test_the_help_lists_every_response():
+    """`calibrate --help` left out moisture_profile, which a run without -r fits whenever the data have it."""
+    import re as _re
+
+    from rotarydryer.estimation.calibrate import RESPONSES
+
+    text = " ".join(runner.invoke(app, ["calibrate", "--help"]).output.split())
+    assert not [r for r in RESPONSES if not _re.search(rf"\b{r}\b", text)]

@@ -29,8 +29,8 @@ def calibrate_command(
                                         "(default all)."),
     response: Optional[list[str]] = typer.Option(None, "--response", "-r", help="Response to fit (repeat): "
                                                  "tracer, mrt, holdup, gas_outlet_temperature, product_moisture, "
-                                                 "product_temperature, product_d50, dust_rate (default: those the "
-                                                 "data have)."),
+                                                 "product_temperature, moisture_profile, product_d50, dust_rate "
+                                                 "(default: every one the data have that the parameters move)."),
     sigma: Optional[list[str]] = typer.Option(None, help="Measurement standard deviation RESPONSE=VALUE "
                                               "(repeat; in the response's unit; tracer: of E(t), 1/s)."),
     set_: Optional[list[str]] = typer.Option(None, "--set", help="Fixed override KEY=VALUE (repeat)."),
