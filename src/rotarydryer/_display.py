@@ -34,7 +34,7 @@ from pathlib import Path
 
 __all__ = ["fmt", "fmt_error", "fmt_angle", "fmt_moisture", "short_repr", "html_table", "outputs_dataframe",
            "UNITS", "DEFAULT_UNITS", "display_units", "set_display_units", "parse_units", "unit_of", "to_display",
-           "show", "quantity_of", "show_output"]
+           "show", "quantity_of", "show_output", "UNIT_QUANTITIES"]
 
 #: display units of each quantity: unit -> (scale, offset) from the SI value (shown = SI x scale + offset);
 #: moisture and humidity are kg/kg (wet or dry basis as the quantity says), temperatures degC, energies J
@@ -259,6 +259,15 @@ def show(value, quantity: str, digits: int = 4, *, unit: str | None = None, with
     else:
         number = fmt(to_display(x, quantity, u), digits)
     return f"{number} {u}" if with_unit else number
+
+
+#: a written unit -> (its display quantity, factor to the quantity's SI unit of `UNITS`): the units case keys,
+#: validation items and screening constraints are given in (one table for every surface that converts them)
+UNIT_QUANTITIES: dict[str, tuple[str, float]] = {
+    "s": ("time", 1.0), "min": ("time", 60.0), "h": ("time", 3600.0), "kg": ("mass", 1.0), "t": ("mass", 1e3),
+    "kg/s": ("mass_flow", 1.0), "kg/h": ("mass_flow", 1.0 / 3600.0), "t/h": ("mass_flow", 1.0 / 3.6),
+    "degC": ("temperature", 1.0), "K": ("temperature_difference", 1.0), "W": ("power", 1.0), "kW": ("power", 1e3),
+    "m": ("length", 1.0)}
 
 
 #: output-name suffixes (longest first): (suffix, quantity, factor to the SI unit of `UNITS`)

@@ -286,20 +286,18 @@ CONSTRAINT_UNITS = {"gas heat capacity": "-", "drying length": "m", "exhaust dew
 
 #: what each constraint's value is, where its name says what it guards instead (the text surfaces' label)
 CONSTRAINT_LABELS = {"exhaust dew point": "exhaust temperature against its dew point + margin"}
-#: the display quantity (`rotarydryer._display`) of each constraint unit
-_UNIT_QUANTITY = {"degC": "temperature", "m": "length", "kg/s": "mass_flow"}
 
 
 def constraint_text(name: str, value: float, limit: float, sense: str) -> tuple[str, str, str]:
     """(label, value, limit) of a screening constraint for a person: the label of what the value is
     (`CONSTRAINT_LABELS`: "exhaust dew point" compares the exhaust temperature) and the value and limit in the display
     units (``--units``; a ratio or a velocity as a number with its unit)."""
-    from ._display import fmt, show
+    from ._display import UNIT_QUANTITIES, fmt, show
 
     unit = CONSTRAINT_UNITS.get(name, "-")
-    q = _UNIT_QUANTITY.get(unit)
+    q, f = UNIT_QUANTITIES.get(unit, (None, 1.0))
     if q is not None:
-        shown = show(value, q), show(limit, q)
+        shown = show(value * f, q), show(limit * f, q)
     else:
         shown = tuple(fmt(x) + ("" if unit == "-" else f" {unit}") for x in (value, limit))
     return CONSTRAINT_LABELS.get(name, name), shown[0], f"{sense} {shown[1]}"

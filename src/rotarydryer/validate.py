@@ -46,7 +46,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from . import _jit
-from ._display import show, show_delta
+from ._display import UNIT_QUANTITIES, show, show_delta
 from .cases import has_tracer_curve, list_cases, load_case, measured_rtd_moments
 from .cases.build import build_model, rows_shadowed, thermal_enabled
 from .published import read_published_csv
@@ -399,11 +399,9 @@ def _tolerance(i: ValidationItem) -> str:
             "minimum": f">= {i.tolerance:g}{unit}", "maximum": f"<= {i.tolerance:g}{unit}"}[i.kind]
 
 
-#: an item's unit -> (its display quantity, factor to the quantity's SI unit) (`rotarydryer._display`)
-_DISPLAY_UNITS = {"s": ("time", 1.0), "min": ("time", 60.0), "h": ("time", 3600.0), "kg": ("mass", 1.0),
-                  "t": ("mass", 1e3), "kg/s": ("mass_flow", 1.0), "kg/h": ("mass_flow", 1.0 / 3600.0),
-                  "t/h": ("mass_flow", 1.0 / 3.6), "degC": ("temperature", 1.0), "K": ("temperature_difference", 1.0),
-                  "W": ("power", 1.0), "kW": ("power", 1e3), "m": ("length", 1.0), "kg/kg": ("moisture", 1.0)}
+#: an item's unit -> (its display quantity, factor to the quantity's SI unit): the shared table, and kg/kg (a moisture,
+#: or a humidity by its quantity's name)
+_DISPLAY_UNITS = {**UNIT_QUANTITIES, "kg/kg": ("moisture", 1.0)}
 
 
 def display_cells(i: ValidationItem) -> tuple[str, str, str, str]:

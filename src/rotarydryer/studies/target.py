@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, minimize
 
-from .._display import UNITS, quantity_of, show_output, unit_of
+from .._display import UNIT_QUANTITIES, UNITS, quantity_of, show_output, unit_of
 from .._limits import LIMITS
 from .._validation import finite_number, fmt_number
 from ..cases import discrete_kind, load_case, valid_override_keys
@@ -153,18 +153,14 @@ class TargetResult:
         return "\n".join(lines)
 
 
-#: a case key's unit -> the display quantity it is shown in (`rotarydryer._display`)
-_KEY_QUANTITY = {"degC": "temperature", "kg/s": "mass_flow", "kg": "mass", "s": "time", "m": "length", "W": "power"}
-
-
 def _key_shown(unit: str):
     """(number formatter, " unit") of a case key's values in text: the key's own unit and `fmt_number`, or, where
     ``--units`` shows the key's quantity in another unit (``temperature=degF``), that unit (6 figures)."""
-    q = _KEY_QUANTITY.get(unit or "")
+    q, f = UNIT_QUANTITIES.get(unit or "", (None, 1.0))
     if q is None or unit_of(q) == unit:
         return fmt_number, (f" {unit}" if unit else "")
     scale, offset = UNITS[q][unit_of(q)]
-    return (lambda v: fmt_number(float(v) * scale + offset)), f" {unit_of(q)}"
+    return (lambda v: fmt_number(float(v) * f * scale + offset)), f" {unit_of(q)}"
 
 
 #: absolute floor of the default output tolerance by quantity (SI, the output names' units): a target of
