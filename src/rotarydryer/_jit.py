@@ -2,7 +2,8 @@
 
 The hot loops of the heat-and-mass residual have a compiled form: the tabulated flight geometry
 of every cell (`rotarydryer.geometry._cell_kernel`), the gas properties, the gas-solids
-transfer and the shell network (`rotarydryer.properties._kernels`). Each has a NumPy
+transfer, the shell network and the cell balance of a dryer of one size class
+(`rotarydryer.properties._kernels`). Each has a NumPy
 reference that gives the same numbers to rounding (the shell: the same root to its tolerance;
 tested against each other) and that runs whenever the compiled kernels are not in use.
 

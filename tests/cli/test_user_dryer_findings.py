@@ -232,9 +232,12 @@ def test_an_exhaust_below_its_dew_point_is_said_to_be_below_it(tmp_path):
 
 def test_a_steady_state_without_a_product_is_refused_by_its_reason():
     """A size-class dryer whose solve ends with the whole feed as dust stopped with a bare ZeroDivisionError (the
-    product's moisture of no product): refused as the up-front entrainment check refuses, exit 2."""
+    product's moisture of no product): refused as the up-front entrainment check refuses, exit 2. (The fuzzed feed
+    had d63 = 110 um; near the whole feed's entrainment this dryer has two steady states, and since 2026-12-07 the
+    solver reaches the one with a product there (41 % of the feed as dust, the compiled and NumPy residuals alike);
+    at 85 um both reach the one without.)"""
     sets = ["gas.recycle_fraction=0.477", "gas.leak_air_flow=0.07788", "particle_size.distribution=rosin_rammler",
-            "particle_size.d63=0.00011", "particle_size.spread=2.69", "particle_size.classes=5",
+            "particle_size.d63=0.000085", "particle_size.spread=2.69", "particle_size.classes=5",
             "transport.forward_step=trajectory"]
     r = run(["simulate", DRYERS / "all_dust_after_solve.toml", *[a for s in sets for a in ("--set", s)]])
     assert r.exit_code == 2, r.output

@@ -142,17 +142,28 @@ def _humid_heat_at(t, y, c):
     return cpa + y * (_cp_molar(c, 3, tk) / c[_MW])
 
 
+@_helper
+def _air_enthalpy_at(tk, c):
+    """Dry-air enthalpy above 0 °C at tk K, J/kg (NASA polynomials)."""
+    ha = 0.0
+    for s in range(3):
+        ha += c[_WAIR + s] * ((_h_molar(c, s, tk) - c[_HREF + s]) / c[_MSP + s])
+    return ha
+
+
+@_helper
+def _vapour_enthalpy_at(tk, c):
+    """Vapour enthalpy above liquid water at 0.01 °C at tk K, J/kg (NASA polynomial and the latent heat)."""
+    return c[_LAT] + (_h_molar(c, 3, tk) - c[_HREF + 3]) / c[_MW]
+
+
 def _heat_loop(t, y, c, humid_heat, air_enthalpy, vapour_enthalpy):
     """Humid heat c_pa + Y c_pv (J/(kg dry air K)), the dry-air enthalpy above 0 °C and the vapour
     enthalpy above liquid water at 0.01 °C (J/kg) at t °C (flat arrays)."""
-    mw = c[_MW]
     for i in range(t.size):
         tk = t[i] + 273.15
-        ha = 0.0
-        for s in range(3):
-            ha += c[_WAIR + s] * ((_h_molar(c, s, tk) - c[_HREF + s]) / c[_MSP + s])
-        air_enthalpy[i] = ha
-        vapour_enthalpy[i] = c[_LAT] + (_h_molar(c, 3, tk) - c[_HREF + 3]) / mw
+        air_enthalpy[i] = _air_enthalpy_at(tk, c)
+        vapour_enthalpy[i] = _vapour_enthalpy_at(tk, c)
         humid_heat[i] = _humid_heat_at(t[i], y[i], c)
 
 
@@ -491,64 +502,321 @@ def pack_transfer(radius, pressure, co2_partial_atm, beam_length, solids_emissiv
                      diffusivity_blend_k, solids_ceiling], dtype=float)
 
 
-def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y, c, w, ps, rw, qc, qr):
-    """Evaporation (kg/s), convective and radiative heat (W) from the gas to the solids of each stage:
+@_helper
+def _transfer_at(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y, c, w, ps):
+    """Evaporation (kg/s), convective and radiative heat (W) from the gas to the solids of one stage:
     Nu = 0.33 Re^0.6 (Ajayi (2011) Eq. 6.41), Chilton-Colburn mass transfer on the concentration basis
     with the Stefan (high-flux) correction and Wagner-Pruss saturation at the solids surface (Ajayi
     (2011) Eq. 6.32-6.49 in this package's consistent form), the falling-rate factor of the kinetics,
-    grey gas-solids radiation with the WSGG emissivity. False where the solids boil (the caller then
-    takes the checked NumPy path, which names it)."""
+    grey gas-solids radiation with the WSGG emissivity: (True, R_w, Q_conv, Q_rad), or (False, 0, 0, 0)
+    where the solids boil (the caller then takes the checked NumPy path, which names it)."""
     radius, p, sigma = q[_TR_RADIUS], q[_TR_P], q[_TR_SIGMA]
     method = q[_TR_METHOD]
     xe, xcr = q[_TR_XE], q[_TR_XCR]
+    tg = min(max(tg_raw, -40.0), 600.0)   # humid_air.T_MIN_C, T_MAX_C
+    ts = _soft_ceiling(max(ts_raw, 0.0), q[_TR_TSMAX])
+    y = min(max(y_raw, 1e-6), 1.0)    # humid_air.Y_MAX
+    # gas-solids coefficient at the gas temperature
+    mu, k = _transport_at(tg, y, c)
+    re = fg / (math.pi * radius ** 2) * dp / mu
+    hc = 0.33 * re ** 0.6 * k / dp
+    x = max(x_raw, 0.0)
+    # mass transfer coefficient (film properties), concentration basis
+    film = 0.5 * (tg + ts)
+    cp = _humid_heat_at(film, y, c) / (1.0 + y)
+    mu_f, k_f = _transport_at(film, y, c)
+    pr = cp * mu_f / k_f
+    rho_f = p * c[_MA] * (1.0 + y) / (c[_R] * (film + 273.15) * (1.0 + y / c[_RATIO]))
+    sc = mu_f / (rho_f * _diffusivity_at(film + 273.15, p / 101325.0, q[_TR_DSWITCH], q[_TR_DBLEND]))
+    lewis = (pr / sc) ** (2.0 / 3.0)
+    xw = y / (y + c[_RATIO])
+    m_g = (1 - xw) * c[_MA] + xw * c[_MW]
+    hm = hc / cp * lewis / (p * m_g / c[_MW])
+    pw = _psat_at(ts + 273.15, ps)
+    pv = xw * p
+    drive = pw - pv
+    if pw >= p:
+        return False, 0.0, 0.0, 0.0
+    if abs(drive) < 1e-9 * p:
+        flux = hm * drive * (p / (p - pv))
+    else:
+        flux = hm * drive * (math.log((p - pv) / (p - pw)) * p / drive)
+    # falling-rate factor, continued linearly below the equilibrium moisture
+    if method == 0.0:
+        f = 1.0
+    else:
+        u = (x - xe) / (xcr - xe)
+        phi = min(max(u, 0.0), 1.0)
+        if method == 2.0 and curve_x.size:
+            f = np.interp(phi, curve_x, curve_y)
+        else:
+            f = phi ** (1.0 if method == 1.0 else q[_TR_EXP])
+        if u < 0.0:
+            f = f + u
+    rate = a * (f * flux if flux > 0 else flux)
+    rw = rate * min(max(x / q[_TR_GUARD], 0.0), 1.0)
+    qc = hc * a * (tg - ts_raw)
+    tgk = tg + 273.15
+    tsk = ts_raw + 273.15
+    eg = min(max(_wsgg_at(tg + 273.15, pv / 101325.0, q[_TR_PC], q[_TR_BEAM], w), 1e-6), 1.0)
+    qr = sigma * a * (tgk ** 4 - tsk ** 4) / (1.0 / q[_TR_ES] + 1.0 / eg - 1.0)
+    return True, rw, qc, qr
+
+
+def _transfer_loop(a, x_raw, ts_raw, tg_raw, y_raw, fg, dp, q, curve_x, curve_y, c, w, ps, rw, qc, qr):
+    """`_transfer_at` over flat arrays: False where the solids of a stage boil (the caller then takes
+    the checked NumPy path, which names it)."""
     for i in range(a.size):
-        tg = min(max(tg_raw[i], -40.0), 600.0)   # humid_air.T_MIN_C, T_MAX_C
-        ts = _soft_ceiling(max(ts_raw[i], 0.0), q[_TR_TSMAX])
-        y = min(max(y_raw[i], 1e-6), 1.0)    # humid_air.Y_MAX
-        # gas-solids coefficient at the gas temperature
-        mu, k = _transport_at(tg, y, c)
-        re = fg[i] / (math.pi * radius ** 2) * dp[i] / mu
-        hc = 0.33 * re ** 0.6 * k / dp[i]
-        x = max(x_raw[i], 0.0)
-        # mass transfer coefficient (film properties), concentration basis
-        film = 0.5 * (tg + ts)
-        cp = _humid_heat_at(film, y, c) / (1.0 + y)
-        mu_f, k_f = _transport_at(film, y, c)
-        pr = cp * mu_f / k_f
-        rho_f = p * c[_MA] * (1.0 + y) / (c[_R] * (film + 273.15) * (1.0 + y / c[_RATIO]))
-        sc = mu_f / (rho_f * _diffusivity_at(film + 273.15, p / 101325.0, q[_TR_DSWITCH], q[_TR_DBLEND]))
-        lewis = (pr / sc) ** (2.0 / 3.0)
-        xw = y / (y + c[_RATIO])
-        m_g = (1 - xw) * c[_MA] + xw * c[_MW]
-        hm = hc / cp * lewis / (p * m_g / c[_MW])
-        pw = _psat_at(ts + 273.15, ps)
-        pv = xw * p
-        drive = pw - pv
-        if pw >= p:
+        ok, r, h, e = _transfer_at(a[i], x_raw[i], ts_raw[i], tg_raw[i], y_raw[i], fg[i], dp[i], q, curve_x, curve_y,
+                                   c, w, ps)
+        if not ok:
             return False
-        if abs(drive) < 1e-9 * p:
-            flux = hm * drive * (p / (p - pv))
-        else:
-            flux = hm * drive * (math.log((p - pv) / (p - pw)) * p / drive)
-        # falling-rate factor, continued linearly below the equilibrium moisture
-        if method == 0.0:
-            f = 1.0
-        else:
-            u = (x - xe) / (xcr - xe)
-            phi = min(max(u, 0.0), 1.0)
-            if method == 2.0 and curve_x.size:
-                f = np.interp(phi, curve_x, curve_y)
+        rw[i] = r
+        qc[i] = h
+        qr[i] = e
+    return True
+
+
+# ----------------------------------------------------------------------------------------------------
+# the cell balance of a dryer of one size class (rotarydryer.thermal.dryer.ThermalDryer._rhs, physical mode)
+_CB_NT, _CB_NG, _CB_ENTRY, _CB_FS, _CB_FW, _CB_FH, _CB_CPS, _CB_CPW, _CB_SFLOOR, _CB_TTOP = range(10)
+_CB_SMOOTH, _CB_RHOP, _CB_FD, _CB_CE0, _CB_YMAX, _CB_BASE, _CB_KILN, _CB_R, _CB_R2 = range(10, 19)
+#: the gas enthalpy's humidity step of the derivative dh/dY (ThermalDryer._rhs)
+CB_DY = 1e-4
+
+
+def pack_cells(n_tanks, n_gas, entry, feed_solids, feed_water, feed_enthalpy, cp_solids, cp_water, solids_floor,
+               solids_ceiling, smoothing, particle_density, dry_gas_flow, empty_heat_capacity, y_max, use_base, kiln,
+               radius):
+    """Parameters of `_cell_balance_loop`, in the order of the ``_CB_`` offsets."""
+    return np.array([n_tanks, n_gas, entry, feed_solids, feed_water, feed_enthalpy, cp_solids, cp_water, solids_floor,
+                     solids_ceiling, smoothing, particle_density, dry_gas_flow, empty_heat_capacity, y_max,
+                     1.0 if use_base else 0.0, 1.0 if kiln else 0.0, radius, radius**2], dtype=float)
+
+
+@_helper
+def _bed_area_at(holdup, rho, length, radius, r2, area_factor, particle_density, seg, theta_grid):
+    """Gas-exposed area of a rolling bed's active layer, m^2: 3 theta_AL L_c rho_b dz / rho_p with the chord L_c of
+    the bed surface (Ajayi (2011) Eq. 6.56-6.61; `rotarydryer.thermal.balances.active_layer_area`)."""
+    mass = max(holdup, 0.0)
+    fill = min(max(mass / (rho * length * math.pi * r2), 0.0), 1.0)
+    angle = np.interp(fill, seg, theta_grid)
+    chord = 2.0 * radius * math.sin(angle / 2.0)
+    return 3.0 * area_factor * chord * rho * length / particle_density
+
+
+def _cell_balance_loop(z, k, cap, a_bed, kiln_des, kiln_rho, qloss, y_in, h_in, src, dst, ce_edge, ce_excess, gas_tank,
+                       tank_stage, gas_up, is_bed, kiln_tank, kiln_stage, dp, theta, holdup, gas_len, seg, theta_grid, p,
+                       q, curve_x, curve_y, c, w, ps, base, dz, rec):
+    """Time derivatives of the states ``z`` (rows) of a dryer of one size class: the wet-solids flows of the
+    network's edges (coefficients ``k`` and design loads ``cap`` of each row from the section laws, the cap
+    min(M, M_des) smoothed), the solids, water and enthalpy balances of the tanks (Ajayi (2011) Eq. 6.1-6.4,
+    6.8-6.11), the gas-solids transfer of each gas stage (`_transfer_at`; curtain area Eq. 6.63, the rolling beds'
+    areas ``a_bed`` given, the kiln beds' from the passive solids above the design load ``kiln_des`` of the passive
+    tank ``kiln_tank`` of each kiln stage ``kiln_stage``, at bulk density ``kiln_rho``), and the gas balances of the stages in plug flow with their
+    shell loss ``qloss`` (Eq. 6.50-6.55) and inlet gas (``y_in``, ``h_in`` per row): the same equations and the
+    same operations as the NumPy form (`rotarydryer.thermal.dryer.ThermalDryer._rhs`), per state.
+
+    ``base``: the last single state's transfer inputs and outputs per stage (area, X, T_s, T_g, Y, R_w, Q_conv,
+    Q_rad), the vapour enthalpy at the solids temperature and the gas enthalpies and humid heat (h, h at Y + CB_DY,
+    c_s), each reused where a row's inputs equal them (p[_CB_BASE]); ``rec``: those of row 0. False where the solids
+    of a stage boil (the NumPy form names it)."""
+    nt = int(p[_CB_NT])
+    ng = int(p[_CB_NG])
+    entry = int(p[_CB_ENTRY])
+    cps = p[_CB_CPS]
+    cpw = p[_CB_CPW]
+    sfloor = p[_CB_SFLOOR]
+    ttop = p[_CB_TTOP]
+    smooth = p[_CB_SMOOTH]
+    rhop = p[_CB_RHOP]
+    fd = p[_CB_FD]
+    ce0 = p[_CB_CE0]
+    ymax = p[_CB_YMAX]
+    use_base = p[_CB_BASE] != 0.0
+    kiln = p[_CB_KILN] != 0.0
+    radius = p[_CB_R]
+    r2 = p[_CB_R2]
+    kiln_smooth = max(smooth, 1e-3)
+    nk = kiln_tank.size
+    a_kiln = np.empty(ng)
+    ne = src.size
+    nce = ce_edge.size
+    rows = z.shape[0]
+    # the smoothed cap where any width is non-zero (the NumPy form's test over the whole call), else the minimum
+    smoothed = False
+    if smooth != 0.0:
+        for r in range(rows):
+            for j in range(nce):
+                if cap[r, j] != 0.0:
+                    smoothed = True
+    S = np.empty(nt)
+    W = np.empty(nt)
+    T = np.empty(nt)
+    m = np.empty(nt)
+    b = np.empty(ne)
+    in_s = np.empty(nt)
+    in_w = np.empty(nt)
+    in_h = np.empty(nt)
+    out_s = np.empty(nt)
+    out_w = np.empty(nt)
+    out_h = np.empty(nt)
+    rw_t = np.empty(nt)
+    qh_t = np.empty(nt)
+    rw = np.empty(ng)
+    qc = np.empty(ng)
+    qr = np.empty(ng)
+    hv = np.empty(ng)
+    h = np.empty(ng)
+    hw = np.empty(ng)
+    cs = np.empty(ng)
+    for r in range(rows):
+        for i in range(nt):
+            S[i] = max(z[r, i], sfloor)
+            W[i] = max(z[r, nt + i], 0.0)
+            T[i] = min(max(z[r, 2 * nt + i], -20.0), ttop)
+            m[i] = S[i] + W[i]
+            in_s[i] = 0.0
+            in_w[i] = 0.0
+            in_h[i] = 0.0
+            out_s[i] = 0.0
+            out_w[i] = 0.0
+            out_h[i] = 0.0
+            rw_t[i] = 0.0
+            qh_t[i] = 0.0
+        # the edges' flows: the coefficient times the source's mass, or its part up to / above the design load
+        for e in range(ne):
+            b[e] = m[src[e]]
+        for j in range(nce):
+            e = ce_edge[j]
+            ms = m[src[e]]
+            cj = cap[r, j]
+            if smoothed:
+                eps = smooth * cj
+                sm = 0.5 * (ms + cj - math.sqrt((ms - cj) * (ms - cj) + eps * eps))
             else:
-                f = phi ** (1.0 if method == 1.0 else q[_TR_EXP])
-            if u < 0.0:
-                f = f + u
-        rate = a[i] * (f * flux if flux > 0 else flux)
-        rw[i] = rate * min(max(x / q[_TR_GUARD], 0.0), 1.0)
-        qc[i] = hc * a[i] * (tg - ts_raw[i])
-        tgk = tg + 273.15
-        tsk = ts_raw[i] + 273.15
-        eg = min(max(_wsgg_at(tg + 273.15, pv / 101325.0, q[_TR_PC], q[_TR_BEAM], w), 1e-6), 1.0)
-        qr[i] = sigma * a[i] * (tgk ** 4 - tsk ** 4) / (1.0 / q[_TR_ES] + 1.0 / eg - 1.0)
+                sm = min(ms, cj)
+            b[e] = ms - sm if ce_excess[j] != 0 else sm
+        for e in range(ne):
+            t = src[e]
+            ms = m[t]
+            f = (k[r, e] * b[e]) * (ms / max(ms, 1e-300))
+            ms2 = max(ms, 1e-12)
+            fs = S[t] / ms2
+            fw = W[t] / ms2
+            fh = (cps * fs + cpw * fw) * T[t]
+            out_s[t] += f * fs
+            out_w[t] += f * fw
+            out_h[t] += f * fh
+            d = dst[e]
+            if d >= 0:
+                in_s[d] += f * fs
+                in_w[d] += f * fw
+                in_h[d] += f * fh
+        if kiln:
+            for i in range(ng):
+                a_kiln[i] = 0.0
+            for j in range(nk):
+                mp = m[kiln_tank[j]]
+                des = kiln_des[r, j]
+                eps = kiln_smooth * max(des, 1e-9)
+                sm = 0.5 * (mp + des - math.sqrt((mp - des) * (mp - des) + eps * eps))
+                st = kiln_stage[j]
+                a_kiln[st] += _bed_area_at(max(mp - sm, 0.0), kiln_rho[r, j], gas_len[st], radius, r2, theta[st], rhop,
+                                           seg, theta_grid)
+        in_s[entry] += p[_CB_FS]
+        in_w[entry] += p[_CB_FW]
+        in_h[entry] += p[_CB_FH]
+        # the gas-solids transfer of each stage
+        for i in range(ng):
+            t = gas_tank[i]
+            x = W[t] / max(S[t], 1e-12)
+            if is_bed[i] != 0:
+                area = a_bed[r, i]
+            else:
+                area = theta[i] * max(m[t], 0.0) * 3.0 / (dp[i] * rhop)
+            if kiln:
+                area = area + a_kiln[i]
+            tg_raw = z[r, 3 * nt + i]
+            y_raw = z[r, 3 * nt + ng + i]
+            yc = min(max(y_raw, 0.0), ymax)
+            if (use_base and area == base[0, i] and x == base[1, i] and T[t] == base[2, i] and tg_raw == base[3, i]
+                    and y_raw == base[4, i]):
+                rw[i] = base[5, i]
+                qc[i] = base[6, i]
+                qr[i] = base[7, i]
+            else:
+                ok, rw[i], qc[i], qr[i] = _transfer_at(area, x, T[t], tg_raw, y_raw, fd * (1.0 + yc), dp[i], q,
+                                                       curve_x, curve_y, c, w, ps)
+                if not ok:
+                    return False
+            if use_base and T[t] == base[2, i]:
+                hv[i] = base[8, i]
+            else:
+                hv[i] = _vapour_enthalpy_at(min(max(T[t], -40.0), 600.0) + 273.15, c)
+            if rows == 1:
+                rec[0, i] = area
+                rec[1, i] = x
+                rec[2, i] = T[t]
+                rec[3, i] = tg_raw
+                rec[4, i] = y_raw
+                rec[5, i] = rw[i]
+                rec[6, i] = qc[i]
+                rec[7, i] = qr[i]
+                rec[8, i] = hv[i]
+            rw_t[t] = rw[i]
+            qh_t[t] = qc[i] + qr[i] - rw[i] * hv[i]
+        # the solids tanks: dry solids, water and the temperature from the enthalpy balance
+        for i in range(nt):
+            ds = in_s[i] - out_s[i]
+            dw = in_w[i] - out_w[i] - rw_t[i]
+            du = in_h[i] - out_h[i] + qh_t[i]
+            cap_h = S[i] * cps + W[i] * cpw
+            u = cap_h / ce0
+            ce = ce0 / (1.0 + u * u)
+            cap_h = cap_h + ce
+            tg_near = z[r, 3 * nt + tank_stage[i]]
+            dz[r, i] = ds
+            dz[r, nt + i] = dw
+            dz[r, 2 * nt + i] = (du - T[i] * (cps * ds + cpw * dw) + ce * (tg_near - T[i])) / cap_h
+        # the gas stages: enthalpy (extended linearly outside the property range) and humidity balances
+        for i in range(ng):
+            tg_raw = z[r, 3 * nt + i]
+            y_raw = z[r, 3 * nt + ng + i]
+            if use_base and tg_raw == base[3, i] and y_raw == base[4, i]:
+                h[i] = base[9, i]
+                hw[i] = base[10, i]
+                cs[i] = base[11, i]
+            else:
+                tg = min(max(tg_raw, -40.0), 600.0)
+                tk = tg + 273.15
+                air = _air_enthalpy_at(tk, c)
+                vap = _vapour_enthalpy_at(tk, c)
+                yc = min(max(y_raw, 0.0), ymax)
+                yw = min(max(y_raw + CB_DY, 0.0), ymax)
+                h[i] = air + yc * vap + (tg_raw - tg) * (1150.0 + 2200.0 * yc)
+                hw[i] = air + yw * vap + (tg_raw - tg) * (1150.0 + 2200.0 * yw)
+                cs[i] = _humid_heat_at(tg, yc, c)
+            if rows == 1:
+                rec[9, i] = h[i]
+                rec[10, i] = hw[i]
+                rec[11, i] = cs[i]
+        for i in range(ng):
+            tg_raw = z[r, 3 * nt + i]
+            y_raw = z[r, 3 * nt + ng + i]
+            up = gas_up[i]
+            if up >= 0:
+                y_up = z[r, 3 * nt + ng + up]
+                h_up = h[up]
+            else:
+                y_up = y_in[r]
+                h_up = h_in[r]
+            dym = fd * (y_up - y_raw) + rw[i]
+            dh = fd * (h_up - h[i]) + rw[i] * hv[i] - qc[i] - qr[i] - qloss[r, i]
+            dhdy = (hw[i] - h[i]) / CB_DY
+            dy = dym / holdup[i]
+            dz[r, 3 * nt + i] = (dh / holdup[i] - dhdy * dy) / cs[i]
+            dz[r, 3 * nt + ng + i] = dy
     return True
 
 
@@ -591,10 +859,12 @@ def evaluate(name, inputs, params, n_out):
 
 
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,
-          "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop}
+          "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop,
+          "cells": _cell_balance_loop}
 #: each kernel's argument kinds (`rotarydryer._aot`: ``a`` a float array, ``o`` an output array, ``f`` a float)
 _KINDS = {"transport": "aaaoo", "heat": "aaaooo", "wsgg": "aaaaao", "psat": "aao", "diffusivity": "aaffo",
-          "shell": "aaaaaaaaaooo", "transfer": "aaaaaaaaaaaaaooo"}
+          "shell": "aaaaaaaaaooo", "transfer": "aaaaaaaaaaaaaooo",
+          "cells": "mmmmmmmaannnnnnnnnnaaaaaaaaaaaaamMM"}
 #: what the ahead-of-time module compiles (`rotarydryer._aot`)
 AOT_KERNELS = {name: (fn, _KINDS[name]) for name, fn in _LOOPS.items()}
 _compiled: dict = {}

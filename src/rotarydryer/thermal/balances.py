@@ -323,18 +323,14 @@ def solids_temperature_ceiling(pressure):
     return np.minimum(99.0, water.saturation_temperature(0.99 * np.asarray(pressure, dtype=float)))
 
 
-def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
-                             particle_diameter, radius, kinetics, pressure, co2_mole_fraction, solids_emissivity,
-                             dry_guard, beam_length):
-    """`_stage_transfer` of the physical mode in one compiled pass per stage
-    (`rotarydryer.properties._kernels`), or None: kernels off, a mass-transfer basis other than
-    ``"concentration"`` or a saturation pressure other than Wagner-Pruss, or solids at the boiling point
-    (the NumPy form then names it), per-stage arrays of the scalar parameters, or a subclass of
-    DryingKinetics (which may override its rate). The same equations, the same numbers to rounding."""
-
-    if (_kernels.compiled("transfer") is None or type(kinetics) is not DryingKinetics
-            or kinetics.basis != "concentration" or kinetics.saturation_method != "wagner_pruss"
-            or kinetics.method not in _kernels.KINETICS_CODES):
+def _transfer_kernel_parameters(kinetics, radius, pressure, co2_mole_fraction, solids_emissivity, dry_guard,
+                                beam_length):
+    """(q, curve_x, curve_y): the parameters of the compiled transfer (`rotarydryer.properties._kernels`), or
+    None where it does not apply: a mass-transfer basis other than ``"concentration"`` or a saturation pressure
+    other than Wagner-Pruss, per-stage arrays of the scalar parameters, or a subclass of DryingKinetics (which
+    may override its rate)."""
+    if (type(kinetics) is not DryingKinetics or kinetics.basis != "concentration"
+            or kinetics.saturation_method != "wagner_pruss" or kinetics.method not in _kernels.KINETICS_CODES):
         return None
     if any(type(v) is not float and np.ndim(v) for v in (radius, pressure, co2_mole_fraction, beam_length,
                                                          solids_emissivity, dry_guard)):
@@ -350,6 +346,23 @@ def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_tempe
     q = _kernels.pack_transfer(float(radius), p, float(co2_mole_fraction) * p / rad.ATM, float(beam_length),
                                float(solids_emissivity), float(dry_guard), SIGMA, kinetics.method, xe, xcr,
                                float(kinetics.exponent), ha._D_SWITCH_K, ha._D_BLEND_K, solids_temperature_ceiling(p))
+    return q, cx, cy
+
+
+def _stage_transfer_compiled(area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity, gas_mass_flow,
+                             particle_diameter, radius, kinetics, pressure, co2_mole_fraction, solids_emissivity,
+                             dry_guard, beam_length):
+    """`_stage_transfer` of the physical mode in one compiled pass per stage
+    (`rotarydryer.properties._kernels`), or None: kernels off, parameters the kernel does not take
+    (`_transfer_kernel_parameters`), or solids at the boiling point (the NumPy form then names it). The same
+    equations, the same numbers to rounding."""
+    if _kernels.compiled("transfer") is None:
+        return None
+    params = _transfer_kernel_parameters(kinetics, radius, pressure, co2_mole_fraction, solids_emissivity, dry_guard,
+                                         beam_length)
+    if params is None:
+        return None
+    q, cx, cy = params
     return _kernels.evaluate("transfer", (area, moisture_dry, solids_temperature_c, gas_temperature_c, humidity,
                                           gas_mass_flow, particle_diameter),
                              (q, cx, cy, ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS, water._PSAT_COEFFICIENTS), 3)

@@ -59,6 +59,12 @@ Model (Ajayi (2011) Ch. 5-6, generalised to any sequence of sections; notes ajay
   step does not grow while the bound binds; where the continuation
   still fails, a transient march at a loose tolerance (MARCH_RTOL) reaches the root's basin and
   Newton finishes from there.
+* **Compiled cell balance**: with the compiled kernels on, the residual of a dryer of one size class
+  in the physical mode is one compiled pass over its edges, tanks and stages
+  (`rotarydryer.properties._kernels`, `ThermalDryer._rhs_compiled`); the section laws, the rolling
+  beds' bulk density, the shell loss and a recycling burner's inlet gas are evaluated first, as by the
+  NumPy form (`ThermalDryer._rhs`), which stays the definition (the same residual to rounding; bit for
+  bit on the shipped cases) and serves the other configurations.
 
 Bad input raises [`DryerError`][rotarydryer.thermal.dryer.DryerError] (a ``ValueError``) saying which and why; solver failures
 keep the last iterate on ``exc.state``.
@@ -81,7 +87,9 @@ from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
 from .._validation import check_range
 from ..correlations.drag import terminal_velocity
 from ..geometry.drum import check_speed
+from ..properties import _kernels
 from ..properties import humid_air as ha
+from ..properties import water as _water
 from ..properties.psd import single_class
 from . import balances as bal
 from . import radiation as rad
@@ -444,6 +452,7 @@ class ThermalDryer:
         self._floor_memo = None      # (inputs, lowest admissible gas temperature) (_gas_temperature_floor)
         self._transfer_base = None   # (inputs, outputs) of the last single-state gas-solids transfer
         self._edge_base = None       # (k, caps, law evaluations) of the last single state's edges (flows)
+        self._batch_values = None    # (m, law -> the cells a batch changed and their values) (_edge_values_batch)
         self._inlet_h = None
         self._clipped = False
         self._plans = {}             # family set -> edges end to end (_edge_plan)
@@ -681,27 +690,7 @@ class ThermalDryer:
         # all edges end to end: one gather, one coefficient array, one smoothed cap for the capped and
         # excess edges (the same operations per edge as family by family)
         src, dst, capped, excess, in_ce, slices = self._edge_plan(families)
-        batch = self._edge_values_batch(W, m) if everything and m.ndim == 2 else None
-        if batch is not None:
-            k, cap = batch
-        else:
-            coef = {}
-            laws = self.laws if everything else list({id(f.law): f.law for f in families
-                                                      if f.law is not None}.values())
-            passive, clipped = self._passive(W, m, laws)
-            for law, (mp, xp) in zip(laws, passive):
-                coef[id(law)] = self._law_values(law, mp, xp, s.fouling)
-            lead = m.shape[:-1]
-            k = np.empty(lead + src.shape)
-            cap = np.empty(lead + in_ce.shape)
-            for f, (edges, caps) in zip(families, slices):
-                k[..., edges] = f.rate if f.law is None else coef[id(f.law)][f.name]
-                if caps is not None:
-                    cap[..., caps] = f.cap if f.law is None else coef[id(f.law)]["design_load"]
-            if everything and m.ndim == 1:
-                self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
-                # the edge values of this state and the law evaluations they came from (_edge_values_batch)
-                self._edge_base = (k, cap, [self._law_base.get(id(law)) for law in self.laws])
+        k, cap = self._edge_coefficients(W, m, None if everything else families)
         ms = m[..., src]
         b = ms
         if in_ce.size:
@@ -721,6 +710,37 @@ class ThermalDryer:
         if self.dusty and everything and gas is not None:
             return self._dusty_flows(src, dst, F, *gas)
         return src, dst, F
+
+    def _edge_coefficients(self, W, m, families=None):
+        """(k, cap): the coefficient of every edge of ``families`` (default all) end to end (`_edge_plan`) and the
+        design load of each capped or excess edge, at the tanks' mixtures ``W``, ``m`` ((tanks,) or a batch
+        (k, tanks)): the section laws at the passive nodes' masses and moisture (`_law_values`; a batch of all
+        families re-evaluates only the cells it changed, `_edge_values_batch`), the fixed rates and caps of the
+        families without a law. A single state of all families is remembered for the batches that follow."""
+        everything = families is None
+        families = self.families if everything else families
+        s = self.settings
+        src, _, _, _, in_ce, slices = self._edge_plan(families)
+        batch = self._edge_values_batch(W, m) if everything and m.ndim == 2 else None
+        if batch is not None:
+            return batch
+        coef = {}
+        laws = self.laws if everything else list({id(f.law): f.law for f in families if f.law is not None}.values())
+        passive, clipped = self._passive(W, m, laws)
+        for law, (mp, xp) in zip(laws, passive):
+            coef[id(law)] = self._law_values(law, mp, xp, s.fouling)
+        lead = m.shape[:-1]
+        k = np.empty(lead + src.shape)
+        cap = np.empty(lead + in_ce.shape)
+        for f, (edges, caps) in zip(families, slices):
+            k[..., edges] = f.rate if f.law is None else coef[id(f.law)][f.name]
+            if caps is not None:
+                cap[..., caps] = f.cap if f.law is None else coef[id(f.law)]["design_load"]
+        if everything and m.ndim == 1:
+            self._clipped = clipped      # reported by the steady state (transport_moisture_clipped)
+            # the edge values of this state and the law evaluations they came from (_edge_values_batch)
+            self._edge_base = (k, cap, [self._law_base.get(id(law)) for law in self.laws])
+        return k, cap
 
     def _passive(self, W, m, laws):
         """Per law (its passive nodes' wet masses, their wet-basis moisture clipped to the material's
@@ -764,6 +784,8 @@ class ThermalDryer:
                 return None
         k = cap = None
         passive, _ = self._passive(W, m, self.laws)
+        changed_values = {}
+        self._batch_values = (m, changed_values)      # what the kiln beds of this batch take (`_kiln_inputs`)
         for law, law_base, (mp, xp) in zip(self.laws, law_bases, passive):
             mb, xb = law_base[0], law_base[1]
             if s.moisture_coupling:
@@ -777,6 +799,7 @@ class ThermalDryer:
                 continue
             x = xp[rows, cells] if s.moisture_coupling else np.broadcast_to(np.asarray(xp, dtype=float), (law.n,))[cells]
             v = law.evaluate(mp[rows, cells], x, rpm=self.rpm, fouling=s.fouling, smoothing=smooth, cells=cells)
+            changed_values[id(law)] = (rows, cells, v)
             if k is None:
                 k, cap = _filled(k0, (m.shape[0], k0.size)), _filled(cap0, (m.shape[0], cap0.size))
             for name, e0, c0 in per_law[id(law)]:
@@ -868,6 +891,40 @@ class ThermalDryer:
                                                       self.radius, self.gas_dp[stages],
                                                       s.area_scale * self.gas_theta[stages], s.particle_density)
         return out
+
+    def _kiln_inputs(self, W, m):
+        """(design load kg, bulk density kg/m^3) of the passive node of each kiln stage (`_kiln_plan`'s laws end to
+        end), (J,) for a single state and (k, J) for a batch, at the tanks' mixtures ``W``, ``m``: the values of the
+        section laws' last evaluation at these states (`_edge_coefficients`, called first with the same ``m``; a
+        batch's unchanged cells those of the last single state), else evaluated here as by `_kiln_bed_area`."""
+        s = self.settings
+        stash = self._batch_values if m.ndim == 2 else None
+        fresh = stash is not None and stash[0] is m
+        passive = None
+        des, rho = [], []
+        for i, (law, _) in enumerate(self._kiln_plan):
+            base = self._law_base.get(id(law))
+            if m.ndim == 1 and base is not None:        # evaluated by `_edge_coefficients` at this state
+                des.append(base[4]["design_load"])
+                rho.append(base[4]["bulk_density"])
+            elif fresh and base is not None:
+                d = _filled(base[4]["design_load"], (m.shape[0], law.P.size))
+                r = _filled(base[4]["bulk_density"], (m.shape[0], law.P.size))
+                hit = stash[1].get(id(law))
+                if hit is not None:
+                    rows, cells, v = hit
+                    d[rows, cells] = v["design_load"]
+                    r[rows, cells] = v["bulk_density"]
+                des.append(d)
+                rho.append(r)
+            else:
+                if passive is None:
+                    passive, _ = self._passive(W, m, [x for x, _ in self._kiln_plan])
+                mp, xp = passive[i]
+                phi, r = law.properties(np.broadcast_to(xp, mp.shape))
+                des.append(law.design_load(phi, r, s.fouling))
+                rho.append(r)
+        return np.concatenate(des, axis=-1), np.concatenate(rho, axis=-1)
 
     def _transfer(self, S, W, T, Tg, Y):
         """Gas -> solids transfer per size class and gas stage: (area, R_w, Q_conv, Q_rad), each
@@ -1204,6 +1261,7 @@ class ThermalDryer:
         self._floor_memo = None
         self._transfer_base = None
         self._edge_base = None
+        self._batch_values = None
         self._law_cache = {}
         self._law_base = {}
 
@@ -1220,8 +1278,136 @@ class ThermalDryer:
             return self._rhs(np.ascontiguousarray(z.T)).T
         return self._rhs(z)
 
+    def _cell_plan(self):
+        """What the compiled cell balance (`rotarydryer.properties._kernels._cell_balance_loop`) needs that the
+        network and the layout fix (edges, capped and excess edges, stages, tanks), or None where it does not apply:
+        kernels off, size classes or entrainment, the compatibility mode, kinetics the compiled transfer does not
+        take (`rotarydryer.thermal.balances._transfer_kernel_parameters`). Then `_rhs` takes the NumPy form."""
+        s = self.settings
+        key = (s.mode, id(s.kinetics), s.pressure, s.co2_mole_fraction, self.radius, self.n_classes, self.dusty)
+        hit = self._plans.get("cells")
+        if hit is not None and hit[0] == key and hit[1] is s.kinetics:
+            return hit[2]
+        plan = None
+        if (self.n_classes == 1 and not self.dusty and not self._class_laws and s.mode == "physical"
+                and _kernels.compiled("cells") is not None):
+            params = bal._transfer_kernel_parameters(s.kinetics, self.radius, s.pressure, s.co2_mole_fraction, 0.9,
+                                                     2e-3, self._beam_length)
+            if params is not None:
+                src, dst, capped, excess, in_ce, _ = self._edge_plan(self.families)
+                i64 = np.int64
+                ce_excess = np.zeros(in_ce.size, dtype=i64)
+                ce_excess[excess[1]] = 1
+                plan = dict(
+                    src=np.ascontiguousarray(src, dtype=i64), dst=np.ascontiguousarray(dst, dtype=i64),
+                    ce_edge=np.ascontiguousarray(in_ce, dtype=i64), ce_excess=ce_excess,
+                    gas_tank=np.ascontiguousarray(self.gas_tank, dtype=i64),
+                    tank_stage=np.ascontiguousarray(self._tank_stage, dtype=i64),
+                    gas_up=np.ascontiguousarray(self.gas_up, dtype=i64),
+                    is_bed=np.ascontiguousarray(self.is_bed_stage, dtype=i64),
+                    dp=np.ascontiguousarray(self.class_dp[0], dtype=float),
+                    holdup=np.ascontiguousarray(self.gas_holdup, dtype=float),
+                    transfer=params, coefficients=(ha._KERNEL_COEFFICIENTS, rad._KERNEL_COEFFICIENTS,
+                                                   _water._PSAT_COEFFICIENTS),
+                    no_base=np.zeros((12, self.n_gas)), no_kiln=np.zeros((1, 0)),
+                    kiln_tank=np.concatenate([np.zeros(0, dtype=i64)] + [np.asarray(law.P, dtype=i64)
+                                                                          for law, _ in self._kiln_plan]),
+                    kiln_stage=np.concatenate([np.zeros(0, dtype=i64)] + [np.asarray(st, dtype=i64)
+                                                                           for _, st in self._kiln_plan]),
+                    gas_len=np.ascontiguousarray(self.gas_len, dtype=float))
+        self._plans["cells"] = (key, s.kinetics, plan)
+        return plan
+
+    def _rhs_compiled(self, z):
+        """`_rhs` in one compiled pass over the tanks and stages (`_cell_plan`), or None where it does not apply
+        or the kernel declined (solids at the boiling point: the NumPy form names it). The section laws, the kiln
+        and rolling-bed areas, the shell loss and the inlet gas are evaluated here first, as by the NumPy form
+        (with what they remember for the next call); the same numbers to rounding."""
+        plan = self._cell_plan()
+        if plan is None:
+            return None
+        if not np.isfinite(z).all():
+            raise DryerError("state became non-finite (solver diverged)", reason="diverged", state=z)
+        s = self.settings
+        nt, ng = self.n_tanks, self.n_gas
+        single = z.ndim == 1
+        Z = np.ascontiguousarray(z[None, :] if single else z)
+        rows = Z.shape[0]
+        S = np.maximum(Z[:, :nt], 1e-15 * self.feed_rate)
+        W = np.maximum(Z[:, nt:2 * nt], 0.0)
+        m = S + W
+        Tg, Y = Z[:, 3 * nt:3 * nt + ng], Z[:, 3 * nt + ng:]
+        if single:
+            W, m, Tg, Y = W[0], m[0], Tg[0], Y[0]
+        k, cap = self._edge_coefficients(W, m)
+        zeros = np.zeros((rows, ng))
+        kiln = bool(s.kiln_bed_area and s.mode == "physical" and self._kiln_plan)
+        kiln_des, kiln_rho = self._kiln_inputs(W, m) if kiln else (plan["no_kiln"], plan["no_kiln"])
+        bed = self.is_bed_stage
+        if bed.any():
+            tb = self.gas_tank[bed]
+            xw = np.minimum(np.maximum(W[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0), 0.3)
+            a_bed = np.zeros(m.shape[:-1] + (ng,))
+            a_bed[..., bed] = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
+                                                    self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
+                                                    s.particle_density)
+        else:
+            a_bed = zeros
+        if self._shell_ua is not None:
+            qloss = self._shell_ua * (Tg - s.ambient_temperature)
+        else:
+            up = self.gas_up
+            Tg_up = np.where(up >= 0, Tg[..., np.maximum(up, 0)], s.gas_inlet_temperature)
+            qloss = self._shell_loss(Tg, Y, Tg_up)
+        y_in, h_in = self.inlet_gas(Y)
+        base = self._transfer_base
+        use_base = False
+        tkey = (s.kinetics, s.mode, s.pressure, s.co2_mole_fraction, self.radius, self.dry_gas_flow)
+        if not single and base is not None and len(base) > 3 and base[2] == tkey:     # a base of this path's
+            use_base = True
+            b = base[3]
+        else:
+            b = plan["no_base"]
+        feed_s, feed_w = self.feed_rate * (1 - self.feed_moisture), self.feed_rate * self.feed_moisture
+        share = float(self.class_feed[0])
+        p = _kernels.pack_cells(nt, ng, self.entry, feed_s * share, feed_w * share,
+                                (feed_s * s.cp_solids + feed_w * s.cp_water) * s.solids_inlet_temperature * share,
+                                s.cp_solids, s.cp_water, 1e-15 * self.feed_rate, self._solids_temperature_ceiling(),
+                                s.design_load_smoothing, s.particle_density, self.dry_gas_flow,
+                                (EMPTY_TANK_MASS * self.feed_rate * s.cp_solids) * share, ha.Y_MAX, use_base, kiln,
+                                self.radius)
+
+        def rows2(x):
+            x = np.asarray(x, dtype=float)
+            return np.ascontiguousarray(x.reshape(rows, -1))
+
+        def per_row(x):
+            return np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (rows,)))
+
+        dz = np.empty((rows, self.n))
+        rec = np.empty((12, ng))
+        q, cx, cy = plan["transfer"]
+        ok = _kernels.call("cells", Z, rows2(k), rows2(cap), rows2(a_bed), rows2(kiln_des), rows2(kiln_rho),
+                           rows2(qloss), per_row(y_in), per_row(h_in), plan["src"], plan["dst"], plan["ce_edge"],
+                           plan["ce_excess"], plan["gas_tank"], plan["tank_stage"], plan["gas_up"], plan["is_bed"],
+                           plan["kiln_tank"], plan["kiln_stage"], plan["dp"],
+                           np.ascontiguousarray(s.area_scale * self.gas_theta, dtype=float), plan["holdup"],
+                           plan["gas_len"], bal._SEG_GRID, bal._THETA_GRID, p, q, cx, cy, *plan["coefficients"], b, dz,
+                           rec)
+        if not ok:
+            return None
+        if single:
+            # the transfer of this state: the base of the batches that follow (`_transfer`'s record, the same form)
+            self._transfer_base = (tuple(rec[i:i + 1] for i in range(5)), tuple(rec[i:i + 1] for i in range(5, 8)),
+                                   tkey, rec)
+            return dz[0]
+        return dz
+
     def _rhs(self, z):
         """[`rhs`][rotarydryer.thermal.dryer.ThermalDryer.rhs] of one state (n,) or of a batch with the states as rows, (k, n)."""
+        fast = self._rhs_compiled(z)
+        if fast is not None:
+            return fast
         s = self.settings
         d = self.terms(z, products=False)
         S, W, T, Tg, Y = d["Sc"], d["Wc"], d["Tc"], d["Tg"], d["Y"]

@@ -268,14 +268,19 @@ class FlightedSectionLaw:
         phi = np.asarray(phi, dtype=float)
         shape = np.broadcast_shapes(phi.shape, np.shape(f))     # (n,) or a batch (k, n)
         phi, f = np.broadcast_to(phi, shape), np.broadcast_to(np.asarray(f, dtype=float), shape)
-        s = self.spec
         tp, ta, h = self._geometry_cascade(np.ascontiguousarray(phi), np.ascontiguousarray(f), kw)
         if not self.trajectory:
             return self._fitted_step(tp, ta, h)
-        from .forward_step import trajectory_forward_step
-
         if flight_mass is None:
             flight_mass = np.asarray(f, float) * self._reference_design_load()
+        return self._trajectory_step(tp, ta, h, flight_mass, gas)
+
+    def _trajectory_step(self, tp, ta, h, flight_mass, gas=None):
+        """The cascade dict of the trajectory forward step from the passive time ``tp``, fall time ``ta``, fall
+        height ``h`` and the mass ``flight_mass`` the flights discharge (kg per cell) of each cell (`cascade`)."""
+        from .forward_step import trajectory_forward_step
+
+        s = self.spec
         q = np.asarray(flight_mass, float) / tp / self.dl          # release per metre of drum, kg/(s m)
         step = trajectory_forward_step(s.gas if gas is None else gas, self.slope, h, q)
         free = step["step_m"]
@@ -314,9 +319,9 @@ class FlightedSectionLaw:
 
     def _kernel_applies(self):
         """Can [`ExactGeometry.cell_values`][rotarydryer.transport.sections.ExactGeometry.cell_values] give this law's cells (tabulated exact geometry,
-        fitted forward step, compiled kernels on)?"""
+        compiled kernels on)? The trajectory forward step then follows from the cells' cascade (`_trajectory_step`)."""
         g = self.spec.geometry
-        return _jit.enabled() and not self.trajectory and isinstance(g, ExactGeometry) and g.tabulated
+        return _jit.enabled() and isinstance(g, ExactGeometry) and g.tabulated
 
     def _compiled(self, mp, phi, rho, rpm, fouling, smoothing):
         """[`evaluate`][rotarydryer.transport.sections.FlightedSectionLaw.evaluate]'s design load, loading factor, passive time, fall height and fall time in
@@ -436,7 +441,10 @@ class FlightedSectionLaw:
                                 for a in (mp, phi, rho)), rpm, fouling, smoothing) if self._kernel_applies() else None
         if fast is not None:        # one compiled pass; a batch (k, n) is passed flat
             des, _, tp, h, ta = (v.reshape(shape) for v in fast)
-            out = self._fitted_rates(tp, ta, h)
+            if self.trajectory:     # the forward step of the trajectories through the gas from the cells' cascade
+                out = self.rates_of(self._trajectory_step(tp, ta, h, np.minimum(mp, des)))
+            else:
+                out = self._fitted_rates(tp, ta, h)
             out.update(design_load=des, repose_angle=phi, bulk_density=rho)
             return out
         des = self.design_load(phi, rho, fouling)
