@@ -149,6 +149,7 @@ def test_control_page_runs_and_updates():
     after = _metric(at, "Peak error, closed (pp)")
     assert after != before                                          # another disturbance
     assert any("Within the tolerance" in m.value for m in at.markdown)
+    assert any("IAE closed loop " in m.value and " pp s" in m.value for m in at.markdown)    # as the peak error
     at.checkbox(key="control_moisture_max_on").check().run()        # the product's specification
     at.button(key="control_run").click().run()
     assert not at.exception

@@ -357,11 +357,37 @@ def test_the_summary_says_no_disturbance_and_gives_the_iae_its_unit():
     assert res.exit_code == 0, res.output
     first = res.output.splitlines()[0]
     assert first.startswith("ajayi2011_mmg: no disturbance, product_moisture setpoint") and "+0.2" not in first
-    assert "IAE" in res.output and all(" kg/kg s, overshoot" in ln for ln in res.output.splitlines() if "IAE" in ln)
+    assert "IAE" in res.output and all(" pp s, overshoot" in ln for ln in res.output.splitlines() if "IAE" in ln)
     res = CliRunner().invoke(app, base + ["--measured", "exhaust_temperature", "--magnitude", "0.1"])
     assert res.exit_code == 0, res.output
     assert "feed_moisture_step (+0.1) at t = " in res.output.splitlines()[0]
     assert all(" K s, overshoot" in ln for ln in res.output.splitlines() if "IAE" in ln)
+
+
+def test_the_iae_follows_the_display_units():
+    """The IAE stayed in kg/kg s and K s under `--units` while the deviations beside it were converted: it is the
+    deviations' display unit times s (pp s by default; kg/kg s, degF s when asked), the JSON's stays SI."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    base = ["control", "ajayi2011_mmg", "--set", "operating.test=4", "--quiet", "--duration", "1800"]
+    runner = CliRunner()
+
+    def iae(args):
+        res = runner.invoke(app, args)
+        assert res.exit_code == 0, res.output
+        line = next(ln for ln in res.output.splitlines() if ln.strip().startswith("closed loop"))
+        number, unit = line.split("IAE ")[1].split(", ")[0].split(" ", 1)
+        return float(number.replace(",", "")), unit
+
+    pp, unit = iae(base)
+    assert unit == "pp s"
+    si, unit = iae(["--units", "moisture=kg/kg"] + base)
+    assert unit == "kg/kg s" and pp == pytest.approx(100.0 * si, rel=1e-3)
+    k, unit = iae(base + ["--measured", "exhaust_temperature"])
+    f, unit_f = iae(["--units", "temperature=degF"] + base + ["--measured", "exhaust_temperature"])
+    assert unit == "K s" and unit_f == "degF s" and f == pytest.approx(1.8 * k, rel=1e-3)
 
 
 def test_a_setpoint_out_of_reach_is_said_so():

@@ -153,9 +153,9 @@ def render():
     c[3].metric(f"Settling, open ({t_unit})", "-" if o is None else settle(o))
     c[4].metric("Controller gain Kc", f"{t['kc']:.3g}", help=f"{t['rule']}; tau_I = {t['tau_i_s']:.0f} s, "
                                                             f"gain margin {t['gain_margin']:.2f}")
-    iae_unit = (p.get("units") or {}).get("iae", "")        # the integral of |e| over time, as the CLI gives it
-    u = f" {iae_unit}" if iae_unit else ""
-    iae = f"IAE closed loop {p['iae']:.4g}{u}" + ("" if o is None else f", open loop {o['iae']:.4g}{u}") + ". "
+    # the integral of |e| over time, as the CLI gives it: the deviations' display unit times s
+    iae = f"IAE closed loop {show_delta(p['iae'], quantity, 4)} s" + (
+        "" if o is None else f", open loop {show_delta(o['iae'], quantity, 4)} s") + ". "
     st.markdown(plain(iae + f"Tuning ({t['rule']}): Kc = {t['kc']:.3g}, tau_I = {t['tau_i_s']:.0f} s, gain margin "
                       f"{t['gain_margin']:.2f}, {describe_feedforward(t)}. Manipulated: gas inlet "
                       f"{show(r['ranges']['gas_inlet_temperature_degC'][0], 'temperature', with_unit=False)}-"

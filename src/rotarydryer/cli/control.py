@@ -128,7 +128,6 @@ def control(
         what = "no disturbance"
     else:
         what = f"{scenario} ({magnitude:+g}) at t = {show(step_time, 'time')}"
-    iae_unit = "kg/kg s" if quantity == "moisture" else "K s"       # the integral of |e| over time
     applied = t.get("dead_time_applied_s", dead_time)
     typer.echo(f"{case}: {what}, {measured} setpoint "
                f"{show(closed.setpoint, quantity)}, sample {sample_time:g} s, dead time {applied:g} s"
@@ -139,7 +138,9 @@ def control(
         if p is None:
             continue
         st = "never" if p["settling_time_s"] is None else show(p["settling_time_s"], "time")
-        typer.echo(f"  {name:<11}  max |e| {show_delta(p['max_abs_deviation'], quantity)}, IAE {p['iae']:.4g} {iae_unit}, "
+        # the IAE, the integral of |e| over time: the deviations' display unit times s (pp s, K s, degF s)
+        typer.echo(f"  {name:<11}  max |e| {show_delta(p['max_abs_deviation'], quantity)}, "
+                   f"IAE {show_delta(p['iae'], quantity, 4)} s, "
                    f"overshoot {p['overshoot_pct']:.0f} %, settling {st}, within +-{show_delta(p['tolerance'], quantity)}: "
                    f"{'yes' if p['within_tolerance'] else 'no'} ({100 * p['fraction_within_tolerance']:.0f} % of the time)")
         spec = [f"moisture <= {show(p['product_moisture_max_kg_kg'], 'moisture')} "
