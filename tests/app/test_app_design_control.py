@@ -158,3 +158,12 @@ def test_control_page_runs_and_updates():
     at.number_input(key="control_duration").set_value(300.0).run()
     at.button(key="control_run").click().run()
     assert at.error and "--step-time = 600 s is outside the allowed range" in at.error[0].value
+
+
+def test_the_control_page_shows_every_warning_of_the_run():
+    """The control page kept the controller's own warnings only: a run outside a law's calibration (Song's sand,
+    calibrated dry, fed moist) warned in the CLI and reached only the server's log. Every warning of the run is
+    shown now, each once (`logic.run_warnings`, as the dryer page)."""
+    r = logic_control.control_view("song2003_ottawa", images=False, open_loop=False, **SHORT)
+    assert any("outside the conditions the coefficients" in w for w in r["warnings"]), r["warnings"]
+    assert len(r["warnings"]) == len(set(r["warnings"]))

@@ -16,6 +16,7 @@ import io
 import math
 import tempfile
 import threading
+import warnings
 from collections import OrderedDict
 from contextlib import contextmanager
 from pathlib import Path
@@ -66,6 +67,23 @@ def check_upload_text(text: str, what: str, max_bytes: int, max_rows: int) -> st
     if rows - 1 > max_rows:
         raise ValueError(f"the {what} has {rows - 1} data rows; the limit is {max_rows}")
     return text
+
+
+def run_warnings(fn, *args, **kwargs):
+    """``(fn(*args, **kwargs), [messages])``: the warnings the run gives (the CLI prints them; a page shows them,
+    they reached only the server's log: a speed at 98 % of the critical, a run outside a law's calibration, a
+    controller's gas its burner cannot make), each once, in order; deprecations and resource warnings left out."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = fn(*args, **kwargs)
+    messages = []
+    for w in caught:
+        if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning, ResourceWarning)):
+            continue
+        text = " ".join(str(w.message).split())
+        if text not in messages:
+            messages.append(text)
+    return out, messages
 
 
 def png(fig, dpi: int = 90) -> bytes:

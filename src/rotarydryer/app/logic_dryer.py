@@ -13,12 +13,11 @@ from __future__ import annotations
 import csv
 import io
 import math
-import warnings
 
 import numpy as np
 
 from .._display import show_output, to_display
-from .logic import _load, png
+from .logic import _load, png, run_warnings
 
 __all__ = ["NoThermalModel", "operating_inputs", "study_inputs", "plant_tests", "dryer_view", "results_of",
            "report_html", "netcdf_bytes", "duty_table"]
@@ -169,23 +168,6 @@ def _steady(case: str, overrides: dict):
     return c, sim, sim.steady_state()
 
 
-def _run_warnings(fn, *args, **kwargs):
-    """``(fn(*args, **kwargs), [messages])``: the warnings the run gives (the CLI prints them; a page shows them,
-    they reached only the server's log: a speed at 98 % of the critical, a run outside a law's calibration), each
-    once, in order."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        out = fn(*args, **kwargs)
-    messages = []
-    for w in caught:
-        if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning, ResourceWarning)):
-            continue
-        text = " ".join(str(w.message).split())
-        if text not in messages:
-            messages.append(text)
-    return out, messages
-
-
 def duty_table(summary: dict) -> list[dict]:
     """The energy audit's heat duties of a steady state's ``summary`` (`rotarydryer.thermal.audit`): one
     row per duty, ``{"duty": label, "name": summary name, "value": in the display unit of power,
@@ -325,7 +307,7 @@ def dryer_view(case: str, overrides: dict | None = None, images: bool = True) ->
     from ..thermal.audit import shell_sections
 
     overrides = dict(overrides or {})
-    (c, sim, steady), notes = _run_warnings(_steady, case, overrides)
+    (c, sim, steady), notes = run_warnings(_steady, case, overrides)
     th = steady.thermal
     s = steady.summary()
     burner = has_burner(c)
