@@ -397,7 +397,7 @@ class ThermalDryer:
         self._outlet_families = [f for f in self.families if np.any(f.dst < 0)]
         self.laws = []
         self._law_cache = {}
-        self._law_base = {}      # id(law) -> (mp, xp, rpm, fouling, values) of the last single state
+        self._law_base = {}      # id(law) -> (mp, xp, rpm, fouling, values, smoothing) of the last single state
         for f in self.families:
             if f.law is not None and all(f.law is not x for x in self.laws):
                 self.laws.append(f.law)
@@ -771,6 +771,7 @@ class ThermalDryer:
         numbers as evaluating every law on the whole batch and filling family by family). None where
         that does not apply (no single state evaluated since, a law that couples its cells, changed
         settings): [`flows`][rotarydryer.thermal.dryer.ThermalDryer.flows] then evaluates the laws on the whole batch."""
+        self._batch_values = None
         base = self._edge_base
         if base is None:
             return None
@@ -780,12 +781,11 @@ class ThermalDryer:
         per_law = self._edge_plan_laws()
         for law, law_base in zip(self.laws, law_bases):
             if law_base is None or self._law_base.get(id(law)) is not law_base or not law.cellwise \
-                    or law_base[2] != self.rpm or law_base[3] != s.fouling:
+                    or law_base[2] != self.rpm or law_base[3] != s.fouling or law_base[5] != smooth:
                 return None
         k = cap = None
         passive, _ = self._passive(W, m, self.laws)
         changed_values = {}
-        self._batch_values = (m, changed_values)      # what the kiln beds of this batch take (`_kiln_inputs`)
         for law, law_base, (mp, xp) in zip(self.laws, law_bases, passive):
             mb, xb = law_base[0], law_base[1]
             if s.moisture_coupling:
@@ -808,6 +808,7 @@ class ThermalDryer:
                     cap[rows, c0 + cells] = v["design_load"]
         if k is None:
             k, cap = _filled(k0, (m.shape[0], k0.size)), _filled(cap0, (m.shape[0], cap0.size))
+        self._batch_values = (m, changed_values)      # what the kiln beds of this batch take (`_kiln_inputs`)
         return k, cap
 
     def _edge_plan_laws(self):
@@ -856,15 +857,16 @@ class ThermalDryer:
         if mp.ndim == 2:
             return law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=self.settings.design_load_smoothing)
         cache = self._law_cache.setdefault(id(law), [])
-        key = (mp.tobytes(), xp.tobytes() if isinstance(xp, np.ndarray) else repr(xp), self.rpm, fouling)
+        smooth = self.settings.design_load_smoothing
+        key = (mp.tobytes(), xp.tobytes() if isinstance(xp, np.ndarray) else repr(xp), self.rpm, fouling, smooth)
         for k, v in cache:
             if k == key:
-                self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v)
+                self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v, smooth)
                 return v
-        v = law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=self.settings.design_load_smoothing)
+        v = law.evaluate(mp, xp, rpm=self.rpm, fouling=fouling, smoothing=smooth)
         cache.insert(0, (key, v))
         del cache[2:]
-        self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v)
+        self._law_base[id(law)] = (mp, xp, self.rpm, fouling, v, smooth)
         return v
 
     def _kiln_bed_area(self, W, m):
@@ -1284,7 +1286,8 @@ class ThermalDryer:
         kernels off, size classes or entrainment, the compatibility mode, kinetics the compiled transfer does not
         take (`rotarydryer.thermal.balances._transfer_kernel_parameters`). Then `_rhs` takes the NumPy form."""
         s = self.settings
-        key = (s.mode, id(s.kinetics), s.pressure, s.co2_mole_fraction, self.radius, self.n_classes, self.dusty)
+        key = (s.mode, id(s.kinetics), s.pressure, s.co2_mole_fraction, self.radius, self.n_classes, self.dusty,
+               _jit.enabled())
         hit = self._plans.get("cells")
         if hit is not None and hit[0] == key and hit[1] is s.kinetics:
             return hit[2]
