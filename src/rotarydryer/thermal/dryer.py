@@ -453,6 +453,7 @@ class ThermalDryer:
         self._transfer_base = None   # (inputs, outputs) of the last single-state gas-solids transfer
         self._edge_base = None       # (k, caps, law evaluations) of the last single state's edges (flows)
         self._batch_values = None    # (m, law -> the cells a batch changed and their values) (_edge_values_batch)
+        self._cells = None           # (settings key, kinetics, plan) of the compiled cell balance (_cell_plan)
         self._inlet_h = None
         self._clipped = False
         self._plans = {}             # family set -> edges end to end (_edge_plan)
@@ -1288,7 +1289,7 @@ class ThermalDryer:
         s = self.settings
         key = (s.mode, id(s.kinetics), s.pressure, s.co2_mole_fraction, self.radius, self.n_classes, self.dusty,
                _jit.enabled())
-        hit = self._plans.get("cells")
+        hit = self._cells       # this dryer's own (copies made by `with_parameters` rebind it, not share it)
         if hit is not None and hit[0] == key and hit[1] is s.kinetics:
             return hit[2]
         plan = None
@@ -1318,7 +1319,7 @@ class ThermalDryer:
                     kiln_stage=np.concatenate([np.zeros(0, dtype=i64)] + [np.asarray(st, dtype=i64)
                                                                            for _, st in self._kiln_plan]),
                     gas_len=np.ascontiguousarray(self.gas_len, dtype=float))
-        self._plans["cells"] = (key, s.kinetics, plan)
+        self._cells = (key, s.kinetics, plan)
         return plan
 
     def _rhs_compiled(self, z):
