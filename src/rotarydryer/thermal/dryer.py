@@ -929,6 +929,17 @@ class ThermalDryer:
                 rho.append(r)
         return np.concatenate(des, axis=-1), np.concatenate(rho, axis=-1)
 
+    def _bed_stage_area(self, W, m):
+        """Gas-exposed area (m^2) of the rolling beds' active layers, per bed stage (..., bed stages), at the tanks'
+        mixtures ``W``, ``m`` (..., tanks): [`rotarydryer.thermal.balances.active_layer_area`][rotarydryer.thermal.balances.active_layer_area] at the bulk density of
+        the bed's wet-basis moisture (clipped to 0-0.3)."""
+        s = self.settings
+        bed = self.is_bed_stage
+        tb = self.gas_tank[bed]
+        xw = np.minimum(np.maximum(W[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0), 0.3)
+        return bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed], self.radius,
+                                     self.gas_dp[bed], s.area_scale * self.gas_theta[bed], s.particle_density)
+
     def _transfer(self, S, W, T, Tg, Y):
         """Gas -> solids transfer per size class and gas stage: (area, R_w, Q_conv, Q_rad), each
         (..., classes, stages), [`rotarydryer.thermal.balances.stage_transfer`][rotarydryer.thermal.balances.stage_transfer] on each class's own
@@ -950,11 +961,7 @@ class ThermalDryer:
             surface = mc[..., tk] / dp                  # each class's share of a bed's surface: m_c / d_c
             surface = surface / surface.sum(axis=-2, keepdims=True)
         if bed.any():
-            tb = tk[bed]
-            xw = np.minimum(np.maximum(Wt[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0), 0.3)
-            a_bed = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
-                                          self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
-                                          s.particle_density)
+            a_bed = self._bed_stage_area(Wt, m)
             area[..., bed] = a_bed[..., None, :] if one else a_bed[..., None, :] * surface[..., bed]
         act = ~bed
         area[..., act] = bal.curtain_area(mc[..., tk[act]], dp[:, act], s.area_scale * self.gas_theta[act],
@@ -1000,11 +1007,18 @@ class ThermalDryer:
         yc = np.minimum(np.maximum(Y, 0.0), ha.Y_MAX)
         return self.dry_gas_flow * (1.0 + yc), yc
 
-    def _shell_loss(self, Tg, Y, Tg_up):
+    def _upstream_gas_temperature(self, Tg):
+        """The temperature of the gas entering each stage (..., stages): its upstream stage's, the inlet's at the first."""
+        up = self.gas_up
+        return np.where(up >= 0, Tg[..., np.maximum(up, 0)], self.settings.gas_inlet_temperature)
+
+    def _shell_loss(self, Tg, Y, Tg_up=None):
+        """Shell heat loss per stage (W): the lagged coefficient while frozen, else exact (``Tg_up``, the upstream
+        gas temperatures, computed when not given)."""
         s = self.settings
         if self._shell_ua is not None:   # lagged coefficient Q = UA (T_g - T_amb), refreshed by the solvers
             return self._shell_ua * (Tg - s.ambient_temperature)
-        return self._shell_loss_exact(Tg, Y, Tg_up)
+        return self._shell_loss_exact(Tg, Y, self._upstream_gas_temperature(Tg) if Tg_up is None else Tg_up)
 
     def _shell_loss_exact(self, Tg, Y, Tg_up):
         # the last exact evaluation is remembered: the convergence test and the steady state's
@@ -1126,7 +1140,7 @@ class ThermalDryer:
         Ts_c = T[..., self.gas_tank]
         hv = bal._vapour_source_enthalpy(Ts_c, s.mode)
         up = self.gas_up
-        Tg_up = np.where(up >= 0, Tg[..., np.maximum(up, 0)], s.gas_inlet_temperature)
+        Tg_up = self._upstream_gas_temperature(Tg)
         Y_in, h_in = self.inlet_gas(Y)      # the gas entering the first stage (with recycle: of this state)
         Y_up = np.where(up >= 0, Y[..., np.maximum(up, 0)], Y_in if np.ndim(Y_in) == 0 else Y_in[..., None])
         qloss = self._shell_loss(Tg, Y, Tg_up)
@@ -1177,8 +1191,7 @@ class ThermalDryer:
         temperature iteratively, which would dominate every residual evaluation."""
         self._shell_ua = None
         *_, Tg, Y = self.split_classes(z)
-        up = self.gas_up
-        Tg_up = np.where(up >= 0, Tg[np.maximum(up, 0)], self.settings.gas_inlet_temperature)
+        Tg_up = self._upstream_gas_temperature(Tg)
         q = self._shell_loss_exact(Tg, Y, Tg_up)
         dT = Tg - self.settings.ambient_temperature
         # the loss is linear in dT inside the band (_near_ambient): its coefficient there is exact
@@ -1344,25 +1357,12 @@ class ThermalDryer:
         if single:
             W, m, Tg, Y = W[0], m[0], Tg[0], Y[0]
         k, cap = self._edge_coefficients(W, m)
-        zeros = np.zeros((rows, ng))
         kiln = bool(s.kiln_bed_area and s.mode == "physical" and self._kiln_plan)
         kiln_des, kiln_rho = self._kiln_inputs(W, m) if kiln else (plan["no_kiln"], plan["no_kiln"])
-        bed = self.is_bed_stage
-        if bed.any():
-            tb = self.gas_tank[bed]
-            xw = np.minimum(np.maximum(W[..., tb] / np.maximum(m[..., tb], 1e-12), 0.0), 0.3)
-            a_bed = np.zeros(m.shape[:-1] + (ng,))
-            a_bed[..., bed] = bal.active_layer_area(m[..., tb], self.material.bulk_density(xw), self.gas_len[bed],
-                                                    self.radius, self.gas_dp[bed], s.area_scale * self.gas_theta[bed],
-                                                    s.particle_density)
-        else:
-            a_bed = zeros
-        if self._shell_ua is not None:
-            qloss = self._shell_ua * (Tg - s.ambient_temperature)
-        else:
-            up = self.gas_up
-            Tg_up = np.where(up >= 0, Tg[..., np.maximum(up, 0)], s.gas_inlet_temperature)
-            qloss = self._shell_loss(Tg, Y, Tg_up)
+        a_bed = np.zeros((rows, ng))         # the rolling beds' areas at their stages (the kernel reads no other)
+        if self.is_bed_stage.any():
+            a_bed[:, self.is_bed_stage] = self._bed_stage_area(W, m)
+        qloss = self._shell_loss(Tg, Y)
         y_in, h_in = self.inlet_gas(Y)
         base = self._transfer_base
         use_base = False
