@@ -439,3 +439,19 @@ def test_the_help_lists_every_response():
 
     text = " ".join(runner.invoke(app, ["calibrate", "--help"]).output.split())
     assert not [r for r in RESPONSES if not _re.search(rf"\b{r}\b", text)]
+
+
+def test_a_calibration_whose_values_the_run_overrides_warns_of_what_it_still_sets():
+    """The README's stagnant-core example (N = 24, its own kiln_time, backmix and drag_reduction) warned that the
+    Table 7.2 N = 35 calibration "may not reproduce the data" although the run set every value of it (found by a
+    review): a record whose values the overrides all set applies nothing and says nothing; one partly overridden
+    names the values it still sets."""
+    base = {"geometry.method": "lee2008_regressions", "transport.n_cells": 24}
+    mine = {"transport.kiln_time": 19.0, "transport.backmix": 0.0, "transport.drag_reduction": 1.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CalibrationWarning)
+        case = load_case("lee2008_invicta", {**base, **mine})
+    assert (case.transport.kiln_time, case.transport.backmix, case.transport.drag_reduction) == (19.0, 0.0, 1.0)
+    with pytest.warns(CalibrationWarning, match=r"fitted with transport.n_cells = 35; this run has transport.n_cells "
+                                                r"= 24: its values \(transport.backmix, transport.drag_reduction\)"):
+        load_case("lee2008_invicta", {**base, "transport.kiln_time": 19.0})

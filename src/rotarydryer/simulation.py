@@ -44,6 +44,7 @@ from .cases.build import (
     thermal_inputs,
     tracer_pulse,
     transport_inputs,
+    warn_kiln_cells,
 )
 from .executor import Executor, RunFailure, split
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
@@ -134,6 +135,17 @@ class Simulation:
 
     def __repr__(self):
         return f"<Simulation {self.case_name} (kind {self.kind!r}, heat and mass {'on' if self.thermal_enabled else 'off'})>"
+
+    def reloadable_name(self, what: str) -> str:
+        """The case name or ``.toml`` path that ``what`` (a study that loads the case again for each of its runs:
+        a sweep, a target, a fit, a calibration, an energy audit) reloads; ``ValueError`` for a Simulation made from a
+        case object or from TOML text, which has neither."""
+        if self._named and self._case_text is None:
+            return self.case_name
+        made = "TOML text (Simulation.from_text)" if self._case_text is not None else "a case object"
+        raise ValueError(f"{what} loads the case again for each run, by its name or .toml path: this Simulation "
+                         f"({self.case_name!r}) was made from {made}; give the case's name or .toml file "
+                         "(Simulation('my_dryer.toml'))")
 
     @property
     def thermal_enabled(self) -> bool:
@@ -247,7 +259,9 @@ class Simulation:
                 net = self.transport_model().network
                 if np.shape(masses) == (net.n,):
                     net.initial_guess = masses        # Newton from a nearby run's masses
-            return SteadyResult(self, self.transport_steady_state(), None)
+            result = SteadyResult(self, self.transport_steady_state(), None)
+            warn_kiln_cells(self.case, result.state)     # the reported state's kilning beds, once a run
+            return result
         state = warm.get("state")
         if self._thermal_ss is None and state is not None:
             d = self.dryer()
@@ -265,6 +279,7 @@ class Simulation:
             self.transport_steady_state()           # an impossible dryer is refused with its physical reason
             raise
         check_feasible(self.case, thermal.transport_state())
+        warn_kiln_cells(self.case, thermal.transport_state())
         check_entrainment(thermal)
         warn_shell_limit(thermal)           # a shell hotter than shell.max_temperature: a warning, not an error
         warn_supersaturated_exhaust(thermal)     # an exhaust below its own dew point: a warning
@@ -400,11 +415,19 @@ class Simulation:
                           "which a steady state is refused, where the transport laws do not hold; schedule a smaller "
                           "feed rate or speed change", FillWarning, stacklevel=3)
 
-    def rtd(self, t_end=None, dt=None, method="auto"):
-        """Tracer response at the (transport) steady state with the case's tracer pulse."""
+    def rtd(self, t_end=None, dt=None, method="auto", *, thermal: bool = False):
+        """Tracer response with the case's tracer pulse at the solids transport's own steady state (the case's
+        assumed moisture profile: the published transport models', `rotarydryer rtd`'s and `validate`'s), or with
+        ``thermal=True`` at the coupled heat-and-mass state that [`results`][rotarydryer.simulation.Simulation.results] and
+        [`SteadyResult.summary`][rotarydryer.simulation.SteadyResult.summary] report (``rotarydryer rtd --coupled``). ``t_end`` and ``dt`` (s):
+        the case's ``[tracer]`` values when not given."""
         tr = self.case.tracer
-        return self.transport_steady_state().rtd(self.transport_model().tracer_input, t_end=t_end or tr.t_end,
-                                                 dt=dt or tr.dt, method=method)
+        if thermal and not self.thermal_enabled:
+            raise ValueError(f"thermal = True: case {self.case_name!r} has no heat and mass transfer (thermal.enabled = "
+                             "false or no [gas])")
+        state = self.steady_state().state if thermal else self.transport_steady_state()
+        return state.rtd(self.transport_model().tracer_input, t_end=tr.t_end if t_end is None else t_end,
+                         dt=tr.dt if dt is None else dt, method=method)
 
     def results(self, *, rtd: bool = True, method: str = "auto", fit_rtd: bool = False,
                 thermal: bool | None = None):
@@ -454,7 +477,8 @@ class Simulation:
         if isinstance(dataset, str):
             dataset = load_tracer_dataset(dataset)
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
-        return fit_case_to_tracer(self.case_name, dataset, list(parameters), base_overrides=base or None, **kwargs)
+        return fit_case_to_tracer(self.reloadable_name("a fit"), dataset, list(parameters), base_overrides=base or None,
+                                  **kwargs)
 
     def target(self, find, such_that, bounds=None, **kwargs):
         """The value of the case input ``find`` (e.g. ``"operating.feed_rate"``) in ``bounds`` that
@@ -474,7 +498,7 @@ class Simulation:
         from .estimation.calibrate import calibrate  # estimation builds on Simulation
 
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
-        return calibrate(self.case_name, list(parameters), base_overrides=base or None, **kwargs)
+        return calibrate(self.reloadable_name("a calibration"), list(parameters), base_overrides=base or None, **kwargs)
 
     def sweep(self, grid, outputs=None, *, workers: int = 1, scheduler=None, cluster=None, executor=None,
               progress=None):
@@ -489,11 +513,12 @@ class Simulation:
         the one before it (the same steady state, on the previous point's heat-and-mass model when
         only parameter values differ). Every backend gives the same rows, bit for bit.
         ``progress(n)`` after each chunk of ``n`` points."""
+        name = self.reloadable_name("a sweep")
         points = grid_points(grid)
         ex = executor or Executor(workers=max(1, int(workers)), scheduler=scheduler, cluster=cluster)
         chunks = split(len(points), min_size=SWEEP_MIN_CHUNK, max_size=SWEEP_MAX_CHUNK)
-        warm = ((_sweep_warm, (self.case_name, {**self.overrides, **points[0]})),) if points else ()
-        rows = ex.map_chunks(_sweep_chunk, points, chunks=chunks, args=(self.case_name, self.overrides, outputs),
+        warm = ((_sweep_warm, (name, {**self.overrides, **points[0]})),) if points else ()
+        rows = ex.map_chunks(_sweep_chunk, points, chunks=chunks, args=(name, self.overrides, outputs),
                              warm=warm, progress=progress)
         return [{**ov, "error": r.error} if isinstance(r, RunFailure) else r for ov, r in zip(points, rows)]
 
@@ -532,7 +557,7 @@ def _sweep_chunk(points, case_name, base: dict, outputs):
         if absent:      # a name this run does not give (a typo): one line, not the KeyError's "'name'"
             rows.append({**ov, "error": f"outputs {absent}: not among this run's outputs ({', '.join(sorted(row))})"})
             continue
-        rows.append({k: row[k] for k in (outputs or row)})
+        rows.append(row if outputs is None else {**ov, **{k: row[k] for k in outputs}})
     return rows
 
 
@@ -564,15 +589,23 @@ def grid_points(grid) -> list[dict]:
 
 
 def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: str = "auto",
-             fit_rtd: bool = False, thermal: bool | None = None):
+             fit_rtd: bool = False, thermal: bool | None = None, applied: dict | None = None):
     """``Simulation(case, overrides).results(...)``: a case name, ``.toml`` path or validated case
-    solved into a [`rotarydryer.results.Results`][rotarydryer.results.Results] (see [`Simulation.results`][rotarydryer.simulation.Simulation.results])."""
+    solved into a [`rotarydryer.results.Results`][rotarydryer.results.Results] (see [`Simulation.results`][rotarydryer.simulation.Simulation.results]).
+    ``overrides`` need a name or path (the case loader applies them); ``applied``: the overrides a case object
+    was loaded with (``load_case(name, applied)``), recorded in the results' provenance."""
     if isinstance(case, (str, os.PathLike)):
+        if applied:
+            raise ValueError("applied = the overrides a case object was loaded with; with a case name or path "
+                             "give them as overrides")
         sim = Simulation(case, overrides)
     else:
+        if overrides:
+            raise ValueError("overrides need a case name or path (load_case applies them); a case object loaded "
+                             "with overrides names them with applied=")
         sim = Simulation(case)
         sim.case_name = getattr(getattr(case, "meta", None), "title", "")
-        sim.overrides = dict(overrides or {})
+        sim.overrides = dict(applied or {})
     return sim.results(rtd=rtd, method=method, fit_rtd=fit_rtd, thermal=thermal)
 
 
@@ -679,6 +712,8 @@ class SteadyResult:
         the heat-and-mass state the heat duties and efficiency, the shell temperatures, the dew point
         and the product at a downstream sensor) are left out unless named; the values of the others
         are the same."""
+        if isinstance(outputs, (str, bytes)):
+            raise ValueError(f"outputs = {outputs!r}: give a list of output names, e.g. [{outputs!r}]")
         want = None if outputs is None else set(outputs)
         if self.thermal is not None:
             fuel = has_burner(self.simulation.case) and (want is None or "fuel_rate_kg_s" in want)

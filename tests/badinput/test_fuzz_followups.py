@@ -81,6 +81,11 @@ def test_a_design_load_series_of_huge_numbers_is_refused(tmp_path):
     ("lee2008_invicta", {"transport.kiln_law": "cascade", "transport.kiln_time": 5.0},
      "transport.kiln_time = 5 s has no effect"),
     ("song2003_ottawa", {"transport.backmix": 0.1}, "transport.backmix has no effect"),
+    # found by a review of the API (2026-12-07): keys of the trajectory step and of Ajayi's shell loss
+    ("lee2008_invicta", {"transport.step_factor": 2.0}, "transport.step_factor has no effect: it sets the trajectory"),
+    ("lee2008_invicta", {"transport.curtain_velocity_ratio": 0.5, "transport.curtain_coefficient": 0.2},
+     "transport.curtain_coefficient, transport.curtain_velocity_ratio have no effect"),
+    ("ajayi2011_mmg", {"shell.loss_factor": 100.0}, "shell.loss_factor = 100 has no effect: it is theta_loss"),
 ])
 def test_a_key_the_configuration_ignores_is_said_to_have_no_effect(case, overrides, fragment):
     with pytest.warns(UnusedKeyWarning, match=fragment.replace(".", r"\.")):
@@ -92,6 +97,8 @@ def test_a_key_the_configuration_ignores_is_said_to_have_no_effect(case, overrid
     # used: the factor of Ajayi's regressions, the scale of the Eq. 3.1 profile
     ("ajayi2011_mmg", {"geometry.method": "ajayi2011_regressions", "geometry.design_load_factor": 1.5}),
     ("ajayi2011_mmg", {"transport.moisture_scale": 0.9}),
+    ("ajayi2011_mmg", {"thermal.mode": "ajayi2011", "shell.loss_factor": 20.0}),
+    ("song2003_ottawa", {"transport.step_factor": 2.0}),
 ])
 def test_a_used_key_or_a_shipped_case_gets_no_such_warning(case, overrides):
     with warnings.catch_warnings(record=True) as caught:

@@ -37,3 +37,109 @@ def test_a_new_speed_at_or_above_the_critical_speed_is_refused():
     with pytest.raises(ValueError, match=r"^operating.rpm = 30 rev/min is at or above the critical speed .* "
                                          r"the allowed range is \(0, 18.9\) rev/min"):
         sim.dynamics(t_end=120.0, dt=60.0, rotational_speed=30.0)
+
+
+# ---- found by a review of the Python API on a `rotarydryer new` case (2026-12-07) --------------------------------
+@pytest.fixture(scope="module")
+def new_case(tmp_path_factory):
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    where = tmp_path_factory.mktemp("api") / "mydryer.toml"
+    res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(where)])
+    assert res.exit_code == 0, res.output
+    return where
+
+
+def test_run_case_of_a_case_object_refuses_overrides_it_cannot_apply(new_case):
+    """run_case(case object, overrides) returned the case as it was (feed 2.5 kg/s) and recorded the overrides (feed
+    4 kg/s) in the results' provenance. The overrides need the case's name or path; a case object loaded with
+    overrides records them with ``applied``."""
+    from rotarydryer.cases import load_case
+    from rotarydryer.simulation import run_case
+
+    case = load_case(str(new_case))
+    with pytest.raises(ValueError, match=r"^overrides need a case name or path .* applied="):
+        run_case(case, {"operating.feed_rate": 4.0}, rtd=False, thermal=False)
+    ov = {"operating.feed_rate": 4.0}
+    res = run_case(load_case(str(new_case), ov), applied=ov, rtd=False, thermal=False)
+    by_path = run_case(new_case, ov, rtd=False, thermal=False)
+    assert res.model_choices["overrides"] == ov == by_path.model_choices["overrides"]
+    assert res.scalars["total_holdup_kg"] == pytest.approx(by_path.scalars["total_holdup_kg"], rel=1e-12)
+    with pytest.raises(ValueError, match=r"^applied = "):
+        run_case(new_case, applied=ov)
+
+
+def test_studies_that_reload_the_case_refuse_a_simulation_without_a_name(new_case):
+    """A Simulation of a case object or of TOML text made target, sweep and energy_audit fail with "'mydryer (from
+    template)' is not a packaged case" (every sweep row an error): they load the case again by its name or path."""
+    from rotarydryer.cases import load_case
+    from rotarydryer.studies.energy import energy_audit
+    from rotarydryer.studies.target import target
+
+    for sim, made in ((Simulation(load_case(str(new_case))), "a case object"),
+                      (Simulation.from_text(new_case.read_text(), "mine"), r"TOML text \(Simulation.from_text\)")):
+        with pytest.raises(ValueError, match=rf"^a sweep loads the case again .* was made from {made}; give"):
+            sim.sweep({"operating.feed_rate": [3.0]})
+        with pytest.raises(ValueError, match=rf"^a target loads the case again .* was made from {made}"):
+            target(sim, "operating.feed_rate=1,4", "product_moisture_kg_kg<=0.01")
+        with pytest.raises(ValueError, match=rf"^an energy audit loads the case again .* was made from {made}"):
+            energy_audit(sim)
+    assert Simulation(new_case).reloadable_name("a sweep") == str(new_case)
+
+
+def test_rtd_of_the_reported_state_and_a_zero_time_refused(new_case):
+    """Simulation.rtd() runs on the transport-only steady state (the published transport models', `rtd`'s and
+    `validate`'s) while summary() and results() report the coupled state's tracer (859 against 851 s): rtd(thermal=True)
+    gives the reported one; rtd(t_end=0, dt=0) took the case's values instead of refusing them."""
+    sim = Simulation(new_case)
+    mean = sim.rtd(thermal=True).tracer_mean
+    assert mean == pytest.approx(sim.steady_state().summary()["tracer_mean_s"], rel=2e-3)
+    transport = sim.rtd().tracer_mean
+    assert transport == pytest.approx(sim.transport_steady_state().tracer_system().moments(
+        sim.transport_model().tracer_input)["mean"], rel=2e-3)
+    assert abs(mean - transport) > 1e-3 * mean     # the two states differ: the test can tell them apart
+    with pytest.raises(ValueError, match=r"t_end = 0 s is outside the allowed range"):
+        sim.rtd(t_end=0)
+    with pytest.raises(ValueError, match=r"dt = 0 s is outside the allowed range"):
+        sim.rtd(dt=0)
+
+
+def test_sweep_rows_keep_their_inputs_with_outputs_and_summary_refuses_a_bare_name(new_case):
+    """With ``outputs`` a sweep's rows held the outputs only (the docstring: its overrides and the outputs);
+    summary(outputs="fuel_rate_kg_s") iterated the string's characters and returned a partial dict."""
+    sim = Simulation(new_case)
+    rows = sim.sweep({"operating.feed_rate": [2.0, 3.0]}, outputs=["product_moisture_kg_kg"])
+    assert [sorted(r) for r in rows] == [["operating.feed_rate", "product_moisture_kg_kg"]] * 2
+    assert [r["operating.feed_rate"] for r in rows] == [2.0, 3.0]
+    with pytest.raises(ValueError, match=r"^outputs = 'fuel_rate_kg_s': give a list of output names"):
+        sim.steady_state().summary("fuel_rate_kg_s")
+
+
+def test_the_unknown_key_error_names_the_material_fields(new_case):
+    with pytest.raises(ValueError, match=r"valid keys: .*, material\.<field> \(any field of the material\)$"):
+        Simulation(new_case, {"x.y": 1.0})
+
+
+def test_kilning_beds_that_follow_the_cell_count_warn(new_case):
+    """With the template's fixed kilning time each cell holds its excess over the design load for kiln_time: at a
+    feed over the flights' capacity the holdup grew 56 % from 5 to 80 cells without a word (found by a review)."""
+    import warnings
+
+    from rotarydryer.cases.build import KilnCellsWarning
+
+    over = {"operating.feed_rate": 5.0}
+    with pytest.warns(KilnCellsWarning, match=r"each flighted cell .* grow with the cell count \(transport.n_cells\); "
+                                              r"transport.kiln_law = 'cascade'") as caught:
+        res = Simulation(new_case, over).steady_state().summary()
+    assert res["kiln_bed_holdup_kg"] > 0.05 * res["total_holdup_kg"]
+    said = [str(w.message) for w in caught if issubclass(w.category, KilnCellsWarning)]
+    assert len(said) == 1 and said[0].startswith(      # once, with the mass the run reports
+        f"the kilning beds hold {res['kiln_bed_holdup_kg']:,.0f} kg "
+        f"({100 * res['kiln_bed_holdup_kg'] / res['total_holdup_kg']:.0f} % of the holdup)")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", KilnCellsWarning)
+        Simulation(new_case, {**over, "transport.kiln_law": "cascade"}).steady_state()
+        Simulation(new_case).steady_state()                 # within the flights' capacity: no kilning beds
+        Simulation("lee2008_invicta").steady_state()        # kiln_time calibrated at its cell count

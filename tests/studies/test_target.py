@@ -459,3 +459,22 @@ def test_a_search_records_each_steady_states_warnings():
     ev = _Evaluator(CASE, {"operating.test": 4}, [MOISTURE], "--such-that")
     ys, _ = ev({FEED: 30.0})
     assert ys is not None and list(ev.warned) == [ev.key_of({FEED: 30.0})]
+
+
+def test_a_stalled_search_for_two_targets_is_not_called_unreachable(tmp_path):
+    """Two targets met at gas.flow 8 kg/s, 120 degC (inside the default bounds) were reported "not met for ...: widen
+    the bounds", exit 2, after Newton's method stalled at a flat start (found by fuzzing): a local search's stall is
+    the solver's failure (exit 1), said as such."""
+    case = tmp_path / "mine.toml"
+    assert CliRunner().invoke(app, ["new", "mine", "--out", str(case)]).exit_code == 0
+    at = Simulation(case, {"operating.feed_rate": 4.0, "gas.flow": 8.0, "gas.inlet_temperature": 120.0})
+    s = at.steady_state().summary()
+    res = CliRunner().invoke(app, ["target", str(case), "--set", "operating.feed_rate=4", "--find", "gas.flow",
+                                   "--find", "gas.inlet_temperature",
+                                   "--such-that", f"product_moisture_kg_kg={s['product_moisture_kg_kg']!r}",
+                                   "--such-that", f"gas_outlet_temperature_degC={s['gas_outlet_temperature_degC']!r}"])
+    if res.exit_code == 0:      # a search that reaches the point: nothing left to say
+        return
+    assert res.exit_code == 1, res.output
+    assert "it stalled at the closest point shown, which does not prove that the bounds hold no answer" in res.stderr
+    assert "widen the bounds" not in res.stderr

@@ -399,7 +399,7 @@ def transport_view(case: str, feed_rate: float, rpm: float, slope: float, images
 
     overrides = {"operating.feed_rate": feed_rate, "operating.rpm": rpm, "drum.slope": slope}
     if _is_upload(case):
-        res = run_case(_load(case, overrides), overrides, thermal=False)
+        res = run_case(_load(case, overrides), applied=overrides, thermal=False)
     else:
         _check_builtin(case)  # a built-in name, never a path
         res = run_case(case, overrides, thermal=False)

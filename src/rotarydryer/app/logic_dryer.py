@@ -342,7 +342,7 @@ def results_of(case: str, overrides: dict | None = None):
 
     c = _load(case, dict(overrides or {}))
     _check_thermal(c, "this case")
-    res = run_case(c, dict(overrides or {}) or None)
+    res = run_case(c, applied=dict(overrides or {}) or None)
     if not str(case).startswith("uploaded_case_"):
         res.case_name = case
     return res

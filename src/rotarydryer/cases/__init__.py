@@ -1136,7 +1136,8 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
     file_raw = dict(raw)      # the file's values: the overrides below copy what they change
     for key, value in (overrides or {}).items():
         if key not in valid and not key.startswith("material."):
-            raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}")
+            raise ValueError(f"unknown override key {key!r} for case {name!r}; valid keys: {', '.join(valid)}, "
+                             "material.<field> (any field of the material)")
         *path, fld = key.split(".")
         if isinstance(value, bool) and key in LIMITS:     # a number's key: True would read as 1.0
             raise ValueError(f"--set {key}: {key} = {value!r} is not a number (allowed range "

@@ -385,6 +385,51 @@ def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
     return fills
 
 
+#: the kilning beds of a fixed kilning time holding more than this fraction of the holdup warn (`warn_kiln_cells`)
+KILN_CELLS_FRACTION = 0.05
+
+
+class KilnCellsWarning(UserWarning):
+    """The kilning beds of ``kiln_law = "fixed"`` hold a notable part of the holdup: their mass grows with the cell
+    count (each cell holds its excess over the design load for ``transport.kiln_time``)."""
+
+
+def _kiln_time_fitted(case) -> bool:
+    """Is the case's kilning time fitted with its cell count ([[parameter_sets]] rows, or a calibration record of
+    ``transport.kiln_time``, whose configuration names ``transport.n_cells``)?"""
+    if getattr(case, "parameter_sets", None):
+        return True
+    return any("transport.kiln_time" in (rec.values or {}) for rec in getattr(case, "calibrations", None) or ())
+
+
+def warn_kiln_cells(case, steady_state) -> None:
+    """`KilnCellsWarning` where the kilning beds of a fixed kilning time (``transport.kiln_law = "fixed"``, not fitted
+    to this dryer: no [[parameter_sets]] nor calibration of ``transport.kiln_time``) hold more than
+    `KILN_CELLS_FRACTION` of the holdup: Lee (2008) Eq. 3.9 kilns each cell's excess over the design load at
+    1/kiln_time, so the beds hold about n_cells x the excess flow x kiln_time and the holdup and residence time follow
+    ``transport.n_cells`` (found by a review: +56 % from 5 to 80 cells on the ``new`` template at a feed over the
+    flights' capacity). ``kiln_law = "cascade"`` moves the excess at the cascade speed: the same beds at any cell
+    count."""
+    t = case.transport
+    if t.kiln_law != "fixed" or t.parameter_source == "predictive" or _kiln_time_fitted(case):
+        return
+    # the laws that kiln at 1/kiln_time (lee2008, sheehan2005_model2); checked first: the kilning beds of a coupled
+    # state are evaluated on demand (a study's runs skip them)
+    lee = {s.model or t.model for s in case.sections if s.kind == "flighted"} - {"ajayi2011", "sheehan2005_model1"}
+    if not lee or all(cascade_law(case, m) for m in lee):
+        return
+    kiln, total = float(steady_state.kiln_bed_holdup), float(steady_state.total_holdup)
+    if not (total > 0 and kiln > KILN_CELLS_FRACTION * total):
+        return
+    kiln_time = transport_coefficients(case)["kiln_time"]
+    warnings.warn(f"the kilning beds hold {kiln:,.0f} kg ({100 * kiln / total:.0f} % of the holdup): with "
+                  "transport.kiln_law = 'fixed' each flighted cell holds its excess over the flights' design load for "
+                  f"transport.kiln_time = {kiln_time:g} s, so this mass, the holdup and the residence time grow with "
+                  "the cell count (transport.n_cells); transport.kiln_law = 'cascade' moves the excess at the cascade "
+                  "speed, the same at any cell count (or fit kiln_time to this dryer's tracer data at its cell count: "
+                  "rotarydryer calibrate)", KilnCellsWarning, stacklevel=3)
+
+
 def drum_fill_fraction(case, steady_state) -> float:
     """Bulk volume of the solids over the drum volume pi R^2 L (-), as
     [`check_feasible`][rotarydryer.cases.build.check_feasible] measures it (NaN where no bulk density is known)."""
@@ -436,7 +481,9 @@ def predictive_range(case, fill: float) -> list[str]:
         if math.isnan(v) or lo * (1 - CALIBRATED_RANGE_RTOL) - 1e-12 <= v <= hi * (1 + CALIBRATED_RANGE_RTOL) + 1e-12:
             continue
         what, unit = CALIBRATED_RANGES[key]
-        out.append(f"{what} {v:.4g}{'' if unit == '-' else ' ' + unit} outside [{lo:g}, {hi:g}]")
+        u = "" if unit == "-" else " " + unit
+        out.append(f"{what} {v:.4g}{u} outside [{lo:g}, {hi:g}]" if hi > lo
+                   else f"{what} {v:.4g}{u} where every run of the calibration had {lo:g}{u}")
     return out
 
 
@@ -550,6 +597,17 @@ def unused_keys(case, overrides=()) -> list[str]:
     elif t.kiln_law == "cascade" and t.kiln_time is not None and "transport.kiln_time" in overrides:
         out.append(f"transport.kiln_time = {t.kiln_time:g} s has no effect: transport.kiln_law = 'cascade' kilns the "
                    "excess at the cascade speed")
+    # the curtain's keys of the trajectory forward step, given (this run's --set) where no flighted section takes it
+    curtain = [k for k in ("step_factor", "curtain_coefficient", "curtain_velocity_ratio")
+               if getattr(t, k) is not None and f"transport.{k}" in overrides]
+    if curtain and not any_trajectory(case) and t.parameter_source != "predictive":
+        out.append(f"{', '.join('transport.' + k for k in curtain)} {'has' if len(curtain) == 1 else 'have'} no effect: "
+                   f"{'it sets' if len(curtain) == 1 else 'they set'} the trajectory forward step's curtains (transport.forward_step = 'trajectory'; this "
+                   f"case's is {t.forward_step!r})")
+    if changed(case.shell, "loss_factor") and case.thermal.mode != "ajayi2011":
+        out.append(f"shell.loss_factor = {case.shell.loss_factor:g} has no effect: it is theta_loss of Ajayi's shell "
+                   f"loss, thermal.mode = 'ajayi2011' (this case's is {case.thermal.mode!r}: the shell network of "
+                   "shell.insulation_thickness and the films)")
     return out
 
 

@@ -348,15 +348,16 @@ def apply_calibrations(raw: dict, overrides: dict | None, defaults, shown: str, 
                  f"case's default {was.name!r}: the run's {', '.join(list(rec.values)[:3])}"
                  f"{' ...' if len(rec.values) > 3 else ''} are that calibration's")
     for rec, diff in chosen:
-        for key, value in rec.values.items():
-            if key not in given:
-                _set(raw, key, value)
-                origin[key] = rec.name
+        keys = [k for k in rec.values if k not in given]
+        if not keys:        # this run's overrides set every value of the record: it applies nothing, says nothing
+            continue
+        for key in keys:
+            _set(raw, key, rec.values[key])
+            origin[key] = rec.name
         used.append(rec.name)
         if diff:
             held = ", ".join(f"{k} = {_fmt(w)}" for k, w, _ in diff)
             runs = ", ".join(f"{k} = {_fmt(h)}" for k, _, h in diff)
-            keys = list(rec.values)
             shown_keys = ", ".join(keys[:3]) + (f" and {len(keys) - 3} more" if len(keys) > 3 else "")
             warn(f"{shown}: calibration {rec.name!r} was fitted with {held}; this run has {runs}: its values "
                  f"({shown_keys}) may not reproduce the data they were fitted to (refit them for this configuration "

@@ -73,12 +73,13 @@ def balance(
                 # up to the gas's own bound (and below --gas-in, checked next): a product at 415 degC that simulate
                 # gave was refused above 300 (found by fuzzing)
                 ("--product-temperature", vals["product_temperature"], -20.0, 600.0, False, "degC"),
-                ("--feed-temperature", feed_temperature, -20.0, 300.0, False, "degC"),
                 ("--gas-humidity", gas_humidity, 0.0, 0.3, True, "kg/kg dry gas"),
                 ("--shell-loss", shell_loss, 0.0, math.inf, True, "W"),
                 ("--gas-flow", gas_flow, 0.0, 1000.0, False, "kg/s")):      # gas.flow's upper bound, one range
             if v is not None:
                 check_range(opt, v, lo, hi, low_inclusive=lo_in, high_inclusive=opt == "--gas-flow", unit=unit)
+        # the case key's range: a wet feed at or above 99 degC would boil, which no balance of a dryer holds
+        check_key("operating.feed_temperature", feed_temperature, "--feed-temperature")
         if gas_flow is not None:
             check_key("gas.flow", gas_flow, "--gas-flow")      # the case key's range
             if gas_out is not None:      # the measured outlet was ignored for the solved one (found by fuzzing)
@@ -122,24 +123,28 @@ def balance(
                 "product_temperature_degC": vals["product_temperature"], "shell_heat_loss_W": shell_loss,
                 "product_below_dew_point": bool(vals["product_temperature"] < dew),
                 "exhaust_below_dew_point": bool(out["gas_outlet_temperature_degC"] < dew)})
-    if as_json:
-        typer.echo(json_text(out, indent=2))
-        return
     from .._display import show, show_delta
 
-    solved = "gas flow" if gas_flow is None else "gas outlet temperature"
     t_out = out["gas_outlet_temperature_degC"]
-    # in the display units (--units; the options and the JSON are SI)
+    said = []       # in the display units (--units; the options and the JSON are SI)
+    if t_out < dew:
+        said.append(f"warning: the exhaust ({show(t_out, 'temperature')}) is {show_delta(dew - t_out, 'temperature')} "
+                    f"below its own dew point ({show(dew, 'temperature')}): the gas "
+                    f"would be supersaturated, which the balance does not represent (water would condense); its "
+                    f"numbers hold, the gas state does not: a hotter --gas-in, more gas or a wetter --moisture-out")
+    if out["product_below_dew_point"]:
+        said.append(f"warning: the product ({show(vals['product_temperature'], 'temperature')}) is colder than the "
+                    f"exhaust dew point: it would condense water, not dry (measured after discharge? air leaking in?)")
+    if as_json:     # the JSON alone on stdout; its warnings on stderr, as the other commands give them
+        typer.echo(json_text(out, indent=2))
+        for line in said:
+            typer.echo(line, err=True)
+        return
+    solved = "gas flow" if gas_flow is None else "gas outlet temperature"
     typer.echo(f"solved for: {solved}")
     typer.echo(f"gas flow                 {show(out['gas_flow_kg_s'], 'mass_flow')} (wet)")
     typer.echo(f"gas outlet temperature   {show(t_out, 'temperature')}")
     typer.echo(f"evaporation              {show(evap, 'mass_flow')}")
     typer.echo(f"exhaust humidity         {show(y_out, 'humidity')} dry gas (dew point {show(dew, 'temperature')})")
-    if t_out < dew:
-        typer.echo(f"warning: the exhaust ({show(t_out, 'temperature')}) is {show_delta(dew - t_out, 'temperature')} "
-                   f"below its own dew point ({show(dew, 'temperature')}): the gas "
-                   f"would be supersaturated, which the balance does not represent (water would condense); its "
-                   f"numbers hold, the gas state does not: a hotter --gas-in, more gas or a wetter --moisture-out")
-    if out["product_below_dew_point"]:
-        typer.echo(f"warning: the product ({show(vals['product_temperature'], 'temperature')}) is colder than the "
-                   f"exhaust dew point: it would condense water, not dry (measured after discharge? air leaking in?)")
+    for line in said:
+        typer.echo(line)

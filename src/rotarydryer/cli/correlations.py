@@ -84,4 +84,13 @@ def mrt(
             for w in r["warnings"]:
                 typer.echo(f"    warning: {w}")
     if results and all("error" in r for r in results.values()):
-        raise typer.Exit(2)     # every correlation refused the input: bad input
+        # every correlation refused the input: bad input, said once on stderr naming the option
+        said = list(dict.fromkeys(_as_option(r["error"], inputs) for r in results.values()))
+        typer.echo(f"error: every correlation refused the input: {'; '.join(said)}", err=True)
+        raise typer.Exit(2)
+
+
+def _as_option(message: str, inputs: dict) -> str:
+    """``message`` of a correlation with the input it names first (``slope = 3 m/m ...``) as its option (``--slope``)."""
+    name = message.split(" = ", 1)[0]
+    return f"--{name.replace('_', '-')}{message[len(name):]}" if name in inputs else message

@@ -40,7 +40,8 @@ def report(
       rotarydryer report test4.nc -o test4.html
       rotarydryer report invicta --repose-angle 50
 
-    Exit codes: 0 done, 1 internal error, 2 bad input (message on stderr).
+    Exit codes: 0 done, 1 a steady state that did not converge or an internal error, 2 bad input (message on
+    stderr).
     """
     from .._io import json_text, output_set
     from ..report.html import (
@@ -89,9 +90,10 @@ def report(
 
         if DEBUG["on"]:  # --debug: the traceback, for developers
             raise
-        if isinstance(exc, ValueError):
+        if isinstance(exc, ValueError):     # a solve that did not converge is the solver's (1), as simulate's
             typer.echo(f"error: {exc}", err=True)
-            raise typer.Exit(2)
+            raise typer.Exit(1 if getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
+                             else 2)
         if isinstance(exc, OSError):  # e.g. --out in a missing or read-only directory: bad input
             typer.echo(f"error: {exc}" if "cannot write" in str(exc) else f"error: cannot write {out}: {exc}",
                        err=True)

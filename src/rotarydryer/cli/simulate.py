@@ -10,14 +10,6 @@ from . import app
 from ._common import check_out_file, parse_sets, written_set
 
 
-def _steady(case_name, sets):
-    from ..cases import build_model, load_case
-
-    case = load_case(case_name, parse_sets(sets))
-    model = build_model(case)
-    return case, model, model.steady_state()
-
-
 def _save_last_thermal_state(exc, out, diagnostics=None) -> Optional[str]:
     """Write the last iterate of a failed thermal steady state (``DryerError.state``) to the file
     ``diagnostics`` or, without it, to ``thermal_last_state.json`` in ``out``; never into the
@@ -206,36 +198,55 @@ def rtd(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for rtd.csv, rtd.json and rtd.png."),
     method: str = typer.Option("auto", help="Tracer integrator: auto | expm | bdf2 | ivp."),
+    coupled_state: bool = typer.Option(False, "--coupled", help="The coupled heat-and-mass steady state that "
+                                       "simulate, report and sweep report, instead of the solids transport's own "
+                                       "(cases with a gas)."),
 ):
     """Tracer pulse at the steady state: E(t), mean, SD, recovery; plot against the
-    case's measured RTD when it has one.
+    case's measured RTD when it has one. The state is the solids transport's own, at the
+    case's assumed moisture profile (the published transport models' and `validate`'s);
+    --coupled: the coupled heat-and-mass state `simulate` reports, for a case with a gas.
 
     \b
     Example:
       rotarydryer rtd lee2008_invicta --set geometry.method=lee2008_regressions --out out/
     """
+    from ..simulation import Simulation
+
     try:
         from .._validation import check_choice
         from ..cases import measured_rtd
-        from ..cases.build import thermal_enabled
         from ..transport.network import RTD_METHODS
 
         check_choice("--method", method, RTD_METHODS)     # named as the option, before the run
-        c, model, ss = _steady(case, set_)
-        res = ss.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
+        sim = Simulation(case, parse_sets(set_))
+        c, model = sim.case, sim.transport_model()
+        if coupled_state and not sim.thermal_enabled:
+            raise ValueError(f"--coupled: case {case!r} has no heat and mass transfer (thermal.enabled = false or no "
+                             "[gas]): its steady state is the solids transport's")
+        coupled = coupled_state
+        ss = sim.transport_steady_state() if not coupled else None
         meas = measured_rtd(c)
     except ValueError as exc:
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
+    try:
+        if coupled:         # the state simulate reports (the same holdups, residence times and tracer moments)
+            ss = sim.steady_state().state
+        res = ss.rtd(model.tracer_input, t_end=c.tracer.t_end, dt=c.tracer.dt, method=method)
+    except ValueError as exc:
+        typer.echo(f"error: {'heat and mass transfer: ' if coupled else ''}{exc}", err=True)
+        solver_failed = getattr(exc, "reason", None) in ("no_steady_state", "diverged", "integration")
+        raise typer.Exit(1 if solver_failed else 2)
     result = res.to_dict()
-    coupled = thermal_enabled(c)
     result.update({
         "case": case,
         "model": model.name,
-        # the tracer runs on the solids transport's own steady state (the case's assumed moisture profile),
-        # as `validate`'s tracer items and the transport calibrations; with a gas, `simulate`, `report` and
-        # `sweep` report the coupled heat-and-mass state's holdups and residence times instead
-        "steady_state": "solids transport alone" + (" (simulate: the coupled heat-and-mass state)" if coupled else ""),
+        # the solids transport's own steady state (the case's assumed moisture profile), as `validate`'s tracer items
+        # and the transport calibrations; with a gas, `simulate`, `report` and `sweep` report the coupled
+        # heat-and-mass state's holdups and residence times instead, which --coupled gives here
+        "steady_state": "coupled heat-and-mass state" if coupled else "solids transport alone" + (
+            " (simulate: the coupled heat-and-mass state)" if sim.thermal_enabled else ""),
         "total_holdup_kg": ss.total_holdup,
         "active_holdup_kg": ss.active_holdup,
         "passive_holdup_kg": ss.passive_holdup,
@@ -285,8 +296,10 @@ def rtd(
 
     typer.echo(f"{case}: {model.name} tracer RTD ({res.response.method}, dt {show(c.tracer.dt, 'time')})")
     if coupled:
+        typer.echo("  (the coupled heat-and-mass steady state, as `simulate` reports it)")
+    elif sim.thermal_enabled:
         typer.echo("  (the solids transport's own steady state, at the case's assumed moisture profile; `simulate` "
-                   "gives the coupled heat-and-mass state's holdup and residence times)")
+                   "gives the coupled heat-and-mass state's holdup and residence times: rtd --coupled)")
     if getattr(c, "particle_size", None) is not None:
         typer.echo("  (the solids as one mixture: the size classes and the dust the gas carries off are in `simulate`'s "
                    "per-class table, with each class's RTD mean)")

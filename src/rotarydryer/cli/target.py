@@ -41,8 +41,9 @@ def target_cmd(
       rotarydryer target ajayi2011_mmg --find operating.feed_rate=20,40 --such-that product_moisture_kg_kg=0.12 --json
       rotarydryer target ajayi2011_mmg --find operating.feed_rate=20,60 --maximize operating.feed_rate --such-that "product_moisture_kg_kg<=0.12" --such-that "gas_outlet_dew_point_margin_K>=10"
 
-    Exit codes: 0 found; 1 a steady state failed inside the bounds; 2 bad input or a target no
-    value in the bounds meets (the outputs at the bounds are printed).
+    Exit codes: 0 found; 1 a steady state failed inside the bounds, or the search for several
+    targets stalled; 2 bad input or a target no value in the bounds meets (the outputs at the
+    bounds are printed).
     """
     try:
         res = run_target(case, find, such_that, parse_sets(set_), tol, maximize, minimize)
@@ -52,4 +53,4 @@ def target_cmd(
     typer.echo(json_text(res.to_dict()) if as_json else res.text())
     if not res.found:
         typer.echo(f"error: {unreachable_message(res)}", err=True)
-        raise typer.Exit(2)
+        raise typer.Exit(1 if getattr(res, "kind", "") == "targets" else 2)     # a stalled search: the solver's

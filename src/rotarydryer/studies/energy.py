@@ -242,7 +242,7 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
     the case key; a what-if whose steady state fails carries its ``error``."""
     if isinstance(case, Simulation):
         overrides = {**case.overrides, **(overrides or {})}
-        case = case.case_name
+        case = case.reloadable_name("an energy audit")
     overrides = dict(overrides or {})
     base_sim = Simulation(case, overrides)
     if not base_sim.thermal_enabled:

@@ -347,7 +347,7 @@ def target(case, find, such_that, bounds=None, *, overrides=None, tol=None, labe
     lab = {**_LABELS, **(labels or {})}
     if isinstance(case, Simulation):
         overrides = {**case.overrides, **(overrides or {})}
-        case = case.case_name
+        case = case.reloadable_name("a target")
     case_name = str(case)
     overrides = dict(overrides or {})
     key, given = parse_find(find, lab["find"])
@@ -661,7 +661,7 @@ def _prepare(case, finds, such_thats, overrides, tol, labels, need):
     lab = {**_LABELS, **(labels or {})}
     if isinstance(case, Simulation):
         overrides = {**case.overrides, **(overrides or {})}
-        case = case.case_name
+        case = case.reloadable_name("a target")
     case_name, overrides = str(case), dict(overrides or {})
     finds = [finds] if isinstance(finds, str) else list(finds)
     one = isinstance(such_thats, str) or (isinstance(such_thats, tuple) and len(such_thats) == 3
@@ -807,8 +807,8 @@ def solve_targets(case, finds, such_thats, *, overrides=None, tol=None, labels=N
     found = bool(np.all(np.abs(y - target_v) <= tol_v))
     ys = {n: float(v) for n, v in zip(names, y)}
     if not found:
-        notes.append("Newton's method stalled: the targets are not met inside the bounds (the closest point found "
-                     "is shown)")
+        notes.append("Newton's method stalled: the targets are not met at the closest point found (shown); a "
+                     "local search from one start, it does not prove that the bounds hold no answer")
     ev.replay_warnings(vals, notes)
     return TargetSetResult(case=case_name, kind="targets", values=vals, outputs=ys, conditions=_conditions(conds, tols, ys),
                            active_bounds=_at_bounds(vals, bounds), bounds=bounds, evaluations=ev.count, found=found,
