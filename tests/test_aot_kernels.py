@@ -167,8 +167,10 @@ def test_every_kernel_declares_its_argument_kinds():
 
     from rotarydryer.geometry import _cell_kernel
     from rotarydryer.properties import _kernels
+    from rotarydryer.transport import _step_kernel
 
-    for mod in (_kernels, _cell_kernel):
+    assert _aot.KERNEL_MODULES == tuple(m.__name__ for m in (_kernels, _cell_kernel, _step_kernel))
+    for mod in (_kernels, _cell_kernel, _step_kernel):
         for name, (fn, kinds) in mod.AOT_KERNELS.items():
             assert len(inspect.signature(fn).parameters) == len(kinds), name
             assert set(kinds) <= _aot.KINDS, name

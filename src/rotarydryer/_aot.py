@@ -55,8 +55,9 @@ __all__ = ["DIR_ENV", "KERNEL_MODULES", "build", "build_now", "function", "kerne
 #: environment variable naming the kernel cache directory; "off" disables the ahead-of-time kernels
 DIR_ENV = "ROTARYDRYER_KERNEL_DIR"
 #: the modules whose ``AOT_KERNELS`` are compiled (their files are part of the digest)
-KERNEL_MODULES = ("rotarydryer.properties._kernels", "rotarydryer.geometry._cell_kernel")
-_SOURCES = ("_aot.py", "properties/_kernels.py", "geometry/_cell_kernel.py")
+KERNEL_MODULES = ("rotarydryer.properties._kernels", "rotarydryer.geometry._cell_kernel",
+                  "rotarydryer.transport._step_kernel")
+_SOURCES = ("_aot.py", "properties/_kernels.py", "geometry/_cell_kernel.py", "transport/_step_kernel.py")
 #: the longest a build may take, and the longest a process waits for another's (s)
 BUILD_TIMEOUT = 900.0
 _ARRAY_KINDS = {"a": (np.float64, 1, False), "o": (np.float64, 1, True), "m": (np.float64, 2, False),

@@ -47,6 +47,7 @@ import numpy as np
 from .. import _jit
 from .._limits import check_key
 from .._validation import check_choice, check_range, fmt_number
+from . import _step_kernel
 from .network import EdgeFamily, Network, TracerInput
 from .results import TransportModel
 
@@ -306,6 +307,39 @@ class FlightedSectionLaw:
             out.update(CF2=CF2, CB2=CB2)
         return out
 
+    def _trajectory_rates(self, tp, ta, h, flight_mass):
+        """[`rates_of`][rotarydryer.transport.sections.FlightedSectionLaw.rates_of] of `_trajectory_step` (the same numbers to
+        rounding) in one compiled pass (`rotarydryer.transport._step_kernel`), or None where it does not apply
+        (kernels off, an input or result not finite): the caller then composes the two."""
+        fn = _step_kernel.compiled()
+        if fn is None:
+            return None
+        from .forward_step import SHERRITT_EXPONENTS, forward_step_table
+
+        s = self.spec
+        gas = s.gas
+        table = forward_step_table(gas, float(self.slope))
+        shape = np.shape(tp)
+        flat = [np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), shape)).reshape(-1)
+                for v in (tp, ta, h, flight_mass)]
+        far = s.backmix == 0.0
+        out = np.empty((len(_step_kernel.ROWS), flat[0].size))
+        try:
+            ok = fn(*flat, float(self.dl), float(s.backmix), bool(far), math.cos(math.radians(float(self.slope))),
+                    float(table._tan), -1.0 if gas.velocity_ratio is None else float(gas.velocity_ratio),
+                    float(gas.curtain_coefficient), *(float(e) for e in SHERRITT_EXPONENTS), float(gas.gas_velocity),
+                    float(gas.step_factor), table.h, table.u, table.excess, out)
+        except Exception as exc:    # a numba that cannot compile here: the NumPy composition instead
+            _jit.disable(f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
+            return None
+        if not ok:
+            return None
+        rates = {name: out[k].reshape(shape) for k, name in enumerate(_step_kernel.ROWS[:4])}
+        if far:
+            rates.update(forward_far=out[4].reshape(shape), backmix_far=out[5].reshape(shape))
+        rates["kiln"] = self._kiln_rate(tp, ta, h, shape)
+        return rates
+
     def _fitted_step(self, tp, ta, h):
         """The cascade dict of the fitted forward step: C_F = drag_reduction h sin(theta) / dL (Lee
         (2008) Eq. 3.7-3.8), C_B = backmix, C_R = 1 - C_F - C_B."""
@@ -407,16 +441,18 @@ class FlightedSectionLaw:
     def _rates(self, tp, ta, cf, cb, cr, h=None):
         """Coefficients (1/s) of each family from the passive and fall times and the forward, backmix
         and return fractions (Lee (2008) Eq. 3.3-3.8); ``h`` the fall height (the cascade kiln law)."""
-        s = self.spec
         out = dict(discharge=1.0 / tp, forward=cf / ta, backmix=cb / ta)
         out["return"] = cr / ta
-        shape = np.shape(tp)
-        if s.kilning == "excess" and s.kiln_law == "cascade":
-            out["kiln"] = self.cascade_kiln_rate(tp, ta, h) * np.ones(shape)
-        else:
-            out["kiln"] = (np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess"
-                           else np.full(shape, s.kiln_velocity / self.dl))
+        out["kiln"] = self._kiln_rate(tp, ta, h, np.shape(tp))
         return out
+
+    def _kiln_rate(self, tp, ta, h, shape):
+        """The kilning coefficient (1/s) of cells of ``shape``: the cascade law's (`cascade_kiln_rate`), 1/kiln_time
+        (Lee (2008) Eq. 3.9) or the kilning velocity over the cell length."""
+        s = self.spec
+        if s.kilning == "excess" and s.kiln_law == "cascade":
+            return self.cascade_kiln_rate(tp, ta, h) * np.ones(shape)
+        return np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess" else np.full(shape, s.kiln_velocity / self.dl)
 
     @property
     def cellwise(self) -> bool:
@@ -442,7 +478,10 @@ class FlightedSectionLaw:
         if fast is not None:        # one compiled pass; a batch (k, n) is passed flat
             des, _, tp, h, ta = (v.reshape(shape) for v in fast)
             if self.trajectory:     # the forward step of the trajectories through the gas from the cells' cascade
-                out = self.rates_of(self._trajectory_step(tp, ta, h, np.minimum(mp, des)))
+                fm = np.minimum(mp, des)
+                out = self._trajectory_rates(tp, ta, h, fm)
+                if out is None:
+                    out = self.rates_of(self._trajectory_step(tp, ta, h, fm))
             else:
                 out = self._fitted_rates(tp, ta, h)
             out.update(design_load=des, repose_angle=phi, bulk_density=rho)
