@@ -38,6 +38,7 @@ from rotarydryer._io import (
     write_bytes_atomic,
     write_text_atomic,
 )
+from rotarydryer.cli._common import check_out_dir
 
 from .conftest import assert_bad, run_cli, snapshot
 
@@ -398,3 +399,16 @@ def test_diagnostics_option_that_is_a_directory_is_refused_before_the_run(tmp_pa
     res = run_cli(["simulate", "ajayi2011_mmg", "--diagnostics", tmp_path], cwd=workdir)
     assert_bad(res, "--diagnostics", "directory")
     assert snapshot(workdir) == {}
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc, where no directory can be made")
+def test_an_output_directory_that_cannot_be_made_is_refused_before_the_work(tmp_path):
+    """`design --out /proc/d` ran its whole search (about 10 s) before saying it could not write there (found by
+    fuzzing): the place is probed up front, and a writable one is left as it was."""
+    res = run_cli(["design", "--material", "ottawa_sand_song2003", "--feed", "2.5", "--moisture-in", "0.06",
+                   "--moisture-out", "0.001", "--gas-in", "250", "--no-verify", "--out", "/proc/rotarydryer_d"],
+                  cwd=tmp_path)
+    assert_bad(res, "--out '/proc/rotarydryer_d': cannot write in '/proc'")
+    assert "design" not in res.stdout            # refused before the search: nothing of it printed
+    check_out_dir("--out", tmp_path / "new" / "sub")
+    assert list(tmp_path.iterdir()) == []        # the probe removed, nothing made

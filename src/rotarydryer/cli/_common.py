@@ -1,6 +1,8 @@
 """Argument helpers shared by the command modules (kept import-light)."""
 
+import os
 import sys
+import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -66,7 +68,9 @@ def load_tracer(data: str):
 
 def check_out_dir(option: str, out) -> None:
     """Refuse, before any work is done, an output directory option that cannot be one: an
-    existing file, or a path under a file (``a_file.txt/sub``). Nothing is created here."""
+    existing file, a path under a file (``a_file.txt/sub``), or a place where no directory can be
+    made (a read-only or virtual file system: a probe directory is made there and removed at once;
+    found by fuzzing: ``design --out /proc/d`` ran its whole search first). Nothing is left behind."""
     if out is None:
         return
     p = Path(out)
@@ -79,6 +83,10 @@ def check_out_dir(option: str, out) -> None:
         q = q.parent
     if not q.is_dir():
         raise ValueError(f"{option} {str(p)!r}: cannot create the directory, {str(q)!r} is a file")
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".rotarydryer-probe-", dir=q))
+    except OSError as exc:
+        raise ValueError(f"{option} {str(p)!r}: cannot write in {str(q)!r} ({exc.strerror or exc})") from None
 
 
 @contextmanager
