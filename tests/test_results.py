@@ -15,6 +15,7 @@ xr = pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")
 
 from rotarydryer import results as results_mod  # noqa: E402
+from rotarydryer._display import html_table
 from rotarydryer.results import Results, load_results, split_unit
 from rotarydryer.simulation import run_case  # noqa: E402
 
@@ -166,6 +167,12 @@ def test_frame_columns_carry_units(lee):
     assert len(df) == lee.cells.sizes["cell"]
     assert split_unit("bulk_density_kg_m3") == ("bulk_density", "kg/m3")
     assert split_unit("C_F") == ("C_F", "-")
+    # the text and HTML views split these too (summary_text showed "gas_pressure_Pa 101325", found by a review;
+    # the notebook table had its own, shorter list)
+    assert split_unit("gas_pressure_Pa") == ("gas_pressure", "Pa")
+    assert split_unit("gas_outlet_dew_point_margin_K") == ("gas_outlet_dew_point_margin", "K")
+    assert split_unit("specific_energy_kJ_kg_water") == ("specific_energy", "kJ/kg water")
+    assert "<td>repose angle</td><td style='text-align:right'>45</td><td>deg</td>" in html_table({"repose_angle_deg": 45.0})
 
 
 _floats = hnp.arrays(np.float64, st.integers(1, 30),

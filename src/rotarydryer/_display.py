@@ -131,12 +131,37 @@ def short_repr(kind: str, title: str, pairs) -> str:
     return text if len(text) <= 240 else text[:236] + "...>"
 
 
+#: the unit suffixes of output names and their units (the text forms of every summary; `split_unit`)
+UNIT_SUFFIXES = {
+    "_kJ_kg_water": "kJ/kg water",
+    "_Pa": "Pa",
+    "_K": "K",
+    "_kg_m3": "kg/m3",
+    "_degC": "degC",
+    "_W": "W",
+    "_kg_kg": "kg/kg",
+    "_kg_s": "kg/s",
+    "_m2": "m2",
+    "_deg": "deg",
+    "_min": "min",
+    "_kg": "kg",
+    "_s": "s",
+    "_m": "m",
+}
+
+
+def split_unit(name: str) -> tuple[str, str]:
+    """``"repose_angle_deg"`` -> ``("repose_angle", "deg")``; no known suffix -> ``(name, "-")``."""
+    for suf in sorted(UNIT_SUFFIXES, key=len, reverse=True):
+        if name.endswith(suf) and len(name) > len(suf):
+            return name[: -len(suf)], UNIT_SUFFIXES[suf]
+    return name, "-"
+
+
 def _split_unit(name: str):
-    for suffix, unit in (("_kg_kg", "kg/kg"), ("_kg_s", "kg/s"), ("_degC", "degC"), ("_kg", "kg"),
-                         ("_s", "s"), ("_W", "W"), ("_m", "m")):
-        if name.endswith(suffix):
-            return name[: -len(suffix)].replace("_", " "), unit
-    return name.replace("_", " "), ""
+    """(name with spaces, unit or "") of an output name, for tables (`split_unit`)."""
+    base, unit = split_unit(name)
+    return base.replace("_", " "), "" if unit == "-" else unit
 
 
 def html_table(outputs: dict, caption: str = "", limit: int = 40) -> str:

@@ -69,35 +69,13 @@ from typing import Any
 import numpy as np
 
 from . import __version__
+from ._display import UNIT_SUFFIXES, split_unit
 
 __all__ = ["Results", "from_transport", "fit_measured_rtd", "load_results", "rtd_comparison", "FORMAT_VERSION",
            "UNIT_SUFFIXES"]
 
 FORMAT_VERSION = 1
 _META_ATTR = "rotarydryer_results"
-
-#: Unit of a per-cell quantity from the suffix of its name (longest suffix first).
-UNIT_SUFFIXES = {
-    "_kg_m3": "kg/m3",
-    "_degC": "degC",
-    "_W": "W",
-    "_kg_kg": "kg/kg",
-    "_kg_s": "kg/s",
-    "_m2": "m2",
-    "_deg": "deg",
-    "_min": "min",
-    "_kg": "kg",
-    "_s": "s",
-    "_m": "m",
-}
-
-
-def split_unit(name: str) -> tuple[str, str]:
-    """``"repose_angle_deg"`` -> ``("repose_angle", "deg")``; no known suffix -> ``(name, "-")``."""
-    for suf in sorted(UNIT_SUFFIXES, key=len, reverse=True):
-        if name.endswith(suf) and len(name) > len(suf):
-            return name[: -len(suf)], UNIT_SUFFIXES[suf]
-    return name, "-"
 
 
 def output_lines(outputs: dict) -> list[str]:
