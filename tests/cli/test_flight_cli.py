@@ -163,3 +163,13 @@ def test_report_of_a_polygon_flight_drum(tmp_path):
     res = runner.invoke(app, ["report", "invicta_ead", "-o", str(tmp_path / "r.html")])
     assert res.exit_code == 0, res.output
     assert (tmp_path / "r.html").stat().st_size > 10_000
+
+
+def test_the_drum_named_is_the_one_of_the_numbers():
+    """`flight --json` reported "drum": "invicta" for a drum of the user's own dimensions (found by fuzzing): the
+    preset stands in only for what is not given, and the label says what was."""
+    dims = ["--radius", "1", "--n-flights", "18", "--s1", "0.15", "--s2", "0.1", "--alpha1", "90", "--alpha2", "120"]
+    d = json.loads(CliRunner().invoke(app, ["flight", *dims, "--json"]).stdout)
+    assert d["drum"] == "invicta with --radius, --n-flights, --s1, --s2, --alpha1, --alpha2 given"
+    assert (d["radius_m"], d["n_flights"]) == (1.0, 18)
+    assert json.loads(CliRunner().invoke(app, ["flight", "--json"]).stdout)["drum"] == "invicta"

@@ -168,8 +168,14 @@ def flight(
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2)
     psi5 = float(tr.psi5)
+    # the drum the numbers are of: the preset, a profile file, or the preset with the dimensions given (its speed,
+    # slope, length and bulk density stand in for those not given; "invicta" alone was reported for a drum of the
+    # user's own dimensions, found by fuzzing)
+    given = [f"--{k.replace('_', '-')}" for k, v in dims.items() if v is not None]
+    drum_label = (str(profile) if profile is not None
+                  else f"{drum} with {', '.join(given)} given" if given else drum)
     result = {
-        "drum": drum if profile is None else str(profile),
+        "drum": drum_label,
         "radius_m": d.radius,
         "n_flights": d.n_flights,
         "flight_sections": [[float(a), float(b)] for a, b in d.profile.segments],
@@ -223,7 +229,7 @@ def flight(
 
     sections = ", ".join(f"{length(a)} at {b:g} deg" for a, b in d.profile.segments)
     rows = [
-        ("drum", f"{drum if profile is None else profile}: R = {length(d.radius)}, {d.n_flights} flights"),
+        ("drum", f"{drum_label}: R = {length(d.radius)}, {d.n_flights} flights"),
         (f"flight ({d.profile.n_segments} section{'s' if d.profile.n_segments > 1 else ''}, {d.geometry})", sections),
         ("flight-tip radius R_F (Eq. 4.6)", length(d.tip_radius)),
         ("tip angle psi_ft (Eq. 4.7)", f"{d.tip_angle:.4f} deg"),
