@@ -601,12 +601,31 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
         sim = Simulation(case, overrides)
     else:
         if overrides:
-            raise ValueError("overrides need a case name or path (load_case applies them); a case object loaded "
-                             "with overrides names them with applied=")
+            flat = flat_case(case)
+            missing = [k for k, v in overrides.items() if k not in flat or not _same_value(flat[k], v)]
+            if missing:     # the case object does not hold them: they would be recorded, not applied
+                k = missing[0]
+                raise ValueError(f"overrides need a case name or path (load_case applies them): this case object has "
+                                 f"{k} = {flat.get(k, 'no such key')!r}, not {overrides[k]!r}; a case object loaded "
+                                 "with overrides names them with applied=")
+            warnings.warn("run_case(case_object, overrides): the overrides a case object was loaded with are named "
+                          "with applied= (overrides= with a case object is deprecated)", DeprecationWarning,
+                          stacklevel=2)
+            applied = {**overrides, **(applied or {})}
         sim = Simulation(case)
         sim.case_name = getattr(getattr(case, "meta", None), "title", "")
         sim.overrides = dict(applied or {})
     return sim.results(rtd=rtd, method=method, fit_rtd=fit_rtd, thermal=thermal)
+
+
+def _same_value(held, given) -> bool:
+    """Does a case's value ``held`` equal an override ``given`` (a number to 1e-12, else as text)?"""
+    if isinstance(held, bool) or isinstance(given, bool):
+        return held is given
+    try:
+        return math.isclose(float(held), float(given), rel_tol=1e-12, abs_tol=0.0)
+    except (TypeError, ValueError):
+        return held == given or str(held) == str(given)
 
 
 def build_thermal_dryer(case, settings=None, feed_moisture=None, **overrides):

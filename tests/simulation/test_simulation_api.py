@@ -60,13 +60,18 @@ def test_run_case_of_a_case_object_refuses_overrides_it_cannot_apply(new_case):
     from rotarydryer.simulation import run_case
 
     case = load_case(str(new_case))
-    with pytest.raises(ValueError, match=r"^overrides need a case name or path .* applied="):
+    with pytest.raises(ValueError, match=r"^overrides need a case name or path \(load_case applies them\): this case "
+                                         r"object has operating.feed_rate = 2.5, not 4.0; .* applied="):
         run_case(case, {"operating.feed_rate": 4.0}, rtd=False, thermal=False)
     ov = {"operating.feed_rate": 4.0}
     res = run_case(load_case(str(new_case), ov), applied=ov, rtd=False, thermal=False)
     by_path = run_case(new_case, ov, rtd=False, thermal=False)
     assert res.model_choices["overrides"] == ov == by_path.model_choices["overrides"]
     assert res.scalars["total_holdup_kg"] == pytest.approx(by_path.scalars["total_holdup_kg"], rel=1e-12)
+    # the old call with the overrides the case object holds: deprecated, the same result
+    with pytest.warns(DeprecationWarning, match=r"named with applied="):
+        old = run_case(load_case(str(new_case), ov), ov, rtd=False, thermal=False)
+    assert old.model_choices["overrides"] == ov and old.scalars["total_holdup_kg"] == res.scalars["total_holdup_kg"]
     with pytest.raises(ValueError, match=r"^applied = "):
         run_case(new_case, applied=ov)
 
