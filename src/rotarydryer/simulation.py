@@ -46,6 +46,7 @@ from .cases.build import (
     transport_inputs,
     warn_kiln_cells,
 )
+from .cases.calibration import same_value
 from .executor import Executor, RunFailure, split
 from .results import _jsonable, _numbers, add_thermal, fit_measured_rtd, from_transport, output_lines
 from .thermal.audit import (
@@ -602,7 +603,7 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
     else:
         if overrides:
             flat = flat_case(case)
-            missing = [k for k, v in overrides.items() if k not in flat or not _same_value(flat[k], v)]
+            missing = [k for k, v in overrides.items() if k not in flat or not same_value(flat[k], v)]
             if missing:     # the case object does not hold them: they would be recorded, not applied
                 k = missing[0]
                 raise ValueError(f"overrides need a case name or path (load_case applies them): this case object has "
@@ -616,16 +617,6 @@ def run_case(case, overrides: dict | None = None, *, rtd: bool = True, method: s
         sim.case_name = getattr(getattr(case, "meta", None), "title", "")
         sim.overrides = dict(applied or {})
     return sim.results(rtd=rtd, method=method, fit_rtd=fit_rtd, thermal=thermal)
-
-
-def _same_value(held, given) -> bool:
-    """Does a case's value ``held`` equal an override ``given`` (a number to 1e-12, else as text)?"""
-    if isinstance(held, bool) or isinstance(given, bool):
-        return held is given
-    try:
-        return math.isclose(float(held), float(given), rel_tol=1e-12, abs_tol=0.0)
-    except (TypeError, ValueError):
-        return held == given or str(held) == str(given)
 
 
 def build_thermal_dryer(case, settings=None, feed_moisture=None, **overrides):

@@ -164,7 +164,7 @@ def tracer_pulse(case):
 def model_name(case) -> str:
     """Name of a case's transport model: its flighted sections' model (lee2008, ajayi2011, ...), or
     "dryer" when they differ."""
-    models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
+    models = flighted_models(case)
     return next(iter(models)) if len(models) == 1 else "dryer"
 
 
@@ -351,7 +351,7 @@ def _bed_density(case):
 
 def _holdup_hint(case) -> str:
     t = case.transport
-    models = {s.model or t.model for s in case.sections if s.kind == "flighted"}
+    models = flighted_models(case)
     if models == {"sheehan2005_model1"}:
         return (f" (or check the material's bulk density, transport.passive_rate = {fmt_number(t.passive_rate)} 1/s, "
                 f"transport.kiln_rate = {fmt_number(t.kiln_rate)} 1/s, drum.radius and drum.length)")
@@ -385,6 +385,15 @@ def check_feasible(case, steady_state, limit: float = FILL_LIMIT) -> dict:
     return fills
 
 
+#: the transport models whose flighted sections kiln their excess at 1/transport.kiln_time (Lee (2008) Eq. 3.9)
+KILN_TIME_MODELS = frozenset({"lee2008", "sheehan2005_model2"})
+
+
+def flighted_models(case) -> set:
+    """The transport models of the case's flighted sections (each section's own, else ``transport.model``)."""
+    return {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
+
+
 #: the kilning beds of a fixed kilning time holding more than this fraction of the holdup warn (`warn_kiln_cells`)
 KILN_CELLS_FRACTION = 0.05
 
@@ -415,7 +424,7 @@ def warn_kiln_cells(case, steady_state) -> None:
         return
     # the laws that kiln at 1/kiln_time (lee2008, sheehan2005_model2); checked first: the kilning beds of a coupled
     # state are evaluated on demand (a study's runs skip them)
-    lee = {s.model or t.model for s in case.sections if s.kind == "flighted"} - {"ajayi2011", "sheehan2005_model1"}
+    lee = flighted_models(case) & KILN_TIME_MODELS
     if not lee or all(cascade_law(case, m) for m in lee):
         return
     kiln, total = float(steady_state.kiln_bed_holdup), float(steady_state.total_holdup)
@@ -577,7 +586,7 @@ def unused_keys(case, overrides=()) -> list[str]:
     def changed(block, name):
         return getattr(block, name) != type(block).model_fields[name].default
 
-    models = {s.model or t.model for s in case.sections if s.kind == "flighted"}
+    models = flighted_models(case)
     # the predictive law maps the Eq. 3.1 profile (times the scale) onto its velocities and beds, whatever the model
     if changed(t, "moisture_scale") and t.moisture_profile != "ajayi2011_eq3.1" and t.parameter_source != "predictive":
         out.append(f"transport.moisture_scale = {t.moisture_scale:g} has no effect: it scales the "
@@ -586,7 +595,7 @@ def unused_keys(case, overrides=()) -> list[str]:
         out.append(f"geometry.design_load_factor = {g.design_load_factor:g} has no effect: it multiplies the Baker "
                    f"area of geometry.method = 'ajayi2011_regressions' (this case's is {g.method!r}; the exact "
                    "geometry's design_load_method = 'ajayi2011' is 1.24 x Baker, Ajayi (2011) Eq. 4.19)")
-    lee_models = models - {"ajayi2011", "sheehan2005_model1"}
+    lee_models = models & KILN_TIME_MODELS
     if lee_models and all(cascade_law(case, m) for m in lee_models):
         fitted = [k for k in ("kiln_time", "backmix", "drag_reduction")
                   if getattr(t, k) is not None and f"transport.{k}" in overrides]
@@ -621,7 +630,7 @@ def forward_step_of(case, model: str | None = None) -> str:
 
 def any_trajectory(case) -> bool:
     """Does a flighted section of the case take the trajectory forward step (whose curtain drag the gas sets)?"""
-    models = {s.model or case.transport.model for s in case.sections if s.kind == "flighted"}
+    models = flighted_models(case)
     return any(forward_step_of(case, m) == "trajectory" and m != "sheehan2005_model1" for m in models)
 
 

@@ -198,6 +198,12 @@ def _is_none(v) -> bool:
     return v is None or (isinstance(v, str) and v.strip().lower() in ("", "none", "null"))
 
 
+def same_value(held, given) -> bool:
+    """Does a validated case's value ``held`` equal ``given`` (an override, a --set text read as ``held``'s type;
+    numbers to 1e-12)?"""
+    return _same(_coerced(given, held), held)
+
+
 def _same(a, b) -> bool:
     if _is_none(a) or _is_none(b):
         return _is_none(a) and _is_none(b)
