@@ -81,6 +81,7 @@ import warnings
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.linalg import spsolve
 
 from .. import _jit
 from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
@@ -1631,12 +1632,45 @@ class ThermalDryer:
         T = np.interp(self.position, [0, 0.3 * self.length, self.length],
                       [s.solids_inlet_temperature, 40.0, 45.0])
         share = self.class_feed[:, None]        # every class in the tanks as in the feed
-        S, W, T = (S * share).ravel(), (W * share).ravel(), np.tile(T, self.n_classes)
+        S, W = S * share, W * share
         gp = self.gas_position if s.gas_direction == "co-current" else self.length - self.gas_position
         Tout = max(s.solids_inlet_temperature + 20.0, 0.3 * s.gas_inlet_temperature)
         Tg = np.interp(gp, [0, self.length], [s.gas_inlet_temperature, Tout])
         Y = np.interp(gp, [0, self.length], [self.gas_inlet_Y, self.gas_inlet_Y + 0.05])
-        return np.concatenate([S, W, T, Tg, Y])
+        T = np.tile(T, (self.n_classes, 1))
+        if self.dusty:
+            S, W = self._dusty_start(S, W, T, Tg, Y)
+        return np.concatenate([S.ravel(), W.ravel(), T.ravel(), Tg, Y])
+
+    def _dusty_start(self, S, W, T, Tg, Y):
+        """The start's holdups per class (classes, tanks) with the dust taken out: each class's flows linear in
+        its own holdup at the coefficients of the start's mixture (every edge's flow per kg of its source, the
+        dust edges' too, at the start's gas), and that linear network's steady state for the class's share of
+        the feed, one sparse solve per class; W keeps the start's moisture profile. Without it the fines start
+        with the feed's share of every tank, which the gas then has to empty: the pseudo-transient solve of a
+        dryer whose fines leave as dust stalled there and the transient march took minutes (20 classes, 174 s)."""
+        src, dst, F = self.flows(S, W, T, gas=(Tg, Y))
+        mc = S + W
+        nt, keep = self.n_tanks, dst >= 0
+        feed = np.zeros(nt)
+        feed[self.entry] = 1.0
+        x = W / np.maximum(mc, 1e-300)
+        for c in range(self.n_classes):
+            rate = F[c] / np.maximum(mc[c, src], 1e-300)           # kg/s per kg of the source's class c
+            out = np.bincount(src, weights=rate, minlength=nt)
+            a = sp.csc_matrix((rate[keep], (dst[keep], src[keep])), shape=(nt, nt)) - sp.diags(out, format="csc")
+            try:
+                with warnings.catch_warnings():     # a singular network (a class with no way out): NaN, kept as it was
+                    warnings.simplefilter("ignore")
+                    m = spsolve(a, -feed * (self.feed_rate * float(self.class_feed[c])))
+            except (RuntimeError, ValueError):
+                continue
+            if not np.all(np.isfinite(m)):
+                continue
+            m = np.maximum(m, 0.0)
+            S[c] = np.maximum(m * (1.0 - x[c]), 1e-6 * self.feed_rate * float(self.class_feed[c]))
+            W[c] = m * x[c]
+        return S, W
 
     # ------------------------------------------------------------------ steady state
     def steady_state(self, z0=None, max_iter=300, tol=1e-11, dt0=20.0, verbose=None, factorization=None,
