@@ -196,6 +196,33 @@ def test_a_boolean_where_a_number_is_expected_is_refused(tmp_path):
     assert ok.thermal.enabled is False
 
 
+def test_a_quoted_number_in_a_case_file_is_refused(tmp_path):
+    """``radius = "1.0"`` (a TOML string) was read as 1.0 by pydantic's lax mode and ran silently (found by fuzzing):
+    refused with the file's line and the fix, exit 2; texts stay where the schema has them (names, choices), and an
+    override (the command line's --set, a form's field) may still be text."""
+    res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    text = (tmp_path / "d.toml").read_text()
+    bad = re.sub(r"(?m)^radius = .*$", 'radius = "1.0"', text, count=1)
+    bad = re.sub(r"(?m)^feed_rate = .*$", 'feed_rate = "2.5"', bad, count=1)
+    (tmp_path / "bad.toml").write_text(bad)
+    with pytest.raises(ValueError) as err:
+        load_case(str(tmp_path / "bad.toml"))
+    msg = str(err.value)
+    assert "(2 problems)" in msg, msg
+    assert re.search(r"bad\.toml:\d+: drum\.radius = '1\.0' is a text \(a quoted TOML string\) where a number is "
+                     r"expected: write the number without quotes", msg), msg
+    assert re.search(r"bad\.toml:\d+: operating\.feed_rate = '2\.5' is a text", msg), msg
+    res = CliRunner().invoke(app, ["simulate", str(tmp_path / "bad.toml"), "--json"])
+    assert res.exit_code == 2 and "drum.radius = '1.0' is a text" in res.output
+    # the file's value an override replaces is not the run's: no refusal, and the override's text is a number
+    ok = load_case(str(tmp_path / "bad.toml"), {"drum.radius": "1.2", "operating.feed_rate": "2.0"})
+    assert ok.drum.radius == 1.2 and ok.operating.feed_rate == 2.0
+    # a text that is not a number: the schema's own message, not this one
+    with pytest.raises(ValueError, match=r"drum\.radius = 'big'.*valid number"):
+        load_case(str(tmp_path / "bad.toml"), {"drum.radius": "big", "operating.feed_rate": 2.0})
+
+
 def test_one_problem_is_one_line():
     """A case with one problem gave two lines, the first ('invalid case ... (1 problem):') naming no key (found by
     fuzzing): one line; two problems keep their count and a line each."""

@@ -16,6 +16,7 @@ import copy
 import math
 import re
 import tomllib
+import typing
 import warnings
 from functools import cache, lru_cache
 from importlib import resources
@@ -60,6 +61,31 @@ def _takes_bool(annotation) -> bool:
     return any(_takes_bool(a) for a in get_args(annotation))
 
 
+def _takes_str(annotation) -> bool:
+    """Whether a field of type ``annotation`` may hold a text anywhere: ``str``, a choice of texts (``Literal``), an
+    enumeration, a path, ``Any``, or any of these inside it. A field of numbers only (``float``, ``int``,
+    ``Optional[float]``, ``list[float]``, a block) may not."""
+    if annotation is Any or annotation is str:
+        return True
+    if typing.get_origin(annotation) is Literal:
+        return any(isinstance(a, str) for a in get_args(annotation))
+    if isinstance(annotation, type) and not get_args(annotation):
+        return not issubclass(annotation, (bool, int, float, BaseModel, type(None)))
+    return any(_takes_str(a) for a in get_args(annotation))
+
+
+def _holds_str(value) -> bool:
+    """Whether ``value`` is a text that reads as a number (pydantic's lax mode takes it; any other text it refuses
+    with its own message) or a list (of lists...) holding one."""
+    if isinstance(value, str):
+        try:
+            float(value)
+        except ValueError:
+            return False
+        return True
+    return isinstance(value, (list, tuple)) and any(_holds_str(v) for v in value)
+
+
 def _holds_bool(value) -> bool:
     """Whether ``value`` is a boolean or a list (of lists...) holding one; numbers, the common case of a
     case's tables, cost one type test each."""
@@ -92,8 +118,33 @@ def _model_in(annotation):
 def _field_kinds(cls) -> dict:
     """``{field: (block class or None, whether it may hold a boolean)}`` of the schema class ``cls``, worked out
     once per class: walking the annotations took 6 ms of every case load (a study loads one per run)."""
-    return {key: (_model_in(f.annotation), _takes_bool(f.annotation))
+    return {key: (_model_in(f.annotation), _takes_bool(f.annotation), _takes_str(f.annotation))
             for key, f in getattr(cls, "model_fields", {}).items()}
+
+
+def _text_numbers(cls, raw, path=()):
+    """The dotted keys (with their values) of ``raw`` (a case file's document, or a block of it, for the schema
+    class ``cls``) that hold a text where the schema expects numbers only: pydantic's lax mode reads
+    ``radius = "1.0"`` as 1.0, so a quoted number in a case file passed silently. Only the file's own values:
+    an override of the command line or of a form is text by nature and is read as a number."""
+    out = []
+    if not isinstance(raw, dict):
+        return out
+    kinds = _field_kinds(cls)
+    for key, value in raw.items():
+        kind = kinds.get(key)
+        if kind is None:
+            continue
+        where = (*path, key)
+        block, _, takes_str = kind
+        if block is not None and isinstance(value, dict):
+            out += _text_numbers(block, value, where)
+        elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
+            for i, v in enumerate(value):
+                out += _text_numbers(block, v, (*where, i))
+        elif not takes_str and block is None and _holds_str(value):
+            out.append((where, value))
+    return out
 
 
 def _boolean_numbers(cls, raw, path=()):
@@ -109,7 +160,7 @@ def _boolean_numbers(cls, raw, path=()):
         if kind is None:
             continue
         where = (*path, key)
-        block, takes_bool = kind
+        block, takes_bool, _ = kind
         if block is not None and isinstance(value, dict):
             out += _boolean_numbers(block, value, where)
         elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
@@ -795,7 +846,6 @@ def valid_override_keys(case_cls) -> list[str]:
 def override_key_type(case_cls, key: str):
     """The value type of override key ``key`` of a case class (``int``, ``float``, ``str``, ``bool``, a
     ``Literal`` or other annotation; ``Optional`` unwrapped), or None for a key it does not have."""
-    import typing
 
     node, out = case_cls, None
     for part in key.split("."):
@@ -822,7 +872,6 @@ def discrete_kind(case_cls, key: str) -> str | None:
 @cache
 def _override_keys(case_cls) -> tuple[str, ...]:
     """`valid_override_keys`, computed once per class (every case load needs them)."""
-    import typing
 
     def block(annotation):
         if typing.get_origin(annotation) is not None:      # Optional[Block]
@@ -1169,6 +1218,14 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         lines = [f"{_problem_where(loc, text, shown, overrides)}: {'.'.join(str(x) for x in loc)} = "
                  f"{_shown_value(value)} holds a boolean (true/false) where a number is expected"
                  for loc, value in booleans]
+        raise ValueError(_invalid(name, "\n".join(lines), len(lines)))
+    texts = [(loc, value) for loc, value in _text_numbers(cls, file_raw)
+             if not any(k == ".".join(map(str, loc)) or k.startswith(".".join(map(str, loc)) + ".")
+                        for k in overrides or {})]
+    if texts:
+        lines = [f"{_problem_where(loc, text, shown, None)}: {'.'.join(str(x) for x in loc)} = "
+                 f"{_shown_value(value)} is a text (a quoted TOML string) where a number is expected: write the "
+                 "number without quotes" for loc, value in texts]
         raise ValueError(_invalid(name, "\n".join(lines), len(lines)))
     try:
         case = cls.model_validate(raw)
