@@ -130,6 +130,8 @@ class Limits:
     dew_point_margin: float = 10.0            # K
     peripheral_speed_max: float = 1.0         # m/s (a choice: the shipped plants run at 0.6-0.8 m/s)
     ua_factor: float = 1.0                    # multiplier on McCormick's Ua (calibrate with check_plant)
+    holdup_factor: float = 1.0                # multiplier on Perry & Green's residence time (design_verified sets it
+                                              # to the coupled model's holdup over the screening's)
     gas_velocity_max: float = 5.0             # m/s, dust carry-over (Ajayi (2011) l.1922: 3-5 m/s in MMG)
 
     def validate(self):
@@ -138,6 +140,7 @@ class Limits:
         check_range("fill_max", self.fill_max, 0.0, 0.5, high_inclusive=True)
         check_range("peripheral_speed_max", self.peripheral_speed_max, 0.0, 10.0, unit="m/s")
         check_range("ua_factor", self.ua_factor, 0.0, 100.0)
+        check_range("holdup_factor", self.holdup_factor, 0.0, 100.0)
         check_range("gas_velocity_max", self.gas_velocity_max, 0.0, 100.0, unit="m/s")
         check_range("design_load_tolerance", self.design_load_tolerance, 0.0, 10.0, high_inclusive=True)
         lo, hi = self.length_to_diameter
@@ -387,6 +390,8 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
     void = not math.isfinite(tau) or tau <= 0
     if void:
         tau = 1e-6
+    else:
+        tau *= limits.holdup_factor
     H = tau * 0.5 * (d.feed_rate + dm.F_out)
     fill = H / (dm.rho_b * A * L)
     fill_guess = min(fill, 0.5)
@@ -798,7 +803,9 @@ def _why(real: Design, best: Design, limits: Limits):
 
 def verify(design: Design, duty: Duty, n_cells=20):
     """Coupled heat-and-mass steady state (`rotarydryer.Simulation`, general dryer case,
-    Lee (2008) transport) of a design: dict of its summary (product moisture etc.)."""
+    Lee (2008) transport) of a design: dict of its summary (product moisture etc.). The excess over the
+    flights' design load kilns at the cascade speed (``kiln_law = "cascade"``): a fixed kilning time would
+    give beds, and a holdup, that grow with ``n_cells`` (a design has no tracer data to fit it to)."""
     from .cases import DryerCase
     from .simulation import Simulation
 
@@ -809,7 +816,7 @@ def verify(design: Design, duty: Duty, n_cells=20):
         "operating": {"feed_rate": duty.feed_rate, "rpm": design.rpm, "feed_moisture": duty.moisture_in,
                       "feed_temperature": duty.feed_temperature},
         "material": {"name": duty.material},
-        "transport": {"model": "lee2008", "n_cells": n_cells},
+        "transport": {"model": "lee2008", "n_cells": n_cells, "kiln_law": "cascade"},
         "sections": [{"name": "drum", "kind": "flighted", "length": design.length_m}],
         "gas": {"direction": duty.direction, "flow": design.values["gas_flow_kg_s"],
                 "inlet_temperature": duty.gas_inlet_temperature,
@@ -843,7 +850,7 @@ def verified_violations(summary: dict, best: Design, dm: _DutyModel, limits: Lim
     return out
 
 
-def design_verified(duty: Duty, limits: Limits | None = None, objective="volume", rounds=3, progress=None, **search):
+def design_verified(duty: Duty, limits: Limits | None = None, objective="volume", rounds=5, progress=None, **search):
     """`design`, then `verify` of the best design with the coupled model; while the
     coupled model misses the target product moisture, the Ua factor is lowered by the
     evaporation shortfall (required / achieved evaporation, to the power 1.5) and the search
@@ -855,8 +862,11 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
     design that meets the target moisture but breaks one of them (``constraints_violated``) is not
     verified; where it over-dries (the coupled drum evaporates more than the duty needs, so the gas
     leaves colder than screened), the Ua factor is raised by the same rule and the search repeated
-    (a shorter drum). The round returned: the first verified one, else the closest (target met
-    first, then the driest product)."""
+    (a shorter drum); where the fill or the flights' loading is broken, the screening's residence time
+    is scaled by the coupled model's holdup over the screening's (``Limits.holdup_factor``: Perry and
+    Green's correlation knows neither the flights nor the coupled model's transport law) and the search
+    repeated. Every repeated round carries both factors of the last verification. The round returned: the
+    first verified one, else the closest (target met first, then no limit broken, then the driest product)."""
     limits = (limits or Limits()).validate()
     duty.validate()
     dm = _DutyModel(duty)
@@ -897,7 +907,8 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
         xp = v["product_moisture_kg_kg"]
         met = bool(xp <= duty.moisture_out * 1.0001)
         e_ach = dm.S * (dm.X_in - xp / (1 - xp))
-        entry = dict(ua_factor=limits.ua_factor, product_moisture_kg_kg=xp, evaporation_kg_s=e_ach,
+        entry = dict(ua_factor=limits.ua_factor, holdup_factor=limits.holdup_factor, product_moisture_kg_kg=xp,
+                     evaporation_kg_s=e_ach,
                      product_temperature_degC=v["product_temperature_degC"],
                      gas_outlet_temperature_degC=v["gas_outlet_temperature_degC"],
                      total_holdup_kg=v["total_holdup_kg"], target_met=met,
@@ -909,9 +920,15 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
         over_dried = e_ach > dm.E * 1.0001
         if met and not entry["constraints_violated"]:
             return res, dict(entry, rounds=history)
-        if k == rounds - 1 or (met and not over_dried):   # a violation that a shorter drum would not mend
+        screened = res.best.values.get("holdup_kg", math.nan)
+        holdup_off = (any(c.startswith(("fill ", "flights over-loaded")) for c in entry["constraints_violated"])
+                      and math.isfinite(screened) and screened > 0 and v["total_holdup_kg"] > 0)
+        if k == rounds - 1 or (met and not over_dried and not holdup_off):   # nothing a new search would mend
             best, entry = closest()
             return best, dict(entry, rounds=history)
         shortfall = dm.E / max(e_ach, 1e-3 * dm.E)
-        limits = dataclasses.replace(limits, ua_factor=limits.ua_factor / shortfall**1.5)
+        hf = limits.holdup_factor
+        if math.isfinite(screened) and screened > 0 and v["total_holdup_kg"] > 0:
+            hf = min(max(hf * v["total_holdup_kg"] / screened, 1e-3), 100.0)
+        limits = dataclasses.replace(limits, ua_factor=limits.ua_factor / shortfall**1.5, holdup_factor=hf)
 

@@ -42,7 +42,7 @@ def design_view(preset: str | None = "raw_sugar", *, material=None, feed=None, m
                 gas_in=None, gas_flow=None, ntu=None, direction=None, feed_temperature=None, max_fuel=None,
                 objective="volume", speed_fraction=0.5, entrainment_fraction=1.0, gas_velocity_max=5.0,
                 fill_max=0.15, design_load_tolerance=0.15, ld_min=4.0, ld_max=10.0, d_min=0.5, d_max=6.0,
-                ua_factor=1.0, effort="quick", verify=False, rounds=3, top=8, images=True, progress=None) -> dict:
+                ua_factor=1.0, effort="quick", verify=False, rounds=5, top=8, images=True, progress=None) -> dict:
     """Size a dryer for a duty, as ``rotarydryer design`` does (same options, same checks).
 
     ``preset`` (`DESIGN_PRESETS` or None) is overridden by the duty options given;

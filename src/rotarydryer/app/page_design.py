@@ -92,7 +92,8 @@ def _inputs():
                         help="quick: 20 generations x population 8 (~1-5 s); full: the CLI's 60 x 12")
     verify = side.checkbox("Check the best design with the coupled model", value=False, key="design_verify",
                            help="runs the heat-and-mass model on the best design; while it misses the target, the "
-                                "Ua factor is lowered and the search repeated (--verify, 3 rounds)")
+                                "Ua factor (and, where the coupled holdup breaks the fill or the flights' loading, the "
+                                "holdup factor) is corrected and the search repeated (--verify, 5 rounds)")
     kwargs = dict(material=material, feed=feed, moisture_in=moisture_in, moisture_out=moisture_out, gas_in=gas_in,
                   gas_flow=gas_flow, ntu=ntu, direction=direction, feed_temperature=feed_t, max_fuel=max_fuel,
                   objective=objective, speed_fraction=speed_fraction, entrainment_fraction=entrainment,

@@ -42,7 +42,8 @@ def design_cmd(
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Run the coupled heat-and-mass model on the best "
                                                                    "design; while it misses the target, lower "
                                                                    "the Ua factor and search again."),
-    rounds: int = typer.Option(3, help="Most searches with --verify."),
+    rounds: int = typer.Option(5, help="Most searches with --verify (each repeats the search with the Ua and holdup "
+                                       "factors of the last verification)."),
     check: Optional[str] = typer.Option(None, help="Check a plant instead: its geometry under its own duty vs the "
                                                    "optimum. lee2008_invicta | ajayi2011_mmg (their published "
                                                    "duties) or any dryer case (name or .toml: the duty from its steady "
@@ -180,8 +181,10 @@ def _design(D, t0, limits, bar, duty, material, feed, moisture_in, moisture_out,
             typer.echo(f"verification (coupled model) failed: {_probe_infeasible(res.best, ver['error'])}")
         else:
             if len(ver["rounds"]) > 1:
-                typer.echo("verification rounds (Ua factor -> product moisture): " + ", ".join(
-                    f"{r['ua_factor']:.3g} -> {show(r.get('product_moisture_kg_kg', float('nan')), 'moisture')}"
+                typer.echo("verification rounds (Ua factor, holdup factor -> product moisture, holdup): " + ", ".join(
+                    f"{r['ua_factor']:.3g}, {r.get('holdup_factor', 1.0):.3g} -> "
+                    f"{show(r.get('product_moisture_kg_kg', float('nan')), 'moisture')}, "
+                    f"{show(r.get('total_holdup_kg', float('nan')), 'mass')}"
                     for r in ver["rounds"]))
             typer.echo(f"verification (coupled model, Lee 2008 transport): product moisture "
                        f"{show(ver['product_moisture_kg_kg'], 'moisture')} wet (target {show(d.moisture_out, 'moisture')}: "
@@ -314,7 +317,8 @@ def _verification_text(d, ver) -> str:
     if "error" in ver:
         return f"## Verification (coupled model)\n\nThe coupled model could not run the design: {' '.join(str(ver['error']).split())}\n"
     margin = ver.get("gas_outlet_dew_point_margin_K")
-    rounds = "\n".join(f"| {k + 1} | {r['ua_factor']:.3g} | {show(r['product_moisture_kg_kg'], 'moisture')} | "
+    rounds = "\n".join(f"| {k + 1} | {r['ua_factor']:.3g} | {r.get('holdup_factor', 1.0):.3g} | "
+                       f"{show(r['product_moisture_kg_kg'], 'moisture')} | {show(r['total_holdup_kg'], 'mass')} | "
                        f"{'; '.join(r.get('constraints_violated') or []) or '-'} |"
                        for k, r in enumerate(ver.get("rounds", [])) if "product_moisture_kg_kg" in r)
     broken = "; ".join(ver.get("constraints_violated") or [])
@@ -325,7 +329,7 @@ Product moisture {show(ver['product_moisture_kg_kg'], 'moisture')} wet (target {
 (dew-point margin {'n/a' if margin is None else f"{margin:.3g} K"}); product {show(ver['product_temperature_degC'], 'temperature')};
 holdup {show(ver['total_holdup_kg'], 'mass')}. Screening limits broken by the coupled model: {broken or 'none'}.
 
-| round | Ua factor | product moisture | limits broken |
-|---|---|---|---|
+| round | Ua factor | holdup factor | product moisture | holdup | limits broken |
+|---|---|---|---|---|---|
 {rounds}
 """

@@ -11,7 +11,7 @@ _PRESETS = ("raw_sugar", "mmg")
 
 def design_limits(objective="volume", speed_fraction=0.5, entrainment_fraction=1.0, gas_velocity_max=5.0,
                   fill_max=0.15, design_load_tolerance=0.15, ld_min=4.0, ld_max=10.0, d_min=0.5, d_max=6.0,
-                  ua_factor=1.0, top=8, rounds=3):
+                  ua_factor=1.0, top=8, rounds=5):
     """The checked search options of ``rotarydryer design`` as `rotarydryer.design.Limits`
     (``ValueError`` naming the option; the web app calls this too, for the same messages)."""
     from .. import design as D
