@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 import warnings
 
 import numpy as np
@@ -454,3 +455,28 @@ def test_a_flat_end_of_the_feed_map_gives_no_division_warning():
         assert fm.feed(-0.01) == -np.inf          # below the flat low end: no feed rate gives it
         assert 30.0 < fm.feed(0.02) < 40.0
         assert fm.feed(0.05) > 40.0               # the other end's slope is not flat: extrapolated
+
+
+def test_a_loop_that_cycles_between_the_limits_is_said_so(tmp_path):
+    """The template at a 160 degC gas (its product at 1.3e-5 kg/kg, just above the floor control refuses): the default
+    loop swung the gas inlet temperature between 70 and 555 degC five times and ended with the warning that the
+    setpoint was out of reach (found by fuzzing). It is a limit cycle, and is now called one, with the options that
+    end it; a detuned loop (--tau-c 2000) holds the setpoint without it."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+    from rotarydryer.services.control import CYCLE_SWINGS
+
+    runner = CliRunner()
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    base = ["control", str(tmp_path / "d.toml"), "--duration", "3600", "-q", "--no-open-loop", "--set",
+            "gas.inlet_temperature=160"]
+    res = runner.invoke(app, base)
+    assert res.exit_code == 0, res.output
+    warn = [ln for ln in res.output.splitlines() if ln.startswith("warning: the loop cycles")]
+    assert len(warn) == 1 and "out of reach" not in res.output, res.output
+    swings = int(re.search(r"swung (\d+) times between the limits of its range \(70 and 555\.3 degC\)", warn[0])[1])
+    assert swings >= CYCLE_SWINGS and "--tau-c" in warn[0] and "kg/kg" in warn[0]
+    res = runner.invoke(app, base + ["--tau-c", "2000"])
+    assert res.exit_code == 0 and "warning: the loop cycles" not in res.output, res.output

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import warnings
 
+import numpy as np
+
 from ._options import check_option
 
 __all__ = ["check_control_options", "run_control", "describe_feedforward"]
@@ -121,9 +123,11 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
         C.check_schedule(dryer, schedule, duration, True)
     models = C.identify(dryer, steady, progress=progress, measured=cfg.measured)
     closed = C.closed_loop(dryer, steady, models=models, **kw)
-    out_of_reach = setpoint_out_of_reach(closed, feed_backup)
-    if out_of_reach:
-        warnings.warn(out_of_reach, C.ControlWarning, stacklevel=2)
+    cycling = limit_cycle(closed)
+    out_of_reach = None if cycling else setpoint_out_of_reach(closed, feed_backup)
+    for message in (cycling, out_of_reach):
+        if message:
+            warnings.warn(message, C.ControlWarning, stacklevel=2)
     opened = C.closed_loop(dryer, steady, models=models, controlled=False, **kw) if open_loop else None
     if opened is not None:
         c_iae, o_iae = closed.performance["iae"], opened.performance["iae"]
@@ -138,6 +142,37 @@ def run_control(sim, case, *, scenario, magnitude, duration, step_time, sample_t
 
 #: samples at the end of a closed loop over which saturated manipulated inputs make its setpoint out of reach
 SATURATED_SAMPLES = 5
+#: swings of the gas inlet temperature from one limit of its range to the other that make a closed loop a limit cycle
+CYCLE_SWINGS = 3
+
+
+def limit_cycle(closed) -> str | None:
+    """Why a closed loop's gas inlet temperature swung between the two limits of its range, where it did so at least
+    CYCLE_SWINGS times (each swing from one limit to the other, samples between them not counted): the loop cycles,
+    which the process models identified at the case's point do not foresee (near a product's moisture floor the
+    product moisture's gain to the gas temperature collapses and its response is far from linear). None otherwise.
+    A cycling loop is not a setpoint out of reach: at its end the inputs may sit at a limit between two swings."""
+    s, t = closed.series, closed.tuning
+    gas = np.asarray(s["gas_inlet_temperature_degC"], dtype=float)
+    time = np.asarray(closed.time_s, dtype=float)
+    lo, hi = (float(v) for v in t["gas_temperature_range_degC"])
+    if not hi > lo or gas.size < 2:
+        return None
+    near = 1e-6 * max(abs(lo), abs(hi), 1.0)
+    side = np.where(np.abs(gas - lo) <= near, -1, np.where(np.abs(gas - hi) <= near, 1, 0))
+    at = np.flatnonzero(side != 0)
+    if at.size < 2:
+        return None
+    change = at[1:][side[at][1:] != side[at][:-1]]         # the samples where the input reached the other limit
+    if change.size < CYCLE_SWINGS:
+        return None
+    unit = "K" if closed.measured == "exhaust_temperature" else "kg/kg"
+    return (f"the loop cycles: the gas inlet temperature swung {change.size} times between the limits of its range "
+            f"({lo:.4g} and {hi:.4g} degC) from t = {time[change[0]] / 60:.0f} min, and the controlled output with it "
+            f"(max |e| {closed.performance['max_abs_deviation']:.3g} {unit}); the process models identified at the case's "
+            "point do not hold where the loop goes (near a product's moisture floor the gain to the gas temperature "
+            "collapses): a larger --tau-c detunes the loop, a setpoint further from the floor or --measured "
+            "exhaust_temperature avoids it")
 
 
 def setpoint_out_of_reach(closed, feed_backup: bool) -> str | None:
