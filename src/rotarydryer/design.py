@@ -41,11 +41,13 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 from typing import Optional
 
 import numpy as np
 
 from ._validation import check_choice, check_range
+from .correlations import CorrelationRangeWarning
 from .executor import Executor, RunFailure
 
 __all__ = ["Duty", "Limits", "Design", "DesignResult", "InfeasibleDuty", "design", "evaluate", "check_plant",
@@ -376,8 +378,10 @@ def evaluate(dm: _DutyModel, limits: Limits, diameter_m, slope_deg, rpm, n_fligh
     rt = dict(length=L, diameter=D, slope=math.tan(math.radians(slope_deg)), rpm=rpm, particle_size=dm.dp,
               solids_mass_flux=S_flux, gas_flow=d.direction, allow_nonpositive=True)
     try:
-        tau = float(perry_green_1984(gas_mass_flux=G_flux, **rt))
-        tau_no_gas = float(perry_green_1984(gas_mass_flux=0.0, **rt))
+        with warnings.catch_warnings():     # a non-positive residence time is the constraint below, not a warning
+            warnings.simplefilter("ignore", CorrelationRangeWarning)         # for each of a search's thousands of drums
+            tau = float(perry_green_1984(gas_mass_flux=G_flux, **rt))
+            tau_no_gas = float(perry_green_1984(gas_mass_flux=0.0, **rt))
     except ValueError:
         tau, tau_no_gas = math.nan, math.nan
     # Friedman-Marshall's co-current gas term is linear in the gas flux: where it exceeds the geometric

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+import warnings
 
 import pytest
 
 from rotarydryer import design as D
+from rotarydryer.correlations import CorrelationRangeWarning
 from rotarydryer.geometry.drum import critical_speed
 
 
@@ -229,8 +231,12 @@ def test_a_plain_sand_duty_is_verified():
     (found by fuzzing). With the holdup factor it is verified within the default rounds."""
     duty = D.Duty(material="ottawa_sand_song2003", feed_rate=2.5, moisture_in=0.06, moisture_out=0.001,
                   gas_inlet_temperature=250.0, direction="co-current", feed_temperature=20.0)
-    with pytest.warns(Warning):
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
         res, ver = D.design_verified(duty)
+    # Friedman-Marshall's non-positive residence time of some of the search's drums is a constraint, not a warning
+    # (7 158 of them were shown as one and counted)
+    assert not [w for w in seen if issubclass(w.category, CorrelationRangeWarning)]
     assert ver["target_met"] and ver["constraints_violated"] == [], ver
     assert ver["rounds"][-1]["holdup_factor"] > 1.0
     assert ver["total_holdup_kg"] / res.best.values["design_load_kg"] <= 1.15 + 1e-9
