@@ -1,5 +1,6 @@
 """The Simulation API's own argument checks."""
 
+import numpy as np
 import pytest
 
 from rotarydryer import Simulation
@@ -148,3 +149,14 @@ def test_kilning_beds_that_follow_the_cell_count_warn(new_case):
         Simulation(new_case, {**over, "transport.kiln_law": "cascade"}).steady_state()
         Simulation(new_case).steady_state()                 # within the flights' capacity: no kilning beds
         Simulation("lee2008_invicta").steady_state()        # kiln_time calibrated at its cell count
+
+
+def test_a_dynamic_result_names_its_units(new_case):
+    """`Simulation.dynamics()` gave ``product_moisture`` and ``time`` without the unit suffix of every other output
+    (its DataFrame and CSV have them): ``product_moisture_kg_kg`` and ``time_s`` are the same arrays."""
+    r = Simulation(str(new_case)).dynamics(t_end=120.0, dt=60.0)
+    assert r.time_s is r.time and r.product_moisture_kg_kg is r.product_moisture
+    np.testing.assert_array_equal(r.time_s, [0.0, 60.0, 120.0])
+    df = r.to_dataframe()
+    np.testing.assert_array_equal(df["product_moisture_kg_kg"].to_numpy(), r.product_moisture_kg_kg)
+    assert df.index.name == "time_s"

@@ -621,11 +621,22 @@ def outlets(dryer, z) -> dict:
 
 
 class DynamicResult:
-    """Trajectory of a dynamic simulation: ``time`` s, ``states`` (n x nt) and outlet series
-    (``product_moisture``, ``product_temperature_degC``, ``gas_outlet_temperature_degC``)."""
+    """Trajectory of a dynamic simulation: ``time_s``, ``states`` (n x nt) and outlet series
+    (``product_moisture_kg_kg``, ``product_temperature_degC``, ``gas_outlet_temperature_degC``; ``time`` and
+    ``product_moisture`` are the same arrays under their older names)."""
 
     product_temperature_c = _Renamed("product_temperature_degC")
     gas_outlet_temperature_c = _Renamed("gas_outlet_temperature_degC")
+
+    @property
+    def time_s(self):
+        """The output times, s (the array ``time``)."""
+        return self.time
+
+    @property
+    def product_moisture_kg_kg(self):
+        """The product moisture at each output time, kg/kg wet (the array ``product_moisture``)."""
+        return self.product_moisture
 
     def __repr__(self):
 
