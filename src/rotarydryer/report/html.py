@@ -670,12 +670,19 @@ def _executive_summary(results) -> str:
     feed = s.get("feed_rate_kg_s", op.get("feed_rate"))
     if feed is not None:
         facts.append(f"feed {show(float(feed), 'mass_flow')} of wet solids")
-    if op.get("rpm") is not None:
-        facts.append(f"{_fmt(float(op['rpm']))} rev/min")
-    if gas.get("inlet_temperature") is not None:
-        facts.append(f"{gas.get('direction', '')} gas at {show(float(gas['inlet_temperature']), 'temperature')}"
-                     + (f", {show(float(gas['flow']), 'mass_flow')}" if gas.get("flow") is not None else ""))
-    from .manager import MODEL_SOURCES
+    from .manager import MODEL_SOURCES, _test_row, run_gas_inlet_temperature
+
+    rpm = (results.model_choices.get("parameters") or {}).get("rpm", op.get("rpm"))
+    if rpm is None:
+        rpm = (_test_row(inp) or {}).get("rpm")         # the selected [[tests]] row's, as the case builder takes it
+    if rpm is not None:
+        facts.append(f"{_fmt(float(rpm))} rev/min")
+
+    t_gas = run_gas_inlet_temperature(inp)      # the run's: a [[tests]] row's where it gives one
+    g_flow = s.get("gas_flow_kg_s", gas.get("flow"))
+    if t_gas is not None:
+        facts.append(f"{gas.get('direction', '')} gas at {show(float(t_gas), 'temperature')}"
+                     + (f", {show(float(g_flow), 'mass_flow')}" if g_flow is not None else ""))
 
     model = str(results.model_choices.get("model", ""))
     src = MODEL_SOURCES.get(model)

@@ -32,6 +32,16 @@ def _test_row(inputs: dict) -> dict | None:
     return next((t for t in inputs.get("tests", []) if t.get("test") == op.get("test")), None)
 
 
+def run_gas_inlet_temperature(inputs: dict):
+    """The gas inlet temperature the run had, degC, or None: the selected [[tests]] row's where it gives one (a
+    ``--set gas.inlet_temperature`` clears the rows'), else ``gas.inlet_temperature``, as the case builder takes it
+    (`rotarydryer.cases.build.test_gas_inlet_temperature`)."""
+    row = _test_row(inputs)
+    if row is not None and row.get("gas_inlet_temperature") is not None:
+        return row["gas_inlet_temperature"]
+    return (inputs.get("gas") or {}).get("inlet_temperature")
+
+
 def _fmt(v: float) -> str:
     return f"{v:,.0f}" if abs(v) >= 1000 else f"{v:.4g}"
 
@@ -74,9 +84,7 @@ def operating_conditions(results) -> list[tuple[str, str, str]]:
     g_flow = s.get("gas_flow_kg_s", gas.get("flow"))
     if g_flow is not None:
         rows.append(("gas flow", show(float(g_flow), "mass_flow", with_unit=False), f"{unit_of('mass_flow')} wet gas"))
-    t_gas = gas.get("inlet_temperature")
-    if t_gas is None and test is not None and th.get("enabled", True):
-        t_gas = test.get("gas_inlet_temperature")      # as the case builder does
+    t_gas = run_gas_inlet_temperature(inp) if th.get("enabled", True) else gas.get("inlet_temperature")
     if t_gas is not None:
         rows.append(("gas inlet temperature", show(float(t_gas), "temperature", with_unit=False), unit_of("temperature")))
     y_gas = gas.get("inlet_humidity")
