@@ -125,3 +125,16 @@ def test_scaling_jacobian_columns_scales_std_errors_inversely(seed, scales):
     np.testing.assert_allclose(b.std_errors, a.std_errors / c, rtol=1e-6)
     np.testing.assert_allclose(b.correlation, a.correlation, rtol=1e-6, atol=1e-9)
     assert b.residual_variance == a.residual_variance
+
+
+def test_known_standard_deviations_give_the_normal_quantile():
+    """With the residuals divided by known standard deviations nothing is estimated (s^2 = 1): the Wald interval is
+    the normal's, as the profile likelihood's of the same fit (chi2(1)); it used Student's t at the residual degrees
+    of freedom, 2.2x wider at 2 of them and 6.5x at 1 (found by a review of `rotarydryer calibrate --profile`).
+    With the variance estimated from the residuals it stays Student's t."""
+    J = np.array([[1.0, 0.0], [0.0, 2.0], [1.0, 1.0]])       # 3 residuals, 2 parameters: 1 dof
+    known = linearised_uncertainty(J, sigma_known=True, estimates=[1.0, 2.0])
+    assert known.t_quantile == pytest.approx(stats.norm.ppf(0.975), rel=1e-12)
+    np.testing.assert_allclose(known.ci_high - known.ci_low, 2 * 1.959963984540054 * known.std_errors, rtol=1e-12)
+    est = linearised_uncertainty(J, residuals=[0.1, -0.2, 0.1], estimates=[1.0, 2.0])
+    assert est.t_quantile == pytest.approx(stats.t.ppf(0.975, 1), rel=1e-12)

@@ -200,7 +200,11 @@ def linearised_uncertainty(
     hit = np.abs(corr[iu, ju]) > correlation_threshold
     pairs = tuple((int(i), int(j), float(corr[i, j])) for i, j in zip(iu[hit], ju[hit]))
 
-    tq = float(stats.t.ppf(0.5 + confidence / 2.0, max(dof, 1)))
+    # Student's t where s^2 is estimated from the residuals (dof of them); the normal's quantile where the
+    # standard deviations are known (s^2 = 1: nothing is estimated, and the profile likelihood's interval of
+    # the same fit is then the normal's, chi2(1))
+    q = 0.5 + confidence / 2.0
+    tq = float(stats.norm.ppf(q)) if sigma_known else float(stats.t.ppf(q, max(dof, 1)))
     if estimates is None:
         lo = hi = None
     else:
