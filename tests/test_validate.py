@@ -373,3 +373,19 @@ def test_validating_a_file_with_a_set_does_not_load_the_shipped_cases_with_it(tm
     res = runner.invoke(app, ["validate", str(plain), "--set", "gas.burner.heat_loss_fraction=0.1"])
     assert res.exit_code == 0, res.output
     assert "lee2008_invicta" not in res.output
+
+
+def test_a_test_number_for_every_item_is_refused():
+    """`validate CASE --set operating.test=2` compared every [[tests]] row's measurements with test 2's run, under the
+    other rows' names, without a word (found by a review on a user case): refused, exit 2, naming the option."""
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    case = str(Path(__file__).parent / "data" / "user_dryers" / "plant_tests_rows.toml")
+    res = CliRunner().invoke(app, ["validate", case, "--set", "operating.test=2"])
+    assert res.exit_code == 2
+    assert res.output.strip() == ("error: --set operating.test = 2: validate runs every [[tests]] row at its own test "
+                                  "number; to validate one test, give a case with only that row")

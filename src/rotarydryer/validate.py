@@ -841,6 +841,11 @@ def run_validation(cases=None, overrides=None, progress=None, *, tolerances=None
     if not names:
         raise ValueError("cases: give at least one case (or none for every packaged case)")
     sets = dict(overrides or {})
+    if "operating.test" in sets:
+        # each item runs its own test (its overrides set operating.test): one test for all of them compared every
+        # row's measurements with that test's run, under the other rows' names (found by review)
+        raise ValueError(f"--set operating.test = {sets['operating.test']}: validate runs every [[tests]] row at its "
+                         "own test number; to validate one test, give a case with only that row")
     loaded = {}
     for name in names:            # bad input first: unknown case, unknown key, bad value
         if not isinstance(name, str) or not name:
