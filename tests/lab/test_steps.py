@@ -79,6 +79,25 @@ def test_step_between_samples_is_a_ramp():
     assert a.closure["residual_kg"] - exact.closure["residual_kg"] == pytest.approx(-0.5 * F * dt, rel=1e-9)
 
 
+def test_a_step_given_at_the_first_sample_of_the_new_feed():
+    """A record sampled every 10 s, the feed off at 0-90 s and on from 100 s (no repeated time at the jump): the
+    steps given at 100 s and at the down-step's first zero sample read each interval's feed at its end sample, which
+    already carried the new feed, and the up-step's holdup came out 100x too small with exit 0 (found by fuzzing).
+    The feed in force at a step is the last sample before it: the same holdups as the detected steps give."""
+    dt = 10.0
+    t = np.arange(0.0, T_END + dt / 2, dt)
+    on = (t >= 100.0) & (t < 100.0 + T_UP)
+    feed = np.where(on, F, 0.0)
+    disch = np.where(t < 100.0, 0.0, tank(np.maximum(t - 100.0, 0.0)))
+    rec = st.step_record(t, feed, disch)
+    detected = st.analyse_steps(rec)
+    np.testing.assert_allclose(detected.steps_s, [90.0, 100.0 + T_UP - dt])
+    given = st.analyse_steps(rec, steps=[100.0, 100.0 + T_UP])
+    assert given.segments[0]["feed_end_kg_s"] == 0.0 and given.segments[1]["feed_end_kg_s"] == F
+    assert given.h_up_kg == pytest.approx(detected.h_up_kg, rel=0.02)
+    assert given.h_up_kg == pytest.approx(H_EXACT, rel=0.02) and given.h_down_kg == pytest.approx(H_EXACT, rel=0.02)
+
+
 def test_balance_resolution_of_song():
     """The balance reads to 0.01 kg (Song L1281): the holdups move by no more than that."""
     t = np.linspace(0.0, T_END, 6001)
