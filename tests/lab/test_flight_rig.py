@@ -274,3 +274,16 @@ def test_csv_round_trip(tmp_path, alt):
     q.write_text("t,a,b,c,d\n" + "\n".join(f"{i / 100},{1},{2},{3},{i}" for i in range(20)))
     r = fr.read_rig_csv(q)
     assert r.mass[5] == pytest.approx(11.0) and r.sample_rate == pytest.approx(100.0)
+
+
+@pytest.mark.parametrize("value", ["1e300", "1.5e308", "-2e6"])
+def test_a_load_cell_reading_no_rig_gives_is_refused(tmp_path, value):
+    """A record of 1e300 kg "fitted" a repose angle of 40 deg with a zero-width interval and wrote rates of -1e286 kg/s
+    (exit 0); two cells of 1.5e308 overflowed their sum (found by fuzzing). Refused, naming the file, line and
+    column, before anything is summed."""
+    rows = ["time_s,cell1_kg,cell2_kg"] + [f"{0.01 * i:.2f},1.0,{value if i == 3 else '0.5'}" for i in range(20)]
+    path = tmp_path / "rig.csv"
+    path.write_text("\n".join(rows) + "\n")
+    with pytest.raises(ValueError, match=r"rig\.csv line 5: cell2_kg = \S+ kg is outside the allowed range "
+                                         r"\[-1000000, 1000000\] kg of a load-cell reading$"):
+        fr.read_rig_csv(str(path))

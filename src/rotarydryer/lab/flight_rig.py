@@ -85,6 +85,7 @@ __all__ = [
     "LEE_NUMTAPS",
     "LEE_SAMPLE_RATE",
     "MAX_RIG_ROWS",
+    "MAX_RIG_MASS_KG",
     "FILTER_PHASES",
     "ONSET_METHODS",
     "RIG_FLIGHTS",
@@ -133,6 +134,9 @@ RIG_FLIGHTS = {
 }
 
 MAX_RIG_ROWS = 200_000
+#: largest load-cell reading of a rig record, kg (a flight of a plant drum holds tens of kg; the bound keeps the sums
+#: and the fit finite)
+MAX_RIG_MASS_KG = 1.0e6
 """Most samples read from one rig file (33 min at 100 Hz); the reader stops with an error beyond."""
 
 _FLAT_RADIUS = 50.0  # m: radius standing in for a flat flight back ("No Curve")
@@ -247,7 +251,13 @@ def _read_rig_lines(numbered_lines, name: str, *, time_column: int = 0, max_rows
     m = np.zeros_like(t)
     for j in range(ncol):
         if j != tc:
-            m += np.frombuffer(cols[j], dtype=float)
+            v = np.frombuffer(cols[j], dtype=float)
+            big = np.flatnonzero(np.abs(v) > MAX_RIG_MASS_KG)
+            if big.size:        # a reading no load cell gives (1e300 kg "fitted" a repose angle; found by fuzzing)
+                i = int(big[0])
+                raise ValueError(f"{name} line {lines[i]}: {names[j]} = {_fmt(v[i])} kg is outside the allowed range "
+                                 f"[-{_fmt(MAX_RIG_MASS_KG)}, {_fmt(MAX_RIG_MASS_KG)}] kg of a load-cell reading")
+            m += v
     tname = names[tc]
     if t.size < 8:
         raise ValueError(f"{name}: a rig run needs at least 8 samples, got {t.size}")
