@@ -40,6 +40,22 @@ def test_rig_bad_input(tmp_path):
     assert res.exit_code == 2 and "at least 8 samples" in res.output
 
 
+def test_a_rig_fit_at_the_end_of_its_search_is_refused(tmp_path):
+    """A record analysed at 100 rev/min (it ran at 2) "fitted" a repose angle of 0.50 deg, the bound of the search,
+    with a -35 to 36 deg interval, and exited 0 after a warning that this was no measurement (found by fuzzing): the
+    one-line error, exit 2, without the warning before it. At its own speed it is a measurement."""
+    d = fr.rig_drum("alternative")
+    run = fr.synthetic_run(d, 39.6, rpm=2.0, start_angle=93.5, bulk_density=1474.0, seed=1)
+    p = tmp_path / "run.csv"
+    fr.write_rig_csv(p, run)
+    res = runner.invoke(app, ["lab", "rig", str(p), "--rpm", "100", "--start-angle", "93.5", "--bulk-density", "1474"])
+    assert res.exit_code == 2, res.output
+    assert res.output.startswith(f"error: {p}: the record does not determine the repose angle (the fit ends at "
+                                 "the bound of its search, ") and len(res.output.strip().splitlines()) == 1, res.output
+    res = runner.invoke(app, ["lab", "rig", str(p), "--rpm", "2", "--start-angle", "93.5", "--bulk-density", "1474"])
+    assert res.exit_code == 0 and "warning" not in res.output, res.output
+
+
 def test_image_command(tmp_path):
     from skimage import io
 

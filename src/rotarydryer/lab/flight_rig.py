@@ -694,7 +694,7 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
             repose_guess = 40.0
     names = ["repose_angle", "mass_offset"]
     x0 = [float(repose_guess), moff_guess]
-    lb, ub = [0.5, -np.inf], [89.5, np.inf]
+    lb, ub = [RIG_REPOSE_BOUNDS[0], -np.inf], [RIG_REPOSE_BOUNDS[1], np.inf]
     if fit_start_time:
         names.append("start_time")
         x0.append(t0_guess)
@@ -788,6 +788,8 @@ def fit_repose_angle(run: RigRun, drum: FlightedDrum, *, rpm: float, start_angle
 
 #: a rig fit explaining less than this share of the record's variance is reported as not describing it
 RIG_MIN_R2 = 0.9
+#: the search range of a rig fit's repose angle, deg
+RIG_REPOSE_BOUNDS = (0.5, 89.5)
 
 
 def _warn_poor_fit(phi, bounds, residuals, data, phi_ci) -> None:

@@ -5,6 +5,7 @@ thin-layer drying laws from drying curves)."""
 from __future__ import annotations
 
 import re
+import warnings
 
 from .._validation import finite_number
 from ._options import check_option
@@ -87,16 +88,26 @@ def rig_analysis(run, name, flight="alternative", rpm=2.0, start_angle=90.0, bul
             f"({psi5:.1f} deg at a repose angle of {phi_hi:g} deg): the flight holds no solids there"
         )
     try:
-        f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
-                                length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
+        with warnings.catch_warnings(record=True) as caught:        # said again below unless the fit is refused
+            warnings.simplefilter("always")
+            f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
+                                    length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
         rho = f.params["bulk_density"]
         sd = repose_sd if (repose_angle is not None or repose_sd > 0) else f.stderr["repose_angle"]
-        if not sd < 90.0:     # infinite, or a fitted interval wider than the angle's range (was "repose_sd = 925
-            # deg is outside the allowed range", an option the user had not given)
-            raise ValueError(f"the record does not determine the repose angle (its standard error is {sd:.3g} deg): "
-                             "the unloading model does not describe it, so there is no model band to compare it "
-                             "with; check --start-angle, --flight, --rpm and the record's columns (time, load cells "
-                             "in kg), or give --repose-angle and --repose-sd")
+        phi = float(f.repose_angle)
+        at_bound = min(phi - fr.RIG_REPOSE_BOUNDS[0], fr.RIG_REPOSE_BOUNDS[1] - phi) < 1e-3
+        if not sd < 90.0 or (repose_angle is None and at_bound):
+            # infinite, or a fitted interval wider than the angle's range (was "repose_sd = 925 deg is outside the
+            # allowed range", an option the user had not given), or an angle at the end of its search (0.5 deg
+            # "fitted" at 100 rev/min, with a -35 to 36 deg interval, exit 0; found by fuzzing)
+            why = (f"its standard error is {sd:.3g} deg" if not sd < 90.0 else
+                   f"the fit ends at the bound of its search, {phi:.3g} deg")
+            raise ValueError(f"the record does not determine the repose angle ({why}): the unloading model does not "
+                             "describe it, so there is no model band to compare it with; check --start-angle, "
+                             "--flight, --rpm and the record's columns (time, load cells in kg), or give "
+                             "--repose-angle and --repose-sd")
+        for w in caught:
+            warnings.warn(w.message, w.category, stacklevel=2)
         a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
                            repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
                            repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)
