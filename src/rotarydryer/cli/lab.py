@@ -308,7 +308,7 @@ def steps(
                    "(Song Table 4.2: 0.8-4.9 %), removed in proportion to each area (H rec.)")
     else:
         typer.echo(f"  closure not applicable: {c['why']}")
-    if not all(sg["steady"] for sg in a.segments if sg["feed_end_kg_s"] > 0):
+    if not all(sg["steady"] for sg in a.segments):
         typer.echo("  warning: an interval marked NO did not reach a steady discharge; its holdup is not the "
                    "steady-state holdup (lengthen the step)")
     if outputs is not None:
