@@ -287,3 +287,14 @@ def test_a_load_cell_reading_no_rig_gives_is_refused(tmp_path, value):
     with pytest.raises(ValueError, match=r"rig\.csv line 5: cell2_kg = \S+ kg is outside the allowed range "
                                          r"\[-1000000, 1000000\] kg of a load-cell reading$"):
         fr.read_rig_csv(str(path))
+
+
+@pytest.mark.parametrize("cutoff", [1.5, 10.0, 45.0])
+def test_the_start_of_unloading_at_any_cutoff(cutoff):
+    """At a cutoff above about 5 Hz the steepest rise of the noise outgrew the start's, and the start of unloading came
+    out at -0.11 s, before a record starting at 0 s, for 2.0 s (found by fuzzing): the hinge fit now starts from the
+    rate at no more than Lee's 1.5 Hz, and its start lies inside the record."""
+    d = fr.rig_drum("alternative")
+    run = fr.synthetic_run(d, 39.6, rpm=2.0, start_angle=93.5, bulk_density=1474.0, seed=3)
+    ts = fr.detect_unloading_start(run.time, run.mass, cutoff=cutoff)
+    assert ts == pytest.approx(2.0, abs=0.02)
