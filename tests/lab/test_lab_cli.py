@@ -95,3 +95,23 @@ def test_design_load_command(tmp_path):
     assert res.exit_code == 0 and "profile" in res.output
     res = runner.invoke(app, ["lab", "design-load", str(p), "--area-column", "nope"])
     assert res.exit_code == 2 and "nope" in res.output
+
+
+def test_no_nan_in_the_text_of_design_load_and_drying(tmp_path):
+    """A design-load series breaking after its second loading printed "nan - nan (+/- nan)" for the two interval
+    methods that need three loadings before the break; drying curves already at equilibrium at their first weighing
+    printed "R^2 nan" and wrote a material file with a rate constant the data do not determine (found by fuzzing).
+    The methods read "not available"; the curves are refused, exit 2, naming why."""
+    p = tmp_path / "left.csv"
+    p.write_text("loading_kg,FUF_area_cm2\n1,5.01\n2,10.02\n" + "".join(f"{k},{10 + 0.01 * (k % 3):.2f}\n"
+                                                                       for k in range(3, 21)))
+    res = runner.invoke(app, ["lab", "design-load", str(p)])
+    assert res.exit_code == 0 and "nan" not in res.output.lower(), res.output
+    assert "not available" in res.output
+    q = tmp_path / "instant.csv"
+    q.write_text("time_min,moisture_kg_kg_dry,air_temperature_degC\n0.0,0.3,65\n"
+                 + "".join(f"{5.0 * k:.1f},0.0,65\n" for k in range(1, 31)))
+    res = runner.invoke(app, ["lab", "drying", str(q), "--material-out", str(tmp_path / "m.toml"),
+                              "--base-material", "ottawa_sand_song2003"])
+    assert res.exit_code == 2 and "every weighing after time 0 is already at equilibrium" in res.output, res.output
+    assert not (tmp_path / "m.toml").exists()

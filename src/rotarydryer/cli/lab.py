@@ -228,7 +228,10 @@ def design_load(
     for g, f in fits.items():
         typer.echo(f"  {g}: design load {f.break_point:.2f}  plateau {f.plateau:.3f}  slope {f.slope:.4f}  n {f.n}")
         for m, (lo, hi) in f.ci.items():
-            typer.echo(f"      {m:16s} {lo:8.2f} - {hi:8.2f}  (+/- {(hi - lo) / 2:.2f})")
+            if math.isfinite(lo) and math.isfinite(hi):
+                typer.echo(f"      {m:16s} {lo:8.2f} - {hi:8.2f}  (+/- {(hi - lo) / 2:.2f})")
+            else:       # a method that does not apply to this fit (its warning says why): no "nan" in the table
+                typer.echo(f"      {m:16s} {'not available':>19s}")
 
 
 def _read_design_table(table: Path, loading_column: str, area_column: str, group_column) -> dict:
@@ -455,7 +458,8 @@ def _print_drying(curves, result, chosen, written, material_out, table) -> None:
         aicc = f"{f.aicc:9.1f}" if finite else "        -"
         d = result.delta_aicc(m)
         delta = f"{d:6.2f}" if d != float("inf") else "     -"
-        typer.echo(f"  {i:<4d}  {m:<17s} {f.n_parameters:2d}  {f.rmse:8.5f}  {f.r_squared:8.5f}  {f.aic:8.1f} {aicc}"
+        r2 = f"{f.r_squared:8.5f}" if math.isfinite(f.r_squared) else "       -"     # undefined: no spread to explain
+        typer.echo(f"  {i:<4d}  {m:<17s} {f.n_parameters:2d}  {f.rmse:8.5f}  {r2}  {f.aic:8.1f} {aicc}"
                    f"  {f.bic:8.1f}  {delta}  {result.akaike_weight(m):6.3f}")
     for m, why in result.skipped.items():
         typer.echo(f"  skipped {m}: {why}")

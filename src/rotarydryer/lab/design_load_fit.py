@@ -238,8 +238,8 @@ def fit_break_point(loading, area, *, confidence: float = 0.95, methods=CI_METHO
         else:  # Ajayi's construction: separate left line and plateau mean
             if left.sum() < 3 or right.sum() < 2:
                 warnings.warn(f"the {m!r} interval needs >= 3 points before the break and >= 2 on the plateau "
-                              f"(n_left = {int(left.sum())}, n_right = {int(right.sum())}); it is NaN - use "
-                              "'delta' or 'profile'", RuntimeWarning, stacklevel=2)
+                              f"(n_left = {int(left.sum())}, n_right = {int(right.sum())}); it is not available - "
+                              "use 'delta' or 'profile'", RuntimeWarning, stacklevel=2)
                 ci[m] = (math.nan, math.nan)
                 se[m] = math.nan
                 continue

@@ -7,6 +7,8 @@ from __future__ import annotations
 import re
 import warnings
 
+import numpy as np
+
 from .._validation import finite_number
 from ._options import check_option
 
@@ -257,6 +259,10 @@ def check_drying_options(model=None, equilibrium_moisture=None, reference_temper
                              "own name")
 
 
+#: drying curves whose every weighing after time 0 has a moisture ratio below this resolve no drying
+DRYING_RESOLVED_MR = 0.01
+
+
 def drying_analysis(curves, model=None, reference_temperature=None):
     """The thin-layer laws fitted to ``curves`` as ``rotarydryer lab drying`` fits them: returns
     ``(DryingFit, chosen law name)``: ``model`` (``--model``, which must be one that could be fitted),
@@ -264,6 +270,12 @@ def drying_analysis(curves, model=None, reference_temperature=None):
     from ..lab import drying_curves as dc
 
     t_ref = None if reference_temperature is None else float(reference_temperature) + 273.15
+    after = curves.moisture_ratio[curves.time_s > 0]
+    if after.size and float(np.max(after)) < DRYING_RESOLVED_MR:
+        # every law then fits to rounding, R^2 is undefined and the rate constant is any fast one (found by fuzzing)
+        raise ValueError(f"{curves.name}: every weighing after time 0 is already at equilibrium (moisture ratio at most "
+                         f"{float(np.max(after)):.2g}): the curves do not resolve the drying, and no rate constant "
+                         "follows from them; weigh sooner after the start")
     result = dc.fit_models(curves, reference_temperature_K=t_ref)
     if model is not None:
         if model not in result.fits:
