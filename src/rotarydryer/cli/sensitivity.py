@@ -5,7 +5,7 @@ from typing import Optional
 
 import typer
 
-from .._display import UNITS, quantity_of, unit_of
+from .._display import UNITS, quantity_of, split_unit, unit_of
 from . import app
 from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
@@ -41,7 +41,10 @@ def _text_table(res) -> str:
                 scale, offset = UNITS[quantity][unit]
             v = {k: d[k] * f * scale + offset for k in ("mean", "p5", "p50", "p95")}
             sd = d["sd"] * f * scale       # a spread has no offset (degC -> degF)
-            lines.append(f"{d['output']:<30} {d['n']:6d} {v['mean']:11.5g} {sd:11.5g} "
+            # the name without its SI suffix where the values are in another unit ("fuel_rate_kg_s ... kg/h" read as
+            # two units for one number; found by review)
+            name = split_unit(d["output"])[0] if q is not None else d["output"]
+            lines.append(f"{name:<30} {d['n']:6d} {v['mean']:11.5g} {sd:11.5g} "
                          f"{v['p5']:11.5g} {v['p50']:11.5g} {v['p95']:11.5g}  {unit}")
     return "\n".join(lines) + "\n"
 
