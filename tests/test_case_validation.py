@@ -110,6 +110,9 @@ def test_test_rows_shadowed_by_the_case_files_operating_are_named(tmp_path):
         warnings.simplefilter("ignore")
         cal = calibrate(str(p), ["thermal.area_scale"])
         assert re.match(said, cal.fit.warnings[0])
+        # the advice, followed, gives a valid case (without operating.test the keys' removal was refused; found by
+        # review)
+        assert "and give operating.test" in cal.fit.warnings[0]
         rep = run_validation([str(p)])
         assert re.match(said, rep.case_notes[str(p)])
         assert rows_note(calibrate(str(p), ["thermal.area_scale"], base_overrides={"operating.rpm": 4.0})) is None

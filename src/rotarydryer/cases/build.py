@@ -215,7 +215,8 @@ def rows_shadowed(case, overrides=None) -> str | None:
     tests = sorted({t for ts in hits.values() for t in ts})
     return (f"[[tests]] row{'s' if len(tests) > 1 else ''} {', '.join(map(str, tests))} run at the case's "
             f"{', '.join(hits)}, not at {'their' if len(tests) > 1 else 'its'} own: values in [operating] win over "
-            "a row's; delete those keys from [operating] to run each test at its row's values")
+            "a row's; delete those keys from [operating] and give operating.test (a case without them runs a row) to run "
+            "each test at its row's values")
 
 
 def _from_test(case, value, field):
