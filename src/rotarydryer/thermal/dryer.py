@@ -1621,8 +1621,10 @@ class ThermalDryer:
             cache[ratio] = m
         return cache[ratio]
 
-    def initial_state(self):
-        """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses."""
+    def initial_state(self, dust_out=True):
+        """Transport-only steady holdups (assumed moisture profile), linear solids/gas temperature guesses; with
+        entrainment, each class's holdups with the dust taken out (`_dusty_start`; ``dust_out=False``: the feed's
+        share of every tank, the basis of `_with_dust_hint`'s estimate)."""
         s = self.settings
         m = self._transport_start()
         x = np.interp(self.position, [0, self.length], [self.feed_moisture, max(self.feed_moisture - 0.04,
@@ -1638,7 +1640,7 @@ class ThermalDryer:
         Tg = np.interp(gp, [0, self.length], [s.gas_inlet_temperature, Tout])
         Y = np.interp(gp, [0, self.length], [self.gas_inlet_Y, self.gas_inlet_Y + 0.05])
         T = np.tile(T, (self.n_classes, 1))
-        if self.dusty:
+        if self.dusty and dust_out:
             S, W = self._dusty_start(S, W, T, Tg, Y)
         return np.concatenate([S.ravel(), W.ravel(), T.ravel(), Tg, Y])
 
@@ -1788,7 +1790,9 @@ class ThermalDryer:
             lost = float(np.sum(self.class_feed * -np.expm1(-rate)))
             return (rate, lost) if lost > DUST_REFUSE_FRACTION and np.all(np.isfinite(rate)) else None
         last = getattr(failure.state, "state", None)
-        found = next(((where, z, dust) for where, z in (("at the solver's start", self.initial_state()),
+        # the curtains of the feed's share of the transport holdups: the loss per pass, r, the estimate sums (the
+        # solver's start has the dust taken out already, `_dusty_start`)
+        found = next(((where, z, dust) for where, z in (("at the solver's start", self.initial_state(dust_out=False)),
                                                         ("at the solver's last iterate", last))
                       if z is not None and (dust := carried_off(z)) is not None), None)    # the first that shows it
         if found is None:
