@@ -412,3 +412,16 @@ def test_an_output_directory_that_cannot_be_made_is_refused_before_the_work(tmp_
     assert "design" not in res.stdout            # refused before the search: nothing of it printed
     check_out_dir("--out", tmp_path / "new" / "sub")
     assert list(tmp_path.iterdir()) == []        # the probe removed, nothing made
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc, where no file can be made")
+def test_an_output_file_that_cannot_be_written_is_refused_before_the_work(tmp_path):
+    """`report CASE -o /proc/x.html` ran the whole report (7 s) before saying it could not write there (found by
+    review): the folder is probed up front, as an output directory's is, and a writable one is left as it was."""
+    from rotarydryer.cli._common import check_out_file
+
+    res = run_cli(["report", "lee2008_invicta", "-o", "/proc/rotarydryer_x.html"], cwd=tmp_path)
+    assert_bad(res, "--out '/proc/rotarydryer_x.html': cannot write in '/proc'")
+    assert "report:" not in res.stdout
+    check_out_file("--out", tmp_path / "new" / "r.html", ("html",))
+    assert list(tmp_path.iterdir()) == []        # the probe removed, nothing made

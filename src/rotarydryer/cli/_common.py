@@ -107,8 +107,10 @@ def written_set(out, option: str = "--out", errors: tuple = (OSError,)) -> Itera
 
 
 def check_out_file(option: str, out, suffixes=None) -> None:
-    """Refuse an output file option that is a directory, lies under a file or has an unknown
-    suffix (``suffixes``: allowed lower-case suffixes without the dot; none = any)."""
+    """Refuse, before any work is done, an output file option that is a directory, lies under a file, has an
+    unknown suffix (``suffixes``: allowed lower-case suffixes without the dot; none = any) or lies where no file
+    can be written (a probe directory is made in its folder and removed at once; found by review: ``report -o
+    /proc/x.html`` ran the whole report first)."""
     if out is None:
         return
     p = Path(out)
@@ -125,6 +127,10 @@ def check_out_file(option: str, out, suffixes=None) -> None:
         q = q.parent
     if not q.is_dir():
         raise ValueError(f"{option} {str(p)!r}: cannot create the file, {str(q)!r} is a file")
+    try:        # a place no file can be written (a read-only or virtual file system): before the work, not after it
+        os.rmdir(tempfile.mkdtemp(prefix=".rotarydryer-probe-", dir=q))
+    except OSError as exc:
+        raise ValueError(f"{option} {str(p)!r}: cannot write in {str(q)!r} ({exc.strerror or exc})") from None
 
 
 class Progress:
