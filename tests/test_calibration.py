@@ -455,3 +455,17 @@ def test_a_calibration_whose_values_the_run_overrides_warns_of_what_it_still_set
     with pytest.warns(CalibrationWarning, match=r"fitted with transport.n_cells = 35; this run has transport.n_cells "
                                                 r"= 24: its values \(transport.backmix, transport.drag_reduction\)"):
         load_case("lee2008_invicta", {**base, "transport.kiln_time": 19.0})
+
+
+def test_a_key_starting_at_zero_is_refused():
+    """`calibrate -p thermal.area_scale --set thermal.area_scale=0` searched from 0, stalled at 2e-10 and warned of a
+    lack of fit that a positive start does not have (found by review): refused, naming the key and what to give."""
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+
+    res = CliRunner().invoke(app, ["calibrate", "ajayi2011_mmg", "-p", "thermal.area_scale", "--set",
+                                   "thermal.area_scale=0", "-q"])
+    assert res.exit_code == 2, res.output
+    assert "parameter thermal.area_scale starts at 0, where its search (on the log scale" in res.output
+    assert "give it a positive start" in res.output

@@ -317,6 +317,11 @@ def _parameter(case_name: str, base: dict, key: str, tests) -> Parameter:
         raise ValueError(f"parameter {key!r} has no numeric value in case {case_name!r} (value {value!r}); "
                          "it cannot be calibrated")
     value = float(value)
+    if lg and value == 0.0 and lo >= 0.0:
+        # a search on the log scale cannot leave 0, and on the linear one it stalled there (area_scale 2e-10 with a
+        # false "lack of fit"; found by review)
+        raise ValueError(f"parameter {key} starts at 0, where its search (on the log scale, within [{lo:g}, {hi:g}]) "
+                         f"cannot move: give it a positive start (--set {key}=...) or leave the case's value")
     if lg and not value > 0:
         lg, lo = False, min(lo, value)
     return Parameter(key, value, lo, hi, lg)

@@ -641,7 +641,9 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
         v = float(q.from_z(z[i]))
         at_bound = bool(np.isclose(z[i], lo_b[i], rtol=1e-6, atol=1e-9) or np.isclose(z[i], hi_b[i], rtol=1e-6, atol=1e-9))
         if at_bound:
-            notes.append(f"{q.name} = {v:.6g} is at a bound: its interval is not reliable")
+            notes.append(f"{q.name} = {v:.6g} is at a bound: its interval is not reliable, and the best fit may lie "
+                         "inside the bounds (a search from more starts, `rotarydryer calibrate --starts 5`, finds it "
+                         "where the objective has more than one minimum)")
         if q.log:
             se = v * sd_z[i]
             lo, hi = float(np.exp(ci_low[i])), float(np.exp(ci_high[i]))
