@@ -12,7 +12,15 @@ from pathlib import Path
 
 from ..cases import load_case_text
 from ..cases.calibration import CalibrationRecord
-from ..estimation.calibrate import RESPONSES, CaseCalibration, calibrate, record_toml
+from ..estimation.calibrate import (
+    CONFIGURATION_KEYS,
+    RESPONSES,
+    TEST_KEY_PREFIX,
+    CaseCalibration,
+    calibrate,
+    held_overrides,
+    record_toml,
+)
 
 __all__ = ["parse_tests", "parse_sigmas", "check_name", "case_text", "CalibrationRun", "run_calibration", "RESPONSES"]
 
@@ -110,4 +118,19 @@ def run_calibration(case: str, parameters, *, tests=None, responses=None, sigmas
         base = case_text(case) if source_text is None else source_text
         calibrated = base.rstrip("\n") + "\n\n# ---- appended by rotarydryer calibrate ----\n" + text
         load_case_text(calibrated, "the calibrated case")      # the new file loads, or nothing is written
+    inputs = plant_inputs_set(base_overrides, cal.keys)
+    if inputs:
+        # the record holds the model's coefficients, not the plant's inputs: a validation of the written case without
+        # the same --set gave other numbers, silently (found by review)
+        warnings.warn(f"the calibration ran with --set {', '.join(f'{k}={base_overrides[k]}' for k in inputs)} (the "
+                      "plant's inputs), which the record and the calibrated case do not hold: they reproduce this fit "
+                      "only with the same --set; put the value in the case file to keep it", UserWarning, stacklevel=2)
     return CalibrationRun(cal, record, text, calibrated)
+
+
+def plant_inputs_set(base_overrides, fitted) -> list[str]:
+    """The keys of a calibration's ``--set`` that are the plant's inputs (the operating point, the gas, the material,
+    the site, the drum): neither fitted, nor held by the record (`held_overrides`), nor its configuration."""
+    held = set(held_overrides(base_overrides or {}, list(fitted)))
+    return [k for k in (base_overrides or {}) if k not in held and k not in fitted and k not in CONFIGURATION_KEYS
+            and not k.startswith(TEST_KEY_PREFIX)]
