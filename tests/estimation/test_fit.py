@@ -242,3 +242,14 @@ def test_an_estimate_at_a_bound_points_to_more_starts():
     assert r.values["k"] == pytest.approx(2.0)
     note = next(w for w in r.warnings if "is at a bound" in w)
     assert "--starts" in note and "inside the bounds" in note
+
+
+def test_a_parameter_the_data_do_not_depend_on_is_named():
+    """`calibrate -p geometry.design_load_factor` (a key of Ajayi's regressions, unused with the exact geometry) ended
+    with "the model cannot be evaluated in any direction around the solution (last refusal: none)", naming no key
+    (found by review): the error names the parameters and why."""
+    def flat(v):
+        return 2.0 * T
+
+    with pytest.raises(FitError, match=r"^the fitted data do not depend on k: moving it changes no prediction"):
+        fit(flat, [Parameter("k", 1.0, 0.1, 2.0)], Dataset("y", 2.0 * T + 0.01), n_starts=1)

@@ -577,9 +577,17 @@ def _summarise(problem: _Problem, res, obj, starts, seconds) -> FitResult:
     pred = problem.predict(values)
     J, on_constraint = _feasible_jacobian(problem, z, getattr(res, "power_ref", None))
     if not J.any():
+        if not problem.last_infeasible:
+            # nothing refused: the predictions do not move at all (a key the case's configuration does not use; it
+            # read "cannot be evaluated in any direction (last refusal: none)", naming no key; found by review)
+            raise FitError(
+                f"the fitted data do not depend on {', '.join(names)}: moving {'it' if len(names) == 1 else 'them'} "
+                "changes no prediction (a key this case's configuration does not use, e.g. one of another geometry "
+                "method or transport law, or of another response); no estimate is returned"
+            )
         raise FitError(
             "the model cannot be evaluated in any direction around the solution "
-            f"(last refusal: {problem.last_infeasible or 'none'}); no estimate is returned"
+            f"(last refusal: {problem.last_infeasible}); no estimate is returned"
         )
     n = J.shape[0]
     dof = n - len(params)
