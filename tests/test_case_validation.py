@@ -268,3 +268,19 @@ def test_a_bad_test_row_is_named_by_its_test_number(tmp_path):
     path.write_text(head + sep + rest)
     with pytest.raises(ValueError, match=r"tests\.2\.product_moisture = nan"):
         load_case(str(path))
+
+
+def test_an_exhaust_measured_hotter_than_the_gas_and_the_feed_is_refused(tmp_path):
+    """A [[tests]] row with an exhaust of 300 degC under a 250 degC gas and a 20 degC feed was accepted; a calibration
+    then drove that row's gas flow to 1000 kg/s and exited 0 (found by review): refused when the case loads."""
+    from pathlib import Path
+
+    text = (Path(__file__).parent / "data" / "user_dryers" / "plant_tests_rows.toml").read_text()
+    bad = text.replace("gas_outlet_temperature = 96.0", "gas_outlet_temperature = 300.0")
+    assert bad != text
+    (tmp_path / "bad.toml").write_text(bad)
+    with pytest.raises(ValueError, match=r"tests\.2\.gas_outlet_temperature = 300 degC is above the gas inlet "
+                                         r"temperature \(250 degC\) and the feed's"):
+        load_case(str(tmp_path / "bad.toml"))
+    ok = load_case(str(Path(__file__).parent / "data" / "user_dryers" / "plant_tests_rows.toml"))
+    assert ok.tests[1].gas_outlet_temperature == 96.0

@@ -671,6 +671,25 @@ class ParticleSize(_Strict):
         return self
 
 
+def _exhaust_problems(case) -> list[str]:
+    """A [[tests]] row whose measured exhaust is hotter than both the gas entering the drum (the row's, else the
+    case's ``gas.inlet_temperature``) and the feed: nothing in a dryer heats the gas above both (a calibration drove
+    that row's gas flow to 1000 kg/s and ended with exit 0; found by review)."""
+    out = []
+    gas_in = case.gas.inlet_temperature if case.gas is not None else None
+    feed_t = case.operating.feed_temperature
+    for r in case.tests:
+        t_in = r.gas_inlet_temperature if r.gas_inlet_temperature is not None else gas_in
+        if r.gas_outlet_temperature is None or t_in is None:
+            continue
+        top = max(t_in, feed_t if feed_t is not None else -math.inf)
+        if r.gas_outlet_temperature > top:
+            out.append(f"tests.{r.test}.gas_outlet_temperature = {r.gas_outlet_temperature:g} degC is above the gas "
+                       f"inlet temperature ({t_in:g} degC) and the feed's: no dryer heats its exhaust above both; check "
+                       "the row's measurements")
+    return out
+
+
 class DryerCase(_Strict):
     """One schema for any flighted rotary dryer (``kind = "dryer"``)."""
     kind: Literal["dryer"]
@@ -753,6 +772,7 @@ class DryerCase(_Strict):
                 problems.append(f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} missing: [gas] flow "
                                 "and inlet_temperature are needed when thermal.enabled = true")
         problems += filter(None, [_length_problem(self), _cells_problem(self)])
+        problems += _exhaust_problems(self)
         if problems:
             raise ValueError("; ".join(problems))
         return self
