@@ -2,6 +2,7 @@
 
 import json
 import math
+import re
 
 import pytest
 from typer.testing import CliRunner
@@ -478,3 +479,18 @@ def test_a_stalled_search_for_two_targets_is_not_called_unreachable(tmp_path):
     assert res.exit_code == 1, res.output
     assert "it stalled at the closest point shown, which does not prove that the bounds hold no answer" in res.stderr
     assert "widen the bounds" not in res.stderr
+
+
+@pytest.mark.parametrize("cond,floor", [("product_moisture_kg_kg=-0.5", "0"), ("mean_residence_time_s<=-1", "0"),
+                                        ("gas_outlet_temperature_degC=-300", "-273.15")])
+def test_a_target_no_run_can_meet_is_refused_before_the_search(cond, floor):
+    """`--such-that product_moisture_kg_kg=-0.5` solved five steady states before saying "not reached" (found by
+    review): refused up front, naming the option, why, and the lowest value any run gives. A ">=" below the floor
+    (always met) is left to the search."""
+    from rotarydryer.studies.target import parse_such_that
+
+    with pytest.raises(ValueError, match=rf"^--such-that = '{re.escape(cond)}': .* cannot be met, .*; give a value of "
+                                         rf"at least {re.escape(floor)}$"):
+        parse_such_that(cond, "--such-that")
+    name = cond.split("=")[0].rstrip("<")
+    assert parse_such_that(f"{name}>=-1e9")[1] == ">="

@@ -209,7 +209,19 @@ def parse_such_that(text, label: str = "such_that") -> tuple[str, str, float]:
     if op not in OPERATORS:
         raise ValueError(f"{label} = {text!r}: the operator {op!r} is not one of {', '.join(OPERATORS)}")
     v = finite_number(value, f"{label} = {str(text)!r}: the value", f"; {form}")
+    floor = next((f for suffix, f in _OUTPUT_FLOORS if str(name).endswith(suffix)), None)
+    if floor is not None and op in ("=", "<=") and v < floor[0]:
+        # no run can reach it: refused before the search (it solved five steady states, then "not reached"; found by
+        # review)
+        raise ValueError(f"{label} = {str(text)!r}: {name} {op} {fmt_number(v)} cannot be met, {floor[1]}; give a "
+                         f"value of at least {fmt_number(floor[0])}")
     return str(name), op, v
+
+
+#: (output name suffix, (lowest value any run can give, why)) of `parse_such_that`'s up-front check
+_OUTPUT_FLOORS = (("_kg_kg", (0.0, "a moisture or humidity is never negative")),
+                  ("_kg_s", (0.0, "a flow is never negative")), ("_kg", (0.0, "a mass is never negative")),
+                  ("_s", (0.0, "a time is never negative")), ("_degC", (-273.15, "below absolute zero")))
 
 
 def parse_find(text, label: str = "find") -> tuple[str, tuple | None]:
