@@ -115,7 +115,7 @@ def calibrate_command(
             typer.echo(f"  {row['name']:<34} measured {row['measured']:.5g}, model {row['model']:.5g} "
                        f"{row['unit']}")
     for msg in r.warnings:
-        typer.echo(f"warning: {msg}")
+        typer.echo(f"warning: {msg}", err=True)
     if out is None:
         typer.echo("\n# the calibration record (append it to the case file, or give --out):")
         typer.echo(text.rstrip("\n"))

@@ -165,7 +165,7 @@ def fit_command(
     for k, row in zip(r.names, r.correlation):
         typer.echo(f"  {k:<{w}}  " + " ".join(f"{x:+.3f}" for x in row))
     for msg in r.warnings:
-        typer.echo(f"warning: {msg}")
+        typer.echo(f"warning: {msg}", err=True)
 
 
 def _profile_figure(plt, profiles, r):

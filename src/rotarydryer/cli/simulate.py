@@ -160,7 +160,7 @@ def simulate(
 
     note = fuel_rate_note(result)
     if note:        # a valid steady state of the set gas temperature, which the burner cannot deliver: exit 0
-        typer.echo(f"warning: {note}")
+        typer.echo(f"warning: {note}", err=True)
     if out is not None:
         typer.echo(f"files: {', '.join(result['files'])}")
 
