@@ -150,6 +150,8 @@ def test_unreachable_scheduler_exit_2_nothing_written(tmp_path, monkeypatch):
     # the same key twice: the second --grid overwrote the first's values in every combination
     (None, ["operating.rpm=2,3", "operating.rpm=4"], "--grid operating.rpm is given twice"),
     (None, ["operating.rpm=2,,4"], "an empty value between commas"),
+    # a value that is no number: it was reported as a --set (found by review)
+    ("operating.rpm,operating.feed_rate\n3,27\n4,abc\n", None, "line 3: operating.feed_rate = 'abc' is not a number"),
 ])
 def test_malformed_lists_and_grids_are_refused(tmp_path, rows, grid, expect):
     args = ["sweep", "lee2008_invicta", "--no-rtd", "-q"]

@@ -50,6 +50,14 @@ def read_list(path: Path) -> list[dict]:
     _check_points(len(rows), where)
     if not rows:
         raise ValueError(f"{where}: no runs (need a header of override keys and one row per run)")
+    from ..cases import DryerCase, override_key_type, override_value
+
+    numeric = {k for k in header if override_key_type(DryerCase, k) in (float, int)}
+    for (line, _), row in zip(numbered[1:], rows):       # a value that is no number: the file's line, not a --set
+        for k, v in zip(header, row):
+            value = override_value(v.strip()) if v.strip() else None
+            if k in numeric and value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))):
+                raise ValueError(f"{where} line {line}: {k} = {v.strip()!r} is not a number")
     return [{k: v.strip() for k, v in zip(header, r) if v.strip() != ""} for r in rows]
 
 
