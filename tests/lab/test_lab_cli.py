@@ -73,6 +73,14 @@ def test_image_command(tmp_path):
     assert (tmp_path / "ann.png").exists()
     res = runner.invoke(app, ["lab", "image", str(p), "--centre", "1,2"])
     assert res.exit_code == 2 and "px-per-m" in res.output
+    # both scales: --px-per-m won silently (found by fuzzing)
+    res = runner.invoke(app, ["lab", "image", str(p), "--centre", f"{c[0]},{c[1]}", "--px-per-m", "1500",
+                              "--known-length-px", "1125", "--known-length-m", "0.75"])
+    assert res.exit_code == 2 and "not both" in res.output, res.output
+    # --smooth-sigma: the option's range is the library's, [0, 100) px
+    res = runner.invoke(app, ["lab", "image", str(p), "--centre", f"{c[0]},{c[1]}", "--px-per-m", "1500",
+                              "--smooth-sigma", "100"])
+    assert res.exit_code == 2 and "--smooth-sigma = 100" in res.output and "[0, 100)" in res.output, res.output
 
 
 def test_design_load_command(tmp_path):

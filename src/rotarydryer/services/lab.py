@@ -140,6 +140,9 @@ def image_options(centre, drum="ajayi_pilot", px_per_m=None, known_length_px=Non
         scale_name = "--known-length-px/--known-length-m"
         cal = im.ImageCalibration.from_known_length(c, known_length_px, known_length_m, mirror=mirror)
     else:
+        if known_length_px is not None or known_length_m is not None:
+            # both scales: --px-per-m won silently (found by fuzzing)
+            raise ValueError("give --px-per-m, or --known-length-px with --known-length-m, not both")
         check_option("--px-per-m", px_per_m, 0, 1e7, high_inclusive=True, unit="px/m")
         scale_name = "--px-per-m"
         cal = im.ImageCalibration(c, px_per_m, mirror=mirror)
@@ -148,7 +151,7 @@ def image_options(centre, drum="ajayi_pilot", px_per_m=None, known_length_px=Non
     check_option("--channel", channel, 0, 3, low_inclusive=True, high_inclusive=True)
     thr = _pair(threshold, "--threshold")
     athr = _pair(airborne_threshold, "--airborne-threshold")
-    check_option("--smooth-sigma", smooth_sigma, 0, 100, low_inclusive=True, high_inclusive=True, unit="px")
+    check_option("--smooth-sigma", smooth_sigma, 0, 100, low_inclusive=True, unit="px")     # the library's [0, 100)
     return d, cal, scale_name, thr, athr
 
 
