@@ -298,3 +298,17 @@ def test_the_start_of_unloading_at_any_cutoff(cutoff):
     run = fr.synthetic_run(d, 39.6, rpm=2.0, start_angle=93.5, bulk_density=1474.0, seed=3)
     ts = fr.detect_unloading_start(run.time, run.mass, cutoff=cutoff)
     assert ts == pytest.approx(2.0, abs=0.02)
+
+
+def test_the_header_s_units_are_read(tmp_path):
+    """A header of time_ms,load_g was read as seconds and kilograms (found by fuzzing): the columns' unit suffixes
+    (s, ms, min, h; kg, g, t) convert them, and a record in ms and g is the record in s and kg."""
+    d = fr.rig_drum("alternative")
+    run = fr.synthetic_run(d, 39.6, rpm=2.0, start_angle=93.5, bulk_density=1474.0, seed=1)
+    si, other = tmp_path / "si.csv", tmp_path / "ms_g.csv"
+    si.write_text("time_s,mass_kg\n" + "".join(f"{float(t)!r},{float(m)!r}\n" for t, m in zip(run.time, run.mass)))
+    other.write_text("time_ms,load_g\n" + "".join(f"{float(t) * 1e3!r},{float(m) * 1e3!r}\n"
+                                                   for t, m in zip(run.time, run.mass)))
+    a, b = fr.read_rig_csv(str(si)), fr.read_rig_csv(str(other))
+    np.testing.assert_allclose(b.time, a.time, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(b.mass, a.mass, rtol=1e-12)

@@ -247,11 +247,13 @@ def _read_rig_lines(numbered_lines, name: str, *, time_column: int = 0, max_rows
     if isinstance(time_column, bool) or int(time_column) != time_column or not 0 <= time_column < ncol:
         raise ValueError(f"time_column = {time_column} is not a column of {name} (0 .. {ncol - 1})")
     tc = int(time_column)
-    t = np.frombuffer(cols[tc], dtype=float)
+    # the header's units, where a column names one (time_min, load_g); a name without one is s and kg as ever (a
+    # time_min column was read as seconds; found by fuzzing)
+    t = np.frombuffer(cols[tc], dtype=float) * _unit_factor(names[tc], _RIG_TIME_UNITS)
     m = np.zeros_like(t)
     for j in range(ncol):
         if j != tc:
-            v = np.frombuffer(cols[j], dtype=float)
+            v = np.frombuffer(cols[j], dtype=float) * _unit_factor(names[j], _RIG_MASS_UNITS)
             big = np.flatnonzero(np.abs(v) > MAX_RIG_MASS_KG)
             if big.size:        # a reading no load cell gives (1e300 kg "fitted" a repose angle; found by fuzzing)
                 i = int(big[0])
@@ -276,6 +278,17 @@ def _read_rig_lines(numbered_lines, name: str, *, time_column: int = 0, max_rows
             f"the mean step {_fmt(mean_dt)} s; the record must be uniformly sampled (time in column {tname}, s)"
         )
     return RigRun(t.copy(), m, source=name)
+
+
+#: a rig record's column name suffix -> its factor to s (time) or kg (load cells)
+_RIG_TIME_UNITS = {"_s": 1.0, "_ms": 1e-3, "_min": 60.0, "_h": 3600.0}
+_RIG_MASS_UNITS = {"_kg": 1.0, "_g": 1e-3, "_t": 1e3}
+
+
+def _unit_factor(name: str, units: dict) -> float:
+    """The factor of the unit a column's name ends with (``units``), else 1 (a name without a unit)."""
+    key = str(name).strip().lower()
+    return next((f for suf, f in sorted(units.items(), key=lambda kv: -len(kv[0])) if key.endswith(suf)), 1.0)
 
 
 def _fmt(x) -> str:
