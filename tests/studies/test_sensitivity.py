@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -252,3 +253,15 @@ def test_param_and_fit_messages_name_their_options():
     res = CliRunner().invoke(app, ["fit", "lee2008_invicta", "lee2008_invicta", "-p", "transport.kiln_time", "-p",
                                    "transport.kiln_time", "-q"])
     assert res.exit_code == 2 and "duplicate parameter: transport.kiln_time is given twice (-p on the command line)" in res.output
+
+
+def test_too_few_base_samples_are_warned_about():
+    """`sensitivity -n 2` gave S1 = 0.90 +- 518 for a single input, whose S1 = ST = 1 (found by review): a warning says
+    such indices are not estimates; 16 and more are not warned about."""
+    from rotarydryer.studies.sensitivity import FEW_SAMPLES, check_samples
+
+    with pytest.warns(UserWarning, match=r"--samples = 2: so few base samples give indices that are not estimates"):
+        assert check_samples(2, 1) == 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert check_samples(FEW_SAMPLES, 1) == FEW_SAMPLES

@@ -36,6 +36,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import Optional
 
@@ -149,7 +150,16 @@ def check_samples(samples, n_params: int) -> int:
     if runs > MAX_RUNS:
         raise ValueError(f"--samples = {samples} with {n_params} inputs gives {runs} runs; the limit is "
                          f"{MAX_RUNS} per study")
+    if samples < FEW_SAMPLES:
+        # -n 2 gave S1 = 0.90 +- 518 for a single input, whose S1 = ST = 1 exactly (found by review)
+        warnings.warn(f"--samples = {samples}: so few base samples give indices that are not estimates (their "
+                      f"intervals are wider than the indices' range); {FEW_SAMPLES} or more give rough ones, 64 or more "
+                      "usable ones", UserWarning, stacklevel=2)
     return samples
+
+
+#: fewer base samples than this give Sobol' indices whose intervals exceed their range: warned about
+FEW_SAMPLES = 16
 
 
 #: largest seed of the scrambled Sobol' sequence and the bootstrap (NumPy seeds are 32-bit here)
@@ -169,8 +179,6 @@ def _problem(params: dict) -> dict:
 
 def saltelli_design(params: dict, samples: int, seed: int = 0) -> np.ndarray:
     """The ``samples * (D + 2)`` x D design (rows in SALib's block order: A, AB_1..AB_D, B)."""
-    import warnings
-
     require_salib()
     problem = _problem(params)
     with warnings.catch_warnings():
@@ -375,8 +383,6 @@ def _spread_scale(output: str, Y: np.ndarray) -> float:
 def _sobol_indices(params: dict, Y: np.ndarray, block: int, seed: int, num_resamples: int,
                    output: str = "") -> tuple[dict, int]:
     """Indices of one output from the complete blocks (no NaN): ``({param: {...}}, blocks used)``."""
-    import warnings
-
     from SALib.analyze import sobol as analyzer
 
     blocks = Y.reshape(-1, block)
