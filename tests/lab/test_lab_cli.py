@@ -103,6 +103,11 @@ def test_design_load_command(tmp_path):
     assert res.exit_code == 0 and "profile" in res.output
     res = runner.invoke(app, ["lab", "design-load", str(p), "--area-column", "nope"])
     assert res.exit_code == 2 and "nope" in res.output
+    # a column named twice: the first was used silently (found by fuzzing)
+    q = tmp_path / "twice.csv"
+    q.write_text("loading_kg,FUF_area_cm2,loading_kg\n" + "".join(f"{k},{min(k, 10)},{2 * k}\n" for k in range(1, 20)))
+    res = runner.invoke(app, ["lab", "design-load", str(q)])
+    assert res.exit_code == 2 and "the header names 'loading_kg' (--loading-column) 2 times" in res.output, res.output
 
 
 def test_no_nan_in_the_text_of_design_load_and_drying(tmp_path):

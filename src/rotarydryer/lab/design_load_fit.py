@@ -360,6 +360,9 @@ def read_design_rows(numbered_lines, name: str, loading_column: str = "loading_k
                              ("--group-column", group_column)):
                 if col is not None and col not in header:
                     raise ValueError(f"{name} line {k}: no column {col!r} ({opt}); columns are {', '.join(header)}")
+                if col is not None and header.count(col) > 1:     # the first was used silently (found by fuzzing)
+                    raise ValueError(f"{name} line {k}: the header names {col!r} ({opt}) {header.count(col)} times; "
+                                     "one column per quantity")
             il, ia = header.index(loading_column), header.index(area_column)
             ig = header.index(group_column) if group_column else None
             continue
