@@ -134,10 +134,10 @@ RIG_FLIGHTS = {
 }
 
 MAX_RIG_ROWS = 200_000
-#: largest load-cell reading of a rig record, kg (a flight of a plant drum holds tens of kg; the bound keeps the sums
-#: and the fit finite)
-MAX_RIG_MASS_KG = 1.0e6
 """Most samples read from one rig file (33 min at 100 Hz); the reader stops with an error beyond."""
+MAX_RIG_MASS_KG = 1.0e6
+"""Largest load-cell reading of a rig record, kg (a flight of a plant drum holds tens of kg; the bound keeps the sums
+and the fit finite); the reader refuses a larger one."""
 
 _FLAT_RADIUS = 50.0  # m: radius standing in for a flat flight back ("No Curve")
 
