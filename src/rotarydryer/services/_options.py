@@ -63,14 +63,19 @@ def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--work
     if scheduler:
         return max(1, min(workers or 1, max(1, n_runs))), notes
     n = workers if workers > 0 else cpus
-    if n > cpus:
-        notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores; using {cpus} "
+    over_cpus = n > cpus
+    n = min(n, cpus)
+    over_runs = n > max(1, n_runs) and workers > 0
+    n = min(n, max(1, n_runs))
+    # one warning with the number used (more workers than both the cores and the runs gave two, "using 2" and
+    # "using 1"; found by review)
+    if over_cpus and over_runs:
+        notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores and the {n_runs} runs; using {n}")
+    elif over_cpus:
+        notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores; using {n} "
                      "(give --scheduler for a Dask cluster)")
-        n = cpus
-    if n > max(1, n_runs):
-        if workers > 0:
-            notes.append(f"{option} = {workers} is more than the {n_runs} runs; using {max(1, n_runs)}")
-        n = max(1, n_runs)
+    elif over_runs:
+        notes.append(f"{option} = {workers} is more than the {n_runs} runs; using {n}")
     return n, notes
 
 
