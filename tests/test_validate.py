@@ -389,3 +389,35 @@ def test_a_test_number_for_every_item_is_refused():
     assert res.exit_code == 2
     assert res.output.strip() == ("error: --set operating.test = 2: validate runs every [[tests]] row at its own test "
                                   "number; to validate one test, give a case with only that row")
+
+
+def test_a_user_s_own_tolerances_replace_the_shipped_ones(tmp_path):
+    """A sand dryer's product at 0.3 % passed against a model's 1e-8 by MMG's +-1 percentage point, and a user could
+    not give their own tolerances (found by review): `validate --tolerances FILE` lays the file's
+    [defaults.<quantity>] fields over the shipped ones (the rest stay), and the items are judged by them."""
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from rotarydryer.cli import app
+    from rotarydryer.validate import load_tolerances
+
+    mine = tmp_path / "mine.toml"
+    mine.write_text('[defaults.product_moisture]\ntolerance = 0.3\nkind = "relative"\nreason = "our grab samples"\n'
+                    'source = "plant laboratory"\n')
+    spec, shipped = load_tolerances(mine), load_tolerances()
+    pm = spec.defaults["product_moisture"]
+    assert (pm.tolerance, pm.kind, pm.reason) == (0.3, "relative", "our grab samples")
+    assert pm.unit == shipped.defaults["product_moisture"].unit          # not given: the shipped field
+    assert spec.defaults["gas_outlet_temperature"] == shipped.defaults["gas_outlet_temperature"]
+    assert len(spec.items) == len(shipped.items)
+    case = str(Path(__file__).parent / "data" / "user_dryers" / "plant_tests_rows.toml")
+    res = CliRunner().invoke(app, ["validate", case, "--tolerances", str(mine), "--json", "-q"])
+    assert res.exit_code == 1, res.output
+    items = {i["id"]: i for i in json.loads(res.output)["items"]}
+    row = items["plant_tests_rows/test1/product_moisture"]
+    assert row["status"] == "fail" and row["tolerance"] == 0.3 and row["kind"] == "relative"
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[defaults.moisture]\ntolerance = 1\n")
+    res = CliRunner().invoke(app, ["validate", case, "--tolerances", str(bad)])
+    assert res.exit_code == 2 and "defaults.moisture: not a quantity of the validation" in res.output

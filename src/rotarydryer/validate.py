@@ -194,9 +194,14 @@ class ValidationSpec(_Entry):
 
 def load_tolerances(path=None) -> ValidationSpec:
     """The tolerances file (default the shipped ``rotarydryer/data/validation.toml``), checked:
-    ``ValueError`` naming the file and the entry when it is malformed."""
+    ``ValueError`` naming the file and the entry when it is malformed. A file of the user's (``path``) is laid over
+    the shipped one: each of its ``[defaults.<quantity>]`` tables replaces the fields it gives of that quantity's
+    (``tolerance``, ``kind``, ``reason`` ...; the others stay the shipped ones), its ``[[derived]]`` and ``[[items]]``
+    are added, and a complete file (every quantity, as the shipped one) is that file alone. A user's own dryer is
+    judged by tolerances of its own measurements, not by those written for MMG (found by review)."""
+    shipped = resources.files("rotarydryer.data").joinpath(TOLERANCES_FILE).read_text("utf-8")
     if path is None:
-        text, shown = resources.files("rotarydryer.data").joinpath(TOLERANCES_FILE).read_text("utf-8"), TOLERANCES_FILE
+        text, shown = shipped, TOLERANCES_FILE
     else:
         p = Path(path)
         if not p.is_file():
@@ -206,6 +211,23 @@ def load_tolerances(path=None) -> ValidationSpec:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{shown}: not valid TOML: {exc}") from None
+    if path is not None and not set(DERIVED_QUANTITIES) <= set(raw.get("defaults") or {}):
+        base = tomllib.loads(shipped)
+        given = raw.get("defaults") or {}
+        if not isinstance(given, dict):
+            raise ValueError(f"{shown}: defaults must be a table of [defaults.<quantity>] tables")
+        for key, entry in given.items():
+            if key not in base["defaults"] or not isinstance(entry, dict):
+                raise ValueError(f"{shown}: defaults.{key}: not a quantity of the validation "
+                                 f"({', '.join(DERIVED_QUANTITIES)})")
+            base["defaults"][key] = {**base["defaults"][key], **entry}
+        for part in ("derived", "items", "test_settings"):
+            base[part] = list(base.get(part, [])) + list(raw.get(part, []))
+        unknown = sorted(set(raw) - {"defaults", "derived", "items", "test_settings", "format", "title"})
+        if unknown:
+            raise ValueError(f"{shown}: {', '.join(unknown)}: not a part of a tolerances file (defaults, derived, "
+                             "items, test_settings)")
+        raw = base
     try:
         return ValidationSpec.model_validate(raw)
     except ValidationError as exc:

@@ -25,6 +25,10 @@ def validate(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Directory for validation.json and validation.md."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress lines on stderr."),
+    tolerances: Optional[Path] = typer.Option(None, "--tolerances", help="Your own tolerances (TOML): "
+                                              "[defaults.<quantity>] tables with tolerance, kind and reason replace "
+                                              "the shipped ones (rotarydryer/data/validation.toml) for the items "
+                                              "derived from the cases' data."),
 ):
     """Compare cases with every measured or published number they have, each against a tolerance
     written beforehand (rotarydryer/data/validation.toml: tolerance, kind, reason, source).
@@ -39,6 +43,15 @@ def validate(
     Example:
       rotarydryer validate ajayi2011_mmg --out validation/
       rotarydryer validate lee2008_invicta --json
+      rotarydryer validate song2003_ottawa --tolerances my_tolerances.toml
+
+    \b
+    Your own product-moisture tolerance, my_tolerances.toml:
+      [defaults.product_moisture]
+      tolerance = 0.3
+      kind = "relative"
+      reason = "our grab samples: 30 % of the measured moisture"
+      source = "plant laboratory"
     """
     from ..validate import run_validation
 
@@ -46,7 +59,7 @@ def validate(
         sets = parse_sets(set_)
         check_out_dir("--out", out)
         with Progress("validate", quiet=quiet) as bar:
-            report = run_validation(cases or None, sets, progress=bar.message)
+            report = run_validation(cases or None, sets, progress=bar.message, tolerances=tolerances)
     except ValueError as exc:
         typer.echo(f"error: {_one_line(exc)}", err=True)
         raise typer.Exit(2)
