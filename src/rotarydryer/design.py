@@ -933,6 +933,6 @@ def design_verified(duty: Duty, limits: Limits | None = None, objective="volume"
         shortfall = dm.E / max(e_ach, 1e-3 * dm.E)
         hf = limits.holdup_factor
         if math.isfinite(screened) and screened > 0 and v["total_holdup_kg"] > 0:
-            hf = min(max(hf * v["total_holdup_kg"] / screened, 1e-3), 100.0)
+            hf = min(max(hf * v["total_holdup_kg"] / screened, 1e-3), 99.0)     # inside Limits.validate's (0, 100)
         limits = dataclasses.replace(limits, ua_factor=limits.ua_factor / shortfall**1.5, holdup_factor=hf)
 
