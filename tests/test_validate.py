@@ -418,6 +418,10 @@ def test_a_user_s_own_tolerances_replace_the_shipped_ones(tmp_path):
     row = items["plant_tests_rows/test1/product_moisture"]
     assert row["status"] == "fail" and row["tolerance"] == 0.3 and row["kind"] == "relative"
     bad = tmp_path / "bad.toml"
-    bad.write_text("[defaults.moisture]\ntolerance = 1\n")
-    res = CliRunner().invoke(app, ["validate", case, "--tolerances", str(bad)])
-    assert res.exit_code == 2 and "defaults.moisture: not a quantity of the validation" in res.output
+    for text, said in (("[defaults.moisture]\ntolerance = 1\n", "defaults.moisture: not a quantity of the validation"),
+                       ("defaults = 3\n", "defaults must be a table of [defaults.<quantity>] tables"),
+                       ("items = 3\n", "items must be an array of [[items]] tables"),
+                       ("garbage = 1\n", "garbage: not a part of a tolerances file")):
+        bad.write_text(text)
+        res = CliRunner().invoke(app, ["validate", case, "--tolerances", str(bad)])
+        assert res.exit_code == 2 and said in res.output and "internal error" not in res.output, res.output

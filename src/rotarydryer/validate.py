@@ -211,17 +211,19 @@ def load_tolerances(path=None) -> ValidationSpec:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{shown}: not valid TOML: {exc}") from None
-    if path is not None and not set(DERIVED_QUANTITIES) <= set(raw.get("defaults") or {}):
+    given = raw.get("defaults") or {}
+    if not isinstance(given, dict):
+        raise ValueError(f"{shown}: defaults must be a table of [defaults.<quantity>] tables")
+    if path is not None and not set(DERIVED_QUANTITIES) <= set(given):
         base = tomllib.loads(shipped)
-        given = raw.get("defaults") or {}
-        if not isinstance(given, dict):
-            raise ValueError(f"{shown}: defaults must be a table of [defaults.<quantity>] tables")
         for key, entry in given.items():
             if key not in base["defaults"] or not isinstance(entry, dict):
                 raise ValueError(f"{shown}: defaults.{key}: not a quantity of the validation "
                                  f"({', '.join(DERIVED_QUANTITIES)})")
             base["defaults"][key] = {**base["defaults"][key], **entry}
         for part in ("derived", "items", "test_settings"):
+            if not isinstance(raw.get(part, []), list):
+                raise ValueError(f"{shown}: {part} must be an array of [[{part}]] tables")
             base[part] = list(base.get(part, [])) + list(raw.get(part, []))
         unknown = sorted(set(raw) - {"defaults", "derived", "items", "test_settings", "format", "title"})
         if unknown:
