@@ -89,8 +89,9 @@ def rig_analysis(run, name, flight="alternative", rpm=2.0, start_angle=90.0, bul
             f"--start-angle = {start_angle:g} deg is past the end of unloading of the {flight} flight "
             f"({psi5:.1f} deg at a repose angle of {phi_hi:g} deg): the flight holds no solids there"
         )
+    caught: list = []
     try:
-        with warnings.catch_warnings(record=True) as caught:        # said again below unless the fit is refused
+        with warnings.catch_warnings(record=True) as caught:        # said after the analysis, unless it is refused
             warnings.simplefilter("always")
             f = fr.fit_repose_angle(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=bulk_density,
                                     length=length, fit_bulk_density=fit_bulk_density, cutoff=cutoff)
@@ -108,13 +109,16 @@ def rig_analysis(run, name, flight="alternative", rpm=2.0, start_angle=90.0, bul
                              "describe it, so there is no model band to compare it with; check --start-angle, "
                              "--flight, --rpm and the record's columns (time, load cells in kg), or give "
                              "--repose-angle and --repose-sd")
-        for w in caught:
-            warnings.warn(w.message, w.category, stacklevel=2)
-        a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
-                           repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
-                           repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)
+        with warnings.catch_warnings(record=True) as later:
+            warnings.simplefilter("always")
+            a = fr.analyse_run(run, drum, rpm=rpm, start_angle=start_angle, bulk_density=rho, length=length,
+                               repose_angle=repose_angle if repose_angle is not None else f.repose_angle,
+                               repose_sd=sd, cutoff=cutoff, phase=phase, fit=False)
     except ValueError as exc:
+        # the one-line error alone: the fit's warnings before it repeated what it says (found by fuzzing)
         raise ValueError(f"{name}: {exc}") from None
+    for w in [*caught, *later]:
+        warnings.warn(w.message, w.category, stacklevel=2)
     return f, a
 
 
