@@ -122,35 +122,10 @@ def _field_kinds(cls) -> dict:
             for key, f in getattr(cls, "model_fields", {}).items()}
 
 
-def _text_numbers(cls, raw, path=()):
-    """The dotted keys (with their values) of ``raw`` (a case file's document, or a block of it, for the schema
-    class ``cls``) that hold a text where the schema expects numbers only: pydantic's lax mode reads
-    ``radius = "1.0"`` as 1.0, so a quoted number in a case file passed silently. Only the file's own values:
-    an override of the command line or of a form is text by nature and is read as a number."""
-    out = []
-    if not isinstance(raw, dict):
-        return out
-    kinds = _field_kinds(cls)
-    for key, value in raw.items():
-        kind = kinds.get(key)
-        if kind is None:
-            continue
-        where = (*path, key)
-        block, _, takes_str = kind
-        if block is not None and isinstance(value, dict):
-            out += _text_numbers(block, value, where)
-        elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
-            for i, v in enumerate(value):
-                out += _text_numbers(block, v, (*where, i))
-        elif not takes_str and block is None and _holds_str(value):
-            out.append((where, value))
-    return out
-
-
-def _boolean_numbers(cls, raw, path=()):
+def _misread_values(cls, raw, misread, path=()):
     """The dotted keys (with their values) of ``raw`` (a case document, or a block of it, for the schema class
-    ``cls``) that hold a boolean where the schema expects a number: pydantic's lax mode reads true as 1.0 (a 1 m
-    flight section, a feed of 1 kg/s). Unknown keys are left to the schema's own check."""
+    ``cls``) whose value ``misread(kind, value)`` flags (``kind``: the field's `_field_kinds` entry), walking the
+    blocks and the lists of blocks. Unknown keys are left to the schema's own check."""
     out = []
     if not isinstance(raw, dict):
         return out
@@ -160,15 +135,29 @@ def _boolean_numbers(cls, raw, path=()):
         if kind is None:
             continue
         where = (*path, key)
-        block, takes_bool, _ = kind
+        block = kind[0]
         if block is not None and isinstance(value, dict):
-            out += _boolean_numbers(block, value, where)
+            out += _misread_values(block, value, misread, where)
         elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
             for i, v in enumerate(value):
-                out += _boolean_numbers(block, v, (*where, i))
-        elif _holds_bool(value) and not takes_bool:
+                out += _misread_values(block, v, misread, (*where, i))
+        elif misread(kind, value):
             out.append((where, value))
     return out
+
+
+def _text_numbers(cls, raw):
+    """The dotted keys (with their values) of ``raw`` (a case file's document) that hold a text where the schema
+    expects numbers only: pydantic's lax mode reads ``radius = "1.0"`` as 1.0, so a quoted number in a case file
+    passed silently. Only the file's own values: an override of the command line or of a form is text by nature
+    and is read as a number."""
+    return _misread_values(cls, raw, lambda kind, value: kind[0] is None and not kind[2] and _holds_str(value))
+
+
+def _boolean_numbers(cls, raw):
+    """The dotted keys (with their values) of ``raw`` (a case document) that hold a boolean where the schema
+    expects a number: pydantic's lax mode reads true as 1.0 (a 1 m flight section, a feed of 1 kg/s)."""
+    return _misread_values(cls, raw, lambda kind, value: _holds_bool(value) and not kind[1])
 
 
 class _Strict(BaseModel):
