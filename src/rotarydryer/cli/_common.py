@@ -83,6 +83,12 @@ def check_out_dir(option: str, out) -> None:
         q = q.parent
     if not q.is_dir():
         raise ValueError(f"{option} {str(p)!r}: cannot create the directory, {str(q)!r} is a file")
+    _probe_writable(option, p, q)
+
+
+def _probe_writable(option: str, p: Path, q: Path) -> None:
+    """Refuse ``option``'s path ``p`` where nothing can be made in its existing folder ``q`` (a read-only or virtual
+    file system): a probe directory is made there and removed at once, nothing is left behind."""
     try:
         os.rmdir(tempfile.mkdtemp(prefix=".rotarydryer-probe-", dir=q))
     except OSError as exc:
@@ -127,10 +133,7 @@ def check_out_file(option: str, out, suffixes=None) -> None:
         q = q.parent
     if not q.is_dir():
         raise ValueError(f"{option} {str(p)!r}: cannot create the file, {str(q)!r} is a file")
-    try:        # a place no file can be written (a read-only or virtual file system): before the work, not after it
-        os.rmdir(tempfile.mkdtemp(prefix=".rotarydryer-probe-", dir=q))
-    except OSError as exc:
-        raise ValueError(f"{option} {str(p)!r}: cannot write in {str(q)!r} ({exc.strerror or exc})") from None
+    _probe_writable(option, p, q)      # before the work, not after it
 
 
 class Progress:
