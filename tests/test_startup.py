@@ -4,7 +4,7 @@ namespace (issue 32 item 4: ``rotarydryer simulate lee2008_invicta --json`` 0.64
 import subprocess
 import sys
 
-from rotarydryer._startup import DEFERRED_NUMPY_SUBMODULES
+from rotarydryer._startup import DEFERRED_NUMPY_SUBMODULES, GC_YOUNG_THRESHOLD
 
 PROBE = """
 import sys
@@ -59,3 +59,28 @@ def test_a_one_off_simulate_does_not_import_the_fitting_stack():
             f"print(','.join(n for n in {HEAVY!r} if n in sys.modules))")
     loaded = _run(code)[-1]
     assert loaded == "", loaded
+
+
+def test_a_command_collects_its_young_objects_in_larger_batches():
+    """The command line raises the young generation's threshold (700 -> `GC_YOUNG_THRESHOLD`): `simulate
+    lee2008_invicta --json` collects a handful of times instead of about 157 (its imports make half a million
+    objects); collection stays on, and the library alone keeps Python's thresholds."""
+    code = ("import gc, sys\ncounts = [0]\ngc.callbacks.append(lambda phase, info: counts.__setitem__(0, counts[0] + "
+            "(phase == 'start')))\nfrom rotarydryer.cli import app\ntry:\n    app(['simulate', 'lee2008_invicta', "
+            "'--json'], prog_name='rotarydryer')\nexcept SystemExit as exc:\n    assert not exc.code, exc.code\n"
+            "print()\nprint(gc.isenabled(), gc.get_threshold()[0], counts[0])")
+    enabled, young, collections = _run(code)[-1].split()
+    assert enabled == "True" and int(young) == GC_YOUNG_THRESHOLD
+    assert 0 < int(collections) < 20, collections       # 157 with Python's thresholds
+    lib = _run("import gc\nbefore = gc.get_threshold()\nimport rotarydryer, rotarydryer.simulation\n"
+               "print(gc.get_threshold() == before)")
+    assert lib == ["True"]
+
+
+def test_a_one_off_command_does_not_load_the_process_pool():
+    """The executor loads `multiprocessing` and the process pool only when it makes a pool: a one-off simulate
+    does not pay for them."""
+    code = ("import sys\nfrom rotarydryer.cli import app\ntry:\n    app(['simulate', 'lee2008_invicta', '--json'], "
+            "prog_name='rotarydryer')\nexcept SystemExit as exc:\n    assert not exc.code, exc.code\nprint()\n"
+            "print(','.join(n for n in ('multiprocessing', 'concurrent.futures.process') if n in sys.modules) or '-')")
+    assert _run(code)[-1] == "-"

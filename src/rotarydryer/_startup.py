@@ -14,19 +14,32 @@ submodules. Five of them are never used by a simulation and cost about 90 ms of 
 access (``numpy.ma.masked``, ``from numpy.testing import assert_allclose``). Nothing else changes:
 a command that draws a figure (Matplotlib uses ``numpy.ma``) or a fit that draws random starts
 loads them when it first uses them. The command line calls it at start; the library does not.
+
+`raise_gc_threshold` makes the cyclic garbage collector's young generation collect every 100 000
+net allocations of container objects instead of Python's 700. A one-off command creates about half a
+million objects while it imports (modules, classes, pydantic schemas, typing objects), and with the
+default thresholds the collector walked them 157 times (143 young, 13 middle and one full collection:
+`simulate lee2008_invicta --json` on 2 cores, about 30 ms of its 0.6 s of CPU); with the raised
+threshold once. Collection still happens, so the cycles of a long command (a sweep, a dynamic run)
+are freed as before, in larger batches; the command line calls it at start, the library does not.
 """
 
 from __future__ import annotations
 
+import gc
 import importlib.abc
 import importlib.machinery
 import importlib.util
 import sys
 
-__all__ = ["DEFERRED_NUMPY_SUBMODULES", "defer_numpy_submodules"]
+__all__ = ["DEFERRED_NUMPY_SUBMODULES", "GC_YOUNG_THRESHOLD", "defer_numpy_submodules", "raise_gc_threshold"]
 
 #: NumPy submodules loaded on first use instead of when SciPy copies NumPy's namespace
 DEFERRED_NUMPY_SUBMODULES = ("numpy.f2py", "numpy.testing", "numpy.random", "numpy.ma", "numpy.polynomial")
+
+#: net allocations of container objects between two collections of the young generation in a command's
+#: process (Python's default: 700)
+GC_YOUNG_THRESHOLD = 100_000
 
 
 class _LazyFinder(importlib.abc.MetaPathFinder):
@@ -54,4 +67,14 @@ def defer_numpy_submodules(names=DEFERRED_NUMPY_SUBMODULES) -> bool:
     if not todo:
         return False
     sys.meta_path.insert(0, _LazyFinder(todo))
+    return True
+
+
+def raise_gc_threshold(young: int = GC_YOUNG_THRESHOLD) -> bool:
+    """Collect the young generation every ``young`` net allocations in this process (never lowers a
+    threshold already higher, keeps the older generations' thresholds); returns True when it changed."""
+    first, *older = gc.get_threshold()
+    if first == 0 or first >= young:      # 0: collection turned off by whoever runs us
+        return False
+    gc.set_threshold(young, *older)
     return True

@@ -43,9 +43,9 @@ below 5 % on either.
 from __future__ import annotations
 
 import atexit
+import concurrent.futures
 import gc
 import math
-import multiprocessing
 import os
 import pickle
 import sys
@@ -53,7 +53,6 @@ import threading
 import uuid
 import warnings
 from collections.abc import Callable, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Optional
 
@@ -246,25 +245,29 @@ _POOL: dict = {}            # "key": (workers, start method), "pool": ProcessPoo
 _DASK: dict = {}            # key -> (client, cluster or None)
 
 
-def _start_method() -> str:
+def _pool_context():
+    """The local pool's start method and its multiprocessing context: ``$ROTARYDRYER_WORKER_START`` where it
+    names one this platform has, else fork on Linux from a process with one thread, else spawn."""
+    # imported here, where a pool is made: not a cost of every command that imports this module
+    import multiprocessing
+
     chosen = os.environ.get(START_METHOD_ENV, "").strip().lower()
-    if chosen in ("fork", "spawn", "forkserver") and chosen in multiprocessing.get_all_start_methods():
-        return chosen
-    if sys.platform.startswith("linux") and threading.active_count() == 1:
-        return "fork"       # workers inherit the warm parent (safe: no other thread holds a lock)
-    return "spawn"
+    if not (chosen in ("fork", "spawn", "forkserver") and chosen in multiprocessing.get_all_start_methods()):
+        # fork: workers inherit the warm parent (safe: no other thread holds a lock)
+        chosen = "fork" if sys.platform.startswith("linux") and threading.active_count() == 1 else "spawn"
+    return chosen, multiprocessing.get_context(chosen)
 
 
-def _local_pool(workers: int, warm) -> ProcessPoolExecutor:
+def _local_pool(workers: int, warm) -> concurrent.futures.ProcessPoolExecutor:
     """The process's pool of ``workers`` long-lived workers (made on first use, kept for later calls;
     a pool of another size, or a broken one, is closed first)."""
     with _LOCK:
         pool = _POOL.get("pool")
         if pool is None or _POOL["key"][0] != workers or getattr(pool, "_broken", False):
             _close_local()
-            method = _start_method()
-            pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(method),
-                                       initializer=_init_worker, initargs=(tuple(warm or ()),))
+            method, context = _pool_context()
+            pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                                                          initializer=_init_worker, initargs=(tuple(warm or ()),))
             _POOL.update(key=(workers, method), pool=pool)
         if _POOL["key"][1] == "fork" and not getattr(pool, "_processes", None):
             # the workers, forked at the first chunk, inherit this warm process: its warm-up uses the
@@ -503,7 +506,7 @@ class Executor:
                     gc.unfreeze()
             pending = set(futures)
             while pending:
-                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                done, pending = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
                 for f in done:
                     sl = futures[f]
                     try:

@@ -14,11 +14,12 @@ import re
 import sys
 import warnings
 
-from .._startup import defer_numpy_submodules
+from .._startup import defer_numpy_submodules, raise_gc_threshold
 from .._threads import command_blas_threads
 
 command_blas_threads()      # before NumPy loads (the commands import it): one BLAS thread, no pool to start
 defer_numpy_submodules()    # NumPy's unused submodules are not loaded when SciPy copies its namespace
+raise_gc_threshold()        # the imports' half a million objects are not walked 157 times by the collector
 
 import click  # noqa: E402
 import typer  # noqa: E402
