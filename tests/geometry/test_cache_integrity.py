@@ -135,7 +135,8 @@ def test_valid_file_is_loaded_not_rebuilt(cache, invicta, clean_entries):
         warnings.simplefilter("error", GeometryCacheWarning)
         table = T.geometry_table(invicta)
     assert cache.builds() == 0
-    assert (path.read_bytes(), path.stat().st_ino, path.stat().st_mtime_ns) == before
+    assert (path.read_bytes(), path.stat().st_ino) == before[:2]     # not rewritten
+    assert path.stat().st_mtime_ns >= before[2]                      # marked as used (the prune's order)
     np.testing.assert_array_equal(_values(table), clean)
     a = _arrays(path)
     assert set(a) == set(T._FILE_ARRAYS)
@@ -392,3 +393,55 @@ def test_key_text_of_a_flight_is_its_profile_every_time(flight):
         assert T._key(FlightedDrum(1.0, 12, flight))[2] == want
     other = FlightedDrum(1.0, 12, TwoSectionFlight(s1=0.11, s2=0.08, alpha2=135.0))
     assert T._key(other)[2] != want
+
+
+def _fake_entries(d, n, size=1000):
+    """``n`` entry-named files of ``size`` bytes in ``d``, oldest first (modification times 1 s apart)."""
+    d.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for i in range(n):
+        p = d / f"{i:032x}.npz"
+        p.write_bytes(b"PK\x03\x04" + b"\0" * (size - 4))
+        os.utime(p, ns=(10**18 + i * 10**9, 10**18 + i * 10**9))
+        paths.append(p)
+    return paths
+
+
+def test_the_disk_cache_keeps_its_size_limit_removing_the_least_recently_used(cache, monkeypatch):
+    """A sweep over drum sizes writes one 14 MB entry per drum: after a write, the oldest entries beyond
+    `ROTARYDRYER_CACHE_MAX_MB` are removed, the new one and the user's other files never; a load marks its entry as
+    used, so a drum met again outlives older ones."""
+    old = _fake_entries(cache.dir, 5)
+    (cache.dir / "notes.txt").write_text("mine")            # not an entry: never counted or removed
+    (cache.dir / f"{'f' * 32}.npz").mkdir()                 # not a regular file: never removed
+    drum = FlightedDrum(1.2, 18, TwoSectionFlight(0.1, 0.08, 90.0, 120.0))
+    probe = T._disk_path(T._key(drum))
+    monkeypatch.setenv(T.CACHE_MAX_ENV, str(3000 / 1e6))    # 3000 bytes: less than the new entry alone
+    T.geometry_table(drum)
+    assert probe.is_file() and cache.builds() == 1
+    assert not any(p.exists() for p in old)                 # all older entries removed, the new one kept
+    assert (cache.dir / "notes.txt").read_text() == "mine" and (cache.dir / f"{'f' * 32}.npz").is_dir()
+    # least recently used: touch the oldest of three, then prune to two entries' worth
+    a, b, c = _fake_entries(cache.dir / "lru", 3)
+    os.utime(a)                                             # a load of `a` (what geometry_table does)
+    removed = T.prune_disk_cache(cache.dir / "lru", limit_bytes=2000)
+    assert removed == [b] and a.exists() and c.exists()
+
+
+def test_a_loaded_entry_is_marked_as_used(cache):
+    drum = FlightedDrum(1.2, 18, TwoSectionFlight(0.1, 0.08, 90.0, 120.0))
+    T.geometry_table(drum)
+    path = T._disk_path(T._key(drum))
+    os.utime(path, ns=(10**18, 10**18))
+    cache.forget()
+    T.geometry_table(drum)
+    assert cache.builds() == 1 and path.stat().st_mtime_ns > 10**18
+
+
+@pytest.mark.parametrize("value", ["abc", "0", "-5", "nan", "inf", "1e13"])
+def test_a_bad_cache_limit_is_refused_naming_the_variable(cache, monkeypatch, value):
+    monkeypatch.setenv(T.CACHE_MAX_ENV, value)
+    drum = FlightedDrum(1.2, 18, TwoSectionFlight(0.1, 0.08, 90.0, 120.0))
+    with pytest.raises(ValueError, match=rf"ROTARYDRYER_CACHE_MAX_MB = '{value}'.*number of MB in \(0, 1e12\)"):
+        T.geometry_table(drum)
+    assert not list(cache.dir.glob("*.npz")) if cache.dir.exists() else True

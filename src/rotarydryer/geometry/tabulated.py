@@ -73,7 +73,7 @@ from .design_load import DESIGN_LOAD_METHODS, _area_weights, _invert_eq_4_22, _u
 from .flights import TwoSectionFlight
 from .unloading import PASSIVE_TIME_BRANCHES, CascadeSummary, first_unloading_angle
 
-__all__ = ["GeometryCacheWarning", "GeometryTable", "geometry_table"]
+__all__ = ["GeometryCacheWarning", "GeometryTable", "geometry_table", "prune_disk_cache", "cache_limit_bytes"]
 
 #: default table range of the repose angle, deg (outside: exact evaluation)
 PHI_RANGE = (10.0, 80.0)
@@ -453,6 +453,11 @@ _lock = threading.Lock()
 MAX_TABLES = 32
 #: environment variable naming the directory of the on-disk table cache; "off" disables it
 CACHE_ENV = "ROTARYDRYER_CACHE_DIR"
+#: environment variable: the on-disk cache's size limit in MB (default `CACHE_MAX_MB`)
+CACHE_MAX_ENV = "ROTARYDRYER_CACHE_MAX_MB"
+#: the on-disk cache's default size limit, MB: about 140 drums of 14 MB (a CI run of the tests builds about 60);
+#: after a table is written, the least recently used entries beyond it are removed
+CACHE_MAX_MB = 2000.0
 #: version of the on-disk entry format (part of each entry's key and of its stored record)
 CACHE_FORMAT = 3
 #: the arrays of an entry's fitted table: dtype and number of dimensions
@@ -462,7 +467,7 @@ _TABLE_ARRAYS = {"edges": ("<f8", 1), "blocks": ("<f8", 2), "cell_off": ("<i8", 
 #: every array of an entry file: the table, its record (``meta``: what it was built from) and the
 #: sha256 of both (``sha256``)
 _FILE_ARRAYS = frozenset(_TABLE_ARRAYS) | {"meta", "sha256"}
-#: larger files are not ours (an entry is about 1 MB) and are not read
+#: larger files are not ours (an entry is about 14 MB: the cascade's spline coefficients) and are not read
 _MAX_FILE_BYTES = 64 << 20
 #: bad files already reported by this process: (path, inode, size, mtime) -> one warning per file
 _warned: set = set()
@@ -495,6 +500,72 @@ def _source_digest() -> str:
         h.update((here / name).read_bytes())
     h.update(repr((PHI_RANGE, N_PHI_PER_DEG, N_F, N_HOLDUP_PER_DEG)).encode())
     return h.hexdigest()[:16]
+
+
+def cache_limit_bytes() -> int:
+    """The on-disk cache's size limit in bytes: ``$ROTARYDRYER_CACHE_MAX_MB`` (a number of MB above 0), else
+    `CACHE_MAX_MB`. A value that is not such a number is refused, naming the variable."""
+    env = os.environ.get(CACHE_MAX_ENV)
+    if env is None or not env.strip():
+        return int(CACHE_MAX_MB * 1e6)
+    try:
+        mb = float(env)
+    except ValueError:
+        mb = math.nan
+    if not (0.0 < mb < 1e12):
+        raise ValueError(f"{CACHE_MAX_ENV} = {env!r}: the geometry cache's size limit must be a number of MB in "
+                         f"(0, 1e12) (default {CACHE_MAX_MB:g}; {CACHE_ENV}=off turns the disk cache off)")
+    return int(mb * 1e6)
+
+
+def _is_entry_name(name: str) -> bool:
+    """An entry file's name (`_disk_path`): 32 hexadecimal digits and ``.npz``; nothing else in the directory is
+    ever removed."""
+    return len(name) == 36 and name.endswith(".npz") and all(c in "0123456789abcdef" for c in name[:32])
+
+
+def prune_disk_cache(directory=None, *, limit_bytes: int | None = None, keep=None) -> list[Path]:
+    """Remove the least recently used entries (oldest modification time: a load touches its file) of the on-disk
+    cache until its entries take at most ``limit_bytes`` (default `cache_limit_bytes`); ``keep`` (a path) is never
+    removed. Only entry files are counted and removed (`_is_entry_name`, regular files); errors are ignored (another
+    process may prune at the same time). Returns the paths removed."""
+    directory = cache_directory() if directory is None else Path(directory)
+    limit = cache_limit_bytes() if limit_bytes is None else int(limit_bytes)
+    if directory is None:
+        return []
+    entries = []
+    try:
+        with os.scandir(directory) as it:
+            for e in it:
+                if not _is_entry_name(e.name):
+                    continue
+                try:
+                    st = e.stat(follow_symlinks=False)
+                except OSError:
+                    continue
+                if stat.S_ISREG(st.st_mode):
+                    entries.append((st.st_mtime_ns, e.name, st.st_size))
+    except OSError:
+        return []
+    total = sum(size for *_, size in entries)
+    keep_name = Path(keep).name if keep is not None else None
+    removed: list[Path] = []
+    for _, name, size in sorted(entries):
+        if total <= limit:
+            break
+        if name == keep_name:
+            continue
+        path = Path(directory) / name
+        try:
+            path.unlink()
+        except FileNotFoundError:       # removed by another process: no longer counted either
+            pass
+        except OSError:
+            continue
+        else:
+            removed.append(path)
+        total -= size
+    return removed
 
 
 def _entry_meta(key) -> str:
@@ -650,6 +721,8 @@ def _load_disk(path, key, drum, convention, fall_height):
                 fh.seek(0)
                 with np.load(fh, allow_pickle=False) as f:
                     a, reason = _check_table(f, _entry_meta(key))
+    except FileNotFoundError:   # removed by another process's prune since the stat: no entry
+        return None, None
     except Exception as exc:   # noqa: BLE001 - a truncated or damaged archive fails in many ways
         return None, f"it is truncated or unreadable ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
     if a is None:
@@ -676,12 +749,22 @@ def _warn_bad_file(path, reason):
                   "the table is rebuilt and the file replaced", GeometryCacheWarning, stacklevel=3)
 
 
+def _touch(path) -> None:
+    """Mark an entry as just used (its modification time: `prune_disk_cache` removes the least recently used
+    first); a read-only cache is left as it is."""
+    try:
+        os.utime(path)
+    except OSError:
+        pass
+
+
 def _save_disk(path, table, key):
     """Write the table's entry to ``path`` atomically (`rotarydryer._io.atomic_output`: a
     reader, or another process writing the same entry, only ever sees a whole file); a grid with
     non-finite values is not stored."""
     if path is None:
         return
+    limit = cache_limit_bytes()     # a bad limit is refused before anything is written
     arrays = _to_arrays(table)
     if not all(np.isfinite(v).all() for v in arrays.values()):
         return
@@ -690,7 +773,8 @@ def _save_disk(path, table, key):
         with atomic_output(path) as tmp, open(tmp, "wb") as fh:
             np.savez(fh, meta=np.array(meta), sha256=np.array(_content_digest(meta, arrays)), **arrays)
     except (OSError, ValueError):   # read-only or full disk: the table lives in memory only
-        pass
+        return
+    prune_disk_cache(path.parent, limit_bytes=limit, keep=path)
 
 
 @functools.lru_cache(maxsize=256)
@@ -732,6 +816,8 @@ def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryT
             _warn_bad_file(path, reason)
         table = GeometryTable(drum, convention=convention, fall_height=fall_height)
         _save_disk(path, table, key)
+    else:
+        _touch(path)
     with _lock:
         _cache[key] = table
         while len(_cache) > MAX_TABLES:
