@@ -35,21 +35,22 @@ def column_groups(pattern) -> np.ndarray:
     pat = sp.csc_matrix(pattern, dtype=bool)
     pat.eliminate_zeros()
     m, n = pat.shape
-    groups = np.empty(n, dtype=np.intp)
-    occupied: list[np.ndarray] = []        # rows used by each group so far
+    # each row's groups so far as the bits of a Python integer: a column's group is the lowest group none of its
+    # rows holds, found in one pass over its nonzeros (O(nnz); the search group by group with NumPy took
+    # 10 ms of a one-off command at 280-516 unknowns, this 0.8 ms), the same groups
+    indptr, indices = pat.indptr.tolist(), pat.indices.tolist()
+    held = [0] * m
+    groups = [0] * n
     for j in range(n):
-        rows = pat.indices[pat.indptr[j]:pat.indptr[j + 1]]
-        for g, occ in enumerate(occupied):
-            if not occ[rows].any():
-                occ[rows] = True
-                groups[j] = g
-                break
-        else:
-            occ = np.zeros(m, dtype=bool)
-            occ[rows] = True
-            occupied.append(occ)
-            groups[j] = len(occupied) - 1
-    return groups
+        rows = indices[indptr[j]:indptr[j + 1]]
+        used = 0
+        for r in rows:
+            used |= held[r]
+        bit = ~used & (used + 1)           # the lowest group not used by these rows
+        for r in rows:
+            held[r] |= bit
+        groups[j] = bit.bit_length() - 1
+    return np.array(groups, dtype=np.intp)
 
 
 class FDPlan:
