@@ -97,3 +97,29 @@ def test_a_test_rows_gas_flow_leaves_the_format_default_for_the_others():
 def test_an_old_key_and_its_replacement_together_are_refused():
     with pytest.raises(ValueError, match="'transport.kiln_velocity' and 'transport.solids_velocity' set the same"):
         load_case("ajayi2011_mmg", {"transport.solids_velocity": 0.01, "transport.kiln_velocity": 0.05})
+
+
+def test_the_thesis_formats_load_on_first_use():
+    """A ``kind = "dryer"`` case (every shipped case) never loads the thesis formats' schemas (10 ms of a one-off
+    command); a file of one does, and the package's old names are still there."""
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom rotarydryer.cases import load_case\nload_case('lee2008_invicta', {'solids.moisture_inlet': "
+            "0.1})\nprint('rotarydryer.cases.readers' in sys.modules)\n"
+            f"load_case({str(LEGACY / 'lee2008_invicta.toml')!r})\nprint('rotarydryer.cases.readers' in sys.modules)\n"
+            "from rotarydryer.cases import AjayiCase, CASE_KINDS, CASE_MODELS, LEGACY_KEYS, LeeCase, SCHEMAS\n"
+            "print(CASE_KINDS == ('dryer', *SCHEMAS), CASE_MODELS['lee2008'] is LeeCase, "
+            "'solids.moisture_inlet' in LEGACY_KEYS, AjayiCase.__name__)")
+    out = subprocess.run([sys.executable, "-W", "ignore", "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "True", "True", "True", "True", "AjayiCase"]
+
+
+def test_an_unknown_name_of_the_package_is_an_attribute_error():
+    import rotarydryer.cases as cases
+
+    with pytest.raises(AttributeError, match="has no attribute 'LeeCas'"):
+        cases.LeeCas  # noqa: B018
+    with pytest.raises(ValueError, match=r"kind = 'lee2009' is not one of 'dryer', 'lee2008', 'ajayi2011'"):
+        load_case_text('kind = "lee2009"\n')

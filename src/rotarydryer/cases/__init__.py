@@ -38,7 +38,7 @@ from .calibration import (
 
 __all__ = ["list_cases", "load_case", "load_case_text", "discrete_kind", "build_model", "has_tracer_curve", "measured_rtd", "measured_rtd_moments",
            "measured_exit_age", "exit_age_r_squared",
-           "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_MODELS",
+           "valid_override_keys", "override_key_type", "measured_files", "resolve_dataset", "DryerCase", "DryerSpec", "CASE_KINDS", "CASE_MODELS",
            "MAX_CELLS", "MAX_TIME_STEPS", "MAX_CASE_BYTES", "case_calibrations", "override_value", "UnusedKeyWarning"]
 
 # ---- ceilings of the model size (docs/app_threat_model.md) -------------------------------
@@ -1144,16 +1144,15 @@ def load_case(name: str, overrides: dict[str, Any] | None = None):
 def _validate(text: str, shown: str, name: str, overrides: dict[str, Any] | None):
     raw = dict(_parse_text(text, shown))     # copied where the overrides write (below), not whole
     kind = raw.get("kind")
-    if not isinstance(kind, str) or kind not in _KINDS:
-        raise ValueError(f"{shown}: kind = {_shown_value(kind)} is not one of {', '.join(map(repr, _KINDS))}")
-    cls = _KINDS[kind]
+    if not isinstance(kind, str) or kind not in CASE_KINDS:
+        raise ValueError(f"{shown}: kind = {_shown_value(kind)} is not one of {', '.join(map(repr, CASE_KINDS))}")
+    cls, reader = (DryerCase, None) if kind == "dryer" else _plant_format(kind)
     if isinstance(raw.get("material"), str):
         raw["material"] = {"name": raw["material"]}
     valid = valid_override_keys(cls)
-    if kind not in READERS:      # the one specification: keys of the old formats map to their replacements
+    if reader is None:      # the one specification: keys of the old formats map to their replacements
         overrides = translate_legacy_overrides(overrides, valid)
     case = _validated(cls, raw, valid, text, shown, name, overrides)
-    reader = READERS.get(kind)
     if reader is None:
         for msg in unused_keys(case, overrides or ()):     # a value that would change nothing, said once at load
             warnings.warn(f"{shown}: {msg}", UnusedKeyWarning, stacklevel=3)
@@ -1423,9 +1422,31 @@ def exit_age_r_squared(e_measured, e_model) -> float:
 DryerSpec = DryerCase
 
 from .build import UnusedKeyWarning, build_model, lee_parameters, unused_keys  # noqa: E402, F401  (the builders read the classes above)
-from .readers import *  # noqa: E402, F401, F403  (the plant formats' schemas, kept so old files load)
-from .readers import READERS, SCHEMAS, translate_legacy_overrides  # noqa: E402
+from .legacy_keys import translate_legacy_overrides  # noqa: E402
 
-#: case model of each ``kind``: the one specification and the plant formats read into it
-CASE_MODELS = {"dryer": DryerCase, **SCHEMAS}
-_KINDS = CASE_MODELS
+#: the ``kind`` of a case file: the one specification and the thesis formats read into it
+#: (`rotarydryer.cases.readers`, loaded when a file of one is read)
+CASE_KINDS = ("dryer", "lee2008", "ajayi2011")
+#: names of `rotarydryer.cases.readers` this package still offers (``from rotarydryer.cases import LeeCase``)
+_READER_NAMES = frozenset({"lee2008_to_spec", "ajayi2011_to_spec", "LEGACY_KEYS", "check_lee2008", "LeeCase",
+                           "AjayiCase", "SCHEMAS", "READERS"})
+
+
+def _plant_format(kind: str):
+    """``(schema, reader)`` of a thesis format's ``kind``; its module loads here, on the first file of one."""
+    from .readers import READERS, SCHEMAS
+
+    return SCHEMAS[kind], READERS[kind]
+
+
+def __getattr__(name: str):
+    """`CASE_MODELS` (case model of each ``kind``) and the readers' names, on first use (PEP 562)."""
+    if name == "CASE_MODELS":
+        from .readers import SCHEMAS
+
+        return {"dryer": DryerCase, **SCHEMAS}
+    if name in _READER_NAMES:
+        from . import readers
+
+        return getattr(readers, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
