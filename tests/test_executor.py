@@ -30,6 +30,12 @@ def running_sum(chunk):
     return out
 
 
+def young_thresholds(chunk):
+    import gc
+
+    return [gc.get_threshold()[0] for _ in chunk]
+
+
 WARM_CALLS: list = []
 
 
@@ -123,6 +129,13 @@ def test_spawned_workers_run_each_warm_up_once(monkeypatch):
         # the same pool serves both calls (one fast worker may have taken every chunk of the first)
         assert ex_mod._POOL["pool"] is pool and len({p for p, _ in first + second}) <= 2
         assert ex_mod._POOL["key"] == (2, "spawn")
+        # each worker collects its young objects in larger batches (`raise_gc_threshold`); not this process
+        import gc
+
+        from rotarydryer._startup import GC_YOUNG_THRESHOLD
+        before = gc.get_threshold()
+        assert set(ex.map_chunks(young_thresholds, list(range(8)), chunks=1)) == {GC_YOUNG_THRESHOLD}
+        assert gc.get_threshold() == before
     finally:
         ex_mod._close_local()
 
