@@ -199,6 +199,36 @@ def test_a_boolean_where_a_number_is_expected_is_refused(tmp_path):
     assert ok.thermal.enabled is False
 
 
+def test_the_misread_checks_remember_shared_blocks_and_find_the_same(tmp_path):
+    """The boolean and quoted-number walks remember the blocks of a parsed case text by identity (a study's runs
+    share them; each run walks only what its overrides copied): a second load finds the same problems, a copy of
+    the document (new blocks) the same, and an override that replaces a flagged value clears it."""
+    import copy
+
+    import rotarydryer.cases as cases
+
+    res = CliRunner().invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    text = (tmp_path / "d.toml").read_text()
+    bad = re.sub(r"(?m)^feed_rate = .*$", "feed_rate = true", text, count=1)
+    bad = re.sub(r"(?m)^radius = .*$", 'radius = "1.0"', bad, count=1)
+    raw = dict(cases._parse_text(bad, "bad.toml"))
+    cls = cases.DryerCase
+    first = (cases._boolean_numbers(cls, raw), cases._text_numbers(cls, raw))
+    assert first == ((((("operating", "feed_rate"), True),)), ((("drum", "radius"), "1.0"),))
+    assert (cases._boolean_numbers(cls, raw), cases._text_numbers(cls, raw)) == first          # remembered
+    fresh = copy.deepcopy(raw)
+    assert (cases._boolean_numbers(cls, fresh), cases._text_numbers(cls, fresh)) == first      # walked anew
+    changed = {**raw, "operating": {**raw["operating"], "feed_rate": 2.0}}      # copied on write, as the loader does
+    assert cases._boolean_numbers(cls, changed) == ()
+    (tmp_path / "bad.toml").write_text(bad)
+    for _ in range(2):
+        with pytest.raises(ValueError, match=r"bad\.toml:\d+: operating\.feed_rate = True holds a boolean"):
+            load_case(str(tmp_path / "bad.toml"))
+    ok = load_case(str(tmp_path / "bad.toml"), {"operating.feed_rate": 2.0, "drum.radius": 1.0})
+    assert ok.operating.feed_rate == 2.0 and ok.drum.radius == 1.0
+
+
 def test_a_quoted_number_in_a_case_file_is_refused(tmp_path):
     """``radius = "1.0"`` (a TOML string) was read as 1.0 by pydantic's lax mode and ran silently (found by fuzzing):
     refused with the file's line and the fix, exit 2; texts stay where the schema has them (names, choices), and an

@@ -122,28 +122,45 @@ def _field_kinds(cls) -> dict:
             for key, f in getattr(cls, "model_fields", {}).items()}
 
 
-def _misread_values(cls, raw, misread, path=()):
-    """The dotted keys (with their values) of ``raw`` (a case document, or a block of it, for the schema class
-    ``cls``) whose value ``misread(kind, value)`` flags (``kind``: the field's `_field_kinds` entry), walking the
-    blocks and the lists of blocks. Unknown keys are left to the schema's own check."""
-    out = []
+#: `_misread_values` of the blocks walked so far, by identity: (schema class, id(block), check) -> (block, findings):
+#: a case file's parsed blocks are shared by every load of its text (`_parse_text`: overrides copy only what they
+#: change), so a study's runs walk only the blocks their overrides copied (the two walks were a third of a case
+#: load). The block is kept with its entry, so its id is not reused while the entry lives; cleared when full.
+_MISREAD_MEMO: dict = {}
+_MISREAD_MEMO_SIZE = 1024
+
+
+def _misread_values(cls, raw, misread, check: str = ""):
+    """The dotted keys (as tuples of keys and list indices, relative to ``raw``, with their values) of ``raw`` (a
+    case document, or a block of it, for the schema class ``cls``) whose value ``misread(kind, value)`` flags
+    (``kind``: the field's `_field_kinds` entry), walking the blocks and the lists of blocks. Unknown keys are left
+    to the schema's own check. ``check`` names ``misread`` for `_MISREAD_MEMO` (no memo without a name)."""
     if not isinstance(raw, dict):
-        return out
+        return ()
+    memo_key = (cls, id(raw), check)
+    hit = _MISREAD_MEMO.get(memo_key) if check else None
+    if hit is not None and hit[0] is raw:
+        return hit[1]
+    out: list = []
     kinds = _field_kinds(cls)
     for key, value in raw.items():
         kind = kinds.get(key)
         if kind is None:
             continue
-        where = (*path, key)
         block = kind[0]
         if block is not None and isinstance(value, dict):
-            out += _misread_values(block, value, misread, where)
+            out += [((key, *where), v) for where, v in _misread_values(block, value, misread, check)]
         elif block is not None and isinstance(value, list) and all(isinstance(v, dict) for v in value):
-            for i, v in enumerate(value):
-                out += _misread_values(block, v, misread, (*where, i))
+            for i, row in enumerate(value):
+                out += [((key, i, *where), v) for where, v in _misread_values(block, row, misread, check)]
         elif misread(kind, value):
-            out.append((where, value))
-    return out
+            out.append(((key,), value))
+    found = tuple(out)
+    if check:
+        if len(_MISREAD_MEMO) >= _MISREAD_MEMO_SIZE:
+            _MISREAD_MEMO.clear()
+        _MISREAD_MEMO[memo_key] = (raw, found)
+    return found
 
 
 def _text_numbers(cls, raw):
@@ -151,13 +168,13 @@ def _text_numbers(cls, raw):
     expects numbers only: pydantic's lax mode reads ``radius = "1.0"`` as 1.0, so a quoted number in a case file
     passed silently. Only the file's own values: an override of the command line or of a form is text by nature
     and is read as a number."""
-    return _misread_values(cls, raw, lambda kind, value: kind[0] is None and not kind[2] and _holds_str(value))
+    return _misread_values(cls, raw, lambda kind, value: kind[0] is None and not kind[2] and _holds_str(value), "text")
 
 
 def _boolean_numbers(cls, raw):
     """The dotted keys (with their values) of ``raw`` (a case document) that hold a boolean where the schema
     expects a number: pydantic's lax mode reads true as 1.0 (a 1 m flight section, a feed of 1 kg/s)."""
-    return _misread_values(cls, raw, lambda kind, value: _holds_bool(value) and not kind[1])
+    return _misread_values(cls, raw, lambda kind, value: _holds_bool(value) and not kind[1], "boolean")
 
 
 class _Strict(BaseModel):
