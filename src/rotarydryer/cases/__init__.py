@@ -862,7 +862,13 @@ _NOT_OVERRIDABLE = {"kind", "meta", "parameter_sets", "sections", "tests", "cali
 
 def list_cases() -> list[str]:
     """Names of the packaged cases."""
-    return sorted(p.name[:-5] for p in resources.files(__package__).iterdir() if p.name.endswith(".toml"))
+    return list(_packaged_cases())
+
+
+@cache
+def _packaged_cases() -> tuple[str, ...]:
+    """`list_cases`, read from the package's data once per process (every case load asks it)."""
+    return tuple(sorted(p.name[:-5] for p in resources.files(__package__).iterdir() if p.name.endswith(".toml")))
 
 
 def valid_override_keys(case_cls) -> list[str]:
