@@ -248,12 +248,17 @@ class Simulation:
         steady state, accepted by the same convergence test (the case's cold start is tried when the
         warm one does not converge). When the nearby run's case differs from this one only in
         parameter values ([`rotarydryer.cases.build.takes_as_parameters`][rotarydryer.cases.build.takes_as_parameters]), its heat-and-mass model
-        is reused with this case's values: no network is built."""
+        is reused with this case's values: no network is built; else the first of ``warm["models"]`` (other
+        runs' Simulations) that does."""
         warm = warm or {}
-        source = warm.get("simulation")
-        if self._dryer is None and source is not None and source._dryer is not None and self.thermal_enabled \
-                and takes_as_parameters(source.case, self.case, (source._flat_case(), self._flat_case())):
-            self._dryer = self._reparameterised(source._dryer)
+        # the nearby run's model, else one of ``warm["models"]`` (other runs' Simulations, e.g. a study's earlier
+        # runs on other networks): the first that differs from this case in parameter values only is reused
+        for source in (warm.get("simulation"), *warm.get("models", ())):
+            if self._dryer is not None or not self.thermal_enabled:
+                break
+            if source is not None and source._dryer is not None \
+                    and takes_as_parameters(source.case, self.case, (source._flat_case(), self._flat_case())):
+                self._dryer = self._reparameterised(source._dryer)
         if not self.thermal_enabled:
             masses = warm.get("masses")
             if self._transport_ss is None and masses is not None:

@@ -98,6 +98,36 @@ def test_warm_start_gives_the_cold_results():
     np.testing.assert_allclose(warm.Y, cold.Y, rtol=1e-7)
 
 
+def test_runs_on_another_network_reuse_a_remembered_model(monkeypatch):
+    """A row that changes the network (``transport.moisture_scale``) reuses a remembered run's model of that network
+    (`_other_models`) instead of building its own: fewer builds, the same outputs bit for bit."""
+    from rotarydryer import simulation as sim_mod
+    from rotarydryer.studies import sensitivity as sens
+
+    params = sens.check_params({     # the Sobol benchmark's inputs (benchmarks/bench_sensitivity.py)
+        "operating.feed_rate": (38.6, 42.7), "operating.rpm": (2.85, 3.15), "gas.flow": (15.4, 17.1),
+        "thermal.area_scale": (2.45, 2.75), "gas.inlet_temperature": (480.0, 520.0),
+        "transport.moisture_scale": (0.95, 1.05), "operating.feed_temperature": (24.0, 32.0),
+        "shell.ambient_temperature": (20.0, 32.0)})
+    X = saltelli_design(params, 4, 0)
+    builds = []
+    build = sim_mod.Simulation.thermal_dryer
+
+    def counted(self, *a, **k):
+        builds.append(1)
+        return build(self, *a, **k)
+
+    monkeypatch.setattr(sim_mod.Simulation, "thermal_dryer", counted)
+    Y, errors, _ = sens._run_chunk("ajayi2011_mmg", {}, list(params), X, list(OUTPUTS))
+    reused = len(builds)
+    builds.clear()
+    monkeypatch.setattr(sens, "OTHER_MODELS", 0)
+    Y0, errors0, _ = sens._run_chunk("ajayi2011_mmg", {}, list(params), X, list(OUTPUTS))
+    assert not any(errors) and not any(errors0)
+    np.testing.assert_array_equal(Y, Y0)
+    assert reused < len(builds), (reused, len(builds))
+
+
 def test_process_pool_matches_serial():
     params = {"operating.rpm": (3.0, 5.0), "operating.feed_rate": (0.05, 0.08)}
     base = {"thermal.enabled": "false"}

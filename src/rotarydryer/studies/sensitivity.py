@@ -251,7 +251,7 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
                         u = x / span
                         # the nearest remembered point, all distances in one pass (a loop over the 64 cost 0.2 ms a run)
                         j = int(np.argmin(np.sum((np.array([m[0] for m in memory]) - u) ** 2, axis=1)))
-                        warm = memory[j][1]
+                        warm = {**memory[j][1], "models": _other_models(memory, memory[j][1])}
                     out, data = _steady_summary(case, {**base, **point}, warm, outputs)
                     if data is not None and warm_start:
                         memory.append((x / span, data))
@@ -270,6 +270,30 @@ def _run_chunk(case, base: dict, keys: Sequence[str], X: np.ndarray, outputs: Se
                 if not np.isfinite(Y[i, j]):
                     missing[i][name] = _missing_reason(name, out)
     return Y, errors, missing
+
+
+#: models of other networks a study's run may reuse (`_other_models`): the last few distinct ones
+OTHER_MODELS = 3
+
+
+def _other_models(memory, nearest) -> list:
+    """Simulations of the remembered runs, the latest first, one per heat-and-mass network other than ``nearest``'s
+    (at most `OTHER_MODELS`): a run whose nearest point has another network (a Sobol row that changes
+    ``transport.moisture_scale``) may reuse one of them instead of building its own (the warm start still comes
+    from the nearest point)."""
+    def network(sim):
+        return None if sim is None or sim._dryer is None else id(sim._dryer.model)
+
+    seen, out = {network(nearest.get("simulation"))}, []
+    for _, data in reversed(memory):
+        sim = data.get("simulation")
+        key = network(sim)
+        if key is not None and key not in seen:
+            seen.add(key)
+            out.append(sim)
+            if len(out) >= OTHER_MODELS:
+                break
+    return out
 
 
 def _missing_reason(name: str, out: dict) -> str:
