@@ -227,6 +227,13 @@ def test_the_misread_checks_remember_shared_blocks_and_find_the_same(tmp_path):
             load_case(str(tmp_path / "bad.toml"))
     ok = load_case(str(tmp_path / "bad.toml"), {"operating.feed_rate": 2.0, "drum.radius": 1.0})
     assert ok.operating.feed_rate == 2.0 and ok.drum.radius == 1.0
+    # a block given as an override value from Python is the loader's copy: changed in place between two loads, it
+    # is checked anew (found by review: a remembered block of the caller's own)
+    burner = {"combustion_air_share": 0.2, "fuel_carbon_hydrogen_ratio": 7.6}
+    assert load_case("ajayi2011_mmg", {"gas.burner": burner}).gas.burner.fuel_carbon_hydrogen_ratio == 7.6
+    burner["fuel_carbon_hydrogen_ratio"] = True
+    with pytest.raises(ValueError, match=r"gas\.burner\.fuel_carbon_hydrogen_ratio = True holds a boolean"):
+        load_case("ajayi2011_mmg", {"gas.burner": burner})
 
 
 def test_a_quoted_number_in_a_case_file_is_refused(tmp_path):

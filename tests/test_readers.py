@@ -116,6 +116,12 @@ def test_the_thesis_formats_load_on_first_use():
     assert out.stdout.split() == ["False", "True", "True", "True", "True", "AjayiCase"]
 
 
+def test_the_packages_case_models_are_one_object():
+    import rotarydryer.cases as cases
+
+    assert cases.CASE_MODELS is cases.CASE_MODELS and cases.READERS is cases.READERS
+
+
 def test_an_unknown_name_of_the_package_is_an_attribute_error():
     import rotarydryer.cases as cases
 

@@ -438,10 +438,20 @@ def test_a_loaded_entry_is_marked_as_used(cache):
     assert cache.builds() == 1 and path.stat().st_mtime_ns > 10**18
 
 
-@pytest.mark.parametrize("value", ["abc", "0", "-5", "nan", "inf", "1e13"])
+@pytest.mark.parametrize("value", ["abc", "2GB", "0", "-5", "nan", "inf", "1e13"])
 def test_a_bad_cache_limit_is_refused_naming_the_variable(cache, monkeypatch, value):
+    """Refused before any work, on a disk hit as on a miss (not after a table's build); with the disk cache off the
+    limit is not read."""
     monkeypatch.setenv(T.CACHE_MAX_ENV, value)
     drum = FlightedDrum(1.2, 18, TwoSectionFlight(0.1, 0.08, 90.0, 120.0))
     with pytest.raises(ValueError, match=rf"ROTARYDRYER_CACHE_MAX_MB = '{value}'.*number of MB in \(0, 1e12\)"):
         T.geometry_table(drum)
-    assert not list(cache.dir.glob("*.npz")) if cache.dir.exists() else True
+    assert cache.builds() == 0 and (not cache.dir.exists() or not list(cache.dir.glob("*.npz")))
+    monkeypatch.delenv(T.CACHE_MAX_ENV)
+    T.geometry_table(drum)                     # an entry on disk
+    cache.forget()
+    monkeypatch.setenv(T.CACHE_MAX_ENV, value)
+    with pytest.raises(ValueError, match="ROTARYDRYER_CACHE_MAX_MB"):
+        T.geometry_table(drum)                 # a disk hit is refused too
+    monkeypatch.setenv(T.CACHE_ENV, "off")
+    assert T.geometry_table(drum) is not None and T.prune_disk_cache() == []

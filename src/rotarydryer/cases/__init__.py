@@ -1234,7 +1234,9 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
             nxt = node.get(part)
             nxt = node[part] = dict(nxt) if isinstance(nxt, dict) else {}
             node = nxt
-        node[fld] = value
+        # a block or list given as a value (``{"gas.burner": {...}}`` from Python) is copied: the document holds no
+        # object of the caller's, which could change between loads (`_MISREAD_MEMO` remembers blocks by identity)
+        node[fld] = copy.deepcopy(value) if isinstance(value, (dict, list)) else value
     pending: list[str] = []          # the calibrations' warnings, issued once the case validates
     if raw.get("calibrations") and cls is DryerCase:
         _calibrate(raw, overrides, shown, file_raw, pending)
@@ -1467,9 +1469,12 @@ def __getattr__(name: str):
     if name == "CASE_MODELS":
         from .readers import SCHEMAS
 
-        return {"dryer": DryerCase, **SCHEMAS}
-    if name in _READER_NAMES:
+        value = {"dryer": DryerCase, **SCHEMAS}
+    elif name in _READER_NAMES:
         from . import readers
 
-        return getattr(readers, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+        value = getattr(readers, name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value         # one object from now on (a plain attribute: this hook is not called again)
+    return value

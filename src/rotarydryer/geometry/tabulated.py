@@ -530,9 +530,9 @@ def prune_disk_cache(directory=None, *, limit_bytes: int | None = None, keep=Non
     removed. Only entry files are counted and removed (`_is_entry_name`, regular files); errors are ignored (another
     process may prune at the same time). Returns the paths removed."""
     directory = cache_directory() if directory is None else Path(directory)
-    limit = cache_limit_bytes() if limit_bytes is None else int(limit_bytes)
     if directory is None:
         return []
+    limit = cache_limit_bytes() if limit_bytes is None else int(limit_bytes)
     entries = []
     try:
         with os.scandir(directory) as it:
@@ -758,13 +758,13 @@ def _touch(path) -> None:
         pass
 
 
-def _save_disk(path, table, key):
+def _save_disk(path, table, key, limit=None):
     """Write the table's entry to ``path`` atomically (`rotarydryer._io.atomic_output`: a
     reader, or another process writing the same entry, only ever sees a whole file); a grid with
     non-finite values is not stored."""
     if path is None:
         return
-    limit = cache_limit_bytes()     # a bad limit is refused before anything is written
+    limit = cache_limit_bytes() if limit is None else limit
     arrays = _to_arrays(table)
     if not all(np.isfinite(v).all() for v in arrays.values()):
         return
@@ -810,12 +810,13 @@ def geometry_table(drum, *, convention="root", fall_height="chord") -> GeometryT
             _cache.move_to_end(key)
             return table
     path = _disk_path(key)
+    limit = cache_limit_bytes() if path is not None else None     # a bad limit is refused before any work
     table, reason = _load_disk(path, key, drum, convention, fall_height)
     if table is None:
         if reason is not None:
             _warn_bad_file(path, reason)
         table = GeometryTable(drum, convention=convention, fall_height=fall_height)
-        _save_disk(path, table, key)
+        _save_disk(path, table, key, limit)
     else:
         _touch(path)
     with _lock:
