@@ -21,7 +21,7 @@ million objects while it imports (modules, classes, pydantic schemas, typing obj
 default thresholds the collector walked them 157 times (143 young, 13 middle and one full collection:
 `simulate lee2008_invicta --json` on 2 cores, about 30 ms of its 0.6 s of CPU); with the raised
 threshold once. Collection still happens, so the cycles of a long command (a sweep, a dynamic run)
-are freed as before, in larger batches; the command line calls it at start, and each worker process of the executor (`rotarydryer.executor`)
+are freed as before, in larger batches; the command line calls it at start, and each process of the executor's local pool (`rotarydryer.executor`)
 once; the library does not change the collector of the process that imports it.
 """
 
@@ -45,7 +45,7 @@ GC_YOUNG_THRESHOLD = 100_000
 class _LazyFinder:
     """Finds the `DEFERRED_NUMPY_SUBMODULES` with the path finder and wraps their loader lazily (a meta path
     finder by its ``find_spec``; not derived from ``importlib.abc.MetaPathFinder``, whose module loads
-    ``importlib.resources``: this module is imported by every worker of the executor)."""
+    ``importlib.resources``: the executor imports this module)."""
 
     def __init__(self, names):
         self.names = frozenset(names)

@@ -169,13 +169,15 @@ def _worker_setup() -> None:
         _SET_UP[0] = True
         limit_worker_threads()
         _jit.long_runs()        # a worker runs many cases: the compiled kernels pay (ROTARYDRYER_JIT=auto)
-        raise_gc_threshold()    # and makes many short-lived objects: collected in larger batches (2-4 % of a run)
 
 
 def _init_worker(warm) -> None:
-    """Initializer of a local worker process: one BLAS thread, then the warm-ups (nothing to do
-    when the process was forked from a warm parent)."""
+    """Initializer of a local worker process: one BLAS thread, the young objects collected in larger batches (a
+    worker runs many cases, each making many short-lived objects: 2-4 % of a Sobol run; a process of the pool only,
+    not a Dask worker, which other work may share), then the warm-ups (nothing to do when the process was forked
+    from a warm parent)."""
     _worker_setup()
+    raise_gc_threshold()
     _ensure_warm(warm)
 
 
