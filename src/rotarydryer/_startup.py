@@ -20,9 +20,10 @@ net allocations of container objects instead of Python's 700. A one-off command 
 million objects while it imports (modules, classes, pydantic schemas, typing objects), and with the
 default thresholds the collector walked them 157 times (143 young, 13 middle and one full collection:
 `simulate lee2008_invicta --json` on 2 cores, about 30 ms of its 0.6 s of CPU); with the raised
-threshold once. Collection still happens, so the cycles of a long command (a sweep, a dynamic run)
-are freed as before, in larger batches; the command line calls it at start, and each process of the executor's local pool (`rotarydryer.executor`)
-once; the library does not change the collector of the process that imports it.
+threshold about 15 times. Collection still happens, so the cycles of a long command (a sweep, a
+dynamic run) are freed as before, in larger batches. The command line calls it at start, and each
+process of the executor's local pool (`rotarydryer.executor`) once; the library does not change the
+collector of the process that imports it.
 """
 
 from __future__ import annotations
