@@ -120,6 +120,10 @@ def test_the_packages_case_models_are_one_object():
     import rotarydryer.cases as cases
 
     assert cases.CASE_MODELS is cases.CASE_MODELS and cases.READERS is cases.READERS
+    # the package's list of the readers' names is their module's own list (less what cases.legacy_keys provides)
+    from rotarydryer.cases import readers
+
+    assert cases._READER_NAMES == set(readers.__all__) - {"translate_legacy_overrides"}
 
 
 def test_an_unknown_name_of_the_package_is_an_attribute_error():
