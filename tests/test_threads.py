@@ -78,3 +78,41 @@ def test_a_command_process_loads_its_blas_with_one_thread(given, want):
     var, threads = json.loads(out.stdout)
     assert var == str(want)
     assert threads and all(n == want if want == 1 else 1 <= n <= want for n in threads)   # (a 1-core machine: 1)
+
+
+def test_the_controller_is_kept_until_a_module_is_imported():
+    """One inspection of the loaded libraries serves every run until a module is imported (a sweep entered one
+    per point, 1.3 ms each); a library loaded later, here NumPy's BLAS after a first limit, is limited too."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    from rotarydryer import _threads
+    from rotarydryer._threads import BLAS_ENV_VARS
+
+    with single_threaded():
+        pass
+    kept = _threads._CONTROLLER[0]
+    with single_threaded():
+        assert _max_threads() == 1
+    assert _threads._CONTROLLER[0] is kept
+
+    env = {k: v for k, v in os.environ.items() if k not in BLAS_ENV_VARS and k != "OMP_NUM_THREADS"}
+    env["OPENBLAS_NUM_THREADS"] = "2"       # a pool of two threads when NumPy loads, on a 1-core machine too
+    code = ("import json, sys\n"
+            "from rotarydryer._threads import single_threaded\n"
+            "assert 'numpy' not in sys.modules\n"
+            "with single_threaded():\n"
+            "    pass\n"
+            "import numpy\n"
+            "from threadpoolctl import threadpool_info\n"
+            "def blas():\n"
+            "    return [p['num_threads'] for p in threadpool_info() if p['user_api'] == 'blas']\n"
+            "before = blas()\n"
+            "with single_threaded():\n"
+            "    inside = blas()\n"
+            "print(json.dumps([before, inside, blas()]))")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    before, inside, after = json.loads(out.stdout)
+    assert before and max(before) == 2 and inside == [1] * len(before) and after == before
