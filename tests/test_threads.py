@@ -70,17 +70,23 @@ def test_a_command_process_loads_its_blas_with_one_thread(given, want):
     env = {k: v for k, v in os.environ.items() if k not in BLAS_ENV_VARS and k != "OMP_NUM_THREADS"}
     if given is not None:
         env["OPENBLAS_NUM_THREADS"] = given
-    code = ("import rotarydryer.cli, os, json, numpy\n"
-            "from threadpoolctl import threadpool_info\n"
-            "print(json.dumps([os.environ.get('OPENBLAS_NUM_THREADS'), "
+    code = ("import rotarydryer.cli, os, json, sys, numpy\n"
+            "from rotarydryer._threads import single_threaded\n"
+            "with single_threaded():\n"
+            "    looked = 'threadpoolctl' in sys.modules\n"
+            "    from threadpoolctl import threadpool_info\n"
+            "    inside = [p['num_threads'] for p in threadpool_info() if p['user_api'] == 'blas']\n"
+            "print(json.dumps([os.environ.get('OPENBLAS_NUM_THREADS'), looked, inside, "
             "[p['num_threads'] for p in threadpool_info() if p['user_api'] == 'blas']]))")
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    var, threads = json.loads(out.stdout)
+    var, looked, inside, threads = json.loads(out.stdout)
     assert var == str(want)
     assert threads and all(n == want if want == 1 else 1 <= n <= want for n in threads)   # (a 1-core machine: 1)
+    # the solves' one thread: with the pools loaded at one thread, threadpoolctl is not even looked at
+    assert inside == [1] * len(threads) and looked == (want != 1)
 
 
-def test_the_controller_is_kept_until_a_module_is_imported():
+def test_the_controller_is_kept_until_a_module_is_imported(monkeypatch):
     """One inspection of the loaded libraries serves every run until a module is imported (a sweep entered one
     per point, 1.3 ms each); a library loaded later, here NumPy's BLAS after a first limit, is limited too."""
     import json
@@ -91,9 +97,11 @@ def test_the_controller_is_kept_until_a_module_is_imported():
     from rotarydryer import _threads
     from rotarydryer._threads import BLAS_ENV_VARS
 
+    monkeypatch.setattr(_threads, "_LOADED_SINGLE", [False])     # this process may have the command's variables
     with single_threaded():
         pass
     kept = _threads._CONTROLLER[0]
+    assert kept is not None
     with single_threaded():
         assert _max_threads() == 1
     assert _threads._CONTROLLER[0] is kept

@@ -37,6 +37,7 @@ BLAS_ENV_VARS = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS", 
 _state = threading.local()
 _worker_limits = None   # the process-wide limits of limit_worker_threads (kept alive on purpose)
 _CONTROLLER: list = [None, -1]      # threadpoolctl's controller of the loaded libraries, len(sys.modules) then
+_LOADED_SINGLE = [False]    # command_blas_threads found no BLAS loaded and every BLAS variable at 1
 
 
 def _controller():
@@ -79,7 +80,7 @@ class single_threaded(contextlib.ContextDecorator):
     def __enter__(self):
         self._outer = _depth() == 0
         _state.depth = _depth() + 1
-        if self._outer:
+        if self._outer and not (self.limits == 1 and _LOADED_SINGLE[0]):
             controller = _controller()
             self._ctx = None if controller is None else controller.limit(limits=self.limits)
         return self
@@ -111,6 +112,9 @@ def command_blas_threads() -> None:
     names a number (kept). The project's solves run on one thread anyway (`single_threaded`); a BLAS
     that starts its thread pool when it loads costs a one-off command its threads' start-up and
     spinning for nothing: ``rotarydryer simulate lee2008_invicta --json`` 0.89-0.97 s of CPU with the
-    pool, 0.68-0.73 s without (2 cores, OpenBLAS 0.3.31)."""
+    pool, 0.68-0.73 s without (2 cores, OpenBLAS 0.3.31). When every BLAS variable is then 1 and NumPy
+    has not loaded yet, each BLAS this process loads has one thread: `single_threaded` (one thread)
+    then leaves threadpoolctl alone (its look at the loaded libraries cost a one-off command 6-10 ms)."""
     for var in BLAS_ENV_VARS:
         os.environ.setdefault(var, "1")
+    _LOADED_SINGLE[0] = "numpy" not in sys.modules and all(os.environ.get(v) == "1" for v in BLAS_ENV_VARS)
