@@ -308,6 +308,26 @@ def test_discharge_cooling_limits():
         discharge_cooling(61.6, 0.124, -1.0, 26.0, 0.0197, 505.0)
 
 
+def test_discharge_cooling_one_ambient_remembered_and_arrays_of_ambients_alike():
+    """The wet bulb of a scalar ambient is remembered (a sweep's states share their site); arrays of ambients
+    give, element for element, what each scalar ambient gives; a remembered value is the solve's own."""
+    from rotarydryer.thermal import streams
+
+    streams._ambient_wet_bulb.cache_clear()
+    first = discharge_cooling(61.6, 0.124, 0.56, 26.0, 0.0197, 505.0)
+    assert discharge_cooling(61.6, 0.124, 0.56, 26.0, 0.0197, 505.0) == first
+    assert streams._ambient_wet_bulb.cache_info().hits == 1
+    amb, hum = np.array([10.0, 26.0, 35.0]), np.array([0.005, 0.0197, 0.03])
+    t, x = discharge_cooling(61.6, 0.124, 0.56, amb, hum, 505.0)
+    for i in range(3):
+        ti, xi = discharge_cooling(61.6, 0.124, 0.56, amb[i], hum[i], 505.0)
+        # (the vectorised wet-bulb solve stops when all elements have converged: the last digits may differ)
+        assert float(ti) == pytest.approx(t[i], rel=1e-12) and float(xi) == pytest.approx(x[i], rel=1e-12)
+    from rotarydryer.properties.humid_air import wet_bulb_temperature
+
+    assert np.array_equal(np.asarray(t) - 61.6 < 0, np.asarray(wet_bulb_temperature(amb, hum)) < 61.6)
+
+
 def test_the_sensor_reading_is_an_output_only_where_the_case_has_a_sensor():
     s = Simulation(MMG).steady_state().summary()
     assert s["product_temperature_at_sensor_degC"] < s["product_temperature_degC"]

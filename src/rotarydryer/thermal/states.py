@@ -417,7 +417,13 @@ class ThermalSteadyState:
         at ambient temperature (what a burner or heater supplies to it), mode-consistent. With exhaust
         recycle (``recycle_fraction`` r): the fresh air (dry flow hot - r F_d) heated from ambient
         and the recycled exhaust (r F_d, at the exhaust humidity) from the exhaust temperature, both
-        to the inlet temperature."""
+        to the inlet temperature. Computed once per state (a summary asks for it seven times)."""
+        q = getattr(self, "_heat_input", None)
+        if q is None:
+            q = self._heat_input = self._heat_input_of_gas()
+        return q
+
+    def _heat_input_of_gas(self):
         dr = self.dryer
         s = dr.settings
         hot, leak = dr._flows_in

@@ -32,6 +32,8 @@ physical shell loss ([`.shell`][rotarydryer.thermal.shell]).
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._validation import check_choice, check_range
@@ -136,6 +138,19 @@ def implied_heat_loss(gas_flow_in, gas_in_c, gas_humidity_in, gas_out_c, feed_ra
             "heat_loss": float(gas_in + s_in - gas_out - s_out)}
 
 
+@functools.lru_cache(maxsize=64)
+def _ambient_wet_bulb(ambient_c: float, ambient_humidity: float) -> float:
+    """The wet bulb of one ambient air, °C: a case's site, the same for every state of a sweep or a study
+    (an iterative solve, 1.4 ms: 7 % of an MMG sweep point)."""
+    return float(ha.wet_bulb_temperature(ambient_c, ambient_humidity))
+
+
+def _wet_bulb(ambient_c, ambient_humidity):
+    if np.ndim(ambient_c) == 0 and np.ndim(ambient_humidity) == 0:
+        return _ambient_wet_bulb(float(ambient_c), float(ambient_humidity))
+    return ha.wet_bulb_temperature(ambient_c, ambient_humidity)
+
+
 def discharge_cooling(temperature_c, moisture_wet, ntu, ambient_c, ambient_humidity, solids_heat_capacity,
                       water_heat_capacity=4182.0):
     r"""Wet product cooled by ambient air between the drum outlet and a temperature sensor downstream.
@@ -170,7 +185,7 @@ def discharge_cooling(temperature_c, moisture_wet, ntu, ambient_c, ambient_humid
     xw = np.asarray(moisture_wet, dtype=float)
     ntu = np.asarray(check_range("thermal.discharge_cooling_ntu", ntu, 0.0, 50.0, low_inclusive=True,
                                  high_inclusive=True), dtype=float)
-    t_wb = ha.wet_bulb_temperature(ambient_c, ambient_humidity)
+    t_wb = _wet_bulb(ambient_c, ambient_humidity)
     drop = np.maximum(tp - t_wb, 0.0) * (1.0 - np.exp(-ntu))
     ts = tp - drop
     x_dry = xw / np.maximum(1.0 - xw, 1e-12)
