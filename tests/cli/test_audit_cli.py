@@ -166,3 +166,21 @@ def test_a_burner_at_a_cold_site_has_its_fuel_rate(tmp_path):
     assert res.exit_code == 0, res.output
     s = Simulation(str(tmp_path / "d.toml"), {"shell.ambient_temperature": -35.0}).steady_state().summary()
     assert s["fuel_rate_kg_s"] is not None and s["heat_duty_burner_loss_W"] > 0
+
+
+def test_a_recycle_the_burner_cannot_make_is_not_a_saving(tmp_path):
+    """A recycle beyond what the burner can make (no dilution air left, or more fuel than its combustion air burns)
+    was reported as 'heat saved 184 kW' (and MMG at 70 %: 'heat saved -1,435 kW'), its release then the gas's heat
+    input against the base's fuel (found by an acceptance check): now a what-if that is not feasible, no saving."""
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    case = str(tmp_path / "d.toml")
+    res = runner.invoke(app, ["audit", case, "--recycle", "0.5,0.9", "--json"])
+    assert res.exit_code == 0, res.output
+    ok, bad = json.loads(res.stdout)["savings"]
+    assert ok["infeasible"] is None and ok["fuel_saved_kg_s"] > 0 and ok["heat_saved_W"] > 0
+    assert bad["heat_saved_W"] is None and bad["fuel_saved_kg_s"] is None and bad["error"] is None
+    assert "burner cannot" in bad["infeasible"] and "dilution air" in bad["infeasible"]
+    text = runner.invoke(app, ["audit", case, "--recycle", "0.9"])
+    assert text.exit_code == 0 and "exhaust recycle 90 %: NOT FEASIBLE, no saving" in text.output
+    assert "heat saved" not in text.output.split("exhaust recycle 90 %")[1]

@@ -495,6 +495,9 @@ def _savings_html(audit: dict) -> str:
         if w.get("error"):
             rows.append((w["label"], "no steady state", "", "", "", ""))
             continue
+        if w.get("infeasible"):     # the case's burner cannot make its gas: no saving
+            rows.append((w["label"], "not feasible: the burner cannot make this gas", "", "", "", ""))
+            continue
         held = w.get("held") or {}
         fuel = w.get("fuel_saved_kg_s")
         rows.append((w["label"], show(w["heat_saved_W"], "power", with_unit=False),

@@ -90,6 +90,8 @@ class WhatIf:
     held: dict | None = None
     held_error: str | None = None
     error: str | None = None
+    #: why the what-if cannot be run as the plant is (the case's burner cannot make its gas): no savings then
+    infeasible: str | None = None
 
     @property
     def label(self) -> str:
@@ -109,7 +111,7 @@ class WhatIf:
                     heat_saved_W=self.heat_saved_W, fuel_saved_kg_s=self.fuel_saved_kg_s,
                     product_moisture_change_kg_kg=self.product_moisture_change_kg_kg,
                     preheat_duty_W=self.preheat_duty_W, outputs={k: s.get(k) for k in keys if k in s},
-                    held=self.held, held_error=self.held_error, error=self.error)
+                    held=self.held, held_error=self.held_error, error=self.error, infeasible=self.infeasible)
 
 
 @dataclass
@@ -180,6 +182,9 @@ def audit_lines(data: dict) -> list[str]:
     for s in data["savings"]:
         if s["error"]:
             lines.append(f"  {s['label']}: no steady state ({s['error']})")
+            continue
+        if s.get("infeasible"):
+            lines.append(f"  {s['label']}: NOT FEASIBLE, no saving ({s['infeasible']})")
             continue
         text = f"  {s['label']}: heat saved {show(s['heat_saved_W'], 'power')}"
         if s["fuel_saved_kg_s"] is not None:
@@ -276,8 +281,15 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
             continue
         s = res.summary()
         w.summary = s
-        w.heat_saved_W = s0["heat_release_W"] - s["heat_release_W"]
         f0, f1 = s0.get("fuel_rate_kg_s"), s.get("fuel_rate_kg_s")
+        if f0 is not None and f1 is None:
+            # the base's burner cannot make the what-if's gas (its fuel beyond what its combustion air burns, or a
+            # recycle that leaves no dilution air): its heat release would be the gas's heat input instead of the
+            # fuel's, another footing than the base's, and the plant cannot run so; no saving is reported
+            why = " ".join(str(s.get("fuel_rate_error") or "the burner cannot make this gas").split())
+            w.infeasible = f"the case's burner cannot make the gas of this what-if: {why}"
+            continue
+        w.heat_saved_W = s0["heat_release_W"] - s["heat_release_W"]
         w.fuel_saved_kg_s = None if f0 is None or f1 is None else f0 - f1
         w.product_moisture_change_kg_kg = s["product_moisture_kg_kg"] - s0["product_moisture_kg_kg"]
         if m == "preheat":
