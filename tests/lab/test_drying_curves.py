@@ -311,6 +311,40 @@ def test_a_real_rise_is_still_refused():
     assert dc.rise_allowance(noisy) > 0.15
 
 
+def test_a_noisy_curve_whose_tail_rises_is_refused(tmp_path):
+    """Each weighing alone was held to the curve's noise allowance, so on a noisy curve a steady rise of its tail
+    passed and changed the law chosen (found by an acceptance check): the mean of a few weighings has less noise,
+    and a run of them above the earlier means is refused, naming the curve and its rows; exit 2, one line."""
+    rng = np.random.default_rng(2)      # a draw whose every weighing is within one weighing's allowance
+    t = np.linspace(0.0, 3 * 3600.0, 31)
+    mr = np.exp(-3e-3 * t ** 0.8)
+    mr[15:] += np.linspace(0.0, 0.15, 16)          # the last half takes up water: +0.15 of the free moisture
+    mr[1:] += rng.normal(0.0, 0.02, 30)
+    point = mr - np.minimum.accumulate(mr)
+    assert np.max(point) < dc.rise_allowance(mr)      # each weighing is within one weighing's allowance
+    first, window, rise, allow = dc.sustained_rise(mr)
+    assert window == 5 and rise > allow >= dc.RISE_TOLERANCE and first > 15
+    with pytest.raises(ValueError, match=r"curve '60' point \d+: the moisture of curve '60' rises over 5 weighings"):
+        dc.drying_curves(t, 0.02 + 0.28 * mr, 60.0, equilibrium_moisture=0.02)
+    f = tmp_path / "rising_tail.csv"
+    f.write_text("time_s,moisture_kg_kg_dry,air_temperature_degC\n"
+                 + "".join(f"{ti:g},{0.02 + 0.28 * m:.6f},60\n" for ti, m in zip(t, mr)))
+    res = runner.invoke(app, ["lab", "drying", str(f), "--equilibrium-moisture", "0.02"])
+    assert res.exit_code == 2 and "rises over 5 weighings" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("noise", [0.005, 0.02, 0.05])
+def test_falling_noisy_curves_have_no_sustained_rise(noise):
+    """The mean-of-weighings test refuses no falling curve of many kinds (Page laws, 20-80 weighings)."""
+    rng = np.random.default_rng(int(noise * 1000))
+    for _ in range(300):
+        n = int(rng.integers(20, 80))
+        t = np.linspace(0.0, rng.uniform(1.0, 8.0), n)
+        mr = np.exp(-rng.uniform(0.3, 2.0) * t ** rng.uniform(0.5, 1.6))
+        mr[1:] += rng.normal(0.0, noise, n - 1)
+        assert dc.sustained_rise(mr) is None
+
+
 def test_temperatures_a_chain_of_small_steps_apart_are_several_temperatures():
     """Curves at 50, 51.9, ... 61.4 degC (each step under the 2 degC spread) counted as one air temperature: the
     activation energy was written as 0 with a note to measure at two or more temperatures (found by fuzzing)."""
