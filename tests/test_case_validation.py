@@ -321,3 +321,26 @@ def test_an_exhaust_measured_hotter_than_the_gas_and_the_feed_is_refused(tmp_pat
         load_case(str(tmp_path / "bad.toml"))
     ok = load_case(str(Path(__file__).parent / "data" / "user_dryers" / "plant_tests_rows.toml"))
     assert ok.tests[1].gas_outlet_temperature == 96.0
+
+
+@pytest.mark.parametrize("temperature, humidity, altitude", [(25.0, 0.2, 0.0), (-35.0, 0.01, 0.0), (13.1, 0.0197, 2000.0)])
+def test_outside_air_wetter_than_saturated_is_taken_as_saturated_with_a_warning(temperature, humidity, altitude):
+    """The outside air's humidity was only held to [0, 0.3] kg/kg: 0.3 at -39 degC ran without a word (found by an
+    acceptance check). Above saturation at the ambient temperature and the site's pressure the model takes saturated
+    air and says so, naming the key and its range there; at or below it the case's value, unchanged."""
+    import warnings
+
+    from rotarydryer import Simulation
+    from rotarydryer.cases.build import AmbientHumidityWarning
+    from rotarydryer.properties.humid_air import saturation_humidity, standard_atmosphere_pressure
+
+    over = {"shell.ambient_temperature": temperature, "shell.ambient_humidity": humidity, "site.altitude": altitude}
+    y_sat = float(saturation_humidity(temperature, standard_atmosphere_pressure(altitude)))
+    assert humidity > y_sat
+    with pytest.warns(AmbientHumidityWarning, match=r"shell.ambient_humidity = .* give shell.ambient_humidity in \[0, "):
+        st = Simulation("ajayi2011_mmg", over).thermal_settings()
+    assert st.ambient_humidity == y_sat
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AmbientHumidityWarning)
+        st = Simulation("ajayi2011_mmg", {**over, "shell.ambient_humidity": 0.999 * y_sat}).thermal_settings()
+    assert st.ambient_humidity == 0.999 * y_sat

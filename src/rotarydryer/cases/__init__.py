@@ -435,7 +435,7 @@ class Gas(_Strict):
 class Shell(_Strict):
     """Drum shell and surroundings."""
     ambient_temperature: float = Field(default=25.0, **field_bounds("shell.ambient_temperature"), description="degC")
-    ambient_humidity: float = Field(default=0.01, **field_bounds("shell.ambient_humidity"), description="kg/kg dry air")
+    ambient_humidity: float = Field(default=0.01, **field_bounds("shell.ambient_humidity"), description="kg/kg dry air; above the saturation humidity at ambient_temperature and the site's pressure the model takes saturated air (a warning)")
     scale_thickness: float = Field(default=0.0, **field_bounds("shell.scale_thickness"), description="m, scale layer inside the shell")
     insulation_thickness: float = Field(default=0.0, **field_bounds("shell.insulation_thickness"), description="m, external lagging")
     loss_factor: float = Field(default=15.0, **field_bounds("shell.loss_factor"), description="theta_loss (thermal.mode = ajayi2011 only)")

@@ -29,7 +29,7 @@ import numpy as np
 from rotarydryer.correlations.drag import terminal_velocity
 from rotarydryer.geometry import FlightedDrum, PolygonFlight, TwoSectionFlight, check_speed
 from rotarydryer.geometry.lee2008_regressions import Lee2008Regressions, invicta_tip_radius
-from rotarydryer.properties.humid_air import STANDARD_PRESSURE, standard_atmosphere_pressure
+from rotarydryer.properties.humid_air import STANDARD_PRESSURE, saturation_humidity, standard_atmosphere_pressure
 from rotarydryer.properties.materials import CALIBRATED_RANGES, load_material
 from rotarydryer.properties.psd import from_sieve, lognormal, rosin_rammler
 from rotarydryer.properties.solids import PropertyRangeWarning, lee2008_moisture_profile
@@ -55,7 +55,7 @@ FILL_LIMIT = 0.30
 #: bulk densities a granular solid can have, kg/m^3: above air (1.2) and below osmium (22 590)
 BULK_DENSITY_RANGE = (1.0, 23000.0)
 
-__all__ = ["build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
+__all__ = ["AmbientHumidityWarning", "ambient_humidity", "build_model", "check_inputs", "check_feasible", "FILL_LIMIT", "BULK_DENSITY_RANGE",
            "exact_drum", "section_flight", "transport_coefficients", "lee_parameters", "solids_transport", "ajayi_geometries",
            "test_row", "operating_point", "product_moisture", "fouling_of", "thermal_settings", "settings_from_case",
            "transport_inputs", "tracer_pulse", "model_name", "PARAMETER_KEYS", "changed_keys", "flat_case", "takes_as_parameters", "network_inputs", "thermal_inputs", "thermal_enabled", "has_burner", "burner_of", "material_of", "curtain_gas",
@@ -397,6 +397,11 @@ def flighted_models(case) -> set:
 
 #: the kilning beds of a fixed kilning time holding more than this fraction of the holdup warn (`warn_kiln_cells`)
 KILN_CELLS_FRACTION = 0.05
+
+
+class AmbientHumidityWarning(UserWarning):
+    """The case's outside air (``shell.ambient_humidity``) holds more vapour than saturated air at its temperature and
+    the site's pressure: the model takes saturated outside air."""
 
 
 class KilnCellsWarning(UserWarning):
@@ -1079,7 +1084,7 @@ def thermal_settings(case):
     _, _, _, t_feed = operating_point(case)
     kw = dict(mode=th.mode, gas_flow=float(flow), gas_inlet_temperature=float(t_in),
               gas_inlet_humidity=g.inlet_humidity, solids_inlet_temperature=t_feed,
-              ambient_temperature=sh.ambient_temperature, ambient_humidity=sh.ambient_humidity,
+              ambient_temperature=sh.ambient_temperature, ambient_humidity=ambient_humidity(case),
               area_scale=area_scale, scale_thickness=sh.scale_thickness,
               insulation_thickness=sh.insulation_thickness, loss_factor=sh.loss_factor,
               shell_inner_radius=sh.inner_radius, shell_thickness=sh.thickness,
@@ -1094,6 +1099,26 @@ def thermal_settings(case):
         st.pressure = st.pressure * (site_pressure(case) / STANDARD_PRESSURE)
         return st
     return ThermalSettings(**kw, pressure=site_pressure(case))
+
+
+def ambient_humidity(case) -> float:
+    """The outside air's humidity the model takes, kg/kg dry air: ``shell.ambient_humidity``, or the saturation
+    humidity at ``shell.ambient_temperature`` and the site's pressure where the case's is above it (fog is beyond the
+    model; an `AmbientHumidityWarning` says so). A case's ambient temperature is often changed alone (a winter site,
+    a study of the weather) under a humidity set for a warmer one: refusing it would refuse most of those runs, and
+    air wetter than saturated held vapour in the combustion air's and the shell film's enthalpies that no air holds
+    (0.3 kg/kg at -39 degC ran, exit 0, without a word; found by an acceptance check)."""
+    sh = case.shell
+    y = float(sh.ambient_humidity)
+    p = site_pressure(case)
+    y_sat = float(saturation_humidity(sh.ambient_temperature, p))
+    if y <= y_sat:
+        return y
+    warnings.warn(f"shell.ambient_humidity = {fmt_number(y)} kg/kg dry air is above the saturation humidity of the "
+                  f"outside air at shell.ambient_temperature = {fmt_number(sh.ambient_temperature)} degC and "
+                  f"{fmt_number(p / 1e3)} kPa ({y_sat:.4g} kg/kg): the model takes saturated outside air; give "
+                  f"shell.ambient_humidity in [0, {y_sat:.4g}]", AmbientHumidityWarning, stacklevel=2)
+    return y_sat
 
 
 def site_pressure(case) -> float:
