@@ -70,3 +70,26 @@ def test_report_draws_polygonal_flights(tmp_path):
 
     drums = case_drums(load_case(str(_case(tmp_path, THREE))).model_dump())
     assert [d["drum"].geometry for d in drums] == ["polygon"]
+
+
+def test_a_flight_set_one_way_replaces_the_files_other_way():
+    """``--set flight.segments=[...]`` on a case whose file gives s1..alpha2 was refused as "both given" (it took four
+    more ``--set flight.s1=none`` ...); found by an acceptance check. The override's way replaces the file's; the same
+    flight as a polyline gives the same state; both ways given by the overrides are refused."""
+    base = Simulation("lee2008_invicta").steady_state().summary()
+    f = load_case("lee2008_invicta").flight
+    seg = [[f.s1, f.alpha1], [f.s2, f.alpha2]]
+    case = load_case("lee2008_invicta", {"flight.segments": seg})
+    assert case.flight.s1 is None and case.flight.segments is not None
+    poly = Simulation("lee2008_invicta", {"flight.segments": seg}).steady_state().summary()
+    assert poly["total_holdup_kg"] == pytest.approx(base["total_holdup_kg"], rel=1e-12)
+    # both ways given by the overrides themselves: refused, naming them
+    with pytest.raises(ValueError, match="segments and s1, s2, alpha1, alpha2 are both given"):
+        load_case("lee2008_invicta", {"flight.segments": seg, "flight.s1": f.s1, "flight.s2": f.s2,
+                                      "flight.alpha1": f.alpha1, "flight.alpha2": f.alpha2})
+
+
+def test_a_bad_flight_list_given_by_set_is_blamed_on_the_set_option():
+    """A bad item of ``--set flight.segments=[...]`` was named as the case file's line of [flight]."""
+    with pytest.raises(ValueError, match=r"--set flight.segments: flight.segments.1.0 = 0.0: .*greater than 0"):
+        load_case("lee2008_invicta", {"flight.segments": "[[0.15, 90.0], [0.0, 120.0]]"})

@@ -1073,10 +1073,12 @@ def _field_range(cls, loc: tuple) -> str | None:
 
 
 def _problem_where(loc: tuple, text: str, shown: str, overrides: dict | None) -> str:
-    """Where a problem at case key ``loc`` was given: the ``--set`` options at or below it, else the file's line
-    (``shown:line``), else the file."""
+    """Where a problem at case key ``loc`` was given: the ``--set`` options at, below or above it (a list's item:
+    ``--set flight.segments=[...]`` for ``flight.segments.1.0``), else the file's line (``shown:line``), else the
+    file."""
     named = ".".join(str(x) for x in loc)
-    below = [k for k in overrides or {} if k == named or (named and k.startswith(named + "."))]
+    below = [k for k in overrides or {} if k == named or (named and (k.startswith(named + ".")
+                                                                     or named.startswith(k + ".")))]
     if below:
         return "--set " + ", --set ".join(below)
     no = _toml_line(text, loc) if text and loc else None
@@ -1237,6 +1239,16 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         # a block or list given as a value (``{"gas.burner": {...}}`` from Python) is copied: the document holds no
         # object of the caller's, which could change between loads (`_MISREAD_MEMO` remembers blocks by identity)
         node[fld] = copy.deepcopy(value) if isinstance(value, (dict, list)) else value
+        if value is not None and (fld in POLYGON_KEYS or fld in TWO_SECTION_KEYS):
+            # a flight given one way replaces the file's other way (``--set flight.segments=[...]`` on a case with
+            # s1..alpha2 was refused as "both given", and only four more --set ...=none made it run; found by an
+            # acceptance check); what the overrides give themselves stays, and is refused if it conflicts
+            prefix = ".".join(path)
+            others = [k for k in (POLYGON_KEYS if fld in TWO_SECTION_KEYS else (*TWO_SECTION_KEYS, *POLYGON_KEYS))
+                      if k != fld]
+            for other in others:
+                if other in node and f"{prefix}.{other}" not in overrides:
+                    del node[other]
     pending: list[str] = []          # the calibrations' warnings, issued once the case validates
     if raw.get("calibrations") and cls is DryerCase:
         _calibrate(raw, overrides, shown, file_raw, pending)
