@@ -184,3 +184,15 @@ def test_a_recycle_the_burner_cannot_make_is_not_a_saving(tmp_path):
     text = runner.invoke(app, ["audit", case, "--recycle", "0.9"])
     assert text.exit_code == 0 and "exhaust recycle 90 %: NOT FEASIBLE, no saving" in text.output
     assert "heat saved" not in text.output.split("exhaust recycle 90 %")[1]
+
+
+def test_a_burner_short_of_its_gas_is_said_on_stderr_in_json_mode_too(tmp_path):
+    """``simulate --json`` of a state whose gas the burner cannot make said nothing (the JSON's fuel_rate_error only;
+    the text output warns on stderr): the same warning on stderr, the JSON alone on stdout."""
+    res = runner.invoke(app, ["new", "mydryer", "--out", str(tmp_path / "d.toml")])
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["simulate", str(tmp_path / "d.toml"), "--set", "gas.recycle_fraction=0.9", "--json"])
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.stdout)
+    assert data["fuel_rate_kg_s"] is None and "dilution air" in data["fuel_rate_error"]
+    assert res.stderr.startswith("warning: burner cannot reach the set gas inlet temperature")

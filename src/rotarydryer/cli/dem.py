@@ -25,10 +25,11 @@ def _case_drum(case_name: str, section: Optional[str]):
     d_p = None
     if secs:
         names = [s.name for s in secs]
+        if section is None and len(names) == 1:     # the one flighted section (it was asked for; found by a check)
+            section = names[0]
         if section is None:
-            which = (f"its flighted section {names[0]}" if len(names) == 1 else
-                     f"one of its flighted sections {', '.join(names)}")
-            raise ValueError(f"--section is needed for case {case_name!r}: {which}")
+            raise ValueError(f"--section is needed for case {case_name!r}: one of its flighted sections "
+                             f"{', '.join(names)}")
         sec = next((s for s in secs if s.name == section), None)
         if sec is None:
             raise ValueError(f"--section = {section!r} is not a flighted section of case {case_name!r}; "
@@ -57,7 +58,7 @@ def _case_drum(case_name: str, section: Optional[str]):
 def export(
     out: Path = typer.Argument(..., help="Folder for the deck (in.drum, shell.stl, flights.stl, deck.json)."),
     case: Optional[str] = typer.Option(None, help="Take drum, flights and speed from this case (name or .toml)."),
-    section: Optional[str] = typer.Option(None, help="Flighted section of the case (sectioned cases)."),
+    section: Optional[str] = typer.Option(None, help="Flighted section of the case (sectioned cases; default: its one flighted section, if it has one)."),
     radius: Optional[float] = typer.Option(None, help="Drum radius, m (without --case)."),
     n_flights: Optional[int] = typer.Option(None, help="Number of flights (without --case)."),
     s1: Optional[float] = typer.Option(None, help="Flight base, m."),
@@ -103,7 +104,7 @@ def export(
     import math
 
     from .._io import json_text
-    from .._validation import check_range
+    from .._validation import check_range, fmt_number
     from ..dem.deck import Particles, build_slice, export_deck
     from ..geometry import FlightedDrum, PolygonFlight, TwoSectionFlight
     from ..geometry.presets import read_profile
@@ -134,7 +135,10 @@ def export(
         check_range("--radius (radius)", R_, 0.0, 20.0, unit="m")
         if N_ < 2 or N_ > 400:
             raise ValueError(f"--n-flights (n_flights) = {N_} is outside the allowed range: an integer from 2 to 400")
-        drum = FlightedDrum(R_, N_, prof["flight"])
+        try:
+            drum = FlightedDrum(R_, N_, prof["flight"])
+        except ValueError as exc:       # named as `rotarydryer flight --profile` names it
+            raise ValueError(f"{profile} (radius = {fmt_number(R_)} m, n_flights = {N_}): {exc}") from None
         rpm_ = rpm if rpm is not None else prof.get("rpm")
         if rpm_ is None:
             raise ValueError("--rpm is needed (rev/min): the profile gives no rpm")

@@ -450,7 +450,8 @@ def _print_drying(curves, result, chosen, written, material_out, table) -> None:
     typer.echo(f"drying curves {curves.name}: {len(curves.ids)} curves at {temps} degC, {curves.time_s.size} rows "
                f"({int((curves.time_s > 0).sum())} fitted after time 0)")
     typer.echo(f"  moisture ratio MR = (X - X_e)/(X_0 - X_e); rate constants at T_ref = "
-               f"{result.reference_temperature_K:.2f} K ({result.reference_temperature_K - 273.15:.2f} degC), Arrhenius")
+               f"{result.reference_temperature_K:.2f} K ({result.reference_temperature_K - 273.15:.2f} degC)"
+               + (", Arrhenius" if curves.n_temperatures > 1 else ", one air temperature: no temperature dependence"))
     crit = result.criterion       # AICc, or AIC where no law has enough points for AICc
     typer.echo(f"  rank  model              p    RMSE      R^2       AIC      AICc       BIC  {'d' + crit:>6s}  weight")
     for i, (m, f) in enumerate(result.fits.items(), start=1):

@@ -107,6 +107,11 @@ def simulate(
         result["files"] = [str(f) for f in files]
     if as_json:
         typer.echo(json_text(result))
+        from ..thermal.states import fuel_rate_note
+
+        note = fuel_rate_note(result)
+        if note:        # on stderr, as the text output's (the JSON holds fuel_rate_error; found by an acceptance check)
+            typer.echo(f"warning: {note}", err=True)
         return
     from .._display import fmt_error, show, show_output
 

@@ -1762,7 +1762,7 @@ class ThermalDryer:
         Y = self.split_classes(np.asarray(z, dtype=float))[4]
         if not float(np.max(Y)) >= RECYCLE_HINT_HUMIDITY * ha.Y_MAX:
             return failure
-        hint = (f"; the recycled exhaust is the likely cause: with gas.recycle_fraction = {r:g} only {1 - r:.3g} of "
+        hint = (f"; the recycled exhaust is the likely cause: with gas.recycle_fraction = {r:.10g} only {1 - r:.3g} of "
                 f"the gas leaves the loop and carries out all the water evaporated; the iterations ran the gas "
                 f"humidity up to the top of the humid-air range ({ha.Y_MAX:g} kg/kg): lower gas.recycle_fraction")
         return _hinted(failure, hint)

@@ -170,7 +170,7 @@ class ThermalSettings:
         leak = self.leak_air_flow / (1.0 + self.ambient_humidity)
         if self.recycle_fraction > 0 and not self.recycle_fraction * (hot + leak) < hot:
             raise DryerError(
-                f"gas.recycle_fraction = {self.recycle_fraction:g} returns {self.recycle_fraction * (hot + leak):.4g} "
+                f"gas.recycle_fraction = {self.recycle_fraction:.10g} returns {self.recycle_fraction * (hot + leak):.4g} "
                 f"kg/s of exhaust dry gas, not less than the burner's dry gas {hot:.4g} kg/s (the leak air "
                 f"gas.leak_air_flow = {self.leak_air_flow:g} kg/s is in the exhaust too): no fresh air would be left; "
                 f"give gas.recycle_fraction below {hot / (hot + leak):.4g}")
