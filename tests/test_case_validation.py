@@ -337,9 +337,11 @@ def test_outside_air_wetter_than_saturated_is_taken_as_saturated_with_a_warning(
     over = {"shell.ambient_temperature": temperature, "shell.ambient_humidity": humidity, "site.altitude": altitude}
     y_sat = float(saturation_humidity(temperature, standard_atmosphere_pressure(altitude)))
     assert humidity > y_sat
-    with pytest.warns(AmbientHumidityWarning, match=r"shell.ambient_humidity = .* give shell.ambient_humidity in \[0, "):
+    with pytest.warns(AmbientHumidityWarning, match=r"shell.ambient_humidity = .* give shell.ambient_humidity in \[0, ") as got:
         st = Simulation("ajayi2011_mmg", over).thermal_settings()
     assert st.ambient_humidity == y_sat
+    top = float(re.search(r"in \[0, ([0-9.e-]+)\]", str(got[0].message)).group(1))
+    assert 0.999 * y_sat < top <= y_sat         # the range's end as typed is not above saturation
     with warnings.catch_warnings():
         warnings.simplefilter("error", AmbientHumidityWarning)
         st = Simulation("ajayi2011_mmg", {**over, "shell.ambient_humidity": 0.999 * y_sat}).thermal_settings()

@@ -93,3 +93,15 @@ def test_a_bad_flight_list_given_by_set_is_blamed_on_the_set_option():
     """A bad item of ``--set flight.segments=[...]`` was named as the case file's line of [flight]."""
     with pytest.raises(ValueError, match=r"--set flight.segments: flight.segments.1.0 = 0.0: .*greater than 0"):
         load_case("lee2008_invicta", {"flight.segments": "[[0.15, 90.0], [0.0, 120.0]]"})
+
+
+def test_one_two_section_key_on_a_polygonal_case_is_named_as_both_given(tmp_path):
+    """One of s1..alpha2 by --set on a case whose file gives a polygonal flight stays a conflict named by its --set
+    (a review found it had removed the file's segments and blamed the file for the missing s2, alpha1, alpha2); all
+    four replace the polygon."""
+    p = str(_case(tmp_path, THREE))
+    assert load_case(p).flight.segments is not None
+    with pytest.raises(ValueError, match=r"--set flight.s1: flight: segments and s1 are both given"):
+        load_case(p, {"flight.s1": 0.1})
+    four = load_case(p, {"flight.s1": 0.15, "flight.s2": 0.1, "flight.alpha1": 90.0, "flight.alpha2": 120.0})
+    assert four.flight.segments is None and four.flight.s1 == 0.15

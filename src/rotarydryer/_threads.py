@@ -114,7 +114,10 @@ def command_blas_threads() -> None:
     spinning for nothing: ``rotarydryer simulate lee2008_invicta --json`` 0.89-0.97 s of CPU with the
     pool, 0.68-0.73 s without (2 cores, OpenBLAS 0.3.31). When every BLAS variable is then 1 and NumPy
     has not loaded yet, each BLAS this process loads has one thread: `single_threaded` (one thread)
-    then leaves threadpoolctl alone (its look at the loaded libraries cost a one-off command 6-10 ms)."""
+    then leaves threadpoolctl alone (its look at the loaded libraries cost a one-off command 6-10 ms). This
+    covers the BLAS only: OpenMP's variable stays the user's (a program a command starts keeps its threads), and
+    the project loads no OpenMP runtime (its compiled kernels are serial); one loaded by another library in a
+    command process is not limited."""
     for var in BLAS_ENV_VARS:
         os.environ.setdefault(var, "1")
     _LOADED_SINGLE[0] = "numpy" not in sys.modules and all(os.environ.get(v) == "1" for v in BLAS_ENV_VARS)

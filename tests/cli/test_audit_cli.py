@@ -184,6 +184,11 @@ def test_a_recycle_the_burner_cannot_make_is_not_a_saving(tmp_path):
     text = runner.invoke(app, ["audit", case, "--recycle", "0.9"])
     assert text.exit_code == 0 and "exhaust recycle 90 %: NOT FEASIBLE, no saving" in text.output
     assert "heat saved" not in text.output.split("exhaust recycle 90 %")[1]
+    # held at the base moisture: not run (the JSON tells it from a held search without a result)
+    held = runner.invoke(app, ["audit", case, "--recycle", "0.9", "--hold-moisture", "--json"])
+    assert held.exit_code == 0, held.output
+    w = json.loads(held.stdout)["savings"][0]
+    assert w["infeasible"] and w["held"] is None and w["held_error"] == "not run: the what-if is not feasible"
 
 
 def test_a_burner_short_of_its_gas_is_said_on_stderr_in_json_mode_too(tmp_path):

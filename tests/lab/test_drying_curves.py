@@ -311,10 +311,11 @@ def test_a_real_rise_is_still_refused():
     assert dc.rise_allowance(noisy) > 0.15
 
 
-def test_a_noisy_curve_whose_tail_rises_is_refused(tmp_path):
+def test_a_noisy_curve_whose_tail_rises_is_said(tmp_path):
     """Each weighing alone was held to the curve's noise allowance, so on a noisy curve a steady rise of its tail
-    passed and changed the law chosen (found by an acceptance check): the mean of a few weighings has less noise,
-    and a run of them above the earlier means is refused, naming the curve and its rows; exit 2, one line."""
+    passed without a word and changed the law chosen (found by an acceptance check): the mean of a few weighings has
+    less noise, and a run of them above the earlier means is said (a warning naming the curve and its lines or
+    points: weighings that drift look alike, so the fit goes on with the curve as given)."""
     rng = np.random.default_rng(2)      # a draw whose every weighing is within one weighing's allowance
     t = np.linspace(0.0, 3 * 3600.0, 31)
     mr = np.exp(-3e-3 * t ** 0.8)
@@ -324,13 +325,14 @@ def test_a_noisy_curve_whose_tail_rises_is_refused(tmp_path):
     assert np.max(point) < dc.rise_allowance(mr)      # each weighing is within one weighing's allowance
     first, window, rise, allow = dc.sustained_rise(mr)
     assert window == 5 and rise > allow >= dc.RISE_TOLERANCE and first > 15
-    with pytest.raises(ValueError, match=r"curve '60' point \d+: the moisture of curve '60' rises over 5 weighings"):
+    with pytest.warns(dc.RisingCurveWarning, match=rf"curve '60' rises over 5 weighings \(points {first + 1}-{first + 5}\)"):
         dc.drying_curves(t, 0.02 + 0.28 * mr, 60.0, equilibrium_moisture=0.02)
     f = tmp_path / "rising_tail.csv"
     f.write_text("time_s,moisture_kg_kg_dry,air_temperature_degC\n"
                  + "".join(f"{ti:g},{0.02 + 0.28 * m:.6f},60\n" for ti, m in zip(t, mr)))
     res = runner.invoke(app, ["lab", "drying", str(f), "--equilibrium-moisture", "0.02"])
-    assert res.exit_code == 2 and "rises over 5 weighings" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    # the file's lines: the header is line 1, point i is line i + 1
+    assert res.exit_code == 0 and f"rises over 5 weighings (lines {first + 2}-{first + 6})" in res.stderr
 
 
 @pytest.mark.parametrize("noise", [0.005, 0.02, 0.05])

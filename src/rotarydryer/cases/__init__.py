@@ -1239,11 +1239,14 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         # a block or list given as a value (``{"gas.burner": {...}}`` from Python) is copied: the document holds no
         # object of the caller's, which could change between loads (`_MISREAD_MEMO` remembers blocks by identity)
         node[fld] = copy.deepcopy(value) if isinstance(value, (dict, list)) else value
-        if value is not None and (fld in POLYGON_KEYS or fld in TWO_SECTION_KEYS):
-            # a flight given one way replaces the file's other way (``--set flight.segments=[...]`` on a case with
-            # s1..alpha2 was refused as "both given", and only four more --set ...=none made it run; found by an
-            # acceptance check); what the overrides give themselves stays, and is refused if it conflicts
-            prefix = ".".join(path)
+        prefix = ".".join(path)
+        whole = fld in POLYGON_KEYS or (fld in TWO_SECTION_KEYS and all(
+            overrides.get(f"{prefix}.{k}") not in (None, "none", "null", "") for k in TWO_SECTION_KEYS))
+        if value is not None and whole:
+            # a whole flight given one way (a polygon key, or all four of s1..alpha2) replaces the file's other way
+            # (``--set flight.segments=[...]`` on a case with s1..alpha2 was refused as "both given", and only four
+            # more --set ...=none made it run; found by an acceptance check); what the overrides give themselves
+            # stays, and is refused if it conflicts; one two-section key alone is a change of the file's flight
             others = [k for k in (POLYGON_KEYS if fld in TWO_SECTION_KEYS else (*TWO_SECTION_KEYS, *POLYGON_KEYS))
                       if k != fld]
             for other in others:

@@ -1114,10 +1114,12 @@ def ambient_humidity(case) -> float:
     y_sat = float(saturation_humidity(sh.ambient_temperature, p))
     if y <= y_sat:
         return y
+    scale = 10.0 ** (3 - math.floor(math.log10(y_sat)))
+    top = math.floor(y_sat * scale) / scale        # 4 digits, rounded down: a value typed from it is not above y_sat
     warnings.warn(f"shell.ambient_humidity = {fmt_number(y)} kg/kg dry air is above the saturation humidity of the "
                   f"outside air at shell.ambient_temperature = {fmt_number(sh.ambient_temperature)} degC and "
-                  f"{fmt_number(p / 1e3)} kPa ({y_sat:.4g} kg/kg): the model takes saturated outside air; give "
-                  f"shell.ambient_humidity in [0, {y_sat:.4g}]", AmbientHumidityWarning, stacklevel=2)
+                  f"{fmt_number(p / 1e3)} kPa ({y_sat:.6g} kg/kg): the model takes saturated outside air; give "
+                  f"shell.ambient_humidity in [0, {top:.4g}]", AmbientHumidityWarning, stacklevel=2)
     return y_sat
 
 

@@ -282,12 +282,14 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
         s = res.summary()
         w.summary = s
         f0, f1 = s0.get("fuel_rate_kg_s"), s.get("fuel_rate_kg_s")
-        if f0 is not None and f1 is None:
+        why = _footing_mismatch(f0, f1, s, s0)
+        if why:
             # the base's burner cannot make the what-if's gas (its fuel beyond what its combustion air burns, or a
-            # recycle that leaves no dilution air): its heat release would be the gas's heat input instead of the
-            # fuel's, another footing than the base's, and the plant cannot run so; no saving is reported
-            why = " ".join(str(s.get("fuel_rate_error") or "the burner cannot make this gas").split())
-            w.infeasible = f"the case's burner cannot make the gas of this what-if: {why}"
+            # recycle that leaves no dilution air), or the base's own: one heat release would be the gas's heat
+            # input instead of the fuel's, another footing than the other's, and the plant cannot run so; no saving
+            w.infeasible = why
+            if hold_moisture:
+                w.held_error = "not run: the what-if is not feasible"
             continue
         w.heat_saved_W = s0["heat_release_W"] - s["heat_release_W"]
         w.fuel_saved_kg_s = None if f0 is None or f1 is None else f0 - f1
@@ -303,6 +305,19 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
                 warnings.simplefilter("ignore", ShellTemperatureWarning)
                 _hold(w, case, overrides, ov, s0, base_sim.thermal_settings().gas_inlet_temperature, progress)
     return audit
+
+
+def _footing_mismatch(f0, f1, s, s0=None) -> str | None:
+    """Why a what-if's summary ``s`` and the base's (fuel rates ``f0``, ``f1``; None where the case's burner cannot
+    make the gas) are on different footings (one heat release the fuel's, the other the gas's heat input), or None.
+    ``s0``: the base's summary, for its reason when it is the base that the burner cannot make."""
+    if (f0 is None) == (f1 is None):
+        return None
+    if f1 is None:
+        why = " ".join(str(s.get("fuel_rate_error") or "the burner cannot make this gas").split())
+        return f"the case's burner cannot make the gas of this what-if: {why}"
+    why = " ".join(str((s0 or {}).get("fuel_rate_error") or "the burner cannot make the base's gas").split())
+    return f"the case's burner cannot make the base run's gas, only this what-if's: {why}"
 
 
 def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
@@ -368,6 +383,10 @@ def _hold(w: WhatIf, case, overrides, ov, s0, t_in, progress) -> None:
                         f"{show_output('product_moisture_kg_kg', x0)}")
         return
     f0, f1 = s0.get("fuel_rate_kg_s"), s.get("fuel_rate_kg_s")
+    why = _footing_mismatch(f0, f1, s)
+    if why:         # the held run's gas (a hotter inlet) beyond the burner: no saving on another footing
+        w.held_error = f"at the gas inlet temperature found, {fmt_number(res.value)} degC: {why}"
+        return
     w.held = dict(gas_inlet_temperature_degC=float(res.value), product_moisture_kg_kg=s["product_moisture_kg_kg"],
                   heat_release_W=s["heat_release_W"], heat_saved_W=s0["heat_release_W"] - s["heat_release_W"],
                   fuel_saved_kg_s=None if f0 is None or f1 is None else f0 - f1)
