@@ -44,10 +44,12 @@ from __future__ import annotations
 
 import atexit
 import concurrent.futures
+import contextlib
 import gc
 import math
 import os
 import pickle
+import signal
 import sys
 import threading
 import uuid
@@ -178,6 +180,10 @@ def _init_worker(warm) -> None:
     from a warm parent)."""
     _worker_setup()
     raise_gc_threshold()
+    # a Ctrl-C reaches the whole process group: the process that made the batch stops it (and these workers), keeping
+    # what finished; a worker that raised KeyboardInterrupt itself broke the pool under it (found by an acceptance
+    # check: tracebacks, and the finished runs lost)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     _ensure_warm(warm)
 
 
@@ -281,6 +287,43 @@ def _local_pool(workers: int, warm) -> concurrent.futures.ProcessPoolExecutor:
         return pool
 
 
+@contextlib.contextmanager
+def _stop_on_first_interrupt():
+    """Inside: the first SIGINT raises KeyboardInterrupt and the next ones are ignored until the block ends (the
+    handler before it is then restored); in the main thread only, and only where SIGINT is not ignored already."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    if previous in (signal.SIG_IGN, None):
+        yield
+        return
+
+    def first(signum, frame):
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, first)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextlib.contextmanager
+def ignoring_interrupts():
+    """SIGINT ignored inside (in the main thread; elsewhere nothing changes): for stopping a batch and saving what
+    finished after a first interrupt, which a second one would cut short."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _close_local(kill: bool = False) -> None:
     with _LOCK:
         pool = _POOL.pop("pool", None)
@@ -293,7 +336,11 @@ def _close_local(kill: bool = False) -> None:
                 proc.terminate()
             except Exception:   # noqa: BLE001 - already gone
                 pass
-    pool.shutdown(wait=not kill, cancel_futures=True)
+        # the pool's thread finds its workers gone, fails what is left and ends: waited for, so that nothing of it
+        # runs on at the interpreter's exit (an OSError traceback from its wake-up pipe)
+        pool.shutdown(wait=True)
+        return
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
@@ -499,30 +546,33 @@ class Executor:
         # collections (gc.freeze, as the gc module's documentation advises before a fork), whose passes would
         # otherwise write to every inherited object and copy its memory page into each worker
         forking = _POOL.get("key", (0, ""))[1] == "fork" and not getattr(pool, "_processes", None)
-        try:
-            if forking:
-                gc.freeze()
+        with _stop_on_first_interrupt():
             try:
-                for sl in slices:
-                    futures[pool.submit(_run_chunk, fn, items[sl], args, warm, origin)] = sl
-            finally:
                 if forking:
-                    gc.unfreeze()
-            pending = set(futures)
-            while pending:
-                done, pending = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
-                for f in done:
-                    sl = futures[f]
-                    try:
-                        out = f.result()
-                    except Exception as exc:    # noqa: BLE001 - a worker died (BrokenProcessPool) or did not pickle
-                        out = [RunFailure(f"worker process failed: {one_line(exc)}")] * (sl.stop - sl.start)
-                    store(sl, out)
-        except KeyboardInterrupt:
-            for f in futures:
-                f.cancel()
-            _close_local(kill=True)
-            raise
+                    gc.freeze()
+                try:
+                    for sl in slices:
+                        futures[pool.submit(_run_chunk, fn, items[sl], args, warm, origin)] = sl
+                finally:
+                    if forking:
+                        gc.unfreeze()
+                pending = set(futures)
+                while pending:
+                    done, pending = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
+                    for f in done:
+                        sl = futures[f]
+                        try:
+                            out = f.result()
+                        except Exception as exc:    # noqa: BLE001 - a worker died (BrokenProcessPool) or did not pickle
+                            out = [RunFailure(f"worker process failed: {one_line(exc)}")] * (sl.stop - sl.start)
+                        store(sl, out)
+            except KeyboardInterrupt:
+                # later interrupts are ignored until the workers are stopped (a second Ctrl-C, or `timeout`
+                # signalling the process and then its group, had cut the stop short: the workers ran on); no future
+                # is cancelled here: the pool's own thread fails every one left once its workers are gone, and a
+                # future cancelled beside it made that thread fail (InvalidStateError, Python 3.11)
+                _close_local(kill=True)
+                raise
         if getattr(pool, "_broken", False):
             _close_local()
 

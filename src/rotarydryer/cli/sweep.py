@@ -15,6 +15,7 @@ import typer
 
 from .._grids import MAX_POINTS, parse_grid
 from .._grids import check_points as _check_points
+from ..executor import ignoring_interrupts
 from . import app
 from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
@@ -113,7 +114,7 @@ def sweep(
     """
     import os
 
-    from .._io import check_output_target, write_text_atomic
+    from .._io import check_output_target
     from ..services._options import executor_from_options
     from ._common import Progress, connect_executor, parse_sets
 
@@ -157,6 +158,17 @@ def sweep(
             run_sweep(case, points, executor=executor, rtd=rtd, progress=bar.advance, rows=rows)
     except KeyboardInterrupt:
         interrupted = True
+    if interrupted:         # what finished is saved: a second interrupt does not cut that short
+        with ignoring_interrupts():
+            _finish(rows, points, out, as_json, interrupted, swept)
+        return
+    _finish(rows, points, out, as_json, interrupted, swept)
+
+
+def _finish(rows, points, out, as_json, interrupted, swept):
+    """Write or print the table (and the interrupted run's note); the exit codes of `sweep`."""
+    from .._io import write_text_atomic
+
     rows = [r if r is not None else {**p, "error": "not run (sweep interrupted)"} for r, p in zip(rows, points)]
     text = rows_to_csv(rows)
     if out is not None:
