@@ -288,40 +288,33 @@ def _local_pool(workers: int, warm) -> concurrent.futures.ProcessPoolExecutor:
 
 
 @contextlib.contextmanager
-def _stop_on_first_interrupt():
-    """Inside: the first SIGINT raises KeyboardInterrupt and the next ones are ignored until the block ends (the
-    handler before it is then restored); in the main thread only, and only where SIGINT is not ignored already."""
+def _sigint_handler(handler):
+    """SIGINT handled by ``handler`` inside, the handler before it restored after; in the main thread only (elsewhere
+    nothing changes), and nothing changes where SIGINT is ignored already."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     previous = signal.getsignal(signal.SIGINT)
-    if previous in (signal.SIG_IGN, None):
+    if previous in (signal.SIG_IGN, None, handler):     # ignored, or the same handler's block around this one
         yield
         return
-
-    def first(signum, frame):
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        raise KeyboardInterrupt
-
-    signal.signal(signal.SIGINT, first)
+    signal.signal(signal.SIGINT, handler)
     try:
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
 
 
-@contextlib.contextmanager
-def ignoring_interrupts():
-    """SIGINT ignored inside (in the main thread; elsewhere nothing changes): for stopping a batch and saving what
-    finished after a first interrupt, which a second one would cut short."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
+def _first_interrupt(signum, frame):
+    """A SIGINT handler: KeyboardInterrupt, and the next interrupts ignored (until `_sigint_handler` restores)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def stop_on_first_interrupt():
+    """Inside: the first SIGINT raises KeyboardInterrupt and the next ones are ignored until the block ends (a
+    command around a whole batch and the saving of what finished; a block inside it changes nothing)."""
+    return _sigint_handler(_first_interrupt)
 
 
 def _close_local(kill: bool = False) -> None:
@@ -546,7 +539,7 @@ class Executor:
         # collections (gc.freeze, as the gc module's documentation advises before a fork), whose passes would
         # otherwise write to every inherited object and copy its memory page into each worker
         forking = _POOL.get("key", (0, ""))[1] == "fork" and not getattr(pool, "_processes", None)
-        with _stop_on_first_interrupt():
+        with stop_on_first_interrupt():
             try:
                 if forking:
                     gc.freeze()

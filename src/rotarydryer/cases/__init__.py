@@ -1215,6 +1215,11 @@ def _invalid(name, details: str, n: int) -> str:
     return f"invalid case {name!r} ({n} problems):\n{details}"
 
 
+def _none_override(value) -> bool:
+    """An override value that removes its key: None, or the text none / null / empty (any case, spaces around)."""
+    return value is None or (isinstance(value, str) and value.strip().lower() in ("none", "null", ""))
+
+
 def _validated(cls, raw, valid, text, shown, name, overrides):
     file_raw = dict(raw)      # the file's values: the overrides below copy what they change
     for key, value in (overrides or {}).items():
@@ -1225,7 +1230,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         if isinstance(value, bool) and key in LIMITS:     # a number's key: True would read as 1.0
             raise ValueError(f"--set {key}: {key} = {value!r} is not a number (allowed range "
                              f"{describe_limit(key)})")
-        if isinstance(value, str) and value.strip().lower() in ("none", "null", ""):
+        if _none_override(value):
             value = None
         elif isinstance(value, str) and key.startswith("material.") and key != "material.name":
             value = override_value(value)      # material fields are free-form: read "0.0006" as TOML would
@@ -1241,7 +1246,7 @@ def _validated(cls, raw, valid, text, shown, name, overrides):
         node[fld] = copy.deepcopy(value) if isinstance(value, (dict, list)) else value
         prefix = ".".join(path)
         whole = fld in POLYGON_KEYS or (fld in TWO_SECTION_KEYS and all(
-            overrides.get(f"{prefix}.{k}") not in (None, "none", "null", "") for k in TWO_SECTION_KEYS))
+            f"{prefix}.{k}" in overrides and not _none_override(overrides[f"{prefix}.{k}"]) for k in TWO_SECTION_KEYS))
         if value is not None and whole:
             # a whole flight given one way (a polygon key, or all four of s1..alpha2) replaces the file's other way
             # (``--set flight.segments=[...]`` on a case with s1..alpha2 was refused as "both given", and only four

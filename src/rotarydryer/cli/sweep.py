@@ -15,7 +15,7 @@ import typer
 
 from .._grids import MAX_POINTS, parse_grid
 from .._grids import check_points as _check_points
-from ..executor import ignoring_interrupts
+from ..executor import stop_on_first_interrupt
 from . import app
 from ._common import CLUSTER_HELP, SCHEDULER_HELP, WORKERS_HELP
 
@@ -153,16 +153,15 @@ def sweep(
         typer.echo(f"warning: {note}", err=True)
     rows: list = [None] * len(points)
     interrupted = False
-    try:
-        with Progress("run", len(points), quiet=quiet or len(points) < 2) as bar:
-            run_sweep(case, points, executor=executor, rtd=rtd, progress=bar.advance, rows=rows)
-    except KeyboardInterrupt:
-        interrupted = True
-    if interrupted:         # what finished is saved: a second interrupt does not cut that short
-        with ignoring_interrupts():
-            _finish(rows, points, out, as_json, interrupted, swept)
-        return
-    _finish(rows, points, out, as_json, interrupted, swept)
+    # the first interrupt stops the runs, and the next ones are ignored until what finished is saved (a second one
+    # anywhere in between, e.g. `timeout` signalling the process and then its group, had lost the rows)
+    with stop_on_first_interrupt():
+        try:
+            with Progress("run", len(points), quiet=quiet or len(points) < 2) as bar:
+                run_sweep(case, points, executor=executor, rtd=rtd, progress=bar.advance, rows=rows)
+        except KeyboardInterrupt:
+            interrupted = True
+        _finish(rows, points, out, as_json, interrupted, swept)
 
 
 def _finish(rows, points, out, as_json, interrupted, swept):
