@@ -21,6 +21,7 @@ FRONT_ENDS = ("cli", "app", "services")
 
 #: module -> why it keeps package-internal imports inside functions
 LAZY = {
+    "rotarydryer._workers": "start-up: +130-190 ms (the executor, for the CLI's option checks; 2026-12-07)",
     "rotarydryer.cases": "start-up: the thesis formats' schemas (rotarydryer.cases.readers, 10 ms) only when a file "
                          "of one is read, tracer data sets (rotarydryer.rtd, +0.4-0.9 s) and the material library "
                          "(numba kernels, +0.3 s) only when a case names them",

@@ -110,7 +110,7 @@ def test_models_do_not_import_upper_layers():
 LAYERS = (
     ("infrastructure", ("_validation", "_limits", "_io", "_jit", "_aot", "_threads", "_startup", "_display", "_plotting",
                         "_sparse_fd", "_grids",
-                        "executor",
+                        "executor", "_workers", "_dask_worker",
                         "_extras", "_docblocks", "published", "data", "__version__")),
     ("correlations", ("correlations",)),
     ("properties", ("properties",)),

@@ -544,9 +544,10 @@ def design(duty: Duty, limits: Limits | None = None, objective="volume", maxiter
     def cb(xk, convergence=None):
         it[0] += 1
         if progress and it[0] % 5 == 0:
-            best = min(archive, key=lambda d: d.objective).objective if archive else math.nan
-            progress(f"design: generation {it[0]}/{maxiter}, {count[0]} evaluations, {len(archive)} feasible, "
-                     f"best {objective} {best:.4g}")
+            # no feasible design yet: said so (it printed "best volume nan"; found by an acceptance check)
+            best = (f"best {objective} {min(d.objective for d in archive):.4g}" if archive
+                    else "no feasible design yet")
+            progress(f"design: generation {it[0]}/{maxiter}, {count[0]} evaluations, {len(archive)} feasible, {best}")
     differential_evolution(scorer, bounds, integrality=[False, False, False, False, True, False, False, False],
                            maxiter=maxiter, popsize=popsize, seed=seed, polish=False, tol=1e-7, callback=cb,
                            updating="deferred", workers=population)

@@ -161,7 +161,9 @@ def _ensure_warm(warm) -> None:
         _WARMED.add(key)
         _WARM_RUNS[0] += 1
         try:
-            fn(*args)
+            with warnings.catch_warnings():     # the runs say what the warm-up would (once, where the user sees it)
+                warnings.simplefilter("ignore")
+                fn(*args)
         except Exception:   # noqa: BLE001 - the first run of the chunk reports the error
             pass
 
@@ -192,13 +194,60 @@ def worker_info(_items=None) -> list:
     return [(os.getpid(), _WARM_RUNS[0]) for _ in (_items or [None])]
 
 
+class _Reported:
+    """A chunk's results from a worker process with the warnings its runs raised there: (text, category, file,
+    line) each, shown by the process that made the batch (`_shown`) as its own runs' warnings are."""
+
+    __slots__ = ("results", "warnings")
+
+    def __init__(self, results: list, caught: list):
+        self.results = results
+        self.warnings = [_portable(w) for w in caught]
+
+    def __getstate__(self):
+        return (self.results, self.warnings)
+
+    def __setstate__(self, state):
+        self.results, self.warnings = state
+
+
+def _portable(w) -> tuple:
+    """(text, category, file, line) of a caught warning; a category that does not pickle becomes UserWarning."""
+    category = w.category
+    try:
+        pickle.dumps(category)
+    except Exception:       # noqa: BLE001 - a class made at run time: its text still says what happened
+        category = UserWarning
+    return (str(w.message), category, str(w.filename), int(w.lineno or 0))
+
+
+def _shown(out):
+    """The results of a chunk; the warnings a worker caught (`_Reported`) are raised here, in the process that made
+    the batch, where its user sees them as those of a serial run: its own warning filters and printer (the command's
+    one line per text, with the count of those alike), not a worker's stderr (a Dask worker printed each with its
+    source line, a forked worker with its own count; found by an acceptance check)."""
+    if not isinstance(out, _Reported):
+        return out
+    for text, category, filename, lineno in out.warnings:
+        warnings.warn_explicit(text, category, filename, lineno)
+    return out.results
+
+
 def _run_chunk(fn, items, args, warm, origin: int):
     """Run one chunk where it landed: worker set-up (not in the process that made the batch),
     warm-ups, then ``fn(items, *args)``; a chunk that raises is run again one item at a time and
-    each failing item becomes a `RunFailure`."""
-    if os.getpid() != origin:
-        _worker_setup()
-        _ensure_warm(warm)
+    each failing item becomes a `RunFailure`. In a worker process the warnings of the runs come back
+    with the results (`_Reported`)."""
+    if os.getpid() == origin:
+        return _chunk_results(fn, items, args)
+    _worker_setup()
+    _ensure_warm(warm)
+    with warnings.catch_warnings(record=True) as caught:
+        out = _chunk_results(fn, items, args)
+    return _Reported(out, caught)
+
+
+def _chunk_results(fn, items, args) -> list:
     items = list(items)
     try:
         out = list(fn(items, *args))
@@ -357,6 +406,15 @@ def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
             except (OSError, TimeoutError) as exc:
                 raise ValueError(f"--scheduler = {scheduler!r}: no Dask scheduler answered within "
                                  f"{CONNECT_TIMEOUT_S:g} s ({one_line(exc)})") from None
+            except (TypeError, ValueError) as exc:
+                if not scheduler.lower().startswith("tls://"):
+                    raise
+                # Dask's TLS connector without certificates: "TLS expects a `ssl_context` argument ... Instead got
+                # None", which read as an internal error (found by an acceptance check)
+                raise ValueError(f"--scheduler = {scheduler!r}: a tls:// scheduler needs this client's TLS "
+                                 "certificates in the Dask configuration (distributed.comm.tls.ca-file, "
+                                 "distributed.comm.tls.client.cert and .key, e.g. in ~/.config/dask/distributed.yaml "
+                                 f"or DASK_DISTRIBUTED__COMM__TLS__CA_FILE) ({one_line(exc)})") from None
         else:
             import dask  # optional: only when a cluster is asked for
 
@@ -367,7 +425,7 @@ def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
                 with dask.config.set({"distributed.worker.profile.enabled": False}), warnings.catch_warnings():
                     warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
                     cluster = LocalCluster(n_workers=int(n_local or 1), threads_per_worker=1, processes=True,
-                                           dashboard_address=None)
+                                           dashboard_address=None, preload=["rotarydryer._dask_worker"])
             except (OSError, RuntimeError) as exc:
                 raise ValueError(f"--cluster = 'local:{n_local}': the Dask LocalCluster did not start "
                                  f"({one_line(exc)})") from None
@@ -375,6 +433,29 @@ def _dask_client(scheduler: Optional[str], n_local: Optional[int]):
         if not str(scheduler or "").startswith("inproc://"):    # a scheduler in this process belongs to its caller
             _DASK[key] = (client, cluster)
         return client
+
+
+def _close_dask(key) -> None:
+    """Close the Dask client and LocalCluster kept under ``key`` after an interrupted batch, at once: the workers
+    running a chunk are killed, not waited for, and the closing's own log lines (a worker "still alive ... killing",
+    a heartbeat from a worker the scheduler forgot) are left out (the command has said what happened)."""
+    import logging
+
+    with _LOCK:
+        held = _DASK.pop(key, None)
+    if held is None:
+        return
+    client, cluster = held
+    log = logging.getLogger("distributed")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        for thing, kw in ((client, {}), (cluster, {"timeout": 2})):
+            if thing is not None:
+                with contextlib.suppress(Exception):
+                    thing.close(**kw)
+    finally:
+        log.setLevel(level)
 
 
 def _release(client) -> None:
@@ -512,7 +593,7 @@ class Executor:
         _jit.long_runs()        # a batch of runs here or in forked workers: the compiled kernels pay
 
         def store(sl: slice, out) -> None:
-            results[sl] = out
+            results[sl] = _shown(out)
             tick(sl.stop - sl.start)
 
         if self.backend == "serial" or (self.backend == "local" and len(slices) <= 1):
@@ -587,7 +668,10 @@ class Executor:
                     out = [RunFailure(f"Dask task failed: {one_line(exc)}")] * (sl.stop - sl.start)
                 store(sl, out)
         except KeyboardInterrupt:
-            client.cancel(list(futures))
+            if self.scheduler:
+                client.cancel(list(futures))
+            else:       # a LocalCluster made here: closed now (its workers in the middle of a chunk are stopped)
+                _close_dask(("local", self.cluster_workers))
             raise
         finally:
             _release(client)

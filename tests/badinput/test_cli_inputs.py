@@ -137,12 +137,13 @@ def test_bad_cli_input(argv, fragments, workdir):
 
 
 @pytest.mark.parametrize("args,line", [
+    # the type checker's "Input should be a valid integer, unable to parse string as an integer" in plain words
     (["sweep", "lee2008_invicta", "--workers", "abc"],
-     "error: Invalid value for '--workers': Input should be a valid integer, unable to parse string as an integer "
-     "(got 'abc'); see 'rotarydryer sweep --help'"),
+     "error: Invalid value for '--workers': not a valid integer (a whole number) (got 'abc'); "
+     "see 'rotarydryer sweep --help'"),
     (["lab", "drying", "x.csv", "--equilibrium-moisture=abc"],
-     "error: Invalid value for '--equilibrium-moisture': Input should be a valid number, unable to parse string as a "
-     "number (got 'abc'); see 'rotarydryer lab drying --help'"),
+     "error: Invalid value for '--equilibrium-moisture': not a valid number (got 'abc'); "
+     "see 'rotarydryer lab drying --help'"),
     (["simulate", "lee2008_invicta", "--set"],
      "error: Option '--set' requires an argument; see 'rotarydryer simulate --help'"),
     (["simulate"], "error: Missing argument 'case'; see 'rotarydryer simulate --help'"),

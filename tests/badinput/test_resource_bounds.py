@@ -11,6 +11,7 @@ import time
 
 import pytest
 
+from rotarydryer import _workers
 from rotarydryer.services import _options
 from rotarydryer.services._options import check_scheduler, check_workers
 
@@ -22,7 +23,7 @@ DIMS = ["--radius", "0.2", "--n-flights", "10", "--s1", "0.05", "--s2", "0.05", 
 
 # ------------------------------------------------------------------------------ --workers
 def test_check_workers_clamps_to_cpus_and_runs(monkeypatch):
-    monkeypatch.setattr(_options, "usable_cpus", lambda: 2)
+    monkeypatch.setattr(_workers, "usable_cpus", lambda: 2)       # where check_workers reads it
     n, notes = check_workers(50, 2)
     assert n == 2 and len(notes) == 1 and "--workers = 50" in notes[0] and "2 usable CPU cores" in notes[0]
     n, notes = check_workers(100000, 1)
@@ -32,8 +33,13 @@ def test_check_workers_clamps_to_cpus_and_runs(monkeypatch):
     assert check_workers(1, 10) == (1, [])
     n, notes = check_workers(2, 1)
     assert n == 1 and notes == ["--workers = 2 is more than the 1 runs; using 1"]
-    with pytest.raises(ValueError, match=r"--workers = -1 is outside the allowed range \[0, 2\]"):
+    # the range as the option takes it: above the cores is taken (capped, with a warning), so not [0, 2] (-1 was
+    # "outside [0, 2]" while 1000 ran on 2; found by an acceptance check)
+    with pytest.raises(ValueError, match=r"--workers = -1 is outside the allowed range \[0, inf\) \(0: one per core; "
+                                         r"more than the 2 usable CPU cores run as 2, with a warning\)"):
         check_workers(-1, 10)
+    with pytest.raises(ValueError, match=r"--jobs = 1.5 is not a whole number in the allowed range \[0, inf\)"):
+        check_workers(1.5, 10, option="--jobs")
     # a Dask cluster has its own workers: no clamp to the local cores, never a warning
     assert check_workers(64, 100, scheduler="tcp://h:8786") == (64, [])
 
@@ -275,7 +281,9 @@ EXECUTOR_BAD = [
     ("cluster-zero", ["--cluster", "local:0"], ["--cluster", "local:0", "allowed range [1,"]),
     ("cluster-word", ["--cluster", "foo"], ["--cluster", "'foo'", "local:N"]),
     ("both", ["--cluster", "local:2", "--scheduler", "tcp://127.0.0.1:8786"], ["--scheduler", "--cluster", "not both"]),
-    ("workers-negative", ["--workers", "-1"], ["--workers = -1", "allowed range [0,"]),
+    ("workers-negative", ["--workers", "-1"], ["--workers = -1", "allowed range [0, inf)"]),
+    # the type checker's words ("Input should be a valid integer, unable to parse string as an integer") in plain ones
+    ("workers-fraction", ["--workers", "1.5"], ["--workers", "not a valid integer (a whole number)", "'1.5'"]),
 ]
 
 
@@ -293,7 +301,7 @@ def test_bad_executor_options_refused_at_once(tmp_path, cmd, extra, fragments):
 def test_cluster_above_the_cores_is_clamped_with_a_warning(monkeypatch):
     from rotarydryer.services._options import check_cluster
 
-    monkeypatch.setattr(_options, "usable_cpus", lambda: 2)
+    monkeypatch.setattr(_workers, "usable_cpus", lambda: 2)       # where check_cluster reads it
     assert check_cluster("local:2") == (2, [])
     n, notes = check_cluster("local:64")
     assert n == 2 and "--cluster = local:64 is more than the 2 usable CPU cores; using local:2" in notes[0]

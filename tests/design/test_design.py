@@ -31,6 +31,17 @@ def test_raw_sugar_design_feasible_and_binding(sugar):
     assert sugar.seconds < 60
 
 
+def test_progress_before_a_feasible_design_says_so():
+    """The progress line of a generation with no feasible design yet printed "best volume nan" (found by an
+    acceptance check)."""
+    lines = []
+    with pytest.raises(D.InfeasibleDuty):
+        D.design(D.raw_sugar_duty(), D.Limits(diameter_range=(0.5, 1.5)), maxiter=5, popsize=4, progress=lines.append)
+    generations = [ln for ln in lines if ln.startswith("design: generation")]
+    assert generations and all(ln.endswith(", 0 feasible, no feasible design yet") for ln in generations), lines
+    assert not any("nan" in ln for ln in lines)
+
+
 def test_infeasible_duty_names_constraint():
     with pytest.raises(D.InfeasibleDuty, match="gas entrainment") as exc:
         D.design(D.raw_sugar_duty(), D.Limits(diameter_range=(0.5, 1.5)), maxiter=15)

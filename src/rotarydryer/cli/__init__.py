@@ -31,10 +31,21 @@ import typer.core  # noqa: E402
 _CLICK_ERRORS = getattr(getattr(typer.core, "_click", None), "exceptions", None) or click.exceptions
 
 
+#: a value of the wrong type for an option, in plain words ("--workers 1.5": the type checker's "Input should be a
+#: valid integer, unable to parse string as an integer" became "not a valid integer (a whole number)")
+_PLAIN_TYPE_MESSAGES = (
+    (re.compile(r"Input should be a valid integer(, unable to parse string as an integer)?"),
+     "not a valid integer (a whole number)"),
+    (re.compile(r"Input should be a valid number(, unable to parse string as a number)?"), "not a valid number"),
+)
+
+
 def _usage_line(exc, given) -> str:
     """A usage error (a bad option value, a missing argument, an unknown command) on one line: click's message,
     the value given where it does not show it, and where to look (``given``: the command line's words)."""
     msg = " ".join(exc.format_message().split()).rstrip(".")
+    for generic, plain in _PLAIN_TYPE_MESSAGES:       # the type checker's words for a value of the wrong type
+        msg = generic.sub(plain, msg)
     param = getattr(exc, "param", None)
     value = None
     for i, word in enumerate(given):

@@ -30,6 +30,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -165,12 +167,45 @@ def _run_one(name: str, work: str, np: int) -> dict:
     return run_deck(Path(work) / name, np=np, progress=True, label=name)
 
 
+class _BatchError(Exception):
+    """A bad option of the batch: one line on stderr, exit code 2 (`main`)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a usage error as one ``error: ...`` line (its usage block and program name read as a crash
+    beside the project's other commands; found by an acceptance check)."""
+
+    def error(self, message):       # noqa: D401 - argparse's hook
+        raise _BatchError(f"{message}; see 'python -m rotarydryer.dem.calibrate --help'")
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    """The batch (exit code 0; 2 and one ``error: ...`` line on stderr for a bad option or an unreachable cluster).
+    A warning is one ``warning: ...`` line on stderr, each text once."""
+    seen: set = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())
+        if text not in seen:
+            seen.add(text)
+            print(f"warning: {text}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        try:
+            return _main(argv)
+        except _BatchError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+
+
+def _main(argv=None):
+    ap = _Parser(description=__doc__.splitlines()[0])
     ap.add_argument("--work", default="dem_work", help="folder for the decks and dumps")
     ap.add_argument("--data", default=None, help="folder for the reduced CSVs (default: the package data)")
     ap.add_argument("--np", type=int, default=1, help="MPI ranks per run")
-    ap.add_argument("--jobs", type=int, default=1, help="runs at the same time (local worker processes)")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at the same time (local worker processes; 0: one per "
+                    "core)")
     ap.add_argument("--scheduler", default=None, help="run on a Dask scheduler, e.g. tcp://10.0.0.5:8786 (LIGGGHTS and "
                     "the work folder must be there too)")
     ap.add_argument("--cluster", default=None, help="local:N: a Dask LocalCluster of N worker processes here")
@@ -180,29 +215,51 @@ def main(argv=None):
     ap.add_argument("--plots", default=None, help="folder for one comparison plot per run (PNG)")
     ap.add_argument("--polygon", action="store_true", help="the polygonal-flight runs (POLYGON_RUNS) instead")
     a = ap.parse_args(argv)
-    from ..executor import Executor, RunFailure
+    from .._workers import executor_from_options, usable_cpus
+    from ..executor import RunFailure
     from .deck import export_deck
     from .holdup import analyse_run, write_reduced_csv
 
     # the two-section campaign, or the polygonal flights' validation slices (no fit): the same pipeline
     runs_all, deck_of = (POLYGON_RUNS, polygon_deck) if a.polygon else (RUNS, campaign_deck)
-    try:
-        executor = Executor(workers=max(1, min(a.jobs, len(runs_all))), scheduler=a.scheduler, cluster=a.cluster)
-        executor.connect()
-    except (ValueError, ImportError) as exc:
-        ap.error(str(exc).replace("--workers", "--jobs"))
+    names = [r.name for r in runs_all]
+    unknown = [n for n in (a.only or ()) if n not in names]
+    if unknown:         # a misspelt run name ran nothing of it without a word
+        raise _BatchError(f"--only {unknown[0]}: no such run of the {'polygon' if a.polygon else 'calibration'} "
+                          f"campaign; runs: {', '.join(names)}")
+    if a.only is not None and not a.only:
+        raise _BatchError(f"--only: no run named; runs: {', '.join(names)}")
+    runs = [r for r in runs_all if not a.only or r.name in a.only]
+    cpus = usable_cpus()
+    if not 1 <= a.np <= 256:         # as `rotarydryer dem run --np` (more than the cores: a warning, as there)
+        raise _BatchError(f"--np = {a.np} is outside the allowed range [1, 256] (MPI ranks per run; more than the "
+                          f"{cpus} usable CPU cores run as {cpus}, with a warning)")
+    if a.np > cpus:
+        print(f"warning: --np = {a.np} is more than the {cpus} usable CPU cores; using {cpus}", file=sys.stderr)
+        a.np = cpus
+    executor = None
+    if not (a.reduce_only or a.export_only):
+        # the option checks of every many-run command (a bad address refused at once, not after the connection's
+        # wait: "--scheduler nonsense" took 21 s; --jobs -1 or 1000 ran without a word)
+        try:
+            executor, notes = executor_from_options(a.jobs, len(runs), scheduler=a.scheduler, cluster=a.cluster,
+                                                    workers_option="--jobs")
+            for note in notes:
+                print(f"warning: {note}", file=sys.stderr)
+            executor.connect()
+        except (ValueError, ImportError) as exc:
+            raise _BatchError(str(exc)) from None
 
     work = Path(a.work)
     data = Path(a.data) if a.data else Path(__file__).resolve().parents[1] / "data" / "dem"
     if a.polygon and not a.data:
         data = data / "polygon"
-    runs = [r for r in runs_all if not a.only or r.name in a.only]
     for r in runs:
         if not a.reduce_only:
             export_deck(deck_of(r), work / r.name)
     if a.export_only:
         return 0
-    if not a.reduce_only:     # one run per chunk through the executor: a failed run is reported, the others go on
+    if executor is not None:     # one run per chunk through the executor: a failed run is reported, the others go on
         done = executor.map(_run_one, [r.name for r in runs], args=(str(work), a.np), chunks=1)
         for r, res in zip(runs, done):
             if isinstance(res, RunFailure):

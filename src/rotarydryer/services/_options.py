@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+from .._workers import check_cluster, check_scheduler, check_workers, executor_from_options, usable_cpus
+
 __all__ = ["check_option", "check_scheduler", "check_workers", "check_cluster", "executor_from_options", "usable_cpus"]
 
 
@@ -36,112 +38,3 @@ def _plain(x: float) -> str:
     if math.isnan(x):
         return "nan"
     return str(int(x)) if x == int(x) and abs(x) < 1e15 else f"{x:.6g}"
-
-
-def usable_cpus() -> int:
-    """CPU cores this process may run on (its affinity mask where the OS has one), at least 1."""
-    import os
-
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):
-        return max(1, os.cpu_count() or 1)
-
-
-def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--workers") -> tuple[int, list[str]]:
-    """``(local worker processes, warnings)`` of ``--workers`` (0: one per usable core) for a job of
-    ``n_runs`` runs: a ``ValueError`` naming the option below 0 or not an integer; clamped (with a
-    warning naming the option and the bound) to the usable CPU cores (`usable_cpus`) and to
-    ``n_runs``. With a Dask ``scheduler`` the local count is not used (the cluster has its own)."""
-    if isinstance(workers, bool) or not isinstance(workers, int):
-        raise ValueError(f"{option} = {workers!r} is not an integer; allowed: 0 (one per core) to the CPU count")
-    cpus = usable_cpus()
-    if workers < 0:
-        raise ValueError(f"{option} = {workers} is outside the allowed range [0, {cpus}] (0: one per core, "
-                         f"{cpus} usable CPU cores)")
-    notes: list[str] = []
-    if scheduler:
-        return max(1, min(workers or 1, max(1, n_runs))), notes
-    n = workers if workers > 0 else cpus
-    over_cpus = n > cpus
-    n = min(n, cpus)
-    over_runs = n > max(1, n_runs) and workers > 0
-    n = min(n, max(1, n_runs))
-    # one warning with the number used (more workers than both the cores and the runs gave two, "using 2" and
-    # "using 1"; found by review)
-    if over_cpus and over_runs:
-        notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores and the {n_runs} runs; using {n}")
-    elif over_cpus:
-        notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores; using {n} "
-                     "(give --scheduler for a Dask cluster)")
-    elif over_runs:
-        notes.append(f"{option} = {workers} is more than the {n_runs} runs; using {n}")
-    return n, notes
-
-
-def check_scheduler(address, option: str = "--scheduler"):
-    """A Dask scheduler address the commands support, ``tcp://HOST:PORT`` or ``tls://HOST:PORT``
-    (``HOST:PORT`` means tcp), returned as given; ``None`` passes. Else a one-line ``ValueError``
-    naming the option and the value."""
-    if address is None:
-        return None
-    a = str(address).strip()
-    form = "expected tcp://HOST:PORT or tls://HOST:PORT (PORT 1-65535), e.g. tcp://10.0.0.5:8786"
-    scheme, sep, rest = a.partition("://")
-    if not sep:
-        scheme, rest = "tcp", a
-    if scheme.lower() == "inproc":     # a scheduler in this process (LocalCluster(processes=False))
-        if not rest.strip("/"):
-            raise ValueError(f"{option} = {a!r} is not a scheduler address: inproc:// needs the address "
-                             f"of a scheduler in this process; {form}")
-        return a
-    if scheme.lower() not in ("tcp", "tls"):
-        raise ValueError(f"{option} = {a!r}: the protocol {scheme + '://'!r} is not supported; {form}")
-    host, colon, port = rest.rstrip("/").rpartition(":")
-    host = host.strip("[]")
-    if not colon or not host or any(c.isspace() for c in host) or "/" in host:
-        raise ValueError(f"{option} = {a!r} is not a scheduler address; {form}")
-    if not port.isdigit() or not 1 <= int(port) <= 65535:
-        raise ValueError(f"{option} = {a!r}: port {port!r} is outside the allowed range 1-65535; {form}")
-    return a
-
-
-def check_cluster(cluster, option: str = "--cluster") -> tuple[int | None, list[str]]:
-    """``(workers, warnings)`` of ``--cluster local:N`` (a Dask LocalCluster of N worker processes on this
-    machine): a one-line ``ValueError`` naming the option, the value and the form for anything else;
-    N above the usable CPU cores is clamped with a warning. ``None`` passes."""
-    if cluster is None:
-        return None, []
-    from ..executor import parse_cluster
-
-    n = parse_cluster(cluster, option)
-    cpus = usable_cpus()
-    if n > cpus:
-        return cpus, [f"{option} = local:{n} is more than the {cpus} usable CPU cores; using local:{cpus} "
-                      "(give --scheduler for a cluster of several machines)"]
-    return n, []
-
-
-def executor_from_options(workers, n_runs: int, *, scheduler=None, cluster=None):
-    """``(Executor, warnings)`` of the options ``--workers``, ``--scheduler``, ``--cluster`` that every
-    many-run command shares (`rotarydryer.executor.Executor`): ``--workers N`` local worker
-    processes (0: one per core; clamped to the cores and to ``n_runs``), ``--scheduler ADDRESS`` a
-    running Dask scheduler, ``--cluster local:N`` a Dask LocalCluster made here. Bad values and
-    ``--scheduler`` with ``--cluster`` are one-line ``ValueError`` naming the option. Nothing is
-    started: `Executor.connect` reaches the scheduler or starts the cluster."""
-    from ..executor import Executor
-
-    scheduler = check_scheduler(scheduler)
-    if scheduler and cluster is not None:
-        raise ValueError(f"--scheduler = {scheduler!r} and --cluster = {cluster!r}: give one, not both "
-                         "(--scheduler joins a running Dask cluster, --cluster local:N makes one here)")
-    n_cluster, notes = check_cluster(cluster)
-    remote = scheduler or cluster
-    n, more = check_workers(workers, n_runs, scheduler=remote)
-    notes += more
-    if remote:
-        if workers != 1:
-            notes.append(f"--workers = {workers} is not used with {'--scheduler' if scheduler else '--cluster'} "
-                         "(the cluster's workers run the cases)")
-        return Executor(scheduler=scheduler, cluster=None if scheduler else f"local:{n_cluster}"), notes
-    return Executor(workers=max(1, n)), notes
