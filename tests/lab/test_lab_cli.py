@@ -23,9 +23,15 @@ def test_rig_command(tmp_path):
     res = runner.invoke(app, ["lab", "rig", str(p), "--rpm", "2", "--start-angle", "93.5", "--bulk-density", "1474",
                               "--repose-angle", "39.6", "--repose-sd", "1.7", "--json", "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.output
-    out = json.loads(res.output)
+    out = json.loads(res.stdout)
     lo, hi = out["repose_angle_ci_deg"]
     assert lo <= 39.6 <= hi
+    # the fitted parameters with their units in their names; the names without units deprecated, with a warning
+    assert out["fit"] == {"repose_angle_deg": out["repose_angle_deg"], "mass_offset_kg": out["params"]["mass_offset"],
+                          "start_time_s": out["params"]["start_time"], "bulk_density_kg_m3": 1474.0}
+    assert set(out["fit_stderr"]) == {"repose_angle_deg", "mass_offset_kg", "start_time_s"}
+    assert out["fit_stderr"]["repose_angle_deg"] == out["stderr"]["repose_angle"] > 0
+    assert "'params' and 'stderr' are deprecated" in res.stderr and "use 'fit' and 'fit_stderr'" in res.stderr
     assert out["unloading_start_s"] == pytest.approx(2.0, abs=0.02)
     assert out["fraction_inside_band_mass"] > 0.95
     assert (tmp_path / "o" / "rig.png").stat().st_size > 10_000
@@ -94,7 +100,11 @@ def test_design_load_command(tmp_path):
     p.write_text("\n".join(lines) + "\n")
     res = runner.invoke(app, ["lab", "design-load", str(p), "--group-column", "condition", "--json"])
     assert res.exit_code == 0, res.output
-    fits = json.loads(res.output)["fits"]
+    data = json.loads(res.output)
+    fits = data["fits"]
+    # the fits are in the columns' units, named from the columns' names
+    assert data["units"]["design_load"] == "kg" and data["units"]["plateau"] == "cm2"
+    assert data["units"]["slope"] == "cm2 per kg"
     assert set(fits) == {"a", "b"}
     for f in fits.values():
         assert abs(f["design_load"] - 31.8) <= 3.7 * 2

@@ -93,7 +93,7 @@ def rig_view(text: str | None = None, name: str = "example rig run", *, flight="
                         cutoff, phase, fit_bulk_density)
     out = {"samples": int(run.time.size), "sample_rate_hz": run.sample_rate, "unloading_start_s": a.start_time,
            "repose_angle_deg": f.repose_angle, "repose_angle_ci_deg": tuple(f.repose_angle_ci),
-           "confidence": f.confidence, "bulk_density": f.params["bulk_density"],
+           "confidence": f.confidence, "bulk_density_kg_m3": f.params["bulk_density"],
            "residual_sd_kg": f.residual_sd, "residual_ar1": f.ar1,
            "band_repose_deg": (a.band.repose_low, a.band.repose_high),
            "fraction_inside_band_mass": a.inside_mass, "fraction_inside_band_rate": a.inside_rate}

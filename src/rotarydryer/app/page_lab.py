@@ -102,7 +102,7 @@ def _rig_tab():
         st.caption(plain(f"{name}: {r['samples']} samples at {r['sample_rate_hz']:g} Hz; "
                          f"{100 * r['confidence']:g} % CI of the repose angle {lo:.2f} - {hi:.2f} deg; band "
                          f"{r['band_repose_deg'][0]:.1f} - {r['band_repose_deg'][1]:.1f} deg; bulk density "
-                         f"{r['bulk_density']:.0f} kg/m3; residual SD {r['residual_sd_kg']:.4f} kg"))
+                         f"{r['bulk_density_kg_m3']:.0f} kg/m3; residual SD {r['residual_sd_kg']:.4f} kg"))
         st.image(r["plot"], caption="Filtered accumulated mass and discharge rate with the model band")
 
 

@@ -81,6 +81,10 @@ def rig(
         "repose_angle_deg": f.repose_angle,
         "repose_angle_ci_deg": list(f.repose_angle_ci),
         "confidence": f.confidence,
+        # the fitted parameters with the unit in each name (as every other output) and their standard errors
+        "fit": _with_units(f.params),
+        "fit_stderr": _with_units(f.stderr),
+        # deprecated (December 2026): the same numbers without units in their names; a warning names the new keys
         "params": f.params,
         "stderr": f.stderr,
         "residual_sd_kg": f.residual_sd,
@@ -93,6 +97,8 @@ def rig(
         res["outputs"] = _write_rig_outputs(fr, a, run_csv, out)
     if as_json:
         typer.echo(json_text(res))
+        typer.echo("warning: the JSON keys 'params' and 'stderr' are deprecated (their names carry no unit) and will "
+                   "be removed: use 'fit' and 'fit_stderr' (" + ", ".join(_with_units(f.params)) + ")", err=True)
         return
     lo, hi = f.repose_angle_ci
     typer.echo(f"rig run {run_csv}: {run.time.size} samples at {run.sample_rate:g} Hz, flight {flight}, {rpm:g} rpm")
@@ -221,7 +227,11 @@ def design_load(
         for g, f in fits.items()
     }
     if as_json:
-        typer.echo(json_text({"confidence": confidence, "fits": res}))
+        # the fits are in the units of the table's columns: named here, from the columns' names
+        lu, au = _column_unit(loading_column), _column_unit(area_column)
+        units = {"design_load": lu, "ci": lu, "stderr": f"{lu} (design_load)", "plateau": au, "plateau_ci": au,
+                 "residual_sd": au, "slope": f"{au} per {lu}"}
+        typer.echo(json_text({"confidence": confidence, "units": units, "fits": res}))
         return
     typer.echo(f"design load = break point of {area_column} vs {loading_column} (right slope 0), "
                f"{100 * confidence:g} % intervals")
@@ -232,6 +242,25 @@ def design_load(
                 typer.echo(f"      {m:16s} {lo:8.2f} - {hi:8.2f}  (+/- {(hi - lo) / 2:.2f})")
             else:       # a method that does not apply to this fit (its warning says why): no "nan" in the table
                 typer.echo(f"      {m:16s} {'not available':>19s}")
+
+
+def _column_unit(column: str) -> str:
+    """The unit a CSV column's name ends with (``loading_kg``: kg, ``FUF_area_cm2``: cm2), else the column's name
+    (the fits are in its units, whatever they are)."""
+    head, sep, tail = column.rpartition("_")
+    if sep and head and tail and tail[0].isalpha() and tail.isalnum() and len(tail) <= 6:
+        return tail
+    return f"units of column {column!r}"
+
+
+#: a rig fit's parameter names (`rotarydryer.lab.flight_rig.RigFit`) with their units, as the JSON gives them
+_RIG_UNITS = {"repose_angle": "repose_angle_deg", "mass_offset": "mass_offset_kg", "start_time": "start_time_s",
+              "bulk_density": "bulk_density_kg_m3"}
+
+
+def _with_units(values: dict) -> dict:
+    """A rig fit's ``params`` or ``stderr`` with the unit in each name (`_RIG_UNITS`)."""
+    return {_RIG_UNITS.get(k, k): v for k, v in values.items()}
 
 
 def _read_design_table(table: Path, loading_column: str, area_column: str, group_column) -> dict:
