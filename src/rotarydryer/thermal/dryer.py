@@ -752,7 +752,7 @@ class ThermalDryer:
             return [], False
         if not self.settings.moisture_coupling:
             return [(m[..., law.P], law.assumed_moisture) for law in laws], False
-        key = ("passive",) + tuple(id(law) for law in laws)
+        key = ("passive", "all") if laws is self.laws else ("passive",) + tuple(id(law) for law in laws)
         plan = self._plans.get(key)
         if plan is None:
             bounds = np.cumsum([0] + [law.P.size for law in laws])
@@ -1387,7 +1387,10 @@ class ThermalDryer:
             return np.ascontiguousarray(x.reshape(rows, -1))
 
         def per_row(x):
-            return np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (rows,)))
+            a = np.asarray(x, dtype=float)
+            if a.ndim == 0:     # one value for every row (a single state's inlet gas): no broadcast view to copy
+                return np.full(rows, a)
+            return np.ascontiguousarray(np.broadcast_to(a, (rows,)))
 
         dz = np.empty((rows, self.n))
         rec = np.empty((12, ng))

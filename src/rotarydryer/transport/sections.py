@@ -314,21 +314,29 @@ class FlightedSectionLaw:
         fn = _step_kernel.compiled()
         if fn is None:
             return None
-        from .forward_step import SHERRITT_EXPONENTS, forward_step_table
-
         s = self.spec
         gas = s.gas
-        table = forward_step_table(gas, float(self.slope))
-        shape = np.shape(tp)
-        flat = [np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), shape)).reshape(-1)
-                for v in (tp, ta, h, flight_mass)]
         far = s.backmix == 0.0
+        # the kernel's fixed arguments (the gas's forward-step table, the slope, the cell length): packed once per
+        # gas and slope (a law's residual evaluations repeat them; 10 % of Song's steady state was this glue)
+        key = (gas, self.slope, self.dl, s.backmix)
+        fixed = self.__dict__.get("_step_fixed")
+        if fixed is None or fixed[0][0] is not gas or fixed[0][1:] != key[1:]:
+            from .forward_step import SHERRITT_EXPONENTS, forward_step_table
+
+            table = forward_step_table(gas, float(self.slope))
+            fixed = self._step_fixed = (key, (
+                float(self.dl), float(s.backmix), bool(far), math.cos(math.radians(float(self.slope))),
+                float(table._tan), -1.0 if gas.velocity_ratio is None else float(gas.velocity_ratio),
+                float(gas.curtain_coefficient), *(float(e) for e in SHERRITT_EXPONENTS), float(gas.gas_velocity),
+                float(gas.step_factor), table.h, table.u, table.excess))
+        shape = np.shape(tp)
+        flat = [v.reshape(-1) if type(v) is np.ndarray and v.dtype == float and v.shape == shape and v.flags.c_contiguous
+                else np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), shape)).reshape(-1)
+                for v in (tp, ta, h, flight_mass)]
         out = np.empty((len(_step_kernel.ROWS), flat[0].size))
         try:
-            ok = fn(*flat, float(self.dl), float(s.backmix), bool(far), math.cos(math.radians(float(self.slope))),
-                    float(table._tan), -1.0 if gas.velocity_ratio is None else float(gas.velocity_ratio),
-                    float(gas.curtain_coefficient), *(float(e) for e in SHERRITT_EXPONENTS), float(gas.gas_velocity),
-                    float(gas.step_factor), table.h, table.u, table.excess, out)
+            ok = fn(*flat, *fixed[1], out)
         except Exception as exc:    # a numba that cannot compile here: the NumPy composition instead
             _jit.disable(f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
             return None
@@ -451,7 +459,8 @@ class FlightedSectionLaw:
         (Lee (2008) Eq. 3.9) or the kilning velocity over the cell length."""
         s = self.spec
         if s.kilning == "excess" and s.kiln_law == "cascade":
-            return self.cascade_kiln_rate(tp, ta, h) * np.ones(shape)
+            rate = self.cascade_kiln_rate(tp, ta, h)
+            return rate if rate.shape == shape else rate * np.ones(shape)      # x 1: the same numbers
         return np.full(shape, 1.0 / s.kiln_time) if s.kilning == "excess" else np.full(shape, s.kiln_velocity / self.dl)
 
     @property
