@@ -209,3 +209,18 @@ def test_blocks_are_found():
     assert "README.md" in pages and "docs/tutorial.md" in pages
     assert sum(b.lang == "python" for b in ALL_BLOCKS) >= 10
     assert sum(b.lang == "bash" for b in ALL_BLOCKS) >= 10
+
+
+def test_shell_blocks_quote_their_comparisons():
+    """A condition such as ``--such-that product_moisture_kg_kg<=0.12`` written without quotes is a redirection for
+    the shell (``<`` reads a file "=0.12"), which these tests, splitting the line themselves, did not see (found by an
+    acceptance check on docs/guide/targets.md)."""
+    bad = []
+    for block in ALL_BLOCKS:
+        if block.lang not in ("bash", "sh", "console", "shell"):
+            continue
+        for k, line in enumerate(block.code.splitlines(), start=1):
+            bare = re.sub(r"\"[^\"]*\"|'[^']*'", "", line.split(" #")[0])
+            if re.search(r"[<>]=|\w<\w", bare) and not line.lstrip().startswith("#"):
+                bad.append(f"{block.id} line {k}: {line.strip()}")
+    assert not bad, "unquoted comparisons in shell blocks:\n" + "\n".join(bad)

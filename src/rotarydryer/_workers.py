@@ -5,6 +5,7 @@ only; `rotarydryer.executor` is imported when an executor is made). The command 
 
 from __future__ import annotations
 
+import numbers
 import os
 
 __all__ = ["check_scheduler", "check_workers", "check_cluster", "executor_from_options", "usable_cpus"]
@@ -28,8 +29,9 @@ def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--work
     # [0, cores] (-1 was "outside [0, 2]" while 1000 ran on 2; found by an acceptance check)
     allowed = (f"the allowed range [0, inf) (0: one per core; more than the {cpus} usable CPU cores run as {cpus}, "
                "with a warning)")
-    if isinstance(workers, bool) or not isinstance(workers, int):
+    if isinstance(workers, bool) or not isinstance(workers, numbers.Integral):
         raise ValueError(f"{option} = {workers!r} is not a whole number in {allowed}")
+    workers = int(workers)      # any integer type (NumPy's from a script's array)
     if workers < 0:
         raise ValueError(f"{option} = {workers} is outside {allowed}")
     notes: list[str] = []
@@ -53,30 +55,10 @@ def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--work
 
 
 def check_scheduler(address, option: str = "--scheduler"):
-    """A Dask scheduler address the commands support, ``tcp://HOST:PORT`` or ``tls://HOST:PORT``
-    (``HOST:PORT`` means tcp), returned as given; ``None`` passes. Else a one-line ``ValueError``
-    naming the option and the value."""
-    if address is None:
-        return None
-    a = str(address).strip()
-    form = "expected tcp://HOST:PORT or tls://HOST:PORT (PORT 1-65535), e.g. tcp://10.0.0.5:8786"
-    scheme, sep, rest = a.partition("://")
-    if not sep:
-        scheme, rest = "tcp", a
-    if scheme.lower() == "inproc":     # a scheduler in this process (LocalCluster(processes=False))
-        if not rest.strip("/"):
-            raise ValueError(f"{option} = {a!r} is not a scheduler address: inproc:// needs the address "
-                             f"of a scheduler in this process; {form}")
-        return a
-    if scheme.lower() not in ("tcp", "tls"):
-        raise ValueError(f"{option} = {a!r}: the protocol {scheme + '://'!r} is not supported; {form}")
-    host, colon, port = rest.rstrip("/").rpartition(":")
-    host = host.strip("[]")
-    if not colon or not host or any(c.isspace() for c in host) or "/" in host:
-        raise ValueError(f"{option} = {a!r} is not a scheduler address; {form}")
-    if not port.isdigit() or not 1 <= int(port) <= 65535:
-        raise ValueError(f"{option} = {a!r}: port {port!r} is outside the allowed range 1-65535; {form}")
-    return a
+    """`rotarydryer.executor.check_scheduler` (imported when called: the executor is not needed to start a command)."""
+    from .executor import check_scheduler as check
+
+    return check(address, option)
 
 
 def check_cluster(cluster, option: str = "--cluster") -> tuple[int | None, list[str]]:

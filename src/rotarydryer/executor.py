@@ -47,6 +47,7 @@ import concurrent.futures
 import contextlib
 import gc
 import math
+import numbers
 import os
 import pickle
 import signal
@@ -63,7 +64,7 @@ from ._startup import raise_gc_threshold
 from ._threads import limit_worker_threads
 
 __all__ = ["BACKENDS", "TARGET_CHUNKS", "CONNECT_TIMEOUT_S", "START_METHOD_ENV", "MAX_LOCAL_WORKERS", "Executor",
-           "RunFailure", "one_line", "parse_cluster", "split", "shutdown_all", "worker_info"]
+           "RunFailure", "check_scheduler", "one_line", "parse_cluster", "split", "shutdown_all", "worker_info"]
 
 #: backends of `Executor`
 BACKENDS = ("serial", "local", "dask")
@@ -231,6 +232,45 @@ def _shown(out):
     for text, category, filename, lineno in out.warnings:
         warnings.warn_explicit(text, category, filename, lineno)
     return out.results
+
+
+def check_scheduler(address, option: str = "--scheduler") -> Optional[str]:
+    """A Dask scheduler address the commands support, ``tcp://HOST:PORT`` or ``tls://HOST:PORT``
+    (``HOST:PORT`` means tcp), returned as given; ``None`` passes. Else a one-line ``ValueError``
+    naming the option and the value."""
+    if address is None:
+        return None
+    a = str(address).strip()
+    form = "expected tcp://HOST:PORT or tls://HOST:PORT (PORT 1-65535), e.g. tcp://10.0.0.5:8786"
+    scheme, sep, rest = a.partition("://")
+    if not sep:
+        scheme, rest = "tcp", a
+    if scheme.lower() == "inproc":     # a scheduler in this process (LocalCluster(processes=False))
+        if not rest.strip("/"):
+            raise ValueError(f"{option} = {a!r} is not a scheduler address: inproc:// needs the address "
+                             f"of a scheduler in this process; {form}")
+        return a
+    if scheme.lower() not in ("tcp", "tls"):
+        raise ValueError(f"{option} = {a!r}: the protocol {scheme + '://'!r} is not supported; {form}")
+    host, colon, port = rest.rstrip("/").rpartition(":")
+    host = host.strip("[]")
+    if not colon or not host or any(c.isspace() for c in host) or "/" in host:
+        raise ValueError(f"{option} = {a!r} is not a scheduler address; {form}")
+    if not port.isdigit() or not 1 <= int(port) <= 65535:
+        raise ValueError(f"{option} = {a!r}: port {port!r} is outside the allowed range 1-65535; {form}")
+    return a
+
+
+def _check_sends(fn) -> None:
+    """Refuse up front a chunk function that cannot reach worker processes (it is pickled by reference): a
+    lambda or a function defined inside another made every item a RunFailure "Can't pickle local object" (found by
+    an acceptance check)."""
+    try:
+        pickle.dumps(fn, protocol=pickle.HIGHEST_PROTOCOL)
+    except Exception as exc:        # noqa: BLE001 - pickle raises several kinds
+        name = getattr(fn, "__qualname__", repr(fn))
+        raise ValueError(f"fn = {name} cannot be sent to worker processes ({one_line(exc)}): define it at the top "
+                         "level of a module (or run serially)") from None
 
 
 def _run_chunk(fn, items, args, warm, origin: int):
@@ -507,19 +547,26 @@ class Executor:
         if scheduler and cluster:
             raise ValueError("give --scheduler or --cluster, not both (--cluster local:N makes a cluster, "
                              "--scheduler joins a running one)")
-        if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_LOCAL_WORKERS:
+        # a whole number of any integer type (NumPy's too); a fraction or a text is not one (np.int64(2), 2.0 and
+        # '2' were all "outside the allowed range [1, 256]"; found by an acceptance check)
+        if isinstance(workers, bool) or not isinstance(workers, numbers.Integral):
+            raise ValueError(f"--workers = {workers!r} is not a whole number (allowed range [1, {MAX_LOCAL_WORKERS}])")
+        workers = int(workers)
+        if not 1 <= workers <= MAX_LOCAL_WORKERS:
             raise ValueError(f"--workers = {workers!r} is outside the allowed range [1, {MAX_LOCAL_WORKERS}]")
-        self.cluster_workers = parse_cluster(cluster) if cluster else None
+        if scheduler is not None:       # an address of the supported form, refused here (not by Dask after a wait)
+            scheduler = check_scheduler(scheduler)
+        self.cluster_workers: Optional[int] = parse_cluster(cluster) if cluster else None
         if backend is None:
             backend = "dask" if (scheduler or cluster) else ("local" if workers > 1 else "serial")
         if backend not in BACKENDS:
             raise ValueError(f"backend = {backend!r} is not one of {', '.join(BACKENDS)}")
         if backend == "dask" and not (scheduler or cluster):
             raise ValueError("backend 'dask' needs --scheduler ADDRESS or --cluster local:N")
-        self.backend = backend
-        self.workers = int(workers)
-        self.scheduler = scheduler
-        self.cluster = cluster
+        self.backend: str = backend
+        self.workers: int = int(workers)
+        self.scheduler: Optional[str] = scheduler
+        self.cluster: Optional[str] = cluster
 
     def __repr__(self):
         return f"<Executor {self.describe()}>"
@@ -577,16 +624,23 @@ class Executor:
         ``len(items)``) is filled as chunks finish. An item whose run raised is a `RunFailure`."""
         items = list(items)
         n = len(items)
+        if self.backend != "serial" and n:
+            _check_sends(fn)
         if results is None:
             results = [None] * n
         elif len(results) != n:
             raise ValueError(f"results has {len(results)} places for {n} items")
-        if isinstance(chunks, int):
-            slices = [slice(i, min(n, i + max(1, chunks))) for i in range(0, n, max(1, chunks))]
+        if isinstance(chunks, numbers.Integral) and not isinstance(chunks, bool):
+            size = max(1, int(chunks))
+            slices = [slice(i, min(n, i + size)) for i in range(0, n, size)]
         elif chunks is None:
             slices = split(n)
         else:
-            slices = list(chunks)
+            given = list(chunks) if isinstance(chunks, (list, tuple)) else None
+            if given is None or not all(isinstance(sl, slice) for sl in given):
+                raise ValueError(f"chunks = {chunks!r}: expected a chunk size (a whole number), a list of slices of "
+                                 "the items, or None (the default split)")
+            slices = given
         tick = progress or (lambda k: None)
         warm = tuple(warm or ())
         origin = os.getpid()
@@ -610,6 +664,8 @@ class Executor:
             progress: Optional[Callable[[int], Any]] = None, results: Optional[list] = None) -> list:
         """``fn(item, *args)`` for each item (a top-level function), in chunks as `map_chunks`; an
         item that raises is a `RunFailure` in the results."""
+        if self.backend != "serial":
+            _check_sends(fn)
         return self.map_chunks(_each, items, chunks=chunks, args=(fn, *args), warm=warm, progress=progress,
                                results=results)
 

@@ -27,7 +27,8 @@ import numpy as np
 from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
 from ._validation import check_choice, check_range
-from .cases import load_case, load_case_text, measured_rtd, measured_rtd_moments
+from ._workers import check_workers
+from .cases import MAX_TIME_STEPS, load_case, load_case_text, measured_rtd, measured_rtd_moments
 from .cases.build import (
     FILL_LIMIT,
     build_model,
@@ -431,9 +432,20 @@ class Simulation:
         if thermal and not self.thermal_enabled:
             raise ValueError(f"thermal = True: case {self.case_name!r} has no heat and mass transfer (thermal.enabled = "
                              "false or no [gas])")
+        t_end = tr.t_end if t_end is None else float(check_range("t_end", t_end, 0.0, unit="s"))
+        dt = tr.dt if dt is None else float(check_range("dt", dt, 0.0, unit="s"))
+        # the case loader's limits on its tracer's time grid, for a grid given here (t_end = 1e7 s at dt = 1 s ran
+        # on past a minute, 1e9 s at 1e-3 s asked for 7 TiB; found by an acceptance check)
+        if not t_end > dt:
+            raise ValueError(f"t_end = {t_end!r} s must be larger than dt = {dt!r} s")
+        if t_end / dt > MAX_TIME_STEPS:
+            raise ValueError(f"t_end = {t_end!r} s and dt = {dt!r} s give {t_end / dt:.6g} time steps; the limit is "
+                             f"{MAX_TIME_STEPS} (raise dt or lower t_end)")
+        if getattr(tr, "duration", None) is not None and not tr.duration < t_end:
+            raise ValueError(f"t_end = {t_end!r} s must be longer than the case's tracer pulse, tracer.duration = "
+                             f"{tr.duration!r} s")
         state = self.steady_state().state if thermal else self.transport_steady_state()
-        return state.rtd(self.transport_model().tracer_input, t_end=tr.t_end if t_end is None else t_end,
-                         dt=tr.dt if dt is None else dt, method=method)
+        return state.rtd(self.transport_model().tracer_input, t_end=t_end, dt=dt, method=method)
 
     def results(self, *, rtd: bool = True, method: str = "auto", fit_rtd: bool = False,
                 thermal: bool | None = None):
@@ -521,7 +533,17 @@ class Simulation:
         ``progress(n)`` after each chunk of ``n`` points."""
         name = self.reloadable_name("a sweep")
         points = grid_points(grid)
-        ex = executor or Executor(workers=max(1, int(workers)), scheduler=scheduler, cluster=cluster)
+        outputs = _output_names(outputs)
+        if executor is not None and not isinstance(executor, Executor):
+            raise ValueError(f"executor = {executor!r} is not a rotarydryer.executor.Executor")
+        if executor is None:
+            # the CLI's checks of --workers (a negative, fractional or text count ran as one worker without a word;
+            # found by an acceptance check); its notes (more than the cores or the points: capped) as warnings
+            n, notes = check_workers(workers, len(points), scheduler=scheduler or cluster, option="workers")
+            for note in notes:
+                warnings.warn(note, stacklevel=2)
+            executor = Executor(workers=max(1, n), scheduler=scheduler, cluster=cluster)
+        ex = executor
         chunks = split(len(points), min_size=SWEEP_MIN_CHUNK, max_size=SWEEP_MAX_CHUNK)
         warm = ((_sweep_warm, (name, {**self.overrides, **points[0]})),) if points else ()
         rows = ex.map_chunks(_sweep_chunk, points, chunks=chunks, args=(name, self.overrides, outputs),
@@ -546,6 +568,22 @@ def _sweep_warm(case_name, overrides: dict) -> None:
         pass
 
 
+def _output_names(outputs):
+    """``outputs`` of a summary or a sweep as a list of names (None: all), or a one-line ValueError."""
+    if outputs is None:
+        return None
+    if isinstance(outputs, (str, bytes)):
+        raise ValueError(f"outputs = {outputs!r}: give a list of output names, e.g. [{outputs!r}]")
+    try:
+        names = list(outputs)
+    except TypeError:
+        raise ValueError(f"outputs = {outputs!r}: give a list of output names") from None
+    wrong = [o for o in names if not isinstance(o, str)]
+    if wrong:
+        raise ValueError(f"outputs: {wrong[0]!r} is not an output name (a text such as 'product_moisture_kg_kg')")
+    return names
+
+
 def _sweep_chunk(points, case_name, base: dict, outputs):
     """Rows of a chunk of `Simulation.sweep`, in order, each point warm-started from the last converged
     one before it in the chunk (the first cold). Top-level, so that it pickles for worker processes."""
@@ -558,10 +596,10 @@ def _sweep_chunk(points, case_name, base: dict, outputs):
             continue
         warm = res.warm_data() or warm
         row = dict(ov)
-        row.update(res.summary(outputs))
-        absent = [k for k in (outputs or ()) if k not in row]
-        if absent:      # a name this run does not give (a typo): one line, not the KeyError's "'name'"
-            rows.append({**ov, "error": f"outputs {absent}: not among this run's outputs ({', '.join(sorted(row))})"})
+        try:        # a name this run does not give (a typo): one line, not the KeyError's "'name'"
+            row.update(res.summary(None if outputs is None else [k for k in outputs if k not in ov]))
+        except ValueError as exc:
+            rows.append({**ov, "error": " ".join(str(exc).split())})
             continue
         rows.append(row if outputs is None else {**ov, **{k: row[k] for k in outputs}})
     return rows
@@ -718,7 +756,7 @@ class SteadyResult:
     TRACER_OUTPUTS = ("tracer_mean_s", "tracer_std_s", "tracer_skewness", "recovery", "rtd_mean_residence_time_s",
                       "rtd_std_s", "rtd_skewness")
 
-    def summary(self, outputs=None) -> dict:
+    def summary(self, outputs=None, *, strict: bool = True) -> dict:
         """Outputs named with their unit: holdups, residence time, tracer moments and, with heat
         and mass transfer, [`ThermalSteadyState.summary`][rotarydryer.thermal.states.ThermalSteadyState.summary] (the fuel rate where the case has a
         burner). The transport-only model's total holdup, where wanted, is in [`to_dict`][rotarydryer.simulation.SteadyResult.to_dict]
@@ -726,9 +764,9 @@ class SteadyResult:
         the groups that cost a computation (tracer moments, fuel rate, kiln bed, fill fraction, and of
         the heat-and-mass state the heat duties and efficiency, the shell temperatures, the dew point
         and the product at a downstream sensor) are left out unless named; the values of the others
-        are the same."""
-        if isinstance(outputs, (str, bytes)):
-            raise ValueError(f"outputs = {outputs!r}: give a list of output names, e.g. [{outputs!r}]")
+        are the same. A named output this run does not give is a ``ValueError`` naming it and the outputs there
+        are (``strict=False``: left out, for a study that records why it is missing)."""
+        outputs = _output_names(outputs)
         want = None if outputs is None else set(outputs)
         if self.thermal is not None:
             fuel = has_burner(self.simulation.case) and (want is None or "fuel_rate_kg_s" in want)
@@ -751,6 +789,9 @@ class SteadyResult:
             out.update(tracer_mean_s=m["mean"], tracer_std_s=m["std"], tracer_skewness=m["skewness"],
                        recovery=impulse["recovery"], rtd_mean_residence_time_s=impulse["mean"],
                        rtd_std_s=impulse["std"], rtd_skewness=impulse["skewness"])
+        absent = [k for k in outputs or () if k not in out]
+        if absent and strict:      # a misspelt name returned the whole summary without a word (found by an acceptance check)
+            raise ValueError(f"outputs {absent}: not among this run's outputs ({', '.join(sorted(out))})")
         return out
 
     def merged(self, transport_outputs: dict) -> dict:

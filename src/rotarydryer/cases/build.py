@@ -324,6 +324,11 @@ def check_inputs(case) -> None:
     check_key("operating.feed_rate", F)
     check_speed(_speed_key(case), rpm, R, radius_key="drum.radius")
     mat = material_of(case)
+    if x_in > mat.wet_range()[1]:
+        # a feed wetter than the material's laws hold for is named as such (the MMG case's feed at 0.99 was refused
+        # as a negative bulk density, "material.bulk_density (at the feed moisture) = -1020 kg/m^3"; found by an
+        # acceptance check)
+        mat.check_moisture("operating.feed_moisture" + _test_text(case, "operating.feed_moisture"), x_in)
     lo, hi = BULK_DENSITY_RANGE
     check_range("material.bulk_density (at the feed moisture)", float(np.asarray(mat.bulk_density(x_in))), lo, hi,
                 low_inclusive=True, high_inclusive=True, unit="kg/m^3")
@@ -619,10 +624,51 @@ def unused_keys(case, overrides=()) -> list[str]:
         out.append(f"{', '.join('transport.' + k for k in curtain)} {'has' if len(curtain) == 1 else 'have'} no effect: "
                    f"{'it sets' if len(curtain) == 1 else 'they set'} the trajectory forward step's curtains (transport.forward_step = 'trajectory'; this "
                    f"case's is {t.forward_step!r})")
+    out += _shadowed_by_sections(case, overrides)
     if changed(case.shell, "loss_factor") and case.thermal.mode != "ajayi2011":
         out.append(f"shell.loss_factor = {case.shell.loss_factor:g} has no effect: it is theta_loss of Ajayi's shell "
                    f"loss, thermal.mode = 'ajayi2011' (this case's is {case.thermal.mode!r}: the shell network of "
                    "shell.insulation_thickness and the films)")
+    return out
+
+
+def _shadowed_by_sections(case, overrides) -> list[str]:
+    """A message for each case-wide default given in ``overrides`` (this run's ``--set``) that no flighted section
+    takes, each setting its own: ``drum.n_flights``, ``transport.n_cells``, ``flight.*`` (a --set drum.n_flights=2 or
+    flight.s1=5 on the MMG case changed nothing without a word; found by an acceptance check)."""
+    flighted = [s for s in getattr(case, "sections", None) or () if s.kind == "flighted"]
+    if not flighted or not overrides:
+        return []
+    polygon = ("segments", "vertices")
+
+    def own_shape(s):
+        return any(getattr(s, k, None) is not None for k in polygon)
+
+    def takes(key, s) -> bool:      # does section s take the case-wide default ``key``?
+        block, _, fld = key.partition(".")
+        if key == "drum.n_flights":
+            return s.n_flights is None
+        if key == "transport.n_cells":
+            return s.n_cells is None
+        if block == "flight" and fld in polygon:
+            return not own_shape(s) and all(getattr(s, k, None) is None for k in ("s1", "s2", "alpha1", "alpha2"))
+        if block == "flight" and fld in ("s1", "s2", "alpha1", "alpha2"):
+            return not own_shape(s) and getattr(s, fld, None) is None
+        return True
+
+    out = []
+    for key in overrides:
+        if key not in ("drum.n_flights", "transport.n_cells") and not key.startswith("flight."):
+            continue
+        if key == "transport.n_cells" and getattr(case, "parameter_sets", None):
+            continue            # it also selects a [[parameter_sets]] row
+        if not any(takes(key, s) for s in flighted):
+            names = ", ".join(s.name for s in flighted)
+            fld = key.partition(".")[2]
+            own = "flight" if key.startswith("flight.") else fld
+            out.append(f"{key} has no effect: it is the default of the flighted sections, and each of this case's "
+                       f"({names}) sets its own {own}; change them in its [[sections]] (a copy of the case to edit: "
+                       "rotarydryer new mycase.toml --from CASE)")
     return out
 
 

@@ -199,6 +199,10 @@ RECYCLE_HINT_HUMIDITY = 0.9
 BALANCE_POLISH = 1e-10
 
 
+#: the shell's inner radius allowed, as fractions of the drum radius (`ThermalDryer._check_shell`)
+SHELL_RADIUS_RANGE = (0.8, 1.25)
+
+
 def _near_ambient(q_edge, Tg, ambient):
     """Shell loss ``q_edge`` (W per stage, evaluated at max(T_g, T_amb + band)) continued linearly
     below the band's edge: q = q_edge (T_g - T_amb) / band, zero at the ambient and a gain below
@@ -320,6 +324,16 @@ class ThermalDryer:
         """The scale layer fits inside the shell (checked when the dryer is built and when a study
         changes its settings, [`rotarydryer.thermal.studies.perturbed`][rotarydryer.thermal.studies.perturbed])."""
         s = self.settings
+        if s.shell_inner_radius is not None:
+            # the steel shell is the drum's wall: its inner radius near the drum radius (the MMG case's 1.90 m at a
+            # 1.95 m drum, Ajayi's code); a 0.01 m shell on a 1 m drum ran with a 24x smaller shell loss (found by an
+            # acceptance check)
+            lo, hi = SHELL_RADIUS_RANGE
+            r = float(s.shell_inner_radius)
+            if not lo * self.radius <= r <= hi * self.radius:
+                raise ValueError(f"shell.inner_radius = {r:g} m is outside the allowed range [{lo * self.radius:.4g}, "
+                                 f"{hi * self.radius:.4g}] m ({lo:g} to {hi:g} x drum.radius = {self.radius:g} m: the "
+                                 "steel shell is the drum's wall; omit it for the drum radius)")
         if s.mode == "physical" and not s.scale_thickness < 0.5 * self.shell_inner_radius:
             raise ValueError(f"shell.scale_thickness = {s.scale_thickness:g} m must be below half the shell inner "
                              f"radius ({0.5 * self.shell_inner_radius:g} m)")

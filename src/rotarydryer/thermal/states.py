@@ -401,7 +401,8 @@ class ThermalSteadyState:
             rows.append(dict(size_class=c, diameter_m=float(dr.class_diameter[c]), feed_fraction=float(dr.class_feed[c]),
                              product_fraction=float(pS[c] / max(pS.sum(), 1e-300)),
                              dust_fraction=float(dS[c] / dS.sum()) if dS.sum() > 0 else 0.0,
-                             lost_as_dust=float(dS[c] / fS[c]) if fS[c] > 0 else 0.0,
+                             # a share: at most 1 (a class all carried off read 1.000000000000001 by rounding)
+                             lost_as_dust=min(float(dS[c] / fS[c]), 1.0) if fS[c] > 0 else 0.0,
                              product_moisture_kg_kg=float(pW[c] / flow) if flow > 0 else None,
                              holdup_kg=float(hold[c]), mean_residence_time_s=float(dry[c] / fS[c]) if fS[c] > 0 else None,
                              rtd_mean_s=self._class_rtd_mean(c) if flow > 0 else None))

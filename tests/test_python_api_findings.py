@@ -1,0 +1,106 @@
+"""What an acceptance check of the Python API found on the default configuration (a `rotarydryer new` case and the
+shipped ones): an override no section takes, an unbounded tracer grid, a shell inside the drum, the executor's and the
+sweep's options, a feed wetter than its material's laws, a misspelt output, a share above 1."""
+
+from __future__ import annotations
+
+import shutil
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from rotarydryer import Simulation
+from rotarydryer.cases import UnusedKeyWarning, load_case
+from rotarydryer.executor import Executor
+
+
+@pytest.fixture(scope="module")
+def new_case(tmp_path_factory):
+    path = tmp_path_factory.mktemp("new") / "mycase.toml"
+    with resources.as_file(resources.files("rotarydryer.cases") / "templates" / "dryer.toml") as src:
+        shutil.copy(src, path)
+    return str(path)
+
+
+@pytest.mark.parametrize("key, value, own", [("drum.n_flights", 2, "n_flights"), ("flight.s1", 5.0, "flight"),
+                                             ("transport.n_cells", 5, "n_cells")])
+def test_a_default_every_section_replaces_is_said_to_do_nothing(key, value, own):
+    """``drum.n_flights = 2`` on the MMG case, whose flighted sections each set their own, ran the base case
+    without a word."""
+    with pytest.warns(UnusedKeyWarning, match=rf"{key} has no effect: .* \(B, C, D\) sets its own {own}"):
+        load_case("ajayi2011_mmg", {key: value})
+
+
+def test_a_default_a_section_takes_is_not_warned_of(new_case, recwarn):
+    load_case(new_case, {"drum.n_flights": 20, "transport.n_cells": 12, "flight.s1": 0.2})
+    assert not [w for w in recwarn if issubclass(w.category, UnusedKeyWarning)]
+
+
+@pytest.mark.parametrize("kw, fragment", [
+    (dict(t_end=1e7, dt=1.0), "give 1e+07 time steps; the limit is 200000"),
+    (dict(t_end=1e9, dt=1e-3), "the limit is 200000"),
+    (dict(dt="a"), "dt must be a real number"),
+    (dict(t_end=float("nan")), "t_end = nan s is not a number"),
+    (dict(t_end=10.0, dt=100.0), "must be larger than dt"),
+])
+def test_a_tracer_grid_given_to_rtd_is_bounded(kw, fragment):
+    """``Simulation.rtd(t_end=1e7, dt=1)`` ran on past a minute, ``(1e9, 1e-3)`` asked for 7 TiB."""
+    with pytest.raises(ValueError, match="^" + r"[^\n]*" + fragment.replace("(", r"\(").replace("+", r"\+")):
+        Simulation("lee2008_invicta").rtd(**kw)
+
+
+def test_a_shell_inside_the_drum_is_refused(new_case):
+    with pytest.raises(ValueError, match=r"shell.inner_radius = 0.01 m is outside the allowed range \[0.8, 1.25\] m"):
+        Simulation(new_case, {"shell.inner_radius": 0.01}).steady_state()
+
+
+def test_a_feed_wetter_than_the_materials_laws_names_the_feed_moisture():
+    """The MMG case's feed at 0.99 kg/kg was refused as a negative bulk density."""
+    with pytest.raises(ValueError, match=r"operating.feed_moisture = 0.99 kg/kg wet is outside the moisture range of "
+                                         r"material 'zinc_concentrate_ajayi2011' \(\[0.08, 0.19\] kg/kg wet"):
+        Simulation("ajayi2011_mmg", {"operating.feed_moisture": 0.99}).steady_state()
+
+
+def test_executor_options_from_python():
+    assert Executor(workers=np.int64(2)).workers == 2          # NumPy's integers are whole numbers
+    for bad in (2.0, "2"):
+        with pytest.raises(ValueError, match=r"--workers = .* is not a whole number"):
+            Executor(workers=bad)
+    for bad in ("garbage", 123):        # refused at once, not by Dask after its wait
+        with pytest.raises(ValueError, match=r"--scheduler = '.*' is not a scheduler address"):
+            Executor(scheduler=bad)
+    with pytest.raises(ValueError, match=r"fn = .*<lambda> cannot be sent to worker processes"):
+        Executor(workers=2).map(lambda x: x, [1, 2])
+    with pytest.raises(ValueError, match=r"chunks = 'x': expected a chunk size"):
+        Executor().map_chunks(sorted, [1, 2, 3], chunks="x")
+
+
+@pytest.mark.parametrize("kw, fragment", [
+    (dict(workers=-1), "workers = -1 is outside the allowed range [0, inf)"),
+    (dict(workers=2.5), "workers = 2.5 is not a whole number"),
+    (dict(workers="2"), "workers = '2' is not a whole number"),
+    (dict(executor="x"), "executor = 'x' is not a rotarydryer.executor.Executor"),
+    (dict(outputs=[1]), "outputs: 1 is not an output name"),
+])
+def test_sweep_options_are_checked_before_any_run(new_case, kw, fragment):
+    with pytest.raises(ValueError) as info:
+        Simulation(new_case).sweep({"operating.rpm": [2, 3]}, **kw)
+    assert fragment in str(info.value)
+
+
+def test_a_misspelt_summary_output_is_named(new_case):
+    ss = Simulation(new_case).steady_state()
+    with pytest.raises(ValueError, match=r"outputs \['nope'\]: not among this run's outputs \(active_holdup_kg"):
+        ss.summary(outputs=["nope"])
+    assert set(ss.summary(outputs=["tracer_mean_s"])) >= {"tracer_mean_s", "product_moisture_kg_kg"}
+    rows = Simulation(new_case).sweep({"operating.rpm": [2, 3]}, outputs=["operating.rpm", "nope"])
+    assert all(r["error"].startswith("outputs ['nope']: not among this run's outputs") for r in rows)
+
+
+def test_a_class_the_gas_carries_off_whole_is_lost_at_most_once(new_case):
+    run = Simulation(new_case, {"particle_size.dataset": "lee2008_fine_river_sand"}).steady_state()
+    rows = run.thermal.size_class_table()
+    assert all(0.0 <= r["lost_as_dust"] <= 1.0 for r in rows)
+    gone = [r for r in rows if r["lost_as_dust"] == 1.0]
+    assert gone and all(r["rtd_mean_s"] is None for r in gone)
