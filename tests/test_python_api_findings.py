@@ -104,3 +104,33 @@ def test_a_class_the_gas_carries_off_whole_is_lost_at_most_once(new_case):
     assert all(0.0 <= r["lost_as_dust"] <= 1.0 for r in rows)
     gone = [r for r in rows if r["lost_as_dust"] == 1.0]
     assert gone and all(r["rtd_mean_s"] is None for r in gone)
+
+
+def test_wrong_types_from_python_are_named(new_case):
+    from rotarydryer.geometry.curtain import curtain_distribution
+    from rotarydryer.lab.drying_curves import fit_models, load_example
+    from rotarydryer.studies.energy import energy_audit
+
+    cases = [
+        (lambda: Simulation(new_case, {1: 2}), "overrides: key 1 is not a case key"),
+        (lambda: Simulation(new_case).steady_state(warm="x"), "warm = 'x': give the warm_data()"),
+        (lambda: energy_audit(new_case, recycle="0.2"), "recycle = '0.2': give a number or a list of numbers"),
+        (lambda: energy_audit(new_case, recycle=[0.2, "a"]), "recycle: 'a' is not a number"),
+        (lambda: energy_audit(new_case, [1, 2]), "overrides = [1, 2]: give a dict of case keys"),
+        (lambda: curtain_distribution("x", 40.0), "drum = 'x' is not a FlightedDrum"),
+        (lambda: fit_models("curves.csv"), "curves = 'curves.csv' is not a DryingCurves"),
+        (lambda: Simulation(new_case).dynamics(600, 60, solid_feed_rate="a"), "solid_feed_rate = 'a' is not a number"),
+    ]
+    for call, fragment in cases:
+        with pytest.raises(ValueError) as info:
+            call()
+        assert fragment in str(info.value) and "\n" not in str(info.value)
+    # one value or one name where a list is expected: taken as that one
+    assert list(fit_models(load_example(), "page").fits) == ["page"]
+
+
+def test_the_schedule_names_of_feed_and_speed_are_dynamic_inputs(new_case):
+    sim = Simulation(new_case)
+    a = sim.dynamics(600, 60, feed_rate=2.6)
+    b = sim.dynamics(600, 60, solid_feed_rate=2.6)
+    assert np.array_equal(a.states, b.states)

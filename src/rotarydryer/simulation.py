@@ -104,6 +104,9 @@ class Simulation:
                              "(rotarydryer.cases.load_case)")
         if overrides is not None and not isinstance(overrides, dict):
             raise ValueError(f"overrides = {overrides!r}: give a dict of case keys, e.g. {{'operating.feed_rate': 30.0}}")
+        bad = [k for k in overrides or () if not isinstance(k, str)]
+        if bad:     # {1: 2} failed inside the loader ("'int' object has no attribute 'startswith'")
+            raise ValueError(f"overrides: key {bad[0]!r} is not a case key (a text such as 'operating.feed_rate')")
         if isinstance(case, (str, bytes)) or hasattr(case, "__fspath__"):
             self.case_name = str(case)
             #: the overrides the case was loaded with (kept by :meth:`sweep` and :meth:`fit`)
@@ -251,6 +254,8 @@ class Simulation:
         parameter values ([`rotarydryer.cases.build.takes_as_parameters`][rotarydryer.cases.build.takes_as_parameters]), its heat-and-mass model
         is reused with this case's values: no network is built; else the first of ``warm["models"]`` (other
         runs' Simulations) that does."""
+        if warm is not None and not isinstance(warm, dict):
+            raise ValueError(f"warm = {warm!r}: give the warm_data() of a nearby run's SteadyResult (a dict) or None")
         warm = warm or {}
         # the nearby run's model, else one of ``warm["models"]`` (other runs' Simulations, e.g. a study's earlier
         # runs on other networks): the first that differs from this case in parameter values only is reused
@@ -495,7 +500,7 @@ class Simulation:
         if isinstance(dataset, str):
             dataset = load_tracer_dataset(dataset)
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
-        return fit_case_to_tracer(self.reloadable_name("a fit"), dataset, list(parameters), base_overrides=base or None,
+        return fit_case_to_tracer(self.reloadable_name("a fit"), dataset, _keys(parameters), base_overrides=base or None,
                                   **kwargs)
 
     def target(self, find, such_that, bounds=None, **kwargs):
@@ -516,7 +521,7 @@ class Simulation:
         from .estimation.calibrate import calibrate  # estimation builds on Simulation
 
         base = {**self.overrides, **(kwargs.pop("base_overrides", None) or {})}
-        return calibrate(self.reloadable_name("a calibration"), list(parameters), base_overrides=base or None, **kwargs)
+        return calibrate(self.reloadable_name("a calibration"), _keys(parameters), base_overrides=base or None, **kwargs)
 
     def sweep(self, grid, outputs=None, *, workers: int = 1, scheduler=None, cluster=None, executor=None,
               progress=None):
@@ -566,6 +571,12 @@ def _sweep_warm(case_name, overrides: dict) -> None:
         Simulation(case_name, overrides).steady_state()
     except (ValueError, ArithmeticError):
         pass
+
+
+def _keys(parameters) -> list:
+    """Case keys to fit as a list: one key given as a text is that key ("transport.backmix" was read one letter at a
+    time, "unknown parameter key 't'"; found by an acceptance check)."""
+    return [parameters] if isinstance(parameters, str) else list(parameters)
 
 
 def _output_names(outputs):

@@ -111,6 +111,9 @@ def curtain_distribution(drum: FlightedDrum, repose_angle: float, loading_factor
     bins over ``[-R_F, R_F]``; the arc is resolved every ``step`` degrees (the released amounts are exact
     differences of the holdup, so they add up to ``H0`` exactly; only their split between neighbouring
     bins depends on ``step``). ``particle_diameter`` (m, optional): the finite-particle correction."""
+    if not isinstance(drum, FlightedDrum):     # a name or a path read as a drum failed on an attribute
+        raise ValueError(f"drum = {drum!r} is not a FlightedDrum (rotarydryer.geometry.FlightedDrum, or "
+                         "preset_drum(...) from rotarydryer.geometry.presets)")
     phi = float(check_range("repose_angle", repose_angle, 0.0, 90.0, unit="deg"))
     f = float(check_range("loading_factor", loading_factor, 0.0, 1.0, low_inclusive=True, high_inclusive=True))
     if isinstance(bins, bool) or int(bins) != bins or not 1 <= int(bins) <= 100000:

@@ -774,6 +774,10 @@ def fit_models(curves: DryingCurves, models: Sequence[str] | None = None, refere
     """Fit every law of ``models`` (default: all six) and rank them by AICc. A law with no more points
     than parameters, or whose fit does not converge, is skipped with the reason; ``ValueError``
     when none can be fitted."""
+    if not isinstance(curves, DryingCurves):      # a file name failed on an attribute (found by an acceptance check)
+        raise ValueError(f"curves = {curves!r} is not a DryingCurves: read a CSV first (read_drying_csv(path))")
+    if isinstance(models, str):     # one law by its name ("page" was read one letter at a time)
+        models = [models]
     models = list(tl.MODELS) if models is None else [check_choice("model", m, tl.MODELS) for m in models]
     if reference_temperature_K is not None:       # checked once here: a bad value is not a law's skip reason
         check_range("reference_temperature_K", reference_temperature_K, 200.0, 1000.0, unit="K")

@@ -29,8 +29,11 @@ the same product, what an operator's moisture control would give.
 
 from __future__ import annotations
 
+import numbers
 import warnings
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from .._display import show, show_delta, show_output
 from .._limits import check_key
@@ -238,6 +241,21 @@ def _what_if_overrides(sim: Simulation, measure: str, value: float) -> dict:
     return {key: value}
 
 
+def _what_if_values(name: str, values) -> tuple:
+    """A what-if's values as a tuple of numbers: one number is one value; a text or another object is refused
+    naming the argument (``recycle=0.2`` was "'float' object is not iterable", ``recycle="0.2"`` read one character
+    at a time; found by an acceptance check). The values' ranges are the case keys' (checked by the caller)."""
+    if isinstance(values, numbers.Real) and not isinstance(values, bool):
+        return (values,)
+    if isinstance(values, (str, bytes)) or not isinstance(values, (list, tuple, np.ndarray)):
+        raise ValueError(f"{name} = {values!r}: give a number or a list of numbers")
+    out = tuple(np.asarray(values, dtype=object).ravel())
+    wrong = [v for v in out if isinstance(v, bool) or not isinstance(v, numbers.Real)]
+    if wrong:
+        raise ValueError(f"{name}: {wrong[0]!r} is not a number")
+    return out
+
+
 def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(), hold_moisture=False,
                  progress=None) -> EnergyAudit:
     """The energy audit of ``case`` (name, ``.toml`` file or `Simulation`) at ``overrides``, with the
@@ -245,6 +263,11 @@ def energy_audit(case, overrides=None, *, recycle=(), preheat=(), insulation=(),
     thicknesses (m); ``hold_moisture``: each also at the base product moisture (module docstring).
     ``progress(text)`` is called before each steady state. Bad values raise ``ValueError`` naming
     the case key; a what-if whose steady state fails carries its ``error``."""
+    if overrides is not None and not isinstance(overrides, dict):
+        raise ValueError(f"overrides = {overrides!r}: give a dict of case keys, e.g. {{'gas.flow': 16.0}}")
+    recycle, preheat, insulation = (_what_if_values(name, v) for name, v in (("recycle", recycle),
+                                                                          ("preheat", preheat),
+                                                                          ("insulation", insulation)))
     if isinstance(case, Simulation):
         overrides = {**case.overrides, **(overrides or {})}
         case = case.reloadable_name("an energy audit")

@@ -38,6 +38,10 @@ INPUTS = {
 }
 
 
+#: the names the case and the input schedules give two of `INPUTS` (``dynamics(feed_rate=3)`` was "unknown input")
+INPUT_ALIASES = {"feed_rate": "solid_feed_rate", "rpm": "rotational_speed"}
+
+
 def relative_index(output, output_ref, input_, input_ref):
     """Relative (steady-state) index η, Ajayi (2011) Eq. 7.1 (dimensionless, vectorised).
 
@@ -63,16 +67,22 @@ def perturbed(dryer: ThermalDryer, **changes) -> ThermalDryer:
     settings = copy.copy(dryer.settings)
     values = {}
     for k, v in changes.items():
+        k = INPUT_ALIASES.get(k, k)
         if k in INPUTS:
             holder, attr, _ = INPUTS[k]
+            try:
+                x = float(v)
+            except (TypeError, ValueError):     # "could not convert string to float: 'a'" named no input
+                raise ValueError(f"{k} = {v!r} is not a number") from None
             if holder == "settings":
-                setattr(settings, attr, float(v))
+                setattr(settings, attr, x)
             else:
-                values[attr] = float(v)
+                values[attr] = x
         elif hasattr(settings, k):
             setattr(settings, k, v)
         else:
-            raise ValueError(f"unknown input {k!r}; use one of {', '.join(INPUTS)} or a ThermalSettings field")
+            raise ValueError(f"unknown input {k!r}; use one of {', '.join([*INPUTS, *INPUT_ALIASES])} or a "
+                             "ThermalSettings field")
     base = dryer.rebuilt(settings, **values)         # the network rebuilt where it depends on a changed input
     return base.with_parameters(settings=settings, **values)
 
