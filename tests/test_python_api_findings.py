@@ -134,3 +134,21 @@ def test_the_schedule_names_of_feed_and_speed_are_dynamic_inputs(new_case):
     a = sim.dynamics(600, 60, feed_rate=2.6)
     b = sim.dynamics(600, 60, solid_feed_rate=2.6)
     assert np.array_equal(a.states, b.states)
+
+
+@pytest.mark.parametrize("key, value, fragment", [
+    ("drum.n_flights", "2.5", "drum.n_flights = '2.5': Input should be a valid integer, unable to parse string as an "
+                              "integer (allowed range [2, 1000])"),
+    ("drum.radius", "big", "(allowed range (0, 20] m)"),
+])
+def test_a_value_of_another_type_names_the_range(new_case, key, value, fragment):
+    with pytest.raises(ValueError) as info:
+        load_case(new_case, {key: value})
+    assert fragment in str(info.value)
+
+
+def test_one_balance_one_sign_and_section_lengths_as_given(new_case):
+    d = Simulation(new_case).steady_state().to_dict()
+    assert d["physical_energy_balance_error"] == d["energy_balance_error"] >= 0      # physical mode: one balance
+    case = load_case(new_case)
+    assert [r["length_m"] for r in d["shell_sections"]] == [float(s.length) for s in case.sections]

@@ -1011,6 +1011,9 @@ def _toml_line(text: str, loc: tuple) -> int | None:
 
 #: pydantic error types of a violated ge/gt/le/lt bound
 _BOUND_ERRORS = frozenset({"greater_than", "greater_than_equal", "less_than", "less_than_equal", "finite_number"})
+#: a value of another type where a number is wanted: its message gets the key's range too ("drum.n_flights = '2.5':
+#: Input should be a valid integer" named none; found by an acceptance check)
+_NUMBER_TYPE_ERRORS = frozenset({"int_parsing", "int_type", "int_from_float", "float_parsing", "float_type"})
 #: the ranges of a polygonal flight's numbers (FlightSection, FlightVertex), by (list key, position in the pair)
 _POLYLINE_RANGES = {("segments", 0): "(0, 100] m", ("segments", 1): "(0, 360) deg", ("vertices", 0): "[-100, 100] m",
                     ("vertices", 1): "[-100, 100] m"}
@@ -1121,11 +1124,12 @@ def _format_validation_error(exc: ValidationError, raw: dict, text: str = "", sh
             msg = f"{dotted} = {_shown_value(e.get('input'))} {text_msg}"
         else:
             msg = f"{dotted} = {_shown_value(e.get('input'))}: {e['msg']}"
-            limit = _limit_key(loc) if kind in _BOUND_ERRORS else None
-            polyline = (_POLYLINE_RANGES.get((loc[-3], loc[-1])) if kind in _BOUND_ERRORS and len(loc) >= 3
+            ranged = kind in _BOUND_ERRORS or kind in _NUMBER_TYPE_ERRORS     # the range where a number was wanted
+            limit = _limit_key(loc) if ranged else None
+            polyline = (_POLYLINE_RANGES.get((loc[-3], loc[-1])) if ranged and len(loc) >= 3
                         and isinstance(loc[-2], int) else None)
             field = (_field_range(cls, loc) if cls is not None and limit is None and polyline is None
-                     and kind in _BOUND_ERRORS else None)
+                     and ranged else None)
             if limit is not None:        # the whole interval, as the runtime checks quote it (docs/errors.md)
                 msg += f" (allowed range {describe_limit(limit)})"
             elif polyline is not None:   # a polygonal flight's section length or angle, a vertex coordinate

@@ -237,10 +237,14 @@ def shell_sections(steady: ThermalSteadyState) -> list[dict]:
     ``shell_heat_loss_W``, ``max_surface_temperature_degC``, ``max_wall_temperature_degC``."""
     p = steady.shell_profile()
     names = list(dict.fromkeys(str(x) for x in p["section"]))
+    # each section's own length, as the sections table gives it (its stages' lengths summed read 1.0000000000000002
+    # for 1 m; found by an acceptance check)
+    given = {str(sec.get("name")): float(sec["length"]) for sec in steady.dryer.model.sections
+             if isinstance(sec, dict) and "length" in sec}
     rows = []
     for name in names:
         m = np.asarray([str(x) == name for x in p["section"]])
-        rows.append(dict(section=name, length_m=float(np.sum(p["length_m"][m])),
+        rows.append(dict(section=name, length_m=given.get(name, float(np.sum(p["length_m"][m]))),
                          shell_heat_loss_W=float(np.sum(p["shell_heat_loss_W"][m])),
                          max_surface_temperature_degC=float(np.max(p["surface_temperature_degC"][m])),
                          max_wall_temperature_degC=float(np.max(p["wall_temperature_degC"][m]))))
