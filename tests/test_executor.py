@@ -236,6 +236,49 @@ def test_a_workers_warnings_are_raised_where_the_batch_was_made(options, capfd):
     assert "is odd" not in err, err
 
 
+def warns_the_same(chunk):
+    import warnings
+
+    for _ in chunk:
+        warnings.warn("the same text", OddItemWarning, stacklevel=1)
+    return list(chunk)
+
+
+def test_a_repeated_warning_is_shown_once_per_batch_as_in_a_serial_run():
+    """Forwarded warnings went through warnings.warn_explicit without a registry: the default filter's once per
+    place showed one per chunk (10 for 20 items in chunks of 2; found by a review). Its module is the worker's
+    module, so that a filter by module matches as in a serial run."""
+    import warnings
+
+    def shown(ex):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.resetwarnings()
+            warnings.simplefilter("default")
+            warnings.filterwarnings("ignore", category=OddItemWarning, module="elsewhere")
+            ex.map_chunks(warns_the_same, list(range(20)), chunks=2)
+        return [str(w.message) for w in caught if issubclass(w.category, OddItemWarning)]
+
+    try:
+        assert shown(Executor()) == shown(Executor(workers=2)) == ["the same text"]
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            warnings.filterwarnings("ignore", category=OddItemWarning, module=r"test_executor")
+            Executor(workers=2).map_chunks(warns_the_same, list(range(4)), chunks=2)
+        assert not [w for w in caught if issubclass(w.category, OddItemWarning)]
+    finally:
+        ex_mod._close_local()
+
+
+def test_a_lambda_is_refused_only_where_it_cannot_go():
+    """The local pool pickles its function by reference: a lambda is refused up front (each item had become a
+    RunFailure "Can't pickle"); one chunk runs here and Dask sends a lambda by value, so both take it."""
+    with pytest.raises(ValueError, match=r"fn = .*<lambda> cannot be sent to worker processes"):
+        Executor(workers=2).map(lambda x: x, [1, 2, 3, 4])
+    assert Executor(workers=2).map(lambda x: x + 1, [1], chunks=1) == [2]
+    assert Executor(scheduler="").backend == "serial"
+    assert Executor(scheduler="tcp://127.0.0.1").scheduler == "tcp://127.0.0.1"     # Dask's default port
+
+
 def test_a_tls_scheduler_without_certificates_names_the_configuration():
     """Dask's TLS connector without the client's certificates raised TypeError ("TLS expects a ssl_context"),
     reported as an internal error (found by an acceptance check)."""

@@ -48,7 +48,7 @@ def check_workers(workers, n_runs: int, *, scheduler=None, option: str = "--work
         notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores and the {n_runs} runs; using {n}")
     elif over_cpus:
         notes.append(f"{option} = {workers} is more than the {cpus} usable CPU cores; using {n} "
-                     "(give --scheduler for a Dask cluster)")
+                     f"(give {'--scheduler' if option.startswith('--') else 'scheduler='} for a Dask cluster)")
     elif over_runs:
         notes.append(f"{option} = {workers} is more than the {n_runs} runs; using {n}")
     return n, notes

@@ -152,9 +152,15 @@ def _warm_key(fn, args) -> tuple:
     return getattr(fn, "__module__", ""), getattr(fn, "__qualname__", repr(fn)), blob
 
 
-def _ensure_warm(warm) -> None:
+#: warnings a worker's warm-ups raised, sent with its next chunk's results (`_run_chunk`): a warning said once per
+#: process (a cache's, the compiled kernels') fires in the warm-up and never again in the runs
+_WARM_WARNINGS: list = []
+
+
+def _ensure_warm(warm, in_worker: bool = False) -> None:
     """Run each ``(fn, args)`` of ``warm`` once in this process (a warm-up that fails is not retried:
-    it only saves time, the runs report their own errors)."""
+    it only saves time, the runs report their own errors). In a worker process (``in_worker``) its warnings are kept
+    for the next chunk's results (`_WARM_WARNINGS`); in the process that made the batch they are shown as raised."""
     for fn, args in warm or ():
         key = _warm_key(fn, args)
         if key in _WARMED:
@@ -162,8 +168,11 @@ def _ensure_warm(warm) -> None:
         _WARMED.add(key)
         _WARM_RUNS[0] += 1
         try:
-            with warnings.catch_warnings():     # the runs say what the warm-up would (once, where the user sees it)
-                warnings.simplefilter("ignore")
+            if in_worker:
+                with warnings.catch_warnings(record=True) as caught:
+                    fn(*args)
+                _WARM_WARNINGS.extend(caught)
+            else:
                 fn(*args)
         except Exception:   # noqa: BLE001 - the first run of the chunk reports the error
             pass
@@ -187,7 +196,7 @@ def _init_worker(warm) -> None:
     # what finished; a worker that raised KeyboardInterrupt itself broke the pool under it (found by an acceptance
     # check: tracebacks, and the finished runs lost)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _ensure_warm(warm)
+    _ensure_warm(warm, in_worker=True)
 
 
 def worker_info(_items=None) -> list:
@@ -197,7 +206,7 @@ def worker_info(_items=None) -> list:
 
 class _Reported:
     """A chunk's results from a worker process with the warnings its runs raised there: (text, category, file,
-    line) each, shown by the process that made the batch (`_shown`) as its own runs' warnings are."""
+    line, module) each, shown by the process that made the batch (`_shown`) as its own runs' warnings are."""
 
     __slots__ = ("results", "warnings")
 
@@ -213,24 +222,43 @@ class _Reported:
 
 
 def _portable(w) -> tuple:
-    """(text, category, file, line) of a caught warning; a category that does not pickle becomes UserWarning."""
+    """(text, category, file, line, module name) of a caught warning; a category that does not pickle becomes
+    UserWarning. The module (for a filter's ``module=``) is the loaded module of the warning's file."""
     category = w.category
     try:
         pickle.dumps(category)
     except Exception:       # noqa: BLE001 - a class made at run time: its text still says what happened
         category = UserWarning
-    return (str(w.message), category, str(w.filename), int(w.lineno or 0))
+    filename = str(w.filename)
+    return (str(w.message), category, filename, int(w.lineno or 0), _module_of(filename))
 
 
-def _shown(out):
+_MODULE_OF: dict = {}
+
+
+def _module_of(filename: str) -> Optional[str]:
+    """The name of the loaded module whose file is ``filename`` (None: not found; Python then takes the file name)."""
+    name = _MODULE_OF.get(filename)
+    if name is None and filename not in _MODULE_OF:
+        for mod_name, mod in list(sys.modules.items()):
+            if getattr(mod, "__file__", None) == filename:
+                name = mod_name
+                break
+        _MODULE_OF[filename] = name
+    return name
+
+
+def _shown(out, registry: dict):
     """The results of a chunk; the warnings a worker caught (`_Reported`) are raised here, in the process that made
-    the batch, where its user sees them as those of a serial run: its own warning filters and printer (the command's
-    one line per text, with the count of those alike), not a worker's stderr (a Dask worker printed each with its
-    source line, a forked worker with its own count; found by an acceptance check)."""
+    the batch, where its user sees them as those of a serial run: its own warning filters (by module too) and
+    printer (the command's one line per text, with the count of those alike), not a worker's stderr (a Dask worker
+    printed each with its source line, a forked worker with its own count; found by an acceptance check).
+    ``registry``: the batch's, so that a warning the filters show once per place is shown once per batch, not once
+    per chunk."""
     if not isinstance(out, _Reported):
         return out
-    for text, category, filename, lineno in out.warnings:
-        warnings.warn_explicit(text, category, filename, lineno)
+    for text, category, filename, lineno, module in out.warnings:
+        warnings.warn_explicit(text, category, filename, lineno, module=module, registry=registry)
     return out.results
 
 
@@ -262,7 +290,7 @@ def check_scheduler(address, option: str = "--scheduler") -> Optional[str]:
 
 
 def _check_sends(fn) -> None:
-    """Refuse up front a chunk function that cannot reach worker processes (it is pickled by reference): a
+    """Refuse up front a chunk function that cannot reach the local pool's workers (it is pickled by reference): a
     lambda or a function defined inside another made every item a RunFailure "Can't pickle local object" (found by
     an acceptance check)."""
     try:
@@ -281,10 +309,11 @@ def _run_chunk(fn, items, args, warm, origin: int):
     if os.getpid() == origin:
         return _chunk_results(fn, items, args)
     _worker_setup()
-    _ensure_warm(warm)
+    _ensure_warm(warm, in_worker=True)
     with warnings.catch_warnings(record=True) as caught:
         out = _chunk_results(fn, items, args)
-    return _Reported(out, caught)
+    early, _WARM_WARNINGS[:] = list(_WARM_WARNINGS), []
+    return _Reported(out, early + caught)
 
 
 def _chunk_results(fn, items, args) -> list:
@@ -554,7 +583,11 @@ class Executor:
         workers = int(workers)
         if not 1 <= workers <= MAX_LOCAL_WORKERS:
             raise ValueError(f"--workers = {workers!r} is outside the allowed range [1, {MAX_LOCAL_WORKERS}]")
-        if scheduler is not None:       # an address of the supported form, refused here (not by Dask after a wait)
+        if isinstance(scheduler, str) and not scheduler.strip():
+            scheduler = None            # no scheduler (as before)
+        if scheduler is not None and not (isinstance(scheduler, str) and "://" in scheduler):
+            # no address at all (a number, a word), refused here, not by Dask after its wait; an address with a
+            # protocol (tcp://host without a port, ws://, ucx://) is Dask's to reach
             scheduler = check_scheduler(scheduler)
         self.cluster_workers: Optional[int] = parse_cluster(cluster) if cluster else None
         if backend is None:
@@ -624,8 +657,6 @@ class Executor:
         ``len(items)``) is filled as chunks finish. An item whose run raised is a `RunFailure`."""
         items = list(items)
         n = len(items)
-        if self.backend != "serial" and n:
-            _check_sends(fn)
         if results is None:
             results = [None] * n
         elif len(results) != n:
@@ -636,7 +667,10 @@ class Executor:
         elif chunks is None:
             slices = split(n)
         else:
-            given = list(chunks) if isinstance(chunks, (list, tuple)) else None
+            try:
+                given = None if isinstance(chunks, (str, bytes, dict)) else list(chunks)
+            except TypeError:
+                given = None
             if given is None or not all(isinstance(sl, slice) for sl in given):
                 raise ValueError(f"chunks = {chunks!r}: expected a chunk size (a whole number), a list of slices of "
                                  "the items, or None (the default split)")
@@ -646,8 +680,10 @@ class Executor:
         origin = os.getpid()
         _jit.long_runs()        # a batch of runs here or in forked workers: the compiled kernels pay
 
+        registry: dict = {}
+
         def store(sl: slice, out) -> None:
-            results[sl] = _shown(out)
+            results[sl] = _shown(out, registry)
             tick(sl.stop - sl.start)
 
         if self.backend == "serial" or (self.backend == "local" and len(slices) <= 1):
@@ -655,6 +691,8 @@ class Executor:
                 store(sl, _run_chunk(fn, items[sl], args, (), origin))
             return results
         if self.backend == "local":
+            # the pool pickles the function by reference (Dask's cloudpickle sends a lambda by value)
+            _check_sends(args[0] if fn is _each and args else fn)
             self._map_local(fn, items, slices, args, warm, origin, store)
         else:
             self._map_dask(fn, items, slices, args, warm, origin, store)
@@ -664,8 +702,6 @@ class Executor:
             progress: Optional[Callable[[int], Any]] = None, results: Optional[list] = None) -> list:
         """``fn(item, *args)`` for each item (a top-level function), in chunks as `map_chunks`; an
         item that raises is a `RunFailure` in the results."""
-        if self.backend != "serial":
-            _check_sends(fn)
         return self.map_chunks(_each, items, chunks=chunks, args=(fn, *args), warm=warm, progress=progress,
                                results=results)
 

@@ -531,7 +531,8 @@ class Simulation:
         (``outputs``: only these names); a point that fails is its overrides and ``error`` (one line).
 
         The points run through the one executor ([`rotarydryer.executor.Executor`][rotarydryer.executor.Executor]: ``executor``, or one
-        of ``workers`` local processes, a Dask ``scheduler`` address or a ``cluster`` "local:N"), in
+        of ``workers`` local processes (as ``--workers``: 0 one per core, more than the cores or the points
+        capped with a warning), a Dask ``scheduler`` address or a ``cluster`` "local:N"), in
         chunks that depend on the number of points only; in a chunk each point is warm-started from
         the one before it (the same steady state, on the previous point's heat-and-mass model when
         only parameter values differ). Every backend gives the same rows, bit for bit.

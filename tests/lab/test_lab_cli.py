@@ -105,6 +105,9 @@ def test_design_load_command(tmp_path):
     # the fits are in the columns' units, named from the columns' names
     assert data["units"]["design_load"] == "kg" and data["units"]["plateau"] == "cm2"
     assert data["units"]["slope"] == "cm2 per kg"
+    from rotarydryer.cli.lab import _column_unit
+
+    assert _column_unit("FUF_area") == "units of column 'FUF_area'"      # "area" is no unit (found by a review)
     assert set(fits) == {"a", "b"}
     for f in fits.values():
         assert abs(f["design_load"] - 31.8) <= 3.7 * 2

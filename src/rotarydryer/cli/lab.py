@@ -244,11 +244,15 @@ def design_load(
                 typer.echo(f"      {m:16s} {'not available':>19s}")
 
 
+#: units a design-load table's column name may end with (``loading_kg``, ``FUF_area_cm2``)
+_COLUMN_UNITS = frozenset({"kg", "g", "t", "lb", "m2", "cm2", "mm2", "in2", "ft2", "px", "pixels", "pct", "percent"})
+
+
 def _column_unit(column: str) -> str:
-    """The unit a CSV column's name ends with (``loading_kg``: kg, ``FUF_area_cm2``: cm2), else the column's name
-    (the fits are in its units, whatever they are)."""
+    """The unit a CSV column's name ends with (``loading_kg``: kg, ``FUF_area_cm2``: cm2; one of `_COLUMN_UNITS`),
+    else the column's name (the fits are in its units, whatever they are: ``FUF_area`` is not in "area")."""
     head, sep, tail = column.rpartition("_")
-    if sep and head and tail and tail[0].isalpha() and tail.isalnum() and len(tail) <= 6:
+    if sep and head and tail.lower() in _COLUMN_UNITS:
         return tail
     return f"units of column {column!r}"
 

@@ -234,18 +234,21 @@ def _main(argv=None):
     if not 1 <= a.np <= 256:         # as `rotarydryer dem run --np` (more than the cores: a warning, as there)
         raise _BatchError(f"--np = {a.np} is outside the allowed range [1, 256] (MPI ranks per run; more than the "
                           f"{cpus} usable CPU cores run as {cpus}, with a warning)")
-    if a.np > cpus:
+    if a.np > cpus and not a.scheduler:     # a cluster's machines have their own cores
         print(f"warning: --np = {a.np} is more than the {cpus} usable CPU cores; using {cpus}", file=sys.stderr)
         a.np = cpus
-    executor = None
-    if not (a.reduce_only or a.export_only):
-        # the option checks of every many-run command (a bad address refused at once, not after the connection's
-        # wait: "--scheduler nonsense" took 21 s; --jobs -1 or 1000 ran without a word)
+    # the option checks of every many-run command, whatever runs (a bad address refused at once, not after the
+    # connection's wait: "--scheduler nonsense" took 21 s; --jobs -1 or 1000 ran without a word)
+    try:
+        executor, notes = executor_from_options(a.jobs, len(runs), scheduler=a.scheduler, cluster=a.cluster,
+                                                workers_option="--jobs")
+    except (ValueError, ImportError) as exc:
+        raise _BatchError(str(exc)) from None
+    running = not (a.reduce_only or a.export_only)
+    if running:
+        for note in notes:
+            print(f"warning: {note}", file=sys.stderr)
         try:
-            executor, notes = executor_from_options(a.jobs, len(runs), scheduler=a.scheduler, cluster=a.cluster,
-                                                    workers_option="--jobs")
-            for note in notes:
-                print(f"warning: {note}", file=sys.stderr)
             executor.connect()
         except (ValueError, ImportError) as exc:
             raise _BatchError(str(exc)) from None
@@ -259,7 +262,7 @@ def _main(argv=None):
             export_deck(deck_of(r), work / r.name)
     if a.export_only:
         return 0
-    if executor is not None:     # one run per chunk through the executor: a failed run is reported, the others go on
+    if running:     # one run per chunk through the executor: a failed run is reported, the others go on
         done = executor.map(_run_one, [r.name for r in runs], args=(str(work), a.np), chunks=1)
         for r, res in zip(runs, done):
             if isinstance(res, RunFailure):

@@ -247,9 +247,12 @@ def _what_if_values(name: str, values) -> tuple:
     at a time; found by an acceptance check). The values' ranges are the case keys' (checked by the caller)."""
     if isinstance(values, numbers.Real) and not isinstance(values, bool):
         return (values,)
-    if isinstance(values, (str, bytes)) or not isinstance(values, (list, tuple, np.ndarray)):
+    if isinstance(values, (str, bytes, dict)):
         raise ValueError(f"{name} = {values!r}: give a number or a list of numbers")
-    out = tuple(np.asarray(values, dtype=object).ravel())
+    try:        # any sequence or iterable of numbers (a range, a generator, a NumPy array, a pandas Series)
+        out = tuple(np.asarray(values, dtype=object).ravel()) if isinstance(values, np.ndarray) else tuple(values)
+    except TypeError:
+        raise ValueError(f"{name} = {values!r}: give a number or a list of numbers") from None
     wrong = [v for v in out if isinstance(v, bool) or not isinstance(v, numbers.Real)]
     if wrong:
         raise ValueError(f"{name}: {wrong[0]!r} is not a number")
