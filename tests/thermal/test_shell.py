@@ -184,6 +184,10 @@ def test_a_study_cannot_put_a_scale_layer_thicker_than_the_shell():
     d = Simulation("song2003_ottawa").thermal_dryer()
     with pytest.raises(ValueError, match=r"shell\.scale_thickness = 0\.1 m"):
         perturbed(d, scale_thickness=0.1)
-    with pytest.raises(ValueError, match=r"shell\.scale_thickness = 0\.03 m"):
+    # a smaller shell within the range a shell may have (0.5-2 x the drum's 0.1525 m radius; 0.05 m is now refused
+    # for itself): its scale layer is held to half its radius
+    with pytest.raises(ValueError, match=r"shell\.scale_thickness = 0\.05 m must be below half the shell inner radius"):
+        perturbed(d, shell_inner_radius=0.08, scale_thickness=0.05)
+    with pytest.raises(ValueError, match=r"shell\.inner_radius = 0\.05 m is outside the allowed range"):
         perturbed(d, shell_inner_radius=0.05, scale_thickness=0.03)
     assert perturbed(d, scale_thickness=0.01).settings.scale_thickness == 0.01
