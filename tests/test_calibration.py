@@ -72,7 +72,7 @@ def test_thesis_configuration_reproduces_table_5_4():
 
 
 @pytest.mark.parametrize("case, overrides, key", [
-    (MMG, {"transport.n_cells": 10}, "transport.n_cells"),
+    (MMG, {"transport.loading": "fixed"}, "transport.loading"),   # its sections set their own n_cells (below)
     (INVICTA, {"transport.n_cells": 30}, "transport.n_cells"),
     (MMG, {"thermal.kiln_bed_area": False}, "thermal.kiln_bed_area"),
 ])
@@ -506,3 +506,26 @@ def test_a_plant_input_set_for_a_calibration_is_said_to_be_outside_its_record():
                                          r"inputs\), which the record and the calibrated case do not hold"):
         run = run_calibration(case, ["thermal.area_scale"], tests=[1], base_overrides={"gas.inlet_temperature": 300.0})
     assert "gas.inlet_temperature" not in run.record.values
+
+
+def test_a_case_wide_default_every_section_replaces_is_not_a_calibration_difference():
+    """``transport.n_cells`` set on the MMG case: its flighted sections B, C, D set their own, so the run keeps the
+    configuration of its calibrations (they hold the key unset): the one warning is that the key has no effect,
+    not three calibrations said to be "fitted with transport.n_cells = ''" (found by an acceptance check)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        case = load_case("ajayi2011_mmg", overrides={"transport.n_cells": "40"})
+    texts = [str(w.message) for w in caught]
+    assert not [t for t in texts if "calibration" in t and "fitted with" in t], texts
+    assert any("transport.n_cells has no effect" in t for t in texts), texts
+    assert case == load_case("ajayi2011_mmg").model_copy(update={"transport": case.transport})
+    # where the key is used (Invicta, one flighted drum), the record's difference is named with its values
+    with pytest.warns(CalibrationWarning, match=r"fitted with transport.n_cells = 35; this run has transport.n_cells = 20"):
+        load_case("lee2008_invicta", overrides={"transport.n_cells": "20"})
+
+
+def test_a_configuration_value_left_unset_is_named_so_in_a_warning():
+    from rotarydryer.cases.calibration import _fmt
+
+    assert [_fmt(v) for v in (None, "", "none", "exact", 35)] == [
+        "none (unset)", "none (unset)", "none (unset)", "'exact'", "35"]

@@ -220,11 +220,29 @@ NONE_VALUE = "none"
 PREDICTIVE_ONLY = ("transport.predictive_flights",)
 
 
+#: case-wide defaults of the flighted sections: the section's own key of the same name replaces each
+SECTION_DEFAULTS = {"transport.n_cells": "n_cells", "drum.n_flights": "n_flights"}
+
+
+def _shadowed(raw: dict, key: str) -> bool:
+    """Is ``key`` a case-wide default (`SECTION_DEFAULTS`) that every flighted section of ``raw`` replaces with its
+    own value? The run does not use it, so a record's configuration value of it does not differ from the run's
+    (the MMG case's records hold ``transport.n_cells`` unset; its sections B, C, D set their own)."""
+    own = SECTION_DEFAULTS.get(key)
+    sections = raw.get("sections") if own else None
+    if not isinstance(sections, list):
+        return False
+    flighted = [s for s in sections if isinstance(s, dict) and s.get("kind", "flighted") == "flighted"]
+    return bool(flighted) and all(s.get(own) is not None for s in flighted)
+
+
 def _differences(record: CalibrationRecord, raw: dict, defaults) -> list[tuple[str, Any, Any]]:
     out = []
     predictive = configuration_value(raw, LAW_KEY, defaults) == "predictive"
     for key, want in record.configuration.items():
         if key in PREDICTIVE_ONLY and not predictive:
+            continue
+        if _shadowed(raw, key):
             continue
         have = _coerced(configuration_value(raw, key, defaults), want)
         if not _same(have, want):
@@ -254,6 +272,8 @@ def _set(raw: dict, key: str, value) -> None:
 
 
 def _fmt(v) -> str:
+    if _is_none(v):
+        return "none (unset)"
     return repr(v) if isinstance(v, str) else str(v)
 
 
