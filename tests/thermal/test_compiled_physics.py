@@ -8,7 +8,7 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from rotarydryer import _jit
@@ -29,6 +29,7 @@ KINETICS = (DryingKinetics("ajayi2011"),
 @given(seed=st.integers(0, 2**31), radius=st.floats(0.1, 3.0), scale=st.sampled_from([0.0, 0.01]),
        insulation=st.sampled_from([0.0, 0.08]), wind=st.sampled_from([0.0, 4.0]), ambient=st.floats(-20.0, 45.0),
        guess=st.sampled_from([None, 0.0, 2.0, 40.0]))
+@example(seed=74483746, radius=0.10546875, scale=0.01, insulation=0.08, wind=4.0, ambient=0.0, guess=2.0)
 def test_shell_network_equals_shell_heat_loss(seed, radius, scale, insulation, wind, ambient, guess):
     """The same root to its 1e-9 K tolerance (Newton stops per element, not for all at once), from a guess
     or bracketed, for bare, scaled, lagged and wind-swept shells of any size."""
@@ -57,8 +58,11 @@ def test_shell_network_equals_shell_heat_loss(seed, radius, scale, insulation, w
     # energy_balance_error (a steep inside coefficient: small drum, large gas flow): where the gas is 20 K or
     # more above ambient the losses agree to 1e-8 plus that; nearer, the inside flux moves by 1e-9 K times
     # its slope (up to 1e-6 of a loss of a few watts; compared with the drum's largest loss)
+    # (or a billionth of the drum's largest loss: a lagged stage of a 0.1 m drum loses 1.76 W beside 709 W, and its
+    # 1e-9 K of root moves that by 6e-8 W, 3.5e-8 of it; found by a CI run)
     far = tg >= ambient + 20.0
-    np.testing.assert_allclose(loss[far], want.heat_loss[far], rtol=1e-8 + 2 * want.energy_balance_error)
+    np.testing.assert_allclose(loss[far], want.heat_loss[far], rtol=1e-8 + 2 * want.energy_balance_error,
+                               atol=1e-9 * float(np.max(want.heat_loss)))
     np.testing.assert_allclose(loss[~far], want.heat_loss[~far], rtol=1e-6, atol=1e-8 * np.max(want.heat_loss))
 
 
