@@ -72,6 +72,8 @@ BACKENDS = ("serial", "local", "dask")
 TARGET_CHUNKS = 16
 #: seconds to wait for a Dask scheduler before an address is refused
 CONNECT_TIMEOUT_S = 10.0
+#: how often, s, a local pool's batch looks for a noted Ctrl-C while it waits for its chunks (`_interrupt_noted`)
+INTERRUPT_POLL_S = 0.05
 #: environment variable naming the start method of local workers ("fork", "spawn", "forkserver")
 START_METHOD_ENV = "ROTARYDRYER_WORKER_START"
 #: most local worker processes or LocalCluster workers one executor may start
@@ -429,6 +431,35 @@ def _first_interrupt(signum, frame):
     raise KeyboardInterrupt
 
 
+@contextlib.contextmanager
+def _interrupt_noted(noted: list):
+    """Inside: a SIGINT is appended to ``noted`` (the next ones ignored) instead of raising KeyboardInterrupt where
+    the main thread happens to be, for a loop that checks ``noted`` where it is safe to stop. An exception raised by
+    a signal inside `concurrent.futures.wait` can leave a future's lock held (it takes them one by one): the pool's
+    own thread then waited on it for ever and so did the interrupted command (a Ctrl-C on ``sweep --workers 2``
+    hung in one CI run of many). On leaving after an interrupt, SIGINT stays ignored where the handler before was
+    `_first_interrupt` (the command's block ignores the next ones until it ends), else the handler before is back.
+    In the main thread only, and nothing changes where SIGINT is ignored already."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    if previous in (signal.SIG_IGN, None):
+        yield
+        return
+
+    def note(signum, frame):
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        noted.append(signum)
+
+    signal.signal(signal.SIGINT, note)
+    try:
+        yield
+    finally:
+        ignore = noted and previous is _first_interrupt
+        signal.signal(signal.SIGINT, signal.SIG_IGN if ignore else previous)
+
+
 def stop_on_first_interrupt():
     """Inside: the first SIGINT raises KeyboardInterrupt and the next ones are ignored until the block ends (a
     command around a whole batch and the saving of what finished; a block inside it changes nothing)."""
@@ -712,7 +743,8 @@ class Executor:
         # collections (gc.freeze, as the gc module's documentation advises before a fork), whose passes would
         # otherwise write to every inherited object and copy its memory page into each worker
         forking = _POOL.get("key", (0, ""))[1] == "fork" and not getattr(pool, "_processes", None)
-        with stop_on_first_interrupt():
+        noted: list = []        # a SIGINT, noted by the handler and acted on here (`_interrupt_noted`)
+        with _interrupt_noted(noted):
             try:
                 if forking:
                     gc.freeze()
@@ -724,7 +756,10 @@ class Executor:
                         gc.unfreeze()
                 pending = set(futures)
                 while pending:
-                    done, pending = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
+                    if noted:
+                        raise KeyboardInterrupt
+                    done, pending = concurrent.futures.wait(pending, timeout=INTERRUPT_POLL_S,
+                                                            return_when=concurrent.futures.FIRST_COMPLETED)
                     for f in done:
                         sl = futures[f]
                         try:
@@ -732,6 +767,8 @@ class Executor:
                         except Exception as exc:    # noqa: BLE001 - a worker died (BrokenProcessPool) or did not pickle
                             out = [RunFailure(f"worker process failed: {one_line(exc)}")] * (sl.stop - sl.start)
                         store(sl, out)
+                if noted:       # after the last chunk: the batch is whole, the interrupt still the caller's
+                    raise KeyboardInterrupt
             except KeyboardInterrupt:
                 # later interrupts are ignored until the workers are stopped (a second Ctrl-C, or `timeout`
                 # signalling the process and then its group, had cut the stop short: the workers ran on); no future
