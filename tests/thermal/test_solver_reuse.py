@@ -144,3 +144,35 @@ def test_the_gas_correction_moves_only_the_gas_and_lowers_its_residual():
     assert np.array_equal(zc[:k], zp[:k])
     assert norm < 0.01 * d._residual_norm(fp, zp, sc)
     assert np.max(np.abs(zc[k:] - z[k:]) / sc[k:]) < 1e-3
+
+
+def _dense_jacobian(d, z):
+    d.freeze_shell(z)
+    f0 = d.rhs(0.0, z)
+    J = np.zeros((d.n, d.n))
+    for j in range(d.n):
+        zp = z.copy()
+        zp[j] += max(abs(z[j]) * 1e-6, 1e-9)
+        J[:, j] = d.rhs(0.0, zp) - f0
+    d.unfreeze_shell()
+    return J
+
+
+@pytest.mark.parametrize("case", ["song2003_ottawa", "lee2008_invicta", "ajayi2011_mmg"])
+def test_the_jacobian_pattern_holds_every_dependence_of_the_tanks_on_each_other(case):
+    """The solids' balances of a tank depend on the S and W of the tanks that feed it and of its flows' control node,
+    and its temperature on theirs (ThermalDryer.sparsity): every nonzero entry of a dense finite-difference Jacobian
+    among the tanks' S, W and T, at the start and at the steady state, is in the pattern; a temperature column
+    of another tank is never in a mass row (issue 32: Song's colour groups 27 -> 17)."""
+    d = Simulation(case).thermal_dryer()
+    pattern = d.sparsity().toarray() != 0
+    k = 3 * d.n_classes * d.n_tanks
+    for z in (d.initial_state(), d.steady_state().state):
+        J = _dense_jacobian(d, z)
+        outside = (J[:k, :k] != 0) & ~pattern[:k, :k]
+        assert not outside.any(), np.argwhere(outside)[:5]
+    nt = d.n_tanks
+    other = ~np.eye(nt, dtype=bool)
+    assert not pattern[:2 * nt, 2 * nt:3 * nt][np.tile(other, (2, 1))].any()
+    if case == "song2003_ottawa":
+        assert len(np.unique(d._groups)) <= 17

@@ -1487,44 +1487,56 @@ class ThermalDryer:
             return self._pattern
         nt, ng, nc = self.n_tanks, self.n_gas, self.n_classes
         kk = nc * nt
-        own_a, own_b = [np.arange(nt)], [np.arange(nt)]        # node pairs, class by class
-        mix_a, mix_b = [], []                                  # node pairs, every class with every class
+        own_a, own_b = [], []                  # edge node pairs, class by class
+        mix_a, mix_b = [], []                  # edge node pairs, every class with every class
+        ctrl_a, ctrl_b = [], []                # a node and the control node of its flows' law
         for f in self.families:
             inside = f.dst >= 0
             pairs = (own_a, own_b) if f.kind == "linear" and f.law is None else (mix_a, mix_b)
-            pairs[0].extend([f.src[inside], f.dst[inside]])
-            pairs[1].extend([f.dst[inside], f.src[inside]])
-            if f.kind != "linear":          # the source's mixture sets its classes' shares
-                mix_a.append(f.src)
-                mix_b.append(f.src)
+            # a flow k(control) b(M_src) (EdgeFamily) moves its source's balances (the diagonal, below) and its
+            # destination's: the destination's rows take the source's columns, not the other way round
+            pairs[0].append(f.dst[inside])
+            pairs[1].append(f.src[inside])
             law = f.law
             if law is not None:      # the coefficient depends on the control (passive) node's mass and moisture
                 ctrl = np.broadcast_to(law.P, f.src.shape)
                 for node in (f.src, f.dst):
                     ok = node >= 0
-                    mix_a.extend([node[ok], ctrl[ok]])
-                    mix_b.extend([ctrl[ok], node[ok]])
+                    ctrl_a.append(node[ok])
+                    ctrl_b.append(ctrl[ok])
         rows, cols = [], []
 
-        var_i, var_j = (v.ravel() for v in np.meshgrid(np.arange(3), np.arange(3), indexing="ij"))
-
-        def tank_links(ta, tb, classes):
-            # S, W, T of a node depend on S, W, T of the linked node: every (variable, class) pair of
-            # each distinct node pair (the families list a pair many times)
+        def tank_links(ta, tb, classes, variables):
+            # the (row, column) variable pairs ``variables`` (0 S, 1 W, 2 T) of every class pair of each distinct
+            # node pair (the families list a pair many times)
             # the distinct pairs, sorted (np.unique's result; it imports numpy.ma, 16 ms of a one-off command)
             pair = np.sort(np.asarray(ta, dtype=np.int64) * nt + tb)
             pair = pair[np.concatenate(([True], pair[1:] != pair[:-1]))] if pair.size else pair
             ta, tb = pair // nt, pair % nt
+            var_i, var_j = (np.asarray(v)[:, None, None] for v in zip(*variables))
             c1, c2 = (np.asarray(c)[None, :, None] for c in zip(*classes))
-            rows.append((var_i[:, None, None] * kk + c1 * nt + ta).ravel())
-            cols.append((var_j[:, None, None] * kk + c2 * nt + tb).ravel())
+            rows.append((var_i * kk + c1 * nt + ta).ravel())
+            cols.append((var_j * kk + c2 * nt + tb).ravel())
         same = [(c, c) for c in range(nc)]
         every = [(c1, c2) for c1 in range(nc) for c2 in range(nc)]
-        tank_links(np.concatenate(own_a), np.concatenate(own_b), same)
+        # a tank's S, W, T depend on its own S, W, T (drying, its heat capacity); a flow's mass and water follow its
+        # source's S and W (and its law's control node's), never a temperature, and the heat it carries its source's
+        # T: a destination's rows take the source's S and W columns, and its T the source's T; the control node's
+        # S and W columns go to the rows of its flows' ends. Until 2026-12-07 every linked pair took all nine
+        # (S, W, T) x (S, W, T) entries both ways: Song's colour groups 27 -> 17 (a Jacobian 27 -> 17 batched
+        # residuals), MMG's 15 -> 14, Invicta's 18; of 150 states (the start and the steady state of 72 random and
+        # shipped dryers, 12 with size classes) no nonzero entry of a dense finite-difference Jacobian that the
+        # old pattern held is outside this one (tests/thermal/test_solver_reuse.py checks the shipped cases)
+        full = [(i, j) for i in range(3) for j in range(3)]
+        mass = [(i, j) for i in range(3) for j in range(2)]
+        linked = [*mass, (2, 2)]
+        tank_links(np.arange(nt), np.arange(nt), every if nc > 1 else same, full)
+        if own_a:
+            tank_links(np.concatenate(own_a), np.concatenate(own_b), same, linked)
         if mix_a:
-            tank_links(np.concatenate(mix_a), np.concatenate(mix_b), every)
-        if nc > 1:              # a tank's classes: the bed's surface shares, the dust's share of a curtain
-            tank_links(np.arange(nt), np.arange(nt), every)
+            tank_links(np.concatenate(mix_a), np.concatenate(mix_b), every, linked)
+        if ctrl_a:
+            tank_links(np.concatenate(ctrl_a), np.concatenate(ctrl_b), every, mass)
         k = np.arange(ng)
         tk = self.gas_tank
         gvars = [3 * kk + k, 3 * kk + ng + k]
