@@ -524,6 +524,25 @@ def test_a_case_wide_default_every_section_replaces_is_not_a_calibration_differe
         load_case("lee2008_invicta", overrides={"transport.n_cells": "20"})
 
 
+def test_a_record_fitted_where_a_section_took_the_case_wide_default_still_differs():
+    """A record holding ``transport.n_cells`` at a value (fitted while a section took the default) differs from a
+    run whose sections all set another count of their own; at their own count, or unset, it does not (found by a
+    review). A calibration of such a case writes the key unset."""
+    from rotarydryer.cases.calibration import _differences
+    from rotarydryer.estimation.calibrate import _configuration
+
+    raw = {"sections": [{"kind": "unflighted"}, {"kind": "flighted", "n_cells": 20}], "transport": {}}
+    rec = CalibrationRecord.model_validate({"name": "r", "values": {"transport.kiln_time": 1.0},
+                                            "configuration": {"transport.n_cells": 35}})
+    assert [d[0] for d in _differences(rec, raw, lambda k: None)] == ["transport.n_cells"]
+    for held in (20, "none"):
+        rec = rec.model_copy(update={"configuration": {"transport.n_cells": held}})
+        assert _differences(rec, raw, lambda k: None) == []
+    taken = {"sections": [{"kind": "flighted"}], "transport": {}}      # the section takes the default: it differs
+    assert _differences(rec.model_copy(update={"configuration": {"transport.n_cells": 35}}), taken, lambda k: 20)
+    assert _configuration(load_case(MMG), thermal=False)["transport.n_cells"] == "none"
+
+
 def test_a_configuration_value_left_unset_is_named_so_in_a_warning():
     from rotarydryer.cases.calibration import _fmt
 

@@ -375,16 +375,20 @@ def test_an_interrupt_while_a_pool_batch_waits_is_noted_not_raised_where_the_thr
 
     before = signal.getsignal(signal.SIGINT)
     noted: list = []
-    with ex._interrupt_noted(noted):
-        signal.raise_signal(signal.SIGINT)          # noted, not raised here
-        signal.raise_signal(signal.SIGINT)          # ignored
-        assert noted == [signal.SIGINT]
-    assert signal.getsignal(signal.SIGINT) is before
+    reached = []
+    with pytest.raises(KeyboardInterrupt):          # a noted signal the block did not act on: raised as it ends
+        with ex._interrupt_noted(noted):
+            signal.raise_signal(signal.SIGINT)      # noted, not raised here
+            signal.raise_signal(signal.SIGINT)      # ignored
+            assert noted == [signal.SIGINT]
+            reached.append(True)
+    assert reached and signal.getsignal(signal.SIGINT) is before
     with ex._interrupt_noted(quiet := []):          # no interrupt: the handler before is back
         pass
     assert not quiet and signal.getsignal(signal.SIGINT) is before
     with ex.stop_on_first_interrupt():
-        with ex._interrupt_noted(inner := []):
-            signal.raise_signal(signal.SIGINT)
+        with pytest.raises(KeyboardInterrupt):
+            with ex._interrupt_noted(inner := []):
+                signal.raise_signal(signal.SIGINT)
         assert inner and signal.getsignal(signal.SIGINT) is signal.SIG_IGN     # the command saves what finished
     assert signal.getsignal(signal.SIGINT) is before

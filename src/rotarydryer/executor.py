@@ -439,7 +439,8 @@ def _interrupt_noted(noted: list):
     own thread then waited on it for ever and so did the interrupted command (a Ctrl-C on ``sweep --workers 2``
     hung in one CI run of many). On leaving after an interrupt, SIGINT stays ignored where the handler before was
     `_first_interrupt` (the command's block ignores the next ones until it ends), else the handler before is back.
-    In the main thread only, and nothing changes where SIGINT is ignored already."""
+    A signal noted that the block did not act on is raised as KeyboardInterrupt as it ends. In the main thread only,
+    and nothing changes where SIGINT is ignored already."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -458,6 +459,8 @@ def _interrupt_noted(noted: list):
     finally:
         ignore = noted and previous is _first_interrupt
         signal.signal(signal.SIGINT, signal.SIG_IGN if ignore else previous)
+    if noted:       # noted after the block's last look (its work done): the interrupt is still the caller's
+        raise KeyboardInterrupt
 
 
 def stop_on_first_interrupt():
@@ -767,8 +770,6 @@ class Executor:
                         except Exception as exc:    # noqa: BLE001 - a worker died (BrokenProcessPool) or did not pickle
                             out = [RunFailure(f"worker process failed: {one_line(exc)}")] * (sl.stop - sl.start)
                         store(sl, out)
-                if noted:       # after the last chunk: the batch is whole, the interrupt still the caller's
-                    raise KeyboardInterrupt
             except KeyboardInterrupt:
                 # later interrupts are ignored until the workers are stopped (a second Ctrl-C, or `timeout`
                 # signalling the process and then its group, had cut the stop short: the workers ran on); no future

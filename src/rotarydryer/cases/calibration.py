@@ -224,16 +224,27 @@ PREDICTIVE_ONLY = ("transport.predictive_flights",)
 SECTION_DEFAULTS = {"transport.n_cells": "n_cells", "drum.n_flights": "n_flights"}
 
 
-def _shadowed(raw: dict, key: str) -> bool:
-    """Is ``key`` a case-wide default (`SECTION_DEFAULTS`) that every flighted section of ``raw`` replaces with its
-    own value? The run does not use it, so a record's configuration value of it does not differ from the run's
-    (the MMG case's records hold ``transport.n_cells`` unset; its sections B, C, D set their own)."""
+def section_values(raw: dict, key: str) -> list | None:
+    """The values of ``key``, a case-wide default of the flighted sections (`SECTION_DEFAULTS`), that every flighted
+    section of ``raw`` (a case document, or a validated case's ``model_dump()``) sets for itself; None where one
+    takes the default (or the key is not such a default): the run then uses the key."""
     own = SECTION_DEFAULTS.get(key)
     sections = raw.get("sections") if own else None
     if not isinstance(sections, list):
-        return False
+        return None
     flighted = [s for s in sections if isinstance(s, dict) and s.get("kind", "flighted") == "flighted"]
-    return bool(flighted) and all(s.get(own) is not None for s in flighted)
+    if not flighted or any(s.get(own) is None for s in flighted):
+        return None
+    return [s[own] for s in flighted]
+
+
+def _shadowed(raw: dict, key: str, want) -> bool:
+    """Does a record's configuration value ``want`` of ``key`` not differ from the run ``raw``, the key being a
+    case-wide default every flighted section replaces (`section_values`)? So where the record holds it unset (the
+    MMG case's records; its sections B, C, D set their own n_cells) or at every section's own value; a record fitted
+    at another value (a section that took it then) still differs."""
+    values = section_values(raw, key)
+    return values is not None and (_is_none(want) or all(_same(_coerced(v, want), want) for v in values))
 
 
 def _differences(record: CalibrationRecord, raw: dict, defaults) -> list[tuple[str, Any, Any]]:
@@ -242,7 +253,7 @@ def _differences(record: CalibrationRecord, raw: dict, defaults) -> list[tuple[s
     for key, want in record.configuration.items():
         if key in PREDICTIVE_ONLY and not predictive:
             continue
-        if _shadowed(raw, key):
+        if _shadowed(raw, key, want):
             continue
         have = _coerced(configuration_value(raw, key, defaults), want)
         if not _same(have, want):

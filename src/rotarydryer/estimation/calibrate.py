@@ -44,7 +44,7 @@ from ..cases import (
     valid_override_keys,
 )
 from ..cases.build import any_trajectory, cascade_law, law_coefficient, rows_shadowed, test_row, thermal_settings
-from ..cases.calibration import NONE_VALUE, TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord
+from ..cases.calibration import NONE_VALUE, TEST_FIELDS, TEST_KEY_PREFIX, CalibrationRecord, section_values
 from ..executor import Executor
 from ..published import read_published_csv
 from ..simulation import Simulation
@@ -549,10 +549,12 @@ def _configuration(case, thermal: bool) -> dict:
     forced = (("transport.forward_step", "transport.loading") if cascade else ()) + (
         () if any((s.model or case.transport.model) == "ajayi2011" for s in case.sections)
         and case.transport.parameter_source == "predictive" else ("transport.predictive_flights",))
+    # a case-wide default every flighted section replaces is not part of the configuration: written unset
+    sections = {"sections": [s.model_dump() for s in getattr(case, "sections", None) or ()]}
     for k in CONFIGURATION_KEYS:
         if (k in _THERMAL_CONFIG and not thermal) or k in forced:
             continue
-        v = _get(case, k)
+        v = None if section_values(sections, k) is not None else _get(case, k)
         out[k] = NONE_VALUE if v is None else v       # TOML has no null
     return out
 

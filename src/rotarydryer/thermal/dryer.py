@@ -171,7 +171,7 @@ ACCEPT_GROWTH = 10.0
 #: 14 -> 7 factorisations (four fourfold cuts of the pseudo-time step gone); of 279 random valid dryers, 5.6 % fewer
 #: iterations in all (benchmarks/RESULTS.md, issue 32); tried on every step, or on every step whose residual rose,
 #: it cost MMG and Invicta three to four times the iterations. Not with size classes: of 80 random dryers with
-#: classes it took 41 % more CPU in all and failed three instead of one
+#: classes it took 41 % more CPU in all and failed three instead of one (nor with entrainment, not measured alone)
 GAS_CORRECTION = True
 #: largest scaled change of a temperature or humidity in one pseudo-transient step (scale: 100 K, 0.05
 #: kg/kg; ThermalDryer._scale): a longer step is shortened along its direction. Far from the steady state
@@ -1524,9 +1524,9 @@ class ThermalDryer:
         # T: a destination's rows take the source's S and W columns, and its T the source's T; the control node's
         # S and W columns go to the rows of its flows' ends. Until 2026-12-07 every linked pair took all nine
         # (S, W, T) x (S, W, T) entries both ways: Song's colour groups 27 -> 17 (a Jacobian 27 -> 17 batched
-        # residuals), MMG's 15 -> 14, Invicta's 18; of 150 states (the start and the steady state of 72 random and
-        # shipped dryers, 12 with size classes) no nonzero entry of a dense finite-difference Jacobian that the
-        # old pattern held is outside this one (tests/thermal/test_solver_reuse.py checks the shipped cases)
+        # residuals), MMG's 15 -> 14, Invicta's 18; of 150 states (the start and the steady state of 72 random
+        # dryers, 12 of them with size classes, and the three shipped ones) no nonzero entry of a dense
+        # finite-difference Jacobian that the old pattern held is outside this one (tests/thermal/test_solver_reuse.py)
         full = [(i, j) for i in range(3) for j in range(3)]
         mass = [(i, j) for i in range(3) for j in range(2)]
         linked = [*mass, (2, 2)]
@@ -1928,7 +1928,7 @@ class ThermalDryer:
                 borrowed = False
                 continue
             if (GAS_CORRECTION and ok and nn > ACCEPT_GROWTH * norm and dt > dt0 and not borrowed
-                    and self.n_classes == 1):
+                    and self.n_classes == 1 and not self.dusty):
                 # the growth test would refuse the step: the gas caught up with it first (GAS_CORRECTION); a
                 # step so changed is not a full step of this factorisation (no secant memory, no longer dt)
                 got = self._gas_corrected(J, zn, fn, sc)
@@ -1990,7 +1990,8 @@ class ThermalDryer:
     def _gas_corrected(self, J, zn, fn, sc):
         """(state, residual, scaled residual norm) after one Newton step of the gas alone from ``zn``, the solids
         held: the gas temperatures and humidities solve J_gg dz_g = -f_g(zn) on the gas block of the Jacobian
-        ``J`` (of the iterate the step left, not of ``zn``), the step bounded as any other (`_radius_step`,
+        ``J`` (the solver's current one: of the iterate the step left or, after chord steps, an earlier one), the step
+        bounded as any other (`_radius_step`,
         `_bounded_step`). A nonlinear elimination of the fast states (Lanzkron, Rose & Wilkes (1996)) taken once,
         where a step would be refused (GAS_CORRECTION). None where the block is singular or the state is not
         admissible."""
