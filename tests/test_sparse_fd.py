@@ -111,6 +111,52 @@ def test_shifted_lu_solves_with_the_kept_column_order(seed, n, density, full_dia
     np.testing.assert_allclose(plan.shifted_lu(other, 1.0).solve(np.ones(n)), -np.ones(n))
 
 
+@given(st.integers(0, 10_000), st.integers(2, 40), st.floats(0.05, 0.3))
+@settings(max_examples=40, deadline=None)
+def test_shifted_lu_of_the_entries_alone_with_exact_zeros_that_move(seed, n, density):
+    """FDPlan.shifted_lu of a Jacobian's entries (`jacobian_data`) as of its matrix, where each Jacobian holds exact
+    zeros at other places (the compacted pattern kept from one factorisation is rebuilt for the next): every
+    factorisation solves its own shift I - J, also after the later ones (their matrix object's arrays are replaced,
+    not written)."""
+    rng = np.random.default_rng(seed)
+    a = _random_pattern(seed, n, n, density) + sp.identity(n, format="csc")
+    plan = FDPlan(a != 0)
+    kept = []
+    for _ in range(5):
+        data = rng.normal(size=plan.rows.size)
+        data[rng.random(data.size) < 0.3] = 0.0            # exact zeros, somewhere else each time
+        shift = 10.0 ** rng.uniform(-1, 2)
+        A = shift * np.eye(n) - plan.matrix(data).toarray()
+        if abs(np.linalg.det(A)) < 1e-8:
+            continue
+        lu = plan.shifted_lu(data, shift)
+        ref = plan.shifted_lu(plan.matrix(data), shift)
+        b = rng.normal(size=n)
+        np.testing.assert_allclose(lu.solve(b), ref.solve(b), rtol=0, atol=0)
+        kept.append((lu, A, b))
+    for lu, A, b in kept:
+        x = lu.solve(b)
+        np.testing.assert_allclose(A @ x, b, atol=1e-8 * (1 + np.abs(A).max() * np.abs(x).max()))
+
+
+def test_jacobian_data_is_the_matrix_entries():
+    """`FDPlan.jacobian_data` gives `sparse_fd_jacobian`'s entries in the pattern's order (the same numbers)."""
+    rng = np.random.default_rng(3)
+    n = 30
+    a = _random_pattern(3, n, n, 0.2) + sp.identity(n, format="csc")
+    plan = FDPlan(a != 0)
+
+    def f(v):
+        return (a @ v) ** 2 + np.sin(v if v.ndim == 1 else v)
+
+    x = rng.normal(size=n)
+    step = np.full(n, 1e-7)
+    J = sparse_fd_jacobian(f, x, plan, step=step, vectorized=True)
+    data = plan.jacobian_data(f, x, step, f(x))
+    np.testing.assert_array_equal(plan.matrix(data).toarray(), J.toarray())
+    np.testing.assert_array_equal(data, J.data)
+
+
 def test_banded_nonlinear_matches_analytic_and_uses_few_groups():
     n = 200
 

@@ -84,7 +84,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu, spsolve
 
 from .. import _jit
-from .._sparse_fd import FDPlan, column_groups, sparse_fd_jacobian
+from .._sparse_fd import FDPlan, column_groups
 from .._validation import check_range
 from ..correlations.drag import terminal_velocity
 from ..geometry.drum import check_speed
@@ -220,6 +220,8 @@ def _near_ambient(q_edge, Tg, ambient):
     warmer than the surroundings; near and below the ambient their conductance at the edge stands
     for both directions of the heat flow."""
     dT = np.asarray(Tg, dtype=float) - ambient
+    if dT.size and np.shape(q_edge) == dT.shape and dT.min() >= SHELL_LINEAR_BAND_K:     # all above the band
+        return q_edge
     return np.where(dT < SHELL_LINEAR_BAND_K, q_edge * dT / SHELL_LINEAR_BAND_K, q_edge)
 
 
@@ -1594,7 +1596,17 @@ class ThermalDryer:
         return pat
 
     def jacobian(self, z, f0=None):
+        """The forward-difference Jacobian of `rhs` at ``z`` on the dryer's sparsity pattern (CSC; ``f0`` = rhs(0, z)
+        where known)."""
         self.sparsity()
+        return self._fd_plan.matrix(self._jacobian_data(z, f0))
+
+    def _jacobian_data(self, z, f0=None):
+        """`jacobian`'s entries in its pattern's order (`FDPlan.jacobian_data`), the matrix not built."""
+        self.sparsity()
+        z = np.asarray(z, dtype=float)
+        if f0 is None:
+            f0 = self.rhs(0.0, z)
         floor = self._scale() * 1e-8
         # the masses' floor follows the feed, not the residual scale's 1 kg floor: a dryer fed grams per hour
         # holds milligrams of water, which a step of 2e-9 kg would overshoot hundreds of times (its Newton
@@ -1605,8 +1617,7 @@ class ThermalDryer:
             k = 2 * self.n_classes * self.n_tanks       # step of its own size for their solids and water
             floor[:k] *= 1e-6
         step = np.maximum(np.abs(z) * 1e-7, floor)
-        return sparse_fd_jacobian(lambda x: self.rhs(0.0, x), z, self._fd_plan, step=step, f0=f0,
-                                  vectorized=True)
+        return self._fd_plan.jacobian_data(lambda x: self.rhs(0.0, x), z, step, np.asarray(f0, dtype=float))
 
     def _scale(self):
         k, ng = self.n_classes * self.n_tanks, self.n_gas
@@ -1883,7 +1894,7 @@ class ThermalDryer:
         f = self.rhs(0.0, z)          # the frozen shell loss equals the exact one at z
         norm = self._residual_norm(f, z, sc)
         dt = dt0
-        J = lu = None                 # Jacobian at z (shell frozen at z) and the factorised I/dt - J
+        J = lu = None                 # Jacobian at z (shell frozen at z; its entries) and the factorised I/dt - J
         borrowed = factorization is not None and factorization.shape == (self.n, self.n)
         if borrowed:
             J, lu = "borrowed", factorization
@@ -1893,7 +1904,7 @@ class ThermalDryer:
         newton = False                # the factorisation's pseudo-time step is a Newton matrix's
         for it in range(1, max_iter + 1):
             if J is None:
-                J = self.jacobian(z, f)
+                J = self._jacobian_data(z, f)
                 lu = None
             if lu is None:
                 steps = []
@@ -1991,14 +2002,15 @@ class ThermalDryer:
     def _gas_corrected(self, J, zn, fn, sc):
         """(state, residual, scaled residual norm) after one Newton step of the gas alone from ``zn``, the solids
         held: the gas temperatures and humidities solve J_gg dz_g = -f_g(zn) on the gas block of the Jacobian
-        ``J`` (the solver's current one: of the iterate the step left or, after chord steps, an earlier one), the step
+        ``J`` (the solver's current one's entries: of the iterate the step left or, after chord steps, an earlier one), the step
         bounded as any other (`_radius_step`,
         `_bounded_step`). A nonlinear elimination of the fast states (Lanzkron, Rose & Wilkes (1996)) taken once,
         where a step would be refused (GAS_CORRECTION). None where the block is singular or the state is not
         admissible."""
         k = 3 * self.n_classes * self.n_tanks
         try:
-            dg = splu(J[k:, k:].tocsc()).solve(-fn[k:])
+            M = self._fd_plan.matrix(J) if isinstance(J, np.ndarray) else J     # its entries, or the matrix
+            dg = splu(M[k:, k:].tocsc()).solve(-fn[k:])
         except RuntimeError:        # a singular gas block
             return None
         if not np.all(np.isfinite(dg)):

@@ -46,6 +46,7 @@ and does not close an energy balance with the physical gas flow.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -301,6 +302,25 @@ def shell_heat_loss(gas_temperature_c, gas_mass_flow, length=1.0, ambient_temper
                          gas_emissivity=np.asarray(eg), energy_balance_error=err)
 
 
+@functools.lru_cache(maxsize=64)
+def _shell_parameters(ambient_temperature_c, co2_mole_fraction, inner_radius, shell_thickness, scale_thickness,
+                      scale_conductivity, insulation_thickness, insulation_conductivity, pressure, inner_emissivity,
+                      outer_emissivity, wind_speed, ambient_humidity):
+    """`_shell_loss_compiled`'s packed drum and surroundings (`rotarydryer.properties._kernels.pack_shell`), kept
+    for the same numbers (a solver's every shell solve of one dryer takes the same ones); read-only."""
+    ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
+    r_exp, r_o = ri - dsc, ri + ds
+    r_out = r_o + dins
+    p = float(pressure)
+    q = _kernels.pack_shell(float(ambient_temperature_c), float(co2_mole_fraction) * p / rad.ATM, ri, r_o, r_out,
+                            r_exp, dsc, float(scale_conductivity), dins, float(insulation_conductivity),
+                            float(inner_emissivity), float(outer_emissivity), float(wind_speed),
+                            float(ambient_humidity), p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
+                            0.95 * (2 * r_exp), 1e-9)
+    q.flags.writeable = False
+    return q
+
+
 def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_temperature_c, *, gas_humidity,
                          co2_mole_fraction, inner_radius, shell_thickness, scale_thickness, scale_conductivity,
                          insulation_thickness, insulation_conductivity, pressure, inner_emissivity=0.79,
@@ -316,15 +336,9 @@ def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_tempe
     ``slope_guess`` of a next solve nearby (saves the first difference)."""
     if _kernels.compiled("shell") is None:
         return None
-    ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
-    r_exp, r_o = ri - dsc, ri + ds
-    r_out = r_o + dins
-    p = float(pressure)
-    q = _kernels.pack_shell(float(ambient_temperature_c), float(co2_mole_fraction) * p / rad.ATM, ri, r_o, r_out,
-                            r_exp, dsc, float(scale_conductivity), dins, float(insulation_conductivity),
-                            float(inner_emissivity), float(outer_emissivity), float(wind_speed),
-                            float(ambient_humidity), p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
-                            0.95 * (2 * r_exp), 1e-9)
+    q = _shell_parameters(ambient_temperature_c, co2_mole_fraction, inner_radius, shell_thickness, scale_thickness,
+                          scale_conductivity, insulation_thickness, insulation_conductivity, pressure, inner_emissivity,
+                          outer_emissivity, wind_speed, ambient_humidity)
     guess = np.nan if outer_guess is None else outer_guess       # NaN: no guess, the bracketed root
     slope = np.nan if slope_guess is None or outer_guess is None else slope_guess
     return _kernels.evaluate("shell", (gas_temperature_c, gas_mass_flow, length, gas_humidity, guess, slope),
