@@ -20,7 +20,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import types
 import warnings
 
 import numpy as np
@@ -29,7 +28,7 @@ from ._grids import MAX_POINTS, grid_product, parse_grid
 from ._threads import single_threaded
 from ._validation import check_choice, check_range
 from ._workers import check_workers
-from .cases import _check_time_grid, load_case, load_case_text, measured_rtd, measured_rtd_moments
+from .cases import check_time_grid, load_case, load_case_text, measured_rtd, measured_rtd_moments
 from .cases.build import (
     FILL_LIMIT,
     build_model,
@@ -442,8 +441,7 @@ class Simulation:
         dt = tr.dt if dt is None else float(check_range("dt", dt, 0.0, unit="s"))
         # the case loader's limits on its tracer's time grid, for a grid given here (t_end = 1e7 s at dt = 1 s ran
         # on past a minute, 1e9 s at 1e-3 s asked for 7 TiB; found by an acceptance check)
-        _check_time_grid(types.SimpleNamespace(t_end=t_end, dt=dt, duration=getattr(tr, "duration", None)),
-                         "t_end", "dt")
+        check_time_grid(t_end, dt, getattr(tr, "duration", None), "t_end", "dt")
         state = self.steady_state().state if thermal else self.transport_steady_state()
         return state.rtd(self.transport_model().tracer_input, t_end=t_end, dt=dt, method=method)
 

@@ -381,7 +381,7 @@ class _TracerSource(_Strict):
 
     @model_validator(mode="after")
     def _time_grid(self):
-        _check_time_grid(self)
+        check_time_grid(self.t_end, self.dt, getattr(self, "duration", None))
         return self
 
 
@@ -393,21 +393,22 @@ class Tracer(_TracerSource):
     dt: float = Field(gt=0, description="s")
 
 
-def _check_time_grid(tr, t_end_key: str = "tracer.t_end", dt_key: str = "tracer.dt"):
-    """t_end / dt within (1, MAX_TIME_STEPS] (the RTD simulation stores every step), the pulse inside the record;
-    ``t_end_key``, ``dt_key``: the names the messages give them (a grid given to `Simulation.rtd`: its arguments)."""
-    steps = tr.t_end / tr.dt
-    if tr.t_end <= tr.dt:
-        raise ValueError(f"{t_end_key} = {tr.t_end!r} s must be larger than {dt_key} = {tr.dt!r} s")
+def check_time_grid(t_end: float, dt: float, duration: float | None = None, t_end_key: str = "tracer.t_end",
+                    dt_key: str = "tracer.dt") -> None:
+    """A tracer's time grid: ``t_end`` / ``dt`` (s) within (1, MAX_TIME_STEPS] (the RTD simulation stores every step),
+    the pulse of ``duration`` s (None: an impulse) inside the record; ``t_end_key``, ``dt_key``: the names the
+    messages give them (a grid given to `Simulation.rtd`: its arguments). Raises ValueError."""
+    steps = t_end / dt
+    if t_end <= dt:
+        raise ValueError(f"{t_end_key} = {t_end!r} s must be larger than {dt_key} = {dt!r} s")
     if steps > MAX_TIME_STEPS:
-        raise ValueError(f"{t_end_key} = {tr.t_end!r} s and {dt_key} = {tr.dt!r} s give {steps:.6g} time steps; "
+        raise ValueError(f"{t_end_key} = {t_end!r} s and {dt_key} = {dt!r} s give {steps:.6g} time steps; "
                          f"the limit is {MAX_TIME_STEPS} (raise {dt_key} or lower {t_end_key})")
     # the pulse ends inside the record: one longer than it was simulated as fed to the end, and its "RTD" moments
     # were those of a truncated step (a mean of 1e28 min for a 1e30 s pulse; found by fuzzing)
-    duration = getattr(tr, "duration", None)
-    if duration is not None and not duration < tr.t_end:
-        raise ValueError(f"tracer.duration = {duration!r} s must be shorter than {t_end_key} = {tr.t_end!r} s (the "
-                         f"pulse must end inside the simulated record; allowed: [0, {tr.t_end!r}) s)")
+    if duration is not None and not duration < t_end:
+        raise ValueError(f"tracer.duration = {duration!r} s must be shorter than {t_end_key} = {t_end!r} s (the "
+                         f"pulse must end inside the simulated record; allowed: [0, {t_end!r}) s)")
 
 
 # ---- blocks shared by every case kind: material, gas, shell, thermal ---------------------

@@ -46,7 +46,7 @@ from .._limits import check_key
 from .._validation import check_range, fmt_number
 from ..published import read_published_csv
 from . import PSD_DATASETS, DryerCase
-from .calibration import PredictiveRangeWarning
+from .calibration import SECTION_DEFAULTS, PredictiveRangeWarning, section_values
 
 #: largest solids fill of the drum volume (whole drum and each section) of a feasible steady state:
 #: loaded flighted dryers run at 10-15 %; every shipped case is below 16 % (Invicta 8.9 %, MMG tests
@@ -644,12 +644,8 @@ def _shadowed_by_sections(case, overrides) -> list[str]:
     def own_shape(s):
         return any(getattr(s, k, None) is not None for k in polygon)
 
-    def takes(key, s) -> bool:      # does section s take the case-wide default ``key``?
+    def takes(key, s) -> bool:      # does section s take the case-wide default ``key`` (not one of SECTION_DEFAULTS)?
         block, _, fld = key.partition(".")
-        if key == "drum.n_flights":
-            return s.n_flights is None
-        if key == "transport.n_cells":
-            return s.n_cells is None
         if block == "flight" and fld in polygon:
             return not own_shape(s) and all(getattr(s, k, None) is None for k in ("s1", "s2", "alpha1", "alpha2"))
         if block == "flight" and fld in ("s1", "s2", "alpha1", "alpha2"):
@@ -658,11 +654,11 @@ def _shadowed_by_sections(case, overrides) -> list[str]:
 
     out = []
     for key in overrides:
-        if key not in ("drum.n_flights", "transport.n_cells") and not key.startswith("flight."):
+        if key not in SECTION_DEFAULTS and not key.startswith("flight."):
             continue
         if key == "transport.n_cells" and getattr(case, "parameter_sets", None):
             continue            # it also selects a [[parameter_sets]] row
-        if not any(takes(key, s) for s in flighted):
+        if section_values(case, key) is not None if key in SECTION_DEFAULTS else not any(takes(key, s) for s in flighted):
             names = ", ".join(s.name for s in flighted)
             fld = key.partition(".")[2]
             own = "flight" if key.startswith("flight.") else fld

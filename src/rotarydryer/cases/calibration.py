@@ -224,18 +224,27 @@ PREDICTIVE_ONLY = ("transport.predictive_flights",)
 SECTION_DEFAULTS = {"transport.n_cells": "n_cells", "drum.n_flights": "n_flights"}
 
 
-def section_values(raw: dict, key: str) -> list | None:
+def section_values(doc, key: str) -> list | None:
     """The values of ``key``, a case-wide default of the flighted sections (`SECTION_DEFAULTS`), that every flighted
-    section of ``raw`` (a case document, or a validated case's ``model_dump()``) sets for itself; None where one
-    takes the default (or the key is not such a default): the run then uses the key."""
+    section of ``doc`` (a case document, a validated case's ``model_dump()`` or the validated case itself) sets for
+    itself; None where one takes the default (or the key is not such a default): the run then uses the key. The one
+    statement of that rule: a calibration record's configuration (`_shadowed`) and the unused-key warning of a
+    ``--set`` (`rotarydryer.cases.build`) both read it."""
     own = SECTION_DEFAULTS.get(key)
-    sections = raw.get("sections") if own else None
-    if not isinstance(sections, list):
+    if not own:
         return None
-    flighted = [s for s in sections if isinstance(s, dict) and s.get("kind", "flighted") == "flighted"]
-    if not flighted or any(s.get(own) is None for s in flighted):
+    mapping = isinstance(doc, dict)
+    sections = doc.get("sections") if mapping else getattr(doc, "sections", None)
+    if not isinstance(sections, (list, tuple)):
         return None
-    return [s[own] for s in flighted]
+
+    def get(s, name, default=None):
+        return s.get(name, default) if isinstance(s, dict) else getattr(s, name, default)
+
+    flighted = [s for s in sections if (isinstance(s, dict) or not mapping) and get(s, "kind", "flighted") == "flighted"]
+    if not flighted or any(get(s, own) is None for s in flighted):
+        return None
+    return [get(s, own) for s in flighted]
 
 
 def _shadowed(raw: dict, key: str, want) -> bool:
