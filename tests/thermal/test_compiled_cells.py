@@ -216,3 +216,55 @@ def test_a_batch_after_a_setting_changed_in_place_equals_the_numpy_form(change, 
                 m.setattr(d, "_rhs_compiled", lambda z: None)
             got = d.jacobian(z, f0=f0).toarray()
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.max(np.abs(want)), err_msg=str(compiled))
+
+
+@pytest.fixture(scope="module")
+def _step_dryers():
+    _jit.long_runs()
+    out = {}
+    for name, (case, ov) in (("invicta", ("lee2008_invicta", {})),
+                             ("song-3-classes-dust", ("song2003_ottawa", {
+                                 "particle_size.classes": 3, "particle_size.entrainment": True,
+                                 "particle_size.distribution": "lognormal", "particle_size.d50": 3e-4,
+                                 "particle_size.sigma_g": 2.0}))):
+        d = Simulation(case, ov).thermal_dryer()
+        out[name] = (d, d.steady_state().state)
+    return out
+
+
+@pytest.mark.parametrize("name", ["invicta", "song-3-classes-dust"])
+@given(seed=st.integers(0, 2**32 - 1), size=st.sampled_from([1e-3, 0.3, 3.0]), nan=st.sampled_from([None, "z", "dz", "f"]))
+@settings(max_examples=60, deadline=None)
+def test_the_solver_steps_compiled_are_the_numpy_steps(_step_dryers, name, seed, size, nan):
+    """The steady-state solver's step kernels (`_step_radius_loop`, `_step_bounded_loop`, `_step_admissible_loop`,
+    `_step_norm_loop`) give `_radius_step`, `_bounded_step`, `_admissible` and `_residual_norm` of the NumPy form bit
+    for bit, at states near and far from the
+    solution, admissible or not, with a NaN in the state, the step or the residual."""
+    d, z0 = _step_dryers[name]
+    if _kernels.compiled("step_norm") is None:
+        pytest.skip("compiled kernels off")
+    rng = np.random.default_rng(seed)
+    sc = d._scale()
+    z = z0 * (1 + rng.normal(size=z0.size) * size)
+    dz = z0 * rng.normal(size=z0.size) * size
+    f = rng.normal(size=z0.size) * sc
+    for which, arr in (("z", z), ("dz", dz), ("f", f)):
+        if nan == which:
+            arr[rng.integers(arr.size)] = np.nan
+
+    def steps():
+        return (d._bounded_step(z, dz), d._admissible(z), d._admissible(z0), d._residual_norm(f, z, sc),
+                d._residual_norm(f, z, sc, 100.0), *d._radius_step(dz, sc))
+
+    got = steps()
+    real = _kernels.compiled
+    try:
+        _kernels.compiled = lambda kernel: None if kernel.startswith("step_") else real(kernel)
+        want = steps()
+    finally:
+        _kernels.compiled = real
+    np.testing.assert_array_equal(got[0], want[0])
+    assert got[1:3] == want[1:3] and got[2]
+    np.testing.assert_array_equal(np.array(got[3:5]), np.array(want[3:5]))
+    np.testing.assert_array_equal(got[5], want[5])
+    assert got[6] == want[6]

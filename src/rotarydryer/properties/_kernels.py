@@ -7,7 +7,9 @@
   Mason (1972) diffusivity and the Smith, Shen & Friedman (1982) WSGG emissivity;
 * the gas -> solids transfer of a set of gas stages (`rotarydryer.thermal.balances._stage_transfer`,
   physical mode) and the shell-loss network with its shell temperature solved
-  (`rotarydryer.thermal.shell.shell_heat_loss`), built from the scalar forms above.
+  (`rotarydryer.thermal.shell.shell_heat_loss`), built from the scalar forms above;
+* the steady-state solver's step (`rotarydryer.thermal.dryer.ThermalDryer._radius_step`, `_bounded_step`,
+  `_admissible`, `_residual_norm`: a dozen NumPy calls each on 80-300 numbers, called three to five times an iteration).
 
 Each is one compiled loop per element instead of dozens of NumPy calls on small arrays. The NumPy
 functions stay the references: the same equations with the same coefficients (packed from the
@@ -820,6 +822,104 @@ def _cell_balance_loop(z, k, cap, a_bed, kiln_des, kiln_rho, qloss, y_in, h_in, 
     return True
 
 
+@_helper
+def _nmax(a, b):
+    """``np.maximum`` of two floats (a NaN either side gives NaN)."""
+    return a if (a >= b or a != a) else b
+
+
+@_helper
+def _nmin(a, b):
+    """``np.minimum`` of two floats (a NaN either side gives NaN)."""
+    return a if (a <= b or a != a) else b
+
+
+def _step_norm_loop(f, z, sc, p, out):
+    """The steady-state test's scaled residual max |f_i|/scale_i at state ``z``
+    (`rotarydryer.thermal.dryer.ThermalDryer._residual_norm`): ``p`` = (tanks x classes k, c_p solids, c_p water,
+    heat-capacity floor), the temperature rows 2k..3k weighted by min(1, max(S c_p + W c_pw, 0) / floor); a NaN
+    anywhere gives NaN (as ``np.max``)."""
+    k = int(p[0])
+    cp, cpw, floor = p[1], p[2], p[3]
+    best = -1.0
+    for i in range(f.size):
+        r = abs(f[i]) / sc[i]
+        if 2 * k <= i < 3 * k:
+            j = i - 2 * k
+            r *= _nmin(1.0, _nmax(z[j] * cp + z[k + j] * cpw, 0.0) / floor)
+        if r != r:
+            out[0] = r
+            return True
+        if r > best:
+            best = r
+    out[0] = best
+    return True
+
+
+def _step_radius_loop(dz, sc, p, out, big):
+    """``dz`` times radius / b in ``out`` and b = max |dz_i| / sc_i over i >= k in ``big`` (NaN if one is, as
+    ``np.max``), ``p`` = (k, radius): `rotarydryer.thermal.dryer.ThermalDryer._radius_step` (``out`` written
+    only where b exceeds the radius)."""
+    k, radius = int(p[0]), p[1]
+    b = -1.0
+    for i in range(k, dz.size):
+        r = abs(dz[i]) / sc[i]
+        if r != r:
+            b = r
+            break
+        if r > b:
+            b = r
+    big[0] = b
+    if b > radius:
+        factor = radius / b
+        for i in range(dz.size):
+            out[i] = dz[i] * factor
+    return True
+
+
+def _step_bounded_loop(z, dz, p, zn):
+    """``z + dz`` kept inside the admissible states by the fraction-to-boundary rule
+    (`rotarydryer.thermal.dryer.ThermalDryer._bounded_step`, the same operations element by element): ``p`` =
+    (tanks x classes k, gas stages, solids T low, high, gas T low, high, humidity high, the water's margin below
+    zero)."""
+    k, ng = int(p[0]), int(p[1])
+    lo_t, hi_t, lo_g, hi_g, hi_y, w_margin = p[2], p[3], p[4], p[5], p[6], p[7]
+    for i in range(zn.size):
+        zn[i] = z[i] + dz[i]
+    for i in range(k):
+        zn[i] = _nmax(zn[i], 0.2 * z[i])
+        w = z[k + i]
+        zn[k + i] = _nmax(zn[k + i], _nmin(0.2 * w, w) - w_margin)
+        t = z[2 * k + i]
+        v = _nmax(zn[2 * k + i], _nmin(lo_t + 0.2 * (t - lo_t), t))
+        zn[2 * k + i] = _nmin(v, _nmax(hi_t - 0.2 * (hi_t - t), t))
+    for i in range(ng):
+        t = z[3 * k + i]
+        v = _nmax(zn[3 * k + i], _nmin(lo_g + 0.2 * (t - lo_g), t))
+        zn[3 * k + i] = _nmin(v, _nmax(hi_g - 0.2 * (hi_g - t), t))
+        y = z[3 * k + ng + i]
+        v = _nmax(zn[3 * k + ng + i], 0.0)
+        zn[3 * k + ng + i] = _nmin(v, _nmax(hi_y - 0.2 * (hi_y - y), y))
+    return True
+
+
+def _step_admissible_loop(z, p, out):
+    """1.0 where ``z`` is an admissible state (`rotarydryer.thermal.dryer.ThermalDryer._admissible`), else 0.0 (a
+    NaN is not): ``p`` = (k, gas stages, solids T low, high, gas T low, high, humidity high, the water's floor)."""
+    k, ng = int(p[0]), int(p[1])
+    lo_t, hi_t, lo_g, hi_g, hi_y, w_floor = p[2], p[3], p[4], p[5], p[6], p[7]
+    out[0] = 0.0
+    for i in range(k):
+        if not (z[i] > 0.0 and z[k + i] > w_floor and z[2 * k + i] > lo_t and z[2 * k + i] < hi_t):
+            return True
+    for i in range(ng):
+        t, y = z[3 * k + i], z[3 * k + ng + i]
+        if not (t > lo_g and t < hi_g and y > -1e-6 and y < hi_y):
+            return True
+    out[0] = 1.0
+    return True
+
+
 def flat(*arrays):
     """Float arrays broadcast to one shape: (shape, C-contiguous flat arrays, copies where needed)."""
     a = [np.asarray(x, dtype=float) for x in arrays]
@@ -860,11 +960,13 @@ def evaluate(name, inputs, params, n_out):
 
 _LOOPS = {"transport": _transport_loop, "heat": _heat_loop, "wsgg": _wsgg_loop, "psat": _psat_loop,
           "diffusivity": _diffusivity_loop, "shell": _shell_loop, "transfer": _transfer_loop,
-          "cells": _cell_balance_loop}
+          "cells": _cell_balance_loop, "step_norm": _step_norm_loop, "step_bounded": _step_bounded_loop,
+          "step_admissible": _step_admissible_loop, "step_radius": _step_radius_loop}
 #: each kernel's argument kinds (`rotarydryer._aot`: ``a`` a float array, ``o`` an output array, ``f`` a float)
 _KINDS = {"transport": "aaaoo", "heat": "aaaooo", "wsgg": "aaaaao", "psat": "aao", "diffusivity": "aaffo",
           "shell": "aaaaaaaaaooo", "transfer": "aaaaaaaaaaaaaooo",
-          "cells": "mmmmmmmaannnnnnnnnnaaaaaaaaaaaaamMM"}
+          "cells": "mmmmmmmaannnnnnnnnnaaaaaaaaaaaaamMM", "step_norm": "aaaao", "step_bounded": "aaao",
+          "step_admissible": "aao", "step_radius": "aaaoo"}
 #: what the ahead-of-time module compiles (`rotarydryer._aot`)
 AOT_KERNELS = {name: (fn, _KINDS[name]) for name, fn in _LOOPS.items()}
 _compiled: dict = {}

@@ -225,6 +225,11 @@ def _near_ambient(q_edge, Tg, ambient):
     return np.where(dT < SHELL_LINEAR_BAND_K, q_edge * dT / SHELL_LINEAR_BAND_K, q_edge)
 
 
+def _flat64(*arrays) -> bool:
+    """Are these the compiled step kernels' arrays (float64, one dimension, C-contiguous)?"""
+    return all(a.dtype == np.float64 and a.ndim == 1 and a.flags.c_contiguous for a in arrays)
+
+
 def _broyden_step(steps: list, z: np.ndarray):
     """The chord step ``z`` = M^-1 f on a kept factorisation M, corrected by Broyden's secant updates of
     the full steps ``steps`` s_0..s_n taken on it (scaled variables): Kelley (1995) Alg. 7.3.1 (brsol,
@@ -1620,10 +1625,19 @@ class ThermalDryer:
         return self._fd_plan.jacobian_data(lambda x: self.rhs(0.0, x), z, step, np.asarray(f0, dtype=float))
 
     def _scale(self):
+        """The residual scale of each state (kg, kg, K, K, kg/kg per s: the steady-state test's), read-only; kept for
+        the feed rate it was made for (a solve asks for it at every Jacobian)."""
         k, ng = self.n_classes * self.n_tanks, self.n_gas
+        key = (self.feed_rate, k, ng)
+        memo = getattr(self, "_scale_memo", None)
+        if memo is not None and memo[0] == key:
+            return memo[1]
         msc = np.maximum(self.feed_rate * 10.0, 1.0)
-        return np.concatenate([np.full(k, msc), np.full(k, msc * 0.2), np.full(k, 100.0), np.full(ng, 100.0),
-                               np.full(ng, 0.05)])
+        sc = np.concatenate([np.full(k, msc), np.full(k, msc * 0.2), np.full(k, 100.0), np.full(ng, 100.0),
+                             np.full(ng, 0.05)])
+        sc.flags.writeable = False
+        self._scale_memo = (key, sc)
+        return sc
 
     # ------------------------------------------------------------------ initial guess
     def _transport_start(self):
@@ -2055,7 +2069,14 @@ class ThermalDryer:
         return text
 
     def _residual_norm(self, f, z, sc, empty=EMPTY_TANK_MASS_NORM):
-        """Scaled residual max |f_i|/scale_i of the steady-state test (`_scaled_residuals`)."""
+        """Scaled residual max |f_i|/scale_i of the steady-state test (`_scaled_residuals`; in one compiled pass where
+        the kernels are in use, `rotarydryer.properties._kernels._step_norm_loop`: the same number)."""
+        if _flat64(f, z, sc) and _kernels.compiled("step_norm") is not None:
+            s = self.settings
+            out = np.empty(1)
+            p = np.array((self.n_classes * self.n_tanks, s.cp_solids, s.cp_water, empty * self.feed_rate * s.cp_solids))
+            if _kernels.call("step_norm", f, z, sc, p, out):
+                return float(out[0])
         return float(np.max(self._scaled_residuals(f, z, sc, empty)))
 
     def _scaled_residuals(self, f, z, sc, empty=EMPTY_TANK_MASS_NORM):
@@ -2077,6 +2098,10 @@ class ThermalDryer:
         STEP_RADIUS times its scale, whether it was shortened): a fixed bound on the pseudo-transient
         step in the scaled largest-component norm (the masses are bounded by `_bounded_step`)."""
         k = 2 * self.n_classes * self.n_tanks
+        if _flat64(dz, sc) and _kernels.compiled("step_radius") is not None:   # the same numbers, compiled
+            out, big = np.empty_like(dz), np.empty(1)
+            if _kernels.call("step_radius", dz, sc, np.array((k, STEP_RADIUS)), out, big):
+                return (out, True) if big[0] > STEP_RADIUS else (dz, False)
         big = float(np.max(np.abs(dz[k:]) / sc[k:]))
         return (dz * (STEP_RADIUS / big), True) if big > STEP_RADIUS else (dz, False)
 
@@ -2090,6 +2115,10 @@ class ThermalDryer:
         rounding below zero, which the balances read as zero. Elsewhere the step is Newton's own, so the converged state is the same. A steady state
         with an empty tank (a cell the cascade overshoots) or a dry product lies on that boundary: the
         iterates approach it geometrically instead of stalling on rejected steps."""
+        if _flat64(z, dz) and _kernels.compiled("step_bounded") is not None:    # the same operations, compiled
+            zn = np.empty_like(z)
+            if _kernels.call("step_bounded", z, dz, self._step_parameters(0.5e-9 * self.feed_rate), zn):
+                return zn
         zn = z + dz
         S, W, T, Tg, Y = self.split_classes(z)
         Sn, Wn, Tn, Tgn, Yn = self.split_classes(zn)
@@ -2150,7 +2179,16 @@ class ThermalDryer:
         np.clip(Y, 0.0, hi_y - margin, out=Y)
         return z
 
+    def _step_parameters(self, water):
+        """(tanks x classes, gas stages, `_state_bounds`, ``water``) of the compiled step kernels
+        (`rotarydryer.properties._kernels._step_bounded_loop`, `_step_admissible_loop`)."""
+        return np.array((self.n_classes * self.n_tanks, self.n_gas, *self._state_bounds(), water))
+
     def _admissible(self, z):
+        if _flat64(z) and _kernels.compiled("step_admissible") is not None:    # the same tests, compiled
+            out = np.empty(1)
+            if _kernels.call("step_admissible", z, self._step_parameters(-1e-9 * self.feed_rate), out):
+                return bool(out[0])
         S, W, T, Tg, Y = self.split_classes(z)
         # the extremes against the bounds (a NaN fails every comparison, as with np.all)
         lo_t, hi_t, lo_g, hi_g, hi_y = self._state_bounds()
