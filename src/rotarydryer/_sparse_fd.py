@@ -11,6 +11,8 @@ the small public-API replacement (NumPy and ``scipy.sparse`` only).
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
@@ -70,7 +72,7 @@ class FDPlan:
         self.n_groups = int(self.groups.max()) + 1 if self.groups.size else 0
         self._diag = None
         self._order = None
-        self._ordered = None      # the column-ordered matrix shifted_lu factorises (its arrays replaced each time)
+        self._ordered = None      # the column-ordered matrix of shifted_lu (copied, its arrays replaced, each time)
         self._kept = None         # (exact zeros, entries kept, their rows, column pointers) of the last one
         self._col_index = None
 
@@ -144,9 +146,10 @@ class FDPlan:
                 np.cumsum(keep, out=counts[1:])
                 kept = self._kept = (zero, np.flatnonzero(keep), indices[keep], counts[indptr].astype(indptr.dtype))
             data, indices, indptr = data[kept[1]], kept[2], kept[3]
-        # one matrix object whose arrays are replaced (the constructor's checks cost as much as the small
-        # factorisation's own wrapper): the arrays are new or never written, the factors SuperLU's own
-        A = self._ordered
+        # a shallow copy of one checked matrix object with its arrays replaced (the constructor's checks cost as
+        # much as the small factorisation's own wrapper): its own object per call (threads may share a plan: the
+        # copies of a dryer do), the arrays new or never written, the factors SuperLU's own
+        A = copy.copy(self._ordered)
         A.data, A.indices, A.indptr = data, indices, indptr
         return _ColumnOrderedLU(splu(A, permc_spec="NATURAL"), inv)
 

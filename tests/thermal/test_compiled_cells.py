@@ -232,15 +232,24 @@ def _step_dryers():
     return out
 
 
+def _same_bits(got, want):
+    """Equal values, NaN where NaN, and the same sign of every zero (np.testing takes -0.0 for 0.0)."""
+    got, want = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
+    np.testing.assert_array_equal(got, want)
+    assert np.array_equal(np.signbit(got) | np.isnan(got), np.signbit(want) | np.isnan(want))
+
+
 @pytest.mark.parametrize("name", ["invicta", "song-3-classes-dust"])
-@given(seed=st.integers(0, 2**32 - 1), size=st.sampled_from([1e-3, 0.3, 3.0]), nan=st.sampled_from([None, "z", "dz", "f"]))
-@settings(max_examples=60, deadline=None)
-def test_the_solver_steps_compiled_are_the_numpy_steps(_step_dryers, name, seed, size, nan):
+@given(seed=st.integers(0, 2**32 - 1), size=st.sampled_from([1e-3, 0.3, 3.0]),
+       special=st.sampled_from([None, "nan-z", "nan-dz", "nan-f", "inf-z", "inf-dz", "zeros", "humid"]))
+@settings(max_examples=80, deadline=None)
+def test_the_solver_steps_compiled_are_the_numpy_steps(_step_dryers, name, seed, size, special):
     """The steady-state solver's step kernels (`_step_radius_loop`, `_step_bounded_loop`, `_step_admissible_loop`,
     `_step_norm_loop`) give `_radius_step`, `_bounded_step`, `_admissible` and `_residual_norm` of the NumPy form bit
-    for bit, at states near and far from the
-    solution, admissible or not, with a NaN in the state, the step or the residual."""
+    for bit (the sign of a zero too), at states near and far from the solution, admissible or not, with a NaN or an
+    infinity in the state, the step or the residual, signed zeros, and a gas near the humidity's bound."""
     d, z0 = _step_dryers[name]
+    _jit.long_runs()
     if _kernels.compiled("step_norm") is None:
         pytest.skip("compiled kernels off")
     rng = np.random.default_rng(seed)
@@ -248,23 +257,44 @@ def test_the_solver_steps_compiled_are_the_numpy_steps(_step_dryers, name, seed,
     z = z0 * (1 + rng.normal(size=z0.size) * size)
     dz = z0 * rng.normal(size=z0.size) * size
     f = rng.normal(size=z0.size) * sc
-    for which, arr in (("z", z), ("dz", dz), ("f", f)):
-        if nan == which:
-            arr[rng.integers(arr.size)] = np.nan
+    k, ng = 3 * d.n_classes * d.n_tanks, d.n_gas
+    i = rng.integers(z0.size)
+    if special in ("nan-z", "nan-dz", "nan-f", "inf-z", "inf-dz"):
+        arr = {"z": z, "dz": dz, "f": f}[special[4:]]
+        arr[i] = np.nan if special.startswith("nan") else rng.choice([np.inf, -np.inf])
+    elif special == "zeros":      # signed zeros in the state and the step (the bounds' ties)
+        pick = rng.random(z0.size) < 0.3
+        z[pick] = rng.choice([0.0, -0.0], size=pick.sum())
+        dz[pick] = rng.choice([0.0, -0.0], size=pick.sum())
+    elif special == "humid":      # humidities at and past the top of the admissible range
+        hi_y = d._state_bounds()[4]
+        z[k + ng:] = hi_y * (1 - rng.choice([0.0, 1e-12, 0.1], size=ng))
+        dz[k + ng:] = hi_y * rng.normal(size=ng)
 
     def steps():
         return (d._bounded_step(z, dz), d._admissible(z), d._admissible(z0), d._residual_norm(f, z, sc),
                 d._residual_norm(f, z, sc, 100.0), *d._radius_step(dz, sc))
 
-    got = steps()
+    calls = []
+    real_call = _kernels.call
+
+    def spied(kernel, *args):
+        calls.append(kernel)
+        return real_call(kernel, *args)
+    _kernels.call = spied
+    try:
+        got = steps()
+    finally:
+        _kernels.call = real_call
+    assert {"step_bounded", "step_admissible", "step_norm", "step_radius"} <= set(calls) and _jit.enabled()
     real = _kernels.compiled
     try:
         _kernels.compiled = lambda kernel: None if kernel.startswith("step_") else real(kernel)
         want = steps()
     finally:
         _kernels.compiled = real
-    np.testing.assert_array_equal(got[0], want[0])
+    _same_bits(got[0], want[0])
     assert got[1:3] == want[1:3] and got[2]
-    np.testing.assert_array_equal(np.array(got[3:5]), np.array(want[3:5]))
-    np.testing.assert_array_equal(got[5], want[5])
+    _same_bits(got[3:5], want[3:5])
+    _same_bits(got[5], want[5])
     assert got[6] == want[6]

@@ -24,6 +24,7 @@ Keys of a record's ``values``: any override key (``thermal.area_scale``) or a fi
 
 import math
 import warnings
+from collections.abc import Mapping
 from typing import Any, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
@@ -233,15 +234,15 @@ def section_values(doc, key: str) -> list | None:
     own = SECTION_DEFAULTS.get(key)
     if not own:
         return None
-    mapping = isinstance(doc, dict)
+    mapping = isinstance(doc, Mapping)
     sections = doc.get("sections") if mapping else getattr(doc, "sections", None)
     if not isinstance(sections, (list, tuple)):
         return None
 
     def get(s, name, default=None):
-        return s.get(name, default) if isinstance(s, dict) else getattr(s, name, default)
+        return s.get(name, default) if isinstance(s, Mapping) else getattr(s, name, default)
 
-    flighted = [s for s in sections if (isinstance(s, dict) or not mapping) and get(s, "kind", "flighted") == "flighted"]
+    flighted = [s for s in sections if (isinstance(s, Mapping) or not mapping) and get(s, "kind", "flighted") == "flighted"]
     if not flighted or any(get(s, own) is None for s in flighted):
         return None
     return [get(s, own) for s in flighted]

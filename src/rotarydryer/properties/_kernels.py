@@ -824,14 +824,14 @@ def _cell_balance_loop(z, k, cap, a_bed, kiln_des, kiln_rho, qloss, y_in, h_in, 
 
 @_helper
 def _nmax(a, b):
-    """``np.maximum`` of two floats (a NaN either side gives NaN)."""
-    return a if (a >= b or a != a) else b
+    """``np.maximum`` of two floats: a NaN either side gives NaN, a tie the second (NumPy's -0.0 / 0.0)."""
+    return a if (a > b or a != a) else b
 
 
 @_helper
 def _nmin(a, b):
-    """``np.minimum`` of two floats (a NaN either side gives NaN)."""
-    return a if (a <= b or a != a) else b
+    """``np.minimum`` of two floats: a NaN either side gives NaN, a tie the second."""
+    return a if (a < b or a != a) else b
 
 
 def _step_norm_loop(f, z, sc, p, out):

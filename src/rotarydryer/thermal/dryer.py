@@ -220,7 +220,7 @@ def _near_ambient(q_edge, Tg, ambient):
     warmer than the surroundings; near and below the ambient their conductance at the edge stands
     for both directions of the heat flow."""
     dT = np.asarray(Tg, dtype=float) - ambient
-    if dT.size and np.shape(q_edge) == dT.shape and dT.min() >= SHELL_LINEAR_BAND_K:     # all above the band
+    if dT.size and isinstance(q_edge, np.ndarray) and q_edge.shape == dT.shape and dT.min() >= SHELL_LINEAR_BAND_K:
         return q_edge
     return np.where(dT < SHELL_LINEAR_BAND_K, q_edge * dT / SHELL_LINEAR_BAND_K, q_edge)
 

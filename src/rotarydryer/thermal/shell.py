@@ -307,7 +307,8 @@ def _shell_parameters(ambient_temperature_c, co2_mole_fraction, inner_radius, sh
                       scale_conductivity, insulation_thickness, insulation_conductivity, pressure, inner_emissivity,
                       outer_emissivity, wind_speed, ambient_humidity):
     """`_shell_loss_compiled`'s packed drum and surroundings (`rotarydryer.properties._kernels.pack_shell`), kept
-    for the same numbers (a solver's every shell solve of one dryer takes the same ones); read-only."""
+    for the same numbers (a solver's every shell solve of one dryer takes the same ones; floats, the callers
+    convert them); read-only."""
     ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
     r_exp, r_o = ri - dsc, ri + ds
     r_out = r_o + dins
@@ -336,9 +337,10 @@ def _shell_loss_compiled(gas_temperature_c, gas_mass_flow, length, ambient_tempe
     ``slope_guess`` of a next solve nearby (saves the first difference)."""
     if _kernels.compiled("shell") is None:
         return None
-    q = _shell_parameters(ambient_temperature_c, co2_mole_fraction, inner_radius, shell_thickness, scale_thickness,
-                          scale_conductivity, insulation_thickness, insulation_conductivity, pressure, inner_emissivity,
-                          outer_emissivity, wind_speed, ambient_humidity)
+    q = _shell_parameters(*(float(v) for v in (
+        ambient_temperature_c, co2_mole_fraction, inner_radius, shell_thickness, scale_thickness, scale_conductivity,
+        insulation_thickness, insulation_conductivity, pressure, inner_emissivity, outer_emissivity, wind_speed,
+        ambient_humidity)))
     guess = np.nan if outer_guess is None else outer_guess       # NaN: no guess, the bracketed root
     slope = np.nan if slope_guess is None or outer_guess is None else slope_guess
     return _kernels.evaluate("shell", (gas_temperature_c, gas_mass_flow, length, gas_humidity, guess, slope),
