@@ -550,11 +550,10 @@ def _configuration(case, thermal: bool) -> dict:
         () if any((s.model or case.transport.model) == "ajayi2011" for s in case.sections)
         and case.transport.parameter_source == "predictive" else ("transport.predictive_flights",))
     # a case-wide default every flighted section replaces is not part of the configuration: written unset
-    sections = {"sections": [s.model_dump() for s in getattr(case, "sections", None) or ()]}
     for k in CONFIGURATION_KEYS:
         if (k in _THERMAL_CONFIG and not thermal) or k in forced:
             continue
-        v = None if section_values(sections, k) is not None else _get(case, k)
+        v = None if section_values(case, k) is not None else _get(case, k)
         out[k] = NONE_VALUE if v is None else v       # TOML has no null
     return out
 

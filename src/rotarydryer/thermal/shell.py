@@ -309,14 +309,12 @@ def _shell_parameters(ambient_temperature_c, co2_mole_fraction, inner_radius, sh
     """`_shell_loss_compiled`'s packed drum and surroundings (`rotarydryer.properties._kernels.pack_shell`), kept
     for the same numbers (a solver's every shell solve of one dryer takes the same ones; floats, the callers
     convert them); read-only."""
-    ri, ds, dsc, dins = (float(v) for v in (inner_radius, shell_thickness, scale_thickness, insulation_thickness))
-    r_exp, r_o = ri - dsc, ri + ds
+    ri, dsc, dins, p = inner_radius, scale_thickness, insulation_thickness, pressure
+    r_exp, r_o = ri - dsc, ri + shell_thickness
     r_out = r_o + dins
-    p = float(pressure)
-    q = _kernels.pack_shell(float(ambient_temperature_c), float(co2_mole_fraction) * p / rad.ATM, ri, r_o, r_out,
-                            r_exp, dsc, float(scale_conductivity), dins, float(insulation_conductivity),
-                            float(inner_emissivity), float(outer_emissivity), float(wind_speed),
-                            float(ambient_humidity), p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
+    q = _kernels.pack_shell(ambient_temperature_c, co2_mole_fraction * p / rad.ATM, ri, r_o, r_out, r_exp, dsc,
+                            scale_conductivity, dins, insulation_conductivity, inner_emissivity, outer_emissivity,
+                            wind_speed, ambient_humidity, p, _STEEL_K0, _STEEL_K1, rad.STEFAN_BOLTZMANN, G,
                             0.95 * (2 * r_exp), 1e-9)
     q.flags.writeable = False
     return q
